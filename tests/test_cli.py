@@ -1,0 +1,49 @@
+"""The command line: reproduce, list, bad input (one line, exit code 2)."""
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from xnavlab.cli import main
+
+
+def test_list(capsys):
+    assert main(["reproduce", "--list"]) == 0
+    assert "xnav-ranging" in capsys.readouterr().out
+
+
+def test_reproduce_json(capsys):
+    assert main(["reproduce", "xnav-ranging", "--json"]) == 0
+    payload = json.loads(capsys.readouterr().out)
+    assert payload["id"] == "xnav-ranging"
+    assert payload["pass"] is True
+    assert set(payload) >= {"id", "paper", "ours", "tolerance", "pass"}
+    assert set(payload["ours"]) == {"B0531+21", "B1937+21", "B1957+20", "B1821-24"}
+
+
+def test_reproduce_out_writes_figure(tmp_path, capsys):
+    assert main(["reproduce", "xnav-ranging", "--out", str(tmp_path)]) == 0
+    assert list(tmp_path.glob("*.png"))
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [["reproduce", "no-such-id"], ["reproduce", "--bogus"], ["frobnicate"], [], ["reproduce"]],
+)
+def test_bad_usage_is_one_line_exit_2(argv, capsys):
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("xnavlab: error:")
+    assert len(err.splitlines()) == 1
+
+
+def test_module_entry_point():
+    proc = subprocess.run(
+        [sys.executable, "-m", "xnavlab", "reproduce", "nope"],
+        capture_output=True, text=True, check=False,
+    )
+    assert proc.returncode == 2
+    assert len(proc.stderr.strip().splitlines()) == 1
+    assert "nope" in proc.stderr
