@@ -1,0 +1,217 @@
+"""The time-transfer (TOA) equation of X-ray pulsar navigation and its gradient.
+
+A pulse reaches the spacecraft earlier than the solar-system barycentre (SSB) by
+
+.. math::
+
+   \\Delta t = \\frac{n \\cdot R}{c}
+   + \\frac{(n \\cdot R)^2 - |R|^2}{2 c D_0}
+   + \\frac{2 \\mu_\\odot}{c^3} \\ln\\left| \\frac{n \\cdot R + |R|}{n \\cdot b + |b|} + 1 \\right|
+
+(paper eq. (1); Sheikh et al. 2006), with ``R = r_M + r`` the spacecraft position
+relative to the SSB (``r`` planet-centred, ``r_M`` the planet relative to the SSB),
+``n`` the unit vector to the pulsar, ``D0`` its distance and ``b`` the SSB position
+relative to the Sun. The three terms are the Roemer delay (geometry), the parallax
+(curvature of the wavefront) and the Shapiro delay (the Sun's gravity), each
+available on its own.
+
+Shapes broadcast: ``R`` has shape (..., 3), ``n`` shape (k, 3) and ``D0`` shape (k,);
+results have shape (..., k) (delays, s) or (..., k, 3) (gradients, s/m).
+
+Examples
+--------
+>>> n = np.array([[1.0, 0.0, 0.0]])
+>>> float(roemer(np.array([299792458.0, 0.0, 0.0]), n)[0])
+1.0
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import ephemeris, pulsars
+from ._validate import check_finite_array
+from .constants import GM_SUN, C
+
+__all__ = [
+    "roemer",
+    "parallax",
+    "shapiro",
+    "delay",
+    "gradient",
+    "terms",
+    "delays_at",
+]
+
+
+def _args(r_ssb, n):
+    r_ssb = check_finite_array("r_ssb", r_ssb, shape=(3,))
+    n = check_finite_array("n", n, shape=(3,))
+    if n.ndim != 2:
+        raise ValueError(f"n must have shape (k, 3), got {n.shape}")
+    if np.any(np.abs(np.linalg.norm(n, axis=-1) - 1.0) > 1e-9):
+        raise ValueError("n must hold unit vectors (|n| = 1 within 1e-9)")
+    return r_ssb, n
+
+
+def _distance(distance, k):
+    d = check_finite_array("distance", distance)
+    d = np.broadcast_to(d, (k,)) if d.ndim == 0 else d
+    if d.shape != (k,) or np.any(d <= 0):
+        raise ValueError(f"distance must be positive with shape ({k},), got {np.shape(distance)}")
+    return d
+
+
+def roemer(r_ssb, n):
+    """Roemer delay ``n . R / c``, s; shape (..., k).
+
+    Examples
+    --------
+    >>> roemer(np.zeros(3), np.eye(3)).tolist()
+    [0.0, 0.0, 0.0]
+    """
+    r_ssb, n = _args(r_ssb, n)
+    return r_ssb @ n.T / C  # paper eq. (1), first term
+
+
+def parallax(r_ssb, n, distance):
+    """Parallax delay ``[(n . R)^2 - |R|^2] / (2 c D0)``, s; shape (..., k).
+
+    Always <= 0: the wavefront is a sphere centred on the pulsar, not a plane.
+
+    Examples
+    --------
+    >>> float(parallax(np.array([0.0, 1e11, 0.0]), np.array([[1.0, 0, 0]]), 1e20)[0]) < 0
+    True
+    """
+    r_ssb, n = _args(r_ssb, n)
+    d = _distance(distance, n.shape[0])
+    nr = r_ssb @ n.T
+    rr = np.sum(r_ssb * r_ssb, axis=-1)[..., None]
+    return (nr**2 - rr) / (2.0 * C * d)  # paper eq. (1), second term
+
+
+def _b(r_sun_ssb):
+    """SSB position relative to the Sun: b = -r_sun."""
+    return -check_finite_array("r_sun_ssb", r_sun_ssb, shape=(3,))
+
+
+def shapiro(r_ssb, n, r_sun_ssb):
+    """Shapiro delay ``2 mu/c^3 ln|(n.R + |R|)/(n.b + |b|) + 1|``, s; shape (..., k).
+
+    Parameters
+    ----------
+    r_ssb : array_like, shape (..., 3)
+        Spacecraft position relative to the SSB, m.
+    n : array_like, shape (k, 3)
+        Unit vectors to the pulsars.
+    r_sun_ssb : array_like, shape (..., 3)
+        Sun position relative to the SSB, m (so ``b = -r_sun_ssb``).
+
+    Examples
+    --------
+    >>> s = shapiro(np.array([2.2e11, 0, 0]), np.array([[0.0, 1.0, 0.0]]), np.zeros(3) + 1e8)
+    >>> bool(0 < s[0] < 1e-4)
+    True
+    """
+    r_ssb, n = _args(r_ssb, n)
+    b = _b(r_sun_ssb)
+    u = r_ssb @ n.T + np.linalg.norm(r_ssb, axis=-1)[..., None]
+    w = b @ n.T + np.linalg.norm(b, axis=-1)[..., None]
+    return 2.0 * GM_SUN / C**3 * np.log(np.abs(u / w + 1.0))  # paper eq. (1), third term
+
+
+def delay(r_ssb, n, distance, r_sun_ssb):
+    """Time-transfer delay, paper eq. (1): Roemer + parallax + Shapiro, s; shape (..., k).
+
+    Examples
+    --------
+    >>> nvec, dist = pulsars.directions()
+    >>> delay(np.array([2.0e11, 1e10, 0.0]), nvec, dist, np.zeros(3) + 1e8).shape
+    (4,)
+    """
+    return roemer(r_ssb, n) + parallax(r_ssb, n, distance) + shapiro(r_ssb, n, r_sun_ssb)
+
+
+def gradient(r_ssb, n, distance, r_sun_ssb):
+    """Gradient of :func:`delay` with respect to the spacecraft position, s/m.
+
+    Because ``R = r_M + r``, the gradient with respect to the planet-centred ``r`` is
+    the same; these are the position columns of the rows of ``H1`` (paper eq. (4)):
+
+    - Roemer: ``n / c``
+    - parallax: ``((n . R) n - R) / (c D0)``
+    - Shapiro: ``2 mu/c^3 (n + R/|R|) / (n.R + |R| + n.b + |b|)``
+
+    Returns
+    -------
+    ndarray, shape (..., k, 3)
+
+    Examples
+    --------
+    >>> nvec, dist = pulsars.directions()
+    >>> g = gradient(np.array([2.0e11, 1e10, 0.0]), nvec, dist, np.zeros(3) + 1e8)
+    >>> g.shape, bool(np.allclose(g * C, nvec, atol=1e-6))
+    ((4, 3), True)
+    """
+    r_ssb, n = _args(r_ssb, n)
+    d = _distance(distance, n.shape[0])
+    b = _b(r_sun_ssb)
+    R = r_ssb[..., None, :]
+    nr = (r_ssb @ n.T)[..., None]
+    rn = np.linalg.norm(r_ssb, axis=-1)[..., None, None]
+    u = nr + rn
+    w = (b @ n.T)[..., None] + np.linalg.norm(b, axis=-1)[..., None, None]
+    g_roemer = n / C
+    g_parallax = (nr * n - R) / (C * d[:, None])
+    g_shapiro = 2.0 * GM_SUN / C**3 * (n + R / rn) / (u + w)
+    return g_roemer + g_parallax + g_shapiro
+
+
+def terms(r_ssb, n, distance, r_sun_ssb):
+    """The three terms of eq. (1) separately: dict with ``roemer``, ``parallax``, ``shapiro``.
+
+    Examples
+    --------
+    >>> nvec, dist = pulsars.directions()
+    >>> sorted(terms(np.array([2e11, 0, 0]), nvec, dist, np.ones(3) * 1e8))
+    ['parallax', 'roemer', 'shapiro']
+    """
+    return {
+        "roemer": roemer(r_ssb, n),
+        "parallax": parallax(r_ssb, n, distance),
+        "shapiro": shapiro(r_ssb, n, r_sun_ssb),
+    }
+
+
+def delays_at(r, t, pulsar_names=pulsars.PAPER_PULSARS, center="mars", ephem="de421"):
+    """Eq. (1) delays for a spacecraft at ``r`` about ``center`` at epochs ``t``.
+
+    Parameters
+    ----------
+    r : array_like, shape (3,) or (n, 3)
+        Spacecraft position relative to the centre body, J2000, m.
+    t : float or array_like, shape (n,)
+        Epochs, s TDB past J2000.
+    pulsar_names : sequence of str
+        Pulsars to use.
+    center : str
+        Centre body (``"mars"``, ``"earth"``, ...), see :data:`xnavlab.ephemeris.BODIES`.
+    ephem : {"de421", "de405"}
+        Ephemeris for the centre body and the Sun.
+
+    Returns
+    -------
+    ndarray, shape (k,) or (n, k)
+        Delays, s.
+
+    Examples
+    --------
+    >>> delays_at([-3.4e6, -1.3e6, -2.6e6], 5.0e8).shape
+    (4,)
+    """
+    n, d = pulsars.directions(pulsar_names)
+    r = check_finite_array("r", r, shape=(3,))
+    r_c = ephemeris.position(center, t, ephem)
+    r_sun = ephemeris.position("sun", t, ephem)
+    return delay(r + r_c, n, d, r_sun)
