@@ -10,7 +10,7 @@ acceleration includes the indirect term (the body also accelerates Mars):
    a_k = \\mu_k \\left( \\frac{s - r}{|s - r|^3} - \\frac{s}{|s|^3} \\right)
 
 Ephemeris look-ups are tabulated once per run (:class:`ThirdBodyTable`: positions
-and velocities every hour, cubic Hermite interpolation, error far below a millimetre),
+and velocities every hour, cubic Hermite interpolation, error below a centimetre),
 so the integrator never calls jplephem in its inner loop.
 
 State vectors are ``[x, y, z, vx, vy, vz]`` in m and m/s; time is s TDB past J2000.
@@ -401,10 +401,11 @@ def gravity_gradient(r, gm=GM_MARS):
 
 
 def transition_matrix(r, dt, gm=GM_MARS):
-    """State-transition matrix over a short step, second order: ``I + F dt + F^2 dt^2 / 2``.
+    """State-transition matrix over a step: the series of ``exp(F dt)`` to fourth order.
 
-    ``F = [[0, I], [G, 0]]`` with ``G`` the point-mass gravity gradient at ``r``;
-    the third bodies' gradients (below 1e-13 s^-2 near Mars) are neglected.
+    ``F = [[0, I], [G, 0]]`` with ``G`` the point-mass gravity gradient at ``r``, held
+    constant over the step; the third bodies' gradients (below 1e-13 s^-2 near Mars)
+    are neglected. The truncation error is about ``|G|^2 dt^5 / 120``.
 
     Parameters
     ----------
@@ -420,11 +421,17 @@ def transition_matrix(r, dt, gm=GM_MARS):
     Examples
     --------
     >>> Phi = transition_matrix(MARS_STATE0[:3], 3.0)
-    >>> Phi.shape, float(Phi[0, 3])
+    >>> Phi.shape, round(float(Phi[0, 3]), 4)
     ((6, 6), 3.0)
     """
     G = gravity_gradient(r, gm)
     F = np.zeros((6, 6))
     F[:3, 3:] = np.eye(3)
     F[3:, :3] = G
-    return np.eye(6) + F * dt + F @ F * (dt * dt / 2.0)  # Phi = I + F dt + F^2 dt^2 / 2
+    Fdt = F * dt
+    Phi = np.eye(6)
+    term = np.eye(6)
+    for k in range(1, 5):  # Phi = I + F dt + (F dt)^2/2 + (F dt)^3/6 + (F dt)^4/24
+        term = term @ Fdt / k
+        Phi = Phi + term
+    return Phi

@@ -181,9 +181,10 @@ def _columns(fault, m):
     return np.array([fault.component])
 
 
+# ONSET and DURATION are split at the first '+' that is not an exponent sign (1e+06).
 _SPEC = re.compile(
     r"^(?P<sensor>[A-Za-z_][\w-]*)(?:\.(?P<comp>[\w-]+))?:(?P<kind>\w+):(?P<mag>[^@]+)"
-    r"@(?P<onset>[^+]+)\+(?P<dur>.+)$"
+    r"@(?P<onset>(?:[^+]|(?<=[eE])\+)+)\+(?P<dur>.+)$"
 )
 
 

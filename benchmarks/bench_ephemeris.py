@@ -1,0 +1,27 @@
+"""Ephemeris look-ups: one vectorised call against a loop of per-epoch calls.
+
+Run: ``.venv/bin/python benchmarks/bench_ephemeris.py``. Prints the time per epoch of
+both and their ratio (measured in the same process, so the ratio is what matters).
+"""
+
+import numpy as np
+from _timing import best_of
+
+from xnavlab import ephemeris
+from xnavlab.dynamics import MARS_T0
+
+
+def main(n=2000):
+    t = MARS_T0 + np.linspace(0.0, 30 * 86400.0, n)
+    ephemeris.state("mars", t[:2])  # load the file once
+    vec = best_of(lambda: ephemeris.state("mars", t))
+    loop = best_of(lambda: [ephemeris.state("mars", ti) for ti in t], repeat=3)
+    print(f"ephemeris.state('mars'), {n} epochs")
+    print(f"  vectorised : {vec / n * 1e6:8.2f} us/epoch")
+    print(f"  per epoch  : {loop / n * 1e6:8.2f} us/epoch")
+    print(f"  speed-up   : {loop / vec:8.1f}x")
+    return loop / vec
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,119 @@
+"""Dynamics: accelerations, third-body table, compiled RHS vs numpy, propagator accuracy, STM."""
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from xnavlab import dynamics, ephemeris
+from xnavlab.constants import DAY, GM_MARS, GM_SUN, J2_MARS, R_MARS
+
+T0, X0 = dynamics.MARS_T0, dynamics.MARS_STATE0
+
+
+@pytest.fixture(scope="module")
+def table():
+    return dynamics.ThirdBodyTable(T0, T0 + 2 * DAY)
+
+
+def test_table_interpolation_matches_ephemeris(table):
+    t = T0 + 12345.6
+    want = ephemeris.position("sun", t) - ephemeris.position("mars", t)
+    assert np.linalg.norm(table.positions(t)[0] - want) < 1e-2  # metres, at 2e11 m
+    with pytest.raises(ValueError, match="table's span"):
+        table.positions(T0 - 1.0)
+
+
+def test_third_body_indirect_term_is_tidal():
+    # at the centre the perturbation vanishes; along the Sun line it pulls outward (tidal)
+    s = np.array([[2.2e11, 0.0, 0.0]])
+    assert np.allclose(dynamics.third_body(np.zeros(3), s, [GM_SUN]), 0.0)
+    a = dynamics.third_body(np.array([4e6, 0, 0]), s, [GM_SUN])
+    tidal = 2 * GM_SUN * 4e6 / 2.2e11**3
+    assert abs(a[0] - tidal) / tidal < 1e-3
+
+
+def test_compiled_rhs_matches_numpy_model(table):
+    for j2 in (False, True):
+        x = X0 + np.array([1e3, -2e3, 5e2, 0.1, 0.2, -0.3])
+        t = T0 + 5000.0
+        want = dynamics.acceleration(t, x[:3], table, j2=j2)
+        got = dynamics._rhs(t, x, GM_MARS, table.t_start, table.step, table.pos, table.vel,
+                            table.gm, J2_MARS if j2 else 0.0, R_MARS, dynamics.MARS_POLE)
+        np.testing.assert_allclose(got[3:], want, rtol=1e-13)
+        np.testing.assert_array_equal(got[:3], x[3:])
+
+
+def test_perturbation_sizes():
+    r = X0[:3]
+    tab = dynamics.ThirdBodyTable(T0, T0 + 3600.0, ("sun",))
+    central = np.linalg.norm(dynamics.point_mass(r))
+    sun = np.linalg.norm(dynamics.third_body(r, tab.positions(T0), tab.gm))
+    j2 = np.linalg.norm(dynamics.j2_acceleration(r))
+    assert 1e-9 < sun / central < 1e-6
+    assert 1e-4 < j2 / central < 1e-2
+
+
+def test_two_body_conserves_energy():
+    t = T0 + np.linspace(0, DAY, 50)
+    x = dynamics.propagate(t, third_bodies=())
+    energy = 0.5 * np.sum(x[:, 3:] ** 2, axis=1) - GM_MARS / np.linalg.norm(x[:, :3], axis=1)
+    assert np.ptp(energy) / abs(energy[0]) < 1e-11
+
+
+def test_thirty_days_within_a_metre_of_a_tighter_run():
+    t = T0 + np.array([0.0, 30 * DAY])
+    default = dynamics.propagate(t)
+    tighter = dynamics.propagate(t, rtol=3e-14, atol=1e-10)
+    assert np.linalg.norm(default[-1, :3] - tighter[-1, :3]) < 1.0
+
+
+def test_truth_cache_round_trip(tmp_path, monkeypatch):
+    monkeypatch.setenv("XNAVLAB_CACHE", str(tmp_path))
+    t = T0 + np.arange(0.0, 600.0, 60.0)
+    a = dynamics.truth(t)
+    assert list(tmp_path.glob("truth-*.npy"))
+    b = dynamics.truth(t)
+    np.testing.assert_array_equal(a, b)
+    np.testing.assert_allclose(a, dynamics.propagate(t), rtol=0, atol=1e-6)
+
+
+@given(st.floats(1.0, 10.0))  # filter steps are 3 s; longer steps are subdivided
+def test_stm_matches_finite_differences(dt):
+    r = X0[:3]
+    Phi = dynamics.transition_matrix(r, dt)
+
+    def step(x):
+        return dynamics.propagate(np.array([T0 + dt]), x, T0, third_bodies=())[-1]
+
+    eps = np.array([100.0, 100.0, 100.0, 0.1, 0.1, 0.1])
+    fd = np.empty((6, 6))
+    for i in range(6):
+        e = np.zeros(6)
+        e[i] = eps[i]
+        fd[:, i] = (step(X0 + e) - step(X0 - e)) / (2 * eps[i])
+    # G is held constant over the step: the error grows like dG/dt dt^3
+    np.testing.assert_allclose(Phi, fd, atol=1e-6)
+
+
+def test_gravity_gradient_matches_finite_differences():
+    r = X0[:3]
+    G = dynamics.gravity_gradient(r)
+    h = 1.0
+    fd = np.column_stack([
+        (dynamics.point_mass(r + h * e) - dynamics.point_mass(r - h * e)) / (2 * h) for e in np.eye(3)
+    ])
+    np.testing.assert_allclose(G, fd, rtol=1e-6)
+
+
+def test_bad_inputs():
+    with pytest.raises(ValueError, match="t_eval must be a non-empty increasing"):
+        dynamics.propagate(np.array([T0 + 10.0, T0]))
+    with pytest.raises(ValueError, match="outside Mars"):
+        dynamics.propagate(np.array([T0]), np.array([1e3, 0, 0, 0, 0, 0]))
+    with pytest.raises(ValueError, match="third body must be one of"):
+        dynamics.ThirdBodyTable(T0, T0 + 10.0, ("saturn",))
+    with pytest.raises(ValueError, match="rtol"):
+        dynamics.propagate(np.array([T0 + 1.0]), rtol=1e-16)
+    with pytest.raises(ValueError, match="state0"):
+        dynamics.propagate(np.array([T0 + 1.0]), np.zeros(5))

@@ -1,0 +1,80 @@
+"""Ephemeris: shapes, units, physical sanity, coverage errors, DE405 vs DE421."""
+
+import numpy as np
+import pytest
+
+from xnavlab import ephemeris
+from xnavlab.constants import AU, DAY
+
+
+@pytest.mark.parametrize("body", ephemeris.BODIES)
+def test_state_shapes(body):
+    r, v = ephemeris.state(body, 0.0)
+    assert r.shape == (3,) and v.shape == (3,)
+    r, v = ephemeris.state(body, [0.0, DAY, 2 * DAY])
+    assert r.shape == (3, 3) and v.shape == (3, 3)
+
+
+def test_vectorised_equals_per_epoch():
+    t = np.linspace(0, 30 * DAY, 7)
+    r, v = ephemeris.state("mars", t)
+    for i, ti in enumerate(t):
+        ri, vi = ephemeris.state("mars", ti)
+        np.testing.assert_allclose(r[i], ri, rtol=0, atol=1e-6)
+        np.testing.assert_allclose(v[i], vi, rtol=0, atol=1e-9)
+
+
+def test_velocity_is_derivative_of_position():
+    t0, h = 5.0e8, 10.0
+    r1 = ephemeris.position("mars", t0 - h)
+    r2 = ephemeris.position("mars", t0 + h)
+    _, v = ephemeris.state("mars", t0)
+    np.testing.assert_allclose((r2 - r1) / (2 * h), v, rtol=1e-7)  # Chebyshev fit level
+
+
+def test_distances_are_physical():
+    t = np.linspace(0, 365 * DAY, 13)
+    for body, lo, hi in [("earth", 0.98, 1.02), ("mars", 1.37, 1.67), ("jupiter", 4.9, 5.5)]:
+        d = np.linalg.norm(ephemeris.position(body, t) - ephemeris.position("sun", t), axis=1) / AU
+        assert np.all((d > lo) & (d < hi)), body
+    # the Sun stays within ~0.01 au of the barycentre
+    assert np.all(np.linalg.norm(ephemeris.position("sun", t), axis=1) < 0.015 * AU)
+
+
+def test_earth_moon_barycentre():
+    r_e = ephemeris.position("earth", 0.0)
+    r_m = ephemeris.position("moon", 0.0)
+    r_emb = ephemeris.position("earthmoon", 0.0)
+    d = np.linalg.norm(r_m - r_e)
+    assert 3.5e8 < d < 4.1e8  # Earth-Moon distance
+    # the EMB lies between them, closer to the Earth by the mass ratio (~81.3)
+    ratio = np.linalg.norm(r_emb - r_e) / np.linalg.norm(r_m - r_emb)
+    assert abs(ratio - 1 / 81.3) < 1e-3
+
+
+def test_de405_and_de421_agree_to_kilometres_near_j2000():
+    d = ephemeris.position("mars", 0.0, "de405") - ephemeris.position("mars", 0.0, "de421")
+    assert np.linalg.norm(d) < 10e3
+
+
+@pytest.mark.parametrize("ephem", ephemeris.EPHEMERIDES)
+def test_epoch_outside_coverage_is_a_clear_error(ephem):
+    lo, hi = ephemeris.coverage(ephem)
+    with pytest.raises(ValueError, match="coverage of " + ephem.upper()):
+        ephemeris.state("mars", hi + DAY, ephem)
+    with pytest.raises(ValueError, match="t must lie in"):
+        ephemeris.state("mars", [0.0, lo - DAY], ephem)
+
+
+def test_bad_names():
+    with pytest.raises(ValueError, match="body must be one of"):
+        ephemeris.state("pluto-x", 0.0)
+    with pytest.raises(ValueError, match="ephem must be one of"):
+        ephemeris.state("mars", 0.0, "de440")
+    with pytest.raises(ValueError, match="finite"):
+        ephemeris.state("mars", np.nan)
+
+
+def test_time_conversions_round_trip():
+    t = np.array([-1e9, 0.0, 5.05e8])
+    np.testing.assert_allclose(ephemeris.t_from_jd(ephemeris.jd_from_t(t)), t, atol=1e-6)

@@ -1,0 +1,95 @@
+"""Fault injection and the command-line fault spec."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from xnavlab.faults import KINDS, Fault, fault_mask, format_spec, inject, parse_spec
+
+COMPS = {"uv": ["range", "ux", "uy", "uz"], "xnav": ["0", "1", "2", "3"], "cns": ["0", "1", "2"]}
+T = np.arange(0.0, 20.0)
+
+
+def test_step_ramp_spike_noise_stuck():
+    z = np.column_stack([np.arange(20.0), np.zeros(20)])
+    out = inject(T, z, [Fault("s", "step", 5.0, 5.0, 3.0, component=1)], "s")
+    assert out[:, 1].tolist() == [0] * 5 + [5] * 3 + [0] * 12
+    np.testing.assert_array_equal(out[:, 0], z[:, 0])
+    out = inject(T, z, [Fault("s", "ramp", 2.0, 10.0, component=1)], "s")
+    assert out[12, 1] == 4.0 and out[9, 1] == 0.0
+    out = inject(T, z, [Fault("s", "spike", 9.0, 4.5, 100.0)], "s")
+    assert np.flatnonzero(out[:, 1]).tolist() == [5]
+    out = inject(T, z, [Fault("s", "stuck", 0.0, 10.0, 5.0, component=0)], "s")
+    assert out[10:15, 0].tolist() == [9.0] * 5 and out[15, 0] == 15.0
+    out = inject(T, z, [Fault("s", "noise", 1.0, 10.0)], "s", rng=1)
+    assert np.all(out[:10] == z[:10]) and np.all(out[10:] != z[10:])
+
+
+def test_other_sensors_untouched_and_input_not_modified():
+    z = np.zeros(20)
+    out = inject(T, z, [Fault("uv", "step", 1.0, 0.0)], "cns")
+    np.testing.assert_array_equal(out, z)
+    inject(T, z, [Fault("cns", "step", 1.0, 0.0)], "cns")
+    assert not z.any()
+
+
+def test_noise_is_seeded():
+    f = [Fault("s", "noise", 1.0, 0.0)]
+    np.testing.assert_array_equal(inject(T, np.zeros(20), f, "s", 3), inject(T, np.zeros(20), f, "s", 3))
+
+
+def test_mask():
+    faults = [Fault("uv", "step", 1.0, 2.0, 2.0), Fault("uv", "step", 1.0, 10.0, 1.0)]
+    assert np.flatnonzero(fault_mask(T, faults, "uv")).tolist() == [2, 3, 10]
+
+
+@pytest.mark.parametrize("kwargs, match", [
+    ({"kind": "wobble"}, "kind must be one of"),
+    ({"magnitude": math.nan}, "magnitude"),
+    ({"duration": -1.0}, "duration"),
+    ({"component": -1}, "component"),
+    ({"kind": "noise", "magnitude": -1.0}, "magnitude"),
+])
+def test_bad_fault(kwargs, match):
+    args = {"sensor": "uv", "kind": "step", "magnitude": 1.0, "onset": 0.0} | kwargs
+    with pytest.raises(ValueError, match=match):
+        Fault(**args)
+
+
+def test_component_out_of_range():
+    with pytest.raises(ValueError, match=r"component must be in \[0, 1\]"):
+        inject(T, np.zeros((20, 2)), [Fault("s", "step", 1.0, 0.0, component=3)], "s")
+
+
+def test_parse_spec_examples():
+    faults = parse_spec("uv.range:step:5000@700000+3000,xnav.1:ramp:2e-9@500000+5000,cns:spike:1e-3@5+inf",
+                        COMPS)
+    assert faults[0] == Fault("uv", "step", 5000.0, 700000.0, 3000.0, 0)
+    assert faults[1] == Fault("xnav", "ramp", 2e-9, 500000.0, 5000.0, 1)
+    assert faults[2].component is None and faults[2].duration == math.inf
+
+
+@pytest.mark.parametrize("spec, match", [
+    ("uv.range:step:5000@700000", "expected SENSOR"),
+    ("gps:step:1@0+1", "unknown sensor 'gps'"),
+    ("uv.alt:step:1@0+1", "component 'alt' of uv"),
+    ("uv:jump:1@0+1", "kind must be one of"),
+    ("uv:step:big@0+1", "'big' is not a number"),
+    ("uv:step:1@0+-5", "duration"),
+    ("", "non-empty"),
+])
+def test_parse_spec_errors_name_the_bad_part(spec, match):
+    with pytest.raises(ValueError, match=match):
+        parse_spec(spec, COMPS)
+
+
+@given(
+    st.sampled_from(sorted(COMPS)), st.sampled_from(KINDS),
+    st.floats(0, 1e6, allow_nan=False), st.floats(0, 3e6), st.floats(0, 1e5),
+)
+def test_format_parse_round_trip(sensor, kind, mag, onset, dur):
+    f = Fault(sensor, kind, float(f"{mag:g}"), float(f"{onset:g}"), float(f"{dur:g}"), 0)
+    assert parse_spec(format_spec([f], COMPS), COMPS) == [f]

@@ -1,0 +1,132 @@
+"""Pulsar catalogue, phase model, photons, folding, TOA estimation and accuracy."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from xnavlab import pulsars
+from xnavlab.constants import C
+
+
+def test_catalogue_has_the_paper_pulsars_with_sources():
+    for name in pulsars.PAPER_PULSARS:
+        p = pulsars.get(name)
+        assert abs(np.linalg.norm(p.direction) - 1) < 1e-12
+        for key in ("ra_deg", "dec_deg", "distance", "period", "flux", "pulsed_fraction", "width"):
+            assert p.sources[key]
+        assert 0 < p.pulsed_fraction <= 1 and 0 < p.duty_cycle < 0.5
+
+
+def test_crab_direction_is_right():
+    crab = pulsars.get("B0531+21")
+    assert abs(crab.ra_deg - 83.633) < 1e-3 and abs(crab.dec_deg - 22.0145) < 1e-3
+    south = pulsars.get("B1821-24")
+    assert south.dec_deg < 0
+
+
+def test_unknown_pulsar_lists_known_names():
+    with pytest.raises(ValueError, match="known pulsars: B0531"):
+        pulsars.get("J0000+0000")
+    with pytest.raises(ValueError, match="at least one"):
+        pulsars.directions([])
+
+
+def test_phase_model_matches_taylor_series():
+    t = np.array([0.0, 1.0, 10.0])
+    f, fd, fdd = 30.0, -4e-10, 1e-20
+    expected = 0.25 + f * t + fd * t**2 / 2 + fdd * t**3 / 6
+    np.testing.assert_allclose(pulsars.phase(t, [f, fd, fdd], phase0=0.25), expected, rtol=1e-14)
+    with pytest.raises(ValueError, match="freqs"):
+        pulsars.phase(t, [])
+
+
+@given(st.floats(0.005, 0.3))
+def test_profile_is_normalised_and_peaks_at_zero(duty):
+    x = np.linspace(0.0, 1.0, 4001)[:-1]
+    h = pulsars.profile(x, duty)
+    assert abs(h.mean() - 1.0) < 1e-6
+    assert np.argmax(h) == 0
+    # the full width at half maximum is the duty cycle
+    half = pulsars.profile(np.array([duty / 2, -duty / 2]), duty)
+    assert np.allclose(half, pulsars.profile(0.0, duty) / 2, rtol=2e-3)
+
+
+def test_profile_rejects_bad_duty():
+    with pytest.raises(ValueError, match=r"duty must be a real number in \(0, 0.5\]"):
+        pulsars.profile(0.0, 0.0)
+
+
+def test_template_matches_fold_of_simulated_photons():
+    p = pulsars.get("B1821-24")
+    t = pulsars.simulate_photons(p, 200.0, area_m2=5.0, background_ph_cm2_s=0.0005, rng=3)
+    counts = pulsars.fold(t, p, nbins=32)
+    lam_s, lam_b = pulsars.photon_rates(p, 5.0, 0.0005)
+    expected = lam_b * 200.0 / 32 + lam_s * 200.0 * pulsars.binned_template(32, p.duty_cycle)
+    chi2 = np.sum((counts - expected) ** 2 / expected)
+    assert chi2 < 32 + 5 * math.sqrt(2 * 32)  # consistent with Poisson scatter
+    assert abs(counts.sum() - expected.sum()) < 5 * math.sqrt(expected.sum())
+
+
+def test_simulate_photons_is_seeded():
+    a = pulsars.simulate_photons("B0531+21", 0.5, area_m2=0.01, rng=7)
+    b = pulsars.simulate_photons("B0531+21", 0.5, area_m2=0.01, rng=7)
+    np.testing.assert_array_equal(a, b)
+    assert np.all(np.diff(a) >= 0)
+    with pytest.raises(ValueError, match="t_obs"):
+        pulsars.simulate_photons("B0531+21", -1.0)
+    with pytest.raises(ValueError, match="area_m2"):
+        pulsars.simulate_photons("B0531+21", 1.0, area_m2=0.0)
+
+
+def test_photons_recover_the_injected_shift():
+    p = pulsars.get("B0531+21")
+    shift = 0.2 * p.period
+    t = pulsars.simulate_photons(p, 2.0, area_m2=0.5, rng=11, shift=shift)
+    counts = pulsars.fold(t, p, nbins=512)
+    est = pulsars.estimate_phase_shift(counts, pulsars.binned_template(512, p.duty_cycle))
+    assert abs(est * p.period - shift) < 2e-5
+
+
+@given(st.floats(-0.45, 0.45))
+def test_phase_shift_estimator_is_exact_without_noise(shift):
+    tpl = pulsars.binned_template(256, 0.05)
+    shifted = pulsars._shifted_template(256, 0.05, shift)
+    assert abs(pulsars.estimate_phase_shift(shifted, tpl) - shift) < 1e-6
+
+
+def test_estimator_input_checks():
+    with pytest.raises(ValueError, match="equal length"):
+        pulsars.estimate_phase_shift(np.ones(8), np.ones(16))
+
+
+def test_sheikh_formula_independent_computation():
+    # B1937+21 by hand: SNR = FApt / sqrt((B + F(1-p)) A t d + FApt)
+    F, p, W, P = 4.99e-5, 0.86, 2.1e-5, 0.00156
+    A, t, B = 1e4, 500.0, 0.005
+    snr = F * A * p * t / math.sqrt((B + F * (1 - p)) * A * t * (W / P) + F * A * p * t)
+    assert math.isclose(pulsars.toa_sigma("B1937+21"), W / (2 * snr), rel_tol=1e-12)
+    assert math.isclose(pulsars.ranging_accuracy("B1937+21"), C * W / (2 * snr), rel_tol=1e-12)
+
+
+def test_accuracy_improves_with_area_and_time():
+    base = pulsars.ranging_accuracy("B1821-24")
+    assert pulsars.ranging_accuracy("B1821-24", area_m2=4.0) < base
+    assert pulsars.ranging_accuracy("B1821-24", t_obs=2000.0) < base
+    assert pulsars.ranging_accuracy("B1821-24", background_ph_cm2_s=0.05) > base
+
+
+def test_monte_carlo_agrees_with_formula_where_signal_is_strong():
+    # the Crab locks easily: the estimator's scatter is within 20 % of the formula
+    err = pulsars.monte_carlo_toa("B0531+21", n_trials=300, rng=1)
+    ratio = err.std() / pulsars.toa_sigma("B0531+21")
+    assert 0.8 < ratio < 1.2
+    assert abs(err.mean()) < 3 * err.std() / math.sqrt(err.size)
+
+
+def test_monte_carlo_is_reproducible():
+    a = pulsars.monte_carlo_toa("B0531+21", n_trials=5, rng=4)
+    b = pulsars.monte_carlo_toa("B0531+21", n_trials=5, rng=4)
+    np.testing.assert_array_equal(a, b)

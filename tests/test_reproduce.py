@@ -1,0 +1,53 @@
+"""The registry: every registered reproduction passes; results serialise; IDs are unique."""
+
+import json
+
+import pytest
+
+from xnavlab import reproduce
+
+
+def test_registry_lists_the_part_one_id():
+    assert "xnav-ranging" in reproduce.ids()
+    rep = reproduce.get("xnav-ranging")
+    assert rep.source and rep.title and rep.chapter
+
+
+def test_unknown_id():
+    with pytest.raises(ValueError, match="unknown reproduction id 'nope'; known ids:"):
+        reproduce.get("nope")
+
+
+def test_xnav_ranging_within_five_percent():
+    res = reproduce.run("xnav-ranging")
+    res.assert_passed()
+    for name, paper in res.paper.items():
+        assert abs(res.ours[name] - paper) <= 0.05 * paper
+    payload = json.loads(res.to_json())
+    assert payload["pass"] is True and payload["id"] == "xnav-ranging"
+    assert "| B0531+21 |" in res._repr_markdown_()
+
+
+def test_failed_checks_are_reported():
+    res = reproduce.Result("demo", [reproduce.check_rel("x", 1.0, 2.0, 0.1)])
+    assert not res.passed
+    with pytest.raises(AssertionError, match="demo failed"):
+        res.assert_passed()
+    assert not reproduce.Result("empty", []).passed
+
+
+def test_check_helpers():
+    assert reproduce.check_abs("a", 10.0, 12.0, 3.0).passed
+    assert not reproduce.check_range("b", 1.0, float("nan"), 0.0, 2.0, "range").passed
+    assert reproduce.check_true("c", "x", "x", True, "same").passed
+
+
+def test_double_registration_is_refused():
+    reproduce.ids()
+    with pytest.raises(ValueError, match="registered twice"):
+        reproduce.register("xnav-ranging", title="t", source="s", chapter="c")(lambda out=None: None)
+
+
+def test_run_writes_figures(tmp_path):
+    res = reproduce.run("xnav-ranging", out=tmp_path / "figs")
+    assert res.figures and all((tmp_path / "figs").glob("*.png"))
