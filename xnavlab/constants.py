@@ -36,8 +36,8 @@ J2000_JD = 2_451_545.0
 KPC = 1.0e3 * 648_000.0 / 3.141592653589793 * AU
 #: Sun's GM, m^3/s^2 (IAU 2009 system of astronomical constants, TDB-compatible).
 GM_SUN = 1.327_124_400_41e20
-#: Earth's GM, m^3/s^2 (IERS Conventions 2010, EGM2008).
-GM_EARTH = 3.986_004_418e14
+#: Earth's GM, m^3/s^2, TDB-compatible (IERS Conventions 2010; TCG value 3.986004418e14).
+GM_EARTH = 3.986_004_356e14
 #: Mars's GM, m^3/s^2 (JPL MRO120D gravity field, Konopliv et al. 2016).
 GM_MARS = 4.282_837_58e13
 #: Jupiter system GM, m^3/s^2 (JPL DE421 header, GM5 = 2.825345909524226e-7 au^3/day^2).
@@ -57,7 +57,7 @@ SOURCES = {
     "AU": "IAU 2012 Resolution B2 (exact)",
     "KPC": "IAU 2015 Resolution B2 (1 pc = 648000/pi au)",
     "GM_SUN": "IAU 2009 system of astronomical constants (TDB)",
-    "GM_EARTH": "IERS Conventions 2010 (EGM2008)",
+    "GM_EARTH": "IERS Conventions 2010, TDB-compatible value",
     "GM_MARS": "JPL MRO120D gravity field (Konopliv et al. 2016)",
     "GM_JUPITER": "JPL DE421 header constant GM5 (Jupiter system)",
     "R_MARS": "IAU WGCCRE 2015 (Archinal et al. 2018)",
