@@ -1,0 +1,145 @@
+"""Quaternion identities (scalar last) for xnavlab.quaternions."""
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+from scipy.integrate import solve_ivp
+
+from xnavlab import quaternions as qt
+
+finite = st.floats(-1.0, 1.0, allow_nan=False, allow_infinity=False)
+vec3 = st.lists(finite, min_size=3, max_size=3).map(np.array)
+rate = st.lists(st.floats(-0.5, 0.5), min_size=3, max_size=3).map(np.array)
+
+
+@st.composite
+def unit_quat(draw):
+    v = np.array(draw(st.lists(finite, min_size=4, max_size=4)))
+    if np.linalg.norm(v) < 1e-3:
+        v = qt.IDENTITY.copy()
+    return v / np.linalg.norm(v)
+
+
+@given(unit_quat(), unit_quat())
+def test_product_preserves_norm(p, q):
+    assert np.linalg.norm(qt.quat_product(p, q)) == pytest.approx(1.0, abs=1e-12)
+
+
+@given(unit_quat(), unit_quat(), unit_quat())
+def test_product_is_associative(p, q, r):
+    left = qt.quat_product(qt.quat_product(p, q), r)
+    right = qt.quat_product(p, qt.quat_product(q, r))
+    np.testing.assert_allclose(left, right, atol=1e-12)
+
+
+@given(unit_quat())
+def test_conjugate_is_the_inverse(q):
+    np.testing.assert_allclose(qt.quat_product(q, qt.quat_conjugate(q)), qt.IDENTITY, atol=1e-12)
+    np.testing.assert_allclose(qt.quat_product(qt.quat_conjugate(q), q), qt.IDENTITY, atol=1e-12)
+
+
+@given(vec3, unit_quat())
+def test_omega_q_equals_xi_x(x, q):
+    """Paper eq. (20): Omega(x) q = Xi(q) x."""
+    np.testing.assert_allclose(qt.omega_matrix(x) @ q, qt.xi_matrix(q) @ x, atol=1e-12)
+
+
+@given(unit_quat())
+def test_xi_columns_orthonormal_and_orthogonal_to_q(q):
+    Xi = qt.xi_matrix(q)
+    np.testing.assert_allclose(Xi.T @ Xi, np.eye(3), atol=1e-12)
+    np.testing.assert_allclose(Xi.T @ q, 0.0, atol=1e-12)
+
+
+@given(unit_quat(), unit_quat())
+def test_rotation_matrix_composes_like_the_product(p, q):
+    A = qt.rotation_matrix(qt.quat_product(p, q))
+    np.testing.assert_allclose(A, qt.rotation_matrix(p) @ qt.rotation_matrix(q), atol=1e-12)
+    np.testing.assert_allclose(A @ A.T, np.eye(3), atol=1e-12)
+    assert np.linalg.det(A) == pytest.approx(1.0, abs=1e-12)
+
+
+@given(unit_quat(), unit_quat())
+def test_psi_form_of_the_product(p, q):
+    Pm = np.column_stack([qt.psi_matrix(p), p])
+    np.testing.assert_allclose(qt.quat_product(p, q), Pm @ q, atol=1e-12)
+    np.testing.assert_allclose(qt.xi_matrix(q).T @ qt.psi_matrix(q), qt.rotation_matrix(q),
+                               atol=1e-12)
+
+
+@given(vec3, vec3)
+def test_skew_is_the_cross_product(a, b):
+    np.testing.assert_allclose(qt.skew(a) @ b, np.cross(a, b), atol=1e-12)
+
+
+@given(unit_quat(), rate, st.floats(0.0, 2.0))
+def test_propagation_preserves_norm_and_is_orthogonal(q, w, dt):
+    assert np.linalg.norm(qt.quat_propagate(q, w, dt)) == pytest.approx(1.0, abs=1e-12)
+    Phi = qt.kinematics_matrix(w, dt)
+    np.testing.assert_allclose(Phi @ Phi.T, np.eye(4), atol=1e-12)
+
+
+@given(unit_quat(), rate, st.floats(0.01, 5.0))
+def test_discrete_kinematics_matches_integration(q, w, dt):
+    """Paper eq. (12) against a numerical integration of q_dot = 1/2 Omega(w) q."""
+    Om = qt.omega_matrix(w)
+    sol = solve_ivp(lambda t, y: 0.5 * Om @ y, (0.0, dt), q, rtol=1e-11, atol=1e-13)
+    np.testing.assert_allclose(qt.quat_propagate(q, w, dt), sol.y[:, -1], atol=1e-8)
+
+
+@given(unit_quat(), rate, st.floats(0.01, 1.0))
+def test_propagation_is_a_body_rotation(q, w, dt):
+    dq = qt.quat_from_rotvec(w * dt)
+    np.testing.assert_allclose(qt.quat_propagate(q, w, dt), qt.quat_product(dq, q), atol=1e-12)
+
+
+@given(st.lists(st.floats(-3.0, 3.0), min_size=3, max_size=3).map(np.array))
+def test_rotvec_round_trip(phi):
+    if np.linalg.norm(phi) >= np.pi:
+        phi = phi / np.linalg.norm(phi) * 3.0
+    np.testing.assert_allclose(qt.quat_to_rotvec(qt.quat_from_rotvec(phi)), phi, atol=1e-9)
+    np.testing.assert_allclose(qt.quat_to_rotvec(-qt.quat_from_rotvec(phi)), phi, atol=1e-9)
+
+
+@given(unit_quat(), st.lists(st.floats(-1e-3, 1e-3), min_size=3, max_size=3).map(np.array))
+def test_attitude_error_recovers_small_rotation(q, dth):
+    q_est = qt.quat_product(qt.quat_from_rotvec(dth), q)
+    np.testing.assert_allclose(qt.attitude_error(q_est, q), dth, atol=1e-12)
+
+
+def test_batches_broadcast():
+    q = np.tile(qt.quat_from_rotvec([0.1, 0.2, 0.3]), (5, 2, 1))
+    w = np.zeros((5, 2, 3))
+    assert qt.quat_propagate(q, w, 0.1).shape == (5, 2, 4)
+    assert qt.rotation_matrix(q).shape == (5, 2, 3, 3)
+    assert qt.xi_matrix(q).shape == (5, 2, 4, 3)
+    assert qt.omega_matrix(w).shape == (5, 2, 4, 4)
+
+
+def test_normalize_and_conjugate():
+    np.testing.assert_allclose(qt.quat_normalize([0, 0, 3.0, 4.0]), [0, 0, 0.6, 0.8])
+    np.testing.assert_allclose(qt.quat_conjugate([1.0, 2, 3, 4]), [-1.0, -2, -3, 4])
+
+
+@pytest.mark.parametrize(
+    ("func", "args", "name"),
+    [
+        (qt.quat_normalize, ([0.0, 0.0, 0.0, 0.0],), "q"),
+        (qt.quat_normalize, ([1.0, 2.0, 3.0],), "q"),
+        (qt.quat_product, ([0, 0, 0, 1.0], [np.nan, 0, 0, 1.0]), "q"),
+        (qt.quat_product, ([0, 0, 1.0], [0, 0, 0, 1.0]), "p"),
+        (qt.omega_matrix, ([1.0, 2.0],), "w"),
+        (qt.xi_matrix, ([1.0, 2.0, 3.0],), "q"),
+        (qt.psi_matrix, (np.zeros(5),), "q"),
+        (qt.skew, ([1.0, np.inf, 0.0],), "v"),
+        (qt.quat_propagate, (qt.IDENTITY, [0.0, 0.0, 0.1], -1.0), "dt"),
+        (qt.kinematics_matrix, ([0.0, 0.0, 0.1], float("nan")), "dt"),
+        (qt.quat_from_rotvec, ([0.0, 0.0],), "phi"),
+        (qt.rotation_matrix, ([0.0, 0.0, 1.0],), "q"),
+        (qt.attitude_error, (qt.IDENTITY, [0.0, 0.0, 0.0, 0.0]), "q"),
+    ],
+)
+def test_bad_input_names_the_parameter(func, args, name):
+    with pytest.raises(ValueError, match=rf"^{name} "):
+        func(*args)
