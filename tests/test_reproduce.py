@@ -51,3 +51,13 @@ def test_double_registration_is_refused():
 def test_run_writes_figures(tmp_path):
     res = reproduce.run("xnav-ranging", out=tmp_path / "figs")
     assert res.figures and all((tmp_path / "figs").glob("*.png"))
+
+
+def test_unclaimed_rows_are_shown_but_do_not_decide():
+    rows = [reproduce.check_rel("x", 1.0, 1.0, 0.1), reproduce.check_info("rank", "a", "b", "see note")]
+    res = reproduce.Result("demo", rows)
+    assert res.passed
+    assert "NOT CLAIMED" in res.table()
+    assert res.to_dict()["checks"] == {"x": "PASS", "rank": "NOT CLAIMED"}
+    only_info = reproduce.Result("info", rows[1:])
+    assert not only_info.passed

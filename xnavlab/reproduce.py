@@ -35,19 +35,32 @@ __all__ = [
     "check_abs",
     "check_range",
     "check_true",
+    "check_info",
     "results_table",
 ]
 
 
 @dataclass(frozen=True)
 class Check:
-    """One asserted comparison: a quantity, the paper's value, ours, the tolerance, the verdict."""
+    """One comparison: a quantity, the paper's value, ours, the tolerance, the verdict.
+
+    ``claimed=False`` marks a row we show but do not claim to reproduce (see
+    :func:`check_info`); it does not count towards the verdict.
+    """
 
     name: str
     paper: Any
     ours: Any
     tolerance: str
     passed: bool
+    claimed: bool = True
+
+    @property
+    def verdict(self):
+        """``"PASS"``, ``"FAIL"``, or ``"NOT CLAIMED"`` for an informational row."""
+        if not self.claimed:
+            return "NOT CLAIMED"
+        return "PASS" if self.passed else "FAIL"
 
 
 def check_rel(name, paper, ours, rel):
@@ -97,6 +110,21 @@ def check_true(name, paper, ours, condition, tolerance):
     return Check(name, paper, ours, tolerance, bool(condition))
 
 
+def check_info(name, paper, ours, why):
+    """A row shown beside the paper's value that we do not claim to reproduce.
+
+    Use it where ours differs from the paper for a stated reason (``why``), so the
+    difference is visible in every table and in the dashboard instead of hidden.
+
+    Examples
+    --------
+    >>> c = check_info("ranking", "RKF best", "ASUKF best", "not reproduced: see note")
+    >>> c.verdict
+    'NOT CLAIMED'
+    """
+    return Check(name, paper, ours, why, passed=False, claimed=False)
+
+
 @dataclass
 class Result:
     """What a reproduction returns.
@@ -123,7 +151,8 @@ class Result:
 
     @property
     def passed(self):
-        return bool(self.checks) and all(c.passed for c in self.checks)
+        claimed = [c for c in self.checks if c.claimed]
+        return bool(claimed) and all(c.passed for c in claimed)
 
     @property
     def paper(self):
@@ -145,7 +174,7 @@ class Result:
             "ours": self.ours,
             "tolerance": self.tolerance,
             "pass": self.passed,
-            "checks": {c.name: c.passed for c in self.checks},
+            "checks": {c.name: c.verdict for c in self.checks},
             "note": self.note,
             "figures": self.figures,
         }
@@ -167,7 +196,7 @@ class Result:
         for c in self.checks:
             lines.append(
                 f"| {c.name} | {_show(c.paper)} | {_show(c.ours)} | {c.tolerance} | "
-                f"{'yes' if c.passed else 'no'} |"
+                f"{c.verdict.lower()} |"
             )
         if self.note:
             lines += ["", self.note]
@@ -175,8 +204,7 @@ class Result:
 
     def assert_passed(self):
         """Raise ``AssertionError`` listing every failed check."""
-        bad = [c for c in self.checks if not c.passed]
-        if bad or not self.checks:
+        if not self.passed:
             raise AssertionError(f"{self.id} failed:\n" + results_table([self]))
 
 
@@ -288,8 +316,7 @@ def results_table(results):
     for res in results:
         for c in res.checks:
             rows.append(
-                (res.id, c.name, _show(c.paper), _show(c.ours), c.tolerance,
-                 "PASS" if c.passed else "FAIL")
+                (res.id, c.name, _show(c.paper), _show(c.ours), c.tolerance, c.verdict)
             )
     widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
     return "\n".join("  ".join(s.ljust(w) for s, w in zip(r, widths, strict=True)) for r in rows)

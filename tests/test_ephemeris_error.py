@@ -1,0 +1,139 @@
+"""Tests of xnavlab.ephemeris_error: the DE421 - DE405 error, directions, measurement, dynamics."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from xnavlab import ephemeris, pulsars, reproduce
+from xnavlab import ephemeris_error as ee
+from xnavlab.constants import GM_EARTH, GM_MARS, J2_EARTH, R_EARTH
+
+
+def test_ephemeris_error_is_de421_minus_de405():
+    t = ee.EPOCH_1997 + np.array([0.0, 3600.0])
+    d = ee.ephemeris_error("mars", t)
+    want = ephemeris.position("mars", t, "de421") - ephemeris.position("mars", t, "de405")
+    assert d.shape == (2, 3)
+    np.testing.assert_allclose(d, want)
+    assert np.allclose(ee.ephemeris_error("earth", 0.0, "de421", "de421"), 0.0)
+
+
+def test_ephemeris_error_size_and_slow_variation():
+    for body in ("earth", "mars"):
+        s = ee.error_summary(body, ee.EPOCH_1997, ee.YEAR / 365.25, n=5)
+        assert 100.0 < s["mean_m"] < 1e4
+        assert abs(s["change_m"]) < 50.0  # metres per day
+        assert s["t"].shape == s["norm"].shape == (5,)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "name"),
+    [({"body": "venus"}, "body"), ({"span": -1.0}, "span"), ({"n": 1}, "n"), ({"t0": math.nan}, "t0")],
+)
+def test_error_summary_rejects_bad_input(kwargs, name):
+    args = {"body": "earth"} | kwargs
+    with pytest.raises(ValueError, match=name):
+        ee.error_summary(**args)
+
+
+def test_ephemeris_error_rejects_unknown_body():
+    with pytest.raises(ValueError, match="body"):
+        ee.ephemeris_error("pluto", 0.0)
+
+
+def test_injected_error():
+    d = ee.injected_error([0.0, 1.0], 300.0, direction=[0.0, 0.0, 2.0])
+    np.testing.assert_allclose(d, [[0, 0, 300.0], [0, 0, 300.0]])
+    slow = ee.injected_error(np.linspace(0, ee.YEAR, 101), 100.0, "slow")
+    norms = np.linalg.norm(slow, axis=1)
+    assert 119.0 < norms.max() <= 120.0 + 1e-9 and 80.0 - 1e-9 <= norms.min() < 81.0
+    for kwargs, name in (({"size": -1.0}, "size"), ({"kind": "ramp"}, "kind"),
+                         ({"direction": [0, 0, 0]}, "direction"), ({"period": 0.0}, "period")):
+        with pytest.raises(ValueError, match=name):
+            ee.injected_error(0.0, **({"size": 1.0} | kwargs))
+
+
+@given(st.floats(0.0, 360.0), st.floats(-90.0, 90.0))
+def test_pulsar_direction_unit_and_orders(ra, dec):
+    n = ee.pulsar_direction(ra, dec)
+    p = ee.pulsar_direction(ra, dec, order="paper")
+    assert abs(np.linalg.norm(n) - 1.0) < 1e-12
+    np.testing.assert_allclose(p, n[[1, 0, 2]], atol=1e-15)  # the paper swaps x and y
+
+
+def test_pulsar_direction_matches_catalogue():
+    for name in ee.PULSARS:
+        p = pulsars.get(name)
+        np.testing.assert_allclose(ee.pulsar_direction(p.ra_deg, p.dec_deg), p.direction, atol=1e-15)
+    assert ee.directions().shape == (3, 3)
+    with pytest.raises(ValueError, match="order"):
+        ee.pulsar_direction(0.0, 0.0, "weird")
+    with pytest.raises(ValueError, match="dec_deg"):
+        ee.pulsar_direction(0.0, 91.0)
+    with pytest.raises(ValueError, match="names"):
+        ee.directions(())
+
+
+def test_sigma_matches_ranging_accuracy():
+    for name, sigma in zip(ee.PULSARS, ee.SIGMA_M, strict=True):
+        assert abs(pulsars.ranging_accuracy(name) - sigma) / sigma < 0.02
+
+
+def test_xnav_range():
+    n = ee.directions()
+    r, rp = np.array([7e6, 1e6, -2e6]), np.array([1.4e11, -3e10, 2e10])
+    np.testing.assert_allclose(ee.xnav_range(r, rp, n), n @ (r + rp))
+    assert ee.xnav_range(np.zeros((4, 3)), rp, n).shape == (4, 3)
+    with pytest.raises(ValueError, match="r_planet"):
+        ee.xnav_range(r, [1.0, 2.0], n)
+    with pytest.raises(ValueError, match="n"):
+        ee.xnav_range(r, rp, [[np.nan, 0, 0]])
+
+
+def test_acceleration_two_body_plus_j2():
+    r = np.array([7e6, 0.0, 0.0])
+    a = ee.acceleration(r, "earth")
+    pm = -GM_EARTH / 7e6**2
+    j2 = -1.5 * J2_EARTH * GM_EARTH * R_EARTH**2 / 7e6**4  # equatorial J2 term
+    np.testing.assert_allclose(a, [pm + j2, 0.0, 0.0], rtol=1e-12)
+    assert ee.acceleration(np.tile(r, (3, 1)), "mars").shape == (3, 3)
+    with pytest.raises(ValueError, match="body"):
+        ee.acceleration(r, "moon")
+
+
+def test_propagate_conserves_energy_without_j2_error_growth():
+    o = ee.orbit("mars")
+    x1 = ee.propagate(o.state0, 8252.0, "mars")
+    x2 = ee.propagate(o.state0, 8252.0, "mars", substep=5.0)
+    assert np.max(np.abs(x1[:3] - x2[:3])) < 0.5
+    rows = ee.propagate(np.tile(o.state0, (2, 1)), 100.0, "mars")
+    np.testing.assert_allclose(rows[0], rows[1])
+    for kwargs, name in (({"dt": math.inf}, "dt"), ({"substep": 0.0}, "substep"), ({"body": "x"}, "body")):
+        with pytest.raises(ValueError, match=name):
+            ee.propagate(o.state0, **({"dt": 10.0} | kwargs))
+
+
+def test_elements_to_state_circular():
+    x = ee.elements_to_state(7e6, 0.0, 90.0, 0.0, 0.0, 90.0, GM_MARS)
+    np.testing.assert_allclose(x[:3], [0.0, 0.0, 7e6], atol=1e-6)
+    assert abs(np.linalg.norm(x[3:]) - math.sqrt(GM_MARS / 7e6)) < 1e-9
+    with pytest.raises(ValueError, match="e"):
+        ee.elements_to_state(7e6, 1.0, 0, 0, 0, 0, GM_MARS)
+
+
+def test_orbit():
+    e = ee.orbit("earth")
+    assert e.body == "earth" and e.state0.shape == (6,) and e.t0 == ee.EPOCH_1997
+    m = ee.orbit("mars", t0=0.0)
+    assert m.t0 == 0.0
+    u = ee.orbit("earth", elements=(8e6, 0.1, 30, 10, 20, 0))
+    assert abs(np.linalg.norm(u.state0[:3]) - 7.2e6) < 1e-3
+    with pytest.raises(ValueError, match="elements"):
+        ee.orbit("earth", elements=(1.0, 2.0))
+
+
+def test_ephemeris_error_reproduction_passes():
+    reproduce.run("ephemeris-error").assert_passed()
