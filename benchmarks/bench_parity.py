@@ -1,0 +1,65 @@
+"""Fuzzy parity diagnosis of the PL/INS flight: time per flight, and the residual kernel.
+
+Run: ``.venv/bin/python benchmarks/bench_parity.py``. Prints
+
+- the one-time design of a flight (trajectory, error transitions, T-S local models, parity
+  bases; cached afterwards);
+- one seeded diagnosis of the 200 s flight (what each Monte Carlo run of ``plins-step`` and
+  ``plins-ramp`` costs; target: 0.2 s or less, so that the chapter stays well under a minute);
+- the sliding-window residuals (``parity.parity_residuals``, one einsum) against a plain
+  per-window loop in this process: the ratio and the largest difference (must be < 1e-9 m).
+"""
+
+import time
+
+import numpy as np
+
+from xnavlab import parity
+from xnavlab.faults import Fault
+
+
+def best_of(fn, repeat=5):
+    """Smallest wall time of ``repeat`` calls, s."""
+    best = np.inf
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        fn()
+        best = min(best, time.perf_counter() - t0)
+    return best
+
+
+def loop_residuals(z, W):
+    """Reference: one matrix-vector product per window and sensor."""
+    s = W.shape[2] - 1
+    out = np.empty((len(z) - s, z.shape[1], W.shape[3]))
+    for k in range(s, len(z)):
+        for j in range(z.shape[1]):
+            out[k - s, j] = W[k, j].T @ z[k - s:k + 1, j]
+    return out
+
+
+def main():
+    faults = [Fault("pseudorange", "step", 300.0, 50.0, component=0)]
+    t0 = time.perf_counter()
+    parity.diagnose_flight(faults)
+    print(f"first flight (design + diagnosis)     : {time.perf_counter() - t0:7.3f} s")
+    t_run = best_of(lambda: parity.diagnose_flight(faults, seed=1))
+    print(f"one diagnosis of the 200 s flight     : {t_run:7.3f} s   (target <= 0.2 s) "
+          f"{'OK' if t_run <= 0.2 else 'MISSED'}")
+
+    d = parity.diagnose_flight(faults)
+    W = parity._DESIGN_CACHE[next(iter(parity._DESIGN_CACHE))][2]
+    fast = parity.parity_residuals(d.z, W)
+    ref = loop_residuals(d.z, W)
+    t_fast = best_of(lambda: parity.parity_residuals(d.z, W), repeat=20)
+    t_ref = best_of(lambda: loop_residuals(d.z, W), repeat=5)
+    print(f"residuals, per-window loop            : {t_ref * 1e3:7.2f} ms")
+    print(f"residuals, einsum                     : {t_fast * 1e3:7.2f} ms   "
+          f"ratio {t_ref / t_fast:.0f}x")
+    diff = np.abs(fast - ref).max()
+    print(f"largest difference                    : {diff:.1e} m   (must be < 1e-9) "
+          f"{'OK' if diff < 1e-9 else 'MISSED'}")
+
+
+if __name__ == "__main__":
+    main()
