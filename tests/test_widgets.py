@@ -1,0 +1,129 @@
+"""xnavlab.widgets: the live widget and the kernel-free HTML scrubber."""
+
+import base64
+import json
+import re
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+from matplotlib.figure import Figure
+
+from xnavlab import widgets
+from xnavlab.widgets import explore
+
+CALLS = []
+
+
+def wave(omega=1.0, phase=0.0, style="-", title=""):
+    CALLS.append((omega, phase, style))
+    fig = Figure(figsize=(3, 2))
+    t = np.linspace(0.0, 10.0, 100)
+    ax = fig.add_subplot()
+    ax.plot(t, np.sin(omega * t + phase), style)
+    ax.set_title(title)
+    return fig
+
+
+def pyplot_wave(omega=1.0):
+    fig, ax = plt.subplots(figsize=(3, 2))
+    ax.plot([0, 1], [0, omega])
+    return fig
+
+
+def scrubber_data(html):
+    m = re.search(r'<script type="application/json" class="xnav-scrubber-data">(.*?)</script>',
+                  html, re.S)
+    return json.loads(m.group(1))
+
+
+def test_frames_cover_grid_and_start_at_initial():
+    ex = explore(wave, omega=np.linspace(1.0, 2.0, 21), phase=0.5, max_frames=5)
+    assert ex.frame_values == [1.0, 1.25, 1.5, 1.75, 2.0]
+    assert ex.initial == {"omega": 1.5}
+    assert ex.fixed == {"phase": 0.5}
+    html = ex.html()
+    data = scrubber_data(html)
+    assert len(data["frames"]) == 5
+    assert data["labels"][2] == "omega = 1.5"
+    assert 'value="2"' in html and "<output>omega = 1.5</output>" in html
+    # every frame is a real PNG and the <img> opens on the initial one
+    for uri in data["frames"]:
+        assert base64.b64decode(uri.split(",", 1)[1])[:8] == b"\x89PNG\r\n\x1a\n"
+    assert f'src="{data["frames"][2]}"' in html
+
+
+def test_explicit_initial_is_a_frame_and_others_held():
+    CALLS.clear()
+    ex = explore(wave, omega=[1, 2, 3, 4, 5, 6, 7], phase=[0.0, 1.0], main="omega",
+                 initial={"omega": 2, "phase": 1.0}, max_frames=3)
+    assert 2 in ex.frame_values and len(ex.frame_values) == 3
+    ex.frames()
+    assert {c[1] for c in CALLS} == {1.0}  # the other grid is held at its initial value
+    assert sorted(c[0] for c in CALLS) == sorted(ex.frame_values)
+    ex.frames()  # cached
+    assert len(CALLS) == 3
+
+
+def test_frames_close_their_figures():
+    before = plt.get_fignums()
+    explore(pyplot_wave, omega=[1.0, 2.0, 3.0]).frames()
+    assert plt.get_fignums() == before
+
+
+def test_plain_scalars_passed_to_plot():
+    ex = explore(wave, omega=np.array([1, 2]), style="--")
+    assert all(type(v) is int for v in ex.frame_values)
+    CALLS.clear()
+    ex.frames()
+    assert CALLS[0][2] == "--"
+
+
+def test_html_is_safe_to_embed():
+    ex = explore(wave, title=["a", "</script>"], max_frames=2)
+    html = ex.html()
+    assert html.count("</script>") == 1  # only the data block's own end tag
+    assert scrubber_data(html)["labels"][1] == "title = </script>"
+
+
+def test_mimebundle_outside_kernel_is_html_only():
+    bundle = explore(wave, omega=[1.0, 2.0])._repr_mimebundle_()
+    assert set(bundle) == {"text/plain", "text/html"}
+    assert bundle["text/plain"].startswith("Explorer(wave, main='omega', 2 frames")
+
+
+def test_mimebundle_in_kernel_adds_widget(monkeypatch):
+    monkeypatch.setattr(widgets, "_in_kernel", lambda: True)
+    ex = explore(wave, omega=[1.0, 2.0, 3.0], style=["-", ":"])
+    bundle = ex._repr_mimebundle_()
+    assert widgets._MIME_WIDGET in bundle and "text/html" in bundle
+    w = ex.widget()
+    assert w is ex.widget()
+    sliders = {c.description: c for c in w.children[:-1]}
+    assert sliders["omega"].continuous_update is False
+    assert sliders["omega"].value == 2.0 and sliders["style"].value == "-"
+    w.close()
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"phase": 0.0}, "at least one parameter grid"),
+        ({"omega": []}, "grid omega is empty"),
+        ({"omega": [1.0], "main": "phase"}, "main must be one of"),
+        ({"omega": [1.0, 2.0], "initial": {"omega": 1.5}}, "initial value of omega"),
+        ({"omega": [1.0], "initial": {"nope": 1}}, "initial must be one of"),
+        ({"omega": [1.0], "max_frames": 1}, "max_frames"),
+        ({"omega": [1.0], "dpi": 1000}, "dpi"),
+    ],
+)
+def test_bad_input(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        explore(wave, **kwargs)
+
+
+def test_plot_must_return_figure():
+    with pytest.raises(ValueError, match="plot must return a matplotlib Figure"):
+        explore(lambda omega: None, omega=[1.0]).frames()
+    with pytest.raises(ValueError, match="plot must be callable"):
+        explore(3, omega=[1.0])
