@@ -47,3 +47,20 @@ def test_module_entry_point():
     assert proc.returncode == 2
     assert len(proc.stderr.strip().splitlines()) == 1
     assert "nope" in proc.stderr
+
+
+def test_all_reports_a_raising_reproduction_as_failed(monkeypatch, capsys):
+    from xnavlab import cli, reproduce
+
+    monkeypatch.setattr(reproduce, "ids", lambda: ["xnav-ranging", "broken"])
+    real_run = reproduce.run
+
+    def fake_run(rid, out=None, **kw):
+        if rid == "broken":
+            raise ValueError("boom")
+        return real_run(rid, out=out, **kw)
+
+    monkeypatch.setattr(reproduce, "run", fake_run)
+    assert cli.main(["reproduce", "--all"]) == 1
+    out = capsys.readouterr().out
+    assert "1 of 2 reproductions pass" in out and "ValueError: boom" in out

@@ -107,17 +107,29 @@ def _reproduce(args):
     return 0 if result.passed else 1
 
 
+def _run_one(rid, out):
+    """Run one reproduction for ``--all``; an exception becomes a failed result, not an abort."""
+    try:
+        return reproduce.run(rid, out=out)
+    except Exception as exc:  # noqa: BLE001 - reported as a failure of that reproduction
+        check = reproduce.Check("ran without error", "runs", f"{type(exc).__name__}: {exc}",
+                                "must not raise", False)
+        return reproduce.Result(rid, [check], note="the reproduction raised an exception")
+
+
 def _reproduce_all(args):
     from tqdm import tqdm
 
     results = []
     for rid in tqdm(reproduce.ids(), desc="reproductions", unit="repro", file=sys.stderr):
-        results.append(reproduce.run(rid, out=args.out))
+        results.append(_run_one(rid, args.out))
     payload = [r.to_dict() for r in results]
+    n_pass = sum(r.passed for r in results)
     if args.json:
         print(json.dumps(payload, default=reproduce._jsonable))
     else:
         print(reproduce.results_table(results))
+        print(f"{n_pass} of {len(results)} reproductions pass")
     if args.out:
         path = Path(args.out) / "reproductions.json"
         path.write_text(json.dumps(payload, indent=2, default=reproduce._jsonable))
