@@ -1,0 +1,152 @@
+"""Carlson's federated filter: fusion, reset = centralised KF, no-reset conservative, switching."""
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from xnavlab import federated, filters
+
+N = 4  # state size of the linear test system
+
+
+def _system(seed):
+    rng = np.random.default_rng(seed)
+    F = np.eye(N) + 0.1 * rng.standard_normal((N, N))
+    Q = 0.01 * np.eye(N)
+    Hs = [rng.standard_normal((2, N)) for _ in range(3)]
+    Rs = [np.diag(rng.uniform(0.1, 1.0, 2)) for _ in range(3)]
+    return rng, F, Q, Hs, Rs
+
+
+def _run(mode, seed, active_at, steps=12, beta=None):
+    """Federated and centralised filters on the same measurements.
+
+    ``active_at(k)`` gives the connection mask at step k; the centralised filter uses
+    exactly the measurements of the connected sensors.
+    """
+    rng, F, Q, Hs, Rs = _system(seed)
+    x0, P0 = np.zeros(N), np.eye(N) * 4.0
+    ff = federated.FederatedFilter(x0, P0, n_local=3, beta=beta, mode=mode)
+    ff.set_active(active_at(1))
+    xc, Pc = x0.copy(), P0.copy()
+    for k in range(1, steps + 1):
+        zs = [rng.standard_normal(2) for _ in range(3)]
+        ff.predict(lambda s: F @ s, F, Q)
+        xc, Pc = filters.ekf_predict(xc, Pc, lambda s: F @ s, F, Q)
+        mask = active_at(k)
+        for i in range(3):
+            ff.update(i, zs[i], lambda s, i=i: Hs[i] @ s, Hs[i], Rs[i])
+            if mask[i]:
+                up = filters.ekf_update(xc, Pc, zs[i], lambda s, i=i: Hs[i] @ s, Hs[i], Rs[i])
+                xc, Pc = up.x, up.P
+        ff.fuse(next_active=active_at(k + 1))
+    return ff, xc, Pc
+
+
+@given(st.integers(0, 10_000))
+def test_reset_mode_equals_centralised_kalman_filter(seed):
+    ff, xc, Pc = _run("reset", seed, lambda k: [True, True, True])
+    np.testing.assert_allclose(ff.x, xc, rtol=1e-8, atol=1e-10)
+    np.testing.assert_allclose(ff.P, Pc, rtol=1e-8, atol=1e-12)
+
+
+@given(st.integers(0, 10_000))
+def test_unequal_sharing_factors_still_exact_in_reset_mode(seed):
+    ff, xc, Pc = _run("reset", seed, lambda k: [True, True, True], beta=[0.6, 0.3, 0.1])
+    np.testing.assert_allclose(ff.P, Pc, rtol=1e-8, atol=1e-12)
+
+
+@given(st.integers(0, 10_000))
+def test_no_reset_mode_is_conservative(seed):
+    ff, xc, Pc = _run("no-reset", seed, lambda k: [True, True, True])
+    assert np.linalg.eigvalsh(ff.P - Pc).min() > -1e-10      # P_fed >= P_centralised
+
+
+@given(st.integers(0, 10_000))
+def test_switch_out_and_back_in_equals_centralised_with_those_measurements(seed):
+    def mask(k):
+        return [True, not (4 <= k <= 8), True]          # sensor 1 isolated on steps 4-8
+
+    ff, xc, Pc = _run("reset", seed, mask)
+    np.testing.assert_allclose(ff.x, xc, rtol=1e-8, atol=1e-10)
+    np.testing.assert_allclose(ff.P, Pc, rtol=1e-8, atol=1e-12)
+
+
+def test_switched_out_local_only_predicts_and_is_not_fused():
+    ff = federated.FederatedFilter(np.zeros(1), np.eye(1), n_local=2, mode="no-reset")
+    ff.switch_out(1)
+    ff.predict(lambda s: s, np.eye(1), np.eye(1) * 0.5)
+    P_before = ff.locals[1].P.copy()
+    up = ff.update(1, [10.0], lambda s: s, np.eye(1), np.eye(1))
+    assert np.array_equal(ff.locals[1].P, P_before) and ff.locals[1].x[0] == 0.0
+    assert up.nis == pytest.approx(100.0 / (P_before[0, 0] + 1.0))   # innovation still monitored
+    ff.update(0, [1.0], lambda s: s, np.eye(1), np.eye(1))
+    x, P = ff.fuse()
+    assert np.array_equal(x, ff.locals[0].x) and np.array_equal(P, ff.locals[0].P)
+    ff.switch_in(1)
+    assert ff.active.all()
+
+
+def test_all_switched_out_master_predicts():
+    ff = federated.FederatedFilter(np.zeros(2), np.eye(2), n_local=2)
+    ff.set_active([False, False])
+    ff.predict(lambda s: s + 1.0, np.eye(2), np.eye(2))
+    x, P = ff.fuse()
+    np.testing.assert_allclose(x, [1.0, 1.0])
+    np.testing.assert_allclose(P, 2 * np.eye(2))
+
+
+def test_gate_rejects_outliers():
+    ff = federated.FederatedFilter(np.zeros(1), np.eye(1), n_local=1)
+    up = ff.update(0, [100.0], lambda s: s, np.eye(1), np.eye(1), gate=9.0)
+    assert up.nis > 9.0 and ff.locals[0].x[0] == 0.0
+
+
+@given(st.integers(0, 10_000))
+def test_fuse_matches_information_form_and_is_scale_invariant(seed):
+    rng = np.random.default_rng(seed)
+    xs, Ps = [], []
+    for _ in range(3):
+        A = rng.standard_normal((N, N))
+        Ps.append(A @ A.T + N * np.eye(N))
+        xs.append(rng.standard_normal(N))
+    Y = sum(np.linalg.inv(P) for P in Ps)
+    P_ref = np.linalg.inv(Y)
+    x_ref = P_ref @ sum(np.linalg.inv(P) @ x for P, x in zip(Ps, xs, strict=True))
+    x, P = federated.fuse(xs, Ps)
+    np.testing.assert_allclose(P, P_ref, rtol=1e-9, atol=1e-12)
+    np.testing.assert_allclose(x, x_ref, rtol=1e-8, atol=1e-10)
+    D = np.diag([1e6, 1e6, 1e-3, 1e-3])                  # metres vs m/s-like scales
+    xd, Pd = federated.fuse([D @ v for v in xs], [D @ Q @ D for Q in Ps])
+    np.testing.assert_allclose(Pd, D @ P @ D, rtol=1e-8)
+    np.testing.assert_allclose(xd, D @ x, rtol=1e-8, atol=1e-12)
+
+
+def test_share_factors_and_validation():
+    np.testing.assert_allclose(federated.share_factors([1, 1, 2], [True, True, True]),
+                               [0.25, 0.25, 0.5])
+    with pytest.raises(ValueError, match="mode"):
+        federated.FederatedFilter([0.0], [[1.0]], mode="sometimes")
+    with pytest.raises(ValueError, match="beta"):
+        federated.FederatedFilter([0.0], [[1.0]], n_local=2, beta=[1.0, -1.0])
+    with pytest.raises(ValueError, match="use must select"):
+        federated.fuse([np.zeros(1)], [np.eye(1)], use=[False])
+    ff = federated.FederatedFilter([0.0], [[1.0]], n_local=2)
+    with pytest.raises(ValueError, match=r"i must be an integer in \[0, 1\]"):
+        ff.switch_out(2)
+    assert "0:on" in repr(ff)
+
+
+def test_ukf_locals_match_ekf_locals_on_a_linear_system():
+    rng, F, Q, Hs, Rs = _system(3)
+    fe = federated.FederatedFilter(np.zeros(N), np.eye(N), n_local=3)
+    fu = federated.FederatedFilter(np.zeros(N), np.eye(N), n_local=3, kind="ukf")
+    for _ in range(3):
+        zs = [rng.standard_normal(2) for _ in range(3)]
+        for ff in (fe, fu):
+            ff.predict(lambda s: F @ s, F, Q)
+            for i in range(3):
+                ff.update(i, zs[i], lambda s, i=i: Hs[i] @ s, Hs[i], Rs[i])
+            ff.fuse()
+    np.testing.assert_allclose(fu.x, fe.x, rtol=1e-6, atol=1e-9)

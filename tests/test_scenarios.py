@@ -1,0 +1,157 @@
+"""The Mars scenario: numba = numpy, filter consistency (NEES/NIS), the 30-day run, the CLI."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from xnavlab import reproduce, scenarios
+from xnavlab.cli import main
+from xnavlab.filters import chi2_bounds
+
+SHORT = dict(days=0.02, record_dt=3.0)   # 576 epochs, three XNAV updates
+
+
+def _rel(a, b):
+    """Largest difference relative to the size of the state (position and velocity apart)."""
+    pos = np.abs(a[:, :3] - b[:, :3]).max() / np.abs(b[:, :3]).max()
+    vel = np.abs(a[:, 3:] - b[:, 3:]).max() / np.abs(b[:, 3:]).max()
+    return max(pos, vel)
+
+
+@pytest.mark.parametrize("mode", ["reset", "no-reset"])
+def test_numba_and_numpy_give_the_same_estimates(mode):
+    inp = scenarios.prepare(mode=mode, **SHORT)
+    a = scenarios.run(inputs=inp, backend="numba")
+    b = scenarios.run(inputs=inp, backend="numpy")
+    assert _rel(a.x, b.x) < 1e-9
+    assert _rel(a.x_local.reshape(-1, 6), b.x_local.reshape(-1, 6)) < 1e-9
+    np.testing.assert_allclose(a.P, b.P, rtol=1e-6, atol=1e-9 * np.abs(b.P).max())
+    np.testing.assert_allclose(a.nis, b.nis, rtol=1e-6, equal_nan=True)
+    assert np.array_equal(a.flags, b.flags)
+
+
+def test_numba_and_numpy_agree_with_switching_and_gating():
+    inp = scenarios.prepare(**SHORT)
+    active = np.ones((inp.n, 3), dtype=bool)
+    active[100:300, 1] = False          # UV switched out, then back in
+    active[250:400, 0] = False          # XNAV out across its 1000-s update
+    gate = [np.inf, np.inf, 4.0]        # CNS rejects innovations with NIS > 4
+    a = scenarios.run(inputs=inp, backend="numba", active=active, gate=gate)
+    b = scenarios.run(inputs=inp, backend="numpy", active=active, gate=gate)
+    assert _rel(a.x, b.x) < 1e-9
+    assert np.array_equal(a.flags, b.flags)
+    assert not (a.flags[100:300, 1] == 1).any() and (a.flags[100:300, 1] == 3).sum() > 190
+    assert (a.flags[:, 2] == 2).any()
+
+
+def test_switching_out_costs_accuracy_but_stays_consistent():
+    inp = scenarios.prepare(days=0.2, record_dt=60.0)
+    full = scenarios.run(inputs=inp)
+    active = np.ones((inp.n, 3), dtype=bool)
+    active[:, 1:] = False                                    # XNAV alone
+    xnav = scenarios.run(inputs=inp, active=active)
+    assert xnav.metrics(0.1)["position_error_m"] > full.metrics(0.1)["position_error_m"]
+    assert np.all(np.linalg.eigvalsh(xnav.P)[:, 0] > 0)
+
+
+def test_prepare_is_reproducible_and_seeded():
+    a = scenarios.prepare(days=0.01, seed=3)
+    b = scenarios.prepare(days=0.01, seed=3)
+    c = scenarios.prepare(days=0.01, seed=4)
+    for s in ("xnav", "uv", "cns"):
+        assert np.array_equal(a.z[s], b.z[s])
+        assert not np.array_equal(a.z[s], c.z[s])
+    assert a.times[0] == scenarios.MarsScenario().t0
+    assert np.allclose(a.x0 - a.truth[0], [5000, 5000, 5000, 1, 1, 1])
+
+
+def test_grid_holds_every_sensor_epoch():
+    inp = scenarios.prepare(days=0.02)
+    off = inp.times - inp.times[0]
+    assert set(np.arange(3.0, 1728.1, 3.0)) <= set(np.round(off, 6))
+    assert set(np.round(inp.t_meas["xnav"] - inp.times[0], 6)) == {500.0, 1000.0, 1500.0}
+    assert np.all(np.diff(inp.times) > 0)
+
+
+def test_nees_monte_carlo_inside_chi_square_bounds():
+    """100 runs of 0.1 day, random initial errors: the run-averaged NEES of the fused estimate.
+
+    Successive epochs of one run are strongly correlated, so the per-epoch average wanders
+    as a whole; its time average must lie inside the 95 % bounds and most epochs too.
+    """
+    mc = scenarios.nees_monte_carlo(100, days=0.1, record_dt=300.0)
+    lo, hi = mc["bounds"]
+    nees = mc["nees"][1:]
+    assert lo <= nees.mean() <= hi
+    assert np.mean((nees >= lo) & (nees <= hi)) >= 0.7
+    # a federated local's innovation covariance uses P/beta: conservative, NIS below dof
+    assert mc["nis"]["xnav"] < mc["nis_dof"]["xnav"]
+
+
+@pytest.mark.parametrize("subsystem", ["xnav", "uv", "cns"])
+def test_nis_of_each_subsystem_alone_inside_chi_square_bounds(subsystem):
+    mc = scenarios.nees_monte_carlo(20, days=0.1, record_dt=300.0, subsystems=(subsystem,))
+    lo, hi = mc["nis_bounds"][subsystem]
+    assert lo <= mc["nis"][subsystem] <= hi
+    lo_e, hi_e = chi2_bounds(6, 20)
+    assert lo_e <= mc["nees"][1:].mean() <= hi_e
+
+
+def test_thirty_day_reproduction_passes_and_covariance_stays_spd():
+    res = reproduce.run("mars-nofault")
+    res.assert_passed()
+    assert res.ours["covariance SPD over the run (smallest eigenvalue)"] > 0
+    assert 14.4 < res.ours["position_error_m"] < 57.7
+    assert res.data["position_error"].size == 43201
+
+
+def test_scenario_validation():
+    with pytest.raises(ValueError, match=r"days must be a real number in \(0, 365\]"):
+        scenarios.MarsScenario(days=0)
+    with pytest.raises(ValueError, match="subsystem"):
+        scenarios.MarsScenario(subsystems=("gps",))
+    with pytest.raises(ValueError, match="xnav_sigma_m must hold 4"):
+        scenarios.MarsScenario(xnav_sigma_m=(100.0,))
+    inp = scenarios.prepare(days=0.01)
+    with pytest.raises(ValueError, match="active must have shape"):
+        scenarios.run(inputs=inp, active=np.ones((3, 3), bool))
+    with pytest.raises(ValueError, match="backend"):
+        scenarios.run(inputs=inp, backend="fortran")
+
+
+def test_filter_ephemeris_may_differ_from_truth():
+    same = scenarios.run(days=0.1)
+    other = scenarios.run(days=0.1, filter_ephem="de405")
+    assert np.all(np.isfinite(other.x))
+    assert not np.array_equal(same.x, other.x)
+
+
+def test_cli_json_and_out(tmp_path, capsys):
+    assert main(["run", "mars", "--days", "0.05", "--seed", "2", "--json",
+                 "--out", str(tmp_path)]) == 0
+    payload = json.loads(capsys.readouterr().out)
+    assert {"position_error_m", "velocity_error_mps", "run_time_s"} <= set(payload)
+    assert payload["seed"] == 2
+    data = np.load(tmp_path / "mars_run.npz")
+    assert data["x"].shape[1] == 6 and data["position_error"].size == data["t"].size
+    assert json.loads((tmp_path / "mars_summary.json").read_text())["days"] == 0.05
+
+
+@pytest.mark.parametrize("argv,word", [
+    (["--days", "-1"], "days"), (["--days", "abc"], "days"), (["--seed", "x"], "seed"),
+    (["--seed", "-3"], "seed"), (["--mode", "sometimes"], "mode"), (["--bogus"], "bogus"),
+])
+def test_cli_bad_values_one_line_exit_2(argv, word, capsys):
+    assert main(["run", "mars", *argv]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and word in err
+
+
+def test_cli_module_entry_point():
+    proc = subprocess.run([sys.executable, "-m", "xnavlab", "run", "mars", "--days", "-1"],
+                          capture_output=True, text=True, check=False)
+    assert proc.returncode == 2
+    assert proc.stderr.strip().startswith("xnavlab: error: days")
