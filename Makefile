@@ -58,7 +58,7 @@ lint: $(STAMP)
 
 ## make lab: open the chapters in JupyterLab
 lab: $(STAMP)
-	$(BIN)/jupyter lab book
+	env -u MPLBACKEND $(BIN)/jupyter lab book
 
 clean:
 	rm -rf _build

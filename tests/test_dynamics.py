@@ -117,3 +117,24 @@ def test_bad_inputs():
         dynamics.propagate(np.array([T0 + 1.0]), rtol=1e-16)
     with pytest.raises(ValueError, match="state0"):
         dynamics.propagate(np.array([T0 + 1.0]), np.zeros(5))
+
+
+def test_orbital_elements_of_a_circular_equatorial_orbit():
+    r = 4.0e6
+    v = np.sqrt(GM_MARS / r)
+    el = dynamics.orbital_elements([r, 0, 0, 0, v, 0], pole=np.array([0.0, 0.0, 1.0]))
+    assert abs(el.a - r) < 1e-6 * r and el.e < 1e-12
+    assert el.inclination < 1e-12 and el.inclination_pole < 1e-12
+    assert abs(el.period - 2 * np.pi * np.sqrt(r**3 / GM_MARS)) < 1e-6
+
+
+def test_orbital_elements_are_conserved_by_two_body_motion():
+    t = T0 + np.array([0.0, 3000.0])
+    x = dynamics.propagate(t, third_bodies=())
+    a, b = dynamics.orbital_elements(x[0]), dynamics.orbital_elements(x[1])
+    np.testing.assert_allclose(a[:4], b[:4], rtol=1e-9, atol=1e-12)
+
+
+def test_orbital_elements_rejects_unbound_states():
+    with pytest.raises(ValueError, match="bound orbit"):
+        dynamics.orbital_elements([4e6, 0, 0, 0, 1e4, 0])

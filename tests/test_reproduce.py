@@ -61,3 +61,8 @@ def test_unclaimed_rows_are_shown_but_do_not_decide():
     assert res.to_dict()["checks"] == {"x": "PASS", "rank": "NOT CLAIMED"}
     only_info = reproduce.Result("info", rows[1:])
     assert not only_info.passed
+
+
+@pytest.mark.parametrize("rid", ["toa-terms", "mars-orbit"])
+def test_part_one_sanity_reproductions(rid):
+    reproduce.run(rid).assert_passed()

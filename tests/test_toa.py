@@ -107,3 +107,22 @@ def test_bad_inputs():
         toa.delay(np.array([np.nan, 0, 0]), N, D, r_sun)
     with pytest.raises(ValueError, match="trailing shape"):
         toa.roemer(R[:2], N)
+
+
+def test_pdop_against_explicit_least_squares():
+    sigma = np.array([109.0, 344.0, 1866.0, 325.0])
+    value, pos = toa.pdop(N, sigma)
+    W = np.diag(sigma**-2)
+    assert math.isclose(pos, math.sqrt(np.trace(np.linalg.inv(N.T @ W @ N))), rel_tol=1e-12)
+    assert math.isclose(value, math.sqrt(np.trace(np.linalg.inv(N.T @ N))), rel_tol=1e-12)
+    # adding a pulsar never hurts
+    assert toa.pdop(N) <= toa.pdop(N[[0, 1, 3]])
+
+
+def test_pdop_bad_geometry():
+    with pytest.raises(ValueError, match="k >= 3"):
+        toa.pdop(N[:2])
+    with pytest.raises(ValueError, match="coplanar"):
+        toa.pdop(np.array([[1.0, 0, 0], [0, 1.0, 0], [np.sqrt(0.5), np.sqrt(0.5), 0]]))
+    with pytest.raises(ValueError, match="sigma must be positive"):
+        toa.pdop(N, [1.0, 2.0])

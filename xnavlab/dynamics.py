@@ -28,6 +28,7 @@ import math
 import os
 from dataclasses import dataclass
 from pathlib import Path
+from typing import NamedTuple
 
 import numba
 import numpy as np
@@ -51,6 +52,8 @@ __all__ = [
     "truth",
     "gravity_gradient",
     "transition_matrix",
+    "OrbitalElements",
+    "orbital_elements",
 ]
 
 #: Scenario epoch: 2016-01-01 00:00 TDB, s past J2000 (the paper gives none; we chose
@@ -435,3 +438,69 @@ def transition_matrix(r, dt, gm=GM_MARS):
         term = term @ Fdt / k
         Phi = Phi + term
     return Phi
+
+
+class OrbitalElements(NamedTuple):
+    """Osculating two-body elements of a state (see :func:`orbital_elements`)."""
+
+    a: float  #: semi-major axis, m
+    e: float  #: eccentricity
+    inclination: float  #: to the J2000 equator, rad
+    inclination_pole: float  #: to the plane normal to ``pole``, rad
+    period: float  #: s
+    r_periapsis: float  #: m
+    r_apoapsis: float  #: m
+    energy: float  #: specific orbital energy, J/kg
+
+
+def orbital_elements(state, gm=GM_MARS, pole=MARS_POLE):
+    """Osculating elements of a Cartesian state about a point mass.
+
+    ``a = 1 / (2/r - v^2/mu)`` (vis-viva), ``e = |((v^2 - mu/r) r - (r.v) v) / mu|``,
+    ``T = 2 pi sqrt(a^3/mu)``, inclination from the angular momentum ``h = r x v``.
+
+    Parameters
+    ----------
+    state : array_like, shape (6,)
+        Position (m) and velocity (m/s), centre-relative.
+    gm : float
+        Centre's GM, m^3/s^2 (default Mars).
+    pole : array_like, shape (3,)
+        Unit vector of the centre's spin axis, for ``inclination_pole``.
+
+    Returns
+    -------
+    OrbitalElements
+
+    Raises
+    ------
+    ValueError
+        For an unbound (parabolic or hyperbolic) state.
+
+    Examples
+    --------
+    >>> el = orbital_elements(MARS_STATE0)
+    >>> round(el.a / 1e3), round(el.e, 3), round(el.period / 3600, 2)
+    (4196, 0.09, 2.29)
+    """
+    state = check_finite_array("state", state, shape=(6,))
+    gm = check_real("gm", gm, 0.0, lo_open=True)
+    r, v = state[:3], state[3:]
+    rn, vn = float(np.linalg.norm(r)), float(np.linalg.norm(v))
+    energy = 0.5 * vn**2 - gm / rn
+    if energy >= 0.0:
+        raise ValueError(f"state must be a bound orbit (energy < 0), got energy {energy:.6g} J/kg")
+    a = 1.0 / (2.0 / rn - vn**2 / gm)  # vis-viva
+    e = float(np.linalg.norm(((vn**2 - gm / rn) * r - (r @ v) * v) / gm))
+    h = np.cross(r, v)
+    hhat = h / np.linalg.norm(h)
+    return OrbitalElements(
+        a=a,
+        e=e,
+        inclination=float(np.arccos(np.clip(hhat[2], -1.0, 1.0))),
+        inclination_pole=float(np.arccos(np.clip(hhat @ np.asarray(pole, float), -1.0, 1.0))),
+        period=2.0 * math.pi * math.sqrt(a**3 / gm),
+        r_periapsis=a * (1.0 - e),
+        r_apoapsis=a * (1.0 + e),
+        energy=energy,
+    )

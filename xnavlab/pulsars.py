@@ -334,9 +334,13 @@ def simulate_photons(pulsar, t_obs, area_m2=1.0, background_ph_cm2_s=0.005, rng=
     lam_s, lam_b = photon_rates(p, area_m2, background_ph_cm2_s)
     f, fdot = p.frequency, p.fdot
     sig = p.duty_cycle / (2.0 * math.sqrt(2.0 * math.log(2.0)))
-    cycles = f * t_obs
-    n_s = rng.poisson(lam_s * t_obs)
-    ph = rng.uniform(-1.0, cycles + 1.0, n_s).round() + rng.normal(0.0, sig, n_s)
+    # Draw over whole cycles -1 .. n_cyc (one spare each side, since the shift and the
+    # profile's tails move photons across the ends), at lambda_s / f photons per cycle,
+    # then keep those inside [0, t_obs): the kept count is Poisson(lambda_s t_obs).
+    first, last = -1 + math.floor(-shift * f), math.ceil(f * t_obs - shift * f) + 1
+    n_cyc = last - first + 1
+    n_s = rng.poisson(lam_s / f * n_cyc)
+    ph = rng.integers(first, last + 1, n_s) + rng.normal(0.0, sig, n_s)
     # invert Phi(tau) = f tau + fdot tau^2 / 2 for tau (two Newton steps from tau = ph/f)
     tau = ph / f
     for _ in range(2):

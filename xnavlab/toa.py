@@ -41,6 +41,7 @@ __all__ = [
     "gradient",
     "terms",
     "delays_at",
+    "pdop",
 ]
 
 
@@ -215,3 +216,50 @@ def delays_at(r, t, pulsar_names=pulsars.PAPER_PULSARS, center="mars", ephem="de
     r_c = ephemeris.position(center, t, ephem)
     r_sun = ephemeris.position("sun", t, ephem)
     return delay(r + r_c, n, d, r_sun)
+
+
+def pdop(n, sigma=None):
+    """Geometry of a pulsar set: position dilution of precision and snapshot position error.
+
+    With unit vectors ``n`` (rows) and ranging noise ``sigma`` (m), a single snapshot of
+    range-like measurements ``c dt = n . r`` determines the position with covariance
+    ``(N^T W N)^-1``, ``W = diag(sigma^-2)``. ``PDOP = sqrt(tr (N^T N)^-1)``.
+
+    Parameters
+    ----------
+    n : array_like, shape (k, 3)
+        Unit vectors to ``k >= 3`` pulsars.
+    sigma : array_like, shape (k,), optional
+        Ranging accuracies, m.
+
+    Returns
+    -------
+    float or (float, float)
+        PDOP, and with ``sigma`` also the snapshot position error (m, 1 sigma RSS).
+
+    Raises
+    ------
+    ValueError
+        For fewer than three pulsars or a degenerate (coplanar) set.
+
+    Examples
+    --------
+    >>> round(pdop(np.eye(3)), 3)
+    1.732
+    >>> pdop(np.eye(3), [1.0, 2.0, 2.0])[1]
+    3.0
+    """
+    n = check_finite_array("n", n, shape=(3,))
+    if n.ndim != 2 or n.shape[0] < 3:
+        raise ValueError(f"n must have shape (k, 3) with k >= 3, got {n.shape}")
+    gram = n.T @ n
+    if np.linalg.cond(gram) > 1e12:
+        raise ValueError("n must span three dimensions (the pulsar directions are coplanar)")
+    value = float(np.sqrt(np.trace(np.linalg.inv(gram))))
+    if sigma is None:
+        return value
+    sigma = check_finite_array("sigma", sigma)
+    if sigma.shape != (n.shape[0],) or np.any(sigma <= 0):
+        raise ValueError(f"sigma must be positive with shape ({n.shape[0]},), got {sigma.shape}")
+    w = sigma**-2.0
+    return value, float(np.sqrt(np.trace(np.linalg.inv(n.T @ (w[:, None] * n)))))
