@@ -66,3 +66,14 @@ def test_unclaimed_rows_are_shown_but_do_not_decide():
 @pytest.mark.parametrize("rid", ["toa-terms", "mars-orbit"])
 def test_part_one_sanity_reproductions(rid):
     reproduce.run(rid).assert_passed()
+
+
+def test_package_never_switches_the_matplotlib_backend():
+    # a notebook kernel's inline backend must survive reproduce.run(..., out=...)
+    from pathlib import Path
+
+    root = Path(reproduce.__file__).parent
+    offenders = [p.name for p in root.rglob("*.py")
+                 if "matplotlib.use(" in "".join(l for l in p.read_text().splitlines(True)
+                                                if not l.lstrip().startswith(">>>"))]
+    assert not offenders, offenders

@@ -37,6 +37,7 @@ __all__ = [
     "check_true",
     "check_info",
     "results_table",
+    "figure",
 ]
 
 
@@ -308,6 +309,28 @@ def run(id, out=None, **kwargs):
     if out is None:
         _CACHE[key] = result
     return result
+
+
+def figure(*args, figsize=(6.0, 3.5), **kwargs):
+    """A figure for a reproduction's PNG: like ``pyplot.subplots`` but outside pyplot.
+
+    A bare :class:`matplotlib.figure.Figure` needs no backend, so writing figures never
+    switches the backend of a running notebook kernel and leaves no open pyplot figure.
+
+    Returns
+    -------
+    (Figure, Axes or array of Axes)
+
+    Examples
+    --------
+    >>> fig, ax = figure()
+    >>> type(fig).__name__
+    'Figure'
+    """
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=figsize)
+    return fig, fig.subplots(*args, **kwargs)
 
 
 def results_table(results):

@@ -16,7 +16,7 @@ import math
 import numpy as np
 
 from .. import attitude as att
-from ..reproduce import Result, check_range, check_true, register
+from ..reproduce import Result, check_range, check_true, figure, register
 
 __all__ = ["PAPER", "SOURCE", "CHAPTER", "crossed_after_onset"]
 
@@ -76,16 +76,12 @@ def _first_flag_delay(run, i):
 
 
 def _figure(run, out, name, method="sos"):
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
-    fig = att.plot_residuals(run, method)
+    m = 3 if method == "qdiff" else 4
+    fig, axes = figure(m, 1, sharex=True, figsize=(7, 1.5 * m + 1), squeeze=False)
+    att.plot_residuals(run, method, axes=axes[:, 0])
     fig.tight_layout()
     path = out / f"{name}.png"
     fig.savefig(path, dpi=100)
-    plt.close(fig)
     return str(path)
 
 

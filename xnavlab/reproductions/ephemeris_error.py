@@ -12,6 +12,7 @@ from .. import ephemeris_error as ee
 from .. import robust
 from ..constants import DAY
 from ..reproduce import Result, check_info, check_range, check_rel, check_true, register
+from ..reproduce import figure as _figure
 
 __all__ = ["PAPER_IMPROVEMENT", "PAPER_SENSITIVITY", "PAPER_MARS_ERROR_M", "ukf_sensitivity"]
 
@@ -29,14 +30,6 @@ _CHAPTER = "10_ephemeris_error"
 _SOURCE = "Li et al. 2017 (J. Astronautics 38(1))"
 _NAMES = {"ukf": "UKF", "asukf": "ASUKF", "tdukf": "TDUKF", "rkf": "RKF"}
 
-
-def _plt():
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
-    return plt
 
 
 @register("ephemeris-error", title="DE421 - DE405 error of Earth and Mars over 24 h and 1 year",
@@ -77,8 +70,7 @@ def ephemeris_error_repro(out=None, t0=ee.EPOCH_1997):
             "t0": t0}
     res = Result("ephemeris-error", checks, note, data)
     if out is not None:
-        plt = _plt()
-        fig, axes = plt.subplots(1, 2, figsize=(10, 3.5))
+        fig, axes = _figure(1, 2, figsize=(10, 3.5))
         for ax, label, scale, unit in ((axes[0], "24h", 3600.0, "h"), (axes[1], "1yr", 86400.0, "d")):
             for body in ("earth", "mars"):
                 r = rows[(body, label)]
@@ -89,7 +81,6 @@ def ephemeris_error_repro(out=None, t0=ee.EPOCH_1997):
         fig.tight_layout()
         path = out / "ephemeris-error.png"
         fig.savefig(path, dpi=100)
-        plt.close(fig)
         res.figures.append(str(path))
     return res
 
@@ -139,8 +130,7 @@ def ukf_vs_ephemeris_error(out=None, sizes=(0.0, 250.0, 500.0, 750.0, 1000.0), s
     res = Result("ukf-vs-ephemeris-error", checks, note,
                  {"sizes": sizes, "rmse": r, "slope": float(slope), "intercept": float(icpt)})
     if out is not None:
-        plt = _plt()
-        fig, ax = plt.subplots(figsize=(5, 3.5))
+        fig, ax = _figure(figsize=(5, 3.5))
         ax.plot(sizes, r, "o-", label="UKF (xnavlab)")
         ax.plot(sizes, PAPER_SENSITIVITY * sizes, "k--", label="paper: 1.5 m per m")
         ax.set_xlabel("ephemeris error (m)")
@@ -149,14 +139,12 @@ def ukf_vs_ephemeris_error(out=None, sizes=(0.0, 250.0, 500.0, 750.0, 1000.0), s
         fig.tight_layout()
         path = out / "ukf-vs-ephemeris-error.png"
         fig.savefig(path, dpi=100)
-        plt.close(fig)
         res.figures.append(str(path))
     return res
 
 
 def _figure_runs(cmp, body, out, name):
-    plt = _plt()
-    fig, ax = plt.subplots(figsize=(7, 3.5))
+    fig, ax = _figure(figsize=(7, 3.5))
     for f, err in cmp["error"].items():
         ax.semilogy(cmp["tau"], err, label=_NAMES[f], lw=1)
     lo, hi = robust.WINDOWS[body]
@@ -167,7 +155,6 @@ def _figure_runs(cmp, body, out, name):
     fig.tight_layout()
     path = out / f"{name}.png"
     fig.savefig(path, dpi=100)
-    plt.close(fig)
     return str(path)
 
 
@@ -290,8 +277,7 @@ def rkf_sweep(out=None, sizes=(0.0, 1000.0, 3000.0, 10000.0), body="mars", seeds
     )
     res = Result("rkf-sweep", checks, note, {"sizes": np.array(sizes), "rmse": table, "body": body})
     if out is not None:
-        plt = _plt()
-        fig, ax = plt.subplots(figsize=(5, 3.5))
+        fig, ax = _figure(figsize=(5, 3.5))
         for f in robust.FILTERS:
             ax.plot(sizes, table[f], "o-", label=_NAMES[f])
         ax.set_yscale("log")
@@ -301,6 +287,5 @@ def rkf_sweep(out=None, sizes=(0.0, 1000.0, 3000.0, 10000.0), body="mars", seeds
         fig.tight_layout()
         path = out / "rkf-sweep.png"
         fig.savefig(path, dpi=100)
-        plt.close(fig)
         res.figures.append(str(path))
     return res

@@ -27,6 +27,7 @@ import numpy as np
 from .. import dynamics, pulsars, scenarios, sensors
 from ..constants import C
 from ..reproduce import Result, check_range, check_rel, check_true, register
+from ..reproduce import figure as _figure
 
 __all__ = ["PAPER_POSITION_ERROR_M", "PAPER_VELOCITY_ERROR_MPS", "PAPER_SENSORS",
            "mars_sensors", "mars_subsystems", "mars_nofault"]
@@ -48,14 +49,6 @@ PAPER_POSITION_ERROR_M = 28.835
 #: Paper section 4.2, Fig. 2: fault-free velocity error, m/s.
 PAPER_VELOCITY_ERROR_MPS = 0.02149
 
-
-def _plt():
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
-    return plt
 
 
 @register("mars-sensors", title="simulated sensor noise at the paper's accuracies",
@@ -188,8 +181,7 @@ def mars_nofault(out=None, days=30.0, seed=0, settle_days=1.0, mode="reset"):
     }
     result = Result("mars-nofault", checks, note, data)
     if out is not None:
-        plt = _plt()
-        fig, axes = plt.subplots(2, 1, figsize=(8, 5), sharex=True)
+        fig, axes = _figure(2, 1, figsize=(8, 5), sharex=True)
         axes[0].semilogy(res.t_days, res.position_error(), lw=0.6, label="fused |error|")
         axes[0].semilogy(res.t_days, res.sigma_position(), lw=0.8, label="filter 1-sigma")
         axes[0].axhline(PAPER_POSITION_ERROR_M, color="k", ls="--", lw=0.8, label="paper")
@@ -202,6 +194,5 @@ def mars_nofault(out=None, days=30.0, seed=0, settle_days=1.0, mode="reset"):
         fig.tight_layout()
         path = out / "mars-nofault.png"
         fig.savefig(path, dpi=100)
-        plt.close(fig)
         result.figures.append(str(path))
     return result

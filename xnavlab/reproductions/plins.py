@@ -21,6 +21,7 @@ from ..faults import Fault
 from ..parity import diagnose_flight
 from ..pseudolites import DEFAULT_SIGMA, SENSOR
 from ..reproduce import Result, check_abs, check_range, check_rel, check_true, register
+from ..reproduce import figure as _figure
 
 #: Step sizes on pseudoranges 1-4, m (our choice, the paper does not print them: of
 #: the order of a pseudolite clock jump of one microsecond, c * 1 us = 300 m; PR4 is
@@ -186,18 +187,9 @@ def _monte_carlo(faults, model, seed, n_runs, sigma, time_origin="absolute"):
     return np.array(runs)
 
 
-def _plt():
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
-    return plt
-
 
 def _fig2(d, out):
-    plt = _plt()
-    fig, ax = plt.subplots(figsize=(6.5, 3.5))
+    fig, ax = _figure(figsize=(6.5, 3.5))
     for j in range(d.statistic.shape[1]):
         ax.semilogy(d.t_res, d.statistic[:, j], label=f"PR{j + 1}")
     ax.axhline(d.threshold, color="k", ls="--", lw=1, label="threshold $r_t$")
@@ -208,13 +200,11 @@ def _fig2(d, out):
     fig.tight_layout()
     path = out / "plins-fig2.png"
     fig.savefig(path, dpi=100)
-    plt.close(fig)
     return path
 
 
 def _fig3(d, sizes, out):
-    plt = _plt()
-    fig, ax = plt.subplots(figsize=(6.5, 3.5))
+    fig, ax = _figure(figsize=(6.5, 3.5))
     for j, idn in sorted(d.identification.items()):
         (line,) = ax.plot(idn.t, idn.theta[:, 0], label=f"PR{j + 1} estimate")
         ax.axhline(sizes[j], color=line.get_color(), ls=":", lw=1)
@@ -226,13 +216,11 @@ def _fig3(d, sizes, out):
     fig.tight_layout()
     path = out / "plins-fig3.png"
     fig.savefig(path, dpi=100)
-    plt.close(fig)
     return path
 
 
 def _fig4(d, out):
-    plt = _plt()
-    fig, axes = plt.subplots(1, 2, figsize=(9, 3.3))
+    fig, axes = _figure(1, 2, figsize=(9, 3.3))
     idn = d.identification.get(0)
     for i, (ax, truth, label) in enumerate(zip(
             axes, (RAMP_A, RAMP_B), ("slope a (m/s)", "offset b (m)"), strict=True)):
@@ -247,5 +235,4 @@ def _fig4(d, out):
     fig.tight_layout()
     path = out / "plins-fig4.png"
     fig.savefig(path, dpi=100)
-    plt.close(fig)
     return path

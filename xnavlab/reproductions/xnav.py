@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from .. import pulsars
-from ..reproduce import Result, check_rel, register
+from ..reproduce import Result, check_rel, figure, register
 
 #: Paper section 4.1: ranging accuracy (m), 500 s, 1 m^2, background 0.005 ph/cm^2/s.
 PAPER_RANGING_M = {"B0531+21": 109.0, "B1937+21": 344.0, "B1957+20": 1866.0, "B1821-24": 325.0}
@@ -38,13 +38,8 @@ def xnav_ranging(out=None, area_m2=1.0, t_obs=500.0, background_ph_cm2_s=0.005):
 
 
 def _figure(ours, out):
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
     names = list(PAPER_RANGING_M)
-    fig, ax = plt.subplots(figsize=(6, 3.5))
+    fig, ax = figure(figsize=(6, 3.5))
     x = range(len(names))
     ax.bar([i - 0.2 for i in x], [PAPER_RANGING_M[n] for n in names], 0.4, label="paper")
     ax.bar([i + 0.2 for i in x], [ours[n] for n in names], 0.4, label="xnavlab")
@@ -55,7 +50,6 @@ def _figure(ours, out):
     fig.tight_layout()
     path = out / "xnav-ranging.png"
     fig.savefig(path, dpi=100)
-    plt.close(fig)
     return path
 
 
