@@ -109,6 +109,7 @@ __all__ = [
     "isolation_monte_carlo",
     "isolation_table",
     "plot_residuals",
+    "plot_fault_case",
 ]
 
 #: rad/s in one deg/h.
@@ -1791,4 +1792,48 @@ def plot_residuals(run, method="sos", axes=None):
     axes[0].set_title(f"{method.upper()}: verdict {verdict} ({when}); truth {run.truth}",
                       fontsize=9)
     axes[m - 1].set_xlabel("t (s)")
+    return fig
+
+
+def plot_fault_case(location="gyro_x", kind="ramp", size=10.0, n_sigma=5.0, *, rng=None):
+    """Simulate one fault and plot its SOS and DOS residuals side by side.
+
+    A pure function of its arguments (the sensor noise is seeded): the chapter's slider
+    calls it.
+
+    Parameters
+    ----------
+    location : {"gyro_x", "gyro_y", "gyro_z", "gyro_skew", "star_tracker"}
+    kind : {"step", "ramp"}
+    size : float
+        Multiple of the reference size :data:`DEFAULT_MAGNITUDES` of ``(sensor, kind)``, > 0.
+    n_sigma : float
+        Threshold multiplier of :func:`simulate`, > 0.
+    rng : numpy.random.Generator or int, optional
+        Seed of the sensor noise (default 0, as :func:`simulate`).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Four rows (the residuals), SOS left and DOS right, as :func:`plot_residuals`; not
+        registered with pyplot.
+
+    Examples
+    --------
+    >>> fig = plot_fault_case("gyro_x", "step", 1.0)
+    >>> len(fig.axes), fig.axes[0].get_title()[:23]
+    (8, 'SOS: verdict gyro_x (de')
+    """
+    check_choice("location", location, LOCATIONS)
+    check_choice("kind", kind, ("step", "ramp"))
+    size = check_real("size", size, 0.0, lo_open=True)
+    sensor = "star_tracker" if location == "star_tracker" else "gyro"
+    run = simulate(make_fault(location, kind, size * DEFAULT_MAGNITUDES[(sensor, kind)]),
+                   n_sigma=n_sigma, rng=rng)
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(12, 6.5), layout="constrained")
+    axes = fig.subplots(4, 2, sharex=True)
+    plot_residuals(run, "sos", axes=axes[:, 0])
+    plot_residuals(run, "dos", axes=axes[:, 1])
     return fig
