@@ -138,3 +138,24 @@ def test_orbital_elements_are_conserved_by_two_body_motion():
 def test_orbital_elements_rejects_unbound_states():
     with pytest.raises(ValueError, match="bound orbit"):
         dynamics.orbital_elements([4e6, 0, 0, 0, 1e4, 0])
+
+
+def test_model_difference_components_add_up():
+    t = dynamics.MARS_T0 + np.arange(0.0, 86400.0 + 1.0, 600.0)
+    d = dynamics.model_difference(t, third_bodies=("jupiter",))
+    assert d["norm"][0] == 0.0 and d["norm"].max() > 0.0
+    comp = np.sqrt(d["radial"] ** 2 + d["along"] ** 2 + d["cross"] ** 2)
+    np.testing.assert_allclose(comp, d["norm"], rtol=1e-9, atol=1e-9)
+    same = dynamics.model_difference(t)
+    assert np.all(same["norm"] == 0.0)
+
+
+def test_plot_model_difference_shows_the_sun_effect():
+    fig = dynamics.plot_model_difference(sun=False, days_shown=30)
+    norm = fig.axes[0].lines[0].get_ydata()
+    assert norm.size == 30 * 1440 + 1
+    assert 100.0 < norm.max() < 1000.0  # leaving the Sun out: a few hundred metres in 30 days
+    assert [ln.get_label() for ln in fig.axes[1].lines] == ["radial", "along-track", "cross-track"]
+    assert "Mars + Jupiter" in fig._suptitle.get_text()
+    with pytest.raises(ValueError, match="days_shown"):
+        dynamics.plot_model_difference(days_shown=31)

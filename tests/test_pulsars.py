@@ -143,3 +143,42 @@ def test_photon_count_is_unbiased_for_short_runs(n_periods):
     counts = [pulsars.simulate_photons(p, t_obs, rng=k, shift=p.period / 2).size for k in range(40)]
     expected = (lam_s + lam_b) * t_obs
     assert abs(np.mean(counts) - expected) < 4 * math.sqrt(expected / 40)
+
+
+@pytest.mark.parametrize("name", ["B0531+21", "B1821-24"])
+def test_xcorr_sigma_agrees_with_monte_carlo(name):
+    err = pulsars.monte_carlo_toa(name, n_trials=300, rng=1)
+    assert np.std(err) == pytest.approx(pulsars.xcorr_toa_sigma(name), rel=0.15)
+
+
+def test_xcorr_sigma_limits_and_binning():
+    # signal dominated (no background, bright pulsar): the 1.05 limit of the Gaussian template
+    crab = pulsars.xcorr_toa_sigma("B0531+21", background_ph_cm2_s=0.0, area_m2=100.0)
+    assert crab / pulsars.toa_sigma("B0531+21", background_ph_cm2_s=0.0, area_m2=100.0) == (
+        pytest.approx(1.05, abs=0.02))
+    # background dominated: 4 pi^(1/4) / 2.355^(3/2) = 1.47
+    faint = pulsars.xcorr_toa_sigma("B1957+20", background_ph_cm2_s=5.0)
+    limit = 4 * math.pi**0.25 / (2 * math.sqrt(2 * math.log(2))) ** 1.5
+    assert faint / pulsars.toa_sigma("B1957+20", background_ph_cm2_s=5.0) == pytest.approx(
+        limit, rel=0.02)
+    # fine bins give the continuous answer; sigma scales as 1/sqrt(t)
+    assert pulsars.xcorr_toa_sigma("B1937+21", nbins=4096) == pytest.approx(
+        pulsars.xcorr_toa_sigma("B1937+21"), rel=1e-3)
+    assert pulsars.xcorr_toa_sigma("B1937+21", t_obs=2000.0) == pytest.approx(
+        pulsars.xcorr_toa_sigma("B1937+21") / 2, rel=1e-12)
+    with pytest.raises(ValueError, match="t_obs"):
+        pulsars.xcorr_toa_sigma("B1937+21", t_obs=0.0)
+    with pytest.raises(ValueError, match="nbins"):
+        pulsars.xcorr_toa_sigma("B1937+21", nbins=4)
+
+
+def test_plot_ranging_accuracy_bars_and_reference():
+    ref = {"B0531+21": 109.0, "B1937+21": 344.0, "B1957+20": 1866.0, "B1821-24": 325.0}
+    fig = pulsars.plot_ranging_accuracy(area_m2=0.5, reference=ref)
+    ax = fig.axes[0]
+    heights = [b.get_height() for b in ax.patches]
+    assert heights == pytest.approx(
+        [pulsars.ranging_accuracy(n, area_m2=0.5) for n in pulsars.PAPER_PULSARS])
+    assert list(ax.lines[0].get_ydata()) == list(ref.values())
+    assert "A = 0.5 m$^2$" in ax.get_title()
+    assert not pulsars.plot_ranging_accuracy(pulsar_names=["B0531+21"]).axes[0].lines

@@ -178,3 +178,25 @@ def test_pick_three_is_well_spread_and_respects_exclusions():
     assert trio[0] not in other
     with pytest.raises(ValueError, match="number of candidate stars"):
         stars.pick_three(vmag_max=-1.0)
+
+
+def test_optical_semi_axes_combine_the_information():
+    x = dynamics.MARS_STATE0
+    uv, cns = sensors.UVSensor(), sensors.CNSSensor(epoch=dynamics.MARS_T0)
+    ax = sensors.optical_semi_axes(x, uv, cns)
+    assert np.allclose(ax["UV"], sensors.position_dop(uv.jacobian(x), uv.R()))
+    assert np.isinf(ax["CNS"][0]) and np.all(np.isfinite(ax["CNS"][1:]))  # no range
+    # adding the CNS can only shrink every axis, and the range axis stays the UV's 5 km
+    assert np.all(ax["UV + CNS"] <= ax["UV"] * (1 + 1e-12))
+    assert ax["UV + CNS"][0] == pytest.approx(5000.0, rel=1e-6)
+    with pytest.raises(ValueError, match="x"):
+        sensors.optical_semi_axes(np.zeros(6), uv, cns)
+
+
+def test_plot_optical_geometry_scales_with_the_noise():
+    lines = sensors.plot_optical_geometry(0.1, 0.05, 1.0).axes[0].lines
+    coarse = sensors.plot_optical_geometry(0.2, 0.1, 1.0).axes[0].lines
+    assert len(lines) == 6 and lines[0].get_xdata().size == 35
+    # the UV across-track axis is r sigma_dir; the CNS axes r sigma_horizon (star noise aside)
+    np.testing.assert_allclose(coarse[0].get_ydata(), 2 * lines[0].get_ydata(), rtol=1e-9)
+    np.testing.assert_allclose(coarse[2].get_ydata(), 2 * lines[2].get_ydata(), rtol=0.01)

@@ -126,3 +126,34 @@ def test_pdop_bad_geometry():
         toa.pdop(np.array([[1.0, 0, 0], [0, 1.0, 0], [np.sqrt(0.5), np.sqrt(0.5), 0]]))
     with pytest.raises(ValueError, match="sigma must be positive"):
         toa.pdop(N, [1.0, 2.0])
+
+
+def test_gradient_fd_matches_gradient_and_its_small_part():
+    t = dynamics.MARS_T0
+    R = ephemeris.position("mars", t) + dynamics.MARS_STATE0[:3]
+    sun = ephemeris.position("sun", t)
+    n, dist = pulsars.directions()
+    g = toa.gradient(R, n, dist, sun)
+    fd = toa.gradient_fd(R, n, dist, sun)
+    assert np.abs(fd - g).max() / np.abs(g).max() < 1e-6
+    small = toa.gradient_fd(R, n, dist, sun, which=("parallax", "shapiro"))
+    assert np.abs(small - (g - n / C)).max() < 1e-3 * np.abs(g - n / C).max()
+    with pytest.raises(ValueError, match="which"):
+        toa.gradient_fd(R, n, dist, sun, which=("nope",))
+    with pytest.raises(ValueError, match="step"):
+        toa.gradient_fd(R, n, dist, sun, step=0.0)
+
+
+def test_plot_orbit_terms_is_spacecraft_minus_mars():
+    fig = toa.plot_orbit_terms("B0531+21", 0)
+    roemer = fig.axes[0].lines[0].get_ydata()
+    assert roemer.size == 1441
+    # the Roemer part is n . r / c times c, in km
+    n, _ = pulsars.directions(["B0531+21"])
+    x0 = dynamics.MARS_STATE0[:3]
+    assert roemer[0] == pytest.approx(float(n[0] @ x0) / 1e3, rel=1e-9)
+    assert np.abs(fig.axes[1].lines[0].get_ydata()).max() < 100.0  # parallax below a metre, in cm
+    with pytest.raises(ValueError, match="day"):
+        toa.plot_orbit_terms(day=30)
+    with pytest.raises(ValueError, match="pulsar"):
+        toa.plot_orbit_terms("J0437-4715")

@@ -35,7 +35,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from . import ephemeris
-from ._validate import check_choice, check_finite_array, check_real
+from ._validate import check_choice, check_finite_array, check_int, check_real
 from .constants import GM_JUPITER, GM_MARS, GM_SUN, J2_MARS, R_MARS
 
 __all__ = [
@@ -54,6 +54,8 @@ __all__ = [
     "transition_matrix",
     "OrbitalElements",
     "orbital_elements",
+    "model_difference",
+    "plot_model_difference",
 ]
 
 #: Scenario epoch: 2016-01-01 00:00 TDB, s past J2000 (the paper gives none; we chose
@@ -504,3 +506,89 @@ def orbital_elements(state, gm=GM_MARS, pole=MARS_POLE):
         r_apoapsis=a * (1.0 + e),
         energy=energy,
     )
+
+
+def model_difference(t_eval, third_bodies=("sun", "jupiter"), j2=False):
+    """Position difference of a force-model variant from the paper's model, split by direction.
+
+    Both orbits start from :data:`MARS_STATE0` at :data:`MARS_T0` (:func:`truth`, cached).
+    The difference ``r_variant - r_paper`` is projected on the unit vectors of the paper's
+    orbit: radial ``r/|r|``, cross-track ``(r x v)/|r x v|`` and along-track
+    ``cross x radial``.
+
+    Parameters
+    ----------
+    t_eval : array_like, shape (n,)
+        Epochs, s past J2000 (TDB).
+    third_bodies : sequence of {"sun", "jupiter"}
+        Third bodies of the variant.
+    j2 : bool
+        Whether the variant includes Mars's J2.
+
+    Returns
+    -------
+    dict
+        ``"norm"``, ``"radial"``, ``"along"``, ``"cross"``: arrays of shape (n,), m.
+
+    Examples
+    --------
+    >>> t = MARS_T0 + np.array([0.0, 600.0])
+    >>> d = model_difference(t, third_bodies=("sun", "jupiter"))
+    >>> float(d["norm"].max())
+    0.0
+    """
+    ref = truth(t_eval)
+    other = truth(t_eval, third_bodies=tuple(third_bodies), j2=bool(j2))
+    diff = other[:, :3] - ref[:, :3]
+    radial = ref[:, :3] / np.linalg.norm(ref[:, :3], axis=1, keepdims=True)
+    cross = np.cross(ref[:, :3], ref[:, 3:])
+    cross /= np.linalg.norm(cross, axis=1, keepdims=True)
+    along = np.cross(cross, radial)
+    return {"norm": np.linalg.norm(diff, axis=1), "radial": np.sum(diff * radial, axis=1),
+            "along": np.sum(diff * along, axis=1), "cross": np.sum(diff * cross, axis=1)}
+
+
+def plot_model_difference(sun=True, jupiter=True, j2=False, days_shown=30):
+    """Plot :func:`model_difference` over the first ``days_shown`` days of the 30-day orbit.
+
+    The 30-day, 60-s grid of the chapters (cached truths). A pure function of its
+    arguments, for chapter 3's slider.
+
+    Parameters
+    ----------
+    sun, jupiter, j2 : bool
+        Perturbations of the variant (the paper's model is Sun and Jupiter, no J2).
+    days_shown : int
+        Days to show, 1 to 30.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two axes: the norm of the difference and its radial, along- and cross-track
+        components (m); not registered with pyplot.
+
+    Examples
+    --------
+    >>> fig = plot_model_difference(sun=False, days_shown=2)
+    >>> fig.axes[0].lines[0].get_xdata()[-1]
+    2.0
+    """
+    from matplotlib.figure import Figure
+
+    days_shown = check_int("days_shown", days_shown, 1, 30)
+    bodies = tuple(b for b, on in (("sun", sun), ("jupiter", jupiter)) if on)
+    t = MARS_T0 + np.arange(0.0, 30 * 86400.0 + 1.0, 60.0)  # the chapters' grid (cached)
+    shown = slice(0, days_shown * 1440 + 1)
+    d = {k: v[shown] for k, v in model_difference(t, bodies, j2).items()}
+    days = (t[shown] - t[0]) / 86400.0
+    fig = Figure(figsize=(11, 3.4), layout="constrained")
+    ax1, ax2 = fig.subplots(1, 2)
+    ax1.plot(days, d["norm"], lw=0.5)
+    ax1.set(xlabel="days", ylabel="m", title="|r - r_paper|")
+    for key, name in (("radial", "radial"), ("along", "along-track"), ("cross", "cross-track")):
+        ax2.plot(days, d[key], lw=0.4, label=name)
+    ax2.set(xlabel="days", ylabel="m", title="r - r_paper, components")
+    ax2.legend(fontsize=8)
+    label = " + ".join(["Mars"] + [b.capitalize() for b in bodies] + (["J2"] if j2 else []))
+    fig.suptitle(f"{label}: max difference {d['norm'].max():.4g} m")
+    return fig

@@ -71,6 +71,8 @@ __all__ = [
     "cns_jacobian",
     "cns_R",
     "position_dop",
+    "optical_semi_axes",
+    "plot_optical_geometry",
     "XNAVSensor",
     "UVSensor",
     "CNSSensor",
@@ -384,6 +386,94 @@ def position_dop(H, R):
     with np.errstate(divide="ignore"):
         axes = np.where(lam > tol, 1.0 / np.sqrt(np.maximum(lam, tol)), np.inf)
     return np.sort(axes)[::-1]
+
+
+def optical_semi_axes(x, uv, cns):
+    """One-epoch position error ellipsoids of the UV sensor, the CNS and both together.
+
+    :func:`position_dop` of each sensor's Jacobian and noise at the state ``x``, and of the
+    two stacked (independent noises: ``R = blockdiag(R_uv, R_cns)``).
+
+    Parameters
+    ----------
+    x : array_like, shape (6,)
+        Mars-centred state, m and m/s.
+    uv : UVSensor
+    cns : CNSSensor
+
+    Returns
+    -------
+    dict
+        ``"UV"``, ``"CNS"``, ``"UV + CNS"``: semi-axes, m, largest first (inf where
+        unobservable), each of shape (3,).
+
+    Examples
+    --------
+    >>> x = np.array([4.0e6, 0.0, 0.0, 0.0, 3000.0, 0.0])
+    >>> ax = optical_semi_axes(x, UVSensor(), CNSSensor(("Sirius", "Canopus", "Vega")))
+    >>> ax["UV"].round(-1).tolist(), bool(np.isinf(ax["CNS"][0]))
+    ([6980.0, 6980.0, 5000.0], True)
+    """
+    x = _state(x)
+    h_uv, r_uv = uv.jacobian(x), uv.R()
+    h_c, r_c = cns.jacobian(x), cns.R(x)
+    n_uv, n_c = r_uv.shape[0], r_c.shape[0]
+    r_both = np.block([[r_uv, np.zeros((n_uv, n_c))], [np.zeros((n_c, n_uv)), r_c]])
+    return {"UV": position_dop(h_uv, r_uv), "CNS": position_dop(h_c, r_c),
+            "UV + CNS": position_dop(np.vstack([h_uv, h_c]), r_both)}
+
+
+def plot_optical_geometry(sigma_dir_deg=0.1, sigma_horizon_deg=0.05, vmag_max=1.0):
+    """Semi-axes of the one-epoch ellipsoids (:func:`optical_semi_axes`) along one revolution.
+
+    The paper's orbit from ``MARS_T0`` (one 8252-s revolution of the cached truth, every
+    240 s), the CNS stars picked by :func:`xnavlab.stars.pick_three` with ``vmag_max``.
+    A pure function of its arguments, for chapter 4's slider.
+
+    Parameters
+    ----------
+    sigma_dir_deg : float
+        UV direction noise, deg.
+    sigma_horizon_deg : float
+        Horizon-sensor noise, deg.
+    vmag_max : float
+        Magnitude limit of the star rule.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One log-scale axes: the largest finite and the smallest semi-axis (km) of the UV,
+        CNS and combined ellipsoids; not registered with pyplot.
+
+    Examples
+    --------
+    >>> fig = plot_optical_geometry()
+    >>> len(fig.axes[0].lines), fig.axes[0].get_title()
+    (6, 'stars Arcturus, Procyon, Acrux')
+    """
+    from matplotlib.figure import Figure
+
+    from . import dynamics
+
+    t0 = dynamics.MARS_T0
+    names = stars.pick_three(vmag_max=vmag_max, t=t0)
+    uv = UVSensor(sigma_dir_deg=sigma_dir_deg)
+    cns = CNSSensor(names, sigma_horizon_deg=sigma_horizon_deg, epoch=t0)
+    t = t0 + np.arange(0.0, 8252.0 + 60.0, 60.0)  # one revolution (chapter 3), cached truth
+    x = dynamics.truth(t)[::4]
+    rows = [optical_semi_axes(xi, uv, cns) for xi in x]
+    hours = (t[::4] - t0) / 3600.0
+    fig = Figure(figsize=(8, 3.4), layout="constrained")
+    ax = fig.add_subplot()
+    for k, color in (("UV", "C0"), ("CNS", "C1"), ("UV + CNS", "C2")):
+        a = np.array([r[k] for r in rows])
+        finite = np.where(np.isfinite(a), a, np.nan)
+        ax.plot(hours, finite[:, 0] / 1e3, color=color, label=f"{k}: largest finite axis")
+        ax.plot(hours, finite[:, -1] / 1e3, color=color, ls=":", label=f"{k}: smallest axis")
+    ax.set(xlabel="time (h)", ylabel="semi-axis (km)", yscale="log",
+           title=f"stars {', '.join(names)}")
+    ax.legend(fontsize=7, ncol=3, loc="upper center")
+    return fig
 
 
 # --------------------------------------------------------------------------- classes

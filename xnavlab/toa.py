@@ -30,7 +30,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import ephemeris, pulsars
-from ._validate import check_finite_array
+from ._validate import check_choice, check_finite_array, check_int, check_real
 from .constants import GM_SUN, C
 
 __all__ = [
@@ -42,6 +42,8 @@ __all__ = [
     "terms",
     "delays_at",
     "pdop",
+    "gradient_fd",
+    "plot_orbit_terms",
 ]
 
 
@@ -263,3 +265,105 @@ def pdop(n, sigma=None):
         raise ValueError(f"sigma must be positive with shape ({n.shape[0]},), got {sigma.shape}")
     w = sigma**-2.0
     return value, float(np.sqrt(np.trace(np.linalg.inv(n.T @ (w[:, None] * n)))))
+
+
+def gradient_fd(r_ssb, n, distance, r_sun_ssb, step=1.0e3, which=("roemer", "parallax", "shapiro")):
+    """Central finite differences of (some of) the delay terms with respect to position.
+
+    The check of :func:`gradient`: ``(f(R + step e_j) - f(R - step e_j)) / (2 step)`` for
+    the three axes ``e_j``, with ``f`` the sum of the terms named in ``which``. The delay
+    is ~300 s, so the step must be large enough for rounding (``300 s x 1e-16``) to stay
+    small next to the gradient (``1/c`` s/m): the default 1 km gives about 1e-8.
+
+    Parameters
+    ----------
+    r_ssb : array_like, shape (3,)
+        Spacecraft position relative to the SSB, m.
+    n : array_like, shape (k, 3)
+        Unit vectors to the pulsars.
+    distance : array_like, shape (k,)
+        Pulsar distances, m.
+    r_sun_ssb : array_like, shape (3,)
+        Sun relative to the SSB, m.
+    step : float
+        Finite-difference step, m (> 0).
+    which : sequence of {"roemer", "parallax", "shapiro"}
+        The terms to differentiate (default all three, the whole delay).
+
+    Returns
+    -------
+    ndarray, shape (k, 3)
+        s/m, rows comparable with :func:`gradient`.
+
+    Examples
+    --------
+    >>> n = np.array([[0.6, 0.8, 0.0]])
+    >>> (gradient_fd([1e11, 0.0, 0.0], n, [1e20], [1e9, 2e9, 0.0], which=("roemer",)) * C).round(9)
+    array([[0.6, 0.8, 0. ]])
+    """
+    r_ssb = check_finite_array("r_ssb", r_ssb, shape=(3,))
+    step = check_real("step", step, 0.0, lo_open=True)
+    which = tuple(which)
+    if not which:
+        raise ValueError("which must name at least one of roemer, parallax, shapiro")
+    for name in which:
+        check_choice("which", name, ("roemer", "parallax", "shapiro"))
+
+    def f(point):
+        t = terms(point, n, distance, r_sun_ssb)
+        return sum(t[name] for name in which)
+
+    cols = [(f(r_ssb + step * e) - f(r_ssb - step * e)) / (2.0 * step) for e in np.eye(3)]
+    return np.column_stack(cols)
+
+
+def plot_orbit_terms(pulsar="B0531+21", day=0):
+    """The orbit-dependent part of each delay term over one day of the paper's 30-day orbit.
+
+    Spacecraft minus Mars centre, ``c (term(R_M + r) - term(R_M))``, for one pulsar, on
+    the 60-s grid of the 30-day truth (:func:`xnavlab.dynamics.truth` from
+    ``MARS_T0``, cached on disk). A pure function of its arguments, for chapter 2's slider.
+
+    Parameters
+    ----------
+    pulsar : str
+        One of :data:`xnavlab.pulsars.PAPER_PULSARS`.
+    day : int
+        Day of the 30, 0 to 29.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Three axes: Roemer (km), parallax (cm), Shapiro (cm); not registered with pyplot.
+
+    Examples
+    --------
+    >>> fig = plot_orbit_terms("B1937+21", 3)
+    >>> [ax.get_xlabel() for ax in fig.axes]
+    ['hours into day 3', 'hours into day 3', 'hours into day 3']
+    """
+    from matplotlib.figure import Figure
+
+    from . import dynamics
+
+    check_choice("pulsar", pulsar, pulsars.PAPER_PULSARS)
+    day = check_int("day", day, 0, 29)
+    t = dynamics.MARS_T0 + np.arange(0.0, 30 * 86400.0 + 1.0, 60.0)  # the chapter's grid
+    i = slice(day * 1440, (day + 1) * 1440 + 1)  # one day of 60-s samples
+    x = dynamics.truth(t)[i]
+    t = t[i]
+    r_mars = ephemeris.position("mars", t)
+    r_sun = ephemeris.position("sun", t)
+    n_p, d_p = pulsars.directions([pulsar])
+    at_sc = terms(r_mars + x[:, :3], n_p, d_p, r_sun)
+    at_mars = terms(r_mars, n_p, d_p, r_sun)
+    hours = (t - t[0]) / 3600.0
+    fig = Figure(figsize=(12, 3.4), layout="constrained")
+    axes = fig.subplots(1, 3)
+    units = {"roemer": (1e-3, "km"), "parallax": (1e2, "cm"), "shapiro": (1e2, "cm")}
+    for ax, (key, (scale, unit)) in zip(axes, units.items(), strict=True):
+        ax.plot(hours, C * (at_sc[key] - at_mars[key])[:, 0] * scale)
+        ax.set(title=f"{key} $\\times c$, spacecraft - Mars ({unit})",
+               xlabel=f"hours into day {day}")
+    fig.suptitle(pulsar)
+    return fig
