@@ -77,3 +77,13 @@ def test_package_never_switches_the_matplotlib_backend():
                  if "matplotlib.use(" in "".join(l for l in p.read_text().splitlines(True)
                                                 if not l.lstrip().startswith(">>>"))]
     assert not offenders, offenders
+
+
+@pytest.mark.parametrize("rid", reproduce.ids())
+def test_every_registered_reproduction_passes(rid):
+    """Every number the book claims is asserted here too (paper, ours, tolerance in the table)."""
+    res = reproduce.run(rid)
+    res.assert_passed()
+    claimed = [c for c in res.checks if c.claimed]
+    assert claimed and all(c.tolerance for c in claimed)
+    assert res.note, f"{rid}: say how ours was obtained and where it differs"
