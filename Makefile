@@ -33,7 +33,7 @@ book: $(STAMP)
 
 ## make test: unit tests, doctests, and every notebook executed by nbval
 test: $(STAMP)
-	$(BIN)/python -m pytest --nbval-lax -p no:cacheprovider xnavlab tests book
+	$(BIN)/python -m pytest --nbval-lax --nbval-cell-timeout=300 -p no:cacheprovider xnavlab tests book
 	$(MAKE) browser-test
 
 ## make browser-test: every built page in headless Chromium, offline (builds the book if stale)
@@ -48,7 +48,7 @@ unit: $(STAMP)
 	$(BIN)/python -m pytest -p no:cacheprovider xnavlab tests
 
 notebooks: $(STAMP)
-	$(BIN)/python -m pytest --nbval-lax -p no:cacheprovider book
+	$(BIN)/python -m pytest --nbval-lax --nbval-cell-timeout=300 -p no:cacheprovider book
 
 bench: $(STAMP)
 	for f in benchmarks/bench_*.py; do $(BIN)/python $$f || exit 1; done
