@@ -155,3 +155,31 @@ def test_cli_module_entry_point():
                           capture_output=True, text=True, check=False)
     assert proc.returncode == 2
     assert proc.stderr.strip().startswith("xnavlab: error: days")
+
+
+def test_plot_subsystem_is_the_single_subsystem_run():
+    fig = scenarios.plot_subsystem("uv", 2.0, 6, days=0.05)
+    band, line = fig.axes[0].collections[0], fig.axes[0].lines[0]
+    res = scenarios.run(days=0.05, subsystems=("uv",), record_dt=30.0, sigma_range_m=1e4,
+                        sigma_dir_deg=0.2, dt_uv=6.0)
+    np.testing.assert_allclose(line.get_ydata(), res.position_error())
+    assert fig.axes[0].get_title() == "uv: noise x 2, every 6 s"
+    assert band.get_paths()  # the 3-sigma band is drawn
+    # XNAV never updates faster than every 30 s
+    assert scenarios.plot_subsystem("xnav", 1.0, 3, days=0.02).axes[0].get_title().endswith("30 s")
+    with pytest.raises(ValueError, match="subsystem"):
+        scenarios.plot_subsystem("gps")
+    with pytest.raises(ValueError, match="noise_scale"):
+        scenarios.plot_subsystem("uv", 0.0)
+
+
+def test_plot_sharing_reset_mode_ignores_the_shares():
+    def error(beta, mode):
+        return scenarios.plot_sharing(beta, mode, days=0.05).axes[0].lines[0].get_ydata()
+
+    np.testing.assert_allclose(error(0.2, "reset"), error(0.8, "reset"), rtol=1e-3)
+    assert not np.allclose(error(0.2, "no-reset"), error(0.8, "no-reset"), rtol=1e-3)
+    with pytest.raises(ValueError, match="beta_xnav"):
+        scenarios.plot_sharing(1.0)
+    with pytest.raises(ValueError, match="mode"):
+        scenarios.plot_sharing(0.5, "sometimes")

@@ -76,6 +76,8 @@ __all__ = [
     "filter_transition",
     "filter_propagate",
     "nees_monte_carlo",
+    "plot_subsystem",
+    "plot_sharing",
 ]
 
 #: The three subsystems of the paper, in its numbering (1 XNAV, 2 UV, 3 CNS).
@@ -850,6 +852,109 @@ def nees_monte_carlo(n_runs=20, scenario=None, seed=0, **overrides):
 
 
 # ---------------------------------------------------------------------------- CLI
+
+
+def plot_subsystem(subsystem="uv", noise_scale=1.0, interval_s=3, days=0.25):
+    """One subsystem alone: its position error and the filter's 3-sigma bound.
+
+    Runs :func:`run` with the single ``subsystem``, its noise parameters multiplied by
+    ``noise_scale`` and its measurement interval set to ``interval_s`` (XNAV: at least
+    30 s). A pure function of its arguments (the scenario is seeded), for chapter 5's
+    slider.
+
+    Parameters
+    ----------
+    subsystem : {"xnav", "uv", "cns"}
+    noise_scale : float
+        Factor on the paper's noise (> 0): UV range and direction, CNS star and horizon
+        sensors, or the four XNAV ranging accuracies (109, 344, 1866, 325 m).
+    interval_s : float
+        Measurement interval, s (> 0).
+    days : float
+        Span, days (default six hours).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One log-scale axes; not registered with pyplot.
+
+    Examples
+    --------
+    >>> fig = plot_subsystem("cns", 2.0, 30, days=0.02)
+    >>> fig.axes[0].get_title()
+    'cns: noise x 2, every 30 s'
+    """
+    from matplotlib.figure import Figure
+
+    check_choice("subsystem", subsystem, SUBSYSTEMS)
+    noise_scale = check_real("noise_scale", noise_scale, 0.0, lo_open=True)
+    interval_s = check_real("interval_s", interval_s, 0.0, lo_open=True)
+    kw = {"days": days, "subsystems": (subsystem,), "record_dt": 30.0}
+    if subsystem == "uv":
+        kw.update(sigma_range_m=5000.0 * noise_scale, sigma_dir_deg=0.1 * noise_scale,
+                  dt_uv=interval_s)
+    elif subsystem == "cns":
+        kw.update(sigma_horizon_deg=0.05 * noise_scale, sigma_star_arcsec=3.0 * noise_scale,
+                  dt_cns=interval_s)
+    else:
+        kw.update(xnav_sigma_m=tuple(np.array([109.0, 344.0, 1866.0, 325.0]) * noise_scale),
+                  dt_xnav=max(interval_s, 30.0))
+    res = run(**kw)
+    hours = res.t_days * 24
+    fig = Figure(figsize=(7, 3), layout="constrained")
+    ax = fig.add_subplot()
+    ax.fill_between(hours, 0, 3 * res.sigma_position(), color="C0", alpha=0.15, label="3 sigma")
+    ax.plot(hours, res.position_error(), color="C0", label="|position error|")
+    ax.set(xlabel="time (h)", ylabel="m", yscale="log", ylim=(10, 3e4),
+           title=f"{subsystem}: noise x {noise_scale:.2g}, every {kw['dt_' + subsystem]:g} s")
+    ax.legend(fontsize=8)
+    return fig
+
+
+def plot_sharing(beta_xnav=1 / 3, mode="reset", days=0.5):
+    """The fused filter with a chosen information share for the XNAV local.
+
+    Runs :func:`run` (60-s records) with sharing factors ``(beta_xnav, rest, rest)``,
+    ``rest = (1 - beta_xnav) / 2`` for UV and CNS, in the given federated ``mode``. A pure
+    function of its arguments (the scenario is seeded), for chapter 6's slider.
+
+    Parameters
+    ----------
+    beta_xnav : float
+        Share of the XNAV local, 0 < beta_xnav < 1.
+    mode : {"reset", "no-reset"}
+    days : float
+        Span, days (default half a day; the title gives the RMS error after its midpoint).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One log-scale axes: the position error and the filter's 1-sigma; not registered
+        with pyplot.
+
+    Examples
+    --------
+    >>> fig = plot_sharing(0.8, "no-reset", days=0.02)
+    >>> fig.axes[0].get_title()[:36]
+    'no-reset, beta = (0.80, 0.10, 0.10):'
+    """
+    from matplotlib.figure import Figure
+
+    beta_xnav = check_real("beta_xnav", beta_xnav, 0.0, 1.0, lo_open=True, hi_open=True)
+    check_choice("mode", mode, MODES)
+    rest = (1.0 - beta_xnav) / 2
+    res = run(days=days, record_dt=60.0, mode=mode, beta=(beta_xnav, rest, rest))
+    settle = days / 2
+    hours = res.t_days * 24
+    fig = Figure(figsize=(7, 3), layout="constrained")
+    ax = fig.add_subplot()
+    ax.semilogy(hours, res.position_error(), label="|position error|")
+    ax.semilogy(hours, res.sigma_position(), "--", label="1-sigma")
+    ax.set(xlabel="time (h)", ylabel="m", ylim=(10, 2e4),
+           title=f"{mode}, beta = ({beta_xnav:.2f}, {rest:.2f}, {rest:.2f}): "
+                 f"{res.metrics(settle)['position_error_m']:.0f} m after {settle * 24:g} h")
+    ax.legend(fontsize=8)
+    return fig
 
 
 def _days(text):
