@@ -64,3 +64,14 @@ def test_all_reports_a_raising_reproduction_as_failed(monkeypatch, capsys):
     assert cli.main(["reproduce", "--all"]) == 1
     out = capsys.readouterr().out
     assert "1 of 2 reproductions pass" in out and "ValueError: boom" in out
+
+
+def test_run_mars_faults_bad_spec_module_entry_point():
+    proc = subprocess.run(
+        [sys.executable, "-m", "xnavlab", "run", "mars", "--days", "0.01", "--faults",
+         "uv.range:step:oops@1+2"],
+        capture_output=True, text=True, check=False,
+    )
+    assert proc.returncode == 2
+    assert len(proc.stderr.strip().splitlines()) == 1
+    assert "oops" in proc.stderr

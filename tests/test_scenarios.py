@@ -183,3 +183,48 @@ def test_plot_sharing_reset_mode_ignores_the_shares():
         scenarios.plot_sharing(1.0)
     with pytest.raises(ValueError, match="mode"):
         scenarios.plot_sharing(0.5, "sometimes")
+
+
+# ---------------------------------------------------------------- faults on the CLI (issue 4)
+
+
+def test_cli_faults_json_lists_faults_and_detections(capsys):
+    spec = "uv.range:step:40000@50000+3000,xnav.1:ramp:2e-9@60000+5000"
+    assert main(["run", "mars", "--days", "1", "--faults", spec, "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["detector"] == "wavelet"
+    assert [f["spec"] for f in out["faults"]] == ["uv.range:step:40000@50000+3000",
+                                                  "xnav.B1937:ramp:2e-09@60000+5000"]
+    assert all(set(d) == {"sensor", "detected_onset", "detected_end", "detector"}
+               for d in out["detections"])
+    uv = [d for d in out["detections"] if d["sensor"] == "uv"]
+    assert 50000.0 <= uv[0]["detected_onset"] < 50300.0
+    assert {"position_error_m", "velocity_error_mps"} <= set(out)
+
+
+def test_cli_faults_paper_with_chi2(capsys):
+    assert main(["run", "mars", "--days", "7", "--faults", "paper", "--detector", "chi2",
+                 "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["detector"] == "chi2"
+    assert [f["onset"] for f in out["faults"]] == [500000.0, 600000.0]
+    sensors = {d["sensor"] for d in out["detections"] if d["detected_onset"] >= 500000.0}
+    assert {"xnav", "cns"} <= sensors
+
+
+@pytest.mark.parametrize("spec,part", [
+    ("uv.range:step:5000@700000", "uv.range:step:5000@700000"),
+    ("uv.range:step:5000@1+2,foo:step:1@1+1", "foo"),
+    ("uv.range:jump:5000@1+2", "kind"),
+    ("cns.angle9:step:1@1+2", "angle9"),
+])
+def test_cli_malformed_fault_spec_is_one_line_exit_2(spec, part, capsys):
+    assert main(["run", "mars", "--days", "0.01", "--faults", spec]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and part in err
+
+
+def test_cli_bad_detector_is_one_line_exit_2(capsys):
+    assert main(["run", "mars", "--days", "0.01", "--detector", "median"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "detector" in err

@@ -980,6 +980,11 @@ def _configure(parser):
     parser.add_argument("--backend", default="numba", help="numba (default) or numpy")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     parser.add_argument("--out", metavar="DIR", help="write mars_run.npz and mars_summary.json")
+    parser.add_argument("--faults", metavar="SPEC",
+                        help="SENSOR[.COMPONENT]:KIND:MAGNITUDE@ONSET+DURATION[,...] (times in s "
+                             "since the start) or 'paper' (xnavlab.fault_tolerance.paper_schedule)")
+    parser.add_argument("--detector", default=None,
+                        help="none, wavelet or chi2 (default wavelet with --faults, else none)")
 
 
 def _execute(args):
@@ -989,8 +994,21 @@ def _execute(args):
     backend = check_choice("backend", args.backend, ("numba", "numpy"))
     t_start = time.perf_counter()
     sc = MarsScenario(days=days, seed=seed, mode=mode)
-    res = run(sc, backend=backend, progress=True)
-    summary = res.summary(settle_days=min(1.0, days / 2))
+    detector = args.detector or ("wavelet" if args.faults else "none")
+    if args.faults or detector != "none":
+        from . import fault_tolerance
+
+        check_choice("detector", detector, fault_tolerance.DETECTORS)
+        faults = fault_tolerance.parse_faults(args.faults, sc) if args.faults else []
+        if backend != "numba":
+            raise ValueError("--faults and --detector run with --backend numba only")
+        ft = fault_tolerance.run_fault_tolerant(sc, faults, detector,
+                                                train_days=min(1.0, days / 2))
+        res = ft.run
+        summary = ft.summary(settle_days=min(1.0, days / 2))
+    else:
+        res = run(sc, backend=backend, progress=True)
+        summary = res.summary(settle_days=min(1.0, days / 2))
     summary["filter_time_s"] = summary.pop("run_time_s")
     summary["run_time_s"] = time.perf_counter() - t_start
     if args.out:
@@ -1003,6 +1021,11 @@ def _execute(args):
     else:
         width = max(len(k) for k in summary)
         for key, val in summary.items():
+            if isinstance(val, list):
+                print(f"{key:{width}s}  {len(val)}")
+                for item in val:
+                    print(" " * (width + 2) + "  " + json.dumps(item))
+                continue
             print(f"{key:{width}s}  {val:.6g}" if isinstance(val, float) else
                   f"{key:{width}s}  {val}")
     return 0

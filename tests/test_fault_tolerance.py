@@ -1,0 +1,163 @@
+"""Fault-tolerant federated navigation: schedule, detection, isolation, rejoining, JSON."""
+
+import math
+
+import numpy as np
+import pytest
+
+from xnavlab import fault_tolerance as ft
+from xnavlab import scenarios
+from xnavlab.faults import Fault
+
+DAYS = 1.0
+TRAIN = 0.4          # days of fault-free training of the UV/CNS wavelet detectors
+# onsets the paper does not use, one per sensor and kind
+HAND = [
+    Fault("uv", "step", 30000.0, onset=45123.0, duration=4000.0, component=0),
+    Fault("xnav", "step", 1.0e-5, onset=61234.0, duration=3000.0),
+    Fault("cns", "step", math.radians(0.4), onset=74321.0, duration=3000.0),
+]
+
+
+@pytest.fixture(scope="module")
+def inputs():
+    return scenarios.prepare(days=DAYS)
+
+
+@pytest.fixture(scope="module")
+def runs(inputs):
+    return {d: ft.run_fault_tolerant(faults=HAND, detector=d, inputs=inputs, train_days=TRAIN)
+            for d in ft.DETECTORS}
+
+
+@pytest.fixture(scope="module")
+def clean(inputs):
+    return scenarios.run(inputs=inputs)
+
+
+def test_paper_schedule_uses_the_paper_onsets():
+    fs = ft.paper_schedule()
+    for s, onsets in ft.PAPER_ONSETS.items():
+        assert sorted(f.onset for f in fs if f.sensor == s) == sorted(onsets)
+    assert all(f.duration == 5000.0 for f in fs)
+    uv = [f for f in fs if f.sensor == "uv"]
+    assert all(f.component == 0 and f.magnitude == 25000.0 for f in uv)
+
+
+@pytest.mark.parametrize("kw", [dict(uv_step_sigma=0.0), dict(cns_duration=2e5),
+                                dict(xnav_ramp=1.0)])
+def test_paper_schedule_rejects_bad_arguments(kw):
+    name = next(iter(kw))
+    with pytest.raises(ValueError, match=name):
+        ft.paper_schedule(**kw)
+
+
+def test_parse_faults_paper_and_spec():
+    assert len(ft.parse_faults("paper")) == 16
+    f, = ft.parse_faults("xnav.B1937:ramp:2e-9@500000+5000")
+    assert (f.sensor, f.component, f.kind) == ("xnav", 1, "ramp")
+    with pytest.raises(ValueError, match="bad fault item 'cns.angle7"):
+        ft.parse_faults("cns.angle7:step:1@1+1")
+
+
+def test_no_detector_lets_faults_in(runs, clean):
+    bad = runs["none"].run.metrics(0.3)["position_error_max_m"]
+    ok = clean.metrics(0.3)["position_error_max_m"]
+    assert bad > 5 * ok
+    assert runs["none"].detections == [] and not runs["none"].isolated.any()
+
+
+@pytest.mark.parametrize("detector", ["wavelet", "chi2"])
+def test_hand_made_schedule_is_detected_and_isolated(runs, clean, detector):
+    r = runs[detector]
+    for d in r.delays():
+        assert d["delay"] < 600.0, d
+    intervals = r.isolation_intervals()
+    for f in HAND:
+        hit = [iv for iv in intervals if iv["sensor"] == f.sensor
+               and iv["out"] <= f.onset + 600.0 and iv["back"] is not None
+               and iv["back"] >= f.end]
+        assert hit, (f, intervals)
+    # every subsystem is back at the end, and the fused error stays near the fault-free one
+    assert not r.isolated[-1].any()
+    m, m0 = r.run.metrics(0.3), clean.metrics(0.3)
+    assert m["position_error_m"] < 1.5 * m0["position_error_m"]
+    assert m["position_error_max_m"] < 3 * m0["position_error_max_m"]
+
+
+def test_isolated_subsystem_does_time_updates_only(runs):
+    r = runs["wavelet"]
+    flags, iso = r.run.flags, r.isolated
+    assert np.all(flags[iso & (flags > 0)] == 3)          # switched out, never updated
+    assert np.all(flags[~iso & (flags > 0)] == 1)         # no gate in wavelet mode
+
+
+def test_fault_free_wavelet_run_matches_the_plain_run(inputs, clean):
+    r = ft.run_fault_tolerant(faults=[], detector="wavelet", inputs=inputs, train_days=TRAIN)
+    if not r.isolated.any():
+        np.testing.assert_allclose(r.run.x, clean.x, rtol=0, atol=1e-6)
+    assert r.isolated.mean() < 0.01
+
+
+def test_summary_lists_faults_and_detections(runs):
+    s = runs["wavelet"].summary(0.3)
+    assert len(s["faults"]) == 3 and s["faults"][0]["spec"].startswith("uv.range:step")
+    assert s["detections"] and set(s["detections"][0]) == {"sensor", "detected_onset",
+                                                          "detected_end", "detector"}
+    assert {"position_error_m", "velocity_error_mps", "detector", "isolations"} <= set(s)
+
+
+def test_fault_inside_the_training_span_is_refused(inputs):
+    with pytest.raises(ValueError, match="train_days"):
+        ft.run_fault_tolerant(faults=[Fault("uv", "step", 1e4, 100.0, 100.0)], inputs=inputs,
+                              train_days=TRAIN)
+
+
+@pytest.mark.parametrize("kw,name", [(dict(detector="kalman"), "detector"),
+                                     (dict(pfa=0.0), "pfa"), (dict(check_every=0), "check_every"),
+                                     (dict(readmit_samples={"uv": 0}), "readmit_samples")])
+def test_bad_arguments_name_the_parameter(inputs, kw, name):
+    with pytest.raises(ValueError, match=name):
+        ft.run_fault_tolerant(faults=[], inputs=inputs, train_days=TRAIN, **kw)
+
+
+def test_unknown_sensor_in_faults_is_refused():
+    inp = scenarios.prepare(days=0.05, subsystems=("uv", "cns"))
+    with pytest.raises(ValueError, match="xnav"):
+        ft.run_fault_tolerant(faults=[Fault("xnav", "step", 1e-5, 10.0, 10.0)], inputs=inp,
+                              detector="none")
+
+
+def test_naive_rejoining_lets_the_biased_stretch_in(inputs):
+    f = Fault("uv", "step", 30000.0, onset=52000.0, duration=4000.0, component=0)
+    kw = dict(faults=[f], detector="wavelet", inputs=inputs, train_days=TRAIN)
+    rule = ft.run_fault_tolerant(**kw).isolation_intervals()
+    naive = ft.run_fault_tolerant(readmit="clear", **kw).isolation_intervals()
+    assert len(rule) == 1 and rule[0]["back"] > f.end            # out through the whole step
+    assert len(naive) == 2 and naive[0]["back"] < f.end          # back in while still biased
+    with pytest.raises(ValueError, match="readmit"):
+        ft.run_fault_tolerant(readmit="clear", **{**kw, "detector": "chi2"})
+
+
+@pytest.mark.parametrize("rid", ["mars-faults-ekf", "mars-faults-wavelet", "wavelet-details"])
+def test_reproductions_pass(rid):
+    from xnavlab import reproduce
+
+    reproduce.run(rid).assert_passed()
+
+
+def test_plot_fault_response_is_a_figure():
+    fig = ft.plot_fault_response(8.0, "uv", days=0.5)
+    assert "uv step of 8 sigma" in fig.axes[0].get_title()
+    with pytest.raises(ValueError, match="size_sigma"):
+        ft.plot_fault_response(0.0)
+
+
+def test_speculative_chunks_equal_deciding_at_every_xnav_epoch(inputs, monkeypatch):
+    kw = dict(faults=HAND, detector="wavelet", inputs=inputs, train_days=TRAIN)
+    ref = ft.run_fault_tolerant(**kw)
+    monkeypatch.setattr(ft._Loop, "HORIZON", 40)        # shorter than the 167-epoch XNAV gap
+    short = ft.run_fault_tolerant(**kw)
+    assert np.array_equal(short.isolated, ref.isolated)
+    np.testing.assert_array_equal(short.run.x, ref.run.x)
+    assert short.detections == ref.detections

@@ -1,0 +1,78 @@
+"""Detection Monte Carlo: seeding, executors, statistics, ROC."""
+
+import math
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+import pytest
+
+from xnavlab import montecarlo as mc
+
+
+def test_seeds_are_reproducible_and_distinct():
+    a = mc.seeds(7, 50)
+    assert a == mc.seeds(7, 50) and len(set(a)) == 50
+    assert a[:10] == mc.seeds(7, 10)          # prefix-stable: SeedSequence.spawn
+    assert a != mc.seeds(8, 50)
+
+
+def test_results_do_not_depend_on_the_executor():
+    params = [dict(kind="step", size_sigma=4.0), dict(kind="noise", size_sigma=2.0)] * 2
+    serial = mc.run_tasks(mc.signal_trial, params, seed=3, max_workers=1)
+    with ThreadPoolExecutor(2) as ex:
+        threads = mc.run_tasks(mc.signal_trial, params, seed=3, executor=ex)
+    procs = mc.run_tasks(mc.signal_trial, params, seed=3, max_workers=2)
+    assert serial == threads == procs
+
+
+def test_no_fault_gives_no_detection_and_design_false_alarms():
+    res = mc.run_tasks(mc.signal_trial, [dict(kind="step", size_sigma=0.0, pfa=1e-3)] * 20,
+                       seed=1, max_workers=1)
+    for d in mc.DETECTORS:
+        s = mc.summarise(res, d)
+        assert s["far"] < 3e-3                       # near the design 1e-3 per sample
+    assert mc.summarise(res, "chi2")["far"] > 2e-4
+
+
+def test_large_faults_are_detected_quickly():
+    rows = mc.detection_table(("step", "spike", "noise"), (10.0,), trials=5, max_workers=1)
+    for r in rows:
+        for d in mc.DETECTORS:
+            assert r[f"{d}_pd"] == 1.0, r
+            assert r[f"{d}_delay_s"] <= 60.0, r
+
+
+def test_mismodelled_noise_hurts_chi2_not_the_trained_wavelet():
+    rows = mc.detection_table(("step",), (0.0,), trials=20, noise_scale=1.3, max_workers=1)
+    assert rows[0]["chi2_far"] > 30 * 1e-5
+    assert rows[0]["wavelet_far"] < 10 * 1e-5
+
+
+def test_roc_is_monotone_and_bounded():
+    res = [mc.signal_trial("step", 3.0, seed=s) for s in range(10)]
+    pf, pd, thr = mc.roc_curve(res, "wavelet")
+    assert np.all(np.diff(pf) <= 0) and np.all(np.diff(pd) <= 0)
+    assert pf.min() >= 0 and pd.max() <= 1 and thr.size == pf.size
+    fig = mc.plot_roc({"wavelet": (pf, pd)})
+    assert fig.axes[0].get_xlabel().startswith("false alarm")
+
+
+def test_mars_trial_detects_the_uv_step():
+    r = mc.mars_trial(6.0, "wavelet", seed=5, days=0.5)
+    assert r["delay"] < 600.0 and r["isolations"] >= 1
+    none = mc.mars_trial(6.0, "none", seed=5, days=0.5)
+    assert math.isinf(none["delay"])
+    assert none["max_position_error_m"] > r["max_position_error_m"]
+
+
+@pytest.mark.parametrize("call,name", [
+    (lambda: mc.signal_trial("drift", 1.0), "kind"),
+    (lambda: mc.signal_trial("step", -1.0), "size_sigma"),
+    (lambda: mc.signal_trial("step", 1.0, noise_scale=0.0), "noise_scale"),
+    (lambda: mc.run_tasks(mc.signal_trial, [1, 2]), "params"),
+    (lambda: mc.run_tasks(mc.signal_trial, [], max_workers=0), "max_workers"),
+    (lambda: mc.seeds(-1, 2), "seed"),
+])
+def test_bad_input_names_the_parameter(call, name):
+    with pytest.raises(ValueError, match=name):
+        call()
