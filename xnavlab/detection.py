@@ -772,7 +772,25 @@ class EventTracker:
 # The wavelet detector
 # --------------------------------------------------------------------------------------------
 
-class WaveletDetector:
+class _Tracked:
+    """Event reporting shared by the online detectors (they keep ``self._tracker``)."""
+
+    @property
+    def events(self):
+        """Closed events, list of :class:`Event`."""
+        return self._tracker.events
+
+    @property
+    def faulty(self):
+        """Whether an event is open now."""
+        return self._tracker.faulty
+
+    def all_events(self):
+        """Closed events plus the open one."""
+        return self._tracker.all_events()
+
+
+class WaveletDetector(_Tracked):
     """Online causal wavelet singularity detector for one measurement component.
 
     Each new sample enters a window of the last ``len(g_J)`` samples (156 for db3, level 5);
@@ -876,18 +894,6 @@ class WaveletDetector:
         self._count = 0
         self._z1 = deque(maxlen=max(1, 2 * self.var_window - 1))
         self._tracker = EventTracker(self.holdoff)
-
-    @property
-    def events(self):
-        return self._tracker.events
-
-    @property
-    def faulty(self):
-        return self._tracker.faulty
-
-    def all_events(self):
-        """Closed events plus the open one."""
-        return self._tracker.all_events()
 
     def details(self):
         """Current detail coefficients ``d_j[n]``, shape (level,), measurement unit."""
@@ -1284,7 +1290,7 @@ def chi2_statistic(nu, S, window=1):
     return stat, m * window
 
 
-class Chi2Detector:
+class Chi2Detector(_Tracked):
     """Online innovation chi-square detector for one subsystem (the baseline).
 
     Parameters
@@ -1315,18 +1321,6 @@ class Chi2Detector:
         self.threshold = chi2_threshold(self.alpha, self.m * self.window)
         self._tracker = EventTracker(holdoff)
         self._q = deque(maxlen=self.window)
-
-    @property
-    def events(self):
-        return self._tracker.events
-
-    @property
-    def faulty(self):
-        return self._tracker.faulty
-
-    def all_events(self):
-        """Closed events plus the open one."""
-        return self._tracker.all_events()
 
     def update(self, t, nu, S):
         """Feed one innovation ``nu`` (m,) with covariance ``S`` (m, m); return the flag."""

@@ -83,7 +83,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from scipy import stats
 
-from . import _kernels, scenarios, sensors
+from . import scenarios, sensors
 from ._validate import check_choice, check_int, check_real, make_rng
 from .constants import DAY, GM_MARS, C
 from .detection import (
@@ -573,30 +573,13 @@ class _Loop:
         rx, rP = np.zeros((rows.size, 6)), np.zeros((rows.size, 6, 6))
         rxl, rPl = np.zeros((rows.size, ns, 6)), np.zeros((rows.size, ns, 6))
         self.rx, self.rP = rx, rP
-        xs = np.tile(inp.x0, (ns, 1))
-        Ps = np.array([sc.P0 / b for b in beta])
-        shares = beta.copy()
-        xm, Pm = inp.x0.copy(), sc.P0.copy()
-        sens = inp.sensors
-        xnav, uv, cns = sens["xnav"], sens["uv"], sens["cns"]
-        self.xnav = xnav
-        kinds = np.array([scenarios._KIND[s] for s in sc.subsystems], dtype=np.int64)
-        z_x = inp.z.get("xnav", np.zeros((0, xnav.dim)))
-        z_u = inp.z.get("uv", np.zeros((0, 4)))
-        z_c = inp.z.get("cns", np.zeros((0, cns.dim)))
-        tab = inp.table
+        state = scenarios._filter_state(inp, beta)
+        xs, Ps, shares, xm, Pm = state
+        self.xnav = inp.sensors["xnav"]
 
         def kernel(a, b):
-            ok = _kernels.run_epochs(
-                a, b, inp.times, xs, Ps, shares, xm, Pm, sc.q_acc, sc.max_step, GM_MARS,
-                tab.t_start, tab.step, tab.pos, tab.vel, tab.gm,
-                kinds, inp.meas_idx, active, beta, sc.mode == "reset", gate,
-                z_x, inp.xnav_bodies[0], inp.xnav_bodies[1], xnav.n, xnav.distance, xnav.sigma,
-                z_u, uv.sigma_range, uv.sigma_dir,
-                z_c, cns.star_dirs, cns.sigma_star, cns.sigma_horizon,
-                rec_pos, rx, rP, rxl, rPl, out["nis"], out["flags"])
-            if not ok:
-                raise RuntimeError(f"a covariance lost positive definiteness near epoch {b}")
+            scenarios._run_kernel(inp, state, a, b, active, beta, gate, rec_pos,
+                                  (rx, rP, rxl, rPl), out["nis"], out["flags"])
 
         t_start = time.perf_counter()
         self._oj = 0

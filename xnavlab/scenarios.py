@@ -766,41 +766,57 @@ def _run_numpy(inp, active, gate, beta, progress, kind="ekf"):
     return out
 
 
-def _run_numba(inp, active, gate, beta, progress):
+def _filter_state(inp, beta):
+    """Initial local and master states for the compiled kernel: ``(xs, Ps, shares, xm, Pm)``.
+
+    The kernel updates these arrays in place, epoch after epoch.
+    """
+    sc = inp.scenario
+    xs = np.tile(inp.x0, (len(sc.subsystems), 1))
+    Ps = np.array([sc.P0 / b for b in beta])
+    return xs, Ps, beta.copy(), inp.x0.copy(), sc.P0.copy()
+
+
+def _run_kernel(inp, state, a, b, active, beta, gate, rec_pos, records, nis, flags):
+    """Run the compiled federated filter over epochs ``[a, b)``.
+
+    ``state`` comes from :func:`_filter_state`; ``records`` is ``(x, P, xl, Pl)``, filled
+    at the rows ``rec_pos`` gives for each epoch (-1: not recorded). All in place.
+    """
     from . import _kernels
 
     sc = inp.scenario
-    ns = len(sc.subsystems)
-    out = _alloc(inp)
-    rec_pos = np.full(inp.n, -1, dtype=np.int64)
-    rec_pos[inp.record] = np.arange(inp.record.size)
-    P0 = sc.P0
-    xs = np.tile(inp.x0, (ns, 1))
-    Ps = np.array([P0 / b for b in beta])
-    shares = beta.copy()
-    xm, Pm = inp.x0.copy(), P0.copy()
-    sens = inp.sensors
-    xnav, uv, cns = sens["xnav"], sens["uv"], sens["cns"]
+    xnav, uv, cns = inp.sensors["xnav"], inp.sensors["uv"], inp.sensors["cns"]
     kinds = np.array([_KIND[s] for s in sc.subsystems], dtype=np.int64)
     z_x = inp.z.get("xnav", np.zeros((0, xnav.dim)))
     z_u = inp.z.get("uv", np.zeros((0, 4)))
     z_c = inp.z.get("cns", np.zeros((0, cns.dim)))
     tab = inp.table
+    xs, Ps, shares, xm, Pm = state
+    ok = _kernels.run_epochs(
+        a, b, inp.times, xs, Ps, shares, xm, Pm, sc.q_acc, sc.max_step, GM_MARS,
+        tab.t_start, tab.step, tab.pos, tab.vel, tab.gm,
+        kinds, inp.meas_idx, active, beta, sc.mode == "reset", gate,
+        z_x, inp.xnav_bodies[0], inp.xnav_bodies[1], xnav.n, xnav.distance, xnav.sigma,
+        z_u, uv.sigma_range, uv.sigma_dir,
+        z_c, cns.star_dirs, cns.sigma_star, cns.sigma_horizon,
+        rec_pos, *records, nis, flags)
+    if not ok:
+        raise RuntimeError(f"a covariance lost positive definiteness near epoch {b} "
+                           f"(t = {inp.times[min(b, inp.n - 1)]:.0f} s)")
+
+
+def _run_numba(inp, active, gate, beta, progress):
+    out = _alloc(inp)
+    rec_pos = np.full(inp.n, -1, dtype=np.int64)
+    rec_pos[inp.record] = np.arange(inp.record.size)
+    state = _filter_state(inp, beta)
+    records = (out["x"], out["P"], out["xl"], out["Pl"])
     n_chunks = 50 if progress else 1
     edges = np.linspace(0, inp.n, n_chunks + 1).astype(int)
     bar = _progress(inp.n, progress, "mars (numba)")
     for a, b in zip(edges[:-1], edges[1:], strict=True):
-        ok = _kernels.run_epochs(
-            a, b, inp.times, xs, Ps, shares, xm, Pm, sc.q_acc, sc.max_step, GM_MARS,
-            tab.t_start, tab.step, tab.pos, tab.vel, tab.gm,
-            kinds, inp.meas_idx, active, beta, sc.mode == "reset", gate,
-            z_x, inp.xnav_bodies[0], inp.xnav_bodies[1], xnav.n, xnav.distance, xnav.sigma,
-            z_u, uv.sigma_range, uv.sigma_dir,
-            z_c, cns.star_dirs, cns.sigma_star, cns.sigma_horizon,
-            rec_pos, out["x"], out["P"], out["xl"], out["Pl"], out["nis"], out["flags"])
-        if not ok:
-            raise RuntimeError(f"a covariance lost positive definiteness near epoch {b} "
-                               f"(t = {inp.times[min(b, inp.n - 1)]:.0f} s)")
+        _run_kernel(inp, state, a, b, active, beta, gate, rec_pos, records, out["nis"], out["flags"])
         bar.update(b - a)
     bar.close()
     return out
