@@ -159,6 +159,17 @@ def _transition(x, h, gm_mars, G, G2, Phi):
 
 
 @njit(cache=True, inline="always")
+def _matmul6(A, B, out):
+    """``out = A B`` for 6 x 6 matrices (``out`` must alias neither)."""
+    for i in range(6):
+        for j in range(6):
+            acc = 0.0
+            for m in range(6):
+                acc += A[i, m] * B[m, j]
+            out[i, j] = acc
+
+
+@njit(cache=True, inline="always")
 def _predict(x, P, t, dt, q, scale, max_step, gm_mars, tb_t0, tb_step, tb_pos, tb_vel, tb_gm,
              x_out, P_out, sc):
     """EKF time update over dt in n = ceil(dt / max_step) equal sub-steps.
@@ -178,12 +189,7 @@ def _predict(x, P, t, dt, q, scale, max_step, gm_mars, tb_t0, tb_step, tb_pos, t
         Ph = sc.A6
         _transition(x_out, h, gm_mars, sc.G, sc.G2, Ph)
         T = sc.T6
-        for i in range(6):
-            for j in range(6):
-                acc = 0.0
-                for m in range(6):
-                    acc += Ph[i, m] * Phi[m, j]
-                T[i, j] = acc
+        _matmul6(Ph, Phi, T)
         for i in range(6):
             for j in range(6):
                 Phi[i, j] = T[i, j]
@@ -193,12 +199,7 @@ def _predict(x, P, t, dt, q, scale, max_step, gm_mars, tb_t0, tb_step, tb_pos, t
              sc.tb, sc.a3, sc.k46, sc.y6)
     # P = Phi P Phi^T + Q
     T = sc.T6
-    for i in range(6):
-        for j in range(6):
-            s = 0.0
-            for m in range(6):
-                s += Phi[i, m] * P[m, j]
-            T[i, j] = s
+    _matmul6(Phi, P, T)
     q33 = q * dt * dt * dt / 3.0 / scale
     q22 = q * dt * dt / 2.0 / scale
     q11 = q * dt / scale

@@ -712,7 +712,7 @@ def events_from_alarms(t, alarm, ratio, holdoff, tests=None):
         seg = slice(s, e + 1)
         p = s + int(np.argmax(ratio[seg]))
         events.append(Event(float(t[s]), float(t[e]), float(t[c]) if c < n else math.inf,
-                            float(ratio[p]), tests[p] if tests is not None else ""))
+                            float(ratio[p]), str(tests[p]) if tests is not None else ""))
     return events, faulty
 
 
@@ -986,7 +986,9 @@ def wavelet_detect(t, x, *, wavelet="db3", level=5, sigma=None, train=None, pfa=
             det.train(train)
     d = causal_details(x, det.wavelet, det.level)
     z = d / det.sigma[:, None]
-    ratios = np.abs(z) / det.k
+    n_tests = det.level + (1 if det.var_window else 0)
+    ratios = np.empty((n_tests, n))
+    np.divide(np.abs(z), det.k, out=ratios[:det.level])
     names = [f"level {j + 1}" for j in range(det.level)]
     q = np.full(n, np.nan)
     armed = np.zeros(n, dtype=bool)
@@ -999,13 +1001,12 @@ def wavelet_detect(t, x, *, wavelet="db3", level=5, sigma=None, train=None, pfa=
             q_all[2 * i:] += z1sq[:n - 2 * i] if 2 * i < n else 0.0
         valid = np.arange(n) >= 2 * w - 2
         q[valid] = q_all[valid]
-        vr = np.where(valid, _var_ratio(np.where(valid, q_all, 1.0), *det.var_bounds), 0.0)
-        ratios = np.vstack([ratios, vr])
+        ratios[-1] = np.where(valid, _var_ratio(np.where(valid, q_all, 1.0), *det.var_bounds), 0.0)
         names.append("variance")
     which = np.argmax(ratios, axis=0)
     ratio = ratios[which, np.arange(n)]
     alarm = armed & (ratio > 1.0)
-    tests = [names[i] for i in which]
+    tests = np.asarray(names)[which]  # the deciding test at each sample
     events, faulty = events_from_alarms(t, alarm, ratio, det.holdoff, tests)
     return Detection(t, ratio, alarm, faulty, armed, events,
                      data={"details": d, "z": z, "sigma": det.sigma, "k": det.k, "variance": q,

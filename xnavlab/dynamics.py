@@ -430,16 +430,12 @@ def transition_matrix(r, dt, gm=GM_MARS):
     ((6, 6), 3.0)
     """
     G = gravity_gradient(r, gm)
-    F = np.zeros((6, 6))
-    F[:3, 3:] = np.eye(3)
-    F[3:, :3] = G
-    Fdt = F * dt
-    Phi = np.eye(6)
-    term = np.eye(6)
-    for k in range(1, 5):  # Phi = I + F dt + (F dt)^2/2 + (F dt)^3/6 + (F dt)^4/24
-        term = term @ Fdt / k
-        Phi = Phi + term
-    return Phi
+    G2 = G @ G
+    I3 = np.eye(3)
+    # Phi = I + F dt + (F dt)^2/2 + (F dt)^3/6 + (F dt)^4/24, with F^2 = diag(G, G):
+    diag = I3 + G * dt**2 / 2 + G2 * dt**4 / 24
+    return np.block([[diag, I3 * dt + G * dt**3 / 6],
+                     [G * dt + G2 * dt**3 / 6, diag]])
 
 
 class OrbitalElements(NamedTuple):

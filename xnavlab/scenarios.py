@@ -73,7 +73,6 @@ __all__ = [
     "run",
     "process_noise",
     "filter_step",
-    "filter_transition",
     "filter_propagate",
     "nees_monte_carlo",
     "plot_subsystem",
@@ -441,33 +440,11 @@ def filter_step(x, t, dt, table):
     return x + dt / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
 
 
-def filter_transition(r, dt):
-    """The filters' state-transition matrix: ``exp(F dt)`` to fourth order, shape (6, 6).
-
-    ``F = [[0, I], [G, 0]]`` with ``G`` the Mars point-mass gravity gradient at ``r``
-    (:func:`xnavlab.dynamics.gravity_gradient`), held over the step; since
-    ``F^2 = diag(G, G)`` the series has the closed block form below.
-
-    Examples
-    --------
-    >>> Phi = filter_transition(dynamics.MARS_STATE0[:3], 3.0)
-    >>> bool(np.allclose(Phi, dynamics.transition_matrix(dynamics.MARS_STATE0[:3], 3.0)))
-    True
-    """
-    G = dynamics.gravity_gradient(r)
-    G2 = G @ G
-    I3 = np.eye(3)
-    top_left = I3 + G * dt**2 / 2 + G2 * dt**4 / 24
-    # Phi = I + F dt + (F dt)^2/2 + (F dt)^3/6 + (F dt)^4/24
-    return np.block([[top_left, I3 * dt + G * dt**3 / 6],
-                     [G * dt + G2 * dt**3 / 6, top_left]])
-
-
 def filter_propagate(x, t, dt, table, max_step=10.0):
     """The filters' time update of the state: ``ceil(dt / max_step)`` RK4 sub-steps.
 
     Returns the propagated state and the transition matrix ``Phi_n ... Phi_1``
-    (:func:`filter_transition` at the start of each sub-step).
+    (:func:`xnavlab.dynamics.transition_matrix` at the start of each sub-step).
 
     Returns
     -------
@@ -486,7 +463,7 @@ def filter_propagate(x, t, dt, table, max_step=10.0):
     h = dt / n
     Phi = np.eye(6)
     for i in range(n):
-        Phi = filter_transition(x[:3], h) @ Phi
+        Phi = dynamics.transition_matrix(x[:3], h) @ Phi
         x = filter_step(x, t + i * h, h, table)
     return x, Phi
 
