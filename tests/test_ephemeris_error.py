@@ -137,3 +137,12 @@ def test_orbit():
 
 def test_ephemeris_error_reproduction_passes():
     reproduce.run("ephemeris-error").assert_passed()
+
+
+def test_compiled_model_matches_the_dynamics_module():
+    # the batched RK4 model here and xnavlab.dynamics must describe the same Mars physics
+    from xnavlab import dynamics
+
+    r = dynamics.MARS_STATE0[:3]
+    expected = dynamics.point_mass(r) + dynamics.j2_acceleration(r)
+    np.testing.assert_allclose(ee.acceleration(r, "mars"), expected, rtol=1e-13)
