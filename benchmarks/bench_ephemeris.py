@@ -7,8 +7,8 @@ both and their ratio (measured in the same process, so the ratio is what matters
 import numpy as np
 from _timing import best_of
 
-from xnavlab import ephemeris
-from xnavlab.dynamics import MARS_T0
+from xnavlab.core import ephemeris
+from xnavlab.mars.dynamics import MARS_T0
 
 
 def main(n=2000):

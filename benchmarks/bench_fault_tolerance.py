@@ -7,7 +7,7 @@ Run: ``.venv/bin/python benchmarks/bench_fault_tolerance.py``. Prints
   (prepare the inputs, inject, detect, filter with isolation and rejoining) against the
   fault-free run end to end (prepare, filter), in this process (target: ratio <= 1.5); and,
   for information, the same with the inputs prepared once (filter and detection only);
-- a batch of 100 one-day runs (``xnavlab.montecarlo.mars_trial``: one UV step each, wavelet
+- a batch of 100 one-day runs (``xnavlab.mars.trials.mars_trial``: one UV step each, wavelet
   detector) on a local process pool of two workers (target: a few minutes, <= 180 s).
 """
 
@@ -15,7 +15,8 @@ import time
 
 from _timing import best_of
 
-from xnavlab import fault_tolerance, montecarlo, scenarios
+from xnavlab.core import montecarlo
+from xnavlab.mars import fault_tolerance, scenarios, trials
 
 
 def main():
@@ -38,7 +39,7 @@ def main():
     n = 100
     params = [dict(size_sigma=5.0, detector="wavelet", days=1.0)] * n
     t0 = time.perf_counter()
-    res = montecarlo.run_tasks(montecarlo.mars_trial, params, seed=0, max_workers=2)
+    res = montecarlo.run_tasks(trials.mars_trial, params, seed=0, max_workers=2)
     wall = time.perf_counter() - t0
     found = sum(r["delay"] < 1e9 for r in res)
     print(f"{n} one-day runs on 2 workers                 : {wall:7.2f} s (target <= 180 s) "

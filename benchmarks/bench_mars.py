@@ -4,7 +4,7 @@ Run: ``.venv/bin/python benchmarks/bench_mars.py``. Prints
 
 - the one-time numba compile (or cache load) on a tiny span;
 - the full 30-day fault-free run (867 457 epochs, 3 EKFs + fusion each), split into
-  preparing the inputs (truth from :func:`xnavlab.dynamics.truth`, cached on disk after
+  preparing the inputs (truth from :func:`xnavlab.mars.dynamics.truth`, cached on disk after
   its first computation; ephemeris tables; every noisy measurement) and the filter, and
   their sum (target: 10 s or less);
 - the plain numpy reference loop and the numba kernel on the same 0.05-day inputs in
@@ -17,7 +17,7 @@ import time
 import numpy as np
 from _timing import best_of
 
-from xnavlab import dynamics, scenarios
+from xnavlab.mars import dynamics, scenarios
 
 
 def main():

@@ -14,8 +14,8 @@ import time
 
 import numpy as np
 
-from xnavlab import parity
-from xnavlab.faults import Fault
+from xnavlab.core.faults import Fault
+from xnavlab.plins import parity
 
 
 def best_of(fn, repeat=5):

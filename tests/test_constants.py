@@ -4,7 +4,7 @@ import de421
 import pytest
 from jplephem.ephem import Ephemeris
 
-from xnavlab import constants
+from xnavlab.core import constants
 
 E = Ephemeris(de421)
 AU3_DAY2 = (E.AU * 1e3) ** 3 / constants.DAY**2  # au^3/day^2 -> m^3/s^2

@@ -8,8 +8,8 @@ import pywt
 from hypothesis import given
 from hypothesis import strategies as st
 
-from xnavlab import detection as D
-from xnavlab.faults import Fault, inject
+from xnavlab.core import detection as D
+from xnavlab.core.faults import Fault, inject
 
 WAVELETS = ("haar", "db2", "db3", "db4", "sym4")
 SIGMA = 5000.0          # m, UV range noise of the paper

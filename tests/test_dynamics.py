@@ -5,8 +5,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from xnavlab import dynamics, ephemeris
-from xnavlab.constants import DAY, GM_MARS, GM_SUN, J2_MARS, R_MARS
+from xnavlab.core import ephemeris
+from xnavlab.core.constants import DAY, GM_MARS, GM_SUN, J2_MARS, R_MARS
+from xnavlab.mars import dynamics
 
 T0, X0 = dynamics.MARS_T0, dynamics.MARS_STATE0
 

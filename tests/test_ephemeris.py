@@ -3,8 +3,8 @@
 import numpy as np
 import pytest
 
-from xnavlab import ephemeris
-from xnavlab.constants import AU, DAY
+from xnavlab.core import ephemeris
+from xnavlab.core.constants import AU, DAY
 
 
 @pytest.mark.parametrize("body", ephemeris.BODIES)

@@ -1,4 +1,4 @@
-"""Tests of xnavlab.ephemeris_error: the DE421 - DE405 error, directions, measurement, dynamics."""
+"""Tests of xnavlab.robust.ephemeris_error: the DE421 - DE405 error, directions, measurement, dynamics."""
 
 import math
 
@@ -7,9 +7,11 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from xnavlab import ephemeris, pulsars, reproduce
-from xnavlab import ephemeris_error as ee
-from xnavlab.constants import GM_EARTH, GM_MARS, J2_EARTH, R_EARTH
+from xnavlab import reproduce
+from xnavlab.core import ephemeris
+from xnavlab.core.constants import GM_EARTH, GM_MARS, J2_EARTH, R_EARTH
+from xnavlab.mars import pulsars
+from xnavlab.robust import ephemeris_error as ee
 
 
 def test_ephemeris_error_is_de421_minus_de405():
@@ -140,8 +142,8 @@ def test_ephemeris_error_reproduction_passes():
 
 
 def test_compiled_model_matches_the_dynamics_module():
-    # the batched RK4 model here and xnavlab.dynamics must describe the same Mars physics
-    from xnavlab import dynamics
+    # the batched RK4 model here and xnavlab.mars.dynamics must describe the same Mars physics
+    from xnavlab.mars import dynamics
 
     r = dynamics.MARS_STATE0[:3]
     expected = dynamics.point_mass(r) + dynamics.j2_acceleration(r)

@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from xnavlab.faults import KINDS, Fault, fault_mask, format_spec, inject, parse_spec
+from xnavlab.core.faults import KINDS, Fault, fault_mask, format_spec, inject, parse_spec
 
 COMPS = {"uv": ["range", "ux", "uy", "uz"], "xnav": ["0", "1", "2", "3"], "cns": ["0", "1", "2"]}
 T = np.arange(0.0, 20.0)

@@ -5,7 +5,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from xnavlab import federated, filters
+from xnavlab.core import federated, filters
 
 N = 4  # state size of the linear test system
 
@@ -60,7 +60,8 @@ def test_unequal_sharing_factors_still_exact_in_reset_mode(seed):
 @given(st.integers(0, 10_000))
 def test_no_reset_mode_is_conservative(seed):
     ff, xc, Pc = _run("no-reset", seed, lambda k: [True, True, True])
-    assert np.linalg.eigvalsh(ff.P - Pc).min() > -1e-10      # P_fed >= P_centralised
+    D = ff.P - Pc
+    assert np.linalg.eigvalsh(D).min() >= -1e-9 * np.abs(Pc).max()  # P_fed >= P_central (PSD)
 
 
 @given(st.integers(0, 10_000))

@@ -6,7 +6,8 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 import pytest
 
-from xnavlab import montecarlo as mc
+from xnavlab.core import montecarlo as mc
+from xnavlab.mars import trials
 
 
 def test_seeds_are_reproducible_and_distinct():
@@ -58,9 +59,9 @@ def test_roc_is_monotone_and_bounded():
 
 
 def test_mars_trial_detects_the_uv_step():
-    r = mc.mars_trial(6.0, "wavelet", seed=5, days=0.5)
+    r = trials.mars_trial(6.0, "wavelet", seed=5, days=0.5)
     assert r["delay"] < 600.0 and r["isolations"] >= 1
-    none = mc.mars_trial(6.0, "none", seed=5, days=0.5)
+    none = trials.mars_trial(6.0, "none", seed=5, days=0.5)
     assert math.isinf(none["delay"])
     assert none["max_position_error_m"] > r["max_position_error_m"]
 

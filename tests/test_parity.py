@@ -1,4 +1,4 @@
-"""T-S fuzzy fully decoupled parity equations and fault identification (xnavlab.parity)."""
+"""T-S fuzzy fully decoupled parity equations and fault identification (xnavlab.plins.parity)."""
 
 import math
 
@@ -8,10 +8,11 @@ from hypothesis import given
 from hypothesis import strategies as st
 from scipy.stats import chi2
 
-from xnavlab import ins, reproduce
-from xnavlab import parity as P
-from xnavlab import pseudolites as pl
-from xnavlab.faults import Fault
+from xnavlab import reproduce
+from xnavlab.core.faults import Fault
+from xnavlab.plins import ins
+from xnavlab.plins import parity as P
+from xnavlab.plins import pseudolites as pl
 
 finite = dict(allow_nan=False, allow_infinity=False)
 TRAJ = ins.paper_trajectory()

@@ -1,4 +1,4 @@
-"""WGS-84 geodesy, pseudoranges and the linearised PL/INS measurement (xnavlab.pseudolites)."""
+"""WGS-84 geodesy, pseudoranges and the linearised PL/INS measurement (xnavlab.plins.pseudolites)."""
 
 import math
 
@@ -7,9 +7,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from xnavlab import ins
-from xnavlab import pseudolites as pl
-from xnavlab.faults import Fault
+from xnavlab.core.faults import Fault
+from xnavlab.plins import ins
+from xnavlab.plins import pseudolites as pl
 
 finite = dict(allow_nan=False, allow_infinity=False)
 lats = st.floats(-89.99, 89.99, **finite)

@@ -7,8 +7,8 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from xnavlab import pulsars
-from xnavlab.constants import C
+from xnavlab.core.constants import C
+from xnavlab.mars import pulsars
 
 
 def test_catalogue_has_the_paper_pulsars_with_sources():

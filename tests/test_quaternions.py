@@ -1,4 +1,4 @@
-"""Quaternion identities (scalar last) for xnavlab.quaternions."""
+"""Quaternion identities (scalar last) for xnavlab.core.quaternions."""
 
 import numpy as np
 import pytest
@@ -6,7 +6,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
-from xnavlab import quaternions as qt
+from xnavlab.core import quaternions as qt
 
 finite = st.floats(-1.0, 1.0, allow_nan=False, allow_infinity=False)
 vec3 = st.lists(finite, min_size=3, max_size=3).map(np.array)

@@ -7,8 +7,8 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from xnavlab import dynamics, pulsars, sensors, stars, toa
-from xnavlab.constants import C
+from xnavlab.core.constants import C
+from xnavlab.mars import dynamics, pulsars, sensors, stars, toa
 
 ARCSEC = math.pi / (180 * 3600)
 

@@ -7,8 +7,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from xnavlab import dynamics, ephemeris, pulsars, toa
-from xnavlab.constants import GM_SUN, C
+from xnavlab.core import ephemeris
+from xnavlab.core.constants import GM_SUN, C
+from xnavlab.mars import dynamics, pulsars, toa
 
 N, D = pulsars.directions()
 

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from xnavlab._validate import check_choice, check_finite_array, check_int, check_real, make_rng
+from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
 
 
 def test_check_real():

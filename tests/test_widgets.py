@@ -1,4 +1,4 @@
-"""xnavlab.widgets: the live widget and the kernel-free HTML scrubber."""
+"""xnavlab.core.widgets: the live widget and the kernel-free HTML scrubber."""
 
 import base64
 import json
@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 from matplotlib.figure import Figure
 
-from xnavlab import widgets
-from xnavlab.widgets import explore
+from xnavlab.core import widgets
+from xnavlab.core.widgets import explore
 
 CALLS = []
 

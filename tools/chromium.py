@@ -297,7 +297,7 @@ _INSPECT = r"""
 """
 
 
-# Moves every kernel-free scrubber (xnavlab.widgets) to its last frame and back.
+# Moves every kernel-free scrubber (xnavlab.core.widgets) to its last frame and back.
 _SCRUB = r"""
 (() => {
   const bad = [];

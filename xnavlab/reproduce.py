@@ -23,6 +23,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from xnavlab.core.plotting import figure
+
 __all__ = [
     "Check",
     "Reproduction",
@@ -38,6 +40,7 @@ __all__ = [
     "check_info",
     "results_table",
     "figure",
+    "jsonable",
 ]
 
 
@@ -181,7 +184,7 @@ class Result:
         }
 
     def to_json(self):
-        return json.dumps(self.to_dict(), default=_jsonable)
+        return json.dumps(self.to_dict(), default=jsonable)
 
     def table(self):
         """A plain-text table: quantity, paper, ours, tolerance, verdict."""
@@ -252,10 +255,11 @@ def _load_all():
     global _LOADED
     if _LOADED:
         return
-    from . import reproductions
-
-    for mod in pkgutil.iter_modules(reproductions.__path__):
-        importlib.import_module(f"{reproductions.__name__}.{mod.name}")
+    # Plug-in discovery by package path: the registry does not import its reproductions
+    # (they import it), so adding a module to xnavlab/reproductions/ registers its IDs.
+    package = importlib.import_module("xnavlab.reproductions")
+    for mod in pkgutil.iter_modules(package.__path__):
+        importlib.import_module(f"{package.__name__}.{mod.name}")
     _LOADED = True
 
 
@@ -311,28 +315,6 @@ def run(id, out=None, **kwargs):
     return result
 
 
-def figure(*args, figsize=(6.0, 3.5), **kwargs):
-    """A figure for a reproduction's PNG: like ``pyplot.subplots`` but outside pyplot.
-
-    A bare :class:`matplotlib.figure.Figure` needs no backend, so writing figures never
-    switches the backend of a running notebook kernel and leaves no open pyplot figure.
-
-    Returns
-    -------
-    (Figure, Axes or array of Axes)
-
-    Examples
-    --------
-    >>> fig, ax = figure()
-    >>> type(fig).__name__
-    'Figure'
-    """
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=figsize)
-    return fig, fig.subplots(*args, **kwargs)
-
-
 def results_table(results):
     """Plain-text table of the checks of several results."""
     rows = [("id", "quantity", "paper", "ours", "tolerance", "pass")]
@@ -351,7 +333,8 @@ def _show(x):
     return str(x)
 
 
-def _jsonable(x):
+def jsonable(x):
+    """``json.dumps`` fallback: NumPy scalars and arrays as Python numbers and lists."""
     try:
         import numpy as np
 

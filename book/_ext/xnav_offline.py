@@ -10,7 +10,7 @@
   myst-nb on pages that store widget state) are replaced by ``xnav-widgets-loader.js``,
   which fetches them only when the browser is online and ignores failures. A page
   therefore renders, without a JavaScript error, whether or not the CDN is reachable;
-  the kernel-free scrubbers of :mod:`xnavlab.widgets` carry the interactivity offline.
+  the kernel-free scrubbers of :mod:`xnavlab.core.widgets` carry the interactivity offline.
 * A script added twice to a page (sphinx-thebe's inline configuration) is kept once.
 
 Registered in ``_config.yml`` under ``sphinx.local_extensions``.

@@ -11,7 +11,7 @@ installs Debian's chromium when absent). For each HTML page of ``_build/html`` (
   without MathJax output) or a MathJax error;
 - an ``<img>`` that did not load;
 - an error cell (a traceback in an output);
-- a kernel-free scrubber (``xnavlab.widgets``) that does not move.
+- a kernel-free scrubber (``xnavlab.core.widgets``) that does not move.
 
 A full-page screenshot of every page under ``book/`` is saved in ``_build/screenshots/``
 (override with ``XNAVLAB_SCREENSHOTS``).

@@ -1,0 +1,158 @@
+"""The package's architecture, checked from its source: layers, no import cycle, no private imports.
+
+Every ``import`` statement of every module of ``xnavlab`` (module level and inside
+functions) is an edge of the import graph. ``from PKG import NAME`` is an edge to the
+submodule ``PKG.NAME`` when that is a module, else to ``PKG``.
+"""
+
+import ast
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1] / "xnavlab"
+
+#: Which top-level part of the package may import which (besides itself and the core).
+SYSTEMS = {"mars", "robust", "attitude", "plins"}
+ALLOWED = {
+    "core": set(),
+    "mars": set(),
+    # The ephemeris-error system observes the Mars system's pulsars and flies its Mars orbit
+    # (chapter 10 tells that story), so it may use xnavlab.mars.pulsars and .dynamics.
+    "robust": {"mars"},
+    "attitude": set(),
+    "plins": set(),
+    "reproductions": SYSTEMS | {"reproduce"},
+    "reproduce": set(),
+    "cli": SYSTEMS | {"reproduce", "reproductions"},
+    "compat": set(),
+    "__init__": {"compat"},
+    "__main__": {"cli"},
+}
+ROBUST_MAY_USE = {"xnavlab.mars.pulsars", "xnavlab.mars.dynamics"}
+
+
+def module_name(path):
+    rel = path.relative_to(ROOT.parent).with_suffix("")
+    parts = list(rel.parts)
+    if parts[-1] == "__init__":
+        parts.pop()
+    return ".".join(parts)
+
+
+MODULES = {module_name(p): p for p in sorted(ROOT.rglob("*.py"))}
+
+
+def is_package(name):
+    return MODULES[name].name == "__init__.py"
+
+
+def resolve(name, node):
+    """Absolute module imported by ``node`` inside module ``name``, plus the names taken."""
+    if isinstance(node, ast.Import):
+        return [(a.name, None) for a in node.names]
+    base = node.module or ""
+    if node.level:
+        pkg = name if is_package(name) else name.rpartition(".")[0]
+        for _ in range(node.level - 1):
+            pkg = pkg.rpartition(".")[0]
+        base = f"{pkg}.{base}" if base else pkg
+    return [(base, a.name) for a in node.names]
+
+
+def edges():
+    """``(importer, imported module, name or None, lineno)`` for every xnavlab import."""
+    out = []
+    for name, path in MODULES.items():
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            if not isinstance(node, (ast.Import, ast.ImportFrom)):
+                continue
+            for target, taken in resolve(name, node):
+                if not target.startswith("xnavlab"):
+                    continue
+                sub = f"{target}.{taken}" if taken else None
+                if sub in MODULES:
+                    out.append((name, sub, None, node.lineno))
+                else:
+                    out.append((name, target, taken, node.lineno))
+    return out
+
+
+def layer(module):
+    parts = module.split(".")
+    return parts[1] if len(parts) > 1 else "__init__"
+
+
+def test_the_walk_sees_the_package():
+    assert {"xnavlab.core.filters", "xnavlab.mars.scenarios", "xnavlab.cli"} <= set(MODULES)
+    assert len(edges()) > 100
+
+
+def test_no_import_cycle():
+    graph = {m: set() for m in MODULES}
+    for src, dst, _, _ in edges():
+        if dst in MODULES and dst != src:
+            graph[src].add(dst)
+    state, stack = {}, []
+
+    def visit(m):
+        state[m] = "open"
+        stack.append(m)
+        for n in sorted(graph[m]):
+            if state.get(n) == "open":
+                cycle = stack[stack.index(n):] + [n]
+                pytest.fail("import cycle: " + " -> ".join(cycle))
+            if n not in state:
+                visit(n)
+        stack.pop()
+        state[m] = "done"
+
+    for m in sorted(graph):
+        if m not in state:
+            visit(m)
+
+
+def test_no_private_name_crosses_a_module_border():
+    bad = [f"{src}:{line} imports {name} from {dst}" for src, dst, name, line in edges()
+           if name and name.startswith("_") and not name.startswith("__") and dst != src]
+    bad += [f"{src}:{line} imports the private module {dst}" for src, dst, _, line in edges()
+            if any(p.startswith("_") and not p.startswith("__") for p in dst.split("."))]
+    assert not bad, "\n".join(bad)
+
+
+def test_no_private_attribute_of_an_imported_module():
+    bad = []
+    for name, path in MODULES.items():
+        tree = ast.parse(path.read_text())
+        aliases = set()
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("xnavlab"):
+                aliases |= {a.asname or a.name for a in node.names}
+            if isinstance(node, ast.Import):
+                aliases |= {a.asname or a.name.split(".")[0] for a in node.names
+                            if a.name.startswith("xnavlab")}
+        for node in ast.walk(tree):
+            if (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name)
+                    and node.value.id in aliases and node.attr.startswith("_")
+                    and not node.attr.startswith("__")):
+                bad.append(f"{name}:{node.lineno} uses {node.value.id}.{node.attr}")
+    assert not bad, "\n".join(bad)
+
+
+def test_layers():
+    bad = []
+    for src, dst, _, line in edges():
+        a, b = layer(src), layer(dst)
+        if a == b or b == "core" and a != "core" or dst == "xnavlab":
+            continue
+        if b not in ALLOWED.get(a, set()):
+            bad.append(f"{src}:{line} ({a}) imports {dst} ({b})")
+        elif a == "robust" and b == "mars" and dst not in ROBUST_MAY_USE:
+            bad.append(f"{src}:{line} imports {dst}: only {sorted(ROBUST_MAY_USE)} are allowed")
+    assert not bad, "\n".join(bad)
+
+
+def test_every_module_declares_all():
+    missing = [m for m, p in MODULES.items()
+               if not p.name.startswith("__main__") and "__all__" not in p.read_text()]
+    assert not missing, missing

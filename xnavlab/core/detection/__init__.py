@@ -1,0 +1,32 @@
+"""Fault detection: Mallat's wavelet transform, the online wavelet singularity detector, chi-square tests.
+
+The main paper (Fan et al. 2016, section 2) detects sensor faults as *singularities* of the
+measurement series: local modulus maxima of the wavelet detail coefficients, db3, five levels.
+
+=====================  ===================================================================
+module                 what it holds
+=====================  ===================================================================
+``mallat``             Mallat's fast algorithm, paper eqs. (9)-(10); detail signals (Fig. 5)
+``online``             causal undecimated details, MAD thresholds, events, the online
+                       :class:`WaveletDetector` and batch :func:`wavelet_detect`
+``singularity``        modulus maxima, Lipschitz exponents, the CWT (paper eqs. (7)-(8))
+``chisquare``          the innovation chi-square baseline (:class:`Chi2Detector`)
+``plots``              the chapters' figures
+=====================  ===================================================================
+
+Every public name of these modules is re-exported here: ``from xnavlab.core import detection``.
+The design decisions (sliding window, thresholds, hold-off) are in :mod:`.online`.
+"""
+
+from xnavlab.core.detection.chisquare import *  # noqa: F403
+from xnavlab.core.detection.chisquare import __all__ as _chisquare_all
+from xnavlab.core.detection.mallat import *  # noqa: F403
+from xnavlab.core.detection.mallat import __all__ as _mallat_all
+from xnavlab.core.detection.online import *  # noqa: F403
+from xnavlab.core.detection.online import __all__ as _online_all
+from xnavlab.core.detection.plots import *  # noqa: F403
+from xnavlab.core.detection.plots import __all__ as _plots_all
+from xnavlab.core.detection.singularity import *  # noqa: F403
+from xnavlab.core.detection.singularity import __all__ as _singularity_all
+
+__all__ = [*_mallat_all, *_online_all, *_singularity_all, *_chisquare_all, *_plots_all]

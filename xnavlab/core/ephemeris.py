@@ -1,0 +1,179 @@
+"""Sun and planet states from the JPL development ephemerides DE421 and DE405.
+
+The ephemerides come from the ``de421`` and ``de405`` packages and are read with
+``jplephem``'s legacy :class:`jplephem.ephem.Ephemeris` interface (those packages
+ship the old per-series format, not SPK files). Positions are relative to the
+solar-system barycentre (SSB), axes ICRF/J2000, in metres; velocities in m/s.
+
+Time is seconds of TDB past J2000 (``t = 0`` is JD 2451545.0 TDB). The epoch is
+passed to jplephem as the pair ``(2451545.0, t / 86400)`` so that a 30-day run at
+3-s steps keeps sub-microsecond time resolution.
+
+Bodies
+------
+``"sun"``, ``"mercury"``, ``"venus"``, ``"earth"``, ``"moon"``, ``"earthmoon"``,
+``"mars"``, ``"jupiter"``, ``"saturn"``. ``"mars"`` and ``"jupiter"`` are the
+system barycentres that the DE files tabulate; for Mars the offset from the planet's
+centre caused by Phobos and Deimos is below 0.3 m and is ignored. ``"earth"`` is the
+Earth-Moon barycentre minus ``moon / (1 + EMRAT)``; ``"moon"`` is the Moon's SSB
+position.
+
+Examples
+--------
+>>> r, v = state("mars", 0.0)
+>>> r.shape, v.shape
+((3,), (3,))
+>>> bool(1.3 < np.linalg.norm(r) / 1.495978707e11 < 1.7)   # Mars at 1.38-1.67 au
+True
+"""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+
+from xnavlab.core.constants import DAY, J2000_JD
+from xnavlab.core.validate import check_choice, check_finite_array
+
+__all__ = ["EPHEMERIDES", "BODIES", "state", "position", "coverage", "jd_from_t", "t_from_jd"]
+
+#: Ephemerides that can be selected.
+EPHEMERIDES = ("de421", "de405")
+#: Bodies that can be asked for.
+BODIES = ("sun", "mercury", "venus", "earth", "moon", "earthmoon", "mars", "jupiter", "saturn")
+
+_KM = 1.0e3
+_KM_PER_DAY = 1.0e3 / DAY
+
+
+@functools.cache
+def _load(ephem):
+    import importlib
+
+    from jplephem.ephem import Ephemeris
+
+    return Ephemeris(importlib.import_module(ephem))
+
+
+def coverage(ephem="de421"):
+    """First and last epoch covered by an ephemeris, s TDB past J2000.
+
+    Examples
+    --------
+    >>> lo, hi = coverage("de421")
+    >>> round(jd_from_t(lo), 1), round(jd_from_t(hi), 1)
+    (2414992.5, 2524624.5)
+    """
+    check_choice("ephem", ephem, EPHEMERIDES)
+    e = _load(ephem)
+    return float((e.jalpha - J2000_JD) * DAY), float((e.jomega - J2000_JD) * DAY)
+
+
+def jd_from_t(t):
+    """Julian date (TDB) from seconds TDB past J2000.
+
+    Examples
+    --------
+    >>> jd_from_t(86400.0)
+    2451546.0
+    """
+    return J2000_JD + np.asarray(t, dtype=float) / DAY
+
+
+def t_from_jd(jd):
+    """Seconds TDB past J2000 from a Julian date (TDB).
+
+    Examples
+    --------
+    >>> t_from_jd(2457388.5)   # 2016-01-01 00:00 TDB
+    504878400.0
+    """
+    return (np.asarray(jd, dtype=float) - J2000_JD) * DAY
+
+
+def _raw(body, days, ephem):
+    """Position (km) and velocity (km/day) of a tabulated series, shape (3, n)."""
+    e = _load(ephem)
+    return e.position_and_velocity(body, J2000_JD, days)
+
+
+def _check(body, t, ephem):
+    check_choice("body", body, BODIES)
+    check_choice("ephem", ephem, EPHEMERIDES)
+    t = check_finite_array("t", t)
+    lo, hi = coverage(ephem)
+    if t.size and (t.min() < lo or t.max() > hi):
+        raise ValueError(
+            f"t must lie in [{lo:.6g}, {hi:.6g}] s past J2000 (JD {jd_from_t(lo):.1f} to "
+            f"{jd_from_t(hi):.1f}), the coverage of {ephem.upper()}; got "
+            f"[{t.min():.6g}, {t.max():.6g}]"
+        )
+    return t
+
+
+def state(body, t, ephem="de421"):
+    """Position and velocity of ``body`` relative to the SSB, ICRF axes.
+
+    Parameters
+    ----------
+    body : str
+        One of :data:`BODIES`.
+    t : float or array_like, shape (n,)
+        Epochs, s TDB past J2000.
+    ephem : {"de421", "de405"}
+        Which ephemeris to read.
+
+    Returns
+    -------
+    r : ndarray, shape (3,) or (n, 3)
+        Position, m.
+    v : ndarray, shape (3,) or (n, 3)
+        Velocity, m/s.
+
+    Raises
+    ------
+    ValueError
+        If ``t`` lies outside the ephemeris's coverage, or the body or ephemeris
+        is unknown.
+
+    Examples
+    --------
+    >>> r, v = state("earth", [0.0, 86400.0])
+    >>> r.shape
+    (2, 3)
+    >>> bool(29e3 < np.linalg.norm(v[0]) < 31e3)   # Earth's orbital speed, m/s
+    True
+    """
+    t = _check(body, t, ephem)
+    days = np.atleast_1d(t) / DAY
+    if body == "earth":
+        e = _load(ephem)
+        r_emb, v_emb = _raw("earthmoon", days, ephem)
+        r_moon, v_moon = _raw("moon", days, ephem)  # geocentric Moon
+        r_km = r_emb - e.earth_share * r_moon
+        v_kmd = v_emb - e.earth_share * v_moon
+    elif body == "moon":
+        e = _load(ephem)
+        r_emb, v_emb = _raw("earthmoon", days, ephem)
+        r_moon, v_moon = _raw("moon", days, ephem)
+        r_km = r_emb + e.moon_share * r_moon
+        v_kmd = v_emb + e.moon_share * v_moon
+    else:
+        r_km, v_kmd = _raw(body, days, ephem)
+    r = (r_km * _KM).T
+    v = (v_kmd * _KM_PER_DAY).T
+    if t.ndim == 0:
+        return r[0], v[0]
+    return r, v
+
+
+def position(body, t, ephem="de421"):
+    """Position of ``body`` relative to the SSB, m; shape (3,) or (n, 3).
+
+    Examples
+    --------
+    >>> position("sun", 0.0).shape
+    (3,)
+    """
+    return state(body, t, ephem)[0]

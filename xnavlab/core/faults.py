@@ -1,0 +1,276 @@
+"""Sensor fault injection: step, ramp, spike, stuck output and noise increase.
+
+A :class:`Fault` says which sensor and which measurement component fails, how,
+how much, from when and for how long. :func:`inject` applies a schedule of faults
+to a measurement time series; :func:`parse_spec` reads the command-line form
+``SENSOR[.COMPONENT]:KIND:MAGNITUDE@ONSET+DURATION``.
+
+Magnitudes are in the measurement's SI unit (seconds for XNAV delays, metres for
+ranges, radians for angles, rad/s for gyro rates); a ramp's magnitude is its rate
+per second; a noise fault's magnitude is the standard deviation of the extra noise.
+
+Kinds
+-----
+step
+    ``+ magnitude`` while active.
+ramp
+    ``+ magnitude * (t - onset)`` while active (a drift).
+spike
+    ``+ magnitude`` on the first sample at or after the onset only (an outlier);
+    the duration is ignored.
+stuck
+    the output freezes at the last fault-free sample before the onset.
+noise
+    ``+ N(0, magnitude^2)`` while active.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+
+import numpy as np
+
+from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
+
+__all__ = ["KINDS", "Fault", "inject", "fault_mask", "parse_spec", "format_spec"]
+
+KINDS = ("step", "ramp", "spike", "stuck", "noise")
+
+
+@dataclass(frozen=True)
+class Fault:
+    """One fault on one sensor.
+
+    Parameters
+    ----------
+    sensor : str
+        Sensor name, e.g. ``"uv"``, ``"xnav"``, ``"cns"``, ``"gyro"``, ``"pseudorange"``.
+    kind : {"step", "ramp", "spike", "stuck", "noise"}
+        Fault kind (see module docstring).
+    magnitude : float
+        Size in the measurement's SI unit (per second for a ramp).
+    onset : float
+        Start time, s.
+    duration : float
+        Length, s; ``math.inf`` for a permanent fault.
+    component : int or None
+        Index of the faulty measurement component; ``None`` means every component.
+
+    Examples
+    --------
+    >>> f = Fault("uv", "step", 5000.0, onset=10.0, duration=5.0, component=0)
+    >>> f.active(np.array([9.0, 10.0, 14.9, 15.0])).tolist()
+    [False, True, True, False]
+    """
+
+    sensor: str
+    kind: str
+    magnitude: float
+    onset: float
+    duration: float = math.inf
+    component: int | None = None
+
+    def __post_init__(self):
+        if not isinstance(self.sensor, str) or not self.sensor:
+            raise ValueError(f"sensor must be a non-empty string, got {self.sensor!r}")
+        check_choice("kind", self.kind, KINDS)
+        check_real("magnitude", self.magnitude)
+        if self.kind == "noise":
+            check_real("magnitude", self.magnitude, 0.0)
+        check_real("onset", self.onset)
+        if not (isinstance(self.duration, int | float) and self.duration == math.inf):
+            check_real("duration", self.duration, 0.0)
+        if self.component is not None:
+            check_int("component", self.component, 0)
+
+    @property
+    def end(self):
+        """End time, s (``onset + duration``)."""
+        return self.onset + self.duration
+
+    def active(self, t):
+        """Boolean mask of the samples ``t`` (s) at which the fault acts."""
+        t = np.asarray(t, dtype=float)
+        if self.kind == "spike":
+            mask = np.zeros(t.shape, dtype=bool)
+            idx = np.flatnonzero(t >= self.onset)
+            if idx.size:
+                mask[idx[0]] = True
+            return mask
+        return (t >= self.onset) & (t < self.end)
+
+
+def fault_mask(t, faults, sensor):
+    """Samples of ``t`` at which any fault of ``sensor`` acts.
+
+    Examples
+    --------
+    >>> fault_mask([0.0, 1.0, 2.0], [Fault("uv", "step", 1.0, 1.0, 1.0)], "uv").tolist()
+    [False, True, False]
+    """
+    t = np.asarray(t, dtype=float)
+    mask = np.zeros(t.shape, dtype=bool)
+    for f in faults:
+        if f.sensor == sensor:
+            mask |= f.active(t)
+    return mask
+
+
+def inject(t, z, faults, sensor, rng=None):
+    """Return a copy of measurements ``z`` with the faults of ``sensor`` applied.
+
+    Parameters
+    ----------
+    t : array_like, shape (n,)
+        Sample times, s, increasing.
+    z : array_like, shape (n,) or (n, m)
+        Fault-free measurements of ``sensor``.
+    faults : sequence of Fault
+        The schedule; faults of other sensors are ignored. Faults are applied in
+        order, so a ``stuck`` fault freezes whatever earlier faults produced.
+    sensor : str
+        Which sensor ``z`` belongs to.
+    rng : numpy.random.Generator or int, optional
+        Source of the extra noise of ``noise`` faults.
+
+    Returns
+    -------
+    ndarray, same shape as ``z``
+
+    Examples
+    --------
+    >>> t = np.arange(5.0)
+    >>> inject(t, np.zeros(5), [Fault("uv", "ramp", 2.0, onset=2.0)], "uv").tolist()
+    [0.0, 0.0, 0.0, 2.0, 4.0]
+    """
+    t = check_finite_array("t", t)
+    z = np.array(z, dtype=float)
+    if t.ndim != 1 or z.shape[0] != t.shape[0]:
+        raise ValueError(f"t must have shape (n,) matching z's first axis; got {t.shape}, {z.shape}")
+    rng = make_rng(rng)
+    out = z.reshape(len(t), -1).copy()
+    for f in faults:
+        if f.sensor != sensor:
+            continue
+        cols = _columns(f, out.shape[1])
+        mask = f.active(t)
+        if not mask.any():
+            continue
+        if f.kind in ("step", "spike"):
+            out[np.ix_(mask, cols)] += f.magnitude
+        elif f.kind == "ramp":
+            out[np.ix_(mask, cols)] += f.magnitude * (t[mask] - f.onset)[:, None]
+        elif f.kind == "noise":
+            out[np.ix_(mask, cols)] += rng.normal(0.0, f.magnitude, (mask.sum(), len(cols)))
+        else:  # stuck
+            before = np.flatnonzero(t < f.onset)
+            frozen = out[before[-1], cols] if before.size else out[np.flatnonzero(mask)[0], cols]
+            out[np.ix_(mask, cols)] = frozen
+    return out.reshape(z.shape)
+
+
+def _columns(fault, m):
+    if fault.component is None:
+        return np.arange(m)
+    if fault.component >= m:
+        raise ValueError(
+            f"component must be in [0, {m - 1}] for sensor {fault.sensor!r}, got {fault.component}"
+        )
+    return np.array([fault.component])
+
+
+# ONSET and DURATION are split at the first '+' that is not an exponent sign (1e+06).
+_SPEC = re.compile(
+    r"^(?P<sensor>[A-Za-z_][\w-]*)(?:\.(?P<comp>[\w-]+))?:(?P<kind>\w+):(?P<mag>[^@]+)"
+    r"@(?P<onset>(?:[^+]|(?<=[eE])\+)+)\+(?P<dur>.+)$"
+)
+
+
+def parse_spec(spec, components):
+    """Parse ``SENSOR[.COMPONENT]:KIND:MAGNITUDE@ONSET+DURATION[,...]`` into faults.
+
+    Parameters
+    ----------
+    spec : str
+        Comma-separated fault items. COMPONENT is a name or an index; none means
+        every component. DURATION may be ``inf``.
+    components : dict of str to sequence of str
+        For each known sensor, the names of its measurement components in order.
+
+    Returns
+    -------
+    list of Fault
+
+    Raises
+    ------
+    ValueError
+        Naming the bad item and what is wrong with it.
+
+    Examples
+    --------
+    >>> comps = {"uv": ["range", "ux", "uy", "uz"], "xnav": ["0", "1", "2", "3"]}
+    >>> f, = parse_spec("uv.range:step:5000@700000+3000", comps)
+    >>> (f.sensor, f.component, f.kind, f.magnitude, f.onset, f.duration)
+    ('uv', 0, 'step', 5000.0, 700000.0, 3000.0)
+    """
+    if not isinstance(spec, str) or not spec.strip():
+        raise ValueError("fault spec must be a non-empty string")
+    faults = []
+    for item in spec.split(","):
+        item = item.strip()
+        m = _SPEC.match(item)
+        if not m:
+            raise ValueError(
+                f"bad fault item {item!r}: expected SENSOR[.COMPONENT]:KIND:MAGNITUDE@ONSET+DURATION"
+            )
+        faults.append(_fault_from_match(item, m, components))
+    return faults
+
+
+def _fault_from_match(item, m, components):
+    sensor = m["sensor"]
+    if sensor not in components:
+        known = ", ".join(sorted(components))
+        raise ValueError(f"bad fault item {item!r}: unknown sensor {sensor!r} (known: {known})")
+    names = list(components[sensor])
+    comp = m["comp"]
+    index = None
+    if comp is not None:
+        if comp in names:
+            index = names.index(comp)
+        elif comp.isdigit() and int(comp) < len(names):
+            index = int(comp)
+        else:
+            raise ValueError(
+                f"bad fault item {item!r}: component {comp!r} of {sensor} must be one of "
+                f"{', '.join(names)} or an index in [0, {len(names) - 1}]"
+            )
+    if m["kind"] not in KINDS:
+        raise ValueError(f"bad fault item {item!r}: kind must be one of {', '.join(KINDS)}")
+    values = {}
+    for key in ("mag", "onset", "dur"):
+        try:
+            values[key] = float(m[key])
+        except ValueError:
+            raise ValueError(f"bad fault item {item!r}: {m[key]!r} is not a number") from None
+    try:
+        return Fault(sensor, m["kind"], values["mag"], values["onset"], values["dur"], index)
+    except ValueError as exc:
+        raise ValueError(f"bad fault item {item!r}: {exc}") from None
+
+
+def format_spec(faults, components):
+    """Inverse of :func:`parse_spec` (component names where known).
+
+    Examples
+    --------
+    >>> format_spec([Fault("uv", "step", 5.0, 1.0, 2.0, 0)], {"uv": ["range"]})
+    'uv.range:step:5@1+2'
+    """
+    items = []
+    for f in faults:
+        comp = "" if f.component is None else "." + list(components[f.sensor])[f.component]
+        items.append(f"{f.sensor}{comp}:{f.kind}:{f.magnitude:g}@{f.onset:g}+{f.duration:g}")
+    return ",".join(items)

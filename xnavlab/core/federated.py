@@ -1,0 +1,313 @@
+"""The federated Kalman filter of Carlson (1990): local filters, information sharing, fusion.
+
+Each navigation subsystem runs its own local filter on its own sensor. The master
+filter fuses the local estimates in information form,
+
+.. math::
+
+   P_f^{-1} = \\sum_{i \\in A} P_i^{-1}, \\qquad
+   \\hat x_f = P_f \\sum_{i \\in A} P_i^{-1} \\hat x_i ,
+
+over the set ``A`` of connected (healthy) locals. The common process noise and the
+common prior would make the locals' errors correlated; Carlson's information-sharing
+principle removes the correlation by giving local ``i`` only the share ``beta_i`` of
+the information (``sum beta_i = 1``): its prior covariance is ``P / beta_i`` and its
+process noise ``Q / beta_i``. Two modes:
+
+``"reset"`` (fusion-reset)
+    after each fusion every local restarts from the master's estimate with covariance
+    ``P_f / beta_i``. With fusion at every epoch this is exactly the centralised EKF
+    for a linear system, and the most accurate mode.
+``"no-reset"``
+    the locals run independently from ``P0 / beta_i`` with ``Q / beta_i`` and the
+    master only fuses; the fused covariance is an upper bound (conservative), and a
+    fault in one subsystem cannot leak into the others through the resets.
+
+Switching out and back in (fault isolation, paper section 3): a switched-out local
+does time updates only and is left out of the fusion. In reset mode the shares are
+renormalised over the connected locals, ``beta_i / sum_{j in A} beta_j``, so no
+information is lost; a switched-out local is kept at the master's estimate with the
+full covariance ``P_f`` (it carries no share), and when it is switched back in the
+master is re-split among the new set before its next measurement update, so no
+information is counted twice. In no-reset mode a switched-out local simply
+free-wheels on its dynamics and rejoins the fusion with its grown covariance.
+
+The master holds no sensor (``beta_m = 0``); when every local is switched out it
+propagates its last estimate (time update only).
+
+Fusion is computed on Jacobi-scaled covariances (each divided by the standard
+deviations of the first connected local) and on deviations from that local's
+estimate, which keeps the 6x6 inversions well conditioned when position (m) and
+velocity (m/s) variances differ by many orders of magnitude.
+
+Examples
+--------
+Two unbiased estimates of a scalar with variances 1 and 3:
+
+>>> x, P = fuse([np.array([0.0]), np.array([4.0])], [np.eye(1), 3 * np.eye(1)])
+>>> float(x[0]), float(P[0, 0])
+(1.0, 0.75)
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from xnavlab.core.filters import EKF, UKF, Update, ekf_update, symmetrize, ukf_update
+from xnavlab.core.validate import check_choice, check_finite_array, check_real
+
+__all__ = ["MODES", "fuse", "share_factors", "FederatedFilter"]
+
+#: Federated-filter modes.
+MODES = ("reset", "no-reset")
+
+
+def fuse(xs, Ps, use=None):
+    """Information-form fusion of local estimates.
+
+    Parameters
+    ----------
+    xs : sequence of array_like, each shape (n,)
+        Local estimates.
+    Ps : sequence of array_like, each shape (n, n)
+        Their covariances.
+    use : sequence of bool, optional
+        Which locals to fuse (default all).
+
+    Returns
+    -------
+    x : ndarray, shape (n,)
+        ``P_f sum P_i^-1 x_i``.
+    P : ndarray, shape (n, n)
+        ``(sum P_i^-1)^-1``.
+
+    Raises
+    ------
+    ValueError
+        If no local is used.
+
+    Examples
+    --------
+    >>> x, P = fuse([np.zeros(2), np.ones(2)], [np.eye(2), np.eye(2)], use=[False, True])
+    >>> x.tolist(), P.tolist()
+    ([1.0, 1.0], [[1.0, 0.0], [0.0, 1.0]])
+    """
+    xs = [np.asarray(x, dtype=float) for x in xs]
+    Ps = [np.asarray(P, dtype=float) for P in Ps]
+    use = [True] * len(xs) if use is None else [bool(u) for u in use]
+    idx = [i for i, u in enumerate(use) if u]
+    if not idx:
+        raise ValueError("use must select at least one local estimate to fuse")
+    ref = idx[0]
+    d = np.sqrt(np.diag(Ps[ref]))
+    Y = np.zeros_like(Ps[ref])
+    y = np.zeros_like(xs[ref])
+    for i in idx:
+        Yi = np.linalg.inv(Ps[i] / np.outer(d, d))  # scaled P_i^-1
+        Y += symmetrize(Yi)
+        y += Yi @ ((xs[i] - xs[ref]) / d)  # sum P_i^-1 (x_i - x_ref)
+    Cf = symmetrize(np.linalg.inv(Y))  # P_f = (sum P_i^-1)^-1
+    return xs[ref] + d * (Cf @ y), Cf * np.outer(d, d)  # x_f = P_f sum P_i^-1 x_i
+
+
+def share_factors(beta, active):
+    """Information shares of the locals: ``beta_i / sum_{j active} beta_j``; 1 if switched out.
+
+    Parameters
+    ----------
+    beta : array_like, shape (N,)
+        Information-sharing factors, positive.
+    active : array_like of bool, shape (N,)
+        Connected locals.
+
+    Examples
+    --------
+    >>> share_factors([0.5, 0.25, 0.25], [True, False, True]).tolist()
+    [0.6666666666666666, 1.0, 0.3333333333333333]
+    """
+    beta = np.asarray(beta, dtype=float)
+    active = np.asarray(active, dtype=bool)
+    tot = beta[active].sum()
+    return np.where(active, beta / tot if tot > 0 else 1.0, 1.0)
+
+
+class FederatedFilter:
+    """Carlson's federated filter with switchable locals.
+
+    Parameters
+    ----------
+    x0 : array_like, shape (n,)
+        Initial estimate (common to all locals).
+    P0 : array_like, shape (n, n)
+        Its covariance.
+    n_local : int
+        Number of local filters (subsystems).
+    beta : array_like, shape (n_local,), optional
+        Information-sharing factors (normalised to sum 1; default equal).
+    mode : {"reset", "no-reset"}
+        See the module docstring.
+    kind : {"ekf", "ukf"}
+        Local filter type.
+    names : sequence of str, optional
+        Names of the subsystems (for messages).
+
+    Attributes
+    ----------
+    locals : list of EKF or UKF
+        The local filters.
+    x, P : ndarray
+        The master (fused) estimate.
+    active : ndarray of bool
+        Which locals are connected.
+    shares : ndarray
+        Information share each local currently carries.
+
+    Examples
+    --------
+    A scalar random walk seen by two sensors; the second is switched out:
+
+    >>> ff = FederatedFilter([0.0], [[100.0]], n_local=2)
+    >>> _ = ff.predict(lambda s: s, np.eye(1), [[1.0]])
+    >>> _ = ff.update(0, [1.0], lambda s: s, np.eye(1), [[1.0]])
+    >>> _ = ff.update(1, [1.2], lambda s: s, np.eye(1), [[1.0]])
+    >>> x, P = ff.fuse()
+    >>> round(float(x[0]), 4), round(float(P[0, 0]), 4)
+    (1.0946, 0.4975)
+    >>> ff.switch_out(1)
+    >>> ff.shares.tolist()
+    [1.0, 1.0]
+    """
+
+    def __init__(self, x0, P0, n_local=3, beta=None, mode="reset", kind="ekf", names=None):
+        self.mode = check_choice("mode", mode, MODES)
+        self.kind = check_choice("kind", kind, ("ekf", "ukf"))
+        x0 = check_finite_array("x0", x0)
+        P0 = symmetrize(check_finite_array("P0", P0))
+        if isinstance(n_local, bool) or not isinstance(n_local, int) or n_local < 1:
+            raise ValueError(f"n_local must be an integer in [1, inf], got {n_local!r}")
+        if beta is None:
+            beta = np.full(n_local, 1.0 / n_local)
+        beta = check_finite_array("beta", beta).reshape(-1)
+        if beta.shape != (n_local,) or np.any(beta <= 0):
+            raise ValueError(f"beta must hold {n_local} positive information-sharing factors")
+        self.beta = beta / beta.sum()
+        self.names = tuple(names) if names is not None else tuple(str(i) for i in range(n_local))
+        self.active = np.ones(n_local, dtype=bool)
+        self.shares = share_factors(self.beta, self.active)
+        cls = EKF if self.kind == "ekf" else UKF
+        self.locals = [cls(x0, P0 / s) for s in self.shares]  # P_i = P0 / beta_i
+        self.x, self.P = x0.astype(float).copy(), P0
+
+    # ---------------------------------------------------------------- time update
+    def predict(self, f, F, Q):
+        """Time update of every local (process noise ``Q / share_i``) and of the master.
+
+        ``F`` is ignored by UKF locals. Returns ``self``.
+        """
+        Q = np.asarray(Q, dtype=float)
+        for lf, s in zip(self.locals, self.shares, strict=True):
+            if self.kind == "ekf":
+                lf.predict(f, F, Q / s)  # Q_i = Q / beta_i
+            else:
+                lf.predict(f, Q / s)
+        master = EKF(self.x, self.P).predict(f, F, Q)
+        self.x, self.P = master.x, master.P
+        return self
+
+    # --------------------------------------------------------- measurement update
+    def update(self, i, z, h, H, R, gate=math.inf, residual=None):
+        """Measurement update of local ``i``; a switched-out local only evaluates its innovation.
+
+        Parameters
+        ----------
+        i : int
+            Local index.
+        z, h, H, R :
+            As :func:`xnavlab.core.filters.ekf_update` (``H`` unused by UKF locals).
+        gate : float
+            NIS threshold: an innovation with a larger NIS is rejected (time update only).
+
+        Returns
+        -------
+        Update
+            Innovation statistics; ``x``/``P`` are the local's estimate afterwards.
+        """
+        if gate != math.inf:
+            gate = check_real("gate", gate, 0.0)
+        lf = self.locals[i]
+        if self.kind == "ekf":
+            up = ekf_update(lf.x, lf.P, z, h, H, R, residual)
+        else:
+            up = ukf_update(lf.x, lf.P, z, h, R, lf.alpha, lf.beta, lf.kappa, residual)
+        if z is not None and self.active[i] and up.nis <= gate:
+            lf.x, lf.P = up.x, up.P
+        lf.last = up
+        return Update(lf.x, lf.P, up.innovation, up.S, up.nis)
+
+    # ------------------------------------------------------------------- fusion
+    def fuse(self, next_active=None):
+        """Fuse the connected locals into the master; in reset mode, reset the locals.
+
+        Parameters
+        ----------
+        next_active : array_like of bool, optional
+            Connection state for the next epoch (applied before the reset, so a local
+            switched back in receives its share of the master).
+
+        Returns
+        -------
+        x, P : ndarray
+            The master estimate.
+        """
+        if self.active.any():
+            self.x, self.P = fuse([lf.x for lf in self.locals], [lf.P for lf in self.locals],
+                                  self.active)
+        if next_active is not None:
+            self.set_active(next_active)
+        elif self.mode == "reset":
+            self._reset()
+        return self.x, self.P
+
+    def _reset(self):
+        self.shares = share_factors(self.beta, self.active)
+        for lf, s in zip(self.locals, self.shares, strict=True):
+            lf.x, lf.P = self.x.copy(), self.P / s  # P_i = P_f / beta_i
+
+    # ------------------------------------------------------------ reconfiguration
+    def switch_out(self, i):
+        """Disconnect local ``i`` (time updates only, left out of the fusion).
+
+        Call between epochs (after :meth:`fuse`). In reset mode the master is re-split
+        among the remaining locals.
+        """
+        self._set(i, False)
+
+    def switch_in(self, i):
+        """Reconnect local ``i``. Call between epochs (after :meth:`fuse`)."""
+        self._set(i, True)
+
+    def set_active(self, active):
+        """Set which locals are connected (array of bool); call between epochs.
+
+        In reset mode the master is re-split among the connected locals.
+        """
+        active = np.array(active, dtype=bool).reshape(-1)
+        if active.shape != self.active.shape:
+            raise ValueError(f"active must hold {len(self.locals)} flags, got {active.shape}")
+        self.active = active
+        if self.mode == "reset":
+            self._reset()
+
+    def _set(self, i, flag):
+        if not 0 <= i < len(self.locals):
+            raise ValueError(f"i must be an integer in [0, {len(self.locals) - 1}], got {i!r}")
+        active = self.active.copy()
+        active[i] = flag
+        self.set_active(active)
+
+    def __repr__(self):
+        state = ", ".join(f"{n}:{'on' if a else 'off'}" for n, a in zip(self.names, self.active,
+                                                                       strict=True))
+        return f"FederatedFilter(mode={self.mode!r}, {state})"

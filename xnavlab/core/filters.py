@@ -1,0 +1,490 @@
+"""Extended and unscented Kalman filters as pure step functions, plus thin classes.
+
+Every filter step is a pure function of ``(x, P, ...)`` that returns new arrays; the
+classes :class:`EKF` and :class:`UKF` only hold the state between calls. A
+measurement update can always be skipped (``z=None``): the filter then does its time
+update only, which is what a subsystem flagged faulty does in the federated filter
+(:mod:`xnavlab.core.federated`).
+
+EKF
+    time update ``x- = f(x)``, ``P- = F P F^T + Q``; measurement update with the
+    Joseph form ``P+ = (I - K H) P- (I - K H)^T + K R K^T`` (Bucy and Joseph 1968),
+    which keeps ``P`` symmetric positive definite for any gain; the covariance is
+    re-symmetrised after every step.
+UKF
+    the scaled unscented transform of Julier (2002) with the weights of Wan and van
+    der Merwe (2000); defaults ``alpha = 1, beta = 2, kappa = 0`` (all weights
+    positive, sigma points at ``sqrt(n)`` standard deviations), see
+    :func:`ukf_weights`.
+
+Consistency statistics: :func:`nees` (normalised estimation error squared),
+:func:`nis` (normalised innovation squared) and :func:`chi2_bounds` for their
+Monte Carlo averages (Bar-Shalom, Li and Kirubarajan 2001, section 5.4).
+
+Shapes: state ``x`` (n,), covariance ``P`` (n, n), measurement ``z`` (m,),
+``H`` (m, n), ``R`` (m, m). Units are whatever the model uses (SI in xnavlab).
+
+Examples
+--------
+A constant-velocity target observed in position:
+
+>>> F = np.array([[1.0, 1.0], [0.0, 1.0]]); H = np.array([[1.0, 0.0]])
+>>> x, P = np.zeros(2), np.eye(2) * 100.0
+>>> x, P = ekf_predict(x, P, lambda s: F @ s, F, np.eye(2) * 1e-3)
+>>> up = ekf_update(x, P, np.array([1.0]), lambda s: H @ s, H, np.eye(1))
+>>> bool(up.P[0, 0] < 1.0), round(float(up.nis), 3)
+(True, 0.005)
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+from scipy import stats
+
+from xnavlab.core.validate import check_finite_array, check_real
+
+__all__ = [
+    "Update",
+    "symmetrize",
+    "ekf_predict",
+    "ekf_update",
+    "joseph",
+    "ukf_weights",
+    "sigma_points",
+    "unscented_transform",
+    "ukf_predict",
+    "ukf_update",
+    "nees",
+    "nis",
+    "chi2_bounds",
+    "EKF",
+    "UKF",
+]
+
+
+class Update(NamedTuple):
+    """Result of a measurement update.
+
+    Attributes
+    ----------
+    x : ndarray, shape (n,)
+        Updated state (the prior when the update was skipped).
+    P : ndarray, shape (n, n)
+        Updated covariance.
+    innovation : ndarray, shape (m,) or None
+        ``z - h(x-)`` (None when skipped).
+    S : ndarray, shape (m, m) or None
+        Innovation covariance ``H P- H^T + R``.
+    nis : float
+        Normalised innovation squared ``nu^T S^-1 nu`` (NaN when skipped).
+    """
+
+    x: np.ndarray
+    P: np.ndarray
+    innovation: np.ndarray | None
+    S: np.ndarray | None
+    nis: float
+
+
+def symmetrize(P):
+    """Return ``(P + P^T) / 2``.
+
+    Examples
+    --------
+    >>> symmetrize(np.array([[1.0, 2.0], [0.0, 1.0]])).tolist()
+    [[1.0, 1.0], [1.0, 1.0]]
+    """
+    P = np.asarray(P, dtype=float)
+    return 0.5 * (P + P.T)
+
+
+def _call(f, x):
+    return f(x) if callable(f) else np.asarray(f, dtype=float)
+
+
+def ekf_predict(x, P, f, F, Q):
+    """EKF time update.
+
+    Parameters
+    ----------
+    x : array_like, shape (n,)
+        State at the previous epoch.
+    P : array_like, shape (n, n)
+        Its covariance.
+    f : callable or array_like
+        ``f(x) -> x-`` (the propagated state), or the propagated state itself.
+    F : callable or array_like, shape (n, n)
+        State-transition matrix ``d f / d x`` at ``x`` (or a callable of ``x``).
+    Q : array_like, shape (n, n)
+        Process-noise covariance over the step.
+
+    Returns
+    -------
+    x : ndarray, shape (n,)
+    P : ndarray, shape (n, n)
+
+    Examples
+    --------
+    >>> x, P = ekf_predict(np.zeros(2), np.eye(2), np.ones(2), np.eye(2), np.eye(2))
+    >>> x.tolist(), P.tolist()
+    ([1.0, 1.0], [[2.0, 0.0], [0.0, 2.0]])
+    """
+    x = np.asarray(x, dtype=float)
+    P = np.asarray(P, dtype=float)
+    Phi = _call(F, x)
+    x_new = _call(f, x)
+    P_new = Phi @ P @ Phi.T + np.asarray(Q, dtype=float)  # P = F P F^T + Q
+    return x_new, symmetrize(P_new)
+
+
+def joseph(P, K, H, R):
+    """Joseph-form covariance update ``(I - K H) P (I - K H)^T + K R K^T``.
+
+    Examples
+    --------
+    >>> joseph(np.eye(1) * 4.0, np.array([[0.8]]), np.eye(1), np.eye(1)).tolist()
+    [[0.8]]
+    """
+    A = np.eye(P.shape[0]) - K @ H
+    return symmetrize(A @ P @ A.T + K @ R @ K.T)  # P = (I-KH) P (I-KH)^T + K R K^T
+
+
+def ekf_update(x, P, z, h, H, R, residual=None):
+    """EKF measurement update (Joseph form); ``z=None`` skips it.
+
+    Parameters
+    ----------
+    x : array_like, shape (n,)
+        Prior state.
+    P : array_like, shape (n, n)
+        Prior covariance.
+    z : array_like, shape (m,) or None
+        Measurement; ``None`` skips the update (time update only).
+    h : callable or array_like
+        ``h(x) -> z_pred``, or the predicted measurement itself.
+    H : callable or array_like, shape (m, n)
+        Measurement Jacobian at ``x`` (or a callable of ``x``).
+    R : array_like, shape (m, m)
+        Measurement-noise covariance.
+    residual : callable, optional
+        ``residual(z, z_pred) -> innovation`` (default ``z - z_pred``).
+
+    Returns
+    -------
+    Update
+        ``x``, ``P``, ``innovation``, ``S``, ``nis``.
+
+    Examples
+    --------
+    >>> up = ekf_update(np.zeros(1), np.eye(1), None, np.zeros(1), np.eye(1), np.eye(1))
+    >>> up.x.tolist(), up.innovation, bool(np.isnan(up.nis))
+    ([0.0], None, True)
+    """
+    x = np.asarray(x, dtype=float)
+    P = np.asarray(P, dtype=float)
+    if z is None:
+        return Update(x, P, None, None, float("nan"))
+    z = np.asarray(z, dtype=float)
+    z_pred = _call(h, x)
+    Hm = np.atleast_2d(_call(H, x))
+    R = np.atleast_2d(np.asarray(R, dtype=float))
+    nu = residual(z, z_pred) if residual is not None else z - z_pred
+    S = symmetrize(Hm @ P @ Hm.T + R)  # S = H P H^T + R
+    PHt = P @ Hm.T
+    K = np.linalg.solve(S, PHt.T).T  # K = P H^T S^-1
+    x_new = x + K @ nu  # x+ = x- + K (z - h(x-))
+    P_new = joseph(P, K, Hm, R)
+    return Update(x_new, P_new, nu, S, float(nu @ np.linalg.solve(S, nu)))
+
+
+# --------------------------------------------------------------------------- UKF
+
+
+def ukf_weights(n, alpha=1.0, beta=2.0, kappa=0.0):
+    """Weights of the scaled unscented transform.
+
+    ``lambda = alpha^2 (n + kappa) - n``; ``Wm0 = lambda / (n + lambda)``,
+    ``Wc0 = Wm0 + 1 - alpha^2 + beta``, ``Wm_i = Wc_i = 1 / (2 (n + lambda))``.
+
+    Parameters
+    ----------
+    n : int
+        State dimension.
+    alpha : float
+        Spread of the sigma points (``0 < alpha <= 1``; 1e-3 is Wan and van der Merwe's
+        small-spread choice, 1 keeps all weights positive when ``kappa = 0``).
+    beta : float
+        Prior-knowledge term (2 is optimal for Gaussians).
+    kappa : float
+        Secondary scaling; ``n + kappa > 0`` is required.
+
+    Returns
+    -------
+    Wm, Wc : ndarray, shape (2n+1,)
+        Mean and covariance weights.
+    lam : float
+        ``lambda``.
+
+    Examples
+    --------
+    >>> Wm, Wc, lam = ukf_weights(2)
+    >>> Wm.tolist(), lam
+    ([0.0, 0.25, 0.25, 0.25, 0.25], 0.0)
+    """
+    alpha = check_real("alpha", alpha, 0.0, 1.0, lo_open=True)
+    beta = check_real("beta", beta)
+    kappa = check_real("kappa", kappa, -n, lo_open=True)
+    lam = alpha**2 * (n + kappa) - n
+    Wm = np.full(2 * n + 1, 1.0 / (2.0 * (n + lam)))
+    Wc = Wm.copy()
+    Wm[0] = lam / (n + lam)
+    Wc[0] = Wm[0] + 1.0 - alpha**2 + beta
+    return Wm, Wc, lam
+
+
+def sigma_points(x, P, lam):
+    """The ``2n + 1`` sigma points ``x, x +/- columns of sqrt((n + lambda) P)``.
+
+    The matrix square root is the lower Cholesky factor.
+
+    Returns
+    -------
+    ndarray, shape (2n+1, n)
+
+    Examples
+    --------
+    >>> sigma_points(np.zeros(1), np.eye(1) * 4.0, 0.0).ravel().tolist()
+    [0.0, 2.0, -2.0]
+    """
+    x = np.asarray(x, dtype=float)
+    n = x.size
+    L = np.linalg.cholesky((n + lam) * symmetrize(P))
+    return np.vstack([x, x + L.T, x - L.T])
+
+
+def unscented_transform(Y, Wm, Wc, noise=None, residual=None):
+    """Mean and covariance of transformed sigma points ``Y`` (2n+1, m).
+
+    Deviations are taken from the central point first, so that a large negative
+    ``Wm0`` (small ``alpha``) does not cancel digits of a large mean.
+
+    Examples
+    --------
+    >>> Wm, Wc, lam = ukf_weights(1)
+    >>> m, S = unscented_transform(np.array([[0.0], [2.0], [-2.0]]), Wm, Wc)
+    >>> m.tolist(), S.tolist()
+    ([0.0], [[4.0]])
+    """
+    Y = np.asarray(Y, dtype=float)
+    res = residual if residual is not None else (lambda a, b: a - b)
+    mean = Y[0] + Wm @ res(Y, Y[0])
+    D = res(Y, mean)
+    cov = (Wc[:, None] * D).T @ D
+    if noise is not None:
+        cov = cov + noise
+    return mean, symmetrize(cov)
+
+
+def ukf_predict(x, P, f, Q, alpha=1.0, beta=2.0, kappa=0.0):
+    """UKF time update: propagate the sigma points through ``f``.
+
+    Parameters
+    ----------
+    f : callable
+        ``f(x) -> x-`` for one state of shape (n,).
+
+    Returns
+    -------
+    x : ndarray, shape (n,)
+    P : ndarray, shape (n, n)
+
+    Examples
+    --------
+    >>> x, P = ukf_predict(np.zeros(2), np.eye(2), lambda s: 2 * s, np.zeros((2, 2)))
+    >>> np.round(P, 12).tolist()
+    [[4.0, 0.0], [0.0, 4.0]]
+    """
+    x = np.asarray(x, dtype=float)
+    Wm, Wc, lam = ukf_weights(x.size, alpha, beta, kappa)
+    X = sigma_points(x, P, lam)
+    Y = np.array([f(s) for s in X])
+    return unscented_transform(Y, Wm, Wc, noise=np.asarray(Q, dtype=float))
+
+
+def ukf_update(x, P, z, h, R, alpha=1.0, beta=2.0, kappa=0.0, residual=None):
+    """UKF measurement update; ``z=None`` skips it.
+
+    Parameters
+    ----------
+    h : callable
+        ``h(x) -> z_pred`` for one state.
+    residual : callable, optional
+        ``residual(a, b)`` for measurement differences (default ``a - b``).
+
+    Returns
+    -------
+    Update
+
+    Examples
+    --------
+    >>> up = ukf_update(np.zeros(1), np.eye(1), np.array([1.0]), lambda s: s, np.eye(1))
+    >>> round(float(up.x[0]), 6), round(float(up.P[0, 0]), 6)
+    (0.5, 0.5)
+    """
+    x = np.asarray(x, dtype=float)
+    P = np.asarray(P, dtype=float)
+    if z is None:
+        return Update(x, P, None, None, float("nan"))
+    z = np.asarray(z, dtype=float)
+    Wm, Wc, lam = ukf_weights(x.size, alpha, beta, kappa)
+    X = sigma_points(x, P, lam)
+    Z = np.array([np.atleast_1d(h(s)) for s in X])
+    z_pred, S = unscented_transform(Z, Wm, Wc, noise=np.atleast_2d(R), residual=residual)
+    res = residual if residual is not None else (lambda a, b: a - b)
+    Pxz = (Wc[:, None] * (X - x)).T @ res(Z, z_pred)
+    K = np.linalg.solve(S, Pxz.T).T  # K = Pxz S^-1
+    nu = res(z, z_pred)
+    x_new = x + K @ nu
+    P_new = symmetrize(P - K @ S @ K.T)  # P = P - K S K^T
+    return Update(x_new, P_new, nu, S, float(nu @ np.linalg.solve(S, nu)))
+
+
+# -------------------------------------------------------------------- consistency
+
+
+def nees(err, P):
+    """Normalised estimation error squared ``e^T P^-1 e``; vectorised over leading axes.
+
+    Parameters
+    ----------
+    err : array_like, shape (..., n)
+        Estimate minus truth.
+    P : array_like, shape (..., n, n)
+        Covariance.
+
+    Examples
+    --------
+    >>> float(nees([1.0, 2.0], np.diag([1.0, 4.0])))
+    2.0
+    """
+    err = check_finite_array("err", err)
+    P = check_finite_array("P", P)
+    sol = np.linalg.solve(P, err[..., None])[..., 0]
+    return np.sum(err * sol, axis=-1)
+
+
+def nis(nu, S):
+    """Normalised innovation squared ``nu^T S^-1 nu`` (same form as :func:`nees`).
+
+    Examples
+    --------
+    >>> float(nis([3.0], [[9.0]]))
+    1.0
+    """
+    return nees(nu, S)
+
+
+def chi2_bounds(dof, n_runs=1, p=0.95):
+    """Two-sided ``p`` bounds of the average of ``n_runs`` independent chi-square(dof) values.
+
+    ``n_runs * average`` is chi-square with ``n_runs * dof`` degrees of freedom, so the
+    bounds are ``chi2.ppf((1 -/+ p) / 2, n_runs dof) / n_runs``.
+
+    Returns
+    -------
+    lo, hi : float
+
+    Examples
+    --------
+    >>> lo, hi = chi2_bounds(6, 50)
+    >>> round(lo, 2), round(hi, 2)
+    (5.08, 7.0)
+    """
+    dof = check_real("dof", dof, 0.0, lo_open=True)
+    n_runs = check_real("n_runs", n_runs, 1.0)
+    p = check_real("p", p, 0.0, 1.0, lo_open=True, hi_open=True)
+    k = dof * n_runs
+    return (float(stats.chi2.ppf((1 - p) / 2, k) / n_runs),
+            float(stats.chi2.ppf((1 + p) / 2, k) / n_runs))
+
+
+# ------------------------------------------------------------------------ classes
+
+
+class EKF:
+    """A thin holder of ``x`` and ``P`` around :func:`ekf_predict` and :func:`ekf_update`.
+
+    Parameters
+    ----------
+    x0 : array_like, shape (n,)
+        Initial state.
+    P0 : array_like, shape (n, n)
+        Initial covariance.
+
+    Attributes
+    ----------
+    x, P : ndarray
+        Current estimate.
+    last : Update or None
+        Result of the last measurement update.
+
+    Examples
+    --------
+    >>> kf = EKF([0.0], [[1.0]])
+    >>> kf.predict(lambda s: s, np.eye(1), [[1.0]]).update(None, None, None, None)
+    EKF(x=[0.], P diag=[2.])
+    >>> _ = kf.update([2.0], lambda s: s, np.eye(1), [[2.0]])
+    >>> kf.x.tolist()
+    [1.0]
+    """
+
+    def __init__(self, x0, P0):
+        self.x = check_finite_array("x0", x0).astype(float).copy()
+        self.P = symmetrize(check_finite_array("P0", P0))
+        if self.P.shape != (self.x.size, self.x.size):
+            raise ValueError(f"P0 must have shape ({self.x.size}, {self.x.size}), got {self.P.shape}")
+        self.last = None
+
+    def predict(self, f, F, Q):
+        """Time update (see :func:`ekf_predict`); returns ``self``."""
+        self.x, self.P = ekf_predict(self.x, self.P, f, F, Q)
+        return self
+
+    def update(self, z, h, H, R, residual=None):
+        """Measurement update (see :func:`ekf_update`); ``z=None`` skips it. Returns ``self``."""
+        up = ekf_update(self.x, self.P, z, h, H, R, residual)
+        self.x, self.P, self.last = up.x, up.P, up
+        return self
+
+    def __repr__(self):
+        return f"{type(self).__name__}(x={np.array2string(self.x)}, P diag={np.diag(self.P)})"
+
+
+class UKF(EKF):
+    """A thin holder around :func:`ukf_predict` and :func:`ukf_update`.
+
+    Examples
+    --------
+    >>> kf = UKF([0.0], [[1.0]])
+    >>> _ = kf.predict(lambda s: s, [[1.0]]).update([2.0], lambda s: s, [[2.0]])
+    >>> np.round(kf.x, 12).tolist()
+    [1.0]
+    """
+
+    def __init__(self, x0, P0, alpha=1.0, beta=2.0, kappa=0.0):
+        super().__init__(x0, P0)
+        ukf_weights(self.x.size, alpha, beta, kappa)  # validates
+        self.alpha, self.beta, self.kappa = alpha, beta, kappa
+
+    def predict(self, f, Q):
+        """Time update (see :func:`ukf_predict`); returns ``self``."""
+        self.x, self.P = ukf_predict(self.x, self.P, f, Q, self.alpha, self.beta, self.kappa)
+        return self
+
+    def update(self, z, h, R, residual=None):
+        """Measurement update (see :func:`ukf_update`); ``z=None`` skips it. Returns ``self``."""
+        up = ukf_update(self.x, self.P, z, h, R, self.alpha, self.beta, self.kappa, residual)
+        self.x, self.P, self.last = up.x, up.P, up
+        return self

@@ -1,0 +1,325 @@
+"""Detection statistics by Monte Carlo: wavelet vs innovation chi-square, on any Executor.
+
+Two kinds of trial, each a pure function of its parameters and one seed:
+
+:func:`signal_trial`
+    One fault in a white-noise series (the detectors' view of a sensor: the raw
+    measurement for the wavelet, the innovation for the chi-square test, which for the UV and
+    CNS sensors is the measurement noise to within a per cent because the filter's predicted
+    uncertainty is far below the sensor noise). The wavelet detector (db3, 5 levels) is
+    trained by MAD on a fault-free prefix of the series; the chi-square test uses the
+    *modelled* noise (unit), as a filter's innovation covariance does. ``noise_scale`` makes
+    the true noise differ from the modelled one. Returns, per detector, whether the fault was
+    detected, the delay, the false alarms before it and the largest ratio (statistic /
+    threshold) inside and outside the fault (for ROC curves).
+
+(The Mars-run trials live with the Mars system: :mod:`xnavlab.mars.trials`.)
+
+:func:`run_tasks` maps a trial over a list of parameter dicts with any
+:class:`concurrent.futures.Executor` (default: a local ``ProcessPoolExecutor`` with two
+workers). Every task gets its own seed from one ``numpy.random.SeedSequence(seed).spawn``,
+so results do not depend on the executor, the number of workers or the order of completion.
+A Dask cluster plugs in through ``distributed.Client(...).get_executor()``.
+
+Fault sizes are in noise standard deviations: a step's or spike's height; the excursion a ramp
+reaches at its end; the standard deviation of the extra noise of a ``noise`` fault.
+
+Examples
+--------
+>>> r = signal_trial("step", 8.0, seed=1)
+>>> r["wavelet"]["detected"], r["chi2"]["detected"]
+(True, True)
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from concurrent.futures import Executor, ProcessPoolExecutor
+
+import numpy as np
+
+from xnavlab.core.detection import chi2_detect, wavelet_detect
+from xnavlab.core.faults import Fault, inject
+from xnavlab.core.validate import check_choice, check_int, check_real
+
+__all__ = ["KINDS", "DETECTORS", "signal_trial", "run_tasks", "seeds",
+           "detection_table", "roc_curve", "summarise", "plot_roc", "plot_pd"]
+
+#: Fault kinds of :func:`signal_trial`.
+KINDS = ("step", "ramp", "spike", "noise")
+#: Detectors compared.
+DETECTORS = ("wavelet", "chi2")
+
+_DT = 3.0
+
+
+def seeds(seed, n):
+    """``n`` independent integer seeds from one seed (``SeedSequence(seed).spawn(n)``).
+
+    Examples
+    --------
+    >>> seeds(0, 3) == seeds(0, 3), len(set(seeds(0, 3)))
+    (True, 3)
+    """
+    seed = check_int("seed", seed, 0, 2**63 - 1)
+    n = check_int("n", n, 0)
+    return [int(s.generate_state(1, np.uint64)[0] >> np.uint64(1))
+            for s in np.random.SeedSequence(seed).spawn(n)]
+
+
+def signal_trial(kind, size_sigma, *, seed=0, n=4000, train=1500, duration=300, noise_scale=1.0,
+                 pfa=1e-5, window=None):
+    """One fault in a unit white-noise series, seen by both detectors.
+
+    Parameters
+    ----------
+    kind : {"step", "ramp", "spike", "noise"}
+    size_sigma : float
+        Fault size, noise standard deviations, in [0, 1000] (0: no fault, for false alarms).
+    seed : int
+        Seed of this trial's generator.
+    n : int
+        Samples (3 s apart), >= train + 2 duration + 400.
+    train : int
+        Fault-free samples the wavelet trains on (>= 356); both detectors decide after it.
+    duration : int
+        Fault length, samples (>= 1).
+    noise_scale : float
+        True noise / modelled noise, in (0, 100].
+    pfa : float
+        False-alarm probability per sample of both detectors (the chi-square ``alpha``).
+    window : int, optional
+        Samples after the fault's end in which a detection still counts (default 200).
+
+    Returns
+    -------
+    dict
+        For each detector: ``detected`` (bool), ``delay`` (s, inf if missed),
+        ``false_alarms`` (alarm samples before the onset), ``armed_before`` (samples),
+        ``peak_fault`` and ``peak_clean`` (largest ratio in the fault window and in an
+        equally long fault-free window before it).
+    """
+    check_choice("kind", kind, KINDS)
+    size_sigma = check_real("size_sigma", size_sigma, 0.0, 1000.0)
+    train = check_int("train", train, 356)
+    duration = check_int("duration", duration, 1)
+    n = check_int("n", n, train + 2 * duration + 400)
+    noise_scale = check_real("noise_scale", noise_scale, 0.0, 100.0, lo_open=True)
+    window = 200 if window is None else check_int("window", window, 0)
+    rng = np.random.default_rng(check_int("seed", seed, 0))
+    t = _DT * np.arange(n)
+    lo = train + duration + 200
+    k_on = int(rng.integers(lo, n - duration - window)) if n - duration - window > lo else lo
+    onset = t[k_on]
+    x = noise_scale * rng.standard_normal(n)
+    if size_sigma > 0:
+        mag = size_sigma / (duration * _DT) if kind == "ramp" else size_sigma
+        x = inject(t, x, [Fault("s", kind, mag, onset, duration * _DT)], "s", rng)
+    fault_win = (t >= onset) & (t < onset + (duration + window) * _DT)
+    clean_win = (t >= onset - (duration + window) * _DT) & (t < onset)
+    out = {"onset": float(onset)}
+    wav = wavelet_detect(t, x, train=train, pfa=pfa)
+    chi = chi2_detect(t, x, np.ones(n), alpha=pfa)
+    chi.armed[:train] = False
+    chi.alarm[:train] = False
+    for name, det in (("wavelet", wav), ("chi2", chi)):
+        first = [e.onset for e in det.events if onset <= e.onset < onset + (duration + window) * _DT]
+        if name == "chi2":
+            first = [tt for tt in t[det.alarm & fault_win]][:1]
+        before = det.armed & (t < onset)
+        out[name] = {
+            "detected": bool(first),
+            "delay": float(first[0] - onset) if first else math.inf,
+            "false_alarms": int(np.sum(det.alarm & before)),
+            "armed_before": int(np.sum(before)),
+            "peak_fault": float(np.max(det.ratio[fault_win])),
+            "peak_clean": float(np.max(det.ratio[clean_win & det.armed])),
+        }
+    return out
+
+
+def _call(args):
+    func, params, seed = args
+    return func(seed=seed, **params)
+
+
+def run_tasks(func, params, *, seed=0, executor=None, max_workers=2, chunksize=1):
+    """Run ``func(seed=s_i, **params[i])`` for every task, on an Executor.
+
+    Parameters
+    ----------
+    func : callable
+        A module-level function (picklable), e.g. :func:`signal_trial`.
+    params : sequence of dict
+        One keyword dict per task.
+    seed : int
+        The one seed; task ``i`` gets ``seeds(seed, len(params))[i]``.
+    executor : concurrent.futures.Executor, optional
+        Any executor: a ``ThreadPoolExecutor``, a ``ProcessPoolExecutor``, or a Dask cluster's
+        ``Client.get_executor()``. Default: a local ``ProcessPoolExecutor(max_workers)``,
+        created and shut down here.
+    max_workers : int
+        Workers of the default pool, 1 to the number of CPUs.
+    chunksize : int
+        Tasks per round trip of the default pool.
+
+    Returns
+    -------
+    list
+        The results in task order.
+
+    Examples
+    --------
+    >>> from concurrent.futures import ThreadPoolExecutor
+    >>> with ThreadPoolExecutor(2) as ex:
+    ...     a = run_tasks(signal_trial, [{"kind": "spike", "size_sigma": 9.0}] * 2, executor=ex)
+    >>> b = run_tasks(signal_trial, [{"kind": "spike", "size_sigma": 9.0}] * 2, max_workers=1)
+    >>> a == b
+    True
+    """
+    if not callable(func):
+        raise ValueError(f"func must be callable, got {type(func).__name__}")
+    params = list(params)
+    for p in params:
+        if not isinstance(p, dict):
+            raise ValueError(f"params must be a sequence of dicts, got {type(p).__name__}")
+    task_seeds = seeds(seed, len(params))
+    args = list(zip([func] * len(params), params, task_seeds, strict=True))
+    if executor is not None:
+        if not isinstance(executor, Executor) and not hasattr(executor, "map"):
+            raise ValueError(f"executor must be a concurrent.futures.Executor, got "
+                             f"{type(executor).__name__}")
+        return list(executor.map(_call, args))
+    max_workers = check_int("max_workers", max_workers, 1, os.cpu_count() or 1)
+    chunksize = check_int("chunksize", chunksize, 1)
+    if max_workers == 1:
+        return [_call(a) for a in args]
+    with ProcessPoolExecutor(max_workers=max_workers) as pool:
+        return list(pool.map(_call, args, chunksize=chunksize))
+
+
+def summarise(results, detector):
+    """Probability of detection, false-alarm rate per sample and median delay of trials.
+
+    Examples
+    --------
+    >>> rs = [signal_trial("step", 10.0, seed=s) for s in range(3)]
+    >>> summarise(rs, "wavelet")["pd"]
+    1.0
+    """
+    check_choice("detector", detector, DETECTORS)
+    r = [x[detector] for x in results]
+    if not r:
+        raise ValueError("results must hold at least one trial")
+    found = [x["delay"] for x in r if x["detected"]]
+    armed = sum(x["armed_before"] for x in r)
+    return {"pd": float(np.mean([x["detected"] for x in r])),
+            "far": float(sum(x["false_alarms"] for x in r) / armed) if armed else math.nan,
+            "median_delay_s": float(np.median(found)) if found else math.inf,
+            "trials": len(r)}
+
+
+def detection_table(kinds=KINDS, sizes=(2.0, 4.0, 8.0), *, trials=20, seed=0, noise_scale=1.0,
+                    executor=None, max_workers=2, **trial_kw):
+    """Pd, false-alarm rate and median delay per fault kind and size for both detectors.
+
+    Returns
+    -------
+    list of dict
+        One row per (kind, size): ``kind``, ``size_sigma``, ``noise_scale`` and, per detector,
+        ``{det}_pd``, ``{det}_far``, ``{det}_delay_s``; plus ``winner`` (higher Pd, then the
+        shorter delay, then the lower false-alarm rate).
+
+    Examples
+    --------
+    >>> rows = detection_table(("spike",), (10.0,), trials=2, max_workers=1)
+    >>> rows[0]["wavelet_pd"], rows[0]["chi2_pd"], rows[0]["winner"]
+    (1.0, 1.0, 'chi2')
+    """
+    trials = check_int("trials", trials, 1)
+    cells = [(k, float(s)) for k in kinds for s in sizes]
+    params = [dict(kind=k, size_sigma=s, noise_scale=noise_scale, **trial_kw)
+              for k, s in cells for _ in range(trials)]
+    res = run_tasks(signal_trial, params, seed=seed, executor=executor, max_workers=max_workers)
+    rows = []
+    for c, (k, s) in enumerate(cells):
+        chunk = res[c * trials:(c + 1) * trials]
+        row = {"kind": k, "size_sigma": s, "noise_scale": noise_scale}
+        for d in DETECTORS:
+            sm = summarise(chunk, d)
+            row[f"{d}_pd"], row[f"{d}_far"], row[f"{d}_delay_s"] = (
+                sm["pd"], sm["far"], sm["median_delay_s"])
+        row["winner"] = _winner(row)
+        rows.append(row)
+    return rows
+
+
+def _winner(row):
+    w, c = row, DETECTORS
+    key = {d: (-round(w[f"{d}_pd"], 2), w[f"{d}_delay_s"], w[f"{d}_far"]) for d in c}
+    a, b = key["wavelet"], key["chi2"]
+    if a == b:
+        return "tie"
+    return "wavelet" if a < b else "chi2"
+
+
+def roc_curve(results, detector, thresholds=None):
+    """ROC from trials: for each threshold on the ratio, the fraction of fault windows whose
+    peak exceeds it (Pd) and of equally long fault-free windows (Pfa per window).
+
+    Returns
+    -------
+    pfa, pd, thresholds : ndarray
+    """
+    check_choice("detector", detector, DETECTORS)
+    pf = np.array([x[detector]["peak_fault"] for x in results])
+    pc = np.array([x[detector]["peak_clean"] for x in results])
+    if thresholds is None:
+        thresholds = np.geomspace(0.2, 20.0, 200)
+    thr = np.asarray(thresholds, dtype=float)
+    return (np.mean(pc[None, :] > thr[:, None], axis=1),
+            np.mean(pf[None, :] > thr[:, None], axis=1), thr)
+
+
+def plot_roc(curves, title=""):
+    """ROC curves: ``curves`` maps a label to ``(pfa, pd)``; returns a Figure."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(5.0, 4.0), layout="constrained")
+    ax = fig.add_subplot()
+    for label, (pf, pd) in curves.items():
+        ax.plot(pf, pd, lw=1.2, label=label, drawstyle="steps-post")
+    ax.plot([0, 1], [0, 1], color="0.7", lw=0.6, ls=":")
+    ax.set(xlabel="false alarm probability per window", ylabel="probability of detection",
+           xlim=(-0.02, 1.02), ylim=(-0.02, 1.02), title=title)
+    ax.legend(fontsize=8, loc="lower right")
+    return fig
+
+
+def plot_pd(kind="step", noise_scale=1.0, trials=30, seed=0, sizes=(1.0, 2.0, 3.0, 4.0, 6.0, 8.0)):
+    """Pd and median delay against fault size for both detectors (serial; the chapter's slider).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from matplotlib.figure import Figure
+
+    check_choice("kind", kind, KINDS)
+    trials = check_int("trials", trials, 1, 1000)
+    rows = detection_table((kind,), sizes, trials=trials, seed=seed, noise_scale=noise_scale,
+                           max_workers=1)
+    fig = Figure(figsize=(8.5, 3.2), layout="constrained")
+    ax1, ax2 = fig.subplots(1, 2)
+    for d in DETECTORS:
+        ax1.plot(sizes, [r[f"{d}_pd"] for r in rows], "o-", label=d)
+        ax2.semilogy(sizes, [r[f"{d}_delay_s"] for r in rows], "o-", label=d)
+    far = {d: np.mean([r[f"{d}_far"] for r in rows]) for d in DETECTORS}
+    ax1.set(xlabel="fault size (sigma)", ylabel="probability of detection", ylim=(-0.05, 1.05))
+    ax2.set(xlabel="fault size (sigma)", ylabel="median delay (s)")
+    ax1.legend(fontsize=8)
+    fig.suptitle(f"{kind}, true/modelled noise {noise_scale:g}, {trials} trials per size; "
+                 f"false alarms per sample: wavelet {far['wavelet']:.1e}, chi2 {far['chi2']:.1e}",
+                 fontsize=9)
+    return fig

@@ -1,0 +1,404 @@
+"""Attitude quaternions with the scalar last, as in the attitude chapter's source paper.
+
+A quaternion is ``q = [q1, q2, q3, q4]`` with vector part ``rho = q[:3]`` and scalar
+``q4`` (paper eq. (4)); a unit quaternion ``q = [e sin(theta/2); cos(theta/2)]``
+describes a rotation by ``theta`` about the unit axis ``e``. The conventions are those
+of Shuster (1993), Lefferts, Markley & Shuster (1982) and Crassidis & Junkins (2012):
+
+- :func:`rotation_matrix` ``A(q)`` maps vectors from the reference (inertial, J2000)
+  frame to the body frame, ``v_body = A(q) v_ref``;
+- :func:`quat_product` composes like the matrices, ``A(p (x) q) = A(p) A(q)``;
+- the kinematics is ``q_dot = 1/2 Omega(w) q = 1/2 Xi(q) w`` with ``w`` the body
+  angular rate, rad/s (paper eqs. (5)-(8), (20)).
+
+Every function accepts leading batch dimensions (``(..., 4)``, ``(..., 3)``), so a
+bank of filters or a whole Monte Carlo batch is processed in one call. Angles and
+rates are SI (rad, rad/s, s).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from xnavlab.core.validate import check_finite_array, check_real
+
+__all__ = [
+    "IDENTITY",
+    "skew",
+    "quat_normalize",
+    "quat_conjugate",
+    "quat_product",
+    "rotation_matrix",
+    "omega_matrix",
+    "xi_matrix",
+    "psi_matrix",
+    "kinematics_matrix",
+    "quat_propagate",
+    "quat_from_rotvec",
+    "quat_to_rotvec",
+    "attitude_error",
+]
+
+#: The identity rotation, scalar last.
+IDENTITY = np.array([0.0, 0.0, 0.0, 1.0])
+
+
+def _quat(name, q):
+    return check_finite_array(name, q, shape=(4,))
+
+
+def _vec(name, v):
+    return check_finite_array(name, v, shape=(3,))
+
+
+def _skew(v):
+    out = np.zeros(v.shape[:-1] + (3, 3))
+    out[..., 0, 1] = -v[..., 2]
+    out[..., 0, 2] = v[..., 1]
+    out[..., 1, 0] = v[..., 2]
+    out[..., 1, 2] = -v[..., 0]
+    out[..., 2, 0] = -v[..., 1]
+    out[..., 2, 1] = v[..., 0]
+    return out
+
+
+def _omega(w):
+    out = np.zeros(w.shape[:-1] + (4, 4))
+    out[..., :3, :3] = _skew(-w)
+    out[..., :3, 3] = w
+    out[..., 3, :3] = -w
+    return out
+
+
+def _xi(q):
+    out = np.zeros(q.shape[:-1] + (4, 3))
+    out[..., :3, :] = _skew(q[..., :3])
+    for i in range(3):
+        out[..., i, i] = q[..., 3]
+    out[..., 3, :] = -q[..., :3]
+    return out
+
+
+def _phi(w, dt):
+    half = 0.5 * np.linalg.norm(w, axis=-1) * dt
+    c = np.cos(half)  # paper eq. (11)
+    s_over = 0.5 * dt * np.sinc(half / np.pi)  # s / |w|, paper eq. (11)
+    out = _omega(w * s_over[..., None])
+    for i in range(4):
+        out[..., i, i] = c
+    return out  # c I4 + s Omega(n), paper eq. (12)
+
+
+def skew(v):
+    """Cross-product matrix ``[v x]``, so that ``skew(v) @ u == cross(v, u)``.
+
+    Parameters
+    ----------
+    v : array_like, shape (..., 3)
+
+    Returns
+    -------
+    ndarray, shape (..., 3, 3)
+
+    Examples
+    --------
+    >>> skew([1.0, 2.0, 3.0]) @ np.array([4.0, 5.0, 6.0])
+    array([-3.,  6., -3.])
+    """
+    return _skew(_vec("v", v))
+
+
+def quat_normalize(q):
+    """Return ``q / |q|``.
+
+    Parameters
+    ----------
+    q : array_like, shape (..., 4)
+        Any quaternion with non-zero norm.
+
+    Raises
+    ------
+    ValueError
+        If some ``q`` has zero norm.
+
+    Examples
+    --------
+    >>> quat_normalize([0.0, 0.0, 0.0, 2.0])
+    array([0., 0., 0., 1.])
+    """
+    q = _quat("q", q)
+    n = np.linalg.norm(q, axis=-1, keepdims=True)
+    if np.any(n == 0.0):
+        raise ValueError("q must have a non-zero norm, got a zero quaternion")
+    return q / n
+
+
+def quat_conjugate(q):
+    """Conjugate ``[-rho; q4]``: the inverse rotation of a unit quaternion.
+
+    Parameters
+    ----------
+    q : array_like, shape (..., 4)
+
+    Returns
+    -------
+    ndarray, shape (..., 4)
+
+    Examples
+    --------
+    >>> quat_conjugate([0.1, 0.2, 0.3, 0.9])
+    array([-0.1, -0.2, -0.3,  0.9])
+    """
+    q = _quat("q", q)
+    return np.concatenate([-q[..., :3], q[..., 3:]], axis=-1)
+
+
+def quat_product(p, q):
+    """Quaternion product ``p (x) q`` with ``A(p (x) q) = A(p) A(q)``.
+
+    ``p (x) q = [p4 rho_q + q4 rho_p - rho_p x rho_q;  p4 q4 - rho_p . rho_q]``
+    (Shuster 1993; Crassidis & Junkins 2012, ch. 7, scalar last), equivalently
+    ``[Psi(p) p] q`` with :func:`psi_matrix`.
+
+    Parameters
+    ----------
+    p, q : array_like, shape (..., 4)
+
+    Returns
+    -------
+    ndarray, shape (..., 4)
+
+    Examples
+    --------
+    >>> q = quat_from_rotvec([0.0, 0.0, 0.3])
+    >>> np.allclose(quat_product(q, quat_conjugate(q)), IDENTITY)
+    True
+    """
+    p = _quat("p", p)
+    q = _quat("q", q)
+    pv, ps = p[..., :3], p[..., 3:]
+    qv, qs = q[..., :3], q[..., 3:]
+    vec = ps * qv + qs * pv - np.cross(pv, qv)
+    sca = ps * qs - np.sum(pv * qv, axis=-1, keepdims=True)
+    return np.concatenate([vec, sca], axis=-1)
+
+
+def rotation_matrix(q):
+    """Attitude matrix ``A(q)`` (reference-to-body), ``A = Xi(q)^T Psi(q)``.
+
+    ``A(q) = (q4^2 - |rho|^2) I3 - 2 q4 [rho x] + 2 rho rho^T`` (Shuster 1993).
+
+    Parameters
+    ----------
+    q : array_like, shape (..., 4)
+        Unit quaternion (not renormalised here).
+
+    Returns
+    -------
+    ndarray, shape (..., 3, 3)
+        ``v_body = A @ v_ref``.
+
+    Examples
+    --------
+    >>> A = rotation_matrix(quat_from_rotvec([0.0, 0.0, np.pi / 2]))
+    >>> np.round(A @ np.array([1.0, 0.0, 0.0]), 12)
+    array([ 0., -1.,  0.])
+    """
+    q = _quat("q", q)
+    rho, q4 = q[..., :3], q[..., 3]
+    eye = np.eye(3)
+    a = (q4**2 - np.sum(rho * rho, axis=-1))[..., None, None] * eye
+    return a - 2.0 * q4[..., None, None] * _skew(rho) + 2.0 * rho[..., :, None] * rho[..., None, :]
+
+
+def omega_matrix(w):
+    """``Omega(w) = [[-[w x], w], [-w^T, 0]]`` (paper eq. (8)), shape (..., 4, 4).
+
+    With it the kinematics reads ``q_dot = 1/2 Omega(w) q`` (paper eq. (7)).
+
+    Parameters
+    ----------
+    w : array_like, shape (..., 3)
+        Body angular rate, rad/s (or any 3-vector).
+
+    Examples
+    --------
+    >>> omega_matrix([1.0, 2.0, 3.0])[3]
+    array([-1., -2., -3.,  0.])
+    """
+    return _omega(_vec("w", w))
+
+
+def xi_matrix(q):
+    """``Xi(q) = [[q4 I3 + [rho x]], [-rho^T]]`` (paper eq. (21)), shape (..., 4, 3).
+
+    It satisfies ``Omega(x) q = Xi(q) x`` (paper eq. (20)), ``Xi^T Xi = |q|^2 I3`` and
+    ``Xi(q)^T q = 0``.
+
+    Parameters
+    ----------
+    q : array_like, shape (..., 4)
+
+    Examples
+    --------
+    >>> q = quat_from_rotvec([0.1, -0.2, 0.3]); x = np.array([1.0, 2.0, 3.0])
+    >>> np.allclose(omega_matrix(x) @ q, xi_matrix(q) @ x)
+    True
+    """
+    return _xi(_quat("q", q))
+
+
+def psi_matrix(q):
+    """``Psi(q) = [[q4 I3 - [rho x]], [-rho^T]]``, shape (..., 4, 3).
+
+    ``p (x) q = [Psi(p) p] q`` and ``A(q) = Xi(q)^T Psi(q)`` (Shuster 1993).
+
+    Parameters
+    ----------
+    q : array_like, shape (..., 4)
+
+    Examples
+    --------
+    >>> q = quat_from_rotvec([0.1, -0.2, 0.3])
+    >>> np.allclose(xi_matrix(q).T @ psi_matrix(q), rotation_matrix(q))
+    True
+    """
+    q = _quat("q", q)
+    rho, q4 = q[..., :3], q[..., 3]
+    out = np.zeros(q.shape[:-1] + (4, 3))
+    out[..., :3, :] = q4[..., None, None] * np.eye(3) - _skew(rho)
+    out[..., 3, :] = -rho
+    return out
+
+
+def kinematics_matrix(w, dt):
+    """Discrete transition ``Phi(w) = c I4 + s Omega(n)`` of the attitude kinematics.
+
+    ``n = w/|w|``, ``c = cos(|w| dt/2)``, ``s = sin(|w| dt/2)`` (paper eqs. (10)-(12);
+    Crassidis & Junkins 2012, ch. 7). ``s Omega(n)`` is evaluated as
+    ``(dt/2) sinc(|w| dt/2) Omega(w)``, so ``w = 0`` is exact. ``Phi`` is orthogonal.
+
+    Parameters
+    ----------
+    w : array_like, shape (..., 3)
+        Body angular rate held constant over the step, rad/s.
+    dt : float
+        Step, s, >= 0.
+
+    Returns
+    -------
+    ndarray, shape (..., 4, 4)
+
+    Examples
+    --------
+    >>> Phi = kinematics_matrix([0.01, -0.02, 0.03], 0.1)
+    >>> np.allclose(Phi @ Phi.T, np.eye(4))
+    True
+    """
+    return _phi(_vec("w", w), check_real("dt", dt, 0.0))
+
+
+def quat_propagate(q, w, dt):
+    """Exact discrete kinematics for a rate held constant over ``dt``.
+
+    ``q(k+1) = [c I4 + s Omega(n)] q(k)`` (paper eq. (12)), see
+    :func:`kinematics_matrix`; equivalently ``q(k+1) = dq(w dt) (x) q(k)``. The norm of
+    ``q`` is preserved.
+
+    Parameters
+    ----------
+    q : array_like, shape (..., 4)
+        Attitude at step k.
+    w : array_like, shape (..., 3)
+        Body angular rate over the step, rad/s.
+    dt : float
+        Step, s, >= 0.
+
+    Returns
+    -------
+    ndarray, shape (..., 4)
+
+    Examples
+    --------
+    >>> q1 = quat_propagate(IDENTITY, [0.0, 0.0, 0.1], 10.0)   # 1 rad about z
+    >>> np.allclose(q1, quat_from_rotvec([0.0, 0.0, 1.0]))
+    True
+    """
+    q = _quat("q", q)
+    phi = kinematics_matrix(w, dt)
+    return np.einsum("...ij,...j->...i", phi, q)  # paper eq. (12)
+
+
+def quat_from_rotvec(phi):
+    """Unit quaternion of the rotation vector ``phi`` (axis times angle, rad).
+
+    ``q = [sin(|phi|/2) phi/|phi|; cos(|phi|/2)]``.
+
+    Parameters
+    ----------
+    phi : array_like, shape (..., 3)
+
+    Returns
+    -------
+    ndarray, shape (..., 4)
+
+    Examples
+    --------
+    >>> np.round(quat_from_rotvec([np.pi, 0.0, 0.0]), 12)
+    array([1., 0., 0., 0.])
+    """
+    phi = _vec("phi", phi)
+    ang = np.linalg.norm(phi, axis=-1)
+    vec = 0.5 * np.sinc(0.5 * ang / np.pi)[..., None] * phi  # sin(a/2)/a * phi
+    return np.concatenate([vec, np.cos(0.5 * ang)[..., None]], axis=-1)
+
+
+def quat_to_rotvec(q):
+    """Rotation vector (rad) of a unit quaternion, angle in ``[0, pi]``.
+
+    ``q`` and ``-q`` give the same rotation vector.
+
+    Parameters
+    ----------
+    q : array_like, shape (..., 4)
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+
+    Examples
+    --------
+    >>> np.round(quat_to_rotvec(quat_from_rotvec([0.1, -0.2, 0.3])), 12)
+    array([ 0.1, -0.2,  0.3])
+    """
+    q = quat_normalize(q)
+    q = np.where(q[..., 3:] < 0.0, -q, q)
+    vn = np.linalg.norm(q[..., :3], axis=-1)
+    ang = 2.0 * np.arctan2(vn, q[..., 3])
+    # ang / vn -> 2 as vn -> 0 (q4 -> 1)
+    factor = np.where(vn > 1e-12, ang / np.where(vn > 1e-12, vn, 1.0), 2.0)
+    return factor[..., None] * q[..., :3]
+
+
+def attitude_error(q_est, q_true):
+    """Small-angle attitude error ``dtheta`` with ``q_est = dq(dtheta) (x) q_true``.
+
+    The rotation vector of ``q_est (x) q_true^-1``, in the body frame, rad.
+
+    Parameters
+    ----------
+    q_est, q_true : array_like, shape (..., 4)
+        Unit quaternions.
+
+    Returns
+    -------
+    ndarray, shape (..., 3)
+
+    Examples
+    --------
+    >>> dq = quat_from_rotvec([1e-4, 0.0, 0.0])
+    >>> q = quat_from_rotvec([0.3, 0.2, 0.1])
+    >>> np.allclose(attitude_error(quat_product(dq, q), q), [1e-4, 0.0, 0.0])
+    True
+    """
+    return quat_to_rotvec(quat_product(q_est, quat_conjugate(q_true)))

@@ -1,0 +1,315 @@
+"""Sliders that survive the HTML book: a live widget in Jupyter, a kernel-free scrubber offline.
+
+A chapter's slider calls a pure plotting function. In Jupyter, :func:`explore` shows it as a
+live ``ipywidgets.interactive`` (``continuous_update=False``: the figure is redrawn when the
+slider is released). The rendered HTML book has no kernel to redraw anything, so the same
+call also carries a *scrubber*: the figure precomputed over a small grid of the main
+parameter, embedded as PNG frames with an HTML range input that swaps them (a few lines of
+inline JavaScript, no library, no network). The display bundle holds both; Jupyter shows the
+widget, the book shows the scrubber (``_config.yml`` ranks ``text/html`` above the widget
+view for the HTML builders).
+
+Usage in a chapter cell::
+
+    from xnavlab.core.widgets import explore
+
+    def plot_delay(sigma_m=100.0, days=10.0):   # pure: values in, Figure out
+        ...
+        return fig
+
+    explore(plot_delay, sigma_m=np.linspace(50, 500, 10), days=[1, 10, 30])
+
+The first keyword given a grid (``sigma_m``) is the scrubber's parameter unless ``main``
+names another; the others are held at their ``initial`` value in the scrubber (the live
+widget gets a slider or menu for every grid). A keyword given a scalar is passed through
+unchanged, with no control.
+"""
+
+from __future__ import annotations
+
+import base64
+import html as _html
+import io
+import json
+from collections.abc import Callable
+from numbers import Number
+
+import numpy as np
+
+from xnavlab.core.validate import check_choice, check_int
+
+__all__ = ["explore", "Explorer"]
+
+_MIME_WIDGET = "application/vnd.jupyter.widget-view+json"
+# swap the frame on input; self-contained so that several scrubbers can share a page
+_ONINPUT = (
+    "var d=this.closest('.xnav-scrubber');"
+    "var j=d._xnav||(d._xnav=JSON.parse(d.querySelector('.xnav-scrubber-data').textContent));"
+    "d.querySelector('img').src=j.frames[this.value];"
+    "d.querySelector('output').textContent=j.labels[this.value];"
+)
+
+
+def _is_grid(value):
+    return isinstance(value, list | tuple | range | np.ndarray) and not isinstance(value, str)
+
+
+def _label(value):
+    if isinstance(value, float | np.floating):
+        return f"{float(value):.4g}"
+    if isinstance(value, np.generic):
+        return str(value.item())
+    return str(value)
+
+
+def _plain(value):
+    """A grid value as a plain Python scalar (what the plotting function receives)."""
+    return value.item() if isinstance(value, np.generic) else value
+
+
+class Explorer:
+    """A plotting function with parameter grids, shown live in Jupyter and as a scrubber in HTML.
+
+    Build it with :func:`explore`. Displaying it (as a cell's last value) gives Jupyter a
+    live ``ipywidgets`` widget and the HTML book a precomputed scrubber.
+
+    Attributes
+    ----------
+    plot : callable
+        ``plot(**values) -> matplotlib.figure.Figure``.
+    grids : dict of str to list
+        The parameters that get a control, each with its values.
+    fixed : dict
+        Parameters passed through unchanged.
+    main : str
+        The parameter the scrubber moves through.
+    initial : dict
+        The value of every grid parameter when the widget or scrubber opens.
+    frame_values : list
+        The values of ``main`` at which the scrubber's frames are drawn.
+    """
+
+    def __init__(self, plot, grids, fixed, main, initial, max_frames, dpi):
+        self.plot = plot
+        self.grids = grids
+        self.fixed = fixed
+        self.main = main
+        self.initial = initial
+        self.dpi = dpi
+        grid = grids[main]
+        idx = sorted(set(np.round(np.linspace(0, len(grid) - 1, min(max_frames, len(grid))))
+                         .astype(int).tolist()))
+        k0 = _index(grid, initial[main])
+        if k0 not in idx:  # the scrubber opens on the initial value: swap in for the nearest
+            idx[int(np.argmin([abs(i - k0) for i in idx]))] = k0
+            idx.sort()
+        self.frame_values = [grid[i] for i in idx]
+        self._start = self.frame_values.index(grid[k0])
+        self._frames = None
+        self._widget = None
+
+    def __repr__(self):
+        name = getattr(self.plot, "__name__", "plot")
+        return (f"Explorer({name}, main={self.main!r}, {len(self.frame_values)} frames, "
+                f"controls={list(self.grids)})")
+
+    # -- the kernel-free scrubber ---------------------------------------------------------
+    def figure(self, **values):
+        """Call ``plot`` with the initial values updated by ``values``; return the Figure."""
+        kwargs = {**self.fixed, **self.initial, **values}
+        fig = self.plot(**kwargs)
+        from matplotlib.figure import Figure
+
+        if not isinstance(fig, Figure):
+            raise ValueError(
+                f"plot must return a matplotlib Figure, got {type(fig).__name__} "
+                f"for {kwargs!r}"
+            )
+        return fig
+
+    def frames(self):
+        """PNG bytes of the figure at each of :attr:`frame_values` (computed once)."""
+        if self._frames is None:
+            import matplotlib.pyplot as plt
+
+            out = []
+            for v in self.frame_values:
+                fig = self.figure(**{self.main: v})
+                buf = io.BytesIO()
+                fig.savefig(buf, format="png", dpi=self.dpi)
+                plt.close(fig)
+                out.append(buf.getvalue())
+            self._frames = out
+        return self._frames
+
+    def html(self):
+        """The scrubber: an ``<img>`` and a range input over the precomputed frames."""
+        uris = ["data:image/png;base64," + base64.b64encode(b).decode("ascii")
+                for b in self.frames()]
+        labels = [f"{self.main} = {_label(v)}" for v in self.frame_values]
+        data = json.dumps({"frames": uris, "labels": labels}).replace("</", "<\\/")
+        k = self._start
+        name = _html.escape(self.main)
+        alt = _html.escape(f"{getattr(self.plot, '__name__', 'figure')} at {labels[k]}")
+        return (
+            '<div class="xnav-scrubber" style="max-width:100%;margin:0.5em 0">'
+            f'<img src="{uris[k]}" alt="{alt}" style="max-width:100%;height:auto;display:block">'
+            '<div style="display:flex;align-items:center;gap:0.8em;flex-wrap:wrap">'
+            f'<input type="range" min="0" max="{len(uris) - 1}" step="1" value="{k}" '
+            f'aria-label="{name}" style="flex:1 1 12em;max-width:28em" '
+            f'oninput="{_html.escape(_ONINPUT)}">'
+            f"<output>{_html.escape(labels[k])}</output>"
+            '<span style="opacity:0.6;font-size:smaller">(precomputed frames; run the '
+            "notebook for the live slider)</span></div>"
+            f'<script type="application/json" class="xnav-scrubber-data">{data}</script>'
+            "</div>"
+        )
+
+    # -- the live widget ------------------------------------------------------------------
+    def widget(self):
+        """The live ``ipywidgets.interactive`` (built once), ``continuous_update=False``."""
+        if self._widget is None:
+            import ipywidgets as w
+            import matplotlib.pyplot as plt
+            from IPython.display import display
+
+            controls = {name: _control(w, name, grid, self.initial[name])
+                        for name, grid in self.grids.items()}
+            fixed = {name: w.fixed(v) for name, v in self.fixed.items()}
+
+            def show(**values):
+                fig = self.plot(**values)
+                display(fig)
+                plt.close(fig)  # shown once, not again by the inline backend
+
+            self._widget = w.interactive(show, **controls, **fixed)
+        return self._widget
+
+    def _repr_mimebundle_(self, include=None, exclude=None):
+        bundle = {"text/plain": repr(self), "text/html": self.html()}
+        if _in_kernel():
+            view = self.widget()._repr_mimebundle_()
+            bundle.update({k: v for k, v in view.items() if k == _MIME_WIDGET})
+        return bundle
+
+
+def explore(plot: Callable, *, main=None, initial=None, max_frames=12, dpi=80, **params):
+    """Explore a pure plotting function over parameter grids, live in Jupyter and in HTML.
+
+    Parameters
+    ----------
+    plot : callable
+        ``plot(**values) -> matplotlib.figure.Figure``; pure (same values, same figure).
+        Prefer ``matplotlib.figure.Figure()`` over ``pyplot`` inside it; figures are closed
+        after use either way.
+    main : str, optional
+        The parameter the HTML scrubber moves through; default the first grid parameter.
+    initial : dict, optional
+        Opening value of grid parameters (must be one of the grid's values); default the
+        middle of the scrubber's frames for ``main`` and the middle value of other grids.
+    max_frames : int, optional
+        At most this many frames in the scrubber (2 to 60), spread evenly over the grid of
+        ``main`` and always including its initial value. Default 12.
+    dpi : int, optional
+        Resolution of the frames (30 to 300). Default 80.
+    **params
+        ``name=grid`` (a list, tuple, range or 1-D array of values: a control) or
+        ``name=value`` (passed unchanged). At least one grid is required.
+
+    Returns
+    -------
+    Explorer
+        Display it (the last expression of a cell): a live widget in Jupyter, the
+        scrubber (:meth:`Explorer.html`) in the HTML book.
+
+    Raises
+    ------
+    ValueError
+        No grid, an empty grid, ``main`` not a grid parameter, an ``initial`` value not in
+        its grid, ``max_frames`` or ``dpi`` out of range, or ``plot`` not returning a Figure.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from matplotlib.figure import Figure
+    >>> def wave(omega=1.0, phase=0.0):
+    ...     fig = Figure(figsize=(4, 2))
+    ...     t = np.linspace(0.0, 10.0, 200)
+    ...     fig.add_subplot().plot(t, np.sin(omega * t + phase))
+    ...     return fig
+    >>> ex = explore(wave, omega=np.linspace(0.5, 3.0, 11), phase=0.0, max_frames=6)
+    >>> ex.main, len(ex.frame_values), ex.initial
+    ('omega', 6, {'omega': 1.5})
+    >>> page = ex.html()
+    >>> page.count('type="range"'), len(ex.frames())
+    (1, 6)
+    >>> explore(wave, phase=0.0)
+    Traceback (most recent call last):
+    ...
+    ValueError: explore needs at least one parameter grid (name=[values...]), got only phase
+    """
+    check_int("max_frames", max_frames, 2, 60)
+    check_int("dpi", dpi, 30, 300)
+    if not callable(plot):
+        raise ValueError(f"plot must be callable, got {type(plot).__name__}")
+    grids, fixed = {}, {}
+    for name, value in params.items():
+        if _is_grid(value):
+            values = [_plain(v) for v in (value.ravel() if isinstance(value, np.ndarray) else value)]
+            if not values:
+                raise ValueError(f"grid {name} is empty; give at least one value")
+            grids[name] = values
+        else:
+            fixed[name] = value
+    if not grids:
+        raise ValueError("explore needs at least one parameter grid (name=[values...]), got "
+                         + (f"only {', '.join(fixed)}" if fixed else "no parameters"))
+    main = check_choice("main", next(iter(grids)) if main is None else main, tuple(grids))
+    initial = dict(initial or {})
+    for name in initial:
+        check_choice("initial", name, tuple(grids))
+    start = {}
+    for name, grid in grids.items():
+        if name in initial:
+            start[name] = grid[_index(grid, initial[name], name)]
+        elif name == main:
+            n = min(max_frames, len(grid))
+            idx = sorted(set(np.round(np.linspace(0, len(grid) - 1, n)).astype(int).tolist()))
+            start[name] = grid[idx[(len(idx) - 1) // 2]]
+        else:
+            start[name] = grid[(len(grid) - 1) // 2]
+    return Explorer(plot, grids, fixed, main, start, max_frames, dpi)
+
+
+def _index(grid, value, name="value"):
+    """Index of ``value`` in ``grid`` (numbers compared with a relative tolerance)."""
+    for i, g in enumerate(grid):
+        if g == value or (isinstance(g, Number) and isinstance(value, Number)
+                          and not isinstance(g, bool)
+                          and np.isclose(float(g), float(value), rtol=1e-9, atol=0.0)):
+            return i
+    raise ValueError(f"initial value of {name} must be one of its grid values "
+                     f"{[_label(g) for g in grid]}, got {value!r}")
+
+
+def _control(w, name, grid, value):
+    """A slider over a numeric grid, a menu over anything else; ``continuous_update=False``."""
+    numeric = all(isinstance(g, Number) and not isinstance(g, bool) for g in grid)
+    labels = [_label(g) for g in grid]
+    if len(set(labels)) < len(labels):  # 4 significant digits were not enough
+        labels = [repr(g) for g in grid]
+    if numeric and len(grid) > 1:
+        options = list(zip(labels, grid, strict=True))
+        return w.SelectionSlider(options=options, value=value, description=name,
+                                 continuous_update=False)
+    return w.Dropdown(options=list(zip(labels, grid, strict=True)), value=value, description=name)
+
+
+def _in_kernel():
+    """True inside a running IPython kernel (Jupyter, or the book's build)."""
+    try:
+        from IPython import get_ipython
+    except ImportError:  # pragma: no cover
+        return False
+    ip = get_ipython()
+    return ip is not None and getattr(ip, "kernel", None) is not None

@@ -1,0 +1,23 @@
+"""The main paper's system: autonomous Mars navigation with XNAV, a UV sensor and a CNS.
+
+Fan et al. 2016 (paper 001): three subsystems, each with its own EKF, fused by a
+federated filter; wavelet fault detection, isolation and reconfiguration.
+
+=====================  ===================================================================
+module                 what it models
+=====================  ===================================================================
+``pulsars``            pulsar catalogue, timing model, photons, TOA accuracy (chapter 1)
+``toa``                the time-transfer (TOA) equation and its gradient (chapter 2)
+``dynamics``           Mars-orbit dynamics, truth propagator, transition matrix (chapter 3)
+``stars``              the bright-star table and the CNS star choice (chapter 4)
+``sensors``            XNAV, UV and CNS measurement models (chapters 4-5)
+``scenarios``          the paper's 30-day scenario and the federated run (chapters 5-6)
+``kernels``            the compiled (numba) filter loop behind ``scenarios.run``
+``fault_tolerance``    fault schedules, detection, isolation, re-admission (chapters 8-9)
+``trials``             Monte Carlo trials of the detectors on the Mars run (chapter 9)
+=====================  ===================================================================
+
+It imports the core (:mod:`xnavlab.core`) and no other system.
+"""
+
+__all__: list[str] = []

@@ -1,0 +1,963 @@
+"""The main paper's Mars scenario: truth, sensors, three local EKFs and the federated master.
+
+:class:`MarsScenario` holds every parameter (defaults: Fan et al. 2016, section 4.1);
+:func:`prepare` builds the shared inputs once (time grid, truth trajectory, ephemeris
+tables, every noisy measurement from one seeded generator); :func:`run` runs the
+federated filter on them with one of two interchangeable back-ends:
+
+``backend="numpy"``
+    the readable loop: :class:`xnavlab.core.federated.FederatedFilter` with
+    :class:`xnavlab.core.filters.EKF` locals, :mod:`xnavlab.mars.sensors` models and the
+    :mod:`xnavlab.mars.dynamics` force model, one epoch at a time. The chapters teach with it.
+``backend="numba"``
+    the same algorithm compiled (:mod:`xnavlab.mars.kernels`), a few microseconds per epoch
+    of three EKFs and the fusion; same estimates to rounding (the tests check 1e-9
+    relative).
+
+The time grid is the union of every sensor's measurement epochs (every 3 s for UV and
+CNS, every 500 s for XNAV, so the grid has a few extra epochs where 500 s is not a
+multiple of 3 s); the filters step from epoch to epoch and the master fuses at every
+epoch. Fault handling hooks (used by the fault-tolerant chapters): ``active`` switches
+any subsystem out of the measurement updates and the fusion and back in, epoch by
+epoch; ``gate`` rejects innovations whose NIS exceeds a threshold; every NIS is
+recorded (``MarsRun.nis``, ``MarsRun.flags``).
+
+Filter model (the paper gives no process noise): the same force model as the truth
+(Mars point mass, Sun and Jupiter with the indirect term, from the filter's
+ephemeris), classical RK4 sub-steps of at most ``max_step`` (10 s) between epochs, the
+product of fourth-order transition matrices over the sub-steps, and white
+acceleration noise of power spectral density ``q_acc`` (m^2/s^3) standing for
+unmodelled accelerations: ``Q = q [[dt^3/3 I, dt^2/2 I], [dt^2/2 I, dt I]]``.
+
+Error metric (the paper does not define one): :meth:`MarsRun.metrics` returns the RMS
+over time of the norm of the fused position and velocity errors after the filter has
+settled (from ``settle_days``, default 1 day, to the end). The RMS of the norm is
+the one number that summarises a curve like the paper's Fig. 2, weighs every axis and
+every epoch equally, and leaves the 5-km initial transient out.
+
+Examples
+--------
+>>> sc = MarsScenario(days=0.05, seed=1)
+>>> res = run(sc)
+>>> res.t.shape == (res.x.shape[0],), res.x.shape[1]
+(True, 6)
+>>> bool(res.metrics(settle_days=0.0)["position_error_m"] < 5000.0)
+True
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+from collections import OrderedDict
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from xnavlab.core import ephemeris
+from xnavlab.core.constants import DAY, GM_MARS, C
+from xnavlab.core.federated import MODES, FederatedFilter
+from xnavlab.core.filters import chi2_bounds
+from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
+from xnavlab.mars import dynamics, pulsars, sensors, stars, toa
+
+__all__ = [
+    "alloc_records",
+    "run_options",
+    "filter_state",
+    "run_kernel",
+    "SUBSYSTEMS",
+    "DEFAULT_Q_ACC",
+    "MarsScenario",
+    "Inputs",
+    "MarsRun",
+    "prepare",
+    "run",
+    "process_noise",
+    "filter_step",
+    "filter_propagate",
+    "nees_monte_carlo",
+    "plot_subsystem",
+    "plot_sharing",
+]
+
+#: The three subsystems of the paper, in its numbering (1 XNAV, 2 UV, 3 CNS).
+SUBSYSTEMS = ("xnav", "uv", "cns")
+_KIND = {"xnav": 0, "uv": 1, "cns": 2}
+
+#: Default white-acceleration noise PSD of the filters, m^2/s^3 (see :class:`MarsScenario`).
+DEFAULT_Q_ACC = 1.0e-11
+
+
+@dataclass(frozen=True)
+class MarsScenario:
+    """Every parameter of the Mars navigation run (defaults: the main paper's).
+
+    Parameters
+    ----------
+    days : float
+        Simulated span, days (paper: 30).
+    dt_xnav, dt_uv, dt_cns : float
+        Measurement intervals, s (paper: 500, 3, 3).
+    pulsars : tuple of str
+        XNAV pulsars (paper: B0531+21, B1937+21, B1957+20, B1821-24).
+    xnav_sigma_m : tuple of float or None
+        Ranging accuracy of each pulsar, m; ``None`` computes it for ``area_m2``,
+        ``dt_xnav`` (the integration time) and ``background`` (109, 344, 1866, 325 m).
+    area_m2, background : float
+        Detector area, m^2, and X-ray background, ph/cm^2/s.
+    sigma_range_m, sigma_dir_deg : float
+        UV range and per-axis direction noise (paper: 5000 m, 0.1 deg).
+    sigma_star_arcsec, sigma_horizon_deg : float
+        CNS star-sensor and horizon-sensor noise (paper: 3 arcsec, 0.05 deg).
+    stars : tuple of str or None
+        The three CNS stars; ``None`` applies :func:`xnavlab.mars.stars.pick_three`.
+    pos_err0_m, vel_err0_mps : float
+        Initial error per axis (paper: 5000 m and 1 m/s); also the initial 1-sigma.
+    init_error : {"fixed", "random"}
+        ``"fixed"``: the estimate starts at truth + (pos_err0, pos_err0, pos_err0,
+        vel_err0, ...) as in the paper; ``"random"``: an N(0, P0) draw (Monte Carlo).
+    q_acc : float
+        Filter process noise, white-acceleration PSD, m^2/s^3. The paper gives none;
+        the default 1e-11 stands for an unmodelled acceleration of 1e-7 m/s^2 (the
+        size of solar radiation pressure on a Mars orbiter) correlated over about
+        1000 s (``q = sigma_a^2 tau``). With ``q_acc = 0`` the filter grows
+        overconfident and diverges; chapter 5 sweeps it.
+    max_step : float
+        Longest filter integration sub-step, s (a longer epoch gap is split).
+    truth_ephem, filter_ephem : {"de421", "de405"}
+        Ephemerides of the truth and of the filter (dynamics and XNAV).
+    subsystems : tuple of str
+        Which subsystems run, any of ``("xnav", "uv", "cns")``.
+    beta : tuple of float or None
+        Information-sharing factors (default equal).
+    mode : {"reset", "no-reset"}
+        Federated mode (:mod:`xnavlab.core.federated`).
+    record_dt : float
+        Spacing of the recorded estimates, s.
+    seed : int
+        Seed of the single generator that draws every noise sample.
+    t0 : float
+        Start epoch, s TDB past J2000 (:data:`xnavlab.mars.dynamics.MARS_T0`).
+    state0 : tuple of float
+        True initial state, Mars-centred J2000, m and m/s (the paper's).
+
+    Examples
+    --------
+    >>> MarsScenario().n_steps
+    864000
+    >>> MarsScenario(days=-1)
+    Traceback (most recent call last):
+    ...
+    ValueError: days must be a real number in (0, 365], got -1
+    """
+
+    days: float = 30.0
+    dt_xnav: float = 500.0
+    dt_uv: float = 3.0
+    dt_cns: float = 3.0
+    pulsars: tuple = pulsars.PAPER_PULSARS
+    xnav_sigma_m: tuple | None = None
+    area_m2: float = 1.0
+    background: float = 0.005
+    sigma_range_m: float = 5000.0
+    sigma_dir_deg: float = 0.1
+    sigma_star_arcsec: float = 3.0
+    sigma_horizon_deg: float = 0.05
+    stars: tuple | None = None
+    pos_err0_m: float = 5000.0
+    vel_err0_mps: float = 1.0
+    init_error: str = "fixed"
+    q_acc: float = DEFAULT_Q_ACC
+    max_step: float = 10.0
+    truth_ephem: str = "de421"
+    filter_ephem: str = "de421"
+    subsystems: tuple = SUBSYSTEMS
+    beta: tuple | None = None
+    mode: str = "reset"
+    record_dt: float = 60.0
+    seed: int = 0
+    t0: float = dynamics.MARS_T0
+    state0: tuple = tuple(dynamics.MARS_STATE0.tolist())
+
+    def __post_init__(self):
+        check_real("days", self.days, 0.0, 365.0, lo_open=True)
+        for name in ("dt_xnav", "dt_uv", "dt_cns"):
+            check_real(name, getattr(self, name), 0.1, 86400.0)
+        check_real("area_m2", self.area_m2, 0.0, 100.0, lo_open=True)
+        check_real("background", self.background, 0.0, 10.0)
+        check_real("sigma_range_m", self.sigma_range_m, 0.0, 1e7, lo_open=True)
+        check_real("sigma_dir_deg", self.sigma_dir_deg, 0.0, 10.0, lo_open=True)
+        check_real("sigma_star_arcsec", self.sigma_star_arcsec, 0.0, 3600.0, lo_open=True)
+        check_real("sigma_horizon_deg", self.sigma_horizon_deg, 0.0, 10.0, lo_open=True)
+        check_real("pos_err0_m", self.pos_err0_m, 0.0, 1e7, lo_open=True)
+        check_real("vel_err0_mps", self.vel_err0_mps, 0.0, 1e3, lo_open=True)
+        check_choice("init_error", self.init_error, ("fixed", "random"))
+        check_real("q_acc", self.q_acc, 0.0, 1.0)
+        check_real("max_step", self.max_step, 0.01, 3600.0)
+        check_choice("truth_ephem", self.truth_ephem, ephemeris.EPHEMERIDES)
+        check_choice("filter_ephem", self.filter_ephem, ephemeris.EPHEMERIDES)
+        subs = tuple(self.subsystems)
+        if not subs or len(set(subs)) != len(subs):
+            raise ValueError(f"subsystems must be distinct names from {SUBSYSTEMS}, got {subs!r}")
+        for s in subs:
+            check_choice("subsystem", s, SUBSYSTEMS)
+        object.__setattr__(self, "subsystems", subs)
+        object.__setattr__(self, "pulsars", tuple(self.pulsars))
+        for p in self.pulsars:
+            pulsars.get(p)
+        if self.xnav_sigma_m is not None:
+            sig = tuple(float(check_real("xnav_sigma_m", s, 0.0, 1e9, lo_open=True))
+                        for s in self.xnav_sigma_m)
+            if len(sig) != len(self.pulsars):
+                raise ValueError(f"xnav_sigma_m must hold {len(self.pulsars)} values, one a pulsar")
+            object.__setattr__(self, "xnav_sigma_m", sig)
+        if self.stars is not None:
+            object.__setattr__(self, "stars", tuple(stars.get(s).name for s in self.stars))
+        if self.beta is not None:
+            b = tuple(float(check_real("beta", v, 0.0, 1.0, lo_open=True)) for v in self.beta)
+            if len(b) != len(subs):
+                raise ValueError(f"beta must hold {len(subs)} factors, one a subsystem")
+            object.__setattr__(self, "beta", b)
+        check_choice("mode", self.mode, MODES)
+        check_real("record_dt", self.record_dt, 0.1, 86400.0)
+        check_int("seed", self.seed, 0, 2**63 - 1)
+        check_real("t0", self.t0)
+        s0 = check_finite_array("state0", self.state0, shape=(6,))
+        object.__setattr__(self, "state0", tuple(float(v) for v in s0))
+
+    @property
+    def span(self):
+        """Simulated span, s."""
+        return self.days * DAY
+
+    @property
+    def n_steps(self):
+        """Number of 3-s (``dt_uv``) steps in the span."""
+        return int(round(self.span / self.dt_uv))
+
+    def sensors(self):
+        """The sensor objects ``{"xnav": XNAVSensor, "uv": UVSensor, "cns": CNSSensor}``."""
+        sig = (None if self.xnav_sigma_m is None else np.array(self.xnav_sigma_m) / C)
+        return {
+            "xnav": sensors.XNAVSensor(self.pulsars, sigma=sig, area_m2=self.area_m2,
+                                       t_obs=self.dt_xnav, background=self.background,
+                                       ephem=self.filter_ephem),
+            "uv": sensors.UVSensor(self.sigma_range_m, self.sigma_dir_deg),
+            "cns": sensors.CNSSensor(self.stars, self.sigma_star_arcsec, self.sigma_horizon_deg,
+                                     epoch=self.t0),
+        }
+
+    @property
+    def P0(self):
+        """Initial covariance, diag(pos_err0^2 I3, vel_err0^2 I3)."""
+        return np.diag([self.pos_err0_m**2] * 3 + [self.vel_err0_mps**2] * 3)
+
+
+@dataclass
+class Inputs:
+    """Everything a run consumes, precomputed once (shared by both back-ends).
+
+    Attributes
+    ----------
+    times : ndarray, shape (n,)
+        Filter epochs, s TDB past J2000 (``times[0] = t0``).
+    truth : ndarray, shape (n, 6)
+        True states at ``times``.
+    x0 : ndarray, shape (6,)
+        Initial estimate.
+    meas_idx : ndarray of int, shape (n, ns)
+        Row of subsystem i's measurement array at epoch k, or -1.
+    z : dict
+        Noisy measurements by subsystem: ``xnav`` (m_x, k) s, ``uv`` (m_u, 4),
+        ``cns`` (m_c, 3) rad.
+    t_meas : dict
+        Their epochs.
+    xnav_bodies : tuple of ndarray
+        Filter-ephemeris Mars and Sun SSB positions at the XNAV epochs, (m_x, 3) each.
+    table : ThirdBodyTable
+        Filter-ephemeris third bodies for the dynamics.
+    record : ndarray of int
+        Epoch indices recorded.
+    sensors : dict
+        The sensor objects.
+    """
+
+    scenario: MarsScenario
+    times: np.ndarray
+    truth: np.ndarray
+    x0: np.ndarray
+    meas_idx: np.ndarray
+    z: dict
+    t_meas: dict
+    xnav_bodies: tuple
+    table: dynamics.ThirdBodyTable
+    record: np.ndarray
+    sensors: dict = field(repr=False)
+
+    @property
+    def n(self):
+        return self.times.size
+
+
+# ------------------------------------------------------------------ preparation
+
+_TRUTH_CACHE: OrderedDict = OrderedDict()
+
+
+def _truth(times, sc):
+    key = (sc.t0, sc.state0, sc.truth_ephem, times.size, float(times[-1]), sc.dt_uv,
+           sc.dt_xnav, sc.dt_cns)
+    if key not in _TRUTH_CACHE:
+        _TRUTH_CACHE[key] = dynamics.truth(times, np.array(sc.state0), sc.t0,
+                                           ("sun", "jupiter"), ephem=sc.truth_ephem)
+        while len(_TRUTH_CACHE) > 2:
+            _TRUTH_CACHE.popitem(last=False)
+    return _TRUTH_CACHE[key]
+
+
+def _epochs(span, dt):
+    n = int(math.floor(span / dt + 1e-9))
+    return dt * np.arange(1, n + 1)
+
+
+def prepare(scenario=None, **overrides):
+    """Build the inputs of a run: grid, truth, measurements (one seeded generator).
+
+    The truth comes from :func:`xnavlab.mars.dynamics.truth` (the tight DOP853 propagator,
+    cached on disk); the last two distinct truths are also kept in memory.
+
+    Parameters
+    ----------
+    scenario : MarsScenario, optional
+        Default ``MarsScenario()``.
+    **overrides
+        Fields to replace, e.g. ``days=1``.
+
+    Returns
+    -------
+    Inputs
+
+    Examples
+    --------
+    >>> inp = prepare(days=0.01)
+    >>> inp.times[:3] - inp.times[0], inp.z["uv"].shape
+    (array([0., 3., 6.]), (288, 4))
+    """
+    sc = scenario if scenario is not None else MarsScenario()
+    if overrides:
+        sc = replace(sc, **overrides)
+    rng = make_rng(sc.seed)
+    span = sc.span
+    dts = {"xnav": sc.dt_xnav, "uv": sc.dt_uv, "cns": sc.dt_cns}
+    offs = {s: _epochs(span, dts[s]) for s in sc.subsystems}
+    grid = np.unique(np.round(np.concatenate([[0.0], *offs.values()]), 6))
+    times = sc.t0 + grid
+    truth = _truth(times, sc)
+    meas_idx = np.full((times.size, len(sc.subsystems)), -1, dtype=np.int64)
+    t_meas, z = {}, {}
+    sens = sc.sensors()
+    # draw order: initial error, then each subsystem in the paper's order
+    P0 = sc.P0
+    if sc.init_error == "random":
+        err0 = np.sqrt(np.diag(P0)) * rng.standard_normal(6)
+    else:
+        err0 = np.sqrt(np.diag(P0))
+    x0 = np.array(sc.state0) + err0
+    xnav_bodies = (np.zeros((0, 3)), np.zeros((0, 3)))
+    for i, s in enumerate(sc.subsystems):
+        k = np.searchsorted(grid, np.round(offs[s], 6))
+        meas_idx[k, i] = np.arange(k.size)
+        t = times[k]
+        t_meas[s] = t
+        states = truth[k]
+        if s == "xnav":
+            xs = sens["xnav"]
+            rm_true = ephemeris.position("mars", t, sc.truth_ephem)
+            rs_true = ephemeris.position("sun", t, sc.truth_ephem)
+            noise = rng.standard_normal((t.size, xs.dim))
+            z[s] = toa.delay(rm_true + states[:, :3], xs.n, xs.distance, rs_true) + xs.sigma * noise
+            xnav_bodies = (ephemeris.position("mars", t, sc.filter_ephem).reshape(-1, 3),
+                           ephemeris.position("sun", t, sc.filter_ephem).reshape(-1, 3))
+        elif s == "uv":
+            z[s] = sens["uv"].simulate(states, noise=rng.standard_normal((t.size, 3)))
+        else:
+            cns = sens["cns"]
+            z[s] = cns.simulate(states, noise=rng.standard_normal((t.size, 2 + 2 * cns.dim)))
+    table = dynamics.ThirdBodyTable(sc.t0, float(times[-1]), ("sun", "jupiter"), "mars",
+                                    sc.filter_ephem)
+    rec_t = sc.t0 + np.arange(0.0, span + 1e-9, sc.record_dt)
+    record = np.unique(np.append(np.minimum(np.searchsorted(times, rec_t - 1e-6), times.size - 1),
+                                 times.size - 1))
+    return Inputs(sc, times, truth, x0, meas_idx, z, t_meas, xnav_bodies, table, record, sens)
+
+
+# ------------------------------------------------------------- filter dynamics
+
+
+def process_noise(dt, q):
+    """White-acceleration process noise over ``dt``: ``q [[dt^3/3 I, dt^2/2 I], [dt^2/2 I, dt I]]``.
+
+    Examples
+    --------
+    >>> process_noise(2.0, 3.0)[[0, 0, 3], [0, 3, 3]].tolist()
+    [8.0, 6.0, 6.0]
+    """
+    Q = np.zeros((6, 6))
+    I3 = np.eye(3)
+    Q[:3, :3] = q * dt**3 / 3.0 * I3
+    Q[:3, 3:] = Q[3:, :3] = q * dt**2 / 2.0 * I3
+    Q[3:, 3:] = q * dt * I3
+    return Q
+
+
+def filter_step(x, t, dt, table):
+    """The filters' state propagation: one classical RK4 step of the paper's force model.
+
+    Parameters
+    ----------
+    x : ndarray, shape (6,)
+        State at ``t``.
+    t, dt : float
+        Epoch and step, s.
+    table : ThirdBodyTable
+        Third bodies (filter ephemeris).
+
+    Examples
+    --------
+    >>> tab = dynamics.ThirdBodyTable(dynamics.MARS_T0, dynamics.MARS_T0 + 100.0)
+    >>> x1 = filter_step(dynamics.MARS_STATE0, dynamics.MARS_T0, 3.0, tab)
+    >>> truth = dynamics.propagate([dynamics.MARS_T0 + 3.0])[0]
+    >>> bool(np.abs(x1 - truth)[:3].max() < 1e-6)
+    True
+    """
+
+    def f(tt, y):
+        return np.concatenate([y[3:], dynamics.acceleration(tt, y[:3], table)])
+
+    k1 = f(t, x)
+    k2 = f(t + dt / 2, x + dt / 2 * k1)
+    k3 = f(t + dt / 2, x + dt / 2 * k2)
+    k4 = f(t + dt, x + dt * k3)
+    return x + dt / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+
+
+def filter_propagate(x, t, dt, table, max_step=10.0):
+    """The filters' time update of the state: ``ceil(dt / max_step)`` RK4 sub-steps.
+
+    Returns the propagated state and the transition matrix ``Phi_n ... Phi_1``
+    (:func:`xnavlab.mars.dynamics.transition_matrix` at the start of each sub-step).
+
+    Returns
+    -------
+    x : ndarray, shape (6,)
+    Phi : ndarray, shape (6, 6)
+
+    Examples
+    --------
+    >>> tab = dynamics.ThirdBodyTable(dynamics.MARS_T0, dynamics.MARS_T0 + 600.0)
+    >>> x, Phi = filter_propagate(dynamics.MARS_STATE0, dynamics.MARS_T0, 500.0, tab)
+    >>> truth = dynamics.propagate([dynamics.MARS_T0 + 500.0])[0]
+    >>> bool(np.abs(x - truth)[:3].max() < 1e-3)
+    True
+    """
+    n = max(1, math.ceil(dt / max_step - 1e-9))
+    h = dt / n
+    Phi = np.eye(6)
+    for i in range(n):
+        Phi = dynamics.transition_matrix(x[:3], h) @ Phi
+        x = filter_step(x, t + i * h, h, table)
+    return x, Phi
+
+
+class _Propagation:
+    """Memo of one time update, so that ``f(x)`` and ``F(x)`` integrate once."""
+
+    def __init__(self, t, dt, table, max_step):
+        self.args = (t, dt, table, max_step)
+        self.key, self.val = None, None
+
+    def _get(self, x):
+        key = x.tobytes()
+        if key != self.key:
+            self.key, self.val = key, filter_propagate(x, *self.args)
+        return self.val
+
+    def f(self, x):
+        return self._get(x)[0]
+
+    def F(self, x):
+        return self._get(x)[1]
+
+
+# ------------------------------------------------------------------------ runs
+
+
+@dataclass
+class MarsRun:
+    """The result of a run.
+
+    Attributes
+    ----------
+    t : ndarray, shape (nr,)
+        Recorded epochs, s TDB past J2000.
+    x, P : ndarray, shapes (nr, 6), (nr, 6, 6)
+        Fused (master) estimate and covariance.
+    truth : ndarray, shape (nr, 6)
+        True states.
+    x_local : ndarray, shape (nr, ns, 6)
+        Local estimates after their measurement updates (before any reset).
+    P_local_diag : ndarray, shape (nr, ns, 6)
+        Their variances.
+    nis : ndarray, shape (n, ns)
+        NIS of every measurement (NaN where none), all epochs.
+    flags : ndarray of int8, shape (n, ns)
+        0 no measurement, 1 updated, 2 rejected by the gate, 3 switched out.
+    times : ndarray, shape (n,)
+        All filter epochs.
+    wall_time : float
+        Filter run time, s.
+    """
+
+    scenario: MarsScenario
+    t: np.ndarray
+    x: np.ndarray
+    P: np.ndarray
+    truth: np.ndarray
+    x_local: np.ndarray
+    P_local_diag: np.ndarray
+    nis: np.ndarray
+    flags: np.ndarray
+    times: np.ndarray
+    backend: str
+    wall_time: float
+
+    @property
+    def t_days(self):
+        """Recorded epochs, days since the start."""
+        return (self.t - self.t[0]) / DAY
+
+    @property
+    def error(self):
+        """Fused estimate minus truth, shape (nr, 6)."""
+        return self.x - self.truth
+
+    def position_error(self):
+        """Norm of the fused position error, m, shape (nr,)."""
+        return np.linalg.norm(self.error[:, :3], axis=1)
+
+    def velocity_error(self):
+        """Norm of the fused velocity error, m/s, shape (nr,)."""
+        return np.linalg.norm(self.error[:, 3:], axis=1)
+
+    def metrics(self, settle_days=1.0):
+        """The error metrics: RMS over time of the error norms after ``settle_days``.
+
+        Returns
+        -------
+        dict
+            ``position_error_m``, ``velocity_error_mps`` (RMS after settling),
+            ``position_error_max_m``, ``final_position_error_m``,
+            ``final_velocity_error_mps``, ``settle_days``.
+        """
+        settle_days = check_real("settle_days", settle_days, 0.0, self.t_days[-1])
+        m = self.t_days >= settle_days
+        pe, ve = self.position_error(), self.velocity_error()
+        return {
+            "position_error_m": float(np.sqrt(np.mean(pe[m] ** 2))),
+            "velocity_error_mps": float(np.sqrt(np.mean(ve[m] ** 2))),
+            "position_error_max_m": float(pe[m].max()),
+            "final_position_error_m": float(pe[-1]),
+            "final_velocity_error_mps": float(ve[-1]),
+            "settle_days": settle_days,
+        }
+
+    def nees(self):
+        """NEES of the fused estimate at every record, shape (nr,)."""
+        from xnavlab.core.filters import nees
+
+        return nees(self.error, self.P)
+
+    def sigma_position(self):
+        """Fused 1-sigma position uncertainty ``sqrt(trace P_rr)``, m, shape (nr,)."""
+        return np.sqrt(np.trace(self.P[:, :3, :3], axis1=1, axis2=2))
+
+    def min_eigenvalue(self):
+        """Smallest eigenvalue of each recorded fused covariance (positive when SPD)."""
+        return np.linalg.eigvalsh(self.P)[:, 0]
+
+    def summary(self, settle_days=1.0):
+        """JSON-ready summary: metrics, scenario, run time."""
+        out = {"scenario": "mars", **self.metrics(settle_days),
+               "run_time_s": self.wall_time, "backend": self.backend,
+               "epochs": int(self.times.size), "days": self.scenario.days,
+               "seed": self.scenario.seed, "mode": self.scenario.mode}
+        for i, s in enumerate(self.scenario.subsystems):
+            out[f"updates_{s}"] = int(np.sum(self.flags[:, i] == 1))
+        return out
+
+    def save_npz(self, path):
+        """Write the recorded time series to ``path`` (npz)."""
+        np.savez_compressed(
+            path, t=self.t, x=self.x, P=self.P, truth=self.truth, x_local=self.x_local,
+            P_local_diag=self.P_local_diag, position_error=self.position_error(),
+            velocity_error=self.velocity_error(), nis=self.nis, flags=self.flags,
+            times=self.times, subsystems=np.array(self.scenario.subsystems),
+        )
+
+
+def run_options(inp, active, gate):
+    """Checked run options: ``(active, gate, beta)`` with the defaults filled in.
+
+    ``active`` (n, ns) bool, all True by default; ``gate`` (ns,) NIS thresholds, inf by
+    default; ``beta`` (ns,) the information-sharing factors normalised to sum 1.
+    """
+    sc = inp.scenario
+    ns = len(sc.subsystems)
+    if active is None:
+        active = np.ones((inp.n, ns), dtype=bool)
+    active = np.asarray(active, dtype=bool)
+    if active.shape != (inp.n, ns):
+        raise ValueError(f"active must have shape ({inp.n}, {ns}) (epochs x subsystems), "
+                         f"got {active.shape}")
+    gate = np.full(ns, np.inf) if gate is None else np.asarray(gate, dtype=float).reshape(ns)
+    if np.any(np.isnan(gate)) or np.any(gate < 0):
+        raise ValueError("gate must hold non-negative NIS thresholds (inf for none)")
+    beta = np.full(ns, 1.0 / ns) if sc.beta is None else np.array(sc.beta) / np.sum(sc.beta)
+    return np.ascontiguousarray(active), gate, beta
+
+
+def run(scenario=None, *, backend="numba", inputs=None, active=None, gate=None,
+        progress=False, local_filter="ekf", **overrides):
+    """Run the federated filter of the Mars scenario.
+
+    Parameters
+    ----------
+    scenario : MarsScenario, optional
+        Default ``MarsScenario()`` (the paper's 30-day run).
+    backend : {"numba", "numpy"}
+        Compiled kernel or the readable loop (same estimates).
+    inputs : Inputs, optional
+        Reuse :func:`prepare`'s output (same scenario).
+    active : array_like of bool, shape (n, ns), optional
+        Whether each subsystem is connected at each epoch (default all): a switched-out
+        subsystem does time updates only and is left out of the fusion.
+    gate : array_like, shape (ns,), optional
+        NIS thresholds above which a measurement is rejected (default none).
+    progress : bool
+        Show a tqdm progress bar on stderr.
+    local_filter : {"ekf", "ukf"}
+        Local filter type; ``"ukf"`` (scaled unscented transform through the same RK4
+        propagation and measurement models) needs ``backend="numpy"``.
+    **overrides
+        Scenario fields to replace.
+
+    Returns
+    -------
+    MarsRun
+    """
+    check_choice("backend", backend, ("numba", "numpy"))
+    check_choice("local_filter", local_filter, ("ekf", "ukf"))
+    if local_filter == "ukf" and backend != "numpy":
+        raise ValueError("local_filter='ukf' runs with backend='numpy' only")
+    if inputs is None:
+        inputs = prepare(scenario, **overrides)
+    elif scenario is not None or overrides:
+        raise ValueError("pass either inputs or a scenario (with overrides), not both")
+    active, gate, beta = run_options(inputs, active, gate)
+    t_start = time.perf_counter()
+    if backend == "numba":
+        out = _run_numba(inputs, active, gate, beta, progress)
+    else:
+        out = _run_numpy(inputs, active, gate, beta, progress, local_filter)
+    wall = time.perf_counter() - t_start
+    rec = inputs.record
+    label = backend if local_filter == "ekf" else f"{backend}-ukf"
+    return MarsRun(inputs.scenario, inputs.times[rec], out["x"], out["P"], inputs.truth[rec],
+                   out["xl"], out["Pl"], out["nis"], out["flags"], inputs.times, label, wall)
+
+
+def alloc_records(inp):
+    """Output arrays of a run: fused and local estimates at the records, NIS and flags per epoch.
+
+    Returns a dict with ``x`` (nr, 6), ``P`` (nr, 6, 6), ``xl`` (nr, ns, 6), ``Pl`` (nr, ns, 6)
+    (local variances), ``nis`` (n, ns, NaN where no update) and ``flags`` (n, ns, int8).
+    """
+    ns = len(inp.scenario.subsystems)
+    nr = inp.record.size
+    return {
+        "x": np.zeros((nr, 6)), "P": np.zeros((nr, 6, 6)), "xl": np.zeros((nr, ns, 6)),
+        "Pl": np.zeros((nr, ns, 6)), "nis": np.full((inp.n, ns), np.nan),
+        "flags": np.zeros((inp.n, ns), dtype=np.int8),
+    }
+
+
+def _progress(n, enabled, desc):
+    from tqdm import tqdm
+
+    return tqdm(total=n, disable=not enabled, desc=desc, unit="epoch", unit_scale=True,
+                file=sys.stderr, mininterval=0.5)
+
+
+def _run_numpy(inp, active, gate, beta, progress, kind="ekf"):
+    """The readable reference loop (one epoch at a time, pure numpy)."""
+    sc = inp.scenario
+    ns = len(sc.subsystems)
+    out = alloc_records(inp)
+    rec_pos = np.full(inp.n, -1)
+    rec_pos[inp.record] = np.arange(inp.record.size)
+    ff = FederatedFilter(inp.x0, sc.P0, n_local=ns, beta=beta, mode=sc.mode, kind=kind,
+                         names=sc.subsystems)
+    sens = inp.sensors
+    xs = sens["xnav"]
+    R_x, R_uv = xs.R(), sens["uv"].R()
+    rm_x, rs_x = inp.xnav_bodies
+    times = inp.times
+    bar = _progress(inp.n, progress, "mars (numpy)")
+    for k in range(inp.n):
+        if k > 0:
+            tp, dt = times[k - 1], times[k] - times[k - 1]
+            prop = _Propagation(tp, dt, inp.table, sc.max_step)
+            ff.predict(prop.f, prop.F, process_noise(dt, sc.q_acc))  # P = F P F^T + Q
+            for i, s in enumerate(sc.subsystems):
+                j = inp.meas_idx[k, i]
+                if j < 0:
+                    continue
+                z = inp.z[s][j]
+                if s == "xnav":
+                    up = ff.update(i, z, lambda x, j=j: sensors.xnav_h(x, rm_x[j], rs_x[j], xs.n,
+                                                                       xs.distance),
+                                   lambda x, j=j: sensors.xnav_jacobian(x, rm_x[j], rs_x[j], xs.n,
+                                                                        xs.distance),
+                                   R_x, gate[i])
+                elif s == "uv":
+                    up = ff.update(i, z, sensors.uv_h, sensors.uv_jacobian, R_uv, gate[i])
+                else:
+                    cns = sens["cns"]
+                    R_c = cns.R(ff.locals[i].x)  # depends on the geometry
+                    up = ff.update(i, z, cns.h, cns.jacobian, R_c, gate[i])
+                out["nis"][k, i] = up.nis
+                out["flags"][k, i] = 3 if not active[k, i] else (2 if up.nis > gate[i] else 1)
+        r = rec_pos[k]
+        if r >= 0:
+            for i, lf in enumerate(ff.locals):
+                out["xl"][r, i] = lf.x
+                out["Pl"][r, i] = np.diag(lf.P)
+        nxt = active[k + 1] if k + 1 < inp.n else active[k]
+        if k == 0:
+            ff.set_active(nxt)  # the initial split of P0 among the connected locals
+        else:
+            ff.fuse(next_active=nxt)  # master fusion (and reset in reset mode)
+        if r >= 0:
+            out["x"][r], out["P"][r] = ff.x, ff.P
+        bar.update(1)
+    bar.close()
+    return out
+
+
+def filter_state(inp, beta):
+    """Initial local and master states for the compiled kernel: ``(xs, Ps, shares, xm, Pm)``.
+
+    The kernel updates these arrays in place, epoch after epoch.
+    """
+    sc = inp.scenario
+    xs = np.tile(inp.x0, (len(sc.subsystems), 1))
+    Ps = np.array([sc.P0 / b for b in beta])
+    return xs, Ps, beta.copy(), inp.x0.copy(), sc.P0.copy()
+
+
+def run_kernel(inp, state, a, b, active, beta, gate, rec_pos, records, nis, flags):
+    """Run the compiled federated filter over epochs ``[a, b)``.
+
+    ``state`` comes from :func:`filter_state`; ``records`` is ``(x, P, xl, Pl)``, filled
+    at the rows ``rec_pos`` gives for each epoch (-1: not recorded). All in place.
+    """
+    from xnavlab.mars import kernels
+
+    sc = inp.scenario
+    xnav, uv, cns = inp.sensors["xnav"], inp.sensors["uv"], inp.sensors["cns"]
+    kinds = np.array([_KIND[s] for s in sc.subsystems], dtype=np.int64)
+    z_x = inp.z.get("xnav", np.zeros((0, xnav.dim)))
+    z_u = inp.z.get("uv", np.zeros((0, 4)))
+    z_c = inp.z.get("cns", np.zeros((0, cns.dim)))
+    tab = inp.table
+    xs, Ps, shares, xm, Pm = state
+    ok = kernels.run_epochs(
+        a, b, inp.times, xs, Ps, shares, xm, Pm, sc.q_acc, sc.max_step, GM_MARS,
+        tab.t_start, tab.step, tab.pos, tab.vel, tab.gm,
+        kinds, inp.meas_idx, active, beta, sc.mode == "reset", gate,
+        z_x, inp.xnav_bodies[0], inp.xnav_bodies[1], xnav.n, xnav.distance, xnav.sigma,
+        z_u, uv.sigma_range, uv.sigma_dir,
+        z_c, cns.star_dirs, cns.sigma_star, cns.sigma_horizon,
+        rec_pos, *records, nis, flags)
+    if not ok:
+        raise RuntimeError(f"a covariance lost positive definiteness near epoch {b} "
+                           f"(t = {inp.times[min(b, inp.n - 1)]:.0f} s)")
+
+
+def _run_numba(inp, active, gate, beta, progress):
+    out = alloc_records(inp)
+    rec_pos = np.full(inp.n, -1, dtype=np.int64)
+    rec_pos[inp.record] = np.arange(inp.record.size)
+    state = filter_state(inp, beta)
+    records = (out["x"], out["P"], out["xl"], out["Pl"])
+    n_chunks = 50 if progress else 1
+    edges = np.linspace(0, inp.n, n_chunks + 1).astype(int)
+    bar = _progress(inp.n, progress, "mars (numba)")
+    for a, b in zip(edges[:-1], edges[1:], strict=True):
+        run_kernel(inp, state, a, b, active, beta, gate, rec_pos, records, out["nis"], out["flags"])
+        bar.update(b - a)
+    bar.close()
+    return out
+
+
+# ------------------------------------------------------------------ consistency
+
+
+def nees_monte_carlo(n_runs=20, scenario=None, seed=0, **overrides):
+    """Average NEES of the fused estimate over ``n_runs`` runs with random initial errors.
+
+    Each run redraws the initial error from N(0, P0) and all measurement noise
+    (seeds ``seed, seed + 1, ...``); the truth is shared.
+
+    Returns
+    -------
+    dict
+        ``t`` (nr,), ``nees`` (nr,) run-averaged NEES, ``bounds`` (95 % two-sided for
+        the average of ``n_runs`` chi-square(6)), ``nis`` {subsystem: run- and
+        time-averaged NIS}, ``nis_dof`` {subsystem: its dof}, ``nis_bounds``.
+
+    Examples
+    --------
+    >>> mc = nees_monte_carlo(3, days=0.01)
+    >>> mc["nees"].shape == mc["t"].shape
+    True
+    """
+    sc = scenario if scenario is not None else MarsScenario()
+    sc = replace(sc, init_error="random", **overrides)
+    n_runs = check_int("n_runs", n_runs, 1, 10**5)
+    seed = check_int("seed", seed, 0, 2**62)
+    nees_sum, nis_sum, nis_cnt = None, {}, {}
+    for m in range(n_runs):
+        res = run(replace(sc, seed=seed + m))
+        e = res.nees()
+        nees_sum = e if nees_sum is None else nees_sum + e
+        for i, s in enumerate(sc.subsystems):
+            v = res.nis[:, i][res.flags[:, i] == 1]
+            nis_sum[s] = nis_sum.get(s, 0.0) + v.sum()
+            nis_cnt[s] = nis_cnt.get(s, 0) + v.size
+    dof = {"xnav": len(sc.pulsars), "uv": 3, "cns": len(sc.stars) if sc.stars else 3}
+    nis_avg = {s: nis_sum[s] / max(nis_cnt[s], 1) for s in sc.subsystems}
+    return {
+        "t": res.t, "nees": nees_sum / n_runs, "bounds": chi2_bounds(6, n_runs),
+        "nis": nis_avg, "nis_dof": {s: dof[s] for s in sc.subsystems},
+        "nis_count": nis_cnt,
+        "nis_bounds": {s: chi2_bounds(dof[s], nis_cnt[s]) for s in sc.subsystems},
+    }
+
+
+# ---------------------------------------------------------------------------- CLI
+
+
+def plot_subsystem(subsystem="uv", noise_scale=1.0, interval_s=3, days=0.25):
+    """One subsystem alone: its position error and the filter's 3-sigma bound.
+
+    Runs :func:`run` with the single ``subsystem``, its noise parameters multiplied by
+    ``noise_scale`` and its measurement interval set to ``interval_s`` (XNAV: at least
+    30 s). A pure function of its arguments (the scenario is seeded), for chapter 5's
+    slider.
+
+    Parameters
+    ----------
+    subsystem : {"xnav", "uv", "cns"}
+    noise_scale : float
+        Factor on the paper's noise (> 0): UV range and direction, CNS star and horizon
+        sensors, or the four XNAV ranging accuracies (109, 344, 1866, 325 m).
+    interval_s : float
+        Measurement interval, s (> 0).
+    days : float
+        Span, days (default six hours).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One log-scale axes; not registered with pyplot.
+
+    Examples
+    --------
+    >>> fig = plot_subsystem("cns", 2.0, 30, days=0.02)
+    >>> fig.axes[0].get_title()
+    'cns: noise x 2, every 30 s'
+    """
+    from matplotlib.figure import Figure
+
+    check_choice("subsystem", subsystem, SUBSYSTEMS)
+    noise_scale = check_real("noise_scale", noise_scale, 0.0, lo_open=True)
+    interval_s = check_real("interval_s", interval_s, 0.0, lo_open=True)
+    kw = {"days": days, "subsystems": (subsystem,), "record_dt": 30.0}
+    if subsystem == "uv":
+        kw.update(sigma_range_m=5000.0 * noise_scale, sigma_dir_deg=0.1 * noise_scale,
+                  dt_uv=interval_s)
+    elif subsystem == "cns":
+        kw.update(sigma_horizon_deg=0.05 * noise_scale, sigma_star_arcsec=3.0 * noise_scale,
+                  dt_cns=interval_s)
+    else:
+        kw.update(xnav_sigma_m=tuple(np.array([109.0, 344.0, 1866.0, 325.0]) * noise_scale),
+                  dt_xnav=max(interval_s, 30.0))
+    res = run(**kw)
+    hours = res.t_days * 24
+    fig = Figure(figsize=(7, 3), layout="constrained")
+    ax = fig.add_subplot()
+    ax.fill_between(hours, 0, 3 * res.sigma_position(), color="C0", alpha=0.15, label="3 sigma")
+    ax.plot(hours, res.position_error(), color="C0", label="|position error|")
+    ax.set(xlabel="time (h)", ylabel="m", yscale="log", ylim=(10, 3e4),
+           title=f"{subsystem}: noise x {noise_scale:.2g}, every {kw['dt_' + subsystem]:g} s")
+    ax.legend(fontsize=8)
+    return fig
+
+
+def plot_sharing(beta_xnav=1 / 3, mode="reset", days=0.5):
+    """The fused filter with a chosen information share for the XNAV local.
+
+    Runs :func:`run` (60-s records) with sharing factors ``(beta_xnav, rest, rest)``,
+    ``rest = (1 - beta_xnav) / 2`` for UV and CNS, in the given federated ``mode``. A pure
+    function of its arguments (the scenario is seeded), for chapter 6's slider.
+
+    Parameters
+    ----------
+    beta_xnav : float
+        Share of the XNAV local, 0 < beta_xnav < 1.
+    mode : {"reset", "no-reset"}
+    days : float
+        Span, days (default half a day; the title gives the RMS error after its midpoint).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One log-scale axes: the position error and the filter's 1-sigma; not registered
+        with pyplot.
+
+    Examples
+    --------
+    >>> fig = plot_sharing(0.8, "no-reset", days=0.02)
+    >>> fig.axes[0].get_title()[:36]
+    'no-reset, beta = (0.80, 0.10, 0.10):'
+    """
+    from matplotlib.figure import Figure
+
+    beta_xnav = check_real("beta_xnav", beta_xnav, 0.0, 1.0, lo_open=True, hi_open=True)
+    check_choice("mode", mode, MODES)
+    rest = (1.0 - beta_xnav) / 2
+    res = run(days=days, record_dt=60.0, mode=mode, beta=(beta_xnav, rest, rest))
+    settle = days / 2
+    hours = res.t_days * 24
+    fig = Figure(figsize=(7, 3), layout="constrained")
+    ax = fig.add_subplot()
+    ax.semilogy(hours, res.position_error(), label="|position error|")
+    ax.semilogy(hours, res.sigma_position(), "--", label="1-sigma")
+    ax.set(xlabel="time (h)", ylabel="m", ylim=(10, 2e4),
+           title=f"{mode}, beta = ({beta_xnav:.2f}, {rest:.2f}, {rest:.2f}): "
+                 f"{res.metrics(settle)['position_error_m']:.0f} m after {settle * 24:g} h")
+    ax.legend(fontsize=8)
+    return fig

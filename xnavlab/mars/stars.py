@@ -1,0 +1,258 @@
+"""A small bright-star table (Hipparcos) and a rule that picks three well-spread stars.
+
+The table ``xnavlab/data/bright_stars.csv`` holds 38 bright stars (the Nautical
+Almanac's navigational stars with V <= 2.0, plus Polaris) with their values from the
+Hipparcos main catalogue (ESA 1997, ESA SP-1200; CDS I/239 ``hip_main``): ICRS
+right ascension and declination at the catalogue epoch J1991.25, proper motions
+(``pmRA`` is mu_alpha cos delta), parallax and V magnitude. The main paper used the
+Tycho-2 catalogue; for the three bright stars a star sensor tracks, Hipparcos gives
+the same directions to better than 0.1 arcsec.
+
+Directions are ICRF unit vectors, propagated from J1991.25 to the requested epoch
+with the proper motions by the unit-vector method (no radial velocity). Stellar
+parallax seen from Mars (at most 1.2 arcsec, Rigil Kentaurus) and aberration (about
+20 arcsec for a Mars orbiter) are not applied: the truth and the filter use the same
+catalogue directions, as in the paper.
+
+Examples
+--------
+>>> s = direction("Sirius", 0.0)     # J2000.0
+>>> ra, dec = radec(s)
+>>> round(ra, 6), round(dec, 6)
+(101.287155, -16.716116)
+"""
+
+from __future__ import annotations
+
+import csv
+import functools
+import itertools
+import math
+from dataclasses import dataclass
+from importlib import resources
+
+import numpy as np
+
+from xnavlab.core.validate import check_finite_array, check_int, check_real
+
+__all__ = [
+    "HIPPARCOS_EPOCH",
+    "Star",
+    "catalogue",
+    "names",
+    "get",
+    "direction",
+    "directions",
+    "radec",
+    "spread",
+    "pick_three",
+]
+
+#: Hipparcos catalogue epoch J1991.25 in s TDB past J2000 (-8.75 Julian years).
+HIPPARCOS_EPOCH = -8.75 * 365.25 * 86400.0
+_MAS = math.pi / (180.0 * 3600.0e3)
+_YEAR = 365.25 * 86400.0
+
+
+@dataclass(frozen=True)
+class Star:
+    """One catalogue star (Hipparcos values at J1991.25).
+
+    Attributes
+    ----------
+    hip : int
+        Hipparcos number.
+    name, designation : str
+        Proper name and Bayer designation.
+    ra_deg, dec_deg : float
+        ICRS position at J1991.25, deg.
+    pm_ra_cosdec_mas_yr, pm_dec_mas_yr : float
+        Proper motion, mas/yr (the first already multiplied by cos dec).
+    parallax_mas : float
+        Parallax, mas.
+    vmag : float
+        V magnitude.
+    """
+
+    hip: int
+    name: str
+    designation: str
+    ra_deg: float
+    dec_deg: float
+    pm_ra_cosdec_mas_yr: float
+    pm_dec_mas_yr: float
+    parallax_mas: float
+    vmag: float
+
+
+@functools.cache
+def catalogue():
+    """All stars of the shipped table, brightest first.
+
+    Returns
+    -------
+    tuple of Star
+
+    Examples
+    --------
+    >>> cat = catalogue()
+    >>> len(cat), cat[0].name
+    (38, 'Sirius')
+    """
+    text = resources.files("xnavlab").joinpath("data/bright_stars.csv").read_text("utf-8")
+    rows = csv.DictReader(line for line in text.splitlines() if not line.startswith("#"))
+    stars = [
+        Star(int(r["hip"]), r["name"], r["designation"], float(r["ra_deg"]),
+             float(r["dec_deg"]), float(r["pm_ra_cosdec_mas_yr"]), float(r["pm_dec_mas_yr"]),
+             float(r["parallax_mas"]), float(r["vmag"]))
+        for r in rows
+    ]
+    return tuple(sorted(stars, key=lambda s: s.vmag))
+
+
+def names():
+    """Names of the stars in the table, brightest first.
+
+    Examples
+    --------
+    >>> names()[:3]
+    ('Sirius', 'Canopus', 'Arcturus')
+    """
+    return tuple(s.name for s in catalogue())
+
+
+def get(star):
+    """A :class:`Star` by name (case-insensitive) or Hipparcos number.
+
+    Examples
+    --------
+    >>> get("vega").hip, get(32349).name
+    (91262, 'Sirius')
+    """
+    if isinstance(star, Star):
+        return star
+    for s in catalogue():
+        if (isinstance(star, str) and s.name.lower() == star.lower()) or (
+            not isinstance(star, str | bool) and star == s.hip
+        ):
+            return s
+    raise ValueError(f"unknown star {star!r}; known stars: {', '.join(names())}")
+
+
+def direction(star, t=0.0):
+    """ICRF unit vector to ``star`` at epoch ``t`` (s TDB past J2000), shape (3,).
+
+    The Hipparcos position is moved along its proper motion,
+    ``u(t) = normalise(u0 + (t - t_H) (mu_a* p + mu_d q))`` with ``p``, ``q`` the unit
+    vectors of increasing right ascension and declination at J1991.25.
+
+    Examples
+    --------
+    >>> u = direction("Polaris")
+    >>> bool(u[2] > 0.9998)
+    True
+    """
+    s = get(star)
+    t = check_real("t", t, -1e11, 1e11)
+    a, d = math.radians(s.ra_deg), math.radians(s.dec_deg)
+    u0 = np.array([math.cos(d) * math.cos(a), math.cos(d) * math.sin(a), math.sin(d)])
+    p = np.array([-math.sin(a), math.cos(a), 0.0])
+    q = np.array([-math.sin(d) * math.cos(a), -math.sin(d) * math.sin(a), math.cos(d)])
+    years = (t - HIPPARCOS_EPOCH) / _YEAR
+    u = u0 + years * _MAS * (s.pm_ra_cosdec_mas_yr * p + s.pm_dec_mas_yr * q)
+    return u / np.linalg.norm(u)
+
+
+def directions(stars, t=0.0):
+    """Unit vectors to several stars, shape (k, 3).
+
+    Examples
+    --------
+    >>> directions(["Sirius", "Vega", "Canopus"]).shape
+    (3, 3)
+    """
+    return np.array([direction(s, t) for s in stars])
+
+
+def radec(u):
+    """Right ascension and declination (deg) of a unit vector, RA in [0, 360).
+
+    Examples
+    --------
+    >>> radec(np.array([0.0, 1.0, 0.0]))
+    (90.0, 0.0)
+    """
+    u = check_finite_array("u", u, shape=(3,))
+    ra = math.degrees(math.atan2(u[1], u[0])) % 360.0
+    dec = math.degrees(math.asin(max(-1.0, min(1.0, u[2] / np.linalg.norm(u)))))
+    return ra, dec
+
+
+def spread(s):
+    """How well three directions span space: ``|det [s1 s2 s3]|`` (1 when orthogonal).
+
+    Parameters
+    ----------
+    s : array_like, shape (3, 3)
+        Unit vectors, one a row.
+
+    Examples
+    --------
+    >>> spread(np.eye(3))
+    1.0
+    """
+    s = check_finite_array("s", s, shape=(3, 3))
+    return float(abs(np.linalg.det(s)))
+
+
+def pick_three(vmag_max=1.0, t=0.0, avoid=None, avoid_deg=0.0, candidates=None):
+    """The rule for the CNS stars: the three brightest-enough stars that are most spread.
+
+    Among the stars with ``V <= vmag_max`` (and farther than ``avoid_deg`` from every
+    direction in ``avoid``, e.g. the Sun), return the triple that maximises
+    :func:`spread`, the volume spanned by the three unit vectors. Well-spread stars
+    keep every starlight angle away from 0 and 180 deg, where eq. (6) loses its
+    sensitivity, whatever the direction to Mars. Ties go to the brighter triple.
+
+    Parameters
+    ----------
+    vmag_max : float
+        Faintest magnitude allowed (bright stars are the ones a star sensor
+        identifies most reliably).
+    t : float
+        Epoch, s TDB past J2000.
+    avoid : array_like, shape (k, 3), optional
+        Directions to keep away from.
+    avoid_deg : float
+        Exclusion half-angle around each ``avoid`` direction, deg.
+    candidates : sequence of str, optional
+        Restrict the choice to these stars.
+
+    Returns
+    -------
+    tuple of str
+        Three star names, brightest first.
+
+    Examples
+    --------
+    >>> pick_three()
+    ('Arcturus', 'Procyon', 'Acrux')
+    """
+    vmag_max = check_real("vmag_max", vmag_max, -2.0, 10.0)
+    avoid_deg = check_real("avoid_deg", avoid_deg, 0.0, 180.0)
+    pool = [get(s) for s in candidates] if candidates is not None else list(catalogue())
+    pool = [s for s in pool if s.vmag <= vmag_max]
+    if avoid is not None:
+        av = check_finite_array("avoid", avoid, shape=(3,)).reshape(-1, 3)
+        av = av / np.linalg.norm(av, axis=1, keepdims=True)
+        cos_lim = math.cos(math.radians(avoid_deg))
+        pool = [s for s in pool if np.all(av @ direction(s, t) < cos_lim)]
+    check_int("number of candidate stars", len(pool), 3)
+    pool.sort(key=lambda s: s.vmag)
+    u = {s.name: direction(s, t) for s in pool}
+    best, best_val = None, -1.0
+    for trio in itertools.combinations(pool, 3):
+        val = spread(np.array([u[s.name] for s in trio]))
+        if val > best_val + 1e-12:
+            best, best_val = trio, val
+    return tuple(s.name for s in best)

@@ -1,0 +1,300 @@
+"""Main paper (Fan et al. 2016), Figs. 3-5: the faulty Mars run, without and with the wavelet detector.
+
+IDs: ``mars-faults-ekf`` (Fig. 3: faults, no detector), ``mars-faults-wavelet`` (Fig. 4:
+wavelet detection, isolation and rejoining) and ``wavelet-details`` (Fig. 5: db3 5-level
+detail signals of the faulty UV range). All chapter 8.
+
+The paper gives the fault instants only; the magnitudes and durations are ours
+(:func:`xnavlab.mars.fault_tolerance.paper_schedule`: UV range steps of 5 sigma, XNAV delay steps
+of 1e-5 s (3 km) and ramps of 2e-9 s/s, horizon-sensor steps of 8 sigma, 5000 s each). The
+metric is the one of ``mars-nofault``: RMS of the fused error norm from day 1 to day 30; the
+maximum is taken over the same span.
+"""
+
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+
+import numpy as np
+
+from xnavlab.core import detection
+from xnavlab.core.faults import Fault, inject
+from xnavlab.mars import fault_tolerance, scenarios
+from xnavlab.reproduce import Result, check_info, check_range, check_true, figure, register
+
+__all__ = ["PAPER_MAX_ERROR_FAULTS_M", "PAPER_POSITION_ERROR_M", "PAPER_VELOCITY_ERROR_MPS",
+           "HAND_SCHEDULE", "paper_runs", "plot_error_curves", "plot_details"]
+
+#: Fig. 3: largest position error with faults and no detector, about 4 km.
+PAPER_MAX_ERROR_FAULTS_M = 4000.0
+#: Fig. 4: with wavelet detection and reconfiguration.
+PAPER_POSITION_ERROR_M = 36.587
+PAPER_VELOCITY_ERROR_MPS = 0.02293
+
+#: A schedule with onsets the paper does not use (s since the start), for a 3-day check.
+HAND_SCHEDULE = (
+    Fault("uv", "step", 30000.0, onset=123456.0, duration=4000.0, component=0),
+    Fault("xnav", "step", 1.0e-5, onset=150321.0, duration=3000.0),
+    Fault("cns", "step", math.radians(0.4), onset=177777.0, duration=3000.0),
+    Fault("uv", "spike", 60000.0, onset=201234.0, duration=0.0, component=0),
+    Fault("xnav", "ramp", 2.0e-9, onset=222222.0, duration=5000.0, component=1),
+)
+
+
+@lru_cache(maxsize=2)
+def paper_runs(days=30.0, seed=0):
+    """The fault-free run and the paper's schedule with no detector and with the wavelet.
+
+    Returns
+    -------
+    dict
+        ``inputs``, ``clean`` (MarsRun), ``faults``, ``none`` and ``wavelet``
+        (FaultTolerantRun). Cached (two calls with the same arguments share the runs).
+    """
+    inp = scenarios.prepare(days=days, seed=seed)
+    faults = fault_tolerance.paper_schedule()
+    return {
+        "inputs": inp, "faults": faults, "clean": scenarios.run(inputs=inp),
+        "none": fault_tolerance.run_fault_tolerant(faults=faults, detector="none", inputs=inp),
+        "wavelet": fault_tolerance.run_fault_tolerant(faults=faults, detector="wavelet",
+                                                      inputs=inp),
+    }
+
+
+def plot_error_curves(curves, faults=(), *, title="", isolations=()):
+    """Fused position error curves (log scale) with the faults as grey bands.
+
+    Parameters
+    ----------
+    curves : dict of str to (t_days, error_m)
+    faults : sequence of Fault
+    isolations : sequence of dict
+        ``sensor``, ``out``, ``back`` (s) drawn as coloured ticks under the curves.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, ax = figure(figsize=(9.0, 3.6))
+    for label, (td, e) in curves.items():
+        ax.semilogy(td, e, lw=0.6, label=label)
+    for f in faults:
+        ax.axvspan(f.onset / 86400.0, f.end / 86400.0, color="0.75", zorder=0)
+    colors = {"xnav": "C2", "uv": "C3", "cns": "C4"}
+    for iv in isolations:
+        back = iv["back"] if iv["back"] is not None else math.inf
+        ax.axvspan(iv["out"] / 86400.0, min(back, 1e9) / 86400.0, ymax=0.04,
+                   color=colors.get(iv["sensor"], "k"))
+    ax.set(xlabel="time (days)", ylabel="|position error| (m)", title=title)
+    ax.legend(fontsize=8, loc="upper right")
+    fig.tight_layout()
+    return fig
+
+
+def plot_details(t_days, x, details, onsets_days=(), *, stride=20, title=""):
+    """The paper's Fig. 5 layout: the series and its detail signals D1..DJ, faults marked.
+
+    Parameters
+    ----------
+    t_days : ndarray, shape (N,)
+    x : ndarray, shape (N,)
+        The series, m (plotted in km).
+    details : ndarray, shape (J, N)
+        From :func:`xnavlab.core.detection.detail_signals`, m.
+    onsets_days : sequence of float
+        Fault onsets, days (dashed lines).
+    stride : int
+        Plot every ``stride``-th sample of the series and the max |D| over each stride.
+    """
+    stride = max(1, int(stride))
+    J = details.shape[0]
+    fig, axes = figure(J + 1, 1, figsize=(9.0, 1.3 * (J + 1) + 0.6), sharex=True)
+    n = (t_days.size // stride) * stride
+    td = t_days[:n:stride]
+    axes[0].plot(td, x[:n:stride] / 1e3, lw=0.4)
+    axes[0].set_ylabel("range (km)", fontsize=8)
+    for j in range(J):
+        d = details[j, :n].reshape(-1, stride)
+        peak = d[np.arange(d.shape[0]), np.argmax(np.abs(d), axis=1)]
+        axes[j + 1].plot(td, peak / 1e3, lw=0.4)
+        axes[j + 1].set_ylabel(f"D{j + 1} (km)", fontsize=8)
+    for ax in axes:
+        for o in onsets_days:
+            ax.axvline(o, color="C3", ls="--", lw=0.6)
+    axes[-1].set_xlabel("time (days)")
+    if title:
+        axes[0].set_title(title)
+    fig.tight_layout()
+    return fig
+
+
+def _save(result, out, fig, name):
+    if out is not None:
+        path = out / name
+        fig.savefig(path, dpi=90)
+        result.figures.append(str(path))
+
+
+@register("mars-faults-ekf", title="faults in the 30-day Mars run, no detector (Fig. 3)",
+          source="Fan et al. 2016, section 4.3 and Fig. 3", chapter="08_fault_tolerant")
+def mars_faults_ekf(out=None, days=30.0, seed=0):
+    """Max position error with the paper's schedule and no detector vs the fault-free run."""
+    r = paper_runs(days, seed)
+    m_bad = r["none"].run.metrics()
+    m_ok = r["clean"].metrics()
+    bad, ok = m_bad["position_error_max_m"], m_ok["position_error_max_m"]
+    checks = [
+        check_range("max |position error|, faults, no detector (m)", PAPER_MAX_ERROR_FAULTS_M,
+                    bad, 1000.0, 10000.0, "same order of magnitude: in the km range (1-10 km)"),
+        check_range("max |position error|, fault-free (m)", "hundreds of m", ok, 0.0, 1000.0,
+                    "hundreds of metres or less"),
+        check_true("faults / fault-free max error", ">> 1", bad / ok, bad / ok >= 10.0, ">= 10"),
+        check_info("RMS |position error|, faults, no detector (m)", "not given",
+                   m_bad["position_error_m"], "the paper gives only the maximum for Fig. 3"),
+    ]
+    note = (
+        f"The paper's fault instants with our magnitudes and durations (5000 s each: UV range "
+        "steps of 5 sigma = 25 km; XNAV delay steps of 1e-5 s = 3 km on every pulsar and ramps "
+        "of 2e-9 s/s on B1937+21; horizon-sensor steps of 8 sigma = 0.4 deg on the three "
+        f"starlight angles). No detector: the federated filter takes every biased measurement. "
+        f"Ours peaks at {bad / 1e3:.2f} km (paper about 4 km) against {ok:.0f} m fault-free; the "
+        "CNS horizon bias causes the largest excursions, the UV range steps the smallest (the "
+        "range noise is 5 km). The paper gives no magnitudes, so only the order of magnitude "
+        "and the effect are claimed."
+    )
+    data = {"t_days": r["none"].run.t_days, "faulty": r["none"].run.position_error(),
+            "clean": r["clean"].position_error(), "faults": r["faults"],
+            "metrics": m_bad, "metrics_clean": m_ok}
+    result = Result("mars-faults-ekf", checks, note, data)
+    if out is not None:
+        fig = plot_error_curves({"faults, no detector": (data["t_days"], data["faulty"]),
+                                 "fault-free": (data["t_days"], data["clean"])},
+                                r["faults"], title="mars-faults-ekf (Fan et al. 2016, Fig. 3)")
+        _save(result, out, fig, "mars-faults-ekf.png")
+    return result
+
+
+@register("mars-faults-wavelet",
+          title="wavelet detection, isolation and rejoining in the faulty Mars run (Fig. 4)",
+          source="Fan et al. 2016, section 4.3 and Fig. 4", chapter="08_fault_tolerant")
+def mars_faults_wavelet(out=None, days=30.0, seed=0, hand_days=3.0):
+    """RMS errors with the wavelet detector vs the paper and vs our fault-free run."""
+    r = paper_runs(days, seed)
+    ftr = r["wavelet"]
+    m = ftr.run.metrics()
+    m0 = r["clean"].metrics()
+    pos, vel = m["position_error_m"], m["velocity_error_mps"]
+    delays = ftr.delays()
+    missed = [d for d in delays if not math.isfinite(d["delay"])]
+    # a schedule with onsets the paper does not use (shorter run)
+    hand = fault_tolerance.run_fault_tolerant(faults=list(HAND_SCHEDULE), detector="wavelet",
+                                              days=hand_days, seed=seed)
+    hand_clean = scenarios.run(days=hand_days, seed=seed)
+    hd = hand.delays()
+    hand_missed = [d for d in hd if not math.isfinite(d["delay"])]
+    hand_ratio = hand.run.metrics()["position_error_m"] / hand_clean.metrics()["position_error_m"]
+    checks = [
+        check_range("position_error_m", PAPER_POSITION_ERROR_M, pos, PAPER_POSITION_ERROR_M / 2,
+                    PAPER_POSITION_ERROR_M * 2, "within a factor of 2 (RMS after day 1)"),
+        check_range("velocity_error_mps", PAPER_VELOCITY_ERROR_MPS, vel,
+                    PAPER_VELOCITY_ERROR_MPS / 2, PAPER_VELOCITY_ERROR_MPS * 2,
+                    "within a factor of 2 (RMS after day 1)"),
+        check_range("position error / ours fault-free", "close to 1", pos / m0["position_error_m"],
+                    0.0, 1.5, "<= 1.5"),
+        check_range("velocity error / ours fault-free", "close to 1",
+                    vel / m0["velocity_error_mps"], 0.0, 1.5, "<= 1.5"),
+        check_true("scheduled faults detected", "all", f"{len(delays) - len(missed)} of {len(delays)}",
+                   not missed, "every fault"),
+        check_true("every subsystem connected at the end", "yes", bool(not ftr.isolated[-1].any()),
+                   not ftr.isolated[-1].any(), "rejoined after its fault"),
+        check_true(f"hand-made schedule ({hand_days:g} days, other onsets): detected",
+                   "all", f"{len(hd) - len(hand_missed)} of {len(hd)}", not hand_missed,
+                   "every fault"),
+        check_range("hand-made schedule: position error / fault-free", "close to 1", hand_ratio,
+                    0.0, 1.5, "<= 1.5"),
+    ]
+    finite = [d["delay"] for d in delays if math.isfinite(d["delay"])]
+    by = {}
+    for d in delays:
+        by.setdefault((d["sensor"], d["kind"]), []).append(d["delay"])
+    delay_text = "; ".join(f"{s} {k}: " + ", ".join(f"{v:.0f}" for v in vs) + " s"
+                           for (s, k), vs in by.items())
+    note = (
+        f"Wavelet detection (db3; UV range and CNS angles on the raw measurements, 5 levels, MAD "
+        "thresholds trained on day 1; XNAV on its normalised innovations, 3 levels), isolation "
+        "from the detected onset, rejoining when the detector is clear and the NIS of the last "
+        "measurements (100 UV/CNS, 4 XNAV) passes a 1 % chi-square test. Ours "
+        f"{pos:.2f} m and {vel:.5f} m/s against the paper's {PAPER_POSITION_ERROR_M} m and "
+        f"{PAPER_VELOCITY_ERROR_MPS} m/s, and against our fault-free {m0['position_error_m']:.2f} m "
+        f"and {m0['velocity_error_mps']:.5f} m/s: the isolated faults cost almost nothing, the "
+        "paper's faults cost it 27 % (28.8 -> 36.6 m), which suggests its detector let more of "
+        "each fault in (it does not state its detection delays). Detection delays: "
+        f"{delay_text} (the XNAV ramps are 0.87 sigma per sample at onset and show at their end "
+        f"jump; median of all {np.median(finite):.0f} s). "
+        f"Hand-made schedule ({len(hd)} faults at onsets the paper does not use, {hand_days:g} "
+        "days; UV step, XNAV step, CNS step, UV spike, XNAV ramp): delays "
+        + ", ".join(f"{d['delay']:.0f} s" for d in hd)
+        + f"; error ratio {hand_ratio:.2f} to the fault-free run."
+    )
+    data = {"t_days": ftr.run.t_days, "wavelet": ftr.run.position_error(),
+            "clean": r["clean"].position_error(), "velocity": ftr.run.velocity_error(),
+            "faults": r["faults"], "delays": delays, "isolations": ftr.isolation_intervals(),
+            "detections": ftr.detections, "metrics": m, "metrics_clean": m0,
+            "hand_delays": hd, "hand_ratio": hand_ratio}
+    result = Result("mars-faults-wavelet", checks, note, data)
+    if out is not None:
+        fig = plot_error_curves({"wavelet detection + isolation": (data["t_days"], data["wavelet"]),
+                                 "fault-free": (data["t_days"], data["clean"])}, r["faults"],
+                                title="mars-faults-wavelet (Fan et al. 2016, Fig. 4)",
+                                isolations=data["isolations"])
+        _save(result, out, fig, "mars-faults-wavelet.png")
+    return result
+
+
+@register("wavelet-details", title="db3 5-level detail signals of the faulty UV range (Fig. 5)",
+          source="Fan et al. 2016, section 4.3 and Fig. 5", chapter="08_fault_tolerant")
+def wavelet_details(out=None, days=30.0, seed=0, pfa=1e-5, train_days=1.0):
+    """Detail signals D1..D5 of the UV range with the paper's UV faults; each fault detected."""
+    inp = paper_runs(days, seed)["inputs"]
+    faults = [f for f in fault_tolerance.paper_schedule() if f.sensor == "uv"]
+    t = inp.t_meas["uv"] - inp.times[0]
+    x = inject(t, inp.z["uv"][:, 0], faults, "uv")
+    details, _ = detection.detail_signals(x, "db3", 5)
+    n_train = int(np.searchsorted(t, train_days * 86400.0))
+    det = detection.wavelet_detect(t, x, pfa=pfa, train=n_train)
+    sig = detection.mad_sigma(details[:, :n_train])
+    k = detection.threshold_multiplier(pfa, 6)
+    delays, peaks = [], []
+    for f in faults:
+        delays.append(det.first_onset_after(f.onset) - f.onset)
+        near = np.abs(t - f.onset) <= 300.0
+        peaks.append(float(np.max(np.abs(details[:, near]) / (k * sig[:, None]))))
+    late = [d for d in delays if not d <= 600.0]
+    matched = sum(1 for e in det.events
+                  if any(f.onset <= e.onset <= f.end + 600.0 for f in faults))
+    false = len(det.events) - matched
+    checks = [
+        check_true("scheduled UV faults detected within 600 s (online detector)", "all 6",
+                   f"{len(faults) - len(late)} of {len(faults)}", not late, "every onset"),
+        check_true("detail peak at each onset / threshold (min over faults)", "> 1",
+                   min(peaks), min(peaks) > 1.0, "each onset stands out in D1..D5"),
+        check_info("false alarms in 30 days (events away from faults)", "not given", false,
+                   f"design pfa {pfa:g} per sample; {x.size} samples"),
+    ]
+    note = (
+        "The UV range (5000 m noise, every 3 s) with the paper's six UV fault instants as 25-km "
+        "(5 sigma) steps of 5000 s. The figure shows D1..D5 of the whole series (PyWavelets, "
+        "db3, symmetric boundary; offline, as the paper plots it); the detection is the online "
+        f"causal detector of chapter 7 (MAD thresholds from day 1, k = {k:.2f}). Delays at the "
+        "onsets: " + ", ".join(f"{d:.0f} s" for d in delays) + ". Each step shows at both ends "
+        "(onset and end), as a singularity must."
+    )
+    data = {"t_days": t / 86400.0, "x": x, "details": details, "faults": faults,
+            "delays": delays, "peaks": peaks, "events": det.events}
+    result = Result("wavelet-details", checks, note, data)
+    if out is not None:
+        fig = plot_details(t / 86400.0, x, details, [f.onset / 86400.0 for f in faults],
+                           title="wavelet-details (Fan et al. 2016, Fig. 5)")
+        _save(result, out, fig, "wavelet-details.png")
+    return result

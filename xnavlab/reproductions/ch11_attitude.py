@@ -1,0 +1,260 @@
+"""Chapter 11 reproductions: attitude-sensor fault diagnosis with one Kalman filter.
+
+Source: Li, Niu, Shao & Shen, "satellite attitude sensor fault diagnosis with a single
+Kalman filter" (our copy lost most equations, the fault definitions (38)-(40) and the
+thresholds). Figures 3-6 and the 4x cost claim are reproduced qualitatively: which
+residuals cross, the isolation verdict, the detection delay of the skew ramp, and the
+measured cost ratio. Fault sizes and thresholds are ours (see
+:data:`xnavlab.attitude.DEFAULT_MAGNITUDES` and :class:`xnavlab.attitude.SimConfig`)
+and were fixed before looking at the outcome.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from xnavlab import attitude as att
+from xnavlab.reproduce import Result, check_range, check_true, figure, register
+
+__all__ = ["PAPER", "SOURCE", "CHAPTER", "crossed_after_onset"]
+
+SOURCE = "Li, Niu, Shao & Shen, attitude-sensor fault diagnosis with one Kalman filter"
+CHAPTER = "11_attitude_sos"
+
+#: What the paper states (section 4), as far as our copy shows it.
+PAPER = {
+    "xgyro_crossed": "r1, r4",
+    "xgyro_verdict": "gyro_x",
+    "skew_crossed": "r4",
+    "skew_delay_s": 2.5,
+    "star_verdict": "star_tracker",
+    "qdiff_verdict": "gyro fault (wrong)",
+    "cost_ratio": 4.0,
+}
+
+_NAMES = ("r1", "r2", "r3", "r4")
+_COMMON = (
+    "Choices where the paper is silent: 10 Hz sampling; skewed gyro on [1,1,1]/sqrt3; an "
+    "Earth-pointing truth motion (pitch -0.06 deg/s plus a 0.01 deg/s wobble); fault onset "
+    "50 s; references learned in a fault-free window 20-40 s and detectors armed at 40 s "
+    "(the paper instead shows start-up crossings while the drift estimates converge; ours "
+    "appear in the grey, unarmed part of the figures); thresholds = 5 predicted sigma; a "
+    "flag needs 3 consecutive samples; residuals crossing within 5 s of the detection "
+    "form the isolation pattern. r4 is reconstructed as the gyro parity "
+    "|w_g4 - h4^T w_g1 - p_ref| from the paper's operation count."
+)
+
+
+def crossed_after_onset(run, method="sos"):
+    """Names of the residuals flagged at any time from the fault onset to the end.
+
+    Examples
+    --------
+    >>> from xnavlab import attitude as att
+    >>> run = att.simulate(att.make_fault("gyro_x", "step", 36 * att.DEG_PER_H), duration=60.0)
+    >>> crossed_after_onset(run)
+    'r1, r4'
+    """
+    diag = {"sos": run.sos, "dos": run.dos}[method]
+    after = run.t >= run.onset
+    hit = diag.flags[after].any(axis=0)
+    names = _NAMES if method == "sos" else ("R1", "R2", "R3", "R4")
+    return ", ".join(n for n, h in zip(names, hit, strict=True) if h) or "none"
+
+
+def _false_alarm(run):
+    before = run.t < run.onset
+    return bool(run.sos.flags[before].any())
+
+
+def _first_flag_delay(run, i):
+    """Delay (s) from onset to the first flag of SOS residual ``i``; inf if never."""
+    idx = np.flatnonzero(run.sos.flags[:, i] & (run.t >= run.onset))
+    return float(run.t[idx[0]] - run.onset) if idx.size else math.inf
+
+
+def _figure(run, out, name, method="sos"):
+    m = 3 if method == "qdiff" else 4
+    fig, axes = figure(m, 1, sharex=True, figsize=(7, 1.5 * m + 1), squeeze=False)
+    att.plot_residuals(run, method, axes=axes[:, 0])
+    fig.tight_layout()
+    path = out / f"{name}.png"
+    fig.savefig(path, dpi=100)
+    return str(path)
+
+
+@register(
+    "attitude-xgyro-step",
+    title="x-gyro step fault: r1 and r4 cross, the others do not; isolated as the x gyro",
+    source=f"{SOURCE}, Fig. 3",
+    chapter=CHAPTER,
+)
+def xgyro_step(out=None, magnitude_deg_per_h=36.0, seed=0):
+    """Fig. 3: a step of ``magnitude_deg_per_h`` on the x gyro at t = 50 s."""
+    run = att.simulate(
+        att.make_fault("gyro_x", "step", magnitude_deg_per_h * att.DEG_PER_H), rng=seed
+    )
+    crossed = crossed_after_onset(run)
+    delay_r1 = _first_flag_delay(run, 0)
+    checks = [
+        check_true("residuals over threshold", PAPER["xgyro_crossed"], crossed,
+                   crossed == PAPER["xgyro_crossed"], "same set"),
+        check_true("SOS verdict", PAPER["xgyro_verdict"], run.sos.verdict,
+                   run.sos.verdict == "gyro_x", "same sensor"),
+        check_range("r1 delay (s)", "quickly", delay_r1, 0.0, run.config.confirm_s,
+                    "'quickly': within the 5 s isolation window"),
+        check_true("false alarm before onset", "none", "yes" if _false_alarm(run) else "none",
+                   not _false_alarm(run), "none once armed"),
+    ]
+    note = (
+        f"Fault (paper eq. (38) lost): +{magnitude_deg_per_h:g} deg/h (0.01 deg/s) on the x "
+        f"gyro from 50 s. r4 (gyro parity) flags after {_first_flag_delay(run, 3):.1f} s, r1 "
+        f"(x drift estimate) after {delay_r1:.1f} s; r2 and r3 stay below "
+        f"{np.max(run.sos_r[run.armed, 1:3] / run.sos_J[1:3]):.2f} of their thresholds. "
+        f"DOS agrees ({run.dos.verdict}) after {run.dos.detect_time - run.onset:.1f} s. "
+        + _COMMON
+    )
+    result = Result("attitude-xgyro-step", checks, note=note, data={"run": run})
+    if out is not None:
+        result.figures.append(_figure(run, out, "attitude-xgyro-step"))
+    return result
+
+
+@register(
+    "attitude-skew-ramp",
+    title="skewed-gyro ramp fault: only r4 crosses, about 2.5 s after onset",
+    source=f"{SOURCE}, Fig. 4",
+    chapter=CHAPTER,
+)
+def skew_ramp(out=None, rate_deg_per_h_per_s=0.1, seed=0):
+    """Fig. 4: a ramp of ``rate_deg_per_h_per_s`` on the skewed gyro from t = 50 s."""
+    rate = rate_deg_per_h_per_s * att.DEG_PER_H
+    run = att.simulate(att.make_fault("gyro_skew", "ramp", rate), rng=seed)
+    crossed = crossed_after_onset(run)
+    delay = float(run.sos.detect_time - run.onset)
+    expected = run.sos_J[3] / rate + (run.config.persist - 1) * run.config.dt
+    checks = [
+        check_true("residuals over threshold", PAPER["skew_crossed"], crossed,
+                   crossed == PAPER["skew_crossed"], "same set"),
+        check_true("SOS verdict", "gyro_skew", run.sos.verdict,
+                   run.sos.verdict == "gyro_skew", "same sensor"),
+        check_range("r4 delay (s)", PAPER["skew_delay_s"], delay, 1.25, 5.0,
+                    "within a factor 2 of 2.5 s (threshold and ramp rate lost)"),
+        check_true("false alarm before onset", "none", "yes" if _false_alarm(run) else "none",
+                   not _false_alarm(run), "none once armed"),
+    ]
+    note = (
+        f"Fault (paper eq. (39) lost): a ramp of {rate_deg_per_h_per_s:g} deg/h per second on "
+        f"the skewed gyro from 50 s, a round number chosen before the run. The delay is set "
+        f"by construction: threshold J4 = 5 x 0.05 deg/h x sqrt2 = {run.sos_J[3] / att.DEG_PER_H:.3f}"
+        f" deg/h over the ramp rate, plus 2 samples of persistence = {expected:.1f} s; ours "
+        f"{delay:.1f} s against the paper's 2.5 s. A rate of "
+        f"{run.sos_J[3] / att.DEG_PER_H / 2.5:.2f} deg/h/s would give 2.5 s, so the match says "
+        "only that the paper's ramp and threshold are of this order. Caveat found here: an "
+        "x-, y- or z-gyro ramp this slow also crosses r4 alone within the 5 s window and is "
+        "called a skew fault too (see the Monte Carlo table in the chapter). " + _COMMON
+    )
+    result = Result("attitude-skew-ramp", checks, note=note, data={"run": run})
+    if out is not None:
+        result.figures.append(_figure(run, out, "attitude-skew-ramp"))
+    return result
+
+
+def _star_run(magnitude, seed):
+    return att.simulate(att.make_fault("star_tracker", "ramp", magnitude), rng=seed)
+
+
+@register(
+    "attitude-star-tracker",
+    title="star-tracker fault: drift residuals cross, the gyro parity does not; isolated",
+    source=f"{SOURCE}, Fig. 5",
+    chapter=CHAPTER,
+)
+def star_tracker(out=None, ramp_per_s=5e-5, seed=0):
+    """Fig. 5: an additive ramp of ``ramp_per_s`` on the star-tracker's q1 from t = 50 s."""
+    run = _star_run(ramp_per_s, seed)
+    crossed = crossed_after_onset(run)
+    hit = run.sos.flags[run.t >= run.onset].any(axis=0)
+    checks = [
+        check_true("r4 over threshold", "no", "yes" if hit[3] else "no", not hit[3],
+                   "gyro parity blind to the star tracker"),
+        check_true("any of r1-r3 over threshold", "yes", crossed, bool(hit[:3].any()),
+                   "at least one"),
+        check_true("SOS verdict", PAPER["star_verdict"], run.sos.verdict,
+                   run.sos.verdict == "star_tracker", "same sensor"),
+        check_true("false alarm before onset", "none", "yes" if _false_alarm(run) else "none",
+                   not _false_alarm(run), "none once armed"),
+    ]
+    note = (
+        f"Fault (paper eq. (40) lost): an additive ramp f_q of {ramp_per_s:g} per second on "
+        "the star-tracker quaternion component q1 from 50 s (a drifting star-tracker output, "
+        f"an apparent rotation of about {2 * ramp_per_s / att.DEG_PER_H:.0f} deg/h); the "
+        "measured quaternion is renormalised. The filter reads it as a drift change on all "
+        f"three axes; here {crossed} flag, r4 cannot. Detected "
+        f"{run.sos.detect_time - run.onset:.1f} s after onset; DOS says {run.dos.verdict}. "
+        + _COMMON
+    )
+    result = Result("attitude-star-tracker", checks, note=note, data={"run": run})
+    if out is not None:
+        result.figures.append(_figure(run, out, "attitude-star-tracker"))
+    return result
+
+
+@register(
+    "attitude-qdiff",
+    title="quaternion differentiation (ref. [22]) blames the gyros for a star-tracker fault",
+    source=f"{SOURCE}, Fig. 6",
+    chapter=CHAPTER,
+)
+def qdiff(out=None, ramp_per_s=5e-5, seed=0, window_s=10.0):
+    """Fig. 6: ref. [22] on the star-tracker fault of Fig. 5."""
+    run = _star_run(ramp_per_s, seed)
+    if window_s != run.config.qdiff_window_s:
+        run = att.simulate(run.faults, qdiff_window_s=window_s, rng=seed)
+    v = run.qd.verdict
+    peak = float(np.max(np.abs(run.qd_f[run.t_qd >= run.onset]) / run.qd_J))
+    checks = [
+        check_true("ref. [22] verdict", PAPER["qdiff_verdict"], v, v.startswith("gyro"),
+                   "blames one or more gyros"),
+        check_true("SOS verdict on the same data", "star_tracker", run.sos.verdict,
+                   run.sos.verdict == "star_tracker", "same sensor"),
+    ]
+    note = (
+        f"Ref. [22] as reconstructed: rate from a least-squares slope of the star-tracker "
+        f"quaternions over a {window_s:g} s window, w = 2 Xi(q)^T q_dot, minus the gyro "
+        f"average over the same window; references learned in 20-40 s; thresholds 5 sigma "
+        f"({run.qd_J[0] / att.DEG_PER_H:.1f} deg/h). On the star-tracker ramp of Fig. 5 its "
+        f"fault estimates reach {peak:.0f} times the threshold and it blames {v}, the wrong "
+        f"sensor, {run.qd.detect_time - run.onset:.1f} s after onset; SOS says "
+        f"{run.sos.verdict}. The paper shows only the three orthogonal gyros, as we do."
+    )
+    result = Result("attitude-qdiff", checks, note=note, data={"run": run})
+    if out is not None:
+        result.figures.append(_figure(run, out, "attitude-qdiff", "qdiff"))
+    return result
+
+
+@register(
+    "attitude-cost",
+    title="cost of DOS (four filters) against SOS (one filter), measured",
+    source=f"{SOURCE}, section 3 (remark 3)",
+    chapter=CHAPTER,
+)
+def cost(out=None, n_steps=400, repeats=3, seed=0):
+    """Measured per-sample time of DOS over SOS, in this process (paper: about 4x)."""
+    r = att.time_sos_dos(n_steps=n_steps, repeats=repeats, rng=seed)
+    checks = [
+        check_range("DOS/SOS time per sample", PAPER["cost_ratio"], r["ratio"], 2.0, 8.0,
+                    "between 2x and 8x (timing on a shared machine)"),
+    ]
+    note = (
+        f"SOS {r['sos_us']:.0f} us, DOS {r['dos_us']:.0f} us per sample (best of {repeats} "
+        f"runs of {n_steps} samples, time.perf_counter, same process and data). The paper's "
+        "4x is an operation count (four filters against one, r4 costing 3 multiplications, "
+        "4 additions and 1 absolute value); in Python the per-call overhead is the same for "
+        "every filter, so the measured ratio tracks the number of filters. Use "
+        "benchmarks/bench_attitude.py for a longer run."
+    )
+    return Result("attitude-cost", checks, note=note, data=r)

@@ -1,0 +1,240 @@
+"""Companion paper 001 (Jin, Song, Qiu & Wang 2011): PL/INS fault diagnosis with fuzzy parity.
+
+Two reproductions, both on the paper's flight (200 s north from 39 N, 116 E at 10 km,
+100 to 200 m/s, window ``s = 11``) simulated by :func:`xnavlab.plins.parity.diagnose_flight`:
+
+``plins-step`` (Figs. 2-3)
+    Steps on three pseudoranges at once from t = 50 s: detected at the onset, the
+    healthy fourth pseudorange not alarmed, the identified sizes within 5 %.
+``plins-ramp`` (Fig. 4)
+    The ramp ``f = a t + b`` on pseudorange 1 from t = 30 s, ``a = 10 m/s``,
+    ``b = -300 m``: detection, and the identified slope and offset.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from xnavlab.core.faults import Fault
+from xnavlab.plins.parity import diagnose_flight
+from xnavlab.plins.pseudolites import DEFAULT_SIGMA, SENSOR
+from xnavlab.reproduce import Result, check_abs, check_range, check_rel, check_true, register
+from xnavlab.reproduce import figure as _figure
+
+__all__: list[str] = []  # registers reproductions; exports nothing
+
+#: Step sizes on pseudoranges 1-4, m (our choice, the paper does not print them: of
+#: the order of a pseudolite clock jump of one microsecond, c * 1 us = 300 m; PR4 is
+#: kept healthy to show isolation).
+STEP_SIZES_M = (300.0, -200.0, 450.0, 0.0)
+#: Step onset, s (paper: "t > 50 s").
+STEP_ONSET = 50.0
+#: Ramp of the paper on pseudorange 1: slope (m/s), offset (m), onset (s).
+RAMP_A, RAMP_B, RAMP_ONSET = 10.0, -300.0, 30.0
+
+_COMMON_NOTE = (
+    "Model (equations lost in the source, standard forms used): 9-state phi-angle INS error "
+    "model in ENU plus a constant pseudolite equivalent (receiver clock) error; four ground "
+    "pseudolites placed by us (PDOP 3.3-9.2 along the leg); 'PL positioning accuracy 10 m' "
+    "read as the position-fix accuracy, i.e. pseudorange noise 10 m / PDOP ~ 2 m; 1 Hz "
+    "samples; tactical IMU (0.1 deg/sqrt(h), 0.1 m/s/sqrt(h)); three T-S operating points "
+    "(t = 0, 100, 200 s); single-sensor parity space = numerical left null space of "
+    "[H0 Hw] keeping state/noise leakage below 0.3 sigma (dimension 10 of 12); threshold "
+    "at a false-alarm probability of 1e-6 per window. "
+)
+
+
+def _step_faults(sizes, onset):
+    return [Fault(SENSOR, "step", float(f), onset, component=j)
+            for j, f in enumerate(sizes) if f != 0.0]
+
+
+@register(
+    "plins-step",
+    title="Steps on three pseudoranges at once from t = 50 s: detection and identified sizes",
+    source="Jin et al. 2011, Figs. 2-3",
+    chapter="12_fuzzy_parity",
+)
+def plins_step(out=None, seed=0, n_runs=40, sigma=DEFAULT_SIGMA, sizes=STEP_SIZES_M):
+    """Figs. 2-3: simultaneous steps, detected at onset, sizes identified within 5 %."""
+    sizes = tuple(float(f) for f in sizes)
+    faults = _step_faults(sizes, STEP_ONSET)
+    d = diagnose_flight(faults, model="step", seed=seed, sigma=sigma)
+    checks = []
+    for j, f in enumerate(sizes):
+        name = f"PR{j + 1}"
+        det = d.detection[j]
+        if f == 0.0:
+            checks.append(check_true(f"{name} (healthy) alarm", "none",
+                                     "none" if det is None else f"{det:g} s", det is None,
+                                     "no alarm on the fault-free pseudorange (isolation)"))
+            continue
+        checks.append(check_abs(f"{name} detection time (s)", STEP_ONSET,
+                                math.inf if det is None else det, 0.0, "s (at the onset)"))
+        idn = d.identification.get(j)
+        est = float(idn.final[0]) if idn is not None else math.nan
+        checks.append(check_rel(f"{name} identified step (m), seed {seed}", f, est, 0.05))
+    mc = _monte_carlo(faults, "step", seed, n_runs, sigma)
+    for j, f in enumerate(sizes):
+        if f == 0.0:
+            continue
+        within = float(np.mean(np.abs(mc[:, j, 0] - f) <= 0.05 * abs(f)))
+        checks.append(check_range(f"PR{j + 1} runs within 5 % (of {n_runs})", 1.0, within,
+                                  0.95, 1.0, "at least 95 % of the Monte Carlo runs"))
+    spread = {f"PR{j + 1}": float(np.std(mc[:, j, 0])) for j, f in enumerate(sizes) if f != 0.0}
+    note = (
+        _COMMON_NOTE
+        + f"Step sizes are ours (the paper prints none): {sizes} m on PR1-PR4, from t = 50 s "
+        "(active for t >= 50 s). Each is detected in the first window that contains the "
+        "onset and identified to "
+        + ", ".join(f"{k} {v:.1f} m" for k, v in spread.items())
+        + f" (1 sigma over {n_runs} runs; the Kalman filter's own sigma is about 3 times "
+        "smaller because it treats overlapping windows as independent). Two differences "
+        "from the paper, both forced by the physics: (1) a step that fills the window is "
+        "indistinguishable from the receiver clock (1 is in the range of H0, so v^T 1 = 0 "
+        "for every parity vector: the paper's constraint 2 fails for its own eq. 23), so the "
+        "size is identified from the s windows straddling the onset, with the onset found by "
+        "a likelihood-ratio search; (2) hence the residual returns below the threshold "
+        "s = 11 samples after the onset instead of staying non-zero as the paper describes "
+        "for Fig. 2. The estimate is then held by the random-walk filter."
+    )
+    result = Result(
+        "plins-step", checks, note=note,
+        data={"diagnosis": d, "sizes": sizes, "onset": STEP_ONSET, "monte_carlo": mc[:, :, 0]},
+    )
+    if out is not None:
+        result.figures += [str(_fig2(d, out)), str(_fig3(d, sizes, out))]
+    return result
+
+
+@register(
+    "plins-ramp",
+    title="Ramp f = a t + b on pseudorange 1 from t = 30 s (a = 10 m/s, b = -300 m)",
+    source="Jin et al. 2011, Fig. 4",
+    chapter="12_fuzzy_parity",
+)
+def plins_ramp(out=None, seed=0, n_runs=40, sigma=DEFAULT_SIGMA, time_origin="absolute"):
+    """Fig. 4: the ramp on pseudorange 1, its detection and its identified slope and offset."""
+    if time_origin == "absolute":
+        # f = a t + b for t >= 30 s with t the flight time: a t0 + b = 0, a drift from zero
+        faults = [Fault(SENSOR, "ramp", RAMP_A, RAMP_ONSET, component=0)]
+        jump = RAMP_A * RAMP_ONSET + RAMP_B
+        if jump != 0.0:
+            faults.append(Fault(SENSOR, "step", jump, RAMP_ONSET, component=0))
+    else:
+        # f = a (t - 30) + b: a jump of b at the onset, then the drift
+        faults = [Fault(SENSOR, "ramp", RAMP_A, RAMP_ONSET, component=0),
+                  Fault(SENSOR, "step", RAMP_B, RAMP_ONSET, component=0)]
+    d = diagnose_flight(faults, model="ramp", time_origin=time_origin, seed=seed, sigma=sigma)
+    det = d.detection[0]
+    delay = math.inf if det is None else det - RAMP_ONSET
+    checks = [
+        check_range("PR1 detection delay (s)", "detected", delay, 0.0, 5.0,
+                    "within 5 s of the onset"),
+        check_true("PR2-PR4 alarms", "none", str(d.detection[1:]),
+                   all(x is None for x in d.detection[1:]), "no alarm on the healthy ones"),
+    ]
+    mc = _monte_carlo(faults, "ramp", seed, n_runs, sigma, time_origin)[:, 0, :]
+    mean, std = mc.mean(axis=0), mc.std(axis=0)
+    within = np.all(np.abs(mc - [RAMP_A, RAMP_B]) <= 0.05 * np.abs([RAMP_A, RAMP_B]), axis=1)
+    idn = d.identification.get(0)
+    est = idn.final if idn is not None else np.full(2, math.nan)
+    for i, (name, truth) in enumerate((("slope a (m/s)", RAMP_A), ("offset b (m)", RAMP_B))):
+        checks.append(check_rel(f"{name}, mean of {n_runs} runs", truth, float(mean[i]), 0.05))
+        spread = (f"within 2 sigma of the runs (sigma = {std[i]:.3g} = {std[i] / abs(truth):.1%})"
+                  if np.isfinite(std[i]) else "within 2 sigma of the runs (no run detected it)")
+        checks.append(check_range(f"{name}, seed {seed}", truth, float(est[i]),
+                                  truth - 2 * std[i], truth + 2 * std[i], spread))
+    note = (
+        _COMMON_NOTE
+        + "Reading of f = a t + b: t is the flight time (time_origin='absolute'), so with "
+        "a = 10 m/s and b = -300 m the fault is zero at the onset t = 30 s (a t0 + b = 0 is "
+        "unlikely to be a coincidence) and drifts at 10 m/s: injected as one ramp of 10 m/s "
+        "from 30 s. The other reading (t since the onset: a -300 m jump, then the drift) is "
+        "time_origin='onset'. Detected "
+        + (f"{delay:g} s after the onset" if det is not None else "never")
+        + " (the kink must build up). Identification is unbiased (mean of "
+        f"{n_runs} runs: a = {mean[0]:.2f} m/s, b = {mean[1]:.1f} m) but a single run is "
+        f"within 5 % of both only in {np.mean(within):.0%} of runs (1 sigma: "
+        f"{std[0] / RAMP_A:.1%} for a, {std[1] / abs(RAMP_B):.1%} for b): we do NOT reproduce "
+        "the paper's single-run accuracy at 2 m noise. The reason is information, not "
+        "tuning: a ramp that fills the window is absorbed by the INS velocity error along "
+        "the line of sight (and the clock), so only the s windows straddling the kink carry "
+        "information about a; with 12 samples of 2 m noise that is about 0.5 m/s. The checks "
+        "therefore assert an unbiased mean within 5 % and the shown run within 2 sigma."
+    )
+    result = Result(
+        "plins-ramp", checks, note=note,
+        data={"diagnosis": d, "a": RAMP_A, "b": RAMP_B, "onset": RAMP_ONSET,
+              "monte_carlo": mc, "within_5pc": float(np.mean(within))},
+    )
+    if out is not None:
+        result.figures.append(str(_fig4(d, out)))
+    return result
+
+
+def _monte_carlo(faults, model, seed, n_runs, sigma, time_origin="absolute"):
+    """Identified parameters of every sensor over ``n_runs`` seeds: (n_runs, m, p)."""
+    p = 2 if model == "ramp" else 1
+    runs = []
+    for i in range(n_runs):
+        d = diagnose_flight(faults, model=model, time_origin=time_origin, seed=seed + i,
+                            sigma=sigma)
+        row = np.full((len(d.detection), p), math.nan)
+        for j, idn in d.identification.items():
+            row[j] = idn.final
+        runs.append(row)
+    return np.array(runs)
+
+
+
+def _fig2(d, out):
+    fig, ax = _figure(figsize=(6.5, 3.5))
+    for j in range(d.statistic.shape[1]):
+        ax.semilogy(d.t_res, d.statistic[:, j], label=f"PR{j + 1}")
+    ax.axhline(d.threshold, color="k", ls="--", lw=1, label="threshold $r_t$")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel(r"global residual $\|r_j\|$ (m)")
+    ax.set_title("Fig. 2: residuals with steps on PR1-PR3 from 50 s")
+    ax.legend(fontsize=8, ncol=3)
+    fig.tight_layout()
+    path = out / "plins-fig2.png"
+    fig.savefig(path, dpi=100)
+    return path
+
+
+def _fig3(d, sizes, out):
+    fig, ax = _figure(figsize=(6.5, 3.5))
+    for j, idn in sorted(d.identification.items()):
+        (line,) = ax.plot(idn.t, idn.theta[:, 0], label=f"PR{j + 1} estimate")
+        ax.axhline(sizes[j], color=line.get_color(), ls=":", lw=1)
+    ax.set_xlim(STEP_ONSET - 2, STEP_ONSET + 25)
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("identified step (m)")
+    ax.set_title("Fig. 3: identified step sizes (dotted: injected)")
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    path = out / "plins-fig3.png"
+    fig.savefig(path, dpi=100)
+    return path
+
+
+def _fig4(d, out):
+    fig, axes = _figure(1, 2, figsize=(9, 3.3))
+    idn = d.identification.get(0)
+    for i, (ax, truth, label) in enumerate(zip(
+            axes, (RAMP_A, RAMP_B), ("slope a (m/s)", "offset b (m)"), strict=True)):
+        if idn is not None:
+            ax.plot(idn.t, idn.theta[:, i], label="estimate")
+        ax.axhline(truth, color="k", ls=":", lw=1, label="paper")
+        ax.set_xlim(RAMP_ONSET - 2, RAMP_ONSET + 30)
+        ax.set_xlabel("time (s)")
+        ax.set_ylabel(label)
+        ax.legend(fontsize=8)
+    fig.suptitle("Fig. 4: ramp f = a t + b on PR1 from 30 s")
+    fig.tight_layout()
+    path = out / "plins-fig4.png"
+    fig.savefig(path, dpi=100)
+    return path

@@ -1,0 +1,21 @@
+"""Companion paper 002: navigation robust to planetary-ephemeris error.
+
+=======================  =================================================================
+module                   what it models
+=======================  =================================================================
+``ephemeris_error``      the DE421 - DE405 ephemeris error, orbits about Earth or Mars, the
+                         XNAV measurements that see the error (chapter 10)
+``filters``              UKF, ASUKF, TDUKF and the robust Kalman filter (RKF)
+=======================  =================================================================
+
+The filters' public names are re-exported here (``from xnavlab import robust``).
+This system uses two pieces of the Mars system, because the book's story needs them: the
+pulsar catalogue (:mod:`xnavlab.mars.pulsars`: the same four pulsars are observed) and the
+Mars initial state and pole (:mod:`xnavlab.mars.dynamics`: the Mars case flies the main
+paper's orbit).
+"""
+
+from xnavlab.robust.filters import *  # noqa: F403
+from xnavlab.robust.filters import __all__ as _filters_all
+
+__all__ = [*_filters_all]

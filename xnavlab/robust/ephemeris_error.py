@@ -1,0 +1,499 @@
+"""Planetary-ephemeris error and its effect on XNAV (Li et al. 2017, companion paper 002).
+
+An orbiter's XNAV measurement is the projection of its barycentric position on the
+pulsar direction (paper eqs. (1)-(2))::
+
+    c dt_i = n_i . (r + r_E)
+
+with ``r`` the spacecraft position relative to the planet and ``r_E`` the planet's
+position relative to the solar-system barycentre (SSB). The filter only knows the
+planet's position from an ephemeris, ``r_E_hat``; the ephemeris error (paper eq. (3))
+
+    dr_E = r_E - r_E_hat
+
+therefore enters the measurement as the bias ``B_i = n_i . dr_E``. Following the paper,
+the truth uses DE421 and the filter DE405; an injected constant or slowly drifting
+offset of a chosen size can replace the DE405 error (:func:`injected_error`).
+
+This module holds the model: the error itself (:func:`ephemeris_error`,
+:func:`error_summary`), pulsar directions (:func:`pulsar_direction`), the measurement
+(:func:`xnav_range`, :data:`SIGMA_M`), the planet-centred two-body + J2 dynamics
+(:func:`acceleration`, :func:`propagate`) and the two scenario orbits
+(:func:`orbit`). The filters are in :mod:`xnavlab.robust`.
+
+Conventions
+-----------
+Measurements are in metres (``c dt``), so ``R = diag(109^2, 325^2, 340^2)`` m^2.
+Pulsar directions use the standard ICRF component order
+``[cos d cos a, cos d sin a, sin d]``. The paper prints
+``[cos d sin a, cos d cos a, sin d]``, which swaps x and y: that vector is the mirror
+image of the true direction in the plane x = y, not a rotation, so it cannot be a
+different but equivalent frame convention; it is a typo (the standard order follows
+from x towards the equinox, alpha = 0, and y towards alpha = 90 deg). The paper's
+order can still be asked for with ``order="paper"``.
+
+Epoch: the paper gives Table 1 "within 1997"; we use 1997-01-01 00:00 TDB
+(:data:`EPOCH_1997`) for the error table and for the navigation runs.
+
+Examples
+--------
+>>> dr = ephemeris_error("earth", EPOCH_1997)
+>>> bool(500.0 < np.linalg.norm(dr) < 5000.0)   # DE421 - DE405, metres
+True
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numba
+import numpy as np
+
+from xnavlab.core import ephemeris
+from xnavlab.core.constants import DAY, GM_EARTH, GM_MARS, J2_EARTH, J2_MARS, R_EARTH, R_MARS
+from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real
+from xnavlab.mars import pulsars
+from xnavlab.mars.dynamics import MARS_POLE, MARS_STATE0
+
+__all__ = [
+    "propagate_unchecked",
+    "EPOCH_1997",
+    "YEAR",
+    "PULSARS",
+    "SIGMA_M",
+    "EARTH_POLE",
+    "PLANETS",
+    "Orbit",
+    "EARTH_ELEMENTS",
+    "ephemeris_error",
+    "error_summary",
+    "injected_error",
+    "pulsar_direction",
+    "directions",
+    "xnav_range",
+    "acceleration",
+    "propagate",
+    "elements_to_state",
+    "orbit",
+]
+
+#: 1997-01-01 00:00 TDB (JD 2450449.5), s past J2000: the paper's Table 1 year.
+EPOCH_1997 = -94_651_200.0
+#: Julian year, s.
+YEAR = 365.25 * DAY
+#: The three pulsars whose ranging accuracies match the paper's R (109, 325, 340 m):
+#: B0531+21 (109 m), B1821-24 (326 m) and B1937+21 (345 m) at 500 s, 1 m^2, 0.005 ph/cm^2/s.
+PULSARS = ("B0531+21", "B1821-24", "B1937+21")
+#: The paper's measurement noise (1 sigma), m: ``R = diag(109^2, 325^2, 340^2)``.
+SIGMA_M = (109.0, 325.0, 340.0)
+#: Earth's pole for J2 (the J2000 z axis; precession is neglected).
+EARTH_POLE = np.array([0.0, 0.0, 1.0])
+#: Planet constants: GM (m^3/s^2), J2, equatorial radius (m), pole (ICRF unit vector).
+PLANETS = {
+    "earth": (GM_EARTH, J2_EARTH, R_EARTH, EARTH_POLE),
+    "mars": (GM_MARS, J2_MARS, R_MARS, MARS_POLE),
+}
+
+
+def ephemeris_error(body, t, truth="de421", model="de405"):
+    """Ephemeris error ``dr_E = r_E(truth) - r_E(model)`` of a planet, m (paper eq. (3)).
+
+    Parameters
+    ----------
+    body : {"earth", "mars"}
+        Planet (Mars is the Mars-system barycentre, see :mod:`xnavlab.core.ephemeris`).
+    t : float or array_like, shape (n,)
+        Epochs, s TDB past J2000.
+    truth, model : {"de421", "de405"}
+        The ephemeris taken as truth and the one the filter uses.
+
+    Returns
+    -------
+    ndarray, shape (3,) or (n, 3)
+        SSB-relative position difference, ICRF axes, m.
+
+    Examples
+    --------
+    >>> ephemeris_error("mars", [EPOCH_1997, EPOCH_1997 + 3600.0]).shape
+    (2, 3)
+    """
+    check_choice("body", body, tuple(PLANETS))
+    return ephemeris.position(body, t, truth) - ephemeris.position(body, t, model)
+
+
+def error_summary(body, t0=EPOCH_1997, span=DAY, n=97):
+    """Mean, maximum and end-minus-start norm of the DE421 - DE405 error over a span.
+
+    The idea of the paper's Table 1 (values lost): the mean error over 24 h and over
+    one year.
+
+    Parameters
+    ----------
+    body : {"earth", "mars"}
+    t0 : float
+        Start, s TDB past J2000 (default 1997-01-01).
+    span : float
+        Length, s (positive, at most 10 years).
+    n : int
+        Number of samples (at least 2).
+
+    Returns
+    -------
+    dict
+        ``mean_m``, ``max_m``, ``change_m`` (``|dr(t0+span)| - |dr(t0)|``), ``t`` (n,)
+        and ``norm`` (n,) in m.
+
+    Examples
+    --------
+    >>> s = error_summary("earth")
+    >>> bool(s["max_m"] >= s["mean_m"] > 0)
+    True
+    """
+    check_choice("body", body, tuple(PLANETS))
+    t0 = check_real("t0", t0)
+    span = check_real("span", span, 0.0, 10 * YEAR, lo_open=True)
+    n = check_int("n", n, 2, 10**6)
+    t = t0 + np.linspace(0.0, span, n)
+    norm = np.linalg.norm(ephemeris_error(body, t), axis=1)
+    return {"mean_m": float(norm.mean()), "max_m": float(norm.max()),
+            "change_m": float(norm[-1] - norm[0]), "t": t, "norm": norm}
+
+
+def injected_error(t, size, kind="constant", direction=(1.0, 1.0, 1.0), t0=0.0, period=YEAR):
+    """A synthetic ephemeris error of a chosen size, m (for Fig. 4 and the sweep).
+
+    Parameters
+    ----------
+    t : float or array_like, shape (n,)
+        Epochs, s.
+    size : float
+        Magnitude, m (``>= 0``).
+    kind : {"constant", "slow"}
+        ``"constant"``: ``size * u``; ``"slow"``: ``size * u * (1 + 0.2 sin(2 pi (t - t0) / period))``,
+        a slowly varying error of the DE405-DE421 kind (about 20 % over a year).
+    direction : array_like, shape (3,)
+        Direction ``u`` (normalised here; must be non-zero).
+    t0 : float
+        Reference epoch of the slow variation, s.
+    period : float
+        Period of the slow variation, s.
+
+    Returns
+    -------
+    ndarray, shape (3,) or (n, 3)
+
+    Examples
+    --------
+    >>> round(float(np.linalg.norm(injected_error(0.0, 100.0))), 9)
+    100.0
+    """
+    size = check_real("size", size, 0.0)
+    check_choice("kind", kind, ("constant", "slow"))
+    u = check_finite_array("direction", direction, shape=(3,))
+    norm = float(np.linalg.norm(u))
+    if norm == 0.0:
+        raise ValueError("direction must be a non-zero 3-vector")
+    period = check_real("period", period, 0.0, lo_open=True)
+    t = check_finite_array("t", t)
+    scale = np.full(t.shape, size)
+    if kind == "slow":
+        scale = size * (1.0 + 0.2 * np.sin(2.0 * math.pi * (t - t0) / period))
+    return scale[..., None] * (u / norm)
+
+
+def pulsar_direction(ra_deg, dec_deg, order="standard"):
+    """Unit vector to a pulsar from J2000 right ascension and declination.
+
+    Parameters
+    ----------
+    ra_deg, dec_deg : float
+        Right ascension and declination, degrees.
+    order : {"standard", "paper"}
+        ``"standard"``: ``[cos d cos a, cos d sin a, sin d]`` (ICRF, used throughout);
+        ``"paper"``: the paper's printed ``[cos d sin a, cos d cos a, sin d]`` (x and y
+        swapped, a mirror image; kept only to show the difference).
+
+    Returns
+    -------
+    ndarray, shape (3,)
+
+    Examples
+    --------
+    >>> np.round(pulsar_direction(90.0, 0.0), 12).tolist()
+    [0.0, 1.0, 0.0]
+    >>> np.round(pulsar_direction(90.0, 0.0, order="paper"), 12).tolist()
+    [1.0, 0.0, 0.0]
+    """
+    a = math.radians(check_real("ra_deg", ra_deg, 0.0, 360.0))
+    d = math.radians(check_real("dec_deg", dec_deg, -90.0, 90.0))
+    check_choice("order", order, ("standard", "paper"))
+    if order == "paper":
+        return np.array([math.cos(d) * math.sin(a), math.cos(d) * math.cos(a), math.sin(d)])
+    return np.array([math.cos(d) * math.cos(a), math.cos(d) * math.sin(a), math.sin(d)])
+
+
+def directions(names=PULSARS, order="standard"):
+    """Pulsar directions as rows, shape (k, 3): the matrix ``N`` of ``z = N (r + r_E)``.
+
+    Examples
+    --------
+    >>> directions().shape
+    (3, 3)
+    """
+    names = tuple(names)
+    if not names:
+        raise ValueError("names must list at least one pulsar")
+    rows = []
+    for name in names:
+        p = pulsars.get(name)
+        rows.append(pulsar_direction(p.ra_deg, p.dec_deg, order))
+    return np.array(rows)
+
+
+def xnav_range(r, r_planet, n):
+    """XNAV measurement in metres, ``c dt_i = n_i . (r + r_E)`` (paper eqs. (1)-(2)).
+
+    Parameters
+    ----------
+    r : array_like, shape (..., 3)
+        Spacecraft position relative to the planet, m.
+    r_planet : array_like, shape (..., 3)
+        Planet position relative to the SSB, m (broadcast against ``r``).
+    n : array_like, shape (k, 3)
+        Pulsar directions (rows).
+
+    Returns
+    -------
+    ndarray, shape (..., k)
+        Ranges ``c dt``, m.
+
+    Examples
+    --------
+    >>> xnav_range([1.0, 2.0, 3.0], np.zeros(3), np.eye(3)).tolist()
+    [1.0, 2.0, 3.0]
+    """
+    r = check_finite_array("r", r, shape=(3,))
+    r_planet = check_finite_array("r_planet", r_planet, shape=(3,))
+    n = check_finite_array("n", n, shape=(None, 3))
+    return (r + r_planet) @ n.T  # paper eq. (1): c dt = n . (r + r_E)
+
+
+def acceleration(r, body="earth"):
+    """Two-body + J2 acceleration in the planet-centred J2000 frame, m/s^2 (paper eq. (5)).
+
+    ``a = -mu r / |r|^3 - 3/2 J2 mu R^2 / |r|^5 [(1 - 5 z^2/|r|^2) r + 2 z p]``, ``z = r . p``.
+
+    Parameters
+    ----------
+    r : array_like, shape (3,) or (k, 3)
+        Position, m.
+    body : {"earth", "mars"}
+
+    Examples
+    --------
+    >>> a = acceleration([R_EARTH, 0.0, 0.0])
+    >>> bool(9.8 < -a[0] < 9.85)
+    True
+    """
+    check_choice("body", body, tuple(PLANETS))
+    r = check_finite_array("r", r, shape=(3,))
+    gm, j2, radius, pole = PLANETS[body]
+    X = np.zeros(r.shape[:-1] + (6,))
+    X[..., :3] = r
+    return _deriv(np.atleast_2d(X), gm, j2, radius, pole)[:, 3:].reshape(r.shape)
+
+
+def propagate(x, dt, body="earth", substep=20.0):
+    """Propagate states over ``dt`` with fixed-step RK4 of the two-body + J2 model.
+
+    Parameters
+    ----------
+    x : array_like, shape (6,) or (k, 6)
+        States ``[r, v]``, m and m/s (rows are propagated together, e.g. sigma points).
+    dt : float
+        Time step, s (may be negative, ``|dt| <= 1e6``).
+    body : {"earth", "mars"}
+    substep : float
+        Largest RK4 step, s; ``dt`` is split into ``ceil(|dt| / substep)`` equal steps.
+        20 s keeps the error over one orbit (12 h Earth, 2.3 h Mars) below 0.1 m.
+
+    Returns
+    -------
+    ndarray, same shape as ``x``
+
+    Examples
+    --------
+    >>> x0 = orbit("earth").state0
+    >>> x1 = propagate(propagate(x0, 500.0), -500.0)
+    >>> bool(np.allclose(x1, x0, atol=1e-6))
+    True
+    """
+    check_choice("body", body, tuple(PLANETS))
+    x = check_finite_array("x", x, shape=(6,))
+    dt = check_real("dt", dt, -1e6, 1e6)
+    substep = check_real("substep", substep, 0.0, 1e5, lo_open=True)
+    return propagate_unchecked(x, dt, body, substep)
+
+
+def propagate_unchecked(x, dt, body, substep=20.0):
+    """:func:`propagate` without the argument checks, for the filters' inner loops.
+
+    ``x`` (..., 6) body-centred J2000 states (m, m/s), ``dt`` (s), ``body`` a key of
+    :data:`PLANETS`; returns the propagated states, same shape. The caller guarantees
+    finite inputs (sigma points of a filter).
+    """
+    gm, j2, radius, pole = PLANETS[body]
+    nsub = max(1, int(math.ceil(abs(dt) / substep)))
+    X = np.ascontiguousarray(np.atleast_2d(x), dtype=float)
+    out = _rk4(X, float(dt), nsub, gm, j2, radius, np.ascontiguousarray(pole, dtype=float))
+    return out.reshape(np.shape(x))
+
+
+@numba.njit(cache=True)
+def _deriv(X, gm, j2, radius, pole):  # pragma: no cover - compiled
+    out = np.empty_like(X)
+    for k in range(X.shape[0]):
+        r0, r1, r2 = X[k, 0], X[k, 1], X[k, 2]
+        rn2 = r0 * r0 + r1 * r1 + r2 * r2
+        rn = math.sqrt(rn2)
+        c = -gm / (rn2 * rn)  # a = -mu r / |r|^3
+        z = r0 * pole[0] + r1 * pole[1] + r2 * pole[2]
+        kj = -1.5 * j2 * gm * radius * radius / (rn2 * rn2 * rn)
+        f = 1.0 - 5.0 * z * z / rn2  # J2: k [(1 - 5 z^2/r^2) r + 2 z p]
+        out[k, 0], out[k, 1], out[k, 2] = X[k, 3], X[k, 4], X[k, 5]
+        out[k, 3] = c * r0 + kj * (f * r0 + 2.0 * z * pole[0])
+        out[k, 4] = c * r1 + kj * (f * r1 + 2.0 * z * pole[1])
+        out[k, 5] = c * r2 + kj * (f * r2 + 2.0 * z * pole[2])
+    return out
+
+
+@numba.njit(cache=True)
+def _rk4(X, dt, nsub, gm, j2, radius, pole):  # pragma: no cover - compiled
+    h = dt / nsub
+    Y = X.copy()
+    for _ in range(nsub):
+        k1 = _deriv(Y, gm, j2, radius, pole)
+        k2 = _deriv(Y + 0.5 * h * k1, gm, j2, radius, pole)
+        k3 = _deriv(Y + 0.5 * h * k2, gm, j2, radius, pole)
+        k4 = _deriv(Y + h * k3, gm, j2, radius, pole)
+        Y = Y + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+    return Y
+
+
+def elements_to_state(a, e, i_deg, raan_deg, argp_deg, nu_deg, gm):
+    """Cartesian state from Keplerian elements, m and m/s.
+
+    Parameters
+    ----------
+    a : float
+        Semi-major axis, m (positive).
+    e : float
+        Eccentricity, ``0 <= e < 1``.
+    i_deg, raan_deg, argp_deg, nu_deg : float
+        Inclination, right ascension of the ascending node, argument of periapsis and
+        true anomaly, degrees (in the frame of the planet-centred J2000 axes).
+    gm : float
+        Gravitational parameter, m^3/s^2.
+
+    Returns
+    -------
+    ndarray, shape (6,)
+
+    Examples
+    --------
+    >>> x = elements_to_state(7e6, 0.0, 0.0, 0.0, 0.0, 0.0, GM_EARTH)
+    >>> round(float(x[4]), 3) == round(math.sqrt(GM_EARTH / 7e6), 3)
+    True
+    """
+    a = check_real("a", a, 0.0, lo_open=True)
+    e = check_real("e", e, 0.0, 1.0, hi_open=True)
+    gm = check_real("gm", gm, 0.0, lo_open=True)
+    i, raan, argp, nu = (math.radians(check_real(n, v, -360.0, 360.0)) for n, v in
+                         (("i_deg", i_deg), ("raan_deg", raan_deg), ("argp_deg", argp_deg),
+                          ("nu_deg", nu_deg)))
+    p = a * (1.0 - e * e)
+    rn = p / (1.0 + e * math.cos(nu))
+    r_pf = np.array([rn * math.cos(nu), rn * math.sin(nu), 0.0])
+    v_pf = math.sqrt(gm / p) * np.array([-math.sin(nu), e + math.cos(nu), 0.0])
+    cO, sO, ci, si, cw, sw = (math.cos(raan), math.sin(raan), math.cos(i), math.sin(i),
+                              math.cos(argp), math.sin(argp))
+    rot = np.array([
+        [cO * cw - sO * sw * ci, -cO * sw - sO * cw * ci, sO * si],
+        [sO * cw + cO * sw * ci, -sO * sw + cO * cw * ci, -cO * si],
+        [sw * si, cw * si, ci],
+    ])
+    return np.concatenate([rot @ r_pf, rot @ v_pf])
+
+
+@dataclass(frozen=True)
+class Orbit:
+    """A navigation scenario: planet, initial state and epoch.
+
+    Attributes
+    ----------
+    body : str
+        ``"earth"`` or ``"mars"``.
+    state0 : ndarray, shape (6,)
+        Initial planet-centred J2000 state, m and m/s.
+    t0 : float
+        Initial epoch, s TDB past J2000.
+    name : str
+        Label.
+    source : str
+        Where the elements come from.
+    """
+
+    body: str
+    state0: np.ndarray
+    t0: float
+    name: str
+    source: str
+
+
+#: Elements of the Earth orbit (a m, e, i, RAAN, argp, nu in degrees).
+EARTH_ELEMENTS = (26_560e3, 0.01, 63.0, 0.0, 0.0, 0.0)
+
+
+def orbit(body="earth", t0=EPOCH_1997, elements=None):
+    """The scenario orbit of the paper for ``body`` (elements adjustable).
+
+    Earth: "OPS_5111" of Wang et al. (2014). OPS 5111 is the military designation of
+    NAVSTAR 1, the first GPS Block I satellite; its elements were not recoverable from
+    the sources at hand, so we use representative Block I elements: a = 26,560 km,
+    e = 0.01, i = 63 deg (period 11.97 h). Mars: the orbit of Wei et al. (2013) could
+    not be recovered either; we use the Mars orbit of the main paper
+    (:data:`xnavlab.mars.dynamics.MARS_STATE0`: a = 4196 km, e = 0.09, i = 75 deg,
+    period 2.29 h) so that the book has one Mars orbit.
+
+    Parameters
+    ----------
+    body : {"earth", "mars"}
+    t0 : float
+        Epoch, s TDB past J2000.
+    elements : tuple of 6 floats, optional
+        ``(a_m, e, i_deg, raan_deg, argp_deg, nu_deg)`` replacing the default orbit.
+
+    Returns
+    -------
+    Orbit
+
+    Examples
+    --------
+    >>> o = orbit("earth")
+    >>> round(float(np.linalg.norm(o.state0[:3])) / 1e3)
+    26294
+    """
+    check_choice("body", body, tuple(PLANETS))
+    t0 = check_real("t0", t0)
+    gm = PLANETS[body][0]
+    if elements is not None:
+        el = tuple(elements)
+        if len(el) != 6:
+            raise ValueError(f"elements must be (a_m, e, i_deg, raan_deg, argp_deg, nu_deg), got {el!r}")
+        return Orbit(body, elements_to_state(*el, gm), t0, f"{body} (user elements)", "user")
+    if body == "earth":
+        return Orbit(body, elements_to_state(*EARTH_ELEMENTS, gm), t0, "OPS_5111 (representative)",
+                     "representative GPS Block I elements (OPS 5111 = NAVSTAR 1)")
+    return Orbit(body, MARS_STATE0.copy(), t0, "Mars orbiter",
+                 "Fan et al. 2016 initial state (xnavlab.mars.dynamics.MARS_STATE0)")

@@ -1,0 +1,844 @@
+"""Four navigation filters against planetary-ephemeris error (Li et al. 2017).
+
+The measurement the filters see is the XNAV range with the planet position taken from
+the filter's ephemeris removed, ``y = z - N r_E_hat = N r + N dr_E + v`` (m), so the
+ephemeris error appears as the bias ``B = N dr_E`` (paper eq. (17)). All four filters
+share the unscented prediction of the planet-centred two-body + J2 dynamics
+(:func:`predict`, the scaled unscented transform of :mod:`xnavlab.core.filters`).
+
+UKF
+    The baseline: ignores the bias.
+ASUKF (Wang et al. 2013)
+    State augmented with the bias, ``[r, v, b]`` with ``b`` a random walk, and
+    ``y = N r + b + v`` (:func:`asukf_update`).
+TDUKF (Wang et al. 2014)
+    Time-differenced measurements ``y_k - y_{k-1} = N (r_k - r_{k-1}) + v_k - v_{k-1}``:
+    a slowly varying bias cancels. The differenced noise is correlated with the previous
+    one (an MA(1) sequence) and, through ``r_{k-1}``, with the state; we handle both
+    exactly by carrying a clone of the previous state and the previous measurement noise
+    in the filter state (stochastic cloning), so the update is an ordinary Kalman update
+    with ``H = [N, -N, -I, I]`` over ``[x_k, x_{k-1}, v_{k-1}, v_k]``
+    (:func:`tdukf_predict`, :func:`tdukf_update`).
+RKF (the paper's method, eqs. (8)-(26) lost; re-derived)
+    Kalman form with the unknown bias: ``e+ = (I - K H) e- - K B - K v``. For any
+    ``eps > 0``, ``(a + b)(a + b)^T <= (1 + 1/eps) a a^T + (1 + eps) b b^T``, so with
+    ``Sigma- >= P-``::
+
+        P+ <= Sigma+(K) = (1 + 1/eps) (I - K H) Sigma- (I - K H)^T + K [R + (1 + eps) B B^T] K^T
+
+    Setting ``d tr Sigma+ / dK = 0`` gives the bound-minimising gain and bound::
+
+        K = Sigma- H^T [H Sigma- H^T + (R + (1 + eps) B B^T) / (1 + 1/eps)]^-1
+        Sigma+ = (1 + 1/eps) (I - K H) Sigma-
+
+    The bias is unknown. ``run_filter(..., rkf_bias="prior")`` (default) takes it from an
+    a priori ephemeris-error model, ``B = N dr_prior`` with ``dr_prior`` the DE421 - DE405
+    difference at the start epoch, held constant (the paper builds its section-1.2
+    analysis of the error into the measurement model). ``rkf_bias="residual"`` uses only
+    a lower bound from the innovations (the paper's "lower bound from the measurement
+    residuals"): with ``m`` an exponentially weighted mean of the innovations (weight
+    ``lam``), whose noise part has covariance ``lam / (2 - lam) S``,
+    ``B B^T >= [m m^T - lam / (2 - lam) S]_+`` (the positive part; zero "otherwise",
+    :func:`rkf_bias_bound`). It does not work well: the filter absorbs the bias into the
+    state before the innovations reveal it. ``H Sigma- H^T`` and ``Sigma- H^T`` come from
+    the unscented transform (paper: the UKF replaces eqs. (8) and (13)); for this linear
+    measurement they equal the closed forms (:func:`rkf_update`).
+
+    For a bias that is constant over the run the RKF stays behind the ASUKF in our runs,
+    even as ``eps -> inf``: it discards the measurement combination along ``B`` at every
+    epoch, while the ASUKF learns the bias once and then uses all measurements.
+
+Units: m, m/s, s. Frames: planet-centred J2000 for ``r, v``; measurement space for ``b``.
+
+Examples
+--------
+>>> sc = simulate("earth", n_steps=20, rng=0)
+>>> res = run_filter("rkf", sc, rng=0)
+>>> res.x.shape, res.error.shape
+((20, 6), (20,))
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from xnavlab.core.filters import sigma_points, symmetrize, ukf_weights, unscented_transform
+from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
+from xnavlab.robust import ephemeris_error as ee
+
+__all__ = [
+    "FILTERS",
+    "EPSILON",
+    "Scenario",
+    "FilterRun",
+    "simulate",
+    "predict",
+    "ukf_update",
+    "asukf_update",
+    "tdukf_predict",
+    "tdukf_update",
+    "rkf_gain",
+    "rkf_bias_bound",
+    "rkf_update",
+    "run_filter",
+    "rmse",
+    "improvement",
+    "WINDOWS",
+    "compare_filters",
+]
+
+#: Filter names accepted by :func:`run_filter`.
+FILTERS = ("ukf", "asukf", "tdukf", "rkf")
+#: The paper's epsilon: 1000 for the Earth orbit, 100 for Mars.
+EPSILON = {"earth": 1000.0, "mars": 100.0}
+#: The paper's stable intervals for the RMSE, s after the start, and the run lengths (steps of 500 s).
+WINDOWS = {"earth": (1e5, 6e5), "mars": (5e4, 2.5e5)}
+_N_STEPS = {"earth": 1200, "mars": 500}
+
+
+@dataclass
+class Scenario:
+    """A simulated navigation run.
+
+    Attributes
+    ----------
+    body : str
+        ``"earth"`` or ``"mars"``.
+    t : ndarray, shape (n,)
+        Measurement epochs, s TDB past J2000 (one per ``dt``).
+    dt : float
+        Step, s.
+    x_true : ndarray, shape (n, 6)
+        True planet-centred states, m and m/s.
+    y : ndarray, shape (n, k)
+        Reduced measurements ``z - N r_E_hat = N r + N dr_E + v``, m.
+    n : ndarray, shape (k, 3)
+        Pulsar directions.
+    R : ndarray, shape (k, k)
+        Measurement-noise covariance, m^2.
+    dr_e : ndarray, shape (n, 3)
+        Ephemeris error ``r_E - r_E_hat`` used, m.
+    """
+
+    body: str
+    t: np.ndarray
+    dt: float
+    x_true: np.ndarray
+    y: np.ndarray
+    n: np.ndarray
+    R: np.ndarray
+    dr_e: np.ndarray
+
+
+@dataclass
+class FilterRun:
+    """Output of :func:`run_filter`.
+
+    Attributes
+    ----------
+    name : str
+    x : ndarray, shape (n, 6)
+        Estimated states after each update.
+    P : ndarray, shape (n, 6, 6)
+        Their covariance (for the RKF, the bound ``Sigma``).
+    error : ndarray, shape (n,)
+        Position error ``|r_hat - r|``, m.
+    extra : dict
+        Filter-specific series (``"bias"`` for ASUKF, ``"bias_bound"`` for RKF).
+    """
+
+    name: str
+    x: np.ndarray
+    P: np.ndarray
+    error: np.ndarray
+    extra: dict = field(default_factory=dict)
+
+
+def simulate(body="earth", n_steps=1200, dt=500.0, error="de405", size=0.0, pulsar_names=None,
+             sigma_m=None, t0=ee.EPOCH_1997, elements=None, rng=None):
+    """Simulate truth and measurements for one scenario.
+
+    Parameters
+    ----------
+    body : {"earth", "mars"}
+    n_steps : int
+        Number of measurement epochs (``t = t0 + dt * [1..n_steps]``).
+    dt : float
+        Observation interval, s (paper: 500).
+    error : {"de405", "constant", "slow", "none"}
+        Ephemeris error: DE421 - DE405 (the paper's), an injected constant or slowly
+        varying offset of ``size`` metres (:func:`xnavlab.robust.ephemeris_error.injected_error`),
+        or none.
+    size : float
+        Size of the injected error, m.
+    pulsar_names : sequence of str, optional
+        Pulsars (default :data:`xnavlab.robust.ephemeris_error.PULSARS`).
+    sigma_m : sequence of float, optional
+        Their ranging noise, m (default :data:`xnavlab.robust.ephemeris_error.SIGMA_M`; needed
+        when other pulsars are chosen: defaults to their ranging accuracy then).
+    t0 : float
+        Epoch of the initial state, s TDB past J2000.
+    elements : tuple, optional
+        Orbital elements replacing the default orbit (see :func:`xnavlab.robust.ephemeris_error.orbit`).
+    rng : numpy.random.Generator or int, optional
+
+    Returns
+    -------
+    Scenario
+
+    Examples
+    --------
+    >>> sc = simulate("mars", n_steps=5, error="constant", size=100.0, rng=1)
+    >>> sc.y.shape, round(float(np.linalg.norm(sc.dr_e[0])), 6)
+    ((5, 3), 100.0)
+    """
+    check_choice("body", body, tuple(ee.PLANETS))
+    n_steps = check_int("n_steps", n_steps, 1, 10**6)
+    dt = check_real("dt", dt, 1.0, 1e5)
+    check_choice("error", error, ("de405", "constant", "slow", "none"))
+    size = check_real("size", size, 0.0, 1e8)
+    rng = make_rng(rng)
+    from xnavlab.mars import pulsars
+
+    names = ee.PULSARS if pulsar_names is None else tuple(pulsar_names)
+    if sigma_m is None:
+        if names == ee.PULSARS:
+            sigma_m = ee.SIGMA_M
+        else:
+            sigma_m = [pulsars.ranging_accuracy(nm) for nm in names]
+    sigma = check_finite_array("sigma_m", sigma_m)
+    if sigma.shape != (len(names),) or np.any(sigma <= 0):
+        raise ValueError(f"sigma_m must hold {len(names)} positive values, got {sigma_m!r}")
+    n = ee.directions(names)
+    orb = ee.orbit(body, t0, elements)
+    t = orb.t0 + dt * np.arange(1, n_steps + 1)
+    x = np.empty((n_steps, 6))
+    s = orb.state0
+    for k in range(n_steps):
+        s = ee.propagate(s, dt, body, substep=10.0)
+        x[k] = s
+    if error == "de405":
+        dr = ee.ephemeris_error(body, t)
+    elif error == "none":
+        dr = np.zeros((n_steps, 3))
+    else:
+        dr = ee.injected_error(t, size, error, t0=orb.t0)
+    v = rng.normal(size=(n_steps, len(names))) * sigma
+    y = (x[:, :3] + dr) @ n.T + v  # y = z - N r_E_hat = N (r + dr_E) + v, paper eqs. (1)-(3)
+    return Scenario(body, t, dt, x, y, n, np.diag(sigma**2), dr)
+
+
+@functools.lru_cache(maxsize=32)
+def _weights(m):
+    Wm, Wc, lam = ukf_weights(m)
+    Wm.flags.writeable = False
+    Wc.flags.writeable = False
+    return Wm, Wc, lam
+
+
+def _predict(x, P, dt, body, Q, n_dyn=6):
+    Wm, Wc, lam = _weights(x.size)
+    X = sigma_points(x, P, lam)
+    Y = X.copy()
+    Y[:, :n_dyn] = ee.propagate_unchecked(X[:, :n_dyn], dt, body)  # x_k|k-1 = f(x_k-1), per sigma point
+    return unscented_transform(Y, Wm, Wc, noise=Q)  # P- = sum Wc (Y - x-)(Y - x-)^T + Q
+
+
+def predict(x, P, dt, body, Q, n_dyn=6):
+    """Unscented time update of ``[r, v, extra...]``: ``r, v`` through the dynamics, the rest held.
+
+    Parameters
+    ----------
+    x : array_like, shape (m,)
+        State; its first ``n_dyn = 6`` components are ``[r, v]`` (m, m/s), any further
+        components (a bias) are constant over the step.
+    P : array_like, shape (m, m)
+        Covariance.
+    dt : float
+        Step, s.
+    body : {"earth", "mars"}
+    Q : array_like, shape (m, m)
+        Process noise over the step.
+
+    Returns
+    -------
+    x : ndarray, shape (m,)
+    P : ndarray, shape (m, m)
+
+    Examples
+    --------
+    >>> o = ee.orbit("earth")
+    >>> x, P = predict(o.state0, np.eye(6), 500.0, "earth", np.zeros((6, 6)))
+    >>> bool(np.allclose(x, ee.propagate(o.state0, 500.0), atol=1e-3))
+    True
+    """
+    x = check_finite_array("x", x)
+    P = check_finite_array("P", P)
+    Q = check_finite_array("Q", Q)
+    m = x.size
+    if x.ndim != 1 or m < n_dyn or P.shape != (m, m) or Q.shape != (m, m):
+        raise ValueError(f"x must be 1-D with at least {n_dyn} entries and P, Q of shape ({m}, {m})")
+    check_choice("body", body, tuple(ee.PLANETS))
+    dt = check_real("dt", dt, -1e6, 1e6)
+    return _predict(x, P, dt, body, Q, n_dyn)
+
+
+def _measure(x, P, H):
+    """Linear measurement: mean ``H x``, ``H P H^T`` and ``P H^T``.
+
+    For a linear ``h`` the unscented transform returns exactly these (the sigma points
+    reproduce the mean and covariance), so they are computed in closed form.
+    """
+    PHt = P @ H.T
+    return H @ x, symmetrize(H @ PHt), PHt
+
+
+def _update_linear(x, P, y, R, H):
+    z_pred, Pzz, Pxz = _measure(x, P, H)
+    S = Pzz + R  # S = H P H^T + R
+    K = np.linalg.solve(S, Pxz.T).T  # K = Pxz S^-1
+    nu = y - z_pred
+    return x + K @ nu, symmetrize(P - K @ S @ K.T), nu  # P+ = P- - K S K^T
+
+
+def _check_update(x, P, y, R, n):
+    x = check_finite_array("x", x)
+    P = check_finite_array("P", P)
+    y = check_finite_array("y", y)
+    R = check_finite_array("R", R)
+    n = check_finite_array("n", n, shape=(None, 3))
+    k = n.shape[0]
+    if y.shape != (k,) or R.shape != (k, k) or P.shape != (x.size, x.size):
+        raise ValueError(f"y must have shape ({k},), R ({k}, {k}) and P ({x.size}, {x.size}); "
+                         f"got {y.shape}, {R.shape}, {P.shape}")
+    return x, P, y, R, n
+
+
+def ukf_update(x, P, y, R, n):
+    """UKF measurement update with ``h(x) = N r`` (the bias is ignored).
+
+    Parameters
+    ----------
+    x : array_like, shape (6,)
+        Predicted ``[r, v]``.
+    P : array_like, shape (6, 6)
+    y : array_like, shape (k,)
+        Reduced measurement ``z - N r_E_hat``, m.
+    R : array_like, shape (k, k)
+    n : array_like, shape (k, 3)
+        Pulsar directions.
+
+    Returns
+    -------
+    x : ndarray, shape (6,)
+    P : ndarray, shape (6, 6)
+    nu : ndarray, shape (k,)
+        Innovation.
+
+    Examples
+    --------
+    >>> x, P, nu = ukf_update(np.zeros(6), np.eye(6), np.ones(3), np.eye(3), np.eye(3))
+    >>> np.round(x[:3], 6).tolist()
+    [0.5, 0.5, 0.5]
+    """
+    x, P, y, R, n = _check_update(x, P, y, R, n)
+    if x.size != 6:
+        raise ValueError(f"x must have 6 entries [r, v], got {x.size}")
+    H = np.zeros((n.shape[0], 6))
+    H[:, :3] = n  # h(x) = N r
+    return _update_linear(x, P, y, R, H)
+
+
+def asukf_update(x, P, y, R, n):
+    """ASUKF update: state ``[r, v, b]``, ``h(x) = N r + b`` (Wang et al. 2013).
+
+    Parameters
+    ----------
+    x : array_like, shape (6 + k,)
+    P : array_like, shape (6 + k, 6 + k)
+    y, R, n : as in :func:`ukf_update`
+
+    Returns
+    -------
+    x, P, nu
+
+    Examples
+    --------
+    >>> x, P, nu = asukf_update(np.zeros(9), np.eye(9), np.ones(3), np.eye(3), np.eye(3))
+    >>> np.round(x[6:], 6).tolist()
+    [0.333333, 0.333333, 0.333333]
+    """
+    x, P, y, R, n = _check_update(x, P, y, R, n)
+    k = n.shape[0]
+    if x.size != 6 + k:
+        raise ValueError(f"x must have 6 + {k} entries (state and bias), got {x.size}")
+    return _update_linear(x, P, y, R, _asukf_h(n))
+
+
+def _asukf_h(n):
+    k = n.shape[0]
+    H = np.zeros((k, 6 + k))
+    H[:, :3] = n
+    H[:, 6:] = np.eye(k)  # y = N r + b + v
+    return H
+
+
+def tdukf_predict(x, P, dt, body, Q):
+    """TDUKF time update: ``[x_k, v_k] -> [x_k+1, x_k (clone), v_k]``.
+
+    Parameters
+    ----------
+    x : array_like, shape (6 + k,)
+        Posterior ``[r, v]`` and the posterior of the last measurement noise ``v_k``.
+    P : array_like, shape (6 + k, 6 + k)
+    dt : float
+    body : {"earth", "mars"}
+    Q : array_like, shape (6, 6)
+        Process noise of ``[r, v]`` over the step.
+
+    Returns
+    -------
+    x : ndarray, shape (12 + k,)
+    P : ndarray, shape (12 + k, 12 + k)
+
+    Examples
+    --------
+    >>> o = ee.orbit("mars")
+    >>> x, P = tdukf_predict(np.r_[o.state0, 0, 0, 0], np.eye(9), 500.0, "mars", np.eye(6))
+    >>> x.shape, bool(np.allclose(x[6:12], o.state0))
+    ((15,), True)
+    """
+    x = check_finite_array("x", x)
+    P = check_finite_array("P", P)
+    Q = check_finite_array("Q", Q, shape=(6, 6))
+    m = x.size
+    if x.ndim != 1 or m < 6 or P.shape != (m, m):
+        raise ValueError(f"x must be 1-D with at least 6 entries and P of shape ({m}, {m})")
+    check_choice("body", body, tuple(ee.PLANETS))
+    dt = check_real("dt", dt, -1e6, 1e6)
+    return _tdukf_predict(x, P, dt, body, Q)
+
+
+def _tdukf_predict(x, P, dt, body, Q):
+    m = x.size
+    Wm, Wc, lam = _weights(m)
+    X = sigma_points(x, P, lam)
+    Y = np.hstack([ee.propagate_unchecked(X[:, :6], dt, body), X[:, :6], X[:, 6:]])  # [f(x_k), x_k, v_k]
+    noise = np.zeros((m + 6, m + 6))
+    noise[:6, :6] = Q
+    return unscented_transform(Y, Wm, Wc, noise=noise)
+
+
+def tdukf_update(x, P, dy, R, n, carry_noise=True):
+    """TDUKF update with the differenced measurement ``dy = y_k+1 - y_k``.
+
+    ``dy = N r_k+1 - N r_k - v_k + v_k+1`` is linear in ``[x_k+1, x_k, v_k, v_k+1]``.
+    With ``carry_noise`` (exact): ``v_k+1 ~ N(0, R)`` is appended to the state, the
+    Kalman update is done with ``H = [N 0, -N 0, -I, I]`` and no further noise, and the
+    result is marginalised to ``[x_k+1, v_k+1]`` (which carries the MA(1) correlation of
+    the differenced noise into the next difference). Without it: the state is
+    ``[x_k+1, x_k]``, ``H = [N 0, -N 0]`` and the differenced noise is taken as white
+    with covariance ``2 R`` (the noise increase the paper attributes to the TDUKF).
+    Either way the process noise of the step is correlated with ``dy`` through the
+    joint covariance of ``x_k+1`` and its clone ``x_k`` (Wang et al. 2014 derive a
+    modified UKF for that correlation).
+
+    Parameters
+    ----------
+    x : array_like, shape (12 + k,) or (12,)
+        Output of :func:`tdukf_predict` (``12`` entries when ``carry_noise`` is False).
+    P : array_like, shape matching ``x``
+    dy : array_like, shape (k,)
+    R, n : as in :func:`ukf_update`
+    carry_noise : bool
+        Keep the previous measurement noise in the state (exact) or treat the
+        differenced noise as white (``2 R``).
+
+    Returns
+    -------
+    x : ndarray, shape (6 + k,) or (6,)
+    P : ndarray, shape (6 + k, 6 + k) or (6, 6)
+    nu : ndarray, shape (k,)
+
+    Examples
+    --------
+    >>> x, P, nu = tdukf_update(np.zeros(15), np.eye(15), np.zeros(3), np.eye(3), np.eye(3))
+    >>> x.shape, P.shape
+    ((9,), (9, 9))
+    >>> tdukf_update(np.zeros(12), np.eye(12), np.zeros(3), np.eye(3), np.eye(3), False)[0].shape
+    (6,)
+    """
+    x, P, dy, R, n = _check_update(x, P, dy, R, n)
+    k = n.shape[0]
+    if not carry_noise:
+        if x.size != 12:
+            raise ValueError(f"x must have 12 entries when carry_noise is False, got {x.size}")
+        H = np.zeros((k, 12))
+        H[:, :3] = n
+        H[:, 6:9] = -n  # dy = N r_k+1 - N r_k + (v_k+1 - v_k)
+        S = symmetrize(H @ P @ H.T + 2.0 * R)  # white approximation: cov(v_k+1 - v_k) = 2 R
+        K = np.linalg.solve(S, H @ P).T
+        nu = dy - H @ x
+        return (x + K @ nu)[:6], symmetrize(P - K @ S @ K.T)[:6, :6], nu
+    if x.size != 12 + k:
+        raise ValueError(f"x must have 12 + {k} entries, got {x.size}")
+    xa = np.concatenate([x, np.zeros(k)])
+    Pa = np.zeros((x.size + k, x.size + k))
+    Pa[: x.size, : x.size] = P
+    Pa[x.size:, x.size:] = R
+    H = np.zeros((k, xa.size))
+    H[:, :3] = n
+    H[:, 6:9] = -n
+    H[:, 12:12 + k] = -np.eye(k)
+    H[:, 12 + k:] = np.eye(k)  # dy = N r_k+1 - N r_k - v_k + v_k+1
+    S = symmetrize(H @ Pa @ H.T)
+    K = np.linalg.solve(S, H @ Pa).T  # K = P H^T S^-1
+    nu = dy - H @ xa
+    xa = xa + K @ nu
+    Pa = symmetrize(Pa - K @ S @ K.T)
+    keep = np.r_[0:6, 12 + k: 12 + 2 * k]
+    return xa[keep], Pa[np.ix_(keep, keep)], nu
+
+
+def rkf_gain(Pxz, Pzz, R, BB, eps):
+    """Bound-minimising RKF gain ``K = Sigma H^T [H Sigma H^T + (R + (1+eps) B B^T)/(1+1/eps)]^-1``.
+
+    Parameters
+    ----------
+    Pxz : array_like, shape (n, k)
+        ``Sigma- H^T``.
+    Pzz : array_like, shape (k, k)
+        ``H Sigma- H^T``.
+    R : array_like, shape (k, k)
+    BB : array_like, shape (k, k)
+        Bound on the bias outer product ``B B^T`` (positive semi-definite).
+    eps : float
+        The scalar of the matrix inequality, ``eps > 0`` (paper: ``eps > 1``).
+
+    Returns
+    -------
+    ndarray, shape (n, k)
+
+    Examples
+    --------
+    >>> K = rkf_gain(np.eye(1), np.eye(1), np.eye(1), np.zeros((1, 1)), 1e12)
+    >>> round(float(K[0, 0]), 6)   # eps -> inf, B = 0: the Kalman gain 1 / (1 + 1)
+    0.5
+    """
+    eps = check_real("eps", eps, 0.0, lo_open=True)
+    Pxz = check_finite_array("Pxz", Pxz)
+    Pzz = check_finite_array("Pzz", Pzz)
+    R = check_finite_array("R", R)
+    BB = check_finite_array("BB", BB)
+    W = (R + (1.0 + eps) * BB) / (1.0 + 1.0 / eps)  # (R + (1+eps) B B^T) / (1 + 1/eps)
+    return np.linalg.solve(symmetrize(Pzz + W), Pxz.T).T  # K = Sigma H^T [H Sigma H^T + W]^-1
+
+
+def rkf_bias_bound(m, S, lam):
+    """Lower bound on ``B B^T`` from the mean innovation: ``[m m^T - lam/(2-lam) S]_+``.
+
+    Parameters
+    ----------
+    m : array_like, shape (k,)
+        Exponentially weighted mean of the innovations (weight ``lam``).
+    S : array_like, shape (k, k)
+        Innovation covariance without the bias, ``H Sigma H^T + R``.
+    lam : float
+        Weight in (0, 1].
+
+    Returns
+    -------
+    ndarray, shape (k, k)
+        Positive semi-definite (negative eigenvalues set to zero, "otherwise 0").
+
+    Examples
+    --------
+    >>> rkf_bias_bound(np.zeros(2), np.eye(2), 0.1).tolist()
+    [[0.0, 0.0], [0.0, 0.0]]
+    """
+    m = check_finite_array("m", m)
+    S = check_finite_array("S", S)
+    lam = check_real("lam", lam, 0.0, 1.0, lo_open=True)
+    A = symmetrize(np.outer(m, m) - lam / (2.0 - lam) * S)
+    w, V = np.linalg.eigh(A)
+    return symmetrize((V * np.clip(w, 0.0, None)) @ V.T)
+
+
+def rkf_update(x, P, y, R, n, BB, eps):
+    """RKF measurement update (re-derived paper eqs. (9), (17)-(26); see the module docstring).
+
+    Parameters
+    ----------
+    x : array_like, shape (6,)
+        Predicted ``[r, v]``.
+    P : array_like, shape (6, 6)
+        Predicted bound ``Sigma-``.
+    y, R, n : as in :func:`ukf_update`
+    BB : array_like, shape (k, k)
+        Bound on the bias outer product ``B B^T`` (from :func:`rkf_bias_bound` or from an
+        a priori ephemeris-error model ``B = N dr_E``).
+    eps : float
+        The inequality's scalar (paper: 1000 Earth, 100 Mars).
+
+    Returns
+    -------
+    x : ndarray, shape (6,)
+    P : ndarray, shape (6, 6)
+        ``Sigma+ = (1 + 1/eps) (I - K H) Sigma-`` (symmetrised).
+    nu : ndarray, shape (k,)
+        Innovation.
+
+    Examples
+    --------
+    >>> x, P, nu = rkf_update(np.zeros(6), np.eye(6), np.ones(3), np.eye(3), np.eye(3),
+    ...                       np.zeros((3, 3)), 1000.0)
+    >>> bool(np.all(np.linalg.eigvalsh(P) > 0))
+    True
+    """
+    x, P, y, R, n = _check_update(x, P, y, R, n)
+    BB = check_finite_array("BB", BB)
+    k = n.shape[0]
+    if BB.shape != (k, k):
+        raise ValueError(f"BB must have shape ({k}, {k}), got {BB.shape}")
+    eps = check_real("eps", eps, 0.0, lo_open=True)
+    if x.size != 6:
+        raise ValueError(f"x must have 6 entries [r, v], got {x.size}")
+    H = np.zeros((k, 6))
+    H[:, :3] = n
+    return _rkf_update(x, P, y, R, H, BB, eps)
+
+
+def _rkf_update(x, P, y, R, H, BB, eps):
+    z_pred, Pzz, Pxz = _measure(x, P, H)
+    nu = y - z_pred
+    W = (R + (1.0 + eps) * BB) / (1.0 + 1.0 / eps)  # (R + (1+eps) B B^T) / (1 + 1/eps)
+    K = np.linalg.solve(symmetrize(Pzz + W), Pxz.T).T  # K = Sigma H^T [H Sigma H^T + W]^-1
+    # Sigma+ = (1 + 1/eps) (Sigma- - K H Sigma-); with the UT, H Sigma- = Pxz^T
+    Sig = (1.0 + 1.0 / eps) * (P - K @ Pxz.T)
+    return x + K @ nu, symmetrize(Sig), nu
+
+
+def run_filter(name, scenario, eps=None, sigma_r0=1000.0, sigma_v0=1.0, q_r=0.0, q_v=1e-4,
+               q_b=1.0, sigma_b0=3000.0, rkf_bias="prior", prior_error=None, lam=0.02,
+               td_carry_noise=True, rng=None):
+    """Run one filter over a scenario from a random initial error.
+
+    Parameters
+    ----------
+    name : {"ukf", "asukf", "tdukf", "rkf"}
+    scenario : Scenario
+    eps : float, optional
+        RKF scalar (default :data:`EPSILON` of the body).
+    sigma_r0, sigma_v0 : float
+        Initial position (m) and velocity (m/s) error, 1 sigma per axis; the initial
+        error is drawn from this distribution and ``P0`` is its covariance.
+    q_r, q_v : float
+        Process noise per step, 1 sigma per axis, m and m/s.
+    q_b : float
+        ASUKF bias random-walk step, m per step (1 sigma).
+    sigma_b0 : float
+        ASUKF initial bias uncertainty, m.
+    rkf_bias : {"prior", "residual"}
+        Where the RKF's bound on ``B B^T`` comes from. ``"prior"``: an a priori
+        ephemeris-error model ``B = N dr_prior`` (the paper's section-1.2 analysis of the
+        ephemeris error, put into the measurement model), held constant over the run;
+        ``"residual"``: the innovation-based lower bound of :func:`rkf_bias_bound` only.
+    prior_error : array_like, shape (3,), optional
+        ``dr_prior``, m. Default: the scenario's ephemeris error at its first epoch (what
+        a DE421 - DE405 comparison made before the run gives).
+    lam : float
+        Weight of the running innovation mean for ``rkf_bias="residual"``.
+    td_carry_noise : bool
+        TDUKF: exact handling of the differenced noise (see :func:`tdukf_update`).
+    rng : numpy.random.Generator or int, optional
+        Draws the initial error.
+
+    Returns
+    -------
+    FilterRun
+
+    Examples
+    --------
+    >>> sc = simulate("earth", n_steps=10, rng=0)
+    >>> [run_filter(f, sc).x.shape for f in FILTERS]
+    [(10, 6), (10, 6), (10, 6), (10, 6)]
+    """
+    check_choice("name", name, FILTERS)
+    if not isinstance(scenario, Scenario):
+        raise ValueError(f"scenario must be a Scenario from simulate(), got {type(scenario).__name__}")
+    eps = EPSILON[scenario.body] if eps is None else check_real("eps", eps, 0.0, lo_open=True)
+    sigma_r0 = check_real("sigma_r0", sigma_r0, 0.0, 1e8, lo_open=True)
+    sigma_v0 = check_real("sigma_v0", sigma_v0, 0.0, 1e5, lo_open=True)
+    q_r = check_real("q_r", q_r, 0.0, 1e6)
+    q_v = check_real("q_v", q_v, 0.0, 1e3)
+    q_b = check_real("q_b", q_b, 0.0, 1e6)
+    sigma_b0 = check_real("sigma_b0", sigma_b0, 0.0, 1e8, lo_open=True)
+    check_choice("rkf_bias", rkf_bias, ("prior", "residual"))
+    lam = check_real("lam", lam, 0.0, 1.0, lo_open=True)
+    if prior_error is None:
+        prior_error = scenario.dr_e[0] if isinstance(scenario, Scenario) else np.zeros(3)
+    prior_error = check_finite_array("prior_error", prior_error, shape=(3,))
+    rng = make_rng(rng)
+    sc = scenario
+    body, dt, n, R = sc.body, sc.dt, sc.n, sc.R
+    k = n.shape[0]
+    sd0 = np.r_[np.full(3, sigma_r0), np.full(3, sigma_v0)]
+    x0_true = ee.propagate(sc.x_true[0], -dt, body, substep=10.0)
+    x = x0_true + rng.normal(size=6) * sd0
+    P = np.diag(sd0**2)
+    Q = np.diag(np.r_[np.full(3, max(q_r, 1e-6) ** 2), np.full(3, max(q_v, 1e-9) ** 2)])
+    N = sc.t.size
+    xs, Ps = np.empty((N, 6)), np.empty((N, 6, 6))
+    extra = {}
+    if name == "asukf":
+        x = np.r_[x, np.zeros(k)]
+        P = np.diag(np.r_[sd0**2, np.full(k, sigma_b0**2)])
+        Qa = np.zeros((6 + k, 6 + k))
+        Qa[:6, :6] = Q
+        Qa[6:, 6:] = np.eye(k) * q_b**2  # b_k+1 = b_k + w_b
+        extra["bias"] = np.empty((N, k))
+    elif name == "tdukf":
+        kv = k if td_carry_noise else 0
+        x = np.r_[x, np.zeros(kv)]
+        P = np.zeros((6 + kv, 6 + kv))
+        P[:6, :6] = np.diag(sd0**2)
+        P[6:, 6:] = R[:kv, :kv]  # the noise of the first measurement
+    elif name == "rkf":
+        m = np.zeros(k)
+        b_prior = n @ prior_error  # B = N dr_E (paper eq. (17))
+        BB = np.outer(b_prior, b_prior) if rkf_bias == "prior" else np.zeros((k, k))
+        extra["bias_bound"] = np.empty(N)
+    H = np.zeros((k, 6))
+    H[:, :3] = n
+    Ha = _asukf_h(n)
+    for i in range(N):
+        if name == "ukf":
+            x, P = _predict(x, P, dt, body, Q)
+            x, P, _ = _update_linear(x, P, sc.y[i], R, H)
+        elif name == "asukf":
+            x, P = _predict(x, P, dt, body, Qa)
+            x, P, _ = _update_linear(x, P, sc.y[i], R, Ha)
+            extra["bias"][i] = x[6:]
+        elif name == "tdukf":
+            x, P = _tdukf_predict(x, P, dt, body, Q)
+            if i == 0:  # no previous measurement: keep [x_1, v_1] with v_1 ~ N(0, R)
+                x = np.r_[x[:6], np.zeros(kv)]
+                P = np.block([[P[:6, :6], np.zeros((6, kv))], [np.zeros((kv, 6)), R[:kv, :kv]]])
+            else:
+                x, P, _ = tdukf_update(x, P, sc.y[i] - sc.y[i - 1], R, n, td_carry_noise)
+        else:
+            x, P = _predict(x, P, dt, body, Q)
+            x, P, nu = _rkf_update(x, P, sc.y[i], R, H, BB, eps)
+            extra["bias_bound"][i] = float(np.sqrt(np.trace(BB)))
+            if rkf_bias == "residual":  # bound for the next step from the innovations
+                m = (1.0 - lam) * m + lam * nu  # running mean of the innovations
+                BB = rkf_bias_bound(m, sc.R + n @ P[:3, :3] @ n.T, lam)
+        xs[i], Ps[i] = x[:6], P[:6, :6]
+    err = np.linalg.norm(xs[:, :3] - sc.x_true[:, :3], axis=1)
+    return FilterRun(name, xs, Ps, err, extra)
+
+
+def rmse(run, scenario, t_from, t_to):
+    """Position RMSE over ``t_from <= t - t0 <= t_to`` (s since the start), m (paper eq. (27)).
+
+    Parameters
+    ----------
+    run : FilterRun
+    scenario : Scenario
+    t_from, t_to : float
+        Interval, s after the initial epoch (paper: Earth 1e5-6e5, Mars 5e4-2.5e5).
+
+    Examples
+    --------
+    >>> sc = simulate("earth", n_steps=10, rng=0)
+    >>> rmse(run_filter("ukf", sc), sc, 0.0, 5000.0) > 0
+    True
+    """
+    t_from = check_real("t_from", t_from, 0.0)
+    t_to = check_real("t_to", t_to, t_from)
+    tau = scenario.t - (scenario.t[0] - scenario.dt)
+    sel = (tau >= t_from) & (tau <= t_to)
+    if not np.any(sel):
+        raise ValueError(f"no epochs in [{t_from:g}, {t_to:g}] s; the run covers (0, {tau[-1]:g}] s")
+    return float(np.sqrt(np.mean(run.error[sel] ** 2)))  # RMSE = sqrt(mean |dr_k|^2)
+
+
+def improvement(rmse_filter, rmse_ukf):
+    """Improvement over the UKF, percent: ``100 (1 - RMSE / RMSE_UKF)``.
+
+    Examples
+    --------
+    >>> improvement(25.0, 100.0)
+    75.0
+    """
+    rmse_filter = check_real("rmse_filter", rmse_filter, 0.0)
+    rmse_ukf = check_real("rmse_ukf", rmse_ukf, 0.0, lo_open=True)
+    return 100.0 * (1.0 - rmse_filter / rmse_ukf)
+
+
+def compare_filters(body="earth", filters=FILTERS, error="de405", size=0.0, eps=None, seeds=(0,),
+                    pulsar_names=None, n_steps=None, window=None, **filter_kwargs):
+    """Monte Carlo comparison of the filters: mean RMSE over seeds and improvement over the UKF.
+
+    Each seed draws one scenario (measurement noise) and one initial error shared by
+    all filters.
+
+    Parameters
+    ----------
+    body : {"earth", "mars"}
+    filters : sequence of str
+        Subset of :data:`FILTERS`; the improvement needs ``"ukf"`` among them.
+    error, size, pulsar_names : see :func:`simulate`
+    eps : float, optional
+        RKF scalar (default :data:`EPSILON`).
+    seeds : sequence of int
+        One run per seed.
+    n_steps : int, optional
+        Steps of 500 s (default: enough for the paper's window, 1200 Earth, 500 Mars).
+    window : (float, float), optional
+        RMSE interval, s after the start (default :data:`WINDOWS`).
+    **filter_kwargs
+        Passed to :func:`run_filter`.
+
+    Returns
+    -------
+    dict
+        ``rmse`` ({filter: mean RMSE, m}), ``rmse_runs`` ({filter: list}),
+        ``improvement`` ({filter: percent}, filters other than the UKF), ``tau`` (n,) s
+        since the start and ``error`` ({filter: (n,) position error of the first seed, m}).
+
+    Examples
+    --------
+    >>> out = compare_filters("mars", ("ukf", "rkf"), n_steps=40, window=(5e3, 2e4))
+    >>> sorted(out["rmse"]), "rkf" in out["improvement"]
+    (['rkf', 'ukf'], True)
+    """
+    check_choice("body", body, tuple(ee.PLANETS))
+    filters = tuple(filters)
+    for f in filters:
+        check_choice("filters", f, FILTERS)
+    seeds = tuple(seeds)
+    if not seeds:
+        raise ValueError("seeds must list at least one seed")
+    n_steps = _N_STEPS[body] if n_steps is None else n_steps
+    window = WINDOWS[body] if window is None else tuple(window)
+    runs = {f: [] for f in filters}
+    first = {}
+    tau = None
+    for seed in seeds:
+        g = make_rng(seed)
+        sc = simulate(body, n_steps=n_steps, error=error, size=size, pulsar_names=pulsar_names, rng=g)
+        init = int(g.integers(2**31))
+        tau = sc.t - (sc.t[0] - sc.dt)
+        for f in filters:
+            run = run_filter(f, sc, eps=eps, rng=init, **filter_kwargs)
+            runs[f].append(rmse(run, sc, *window))
+            first.setdefault(f, run.error)
+    mean = {f: float(np.mean(v)) for f, v in runs.items()}
+    imp = {}
+    if "ukf" in mean:
+        imp = {f: improvement(mean[f], mean["ukf"]) for f in filters if f != "ukf"}
+    return {"rmse": mean, "rmse_runs": runs, "improvement": imp, "tau": tau, "error": first}
