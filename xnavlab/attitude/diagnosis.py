@@ -1,0 +1,243 @@
+"""From residuals to a verdict: fault tables, decision rules and the threshold logic.
+
+The fault tables say which residuals each single fault drives over its threshold:
+:data:`SOS_TABLE` (paper Table 1, reconstructed) and the structured-residual table of the
+DOS bank, :data:`DOS_TABLE`. The decision rules turn the set of crossed residuals into a
+verdict, one of :data:`VERDICTS`: :func:`sos_decide` (paper Table 2, reconstructed),
+:func:`dos_decide` and :func:`qdiff_decide` (ref. [22]). :func:`diagnose` is the threshold
+logic the three methods share (persistence, arming, confirmation window) and returns a
+:class:`Diagnosis`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from xnavlab.attitude.sensors import LOCATIONS
+from xnavlab.core.validate import check_finite_array, check_int, check_real
+
+__all__ = [
+    "VERDICTS",
+    "SOS_TABLE",
+    "DOS_TABLE",
+    "sos_decide",
+    "dos_decide",
+    "qdiff_decide",
+    "Diagnosis",
+    "diagnose",
+]
+
+#: Every verdict of :func:`sos_decide` and :func:`dos_decide`.
+VERDICTS = ("none",) + LOCATIONS + ("unknown",)
+
+#: Paper Table 1 (reconstructed) for SOS: which residuals (r1, r2, r3, r4) each fault
+#: drives over its threshold. ``None``: may cross; a star-tracker fault moves at least
+#: one of r1-r3 and never the gyro parity r4.
+SOS_TABLE = {
+    "gyro_x": (True, False, False, True),
+    "gyro_y": (False, True, False, True),
+    "gyro_z": (False, False, True, True),
+    "gyro_skew": (False, False, False, True),
+    "star_tracker": (None, None, None, False),
+}
+
+#: DOS structured-residual table: residuals (R1..R4) that each fault moves.
+DOS_TABLE = {
+    "gyro_x": (False, True, True, True),
+    "gyro_y": (True, False, True, True),
+    "gyro_z": (True, True, False, True),
+    "gyro_skew": (True, True, True, False),
+    "star_tracker": (True, True, True, True),
+}
+
+
+# ------------------------------------------------------------- decision rules
+
+
+def sos_decide(crossed):
+    """SOS decision rule (paper Table 2, reconstructed) from the crossed residuals.
+
+    ===================  ================================
+    r4 crossed, and      verdict
+    ===================  ================================
+    none of r1-r3        ``"gyro_skew"``
+    exactly r_i          ``"gyro_x"``, ``"gyro_y"``, ``"gyro_z"``
+    two or more          ``"unknown"`` (not a single fault)
+    ===================  ================================
+
+    r4 not crossed: ``"star_tracker"`` if any of r1-r3 crossed, else ``"none"``.
+
+    Parameters
+    ----------
+    crossed : array_like of bool, shape (..., 4)
+        Which of r1..r4 exceeded their thresholds.
+
+    Returns
+    -------
+    str or ndarray of str, shape (...)
+
+    Examples
+    --------
+    >>> sos_decide([True, False, False, True]), sos_decide([False, True, True, False])
+    ('gyro_x', 'star_tracker')
+    """
+    c = _bool_flags("crossed", crossed, 4)
+    n13 = c[..., :3].sum(-1)
+    which = np.array(["gyro_x", "gyro_y", "gyro_z"])[np.argmax(c[..., :3], axis=-1)]
+    r4 = c[..., 3]
+    out = np.select(
+        [r4 & (n13 == 0), r4 & (n13 == 1), r4, n13 > 0],
+        ["gyro_skew", which, "unknown", "star_tracker"],
+        "none",
+    )
+    return out.item() if out.ndim == 0 else out
+
+
+def dos_decide(crossed):
+    """DOS decision rule (structured residuals, :data:`DOS_TABLE`).
+
+    All four residuals crossed: ``"star_tracker"``; exactly three: the gyro excluded
+    from the one quiet filter; one or two: ``"unknown"``; none: ``"none"``.
+
+    Parameters
+    ----------
+    crossed : array_like of bool, shape (..., 4)
+
+    Returns
+    -------
+    str or ndarray of str, shape (...)
+
+    Examples
+    --------
+    >>> dos_decide([False, True, True, True]), dos_decide([True, True, True, True])
+    ('gyro_x', 'star_tracker')
+    """
+    c = _bool_flags("crossed", crossed, 4)
+    n = c.sum(-1)
+    quiet = np.array(LOCATIONS[:4])[np.argmin(c, axis=-1)]
+    out = np.select([n == 4, n == 3, n > 0], ["star_tracker", quiet, "unknown"], "none")
+    return out.item() if out.ndim == 0 else out
+
+
+def qdiff_decide(crossed):
+    """Verdict of the quaternion-differentiation method: the gyros whose estimate crossed.
+
+    Parameters
+    ----------
+    crossed : array_like of bool, shape (..., 3)
+
+    Returns
+    -------
+    str or ndarray of str: ``"none"`` or the blamed gyros joined by ``"+"``.
+
+    Examples
+    --------
+    >>> qdiff_decide([True, False, True])
+    'gyro_x+gyro_z'
+    """
+    c = _bool_flags("crossed", crossed, 3)
+    names = np.array(["gyro_x", "gyro_y", "gyro_z"])
+    flat = c.reshape(-1, 3)
+    out = np.array(["+".join(names[row]) or "none" for row in flat], dtype=object)
+    out = out.reshape(c.shape[:-1])
+    return out.item() if out.ndim == 0 else out
+
+
+def _bool_flags(name, flags, n):
+    try:
+        arr = np.asarray(flags)
+    except (TypeError, ValueError):
+        arr = None
+    if arr is None or arr.dtype != bool or arr.shape[-1:] != (n,):
+        raise ValueError(f"{name} must be a boolean array of shape (..., {n})")
+    return arr
+
+
+# ------------------------------------------------------------ threshold logic
+
+
+@dataclass
+class Diagnosis:
+    """Output of :func:`diagnose` (leading batch shape ``...``).
+
+    Attributes
+    ----------
+    flags : ndarray of bool, shape (..., n, m)
+        Residual over its threshold for ``persist`` consecutive armed samples.
+    detect_time : ndarray, shape (...)
+        First flagged sample time, s; ``inf`` when nothing was detected.
+    crossed : ndarray of bool, shape (..., m)
+        Residuals flagged within ``confirm_s`` of the detection.
+    verdict : str or ndarray of str, shape (...)
+        The decision rule applied to ``crossed``.
+
+    Examples
+    --------
+    >>> d = diagnose(np.arange(5.0), np.ones((5, 4)), np.zeros(4), persist=1)
+    >>> float(d.detect_time), d.verdict, d.flags.shape
+    (0.0, 'unknown', (5, 4))
+    """
+
+    flags: np.ndarray
+    detect_time: np.ndarray
+    crossed: np.ndarray
+    verdict: object
+
+
+def diagnose(t, residuals, thresholds, *, t_arm=0.0, persist=3, confirm_s=5.0, decide=sos_decide):
+    """Threshold logic shared by SOS, DOS and ref. [22].
+
+    A residual is *flagged* at a sample once it has exceeded its threshold for
+    ``persist`` consecutive samples at or after ``t_arm``. The first flag is the
+    detection; the residuals flagged within ``confirm_s`` seconds after it are the
+    *crossed* set, which ``decide`` turns into a verdict (so a residual that lags the
+    first one, as a drift estimate lags the gyro parity, still counts).
+
+    Parameters
+    ----------
+    t : array_like, shape (n,)
+        Sample times, s.
+    residuals : array_like, shape (..., n, m)
+    thresholds : array_like, shape (..., m)
+    t_arm : float
+        No flag before this time, s.
+    persist : int
+        Consecutive samples over the threshold needed, >= 1.
+    confirm_s : float
+        Isolation window after the detection, s, >= 0.
+    decide : callable
+        ``crossed (..., m) -> verdict`` (:func:`sos_decide`, :func:`dos_decide`,
+        :func:`qdiff_decide`).
+
+    Returns
+    -------
+    Diagnosis
+
+    Examples
+    --------
+    >>> t = np.arange(10.0); r = np.zeros((10, 4)); r[5:, [0, 3]] = 2.0
+    >>> d = diagnose(t, r, np.ones(4), persist=2, confirm_s=1.0)
+    >>> float(d.detect_time), d.verdict
+    (6.0, 'gyro_x')
+    """
+    t = check_finite_array("t", t)
+    r = check_finite_array("residuals", residuals)
+    if t.ndim != 1 or r.ndim < 2 or r.shape[-2] != t.size:
+        raise ValueError(f"residuals must have shape (..., n, m) with n = len(t) = {t.size}")
+    J = check_finite_array("thresholds", thresholds, shape=(r.shape[-1],))
+    t_arm = check_real("t_arm", t_arm)
+    persist = check_int("persist", persist, 1, t.size)
+    confirm_s = check_real("confirm_s", confirm_s, 0.0)
+    over = (r > J[..., None, :]) & (t >= t_arm)[:, None]
+    c = np.cumsum(over, axis=-2)
+    lagged = np.concatenate([np.zeros_like(c[..., :persist, :]), c[..., :-persist, :]], -2)
+    flags = (c - lagged) >= persist
+    anyf = flags.any(-1)
+    det = np.where(anyf.any(-1), np.argmax(anyf, axis=-1), -1)
+    detect_time = np.where(det >= 0, t[np.maximum(det, 0)], math.inf)
+    in_win = (t >= detect_time[..., None]) & (t <= detect_time[..., None] + confirm_s)
+    crossed = (flags & in_win[..., None]).any(-2)
+    return Diagnosis(flags, detect_time, crossed, decide(crossed))

@@ -1,0 +1,131 @@
+"""The attitude chapter's figures: a run's residuals against their thresholds, SOS beside DOS.
+
+:func:`plot_residuals` draws one method's residuals of an
+:class:`xnavlab.attitude.simulation.AttitudeRun`; :func:`plot_fault_case` simulates one
+fault and draws SOS and DOS side by side (a pure function of its arguments: the chapter's
+slider calls it). Residuals are shown in deg/h.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from xnavlab.attitude.sensors import DEFAULT_MAGNITUDES, DEG_PER_H, LOCATIONS, make_fault
+from xnavlab.attitude.simulation import AttitudeRun, simulate
+from xnavlab.core.validate import check_choice, check_real
+
+__all__ = [
+    "plot_residuals",
+    "plot_fault_case",
+]
+
+
+def plot_residuals(run, method="sos", axes=None):
+    """Plot a run's residuals against their thresholds (deg/h), one panel per residual.
+
+    Parameters
+    ----------
+    run : AttitudeRun
+    method : {"sos", "dos", "qdiff"}
+    axes : sequence of matplotlib Axes, optional
+        Four axes (three for ``"qdiff"``); a new figure when omitted.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+
+    Examples
+    --------
+    >>> import matplotlib; matplotlib.use("Agg")
+    >>> fig = plot_residuals(simulate(duration=50.0))
+    >>> len(fig.axes)
+    4
+    """
+    import matplotlib.pyplot as plt
+
+    check_choice("method", method, ("sos", "dos", "qdiff"))
+    if not isinstance(run, AttitudeRun):
+        raise ValueError(f"run must be an AttitudeRun, got {type(run).__name__}")
+    if method == "dos" and run.dos is None:
+        raise ValueError("method='dos' needs a run simulated with dos=True")
+    if method == "sos":
+        t, r, J, d = run.t, run.sos_r, run.sos_J, run.sos
+        names = ["$r_1$ (x)", "$r_2$ (y)", "$r_3$ (z)", "$r_4$ (parity)"]
+    elif method == "dos":
+        t, r, J, d = run.t, run.dos_r, run.dos_J, run.dos
+        names = [f"$R_{j + 1}$ (no {g})" for j, g in enumerate(("x", "y", "z", "skew"))]
+    else:
+        t, r, J, d = run.t_qd, np.abs(run.qd_f), run.qd_J, run.qd
+        names = ["$|f_x|$", "$|f_y|$", "$|f_z|$"]
+    m = r.shape[1]
+    if axes is None:
+        fig, axes = plt.subplots(m, 1, sharex=True, figsize=(7, 1.5 * m + 1), squeeze=False)
+        axes = axes[:, 0]
+    fig = axes[0].figure
+    for i, ax in enumerate(axes[:m]):
+        ax.plot(t, r[:, i] / DEG_PER_H, lw=0.8)
+        ax.axhline(J[i] / DEG_PER_H, color="C3", ls="--", lw=0.8)
+        ax.axvspan(t[0], run.config.t_cal[1], color="0.9", lw=0)
+        if math.isfinite(run.onset):
+            ax.axvline(run.onset, color="k", ls=":", lw=0.8)
+        top = max(4.0 * J[i], float(np.max(r[t >= run.config.t_cal[1], i], initial=0.0)) * 1.1)
+        ax.set_ylim(0.0, top / DEG_PER_H)
+        ax.set_ylabel(names[i] + "\n deg/h", fontsize=8)
+    verdict = d.verdict
+    det = float(d.detect_time)
+    if not math.isfinite(det):
+        when = "no detection"
+    elif math.isfinite(run.onset):
+        when = f"detected {det - run.onset:+.1f} s after onset"
+    else:
+        when = f"detected at {det:.1f} s"
+    axes[0].set_title(f"{method.upper()}: verdict {verdict} ({when}); truth {run.truth}",
+                      fontsize=9)
+    axes[m - 1].set_xlabel("t (s)")
+    return fig
+
+
+def plot_fault_case(location="gyro_x", kind="ramp", size=10.0, n_sigma=5.0, *, rng=None):
+    """Simulate one fault and plot its SOS and DOS residuals side by side.
+
+    A pure function of its arguments (the sensor noise is seeded): the chapter's slider
+    calls it.
+
+    Parameters
+    ----------
+    location : {"gyro_x", "gyro_y", "gyro_z", "gyro_skew", "star_tracker"}
+    kind : {"step", "ramp"}
+    size : float
+        Multiple of the reference size :data:`DEFAULT_MAGNITUDES` of ``(sensor, kind)``, > 0.
+    n_sigma : float
+        Threshold multiplier of :func:`simulate`, > 0.
+    rng : numpy.random.Generator or int, optional
+        Seed of the sensor noise (default 0, as :func:`simulate`).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Four rows (the residuals), SOS left and DOS right, as :func:`plot_residuals`; not
+        registered with pyplot.
+
+    Examples
+    --------
+    >>> fig = plot_fault_case("gyro_x", "step", 1.0)
+    >>> len(fig.axes), fig.axes[0].get_title()[:23]
+    (8, 'SOS: verdict gyro_x (de')
+    """
+    check_choice("location", location, LOCATIONS)
+    check_choice("kind", kind, ("step", "ramp"))
+    size = check_real("size", size, 0.0, lo_open=True)
+    sensor = "star_tracker" if location == "star_tracker" else "gyro"
+    run = simulate(make_fault(location, kind, size * DEFAULT_MAGNITUDES[(sensor, kind)]),
+                   n_sigma=n_sigma, rng=rng)
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(12, 6.5), layout="constrained")
+    axes = fig.subplots(4, 2, sharex=True)
+    plot_residuals(run, "sos", axes=axes[:, 0])
+    plot_residuals(run, "dos", axes=axes[:, 1])
+    return fig

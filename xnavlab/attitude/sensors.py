@@ -1,0 +1,284 @@
+"""The attitude sensors: a gyro assembly (3 orthogonal + 1 skewed) and a star tracker.
+
+Models (Li, Niu, Shao & Shen; equations lost from our copy, rebuilt in the standard forms
+of Crassidis & Junkins 2012, ch. 7, with the paper's numbers in the comments):
+
+Gyros
+    ``w_g = H w + b + v_g + f_g`` (paper eq. (2)) with ``H = [I3; h4^T]`` and the skewed
+    gyro on the equal-angle axis ``h4 = [1, 1, 1]/sqrt(3)`` (:data:`SKEW_AXIS`, paper
+    eq. (3) lost). Drifts and noise at the paper's values (section 4).
+Star tracker
+    ``q_s = q (x) q_v + f_q`` (paper eq. (17) with ``q_f = 1``), renormalised, as a star
+    tracker reports unit quaternions.
+Faults
+    A single fault sits on one of :data:`LOCATIONS`; :func:`make_fault` builds it as a
+    :class:`xnavlab.core.faults.Fault`, and :data:`DEFAULT_MAGNITUDES` are our reference
+    sizes (the paper's eqs. (38)-(40) were lost).
+
+:func:`check_sample` is the light per-sample input check the on-board loops share
+(:class:`xnavlab.attitude.ekf.AttitudeEKF`, :mod:`xnavlab.attitude.monitors`).
+
+Units are SI inside (rad, rad/s, s); names say otherwise (``drifts_deg_per_h``).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from xnavlab.core.faults import KINDS, Fault, inject
+from xnavlab.core.quaternions import quat_from_rotvec, quat_normalize, quat_product
+from xnavlab.core.validate import (
+    check_choice,
+    check_finite_array,
+    check_real,
+    make_rng,
+)
+
+__all__ = [
+    "DEG_PER_H",
+    "PAPER_DRIFTS_DEG_PER_H",
+    "PAPER_GYRO_NOISE_DEG_PER_H",
+    "PAPER_STAR_NOISE_DEG",
+    "SKEW_AXIS",
+    "LOCATIONS",
+    "DEFAULT_MAGNITUDES",
+    "gyro_matrix",
+    "gyro_measurements",
+    "star_tracker_measurements",
+    "make_fault",
+    "check_sample",
+]
+
+#: rad/s in one deg/h.
+DEG_PER_H = math.pi / 180.0 / 3600.0
+
+#: Constant drifts of gyros x, y, z and the skewed gyro, deg/h (paper section 4).
+PAPER_DRIFTS_DEG_PER_H = (50.0, 40.0, -50.0, 45.0)
+
+#: Gyro measurement noise, 1 sigma per sample, deg/h (paper section 4).
+PAPER_GYRO_NOISE_DEG_PER_H = 0.05
+
+#: Star-tracker noise, 1 sigma per axis, deg (paper section 4).
+PAPER_STAR_NOISE_DEG = 0.00333
+
+#: Our choice of skewed-gyro axis (paper eq. (3) lost): equal angles with x, y, z.
+SKEW_AXIS = np.full(3, 1.0 / math.sqrt(3.0))
+
+#: Where a single fault can be: the four gyros and the star tracker.
+LOCATIONS = ("gyro_x", "gyro_y", "gyro_z", "gyro_skew", "star_tracker")
+
+#: Our reference fault sizes (paper eqs. (38)-(40) lost), SI: a gyro step of 36 deg/h
+#: (0.01 deg/s), a gyro ramp of 0.1 deg/h per second, a star-tracker step of 2e-4 and a
+#: star-tracker ramp of 5e-5 per second on the quaternion component q1.
+DEFAULT_MAGNITUDES = {
+    ("gyro", "step"): 36.0 * DEG_PER_H,
+    ("gyro", "ramp"): 0.1 * DEG_PER_H,
+    ("star_tracker", "step"): 2e-4,
+    ("star_tracker", "ramp"): 5e-5,
+}
+
+
+# -------------------------------------------------------------- gyro assembly
+
+
+def gyro_matrix(skew_axis=SKEW_AXIS):
+    """Measurement matrix ``H = [I3; h4^T]`` of three orthogonal gyros and a skewed one.
+
+    Paper eqs. (2)-(3) (eq. (3) lost): gyro ``i`` measures the body rate along its
+    input axis, the rows of ``H``.
+
+    Parameters
+    ----------
+    skew_axis : array_like, shape (3,)
+        Input axis of the skewed gyro in the body frame; normalised here. All three
+        components must be non-zero, so that any three of the four gyros span 3-D
+        (needed by the DOS bank). Default: equal angles, ``[1, 1, 1]/sqrt(3)``.
+
+    Returns
+    -------
+    ndarray, shape (4, 3)
+
+    Examples
+    --------
+    >>> np.round(gyro_matrix()[3], 4)
+    array([0.5774, 0.5774, 0.5774])
+    """
+    h4 = check_finite_array("skew_axis", skew_axis, shape=(3,))
+    if h4.ndim != 1:
+        raise ValueError(f"skew_axis must have shape (3,), got {h4.shape}")
+    n = np.linalg.norm(h4)
+    if n == 0.0 or np.min(np.abs(h4)) < 1e-3 * n:
+        raise ValueError(
+            "skew_axis must have three non-zero components (each >= 1e-3 of its norm), "
+            f"got {h4.tolist()}"
+        )
+    return np.vstack([np.eye(3), h4 / n])
+
+
+def gyro_measurements(
+    t,
+    w,
+    *,
+    drifts_deg_per_h=PAPER_DRIFTS_DEG_PER_H,
+    noise_deg_per_h=PAPER_GYRO_NOISE_DEG_PER_H,
+    skew_axis=SKEW_AXIS,
+    faults=(),
+    rng=None,
+):
+    """Gyro-assembly outputs ``w_g = H w + b + v_g + f_g`` (paper eq. (2)), rad/s.
+
+    Parameters
+    ----------
+    t : array_like, shape (n,)
+        Sample times, s.
+    w : array_like, shape (n, 3)
+        True body rate, rad/s.
+    drifts_deg_per_h : array_like, shape (4,)
+        Constant drifts ``b`` of gyros x, y, z and skew, deg/h.
+    noise_deg_per_h : float
+        White noise ``v_g``, 1 sigma per sample, deg/h, >= 0.
+    skew_axis : array_like, shape (3,)
+        See :func:`gyro_matrix`.
+    faults : sequence of Fault
+        Faults of sensor ``"gyro"`` (components 0-3: x, y, z, skew) are injected with
+        :func:`xnavlab.core.faults.inject`; magnitudes in rad/s (rad/s^2 for ramps).
+    rng : numpy.random.Generator or int, optional
+
+    Returns
+    -------
+    ndarray, shape (n, 4)
+
+    Examples
+    --------
+    >>> t = np.arange(3.0)
+    >>> wg = gyro_measurements(t, np.zeros((3, 3)), noise_deg_per_h=0.0)
+    >>> np.round(wg[0] / DEG_PER_H, 6)
+    array([ 50.,  40., -50.,  45.])
+    """
+    t = check_finite_array("t", t)
+    w = check_finite_array("w", w, shape=(3,))
+    if t.ndim != 1 or w.shape != (t.size, 3):
+        raise ValueError(f"w must have shape (n, 3) with n = len(t) = {t.size}, got {w.shape}")
+    b = check_finite_array("drifts_deg_per_h", drifts_deg_per_h, shape=(4,)) * DEG_PER_H
+    sigma = check_real("noise_deg_per_h", noise_deg_per_h, 0.0) * DEG_PER_H
+    rng = make_rng(rng)
+    H = gyro_matrix(skew_axis)
+    z = w @ H.T + b + rng.normal(0.0, 1.0, (t.size, 4)) * sigma  # paper eq. (2)
+    return inject(t, z, list(faults), "gyro", rng=rng)  # + f_g
+
+
+# --------------------------------------------------------------- star tracker
+
+
+def star_tracker_measurements(t, q, *, noise_deg=PAPER_STAR_NOISE_DEG, faults=(), rng=None):
+    """Star-tracker quaternions ``q_s = q (x) q_v + f_q``, renormalised (paper eq. (17)).
+
+    ``q_v`` is the quaternion of a small rotation with independent N(0, sigma^2) angles
+    about the three axes; the paper's fault rotation ``q_f`` is left at identity and
+    faults enter through the additive ``f_q``, injected with :func:`xnavlab.core.faults.inject`
+    (sensor ``"star_tracker"``, components 0-3: q1..q4, dimensionless; a ramp's
+    magnitude is per second). The output is renormalised, as a star tracker reports
+    unit quaternions.
+
+    Parameters
+    ----------
+    t : array_like, shape (n,)
+        Sample times, s.
+    q : array_like, shape (n, 4)
+        True attitude, scalar last.
+    noise_deg : float
+        Noise per axis, 1 sigma, deg, >= 0.
+    faults : sequence of Fault
+    rng : numpy.random.Generator or int, optional
+
+    Returns
+    -------
+    ndarray, shape (n, 4)
+
+    Examples
+    --------
+    >>> from xnavlab.attitude.motion import DEFAULT_Q0
+    >>> q = np.tile(DEFAULT_Q0, (2, 1))
+    >>> bool(np.allclose(star_tracker_measurements([0.0, 1.0], q, noise_deg=0.0), q))
+    True
+    """
+    t = check_finite_array("t", t)
+    q = check_finite_array("q", q, shape=(4,))
+    if t.ndim != 1 or q.shape != (t.size, 4):
+        raise ValueError(f"q must have shape (n, 4) with n = len(t) = {t.size}, got {q.shape}")
+    sigma = math.radians(check_real("noise_deg", noise_deg, 0.0))
+    rng = make_rng(rng)
+    qv = quat_from_rotvec(rng.normal(0.0, 1.0, (t.size, 3)) * sigma)
+    qs = quat_product(q, qv)  # paper eq. (17), q_f = identity
+    qs = inject(t, qs, list(faults), "star_tracker", rng=rng)  # + f_q
+    return quat_normalize(qs)
+
+
+# --------------------------------------------------------- faults and samples
+
+
+def make_fault(location, kind, magnitude, onset=50.0, duration=math.inf):
+    """A :class:`xnavlab.core.faults.Fault` on one of the attitude sensors.
+
+    Parameters
+    ----------
+    location : {"gyro_x", "gyro_y", "gyro_z", "gyro_skew", "star_tracker"}
+        A star-tracker fault acts on the quaternion component q1.
+    kind : {"step", "ramp", "spike", "stuck", "noise"}
+    magnitude : float
+        SI: rad/s for a gyro step (rad/s^2 for a ramp); dimensionless quaternion units
+        for the star tracker (per second for a ramp).
+    onset : float
+        Start, s.
+    duration : float
+        Length, s (``math.inf``: permanent).
+
+    Examples
+    --------
+    >>> f = make_fault("gyro_skew", "ramp", 0.1 * DEG_PER_H)
+    >>> (f.sensor, f.component, f.kind)
+    ('gyro', 3, 'ramp')
+    """
+    check_choice("location", location, LOCATIONS)
+    check_choice("kind", kind, KINDS)
+    if location == "star_tracker":
+        return Fault("star_tracker", kind, magnitude, onset, duration, 0)
+    return Fault("gyro", kind, magnitude, onset, duration, LOCATIONS.index(location))
+
+
+def check_sample(name, value, n):
+    """One sensor sample as ``n`` finite floats: the light check of the on-board loops.
+
+    Cheaper than :func:`xnavlab.core.validate.check_finite_array` (one shape test, one
+    finiteness test), because :class:`xnavlab.attitude.ekf.AttitudeEKF` and the monitors of
+    :mod:`xnavlab.attitude.monitors` call it at every sample.
+
+    Parameters
+    ----------
+    name : str
+        Name of the argument, for the error message.
+    value : array_like, shape (n,)
+        One sample: gyro rates (rad/s) or a star-tracker quaternion.
+    n : int
+        Expected length.
+
+    Returns
+    -------
+    ndarray, shape (n,)
+
+    Raises
+    ------
+    ValueError
+        If ``value`` is not ``n`` finite numbers.
+
+    Examples
+    --------
+    >>> check_sample("omega_g", [0.0, 0.1, 0.2], 3).shape
+    (3,)
+    """
+    arr = np.asarray(value, dtype=float)
+    if arr.shape != (n,) or not np.isfinite(arr).all():
+        raise ValueError(f"{name} must be {n} finite numbers, got {value!r}")
+    return arr

@@ -1,0 +1,544 @@
+"""One simulated run, or a batch: truth, sensors, faults, the filters and all three diagnoses.
+
+:class:`SimConfig` holds every setting, with our choices where the paper is silent as the
+defaults; :func:`simulate` runs the truth motion (:mod:`xnavlab.attitude.motion`), the
+sensors with injected faults (:mod:`xnavlab.attitude.sensors`), the EKF bank
+(:mod:`xnavlab.attitude.ekf`; the SOS filter is the DOS bank's filter 4, fed by the
+orthogonal triad) and the three diagnoses (SOS, DOS, ref. [22]), vectorised over the
+filters, and returns an :class:`AttitudeRun`.
+
+The two building blocks are public for batched studies (:mod:`xnavlab.attitude.montecarlo`)
+and the timing of the on-board monitors (:mod:`xnavlab.attitude.monitors`):
+:func:`simulate_sensors` (one run's truth and sensor outputs) and :func:`diagnose_batch`
+(filters, residuals, thresholds and diagnoses of a batch of runs); :func:`make_config`
+resolves a ``config`` argument with field overrides.
+
+Units are SI inside (rad, rad/s, s); names say otherwise (``drifts_deg_per_h``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from xnavlab.attitude.diagnosis import (
+    Diagnosis,
+    diagnose,
+    dos_decide,
+    qdiff_decide,
+    sos_decide,
+)
+from xnavlab.attitude.differentiation import qdiff_fault_estimates
+from xnavlab.attitude.dos import DOS_GROUPS, dos_rate_matrices, dos_residuals
+from xnavlab.attitude.ekf import ekf_init, ekf_predict_unchecked, ekf_update_unchecked
+from xnavlab.attitude.motion import DEFAULT_Q0, truth_motion
+from xnavlab.attitude.sensors import (
+    DEG_PER_H,
+    LOCATIONS,
+    PAPER_DRIFTS_DEG_PER_H,
+    PAPER_GYRO_NOISE_DEG_PER_H,
+    PAPER_STAR_NOISE_DEG,
+    SKEW_AXIS,
+    gyro_matrix,
+    gyro_measurements,
+    star_tracker_measurements,
+)
+from xnavlab.attitude.sos import gyro_parity, sos_residuals
+from xnavlab.core.faults import Fault
+from xnavlab.core.quaternions import attitude_error, quat_normalize
+from xnavlab.core.validate import check_finite_array, check_int, check_real, make_rng
+
+__all__ = [
+    "SimConfig",
+    "AttitudeRun",
+    "simulate",
+    "simulate_sensors",
+    "diagnose_batch",
+    "make_config",
+]
+
+
+@dataclass(frozen=True)
+class SimConfig:
+    """Every setting of a run; our choices where the paper is silent are the defaults.
+
+    Attributes
+    ----------
+    duration : float
+        Run length, s (default 100).
+    dt : float
+        Gyro and star-tracker sample interval, s (default 0.1: 10 Hz).
+    drifts_deg_per_h : tuple of 4 float
+        Gyro drifts (paper: 50, 40, -50, 45 deg/h).
+    gyro_noise_deg_per_h : float
+        Gyro noise per sample, 1 sigma (paper: 0.05 deg/h).
+    star_noise_deg : float
+        Star-tracker noise per axis, 1 sigma (paper: 0.00333 deg).
+    skew_axis : tuple of 3 float
+        Skewed-gyro axis (default equal-angle ``[1, 1, 1]/sqrt(3)``).
+    q0 : tuple of 4 float
+        Initial true attitude.
+    omega_orbit_deg_s, wobble_deg_s, wobble_period : float
+        Truth motion, see :func:`truth_rate`.
+    drift_walk_deg_per_h_sqrt_s : float
+        Filter drift random walk, deg/h per sqrt(s) (default 1): sets how fast the drift
+        estimates follow a change (time constant ~2 s at 10 Hz).
+    drift_sigma0_deg_per_h : float
+        Initial drift uncertainty of the filters (default 100 deg/h).
+    n_sigma : float
+        Thresholds in predicted standard deviations of each residual (default 5).
+    t_cal : tuple of 2 float
+        Fault-free window where references are learned, s (default 20-40 s); the
+        detectors are armed at its end.
+    persist : int
+        Consecutive samples over threshold for a flag (default 3).
+    confirm_s : float
+        Isolation window after detection, s (default 5).
+    qdiff_window_s : float
+        Differentiation window of ref. [22], s (default 10).
+    dos : bool
+        Also run the DOS bank (the SOS filter is the bank's filter 4, fed by the
+        orthogonal triad; the numbers are identical).
+
+    Examples
+    --------
+    >>> cfg = SimConfig(duration=60.0, n_sigma=4.0)
+    >>> cfg.n, cfg.t_cal
+    (601, (20.0, 40.0))
+    """
+
+    duration: float = 100.0
+    dt: float = 0.1
+    drifts_deg_per_h: tuple = PAPER_DRIFTS_DEG_PER_H
+    gyro_noise_deg_per_h: float = PAPER_GYRO_NOISE_DEG_PER_H
+    star_noise_deg: float = PAPER_STAR_NOISE_DEG
+    skew_axis: tuple = tuple(SKEW_AXIS)
+    q0: tuple = tuple(DEFAULT_Q0)
+    omega_orbit_deg_s: float = 0.06
+    wobble_deg_s: float = 0.01
+    wobble_period: float = 300.0
+    drift_walk_deg_per_h_sqrt_s: float = 1.0
+    drift_sigma0_deg_per_h: float = 100.0
+    n_sigma: float = 5.0
+    t_cal: tuple = (20.0, 40.0)
+    persist: int = 3
+    confirm_s: float = 5.0
+    qdiff_window_s: float = 10.0
+    dos: bool = True
+
+    def __post_init__(self):
+        check_real("duration", self.duration, 0.0, lo_open=True)
+        check_real("dt", self.dt, 0.0, 10.0, lo_open=True)
+        if self.duration < 2 * self.dt:
+            raise ValueError(f"duration must be >= 2 dt = {2 * self.dt}, got {self.duration}")
+        check_finite_array("drifts_deg_per_h", self.drifts_deg_per_h, shape=(4,))
+        check_real("gyro_noise_deg_per_h", self.gyro_noise_deg_per_h, 0.0, lo_open=True)
+        check_real("star_noise_deg", self.star_noise_deg, 0.0, 1.0, lo_open=True)
+        gyro_matrix(self.skew_axis)
+        quat_normalize(self.q0)
+        check_real("drift_walk_deg_per_h_sqrt_s", self.drift_walk_deg_per_h_sqrt_s, 0.0)
+        check_real("drift_sigma0_deg_per_h", self.drift_sigma0_deg_per_h, 0.0, lo_open=True)
+        check_real("n_sigma", self.n_sigma, 0.0, lo_open=True)
+        cal = check_finite_array("t_cal", self.t_cal, shape=(2,))
+        if cal.ndim != 1 or not (0.0 <= cal[0] < cal[1] <= self.duration):
+            raise ValueError(f"t_cal must satisfy 0 <= t_cal[0] < t_cal[1] <= duration, got {cal}")
+        if cal[1] - cal[0] < 2 * self.dt:
+            raise ValueError("t_cal must span at least two samples")
+        check_int("persist", self.persist, 1)
+        check_real("confirm_s", self.confirm_s, 0.0)
+        w = check_real("qdiff_window_s", self.qdiff_window_s, 2 * self.dt)
+        if max(w, cal[0] + 0.5 * w) >= cal[1]:
+            raise ValueError(
+                "qdiff_window_s must leave an estimate inside t_cal: need "
+                f"max(w, t_cal[0] + w/2) < t_cal[1], got w = {w}, t_cal = {tuple(cal)}"
+            )
+        if not isinstance(self.dos, bool):
+            raise ValueError(f"dos must be True or False, got {self.dos!r}")
+
+    @property
+    def n(self):
+        """Number of samples."""
+        return int(round(self.duration / self.dt)) + 1
+
+
+@dataclass
+class AttitudeRun:
+    """One simulated run (from :func:`simulate`). Arrays are in SI units.
+
+    Attributes
+    ----------
+    t : ndarray, shape (n,)
+    config : SimConfig
+    faults : tuple of Fault
+    truth : str
+        Faulty sensor (a :data:`LOCATIONS` entry) or ``"none"``.
+    onset : float
+        Earliest fault onset, s (``inf`` without faults).
+    w_true, q_true : ndarray, shapes (n, 3), (n, 4)
+    omega_g, q_meas : ndarray, shapes (n, 4), (n, 4)
+    q_hat, drift_hat : ndarray, shapes (n, 4), (n, 3)
+        The SOS filter's estimates.
+    att_err : ndarray, shape (n, 3)
+        Estimation error of the attitude, rad.
+    armed : ndarray of bool, shape (n,)
+        Detectors armed (``t >= t_cal[1]``); before, residuals use the references
+        learned at arming and are shown for display only.
+    sos_r, sos_J : ndarray, shapes (n, 4), (4,)
+        SOS residuals and thresholds, rad/s.
+    sos : Diagnosis
+    dos_r, dos_J : ndarray, shapes (n, 4), (4,)
+        DOS residuals and thresholds (zeros when ``config.dos`` is False).
+    dos : Diagnosis or None
+    t_qd : ndarray, shape (m,)
+        Times (window middles) of the ref. [22] estimates.
+    qd_f, qd_J : ndarray, shapes (m, 3), (3,)
+        Ref. [22] gyro-fault estimates minus their references, and thresholds, rad/s.
+    qd : Diagnosis
+        Decided at the times the estimates become available.
+    refs : dict
+        References learned in the calibration window: ``"drift"`` (3,), ``"parity"``,
+        ``"qdiff"`` (3,) and, with DOS, ``"dos"`` (4, 3); rad/s.
+
+    Examples
+    --------
+    >>> run = simulate(duration=50.0, dos=False)
+    >>> run.sos_r.shape, run.sos.verdict, run.dos is None
+    ((501, 4), 'none', True)
+    """
+
+    t: np.ndarray
+    config: SimConfig
+    faults: tuple
+    truth: str
+    onset: float
+    w_true: np.ndarray = field(repr=False)
+    q_true: np.ndarray = field(repr=False)
+    omega_g: np.ndarray = field(repr=False)
+    q_meas: np.ndarray = field(repr=False)
+    q_hat: np.ndarray = field(repr=False)
+    drift_hat: np.ndarray = field(repr=False)
+    att_err: np.ndarray = field(repr=False)
+    armed: np.ndarray = field(repr=False)
+    sos_r: np.ndarray = field(repr=False)
+    sos_J: np.ndarray = field(repr=False)
+    sos: Diagnosis = field(repr=False)
+    dos_r: np.ndarray = field(repr=False)
+    dos_J: np.ndarray = field(repr=False)
+    dos: Diagnosis | None = field(repr=False)
+    t_qd: np.ndarray = field(repr=False)
+    qd_f: np.ndarray = field(repr=False)
+    qd_J: np.ndarray = field(repr=False)
+    qd: Diagnosis = field(repr=False)
+    refs: dict = field(default_factory=dict, repr=False)
+
+
+# -------------------------------------------------------------------- one run
+
+
+def simulate(faults=(), config=None, *, rng=None, **changes):
+    """Simulate one run: truth, sensors, faults, the filters and all three diagnoses.
+
+    Parameters
+    ----------
+    faults : Fault or sequence of Fault
+        From :func:`make_fault` (sensors ``"gyro"`` and ``"star_tracker"``).
+    config : SimConfig, optional
+        Settings (default :class:`SimConfig`).
+    rng : numpy.random.Generator or int, optional
+        Seed of the sensor noise (default 0: reproducible).
+    **changes
+        Overrides of ``config`` fields, e.g. ``n_sigma=4``.
+
+    Returns
+    -------
+    AttitudeRun
+
+    Examples
+    --------
+    >>> from xnavlab.attitude.sensors import make_fault
+    >>> run = simulate(make_fault("gyro_x", "step", 36 * DEG_PER_H), duration=60.0)
+    >>> run.sos.verdict, run.dos.verdict
+    ('gyro_x', 'gyro_x')
+    """
+    cfg = make_config(config, **changes)
+    faults = _faults(faults)
+    rng = make_rng(rng)
+    (t, w, q), wg, qs = simulate_sensors(cfg, faults, rng)
+    res = diagnose_batch(wg[None], qs[None], cfg)
+    q_hat = res["q_hat"][0]
+
+    def pick(d):
+        if d is None:
+            return None
+        return Diagnosis(d.flags[0], d.detect_time[0], d.crossed[0], d.verdict[0])
+
+    return AttitudeRun(
+        t=t, config=cfg, faults=faults, truth=_truth_of(faults),
+        onset=min((f.onset for f in faults), default=math.inf),
+        w_true=w, q_true=q, omega_g=wg, q_meas=qs, q_hat=q_hat,
+        drift_hat=res["drift_hat"][0], att_err=attitude_error(q_hat, q),
+        armed=t >= cfg.t_cal[1],
+        sos_r=res["sos_r"][0], sos_J=res["sos_J"][0], sos=pick(res["sos"]),
+        dos_r=res["dos_r"][0], dos_J=res["dos_J"][0], dos=pick(res["dos"]),
+        t_qd=res["t_qd"], qd_f=res["qd_f"][0], qd_J=res["qd_J"], qd=pick(res["qd"]),
+        refs={k: (v[0] if np.ndim(v) else v) for k, v in res["refs"].items()},
+    )
+
+
+def make_config(config=None, **changes):
+    """The settings of a run: ``config`` (default :class:`SimConfig`) with fields overridden.
+
+    Parameters
+    ----------
+    config : SimConfig, optional
+        Starting settings (default ``SimConfig()``).
+    **changes
+        Field overrides, e.g. ``n_sigma=4.0``; checked by :class:`SimConfig`.
+
+    Returns
+    -------
+    SimConfig
+
+    Raises
+    ------
+    ValueError
+        If ``config`` is not a SimConfig, a field is unknown or a value is out of range.
+
+    Examples
+    --------
+    >>> make_config(n_sigma=4.0).n_sigma
+    4.0
+    >>> make_config(SimConfig(duration=60.0), dos=False).n
+    601
+    """
+    if config is None:
+        config = SimConfig()
+    elif not isinstance(config, SimConfig):
+        raise ValueError(f"config must be a SimConfig or None, got {type(config).__name__}")
+    try:
+        return dataclasses.replace(config, **changes)
+    except TypeError as exc:
+        raise ValueError(f"unknown SimConfig setting: {exc}") from None
+
+
+def _config_arg(config):
+    if not isinstance(config, SimConfig):
+        raise ValueError(f"config must be a SimConfig, got {type(config).__name__}")
+    return config
+
+
+def _faults(faults):
+    if isinstance(faults, Fault):
+        faults = (faults,)
+    faults = tuple(faults)
+    for f in faults:
+        if not isinstance(f, Fault):
+            raise ValueError(f"faults must be Fault objects, got {type(f).__name__}")
+    return faults
+
+
+def _truth_of(faults):
+    locs = set()
+    for f in faults:
+        if f.sensor == "star_tracker":
+            locs.add("star_tracker")
+        elif f.sensor == "gyro" and f.component is not None:
+            locs.add(LOCATIONS[f.component])
+        else:
+            locs.add("unknown")
+    if not locs:
+        return "none"
+    return locs.pop() if len(locs) == 1 else "unknown"
+
+
+def simulate_sensors(config, faults=(), rng=None, truth=None):
+    """Truth motion and sensor outputs of one run, with faults injected.
+
+    The gyro noise is drawn from ``rng`` first, then the star-tracker noise, so a batch of
+    runs drawn from one generator is reproducible (:func:`simulate`,
+    :func:`xnavlab.attitude.montecarlo.isolation_monte_carlo`).
+
+    Parameters
+    ----------
+    config : SimConfig
+        Settings (:func:`make_config`).
+    faults : Fault or sequence of Fault
+        From :func:`xnavlab.attitude.sensors.make_fault`.
+    rng : numpy.random.Generator or int, optional
+        Source of the sensor noise (default seed 0).
+    truth : tuple, optional
+        ``(t, w, q)`` from :func:`xnavlab.attitude.motion.truth_motion` for ``config``,
+        to reuse across the runs of a batch; computed when omitted.
+
+    Returns
+    -------
+    truth : tuple of ndarray
+        ``t`` (n,), s; ``w`` (n, 3), rad/s; ``q`` (n, 4), true attitude.
+    omega_g : ndarray, shape (n, 4)
+        Gyro-assembly outputs, rad/s.
+    q_meas : ndarray, shape (n, 4)
+        Star-tracker quaternions.
+
+    Examples
+    --------
+    >>> (t, w, q), wg, qs = simulate_sensors(SimConfig(duration=50.0))
+    >>> t.shape, wg.shape, qs.shape
+    ((501,), (501, 4), (501, 4))
+    """
+    cfg = _config_arg(config)
+    faults = _faults(faults)
+    rng = make_rng(rng)
+    t, w, q = truth if truth is not None else truth_motion(
+        cfg.n, cfg.dt, q0=cfg.q0, omega_orbit_deg_s=cfg.omega_orbit_deg_s,
+        wobble_deg_s=cfg.wobble_deg_s, wobble_period=cfg.wobble_period,
+    )
+    wg = gyro_measurements(
+        t, w, drifts_deg_per_h=cfg.drifts_deg_per_h,
+        noise_deg_per_h=cfg.gyro_noise_deg_per_h, skew_axis=cfg.skew_axis,
+        faults=faults, rng=rng,
+    )
+    qs = star_tracker_measurements(t, q, noise_deg=cfg.star_noise_deg, faults=faults, rng=rng)
+    return (t, w, q), wg, qs
+
+
+# ------------------------------------------------------------ a batch of runs
+
+
+def diagnose_batch(omega_g, q_meas, config):
+    """Filters, residuals, thresholds and diagnoses of a batch of runs, vectorised.
+
+    Runs the EKF bank (the four DOS filters when ``config.dos``, else only filter 4, the
+    SOS filter fed by the orthogonal triad) over every run at once, learns the references
+    in the calibration window ``config.t_cal``, sets the thresholds at ``config.n_sigma``
+    predicted standard deviations and applies the threshold logic
+    (:func:`xnavlab.attitude.diagnosis.diagnose`) of SOS, DOS and ref. [22].
+
+    Parameters
+    ----------
+    omega_g : array_like, shape (B, n, 4)
+        Gyro-assembly outputs of ``B`` runs, rad/s, ``n = config.n``.
+    q_meas : array_like, shape (B, n, 4)
+        Star-tracker quaternions.
+    config : SimConfig
+
+    Returns
+    -------
+    dict
+        ``t`` (n,); the SOS filter's ``q_hat`` (B, n, 4) and ``drift_hat`` (B, n, 3);
+        ``sos_r`` (B, n, 4), ``sos_J`` (B, 4) and ``sos`` (a batched
+        :class:`~xnavlab.attitude.diagnosis.Diagnosis`); ``dos_r``, ``dos_J``, ``dos``
+        likewise (zeros and ``None`` without DOS); ``t_qd`` (m,), ``qd_f`` (B, m, 3),
+        ``qd_J`` (3,) and ``qd`` for ref. [22]; ``refs`` (the learned references, see
+        :class:`AttitudeRun`). Rates in rad/s.
+
+    Examples
+    --------
+    >>> cfg = SimConfig(duration=50.0)
+    >>> _, wg, qs = simulate_sensors(cfg)
+    >>> out = diagnose_batch(wg[None], qs[None], cfg)
+    >>> out["sos_r"].shape, out["sos"].verdict.tolist()
+    ((1, 501, 4), ['none'])
+    """
+    from scipy.stats import chi2
+
+    cfg = _config_arg(config)
+    omega_g = check_finite_array("omega_g", omega_g, shape=(cfg.n, 4))
+    q_meas = check_finite_array("q_meas", q_meas, shape=(cfg.n, 4))
+    if omega_g.ndim != 3 or q_meas.shape != omega_g.shape:
+        raise ValueError(f"omega_g and q_meas must both have shape (B, {cfg.n}, 4), got "
+                         f"{omega_g.shape} and {q_meas.shape}")
+
+    t = np.arange(cfg.n) * cfg.dt
+    cal = (t >= cfg.t_cal[0]) & (t < cfg.t_cal[1])
+    t_arm = cfg.t_cal[1]
+    F = 4 if cfg.dos else 1
+    q_hat, d_hat, P_dd = _filter_bank(omega_g, q_meas, cfg, F)
+    k_arm = int(np.searchsorted(t, t_arm - 1e-9))
+    k_arm = min(k_arm, cfg.n - 1)
+    out = {"t": t, "q_hat": q_hat[:, :, -1], "drift_hat": d_hat[:, :, -1]}
+    kw = dict(t_arm=t_arm, persist=cfg.persist, confirm_s=cfg.confirm_s)
+    # SOS: the bank's last filter (orthogonal triad) plus the gyro parity
+    b = d_hat[:, :, -1]
+    parity = gyro_parity(omega_g, cfg.skew_axis)
+    b_ref = b[:, cal].mean(axis=1)
+    p_ref = parity[:, cal].mean(axis=1)
+    sos_r = sos_residuals(b, omega_g, b_ref[:, None], p_ref[:, None], cfg.skew_axis)
+    sig_b = np.sqrt(np.diagonal(P_dd[:, k_arm, -1], axis1=-2, axis2=-1))
+    sig_p = cfg.gyro_noise_deg_per_h * DEG_PER_H * math.sqrt(2.0)  # |[-h4^T 1]| = sqrt(2)
+    sos_J = cfg.n_sigma * np.concatenate([sig_b, np.full((len(b), 1), sig_p)], axis=1)
+    out.update(sos_r=sos_r, sos_J=sos_J, sos=diagnose(t, sos_r, sos_J, decide=sos_decide, **kw))
+    if cfg.dos:
+        d_ref = d_hat[:, cal].mean(axis=1)
+        dos_r = dos_residuals(d_hat, d_ref[:, None])
+        scale = np.sqrt(np.trace(P_dd[:, k_arm], axis1=-2, axis2=-1) / 3.0)
+        dos_J = math.sqrt(chi2.isf(_tail_prob(cfg.n_sigma), 3)) * scale
+        dos = diagnose(t, dos_r, dos_J, decide=dos_decide, **kw)
+    else:
+        dos_r = np.zeros_like(sos_r)
+        dos_J = np.zeros_like(sos_J)
+        dos = None
+    out.update(dos_r=dos_r, dos_J=dos_J, dos=dos)
+    # ref. [22]: quaternion differentiation, decided when each estimate is available
+    M = int(round(cfg.qdiff_window_s / cfg.dt))
+    f = qdiff_fault_estimates(omega_g, q_meas, cfg.dt, cfg.qdiff_window_s)
+    t_ready = t[M:]
+    cal_q = (t_ready - 0.5 * M * cfg.dt >= cfg.t_cal[0]) & (t_ready < cfg.t_cal[1])
+    f_ref = f[:, cal_q].mean(axis=1)
+    f = f - f_ref[:, None]
+    # slope of M + 1 samples with sigma/2 noise per component, times 2 (w = 2 Xi^T q_dot)
+    sig_q = math.radians(cfg.star_noise_deg) * math.sqrt(12.0 / (M * (M + 1) * (M + 2))) / cfg.dt
+    qd_J = np.full(3, cfg.n_sigma * sig_q)
+    qd = diagnose(t_ready, np.abs(f), qd_J, decide=qdiff_decide, **kw)
+    out.update(t_qd=t_ready - 0.5 * M * cfg.dt, qd_f=f, qd_J=qd_J, qd=qd)
+    out["refs"] = {"drift": b_ref, "parity": p_ref, "qdiff": f_ref}
+    if cfg.dos:
+        out["refs"]["dos"] = d_ref
+    return out
+
+
+def _filter_bank(omega_g, q_meas, cfg, n_filters):
+    """Run the DOS bank (or only its filter 4, the SOS filter) over a batch of runs.
+
+    omega_g, q_meas: (B, n, 4). Returns q_hat (B, n, F, 4), d_hat (B, n, F, 3) and the
+    drift covariance blocks at every sample (B, n, F, 3, 3), F = 4 or 1.
+    """
+    T = dos_rate_matrices(cfg.skew_axis)
+    groups = DOS_GROUPS
+    if n_filters == 1:
+        T, groups = T[3:], groups[3:]
+    mix = np.zeros((len(groups), 3, 4))  # w_tilde_j = T_j w_g[group_j]
+    for j, g in enumerate(groups):
+        mix[j][:, list(g)] = T[j]
+    w_tilde = np.einsum("fij,bnj->bnfi", mix, omega_g)
+    TT = T @ np.swapaxes(T, -1, -2)
+    dt = cfg.dt
+    sg = cfg.gyro_noise_deg_per_h * DEG_PER_H
+    gyro_cov = sg**2 * TT
+    drift_cov = (cfg.drift_walk_deg_per_h_sqrt_s * DEG_PER_H) ** 2 * dt * TT
+    R = (0.5 * math.radians(cfg.star_noise_deg)) ** 2 * np.eye(4)
+    B, n, _ = omega_g.shape
+    F = len(groups)
+    qm = np.broadcast_to(q_meas[:, :, None, :], (B, n, F, 4))
+    x, P = ekf_init(
+        qm[:, 0],
+        attitude_sigma=math.radians(cfg.star_noise_deg),
+        drift_sigma=(cfg.drift_sigma0_deg_per_h * DEG_PER_H) ** 2 * TT,
+    )
+    q_hat = np.empty((B, n, F, 4))
+    d_hat = np.empty((B, n, F, 3))
+    P_dd = np.empty((B, n, F, 3, 3))
+    for k in range(n):
+        if k:
+            x, P = ekf_predict_unchecked(x, P, w_tilde[:, k - 1], dt, gyro_cov, drift_cov)
+        x, P, _ = ekf_update_unchecked(x, P, qm[:, k], R)
+        q_hat[:, k] = x[..., :4]
+        d_hat[:, k] = x[..., 4:]
+        P_dd[:, k] = P[..., 4:, 4:]
+    return q_hat, d_hat, P_dd
+
+
+def _tail_prob(n_sigma):
+    return math.erfc(n_sigma / math.sqrt(2.0))
