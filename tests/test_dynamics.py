@@ -6,7 +6,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from xnavlab.core import ephemeris
-from xnavlab.core.constants import DAY, GM_MARS, GM_SUN, J2_MARS, R_MARS
+from xnavlab.core.constants import DAY, GM_MARS, GM_SUN, J2_MARS, J2_MARS_RADIUS
 from xnavlab.mars import dynamics
 
 T0, X0 = dynamics.MARS_T0, dynamics.MARS_STATE0
@@ -40,7 +40,7 @@ def test_compiled_rhs_matches_numpy_model(table):
         t = T0 + 5000.0
         want = dynamics.acceleration(t, x[:3], table, j2=j2)
         got = dynamics._rhs(t, x, GM_MARS, table.t_start, table.step, table.pos, table.vel,
-                            table.gm, J2_MARS if j2 else 0.0, R_MARS, dynamics.MARS_POLE)
+                            table.gm, J2_MARS if j2 else 0.0, J2_MARS_RADIUS, dynamics.MARS_POLE)
         np.testing.assert_allclose(got[3:], want, rtol=1e-13)
         np.testing.assert_array_equal(got[:3], x[3:])
 
@@ -160,3 +160,20 @@ def test_plot_model_difference_shows_the_sun_effect():
     assert "Mars + Jupiter" in fig._suptitle.get_text()
     with pytest.raises(ValueError, match="days_shown"):
         dynamics.plot_model_difference(days_shown=31)
+
+
+def test_j2_uses_the_mgs95j_reference_radius():
+    """J2 acceleration against the MGS95J formula with R = 3396.0 km (not the IAU 3396.19 km)."""
+    mu, j2, radius = 4.28283758e13, 1.95545e-3, 3396.0e3  # MGS95J field, typed independently
+    pole = dynamics.MARS_POLE
+    for r in (X0[:3], np.array([3.8e6, -1.2e6, 2.5e6]), 4.1e6 * pole + np.array([1e5, 0.0, 0.0])):
+        rn = np.linalg.norm(r)
+        z = r @ pole
+        # gradient of U2 = -mu J2 R^2 / (2 r^3) (3 (z/r)^2 - 1), written out term by term
+        want = (-1.5 * mu * j2 * radius**2 / rn**5) * ((1.0 - 5.0 * z**2 / rn**2) * r + 2.0 * z * pole)
+        got = dynamics.j2_acceleration(r)
+        assert np.linalg.norm(got - want) <= 1e-6 * np.linalg.norm(want)
+        total = dynamics.acceleration(T0, r, None, j2=True) - dynamics.point_mass(r)
+        assert np.linalg.norm(total - want) <= 1e-6 * np.linalg.norm(want)
+    old = (-1.5 * mu * j2 * 3396.19e3**2 / np.linalg.norm(X0[:3]) ** 5)  # IAU radius: 1.1e-4 too strong
+    assert abs(old / (-1.5 * mu * j2 * radius**2 / np.linalg.norm(X0[:3]) ** 5) - 1.0) > 1e-4

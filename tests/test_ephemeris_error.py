@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 
 from xnavlab import reproduce
 from xnavlab.core import ephemeris
-from xnavlab.core.constants import GM_EARTH, GM_MARS, J2_EARTH, R_EARTH
+from xnavlab.core.constants import GM_EARTH, GM_MARS, J2_EARTH, J2_EARTH_RADIUS
 from xnavlab.mars import pulsars
 from xnavlab.robust import ephemeris_error as ee
 
@@ -53,9 +53,30 @@ def test_injected_error():
     norms = np.linalg.norm(slow, axis=1)
     assert 119.0 < norms.max() <= 120.0 + 1e-9 and 80.0 - 1e-9 <= norms.min() < 81.0
     for kwargs, name in (({"size": -1.0}, "size"), ({"kind": "ramp"}, "kind"),
-                         ({"direction": [0, 0, 0]}, "direction"), ({"period": 0.0}, "period")):
+                         ({"direction": [0, 0, 0]}, "direction"), ({"period": 0.0}, "period"),
+                         ({"kind": "growing"}, "growth_time"),
+                         ({"kind": "growing", "growth_time": 1.0, "profile": "cubic"}, "profile")):
         with pytest.raises(ValueError, match=name):
             ee.injected_error(0.0, **({"size": 1.0} | kwargs))
+
+
+@given(st.floats(0.0, 2.0), st.sampled_from(ee.PROFILES))
+def test_growing_error_starts_at_zero_and_reaches_its_size(s, profile):
+    t = np.array([-5.0, 0.0, s * 100.0, 100.0])
+    g = np.linalg.norm(ee.injected_error(t, 50.0, "growing", growth_time=100.0, profile=profile), axis=1)
+    assert g[0] == 0.0 and g[1] == 0.0  # zero before and at the start
+    assert abs(g[3] - 50.0) < 1e-9  # the full size at growth_time
+    assert 0.0 <= g[2] <= 50.0 * max(1.0, s * s, s) + 1e-9
+
+
+def test_growth_profile_callable_and_drift():
+    f = ee.growth_profile([0.0, 0.5, 1.0], lambda s: np.sin(np.pi / 2 * s))
+    np.testing.assert_allclose(f, [0.0, np.sqrt(0.5), 1.0])
+    with pytest.raises(ValueError, match="profile"):
+        ee.growth_profile([0.5], lambda s: s + 1.0)
+    t = ee.EPOCH_1997 + np.array([0.0, 86400.0])
+    d = ee.ephemeris_drift("earth", t, ee.EPOCH_1997)
+    assert np.linalg.norm(d[0]) == 0.0 and 1.0 < np.linalg.norm(d[1]) < 50.0
 
 
 @given(st.floats(0.0, 360.0), st.floats(-90.0, 90.0))
@@ -99,7 +120,7 @@ def test_acceleration_two_body_plus_j2():
     r = np.array([7e6, 0.0, 0.0])
     a = ee.acceleration(r, "earth")
     pm = -GM_EARTH / 7e6**2
-    j2 = -1.5 * J2_EARTH * GM_EARTH * R_EARTH**2 / 7e6**4  # equatorial J2 term
+    j2 = -1.5 * J2_EARTH * GM_EARTH * J2_EARTH_RADIUS**2 / 7e6**4  # equatorial J2 term, EGM2008 radius
     np.testing.assert_allclose(a, [pm + j2, 0.0, 0.0], rtol=1e-12)
     assert ee.acceleration(np.tile(r, (3, 1)), "mars").shape == (3, 3)
     with pytest.raises(ValueError, match="body"):

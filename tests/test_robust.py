@@ -109,10 +109,12 @@ def test_tdukf_steps():
                             500.0, "earth", np.eye(6) * 1e-6)
     assert x.shape == (15,) and _is_psd(P)
     np.testing.assert_allclose(x[6:12], o.state0, atol=1e-6)  # the clone
-    x1, P1, nu = rb.tdukf_update(x, P, np.zeros(3), R, N)
+    x1, P1, nu = rb.tdukf_update(x, P, np.zeros(3), R, N, carry_noise=True)
     assert x1.shape == (9,) and _is_psd(P1)
-    x2, P2, _ = rb.tdukf_update(x[:12], P[:12, :12], np.zeros(3), R, N, carry_noise=False)
+    np.testing.assert_array_equal(P1, P1.T)  # symmetric by construction
+    x2, P2, _ = rb.tdukf_update(x[:12], P[:12, :12], np.zeros(3), R, N)  # default: white 2R
     assert x2.shape == (6,) and _is_psd(P2)
+    np.testing.assert_array_equal(P2, P2.T)
     with pytest.raises(ValueError, match="12 entries"):
         rb.tdukf_update(x, P, np.zeros(3), R, N, carry_noise=False)
     with pytest.raises(ValueError, match="Q"):
@@ -202,13 +204,13 @@ def test_run_filter_invariants(mars_sc, name):
 def test_run_filter_options_and_errors(mars_sc):
     r1 = rb.run_filter("rkf", mars_sc, rkf_bias="residual", rng=1)
     assert r1.extra["bias_bound"].shape == (60,)
-    r2 = rb.run_filter("rkf", mars_sc, prior_error=[0.0, 0.0, 0.0], eps=1e12, rng=1)
+    r2 = rb.run_filter("rkf", mars_sc, rkf_bias="oracle", oracle_error=[0.0, 0.0, 0.0], eps=1e12, rng=1)
     u = rb.run_filter("ukf", mars_sc, rng=1)
     np.testing.assert_allclose(r2.x, u.x, atol=1.0)  # B = 0, eps large: close to the UKF
-    assert rb.run_filter("tdukf", mars_sc, td_carry_noise=False, rng=1).x.shape == (60, 6)
+    assert rb.run_filter("tdukf", mars_sc, td_carry_noise=True, rng=1).x.shape == (60, 6)
     assert rb.run_filter("asukf", mars_sc, rng=1).extra["bias"].shape == (60, 3)
     for kwargs, name in (({"name": "ekf"}, "name"), ({"eps": -1.0}, "eps"), ({"rkf_bias": "x"}, "rkf_bias"),
-                         ({"sigma_r0": 0.0}, "sigma_r0"), ({"prior_error": [1.0]}, "prior_error"),
+                         ({"sigma_r0": 0.0}, "sigma_r0"), ({"oracle_error": [1.0]}, "oracle_error"),
                          ({"q_b": math.nan}, "q_b")):
         with pytest.raises(ValueError, match=name):
             rb.run_filter(**({"name": "rkf", "scenario": mars_sc} | kwargs))
@@ -231,10 +233,11 @@ def test_rmse_and_improvement(mars_sc):
 
 
 def test_compare_filters():
-    out = rb.compare_filters("mars", error="slow", size=5000.0, n_steps=100, window=(2e4, 5e4), seeds=(0, 1))
+    out = rb.compare_filters("mars", error="growing", size=5000.0, n_steps=100, window=(2e4, 5e4),
+                             seeds=(0, 1))
     assert set(out["rmse"]) == set(rb.FILTERS)
     assert len(out["rmse_runs"]["ukf"]) == 2
-    assert out["rmse"]["ukf"] > 3 * max(out["rmse"][f] for f in ("asukf", "tdukf", "rkf"))
+    assert out["rmse"]["ukf"] > 2 * max(out["rmse"][f] for f in ("asukf", "tdukf", "rkf"))
     with pytest.raises(ValueError, match="filters"):
         rb.compare_filters("mars", filters=("kf",))
     with pytest.raises(ValueError, match="seeds"):
@@ -244,3 +247,41 @@ def test_compare_filters():
 @pytest.mark.parametrize("rid", ["ukf-vs-ephemeris-error", "rkf-earth", "rkf-mars", "rkf-sweep"])
 def test_reproductions_pass(rid):
     reproduce.run(rid).assert_passed()
+
+
+def test_growing_error_scenarios():
+    g = rb.simulate("earth", n_steps=10, error="growing", size=1000.0, profile="quadratic", rng=0)
+    np.testing.assert_allclose(np.linalg.norm(g.dr_e, axis=1), 1000.0 * (np.arange(1, 11) / 10) ** 2)
+    d = rb.simulate("earth", n_steps=3, error="growing", size=10.0, direction="de405", rng=0)
+    u = ee.ephemeris_error("earth", ee.EPOCH_1997)
+    np.testing.assert_allclose(d.dr_e[-1], 10.0 * u / np.linalg.norm(u))
+    drift = rb.simulate("mars", n_steps=3, error="de405-drift", rng=0)
+    np.testing.assert_allclose(drift.dr_e, ee.ephemeris_drift("mars", drift.t, ee.EPOCH_1997))
+    for kwargs, name in (({"growth_time": 0.0}, "growth_time"), ({"direction": "sun"}, "direction"),
+                         ({"profile": "cubic"}, "profile")):
+        with pytest.raises(ValueError, match=name):
+            rb.simulate(**({"n_steps": 2, "error": "growing", "size": 1.0} | kwargs))
+
+
+def test_rkf_residual_bound_is_default_and_sees_a_growing_error():
+    """The residual bound stays zero-ish without error and grows with a growing error; the oracle
+    variant uses the true bias."""
+    sc = rb.simulate("mars", n_steps=200, error="growing", size=2e4, rng=2)
+    run = rb.run_filter("rkf", sc, rng=1)
+    assert run.extra["bias_bound"][0] == 0.0  # no residual seen yet: B B^T >= 0
+    assert run.extra["bias_bound"][-20:].mean() > 1e3
+    oracle = rb.run_filter("rkf", sc, rkf_bias="oracle", rng=1)
+    want = np.linalg.norm(sc.dr_e @ sc.n.T, axis=1)  # sqrt(tr B B^T) = |N dr_E|
+    np.testing.assert_allclose(oracle.extra["bias_bound"], want, rtol=1e-9)
+    ukf = rb.run_filter("ukf", sc, rng=1)
+    tau = sc.t - sc.t[0] + sc.dt
+    late = tau > 5e4
+    assert np.sqrt(np.mean(run.error[late] ** 2)) < 0.5 * np.sqrt(np.mean(ukf.error[late] ** 2))
+
+
+def test_white_tdukf_differs_from_the_exact_form(mars_sc):
+    white = rb.run_filter("tdukf", mars_sc, rng=1)
+    exact = rb.run_filter("tdukf", mars_sc, td_carry_noise=True, rng=1)
+    assert np.abs(white.x - exact.x).max() > 1.0
+    for P in white.P[::10]:
+        assert _is_psd(P)

@@ -19,8 +19,10 @@ __all__ = [
     "GM_JUPITER",
     "R_MARS",
     "J2_MARS",
+    "J2_MARS_RADIUS",
     "R_EARTH",
     "J2_EARTH",
+    "J2_EARTH_RADIUS",
     "SOURCES",
 ]
 
@@ -44,12 +46,18 @@ GM_MARS = 4.282_837_58e13
 GM_JUPITER = 1.267_127_648e17
 #: Mars equatorial radius, m (IAU WGCCRE 2015, Archinal et al. 2018).
 R_MARS = 3_396_190.0
-#: Mars J2, unnormalised (Konopliv et al. 2006, MGS95J, reference radius 3396 km).
+#: Mars J2, unnormalised (Konopliv et al. 2006, MGS95J); use with :data:`J2_MARS_RADIUS`.
 J2_MARS = 1.955_45e-3
+#: Reference radius of the MGS95J field, m: a zonal coefficient is defined with its own
+#: radius (``J2 mu R^2`` is what the field fixes), not with the IAU :data:`R_MARS`.
+J2_MARS_RADIUS = 3_396_000.0
 #: Earth equatorial radius, m (WGS-84).
 R_EARTH = 6_378_137.0
-#: Earth J2, unnormalised (EGM2008 / IERS Conventions 2010).
+#: Earth J2, unnormalised (EGM2008, sqrt(5) x 0.484165143790815e-3); use with
+#: :data:`J2_EARTH_RADIUS`.
 J2_EARTH = 1.082_626_68e-3
+#: Reference radius of EGM2008, m (not the WGS-84 :data:`R_EARTH`; they differ by 0.7 m).
+J2_EARTH_RADIUS = 6_378_136.3
 
 #: Where each value comes from, for the notation page and the chapters.
 SOURCES = {
@@ -62,6 +70,8 @@ SOURCES = {
     "GM_JUPITER": "JPL DE421 header constant GM5 (Jupiter system)",
     "R_MARS": "IAU WGCCRE 2015 (Archinal et al. 2018)",
     "J2_MARS": "Konopliv et al. 2006, MGS95J",
+    "J2_MARS_RADIUS": "Konopliv et al. 2006, MGS95J reference radius",
     "R_EARTH": "WGS-84",
-    "J2_EARTH": "EGM2008 / IERS Conventions 2010",
+    "J2_EARTH": "EGM2008 (Pavlis et al. 2012)",
+    "J2_EARTH_RADIUS": "EGM2008 reference radius (Pavlis et al. 2012)",
 }

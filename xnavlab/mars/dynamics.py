@@ -32,10 +32,9 @@ from typing import NamedTuple
 
 import numba
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from xnavlab.core import ephemeris
-from xnavlab.core.constants import GM_JUPITER, GM_MARS, GM_SUN, J2_MARS, R_MARS
+from xnavlab.core.constants import GM_JUPITER, GM_MARS, GM_SUN, J2_MARS, J2_MARS_RADIUS, R_MARS
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real
 
 __all__ = [
@@ -182,10 +181,12 @@ def third_body(r, s, gm):
     return np.sum(np.asarray(gm)[:, None] * (d / dn3[:, None] - s / sn3[:, None]), axis=0)
 
 
-def j2_acceleration(r, j2=J2_MARS, radius=R_MARS, gm=GM_MARS, pole=MARS_POLE):
+def j2_acceleration(r, j2=J2_MARS, radius=J2_MARS_RADIUS, gm=GM_MARS, pole=MARS_POLE):
     """Oblateness (J2) acceleration about a pole, m/s^2; ``r`` shape (3,).
 
-    ``a = -3/2 J2 mu R^2 / r^5 [ (1 - 5 z^2/r^2) r + 2 z p ]`` with ``z = r . p``.
+    ``a = -3/2 J2 mu R^2 / r^5 [ (1 - 5 z^2/r^2) r + 2 z p ]`` with ``z = r . p`` and ``R``
+    the reference radius the J2 was determined with (MGS95J: 3396.0 km,
+    :data:`xnavlab.core.constants.J2_MARS_RADIUS`, not the IAU radius ``R_MARS``).
 
     Examples
     --------
@@ -278,7 +279,7 @@ def propagate(t_eval, state0=MARS_STATE0, t0=MARS_T0, third_bodies=("sun", "jupi
         tab_args = (t0, 3600.0, np.zeros((2, 0, 3)), np.zeros((2, 0, 3)), np.zeros(0))
     else:
         tab_args = (table.t_start, table.step, table.pos, table.vel, table.gm)
-    j2_args = (J2_MARS if j2 else 0.0, R_MARS, MARS_POLE)
+    j2_args = (J2_MARS if j2 else 0.0, J2_MARS_RADIUS, MARS_POLE)
 
     def rhs(t, x):
         return _rhs(t, x, GM_MARS, *tab_args, *j2_args)
@@ -286,6 +287,8 @@ def propagate(t_eval, state0=MARS_STATE0, t0=MARS_T0, third_bodies=("sun", "jupi
     t_end = float(t_eval[-1])
     if t_end == t0:
         return np.tile(state0, (t_eval.size, 1))
+    from scipy.integrate import solve_ivp  # imported here: only a cache miss needs it
+
     sol = solve_ivp(rhs, (t0, t_end), state0, method="DOP853", dense_output=True,
                     rtol=rtol, atol=atol)
     if not sol.success:  # pragma: no cover
@@ -308,7 +311,9 @@ def truth(t_eval, state0=MARS_STATE0, t0=MARS_T0, third_bodies=("sun", "jupiter"
 
     The first call for a given set of arguments integrates and stores the result under
     ``$XNAVLAB_CACHE`` (default ``~/.cache/xnavlab``); later calls, from any process,
-    load it. The key covers every argument and :data:`TRUTH_CACHE_VERSION`.
+    load it. The key covers every argument, ``TRUTH_CACHE_VERSION`` and, with ``j2``, the
+    J2 model (``J2_MARS`` and its reference radius), so a changed model is never served
+    from a stale file.
 
     Returns
     -------
@@ -327,6 +332,8 @@ def truth(t_eval, state0=MARS_STATE0, t0=MARS_T0, third_bodies=("sun", "jupiter"
     h = hashlib.sha256()
     for part in (TRUTH_CACHE_VERSION, float(t0), bodies, bool(j2), ephem):
         h.update(repr(part).encode())
+    if j2:  # the J2 model (value and reference radius) is part of the key
+        h.update(repr((J2_MARS, J2_MARS_RADIUS)).encode())
     h.update(np.ascontiguousarray(t_eval).tobytes())
     h.update(np.ascontiguousarray(state0).tobytes())
     path = _cache_dir() / f"truth-{h.hexdigest()[:24]}.npy"

@@ -2,6 +2,13 @@
 
 IDs: ``ephemeris-error`` (Table 1, Figs. 2-3), ``ukf-vs-ephemeris-error`` (Fig. 4),
 ``rkf-earth`` and ``rkf-mars`` (Figs. 6-7, Table 2), ``rkf-sweep`` (Fig. 8).
+
+The navigation runs use the paper's filters as the paper means them: the RKF with its
+bias bound from the measurement residuals, the TDUKF with white differenced noise
+(``2 R``), and an ephemeris error that grows from zero over the run (paper section 1.2,
+"the ephemeris error keeps increasing with time") and reaches the paper's size at the end
+of the RMSE window. The same error held constant is run beside it, to show that the
+paper's ranking needs the growth.
 """
 
 from __future__ import annotations
@@ -14,7 +21,16 @@ from xnavlab.reproduce import Result, check_info, check_range, check_rel, check_
 from xnavlab.reproduce import figure as _figure
 from xnavlab.robust import ephemeris_error as ee
 
-__all__ = ["PAPER_IMPROVEMENT", "PAPER_SENSITIVITY", "PAPER_MARS_ERROR_M", "ukf_sensitivity"]
+__all__ = [
+    "PAPER_IMPROVEMENT",
+    "PAPER_SENSITIVITY",
+    "PAPER_MARS_ERROR_M",
+    "ukf_sensitivity",
+    "ukf_sensitivity_by_direction",
+    "sensitivity_directions",
+    "earth_error_size",
+    "paired_difference",
+]
 
 #: Paper Table 2 / text: improvement of the position RMSE over the UKF, percent.
 PAPER_IMPROVEMENT = {
@@ -85,8 +101,17 @@ def ephemeris_error_repro(out=None, t0=ee.EPOCH_1997):
     return res
 
 
-def ukf_sensitivity(sizes=(0.0, 250.0, 500.0, 750.0, 1000.0), body="earth", seeds=(0,)):
+def ukf_sensitivity(sizes=(0.0, 250.0, 500.0, 750.0, 1000.0), body="earth", seeds=(0,), direction=None):
     """UKF RMSE against an injected constant ephemeris error (Fig. 4).
+
+    Parameters
+    ----------
+    sizes : sequence of float
+        Error sizes, m.
+    body : {"earth", "mars"}
+    seeds : sequence of int
+    direction : array_like, shape (3,), optional
+        Direction of the error (default ``(1, 1, 1) / sqrt(3)``).
 
     Returns
     -------
@@ -101,9 +126,95 @@ def ukf_sensitivity(sizes=(0.0, 250.0, 500.0, 750.0, 1000.0), body="earth", seed
     True
     """
     sizes = np.asarray(sizes, dtype=float)
-    out = [robust.compare_filters(body, ("ukf",), error="constant", size=float(s), seeds=seeds)
-           ["rmse"]["ukf"] for s in sizes]
+    out = [robust.compare_filters(body, ("ukf",), error="constant", size=float(s), seeds=seeds,
+                                  direction=direction)["rmse"]["ukf"] for s in sizes]
     return sizes, np.array(out)
+
+
+def sensitivity_directions(body="earth"):
+    """Named directions of an ephemeris error for :func:`ukf_sensitivity_by_direction`.
+
+    The three pulsar directions, the orbit normal at the start, the real DE421 - DE405
+    error at 1997-01-01, and ``(1, 1, 1) / sqrt(3)`` (the injected error's default).
+
+    Returns
+    -------
+    dict
+        Name -> unit vector, shape (3,), ICRF.
+
+    Examples
+    --------
+    >>> sorted(sensitivity_directions())[:2]
+    ['(1,1,1)', 'B0531+21']
+    """
+    d = {name: n for name, n in zip(ee.PULSARS, ee.directions(), strict=True)}
+    s0 = ee.orbit(body).state0
+    h = np.cross(s0[:3], s0[3:])
+    d["orbit normal"] = h / np.linalg.norm(h)
+    dr = ee.ephemeris_error(body, ee.EPOCH_1997)
+    d["DE421-DE405"] = dr / np.linalg.norm(dr)
+    d["(1,1,1)"] = np.ones(3) / np.sqrt(3.0)
+    return d
+
+
+def ukf_sensitivity_by_direction(directions=None, size=1000.0, body="earth", seeds=(0,)):
+    """UKF error per metre of constant ephemeris error, for each error direction.
+
+    The slope ``(RMSE(size) - RMSE(0)) / size`` over the paper's window, with the same
+    seeds for both runs.
+
+    Parameters
+    ----------
+    directions : dict of name -> array_like (3,), optional
+        Default :func:`sensitivity_directions`.
+    size : float
+        Error size, m.
+    body : {"earth", "mars"}
+    seeds : sequence of int
+
+    Returns
+    -------
+    dict
+        Name -> slope, m per m.
+
+    Examples
+    --------
+    >>> s = ukf_sensitivity_by_direction({"z": [0.0, 0.0, 1.0]}, body="mars")
+    >>> list(s)
+    ['z']
+    """
+    directions = sensitivity_directions(body) if directions is None else directions
+    base = robust.compare_filters(body, ("ukf",), error="none", seeds=seeds)["rmse"]["ukf"]
+    out = {}
+    for name, u in directions.items():
+        r = robust.compare_filters(body, ("ukf",), error="constant", size=float(size), seeds=seeds,
+                                   direction=u)["rmse"]["ukf"]
+        out[name] = (r - base) / size  # Fig. 4's slope along this direction
+    return out
+
+
+def earth_error_size(t0=ee.EPOCH_1997):
+    """Size of the real DE421 - DE405 Earth error at ``t0``, m (the Earth runs' final size).
+
+    Examples
+    --------
+    >>> round(earth_error_size())
+    1492
+    """
+    return float(np.linalg.norm(ee.ephemeris_error("earth", t0)))
+
+
+def paired_difference(cmp, a, b):
+    """Mean and standard error over seeds of ``RMSE_a - RMSE_b`` (same seeds), m.
+
+    Examples
+    --------
+    >>> paired_difference({"rmse_runs": {"x": [1.0, 3.0], "y": [0.0, 0.0]}}, "x", "y")
+    (2.0, 1.0)
+    """
+    d = np.asarray(cmp["rmse_runs"][a]) - np.asarray(cmp["rmse_runs"][b])
+    se = float(d.std(ddof=1) / np.sqrt(d.size)) if d.size > 1 else float("inf")
+    return float(d.mean()), se
 
 
 @register("ukf-vs-ephemeris-error", title="UKF position error against the ephemeris error (Earth)",
@@ -114,21 +225,30 @@ def ukf_vs_ephemeris_error(out=None, sizes=(0.0, 250.0, 500.0, 750.0, 1000.0), s
     slope, icpt = np.polyfit(sizes, r, 1)
     fit = slope * sizes + icpt
     r2 = 1.0 - np.sum((r - fit) ** 2) / np.sum((r - r.mean()) ** 2)
+    by_dir = ukf_sensitivity_by_direction(size=float(sizes.max()), seeds=tuple(seeds))
+    lo, hi = min(by_dir.values()), max(by_dir.values())
     checks = [
-        check_rel("UKF error per metre of ephemeris error", PAPER_SENSITIVITY, slope, 0.5),
+        check_rel("UKF error per metre of ephemeris error, along (1,1,1)", PAPER_SENSITIVITY, slope, 0.5),
         check_true("error grows linearly (R^2 of the line)", "linear", float(r2), r2 > 0.98, "R^2 > 0.98"),
+        check_true("slope depends on the error's direction (max / min over directions)", "not stated",
+                   float(hi / max(lo, 1e-9)), hi > 1.5 * lo,
+                   "max > 1.5 x min (beyond the 50 % tolerance of the slope)"),
     ]
     note = (
         "Earth orbit (representative OPS_5111 elements), three pulsars, 500-s steps; constant "
-        "ephemeris error along (1,1,1)/sqrt(3) injected into the truth; UKF RMSE over "
-        f"1e5-6e5 s, seeds {tuple(seeds)}. Ours: {slope:.2f} m per m (intercept {icpt:.0f} m) "
-        "against the paper's 1.5. The slope depends on how readily the filter absorbs a "
-        "position offset into the orbit, i.e. on the process noise and measurement rate, which "
-        "the paper does not give (its Table of filter inputs was lost); with our Q the UKF "
-        "absorbs a little more than the offset itself. Tolerance: within 50 %."
+        "ephemeris error injected into the truth; UKF RMSE over 1e5-6e5 s, seeds "
+        f"{tuple(seeds)}. Along (1,1,1)/sqrt(3): {slope:.2f} m per m (intercept {icpt:.0f} m) "
+        "against the paper's 1.5. The slope is not a property of the filter's Q: it depends on "
+        "the direction of the error relative to the pulsars and the orbit. Per direction "
+        "(m per m): " + ", ".join(f"{k} {v:.2f}" for k, v in by_dir.items())
+        + f" (range {lo:.2f}-{hi:.2f}). A constant offset along the accurate pulsar "
+        "(B0531+21, 109 m) is believed and pulls the orbit; along the noisy pulsars it is "
+        "averaged against the dynamics; the paper's error direction and pulsar set (Table 4 "
+        "lost) decide its 1.5. Tolerance: within 50 % along (1,1,1)."
     )
     res = Result("ukf-vs-ephemeris-error", checks, note,
-                 {"sizes": sizes, "rmse": r, "slope": float(slope), "intercept": float(icpt)})
+                 {"sizes": sizes, "rmse": r, "slope": float(slope), "intercept": float(icpt),
+                  "by_direction": by_dir})
     if out is not None:
         fig, ax = _figure(figsize=(5, 3.5))
         ax.plot(sizes, r, "o-", label="UKF (xnavlab)")
@@ -162,80 +282,136 @@ def _ranking(rmse):
     return " < ".join(_NAMES[f] for f in sorted(rmse, key=rmse.get))
 
 
-@register("rkf-earth", title="UKF, ASUKF, TDUKF and RKF on the Earth orbit with the DE405 error",
+def _rmse_text(cmp):
+    return ", ".join(f"{_NAMES[f]} {v:.0f} m" for f, v in cmp["rmse"].items())
+
+
+def _imp_text(cmp):
+    return ", ".join(f"{_NAMES[f]} {v:.1f} %" for f, v in cmp["improvement"].items())
+
+
+def _diff_text(cmp, a, b):
+    d, se = paired_difference(cmp, a, b)
+    return f"{_NAMES[a]} - {_NAMES[b]} = {d:+.0f} +- {se:.0f} m"
+
+
+_SETTINGS = (
+    "Filters: UKF; ASUKF with a 1-m-per-step bias random walk; TDUKF with white differenced "
+    "noise 2R (the paper's competitor, Wang et al. 2014); RKF with the residual bias bound "
+    "(running innovation mean, lam = 0.02) and the paper's eps. Initial error 1 km and "
+    "1 m/s per axis, process noise 1e-4 m/s per axis per step (the paper's were lost)."
+)
+
+
+@register("rkf-earth", title="UKF, ASUKF, TDUKF and RKF on the Earth orbit, growing ephemeris error",
           source=f"{_SOURCE}, Fig. 6 and Table 2", chapter=_CHAPTER)
-def rkf_earth(out=None, seeds=(0, 1, 2, 3)):
-    """Improvement over the UKF on the Earth orbit (paper 61.7 / 64.1 / 67.4 %)."""
-    cmp = robust.compare_filters("earth", error="de405", seeds=tuple(seeds))
+def rkf_earth(out=None, seeds=tuple(range(8)), constant_seeds=(0, 1, 2, 3), profile="linear"):
+    """Improvement over the UKF on the Earth orbit (paper 61.7 / 64.1 / 67.4 %).
+
+    The error grows from zero to the real DE421 - DE405 Earth error size (1.49 km) over
+    the run, along ``(1, 1, 1) / sqrt(3)``; the same error held constant is run beside it.
+    """
+    size = earth_error_size()
+    cmp = robust.compare_filters("earth", error="growing", size=size, seeds=tuple(seeds), profile=profile)
+    const = robust.compare_filters("earth", error="constant", size=size, seeds=tuple(constant_seeds))
     imp = cmp["improvement"]
     paper = PAPER_IMPROVEMENT["earth"]
+    d_rt, se_rt = paired_difference(cmp, "rkf", "tdukf")
+    d_ta, se_ta = paired_difference(cmp, "tdukf", "asukf")
+    d_ra, se_ra = paired_difference(cmp, "rkf", "asukf")
     checks = [
-        check_range(f"{_NAMES[f]} improvement over UKF (%)", paper[f], imp[f], paper[f] - 10.0, 100.0,
-                    "at least the paper's minus 10 pp (ours is larger: see note)")
-        for f in ("asukf", "tdukf", "rkf")
+        check_range("ASUKF improvement over UKF (%)", paper["asukf"], imp["asukf"], paper["asukf"] - 10.0,
+                    paper["asukf"] + 10.0, "within 10 pp"),
+        check_range("TDUKF improvement over UKF (%)", paper["tdukf"], imp["tdukf"], paper["tdukf"] - 10.0,
+                    100.0, "at least the paper's minus 10 pp (ours is larger: see note)"),
+        check_range("RKF improvement over UKF (%)", paper["rkf"], imp["rkf"], paper["rkf"] - 10.0,
+                    100.0, "at least the paper's minus 10 pp (ours is larger: see note)"),
+        check_info("RKF improvement within 10 pp of the paper", f"{paper['rkf']} +- 10", round(imp["rkf"], 1),
+                   "ours is larger: see note"),
+        check_true("RKF better than ASUKF (paired RMSE difference, m)", "RKF < ASUKF",
+                   f"{d_ra:+.0f} +- {se_ra:.0f}", d_ra + 2.0 * se_ra < 0.0,
+                   "below zero by 2 standard errors"),
+        check_info("ranking of the mean RMSE, best first", "RKF < TDUKF < ASUKF < UKF", _ranking(cmp["rmse"]),
+                   "RKF-TDUKF and TDUKF-ASUKF within the Monte Carlo noise: see note"),
+        check_info("RKF better than TDUKF (paired RMSE difference, m)", "RKF < TDUKF",
+                   f"{d_rt:+.0f} +- {se_rt:.0f}", "a tie within the Monte Carlo noise: see note"),
+        check_info("TDUKF better than ASUKF (paired RMSE difference, m)", "TDUKF < ASUKF",
+                   f"{d_ta:+.0f} +- {se_ta:.0f}", "within about 2 standard errors: see note"),
+        check_info("ranking with the error held constant", "(paper: growing error only)",
+                   _ranking(const["rmse"]), "shows the paper's claim needs the growth"),
     ]
-    checks.append(check_info("ranking, best first", "RKF < TDUKF < ASUKF < UKF", _ranking(cmp["rmse"]),
-                             "not reproduced: see note"))
     note = (
-        f"RMSE over 1e5-6e5 s, mean of seeds {tuple(seeds)}: "
-        + ", ".join(f"{_NAMES[f]} {v:.0f} m" for f, v in cmp["rmse"].items())
-        + f". Ranking (best first): {_ranking(cmp['rmse'])}; the paper's is RKF < TDUKF < ASUKF. "
-        "Not reproduced: (1) our improvements are about 20-30 pp larger than the paper's, because "
-        "our bias-aware filters converge to about 60-140 m while the paper's must be at about a "
-        "third of its UKF error; the paper's initial errors, P0 and Q were lost, so its absolute "
-        "accuracy cannot be matched. (2) Our RKF is behind the ASUKF and TDUKF. The re-derived "
-        "bound-minimising gain inflates R along the bias B = N dr_E by (1 + eps)/(1 + 1/eps) "
-        "and so discards one measurement combination at every epoch, whereas the ASUKF learns "
-        "a constant bias once and then uses all three measurements and the TDUKF cancels it; "
-        "for a bias that is constant over the run this is a real loss of information, not a "
-        "tuning matter (with eps -> inf the RKF error stays above the ASUKF's). The RKF's bias "
-        "bound comes from the a priori ephemeris-error model (the DE421 - DE405 difference at "
-        "the start epoch, held constant: the paper puts its section-1.2 analysis into the "
-        "measurement model); with the purely residual-based bound (rkf_bias='residual') the "
-        "bias is absorbed into the state before it can be detected and the RKF is no better "
-        "than the UKF. Orbit: representative GPS Block I elements for OPS_5111 "
-        "(a = 26,560 km, e = 0.01, i = 63 deg); epoch 1997-01-01; TDUKF with the exact "
-        "treatment of the correlated differenced noise."
+        f"Ephemeris error growing linearly from 0 to {size:.0f} m (the real DE421 - DE405 Earth "
+        "error at 1997-01-01) over the run, along (1,1,1)/sqrt(3), ending at the end of the RMSE "
+        f"window (1e5-6e5 s); mean of {len(seeds)} seeds: " + _rmse_text(cmp)
+        + f"; improvements {_imp_text(cmp)} (paper 61.7 / 64.1 / 67.4 %). Ranking of the means: "
+        f"{_ranking(cmp['rmse'])}. Paired over seeds: {_diff_text(cmp, 'rkf', 'tdukf')}, "
+        f"{_diff_text(cmp, 'tdukf', 'asukf')}, {_diff_text(cmp, 'rkf', 'asukf')}. The RKF beats the "
+        "ASUKF clearly (its random-walk bias cannot follow the growth, the paper's argument), "
+        "and that is claimed; the order of the RKF and the TDUKF, and of the TDUKF and the "
+        "ASUKF, is within about two standard errors of the seed-to-seed scatter (the TDUKF's "
+        "error varies much from seed to seed), so the paper's full ranking is shown but not "
+        "claimed: more seeds can reorder the RKF and the TDUKF. Our improvements of the TDUKF and "
+        "RKF exceed the paper's by 10-17 pp: our UKF suffers more from the same error (Fig. 4: "
+        "the slope depends on the error's direction, which the paper does not give). The same "
+        f"error held constant ({len(constant_seeds)} seeds): " + _rmse_text(const)
+        + f", ranking {_ranking(const['rmse'])}: a constant bias is learnt by the ASUKF once and "
+        "for all, and the residual bound of the RKF cannot see a bias the filter absorbed in "
+        "its first steps (it then de-weights combinations whose residuals the absorbed bias "
+        "keeps biased, and can end worse than the UKF); the paper's claim needs the growth. " + _SETTINGS
+        + " Orbit: representative GPS Block I elements for OPS_5111 (a = 26,560 km, e = 0.01, "
+        "i = 63 deg); epoch 1997-01-01; eps = 1000."
     )
-    res = Result("rkf-earth", checks, note, cmp)
+    data = dict(cmp)
+    data["constant"] = const
+    data["size"] = size
+    res = Result("rkf-earth", checks, note, data)
     if out is not None:
         res.figures.append(_figure_runs(cmp, "earth", out, "rkf-earth"))
     return res
 
 
-@register("rkf-mars", title="UKF, ASUKF, TDUKF and RKF on the Mars orbit",
+@register("rkf-mars", title="UKF, ASUKF, TDUKF and RKF on the Mars orbit, growing ephemeris error",
           source=f"{_SOURCE}, Fig. 7 and Table 2", chapter=_CHAPTER)
-def rkf_mars(out=None, seeds=(0, 1, 2, 3), size=PAPER_MARS_ERROR_M):
+def rkf_mars(out=None, seeds=tuple(range(8)), constant_seeds=(0, 1), size=PAPER_MARS_ERROR_M,
+             profile="linear"):
     """Improvement over the UKF on the Mars orbit (paper 96.6 / 97.5 / 98.3 %).
 
-    The main run injects the paper's 5e4-m slowly varying error; the real DE405 error
-    (about 1.2 km) is run as well and reported in the note.
+    The error grows from zero to the paper's 5e4 m over the run (the real DE405 Mars
+    error is about 1.2 km in 1997); the same error held constant is run beside it.
     """
-    cmp = robust.compare_filters("mars", error="slow", size=float(size), seeds=tuple(seeds))
-    real = robust.compare_filters("mars", error="de405", seeds=tuple(seeds))
+    cmp = robust.compare_filters("mars", error="growing", size=float(size), seeds=tuple(seeds),
+                                 profile=profile)
+    const = robust.compare_filters("mars", error="constant", size=float(size), seeds=tuple(constant_seeds))
     imp = cmp["improvement"]
     paper = PAPER_IMPROVEMENT["mars"]
     checks = [check_range(f"{_NAMES[f]} improvement over UKF (%)", paper[f], imp[f], paper[f] - 10.0,
-                          min(100.0, paper[f] + 10.0), "within 10 pp") for f in ("asukf", "tdukf", "rkf")]
+                          min(100.0, paper[f] + 10.0), "within 10 pp") for f in ("tdukf", "rkf")]
+    checks.append(check_info("ASUKF improvement over UKF (%)", paper["asukf"], round(imp["asukf"], 1),
+                             "its random-walk bias cannot follow 100 m per step: see note"))
     checks.append(check_info("ranking, best first", "RKF < TDUKF < ASUKF < UKF", _ranking(cmp["rmse"]),
                              "not reproduced: see note"))
+    checks.append(check_info("ranking with the error held constant", "(paper: growing error only)",
+                             _ranking(const["rmse"]), "shows the paper's claim needs the growth"))
     note = (
-        f"Injected slowly varying error of {size:.0f} m (the paper's Mars figure), RMSE over "
-        f"5e4-2.5e5 s, mean of seeds {tuple(seeds)}: "
-        + ", ".join(f"{_NAMES[f]} {v:.0f} m" for f, v in cmp["rmse"].items())
-        + f"; ranking {_ranking(cmp['rmse'])} (paper: RKF < TDUKF < ASUKF). With the real "
-        "DE405 error (about 1.2 km in 1997): "
-        + ", ".join(f"{_NAMES[f]} {v:.0f} m" for f, v in real["rmse"].items())
-        + ", improvements "
-        + ", ".join(f"{_NAMES[f]} {v:.1f} %" for f, v in real["improvement"].items())
-        + ". The three improvements match the paper within 10 pp at the paper's error size "
-        "because the UKF error is then tens of km; the RKF ranks last of the three for the "
-        "reason given under rkf-earth (it discards the biased measurement combination at every "
-        "epoch). Mars orbit: the main paper's initial state (a = 4196 km, e = 0.09, i = 75 deg), "
-        "since Wei et al. (2013)'s elements were not recoverable; eps = 100."
+        f"Ephemeris error growing linearly from 0 to {size:.0f} m (the paper's Mars figure) over "
+        f"the run, along (1,1,1)/sqrt(3); RMSE over 5e4-2.5e5 s, mean of {len(seeds)} seeds: "
+        + _rmse_text(cmp) + f"; improvements {_imp_text(cmp)} (paper 96.6 / 97.5 / 98.3 %); "
+        f"ranking {_ranking(cmp['rmse'])} (paper: RKF < TDUKF < ASUKF). Paired: "
+        f"{_diff_text(cmp, 'rkf', 'tdukf')}. Not reproduced, for a measured reason: the error "
+        "grows by 100 m per 500-s step, which the differencing of the TDUKF removes down to a "
+        "100-m step, far below its noise (sqrt(2) x 109-340 m), while the RKF's residual mean "
+        "(lam = 0.02, a memory of about 50 steps) lags the growth by kilometres and lets part of "
+        "it into the state; the ASUKF's 1-m-per-step bias random walk cannot follow at all "
+        f"(hence its {imp['asukf']:.0f} % against the paper's 96.6 %). With the error held "
+        f"constant ({len(constant_seeds)} seeds): " + _rmse_text(const)
+        + f", ranking {_ranking(const['rmse'])}. " + _SETTINGS + " Mars orbit: the main "
+        "paper's initial state (a = 4196 km, e = 0.09, i = 75 deg), since Wei et al. (2013)'s "
+        "elements were not recoverable; eps = 100."
     )
     data = dict(cmp)
-    data["real"] = real
+    data["constant"] = const
+    data["size"] = float(size)
     res = Result("rkf-mars", checks, note, data)
     if out is not None:
         res.figures.append(_figure_runs(cmp, "mars", out, "rkf-mars"))
@@ -244,36 +420,39 @@ def rkf_mars(out=None, seeds=(0, 1, 2, 3), size=PAPER_MARS_ERROR_M):
 
 @register("rkf-sweep", title="The four filters across ephemeris-error sizes",
           source=f"{_SOURCE}, Fig. 8", chapter=_CHAPTER)
-def rkf_sweep(out=None, sizes=(0.0, 1000.0, 3000.0, 10000.0), body="mars", seeds=(0,)):
-    """RMSE of each filter against the size of a slowly varying injected ephemeris error."""
+def rkf_sweep(out=None, sizes=(0.0, 1000.0, 1e4, 5e4), body="mars", seeds=(0,), profile="linear"):
+    """RMSE of each filter against the final size of a growing injected ephemeris error."""
     sizes = tuple(float(s) for s in sizes)
     table = {f: [] for f in robust.FILTERS}
     for s in sizes:
-        cmp = robust.compare_filters(body, error="slow", size=s, seeds=tuple(seeds))
+        cmp = robust.compare_filters(body, error="growing", size=s, seeds=tuple(seeds), profile=profile)
         for f in robust.FILTERS:
             table[f].append(cmp["rmse"][f])
     table = {f: np.array(v) for f, v in table.items()}
     big = int(np.argmax(sizes))
-    others = [table[f][big] for f in ("asukf", "tdukf", "rkf")]
     ukf_growth = table["ukf"][big] - table["ukf"][0]
-    other_growth = max(table[f][big] - table[f][0] for f in ("asukf", "tdukf", "rkf"))
+    worst = max(table[f][big] for f in ("tdukf", "rkf"))
     checks = [
         check_true("UKF error grows with the ephemeris error (m, largest minus none)",
-                   "rises sharply", float(ukf_growth), ukf_growth > 0.5 * (sizes[big] - sizes[0]),
-                   "grows by more than half the added error"),
-        check_true("ASUKF, TDUKF, RKF stay small at the largest error (worst RMSE, m)",
-                   "small", float(max(others)), max(others) < 0.1 * table["ukf"][big],
-                   "below 10 % of the UKF's"),
-        check_true("their growth is bounded (m)", "bounded", float(other_growth),
-                   other_growth < 0.05 * (sizes[big] - sizes[0]), "less than 5 % of the added error"),
+                   "rises sharply", float(ukf_growth), ukf_growth > 0.25 * (sizes[big] - sizes[0]),
+                   "grows by more than a quarter of the added error"),
+        check_true("TDUKF and RKF stay small at the largest error (worst RMSE, m)",
+                   "small", float(worst), worst < 0.1 * table["ukf"][big], "below 10 % of the UKF's"),
+        check_info("ASUKF at the largest error (m)", "small", round(float(table["asukf"][big])),
+                   "its random-walk bias lags a fast growth: see rkf-mars"),
+        check_info("RKF best of the three at every size", "yes",
+                   all(table["rkf"][i] <= min(table["asukf"][i], table["tdukf"][i])
+                       for i in range(len(sizes))),
+                   "not reproduced: see rkf-earth and rkf-mars"),
     ]
     note = (
-        f"{body.capitalize()} orbit, slowly varying injected error, one run per size "
-        f"(seeds {tuple(seeds)}). RMSE (m) at sizes {sizes}: "
+        f"{body.capitalize()} orbit, error growing linearly from zero to the size shown over the run, "
+        f"one run per size (seeds {tuple(seeds)}). RMSE (m) at sizes {sizes}: "
         + "; ".join(f"{_NAMES[f]} " + ", ".join(f"{v:.0f}" for v in table[f]) for f in robust.FILTERS)
-        + ". As in the paper, the UKF error rises steeply with the ephemeris error while the three "
-        "bias-aware filters stay nearly flat; unlike the paper, the RKF is not the best of the "
-        "three (see rkf-earth). The Mars orbit is used because its runs are 2.4 times shorter."
+        + ". As in the paper, the UKF error rises steeply with the ephemeris error while the TDUKF "
+        "and the RKF stay far below it; unlike the paper, the ASUKF grows too (its bias model "
+        "cannot follow a fast growth, the paper's own argument against it) and the RKF is not "
+        "the best of the three. The Mars orbit is used because its runs are 2.4 times shorter."
     )
     res = Result("rkf-sweep", checks, note, {"sizes": np.array(sizes), "rmse": table, "body": body})
     if out is not None:
@@ -281,7 +460,7 @@ def rkf_sweep(out=None, sizes=(0.0, 1000.0, 3000.0, 10000.0), body="mars", seeds
         for f in robust.FILTERS:
             ax.plot(sizes, table[f], "o-", label=_NAMES[f])
         ax.set_yscale("log")
-        ax.set_xlabel("ephemeris error (m)")
+        ax.set_xlabel("final ephemeris error (m)")
         ax.set_ylabel("position RMSE (m)")
         ax.legend()
         fig.tight_layout()

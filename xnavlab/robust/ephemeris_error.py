@@ -51,7 +51,16 @@ import numba
 import numpy as np
 
 from xnavlab.core import ephemeris
-from xnavlab.core.constants import DAY, GM_EARTH, GM_MARS, J2_EARTH, J2_MARS, R_EARTH, R_MARS
+from xnavlab.core.constants import (
+    DAY,
+    GM_EARTH,
+    GM_MARS,
+    J2_EARTH,
+    J2_EARTH_RADIUS,
+    J2_MARS,
+    J2_MARS_RADIUS,
+    R_EARTH,  # noqa: F401 - used by the doctest of acceleration
+)
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real
 from xnavlab.mars import pulsars
 from xnavlab.mars.dynamics import MARS_POLE, MARS_STATE0
@@ -68,7 +77,10 @@ __all__ = [
     "EARTH_ELEMENTS",
     "ephemeris_error",
     "error_summary",
+    "PROFILES",
+    "growth_profile",
     "injected_error",
+    "ephemeris_drift",
     "pulsar_direction",
     "directions",
     "xnav_range",
@@ -89,10 +101,10 @@ PULSARS = ("B0531+21", "B1821-24", "B1937+21")
 SIGMA_M = (109.0, 325.0, 340.0)
 #: Earth's pole for J2 (the J2000 z axis; precession is neglected).
 EARTH_POLE = np.array([0.0, 0.0, 1.0])
-#: Planet constants: GM (m^3/s^2), J2, equatorial radius (m), pole (ICRF unit vector).
+#: Planet constants: GM (m^3/s^2), J2, the J2's reference radius (m), pole (ICRF unit vector).
 PLANETS = {
-    "earth": (GM_EARTH, J2_EARTH, R_EARTH, EARTH_POLE),
-    "mars": (GM_MARS, J2_MARS, R_MARS, MARS_POLE),
+    "earth": (GM_EARTH, J2_EARTH, J2_EARTH_RADIUS, EARTH_POLE),
+    "mars": (GM_MARS, J2_MARS, J2_MARS_RADIUS, MARS_POLE),
 }
 
 
@@ -160,8 +172,49 @@ def error_summary(body, t0=EPOCH_1997, span=DAY, n=97):
             "change_m": float(norm[-1] - norm[0]), "t": t, "norm": norm}
 
 
-def injected_error(t, size, kind="constant", direction=(1.0, 1.0, 1.0), t0=0.0, period=YEAR):
-    """A synthetic ephemeris error of a chosen size, m (for Fig. 4 and the sweep).
+#: Time profiles of the growing injected error (:func:`growth_profile`), ``f(0) = 0``, ``f(1) = 1``.
+PROFILES = ("linear", "quadratic", "sqrt")
+
+
+def growth_profile(s, profile="linear"):
+    """Fraction of its final size a growing error has reached, ``f(s)`` for ``s >= 0``.
+
+    Parameters
+    ----------
+    s : float or array_like
+        Time since the error started, as a fraction of the time at which it reaches its
+        full size (``s = 1``); negative values give 0 (the error has not started).
+    profile : {"linear", "quadratic", "sqrt"} or callable
+        ``s``, ``s^2`` or ``sqrt(s)``; a callable ``f`` must be vectorised with
+        ``f(0) = 0`` and ``f(1) = 1`` (checked) and finite values.
+
+    Returns
+    -------
+    ndarray, same shape as ``s``
+
+    Examples
+    --------
+    >>> growth_profile([0.0, 0.25, 1.0], "sqrt").tolist()
+    [0.0, 0.5, 1.0]
+    """
+    s = np.clip(check_finite_array("s", s), 0.0, None)
+    if callable(profile):
+        ends = np.asarray(profile(np.array([0.0, 1.0])), dtype=float)
+        if ends.shape != (2,) or not np.allclose(ends, [0.0, 1.0], rtol=0.0, atol=1e-9):
+            raise ValueError("profile must be a vectorised callable with f(0) = 0 and f(1) = 1")
+        out = np.asarray(profile(s), dtype=float)
+        if out.shape != s.shape or not np.all(np.isfinite(out)):
+            raise ValueError("profile must return finite values of the shape of its argument")
+        return out
+    check_choice("profile", profile, PROFILES)
+    if profile == "linear":
+        return s
+    return s * s if profile == "quadratic" else np.sqrt(s)
+
+
+def injected_error(t, size, kind="constant", direction=(1.0, 1.0, 1.0), t0=0.0, period=YEAR,
+                   growth_time=None, profile="linear"):
+    """A synthetic ephemeris error of a chosen size, m (Figs. 4 and 8, and the growing error).
 
     Parameters
     ----------
@@ -169,15 +222,22 @@ def injected_error(t, size, kind="constant", direction=(1.0, 1.0, 1.0), t0=0.0, 
         Epochs, s.
     size : float
         Magnitude, m (``>= 0``).
-    kind : {"constant", "slow"}
+    kind : {"constant", "slow", "growing"}
         ``"constant"``: ``size * u``; ``"slow"``: ``size * u * (1 + 0.2 sin(2 pi (t - t0) / period))``,
-        a slowly varying error of the DE405-DE421 kind (about 20 % over a year).
+        a slowly varying error of the DE405-DE421 kind (about 20 % over a year);
+        ``"growing"``: ``size * u * f((t - t0) / growth_time)``, zero at ``t0`` and ``size``
+        at ``t0 + growth_time`` (the paper's error that "keeps increasing with time";
+        ``f`` is :func:`growth_profile`).
     direction : array_like, shape (3,)
         Direction ``u`` (normalised here; must be non-zero).
     t0 : float
-        Reference epoch of the slow variation, s.
+        Reference epoch (start of the growth, phase of the slow variation), s.
     period : float
         Period of the slow variation, s.
+    growth_time : float, optional
+        For ``"growing"``: time after ``t0`` at which the error reaches ``size``, s (required).
+    profile : str or callable
+        For ``"growing"``: the time profile ``f`` (see :func:`growth_profile`).
 
     Returns
     -------
@@ -187,9 +247,12 @@ def injected_error(t, size, kind="constant", direction=(1.0, 1.0, 1.0), t0=0.0, 
     --------
     >>> round(float(np.linalg.norm(injected_error(0.0, 100.0))), 9)
     100.0
+    >>> g = injected_error([0.0, 50.0, 100.0], 10.0, "growing", (0, 0, 1), growth_time=100.0)
+    >>> g[:, 2].tolist()
+    [0.0, 5.0, 10.0]
     """
     size = check_real("size", size, 0.0)
-    check_choice("kind", kind, ("constant", "slow"))
+    check_choice("kind", kind, ("constant", "slow", "growing"))
     u = check_finite_array("direction", direction, shape=(3,))
     norm = float(np.linalg.norm(u))
     if norm == 0.0:
@@ -199,7 +262,41 @@ def injected_error(t, size, kind="constant", direction=(1.0, 1.0, 1.0), t0=0.0, 
     scale = np.full(t.shape, size)
     if kind == "slow":
         scale = size * (1.0 + 0.2 * np.sin(2.0 * math.pi * (t - t0) / period))
+    elif kind == "growing":
+        if growth_time is None:
+            raise ValueError("growth_time must be given (s > 0) for a growing error")
+        growth_time = check_real("growth_time", growth_time, 0.0, lo_open=True)
+        scale = size * growth_profile((t - t0) / growth_time, profile)  # |dr_E(t)| = size f(s)
     return scale[..., None] * (u / norm)
+
+
+def ephemeris_drift(body, t, t_ref, truth="de421", model="de405"):
+    """The real ephemeris error's change since ``t_ref``: ``dr_E(t) - dr_E(t_ref)``, m.
+
+    The DE421 - DE405 difference as it evolves, with its value at ``t_ref`` removed (what
+    a filter whose ephemeris was corrected at ``t_ref`` would meet): zero at ``t_ref``
+    and growing by metres per day (see :func:`error_summary`).
+
+    Parameters
+    ----------
+    body : {"earth", "mars"}
+    t : float or array_like, shape (n,)
+        Epochs, s TDB past J2000.
+    t_ref : float
+        Reference epoch, s TDB past J2000.
+    truth, model : {"de421", "de405"}
+
+    Returns
+    -------
+    ndarray, shape (3,) or (n, 3)
+
+    Examples
+    --------
+    >>> float(np.linalg.norm(ephemeris_drift("earth", EPOCH_1997, EPOCH_1997)))
+    0.0
+    """
+    t_ref = check_real("t_ref", t_ref)
+    return ephemeris_error(body, t, truth, model) - ephemeris_error(body, t_ref, truth, model)
 
 
 def pulsar_direction(ra_deg, dec_deg, order="standard"):
@@ -282,7 +379,8 @@ def xnav_range(r, r_planet, n):
 def acceleration(r, body="earth"):
     """Two-body + J2 acceleration in the planet-centred J2000 frame, m/s^2 (paper eq. (5)).
 
-    ``a = -mu r / |r|^3 - 3/2 J2 mu R^2 / |r|^5 [(1 - 5 z^2/|r|^2) r + 2 z p]``, ``z = r . p``.
+    ``a = -mu r / |r|^3 - 3/2 J2 mu R^2 / |r|^5 [(1 - 5 z^2/|r|^2) r + 2 z p]``, ``z = r . p``,
+    with ``R`` the reference radius of the J2 (:data:`PLANETS`).
 
     Parameters
     ----------

@@ -13,12 +13,14 @@ ASUKF (Wang et al. 2013)
     ``y = N r + b + v`` (:func:`asukf_update`).
 TDUKF (Wang et al. 2014)
     Time-differenced measurements ``y_k - y_{k-1} = N (r_k - r_{k-1}) + v_k - v_{k-1}``:
-    a slowly varying bias cancels. The differenced noise is correlated with the previous
-    one (an MA(1) sequence) and, through ``r_{k-1}``, with the state; we handle both
-    exactly by carrying a clone of the previous state and the previous measurement noise
-    in the filter state (stochastic cloning), so the update is an ordinary Kalman update
-    with ``H = [N, -N, -I, I]`` over ``[x_k, x_{k-1}, v_{k-1}, v_k]``
-    (:func:`tdukf_predict`, :func:`tdukf_update`).
+    a slowly varying bias cancels. A clone of the previous state is carried so that the
+    difference is linear in the state (:func:`tdukf_predict`, :func:`tdukf_update`). The
+    paper's competitor (default) takes the differenced noise as white with covariance
+    ``2 R``; it is in fact an MA(1) sequence (consecutive differences share ``v_{k-1}``).
+    ``td_carry_noise=True`` carries the previous noise in the state and handles that
+    correlation exactly: that filter is then equivalent to a constant-bias ASUKF (the bias
+    is eliminated exactly once and never re-estimated), a different filter from the one
+    the paper ran, kept to explain why the paper's TDUKF pays for differencing.
 RKF (the paper's method, eqs. (8)-(26) lost; re-derived)
     Kalman form with the unknown bias: ``e+ = (I - K H) e- - K B - K v``. For any
     ``eps > 0``, ``(a + b)(a + b)^T <= (1 + 1/eps) a a^T + (1 + eps) b b^T``, so with
@@ -31,22 +33,22 @@ RKF (the paper's method, eqs. (8)-(26) lost; re-derived)
         K = Sigma- H^T [H Sigma- H^T + (R + (1 + eps) B B^T) / (1 + 1/eps)]^-1
         Sigma+ = (1 + 1/eps) (I - K H) Sigma-
 
-    The bias is unknown. ``run_filter(..., rkf_bias="prior")`` (default) takes it from an
-    a priori ephemeris-error model, ``B = N dr_prior`` with ``dr_prior`` the DE421 - DE405
-    difference at the start epoch, held constant (the paper builds its section-1.2
-    analysis of the error into the measurement model). ``rkf_bias="residual"`` uses only
-    a lower bound from the innovations (the paper's "lower bound from the measurement
-    residuals"): with ``m`` an exponentially weighted mean of the innovations (weight
-    ``lam``), whose noise part has covariance ``lam / (2 - lam) S``,
-    ``B B^T >= [m m^T - lam / (2 - lam) S]_+`` (the positive part; zero "otherwise",
-    :func:`rkf_bias_bound`). It does not work well: the filter absorbs the bias into the
-    state before the innovations reveal it. ``H Sigma- H^T`` and ``Sigma- H^T`` come from
-    the unscented transform (paper: the UKF replaces eqs. (8) and (13)); for this linear
-    measurement they equal the closed forms (:func:`rkf_update`).
+    ``eps`` (paper: 1000 Earth, 100 Mars) enters twice: it weights the bias outer product
+    in the gain (the measurement combination along ``B`` is de-weighted by about
+    ``1 + eps``) and inflates the bound by ``1 + 1/eps`` per update.
 
-    For a bias that is constant over the run the RKF stays behind the ASUKF in our runs,
-    even as ``eps -> inf``: it discards the measurement combination along ``B`` at every
-    epoch, while the ASUKF learns the bias once and then uses all measurements.
+    The bias is unknown; the paper bounds it from the measurement residuals
+    ("the lower bound of the systematic bias is determined from the measurement
+    residuals"). Default ``rkf_bias="residual"``: with ``m_k`` the exponentially weighted
+    mean of the innovations ``nu_k = y_k - N r_k-`` (weight ``lam``), whose noise part has
+    covariance ``lam / (2 - lam) S`` for white innovations of covariance
+    ``S = H Sigma- H^T + R``, ``E[m m^T] = B B^T + lam / (2 - lam) S``, so
+    ``B B^T >= [m m^T - lam / (2 - lam) S]_+`` (positive part; zero "otherwise",
+    :func:`rkf_bias_bound`); the bound from the innovations up to epoch ``k`` sets the
+    gain of epoch ``k + 1``. ``rkf_bias="oracle"`` uses the true bias ``B = N dr_E``
+    (teaching only: a filter that knew it would subtract it). ``H Sigma- H^T`` and
+    ``Sigma- H^T`` come from the unscented transform (paper: the UKF replaces eqs. (8)
+    and (13)); for this linear measurement they equal the closed forms (:func:`rkf_update`).
 
 Units: m, m/s, s. Frames: planet-centred J2000 for ``r, v``; measurement space for ``b``.
 
@@ -71,6 +73,7 @@ from xnavlab.robust import ephemeris_error as ee
 
 __all__ = [
     "FILTERS",
+    "ERRORS",
     "EPSILON",
     "Scenario",
     "FilterRun",
@@ -83,6 +86,7 @@ __all__ = [
     "rkf_gain",
     "rkf_bias_bound",
     "rkf_update",
+    "RKF_BIAS",
     "run_filter",
     "rmse",
     "improvement",
@@ -90,6 +94,8 @@ __all__ = [
     "compare_filters",
 ]
 
+#: Ephemeris-error models accepted by :func:`simulate`.
+ERRORS = ("de405", "de405-drift", "constant", "slow", "growing", "none")
 #: Filter names accepted by :func:`run_filter`.
 FILTERS = ("ukf", "asukf", "tdukf", "rkf")
 #: The paper's epsilon: 1000 for the Earth orbit, 100 for Mars.
@@ -158,7 +164,8 @@ class FilterRun:
 
 
 def simulate(body="earth", n_steps=1200, dt=500.0, error="de405", size=0.0, pulsar_names=None,
-             sigma_m=None, t0=ee.EPOCH_1997, elements=None, rng=None):
+             sigma_m=None, t0=ee.EPOCH_1997, elements=None, direction=None, growth_time=None,
+             profile="linear", rng=None):
     """Simulate truth and measurements for one scenario.
 
     Parameters
@@ -168,12 +175,13 @@ def simulate(body="earth", n_steps=1200, dt=500.0, error="de405", size=0.0, puls
         Number of measurement epochs (``t = t0 + dt * [1..n_steps]``).
     dt : float
         Observation interval, s (paper: 500).
-    error : {"de405", "constant", "slow", "none"}
-        Ephemeris error: DE421 - DE405 (the paper's), an injected constant or slowly
-        varying offset of ``size`` metres (:func:`xnavlab.robust.ephemeris_error.injected_error`),
-        or none.
+    error : {"de405", "de405-drift", "constant", "slow", "growing", "none"}
+        Ephemeris error: DE421 - DE405 (the paper's, as it evolves over the run), its
+        change since ``t0`` (:func:`xnavlab.robust.ephemeris_error.ephemeris_drift`: starts
+        at zero), an injected constant, slowly varying or growing error of ``size``
+        metres (:func:`xnavlab.robust.ephemeris_error.injected_error`), or none.
     size : float
-        Size of the injected error, m.
+        Size of the injected error, m (for ``"growing"``: reached at ``growth_time``).
     pulsar_names : sequence of str, optional
         Pulsars (default :data:`xnavlab.robust.ephemeris_error.PULSARS`).
     sigma_m : sequence of float, optional
@@ -183,6 +191,15 @@ def simulate(body="earth", n_steps=1200, dt=500.0, error="de405", size=0.0, puls
         Epoch of the initial state, s TDB past J2000.
     elements : tuple, optional
         Orbital elements replacing the default orbit (see :func:`xnavlab.robust.ephemeris_error.orbit`).
+    direction : array_like of shape (3,) or "de405", optional
+        Direction of an injected error (ICRF); ``"de405"``: that of the real DE421 - DE405
+        error at ``t0``. Default ``(1, 1, 1) / sqrt(3)``.
+    growth_time : float, optional
+        ``"growing"``: time after ``t0`` at which the error reaches ``size``, s. Default:
+        the run's length ``n_steps * dt`` (with the default lengths of
+        :func:`compare_filters`, the end of the paper's RMSE window).
+    profile : {"linear", "quadratic", "sqrt"} or callable
+        ``"growing"``: time profile (:func:`xnavlab.robust.ephemeris_error.growth_profile`).
     rng : numpy.random.Generator or int, optional
 
     Returns
@@ -194,12 +211,18 @@ def simulate(body="earth", n_steps=1200, dt=500.0, error="de405", size=0.0, puls
     >>> sc = simulate("mars", n_steps=5, error="constant", size=100.0, rng=1)
     >>> sc.y.shape, round(float(np.linalg.norm(sc.dr_e[0])), 6)
     ((5, 3), 100.0)
+    >>> g = simulate("mars", n_steps=4, error="growing", size=400.0, rng=1)
+    >>> np.round(np.linalg.norm(g.dr_e, axis=1), 6).tolist()
+    [100.0, 200.0, 300.0, 400.0]
     """
     check_choice("body", body, tuple(ee.PLANETS))
     n_steps = check_int("n_steps", n_steps, 1, 10**6)
     dt = check_real("dt", dt, 1.0, 1e5)
-    check_choice("error", error, ("de405", "constant", "slow", "none"))
+    check_choice("error", error, ERRORS)
     size = check_real("size", size, 0.0, 1e8)
+    if growth_time is None:
+        growth_time = n_steps * dt
+    growth_time = check_real("growth_time", growth_time, 0.0, 1e9, lo_open=True)
     rng = make_rng(rng)
     from xnavlab.mars import pulsars
 
@@ -214,6 +237,11 @@ def simulate(body="earth", n_steps=1200, dt=500.0, error="de405", size=0.0, puls
         raise ValueError(f"sigma_m must hold {len(names)} positive values, got {sigma_m!r}")
     n = ee.directions(names)
     orb = ee.orbit(body, t0, elements)
+    if direction is None:
+        direction = np.ones(3)
+    elif isinstance(direction, str):
+        check_choice("direction", direction, ("de405",))
+        direction = ee.ephemeris_error(body, orb.t0)
     t = orb.t0 + dt * np.arange(1, n_steps + 1)
     x = np.empty((n_steps, 6))
     s = orb.state0
@@ -222,10 +250,13 @@ def simulate(body="earth", n_steps=1200, dt=500.0, error="de405", size=0.0, puls
         x[k] = s
     if error == "de405":
         dr = ee.ephemeris_error(body, t)
+    elif error == "de405-drift":
+        dr = ee.ephemeris_drift(body, t, orb.t0)
     elif error == "none":
         dr = np.zeros((n_steps, 3))
     else:
-        dr = ee.injected_error(t, size, error, t0=orb.t0)
+        dr = ee.injected_error(t, size, error, direction, t0=orb.t0, growth_time=growth_time,
+                               profile=profile)
     v = rng.normal(size=(n_steps, len(names))) * sigma
     y = (x[:, :3] + dr) @ n.T + v  # y = z - N r_E_hat = N (r + dr_E) + v, paper eqs. (1)-(3)
     return Scenario(body, t, dt, x, y, n, np.diag(sigma**2), dr)
@@ -387,13 +418,18 @@ def _asukf_h(n):
 
 
 def tdukf_predict(x, P, dt, body, Q):
-    """TDUKF time update: ``[x_k, v_k] -> [x_k+1, x_k (clone), v_k]``.
+    """TDUKF time update: ``[x_k (, v_k)] -> [x_k+1, x_k (clone) (, v_k)]``.
+
+    The clone ``x_k`` is what the differenced measurement of :func:`tdukf_update` needs;
+    the returned covariance is symmetric and singular by construction (the clone and
+    ``x_k+1`` are tied by the dynamics up to the process noise).
 
     Parameters
     ----------
-    x : array_like, shape (6 + k,)
-        Posterior ``[r, v]`` and the posterior of the last measurement noise ``v_k``.
-    P : array_like, shape (6 + k, 6 + k)
+    x : array_like, shape (6,) or (6 + k,)
+        Posterior ``[r, v]`` and, for the exact form, the posterior of the last
+        measurement noise ``v_k``.
+    P : array_like, shape matching ``x``
     dt : float
     body : {"earth", "mars"}
     Q : array_like, shape (6, 6)
@@ -401,8 +437,8 @@ def tdukf_predict(x, P, dt, body, Q):
 
     Returns
     -------
-    x : ndarray, shape (12 + k,)
-    P : ndarray, shape (12 + k, 12 + k)
+    x : ndarray, shape (12,) or (12 + k,)
+    P : ndarray, matching
 
     Examples
     --------
@@ -429,47 +465,64 @@ def _tdukf_predict(x, P, dt, body, Q):
     Y = np.hstack([ee.propagate_unchecked(X[:, :6], dt, body), X[:, :6], X[:, 6:]])  # [f(x_k), x_k, v_k]
     noise = np.zeros((m + 6, m + 6))
     noise[:6, :6] = Q
-    return unscented_transform(Y, Wm, Wc, noise=noise)
+    xo, Po = unscented_transform(Y, Wm, Wc, noise=noise)  # P- = sum Wc (Y - x-)(Y - x-)^T + Q
+    return xo, symmetrize(Po)
 
 
-def tdukf_update(x, P, dy, R, n, carry_noise=True):
+def tdukf_update(x, P, dy, R, n, carry_noise=False):
     """TDUKF update with the differenced measurement ``dy = y_k+1 - y_k``.
 
-    ``dy = N r_k+1 - N r_k - v_k + v_k+1`` is linear in ``[x_k+1, x_k, v_k, v_k+1]``.
-    With ``carry_noise`` (exact): ``v_k+1 ~ N(0, R)`` is appended to the state, the
-    Kalman update is done with ``H = [N 0, -N 0, -I, I]`` and no further noise, and the
-    result is marginalised to ``[x_k+1, v_k+1]`` (which carries the MA(1) correlation of
-    the differenced noise into the next difference). Without it: the state is
-    ``[x_k+1, x_k]``, ``H = [N 0, -N 0]`` and the differenced noise is taken as white
-    with covariance ``2 R`` (the noise increase the paper attributes to the TDUKF).
-    Either way the process noise of the step is correlated with ``dy`` through the
-    joint covariance of ``x_k+1`` and its clone ``x_k`` (Wang et al. 2014 derive a
-    modified UKF for that correlation).
+    ``dy = N r_k+1 - N r_k + (v_k+1 - v_k)`` is linear in ``[x_k+1, x_k]`` (the state and
+    its clone from :func:`tdukf_predict`) plus the differenced noise.
+
+    ``carry_noise=False`` (default; the paper's competitor, Wang et al. 2014): the state
+    is ``[x_k+1, x_k]``, ``H = [N 0, -N 0]``, and the differenced noise is taken as white
+    with covariance ``2 R``, ``cov(v_k+1 - v_k) = 2 R``. It is not white: consecutive
+    differences share ``v_k`` (covariance ``-R``), which this form ignores, and that is
+    the noise increase the paper holds against the TDUKF.
+
+    ``carry_noise=True`` (exact, for teaching): the previous noise ``v_k`` is carried in
+    the state and ``v_k+1 ~ N(0, R)`` appended, ``H = [N 0, -N 0, -I, I]`` over
+    ``[x_k+1, x_k, v_k, v_k+1]`` with no further noise, and the result is marginalised to
+    ``[x_k+1, v_k+1]``. Carrying the noise this exactly makes the filter a constant-bias
+    estimator in disguise: it is equivalent to an ASUKF whose bias never changes, so it is
+    not the competitor the paper ran.
+
+    Either way the process noise of the step is correlated with ``dy`` through the joint
+    covariance of ``x_k+1`` and its clone ``x_k``.
+
+    Covariances stay symmetric and positive semi-definite: the update uses the Joseph
+    form ``P+ = (I - K H) P (I - K H)^T + K R_d K^T`` (``R_d = 2 R``, or 0 in the exact
+    form where the noise is in the state), a sum of congruences of PSD matrices, which is
+    PSD for any gain, and the result is symmetrised. The clone block makes ``P`` singular
+    by construction (``x_k+1`` and ``x_k`` are tied by the dynamics), so its smallest
+    eigenvalue is zero up to rounding; a test must check PSD within a tolerance relative
+    to the scale, not the sign of that eigenvalue.
 
     Parameters
     ----------
-    x : array_like, shape (12 + k,) or (12,)
-        Output of :func:`tdukf_predict` (``12`` entries when ``carry_noise`` is False).
+    x : array_like, shape (12,) or (12 + k,)
+        Output of :func:`tdukf_predict` (``12 + k`` entries when ``carry_noise`` is True).
     P : array_like, shape matching ``x``
     dy : array_like, shape (k,)
     R, n : as in :func:`ukf_update`
     carry_noise : bool
-        Keep the previous measurement noise in the state (exact) or treat the
-        differenced noise as white (``2 R``).
+        Treat the differenced noise as white with ``2 R`` (False) or carry the previous
+        measurement noise in the state (True, exact).
 
     Returns
     -------
-    x : ndarray, shape (6 + k,) or (6,)
-    P : ndarray, shape (6 + k, 6 + k) or (6, 6)
+    x : ndarray, shape (6,) or (6 + k,)
+    P : ndarray, shape (6, 6) or (6 + k, 6 + k)
     nu : ndarray, shape (k,)
 
     Examples
     --------
-    >>> x, P, nu = tdukf_update(np.zeros(15), np.eye(15), np.zeros(3), np.eye(3), np.eye(3))
+    >>> x, P, nu = tdukf_update(np.zeros(12), np.eye(12), np.zeros(3), np.eye(3), np.eye(3))
     >>> x.shape, P.shape
-    ((9,), (9, 9))
-    >>> tdukf_update(np.zeros(12), np.eye(12), np.zeros(3), np.eye(3), np.eye(3), False)[0].shape
-    (6,)
+    ((6,), (6, 6))
+    >>> tdukf_update(np.zeros(15), np.eye(15), np.zeros(3), np.eye(3), np.eye(3), True)[0].shape
+    (9,)
     """
     x, P, dy, R, n = _check_update(x, P, dy, R, n)
     k = n.shape[0]
@@ -479,28 +532,33 @@ def tdukf_update(x, P, dy, R, n, carry_noise=True):
         H = np.zeros((k, 12))
         H[:, :3] = n
         H[:, 6:9] = -n  # dy = N r_k+1 - N r_k + (v_k+1 - v_k)
-        S = symmetrize(H @ P @ H.T + 2.0 * R)  # white approximation: cov(v_k+1 - v_k) = 2 R
-        K = np.linalg.solve(S, H @ P).T
-        nu = dy - H @ x
-        return (x + K @ nu)[:6], symmetrize(P - K @ S @ K.T)[:6, :6], nu
+        xo, Po, nu = _joseph_update(x, P, dy, H, 2.0 * R)  # white: cov(v_k+1 - v_k) = 2 R
+        return xo[:6], Po[:6, :6], nu
     if x.size != 12 + k:
-        raise ValueError(f"x must have 12 + {k} entries, got {x.size}")
+        raise ValueError(f"x must have 12 + {k} entries when carry_noise is True, got {x.size}")
     xa = np.concatenate([x, np.zeros(k)])
     Pa = np.zeros((x.size + k, x.size + k))
     Pa[: x.size, : x.size] = P
-    Pa[x.size:, x.size:] = R
+    Pa[x.size:, x.size:] = R  # v_k+1 ~ N(0, R)
     H = np.zeros((k, xa.size))
     H[:, :3] = n
     H[:, 6:9] = -n
     H[:, 12:12 + k] = -np.eye(k)
     H[:, 12 + k:] = np.eye(k)  # dy = N r_k+1 - N r_k - v_k + v_k+1
-    S = symmetrize(H @ Pa @ H.T)
-    K = np.linalg.solve(S, H @ Pa).T  # K = P H^T S^-1
-    nu = dy - H @ xa
-    xa = xa + K @ nu
-    Pa = symmetrize(Pa - K @ S @ K.T)
+    xa, Pa, nu = _joseph_update(xa, Pa, dy, H, np.zeros((k, k)))
     keep = np.r_[0:6, 12 + k: 12 + 2 * k]
     return xa[keep], Pa[np.ix_(keep, keep)], nu
+
+
+def _joseph_update(x, P, y, H, Rd):
+    """Kalman update in Joseph form; symmetric and PSD for any gain."""
+    PHt = P @ H.T
+    S = symmetrize(H @ PHt + Rd)  # S = H P H^T + R_d
+    K = np.linalg.solve(S, PHt.T).T  # K = P H^T S^-1
+    nu = y - H @ x
+    A = np.eye(x.size) - K @ H
+    P1 = A @ P @ A.T + K @ Rd @ K.T  # P+ = (I - K H) P (I - K H)^T + K R_d K^T
+    return x + K @ nu, symmetrize(P1), nu
 
 
 def rkf_gain(Pxz, Pzz, R, BB, eps):
@@ -621,9 +679,13 @@ def _rkf_update(x, P, y, R, H, BB, eps):
     return x + K @ nu, symmetrize(Sig), nu
 
 
+#: Where the RKF's bound on ``B B^T`` comes from (:func:`run_filter`).
+RKF_BIAS = ("residual", "oracle")
+
+
 def run_filter(name, scenario, eps=None, sigma_r0=1000.0, sigma_v0=1.0, q_r=0.0, q_v=1e-4,
-               q_b=1.0, sigma_b0=3000.0, rkf_bias="prior", prior_error=None, lam=0.02,
-               td_carry_noise=True, rng=None):
+               q_b=1.0, sigma_b0=3000.0, rkf_bias="residual", oracle_error=None, lam=0.02,
+               td_carry_noise=False, rng=None):
     """Run one filter over a scenario from a random initial error.
 
     Parameters
@@ -641,18 +703,22 @@ def run_filter(name, scenario, eps=None, sigma_r0=1000.0, sigma_v0=1.0, q_r=0.0,
         ASUKF bias random-walk step, m per step (1 sigma).
     sigma_b0 : float
         ASUKF initial bias uncertainty, m.
-    rkf_bias : {"prior", "residual"}
-        Where the RKF's bound on ``B B^T`` comes from. ``"prior"``: an a priori
-        ephemeris-error model ``B = N dr_prior`` (the paper's section-1.2 analysis of the
-        ephemeris error, put into the measurement model), held constant over the run;
-        ``"residual"``: the innovation-based lower bound of :func:`rkf_bias_bound` only.
-    prior_error : array_like, shape (3,), optional
-        ``dr_prior``, m. Default: the scenario's ephemeris error at its first epoch (what
-        a DE421 - DE405 comparison made before the run gives).
+    rkf_bias : {"residual", "oracle"}
+        Where the RKF's bound on ``B B^T`` comes from. ``"residual"`` (default, the
+        paper's, re-derived): the lower bound of :func:`rkf_bias_bound` from the running
+        mean of the innovations up to the previous epoch (each epoch's innovation updates
+        the mean after its update; the bound then sets the next gain). ``"oracle"``
+        (teaching only): ``B = N dr`` with ``dr`` the true ephemeris error of the epoch
+        (or ``oracle_error``); a filter that knew ``dr`` should subtract it, so this only
+        shows what a perfect bound would give.
+    oracle_error : array_like, shape (3,) or (n, 3), optional
+        ``dr`` for ``rkf_bias="oracle"``, m (default: the scenario's true error).
     lam : float
-        Weight of the running innovation mean for ``rkf_bias="residual"``.
+        Weight of the running innovation mean of the residual bound, in (0, 1]
+        (``lam = 1``: the current residual only).
     td_carry_noise : bool
-        TDUKF: exact handling of the differenced noise (see :func:`tdukf_update`).
+        TDUKF: False (default) treats the differenced noise as white with ``2 R`` (the
+        paper's competitor); True carries the previous noise exactly (:func:`tdukf_update`).
     rng : numpy.random.Generator or int, optional
         Draws the initial error.
 
@@ -676,13 +742,17 @@ def run_filter(name, scenario, eps=None, sigma_r0=1000.0, sigma_v0=1.0, q_r=0.0,
     q_v = check_real("q_v", q_v, 0.0, 1e3)
     q_b = check_real("q_b", q_b, 0.0, 1e6)
     sigma_b0 = check_real("sigma_b0", sigma_b0, 0.0, 1e8, lo_open=True)
-    check_choice("rkf_bias", rkf_bias, ("prior", "residual"))
+    check_choice("rkf_bias", rkf_bias, RKF_BIAS)
     lam = check_real("lam", lam, 0.0, 1.0, lo_open=True)
-    if prior_error is None:
-        prior_error = scenario.dr_e[0] if isinstance(scenario, Scenario) else np.zeros(3)
-    prior_error = check_finite_array("prior_error", prior_error, shape=(3,))
-    rng = make_rng(rng)
     sc = scenario
+    N = sc.t.size
+    if oracle_error is None:
+        oracle_error = sc.dr_e
+    oracle_error = check_finite_array("oracle_error", oracle_error)
+    if oracle_error.shape not in ((3,), (N, 3)):
+        raise ValueError(f"oracle_error must have shape (3,) or ({N}, 3), got {oracle_error.shape}")
+    oracle_error = np.broadcast_to(oracle_error, (N, 3))
+    rng = make_rng(rng)
     body, dt, n, R = sc.body, sc.dt, sc.n, sc.R
     k = n.shape[0]
     sd0 = np.r_[np.full(3, sigma_r0), np.full(3, sigma_v0)]
@@ -690,7 +760,6 @@ def run_filter(name, scenario, eps=None, sigma_r0=1000.0, sigma_v0=1.0, q_r=0.0,
     x = x0_true + rng.normal(size=6) * sd0
     P = np.diag(sd0**2)
     Q = np.diag(np.r_[np.full(3, max(q_r, 1e-6) ** 2), np.full(3, max(q_v, 1e-9) ** 2)])
-    N = sc.t.size
     xs, Ps = np.empty((N, 6)), np.empty((N, 6, 6))
     extra = {}
     if name == "asukf":
@@ -708,8 +777,7 @@ def run_filter(name, scenario, eps=None, sigma_r0=1000.0, sigma_v0=1.0, q_r=0.0,
         P[6:, 6:] = R[:kv, :kv]  # the noise of the first measurement
     elif name == "rkf":
         m = np.zeros(k)
-        b_prior = n @ prior_error  # B = N dr_E (paper eq. (17))
-        BB = np.outer(b_prior, b_prior) if rkf_bias == "prior" else np.zeros((k, k))
+        BB = np.zeros((k, k))  # no residual seen yet: B B^T >= 0
         extra["bias_bound"] = np.empty(N)
     H = np.zeros((k, 6))
     H[:, :3] = n
@@ -731,11 +799,15 @@ def run_filter(name, scenario, eps=None, sigma_r0=1000.0, sigma_v0=1.0, q_r=0.0,
                 x, P, _ = tdukf_update(x, P, sc.y[i] - sc.y[i - 1], R, n, td_carry_noise)
         else:
             x, P = _predict(x, P, dt, body, Q)
-            x, P, nu = _rkf_update(x, P, sc.y[i], R, H, BB, eps)
+            if rkf_bias == "oracle":
+                b = n @ oracle_error[i]  # B = N dr_E (paper eq. (17)), the true bias
+                BB = np.outer(b, b)
+            S = symmetrize(H @ P @ H.T) + R  # innovation covariance without the bias
             extra["bias_bound"][i] = float(np.sqrt(np.trace(BB)))
-            if rkf_bias == "residual":  # bound for the next step from the innovations
-                m = (1.0 - lam) * m + lam * nu  # running mean of the innovations
-                BB = rkf_bias_bound(m, sc.R + n @ P[:3, :3] @ n.T, lam)
+            x, P, nu = _rkf_update(x, P, sc.y[i], R, H, BB, eps)
+            if rkf_bias == "residual":  # paper eqs. (23)-(26), re-derived: bound for the next epoch
+                m = (1.0 - lam) * m + lam * nu  # m_k = (1 - lam) m_k-1 + lam nu_k
+                BB = rkf_bias_bound(m, S, lam)  # B B^T >= [m m^T - lam/(2-lam) S]_+
         xs[i], Ps[i] = x[:6], P[:6, :6]
     err = np.linalg.norm(xs[:, :3] - sc.x_true[:, :3], axis=1)
     return FilterRun(name, xs, Ps, err, extra)
@@ -780,7 +852,8 @@ def improvement(rmse_filter, rmse_ukf):
 
 
 def compare_filters(body="earth", filters=FILTERS, error="de405", size=0.0, eps=None, seeds=(0,),
-                    pulsar_names=None, n_steps=None, window=None, **filter_kwargs):
+                    pulsar_names=None, n_steps=None, window=None, direction=None, profile="linear",
+                    growth_time=None, **filter_kwargs):
     """Monte Carlo comparison of the filters: mean RMSE over seeds and improvement over the UKF.
 
     Each seed draws one scenario (measurement noise) and one initial error shared by
@@ -791,7 +864,8 @@ def compare_filters(body="earth", filters=FILTERS, error="de405", size=0.0, eps=
     body : {"earth", "mars"}
     filters : sequence of str
         Subset of :data:`FILTERS`; the improvement needs ``"ukf"`` among them.
-    error, size, pulsar_names : see :func:`simulate`
+    error, size, pulsar_names, direction, profile, growth_time : see :func:`simulate`
+        (``growth_time`` defaults to the run's length, the end of the RMSE window).
     eps : float, optional
         RKF scalar (default :data:`EPSILON`).
     seeds : sequence of int
@@ -830,7 +904,8 @@ def compare_filters(body="earth", filters=FILTERS, error="de405", size=0.0, eps=
     tau = None
     for seed in seeds:
         g = make_rng(seed)
-        sc = simulate(body, n_steps=n_steps, error=error, size=size, pulsar_names=pulsar_names, rng=g)
+        sc = simulate(body, n_steps=n_steps, error=error, size=size, pulsar_names=pulsar_names,
+                      direction=direction, growth_time=growth_time, profile=profile, rng=g)
         init = int(g.integers(2**31))
         tau = sc.t - (sc.t[0] - sc.dt)
         for f in filters:
