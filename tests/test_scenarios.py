@@ -10,7 +10,8 @@ import pytest
 from xnavlab import reproduce
 from xnavlab.cli import main
 from xnavlab.core.filters import chi2_bounds
-from xnavlab.mars import scenarios
+from xnavlab.mars import kernels, scenarios
+from xnavlab.mars import plots as mars_plots
 
 SHORT = dict(days=0.02, record_dt=3.0)   # 576 epochs, three XNAV updates
 
@@ -22,30 +23,113 @@ def _rel(a, b):
     return max(pos, vel)
 
 
+# record_dt = 3 s records every epoch: the kernel runs the locals in full at every epoch;
+# 60 s (as the 30-day run): in reset mode it fuses through the information identity at 19
+# epochs of 20 (xnavlab.mars.kernels), so both forms are compared with the numpy loop.
+@pytest.mark.parametrize("record_dt", [3.0, 60.0])
 @pytest.mark.parametrize("mode", ["reset", "no-reset"])
-def test_numba_and_numpy_give_the_same_estimates(mode):
-    inp = scenarios.prepare(mode=mode, **SHORT)
+def test_numba_and_numpy_give_the_same_estimates(mode, record_dt):
+    inp = scenarios.prepare(mode=mode, **(SHORT | {"record_dt": record_dt}))
     a = scenarios.run(inputs=inp, backend="numba")
     b = scenarios.run(inputs=inp, backend="numpy")
     assert _rel(a.x, b.x) < 1e-9
     assert _rel(a.x_local.reshape(-1, 6), b.x_local.reshape(-1, 6)) < 1e-9
     np.testing.assert_allclose(a.P, b.P, rtol=1e-6, atol=1e-9 * np.abs(b.P).max())
+    np.testing.assert_allclose(a.P_local_diag, b.P_local_diag, rtol=1e-6)
     np.testing.assert_allclose(a.nis, b.nis, rtol=1e-6, equal_nan=True)
     assert np.array_equal(a.flags, b.flags)
 
 
-def test_numba_and_numpy_agree_with_switching_and_gating():
-    inp = scenarios.prepare(**SHORT)
+@pytest.mark.parametrize("record_dt", [3.0, 60.0])
+def test_numba_and_numpy_agree_with_switching_and_gating(record_dt):
+    inp = scenarios.prepare(**(SHORT | {"record_dt": record_dt}))
     active = np.ones((inp.n, 3), dtype=bool)
     active[100:300, 1] = False          # UV switched out, then back in
     active[250:400, 0] = False          # XNAV out across its 1000-s update
+    active[450:460] = False             # everything out: the master coasts
     gate = [np.inf, np.inf, 4.0]        # CNS rejects innovations with NIS > 4
     a = scenarios.run(inputs=inp, backend="numba", active=active, gate=gate)
     b = scenarios.run(inputs=inp, backend="numpy", active=active, gate=gate)
     assert _rel(a.x, b.x) < 1e-9
+    np.testing.assert_allclose(a.nis, b.nis, rtol=1e-6, equal_nan=True)
     assert np.array_equal(a.flags, b.flags)
     assert not (a.flags[100:300, 1] == 1).any() and (a.flags[100:300, 1] == 3).sum() > 190
     assert (a.flags[:, 2] == 2).any()
+
+
+@pytest.mark.parametrize("record_dt", [3.0, 60.0])
+def test_numba_and_numpy_agree_for_other_measurement_sizes(record_dt):
+    """Two stars and three pulsars: the kernel's code for any measurement size."""
+    inp = scenarios.prepare(days=0.02, record_dt=record_dt, stars=("Sirius", "Vega"),
+                            pulsars=("B0531+21", "B1937+21", "B1821-24"))
+    a = scenarios.run(inputs=inp, backend="numba")
+    b = scenarios.run(inputs=inp, backend="numpy")
+    assert _rel(a.x, b.x) < 1e-9
+    np.testing.assert_allclose(a.nis, b.nis, rtol=1e-6, equal_nan=True)
+    assert np.array_equal(a.flags, b.flags)
+
+
+def test_kernel_in_chunks_equals_one_call():
+    """The fault-tolerant runs call the kernel epoch range by epoch range on one state."""
+    inp = scenarios.prepare(days=0.02, record_dt=60.0)
+    whole = scenarios.run(inputs=inp)
+    active, gate, beta = scenarios.run_options(inp, None, None)
+    out = scenarios.alloc_records(inp)
+    rec_pos = np.full(inp.n, -1, dtype=np.int64)
+    rec_pos[inp.record] = np.arange(inp.record.size)
+    state = scenarios.filter_state(inp, beta)
+    records = (out["x"], out["P"], out["xl"], out["Pl"])
+    for a, b in [(0, 1), (1, 137), (137, 138), (138, 400), (400, inp.n)]:
+        scenarios.run_kernel(inp, state, a, b, active, beta, gate, rec_pos, records,
+                             out["nis"], out["flags"])
+    assert _rel(out["x"], whole.x) < 1e-12
+    np.testing.assert_allclose(out["nis"], whole.nis, rtol=1e-9, equal_nan=True)
+
+
+def test_compiled_measurement_series_equal_the_sensor_models():
+    rng = np.random.default_rng(7)
+    r = rng.normal(size=(500, 3)) * 4e6
+    r[0] = [0.0, 0.0, 4e6]                       # along z: the other tangent basis
+    r[1] = [1e-3, 0.0, -4e6]
+    states = np.hstack([r, rng.normal(size=(500, 3))])
+    sc = scenarios.MarsScenario()
+    sens = sc.sensors()
+    uv, cns = sens["uv"], sens["cns"]
+    w_uv, w_cns = rng.standard_normal((500, 3)), rng.standard_normal((500, 2 + 2 * cns.dim))
+    z_uv = kernels.simulate_uv(states, w_uv, uv.sigma_range, uv.sigma_dir, np.empty((500, 4)))
+    z_cns = kernels.simulate_cns(states, w_cns, cns.star_dirs, cns.sigma_star,
+                                 cns.sigma_horizon, np.empty((500, cns.dim)))
+    # same operations; the sine, cosine and arctangent may differ in the last bit
+    np.testing.assert_allclose(z_uv, uv.simulate(states, noise=w_uv), rtol=1e-13, atol=1e-15)
+    np.testing.assert_allclose(z_cns, cns.simulate(states, noise=w_cns), rtol=0, atol=1e-14)
+
+
+def test_prepare_draws_the_series_as_one_draw(monkeypatch):
+    """Chunked draws give the noise of one ``standard_normal((n, k))`` call, in order."""
+    monkeypatch.setattr(scenarios, "_CHUNK", 100)      # several chunks on a short run
+    inp = scenarios.prepare(days=0.02, seed=5)
+    sens = inp.sensors
+    rng = np.random.default_rng(5)
+    k = {s: np.searchsorted(inp.times, inp.t_meas[s]) for s in scenarios.SUBSYSTEMS}
+    rng.standard_normal((k["xnav"].size, sens["xnav"].dim))  # the XNAV draws come first
+    w_uv = rng.standard_normal((k["uv"].size, 3))
+    w_cns = rng.standard_normal((k["cns"].size, 2 + 2 * sens["cns"].dim))
+    np.testing.assert_allclose(inp.z["uv"], sens["uv"].simulate(inp.truth[k["uv"]], noise=w_uv),
+                               rtol=1e-13)
+    np.testing.assert_allclose(inp.z["cns"],
+                               sens["cns"].simulate(inp.truth[k["cns"]], noise=w_cns), atol=1e-14)
+
+
+def test_import_is_light():
+    """Importing the package, the Mars scenario and the CLI compiles nothing, loads no ephemeris."""
+    code = ("import sys, xnavlab, xnavlab.cli, xnavlab.cli.runners\n"
+            "assert 'numba' not in sys.modules, 'import xnavlab pulls numba'\n"
+            "from xnavlab.mars import kernels, scenarios\n"
+            "assert not kernels.run_epochs.signatures and not kernels.simulate_uv.signatures\n"
+            "assert 'jplephem' not in sys.modules and 'scipy.stats' not in sys.modules\n")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=False)
+    assert proc.returncode == 0, proc.stderr
 
 
 def test_switching_out_costs_accuracy_but_stays_consistent():
@@ -160,7 +244,7 @@ def test_cli_module_entry_point():
 
 
 def test_plot_subsystem_is_the_single_subsystem_run():
-    fig = scenarios.plot_subsystem("uv", 2.0, 6, days=0.05)
+    fig = mars_plots.plot_subsystem("uv", 2.0, 6, days=0.05)
     band, line = fig.axes[0].collections[0], fig.axes[0].lines[0]
     res = scenarios.run(days=0.05, subsystems=("uv",), record_dt=30.0, sigma_range_m=1e4,
                         sigma_dir_deg=0.2, dt_uv=6.0)
@@ -168,23 +252,23 @@ def test_plot_subsystem_is_the_single_subsystem_run():
     assert fig.axes[0].get_title() == "uv: noise x 2, every 6 s"
     assert band.get_paths()  # the 3-sigma band is drawn
     # XNAV never updates faster than every 30 s
-    assert scenarios.plot_subsystem("xnav", 1.0, 3, days=0.02).axes[0].get_title().endswith("30 s")
+    assert mars_plots.plot_subsystem("xnav", 1.0, 3, days=0.02).axes[0].get_title().endswith("30 s")
     with pytest.raises(ValueError, match="subsystem"):
-        scenarios.plot_subsystem("gps")
+        mars_plots.plot_subsystem("gps")
     with pytest.raises(ValueError, match="noise_scale"):
-        scenarios.plot_subsystem("uv", 0.0)
+        mars_plots.plot_subsystem("uv", 0.0)
 
 
 def test_plot_sharing_reset_mode_ignores_the_shares():
     def error(beta, mode):
-        return scenarios.plot_sharing(beta, mode, days=0.05).axes[0].lines[0].get_ydata()
+        return mars_plots.plot_sharing(beta, mode, days=0.05).axes[0].lines[0].get_ydata()
 
     np.testing.assert_allclose(error(0.2, "reset"), error(0.8, "reset"), rtol=1e-3)
     assert not np.allclose(error(0.2, "no-reset"), error(0.8, "no-reset"), rtol=1e-3)
     with pytest.raises(ValueError, match="beta_xnav"):
-        scenarios.plot_sharing(1.0)
+        mars_plots.plot_sharing(1.0)
     with pytest.raises(ValueError, match="mode"):
-        scenarios.plot_sharing(0.5, "sometimes")
+        mars_plots.plot_sharing(0.5, "sometimes")
 
 
 # ---------------------------------------------------------------- faults on the CLI (issue 4)
@@ -194,7 +278,7 @@ def test_cli_faults_json_lists_faults_and_detections(capsys):
     spec = "uv.range:step:40000@50000+3000,xnav.1:ramp:2e-9@60000+5000"
     assert main(["run", "mars", "--days", "1", "--faults", spec, "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert out["detector"] == "wavelet"
+    assert out["detector"] == "combined"
     assert [f["spec"] for f in out["faults"]] == ["uv.range:step:40000@50000+3000",
                                                   "xnav.B1937:ramp:2e-09@60000+5000"]
     assert all(set(d) == {"sensor", "detected_onset", "detected_end", "detector"}

@@ -6,6 +6,7 @@
 from __future__ import annotations
 
 import json
+import sys
 import time
 from pathlib import Path
 
@@ -15,6 +16,7 @@ from xnavlab.core.validate import check_choice, check_int, check_real
 
 __all__ = ["HELP", "RUNNERS", "configure", "execute", "configure_mars", "execute_mars"]
 
+#: One-line help of the command (``python -m xnavlab --help``).
 HELP = "run a scenario"
 
 
@@ -46,7 +48,8 @@ def configure_mars(parser):
                         help="SENSOR[.COMPONENT]:KIND:MAGNITUDE@ONSET+DURATION[,...] (times in s "
                              "since the start) or 'paper' (xnavlab.mars.fault_tolerance.paper_schedule)")
     parser.add_argument("--detector", default=None,
-                        help="none, wavelet or chi2 (default wavelet with --faults, else none)")
+                        help="none, wavelet, chi2 or combined (default combined with --faults, "
+                             "else none)")
 
 
 def execute_mars(args):
@@ -55,13 +58,14 @@ def execute_mars(args):
     seed = _seed(args.seed)
     mode = check_choice("mode", args.mode, MODES)
     backend = check_choice("backend", args.backend, ("numba", "numpy"))
-    from xnavlab.mars import fault_tolerance  # imported here: the parser stays light
-    from xnavlab.mars.scenarios import MarsScenario, run
+    from xnavlab.mars.scenarios import MarsScenario, run  # imported here: the parser stays light
 
     t_start = time.perf_counter()
     sc = MarsScenario(days=days, seed=seed, mode=mode)
-    detector = args.detector or ("wavelet" if args.faults else "none")
+    detector = args.detector or ("combined" if args.faults else "none")
     if args.faults or detector != "none":
+        from xnavlab.mars import fault_tolerance  # only a fault-tolerant run needs it
+
         check_choice("detector", detector, fault_tolerance.DETECTORS)
         faults = fault_tolerance.parse_faults(args.faults, sc) if args.faults else []
         if backend != "numba":
@@ -71,7 +75,7 @@ def execute_mars(args):
         res = ft.run
         summary = ft.summary(settle_days=min(1.0, days / 2))
     else:
-        res = run(sc, backend=backend, progress=True)
+        res = run(sc, backend=backend, progress=sys.stderr.isatty())  # a bar for a terminal
         summary = res.summary(settle_days=min(1.0, days / 2))
     summary["filter_time_s"] = summary.pop("run_time_s")
     summary["run_time_s"] = time.perf_counter() - t_start

@@ -19,6 +19,7 @@ import time
 
 __all__ = ["HELP", "STEPS", "configure", "execute", "warm"]
 
+#: One-line help of the command (``python -m xnavlab --help``).
 HELP = "compile and cache the numba kernels and the 30-day Mars truth (make setup runs it)"
 
 

@@ -1,33 +1,65 @@
 """Compiled (numba) kernels of the federated Mars navigation run.
 
-These are line-for-line translations of the readable numpy loop in
-:mod:`xnavlab.mars.scenarios` (which is built from :mod:`xnavlab.core.filters`,
-:mod:`xnavlab.mars.sensors`, :mod:`xnavlab.core.federated` and :mod:`xnavlab.mars.dynamics`),
-written with explicit loops over small fixed-size arrays so that one epoch of three
-EKFs and the fusion costs microseconds. Both paths consume identical precomputed
-inputs (truth, ephemeris tables, noisy measurements) and give the same estimates to
-rounding; the tests compare them.
+The readable reference is the numpy loop of :mod:`xnavlab.mars.scenarios` (built from
+:mod:`xnavlab.core.filters`, :mod:`xnavlab.mars.sensors`, :mod:`xnavlab.core.federated`
+and :mod:`xnavlab.mars.dynamics`). :func:`run_epochs` computes the same estimates (the
+tests compare them to 1e-9 relative) in about a microsecond per epoch of three EKFs and
+the fusion; :func:`simulate_uv` and :func:`simulate_cns` draw the 30-day measurement
+series of :func:`xnavlab.mars.scenarios.prepare` without the numpy temporaries.
 
-Compiled with ``cache=True``: the first call in a fresh environment compiles (tens of
-seconds) and stores the machine code in ``__pycache__``; later processes load it.
+Two forms of the same filter
+----------------------------
+At every epoch the locals and the master predict, the locals update with their
+measurements (Joseph form) and the master fuses them (information form). That is what
+:func:`run_epochs` does in no-reset mode and, in reset mode, at every epoch whose local
+estimates are recorded. At the other reset-mode epochs it uses the fact that makes the
+reset mode optimal (Carlson 1990): every local starts the epoch from the master,
+``x_i = x``, ``P_i = P / s_i`` (its share ``s_i``; the shares of the connected locals
+sum to 1), so its update gives ``P_i+^-1 = s_i P^-1 + H_i^T R_i^-1 H_i`` (exact for the
+Kalman gain, whatever the form of the covariance update) and the fusion is
 
-Private module: the public entry point is :func:`xnavlab.mars.scenarios.run`.
+.. math::
+
+   P_f^{-1} = \\sum_i s_i P^{-1} + J, \\quad J = \\sum_j H_j^T R_j^{-1} H_j, \\quad
+   x_f = x + P_f \\sum_j H_j^T R_j^{-1} \\nu_j
+
+(i over the connected locals, j over those whose update passed the gate): the centralised
+EKF, all measurements taken at the master's prediction. The three sensors see the
+position only, so ``J`` is 3 x 3 and the matrix inversion lemma gives
+``P_f = P~ - P~[:, :3] J (I + P~_rr J)^-1 P~[:3, :]`` with ``P~ = P / sum_i s_i``: one
+3 x 3 inverse instead of four 6 x 6 ones, and no local covariance update. The NIS of every
+local (gating, fault detection) is computed as before from ``S_i = H_i P H_i^T / s_i +
+R_i``. The two forms agree to rounding; the tests check both against the numpy loop.
+
+Compilation
+-----------
+Every function is compiled with ``cache=True``: the first call in a fresh environment
+compiles (tens of seconds; ``python -m xnavlab warmup`` does it at set-up) and stores
+the machine code in ``__pycache__``; later processes load it in a fraction of a second.
+The helpers are compiled with ``_nrt=False`` (numba's switch for functions that allocate
+nothing): otherwise numba may wrap each call that passes arrays in atomic
+reference-count updates, which cost more than the arithmetic of these 6 x 6 steps. The
+filter arithmetic may contract ``a * b + c`` into fused multiply-adds
+(``fastmath={"contract"}``; no other fast-math assumption: NaN and inf keep their
+meaning), which changes results at rounding level only.
 """
 
 from __future__ import annotations
 
 import math
-from collections import namedtuple
 
 import numpy as np
 from numba import njit
 
 from xnavlab.core.constants import GM_SUN, C
 
-__all__ = ["run_epochs", "KIND_XNAV", "KIND_UV", "KIND_CNS"]
+__all__ = ["run_epochs", "simulate_uv", "simulate_cns", "KIND_XNAV", "KIND_UV", "KIND_CNS"]
 
+#: Subsystem code of the XNAV filter in the kernels' integer arrays.
 KIND_XNAV = 0
+#: Subsystem code of the UV-sensor filter.
 KIND_UV = 1
+#: Subsystem code of the CNS filter.
 KIND_CNS = 2
 
 _SHAPIRO = 2.0 * GM_SUN / C**3
@@ -38,127 +70,253 @@ UPDATED = 1
 REJECTED = 2  # innovation gate exceeded: time update only
 ISOLATED = 3  # subsystem switched out: time update only
 
+_FM = {"contract"}
+#: compile options of the helpers (no allocation inside, see the module docstring)
+_HELPER = {"cache": True, "fastmath": _FM, "_nrt": False}
+#: small helpers inlined into their caller (so that constant sizes propagate)
+_INLINE = {"cache": True, "fastmath": _FM, "_nrt": False, "inline": "always"}
 
-#: Preallocated scratch arrays (no allocation inside the epoch loop).
-Scratch = namedtuple("Scratch", [
-    "tb", "a3", "k46", "y6", "G", "G2", "Phi", "T6",
-    "PHt", "S", "Lm", "ym", "K", "row", "A6", "KR", "u3", "Ac",
-    "d6", "Y6", "yv6", "Ci", "Yi", "Cf", "L6", "e6", "xc", "Pc",
-])
+
+# ----------------------------------------------------------------- measurement series
+
+
+@njit(cache=True, inline="always", _nrt=False)
+def _perturb(u0, u1, u2, sigma, w1, w2):
+    """:func:`xnavlab.mars.sensors.perturb_direction` for one unit vector (same operations)."""
+    polar = abs(u2) > 1.0 - 1e-12
+    # e1 = z x u = (-uy, ux, 0), or x x u = (0, -uz, uy) near the poles, normalised
+    a0 = 0.0 if polar else -u1
+    a1 = -u2 if polar else u0
+    a2 = u1 if polar else 0.0
+    n = math.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
+    e10, e11, e12 = a0 / n, a1 / n, a2 / n
+    e20 = u1 * e12 - u2 * e11  # e2 = u x e1
+    e21 = u2 * e10 - u0 * e12
+    e22 = u0 * e11 - u1 * e10
+    wn = math.sqrt(w1 * w1 + w2 * w2)
+    ang = sigma * wn
+    f = math.sin(ang) / (wn if wn > 0.0 else 1.0)
+    c = math.cos(ang)
+    # u' = cos|d| u + sin|d| d/|d|, d/|d| = (w1 e1 + w2 e2)/|w|
+    return (c * u0 + f * (w1 * e10 + w2 * e20), c * u1 + f * (w1 * e11 + w2 * e21),
+            c * u2 + f * (w1 * e12 + w2 * e22))
 
 
 @njit(cache=True)
-def _scratch(nb, m, kc):
-    return Scratch(
-        np.empty((max(nb, 1), 3)), np.empty(3), np.empty((4, 6)), np.empty(6),
-        np.empty((3, 3)), np.empty((3, 3)), np.zeros((6, 6)), np.empty((6, 6)),
-        np.empty((6, m)), np.empty((m, m)), np.zeros((m, m)), np.empty(m), np.empty((6, m)),
-        np.empty(m), np.empty((6, 6)), np.empty((6, m)), np.empty(3), np.empty((max(kc, 1), 3)),
-        np.empty(6), np.empty((6, 6)), np.empty(6), np.empty((6, 6)), np.empty((6, 6)),
-        np.empty((6, 6)), np.zeros((6, 6)), np.empty(6), np.empty(6), np.empty((6, 6)),
-    )
+def simulate_uv(states, noise, sigma_range, sigma_dir, out):
+    """Noisy UV measurements ``[range, u]`` (paper eq. (5)), compiled.
+
+    The same model and operations as :meth:`xnavlab.mars.sensors.UVSensor.simulate`
+    (range plus white noise; the unit vector turned by
+    :func:`xnavlab.mars.sensors.perturb_direction`),
+    compiled; equal to it to rounding (the sine and cosine may differ in the last bit).
+
+    Parameters
+    ----------
+    states : ndarray, shape (n, 6)
+        True states, Mars-centred J2000, m and m/s.
+    noise : ndarray, shape (n, 3)
+        Standard normal draws: range, then the two tangent axes.
+    sigma_range, sigma_dir : float
+        Range noise, m, and per-axis direction noise, rad.
+    out : ndarray, shape (n, 4)
+        Filled with the measurements.
+
+    Returns
+    -------
+    ndarray, shape (n, 4)
+        ``out``.
+
+    Examples
+    --------
+    >>> x = np.array([[3e6, 0.0, 4e6, 0, 0, 0]])
+    >>> z = simulate_uv(x, np.zeros((1, 3)), 5000.0, 1e-3, np.empty((1, 4)))
+    >>> z.tolist()
+    [[5000000.0, -0.6, 0.0, -0.8]]
+    """
+    for k in range(states.shape[0]):
+        r0, r1, r2 = states[k, 0], states[k, 1], states[k, 2]
+        rn = math.sqrt(r0 * r0 + r1 * r1 + r2 * r2)  # paper eq. (5)
+        out[k, 0] = rn + sigma_range * noise[k, 0]
+        out[k, 1], out[k, 2], out[k, 3] = _perturb(-r0 / rn, -r1 / rn, -r2 / rn, sigma_dir,
+                                                   noise[k, 1], noise[k, 2])
+    return out
+
+
+@njit(cache=True)
+def simulate_cns(states, noise, star_dirs, sigma_star, sigma_horizon, out):
+    """Noisy starlight angles (paper eq. (6)), rad, compiled.
+
+    The Mars direction is turned once per epoch (horizon sensor, ``noise[:, 0:2]``) and
+    each star direction separately (star sensor, ``noise[:, 2 + 2j:4 + 2j]``), with the
+    operations of :meth:`xnavlab.mars.sensors.CNSSensor.simulate`; equal to it to rounding.
+
+    Parameters
+    ----------
+    states : ndarray, shape (n, 6)
+        True states, m and m/s.
+    noise : ndarray, shape (n, 2 + 2k)
+        Standard normal draws.
+    star_dirs : ndarray, shape (k, 3)
+        Unit vectors to the stars.
+    sigma_star, sigma_horizon : float
+        Star-sensor and horizon-sensor noise per axis, rad.
+    out : ndarray, shape (n, k)
+        Filled with the angles.
+
+    Returns
+    -------
+    ndarray, shape (n, k)
+        ``out``.
+
+    Examples
+    --------
+    >>> a = simulate_cns(np.array([[4e6, 0.0, 0, 0, 0, 0]]), np.zeros((1, 4)),
+    ...                  np.array([[0.0, 1.0, 0.0]]), 1e-5, 1e-3, np.empty((1, 1)))
+    >>> round(float(np.degrees(a[0, 0])), 9)
+    90.0
+    """
+    for e in range(states.shape[0]):
+        r0, r1, r2 = states[e, 0], states[e, 1], states[e, 2]
+        rn = math.sqrt(r0 * r0 + r1 * r1 + r2 * r2)
+        m0, m1, m2 = _perturb(-r0 / rn, -r1 / rn, -r2 / rn, sigma_horizon,
+                              noise[e, 0], noise[e, 1])
+        for j in range(star_dirs.shape[0]):
+            s0, s1, s2 = _perturb(star_dirs[j, 0], star_dirs[j, 1], star_dirs[j, 2], sigma_star,
+                                  noise[e, 2 + 2 * j], noise[e, 3 + 2 * j])
+            c0 = m1 * s2 - m2 * s1
+            c1 = m2 * s0 - m0 * s2
+            c2 = m0 * s1 - m1 * s0
+            # the angle between the Mars centre and the star, paper eq. (6)
+            out[e, j] = math.atan2(math.sqrt(c0 * c0 + c1 * c1 + c2 * c2),
+                                   m0 * s0 + m1 * s1 + m2 * s2)
+    return out
 
 
 # ----------------------------------------------------------------------- dynamics
 
 
-@njit(cache=True, inline="always")
-def _third_body_positions(t, tb_t0, tb_step, tb_pos, tb_vel, out):
-    """Cubic Hermite interpolation of the tabulated third bodies (as ThirdBodyTable)."""
+@njit(**_INLINE)
+def _bodies(t, tb_t0, tb_step, tb_pos, tb_vel, tb_gm, s, ind):
+    """Third bodies at t: positions ``s`` (nb, 3) by cubic Hermite interpolation of the
+    table (as :class:`~xnavlab.mars.dynamics.ThirdBodyTable`) and indirect terms
+    ``ind = mu s / |s|^3``."""
     nk = tb_pos.shape[0]
     x = (t - tb_t0) / tb_step
     i = int(x)
     if i > nk - 2:
         i = nk - 2
-    s = x - i
+    u = x - i
     h = tb_step
-    s2 = s * s
-    s3 = s2 * s
-    h00 = 2 * s3 - 3 * s2 + 1
-    h10 = s3 - 2 * s2 + s
-    h01 = -2 * s3 + 3 * s2
-    h11 = s3 - s2
+    u2 = u * u
+    u3 = u2 * u
+    h00 = 2 * u3 - 3 * u2 + 1
+    h10 = (u3 - 2 * u2 + u) * h
+    h01 = -2 * u3 + 3 * u2
+    h11 = (u3 - u2) * h
     for b in range(tb_pos.shape[1]):
         for j in range(3):
-            out[b, j] = (h00 * tb_pos[i, b, j] + h10 * h * tb_vel[i, b, j]
-                         + h01 * tb_pos[i + 1, b, j] + h11 * h * tb_vel[i + 1, b, j])
-
-
-@njit(cache=True, inline="always")
-def _accel(t, r, gm_mars, tb_t0, tb_step, tb_pos, tb_vel, tb_gm, work, out):
-    rn = math.sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2])
-    k = -gm_mars / (rn * rn * rn)
-    for j in range(3):
-        out[j] = k * r[j]
-    nb = tb_pos.shape[1]
-    if nb == 0:
-        return
-    _third_body_positions(t, tb_t0, tb_step, tb_pos, tb_vel, work)
-    for b in range(nb):
-        d0 = work[b, 0] - r[0]
-        d1 = work[b, 1] - r[1]
-        d2 = work[b, 2] - r[2]
-        dn = math.sqrt(d0 * d0 + d1 * d1 + d2 * d2)
-        sn = math.sqrt(work[b, 0] ** 2 + work[b, 1] ** 2 + work[b, 2] ** 2)
-        dn3 = dn * dn * dn
-        sn3 = sn * sn * sn
-        g = tb_gm[b]
-        # a_k = mu_k [ (s - r)/|s - r|^3 - s/|s|^3 ]
-        out[0] += g * (d0 / dn3 - work[b, 0] / sn3)
-        out[1] += g * (d1 / dn3 - work[b, 1] / sn3)
-        out[2] += g * (d2 / dn3 - work[b, 2] / sn3)
-
-
-@njit(cache=True, inline="always")
-def _rk4(x, t, dt, gm_mars, tb_t0, tb_step, tb_pos, tb_vel, tb_gm, out, work, a, k, y):
-    """One classical Runge-Kutta step of r' = v, v' = a(t, r) (scratch: work, a, k, y)."""
-    for j in range(6):
-        y[j] = x[j]
-    for stage in range(4):
-        if stage == 0:
-            ts = t
-        elif stage == 3:
-            ts = t + dt
-        else:
-            ts = t + 0.5 * dt
-        if stage > 0:
-            c = dt if stage == 3 else 0.5 * dt
-            for j in range(6):
-                y[j] = x[j] + c * k[stage - 1, j]
-        _accel(ts, y[:3], gm_mars, tb_t0, tb_step, tb_pos, tb_vel, tb_gm, work, a)
+            s[b, j] = (h00 * tb_pos[i, b, j] + h10 * tb_vel[i, b, j]
+                       + h01 * tb_pos[i + 1, b, j] + h11 * tb_vel[i + 1, b, j])
+        sn2 = s[b, 0] * s[b, 0] + s[b, 1] * s[b, 1] + s[b, 2] * s[b, 2]
+        f = tb_gm[b] / (sn2 * math.sqrt(sn2))
         for j in range(3):
-            k[stage, j] = y[3 + j]
-            k[stage, 3 + j] = a[j]
-    for j in range(6):
-        out[j] = x[j] + dt / 6.0 * (k[0, j] + 2.0 * k[1, j] + 2.0 * k[2, j] + k[3, j])
+            ind[b, j] = f * s[b, j]
 
 
-@njit(cache=True, inline="always")
-def _transition(x, h, gm_mars, G, G2, Phi):
-    """Phi = exp(F h) to fourth order at x, F = [[0, I], [G, 0]] (into Phi)."""
-    # gravity gradient G = mu (3 r r^T / |r|^5 - I / |r|^3) at the start of the step
+@njit(**_INLINE)
+def _accel(r0, r1, r2, gm_mars, tb_gm, s, ind):
+    """Mars point mass plus the third bodies at (s, ind) from :func:`_bodies`."""
+    rn2 = r0 * r0 + r1 * r1 + r2 * r2
+    k = -gm_mars / (rn2 * math.sqrt(rn2))
+    a0 = k * r0
+    a1 = k * r1
+    a2 = k * r2
+    for b in range(s.shape[0]):
+        d0 = s[b, 0] - r0
+        d1 = s[b, 1] - r1
+        d2 = s[b, 2] - r2
+        dn2 = d0 * d0 + d1 * d1 + d2 * d2
+        g = tb_gm[b] / (dn2 * math.sqrt(dn2))
+        # a_k = mu_k [ (s - r)/|s - r|^3 - s/|s|^3 ]
+        a0 += g * d0 - ind[b, 0]
+        a1 += g * d1 - ind[b, 1]
+        a2 += g * d2 - ind[b, 2]
+    return a0, a1, a2
+
+
+@njit(**_INLINE)
+def _rk4(x, t, h, gm_mars, tb_t0, tb_step, tb_pos, tb_vel, tb_gm, out, s0, i0, s1, i1, s2, i2):
+    """One classical Runge-Kutta step of r' = v, v' = a(t, r) (third bodies at t, t + h/2,
+    t + h in the scratch pairs (s0, i0), (s1, i1), (s2, i2))."""
+    _bodies(t, tb_t0, tb_step, tb_pos, tb_vel, tb_gm, s0, i0)
+    x0, x1, x2, x3, x4, x5 = x[0], x[1], x[2], x[3], x[4], x[5]
+    hh = 0.5 * h
+    a0, a1, a2 = _accel(x0, x1, x2, gm_mars, tb_gm, s0, i0)
+    k10, k11, k12, k13, k14, k15 = x3, x4, x5, a0, a1, a2
+    # the bodies at t + h/2 and t + h do not depend on the state: placed here, the CPU
+    # computes them while it waits on the first stage
+    _bodies(t + 0.5 * h, tb_t0, tb_step, tb_pos, tb_vel, tb_gm, s1, i1)
+    _bodies(t + h, tb_t0, tb_step, tb_pos, tb_vel, tb_gm, s2, i2)
+    a0, a1, a2 = _accel(x0 + hh * k10, x1 + hh * k11, x2 + hh * k12, gm_mars, tb_gm, s1, i1)
+    k20, k21, k22 = x3 + hh * k13, x4 + hh * k14, x5 + hh * k15
+    k23, k24, k25 = a0, a1, a2
+    a0, a1, a2 = _accel(x0 + hh * k20, x1 + hh * k21, x2 + hh * k22, gm_mars, tb_gm, s1, i1)
+    k30, k31, k32 = x3 + hh * k23, x4 + hh * k24, x5 + hh * k25
+    k33, k34, k35 = a0, a1, a2
+    a0, a1, a2 = _accel(x0 + h * k30, x1 + h * k31, x2 + h * k32, gm_mars, tb_gm, s2, i2)
+    k40, k41, k42 = x3 + h * k33, x4 + h * k34, x5 + h * k35
+    k43, k44, k45 = a0, a1, a2
+    c = h / 6.0
+    # x+ = x + h/6 (k1 + 2 k2 + 2 k3 + k4)
+    out[0] = x0 + c * (k10 + 2.0 * k20 + 2.0 * k30 + k40)
+    out[1] = x1 + c * (k11 + 2.0 * k21 + 2.0 * k31 + k41)
+    out[2] = x2 + c * (k12 + 2.0 * k22 + 2.0 * k32 + k42)
+    out[3] = x3 + c * (k13 + 2.0 * k23 + 2.0 * k33 + k43)
+    out[4] = x4 + c * (k14 + 2.0 * k24 + 2.0 * k34 + k44)
+    out[5] = x5 + c * (k15 + 2.0 * k25 + 2.0 * k35 + k45)
+
+
+@njit(**_INLINE)
+def _transition(x, h, gm_mars, Phi):
+    """Phi = exp(F h) to fourth order at x, F = [[0, I], [G, 0]] (into Phi), as
+    :func:`xnavlab.mars.dynamics.transition_matrix`."""
     rn2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2]
     rn = math.sqrt(rn2)
-    for i in range(3):
-        for j in range(3):
-            G[i, j] = gm_mars * (3.0 * x[i] * x[j] / (rn2 * rn2 * rn)
-                                 - (1.0 if i == j else 0.0) / (rn2 * rn))
-    for i in range(3):
-        for j in range(3):
-            G2[i, j] = G[i, 0] * G[0, j] + G[i, 1] * G[1, j] + G[i, 2] * G[2, j]
-    # [[I + G h^2/2 + G^2 h^4/24, I h + G h^3/6], [G h + G^2 h^3/6, same as top left]]
+    # gravity gradient G = mu (3 r r^T / |r|^5 - I / |r|^3)
+    c3 = 3.0 * gm_mars / (rn2 * rn2 * rn)
+    c1 = gm_mars / (rn2 * rn)
+    G00 = c3 * x[0] * x[0] - c1
+    G11 = c3 * x[1] * x[1] - c1
+    G22 = c3 * x[2] * x[2] - c1
+    G01 = c3 * x[0] * x[1]
+    G02 = c3 * x[0] * x[2]
+    G12 = c3 * x[1] * x[2]
+    G = ((G00, G01, G02), (G01, G11, G12), (G02, G12, G22))
+    # G^2
+    Q00 = G00 * G00 + G01 * G01 + G02 * G02
+    Q11 = G01 * G01 + G11 * G11 + G12 * G12
+    Q22 = G02 * G02 + G12 * G12 + G22 * G22
+    Q01 = G00 * G01 + G01 * G11 + G02 * G12
+    Q02 = G00 * G02 + G01 * G12 + G02 * G22
+    Q12 = G01 * G02 + G11 * G12 + G12 * G22
+    G2 = ((Q00, Q01, Q02), (Q01, Q11, Q12), (Q02, Q12, Q22))
     h2 = h * h
+    a = h2 / 2.0
+    b = h2 * h2 / 24.0
+    c = h2 * h / 6.0
+    # [[I + G h^2/2 + G^2 h^4/24, I h + G h^3/6], [G h + G^2 h^3/6, I + G h^2/2 + G^2 h^4/24]]
     for i in range(3):
         for j in range(3):
             d = 1.0 if i == j else 0.0
-            diag = d + G[i, j] * h2 / 2.0 + G2[i, j] * h2 * h2 / 24.0
+            diag = d + G[i][j] * a + G2[i][j] * b
             Phi[i, j] = diag
             Phi[3 + i, 3 + j] = diag
-            Phi[i, 3 + j] = d * h + G[i, j] * h2 * h / 6.0
-            Phi[3 + i, j] = G[i, j] * h + G2[i, j] * h2 * h / 6.0
+            Phi[i, 3 + j] = d * h + G[i][j] * c
+            Phi[3 + i, j] = G[i][j] * h + G2[i][j] * c
 
 
-@njit(cache=True, inline="always")
+@njit(**_INLINE)
 def _matmul6(A, B, out):
     """``out = A B`` for 6 x 6 matrices (``out`` must alias neither)."""
     for i in range(6):
@@ -169,40 +327,36 @@ def _matmul6(A, B, out):
             out[i, j] = acc
 
 
-@njit(cache=True, inline="always")
-def _predict(x, P, t, dt, q, scale, max_step, gm_mars, tb_t0, tb_step, tb_pos, tb_vel, tb_gm,
-             x_out, P_out, sc):
+@njit(**_HELPER)
+def _predict(x, P, t, dt, q, inv_scale, max_step, gm_mars, tb_t0, tb_step, tb_pos, tb_vel,
+             tb_gm, x_out, P_out, Phi, Ph, T, xc, s0, i0, s1, i1, s2, i2):
     """EKF time update over dt in n = ceil(dt / max_step) equal sub-steps.
 
     Each sub-step: one RK4 step of the state and the fourth-order transition matrix at
-    its start; ``Phi = Phi_n ... Phi_1``; ``P = Phi P Phi^T + Q(dt) / scale``.
+    its start; ``Phi = Phi_n ... Phi_1``; ``P = Phi P Phi^T + Q(dt) * inv_scale``.
+    Scratch: Phi, Ph, T (6, 6), xc (6,), s*, i* (nb, 3).
     """
     nsub = int(math.ceil(dt / max_step - 1e-9))
     if nsub < 1:
         nsub = 1
     h = dt / nsub
-    Phi = sc.Phi
-    _transition(x, h, gm_mars, sc.G, sc.G2, Phi)
-    _rk4(x, t, h, gm_mars, tb_t0, tb_step, tb_pos, tb_vel, tb_gm, x_out,
-         sc.tb, sc.a3, sc.k46, sc.y6)
+    _transition(x, h, gm_mars, Phi)
+    _rk4(x, t, h, gm_mars, tb_t0, tb_step, tb_pos, tb_vel, tb_gm, x_out, s0, i0, s1, i1, s2, i2)
     for sub in range(1, nsub):
-        Ph = sc.A6
-        _transition(x_out, h, gm_mars, sc.G, sc.G2, Ph)
-        T = sc.T6
-        _matmul6(Ph, Phi, T)
+        _transition(x_out, h, gm_mars, Ph)
+        _matmul6(Ph, Phi, T)  # Phi = Phi_sub ... Phi_1
         for i in range(6):
             for j in range(6):
                 Phi[i, j] = T[i, j]
         for j in range(6):
-            sc.xc[j] = x_out[j]
-        _rk4(sc.xc, t + sub * h, h, gm_mars, tb_t0, tb_step, tb_pos, tb_vel, tb_gm, x_out,
-             sc.tb, sc.a3, sc.k46, sc.y6)
-    # P = Phi P Phi^T + Q
-    T = sc.T6
+            xc[j] = x_out[j]
+        _rk4(xc, t + sub * h, h, gm_mars, tb_t0, tb_step, tb_pos, tb_vel, tb_gm, x_out,
+             s0, i0, s1, i1, s2, i2)
+    # P = Phi P Phi^T + Q, Q = q [[dt^3/3 I, dt^2/2 I], [dt^2/2 I, dt I]]
     _matmul6(Phi, P, T)
-    q33 = q * dt * dt * dt / 3.0 / scale
-    q22 = q * dt * dt / 2.0 / scale
-    q11 = q * dt / scale
+    q33 = q * dt * dt * dt / 3.0 * inv_scale
+    q22 = q * dt * dt / 2.0 * inv_scale
+    q11 = q * dt * inv_scale
     for i in range(6):
         for j in range(i, 6):
             s = 0.0
@@ -213,7 +367,6 @@ def _predict(x, P, t, dt, q, scale, max_step, gm_mars, tb_t0, tb_step, tb_pos, t
         P_out[i, i] += q33
         P_out[i, 3 + i] += q22
         P_out[3 + i, 3 + i] += q11
-    # symmetric: mirror the upper triangle (P_out[3+i, i] gets q22 through P_out[i, 3+i])
     for i in range(6):
         for j in range(i + 1, 6):
             P_out[j, i] = P_out[i, j]
@@ -222,37 +375,41 @@ def _predict(x, P, t, dt, q, scale, max_step, gm_mars, tb_t0, tb_step, tb_pos, t
 # ---------------------------------------------------------------------- linear algebra
 
 
-@njit(cache=True, inline="always")
+@njit(**_INLINE)
 def _cholesky(A, n, L):
-    """Lower Cholesky factor of the leading n x n block; returns False if not positive definite.
-
-    The diagonal of ``L`` holds the *reciprocals* ``1 / L_ii`` (so that the solves
-    multiply instead of divide).
-    """
-    for i in range(n):
-        for j in range(i + 1):
+    """Lower Cholesky factor of the lower triangle of A (n x n); False if not positive
+    definite. The diagonal of ``L`` holds the *reciprocals* ``1 / L_ii``."""
+    ok = True
+    for j in range(n):
+        s = A[j, j]
+        for k in range(j):
+            s -= L[j, k] * L[j, k]
+        if not s > 0.0:
+            ok = False
+            s = 1.0
+        r = 1.0 / math.sqrt(s)
+        L[j, j] = r
+        for i in range(j + 1, n):
             s = A[i, j]
             for k in range(j):
                 s -= L[i, k] * L[j, k]
-            if i == j:
-                if s <= 0.0:
-                    return False
-                L[i, i] = 1.0 / math.sqrt(s)
-            else:
-                L[i, j] = s * L[j, j]
-        for j in range(i + 1, n):
-            L[i, j] = 0.0
-    return True
+            L[i, j] = s * r
+    return ok
 
 
-@njit(cache=True, inline="always")
-def _chol_solve(L, n, b):
-    """Solve (L L^T) y = b in place for a vector b (L from :func:`_cholesky`)."""
+@njit(**_INLINE)
+def _forward(L, n, b):
+    """b = L^-1 b in place (L from :func:`_cholesky`)."""
     for i in range(n):
         s = b[i]
         for k in range(i):
             s -= L[i, k] * b[k]
         b[i] = s * L[i, i]
+
+
+@njit(**_INLINE)
+def _backward(L, n, b):
+    """b = L^-T b in place (L from :func:`_cholesky`)."""
     for i in range(n - 1, -1, -1):
         s = b[i]
         for k in range(i + 1, n):
@@ -260,237 +417,399 @@ def _chol_solve(L, n, b):
         b[i] = s * L[i, i]
 
 
-@njit(cache=True, inline="always")
-def _spd_inverse(A, n, out, L, e):
-    """Inverse of a symmetric positive-definite matrix via Cholesky; False if it fails.
-
-    ``A = L L^T``, ``A^-1 = L^-T L^-1``; ``L`` (n, n) is scratch (overwritten by
-    ``L^-1``), ``e`` (n,) holds the reciprocal diagonal.
-    """
-    if not _cholesky(A, n, L):
-        return False
-    # L^-1 in place (lower triangular), column by column
-    for i in range(n):
-        e[i] = L[i, i]  # already 1 / L_ii
-    for j in range(n):
-        L[j, j] = e[j]
-        for i in range(j + 1, n):
+@njit(**_INLINE)
+def _inverse_from_cholesky(L, out):
+    """``out = (L L^T)^-1`` for the 6 x 6 factor L of :func:`_cholesky` (L overwritten by
+    L^-1). Fills the lower triangle of ``out``."""
+    for j in range(6):
+        for i in range(j + 1, 6):
             s = 0.0
             for k in range(j, i):
                 s -= L[i, k] * L[k, j]
-            L[i, j] = s * e[i]
-    # A^-1 = L^-T L^-1 (symmetric)
-    for i in range(n):
-        for j in range(i + 1):
+            L[i, j] = s * L[i, i]
+    # A^-1 = L^-T L^-1
+    for a in range(6):
+        for b in range(a + 1):
             s = 0.0
-            for k in range(i, n):
-                s += L[k, i] * L[k, j]
-            out[i, j] = s
-            out[j, i] = s
-    return True
+            for k in range(a, 6):
+                s += L[k, a] * L[k, b]
+            out[a, b] = s
 
 
 # ------------------------------------------------------------------ measurement models
 
 
-@njit(cache=True, inline="always")
-def _h_xnav(x, rm, rs, n_, dist, z_pred, H):
-    """Paper eq. (1) delays and eq. (4) rows for the spacecraft at rm + r."""
-    R0 = rm[0] + x[0]
-    R1 = rm[1] + x[1]
-    R2 = rm[2] + x[2]
+@njit(**_INLINE)
+def _h_xnav(xs, i_, rm_x, rs_x, jm, n_, dist, sig, z, nu, H, R):
+    """Paper eq. (1) delays, eq. (4) rows (position columns) and the diagonal R, for the
+    spacecraft at rm + r; ``nu = z - h(x)``."""
+    R0 = rm_x[jm, 0] + xs[i_, 0]
+    R1 = rm_x[jm, 1] + xs[i_, 1]
+    R2 = rm_x[jm, 2] + xs[i_, 2]
     Rn = math.sqrt(R0 * R0 + R1 * R1 + R2 * R2)
-    b0, b1, b2 = -rs[0], -rs[1], -rs[2]
+    b0, b1, b2 = -rs_x[jm, 0], -rs_x[jm, 1], -rs_x[jm, 2]
     bn = math.sqrt(b0 * b0 + b1 * b1 + b2 * b2)
-    for i in range(n_.shape[0]):
+    Rv = (R0, R1, R2)
+    m = n_.shape[0]
+    for i in range(m):
         nr = n_[i, 0] * R0 + n_[i, 1] * R1 + n_[i, 2] * R2
         nb = n_[i, 0] * b0 + n_[i, 1] * b1 + n_[i, 2] * b2
         D = dist[i]
         u = nr + Rn
         w = nb + bn
-        z_pred[i] = (nr / C + (nr * nr - Rn * Rn) / (2.0 * C * D)
-                     + _SHAPIRO * math.log(abs(u / w + 1.0)))  # paper eq. (1)
-        Rv = (R0, R1, R2)
+        zp = (nr / C + (nr * nr - Rn * Rn) / (2.0 * C * D)
+              + _SHAPIRO * math.log(abs(u / w + 1.0)))  # paper eq. (1)
+        nu[i] = z[jm, i] - zp
         for j in range(3):
             H[i, j] = (n_[i, j] / C + (nr * n_[i, j] - Rv[j]) / (C * D)
                        + _SHAPIRO * (n_[i, j] + Rv[j] / Rn) / (u + w))  # paper eq. (4)
-            H[i, 3 + j] = 0.0
+        for j in range(m):
+            R[i, j] = 0.0
+        R[i, i] = sig[i] * sig[i]
 
 
-@njit(cache=True, inline="always")
-def _h_uv(x, z_pred, H):
-    """Paper eq. (5): [|r|, -r/|r|] and its Jacobian."""
-    rn = math.sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2])
-    z_pred[0] = rn
-    for j in range(3):
-        e = x[j] / rn
-        z_pred[1 + j] = -e
-        H[0, j] = e
-        H[0, 3 + j] = 0.0
+@njit(**_INLINE)
+def _h_uv(xs, i_, z, jm, sig_r, sig_u, nu, H, R):
+    """Paper eq. (5): ``[|r|, -r/|r|]``, its Jacobian and R; ``nu = z - h(x)``."""
+    x0, x1, x2 = xs[i_, 0], xs[i_, 1], xs[i_, 2]
+    rn = math.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
     inv = 1.0 / rn
+    x = (x0, x1, x2)
+    nu[0] = z[jm, 0] - rn
+    for j in range(3):
+        e = x[j] * inv
+        nu[1 + j] = z[jm, 1 + j] + e
+        H[0, j] = e
     for i in range(3):
         for j in range(3):
+            # d(-r/|r|)/dr = -(I - r r^T/|r|^2)/|r|
             H[1 + i, j] = -((1.0 if i == j else 0.0) - x[i] * x[j] * inv * inv) * inv
-            H[1 + i, 3 + j] = 0.0
+    for i in range(4):
+        for j in range(4):
+            R[i, j] = 0.0
+    R[0, 0] = sig_r * sig_r
+    for i in range(1, 4):
+        R[i, i] = sig_u * sig_u
 
 
-@njit(cache=True, inline="always")
-def _h_cns(x, star, sig_s, sig_h, z_pred, H, R, u, A):
-    """Paper eq. (6) angles, Jacobian rows a_j/|r| and the correlated R (scratch u, A)."""
+@njit(**_INLINE)
+def _h_cns(xs, i_, z, jm, star, sig_s, sig_h, nu, H, R, A):
+    """Paper eq. (6) angles, Jacobian rows a_j/|r| and the correlated R (scratch A);
+    ``nu = z - h(x)``."""
     k = star.shape[0]
-    rn = math.sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2])
-    for j in range(3):
-        u[j] = -x[j] / rn
+    x0, x1, x2 = xs[i_, 0], xs[i_, 1], xs[i_, 2]
+    rn = math.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
+    inv = 1.0 / rn
+    u0 = -x0 * inv
+    u1 = -x1 * inv
+    u2 = -x2 * inv
     for i in range(k):
-        us = u[0] * star[i, 0] + u[1] * star[i, 1] + u[2] * star[i, 2]
-        c0 = u[1] * star[i, 2] - u[2] * star[i, 1]
-        c1 = u[2] * star[i, 0] - u[0] * star[i, 2]
-        c2 = u[0] * star[i, 1] - u[1] * star[i, 0]
-        z_pred[i] = math.atan2(math.sqrt(c0 * c0 + c1 * c1 + c2 * c2), us)  # paper eq. (6)
-        tn = 0.0
-        for j in range(3):
-            A[i, j] = star[i, j] - us * u[j]
-            tn += A[i, j] * A[i, j]
-        tn = math.sqrt(tn)
-        for j in range(3):
-            A[i, j] /= tn
-            H[i, j] = A[i, j] / rn
-            H[i, 3 + j] = 0.0
+        s0, s1, s2 = star[i, 0], star[i, 1], star[i, 2]
+        us = u0 * s0 + u1 * s1 + u2 * s2
+        c0 = u1 * s2 - u2 * s1
+        c1 = u2 * s0 - u0 * s2
+        c2 = u0 * s1 - u1 * s0
+        nu[i] = z[jm, i] - math.atan2(math.sqrt(c0 * c0 + c1 * c1 + c2 * c2), us)  # eq. (6)
+        a0 = s0 - us * u0
+        a1 = s1 - us * u1
+        a2 = s2 - us * u2
+        tinv = 1.0 / math.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
+        A[i, 0] = a0 * tinv
+        A[i, 1] = a1 * tinv
+        A[i, 2] = a2 * tinv
+        H[i, 0] = A[i, 0] * inv
+        H[i, 1] = A[i, 1] * inv
+        H[i, 2] = A[i, 2] * inv
+    hh = sig_h * sig_h
+    ss = sig_s * sig_s
     for i in range(k):
         for j in range(k):
-            R[i, j] = sig_h * sig_h * (A[i, 0] * A[j, 0] + A[i, 1] * A[j, 1] + A[i, 2] * A[j, 2])
-        R[i, i] += sig_s * sig_s
+            R[i, j] = hh * (A[i, 0] * A[j, 0] + A[i, 1] * A[j, 1] + A[i, 2] * A[j, 2])
+        R[i, i] += ss
 
 
-@njit(cache=True, inline="always")
-def _update(x, P, nu, H, R, m, gate, do_update, sc):
-    """Joseph-form EKF update in place; returns the NIS (NaN if S is not PD).
+@njit(**_INLINE)
+def _measure(kind, xs, i_, jm, z_x, rm_x, rs_x, n_x, d_x, sig_x, z_u, sig_r, sig_u,
+             z_c, stars_c, sig_s, sig_h, nu, H, R, A):
+    """Innovation, Jacobian (position columns) and R of subsystem ``kind`` for the
+    state in row ``i_`` of ``xs``; returns the measurement size m."""
+    if kind == KIND_UV:
+        _h_uv(xs, i_, z_u, jm, sig_r, sig_u, nu, H, R)
+        return 4
+    if kind == KIND_CNS:
+        _h_cns(xs, i_, z_c, jm, stars_c, sig_s, sig_h, nu, H, R, A)
+        return stars_c.shape[0]
+    _h_xnav(xs, i_, rm_x, rs_x, jm, n_x, d_x, sig_x, z_x, nu, H, R)
+    return n_x.shape[0]
+
+
+# ------------------------------------------------------------------------ the updates
+
+
+@njit(**_INLINE)
+def _innovation_cov(P, inv_s, H, R, m, PHt, S):
+    """``PHt = P H^T * inv_s`` (6, m) and the lower triangle of ``S = H PHt + R``
+    (H has zero velocity columns: only ``H[:, :3]`` is used)."""
+    for i in range(6):
+        for j in range(m):
+            PHt[i, j] = (P[i, 0] * H[j, 0] + P[i, 1] * H[j, 1] + P[i, 2] * H[j, 2]) * inv_s
+    for i in range(m):
+        for j in range(i + 1):
+            S[i, j] = R[i, j] + H[i, 0] * PHt[0, j] + H[i, 1] * PHt[1, j] + H[i, 2] * PHt[2, j]
+
+
+@njit(**_INLINE)
+def _nis(nu, m, L, y):
+    """NIS ``nu^T S^-1 nu = |L^-1 nu|^2`` (L from :func:`_cholesky` of S; scratch y)."""
+    for i in range(m):
+        y[i] = nu[i]
+    _forward(L, m, y)
+    nis = 0.0
+    for i in range(m):
+        nis += y[i] * y[i]
+    return nis
+
+
+@njit(**_INLINE)
+def _update(xs, Ps, i_, nu, H, R, m, gate, do_update, PHt, S, L, y, K, W, T):
+    """Joseph-form EKF update of local ``i_`` in place; returns the NIS (NaN if S is not PD).
 
     The update is applied only when ``do_update`` and NIS <= gate. The three sensors'
     Jacobians have zero velocity columns (paper eqs. (4)-(6)), so only ``H[:, :3]``
     is used, and ``A = I - K H`` has identity velocity columns: the Joseph product
     ``A P A^T`` is formed as ``T = P - K (P H^T)^T``, ``T A^T = T - (T H^T) K^T``.
     """
-    # S = H P H^T + R
-    PHt = sc.PHt
-    for i in range(6):
+    _innovation_cov(Ps[i_], 1.0, H, R, m, PHt, S)  # S = H P H^T + R
+    nis = np.nan
+    if _cholesky(S, m, L):
+        nis = _nis(nu, m, L, y)
+        if do_update and nis <= gate:
+            # K = P H^T S^-1, row by row: S k_i = (P H^T)_i
+            for i in range(6):
+                for j in range(m):
+                    y[j] = PHt[i, j]
+                _forward(L, m, y)
+                _backward(L, m, y)
+                for j in range(m):
+                    K[i, j] = y[j]
+            # x+ = x- + K nu
+            for i in range(6):
+                s = 0.0
+                for j in range(m):
+                    s += K[i, j] * nu[j]
+                xs[i_, i] += s
+            # P+ = (I - K H) P (I - K H)^T + K R K^T  (Joseph form)
+            for i in range(6):  # T = (I - K H) P = P - K (P H^T)^T
+                for j in range(6):
+                    s = Ps[i_, i, j]
+                    for a in range(m):
+                        s -= K[i, a] * PHt[j, a]
+                    T[i, j] = s
+            for i in range(6):  # W = K R - T H^T, so that P+ = T + W K^T
+                for j in range(m):
+                    s = -(T[i, 0] * H[j, 0] + T[i, 1] * H[j, 1] + T[i, 2] * H[j, 2])
+                    for a in range(m):
+                        s += K[i, a] * R[a, j]
+                    W[i, j] = s
+            for i in range(6):
+                for j in range(i, 6):
+                    s = T[i, j]
+                    for a in range(m):
+                        s += W[i, a] * K[j, a]
+                    Ps[i_, i, j] = s
+                    Ps[i_, j, i] = s
+    return nis
+
+
+@njit(**_INLINE)
+def _update_sized(xs, Ps, i_, nu, H, R, m, gate, do_update, PHt, S, L, y, K, W, T):
+    """:func:`_update` compiled for the common sizes m = 3 and 4 (unrolled) and any other."""
+    if m == 4:
+        return _update(xs, Ps, i_, nu, H, R, 4, gate, do_update, PHt, S, L, y, K, W, T)
+    if m == 3:
+        return _update(xs, Ps, i_, nu, H, R, 3, gate, do_update, PHt, S, L, y, K, W, T)
+    return _update_any(xs, Ps, i_, nu, H, R, m, gate, do_update, PHt, S, L, y, K, W, T)
+
+
+@njit(**_HELPER)
+def _update_any(xs, Ps, i_, nu, H, R, m, gate, do_update, PHt, S, L, y, K, W, T):
+    """:func:`_update` for any m (not inlined: compiled once, kept out of the loop's code)."""
+    return _update(xs, Ps, i_, nu, H, R, m, gate, do_update, PHt, S, L, y, K, W, T)
+
+
+@njit(**_INLINE)
+def _gain_information(H, R, nu, m, L, y, J, b):
+    """``J += H^T R^-1 H`` (3 x 3, lower triangle) and ``b += H^T R^-1 nu`` (3,)."""
+    _cholesky(R, m, L)  # R is positive definite by construction
+    # with R = L L^T: H^T R^-1 H = (L^-1 H)^T (L^-1 H), H^T R^-1 nu = (L^-1 H)^T (L^-1 nu)
+    for j in range(m):
+        y[j] = nu[j]
+    _forward(L, m, y)
+    for c in range(3):
         for j in range(m):
-            PHt[i, j] = P[i, 0] * H[j, 0] + P[i, 1] * H[j, 1] + P[i, 2] * H[j, 2]
-    S = sc.S
-    for i in range(m):
-        for j in range(i + 1):
-            v = (R[i, j] + H[i, 0] * PHt[0, j] + H[i, 1] * PHt[1, j] + H[i, 2] * PHt[2, j])
-            S[i, j] = v
-            S[j, i] = v
-    L = sc.Lm
-    if not _cholesky(S, m, L):
-        return np.nan
-    y = sc.ym
-    for i in range(m):
-        y[i] = nu[i]
-    _chol_solve(L, m, y)
-    nis = 0.0
-    for i in range(m):
-        nis += nu[i] * y[i]
-    if not do_update or nis > gate:
-        return nis
-    # K = P H^T S^-1 (row by row: solve S k_i = (P H^T)_i)
-    K = sc.K
-    row = sc.row
-    for i in range(6):
-        for j in range(m):
-            row[j] = PHt[i, j]
-        _chol_solve(L, m, row)
-        for j in range(m):
-            K[i, j] = row[j]
-    # x+ = x- + K nu
-    for i in range(6):
+            s = H[j, c]
+            for k in range(j):
+                s -= L[j, k] * H[k, 3 + c]
+            H[j, 3 + c] = s * L[j, j]  # column c of L^-1 H, kept in the unused columns 3..5
+    for a in range(3):
         s = 0.0
         for j in range(m):
-            s += K[i, j] * nu[j]
-        x[i] += s
-    # P+ = (I - K H) P (I - K H)^T + K R K^T  (Joseph form)
-    T = sc.T6  # T = (I - K H) P = P - K (P H^T)^T
-    for i in range(6):
-        for j in range(6):
-            s = P[i, j]
-            for a in range(m):
-                s -= K[i, a] * PHt[j, a]
-            T[i, j] = s
-    W = sc.KR  # W = K R - T H^T, so that P+ = T + W K^T
-    for i in range(6):
-        for j in range(m):
-            s = -(T[i, 0] * H[j, 0] + T[i, 1] * H[j, 1] + T[i, 2] * H[j, 2])
-            for a in range(m):
-                s += K[i, a] * R[a, j]
-            W[i, j] = s
-    for i in range(6):
-        for j in range(i, 6):
-            s = T[i, j]
-            for a in range(m):
-                s += W[i, a] * K[j, a]
-            P[i, j] = s
-            P[j, i] = s
+            s += H[j, 3 + a] * y[j]
+        b[a] += s
+        for c in range(a + 1):
+            s = 0.0
+            for j in range(m):
+                s += H[j, 3 + a] * H[j, 3 + c]
+            J[a, c] += s
+
+
+@njit(**_INLINE)
+def _update_sized_info(P, inv_s, nu, H, R, m, gate, do_update, PHt, S, L, y, J, b):
+    """NIS of a local that starts from ``(x, P / s)`` and, when ``do_update`` and NIS <=
+    gate, its information ``H^T R^-1 H``, ``H^T R^-1 nu`` added to J and b (reset mode)."""
+    _innovation_cov(P, inv_s, H, R, m, PHt, S)  # S = H P H^T / s + R
+    nis = np.nan
+    if _cholesky(S, m, L):
+        nis = _nis(nu, m, L, y)
+        if do_update and nis <= gate:
+            _gain_information(H, R, nu, m, L, y, J, b)
     return nis
+
+
+@njit(**_INLINE)
+def _info_sized(P, inv_s, nu, H, R, m, gate, do_update, PHt, S, L, y, J, b):
+    """:func:`_update_sized_info` compiled for m = 3, 4 (unrolled) and any other."""
+    if m == 4:
+        return _update_sized_info(P, inv_s, nu, H, R, 4, gate, do_update, PHt, S, L, y, J, b)
+    if m == 3:
+        return _update_sized_info(P, inv_s, nu, H, R, 3, gate, do_update, PHt, S, L, y, J, b)
+    return _info_any(P, inv_s, nu, H, R, m, gate, do_update, PHt, S, L, y, J, b)
+
+
+@njit(**_HELPER)
+def _info_any(P, inv_s, nu, H, R, m, gate, do_update, PHt, S, L, y, J, b):
+    """:func:`_update_sized_info` for any m (not inlined)."""
+    return _update_sized_info(P, inv_s, nu, H, R, m, gate, do_update, PHt, S, L, y, J, b)
 
 
 # ----------------------------------------------------------------------------- fusion
 
 
-@njit(cache=True, inline="always")
-def _fuse(xs, Ps, use, x_out, P_out, sc):
+@njit(**_HELPER)
+def _fuse(xs, Ps, use, x_out, P_out, d, Y, yv, C, Cf, dx):
     """Information-form fusion of the local estimates with use[i] True.
 
     P_f = (sum P_i^-1)^-1, x_f = P_f sum P_i^-1 x_i, computed on Jacobi-scaled
-    covariances and on deviations from the first used estimate (for precision).
-    Returns False if no estimate is used or a matrix is not positive definite.
+    covariances and on deviations from the first used estimate (for precision), as
+    :func:`xnavlab.core.federated.fuse`. Returns False if no estimate is used or a
+    matrix is not positive definite.
     """
     ns = xs.shape[0]
     ref = -1
-    for i in range(ns):
+    for i in range(ns - 1, -1, -1):
         if use[i]:
             ref = i
-            break
-    if ref < 0:
-        return False
-    d = sc.d6
-    for j in range(6):
-        d[j] = 1.0 / math.sqrt(Ps[ref, j, j])  # Jacobi scaling D^-1
-    Y = sc.Y6
-    y = sc.yv6
-    for a in range(6):
-        y[a] = 0.0
-        for b in range(6):
-            Y[a, b] = 0.0
-    Ci = sc.Ci
-    Yi = sc.Yi
+    ok = ref >= 0
+    if ok:
+        for j in range(6):
+            d[j] = 1.0 / math.sqrt(Ps[ref, j, j])  # Jacobi scaling D^-1
+        for a in range(6):
+            yv[a] = 0.0
+            for b in range(6):
+                Y[a, b] = 0.0
     for i in range(ns):
-        if not use[i]:
+        if not (ok and use[i]):
             continue
         for a in range(6):
-            for b in range(6):
-                Ci[a, b] = Ps[i, a, b] * d[a] * d[b]
-        if not _spd_inverse(Ci, 6, Yi, sc.L6, sc.e6):
-            return False
+            for b in range(a + 1):
+                C[a, b] = Ps[i, a, b] * d[a] * d[b]
+        ok = _cholesky(C, 6, C)
+        _inverse_from_cholesky(C, Cf)  # Cf = scaled P_i^-1 (lower)
         for a in range(6):
-            for b in range(6):
-                Y[a, b] += Yi[a, b]
+            for b in range(a + 1):
+                Y[a, b] += Cf[a, b]
+        for a in range(6):
+            for b in range(a + 1, 6):
+                Cf[a, b] = Cf[b, a]
+        # y += P_i^-1 (x_i - x_ref), scaled
         for a in range(6):
             s = 0.0
             for b in range(6):
-                s += Yi[a, b] * (xs[i, b] - xs[ref, b]) * d[b]
-            y[a] += s
-    Cf = sc.Cf
-    if not _spd_inverse(Y, 6, Cf, sc.L6, sc.e6):
-        return False
+                s += Cf[a, b] * (xs[i, b] - xs[ref, b]) * d[b]
+            yv[a] += s
+    if ok:
+        ok = _cholesky(Y, 6, Y)
+        _inverse_from_cholesky(Y, Cf)  # P_f = (sum P_i^-1)^-1, scaled
+        for a in range(6):
+            for b in range(a + 1, 6):
+                Cf[a, b] = Cf[b, a]
+        for a in range(6):
+            s = 0.0
+            for b in range(6):
+                s += Cf[a, b] * yv[b]
+            x_out[a] = xs[ref, a] + s / d[a]  # x_f = x_ref + P_f sum P_i^-1 (x_i - x_ref)
+            for b in range(6):
+                P_out[a, b] = Cf[a, b] / (d[a] * d[b])
+    return ok
+
+
+@njit(**_HELPER)
+def _fuse_information(x, P, ssum, J, b, x_out, P_out, Pt, G):
+    """Reset-mode fusion from the information the locals gained (module docstring):
+    ``P_f^-1 = ssum P^-1 + J`` and ``x_f = x + P_f b``, by the matrix inversion lemma
+    ``P_f = P~ - P~[:, :3] J (I + P~_rr J)^-1 P~[:3, :]``, ``P~ = P / ssum``.
+
+    J (3, 3) lower triangle, b (3,); scratch Pt (6, 6), G (3, 3).
+    """
+    for a in range(3):
+        for c in range(a + 1, 3):
+            J[a, c] = J[c, a]
+    f = 1.0 / ssum
     for a in range(6):
-        s = 0.0
-        for b in range(6):
-            s += Cf[a, b] * y[b]
-        x_out[a] = xs[ref, a] + s / d[a]
-        for b in range(6):
-            P_out[a, b] = Cf[a, b] / (d[a] * d[b])
-    return True
+        for c in range(6):
+            Pt[a, c] = P[a, c] * f
+    # M = I + P~_rr J and its inverse (adjugate / determinant)
+    m00 = 1.0 + Pt[0, 0] * J[0, 0] + Pt[0, 1] * J[1, 0] + Pt[0, 2] * J[2, 0]
+    m01 = Pt[0, 0] * J[0, 1] + Pt[0, 1] * J[1, 1] + Pt[0, 2] * J[2, 1]
+    m02 = Pt[0, 0] * J[0, 2] + Pt[0, 1] * J[1, 2] + Pt[0, 2] * J[2, 2]
+    m10 = Pt[1, 0] * J[0, 0] + Pt[1, 1] * J[1, 0] + Pt[1, 2] * J[2, 0]
+    m11 = 1.0 + Pt[1, 0] * J[0, 1] + Pt[1, 1] * J[1, 1] + Pt[1, 2] * J[2, 1]
+    m12 = Pt[1, 0] * J[0, 2] + Pt[1, 1] * J[1, 2] + Pt[1, 2] * J[2, 2]
+    m20 = Pt[2, 0] * J[0, 0] + Pt[2, 1] * J[1, 0] + Pt[2, 2] * J[2, 0]
+    m21 = Pt[2, 0] * J[0, 1] + Pt[2, 1] * J[1, 1] + Pt[2, 2] * J[2, 1]
+    m22 = 1.0 + Pt[2, 0] * J[0, 2] + Pt[2, 1] * J[1, 2] + Pt[2, 2] * J[2, 2]
+    c00 = m11 * m22 - m12 * m21
+    c01 = m02 * m21 - m01 * m22
+    c02 = m01 * m12 - m02 * m11
+    c10 = m12 * m20 - m10 * m22
+    c11 = m00 * m22 - m02 * m20
+    c12 = m02 * m10 - m00 * m12
+    c20 = m10 * m21 - m11 * m20
+    c21 = m01 * m20 - m00 * m21
+    c22 = m00 * m11 - m01 * m10
+    det = m00 * c00 + m01 * c10 + m02 * c20
+    ok = det > 0.0  # det(I + P J) >= 1 in exact arithmetic
+    if ok:
+        r = 1.0 / det
+        Mi = ((c00 * r, c01 * r, c02 * r), (c10 * r, c11 * r, c12 * r),
+              (c20 * r, c21 * r, c22 * r))
+        # G = J (I + P~_rr J)^-1, symmetric
+        for a in range(3):
+            for c in range(3):
+                G[a, c] = J[a, 0] * Mi[0][c] + J[a, 1] * Mi[1][c] + J[a, 2] * Mi[2][c]
+        # P_f = P~ - P~[:, :3] G P~[:3, :]
+        for a in range(6):
+            g0 = Pt[a, 0] * G[0, 0] + Pt[a, 1] * G[1, 0] + Pt[a, 2] * G[2, 0]
+            g1 = Pt[a, 0] * G[0, 1] + Pt[a, 1] * G[1, 1] + Pt[a, 2] * G[2, 1]
+            g2 = Pt[a, 0] * G[0, 2] + Pt[a, 1] * G[1, 2] + Pt[a, 2] * G[2, 2]
+            for c in range(a, 6):
+                v = Pt[a, c] - (g0 * Pt[0, c] + g1 * Pt[1, c] + g2 * Pt[2, c])
+                P_out[a, c] = v
+                P_out[c, a] = v
+        # x_f = x + P_f [b; 0]
+        for a in range(6):
+            x_out[a] = x[a] + P_out[a, 0] * b[0] + P_out[a, 1] * b[1] + P_out[a, 2] * b[2]
+    return ok
 
 
 # ---------------------------------------------------------------------------- the run
@@ -508,81 +827,101 @@ def run_epochs(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
 
     State: ``xs`` (ns, 6) and ``Ps`` (ns, 6, 6) local estimates, ``shares`` (ns,) the
     information share each local carries, ``xm`` (6,) and ``Pm`` (6, 6) the master.
-    ``rec_pos[k]`` is the record row of epoch k or -1. Returns False on a numerical
-    failure (a covariance lost positive definiteness).
+    Third bodies: the table of :class:`~xnavlab.mars.dynamics.ThirdBodyTable`
+    (``tb_*``). Subsystems: ``kinds`` (ns,) codes (:data:`KIND_XNAV`, ...),
+    ``meas_idx`` (n, ns) the row of each epoch's measurement or -1, ``active`` (n, ns),
+    ``beta`` (ns,), ``reset`` the mode, ``gate`` (ns,) NIS thresholds. Measurements and
+    sensor parameters: XNAV ``z_x`` (m_x, p) s, the filter ephemeris' Mars and Sun
+    ``rm_x``, ``rs_x`` (m_x, 3), pulsar directions ``n_x`` (p, 3), distances ``d_x``
+    and noise ``sig_x`` (p,); UV ``z_u`` (m_u, 4) and its noise; CNS ``z_c`` (m_c, k),
+    ``stars_c`` (k, 3) and its noise. Outputs: ``rec_pos[k]`` is the record row of
+    epoch k or -1 (``rec_x``, ``rec_P``, ``rec_xl``, ``rec_Pl`` the master and the
+    locals' estimates and variances), ``nis_out`` and ``flag_out`` (n, ns) for every
+    epoch. Returns False on a numerical failure (a covariance lost positive
+    definiteness).
     """
     ns = xs.shape[0]
-    m_max = max(4, n_x.shape[0], stars_c.shape[0])
-    sc = _scratch(tb_pos.shape[1], m_max, stars_c.shape[0])
-    zp = np.empty(m_max)
-    nu = np.empty(m_max)
-    H = np.zeros((m_max, 6))
-    R = np.zeros((m_max, m_max))
-    xtmp = np.empty(6)
-    Ptmp = np.empty((6, 6))
-    use = np.zeros(ns, dtype=np.bool_)
+    nb = tb_pos.shape[1]
+    mm = max(4, n_x.shape[0], stars_c.shape[0])
+    scratch = (
+        np.empty((nb, 3)), np.empty((nb, 3)), np.empty((nb, 3)), np.empty((nb, 3)),
+        np.empty((nb, 3)), np.empty((nb, 3)),                              # third bodies
+        np.empty((6, 6)), np.empty((6, 6)), np.empty((6, 6)), np.empty(6),  # Phi, Ph, T, xc
+        np.empty((6, mm)), np.empty((mm, mm)), np.empty((mm, mm)), np.empty(mm),  # PHt S L y
+        np.empty((6, mm)), np.empty((6, mm)), np.empty((mm, 3)),            # K, W, A
+        np.empty(6), np.empty((6, 6)), np.empty(6), np.empty((6, 6)), np.empty((6, 6)),
+        np.empty(6),                                                        # fusion
+        np.empty(mm), np.zeros((mm, 6)), np.zeros((mm, mm)),               # nu, H, R
+        np.empty(6), np.empty((6, 6)), np.empty(6), np.empty((6, 6)),       # x/P scratch
+        np.zeros((3, 3)), np.zeros(3), np.empty((3, 3)),                    # J, b, G
+        np.zeros(ns, dtype=np.bool_), np.empty(ns),                         # use, 1/shares
+    )
+    return _run(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
+                tb_t0, tb_step, tb_pos, tb_vel, tb_gm, kinds, meas_idx, active, beta, reset,
+                gate, z_x, rm_x, rs_x, n_x, d_x, sig_x, z_u, sig_r, sig_u, z_c, stars_c,
+                sig_s, sig_h, rec_pos, rec_x, rec_P, rec_xl, rec_Pl, nis_out, flag_out,
+                *scratch)
+
+
+@njit(**_HELPER)
+def _run(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
+         tb_t0, tb_step, tb_pos, tb_vel, tb_gm, kinds, meas_idx, active, beta, reset,
+         gate, z_x, rm_x, rs_x, n_x, d_x, sig_x, z_u, sig_r, sig_u, z_c, stars_c,
+         sig_s, sig_h, rec_pos, rec_x, rec_P, rec_xl, rec_Pl, nis_out, flag_out,
+         s0, i0, s1, i1, s2, i2, Phi, Ph, T, xc, PHt, S, L, yy, K, W, A,
+         d, Y, yv, Ci, Cf, dx, nu, H, R, xp, Pp, x2, P2, J, bv, G, use, inv_sh):
+    """The epoch loop of :func:`run_epochs` (scratch arrays allocated there)."""
+    ns = xs.shape[0]
+    for i in range(ns):
+        inv_sh[i] = 1.0 / shares[i]
     for k in range(k0, k1):
         if k > 0:
             tp = times[k - 1]
             dt = times[k] - tp
-            # master time update (full Q)
-            _predict(xm, Pm, tp, dt, q, 1.0, max_step, gm_mars, tb_t0, tb_step, tb_pos, tb_vel, tb_gm,
-                     xtmp, Ptmp, sc)
+            # master time update (full Q): xp, Pp
+            _predict(xm, Pm, tp, dt, q, 1.0, max_step, gm_mars, tb_t0, tb_step, tb_pos, tb_vel,
+                     tb_gm, xp, Pp, Phi, Ph, T, xc, s0, i0, s1, i1, s2, i2)
+            full = not reset or rec_pos[k] >= 0  # run the locals in full (else: information)
             if reset:
                 # after a reset every local equals the master scaled by 1/share, and the time
                 # update commutes with that scaling: P_i- = (Phi P_f Phi^T + Q) / share_i
                 for i in range(ns):
                     for a in range(6):
-                        xs[i, a] = xtmp[a]
-                        for b in range(6):
-                            Ps[i, a, b] = Ptmp[a, b] / shares[i]
+                        xs[i, a] = xp[a]
+                    if full:
+                        for a in range(6):
+                            for b in range(6):
+                                Ps[i, a, b] = Pp[a, b] * inv_sh[i]
             else:
                 for i in range(ns):
-                    x_in = sc.xc
-                    P_in = sc.Pc
                     for a in range(6):
-                        x_in[a] = xs[i, a]
+                        x2[a] = xs[i, a]
                         for b in range(6):
-                            P_in[a, b] = Ps[i, a, b]
-                    _predict(x_in, P_in, tp, dt, q, shares[i], max_step, gm_mars, tb_t0, tb_step, tb_pos,
-                             tb_vel, tb_gm, xs[i], Ps[i], sc)
-            for a in range(6):
-                xm[a] = xtmp[a]
-                for b in range(6):
-                    Pm[a, b] = Ptmp[a, b]
+                            P2[a, b] = Ps[i, a, b]
+                    _predict(x2, P2, tp, dt, q, inv_sh[i], max_step, gm_mars, tb_t0, tb_step,
+                             tb_pos, tb_vel, tb_gm, xs[i], Ps[i], Phi, Ph, T, xc, s0, i0, s1, i1,
+                             s2, i2)
             # measurement updates
+            for a in range(3):
+                bv[a] = 0.0
+                for b in range(3):
+                    J[a, b] = 0.0
             for i in range(ns):
                 j = meas_idx[k, i]
                 if j < 0:
                     flag_out[k, i] = NO_MEAS
                     continue
-                kind = kinds[i]
-                if kind == KIND_XNAV:
-                    m = n_x.shape[0]
-                    _h_xnav(xs[i], rm_x[j], rs_x[j], n_x, d_x, zp, H)
-                    for a in range(m):
-                        nu[a] = z_x[j, a] - zp[a]
-                        for b in range(m):
-                            R[a, b] = 0.0
-                        R[a, a] = sig_x[a] * sig_x[a]
-                elif kind == KIND_UV:
-                    m = 4
-                    _h_uv(xs[i], zp, H)
-                    for a in range(m):
-                        nu[a] = z_u[j, a] - zp[a]
-                        for b in range(m):
-                            R[a, b] = 0.0
-                    R[0, 0] = sig_r * sig_r
-                    for a in range(1, 4):
-                        R[a, a] = sig_u * sig_u
+                act = active[k, i]
+                m = _measure(kinds[i], xs, i, j, z_x, rm_x, rs_x, n_x, d_x, sig_x, z_u, sig_r,
+                             sig_u, z_c, stars_c, sig_s, sig_h, nu, H, R, A)
+                if full:
+                    nis = _update_sized(xs, Ps, i, nu, H, R, m, gate[i], act, PHt, S, L, yy, K,
+                                        W, T)
                 else:
-                    m = stars_c.shape[0]
-                    _h_cns(xs[i], stars_c, sig_s, sig_h, zp, H, R, sc.u3, sc.Ac)
-                    for a in range(m):
-                        nu[a] = z_c[j, a] - zp[a]
-                nis = _update(xs[i], Ps[i], nu, H, R, m, gate[i], active[k, i], sc)
+                    nis = _info_sized(Pp, inv_sh[i], nu, H, R, m, gate[i], act, PHt, S, L, yy,
+                                      J, bv)
                 nis_out[k, i] = nis
-                if not active[k, i]:
+                if not act:
                     flag_out[k, i] = ISOLATED
                 elif nis > gate[i]:
                     flag_out[k, i] = REJECTED
@@ -591,19 +930,23 @@ def run_epochs(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
                 else:
                     flag_out[k, i] = UPDATED
             # master fusion of the connected locals
+            any_used = False
+            ssum = 0.0
             for i in range(ns):
                 use[i] = active[k, i]
-            if _fuse(xs, Ps, use, xtmp, Ptmp, sc):
+                any_used = any_used or use[i]
+                if use[i]:
+                    ssum += shares[i]
+            if not any_used:
                 for a in range(6):
-                    xm[a] = xtmp[a]
+                    xm[a] = xp[a]
                     for b in range(6):
-                        Pm[a, b] = Ptmp[a, b]
-            else:
-                any_used = False
-                for i in range(ns):
-                    any_used = any_used or use[i]
-                if any_used:
+                        Pm[a, b] = Pp[a, b]
+            elif full:
+                if not _fuse(xs, Ps, use, xm, Pm, d, Y, yv, Ci, Cf, dx):
                     return False
+            elif not _fuse_information(xp, Pp, ssum, J, bv, xm, Pm, Ci, G):
+                return False
         r = rec_pos[k]
         if r >= 0:
             for a in range(6):
@@ -614,7 +957,8 @@ def run_epochs(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
                 for a in range(6):
                     rec_xl[r, i, a] = xs[i, a]
                     rec_Pl[r, i, a] = Ps[i, a, a]
-        # reset: share the master among the locals connected at the next epoch
+        # reset: share the master among the locals connected at the next epoch (the locals
+        # themselves are rebuilt from the master by the next time update; written at the end)
         if reset:
             kn = k + 1 if k + 1 < times.shape[0] else k
             tot = 0.0
@@ -623,8 +967,11 @@ def run_epochs(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
                     tot += beta[i]
             for i in range(ns):
                 shares[i] = beta[i] / tot if active[kn, i] else 1.0
-                for a in range(6):
-                    xs[i, a] = xm[a]
-                    for b in range(6):
-                        Ps[i, a, b] = Pm[a, b] / shares[i]
+                inv_sh[i] = 1.0 / shares[i]
+            if k == k1 - 1:
+                for i in range(ns):
+                    for a in range(6):
+                        xs[i, a] = xm[a]
+                        for b in range(6):
+                            Ps[i, a, b] = Pm[a, b] * inv_sh[i]
     return True

@@ -10,9 +10,11 @@ federated filter on them with one of two interchangeable back-ends:
     :class:`xnavlab.core.filters.EKF` locals, :mod:`xnavlab.mars.sensors` models and the
     :mod:`xnavlab.mars.dynamics` force model, one epoch at a time. The chapters teach with it.
 ``backend="numba"``
-    the same algorithm compiled (:mod:`xnavlab.mars.kernels`), a few microseconds per epoch
+    the same filter compiled (:mod:`xnavlab.mars.kernels`), about a microsecond per epoch
     of three EKFs and the fusion; same estimates to rounding (the tests check 1e-9
-    relative).
+    relative). In reset mode the kernel fuses through the identity that makes that mode
+    optimal (the centralised update, :mod:`xnavlab.mars.kernels`) at the epochs whose
+    local estimates are not recorded.
 
 The time grid is the union of every sensor's measurement epochs (every 3 s for UV and
 CNS, every 500 s for XNAV, so the grid has a few extra epochs where 500 s is not a
@@ -60,7 +62,7 @@ from xnavlab.core.constants import DAY, GM_MARS, C
 from xnavlab.core.federated import MODES, FederatedFilter
 from xnavlab.core.filters import chi2_bounds
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
-from xnavlab.mars import dynamics, pulsars, sensors, stars, toa
+from xnavlab.mars import dynamics, kernels, pulsars, sensors, stars, toa
 
 __all__ = [
     "alloc_records",
@@ -78,8 +80,6 @@ __all__ = [
     "filter_step",
     "filter_propagate",
     "nees_monte_carlo",
-    "plot_subsystem",
-    "plot_sharing",
 ]
 
 #: The three subsystems of the paper, in its numbering (1 XNAV, 2 UV, 3 CNS).
@@ -322,11 +322,38 @@ def _epochs(span, dt):
     return dt * np.arange(1, n + 1)
 
 
+#: Rows of noise drawn at a time for the long measurement series (a reused buffer).
+_CHUNK = 65536
+
+
+def _series(rng, truth, k, n_noise, n_meas, simulate, params):
+    """A measurement series at the truth rows ``k``, drawn chunk by chunk.
+
+    The noise comes in the same order, with the same values, as one
+    ``rng.standard_normal((k.size, n_noise))``, through a buffer of :data:`_CHUNK` rows
+    (the 30-day series would otherwise allocate 75 MB of draws and 40 MB of states);
+    ``simulate(states, noise, *params, out)`` fills ``out`` (rows, n_meas).
+    """
+    out = np.empty((k.size, n_meas))
+    buf = np.empty((min(k.size, _CHUNK), n_noise))
+    for a in range(0, k.size, _CHUNK):
+        b = min(a + _CHUNK, k.size)
+        noise = buf[:b - a]
+        rng.standard_normal(out=noise)
+        simulate(truth[k[a:b]], noise, *params, out[a:b])
+    return out
+
+
 def prepare(scenario=None, **overrides):
     """Build the inputs of a run: grid, truth, measurements (one seeded generator).
 
     The truth comes from :func:`xnavlab.mars.dynamics.truth` (the tight DOP853 propagator,
-    cached on disk); the last two distinct truths are also kept in memory.
+    cached on disk); the last two distinct truths are also kept in memory. The UV and CNS
+    series (864 000 epochs each over 30 days) are drawn by
+    :func:`xnavlab.mars.kernels.simulate_uv` and :func:`~xnavlab.mars.kernels.simulate_cns`,
+    the models of :meth:`xnavlab.mars.sensors.UVSensor.simulate` and
+    :meth:`xnavlab.mars.sensors.CNSSensor.simulate` compiled: same
+    draws, same values to rounding, without numpy's temporaries.
 
     Parameters
     ----------
@@ -351,8 +378,8 @@ def prepare(scenario=None, **overrides):
     rng = make_rng(sc.seed)
     span = sc.span
     dts = {"xnav": sc.dt_xnav, "uv": sc.dt_uv, "cns": sc.dt_cns}
-    offs = {s: _epochs(span, dts[s]) for s in sc.subsystems}
-    grid = np.unique(np.round(np.concatenate([[0.0], *offs.values()]), 6))
+    offs = {dt: np.round(_epochs(span, dt), 6) for dt in {dts[s] for s in sc.subsystems}}
+    grid = np.unique(np.concatenate([[0.0], *offs.values()]))
     times = sc.t0 + grid
     truth = _truth(times, sc)
     meas_idx = np.full((times.size, len(sc.subsystems)), -1, dtype=np.int64)
@@ -366,14 +393,15 @@ def prepare(scenario=None, **overrides):
         err0 = np.sqrt(np.diag(P0))
     x0 = np.array(sc.state0) + err0
     xnav_bodies = (np.zeros((0, 3)), np.zeros((0, 3)))
+    rows = {dt: np.searchsorted(grid, off) for dt, off in offs.items()}  # measurement epochs
     for i, s in enumerate(sc.subsystems):
-        k = np.searchsorted(grid, np.round(offs[s], 6))
+        k = rows[dts[s]]
         meas_idx[k, i] = np.arange(k.size)
         t = times[k]
         t_meas[s] = t
-        states = truth[k]
         if s == "xnav":
             xs = sens["xnav"]
+            states = truth[k]
             rm_true = ephemeris.position("mars", t, sc.truth_ephem)
             rs_true = ephemeris.position("sun", t, sc.truth_ephem)
             noise = rng.standard_normal((t.size, xs.dim))
@@ -381,10 +409,15 @@ def prepare(scenario=None, **overrides):
             xnav_bodies = (ephemeris.position("mars", t, sc.filter_ephem).reshape(-1, 3),
                            ephemeris.position("sun", t, sc.filter_ephem).reshape(-1, 3))
         elif s == "uv":
-            z[s] = sens["uv"].simulate(states, noise=rng.standard_normal((t.size, 3)))
+            # the model of UVSensor.simulate, compiled (same draws, equal to rounding)
+            uv = sens["uv"]
+            z[s] = _series(rng, truth, k, 3, 4, kernels.simulate_uv,
+                           (uv.sigma_range, uv.sigma_dir))
         else:
+            # the model of CNSSensor.simulate, compiled (same draws, equal to rounding)
             cns = sens["cns"]
-            z[s] = cns.simulate(states, noise=rng.standard_normal((t.size, 2 + 2 * cns.dim)))
+            z[s] = _series(rng, truth, k, 2 + 2 * cns.dim, cns.dim, kernels.simulate_cns,
+                           (cns.star_dirs, cns.sigma_star, cns.sigma_horizon))
     table = dynamics.ThirdBodyTable(sc.t0, float(times[-1]), ("sun", "jupiter"), "mars",
                                     sc.filter_ephem)
     rec_t = sc.t0 + np.arange(0.0, span + 1e-9, sc.record_dt)
@@ -773,8 +806,6 @@ def run_kernel(inp, state, a, b, active, beta, gate, rec_pos, records, nis, flag
     ``state`` comes from :func:`filter_state`; ``records`` is ``(x, P, xl, Pl)``, filled
     at the rows ``rec_pos`` gives for each epoch (-1: not recorded). All in place.
     """
-    from xnavlab.mars import kernels
-
     sc = inp.scenario
     xnav, uv, cns = inp.sensors["xnav"], inp.sensors["uv"], inp.sensors["cns"]
     kinds = np.array([_KIND[s] for s in sc.subsystems], dtype=np.int64)
@@ -855,109 +886,3 @@ def nees_monte_carlo(n_runs=20, scenario=None, seed=0, **overrides):
         "nis_count": nis_cnt,
         "nis_bounds": {s: chi2_bounds(dof[s], nis_cnt[s]) for s in sc.subsystems},
     }
-
-
-# ---------------------------------------------------------------------------- CLI
-
-
-def plot_subsystem(subsystem="uv", noise_scale=1.0, interval_s=3, days=0.25):
-    """One subsystem alone: its position error and the filter's 3-sigma bound.
-
-    Runs :func:`run` with the single ``subsystem``, its noise parameters multiplied by
-    ``noise_scale`` and its measurement interval set to ``interval_s`` (XNAV: at least
-    30 s). A pure function of its arguments (the scenario is seeded), for chapter 5's
-    slider.
-
-    Parameters
-    ----------
-    subsystem : {"xnav", "uv", "cns"}
-    noise_scale : float
-        Factor on the paper's noise (> 0): UV range and direction, CNS star and horizon
-        sensors, or the four XNAV ranging accuracies (109, 344, 1866, 325 m).
-    interval_s : float
-        Measurement interval, s (> 0).
-    days : float
-        Span, days (default six hours).
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-        One log-scale axes; not registered with pyplot.
-
-    Examples
-    --------
-    >>> fig = plot_subsystem("cns", 2.0, 30, days=0.02)
-    >>> fig.axes[0].get_title()
-    'cns: noise x 2, every 30 s'
-    """
-    from matplotlib.figure import Figure
-
-    check_choice("subsystem", subsystem, SUBSYSTEMS)
-    noise_scale = check_real("noise_scale", noise_scale, 0.0, lo_open=True)
-    interval_s = check_real("interval_s", interval_s, 0.0, lo_open=True)
-    kw = {"days": days, "subsystems": (subsystem,), "record_dt": 30.0}
-    if subsystem == "uv":
-        kw.update(sigma_range_m=5000.0 * noise_scale, sigma_dir_deg=0.1 * noise_scale,
-                  dt_uv=interval_s)
-    elif subsystem == "cns":
-        kw.update(sigma_horizon_deg=0.05 * noise_scale, sigma_star_arcsec=3.0 * noise_scale,
-                  dt_cns=interval_s)
-    else:
-        kw.update(xnav_sigma_m=tuple(np.array([109.0, 344.0, 1866.0, 325.0]) * noise_scale),
-                  dt_xnav=max(interval_s, 30.0))
-    res = run(**kw)
-    hours = res.t_days * 24
-    fig = Figure(figsize=(7, 3), layout="constrained")
-    ax = fig.add_subplot()
-    ax.fill_between(hours, 0, 3 * res.sigma_position(), color="C0", alpha=0.15, label="3 sigma")
-    ax.plot(hours, res.position_error(), color="C0", label="|position error|")
-    ax.set(xlabel="time (h)", ylabel="m", yscale="log", ylim=(10, 3e4),
-           title=f"{subsystem}: noise x {noise_scale:.2g}, every {kw['dt_' + subsystem]:g} s")
-    ax.legend(fontsize=8)
-    return fig
-
-
-def plot_sharing(beta_xnav=1 / 3, mode="reset", days=0.5):
-    """The fused filter with a chosen information share for the XNAV local.
-
-    Runs :func:`run` (60-s records) with sharing factors ``(beta_xnav, rest, rest)``,
-    ``rest = (1 - beta_xnav) / 2`` for UV and CNS, in the given federated ``mode``. A pure
-    function of its arguments (the scenario is seeded), for chapter 6's slider.
-
-    Parameters
-    ----------
-    beta_xnav : float
-        Share of the XNAV local, 0 < beta_xnav < 1.
-    mode : {"reset", "no-reset"}
-    days : float
-        Span, days (default half a day; the title gives the RMS error after its midpoint).
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-        One log-scale axes: the position error and the filter's 1-sigma; not registered
-        with pyplot.
-
-    Examples
-    --------
-    >>> fig = plot_sharing(0.8, "no-reset", days=0.02)
-    >>> fig.axes[0].get_title()[:36]
-    'no-reset, beta = (0.80, 0.10, 0.10):'
-    """
-    from matplotlib.figure import Figure
-
-    beta_xnav = check_real("beta_xnav", beta_xnav, 0.0, 1.0, lo_open=True, hi_open=True)
-    check_choice("mode", mode, MODES)
-    rest = (1.0 - beta_xnav) / 2
-    res = run(days=days, record_dt=60.0, mode=mode, beta=(beta_xnav, rest, rest))
-    settle = days / 2
-    hours = res.t_days * 24
-    fig = Figure(figsize=(7, 3), layout="constrained")
-    ax = fig.add_subplot()
-    ax.semilogy(hours, res.position_error(), label="|position error|")
-    ax.semilogy(hours, res.sigma_position(), "--", label="1-sigma")
-    ax.set(xlabel="time (h)", ylabel="m", ylim=(10, 2e4),
-           title=f"{mode}, beta = ({beta_xnav:.2f}, {rest:.2f}, {rest:.2f}): "
-                 f"{res.metrics(settle)['position_error_m']:.0f} m after {settle * 24:g} h")
-    ax.legend(fontsize=8)
-    return fig
