@@ -393,3 +393,24 @@ def test_plot_detection_bad_input(kwargs, name):
         D.plot_detection(res, x[:-1])
     with pytest.raises(ValueError, match=r"\bresult\b"):
         D.plot_detection(None, x)
+
+
+def test_event_tracker_snapshot_restore_and_close():
+    from xnavlab.core.detection import EventTracker
+
+    tr = EventTracker(holdoff=3)
+    tr.update(0.0, True, 2.0, "a")
+    snap = tr.snapshot()
+    for i in range(1, 6):
+        tr.update(float(i), i == 2, 3.0, "b")
+    after = [(e.onset, e.end, e.cleared) for e in tr.events]
+    tr.restore(snap)
+    assert tr.faulty and tr.events == []
+    for i in range(1, 6):
+        tr.update(float(i), i == 2, 3.0, "b")
+    assert [(e.onset, e.end, e.cleared) for e in tr.events] == after == [(0.0, 2.0, 5.0)]
+    tr.update(9.0, True, 2.0, "c")
+    tr.close(9.5)
+    assert not tr.faulty and tr.events[-1].cleared == 9.5
+    tr.close()                                   # nothing open: no-op
+    assert len(tr.events) == 2

@@ -4,9 +4,11 @@ import math
 
 import numpy as np
 import pytest
+from scipy import stats
 
 from xnavlab.core.faults import Fault
 from xnavlab.mars import fault_tolerance as ft
+from xnavlab.mars import plots as mars_plots
 from xnavlab.mars import scenarios
 
 DAYS = 1.0
@@ -67,12 +69,15 @@ def test_no_detector_lets_faults_in(runs, clean):
     assert runs["none"].detections == [] and not runs["none"].isolated.any()
 
 
-@pytest.mark.parametrize("detector", ["wavelet", "chi2"])
+@pytest.mark.parametrize("detector", ["wavelet", "chi2", "combined"])
 def test_hand_made_schedule_is_detected_and_isolated(runs, clean, detector):
     r = runs[detector]
-    for d in r.delays():
-        assert d["delay"] < 600.0, d
     intervals = r.isolation_intervals()
+    for f, d in zip(HAND, r.delays(), strict=True):
+        # detected, or already out (an earlier false alarm) and kept out through the fault
+        kept_out = any(iv["sensor"] == f.sensor and iv["out"] <= f.onset
+                       and (iv["back"] is None or iv["back"] >= f.end) for iv in intervals)
+        assert d["delay"] < 600.0 or kept_out, d
     for f in HAND:
         hit = [iv for iv in intervals if iv["sensor"] == f.sensor
                and iv["out"] <= f.onset + 600.0 and iv["back"] is not None
@@ -147,10 +152,10 @@ def test_reproductions_pass(rid):
 
 
 def test_plot_fault_response_is_a_figure():
-    fig = ft.plot_fault_response(8.0, "uv", days=0.5)
+    fig = mars_plots.plot_fault_response(8.0, "uv", days=0.5)
     assert "uv step of 8 sigma" in fig.axes[0].get_title()
     with pytest.raises(ValueError, match="size_sigma"):
-        ft.plot_fault_response(0.0)
+        mars_plots.plot_fault_response(0.0)
 
 
 def test_speculative_chunks_equal_deciding_at_every_xnav_epoch(inputs, monkeypatch):
@@ -161,3 +166,103 @@ def test_speculative_chunks_equal_deciding_at_every_xnav_epoch(inputs, monkeypat
     assert np.array_equal(short.isolated, ref.isolated)
     np.testing.assert_allclose(short.run.x, ref.run.x, rtol=1e-12, atol=0)
     assert short.detections == ref.detections
+
+
+# ------------------------------------------------------------ the combined detector (issue 13)
+
+
+def _random_schedule(rng, days, sc):
+    """3 faults sized like the paper's at random onsets, sensors and kinds (issue 13)."""
+    faults = []
+    t = 0.5 * days * 86400.0
+    for _ in range(3):
+        t += float(rng.uniform(3000.0, 9000.0))
+        sensor = str(rng.choice(["uv", "cns", "xnav"]))
+        kind = str(rng.choice(["step", "ramp", "noise", "stuck"]))
+        sig = ft.sensor_sigma(sensor, sc)
+        comp = 0 if sensor == "uv" and kind != "stuck" else None
+        onset = round(t / 3.0) * 3.0 + 1.0
+        if kind == "step":
+            f = Fault(sensor, "step", float(rng.uniform(5.0, 8.0)) * sig, onset,
+                      float(rng.uniform(1500.0, 5000.0)), comp)
+        elif kind == "ramp":            # reaches 5 sigma within 3000-6000 s, lasts that long
+            T = float(rng.uniform(3000.0, 6000.0))
+            f = Fault(sensor, "ramp", 5.0 * sig / T, onset, T, comp)
+        elif kind == "noise":
+            r = float(rng.uniform(3.0, 4.0))
+            f = Fault(sensor, "noise", sig * math.sqrt(r * r - 1.0), onset,
+                      float(rng.uniform(3000.0, 5000.0)), comp)
+        else:
+            f = Fault(sensor, "stuck", 0.0, onset, float(rng.uniform(1500.0, 5000.0)), None)
+        faults.append(f)
+        t = f.end + 20000.0        # faults far apart: each is judged on its own
+    return faults
+
+
+@pytest.mark.parametrize("seed", [11, 12, 13, 14])
+def test_combined_acceptance_on_random_schedules(seed):
+    """Issue 13: steps and stuck outputs within 1500 s, drifts and noise within 4000 s, fused
+    RMS at most 1.5 times the fault-free run of the same seed."""
+    rng = np.random.default_rng(seed)
+    days = 2.0
+    inp = scenarios.prepare(days=days, seed=seed)
+    faults = _random_schedule(rng, days, inp.scenario)
+    r = ft.run_fault_tolerant(faults=faults, detector="combined", inputs=inp, train_days=0.5,
+                              rng=rng)
+    for f, d in zip(faults, r.delays(), strict=True):
+        limit = 1500.0 if f.kind in ("step", "stuck") else 4000.0
+        assert d["delay"] <= limit, (f, d)
+    ref = scenarios.run(inputs=inp).metrics(0.5)["position_error_m"]
+    assert r.run.metrics(0.5)["position_error_m"] <= 1.5 * ref
+
+
+def test_combined_fault_free_false_alarms_within_the_design(inputs):
+    # one fault-free day at 1 false alarm per subsystem per day: 3 expected (30 days: the
+    # benchmark, 81 measured against 90 designed); a stated loose bound for one day
+    r = ft.run_fault_tolerant(faults=[], detector="combined", inputs=inputs, train_days=TRAIN)
+    n = len(r.isolation_intervals())
+    assert n <= stats.poisson.ppf(0.999, 3.0)
+    assert r.isolated.mean() < 0.02
+
+
+def test_combined_readmits_xnav_soon_after_its_fault_ends(inputs):
+    f = Fault("xnav", "step", 1.0e-5, onset=50001.0, duration=3000.0)
+    back = {}
+    for det in ("wavelet", "combined"):
+        r = ft.run_fault_tolerant(faults=[f], detector=det, inputs=inputs, train_days=TRAIN)
+        ivs = [iv for iv in r.isolation_intervals() if iv["sensor"] == "xnav"
+               and iv["out"] <= f.end and iv["back"] is not None and iv["back"] >= f.end]
+        assert ivs, (det, r.isolation_intervals())
+        back[det] = ivs[0]["back"] - f.end
+    # combined: 4 clean XNAV samples (2000 s) plus the grid; the wavelet waits for its window
+    assert back["combined"] <= 2500.0
+    assert back["wavelet"] > 3 * back["combined"]
+
+
+def test_combined_speculative_chunks_equal_short_chunks(inputs, monkeypatch):
+    faults = HAND + [Fault("cns", "ramp", math.radians(0.25) / 6000.0, onset=35001.0,
+                           duration=6000.0)]
+    kw = dict(faults=faults, detector="combined", inputs=inputs, train_days=TRAIN)
+    ref = ft.run_fault_tolerant(**kw)
+    monkeypatch.setattr(ft._Loop, "HORIZON_COMBINED", 97)
+    monkeypatch.setattr(ft._Loop, "HORIZON_OUT", 31)
+    short = ft.run_fault_tolerant(**kw)
+    assert np.array_equal(short.isolated, ref.isolated)
+    np.testing.assert_allclose(short.run.x, ref.run.x, rtol=1e-12, atol=0)
+    assert short.detections == ref.detections
+
+
+def test_run_mars_cli_defaults_to_combined_with_faults(capsys):
+    import argparse
+    import json
+
+    from xnavlab.cli import runners
+
+    parser = argparse.ArgumentParser()
+    runners.configure_mars(parser)
+    args = parser.parse_args(["--days", "0.3", "--json", "--faults",
+                              "uv.range:step:30000@15001+1500"])
+    assert runners.execute_mars(args) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["detector"] == "combined"
+    assert out["detections"] and out["detections"][0]["detected_onset"] - 15001.0 < 60.0

@@ -36,6 +36,7 @@ from xnavlab.core.validate import check_choice, check_finite_array, check_int, c
 
 __all__ = ["KINDS", "Fault", "inject", "fault_mask", "parse_spec", "format_spec"]
 
+#: The fault kinds :class:`Fault` accepts.
 KINDS = ("step", "ramp", "spike", "stuck", "noise")
 
 

@@ -13,6 +13,11 @@ rejoins when its fault is over. This module runs that loop on the numba kernel o
 ``"chi2"``
     the innovation chi-square test (the baseline): a measurement whose NIS exceeds
     ``chi2.isf(alpha, m)`` is rejected at once and isolates its subsystem.
+``"combined"`` (the product's default, beyond the paper)
+    :mod:`xnavlab.core.detection.combined`: the wavelet (as above, at the budget's
+    ``pfa``) plus a per-sample chi-square, mean CUSUMs and variance CUSUMs on each
+    subsystem's whitened innovations with an adaptive noise scale, at a stated design
+    rate of false alarms per subsystem per day (``rate_per_day``, default 1).
 
 Fault times
     Onsets and durations are seconds since the start of the run (the paper's fault
@@ -54,6 +59,22 @@ Isolation and rejoining (our rule)
     "clear" is (2)). Rejoining is checked every ``check_every`` epochs (300 s) while a
     subsystem is out; UV and CNS leave at the epoch of their detected onset.
 
+Combined detector in the loop
+    Each subsystem's innovation ``nu = z - h(x)`` is taken against the master at the latest
+    record at or before epoch ``e - 2`` (the book's records, every 60 s, and two epochs before
+    every XNAV epoch) propagated to the measurement (point-mass RK4, 0.1 m over 60 s), whitened
+    by the Cholesky factor of ``S = H P H^T + R`` (UV: the range and the two tangent axes of
+    the direction, with the sensor's noise model; CNS: the three correlated starlight angles;
+    XNAV: the four pulsars), and fed to an :class:`~xnavlab.core.detection.InnovationMonitor`
+    (the XNAV wavelet gets the same whitened innovations divided by the adaptive scale). The
+    UV range and CNS angle wavelets run on the raw series as for ``"wavelet"``. Any part's
+    alarm on a connected subsystem at epoch ``e`` isolates it from ``e`` (the chunk is rolled
+    back, as for XNAV below). Re-admission: at the ``check_every`` grid, once the last ``readmit_samples``
+    scaled NIS sum below ``chi2.isf(readmit_alpha, W m)``; the wavelet's "clear" is not
+    waited for (it sees the end of a fault as a second change, and its window keeps XNAV's
+    end jump for 36 samples: 23,000 s out after a 3000-s step), and the CUSUMs and the XNAV
+    wavelet window restart empty at re-admission.
+
 The loop
     The numba kernel of :mod:`xnavlab.mars.scenarios` runs in chunks with the ``active`` mask
     decided between them. XNAV's innovations need the filter's own prediction, so the
@@ -85,18 +106,17 @@ from scipy import stats
 
 from xnavlab.core.constants import DAY, GM_MARS, C
 from xnavlab.core.detection import (
+    CombinedDesign,
     Event,
-    EventTracker,
-    causal_filters,
+    InnovationMonitor,
     chi2_threshold,
     events_from_alarms,
-    threshold_multiplier,
     wavelet_detect,
     wavelet_detect_sensor,
 )
 from xnavlab.core.faults import Fault, format_spec, inject, parse_spec
 from xnavlab.core.validate import check_choice, check_int, check_real, make_rng
-from xnavlab.mars import scenarios, sensors
+from xnavlab.mars import innovations, scenarios, sensors
 
 __all__ = [
     "DETECTORS",
@@ -111,11 +131,10 @@ __all__ = [
     "fault_detection_delays",
     "MATCH_WINDOW",
     "sensor_sigma",
-    "plot_fault_response",
 ]
 
 #: The detectors of :func:`run_fault_tolerant`.
-DETECTORS = ("none", "wavelet", "chi2")
+DETECTORS = ("none", "wavelet", "chi2", "combined")
 
 #: The paper's fault instants, s after the start (Fan et al. 2016, section 4.3).
 PAPER_ONSETS = {
@@ -125,6 +144,12 @@ PAPER_ONSETS = {
 }
 
 _NIS_DOF_UV = 3  # range + two direction angles (the unit vector's radial part is ~0)
+
+#: Reference of the combined detector's mean CUSUMs per subsystem, sigma: half the mean shift
+#: they are tuned for. A drift reaching 5 sigma in 6000 s is 0.0025 sigma a sample at 3 s
+#: (UV, CNS: alarms near 1-2 sigma, k = 0.25) and 0.42 sigma a sample at 500 s (XNAV:
+#: alarms within a few samples, near 2 sigma, k = 0.5); measured in benchmarks/bench_detectors.py.
+K_MEAN = {"uv": 0.25, "cns": 0.25, "xnav": 0.5}
 
 
 def components(scenario=None):
@@ -263,7 +288,7 @@ class FaultTolerantRun:
     faults : list of Fault
     detector : str
     events : dict
-        Detected :class:`~xnavlab.core.detection.Event` s per sensor (times s since the start).
+        Detected :class:`~xnavlab.core.detection.online.Event` s per sensor (times s since the start).
     isolated : ndarray of bool, shape (n, ns)
         Whether each subsystem was switched out at each epoch.
     detection_data : dict
@@ -376,23 +401,10 @@ def _nis_dof(sc):
     return {"xnav": len(sc.pulsars), "uv": _NIS_DOF_UV, "cns": len(sc.stars) if sc.stars else 3}
 
 
-def _unit_sigma(level, wavelet="db3"):
-    """Per-level std of the causal details of unit white noise: the filters' 2-norms."""
-    return np.array([np.sqrt(np.sum(np.square(g))) for g in causal_filters(wavelet, level)])
-
-
-def _two_body(x, dt):
-    """Propagate Mars-centred states (..., 6) by a few seconds (Taylor, point mass; mm at 6 s)."""
-    r, v = x[..., :3], x[..., 3:]
-    rn = np.linalg.norm(r, axis=-1, keepdims=True)
-    a = -GM_MARS * r / rn**3
-    return np.concatenate([r + v * dt + 0.5 * a * dt * dt, v + a * dt], axis=-1)
-
-
 def run_fault_tolerant(scenario=None, faults=(), detector="wavelet", *, inputs=None,
                        pfa=1e-5, alpha=1e-5, train_days=1.0, readmit_samples=None,
                        readmit_alpha=0.01, readmit="quiet", xnav_level=3, xnav_holdoff=12, check_every=100,
-                       rng=None, **overrides):
+                       rng=None, rate_per_day=1.0, adaptive=True, arm_s=1800.0, **overrides):
     """Run the Mars scenario with faults, a detector, isolation and rejoining.
 
     Parameters
@@ -401,7 +413,7 @@ def run_fault_tolerant(scenario=None, faults=(), detector="wavelet", *, inputs=N
         Default the paper's (``**overrides`` replace fields, e.g. ``days=1``).
     faults : sequence of Fault or str
         The schedule (times s since the start) or a spec for :func:`parse_faults`.
-    detector : {"none", "wavelet", "chi2"}
+    detector : {"none", "wavelet", "chi2", "combined"}
     inputs : Inputs, optional
         Fault-free inputs from :func:`xnavlab.mars.scenarios.prepare` to reuse.
     pfa : float
@@ -423,6 +435,18 @@ def run_fault_tolerant(scenario=None, faults=(), detector="wavelet", *, inputs=N
         Epochs between rejoining checks while a subsystem is out, >= 1.
     rng : Generator or int, optional
         Extra noise of ``noise`` faults (default: from the scenario's seed).
+    rate_per_day : float
+        ``"combined"``: design false alarms per subsystem per day, all parts together, in
+        (0, 100] (:class:`~xnavlab.core.detection.CombinedDesign`).
+    adaptive : bool
+        ``"combined"``: adaptive noise scale of the innovation tests (default True).
+    arm_s : float
+        ``"combined"``: seconds after the start before the innovation tests (and the XNAV
+        innovation wavelet) see any innovation, in [0, days). Default 1800 s: the filters'
+        start-up transient (fused position error 8.7 km at the start, 0.8 km after 5 min,
+        0.3 km after 30 min) makes consecutive innovations against the master correlated,
+        and a CUSUM sums them into an alarm within the first minutes (3 of 4 seeds at
+        63-66 s). Shorter than the wavelets' ``train_days``, in which they see no fault at all.
 
     Returns
     -------
@@ -437,17 +461,21 @@ def run_fault_tolerant(scenario=None, faults=(), detector="wavelet", *, inputs=N
     xnav_holdoff = check_int("xnav_holdoff", xnav_holdoff, 1)
     check_every = check_int("check_every", check_every, 1)
     check_choice("readmit", readmit, ("quiet", "clear"))
-    if readmit == "clear" and detector == "chi2":
+    if readmit == "clear" and detector != "wavelet":
         raise ValueError("readmit='clear' needs detector='wavelet' (the chi-square test's "
                          "'clear' is the NIS window test)")
+    rate_per_day = check_real("rate_per_day", rate_per_day, 0.0, 100.0, lo_open=True)
+    arm_s = check_real("arm_s", arm_s, 0.0)
     if inputs is None:
         inputs = scenarios.prepare(scenario, **overrides)
     elif scenario is not None or overrides:
         raise ValueError("pass either inputs or a scenario (with overrides), not both")
     sc = inputs.scenario
-    if detector == "wavelet":
+    if detector in ("wavelet", "combined"):
         train_days = check_real("train_days", train_days, 0.0, sc.days, lo_open=True,
                                 hi_open=True)
+    if detector == "combined":
+        arm_s = check_real("arm_s", arm_s, 0.0, sc.span, hi_open=True)
     if isinstance(faults, str):
         faults = parse_faults(faults, sc)
     faults = list(faults)
@@ -465,9 +493,10 @@ def run_fault_tolerant(scenario=None, faults=(), detector="wavelet", *, inputs=N
             check_choice("readmit_samples key", k, scenarios.SUBSYSTEMS)
             win[k] = check_int(f"readmit_samples[{k!r}]", v, 1)
     loop = _Loop(faulty, faults, detector, pfa, alpha, train_days, win, readmit_alpha, xnav_level,
-                 xnav_holdoff, check_every)
+                 xnav_holdoff, check_every, rate_per_day, adaptive)
     loop.readmit = readmit
-    res = loop.run()
+    loop.arm_s = arm_s
+    res = loop.run_combined() if detector == "combined" else loop.run()
     return FaultTolerantRun(res, faults, detector, loop.events(), ~loop.active,
                             loop.detection_data, time.perf_counter() - t_start)
 
@@ -476,9 +505,10 @@ class _Loop:
     """The closed loop: numba kernel in chunks, decisions at chunk boundaries."""
 
     def __init__(self, inp, faults, detector, pfa, alpha, train_days, win, readmit_alpha, xnav_level,
-                 xnav_holdoff, check_every):
+                 xnav_holdoff, check_every, rate_per_day=1.0, adaptive=True):
         self.inp, self.detector, self.faults = inp, detector, faults
         self.readmit = "quiet"
+        self.arm_s = 0.0           # combined: innovations before t0 + arm_s are not tested
         sc = inp.scenario
         self.subs = sc.subsystems
         self.ns = len(self.subs)
@@ -488,6 +518,7 @@ class _Loop:
         self.readmit_thr = {s: float(stats.chi2.isf(readmit_alpha, win[s] * dof[s]))
                             for s in self.subs}
         self.win = win
+        self.readmit_alpha = readmit_alpha
         self.gate = np.array([chi2_threshold(alpha, dof[s]) if detector == "chi2" else np.inf
                               for s in self.subs])
         self.alpha_thr = {s: chi2_threshold(alpha, dof[s]) for s in self.subs}
@@ -501,10 +532,21 @@ class _Loop:
         self.onset_epochs = []     # epochs of precomputed detected onsets
         self.onset_set = set()
         self.xdet = None
+        self.mon = {}
+        if detector == "combined":
+            self.design = {s: CombinedDesign(DAY / dt, dof[s], rate_per_day,
+                                             k_mean=K_MEAN[s])
+                           for s, dt in (("xnav", sc.dt_xnav), ("uv", sc.dt_uv), ("cns", sc.dt_cns))
+                           if s in self.subs}
+            self.mon = {s: InnovationMonitor(d, adaptive=adaptive) for s, d in self.design.items()}
+            self._precompute({s: d.pfa_wavelet for s, d in self.design.items()}, train_days)
+            if "xnav" in self.subs:
+                self.xdet = innovations.XnavInnovationWavelet(len(sc.pulsars), xnav_level,
+                                                self.design["xnav"].pfa_wavelet, xnav_holdoff)
         if detector == "wavelet":
             self._precompute(pfa, train_days)
             if "xnav" in self.subs:
-                self.xdet = _InnovationDetector(len(sc.pulsars), xnav_level, pfa, xnav_holdoff)
+                self.xdet = innovations.XnavInnovationWavelet(len(sc.pulsars), xnav_level, pfa, xnav_holdoff)
 
     # -- detection of UV and CNS on the raw measurements (causal batch = online)
     def _precompute(self, pfa, train_days):
@@ -522,10 +564,11 @@ class _Loop:
                         f"train_days: the wavelet detector of {s} trains on the first "
                         f"{train_days * DAY:g} s, which must be fault-free, but a {f.kind} fault "
                         f"starts at {f.onset:g} s; use a later onset or a shorter train_days")
+            p = pfa[s] if isinstance(pfa, dict) else pfa
             if s == "uv":
-                det = wavelet_detect(t, inp.z[s][:, 0], pfa=pfa, train=n_train)
+                det = wavelet_detect(t, inp.z[s][:, 0], pfa=p, train=n_train)
             else:
-                det = wavelet_detect_sensor(t, inp.z[s], pfa=pfa, train=n_train)
+                det = wavelet_detect_sensor(t, inp.z[s], pfa=p, train=n_train)
             self.flag_of[s] = det.faulty
             self._events[s] = [Event(e.onset - self.t0, e.end - self.t0, e.cleared - self.t0,
                                      e.peak, e.test) for e in det.events]
@@ -537,6 +580,8 @@ class _Loop:
         self.onset_set = set(self.onset_epochs)
 
     def events(self):
+        if self.detector == "combined":
+            return self._combined_events()
         ev = dict(self._events)
         if self.xdet is not None:
             ev["xnav"] = [Event(e.onset - self.t0, e.end - self.t0, e.cleared - self.t0, e.peak,
@@ -622,8 +667,12 @@ class _Loop:
 
     def _next_boundary(self, a):
         """Next chunk end b > a: epochs < b run; then active[b + 1:] may change."""
-        cands = [self.inp.n, a + self.HORIZON]
-        if self.out.any() or self.detector == "chi2":
+        horizon = self.HORIZON
+        if self.detector == "combined":
+            # short chunks while a subsystem is out: a re-admission reruns at most this many
+            horizon = self.HORIZON_OUT if self.out.any() else self.HORIZON_COMBINED
+        cands = [self.inp.n, a + horizon]
+        if (self.out.any() and self.detector == "wavelet") or self.detector == "chi2":
             cands.append((a // self.check_every + 1) * self.check_every)
         while self._oj < len(self.onset_epochs) and self.onset_epochs[self._oj][0] - 1 <= a:
             self._oj += 1
@@ -657,7 +706,7 @@ class _Loop:
         r = self.rec_pos[np.maximum(e - 2, 0)]
         x = self.rx[r]
         dt = inp.times[e] - inp.times[np.maximum(e - 2, 0)]
-        x = _two_body(x, dt[:, None])
+        x = innovations.two_body_taylor(x, dt[:, None])
         j = inp.meas_idx[e, self.subs.index("xnav")]
         zp = sensors.xnav_h(x, inp.xnav_bodies[0][j], inp.xnav_bodies[1][j], xs.n,
                             xs.distance)                                # paper eq. (1)
@@ -676,8 +725,15 @@ class _Loop:
         periodic = c % self.check_every == 0
         for i, s in enumerate(self.subs):
             if (nxt, i) in self.onset_set:    # wavelet on raw UV/CNS: detected onset at c + 1
+                if self.detector == "combined" and not self.out[i]:
+                    self.out_since[s] = nxt
                 self.out[i] = True
             if not periodic:
+                continue
+            if self.detector == "combined":
+                if self.out[i] and self._quiet_combined(c, i, s):
+                    self.out[i] = False
+                    self._readmit(s)
                 continue
             recent = self.out_arr["flags"][max(0, c - self.check_every):c, i]
             if self.detector == "chi2" and np.any(recent == 2):
@@ -703,41 +759,244 @@ class _Loop:
         nis = self.out_arr["nis"][k[hi - self.win[s]:hi], i]
         return bool(np.nansum(nis) < self.readmit_thr[s])
 
+    # -- the combined detector: innovations of every subsystem, monitors, rollback
+    #: Epochs per speculative chunk of the combined run (a rollback reruns at most this many).
+    HORIZON_COMBINED = 1800
+    #: ... and while a subsystem is out.
+    HORIZON_OUT = 300
 
-class _InnovationDetector:
-    """Causal db3 detector of the XNAV innovations, all pulsars at once (one event tracker).
+    def run_combined(self):
+        inp, sc = self.inp, self.inp.scenario
+        out = scenarios.alloc_records(inp)
+        self.out_arr = out
+        active, gate, beta = scenarios.run_options(inp, self.active, None)
+        self.active = active
+        ns = self.ns
+        # the master is recorded at the book's records (every record_dt) and two epochs before
+        # every XNAV epoch; an innovation at epoch e is taken against the latest record at or
+        # before e - 2, propagated to the measurement
+        x_epochs = self.k_of["xnav"] if "xnav" in self.subs else np.zeros(0, dtype=np.int64)
+        rows = np.union1d(np.union1d(inp.record, np.maximum(x_epochs - 2, 0)), [0])
+        self.rows = rows
+        rec_pos = np.full(inp.n, -1, dtype=np.int64)
+        rec_pos[rows] = np.arange(rows.size)
+        rx, rP = np.zeros((rows.size, 6)), np.zeros((rows.size, 6, 6))
+        rxl, rPl = np.zeros((rows.size, ns, 6)), np.zeros((rows.size, ns, 6))
+        self.rx, self.rP = rx, rP
+        self.xnav = inp.sensors["xnav"]
+        state = scenarios.filter_state(inp, beta)
+        xs, Ps, shares, xm, Pm = state
+        rec = inp.record
 
-    The inputs are innovations divided by their predicted standard deviations, unit white
-    noise when healthy, so level ``j``'s noise is the 2-norm of its filter and no training is
-    needed; a sample alarms when any pulsar's ``|d_j| > k sigma_j`` with
-    ``k = threshold_multiplier(pfa / m, level)`` (no variance test at 500 s a sample).
-    """
+        def kernel(a, b):
+            scenarios.run_kernel(inp, state, a, b, active, beta, gate, rec_pos,
+                                 (rx, rP, rxl, rPl), out["nis"], out["flags"])
 
-    def __init__(self, m, level, pfa, holdoff):
-        filters = causal_filters("db3", level)
-        self.window = len(filters[-1])
-        self.G = np.zeros((level, self.window))
-        for i, g in enumerate(filters):
-            self.G[i, :len(g)] = g
-        self.sigma = _unit_sigma(level)[:, None]
-        self.k = threshold_multiplier(pfa / m, level)
-        self.buf = np.zeros((self.window, m))          # newest first
-        self.count = 0
-        self.tracker = EventTracker(holdoff)
+        self.q = {s: np.full(inp.t_meas[s].size, np.nan) for s in self.subs}   # scaled NIS
+        self.ys = {s: np.zeros((inp.t_meas[s].size, self.design[s].m)) for s in self.subs}
+        self._fed_epoch = -1
+        self.rollbacks = 0
+        self.out_since = {s: 0 for s in self.subs}
+        t_start = time.perf_counter()
+        self._oj = 0
+        self._x_set = set()
+        a = 0
+        while a < inp.n:
+            b = self._next_boundary(a)
+            snap = ([v.copy() for v in (xs, Ps, shares, xm, Pm)], self._snapshot_detectors())
+            kernel(a, b)
+            # judge the measurements up to epoch b (their connection is decided)
+            e, who = self._feed_combined(b if b < inp.n else inp.n - 1, snap[1])
+            # the chunk ends early at an alarm on a connected subsystem at epoch e (rerun to
+            # e - 2, isolated from e: its measurement at e stays out) or at the first grid
+            # epoch where an isolated subsystem passes the re-admission test (speculation:
+            # while it is out, its innovations do not depend on the decision)
+            target = b if e is None else e - 1
+            c = self._first_readmission(a, target)
+            if c is not None:
+                target = c
+            if target < b:
+                for arr, val in zip((xs, Ps, shares, xm, Pm), snap[0], strict=True):
+                    arr[...] = val
+                self._restore_detectors(snap[1])
+                self.rollbacks += 1
+                b = target
+                kernel(a, b)
+                e, who = self._feed_combined(b if e is None or c is not None else e, snap[1])
+            if e is not None and e == b + 1:
+                for s in who:
+                    self.out[self.subs.index(s)] = True
+                    self.out_since[s] = e
+            if b < inp.n:
+                self._decide(b)
+                b2 = self._next_boundary(b)
+                active[b + 1:b2 + 1] = ~self.out
+                for k, i in self.onset_epochs[self._oj:]:
+                    if k > b2:
+                        break
+                    if k > b:
+                        active[k:b2 + 1, i] = False
+            a = b
+        wall = time.perf_counter() - t_start
+        sel = rec_pos[rec]
+        out["x"], out["P"], out["xl"], out["Pl"] = rx[sel], rP[sel], rxl[sel], rPl[sel]
+        return scenarios.MarsRun(sc, inp.times[rec], out["x"], out["P"], inp.truth[rec],
+                                 out["xl"], out["Pl"], out["nis"], out["flags"], inp.times,
+                                 "numba", wall)
 
-    def update(self, t, nu):
-        self.buf[1:] = self.buf[:-1]
-        self.buf[0] = nu
-        self.count += 1
-        if self.count < self.window:
+    def _snapshot_detectors(self):
+        rows = self.HORIZON_COMBINED + 8
+        return ({s: m.snapshot(rows) for s, m in self.mon.items()},
+                None if self.xdet is None else self.xdet.snapshot(), self._fed_epoch,
+                self.out.copy())
+
+    def _restore_detectors(self, snap):
+        mons, xd, fed, out = snap
+        for s, st in mons.items():
+            self.mon[s].restore(st)
+        if xd is not None:
+            self.xdet.restore(xd)
+        self._fed_epoch = fed
+        self.out[...] = out
+
+    def _feed_combined(self, last, snap):
+        """Feed the whitened innovations of epochs in (fed, last] to the detectors of the
+        connected subsystems, in order; stop at the earliest alarm. ``snap`` is the detectors'
+        state now (:meth:`_snapshot_detectors`).
+
+        Returns ``(e, subsystems)``: the epoch of the earliest alarm and the subsystems alarming
+        there, or ``(None, ())``. The detectors have then seen the measurements up to ``e``."""
+        lo_epoch = self._fed_epoch
+        if last <= lo_epoch:
+            return None, ()
+        batches = {}
+        for i, s in enumerate(self.subs):
+            k = self.k_of[s]
+            lo, hi = np.searchsorted(k, [lo_epoch + 1, last + 1])
+            if hi <= lo:
+                continue
+            js = np.arange(lo, hi)
+            y = self._whiten(s, js)
+            mon = self.mon[s]
+            self.ys[s][js] = y / mon.scale
+            self.q[s][js] = np.sum(np.square(self.ys[s][js]), axis=1)
+            conn = self.active[k[js], i] & (self.inp.t_meas[s][js] - self.t0 >= self.arm_s)
+            batches[s] = (js[conn], y[conn])
+        snaps, xsnap = snap[0], snap[1]
+        first = {}
+        for s, (js, y) in batches.items():
+            t = self.inp.t_meas[s][js]
+            j = self.mon[s].process(t, y)
+            e_s = int(self.k_of[s][js[j]]) if j >= 0 else None
+            if s == "xnav" and self.xdet is not None:
+                ys = y / self.mon[s].scale
+                for q in range(js.size):
+                    if e_s is not None and self.k_of[s][js[q]] > e_s:
+                        break
+                    if self.xdet.update(float(t[q]), ys[q]) and self.xdet.new_onset:
+                        e_w = int(self.k_of[s][js[q]])
+                        e_s = e_w if e_s is None else min(e_s, e_w)
+                        break
+            if e_s is not None:
+                first[s] = e_s
+        if not first:
+            self._fed_epoch = last
+            return None, ()
+        e = min(first.values())
+        who = tuple(s for s, v in first.items() if v == e)
+        # the detectors that ran past e (or alarmed later) see the measurements up to e only
+        for s, (js, y) in batches.items():
+            if first.get(s) == e and s != "xnav":
+                continue
+            keep = self.k_of[s][js] <= e
+            self.mon[s].restore(snaps[s])
+            t = self.inp.t_meas[s][js[keep]]
+            self.mon[s].process(t, y[keep], stop=False)
+            if s == "xnav" and self.xdet is not None:
+                self.xdet.restore(xsnap)
+                ys = y[keep] / self.mon[s].scale
+                for q in range(ys.shape[0]):
+                    self.xdet.update(float(t[q]), ys[q])
+        self._fed_epoch = e
+        return e, who
+
+    def _whiten(self, s, js):
+        """Whitened innovations ``L^-1 nu`` (N, m) of subsystem s's measurements js against the
+        master after epoch k - 2 (``L L^T = H P H^T + R``)."""
+        inp = self.inp
+        k = self.k_of[s][js]
+        r = np.searchsorted(self.rows, np.maximum(k - 2, 0), side="right") - 1
+        dt = inp.times[k] - inp.times[self.rows[r]]
+        z = inp.z[s][js]
+        if s in ("uv", "cns"):
+            sen = inp.sensors[s]
+            if s == "uv":
+                args = (0, np.zeros((1, 3)), sen.sigma_range, sen.sigma_dir)
+                y = np.empty((js.size, 3))
+            else:
+                args = (1, sen.star_dirs, sen.sigma_star, sen.sigma_horizon)
+                y = np.empty((js.size, sen.dim))
+            innovations.whiten_optical(args[0], self.rx[r], self.rP[r], dt, np.ascontiguousarray(z),
+                            args[1], args[2], args[3], GM_MARS, y)
+            return y
+        x = innovations.two_body_taylor(self.rx[r], dt[:, None])
+        Prr = self.rP[r][:, :3, :3]
+        xs = self.xnav
+        nu = z - sensors.xnav_h(x, inp.xnav_bodies[0][js], inp.xnav_bodies[1][js], xs.n,
+                                xs.distance)                          # paper eq. (1)
+        Hx = xs.n / C                 # H ~ n^T / c (the other terms of eq. (4) are 1e-4 of it)
+        S = np.einsum("ki,nij,lj->nkl", Hx, Prr, Hx) + np.diag(xs.sigma**2)  # H P H^T + R
+        L = np.linalg.cholesky(S)
+        return np.linalg.solve(L, nu[..., None])[..., 0]
+
+    def _first_readmission(self, a, b):
+        """First epoch c of the ``check_every`` grid in (a, b] at which an isolated subsystem
+        passes the re-admission test, or None."""
+        if not self.out.any():
+            return None
+        ce = self.check_every
+        for c in range((a // ce + 1) * ce, b + 1, ce):
+            if c + 1 >= self.inp.n:
+                break
+            for i, s in enumerate(self.subs):
+                if self.out[i] and self._quiet_combined(c, i, s):
+                    return c
+        return None
+
+    def _quiet_combined(self, c, i, s):
+        k = self.k_of[s]
+        lo, hi = np.searchsorted(k, [self.out_since[s] + 1, c])
+        w = self.win[s]
+        if hi - lo < w:                  # W measurements taken since the isolation
             return False
-        ratio = np.abs(self.G @ self.buf) / (self.k * self.sigma)      # (level, m)
-        i, p = np.unravel_index(int(np.argmax(ratio)), ratio.shape)
-        r = float(ratio[i, p])
-        return self.tracker.update(t, r > 1.0, r, f"pulsar {p}, level {i + 1}")
+        q = self.q[s][hi - w:hi]
+        if not (np.all(np.isfinite(q)) and np.sum(q) < self.readmit_thr[s]):
+            return False
+        # and no residual bias: |sum_i y_c[i]| / sqrt(W) below the two-sided normal quantile
+        y = self.ys[s][hi - w:hi]
+        zq = stats.norm.isf(self.readmit_alpha / (2 * y.shape[1]))
+        return bool(np.all(np.abs(y.sum(axis=0)) < zq * math.sqrt(w)))
+
+    def _readmit(self, s):
+        """Fresh CUSUMs and an empty XNAV wavelet window at re-admission."""
+        self.mon[s].readmitted()
+        if s == "xnav" and self.xdet is not None:
+            self.xdet.clear()
+
+    def _combined_events(self):
+        ev = {}
+        for s in self.subs:
+            parts = list(self._events.get(s, []))
+            parts += [Event(e.onset - self.t0, e.end - self.t0, e.cleared - self.t0, e.peak,
+                            e.test) for e in self.mon[s].all_events()]
+            if s == "xnav" and self.xdet is not None:
+                parts += [Event(e.onset - self.t0, e.end - self.t0, e.cleared - self.t0, e.peak,
+                                "wavelet " + e.test) for e in self.xdet.tracker.all_events()]
+            ev[s] = merge_events(parts)
+        return ev
 
 
-# ----------------------------------------------------------------------------- figures
+# ----------------------------------------------------------------------------- sizes
 
 
 def sensor_sigma(sensor, scenario=None):
@@ -756,65 +1015,3 @@ def sensor_sigma(sensor, scenario=None):
     if sensor == "cns":
         return math.radians(sc.sigma_horizon_deg)
     return float(sc.sensors()["xnav"].sigma[0])
-
-
-def plot_fault_response(size_sigma=5.0, sensor="uv", kind="step", duration=4000.0, days=1.0,
-                        seed=0):
-    """One fault in a short Mars run under the three detectors: fused position error.
-
-    The fault (``size_sigma`` noise standard deviations of :func:`sensor_sigma`, per second
-    of ``duration`` for a ramp so that it reaches ``size_sigma`` at its end; on the UV range,
-    on every CNS angle or on every pulsar) starts at 60 % of the run; the wavelet detectors
-    train on the first 40 %. A pure function of its arguments (the chapter's slider).
-
-    Parameters
-    ----------
-    size_sigma : float
-        Fault size in noise standard deviations, in (0, 1000].
-    sensor : {"uv", "cns", "xnav"}
-    kind : {"step", "ramp", "spike"}
-    duration : float
-        Fault duration, s, in (0, 0.3 days].
-    days : float
-        Run length, days, in [0.5, 5].
-    seed : int
-        Noise seed.
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    size_sigma = check_real("size_sigma", size_sigma, 0.0, 1000.0, lo_open=True)
-    check_choice("kind", kind, ("step", "ramp", "spike"))
-    days = check_real("days", days, 0.5, 5.0)
-    duration = check_real("duration", duration, 0.0, 0.3 * days * DAY, lo_open=True)
-    sig = sensor_sigma(sensor)
-    onset = round(0.6 * days * DAY, 0) + 1.0
-    mag = size_sigma * sig / (duration if kind == "ramp" else 1.0)
-    comp = 0 if sensor == "uv" else None
-    fault = Fault(sensor, kind, mag, onset, duration, comp)
-    inp = scenarios.prepare(days=days, seed=seed)
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=(8.5, 3.4), layout="constrained")
-    ax = fig.add_subplot()
-    settle = 0.4 * days
-    text = []
-    for det in DETECTORS:
-        r = run_fault_tolerant(faults=[fault], detector=det, inputs=inp, train_days=settle)
-        rms = r.run.metrics(settle)["position_error_m"]
-        ax.semilogy(r.run.t_days * 24, r.run.position_error(), lw=0.7, label=f"{det}: {rms:.0f} m")
-        d = r.delays()[0]["delay"]
-        if det != "none":
-            text.append(f"{det} delay {d:.0f} s" if math.isfinite(d) else f"{det} missed")
-            for iv in r.isolation_intervals():
-                back = iv["back"] if iv["back"] is not None else days * DAY
-                ax.axvspan(iv["out"] / 3600, back / 3600, ymax=0.05 if det == "wavelet" else 0.1,
-                           ymin=0.0 if det == "wavelet" else 0.05,
-                           color="C1" if det == "wavelet" else "C2", alpha=0.8)
-    ax.axvspan(onset / 3600, (onset + duration) / 3600, color="0.85", zorder=0)
-    ax.set(xlim=(settle * 24, days * 24), ylim=(5, 2e4), xlabel="time (h)",
-           ylabel="|position error| (m)",
-           title=f"{sensor} {kind} of {size_sigma:g} sigma: " + ", ".join(text))
-    ax.legend(fontsize=8, loc="upper left", title="detector: RMS after 40 %", title_fontsize=8)
-    return fig

@@ -8,9 +8,9 @@ module                 what it holds
 =====================  ===================================================================
 ``mallat``             Mallat's fast algorithm, paper eqs. (9)-(10); detail signals (Fig. 5)
 ``online``             causal undecimated details, MAD thresholds, events, the online
-                       :class:`WaveletDetector` and batch :func:`wavelet_detect`
+                       :class:`~.online.WaveletDetector` and batch :func:`~.online.wavelet_detect`
 ``singularity``        modulus maxima, Lipschitz exponents, the CWT (paper eqs. (7)-(8))
-``chisquare``          the innovation chi-square baseline (:class:`Chi2Detector`)
+``chisquare``          the innovation chi-square baseline (:class:`~.chisquare.Chi2Detector`)
 ``plots``              the chapters' figures
 =====================  ===================================================================
 
@@ -20,6 +20,8 @@ The design decisions (sliding window, thresholds, hold-off) are in :mod:`.online
 
 from xnavlab.core.detection.chisquare import *  # noqa: F403
 from xnavlab.core.detection.chisquare import __all__ as _chisquare_all
+from xnavlab.core.detection.combined import *  # noqa: F403
+from xnavlab.core.detection.combined import __all__ as _combined_all
 from xnavlab.core.detection.mallat import *  # noqa: F403
 from xnavlab.core.detection.mallat import __all__ as _mallat_all
 from xnavlab.core.detection.online import *  # noqa: F403
@@ -29,4 +31,5 @@ from xnavlab.core.detection.plots import __all__ as _plots_all
 from xnavlab.core.detection.singularity import *  # noqa: F403
 from xnavlab.core.detection.singularity import __all__ as _singularity_all
 
-__all__ = [*_mallat_all, *_online_all, *_singularity_all, *_chisquare_all, *_plots_all]
+__all__ = [*_mallat_all, *_online_all, *_singularity_all, *_chisquare_all, *_combined_all,
+           *_plots_all]

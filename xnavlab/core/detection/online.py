@@ -2,21 +2,21 @@
 
 The main paper (Fan et al. 2016, section 2) detects sensor faults as *singularities* of the
 measurement series: local modulus maxima of the wavelet detail coefficients, db3, five levels.
-This module holds
+The package (:mod:`xnavlab.core.detection`) holds
 
-- :func:`mallat_dwt`, :func:`mallat_idwt`, :func:`mallat_wavedec`, :func:`mallat_waverec`:
-  Mallat's fast decomposition and reconstruction, paper eqs. (9)-(10), written out in numpy
-  for the book and tested against PyWavelets to 1e-12;
-- :func:`detail_signals`: the db3 5-level detail signals reconstructed to full length (what
-  the paper's Fig. 5 shows), via PyWavelets;
+- :func:`~.mallat.mallat_dwt`, :func:`~.mallat.mallat_idwt`, :func:`~.mallat.mallat_wavedec`,
+  :func:`~.mallat.mallat_waverec`: Mallat's fast decomposition and reconstruction, paper
+  eqs. (9)-(10), written out in numpy for the book and tested against PyWavelets to 1e-12;
+- :func:`~.mallat.detail_signals`: the db3 5-level detail signals reconstructed to full
+  length (what the paper's Fig. 5 shows), via PyWavelets;
 - :func:`causal_filters`, :func:`causal_details`: the undecimated (a trous, dyadic) detail
   coefficients as causal FIR filters, the sliding window of the online detector;
 - :class:`WaveletDetector` (online, one sample at a time) and :func:`wavelet_detect` (batch over
   a whole series, identical decisions), with thresholds from robust MAD noise estimates;
-- :func:`modulus_maxima`, :func:`lipschitz_exponent`, :func:`cwt`: singularities across scales
-  (paper eqs. (7)-(8)) for the chapter;
-- :class:`Chi2Detector`, :func:`chi2_detect`: the baseline innovation chi-square test with the
-  same onset/end reporting (:class:`Event`).
+- :func:`~.singularity.modulus_maxima`, :func:`~.singularity.lipschitz_exponent`,
+  :func:`~.singularity.cwt`: singularities across scales (paper eqs. (7)-(8)) for the chapter;
+- :class:`~.chisquare.Chi2Detector`, :func:`~.chisquare.chi2_detect`: the baseline innovation
+  chi-square test with the same onset/end reporting (:class:`Event`).
 
 Design decisions
 ----------------
@@ -451,6 +451,44 @@ class EventTracker:
                 self.faulty = False
         return self.faulty
 
+    def snapshot(self):
+        """The tracker's state, for :meth:`restore`."""
+        return (list(self.events), None if self._open is None else list(self._open),
+                self._quiet, self.faulty)
+
+    def restore(self, state):
+        """Return to a :meth:`snapshot`.
+
+        Examples
+        --------
+        >>> tr = EventTracker(holdoff=2)
+        >>> s = tr.snapshot(); tr.update(0.0, True, 2.0); tr.restore(s); tr.faulty
+        True
+        False
+        """
+        events, open_, self._quiet, self.faulty = state
+        self.events = list(events)
+        self._open = None if open_ is None else list(open_)
+
+    def close(self, t=None):
+        """Close the open event now (``cleared = t``, default its last alarm), e.g. when the
+        watched sensor is re-admitted after an isolation; no-op when none is open.
+
+        Examples
+        --------
+        >>> tr = EventTracker(holdoff=5)
+        >>> tr.update(1.0, True, 2.0), tr.close(4.0), tr.faulty, tr.events[0].cleared
+        (True, None, False, 4.0)
+        """
+        if self._open is None:
+            return
+        onset, end, peak, tst = self._open
+        self.events.append(Event(float(onset), float(end), float(end if t is None else t),
+                                 float(peak), tst))
+        self._open = None
+        self._quiet = 0
+        self.faulty = False
+
     def all_events(self):
         """Closed events plus the open one (``cleared = inf``)."""
         if self._open is None:
@@ -518,7 +556,7 @@ class WaveletDetector(TrackedDetector):
     thresholds : ndarray, shape (level,)
         ``k sigma_j`` in the measurement unit.
     events : list of Event
-        Closed events so far (:meth:`all_events` adds the open one).
+        Closed events so far (:meth:`~TrackedDetector.all_events` adds the open one).
 
     Examples
     --------
@@ -697,10 +735,9 @@ def wavelet_detect(t, x, *, wavelet="db3", level=5, sigma=None, train=None, pfa=
         q[valid] = q_all[valid]
         ratios[-1] = np.where(valid, _var_ratio(np.where(valid, q_all, 1.0), *det.var_bounds), 0.0)
         names.append("variance")
-    which = np.argmax(ratios, axis=0)
-    ratio = ratios[which, np.arange(n)]
+    ratio = ratios.max(axis=0)
     alarm = armed & (ratio > 1.0)
-    tests = np.asarray(names)[which]  # the deciding test at each sample
+    tests = _TestNames(names, ratios)  # the deciding test at each sample (looked up lazily)
     events, faulty = events_from_alarms(t, alarm, ratio, det.holdoff, tests)
     return Detection(t, ratio, alarm, faulty, armed, events,
                      data={"details": d, "z": z, "sigma": det.sigma, "k": det.k, "variance": q,
@@ -780,6 +817,16 @@ def wavelet_detect_sensor(t, z, *, pfa=1e-5, train=None, sigma=None, **kwargs):
     return Detection(t, ratio, alarm, faulty, armed, events,
                      data={"components": parts, "component": np.where(alarm, which, -1),
                            "holdoff": holdoff})
+
+
+class _TestNames:
+    """``names[n]``: the test with the largest ratio at sample ``n`` (lazy, no N-long array)."""
+
+    def __init__(self, names, ratios):
+        self.names, self.ratios = names, ratios
+
+    def __getitem__(self, n):
+        return self.names[int(np.argmax(self.ratios[:, n]))]
 
 
 class _ComponentTests:

@@ -1,0 +1,135 @@
+"""The detector study of chapter 9: the Monte Carlo table, and CUSUM against a windowed chi-square.
+
+Run: ``.venv/bin/python benchmarks/bench_detectors.py`` (prints; about 10 min on 2 cores) or
+``.venv/bin/python benchmarks/bench_detectors.py --write`` (also rewrites the shipped table
+``xnavlab/data/detector_table.json`` that chapter 9 loads and ``tests/test_combined.py`` checks
+against freshly computed cells). ``--trials N`` sets the trials per cell (default 20).
+
+1. Sequential test chosen by measurement: on unit white innovations with a drift reaching
+   5 sigma in 6000 s (3 s a sample, UV/CNS; 500 s a sample, XNAV), the detection delay of the
+   mean CUSUM of :class:`xnavlab.core.detection.CombinedDesign` against a windowed chi-square
+   of the NIS (windows of 100 and 4 samples) at the same false-alarm rate (the CUSUM share of
+   the budget, 0.5 a day).
+2. The table: :func:`xnavlab.mars.trials.detector_trials` (the three detectors on one seed)
+   for every fault class, size and sensor, one-day runs, aggregated by
+   :func:`~xnavlab.mars.trials.detector_table`; cells where the combined detector is worse than
+   the better of the other two beyond Monte Carlo error are listed
+   (:func:`~xnavlab.mars.trials.marked_cells`).
+"""
+
+import argparse
+import json
+import time
+
+import numpy as np
+from scipy import stats
+
+from xnavlab.core import montecarlo
+from xnavlab.core.detection import CombinedDesign, InnovationMonitor
+from xnavlab.mars import trials
+
+
+def _cusum_delay(y, design):
+    mon = InnovationMonitor(design, adaptive=False)
+    i = mon.process(np.arange(y.shape[0], dtype=float), y)
+    return i
+
+
+def _window_delay(y, w, thr):
+    q = np.convolve(y[:, 0] ** 2, np.ones(w))[:y.shape[0]]
+    hit = np.flatnonzero(q > thr)
+    return int(hit[0]) if hit.size else -1
+
+
+def sequential_comparison(n_trials=200, seed=0):
+    """Median delays (s) of the mean CUSUM and a windowed chi-square on a 5-sigma/6000-s drift."""
+    rng = np.random.default_rng(seed)
+    out = []
+    for dt, w, k in ((3.0, 100, 0.25), (500.0, 4, 0.5)):
+        n_day = 86400.0 / dt
+        shares = {"wavelet": 0.1, "chi2": 0.2, "cusum": 0.5, "variance": 0.2}
+        design = CombinedDesign(n_day, 1, 1.0, shares, k_mean=k)
+        # the windowed chi-square at the CUSUM share: 0.5 alarm samples a day (its alarm events,
+        # which cluster, are fewer: this favours the CUSUM by at most a few per cent in delay)
+        thr = stats.chi2.isf(0.5 / n_day, w)
+        n0 = int(2000 / (dt / 3.0)) if dt == 3.0 else 60
+        n_f = int(6000 / dt)
+        dc, dw = [], []
+        for _ in range(n_trials):
+            y = rng.normal(size=(n0 + 3 * n_f, 1))
+            y[n0:n0 + n_f, 0] += 5.0 * np.arange(n_f) / n_f
+            i = _cusum_delay(y[n0 - 10:], design)
+            dc.append((i - 10) * dt if i >= 10 else np.inf)
+            j = _window_delay(y[n0 - 10:], w, thr)
+            dw.append((j - 10) * dt if j >= 10 else np.inf)
+        out.append({"dt_s": dt, "window": w, "cusum_median_delay_s": float(np.median(dc)),
+                    "window_chi2_median_delay_s": float(np.median(dw))})
+    return out
+
+
+def run_table(n_trials=20, seed=0, days=1.0, max_workers=2):
+    params = table_params(n_trials, days)
+    res = montecarlo.run_tasks(trials.detector_trials, params, seed=seed,
+                               max_workers=max_workers, chunksize=4)
+    records = [r for group in res for r in group]
+    return records, trials.detector_table(records)
+
+
+#: Tasks re-run by tests/test_combined.py (their records are stored with the table).
+CHECK_CELLS = (("step", "uv", 1), ("ramp", "cns", 1), ("noise", "xnav", 2))
+
+
+def table_params(n_trials, days=1.0):
+    """The table's task list, in order (task i gets ``montecarlo.seeds(seed, n)[i]``)."""
+    return [dict(fault_class=fc, sensor=s, size_index=i, days=days)
+            for fc in trials.FAULT_CLASSES for s in trials.SENSORS for i in range(3)
+            for _ in range(n_trials)]
+
+
+def table_checks(n_trials, seed, days=1.0):
+    """The records of the first trial of each of :data:`CHECK_CELLS`, recomputed."""
+    params = table_params(n_trials, days)
+    task_seeds = montecarlo.seeds(seed, len(params))
+    out = []
+    for fc, s, i in CHECK_CELLS:
+        k = next(j for j, p in enumerate(params) if (p["fault_class"], p["sensor"],
+                                                     p["size_index"]) == (fc, s, i))
+        out.append({"task": k, "params": params[k], "seed": int(task_seeds[k]),
+                    "records": trials.detector_trials(**params[k], seed=int(task_seeds[k]))})
+    return out
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--trials", type=int, default=20)
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--write", action="store_true")
+    args = ap.parse_args()
+    for row in sequential_comparison():
+        print(f"drift 5 sigma / 6000 s at {row['dt_s']:g} s: CUSUM {row['cusum_median_delay_s']:.0f} s,"
+              f" windowed chi-square ({row['window']} samples) "
+              f"{row['window_chi2_median_delay_s']:.0f} s (median delays)")
+    t0 = time.perf_counter()
+    records, rows = run_table(args.trials, args.seed)
+    wall = time.perf_counter() - t0
+    marked = trials.marked_cells(rows)
+    print(f"{len(records)} one-day runs in {wall:.0f} s; {len(marked)} marked cells")
+    for m in marked:
+        print("  marked:", m)
+    for r in rows:
+        if r["detector"] == "combined":
+            print(f"  {r['fault_class']:5s} {r['sensor']:4s} {r['size']:6g}: Pd {r['pd']:.2f} "
+                  f"median {r['delay_median_s']} s, p95 {r['delay_p95_s']} s, "
+                  f"FA/day {r['false_alarms_per_day']:.2f}, RMS ratio {r['rms_ratio']:.2f}")
+    if args.write:
+        data = {"command": "python benchmarks/bench_detectors.py --write --trials "
+                           f"{args.trials} --seed {args.seed}",
+                "trials": args.trials, "seed": args.seed, "days": 1.0,
+                "rows": rows, "marked": marked,
+                "checks": table_checks(args.trials, args.seed)}
+        trials.TABLE_PATH.write_text(json.dumps(data, indent=1))
+        print("wrote", trials.TABLE_PATH)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,198 @@
+"""The combined detector (issue 13): CUSUM design, budget, adaptive scale, the navigation loop,
+the shipped Monte Carlo table."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy import stats
+
+from xnavlab.core.detection import (
+    PARTS,
+    CombinedDesign,
+    InnovationMonitor,
+    combined_detect,
+    cusum_arl,
+    cusum_threshold,
+    plot_combined_parts,
+    variance_reference,
+)
+from xnavlab.mars import trials
+
+
+def test_cusum_arl_matches_the_literature_and_simulation():
+    # Page's CUSUM, k = 0.5, h = 4: ARL0 = 336 (Siegmund's approximation; tabulated 336)
+    assert abs(cusum_arl(4.0, 0.5) - 336.0) < 3.0
+    h = cusum_threshold(300.0, 0.5)
+    rng = np.random.default_rng(0)
+    runs = []
+    for _ in range(400):
+        s, n = 0.0, 0
+        for v in rng.normal(size=20000):
+            n += 1
+            s = max(0.0, s + v - 0.5)
+            if s > h:
+                break
+        runs.append(n)
+    se = np.std(runs) / math.sqrt(len(runs))
+    assert abs(np.mean(runs) - 300.0) < 4 * se
+
+
+def test_variance_cusum_threshold_hits_its_arl():
+    k = variance_reference(2.0)
+    h = cusum_threshold(500.0, k, dof=1)
+    assert abs(cusum_arl(h, k, dof=1) / 500.0 - 1.0) < 1e-3
+
+
+def test_design_budget_sums_to_the_design_rate():
+    d = CombinedDesign(28800.0, 3, rate_per_day=2.0)
+    rates = d.part_rates()
+    assert set(rates) == set(PARTS)
+    assert abs(sum(rates.values()) - 2.0) < 1e-9
+    assert d.chi2_threshold == pytest.approx(stats.chi2.isf(d.alpha, 3))
+
+
+@pytest.mark.parametrize("kw,name", [(dict(rate_per_day=0.0), "rate_per_day"),
+                                     (dict(m=0), "m"),
+                                     (dict(shares={"chi2": 1.0}), "shares"),
+                                     (dict(k_mean=-1.0), "k_mean")])
+def test_design_bad_input_names_the_parameter(kw, name):
+    args = dict(samples_per_day=28800.0, m=2) | kw
+    with pytest.raises(ValueError, match=name):
+        CombinedDesign(**args)
+
+
+def _count_alarms(y, design, adaptive=True):
+    mon = InnovationMonitor(design, adaptive=adaptive)
+    t = np.arange(y.shape[0], dtype=float)
+    mon.process(t, y, stop=False)
+    return len(mon.all_events())
+
+
+def test_false_alarm_rate_of_the_innovation_parts_is_the_design():
+    # 10 days of 3-s samples at 30 false alarms a day: 0.9 of the budget is the innovation
+    # parts' (the wavelet holds 0.1), so 270 alarms are expected
+    rng = np.random.default_rng(1)
+    d = CombinedDesign(28800.0, 2, rate_per_day=30.0)
+    n = _count_alarms(rng.normal(size=(288000, 2)), d)
+    lo, hi = stats.poisson.ppf([0.001, 0.999], 270.0)
+    assert lo <= n <= hi, n
+
+
+def test_adaptive_scale_keeps_the_rate_when_the_noise_is_mismodelled():
+    # true noise 1.3 times the model, 4 days at 30 alarms a day (108 expected from the
+    # innovation parts): the model's scale alarms 20-70 times too often, the adaptive one
+    # near the design after its first few hundred samples
+    rng = np.random.default_rng(2)
+    d = CombinedDesign(28800.0, 2, rate_per_day=30.0)
+    y = 1.3 * rng.normal(size=(115200, 2))
+    fixed = _count_alarms(y, d, adaptive=False)
+    adaptive = _count_alarms(y, d, adaptive=True)
+    assert fixed > 20 * 108
+    assert adaptive < stats.poisson.ppf(0.999, 1.3 * 108), adaptive
+
+
+@settings(max_examples=10, deadline=None)
+@given(cuts=st.lists(st.integers(1, 5999), min_size=1, max_size=6, unique=True))
+def test_streaming_in_chunks_equals_one_batch(cuts):
+    rng = np.random.default_rng(3)
+    y = rng.normal(size=(6000, 2))
+    y[3000:, 1] += 0.004 * np.arange(3000)
+    t = 3.0 * np.arange(6000)
+    d = CombinedDesign(28800.0, 2, rate_per_day=5.0)
+    kw = dict(scale_every=500, scale_samples=2000)
+    one = InnovationMonitor(d, **kw)
+    one.process(t, y, stop=False)
+    many = InnovationMonitor(d, **kw)
+    edges = [0, *sorted(cuts), 6000]
+    for a, b in zip(edges[:-1], edges[1:], strict=True):
+        many.process(t[a:b], y[a:b], stop=False)
+    assert [(e.onset, e.test) for e in one.all_events()] == [(e.onset, e.test) for e in many.all_events()]
+    np.testing.assert_allclose(one.scale, many.scale, rtol=0, atol=0)
+
+
+def test_snapshot_restore_replays_identically():
+    rng = np.random.default_rng(4)
+    y = rng.normal(size=(4000, 3))
+    y[2500:, 0] += 3.0
+    t = np.arange(4000.0)
+    mon = InnovationMonitor(CombinedDesign(28800.0, 3), scale_every=300, scale_samples=1000)
+    mon.process(t[:2000], y[:2000], stop=False)
+    snap = mon.snapshot(max_rows=2000)
+    a = mon.process(t[2000:], y[2000:])
+    mon.restore(snap)
+    b = mon.process(t[2000:], y[2000:])
+    assert a == b and a >= 500
+    small = mon.snapshot(max_rows=10)
+    mon.process(t[:50], y[:50] * 0.0, stop=False)
+    with pytest.raises(ValueError, match="max_rows"):
+        mon.restore(small)
+
+
+def test_one_sample_update_equals_process():
+    rng = np.random.default_rng(5)
+    y = rng.normal(size=(1500, 1))
+    y[1000:, 0] += 6.0
+    d = CombinedDesign(28800.0, 1)
+    a = InnovationMonitor(d)
+    flags = [a.update(float(i), y[i]) for i in range(1500)]
+    b = InnovationMonitor(d)
+    assert b.process(np.arange(1500.0), y) == flags.index(True)
+
+
+def test_drift_is_seen_by_the_cusum_long_before_the_wavelet():
+    rng = np.random.default_rng(6)
+    t = 3.0 * np.arange(12000)
+    y = rng.normal(size=12000)
+    y[6000:] += 5.0 * np.arange(6000) / 2000.0 * (np.arange(6000) < 2000) \
+        + 5.0 * (np.arange(6000) >= 2000)
+    res = combined_detect(t, y, train=4000)
+    first = res.data["first"]
+    onset = 18000.0
+    assert first["cusum"] - onset < 1500.0
+    assert first["cusum"] < first["wavelet"]
+    assert res.events[0].onset == min(first.values())
+
+
+def test_plot_combined_parts_is_a_figure_and_checks_input():
+    fig = plot_combined_parts(drift_sigma_per_hour=3.0)
+    assert "cusum" in fig.axes[0].get_title()
+    with pytest.raises(ValueError, match="noise_ratio"):
+        plot_combined_parts(noise_ratio=0.5)
+
+
+# ------------------------------------------------------------------ the shipped MC table
+
+
+@pytest.fixture(scope="module")
+def table():
+    return trials.load_detector_table()
+
+
+def test_table_is_complete_and_self_consistent(table):
+    rows = table["rows"]
+    keys = {(r["fault_class"], r["sensor"], r["size_index"], r["detector"]) for r in rows}
+    assert len(keys) == len(trials.FAULT_CLASSES) * len(trials.SENSORS) * 3 * len(trials.DETECTORS)
+    for r in rows:
+        assert r["trials"] == table["trials"]
+        assert r["pd_lo"] <= r["pd"] <= r["pd_hi"]
+        assert r["false_alarms_per_day_lo"] <= r["false_alarms_per_day"] <= r["false_alarms_per_day_hi"]
+    assert trials.marked_cells(rows) == table["marked"]
+
+
+def test_table_cells_recompute(table):
+    # the stored first trial of a few cells, recomputed from its seed: same decisions
+    for chk in table["checks"][:2]:
+        fresh = trials.detector_trials(**chk["params"], seed=chk["seed"])
+        for old, new in zip(chk["records"], fresh, strict=True):
+            assert new["detector"] == old["detector"]
+            assert new["detected"] == old["detected"]
+            if old["detected"]:
+                assert abs(new["delay_s"] - old["delay_s"]) <= 30.0
+            assert new["fused_rms_ratio"] == pytest.approx(old["fused_rms_ratio"], rel=0.05)
+            row = next(r for r in table["rows"] if (r["fault_class"], r["sensor"],
+                                                    r["size_index"], r["detector"])
+                       == (new["fault_class"], new["sensor"], new["size_index"], new["detector"]))
+            assert row["pd_hi"] > 0.0 if new["detected"] else row["pd_lo"] < 1.0

@@ -1,0 +1,218 @@
+"""Innovations of the Mars subsystems against the master: propagation, whitening, a wavelet.
+
+The fault-tolerant loop (:mod:`xnavlab.mars.fault_tolerance`) watches XNAV, and with the
+combined detector every subsystem, on its innovations ``nu = z - h(x)`` against the master
+filter's state at a recent record, propagated to the measurement. This module holds the pieces
+of that computation that do not depend on the loop's bookkeeping:
+
+- :func:`two_body_taylor` and :func:`kepler_rk4`: the short propagation of the master
+  (second-order Taylor over a few seconds; point-mass RK4 over the 60 s between records);
+- :func:`whiten_optical`: the UV and CNS innovations divided by (the Cholesky factor of)
+  their predicted covariance ``S = H P H^T + R``, compiled with numba;
+- :class:`XnavInnovationWavelet`: the causal db3 detector of the whitened XNAV innovations
+  and :func:`unit_sigma`, the per-level noise of the causal details of unit white noise.
+
+Examples
+--------
+>>> import numpy as np
+>>> w = np.array([4.0e6, 0.0, 0.0, 0.0, 3.0e3, 0.0])
+>>> kepler_rk4(w, 60.0, 4.2828e13)
+>>> bool(abs(np.linalg.norm(w[:3]) - 4.0e6) < 2.0e3)
+True
+>>> unit_sigma(3).round(3)
+array([1., 1., 1.])
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from xnavlab.core.constants import GM_MARS
+from xnavlab.core.detection import EventTracker, causal_filters, threshold_multiplier
+
+__all__ = ["unit_sigma", "two_body_taylor", "kepler_rk4", "whiten_optical", "XnavInnovationWavelet"]
+
+
+def unit_sigma(level, wavelet="db3"):
+    """Per-level std of the causal details of unit white noise: the filters' 2-norms."""
+    return np.array([np.sqrt(np.sum(np.square(g))) for g in causal_filters(wavelet, level)])
+
+
+def two_body_taylor(x, dt):
+    """Propagate Mars-centred states (..., 6) by a few seconds (Taylor, point mass; mm at 6 s)."""
+    r, v = x[..., :3], x[..., 3:]
+    rn = np.linalg.norm(r, axis=-1, keepdims=True)
+    a = -GM_MARS * r / rn**3
+    return np.concatenate([r + v * dt + 0.5 * a * dt * dt, v + a * dt], axis=-1)
+
+
+@njit(cache=True)
+def kepler_rk4(w, dt, gm):
+    """Propagate the Mars-centred state w (6,) by dt s in place: point mass, classical RK4 in
+    steps of at most 30 s (over the 60 s between records: 0.1 m; the Sun's and Jupiter's
+    tides add 0.2 mm)."""
+    m = max(1, int(math.ceil(abs(dt) / 30.0)))
+    h = dt / m
+    k = np.empty((4, 6))
+    y = np.empty(6)
+    for _ in range(m):
+        for s in range(4):
+            c = (0.0, 0.5, 0.5, 1.0)[s]
+            for i in range(6):
+                y[i] = w[i] + (c * h * k[s - 1, i] if s > 0 else 0.0)
+            rn = math.sqrt(y[0] ** 2 + y[1] ** 2 + y[2] ** 2)
+            a = -gm / rn**3                                  # r'' = -GM r / |r|^3
+            for i in range(3):
+                k[s, i] = y[3 + i]
+                k[s, 3 + i] = a * y[i]
+        for i in range(6):
+            w[i] += h / 6.0 * (k[0, i] + 2.0 * k[1, i] + 2.0 * k[2, i] + k[3, i])
+
+
+@njit(cache=True)
+def whiten_optical(kind, x, P, dt, z, stars, sig_a, sig_b, gm, y):
+    """Whitened UV (kind 0) or CNS (kind 1) innovations, in place in ``y`` (N, m).
+
+    ``x`` (N, 6) and ``P`` (N, 6, 6) are the master at the latest record at or before epoch
+    k - 2, propagated here by ``dt`` (N,) s (:func:`kepler_rk4`). UV: ``sig_a`` range noise (m),
+    ``sig_b`` direction noise (rad); components range and the two tangent axes of the
+    direction (:func:`xnavlab.mars.sensors.tangent_basis`), each ``nu / sqrt(g P g^T + sigma^2)``.
+    CNS: ``sig_a`` star, ``sig_b`` horizon noise (rad); ``y = L^-1 nu`` with
+    ``L L^T = H P H^T + sigma_s^2 I + sigma_h^2 A A^T``.
+    """
+    N = x.shape[0]
+    k = stars.shape[0]
+    r = np.empty(3)
+    u = np.empty(3)
+    A = np.empty((k, 3))
+    S = np.empty((k, k))
+    L = np.zeros((k, k))
+    nu = np.empty(k)
+    g = np.empty(3)
+    w = np.empty(6)
+    for n in range(N):
+        for i in range(6):
+            w[i] = x[n, i]
+        kepler_rk4(w, dt[n], gm)
+        for i in range(3):
+            r[i] = w[i]
+        rn = math.sqrt(r[0] ** 2 + r[1] ** 2 + r[2] ** 2)
+        for i in range(3):
+            u[i] = -r[i] / rn
+        if kind == 0:
+            # range: g = r/|r| = -u; S = g P g^T + sigma_r^2
+            s = 0.0
+            for i in range(3):
+                for j in range(3):
+                    s += u[i] * P[n, i, j] * u[j]
+            y[n, 0] = (z[n, 0] - rn) / math.sqrt(s + sig_a * sig_a)
+            # tangent basis e1 = normalise(z x u) (x x u near the poles), e2 = u x e1
+            if abs(u[2]) > 1.0 - 1e-12:
+                e1 = (0.0, -u[2], u[1])
+            else:
+                e1 = (-u[1], u[0], 0.0)
+            m1 = math.sqrt(e1[0] ** 2 + e1[1] ** 2 + e1[2] ** 2)
+            e1 = (e1[0] / m1, e1[1] / m1, e1[2] / m1)
+            e2 = (u[1] * e1[2] - u[2] * e1[1], u[2] * e1[0] - u[0] * e1[2],
+                  u[0] * e1[1] - u[1] * e1[0])
+            for c_, e in ((1, e1), (2, e2)):
+                d = 0.0
+                for i in range(3):
+                    d += (z[n, 1 + i] - u[i]) * e[i]
+                    g[i] = -e[i] / rn                     # d(e . u)/dr = -e^T (I - u u^T)/|r|
+                s = 0.0
+                for i in range(3):
+                    for j in range(3):
+                        s += g[i] * P[n, i, j] * g[j]
+                y[n, c_] = d / math.sqrt(s + sig_b * sig_b)
+        else:
+            for j in range(k):
+                us = u[0] * stars[j, 0] + u[1] * stars[j, 1] + u[2] * stars[j, 2]
+                cx = u[1] * stars[j, 2] - u[2] * stars[j, 1]
+                cy = u[2] * stars[j, 0] - u[0] * stars[j, 2]
+                cz = u[0] * stars[j, 1] - u[1] * stars[j, 0]
+                nu[j] = z[n, j] - math.atan2(math.sqrt(cx * cx + cy * cy + cz * cz), us)  # eq. (6)
+                an = 0.0
+                for i in range(3):
+                    A[j, i] = stars[j, i] - us * u[i]
+                    an += A[j, i] ** 2
+                an = math.sqrt(an)
+                for i in range(3):
+                    A[j, i] /= an
+            for a in range(k):
+                for b in range(a + 1):
+                    s = sig_b * sig_b * (A[a, 0] * A[b, 0] + A[a, 1] * A[b, 1] + A[a, 2] * A[b, 2])
+                    if a == b:
+                        s += sig_a * sig_a
+                    for i in range(3):
+                        for j in range(3):
+                            s += A[a, i] * P[n, i, j] * A[b, j] / (rn * rn)   # H P H^T
+                    S[a, b] = s
+            # Cholesky S = L L^T and forward substitution y = L^-1 nu
+            for a in range(k):
+                for b in range(a + 1):
+                    s = S[a, b]
+                    for c_ in range(b):
+                        s -= L[a, c_] * L[b, c_]
+                    L[a, b] = math.sqrt(s) if a == b else s / L[b, b]
+            for a in range(k):
+                s = nu[a]
+                for c_ in range(a):
+                    s -= L[a, c_] * y[n, c_]
+                y[n, a] = s / L[a, a]
+
+
+class XnavInnovationWavelet:
+    """Causal db3 detector of the XNAV innovations, all pulsars at once (one event tracker).
+
+    The inputs are innovations divided by their predicted standard deviations, unit white
+    noise when healthy, so level ``j``'s noise is the 2-norm of its filter and no training is
+    needed; a sample alarms when any pulsar's ``|d_j| > k sigma_j`` with
+    ``k = threshold_multiplier(pfa / m, level)`` (no variance test at 500 s a sample).
+    """
+
+    def __init__(self, m, level, pfa, holdoff):
+        filters = causal_filters("db3", level)
+        self.window = len(filters[-1])
+        self.G = np.zeros((level, self.window))
+        for i, g in enumerate(filters):
+            self.G[i, :len(g)] = g
+        self.sigma = unit_sigma(level)[:, None]
+        self.k = threshold_multiplier(pfa / m, level)
+        self.buf = np.zeros((self.window, m))          # newest first
+        self.count = 0
+        self.tracker = EventTracker(holdoff)
+        self.new_onset = False
+
+    def update(self, t, nu):
+        self.buf[1:] = self.buf[:-1]
+        self.buf[0] = nu
+        self.count += 1
+        was = self.tracker.faulty
+        self.new_onset = False
+        if self.count < self.window:
+            return False
+        ratio = np.abs(self.G @ self.buf) / (self.k * self.sigma)      # (level, m)
+        i, p = np.unravel_index(int(np.argmax(ratio)), ratio.shape)
+        r = float(ratio[i, p])
+        flag = self.tracker.update(t, r > 1.0, r, f"pulsar {p}, level {i + 1}")
+        self.new_onset = flag and not was
+        return flag
+
+    def snapshot(self):
+        return self.buf.copy(), self.count, self.new_onset, self.tracker.snapshot()
+
+    def restore(self, state):
+        buf, self.count, self.new_onset, tr = state
+        self.buf[...] = buf
+        self.tracker.restore(tr)
+
+    def clear(self):
+        """Forget the window (zeros, which every detail filter maps to zero) and close the
+        open event: armed at once (used at re-admission)."""
+        self.buf[...] = 0.0
+        self.count = self.window
+        self.tracker.close()
