@@ -16,6 +16,8 @@ run SCENARIO
     Run a scenario, e.g. ``run mars --days 30`` (:mod:`xnavlab.cli.runners`).
 warmup
     Compile and cache every numba kernel the chapters use (:mod:`xnavlab.cli.warmup`).
+campaign NAME
+    A Monte Carlo campaign, local or on a Dask cluster, resumable (:mod:`xnavlab.cli.campaigns`).
 """
 
 from __future__ import annotations
@@ -31,6 +33,7 @@ COMMANDS = {
     "reproduce": "xnavlab.cli.reproduce",
     "run": "xnavlab.cli.runners",
     "warmup": "xnavlab.cli.warmup",
+    "campaign": "xnavlab.cli.campaigns",
 }
 
 

@@ -44,7 +44,8 @@ from xnavlab.core.faults import Fault, inject
 from xnavlab.core.validate import check_choice, check_int, check_real
 
 __all__ = ["KINDS", "DETECTORS", "signal_trial", "run_tasks", "seeds",
-           "detection_table", "roc_curve", "summarise", "plot_roc", "plot_pd"]
+           "detection_table", "roc_curve", "summarise", "plot_roc", "plot_pd",
+           "wilson_interval", "runs_for_halfwidth", "plot_pd_error"]
 
 #: Fault kinds of :func:`signal_trial`.
 KINDS = ("step", "ramp", "spike", "noise")
@@ -322,4 +323,122 @@ def plot_pd(kind="step", noise_scale=1.0, trials=30, seed=0, sizes=(1.0, 2.0, 3.
     fig.suptitle(f"{kind}, true/modelled noise {noise_scale:g}, {trials} trials per size; "
                  f"false alarms per sample: wavelet {far['wavelet']:.1e}, chi2 {far['chi2']:.1e}",
                  fontsize=9)
+    return fig
+
+
+def wilson_interval(k, n, level=0.95):
+    """Wilson score interval of a probability from ``k`` successes in ``n`` trials.
+
+    ``(p + z^2/2n -/+ z sqrt(p (1 - p)/n + z^2/4n^2)) / (1 + z^2/n)`` with ``p = k/n`` and
+    ``z`` the two-sided normal quantile of ``level``; unlike ``p -/+ z sqrt(p (1 - p)/n)``
+    it stays inside [0, 1] and does not shrink to a point at ``k = 0`` or ``k = n``.
+
+    Parameters
+    ----------
+    k, n : int
+        Successes (detections) and trials, ``0 <= k <= n``, ``n >= 1``.
+    level : float
+        Confidence level, in (0, 1).
+
+    Returns
+    -------
+    lo, hi : float
+
+    Examples
+    --------
+    >>> lo, hi = wilson_interval(9, 10)
+    >>> round(lo, 3), round(hi, 3)
+    (0.596, 0.982)
+    """
+    from scipy import stats
+
+    n = check_int("n", n, 1)
+    k = check_int("k", k, 0, n)
+    level = check_real("level", level, 0.0, 1.0, lo_open=True, hi_open=True)
+    z = float(stats.norm.isf((1.0 - level) / 2.0))
+    p = k / n
+    den = 1.0 + z * z / n
+    centre = (p + z * z / (2 * n)) / den
+    half = z * math.sqrt(p * (1.0 - p) / n + z * z / (4.0 * n * n)) / den
+    return max(0.0, centre - half), min(1.0, centre + half)
+
+
+def runs_for_halfwidth(pd, halfwidth, level=0.95):
+    """Runs that make the normal-approximation interval of a probability ``pd`` as narrow as
+    ``+/- halfwidth``: ``N = z^2 pd (1 - pd) / halfwidth^2`` (rounded up).
+
+    Examples
+    --------
+    >>> runs_for_halfwidth(0.95, 0.01)
+    1825
+    """
+    from scipy import stats
+
+    pd = check_real("pd", pd, 0.0, 1.0, lo_open=True, hi_open=True)
+    halfwidth = check_real("halfwidth", halfwidth, 0.0, 0.5, lo_open=True)
+    level = check_real("level", level, 0.0, 1.0, lo_open=True, hi_open=True)
+    z = float(stats.norm.isf((1.0 - level) / 2.0))
+    return math.ceil(z * z * pd * (1.0 - pd) / halfwidth**2)
+
+
+def plot_pd_error(runs=100, pd=0.9, campaigns=400, seed=0):
+    """How the Monte Carlo error of a detection probability shrinks with the number of runs.
+
+    Simulates ``campaigns`` independent campaigns of ``runs`` detection trials each, every
+    trial a detection with probability ``pd`` (a binomial draw: the detector itself is not
+    run), and plots the spread of their estimates ``k / runs`` with the 95 % half-width
+    ``1.96 sqrt(pd (1 - pd) / runs)``; a second panel shows that half-width against the runs
+    (the ``1 / sqrt(N)`` law) and the share of campaigns whose Wilson interval
+    (:func:`wilson_interval`) holds the true ``pd``. A pure function of its arguments, for
+    the campaigns chapter's slider.
+
+    Parameters
+    ----------
+    runs : int
+        Runs per campaign, 1 to 10^6.
+    pd : float
+        True detection probability, in (0, 1).
+    campaigns : int
+        Simulated campaigns, 10 to 10^5.
+    seed : int
+        Seed of the binomial draws.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two axes; not registered with pyplot.
+
+    Examples
+    --------
+    >>> fig = plot_pd_error(50, 0.9, campaigns=100)
+    >>> fig.axes[0].get_xlabel()
+    'estimated Pd (k / N)'
+    """
+    from matplotlib.figure import Figure
+
+    runs = check_int("runs", runs, 1, 10**6)
+    pd = check_real("pd", pd, 0.0, 1.0, lo_open=True, hi_open=True)
+    campaigns = check_int("campaigns", campaigns, 10, 10**5)
+    rng = np.random.default_rng(check_int("seed", seed, 0))
+    k = rng.binomial(runs, pd, size=campaigns)
+    est = k / runs
+    half = 1.96 * math.sqrt(pd * (1.0 - pd) / runs)      # normal approximation, 95 %
+    cover = np.mean([lo <= pd <= hi for lo, hi in (wilson_interval(int(x), runs) for x in k)])
+    fig = Figure(figsize=(8.5, 3.2), layout="constrained")
+    ax1, ax2 = fig.subplots(1, 2)
+    edges = (np.arange(runs + 2) - 0.5) / runs if runs <= 200 else np.linspace(0, 1, 101)
+    ax1.hist(est, bins=edges, color="C0", alpha=0.7)
+    ax1.axvline(pd, color="k", lw=1.0, label=f"true Pd {pd:g}")
+    for sgn in (-1, 1):
+        ax1.axvline(pd + sgn * half, color="C3", ls="--", lw=1.0,
+                    label="+/- 1.96 sqrt(Pd(1-Pd)/N)" if sgn < 0 else None)
+    ax1.set(xlabel="estimated Pd (k / N)", ylabel="campaigns", xlim=(-0.02, 1.02),
+            title=f"{campaigns} campaigns of N = {runs} runs")
+    ax1.legend(fontsize=7, loc="upper left")
+    n_grid = np.unique(np.geomspace(1, 10**4, 60).astype(int))
+    ax2.loglog(n_grid, 1.96 * np.sqrt(pd * (1.0 - pd) / n_grid), color="C3")
+    ax2.plot([runs], [half], "o", color="C0")
+    ax2.set(xlabel="runs N", ylabel="95 % half-width of the Pd estimate",
+            title=f"Wilson intervals holding the true Pd: {cover:.0%}")
+    ax2.grid(True, which="both", lw=0.3)
     return fig

@@ -1,0 +1,335 @@
+"""Campaigns: seeds by run index, the resumable store, failures, the CLI, a real Dask cluster.
+
+The Dask tests start ``dask scheduler`` and ``dask worker`` as subprocesses on 127.0.0.1
+(random ports, no dashboard) and always stop them; Dask itself is never imported here.
+"""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from xnavlab.cli import main
+from xnavlab.core import campaign as cp
+from xnavlab.core.montecarlo import seeds
+from xnavlab.mars.campaigns import campaign
+
+PY = sys.executable
+DASK = str(Path(sys.executable).with_name("dask"))
+ENV = {**os.environ, "NUMBA_NUM_THREADS": "1"}
+
+
+# ------------------------------------------------------------ trials of these tests
+
+
+def square(*, seed, x=1.0):
+    return {"y": x * x, "seed_mod": seed % 1000}
+
+
+def raises_on_two(*, seed, index):
+    if index == 2:
+        raise RuntimeError("boom\non two lines")
+    return {"index": index}
+
+
+def dies_once(*, seed, index, marker):
+    """Kills its worker process the first time it runs index 1 (a marker file remembers)."""
+    if index == 1 and not os.path.exists(marker):
+        Path(marker).write_text("died")
+        os._exit(3)
+    return {"index": index}
+
+
+def dies_always(*, seed, index):
+    if index == 0:
+        os._exit(3)
+    return {"index": index}
+
+
+def not_json(*, seed):
+    return {"obj": object()}
+
+
+def sq_campaign(name="sq"):
+    return cp.Campaign(name, square, lambda i: {"x": float(i)}, manifest={"v": 1})
+
+
+def store_lines(directory):
+    lines = (Path(directory) / cp.STORE_FILE).read_text().splitlines()
+    return json.loads(lines[0]), [json.loads(x) for x in lines[1:] if x.strip()]
+
+
+# -------------------------------------------------------------------------- engine
+
+
+def test_seeds_by_index_not_by_engine_or_length():
+    a = cp.run_campaign(sq_campaign(), 5, seed=9, engine="serial")
+    b = cp.run_campaign(sq_campaign(), 8, seed=9, engine="local", workers=2)
+    assert a.runs() == b.runs()[:5]
+    assert [r["seed"] for r in b.runs()] == seeds(9, 8)
+    assert [r["metrics"]["y"] for r in b.runs()] == [float(i * i) for i in range(8)]
+
+
+def test_store_resumes_and_extends(tmp_path):
+    a = cp.run_campaign(sq_campaign(), 4, seed=1, out=tmp_path, engine="serial")
+    assert (a.computed, a.reused) == (4, 0)
+    b = cp.run_campaign(sq_campaign(), 7, seed=1, out=tmp_path, engine="serial")
+    assert (b.computed, b.reused) == (3, 4)
+    head, recs = store_lines(tmp_path)
+    assert head == sq_campaign().header(1)
+    assert sorted(r["index"] for r in recs) == list(range(7))
+    c = cp.run_campaign(sq_campaign(), 7, seed=1, engine="serial")      # no store
+    assert b.runs() == c.runs()
+
+
+def test_torn_last_line_is_recomputed(tmp_path):
+    cp.run_campaign(sq_campaign(), 3, seed=2, out=tmp_path, engine="serial")
+    path = tmp_path / cp.STORE_FILE
+    lines = path.read_text().splitlines()
+    path.write_text("\n".join(lines[:-1]) + "\n" + lines[-1][:20])   # killed mid-write
+    r = cp.run_campaign(sq_campaign(), 3, seed=2, out=tmp_path, engine="serial")
+    assert (r.computed, r.reused, r.failed) == (1, 2, 0)
+    rest = path.read_text().splitlines()[len(lines) - 1:]
+    assert rest[0] == lines[-1][:20]                   # the torn line, ended, then skipped
+    assert [json.loads(x)["index"] for x in rest[1:]] == [json.loads(lines[-1])["index"]]
+
+
+def test_other_campaign_in_dir_is_refused(tmp_path):
+    cp.run_campaign(sq_campaign(), 2, seed=1, out=tmp_path, engine="serial")
+    with pytest.raises(ValueError, match="another campaign.*seed 1"):
+        cp.run_campaign(sq_campaign(), 2, seed=2, out=tmp_path, engine="serial")
+    with pytest.raises(ValueError, match="another campaign"):
+        cp.run_campaign(sq_campaign("other"), 2, seed=1, out=tmp_path, engine="serial")
+    (tmp_path / "x").mkdir()
+    (tmp_path / "x" / cp.STORE_FILE).write_text("not json\n")
+    with pytest.raises(ValueError, match="not an xnavlab campaign store"):
+        cp.run_campaign(sq_campaign(), 2, seed=1, out=tmp_path / "x", engine="serial")
+
+
+def test_store_in_use_is_refused(tmp_path):
+    store = cp.Store(tmp_path, sq_campaign().header(0))
+    try:
+        with pytest.raises(ValueError, match="in use"):
+            cp.Store(tmp_path, sq_campaign().header(0))
+    finally:
+        store.close()
+
+
+def test_a_raising_run_is_recorded_retried_once_and_does_not_stop(tmp_path):
+    camp = cp.Campaign("r", raises_on_two, lambda i: {"index": i})
+    res = cp.run_campaign(camp, 4, seed=0, out=tmp_path, engine="serial")
+    assert res.failed == 1 and res.attempts == 5
+    bad = res.runs()[2]
+    assert bad["status"] == "failed" and bad["metrics"] is None
+    assert bad["error"] == "RuntimeError: boom on two lines"
+    assert [r["status"] for r in res.runs()] == ["ok", "ok", "failed", "ok"]
+    _, recs = store_lines(tmp_path)
+    assert [r["attempt"] for r in recs if r["index"] == 2] == [1, 2]
+    again = cp.run_campaign(camp, 4, seed=0, out=tmp_path, engine="serial", retry_failed=False)
+    assert (again.computed, again.reused, again.failed) == (0, 4, 1)
+
+
+def test_a_dead_worker_is_recorded_and_the_run_retried(tmp_path):
+    marker = str(tmp_path / "died")
+    camp = cp.Campaign("d", dies_once, lambda i: {"index": i, "marker": marker})
+    res = cp.run_campaign(camp, 4, seed=0, out=tmp_path / "s", engine="local", workers=2)
+    assert res.failed == 0 and [r["metrics"]["index"] for r in res.runs()] == [0, 1, 2, 3]
+    _, recs = store_lines(tmp_path / "s")
+    died = [r for r in recs if r["status"] == "failed"]
+    assert died and all("WorkerDied" in r["error"] for r in died)
+    camp = cp.Campaign("a", dies_always, lambda i: {"index": i})
+    res = cp.run_campaign(camp, 3, seed=0, engine="local", workers=1)
+    assert [r["status"] for r in res.runs()] == ["failed", "ok", "ok"]
+
+
+def test_non_json_metrics_fail_the_run():
+    res = cp.run_campaign(cp.Campaign("j", not_json, lambda i: {}), 1, engine="serial")
+    assert res.runs()[0]["status"] == "failed" and "JSON-ready" in res.runs()[0]["error"]
+
+
+@pytest.mark.parametrize("kw,name", [
+    (dict(runs=0), "runs"),
+    (dict(engine="gpu"), "engine"),
+    (dict(engine="dask"), "scheduler"),
+    (dict(scheduler="tcp://127.0.0.1:1"), "scheduler"),
+    (dict(workers=0), "workers"),
+    (dict(seed=-1), "seed"),
+    (dict(timeout=0), "timeout"),
+])
+def test_bad_arguments_name_the_parameter(kw, name):
+    args = {"runs": 2, **kw}
+    with pytest.raises(ValueError, match=name):
+        cp.run_campaign(sq_campaign(), args.pop("runs"), **args)
+
+
+def test_campaign_definitions_check_days():
+    with pytest.raises(ValueError, match=r"days must be a real number in \[0.5, 5"):
+        campaign("detectors", days=0.1)
+    with pytest.raises(ValueError, match="campaign"):
+        campaign("nope")
+
+
+# ----------------------------------------------------------------------------- CLI
+
+
+def cli(*args, timeout=120):
+    return subprocess.run([PY, "-m", "xnavlab", "campaign", *args], capture_output=True,
+                          text=True, check=False, env=ENV, timeout=timeout)
+
+
+@pytest.mark.parametrize("argv,word", [
+    (["consistency", "--runs", "0", "--out", "X"], "runs"),
+    (["consistency", "--runs", "two", "--out", "X"], "runs"),
+    (["consistency", "--runs", "2", "--days", "-1", "--out", "X"], "days"),
+    (["detectors", "--runs", "2", "--days", "0.1", "--out", "X"], "days"),
+    (["consistency", "--runs", "2", "--seed", "-3", "--out", "X"], "seed"),
+    (["consistency", "--runs", "2", "--workers", "0", "--out", "X"], "workers"),
+    (["consistency", "--runs", "2", "--scheduler", "tcp://h:1", "--local-cluster", "--out", "X"],
+     "not allowed"),
+    (["consistency", "--runs", "2", "--scheduler", "tcp://h:1", "--workers", "2", "--out", "X"],
+     "workers"),
+    (["nope", "--runs", "2", "--out", "X"], "campaign"),
+    (["consistency", "--runs", "2"], "--out"),
+])
+def test_cli_bad_input_is_one_line_exit_2(argv, word, capsys, tmp_path):
+    argv = [str(tmp_path / a) if a == "X" else a for a in argv]
+    assert main(["campaign", *argv]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and word in err and err.startswith("xnavlab: error:")
+
+
+def test_cli_refuses_a_dir_of_another_campaign(tmp_path, capsys):
+    out = str(tmp_path / "c")
+    assert main(["campaign", "consistency", "--runs", "2", "--days", "0.02", "--out", out,
+                 "--workers", "1", "--json"]) == 0
+    capsys.readouterr()
+    assert main(["campaign", "consistency", "--runs", "2", "--days", "0.02", "--seed", "5",
+                 "--out", out]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "another campaign" in err
+
+
+def test_cli_unreachable_scheduler_exits_2_quickly(tmp_path):
+    t0 = time.monotonic()
+    proc = cli("consistency", "--runs", "2", "--days", "0.02", "--out", str(tmp_path / "u"),
+               "--scheduler", "tcp://127.0.0.1:9", "--timeout", "1", timeout=60)
+    assert proc.returncode == 2
+    assert len(proc.stderr.strip().splitlines()) == 1 and "unreachable" in proc.stderr
+    assert time.monotonic() - t0 < 30.0          # a connect timeout, not a hang
+
+
+def test_cli_detectors_json(tmp_path, capsys):
+    assert main(["campaign", "detectors", "--runs", "2", "--days", "0.5", "--workers", "1",
+                 "--out", str(tmp_path / "d"), "--json"]) == 0
+    payload = json.loads(capsys.readouterr().out)
+    assert [r["index"] for r in payload["runs"]] == [0, 1]
+    assert [r["parameters"]["size_index"] for r in payload["runs"]] == [0, 1]
+    assert set(payload["runs"][0]["metrics"]) == {"wavelet", "chi2", "combined"}
+    assert {(r["size_index"], r["detector"]) for r in payload["summary"]} == {
+        (i, d) for i in (0, 1) for d in ("wavelet", "chi2", "combined")}
+
+
+def test_interrupted_campaign_completes_with_every_run_computed_once(tmp_path):
+    n, out = 30, tmp_path / "i"
+    argv = [PY, "-m", "xnavlab", "campaign", "consistency", "--runs", str(n), "--days", "0.2",
+            "--seed", "7", "--workers", "1", "--out", str(out)]
+    proc = subprocess.Popen(argv, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                            env=ENV, start_new_session=True)
+    store = out / cp.STORE_FILE
+    try:
+        deadline = time.monotonic() + 90
+        while time.monotonic() < deadline and proc.poll() is None:
+            if store.exists() and store.read_text().count("\n") >= 4:     # header + 3 runs
+                break
+            time.sleep(0.02)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)    # the CLI and its pool workers
+        proc.wait(timeout=30)
+    assert proc.returncode == -signal.SIGKILL, "the campaign ended before it was interrupted"
+    _, before = store_lines(out)
+    k = len(before)
+    assert 3 <= k < n
+    done = cli("consistency", "--runs", str(n), "--days", "0.2", "--seed", "7", "--workers",
+               "2", "--out", str(out), "--json")
+    assert done.returncode == 0, done.stderr
+    payload = json.loads(done.stdout)
+    assert (payload["reused"], payload["computed"], payload["failed"]) == (k, n - k, 0)
+    _, recs = store_lines(out)
+    assert sorted(r["index"] for r in recs) == list(range(n))     # each run exactly once
+    fresh = cp.run_campaign(campaign("consistency", days=0.2), n, seed=7, engine="serial")
+    assert payload["runs"] == fresh.runs()
+    assert payload["summary"] == fresh.summary
+
+
+# ------------------------------------------------------------------------ Dask cluster
+
+
+def _stop(proc):
+    if proc.poll() is None:
+        os.killpg(proc.pid, signal.SIGTERM)
+        try:
+            proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait(timeout=10)
+
+
+@pytest.fixture(scope="module")
+def dask_cluster(tmp_path_factory):
+    """A scheduler and two single-thread workers on 127.0.0.1; yields the scheduler address."""
+    d = tmp_path_factory.mktemp("dask")
+    sched_file = d / "scheduler.json"
+    procs, logs = [], []
+
+    def start(args, log):
+        logs.append(open(d / log, "w"))  # noqa: SIM115 - closed in the finally below
+        procs.append(subprocess.Popen([DASK, *args], stdout=subprocess.DEVNULL,
+                                      stderr=logs[-1], env=ENV, cwd=d, start_new_session=True))
+
+    try:
+        start(["scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
+               "--scheduler-file", str(sched_file), "--idle-timeout", "300"], "scheduler.log")
+        deadline = time.monotonic() + 60
+        while not sched_file.exists() or not sched_file.read_text().strip():
+            assert time.monotonic() < deadline, "dask scheduler did not start"
+            time.sleep(0.1)
+        address = json.loads(sched_file.read_text())["address"]
+        for w in range(2):
+            start(["worker", address, "--nthreads", "1", "--no-dashboard", "--host",
+                   "127.0.0.1", "--death-timeout", "60", "--memory-limit", "0"], f"worker{w}.log")
+        while not all("Registered to" in (d / f"worker{w}.log").read_text() for w in range(2)):
+            assert time.monotonic() < deadline, "dask workers did not register"
+            time.sleep(0.1)
+        yield address
+    finally:
+        for p in reversed(procs):
+            _stop(p)
+        for f in logs:
+            f.close()
+
+
+def test_dask_cluster_runs_equal_the_local_runs(dask_cluster, tmp_path):
+    common = ["consistency", "--runs", "6", "--days", "0.02", "--seed", "4", "--json"]
+    on_dask = cli(*common, "--out", str(tmp_path / "dask"), "--scheduler", dask_cluster,
+                  "--timeout", "30")
+    assert on_dask.returncode == 0, on_dask.stderr
+    a = json.loads(on_dask.stdout)
+    local = cp.run_campaign(campaign("consistency", days=0.02), 6, seed=4, engine="local")
+    assert a["runs"] == local.runs() and a["summary"] == local.summary
+    assert [r["index"] for r in a["runs"]] == list(range(6))
+    assert all(r["status"] == "ok" for r in a["runs"])
+
+
+def test_local_cluster_runs_equal_the_serial_runs(tmp_path):
+    proc = cli("consistency", "--runs", "3", "--days", "0.02", "--seed", "4", "--json",
+               "--out", str(tmp_path / "lc"), "--local-cluster", "--workers", "1",
+               "--timeout", "30")
+    assert proc.returncode == 0, proc.stderr
+    fresh = cp.run_campaign(campaign("consistency", days=0.02), 3, seed=4, engine="serial")
+    assert json.loads(proc.stdout)["runs"] == fresh.runs()

@@ -1,0 +1,134 @@
+"""``python -m xnavlab campaign NAME``: a Monte Carlo campaign, local or on a Dask cluster.
+
+Usage::
+
+    python -m xnavlab campaign NAME --runs N --days D --seed S --out DIR
+        [--workers K | --scheduler tcp://HOST:PORT | --local-cluster [--workers K]]
+        [--timeout SECONDS] [--json]
+
+``NAME`` is one of :data:`xnavlab.mars.campaigns.CAMPAIGNS` (``consistency``, ``detectors``).
+The runs execute on a local process pool of ``K`` workers (default 2), on the Dask cluster
+whose scheduler is at ``--scheduler``, or on a Dask ``LocalCluster`` of ``K`` worker
+processes (``--local-cluster``); run ``i`` draws its seed from ``SeedSequence(S)`` by its
+index, so the records are the same on each. Every run is appended to ``DIR/runs.jsonl`` as it
+completes; running the same command again reuses the finished runs and computes the missing
+ones (:mod:`xnavlab.core.campaign`). A progress bar on stderr shows the runs done, failed and
+the rate.
+
+Output: the summary table and a line of counts, or with ``--json`` one JSON object with
+``campaign`` (the manifest), ``runs`` (one record per run in index order: ``index``,
+``seed``, ``parameters``, ``metrics``, ``status``, ``error``), ``summary`` (the aggregated
+table), ``computed``, ``reused``, ``failed`` and ``wall_s``.
+
+Exit codes: 0 every run ok; 1 some runs failed (after their retry; they are in the output
+and the store); 2 bad input (one line on stderr), including a DIR that holds another
+campaign and an unreachable scheduler (``--timeout``, default 3 s); 130 interrupted (the
+finished runs are stored).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import sys
+
+from xnavlab.cli import UsageError
+from xnavlab.core.validate import check_int, check_real
+
+__all__ = ["HELP", "COLUMNS", "configure", "execute"]
+
+#: One-line help of the command (``python -m xnavlab --help``).
+HELP = "run a Monte Carlo campaign (consistency, detectors) locally or on a Dask cluster"
+
+#: Columns of the summary printed without ``--json``, per campaign.
+COLUMNS = {
+    "consistency": ("quantity", "t_days", "value", "lo", "hi", "inside", "runs"),
+    "detectors": ("fault_class", "sensor", "size", "detector", "trials", "pd",
+                  "delay_median_s", "delay_p95_s", "false_alarms_per_day", "rms_ratio"),
+}
+
+
+def _number(name, text, kind, lo, hi, lo_open=False):
+    try:
+        value = kind(text)
+    except (TypeError, ValueError):
+        what = "an integer" if kind is int else "a real number"
+        raise ValueError(f"{name} must be {what}, got {text!r}") from None
+    if kind is int:
+        return check_int(name, value, lo, hi)
+    return check_real(name, value, lo, hi, lo_open=lo_open)
+
+
+def configure(parser):
+    """Options of ``campaign``."""
+    # the names are listed, not imported: the parser stays light (xnavlab.mars.campaigns)
+    parser.add_argument("name", metavar="NAME",
+                        help="the campaign: consistency (NEES/NIS of the fault-free Mars run) "
+                             "or detectors (chapter 9's fault class x detector table)")
+    parser.add_argument("--runs", required=True, help="number of runs, >= 1")
+    parser.add_argument("--days", default="1", help="days simulated per run (default 1)")
+    parser.add_argument("--seed", default="0", help="the campaign's seed (default 0)")
+    parser.add_argument("--out", required=True, metavar="DIR",
+                        help="campaign directory: runs.jsonl is appended there and reused")
+    parser.add_argument("--workers", default=None,
+                        help="local worker processes (default 2), also of --local-cluster")
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument("--scheduler", metavar="ADDRESS",
+                       help="run on the Dask cluster of this scheduler, e.g. tcp://HOST:8786")
+    where.add_argument("--local-cluster", action="store_true",
+                       help="start a Dask LocalCluster of --workers processes and run on it")
+    parser.add_argument("--timeout", default="3",
+                        help="seconds to reach the scheduler and its first worker (default 3)")
+    parser.add_argument("--json", action="store_true", help="print one JSON object")
+
+
+def execute(args):
+    """Run ``campaign``; returns the exit code."""
+    from xnavlab.core.campaign import run_campaign
+    from xnavlab.mars.campaigns import CAMPAIGNS, campaign
+
+    if args.name not in CAMPAIGNS:
+        raise UsageError(f"campaign must be one of {', '.join(CAMPAIGNS)}, got {args.name!r}")
+    runs = _number("runs", args.runs, int, 1, 10**7)
+    days = _number("days", args.days, float, -math.inf, math.inf)
+    seed = _number("seed", args.seed, int, 0, 2**63 - 1)
+    timeout = _number("timeout", args.timeout, float, 0.0, 3600.0, lo_open=True)
+    if args.workers is not None and args.scheduler:
+        raise UsageError("--workers sets local processes; the cluster at --scheduler has its own")
+    workers = _number("workers", args.workers or "2", int, 1, 256)
+    if not args.local_cluster and not args.scheduler:
+        workers = check_int("workers", workers, 1, os.cpu_count() or 1)
+    engine = "dask" if args.scheduler else ("local-cluster" if args.local_cluster else "local")
+    camp = campaign(args.name, days=days)
+    try:
+        res = run_campaign(camp, runs, seed=seed, out=args.out, engine=engine, workers=workers,
+                           scheduler=args.scheduler, timeout=timeout, progress=True)
+    except KeyboardInterrupt:
+        print(f"xnavlab: interrupted; the finished runs are in {args.out}; run the same "
+              f"command to complete the campaign", file=sys.stderr)
+        return 130
+    if args.json:
+        print(json.dumps(res.to_json(), allow_nan=False))
+    else:
+        _print_table(res.summary or [], COLUMNS[args.name])
+        print(f"{runs} runs of {args.name} ({days:g} days, seed {seed}): {res.computed} "
+              f"computed, {res.reused} reused, {res.failed} failed, {res.wall_s:.1f} s; "
+              f"records in {os.path.join(args.out, 'runs.jsonl')}")
+        for rec in res.records:
+            if rec["status"] != "ok":
+                print(f"run {rec['index']} failed: {rec['error']}")
+    return 1 if res.failed else 0
+
+
+def _print_table(rows, cols):
+    def fmt(v):
+        if isinstance(v, float):
+            return f"{v:.4g}"
+        return "-" if v is None else str(v)
+
+    cells = [[fmt(r.get(c)) for c in cols] for r in rows]
+    width = [max([len(c)] + [len(row[j]) for row in cells]) for j, c in enumerate(cols)]
+    print("  ".join(c.rjust(w) for c, w in zip(cols, width, strict=True)))
+    for row in cells:
+        print("  ".join(v.rjust(w) for v, w in zip(row, width, strict=True)))

@@ -1,0 +1,667 @@
+"""Monte Carlo campaigns at scale: local processes or a Dask cluster, resumable, loss-free.
+
+A *campaign* runs one trial function many times. Run ``i`` calls
+``trial(seed=s_i, **params(i))`` where ``s_i`` is the ``i``-th child of
+``numpy.random.SeedSequence(seed)`` (:func:`xnavlab.core.montecarlo.seeds`) and ``params(i)``
+depends on the run index only. Neither depends on the engine, the number of workers, the
+worker a run landed on or the order in which runs completed, so a campaign gives the same
+records on a laptop and on a cluster.
+
+Engines (:data:`ENGINES`)
+    ``"serial"``
+        in this process, one run after the other (notebooks, doctests, debugging);
+    ``"local"``
+        a local ``concurrent.futures.ProcessPoolExecutor`` (the default; no Dask needed);
+    ``"dask"``
+        an existing Dask cluster, given by its scheduler address
+        (``distributed.Client(address, timeout=timeout)``);
+    ``"local-cluster"``
+        a ``distributed.LocalCluster`` of worker processes started (and stopped) here.
+
+    Dask is imported only by the two Dask engines.
+
+Store (:class:`Store`)
+    With ``out=DIR`` every attempt of a run is appended to ``DIR/runs.jsonl`` as one JSON
+    line and flushed as soon as it completes; the file's first line is a header holding the
+    campaign's manifest (name, seed, trial, parameters). Running the same campaign into the
+    same DIR again reuses every finished run and computes only the missing ones (and those
+    whose every attempt failed); a DIR whose header names another campaign is refused with a
+    ``ValueError``. The number of runs is not part of the manifest: run ``i``'s seed and
+    parameters do not depend on it, so a campaign of 100 runs can be extended to 1,000 in
+    the same DIR. A torn last line (a process killed while writing) is ignored. The manifest
+    does not cover the code: after changing a trial's code, start a new DIR.
+
+Failures
+    A run that raises, returns something that is not a JSON-ready dict, or whose worker
+    dies is recorded with ``status = "failed"`` and its error, retried ``retries`` times
+    (default once), and never stops the campaign. When a local worker process dies, every
+    run in flight on the pool is lost with it; those runs are rerun one at a time, and only a
+    death while a run was alone on the pool counts as that run's failure (a Dask scheduler
+    does the same bookkeeping itself and reports ``KilledWorker``).
+
+Records
+    One dict a run: ``index``, ``seed``, ``parameters``, ``metrics`` (the trial's dict,
+    normalised to JSON: tuples become lists, numpy scalars plain numbers, and non-finite
+    floats ``None``, since JSON has no inf or NaN), ``status`` (``"ok"`` or ``"failed"``),
+    ``error`` (``None`` or ``"Type: message"``); the store also keeps ``attempt``,
+    ``elapsed_s`` (time in the trial) and ``worker`` (host:pid), which are not part of a
+    run's result (:func:`public_record` drops them).
+
+Examples
+--------
+>>> from xnavlab.core.montecarlo import signal_trial
+>>> camp = Campaign("spikes", signal_trial, lambda i: {"kind": "spike", "size_sigma": 9.0})
+>>> res = run_campaign(camp, 3, seed=1, engine="serial")
+>>> [r["index"] for r in res.runs()], res.computed, res.failed
+([0, 1, 2], 3, 0)
+>>> res.runs()[0]["metrics"]["wavelet"]["detected"]
+True
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import socket
+import sys
+import time
+from collections import deque
+from collections.abc import Callable
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from concurrent.futures.process import BrokenProcessPool
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from xnavlab.core.montecarlo import seeds as spawn_seeds
+from xnavlab.core.validate import check_choice, check_int, check_real
+
+__all__ = [
+    "ENGINES",
+    "STORE_FILE",
+    "FORMAT",
+    "PUBLIC_KEYS",
+    "Campaign",
+    "CampaignResult",
+    "Store",
+    "jsonable",
+    "execute",
+    "public_record",
+    "run_campaign",
+]
+
+#: Where a campaign can run.
+ENGINES = ("serial", "local", "dask", "local-cluster")
+#: The store's file name inside the campaign directory.
+STORE_FILE = "runs.jsonl"
+#: Format tag of the store's header line.
+FORMAT = "xnavlab-campaign/1"
+#: Keys of a record that make up a run's result (the rest is bookkeeping).
+PUBLIC_KEYS = ("index", "seed", "parameters", "metrics", "status", "error")
+
+
+@dataclass(frozen=True)
+class Campaign:
+    """What a campaign runs: a trial, the parameters of run ``i``, and its identity.
+
+    Parameters
+    ----------
+    name : str
+        Campaign name (part of the manifest).
+    trial : callable
+        ``trial(seed=int, **params) -> dict`` (JSON-ready); a module-level function, so that
+        it pickles to worker processes and Dask workers (which need xnavlab installed).
+    params : callable
+        ``params(index) -> dict``: the keyword arguments of run ``index``, a function of the
+        index alone.
+    manifest : dict
+        Every setting that changes the results besides the seed (e.g. ``days``); with the
+        name, the trial's import path and the seed it identifies the campaign in a store.
+    summarise : callable, optional
+        ``summarise(runs) -> list of dict``: the aggregated table of the run records
+        (:func:`public_record`), for reports.
+    """
+
+    name: str
+    trial: Callable
+    params: Callable
+    manifest: dict = field(default_factory=dict)
+    summarise: Callable | None = None
+
+    def __post_init__(self):
+        if not isinstance(self.name, str) or not self.name:
+            raise ValueError(f"name must be a non-empty string, got {self.name!r}")
+        if not callable(self.trial) or not callable(self.params):
+            raise ValueError("trial and params must be callable")
+        if not isinstance(self.manifest, dict):
+            raise ValueError(f"manifest must be a dict, got {type(self.manifest).__name__}")
+
+    def header(self, seed):
+        """The store's header for ``seed``: format, campaign name, trial, seed, parameters."""
+        trial = f"{getattr(self.trial, '__module__', '?')}:{getattr(self.trial, '__qualname__', '?')}"
+        return jsonable({"format": FORMAT, "campaign": self.name, "trial": trial,
+                         "seed": int(seed), "parameters": self.manifest})
+
+
+def jsonable(value):
+    """``value`` as plain JSON types: dicts (str keys), lists, str, int, float, bool, None.
+
+    Tuples and arrays become lists, numpy scalars Python numbers, non-finite floats ``None``.
+
+    Raises
+    ------
+    ValueError
+        For a value of any other type (named in the message).
+
+    Examples
+    --------
+    >>> jsonable({"a": (1, np.float64(2.5)), "b": float("inf"), "c": np.arange(2)})
+    {'a': [1, 2.5], 'b': None, 'c': [0, 1]}
+    """
+    if value is None or isinstance(value, bool | str):
+        return value
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, bool | int):
+        return value
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {str(k): jsonable(v) for k, v in value.items()}
+    if isinstance(value, list | tuple | np.ndarray):
+        return [jsonable(v) for v in (value.tolist() if isinstance(value, np.ndarray) else value)]
+    raise ValueError(f"metrics must hold JSON-ready values, got {type(value).__name__}")
+
+
+def execute(trial, seed, params):
+    """Run one trial where it lands (worker side) and package its outcome.
+
+    Returns
+    -------
+    dict
+        ``metrics`` (the result as JSON text, or ``None``), ``error`` (``None`` or
+        ``"Type: message"``), ``elapsed_s`` (s in the trial), ``worker`` (host:pid).
+        Exceptions of the trial are caught here, so an unpicklable exception cannot break
+        the transfer back.
+
+    Examples
+    --------
+    >>> out = execute(lambda seed, x: {"y": x + seed}, 1, {"x": 2})
+    >>> out["metrics"], out["error"]
+    ('{"y": 3}', None)
+    """
+    t0 = time.perf_counter()
+    metrics, error = None, None
+    try:
+        result = trial(seed=seed, **params)
+        if not isinstance(result, dict):
+            raise ValueError(f"trial must return a dict, got {type(result).__name__}")
+        metrics = json.dumps(jsonable(result), allow_nan=False)
+    except Exception as exc:  # noqa: BLE001 - any failure of a run is recorded, not raised
+        error = _describe(exc)
+    return {"metrics": metrics, "error": error, "elapsed_s": time.perf_counter() - t0,
+            "worker": f"{socket.gethostname()}:{os.getpid()}"}
+
+
+def _describe(exc):
+    text = " ".join(str(exc).split())
+    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
+
+
+def public_record(record):
+    """A run's result: the record's ``index``, ``seed``, ``parameters``, ``metrics``,
+    ``status`` and ``error`` (no timing, worker or attempt).
+
+    Examples
+    --------
+    >>> public_record({"index": 0, "seed": 5, "parameters": {}, "metrics": {"a": 1},
+    ...                "status": "ok", "error": None, "elapsed_s": 0.1, "attempt": 1})
+    {'index': 0, 'seed': 5, 'parameters': {}, 'metrics': {'a': 1}, 'status': 'ok', 'error': None}
+    """
+    return {k: record[k] for k in PUBLIC_KEYS}
+
+
+# ---------------------------------------------------------------------------------- store
+
+
+class Store:
+    """The append-only record file of a campaign, ``DIR/runs.jsonl``, locked while open.
+
+    Parameters
+    ----------
+    directory : str or Path
+        Campaign directory (created if missing).
+    header : dict
+        The campaign's header (:meth:`Campaign.header`). A new store starts with it; an
+        existing one must hold the same header.
+
+    Raises
+    ------
+    ValueError
+        If the store holds another campaign, is not a campaign store, or is in use by
+        another process.
+    """
+
+    def __init__(self, directory, header):
+        self.path = Path(directory) / STORE_FILE
+        self.header = header
+        try:
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            self._fh = open(self.path, "a+", encoding="utf-8")  # noqa: SIM115 - closed by close()
+        except OSError as exc:
+            raise ValueError(f"out must be a writable directory: {exc}") from None
+        try:
+            self._lock()
+            self._fh.seek(0)
+            lines = self._fh.read().split("\n")
+            if lines == [""]:
+                self._write(header)
+                self._records = []
+            else:
+                self._records = self._parse(lines)
+        except BaseException:
+            self._fh.close()
+            raise
+
+    def _lock(self):
+        try:
+            import fcntl
+        except ImportError:  # pragma: no cover - no advisory locks on this platform
+            return
+        try:
+            fcntl.flock(self._fh.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            raise ValueError(f"out {self.path.parent} is in use by another running "
+                             f"campaign") from None
+
+    def _parse(self, lines):
+        try:
+            head = json.loads(lines[0])
+        except json.JSONDecodeError:
+            head = None
+        if not isinstance(head, dict) or head.get("format") != FORMAT:
+            raise ValueError(f"out {self.path} is not an xnavlab campaign store; choose "
+                             f"another --out")
+        if head != self.header:
+            diff = [f"{k} {head.get(k)!r} (asked {self.header.get(k)!r})"
+                    for k in sorted(set(head) | set(self.header))
+                    if head.get(k) != self.header.get(k)]
+            raise ValueError(f"out {self.path.parent} holds another campaign's records: "
+                             f"{'; '.join(diff)}; choose another --out")
+        records = []
+        for line in lines[1:]:
+            if not line.strip():
+                continue
+            try:
+                rec = json.loads(line)
+            except json.JSONDecodeError:  # a line torn by a kill: that run is recomputed
+                continue
+            if isinstance(rec, dict) and set(PUBLIC_KEYS) <= set(rec):
+                records.append(rec)
+        if lines[-1] != "":
+            self._fh.write("\n")  # finish a torn last line before appending
+            self._fh.flush()
+        return records
+
+    def _write(self, obj):
+        self._fh.write(json.dumps(obj, allow_nan=False) + "\n")
+        self._fh.flush()
+        os.fsync(self._fh.fileno())
+
+    @property
+    def records(self):
+        """Every record read or appended, in file order (several attempts of a run possible)."""
+        return list(self._records)
+
+    def final(self):
+        """The record that counts for each index: its ``ok`` one, else its last failed one.
+
+        Returns
+        -------
+        dict
+            Index -> record.
+        """
+        out = {}
+        for rec in self._records:
+            i = rec["index"]
+            if i not in out or out[i]["status"] != "ok":
+                out[i] = rec
+        return out
+
+    def append(self, record):
+        """Append one record and flush it to disk."""
+        self._write(record)
+        self._records.append(record)
+
+    def close(self):
+        """Release the lock and close the file."""
+        self._fh.close()
+
+
+# -------------------------------------------------------------------------------- engines
+
+
+class _Serial:
+    window = 1
+
+    def __init__(self):
+        self._done = {}
+        self._n = 0
+
+    def submit(self, trial, seed, params):
+        self._n += 1
+        self._done[self._n] = ("ok", execute(trial, seed, params))
+        return self._n
+
+    def wait(self, handles):
+        return [(h, self._done.pop(h)) for h in handles]
+
+    def close(self):
+        pass
+
+
+class _Pool:
+    """A local process pool that is rebuilt when a worker dies (BrokenProcessPool)."""
+
+    def __init__(self, workers):
+        self.workers = workers
+        self.window = 2 * workers
+        self.pool = ProcessPoolExecutor(max_workers=workers)
+
+    def submit(self, trial, seed, params):
+        try:
+            return self.pool.submit(execute, trial, seed, params)
+        except BrokenProcessPool:
+            self.pool.shutdown(wait=False, cancel_futures=True)
+            self.pool = ProcessPoolExecutor(max_workers=self.workers)
+            return self.pool.submit(execute, trial, seed, params)
+
+    def wait(self, handles):
+        done, _ = wait(handles, return_when=FIRST_COMPLETED)
+        out = []
+        for f in done:
+            exc = f.exception()
+            if exc is None:
+                out.append((f, ("ok", f.result())))
+            elif isinstance(exc, BrokenProcessPool):
+                out.append((f, ("lost", "WorkerDied: the worker process running this run "
+                                        "died (BrokenProcessPool)")))
+            else:
+                out.append((f, ("error", _describe(exc))))
+        return out
+
+    def close(self):
+        self.pool.shutdown(wait=True, cancel_futures=True)
+
+
+class _Dask:
+    """A Dask ``distributed.Client``: to a scheduler address, or to a LocalCluster started here."""
+
+    window = 1 << 30  # the scheduler balances; every run is submitted at once
+
+    def __init__(self, address, workers, timeout):
+        try:
+            import distributed
+        except ImportError:
+            raise ValueError("engine 'dask' and 'local-cluster' need the packages dask and "
+                             "distributed (pip install dask distributed)") from None
+        self._distributed = distributed
+        self.cluster = None
+        if address is None:
+            import logging
+
+            try:
+                self.cluster = distributed.LocalCluster(
+                    n_workers=workers, threads_per_worker=1, processes=True,
+                    dashboard_address=None, silence_logs=logging.ERROR)
+                self.client = distributed.Client(self.cluster, timeout=timeout)
+            except Exception as exc:  # noqa: BLE001 - reported as one line
+                if self.cluster is not None:
+                    self.cluster.close()
+                raise ValueError(f"could not start a Dask LocalCluster of {workers} workers "
+                                 f"({_describe(exc)})") from None
+        else:
+            try:
+                self.client = distributed.Client(address, timeout=timeout)
+            except Exception as exc:  # noqa: BLE001 - OSError, TimeoutError, bad address...
+                raise ValueError(f"scheduler {address} unreachable within {timeout:g} s "
+                                 f"({_describe(exc)})") from None
+        try:
+            self.client.wait_for_workers(1, timeout=timeout)
+        except Exception:  # noqa: BLE001 - distributed raises TimeoutError
+            self.close()
+            where = f"scheduler {address}" if address else "the local cluster"
+            raise ValueError(f"{where} has no workers after {timeout:g} s") from None
+
+    def submit(self, trial, seed, params):
+        return self.client.submit(execute, trial, seed, params, pure=False)
+
+    def wait(self, handles):
+        done = self._distributed.wait(handles, return_when="FIRST_COMPLETED").done
+        out = []
+        for f in done:
+            if f.status == "finished":
+                out.append((f, ("ok", f.result())))
+            else:
+                try:
+                    exc = f.exception()
+                    msg = _describe(exc) if exc is not None else f"run {f.status}"
+                except Exception as err:  # noqa: BLE001 - a cancelled future raises
+                    msg = _describe(err)
+                out.append((f, ("error", msg)))
+            f.release()
+        return out
+
+    def close(self):
+        self.client.close()
+        if self.cluster is not None:
+            self.cluster.close()
+
+
+def _engine(engine, workers, scheduler, timeout):
+    if engine == "serial":
+        return _Serial()
+    if engine == "local":
+        return _Pool(workers)
+    return _Dask(scheduler if engine == "dask" else None, workers, timeout)
+
+
+# ------------------------------------------------------------------------------- campaign
+
+
+@dataclass
+class CampaignResult:
+    """The outcome of :func:`run_campaign`.
+
+    Attributes
+    ----------
+    header : dict
+        The campaign's manifest (:meth:`Campaign.header`).
+    records : list of dict
+        One record per run ``0 .. runs-1``, in index order (the record that counts).
+    computed, reused, failed : int
+        Runs computed now, runs taken from the store, runs whose every attempt failed.
+    attempts : int
+        Attempts made now (computed plus retries).
+    wall_s : float
+        Wall time, s.
+    summary : list of dict or None
+        The campaign's aggregated table (``Campaign.summarise``) of the runs.
+    """
+
+    header: dict
+    records: list
+    computed: int
+    reused: int
+    failed: int
+    attempts: int
+    wall_s: float
+    summary: list | None = None
+
+    def runs(self):
+        """The run records without bookkeeping (:func:`public_record`), in index order."""
+        return [public_record(r) for r in self.records]
+
+    def to_json(self):
+        """One JSON-ready dict: ``campaign`` (the header), ``runs``, ``summary`` and counts."""
+        return {"campaign": self.header, "runs": self.runs(), "summary": self.summary,
+                "computed": self.computed, "reused": self.reused, "failed": self.failed,
+                "wall_s": self.wall_s}
+
+
+def _record(index, seed, params, outcome, attempt):
+    kind, payload = outcome
+    rec = {"index": index, "seed": seed, "parameters": params, "metrics": None,
+           "status": "failed", "error": None, "attempt": attempt, "elapsed_s": None,
+           "worker": None}
+    if kind == "ok":
+        rec.update(elapsed_s=payload["elapsed_s"], worker=payload["worker"])
+        if payload["error"] is None:
+            rec.update(metrics=json.loads(payload["metrics"]), status="ok")
+        else:
+            rec["error"] = payload["error"]
+    else:
+        rec["error"] = payload
+    return rec
+
+
+def run_campaign(campaign, runs, *, seed=0, out=None, engine="local", workers=2, scheduler=None,
+                 timeout=5.0, retries=1, progress=False, retry_failed=True):
+    """Run (or complete) a campaign of ``runs`` runs on an engine, storing each run as it ends.
+
+    Parameters
+    ----------
+    campaign : Campaign
+    runs : int
+        Number of runs, 1 to 10^7 (indices ``0 .. runs-1``).
+    seed : int
+        The one seed, in [0, 2^63 - 1]; run ``i`` gets ``seeds(seed, runs)[i]``.
+    out : str or Path, optional
+        Campaign directory (:class:`Store`); without it nothing is stored or reused.
+    engine : {"serial", "local", "dask", "local-cluster"}
+        Where the runs execute (see the module's docstring).
+    workers : int
+        Processes of ``"local"`` and ``"local-cluster"``, 1 to 256.
+    scheduler : str, optional
+        Scheduler address of ``"dask"``, e.g. ``"tcp://10.0.0.5:8786"``.
+    timeout : float
+        Seconds to connect to the scheduler and to wait for its first worker, in (0, 3600].
+    retries : int
+        Extra attempts of a failed run, 0 to 10.
+    progress : bool
+        A tqdm bar on stderr: runs done, failed, rate.
+    retry_failed : bool
+        Recompute runs whose every stored attempt failed (default); ``False`` reuses them.
+
+    Returns
+    -------
+    CampaignResult
+
+    Raises
+    ------
+    ValueError
+        Bad arguments, a store of another campaign, an unreachable scheduler.
+    """
+    if not isinstance(campaign, Campaign):
+        raise ValueError(f"campaign must be a Campaign, got {type(campaign).__name__}")
+    runs = check_int("runs", runs, 1, 10**7)
+    seed = check_int("seed", seed, 0, 2**63 - 1)
+    check_choice("engine", engine, ENGINES)
+    workers = check_int("workers", workers, 1, 256)
+    timeout = check_real("timeout", timeout, 0.0, 3600.0, lo_open=True)
+    retries = check_int("retries", retries, 0, 10)
+    if engine == "dask" and not scheduler:
+        raise ValueError("engine 'dask' needs a scheduler address, e.g. tcp://HOST:8786")
+    if engine != "dask" and scheduler:
+        raise ValueError(f"a scheduler address needs engine 'dask', got engine {engine!r}")
+    header = campaign.header(seed)
+    run_seeds = spawn_seeds(seed, runs)
+    params = [campaign.params(i) for i in range(runs)]
+    if not all(isinstance(p, dict) for p in params):
+        raise ValueError("campaign.params(index) must return a dict of keyword arguments")
+    params = [jsonable(p) for p in params]
+    store = Store(out, header) if out is not None else None
+    t0 = time.perf_counter()
+    try:
+        final = {}
+        if store is not None:
+            for i, rec in store.final().items():
+                if i >= runs:
+                    continue
+                if rec["seed"] != run_seeds[i] or rec["parameters"] != params[i]:
+                    raise ValueError(f"out {out}: stored run {i} has other parameters or seed "
+                                     f"than this campaign's; choose another --out")
+                if rec["status"] == "ok" or not retry_failed:
+                    final[i] = rec
+        reused = len(final)
+        todo = [i for i in range(runs) if i not in final]
+        computed, attempts = 0, 0
+        if todo:
+            computed, attempts = _drive(campaign, todo, run_seeds, params, final, store,
+                                        _engine(engine, workers, scheduler, timeout),
+                                        retries, progress, runs, reused)
+    finally:
+        if store is not None:
+            store.close()
+    records = [final[i] for i in range(runs)]
+    failed = sum(r["status"] != "ok" for r in records)
+    result = CampaignResult(header, records, computed, reused, failed, attempts,
+                            time.perf_counter() - t0)
+    if campaign.summarise is not None:
+        result.summary = jsonable(campaign.summarise(result.runs()))
+    return result
+
+
+def _drive(campaign, todo, run_seeds, params, final, store, eng, retries, progress, runs,
+           reused):
+    """Submit, collect, store and retry until every run in ``todo`` has a final record."""
+    from tqdm import tqdm
+
+    bar = tqdm(total=runs, initial=reused, desc=campaign.name, unit="run", file=sys.stderr,
+               disable=not progress, mininterval=0.5, dynamic_ncols=True)
+    queue = deque((i, 1) for i in todo)
+    # runs that were in flight when a local worker died, with others: which one killed it is
+    # unknown, so each is rerun alone, and only a death while alone counts as its failure
+    solo = deque()
+    running = {}
+    n_failed = sum(r["status"] != "ok" for r in final.values())
+    computed = attempts = 0
+    try:
+        while queue or solo or running:
+            if solo:
+                if not running:
+                    i, attempt = solo.popleft()
+                    running[eng.submit(campaign.trial, run_seeds[i], params[i])] = (i, attempt,
+                                                                                    True)
+            else:
+                while queue and len(running) < eng.window:
+                    i, attempt = queue.popleft()
+                    running[eng.submit(campaign.trial, run_seeds[i], params[i])] = (
+                        i, attempt, eng.window == 1)
+            for handle, outcome in eng.wait(list(running)):
+                i, attempt, alone = running.pop(handle)
+                lost = outcome[0] == "lost" and not alone
+                if lost:
+                    outcome = ("error", outcome[1] + ", with other runs in flight: rerun "
+                                                    "alone, not counted as an attempt")
+                rec = _record(i, run_seeds[i], params[i], outcome, attempt)
+                attempts += 1
+                if store is not None:
+                    store.append(rec)
+                if lost:
+                    solo.append((i, attempt))
+                    continue
+                if rec["status"] != "ok" and attempt <= retries:
+                    (solo if outcome[0] == "lost" else queue).appendleft((i, attempt + 1))
+                    continue
+                final[i] = rec
+                computed += 1
+                n_failed += rec["status"] != "ok"
+                bar.set_postfix(failed=n_failed, refresh=False)
+                bar.update(1)
+    finally:
+        bar.close()
+        eng.close()
+    return computed, attempts
