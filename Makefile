@@ -9,7 +9,7 @@ WARM   := $(VENV)/.warmup-stamp
 export MPLBACKEND := Agg
 export PYDEVD_DISABLE_FILE_VALIDATION := 1
 
-.PHONY: book book-clean test unit notebooks bench lint lab clean setup warmup browser-test portability
+.PHONY: book book-clean test unit notebooks bench lint lab clean setup warmup browser-test lab-test portability
 
 # `make book` leaves this behind when the build succeeds; browser-test rebuilds when older
 # than any source of the book.
@@ -48,16 +48,24 @@ book-clean:
 	rm -rf _build/html _build/.doctrees _build/jupyter_execute _build/.jupyter_cache _build/.jupyter_cache.xnavlab-sha256
 
 ## make test: unit tests, doctests, every notebook executed by nbval, then the book built from
-## nothing (no execution cache) and opened in headless Chromium
+## nothing (no execution cache) and opened in headless Chromium, then every chapter run and its
+## sliders moved in JupyterLab
 test: $(WARM)
 	$(BIN)/python -m pytest --nbval-lax --nbval-cell-timeout=300 -p no:cacheprovider xnavlab tests book
 	$(MAKE) book-clean
 	$(MAKE) browser-test
+	$(MAKE) lab-test
 
 ## make browser-test: every built page in headless Chromium, offline (builds the book if stale)
 browser-test: $(STAMP) $(BOOK_STAMP)
 	@sh tools/ensure_chromium.sh
 	XNAVLAB_BROWSER_TEST=1 $(BIN)/python -m pytest -p no:cacheprovider tests/browser
+
+## make lab-test: JupyterLab on 127.0.0.1 driven by headless Chromium: every chapter run, its
+## explore slider moved twice, the figure checked to change; screenshots in _build/lab-screenshots
+lab-test: $(WARM)
+	@sh tools/ensure_chromium.sh
+	XNAVLAB_LAB_TEST=1 $(BIN)/python -m pytest -p no:cacheprovider tests/lab
 
 $(BOOK_STAMP): $(WARM) $(BOOK_SOURCES)
 	$(MAKE) book

@@ -127,3 +127,83 @@ def test_plot_must_return_figure():
         explore(lambda omega: None, omega=[1.0]).frames()
     with pytest.raises(ValueError, match="plot must be callable"):
         explore(3, omega=[1.0])
+
+
+def test_widget_marks_its_parts_for_the_browser_test(monkeypatch):
+    """Stable CSS classes: the lab test (tests/lab/) finds the main slider and the figure."""
+    ex = explore(wave, omega=[1.0, 2.0, 3.0], style=["-", ":"], main="omega")
+    w = ex.widget()
+    assert "xnav-explore" in w._dom_classes
+    controls = [c for c in w.children if "xnav-control" in c._dom_classes]
+    assert [c.description for c in controls] == ["omega", "style"]
+    assert [c.description for c in w.children if "xnav-main" in c._dom_classes] == ["omega"]
+    assert w.children[-2] is ex.status and "xnav-status" in ex.status._dom_classes
+    assert w.children[-1] is w.out and "xnav-output" in w.out._dom_classes
+    w.close()
+
+
+def test_widget_says_computing_while_it_redraws():
+    seen = []
+
+    def slow(omega=1.0):
+        seen.append(ex.status.value)  # what the browser shows during the call
+        return wave(omega)
+
+    ex = explore(slow, omega=[1.0, 2.0, 3.0])
+    w = ex.widget()  # draws once at the initial value
+    controls = [c for c in w.children if "xnav-control" in c._dom_classes]
+    controls[0].value = 3.0  # the reader moves the slider: one more redraw
+    assert len(seen) == 2
+    for value in seen:
+        assert widgets.BUSY in value and 'class="xnav-busy"' in value
+        assert "0.3s" in value  # shown only once the redraw takes longer than 0.3 s
+    assert ex.status.value == ""  # cleared when done
+    assert ex.last_error is None
+    w.close()
+
+
+def test_widget_shows_one_line_when_plot_raises(capsys, caplog):
+    def fragile(omega=1.0):
+        if omega == 3.0:
+            raise ValueError("omega must be in [1, 2], got 3.0\nsecond line of detail")
+        return wave(omega)
+
+    ex = explore(fragile, omega=[1.0, 2.0, 3.0])
+    w = ex.widget()
+    controls = [c for c in w.children if "xnav-control" in c._dom_classes]
+    capsys.readouterr()
+    controls[0].value = 3.0  # raises inside the callback: the widget must not
+    out = capsys.readouterr().out
+    assert ex.last_error == "error: ValueError: omega must be in [1, 2], got 3.0"
+    assert ex.last_error in out and "Traceback" not in out and "second line" not in out
+    assert ex.status.value == ""  # not stuck on "computing…"
+    assert not [r for r in caplog.records if "Exception in interact callback" in r.message]
+    controls[0].value = 2.0  # and the next value draws again
+    assert ex.last_error is None
+    w.close()
+
+
+def test_widget_shows_one_line_when_plot_returns_no_figure():
+    ex = explore(lambda omega=1.0: None if omega > 1.5 else wave(omega), omega=[1.0, 2.0])
+    w = ex.widget()
+    [c for c in w.children if "xnav-control" in c._dom_classes][0].value = 2.0
+    assert ex.last_error.startswith("error: ValueError: plot must return a matplotlib Figure")
+    w.close()
+
+
+@pytest.mark.parametrize(
+    ("exc", "line"),
+    [
+        (ValueError("bad size"), "error: ValueError: bad size"),
+        (KeyError("sensor"), "error: KeyError: 'sensor'"),
+        (RuntimeError("  \n  first\nsecond"), "error: RuntimeError: first"),
+        (ZeroDivisionError(), "error: ZeroDivisionError"),
+    ],
+)
+def test_error_line(exc, line):
+    assert widgets.error_line(exc) == line
+
+
+def test_error_line_is_short():
+    line = widgets.error_line(ValueError("x" * 1000))
+    assert len(line) == 300 and line.endswith("\u2026")

@@ -23,6 +23,15 @@ The first keyword given a grid (``sigma_m``) is the scrubber's parameter unless 
 names another; the others are held at their ``initial`` value in the scrubber (the live
 widget gets a slider or menu for every grid). A keyword given a scalar is passed through
 unchanged, with no control.
+
+The live widget never leaves the reader without feedback: while a redraw runs, its status
+line says ``computing…`` (shown only once the redraw has taken 0.3 s, so quick redraws do
+not flicker), and an exception raised by the plotting function replaces the figure with one
+readable line, ``error: ValueError: ...``, instead of a traceback. The parts carry stable
+CSS classes for the JupyterLab browser test (``tests/lab/``): ``xnav-explore`` (the whole
+widget), ``xnav-control`` (every control; ``xnav-main`` marks the control of ``main``),
+``xnav-status`` (the status line) and ``xnav-output`` (the figure), with ``xnav-error`` on an
+error line.
 """
 
 from __future__ import annotations
@@ -38,9 +47,20 @@ import numpy as np
 
 from xnavlab.core.validate import check_choice, check_int
 
-__all__ = ["explore", "Explorer"]
+__all__ = ["explore", "Explorer", "error_line", "BUSY"]
 
 _MIME_WIDGET = "application/vnd.jupyter.widget-view+json"
+
+#: Text of the live widget's status line while a redraw runs.
+BUSY = "computing\u2026"
+# the status line while busy: hidden for the first 0.3 s (a CSS animation delay), so that only
+# redraws slower than that show it
+_BUSY_HTML = (
+    "<style>@keyframes xnav-appear{from{visibility:hidden}to{visibility:visible}}</style>"
+    '<span class="xnav-busy" style="animation:xnav-appear 0s linear 0.3s both;'
+    f'font-style:italic;opacity:0.75">&#8987; {BUSY}</span>'
+)
+_ERROR_MAX_CHARS = 300
 # swap the frame on input; self-contained so that several scrubbers can share a page
 _ONINPUT = (
     "var d=this.closest('.xnav-scrubber');"
@@ -87,6 +107,12 @@ class Explorer:
         The value of every grid parameter when the widget or scrubber opens.
     frame_values : list
         The values of ``main`` at which the scrubber's frames are drawn.
+    status : ipywidgets.HTML or None
+        The live widget's status line (``None`` until :meth:`widget` is built): holds
+        :data:`BUSY` while the plotting function runs, empty otherwise.
+    last_error : str or None
+        The :func:`error_line` of the last failed redraw of the live widget; ``None`` after
+        a successful one.
     """
 
     def __init__(self, plot, grids, fixed, main, initial, max_frames, dpi):
@@ -107,6 +133,8 @@ class Explorer:
         self._start = self.frame_values.index(grid[k0])
         self._frames = None
         self._widget = None
+        self.status = None
+        self.last_error = None
 
     def __repr__(self):
         name = getattr(self.plot, "__name__", "plot")
@@ -128,7 +156,7 @@ class Explorer:
         return fig
 
     def frames(self):
-        """PNG bytes of the figure at each of :attr:`frame_values` (computed once)."""
+        """PNG bytes of the figure at each of ``frame_values`` (computed once)."""
         if self._frames is None:
             import matplotlib.pyplot as plt
 
@@ -167,22 +195,61 @@ class Explorer:
 
     # -- the live widget ------------------------------------------------------------------
     def widget(self):
-        """The live ``ipywidgets.interactive`` (built once), ``continuous_update=False``."""
+        """The live ``ipywidgets.interactive`` (built once), ``continuous_update=False``.
+
+        Below the controls sits the status line (:attr:`status`, ``computing…`` during a
+        redraw), then the figure. An exception raised by ``plot`` (or ``plot`` not returning a
+        Figure) shows :func:`error_line` in place of the figure and is kept in
+        :attr:`last_error`; the widget stays usable.
+        """
         if self._widget is None:
+            import html
+
             import ipywidgets as w
             import matplotlib.pyplot as plt
-            from IPython.display import display
+            from IPython.display import Image, display
 
             controls = {name: _control(w, name, grid, self.initial[name])
                         for name, grid in self.grids.items()}
+            # every parameter name in full (the default label width cuts them at ~8 letters)
+            label_em = max(len(name) for name in self.grids) * 0.6 + 1.0
+            for name, control in controls.items():
+                control.style.description_width = f"{label_em:.1f}em"
+                control.layout.width = f"calc({label_em:.1f}em + 20em)"
+                control.add_class("xnav-control")
+                if name == self.main:
+                    control.add_class("xnav-main")
             fixed = {name: w.fixed(v) for name, v in self.fixed.items()}
+            status = w.HTML(value="")
+            status.add_class("xnav-status")
+            self.status = status
 
             def show(**values):
-                fig = self.plot(**values)
-                display(fig)
+                status.value = _BUSY_HTML  # sent to the browser at once (iopub thread)
+                try:
+                    fig = self.figure(**values)
+                except Exception as exc:  # one line for the reader, not a traceback wall
+                    self.last_error = error_line(exc)
+                    display({"text/plain": self.last_error,
+                             "text/html": '<pre class="xnav-error" style="color:#b00020;'
+                                          f'white-space:pre-wrap">{html.escape(self.last_error)}'
+                                          "</pre>"}, raw=True)
+                    return
+                finally:
+                    status.value = ""
+                self.last_error = None
+                # one PNG at the figure's own size and dpi (display(fig) would draw it twice
+                # for a tight bounding box: up to a third of a redraw)
+                buf = io.BytesIO()
+                fig.savefig(buf, format="png")
                 plt.close(fig)  # shown once, not again by the inline backend
+                display(Image(data=buf.getvalue(), format="png"))
 
-            self._widget = w.interactive(show, **controls, **fixed)
+            widget = w.interactive(show, **controls, **fixed)
+            widget.add_class("xnav-explore")
+            widget.out.add_class("xnav-output")
+            widget.children = (*widget.children[:-1], status, widget.out)
+            self._widget = widget
         return self._widget
 
     def _repr_mimebundle_(self, include=None, exclude=None):
@@ -191,6 +258,34 @@ class Explorer:
             view = self.widget()._repr_mimebundle_()
             bundle.update({k: v for k, v in view.items() if k == _MIME_WIDGET})
         return bundle
+
+
+def error_line(exc):
+    """One readable line for an exception raised while drawing: ``error: <Type>: <message>``.
+
+    Parameters
+    ----------
+    exc : BaseException
+        The exception.
+
+    Returns
+    -------
+    str
+        ``"error: "``, the exception's class name and the first line of its message, at
+        most 300 characters (longer messages end in ``…``).
+
+    Examples
+    --------
+    >>> error_line(ValueError("size must be in [1, 100], got 500\\nmore detail"))
+    'error: ValueError: size must be in [1, 100], got 500'
+    >>> error_line(ZeroDivisionError())
+    'error: ZeroDivisionError'
+    """
+    lines = str(exc).strip().splitlines()
+    text = f"error: {type(exc).__name__}" + (f": {lines[0].strip()}" if lines else "")
+    if len(text) > _ERROR_MAX_CHARS:
+        text = text[:_ERROR_MAX_CHARS - 1] + "\u2026"
+    return text
 
 
 def explore(plot: Callable, *, main=None, initial=None, max_frames=12, dpi=80, **params):

@@ -1,0 +1,128 @@
+"""The test of the test: the JupyterLab checker fails on notebooks broken on purpose.
+
+Each notebook is written at test time into the server's root and checked exactly as a chapter
+is (``lab_driver.check_notebook``); each must be reported with the right problem. A widget
+whose function raises only for the second value the slider reaches, a figure that never
+changes and a cell that raises would all pass a test that only executes the notebook.
+"""
+
+import nbformat
+import pytest
+
+from .conftest import lab_driver
+
+HEAD = """\
+import numpy as np
+from matplotlib.figure import Figure
+from xnavlab.core.widgets import explore
+
+
+def curve(a=1.0, kind="sin"):
+    fig = Figure(figsize=(4, 2.5))
+    x = np.linspace(0.0, 6.0, 200)
+    fig.add_subplot().plot(x, (np.sin if kind == "sin" else np.cos)(a * x))
+    return fig
+"""
+
+# the scrubber's two frames are a = 1 and a = 5 and the widget opens at a = 1: the checker's
+# mouse click goes to a = 5 (fine), its key press one step back to a = 4, which raises
+RAISES = HEAD + """
+
+def fragile(a=1.0, kind="sin"):
+    if a == 4.0:
+        raise ValueError("a = 4 breaks this plot on purpose")
+    return curve(a, kind)
+
+
+explore(fragile, a=[1.0, 2.0, 3.0, 4.0, 5.0], kind=["sin", "cos"], max_frames=2)
+"""
+
+# the figure ignores the slider
+STUCK = HEAD + """
+
+def stuck(a=1.0):
+    return curve(1.0)
+
+
+explore(stuck, a=[1.0, 2.0, 3.0])
+"""
+
+# slow only at a = 2 (not a frame of the scrubber: frames a = 1 and 3, opens at a = 1): the
+# checker's key press reaches it, after a quick click to a = 3
+SLOW = HEAD + """
+import time
+
+
+def slow(a=1.0):
+    if a == 2.0:
+        time.sleep(1.6)
+    return curve(a)
+
+
+explore(slow, a=[1.0, 2.0, 3.0], max_frames=2)
+"""
+
+FAILS = HEAD + """
+explore(curve, a=[1.0, 2.0, 3.0])
+"""
+
+OK = HEAD + """
+explore(curve, a=[1.0, 2.0, 3.0], kind=["sin", "cos"])
+"""
+
+
+def write(root, name, *cells):
+    nb = nbformat.v4.new_notebook()
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3",
+                                 "language": "python"}
+    nb.cells = [nbformat.v4.new_code_cell(c) for c in cells]
+    nbformat.write(nb, root / name)
+    return name
+
+
+def test_a_good_notebook_passes(lab, lab_server, lab_root):
+    rep = lab_driver.check_notebook(lab, write(lab_root, "ok.ipynb", OK))
+    assert not rep.problems, rep.problems
+    assert [(r.how, r.before, r.after) for r in rep.redraws] == [
+        ("mouse", "2", "3"), ("key Home", "3", "1"), ("menu ArrowDown Enter", "sin", "cos")]
+    assert all(r.seconds is not None and r.error is None for r in rep.redraws)
+    assert all(r.busy_set for r in rep.redraws)  # the status line said "computing"
+    assert lab_server.kernels() == []  # the notebook's kernel was shut down
+
+
+def test_fails_when_the_widget_raises_for_one_slider_value(lab, lab_root):
+    rep = lab_driver.check_notebook(lab, write(lab_root, "raises.ipynb", RAISES))
+    first, second = rep.redraws[:2]
+    assert (first.before, first.after, first.error) == ("1", "5", None)  # the good value
+    assert second.after == "4"
+    # the widget shows one line, not a traceback, and the checker fails on it
+    assert second.error == "error: ValueError: a = 4 breaks this plot on purpose"
+    assert any("showed an error: error: ValueError: a = 4" in p for p in rep.problems), \
+        rep.problems
+
+
+def test_fails_when_the_figure_does_not_change(lab, lab_root):
+    rep = lab_driver.check_notebook(lab, write(lab_root, "stuck.ipynb", STUCK))
+    assert any("the figure did not change" in p for p in rep.problems), rep.problems
+
+
+def test_fails_when_a_redraw_is_slow_and_says_it_is_computing(lab, lab_root):
+    rep = lab_driver.check_notebook(lab, write(lab_root, "slow.ipynb", SLOW))
+    quick, slow = rep.redraws[:2]
+    assert (quick.after, quick.retry_seconds) == ("3", None)
+    assert slow.after == "2" and slow.seconds > 1.5 and slow.retry_seconds > 1.5
+    assert slow.busy_visible and not quick.busy_visible  # shown only after 0.3 s
+    assert any("redraw took" in p for p in rep.problems), rep.problems
+
+
+@pytest.mark.parametrize(
+    ("cells", "match"),
+    [
+        ((FAILS, "1 / 0"), "raised ZeroDivisionError"),
+        (("import xnavlab_no_such_module",), "raised ModuleNotFoundError"),
+        (("print('no widget here')",), "no live explore widget"),
+    ],
+)
+def test_fails_on_an_error_cell_or_a_missing_widget(lab, lab_root, cells, match):
+    rep = lab_driver.check_notebook(lab, write(lab_root, "cell.ipynb", *cells))
+    assert any(match in p for p in rep.problems), rep.problems

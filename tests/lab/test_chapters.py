@@ -1,0 +1,30 @@
+"""Every chapter, opened in JupyterLab in headless Chromium and used as a reader uses it.
+
+Run by ``make lab-test`` (after ``make test``'s static browser test). For each
+``book/NN_*.ipynb`` the test opens the chapter in JupyterLab, runs all cells ("Run All
+Cells"), waits for the kernel to go idle and fails on any error output; then it finds the
+chapter's first live ``xnavlab.core.widgets.explore`` widget, moves its main slider to two
+other values (a mouse click on the track, a key press) and a dropdown where there is one, and
+fails unless the figure changed each time within ``lab_driver.MAX_REDRAW_S`` (timed from the
+input event to the new figure painted). A screenshot of the widget after the moves goes to
+``_build/lab-screenshots/`` (override with ``XNAVLAB_LAB_SCREENSHOTS``); the run and redraw
+times are printed at the end and written to ``redraw-times.txt`` there.
+"""
+
+import pytest
+
+from .conftest import CHAPTERS, SHOTS, lab_driver
+
+
+def test_every_chapter_is_here():
+    assert len(CHAPTERS) >= 12, CHAPTERS
+
+
+@pytest.mark.parametrize("chapter", CHAPTERS)
+def test_chapter(chapter, lab, lab_server, lab_report):
+    rep = lab_driver.check_notebook(lab, chapter, SHOTS / chapter.replace(".ipynb", ".png"))
+    lab_report(rep)
+    problems = "\n".join(f"  - {p}" for p in rep.problems)
+    assert not rep.problems, f"{rep.summary()}\n{problems}"
+    assert sum(r.control == rep.redraws[0].control for r in rep.redraws) == 2
+    assert lab_server.kernels() == [], "the chapter's kernel is still running"
