@@ -156,3 +156,24 @@ def test_every_module_declares_all():
     missing = [m for m, p in MODULES.items()
                if not p.name.startswith("__main__") and "__all__" not in p.read_text()]
     assert not missing, missing
+
+
+#: Modules allowed over MAX_LINES, each with the reason (CONTRIBUTING.md repeats them).
+LONG_MODULES = {
+    # One numba compilation unit: the jitted helpers call each other and share one cache;
+    # split across modules, a change in one would not recompile the callers.
+    "xnavlab.mars.kernels": 1000,
+    # One state machine (the chunked, rolled-back reconfiguration loop, about 490 lines) plus
+    # the 100-line module docstring that documents the four detectors and the isolation rule.
+    "xnavlab.mars.fault_tolerance": 1050,
+    # Four filters of paper 002 (UKF, ASUKF, TDUKF, RKF) that share the sigma-point core and
+    # whose step functions are read side by side in chapter 10.
+    "xnavlab.robust.filters": 950,
+}
+MAX_LINES = 900
+
+
+def test_no_module_over_about_900_lines_without_a_reason():
+    long = {m: len(p.read_text().splitlines()) for m, p in MODULES.items()}
+    bad = [f"{m}: {n} lines" for m, n in long.items() if n > LONG_MODULES.get(m, MAX_LINES)]
+    assert not bad, "\n".join(bad)

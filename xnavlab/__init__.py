@@ -24,6 +24,7 @@ go in the next release.
 
 from xnavlab.compat import install as _install_compat
 
+#: The package version.
 __version__ = "0.2.0"
 
 __all__ = ["__version__"]

@@ -13,6 +13,8 @@ installs Debian's chromium when absent). For each HTML page of ``_build/html`` (
 - an error cell (a traceback in an output);
 - a kernel-free scrubber (``xnavlab.core.widgets``) that does not move.
 
+The API reference (``book/api/``) is among the pages and is checked like the chapters
+(``test_api_reference_was_built`` fails if one of its pages is missing from the build).
 A full-page screenshot of every page under ``book/`` is saved in ``_build/screenshots/``
 (override with ``XNAVLAB_SCREENSHOTS``).
 """
@@ -56,6 +58,14 @@ def browser():
 def test_book_was_built():
     assert PAGES, f"no HTML pages under {HTML}: run `make book`"
     assert any(p.startswith("book/") for p in PAGES), f"no chapter pages under {HTML}/book"
+
+
+def test_api_reference_was_built():
+    """Every page of the API reference (book/api/*.md) is built, so test_page opens it."""
+    api = [f"book/api/{p.stem}.html" for p in sorted((ROOT / "book" / "api").glob("*.md"))]
+    assert api, "no API reference pages under book/api/"
+    missing = [p for p in api if p not in PAGES]
+    assert not missing, f"API reference pages not built under {HTML}: {missing}"
 
 
 @pytest.mark.parametrize("page", PAGES)

@@ -15,14 +15,14 @@ module                 what it models
 ``sensors``            gyro assembly ``w_g = H w + b + v_g + f_g`` (3+1, skewed), star
                        tracker ``q_s = q (x) q_v + f_q``, fault locations and sizes
 ``ekf``                the 7-state additive-quaternion EKF ``[q; b]``: pure steps and
-                       :class:`AttitudeEKF`
+                       :class:`~.ekf.AttitudeEKF`
 ``sos``                SOS residuals: drift estimates and the skewed-gyro hardware parity
 ``dos``                the DOS bank: gyro groups, rate matrices, residuals
 ``differentiation``    quaternion differentiation (ref. [22]): star-tracker rate vs gyros
 ``diagnosis``          fault tables, the decision rules of SOS, DOS and ref. [22], and the
-                       shared threshold logic (:func:`diagnose`)
-``simulation``         :class:`SimConfig`, :func:`simulate` (one run) and the batched
-                       building blocks
+                       shared threshold logic (:func:`~.diagnosis.diagnose`)
+``simulation``         :class:`~.simulation.SimConfig`, :func:`~.simulation.simulate` (one run)
+                       and the batched building blocks
 ``monitors``           SOS and DOS on board, one sample at a time, and their timing
 ``montecarlo``         isolation statistics over fault location, kind and size
 ``plots``              the chapter's figures

@@ -80,7 +80,7 @@ class SOSMonitor:
         """Process one gyro sample (4,) and star-tracker quaternion (4,); residuals (4,).
 
         The gyro sample of step ``k`` drives the prediction to ``k + 1``, as in
-        :func:`simulate`.
+        :func:`~.simulation.simulate`.
         """
         wg = check_sample("omega_g", omega_g, 4)
         f = self.filters[0]
@@ -95,7 +95,7 @@ class SOSMonitor:
 
 
 class DOSMonitor(SOSMonitor):
-    """DOS on board: four EKFs, filter ``j`` fed by the gyros of :data:`DOS_GROUPS` ``[j]``.
+    """DOS on board: four EKFs, filter ``j`` fed by the gyros of :data:`~.dos.DOS_GROUPS` ``[j]``.
 
     Parameters
     ----------
@@ -144,7 +144,7 @@ def time_sos_dos(n_steps=500, repeats=3, config=None, rng=None):
     """Measured cost per sample of :class:`DOSMonitor` against :class:`SOSMonitor`.
 
     Both run on the same simulated data in this process; each is timed with
-    :func:`time.perf_counter` over ``n_steps`` samples, ``repeats`` times alternately,
+    :func:`!time.perf_counter` over ``n_steps`` samples, ``repeats`` times alternately,
     and the fastest repeat is kept (the least disturbed by the machine).
 
     Parameters

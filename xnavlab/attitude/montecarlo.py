@@ -58,14 +58,14 @@ def isolation_monte_carlo(
     n_runs : int
         Runs per case, >= 1.
     locations : sequence of str
-        Subset of :data:`LOCATIONS`.
+        Subset of :data:`~.sensors.LOCATIONS`.
     kinds : sequence of {"step", "ramp"}
     sizes : sequence of float
-        Multiples of :data:`DEFAULT_MAGNITUDES`, > 0.
+        Multiples of :data:`~.sensors.DEFAULT_MAGNITUDES`, > 0.
     onset : float
         Fault onset, s (after ``config.t_cal[1]``).
     config : SimConfig, optional
-        Default: :class:`SimConfig` with ``duration = onset + 30``.
+        Default: :class:`~.simulation.SimConfig` with ``duration = onset + 30``.
     rng : numpy.random.Generator or int, optional
 
     Returns

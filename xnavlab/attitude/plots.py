@@ -98,11 +98,11 @@ def plot_fault_case(location="gyro_x", kind="ramp", size=10.0, n_sigma=5.0, *, r
     location : {"gyro_x", "gyro_y", "gyro_z", "gyro_skew", "star_tracker"}
     kind : {"step", "ramp"}
     size : float
-        Multiple of the reference size :data:`DEFAULT_MAGNITUDES` of ``(sensor, kind)``, > 0.
+        Multiple of the reference size :data:`~.sensors.DEFAULT_MAGNITUDES` of ``(sensor, kind)``, > 0.
     n_sigma : float
-        Threshold multiplier of :func:`simulate`, > 0.
+        Threshold multiplier of :func:`~.simulation.simulate`, > 0.
     rng : numpy.random.Generator or int, optional
-        Seed of the sensor noise (default 0, as :func:`simulate`).
+        Seed of the sensor noise (default 0, as :func:`~.simulation.simulate`).
 
     Returns
     -------

@@ -82,7 +82,7 @@ class SimConfig:
     q0 : tuple of 4 float
         Initial true attitude.
     omega_orbit_deg_s, wobble_deg_s, wobble_period : float
-        Truth motion, see :func:`truth_rate`.
+        Truth motion, see :func:`~.motion.truth_rate`.
     drift_walk_deg_per_h_sqrt_s : float
         Filter drift random walk, deg/h per sqrt(s) (default 1): sets how fast the drift
         estimates follow a change (time constant ~2 s at 10 Hz).
@@ -174,7 +174,7 @@ class AttitudeRun:
     config : SimConfig
     faults : tuple of Fault
     truth : str
-        Faulty sensor (a :data:`LOCATIONS` entry) or ``"none"``.
+        Faulty sensor (a :data:`~.sensors.LOCATIONS` entry) or ``"none"``.
     onset : float
         Earliest fault onset, s (``inf`` without faults).
     w_true, q_true : ndarray, shapes (n, 3), (n, 4)
@@ -244,7 +244,7 @@ def simulate(faults=(), config=None, *, rng=None, **changes):
     Parameters
     ----------
     faults : Fault or sequence of Fault
-        From :func:`make_fault` (sensors ``"gyro"`` and ``"star_tracker"``).
+        From :func:`~.sensors.make_fault` (sensors ``"gyro"`` and ``"star_tracker"``).
     config : SimConfig, optional
         Settings (default :class:`SimConfig`).
     rng : numpy.random.Generator or int, optional

@@ -11,6 +11,7 @@ from xnavlab.cli import UsageError
 
 __all__ = ["HELP", "configure", "execute"]
 
+#: One-line help of the command (``python -m xnavlab --help``).
 HELP = "run a registered paper reproduction"
 
 

@@ -14,7 +14,10 @@ module                 what it models
 ``scenarios``          the paper's 30-day scenario and the federated run (chapters 5-6)
 ``kernels``            the compiled (numba) filter loop behind ``scenarios.run``
 ``fault_tolerance``    fault schedules, detection, isolation, re-admission (chapters 8-9)
+``innovations``        innovations against the master: propagation, whitening, XNAV wavelet
+``plots``              the figures behind the sliders of chapters 5, 6 and 8
 ``trials``             Monte Carlo trials of the detectors on the Mars run (chapter 9)
+``campaigns``          the Mars campaigns of ``python -m xnavlab campaign`` (chapter 13)
 =====================  ===================================================================
 
 It imports the core (:mod:`xnavlab.core`) and no other system.

@@ -94,6 +94,7 @@ OMEGA_IE = 7.292_115e-5
 STATE_NAMES = (
     "phi_E", "phi_N", "phi_U", "dv_E", "dv_N", "dv_U", "dlat", "dlon", "dh", "drho",
 )
+#: Number of error states (``len(STATE_NAMES)``).
 N_STATES = 10
 
 _G_EQ = 9.780_325_335_9  # WGS-84 normal gravity at the equator, m/s^2

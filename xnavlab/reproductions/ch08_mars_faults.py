@@ -30,6 +30,7 @@ __all__ = ["PAPER_MAX_ERROR_FAULTS_M", "PAPER_POSITION_ERROR_M", "PAPER_VELOCITY
 PAPER_MAX_ERROR_FAULTS_M = 4000.0
 #: Fig. 4: with wavelet detection and reconfiguration.
 PAPER_POSITION_ERROR_M = 36.587
+#: Fig. 4: the velocity error with wavelet detection and reconfiguration, m/s.
 PAPER_VELOCITY_ERROR_MPS = 0.02293
 
 #: A schedule with onsets the paper does not use (s since the start), for a 3-day check.
@@ -101,11 +102,11 @@ def plot_details(t_days, x, details, onsets_days=(), *, stride=20, title=""):
     x : ndarray, shape (N,)
         The series, m (plotted in km).
     details : ndarray, shape (J, N)
-        From :func:`xnavlab.core.detection.detail_signals`, m.
+        From :func:`xnavlab.core.detection.detail_signals <xnavlab.core.detection.mallat.detail_signals>`, m.
     onsets_days : sequence of float
         Fault onsets, days (dashed lines).
     stride : int
-        Plot every ``stride``-th sample of the series and the max |D| over each stride.
+        Plot every ``stride``-th sample of the series and the max ``|D|`` over each stride.
     """
     stride = max(1, int(stride))
     J = details.shape[0]

@@ -5,7 +5,8 @@ Kalman filter" (our copy lost most equations, the fault definitions (38)-(40) an
 thresholds). Figures 3-6 and the 4x cost claim are reproduced qualitatively: which
 residuals cross, the isolation verdict, the detection delay of the skew ramp, and the
 measured cost ratio. Fault sizes and thresholds are ours (see
-:data:`xnavlab.attitude.DEFAULT_MAGNITUDES` and :class:`xnavlab.attitude.SimConfig`)
+:data:`xnavlab.attitude.DEFAULT_MAGNITUDES <xnavlab.attitude.sensors.DEFAULT_MAGNITUDES>`
+and :class:`xnavlab.attitude.SimConfig <xnavlab.attitude.simulation.SimConfig>`)
 and were fixed before looking at the outcome.
 """
 
@@ -20,7 +21,9 @@ from xnavlab.reproduce import Result, check_range, check_true, figure, register
 
 __all__ = ["PAPER", "SOURCE", "CHAPTER", "crossed_after_onset"]
 
+#: The source paper, as the registered reproductions name it.
 SOURCE = "Li, Niu, Shao & Shen, attitude-sensor fault diagnosis with one Kalman filter"
+#: The chapter that shows these reproductions.
 CHAPTER = "11_attitude_sos"
 
 #: What the paper states (section 4), as far as our copy shows it.

@@ -1,7 +1,8 @@
 """Companion paper 001 (Jin, Song, Qiu & Wang 2011): PL/INS fault diagnosis with fuzzy parity.
 
 Two reproductions, both on the paper's flight (200 s north from 39 N, 116 E at 10 km,
-100 to 200 m/s, window ``s = 11``) simulated by :func:`xnavlab.plins.parity.diagnose_flight`:
+100 to 200 m/s, window ``s = 11``) simulated by
+:func:`xnavlab.plins.parity.diagnose_flight <xnavlab.plins.parity.diagnosis.diagnose_flight>`:
 
 ``plins-step`` (Figs. 2-3)
     Steps on three pseudoranges at once from t = 50 s: detected at the onset, the

@@ -16,7 +16,7 @@ module                 what it models
                        their threshold (eqs. 15-22, 25-26)
 ``identification``     fault models, onset search, the random-walk Kalman filter that
                        identifies the fault parameters (eqs. 23-24, 27-28)
-``diagnosis``          the whole flight (:func:`diagnose_flight`), the chi-square
+``diagnosis``          the whole flight (:func:`~.diagnosis.diagnose_flight`), the chi-square
                        comparison detector, detection rates by fault size
 ``plots``              the chapter's figure
 =====================  ===================================================================

@@ -359,7 +359,7 @@ def diagnose_flight(faults=(), *, model="step", s=11, threshold=None, sigma=_pl.
     s : int
         Window length minus one, in [2, 60] (paper: 11).
     threshold : float, optional
-        ``r_t`` in metres (default :func:`residual_threshold` at ``p_fa``).
+        ``r_t`` in metres (default :func:`~.space.residual_threshold` at ``p_fa``).
     sigma : float
         Pseudorange noise, m, > 0 (default 2 m, see :mod:`xnavlab.plins.pseudolites`).
     p_fa : float
@@ -370,7 +370,7 @@ def diagnose_flight(faults=(), *, model="step", s=11, threshold=None, sigma=_pl.
     n_points : int
         Number of T-S operating points.
     time_origin : {"absolute", "onset"}
-        Reading of ``t`` in a ramp ``a t + b`` (:func:`fault_signature`).
+        Reading of ``t`` in a ramp ``a t + b`` (:func:`~.identification.fault_signature`).
     seed : int or numpy.random.Generator
         Seed of INS errors and pseudorange noise.
     dt, duration : float

@@ -17,8 +17,8 @@ def plot_diagnosis(diag, axes=None):
 
     Parameters
     ----------
-    diag : Diagnosis
-        From :func:`diagnose_flight`.
+    diag : ~xnavlab.plins.parity.diagnosis.Diagnosis
+        From :func:`~.diagnosis.diagnose_flight`.
     axes : sequence of 2 matplotlib Axes, optional
         Where to draw (a new figure when omitted).
 

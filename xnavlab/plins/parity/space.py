@@ -284,7 +284,7 @@ def blended_bases(weights, bases):
     Parameters
     ----------
     weights : array_like, shape (n, N)
-        Memberships of each sample (:func:`memberships`).
+        Memberships of each sample (:func:`~.fuzzy.memberships`).
     bases : array_like, shape (N, m, p, q)
         Aligned parity bases of each local model and sensor.
 
