@@ -197,10 +197,10 @@ class Explorer:
     def widget(self):
         """The live ``ipywidgets.interactive`` (built once), ``continuous_update=False``.
 
-        Below the controls sits the status line (:attr:`status`, ``computing…`` during a
+        Below the controls sits the status line (attribute ``status``, ``computing…`` during a
         redraw), then the figure. An exception raised by ``plot`` (or ``plot`` not returning a
         Figure) shows :func:`error_line` in place of the figure and is kept in
-        :attr:`last_error`; the widget stays usable.
+        attribute ``last_error``; the widget stays usable.
         """
         if self._widget is None:
             import html
