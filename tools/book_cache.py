@@ -7,6 +7,11 @@ every file under ``xnavlab/`` plus ``environment.txt`` and ``pyproject.toml`` be
 and deletes the cache when it differs: after a change to the package every chapter runs again
 (conservative, and simple to reason about); after a change to one chapter, only that one.
 
+Deleting the execution cache alone is not enough: Sphinx keeps its own environment
+(``_build/.doctrees``) and re-reads only the documents whose *source* changed, so a chapter
+whose notebook did not change would keep its old outputs. The environment and the executed
+copies (``_build/jupyter_execute``) go with the cache.
+
 Usage: ``python tools/book_cache.py [--clear]`` from the repository root.
 """
 
@@ -17,6 +22,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 CACHE = ROOT / "_build" / ".jupyter_cache"
+#: What must go with the execution cache so that every chapter is read (and executed) again.
+DEPENDENT = (ROOT / "_build" / ".doctrees", ROOT / "_build" / "jupyter_execute")
 STAMP = ROOT / "_build" / ".jupyter_cache.xnavlab-sha256"
 
 
@@ -39,6 +46,8 @@ def main(argv):
             why = "asked to" if "--clear" in argv else "xnavlab/ or the environment changed"
             print(f"book cache: cleared ({why}); every chapter executes", file=sys.stderr)
             shutil.rmtree(CACHE)
+        for path in DEPENDENT:
+            shutil.rmtree(path, ignore_errors=True)
         STAMP.parent.mkdir(parents=True, exist_ok=True)
         STAMP.write_text(digest + "\n")
     return 0
