@@ -6,6 +6,7 @@ module                   what it models
 ``ephemeris_error``      the DE421 - DE405 ephemeris error, orbits about Earth or Mars, the
                          XNAV measurements that see the error (chapter 10)
 ``filters``              UKF, ASUKF, TDUKF and the robust Kalman filter (RKF)
+``plots``                the figure behind chapter 10's slider
 =======================  =================================================================
 
 The filters' public names are re-exported here (``from xnavlab import robust``).
