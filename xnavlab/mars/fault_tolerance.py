@@ -644,14 +644,7 @@ class _Loop:
                 kernel(a, b)
                 self.out[ix] = True
             if b < inp.n:
-                self._decide(b)
-                b2 = self._next_boundary(b)
-                active[b + 1:b2 + 1] = ~self.out
-                for k, i in self.onset_epochs[self._oj:]:
-                    if k > b2:
-                        break
-                    if k > b:           # a detected onset inside the coming chunk
-                        active[k:b2 + 1, i] = False
+                self._plan_chunk(b, active)
             a = b
         wall = time.perf_counter() - t_start
         sel = rec_pos[inp.record]
@@ -759,6 +752,18 @@ class _Loop:
         nis = self.out_arr["nis"][k[hi - self.win[s]:hi], i]
         return bool(np.nansum(nis) < self.readmit_thr[s])
 
+    def _plan_chunk(self, b, active):
+        """Decide at epoch ``b`` and mask the coming chunk ``(b, next boundary]``: the
+        switched-out subsystems, and each detected onset inside it from its epoch on."""
+        self._decide(b)
+        b2 = self._next_boundary(b)
+        active[b + 1:b2 + 1] = ~self.out
+        for k, i in self.onset_epochs[self._oj:]:
+            if k > b2:
+                break
+            if k > b:           # a detected onset inside the coming chunk
+                active[k:b2 + 1, i] = False
+
     # -- the combined detector: innovations of every subsystem, monitors, rollback
     #: Epochs per speculative chunk of the combined run (a rollback reruns at most this many).
     HORIZON_COMBINED = 1800
@@ -828,14 +833,7 @@ class _Loop:
                     self.out[self.subs.index(s)] = True
                     self.out_since[s] = e
             if b < inp.n:
-                self._decide(b)
-                b2 = self._next_boundary(b)
-                active[b + 1:b2 + 1] = ~self.out
-                for k, i in self.onset_epochs[self._oj:]:
-                    if k > b2:
-                        break
-                    if k > b:
-                        active[k:b2 + 1, i] = False
+                self._plan_chunk(b, active)
             a = b
         wall = time.perf_counter() - t_start
         sel = rec_pos[rec]
