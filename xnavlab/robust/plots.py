@@ -54,7 +54,9 @@ def plot_filter_comparison(size=5000.0, eps=100.0, pulsar_set="paper: B0531+21, 
     check_choice("pulsar_set", pulsar_set, tuple(PULSAR_SETS))
     out = filters.compare_filters("mars", error="growing", size=size, eps=eps,
                                   pulsar_names=PULSAR_SETS[pulsar_set], seeds=(0,))
-    fig = Figure(figsize=(11, 3.4), layout="constrained")
+    # fixed margins, not the constrained layout: the live slider redraws this at every move
+    fig = Figure(figsize=(11, 3.4))
+    fig.subplots_adjust(left=0.07, right=0.99, bottom=0.14, top=0.91, wspace=0.25)
     ax1, ax2 = fig.subplots(1, 2, width_ratios=[3, 1])
     for f, err in out["error"].items():
         ax1.semilogy(out["tau"], err, lw=1, label=FILTER_NAMES[f])
