@@ -77,3 +77,14 @@ def test_mars_trial_detects_the_uv_step():
 def test_bad_input_names_the_parameter(call, name):
     with pytest.raises(ValueError, match=name):
         call()
+
+
+def test_markdown_table_formats_and_checks_columns():
+    from xnavlab.core.plotting import markdown_table
+
+    text = markdown_table([{"a": 1, "b": 2.0 / 3.0}], ["a", "b"], digits=2)
+    assert text.splitlines() == ["| a | b |", "|---|---|", "| 1 | 0.67 |"]
+    with pytest.raises(ValueError, match="missing"):
+        markdown_table([{"a": 1}], ["a", "b"])
+    with pytest.raises(ValueError, match="digits"):
+        markdown_table([], ["a"], digits=0)
