@@ -493,9 +493,8 @@ def run_fault_tolerant(scenario=None, faults=(), detector="wavelet", *, inputs=N
             check_choice("readmit_samples key", k, scenarios.SUBSYSTEMS)
             win[k] = check_int(f"readmit_samples[{k!r}]", v, 1)
     loop = _Loop(faulty, faults, detector, pfa, alpha, train_days, win, readmit_alpha, xnav_level,
-                 xnav_holdoff, check_every, rate_per_day, adaptive)
+                 xnav_holdoff, check_every, rate_per_day, adaptive, arm_s)
     loop.readmit = readmit
-    loop.arm_s = arm_s
     res = loop.run_combined() if detector == "combined" else loop.run()
     return FaultTolerantRun(res, faults, detector, loop.events(), ~loop.active,
                             loop.detection_data, time.perf_counter() - t_start)
@@ -505,10 +504,10 @@ class _Loop:
     """The closed loop: numba kernel in chunks, decisions at chunk boundaries."""
 
     def __init__(self, inp, faults, detector, pfa, alpha, train_days, win, readmit_alpha, xnav_level,
-                 xnav_holdoff, check_every, rate_per_day=1.0, adaptive=True):
+                 xnav_holdoff, check_every, rate_per_day=1.0, adaptive=True, arm_s=0.0):
         self.inp, self.detector, self.faults = inp, detector, faults
         self.readmit = "quiet"
-        self.arm_s = 0.0           # combined: innovations before t0 + arm_s are not tested
+        self.arm_s = arm_s         # combined: innovations before t0 + arm_s are not tested
         sc = inp.scenario
         self.subs = sc.subsystems
         self.ns = len(self.subs)
@@ -697,16 +696,21 @@ class _Loop:
         """Normalised XNAV innovations at epochs e against the master predicted from e - 2."""
         inp, xs = self.inp, self.xnav
         r = self.rec_pos[np.maximum(e - 2, 0)]
-        x = self.rx[r]
         dt = inp.times[e] - inp.times[np.maximum(e - 2, 0)]
-        x = innovations.two_body_taylor(x, dt[:, None])
-        j = inp.meas_idx[e, self.subs.index("xnav")]
-        zp = sensors.xnav_h(x, inp.xnav_bodies[0][j], inp.xnav_bodies[1][j], xs.n,
-                            xs.distance)                                # paper eq. (1)
-        Prr = self.rP[r][:, :3, :3]
+        nu, Prr = self._xnav_residual(r, dt, inp.meas_idx[e, self.subs.index("xnav")])
         # diag(H P H^T + R) with H ~ n^T / c (the other terms of eq. (4) are 1e-4 of it)
         S = np.einsum("ki,mij,kj->mk", xs.n, Prr, xs.n) / C**2 + xs.sigma**2
-        return (inp.z["xnav"][j] - zp) / np.sqrt(S)
+        return nu / np.sqrt(S)
+
+    def _xnav_residual(self, r, dt, j):
+        """XNAV innovations ``z - h(x)`` (N, m), s, of the measurements ``j`` against the master
+        records ``r`` propagated by ``dt`` (N,) s, and those records' position covariances
+        (N, 3, 3), m^2."""
+        inp, xs = self.inp, self.xnav
+        x = innovations.two_body_taylor(self.rx[r], dt[:, None])
+        zp = sensors.xnav_h(x, inp.xnav_bodies[0][j], inp.xnav_bodies[1][j], xs.n,
+                            xs.distance)                                # paper eq. (1)
+        return inp.z["xnav"][j] - zp, self.rP[r][:, :3, :3]
 
     def _decide(self, c):
         """Epochs < c are done (active[c] is spent): set each subsystem's state from c + 1."""
@@ -763,6 +767,12 @@ class _Loop:
                 break
             if k > b:           # a detected onset inside the coming chunk
                 active[k:b2 + 1, i] = False
+
+    def _since_start(self, events, prefix=""):
+        """Events with times in s since the start of the run (the trackers keep absolute t)."""
+        t0 = self.t0
+        return [Event(e.onset - t0, e.end - t0, e.cleared - t0, e.peak, prefix + e.test)
+                for e in events]
 
     # -- the combined detector: innovations of every subsystem, monitors, rollback
     #: Epochs per speculative chunk of the combined run (a rollback reruns at most this many).
@@ -925,23 +935,20 @@ class _Loop:
         k = self.k_of[s][js]
         r = np.searchsorted(self.rows, np.maximum(k - 2, 0), side="right") - 1
         dt = inp.times[k] - inp.times[self.rows[r]]
-        z = inp.z[s][js]
         if s in ("uv", "cns"):
             sen = inp.sensors[s]
-            if s == "uv":
-                args = (0, np.zeros((1, 3)), sen.sigma_range, sen.sigma_dir)
-                y = np.empty((js.size, 3))
+            if s == "uv":     # kind, star directions (unused), the two noise sigmas, components
+                kind, stars, sig_a, sig_b, m = 0, np.zeros((1, 3)), sen.sigma_range, sen.sigma_dir, 3
             else:
-                args = (1, sen.star_dirs, sen.sigma_star, sen.sigma_horizon)
-                y = np.empty((js.size, sen.dim))
-            innovations.whiten_optical(args[0], self.rx[r], self.rP[r], dt, np.ascontiguousarray(z),
-                            args[1], args[2], args[3], GM_MARS, y)
+                kind, stars, sig_a, sig_b, m = (1, sen.star_dirs, sen.sigma_star, sen.sigma_horizon,
+                                                sen.dim)
+            y = np.empty((js.size, m))
+            innovations.whiten_optical(kind, self.rx[r], self.rP[r], dt,
+                                       np.ascontiguousarray(inp.z[s][js]), stars, sig_a, sig_b,
+                                       GM_MARS, y)
             return y
-        x = innovations.two_body_taylor(self.rx[r], dt[:, None])
-        Prr = self.rP[r][:, :3, :3]
+        nu, Prr = self._xnav_residual(r, dt, js)
         xs = self.xnav
-        nu = z - sensors.xnav_h(x, inp.xnav_bodies[0][js], inp.xnav_bodies[1][js], xs.n,
-                                xs.distance)                          # paper eq. (1)
         Hx = xs.n / C                 # H ~ n^T / c (the other terms of eq. (4) are 1e-4 of it)
         S = np.einsum("ki,nij,lj->nkl", Hx, Prr, Hx) + np.diag(xs.sigma**2)  # H P H^T + R
         L = np.linalg.cholesky(S)
@@ -985,11 +992,9 @@ class _Loop:
         ev = {}
         for s in self.subs:
             parts = list(self._events.get(s, []))
-            parts += [Event(e.onset - self.t0, e.end - self.t0, e.cleared - self.t0, e.peak,
-                            e.test) for e in self.mon[s].all_events()]
+            parts += self._since_start(self.mon[s].all_events())
             if s == "xnav" and self.xdet is not None:
-                parts += [Event(e.onset - self.t0, e.end - self.t0, e.cleared - self.t0, e.peak,
-                                "wavelet " + e.test) for e in self.xdet.tracker.all_events()]
+                parts += self._since_start(self.xdet.tracker.all_events(), "wavelet ")
             ev[s] = merge_events(parts)
         return ev
 
