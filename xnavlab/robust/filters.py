@@ -67,7 +67,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from xnavlab.core.filters import sigma_points, symmetrize, ukf_weights, unscented_transform
+from xnavlab.core.filters import joseph, sigma_points, symmetrize, ukf_weights, unscented_transform
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
 from xnavlab.robust import ephemeris_error as ee
 
@@ -556,9 +556,7 @@ def _joseph_update(x, P, y, H, Rd):
     S = symmetrize(H @ PHt + Rd)  # S = H P H^T + R_d
     K = np.linalg.solve(S, PHt.T).T  # K = P H^T S^-1
     nu = y - H @ x
-    A = np.eye(x.size) - K @ H
-    P1 = A @ P @ A.T + K @ Rd @ K.T  # P+ = (I - K H) P (I - K H)^T + K R_d K^T
-    return x + K @ nu, symmetrize(P1), nu
+    return x + K @ nu, joseph(P, K, H, Rd), nu  # P+ = (I - K H) P (I - K H)^T + K R_d K^T
 
 
 def rkf_gain(Pxz, Pzz, R, BB, eps):
