@@ -36,6 +36,7 @@ from pathlib import Path
 import numpy as np
 from scipy import stats
 
+from xnavlab.core import montecarlo
 from xnavlab.core.constants import DAY
 from xnavlab.core.faults import Fault
 from xnavlab.core.validate import check_choice, check_int, check_real
@@ -259,14 +260,11 @@ def detector_table(records):
         key = (r["fault_class"], r["sensor"], r["size_index"], r["detector"])
         cells.setdefault(key, []).append(r)
     rows = []
-    z = 1.959963984540054
+    z = 1.959963984540054                # two-sided 95 % normal quantile (RMS-ratio error)
     for (fc, s, si, det), rs in cells.items():
         n = len(rs)
         k = sum(bool(r["detected"]) for r in rs)
-        p = k / n
-        den = 1 + z * z / n                                        # Wilson score interval
-        c = (p + z * z / (2 * n)) / den
-        hw = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / den
+        pd_lo, pd_hi = montecarlo.wilson_interval(k, n)
         delays = [r["delay_s"] for r in rs if r["delay_s"] is not None]
         fa = sum(r["false_alarms"] for r in rs)
         armed = sum(r["armed_days"] for r in rs)
@@ -274,8 +272,7 @@ def detector_table(records):
         fa_hi = stats.chi2.ppf(0.975, 2 * fa + 2) / 2
         ratio = np.array([r["fused_rms_ratio"] for r in rs])
         row = {"fault_class": fc, "sensor": s, "size_index": si, "size": rs[0]["size"],
-               "detector": det, "trials": n, "pd": p, "pd_lo": max(0.0, c - hw),
-               "pd_hi": min(1.0, c + hw)}
+               "detector": det, "trials": n, "pd": k / n, "pd_lo": pd_lo, "pd_hi": pd_hi}
         for name, q in (("delay_median_s", 0.5), ("delay_p95_s", 0.95)):
             if delays:
                 lo, hi = _quantile_ci(delays, q)
