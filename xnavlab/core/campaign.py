@@ -86,7 +86,7 @@ __all__ = [
     "Campaign",
     "CampaignResult",
     "Store",
-    "jsonable",
+    "json_ready",
     "execute",
     "public_record",
     "run_campaign",
@@ -141,12 +141,15 @@ class Campaign:
     def header(self, seed):
         """The store's header for ``seed``: format, campaign name, trial, seed, parameters."""
         trial = f"{getattr(self.trial, '__module__', '?')}:{getattr(self.trial, '__qualname__', '?')}"
-        return jsonable({"format": FORMAT, "campaign": self.name, "trial": trial,
+        return json_ready({"format": FORMAT, "campaign": self.name, "trial": trial,
                          "seed": int(seed), "parameters": self.manifest})
 
 
-def jsonable(value):
+def json_ready(value):
     """``value`` as plain JSON types: dicts (str keys), lists, str, int, float, bool, None.
+
+    Strict, unlike :func:`xnavlab.reproduce.jsonable` (a lenient ``json.dumps`` fallback): a
+    campaign record must read back as it was written.
 
     Tuples and arrays become lists, numpy scalars Python numbers, non-finite floats ``None``.
 
@@ -157,7 +160,7 @@ def jsonable(value):
 
     Examples
     --------
-    >>> jsonable({"a": (1, np.float64(2.5)), "b": float("inf"), "c": np.arange(2)})
+    >>> json_ready({"a": (1, np.float64(2.5)), "b": float("inf"), "c": np.arange(2)})
     {'a': [1, 2.5], 'b': None, 'c': [0, 1]}
     """
     if value is None or isinstance(value, bool | str):
@@ -169,9 +172,9 @@ def jsonable(value):
     if isinstance(value, float):
         return value if math.isfinite(value) else None
     if isinstance(value, dict):
-        return {str(k): jsonable(v) for k, v in value.items()}
+        return {str(k): json_ready(v) for k, v in value.items()}
     if isinstance(value, list | tuple | np.ndarray):
-        return [jsonable(v) for v in (value.tolist() if isinstance(value, np.ndarray) else value)]
+        return [json_ready(v) for v in (value.tolist() if isinstance(value, np.ndarray) else value)]
     raise ValueError(f"metrics must hold JSON-ready values, got {type(value).__name__}")
 
 
@@ -198,7 +201,7 @@ def execute(trial, seed, params):
         result = trial(seed=seed, **params)
         if not isinstance(result, dict):
             raise ValueError(f"trial must return a dict, got {type(result).__name__}")
-        metrics = json.dumps(jsonable(result), allow_nan=False)
+        metrics = json.dumps(json_ready(result), allow_nan=False)
     except Exception as exc:  # noqa: BLE001 - any failure of a run is recorded, not raised
         error = _describe(exc)
     return {"metrics": metrics, "error": error, "elapsed_s": time.perf_counter() - t0,
@@ -581,7 +584,7 @@ def run_campaign(campaign, runs, *, seed=0, out=None, engine="local", workers=2,
     params = [campaign.params(i) for i in range(runs)]
     if not all(isinstance(p, dict) for p in params):
         raise ValueError("campaign.params(index) must return a dict of keyword arguments")
-    params = [jsonable(p) for p in params]
+    params = [json_ready(p) for p in params]
     store = Store(out, header) if out is not None else None
     t0 = time.perf_counter()
     try:
@@ -610,7 +613,7 @@ def run_campaign(campaign, runs, *, seed=0, out=None, engine="local", workers=2,
     result = CampaignResult(header, records, computed, reused, failed, attempts,
                             time.perf_counter() - t0)
     if campaign.summarise is not None:
-        result.summary = jsonable(campaign.summarise(result.runs()))
+        result.summary = json_ready(campaign.summarise(result.runs()))
     return result
 
 
