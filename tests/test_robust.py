@@ -10,6 +10,7 @@ from hypothesis.extra.numpy import arrays
 
 from xnavlab import reproduce
 from xnavlab import robust as rb
+from xnavlab.reproductions import ch10_ephemeris_error as ch10
 from xnavlab.robust import ephemeris_error as ee
 
 N = ee.directions()
@@ -244,9 +245,31 @@ def test_compare_filters():
         rb.compare_filters("mars", seeds=())
 
 
-@pytest.mark.parametrize("rid", ["ukf-vs-ephemeris-error", "rkf-earth", "rkf-mars", "rkf-sweep"])
+@pytest.mark.parametrize("rid", ["ukf-vs-ephemeris-error", "rkf-mars", "rkf-sweep", "rkf-residual-memory"])
 def test_reproductions_pass(rid):
     reproduce.run(rid).assert_passed()
+
+
+def test_rkf_earth_claims_the_decided_orders_of_the_paper():
+    """With the registered 32 seeds, RKF < ASUKF and TDUKF < ASUKF are claimed and pass; the order
+    of the RKF and the TDUKF is shown, not claimed (issue 12: undecided in our reconstruction)."""
+    res = reproduce.run("rkf-earth")
+    res.assert_passed()
+    rows = {c.name: c for c in res.checks}
+    for a, b in (("RKF", "ASUKF"), ("TDUKF", "ASUKF")):
+        c = rows[f"{a} better than {b} (paired RMSE difference, m)"]
+        assert c.claimed and c.passed, c
+    assert not rows["RKF better than TDUKF (paired RMSE difference, m)"].claimed
+
+
+def test_rkf_memory_sweep_checks_its_input_and_pairs_the_seeds():
+    out = ch10.rkf_memory_sweep((0.05,), seeds=(3,), body="mars", size=2000.0)
+    assert np.isinf(out["se"][0])                          # one seed: no standard error
+    runs = rb.compare_filters("mars", ("tdukf", "rkf"), error="growing", size=2000.0, seeds=(3,), lam=0.05)
+    assert out["diff"][0] == pytest.approx(runs["rmse"]["rkf"] - runs["rmse"]["tdukf"], rel=1e-12)
+    for bad in ((1.5,), (0.0,), ()):
+        with pytest.raises(ValueError, match="lams"):
+            ch10.rkf_memory_sweep(bad, seeds=(0,), body="mars", size=10.0)
 
 
 def test_growing_error_scenarios():
