@@ -450,7 +450,7 @@ def rkf_memory_sweep(lams=RKF_LAMBDAS, seeds=tuple(range(32)), body="earth", siz
 
 @register("rkf-residual-memory", title="The RKF's residual average: its memory against the TDUKF (Earth)",
           source=f"{_SOURCE}, eqs. (8)-(26) (lost) and Table 2", chapter=_CHAPTER)
-def rkf_residual_memory(out=None, lams=RKF_LAMBDAS, seeds=tuple(range(32))):
+def rkf_residual_memory(out=None, lams=RKF_LAMBDAS, seeds=tuple(range(16))):
     """Does any memory of the residual bias bound put the RKF ahead of the TDUKF (paper: yes)?"""
     sw = rkf_memory_sweep(lams, seeds)
     lams = sw["lams"]
