@@ -12,6 +12,8 @@ and its JSON-ready result aggregated by :func:`detector_table`.
     fault-free run of the same seed: detected, delay, false alarms, fused RMS ratio.
 :func:`detector_table`
     Aggregates such records per (class, sensor, size, detector) with Monte Carlo error bars.
+:func:`detection_limit`
+    What no detector can beat: the Neyman-Pearson bound on finding a fault within a window.
 
 Fault model of :func:`detector_trial`
     Sizes are in noise standard deviations of :func:`xnavlab.mars.fault_tolerance.sensor_sigma`
@@ -38,13 +40,14 @@ from scipy import stats
 
 from xnavlab.core import montecarlo
 from xnavlab.core.constants import DAY
+from xnavlab.core.detection import limits
 from xnavlab.core.faults import Fault
 from xnavlab.core.validate import check_choice, check_int, check_real
 from xnavlab.mars import fault_tolerance, scenarios
 
 __all__ = ["mars_trial", "FAULT_CLASSES", "SENSORS", "SIZES", "DETECTORS", "DURATIONS",
-           "fault_for", "detector_trial", "detector_trials", "detector_table", "marked_cells",
-           "load_detector_table", "TABLE_PATH"]
+           "fault_for", "detection_limit", "detector_trial", "detector_trials", "detector_table",
+           "marked_cells", "load_detector_table", "TABLE_PATH"]
 
 #: Fault classes of :func:`detector_trial` (:mod:`xnavlab.core.faults` kinds).
 FAULT_CLASSES = ("step", "ramp", "spike", "stuck", "noise")
@@ -113,6 +116,69 @@ def fault_for(fault_class, sensor, size, onset, scenario=None):
             raise ValueError(f"size of a noise fault must be a ratio > 1, got {size}")
         return Fault(sensor, "noise", sig * math.sqrt(size**2 - 1.0), onset, dur, comp)
     return Fault(sensor, fault_class, size * sig, onset, dur, comp)
+
+
+def _component_sigmas(sensor, scenario=None):
+    """Noise standard deviation of each component the fault of :func:`fault_for` touches."""
+    sc = scenario if scenario is not None else scenarios.MarsScenario()
+    if sensor == "uv":
+        return np.array([float(sc.sigma_range_m)])       # the range (component 0)
+    return np.asarray(sc.sensors()["xnav"].sigma, dtype=float)   # every pulsar's delay, s
+
+
+def detection_limit(fault_class, sensor, size, window_s=4000.0, rate_per_day=1.0, scenario=None):
+    """Upper bound on the probability that any detector finds a fault within ``window_s``.
+
+    The Neyman-Pearson limit of :mod:`xnavlab.core.detection.limits` for the fault of
+    :func:`fault_for`, from the samples inside ``min(window_s, duration)`` after the onset (the
+    first one a whole sample interval after it), at the window false-alarm probability of a
+    detector with ``rate_per_day`` on this subsystem. The innovations' prediction covariance
+    ``H P H^T`` is left out and the filter's absorption of a drift ignored: both only make
+    detection harder, so the bound stays an upper bound.
+
+    Parameters
+    ----------
+    fault_class : {"step", "ramp", "noise"}
+    sensor : {"uv", "xnav"}
+        The CNS fault is on the horizon sensor and enters every starlight angle through the
+        geometry; its limit is not computed here.
+    size : float
+        As in :func:`fault_for`.
+    window_s : float
+        Detection window after the onset, s, > 0.
+    rate_per_day : float
+        Design false alarms of the subsystem per day.
+
+    Returns
+    -------
+    float
+
+    Examples
+    --------
+    >>> round(detection_limit("noise", "xnav", 3.0), 2)      # 6 samples of 500 s in the fault
+    0.98
+    >>> detection_limit("step", "uv", 3.0) > 0.999
+    True
+    """
+    check_choice("fault_class", fault_class, ("step", "ramp", "noise"))
+    check_choice("sensor", sensor, ("uv", "xnav"))
+    size = check_real("size", size, 0.0, 1e5, lo_open=True)
+    window_s = check_real("window_s", window_s, 0.0, lo_open=True)
+    sc = scenario if scenario is not None else scenarios.MarsScenario()
+    f = fault_for(fault_class, sensor, size, 0.0, sc)
+    dt = sc.dt_uv if sensor == "uv" else sc.dt_xnav
+    n = int(min(window_s, f.duration) // dt)
+    if n < 1:
+        return 0.0
+    sig = _component_sigmas(sensor, sc)
+    alpha = limits.window_false_alarm(rate_per_day, DAY / dt, n)
+    if fault_class == "noise":
+        return limits.noise_pd_limit(np.sqrt(sig**2 + f.magnitude**2) / sig, n, alpha)
+    if fault_class == "ramp":
+        mu = limits.ramp_means(f.magnitude * dt / sig, n)
+    else:
+        mu = np.tile(f.magnitude / sig, (n, 1))
+    return limits.mean_shift_pd_limit(mu, alpha)
 
 
 def _reference(days, seed):

@@ -11,6 +11,8 @@ module                 what it holds
                        :class:`~.online.WaveletDetector` and batch :func:`~.online.wavelet_detect`
 ``singularity``        modulus maxima, Lipschitz exponents, the CWT (paper eqs. (7)-(8))
 ``chisquare``          the innovation chi-square baseline (:class:`~.chisquare.Chi2Detector`)
+``combined``           the combined detector: wavelet + chi-square + CUSUMs on innovations
+``limits``             Neyman-Pearson limits: the best detection probability of any detector
 ``plots``              the chapters' figures
 =====================  ===================================================================
 
@@ -22,6 +24,8 @@ from xnavlab.core.detection.chisquare import *  # noqa: F403
 from xnavlab.core.detection.chisquare import __all__ as _chisquare_all
 from xnavlab.core.detection.combined import *  # noqa: F403
 from xnavlab.core.detection.combined import __all__ as _combined_all
+from xnavlab.core.detection.limits import *  # noqa: F403
+from xnavlab.core.detection.limits import __all__ as _limits_all
 from xnavlab.core.detection.mallat import *  # noqa: F403
 from xnavlab.core.detection.mallat import __all__ as _mallat_all
 from xnavlab.core.detection.online import *  # noqa: F403
@@ -32,4 +36,4 @@ from xnavlab.core.detection.singularity import *  # noqa: F403
 from xnavlab.core.detection.singularity import __all__ as _singularity_all
 
 __all__ = [*_mallat_all, *_online_all, *_singularity_all, *_chisquare_all, *_combined_all,
-           *_plots_all]
+           *_limits_all, *_plots_all]
