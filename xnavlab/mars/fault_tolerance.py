@@ -793,6 +793,7 @@ class _Loop:
         x_epochs = self.k_of["xnav"] if "xnav" in self.subs else np.zeros(0, dtype=np.int64)
         rows = np.union1d(np.union1d(inp.record, np.maximum(x_epochs - 2, 0)), [0])
         self.rows = rows
+        self._prop = None          # (epochs, propagated master positions) of the last whitening
         rec_pos = np.full(inp.n, -1, dtype=np.int64)
         rec_pos[rows] = np.arange(rows.size)
         rx, rP = np.zeros((rows.size, 6)), np.zeros((rows.size, 6, 6))
@@ -804,6 +805,7 @@ class _Loop:
         rec = inp.record
 
         def kernel(a, b):
+            self._prop = None      # the records change: no propagated positions carry over
             scenarios.run_kernel(inp, state, a, b, active, beta, gate, rec_pos,
                                  (rx, rP, rxl, rPl), out["nis"], out["flags"])
 
@@ -833,11 +835,15 @@ class _Loop:
             if target < b:
                 for arr, val in zip((xs, Ps, shares, xm, Pm), snap[0], strict=True):
                     arr[...] = val
-                self._restore_detectors(snap[1])
                 self.rollbacks += 1
                 b = target
                 kernel(a, b)
-                e, who = self._feed_combined(b if e is None or c is not None else e, snap[1])
+                if c is not None:
+                    self._restore_detectors(snap[1])
+                    e, who = self._feed_combined(b, snap[1])
+                # else (an alarm at e): the rerun to e - 1 repeats the kernel's steps exactly,
+                # so the innovations up to e, which the detectors have already judged, are the
+                # same; their state stands
             if e is not None and e == b + 1:
                 for s in who:
                     self.out[self.subs.index(s)] = True
@@ -943,9 +949,8 @@ class _Loop:
                 kind, stars, sig_a, sig_b, m = (1, sen.star_dirs, sen.sigma_star, sen.sigma_horizon,
                                                 sen.dim)
             y = np.empty((js.size, m))
-            innovations.whiten_optical(kind, self.rx[r], self.rP[r], dt,
-                                       np.ascontiguousarray(inp.z[s][js]), stars, sig_a, sig_b,
-                                       GM_MARS, y)
+            innovations.whiten_optical_at(kind, self._positions(k, r, dt), self.rP[r],
+                                          np.ascontiguousarray(inp.z[s][js]), stars, sig_a, sig_b, y)
             return y
         nu, Prr = self._xnav_residual(r, dt, js)
         xs = self.xnav
@@ -953,6 +958,17 @@ class _Loop:
         S = np.einsum("ki,nij,lj->nkl", Hx, Prr, Hx) + np.diag(xs.sigma**2)  # H P H^T + R
         L = np.linalg.cholesky(S)
         return np.linalg.solve(L, nu[..., None])[..., 0]
+
+    def _positions(self, k, r, dt):
+        """The master's positions propagated to the epochs ``k`` from record rows ``r`` by ``dt``
+        (N, 3); the last result is kept, since UV and CNS measure at the same epochs."""
+        last = self._prop
+        if last is not None and np.array_equal(last[0], k):
+            return last[1]
+        R = np.empty((k.size, 3))
+        innovations.propagate_positions(self.rx[r], dt, GM_MARS, R)
+        self._prop = (k, R)
+        return R
 
     def _first_readmission(self, a, b):
         """First epoch c of the ``check_every`` grid in (a, b] at which an isolated subsystem

@@ -33,7 +33,8 @@ from numba import njit
 from xnavlab.core.constants import GM_MARS
 from xnavlab.core.detection import EventTracker, causal_filters, threshold_multiplier
 
-__all__ = ["unit_sigma", "two_body_taylor", "kepler_rk4", "whiten_optical", "XnavInnovationWavelet"]
+__all__ = ["unit_sigma", "two_body_taylor", "kepler_rk4", "propagate_positions", "whiten_optical",
+           "whiten_optical_at", "XnavInnovationWavelet"]
 
 
 def unit_sigma(level, wavelet="db3"):
@@ -73,6 +74,19 @@ def kepler_rk4(w, dt, gm):
 
 
 @njit(cache=True)
+def propagate_positions(x, dt, gm, R):
+    """Positions (N, 3) of the Mars-centred states ``x`` (N, 6) after ``dt`` (N,) s, in place in
+    ``R`` (:func:`kepler_rk4`; the UV and CNS innovations of one epoch share them)."""
+    w = np.empty(6)
+    for n in range(x.shape[0]):
+        for i in range(6):
+            w[i] = x[n, i]
+        kepler_rk4(w, dt[n], gm)
+        for i in range(3):
+            R[n, i] = w[i]
+
+
+@njit(cache=True)
 def whiten_optical(kind, x, P, dt, z, stars, sig_a, sig_b, gm, y):
     """Whitened UV (kind 0) or CNS (kind 1) innovations, in place in ``y`` (N, m).
 
@@ -83,7 +97,15 @@ def whiten_optical(kind, x, P, dt, z, stars, sig_a, sig_b, gm, y):
     CNS: ``sig_a`` star, ``sig_b`` horizon noise (rad); ``y = L^-1 nu`` with
     ``L L^T = H P H^T + sigma_s^2 I + sigma_h^2 A A^T``.
     """
-    N = x.shape[0]
+    R = np.empty((x.shape[0], 3))
+    propagate_positions(x, dt, gm, R)
+    whiten_optical_at(kind, R, P, z, stars, sig_a, sig_b, y)
+
+
+@njit(cache=True)
+def whiten_optical_at(kind, R, P, z, stars, sig_a, sig_b, y):
+    """:func:`whiten_optical` from the propagated positions ``R`` (N, 3) (:func:`propagate_positions`)."""
+    N = R.shape[0]
     k = stars.shape[0]
     r = np.empty(3)
     u = np.empty(3)
@@ -92,13 +114,9 @@ def whiten_optical(kind, x, P, dt, z, stars, sig_a, sig_b, gm, y):
     L = np.zeros((k, k))
     nu = np.empty(k)
     g = np.empty(3)
-    w = np.empty(6)
     for n in range(N):
-        for i in range(6):
-            w[i] = x[n, i]
-        kepler_rk4(w, dt[n], gm)
         for i in range(3):
-            r[i] = w[i]
+            r[i] = R[n, i]
         rn = math.sqrt(r[0] ** 2 + r[1] ** 2 + r[2] ** 2)
         for i in range(3):
             u[i] = -r[i] / rn

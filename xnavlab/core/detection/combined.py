@@ -60,6 +60,7 @@ import functools
 import math
 
 import numpy as np
+from numba import njit
 from scipy import optimize, special, stats
 
 from xnavlab.core.detection.online import (
@@ -187,6 +188,48 @@ def cusum_threshold(arl, k, dof=0):
     while f(hi) < 0:
         hi *= 1.5
     return float(optimize.brentq(f, lo, hi, xtol=1e-4))
+
+
+@njit(cache=True)
+def _scan(y, scale, S0, k_mean, k_var, chi2_thr, h_mean, h_var, rmax, hit_ratio, S_end):
+    """Compiled form of :meth:`InnovationMonitor._segment` up to the first alarm.
+
+    The same operations in the same order as the array form (so the same bits): ``z = y / s``,
+    ``q = sum z^2``, running sums ``D`` of ``[z - k, -z - k, z^2 - k_v]``, their running minima
+    ``M``, ``S = D - min(-S_0, M)`` (Lindley), every statistic over its threshold. Fills
+    ``rmax`` (N,) with each sample's largest ratio, up to and including the first sample whose
+    largest ratio exceeds 1; then ``hit_ratio`` (1 + 3m,) holds that sample's ratios. Without
+    an alarm ``S_end`` (3m,) holds the final CUSUMs. Returns the alarm's index or -1.
+    """
+    n, m = y.shape
+    D = np.zeros(3 * m)
+    M = np.empty(3 * m)
+    z = np.empty(m)
+    row = np.empty(1 + 3 * m)
+    for i in range(n):
+        q = 0.0
+        for c in range(m):
+            z[c] = y[i, c] / scale[c]
+            q += z[c] * z[c]                                   # chapter 9 eq. (ch9-chi2)
+        for c in range(m):
+            D[c] += z[c] - k_mean                              # S+ increments
+            D[m + c] += -z[c] - k_mean                         # S- increments
+            D[2 * m + c] += z[c] * z[c] - k_var                # variance increments
+        best = q / chi2_thr
+        row[0] = best
+        for j in range(3 * m):
+            M[j] = D[j] if i == 0 else min(M[j], D[j])
+            S = D[j] - min(-S0[j], M[j])                       # S_n = D_n - min(-S_0, min D_j)
+            r = S / (h_mean if j < 2 * m else h_var)
+            row[1 + j] = r
+            S_end[j] = S
+            if r > best:
+                best = r
+        rmax[i] = best
+        if best > 1.0:
+            hit_ratio[:] = row
+            return i
+    return -1
 
 
 class CombinedDesign:
@@ -397,6 +440,14 @@ class InnovationMonitor(TrackedDetector):
         ratio[:, 1 + 2 * m:] = S[:, 2 * m:] / d.h_var
         return ratio, S
 
+    def _scan(self, y):
+        """:func:`_scan` of a segment: (alarm index or -1, rmax up to it, its ratios, final S)."""
+        d, n = self.design, y.shape[0]
+        rmax, row, S_end = np.empty(n), np.empty(1 + 3 * self.m), np.empty(3 * self.m)
+        a = _scan(np.ascontiguousarray(y), self.scale, self.S, d.k_mean, d.k_var, d.chi2_threshold,
+                  d.h_mean, d.h_var, rmax, row, S_end)
+        return a, rmax[:a + 1] if a >= 0 else rmax, row, S_end
+
     def process(self, t, y, *, stop=True, record=None):
         """Feed whitened innovations ``y`` (N, m) at times ``t`` (N,) s, in order.
 
@@ -422,17 +473,21 @@ class InnovationMonitor(TrackedDetector):
         seg = 2048            # segment length: short after an alarm (cheap restarts), doubling
         while i < n:
             j = min(n, i + max(1, self._next_update - self._n_fed), i + seg)
-            ratio, S = self._segment(y[i:j])
-            if ratios is not None:
+            if ratios is None:
+                a_rel, rmax, hit_row, S_end = self._scan(y[i:j])
+            else:
+                ratio, S = self._segment(y[i:j])
                 ratios[i:j] = ratio
-            rmax = ratio.max(axis=1)
-            hit = np.flatnonzero(rmax > 1.0)
-            if hit.size:
-                a = i + int(hit[0])
+                rmax = ratio.max(axis=1)
+                hit = np.flatnonzero(rmax > 1.0)
+                a_rel = int(hit[0]) if hit.size else -1
+                hit_row, S_end = (ratio[a_rel] if hit.size else None), S[-1]
+            if a_rel >= 0:
+                a = i + a_rel
                 seg = slice(i, a)          # the healthy samples before the alarm
-                self._feed_healthy(t[seg], y[seg], rmax[:a - i])
-                p = int(np.argmax(ratio[a - i]))
-                self._tracker.update(float(t[a]), True, float(ratio[a - i, p]), self._names[p])
+                self._feed_healthy(t[seg], y[seg], rmax[:a_rel])
+                p = int(np.argmax(hit_row))
+                self._tracker.update(float(t[a]), True, float(hit_row[p]), self._names[p])
                 self.reset_statistics()
                 if first < 0:
                     first = a
@@ -442,7 +497,7 @@ class InnovationMonitor(TrackedDetector):
                 seg = 32
                 continue
             seg = min(2048, 2 * seg)
-            self.S = S[-1].copy()
+            self.S = S_end.copy()
             self._feed_healthy(t[i:j], y[i:j], rmax)
             i = j
         if record is not None:
