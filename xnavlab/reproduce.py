@@ -40,6 +40,7 @@ __all__ = [
     "check_info",
     "results_table",
     "figure",
+    "save_figure",
     "jsonable",
 ]
 
@@ -225,6 +226,23 @@ class Reproduction:
 
 _REGISTRY: dict[str, Reproduction] = {}
 _LOADED = False
+
+
+def save_figure(fig, out, name):
+    """Lay out ``fig`` and write it as ``out / (name + ".png")`` at 100 dpi; return the path.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> fig, ax = figure()
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     save_figure(fig, d, "x").endswith("x.png")
+    True
+    """
+    fig.tight_layout()
+    path = Path(out) / f"{name}.png"
+    fig.savefig(path, dpi=100)
+    return str(path)
 
 
 def register(id, *, title, source, chapter):

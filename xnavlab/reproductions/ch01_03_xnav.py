@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from xnavlab.mars import pulsars
-from xnavlab.reproduce import Result, check_rel, figure, register
+from xnavlab.reproduce import Result, check_rel, figure, register, save_figure
 
 __all__: list[str] = []  # registers reproductions; exports nothing
 
@@ -49,9 +49,7 @@ def _figure(ours, out):
     ax.set_ylabel("ranging accuracy (m)")
     ax.set_yscale("log")
     ax.legend()
-    fig.tight_layout()
-    path = out / "xnav-ranging.png"
-    fig.savefig(path, dpi=100)
+    path = save_figure(fig, out, "xnav-ranging")
     return path
 
 

@@ -26,7 +26,7 @@ import numpy as np
 
 from xnavlab.core.constants import C
 from xnavlab.mars import dynamics, pulsars, scenarios, sensors
-from xnavlab.reproduce import Result, check_range, check_rel, check_true, register
+from xnavlab.reproduce import Result, check_range, check_rel, check_true, register, save_figure
 from xnavlab.reproduce import figure as _figure
 
 __all__ = ["PAPER_POSITION_ERROR_M", "PAPER_VELOCITY_ERROR_MPS", "PAPER_SENSORS",
@@ -191,8 +191,6 @@ def mars_nofault(out=None, days=30.0, seed=0, settle_days=1.0, mode="reset"):
         axes[1].axhline(PAPER_VELOCITY_ERROR_MPS, color="k", ls="--", lw=0.8)
         axes[1].set(xlabel="time (days)", ylabel="velocity error (m/s)")
         fig.suptitle("mars-nofault (Fan et al. 2016, Fig. 2)")
-        fig.tight_layout()
-        path = out / "mars-nofault.png"
-        fig.savefig(path, dpi=100)
+        path = save_figure(fig, out, "mars-nofault")
         result.figures.append(str(path))
     return result

@@ -18,7 +18,7 @@ import numpy as np
 from xnavlab import robust
 from xnavlab.core.constants import DAY
 from xnavlab.core.validate import check_real
-from xnavlab.reproduce import Result, check_info, check_range, check_rel, check_true, register
+from xnavlab.reproduce import Result, check_info, check_range, check_rel, check_true, register, save_figure
 from xnavlab.reproduce import figure as _figure
 from xnavlab.robust import ephemeris_error as ee
 
@@ -97,9 +97,7 @@ def ephemeris_error_repro(out=None, t0=ee.EPOCH_1997):
             ax.set_xlabel(f"time since 1997-01-01 ({unit})")
             ax.set_ylabel("|DE421 - DE405| (m)")
             ax.legend()
-        fig.tight_layout()
-        path = out / "ephemeris-error.png"
-        fig.savefig(path, dpi=100)
+        path = save_figure(fig, out, "ephemeris-error")
         res.figures.append(str(path))
     return res
 
@@ -259,9 +257,7 @@ def ukf_vs_ephemeris_error(out=None, sizes=(0.0, 250.0, 500.0, 750.0, 1000.0), s
         ax.set_xlabel("ephemeris error (m)")
         ax.set_ylabel("UKF position RMSE (m)")
         ax.legend()
-        fig.tight_layout()
-        path = out / "ukf-vs-ephemeris-error.png"
-        fig.savefig(path, dpi=100)
+        path = save_figure(fig, out, "ukf-vs-ephemeris-error")
         res.figures.append(str(path))
     return res
 
@@ -275,9 +271,7 @@ def _figure_runs(cmp, body, out, name):
     ax.set_xlabel("time (s)")
     ax.set_ylabel("position error (m)")
     ax.legend(ncol=4)
-    fig.tight_layout()
-    path = out / f"{name}.png"
-    fig.savefig(path, dpi=100)
+    path = save_figure(fig, out, f"{name}")
     return str(path)
 
 
@@ -489,9 +483,7 @@ def rkf_residual_memory(out=None, lams=RKF_LAMBDAS, seeds=tuple(range(16))):
         ax.set_xscale("log")
         ax.set_xlabel("weight of the current residual, lam")
         ax.set_ylabel("RMSE RKF - TDUKF (m), +- 2 SE")
-        fig.tight_layout()
-        path = out / "rkf-residual-memory.png"
-        fig.savefig(path, dpi=100)
+        path = save_figure(fig, out, "rkf-residual-memory")
         res.figures.append(str(path))
     return res
 
@@ -588,8 +580,6 @@ def rkf_sweep(out=None, sizes=(0.0, 1000.0, 1e4, 5e4), body="mars", seeds=(0,), 
         ax.set_xlabel("final ephemeris error (m)")
         ax.set_ylabel("position RMSE (m)")
         ax.legend()
-        fig.tight_layout()
-        path = out / "rkf-sweep.png"
-        fig.savefig(path, dpi=100)
+        path = save_figure(fig, out, "rkf-sweep")
         res.figures.append(str(path))
     return res

@@ -17,7 +17,7 @@ import math
 import numpy as np
 
 from xnavlab import attitude as att
-from xnavlab.reproduce import Result, check_range, check_true, figure, register
+from xnavlab.reproduce import Result, check_range, check_true, figure, register, save_figure
 
 __all__ = ["PAPER", "SOURCE", "CHAPTER", "crossed_after_onset"]
 
@@ -82,9 +82,7 @@ def _figure(run, out, name, method="sos"):
     m = 3 if method == "qdiff" else 4
     fig, axes = figure(m, 1, sharex=True, figsize=(7, 1.5 * m + 1), squeeze=False)
     att.plot_residuals(run, method, axes=axes[:, 0])
-    fig.tight_layout()
-    path = out / f"{name}.png"
-    fig.savefig(path, dpi=100)
+    path = save_figure(fig, out, f"{name}")
     return str(path)
 
 

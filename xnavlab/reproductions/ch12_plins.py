@@ -21,7 +21,7 @@ import numpy as np
 from xnavlab.core.faults import Fault
 from xnavlab.plins.parity import diagnose_flight
 from xnavlab.plins.pseudolites import DEFAULT_SIGMA, SENSOR
-from xnavlab.reproduce import Result, check_abs, check_range, check_rel, check_true, register
+from xnavlab.reproduce import Result, check_abs, check_range, check_rel, check_true, register, save_figure
 from xnavlab.reproduce import figure as _figure
 
 __all__: list[str] = []  # registers reproductions; exports nothing
@@ -200,9 +200,7 @@ def _fig2(d, out):
     ax.set_ylabel(r"global residual $\|r_j\|$ (m)")
     ax.set_title("Fig. 2: residuals with steps on PR1-PR3 from 50 s")
     ax.legend(fontsize=8, ncol=3)
-    fig.tight_layout()
-    path = out / "plins-fig2.png"
-    fig.savefig(path, dpi=100)
+    path = save_figure(fig, out, "plins-fig2")
     return path
 
 
@@ -216,9 +214,7 @@ def _fig3(d, sizes, out):
     ax.set_ylabel("identified step (m)")
     ax.set_title("Fig. 3: identified step sizes (dotted: injected)")
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    path = out / "plins-fig3.png"
-    fig.savefig(path, dpi=100)
+    path = save_figure(fig, out, "plins-fig3")
     return path
 
 
@@ -235,7 +231,5 @@ def _fig4(d, out):
         ax.set_ylabel(label)
         ax.legend(fontsize=8)
     fig.suptitle("Fig. 4: ramp f = a t + b on PR1 from 30 s")
-    fig.tight_layout()
-    path = out / "plins-fig4.png"
-    fig.savefig(path, dpi=100)
+    path = save_figure(fig, out, "plins-fig4")
     return path
