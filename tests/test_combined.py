@@ -196,3 +196,19 @@ def test_table_cells_recompute(table):
                                                     r["size_index"], r["detector"])
                        == (new["fault_class"], new["sensor"], new["size_index"], new["detector"]))
             assert row["pd_hi"] > 0.0 if new["detected"] else row["pd_lo"] < 1.0
+
+
+def test_drift_glr_is_the_matched_statistic_and_checks_its_input():
+    from xnavlab.core.detection import drift_glr
+
+    rng = np.random.default_rng(2)
+    y = rng.normal(size=300)
+    T = drift_glr(y, window=10)
+    np.testing.assert_allclose(drift_glr(-y, window=10), T)          # sign-free
+    n, L = 200, 7                                                    # one window by hand
+    c = np.arange(1.0, L + 1.0)
+    assert T[n] >= (c @ y[n - L + 1:n + 1]) ** 2 / (c @ c) - 1e-12
+    assert np.all(drift_glr(y, window=12) >= T - 1e-12)               # a longer window only adds
+    for bad, name in ((dict(y=np.ones((3, 2))), "y"), (dict(window=0), "window")):
+        with pytest.raises(ValueError, match=name):
+            drift_glr(**({"y": y, "window": 5} | bad))

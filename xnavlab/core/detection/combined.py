@@ -30,8 +30,10 @@ Sequential test: CUSUM, chosen by measurement
     sign (a bias adds ``delta`` to the statistic per sample, a chi-square window only
     ``delta^2``), and it has no window length to tune: it is Lorden-optimal for a shift of
     ``2 k`` and accumulates for as long as the evidence grows. A GLR over drift onsets and
-    slopes would be a little faster on pure ramps, at a cost growing with its window; the
-    CUSUM is one addition per sample.
+    slopes (:func:`drift_glr`) is the drift-matched test; at 500 s a sample the benchmark
+    measures it against the CUSUM at the same false-alarm rate on the 5-sigma/6000-s drift: it
+    finds about as many within 4000 s, a sample earlier in the median, at a cost growing with
+    its window; the CUSUM, one addition per sample, is kept.
 False-alarm budget
     The design rate ``F`` (false alarms per subsystem per day, default 1) is split into shares
     (:data:`SHARES`: wavelet 0.1, chi-square 0.2, CUSUM 0.5, variance 0.2). With ``N`` samples
@@ -82,6 +84,7 @@ __all__ = [
     "CombinedDesign",
     "InnovationMonitor",
     "combined_detect",
+    "drift_glr",
     "plot_combined_parts",
 ]
 
@@ -523,6 +526,49 @@ class InnovationMonitor(TrackedDetector):
         """Feed one whitened innovation ``y`` (m,); return whether it alarms."""
         y = check_finite_array("y", y, shape=(self.m,))
         return self.process(np.array([check_real("t", t)]), y[None, :]) == 0
+
+
+def drift_glr(y, window=16):
+    """Generalised likelihood-ratio statistic of a linear drift that started in the last ``window`` samples.
+
+    For unit white innovations ``y`` and a drift ``a j`` on the ``j``-th sample after an onset
+    ``L`` samples back (slope ``a`` unknown), twice the log-likelihood ratio maximised over ``a``
+    is ``(sum_j j y[n - L + j])^2 / sum_j j^2`` (``j = 1..L``); the statistic is its maximum over
+    ``L = 1..window`` (Basseville and Nikiforov 1993, section 2.4). It is the test a drift-only
+    detector would use; ``benchmarks/bench_detectors.py`` compares it with the CUSUM at the same
+    false-alarm rate.
+
+    Parameters
+    ----------
+    y : array_like, shape (N,)
+        Whitened innovations of one component.
+    window : int
+        Longest drift considered, samples, in [1, 10000].
+
+    Returns
+    -------
+    ndarray, shape (N,)
+        The statistic at each sample (a window reaching before the first sample is skipped).
+
+    Examples
+    --------
+    >>> y = np.r_[np.zeros(20), 0.5 * np.arange(1, 9)]
+    >>> T = drift_glr(y, window=8)
+    >>> bool(T[:20].max() == 0.0), round(float(T[-1]), 2)   # 0.5^2 * sum_j j^2 = 51
+    (True, 51.0)
+    """
+    y = check_finite_array("y", y)
+    if y.ndim != 1:
+        raise ValueError(f"y must be a 1-D array, got shape {y.shape}")
+    window = check_int("window", window, 1, 10_000)
+    n = y.size
+    T = np.zeros(n)
+    for L in range(1, min(window, n) + 1):
+        c = np.arange(1.0, L + 1.0)
+        s = np.convolve(y, c[::-1])[:n]       # s_n = sum_j j y[n - L + j]
+        s[:L - 1] = 0.0
+        np.maximum(T, s * s / np.dot(c, c), out=T)   # (sum j y)^2 / sum j^2
+    return T
 
 
 def combined_detect(t, y, *, x=None, design=None, rate_per_day=1.0, adaptive=True,
