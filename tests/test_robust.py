@@ -320,3 +320,14 @@ def test_plot_filter_comparison_is_a_pure_figure_and_checks_its_input():
         rplots.plot_filter_comparison(300.0, 100.0, "three of them")
     with pytest.raises(ValueError, match="size"):
         rplots.plot_filter_comparison(-1.0)
+
+
+def test_compare_filters_gives_the_same_numbers_on_two_processes():
+    kw = dict(seeds=(0, 1, 2), n_steps=60, window=(5e3, 2.5e4), error="growing", size=2000.0)
+    a = rb.compare_filters("mars", **kw)
+    b = rb.compare_filters("mars", max_workers=2, **kw)
+    assert a["rmse_runs"] == b["rmse_runs"]
+    for f in rb.FILTERS:
+        np.testing.assert_array_equal(a["error"][f], b["error"][f])
+    with pytest.raises(ValueError, match="max_workers"):
+        rb.compare_filters("mars", max_workers=0, **kw)

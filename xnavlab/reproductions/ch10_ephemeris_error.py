@@ -326,16 +326,19 @@ def _pair_text(cmp, a, b):
 
 @register("rkf-earth", title="UKF, ASUKF, TDUKF and RKF on the Earth orbit, growing ephemeris error",
           source=f"{_SOURCE}, Fig. 6 and Table 2", chapter=_CHAPTER)
-def rkf_earth(out=None, seeds=tuple(range(32)), constant_seeds=(0, 1, 2, 3), profile="linear"):
+def rkf_earth(out=None, seeds=tuple(range(32)), constant_seeds=(0, 1, 2, 3), profile="linear",
+              max_workers=2):
     """Improvement over the UKF on the Earth orbit (paper 61.7 / 64.1 / 67.4 %).
 
     The error grows from zero to the real DE421 - DE405 Earth error size (1.49 km) over
     the run, along ``(1, 1, 1) / sqrt(3)``; the same error held constant is run beside it.
     32 seeds by default: the filters' RMSE varies from seed to seed by more than some of the
-    differences the paper ranks, and the paired differences need that many to be decided.
+    differences the paper ranks, and the paired differences need that many to be decided;
+    they are spread over ``max_workers`` processes (the numbers do not depend on it).
     """
     size = earth_error_size()
-    cmp = robust.compare_filters("earth", error="growing", size=size, seeds=tuple(seeds), profile=profile)
+    cmp = robust.compare_filters("earth", error="growing", size=size, seeds=tuple(seeds), profile=profile,
+                                 max_workers=max_workers)
     const = robust.compare_filters("earth", error="constant", size=size, seeds=tuple(constant_seeds))
     imp = cmp["improvement"]
     paper = PAPER_IMPROVEMENT["earth"]
@@ -397,7 +400,7 @@ def rkf_earth(out=None, seeds=tuple(range(32)), constant_seeds=(0, 1, 2, 3), pro
 RKF_LAMBDAS = (0.01, 0.02, 0.05, 1.0)
 
 
-def rkf_memory_sweep(lams=RKF_LAMBDAS, seeds=tuple(range(32)), body="earth", size=None):
+def rkf_memory_sweep(lams=RKF_LAMBDAS, seeds=tuple(range(32)), body="earth", size=None, max_workers=1):
     """RKF against the white TDUKF for each weight ``lam`` of the residual average.
 
     Parameters
@@ -409,6 +412,8 @@ def rkf_memory_sweep(lams=RKF_LAMBDAS, seeds=tuple(range(32)), body="earth", siz
     size : float, optional
         Final size of the growing error, m (default: the real Earth error, or the paper's
         5e4 m on Mars).
+    max_workers : int
+        Processes for the seeds (:func:`xnavlab.robust.compare_filters`).
 
     Returns
     -------
@@ -428,11 +433,13 @@ def rkf_memory_sweep(lams=RKF_LAMBDAS, seeds=tuple(range(32)), body="earth", siz
     if size is None:
         size = earth_error_size() if body == "earth" else PAPER_MARS_ERROR_M
     seeds = tuple(seeds)
-    base = robust.compare_filters(body, ("ukf", "tdukf"), error="growing", size=float(size), seeds=seeds)
+    base = robust.compare_filters(body, ("ukf", "tdukf"), error="growing", size=float(size), seeds=seeds,
+                                  max_workers=max_workers)
     td = np.asarray(base["rmse_runs"]["tdukf"])
     rkf, diff, se = [], [], []
     for lam in lams:
-        r = robust.compare_filters(body, ("rkf",), error="growing", size=float(size), seeds=seeds, lam=lam)
+        r = robust.compare_filters(body, ("rkf",), error="growing", size=float(size), seeds=seeds, lam=lam,
+                                   max_workers=max_workers)
         runs = np.asarray(r["rmse_runs"]["rkf"])
         d, s = paired_difference({"rmse_runs": {"a": runs, "b": td}}, "a", "b")
         rkf.append(runs.mean())
@@ -444,9 +451,9 @@ def rkf_memory_sweep(lams=RKF_LAMBDAS, seeds=tuple(range(32)), body="earth", siz
 
 @register("rkf-residual-memory", title="The RKF's residual average: its memory against the TDUKF (Earth)",
           source=f"{_SOURCE}, eqs. (8)-(26) (lost) and Table 2", chapter=_CHAPTER)
-def rkf_residual_memory(out=None, lams=RKF_LAMBDAS, seeds=tuple(range(16))):
+def rkf_residual_memory(out=None, lams=RKF_LAMBDAS, seeds=tuple(range(16)), max_workers=2):
     """Does any memory of the residual bias bound put the RKF ahead of the TDUKF (paper: yes)?"""
-    sw = rkf_memory_sweep(lams, seeds)
+    sw = rkf_memory_sweep(lams, seeds, max_workers=max_workers)
     lams = sw["lams"]
     best = int(np.argmin(sw["diff"]))
     one = np.flatnonzero(lams == 1.0)

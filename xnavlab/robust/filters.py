@@ -63,6 +63,7 @@ Examples
 from __future__ import annotations
 
 import functools
+from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -851,7 +852,7 @@ def improvement(rmse_filter, rmse_ukf):
 
 def compare_filters(body="earth", filters=FILTERS, error="de405", size=0.0, eps=None, seeds=(0,),
                     pulsar_names=None, n_steps=None, window=None, direction=None, profile="linear",
-                    growth_time=None, **filter_kwargs):
+                    growth_time=None, max_workers=1, **filter_kwargs):
     """Monte Carlo comparison of the filters: mean RMSE over seeds and improvement over the UKF.
 
     Each seed draws one scenario (measurement noise) and one initial error shared by
@@ -872,6 +873,9 @@ def compare_filters(body="earth", filters=FILTERS, error="de405", size=0.0, eps=
         Steps of 500 s (default: enough for the paper's window, 1200 Earth, 500 Mars).
     window : (float, float), optional
         RMSE interval, s after the start (default :data:`WINDOWS`).
+    max_workers : int
+        Processes the seeds are spread over (1: in this process); the results do not depend
+        on it.
     **filter_kwargs
         Passed to :func:`run_filter`.
 
@@ -895,23 +899,34 @@ def compare_filters(body="earth", filters=FILTERS, error="de405", size=0.0, eps=
     seeds = tuple(seeds)
     if not seeds:
         raise ValueError("seeds must list at least one seed")
+    max_workers = check_int("max_workers", max_workers, 1, 64)
     n_steps = _N_STEPS[body] if n_steps is None else n_steps
     window = WINDOWS[body] if window is None else tuple(window)
-    runs = {f: [] for f in filters}
-    first = {}
-    tau = None
-    for seed in seeds:
-        g = make_rng(seed)
-        sc = simulate(body, n_steps=n_steps, error=error, size=size, pulsar_names=pulsar_names,
-                      direction=direction, growth_time=growth_time, profile=profile, rng=g)
-        init = int(g.integers(2**31))
-        tau = sc.t - (sc.t[0] - sc.dt)
-        for f in filters:
-            run = run_filter(f, sc, eps=eps, rng=init, **filter_kwargs)
-            runs[f].append(rmse(run, sc, *window))
-            first.setdefault(f, run.error)
+    one = functools.partial(_seed_runs, body, filters, dict(
+        n_steps=n_steps, error=error, size=size, pulsar_names=pulsar_names, direction=direction,
+        growth_time=growth_time, profile=profile), window, dict(filter_kwargs, eps=eps))
+    if max_workers > 1 and len(seeds) > 1:
+        with ProcessPoolExecutor(max_workers=min(max_workers, len(seeds))) as pool:
+            results = list(pool.map(one, seeds))
+    else:
+        results = [one(s) for s in seeds]
+    runs = {f: [r[0][f] for r in results] for f in filters}
     mean = {f: float(np.mean(v)) for f, v in runs.items()}
     imp = {}
     if "ukf" in mean:
         imp = {f: improvement(mean[f], mean["ukf"]) for f in filters if f != "ukf"}
-    return {"rmse": mean, "rmse_runs": runs, "improvement": imp, "tau": tau, "error": first}
+    return {"rmse": mean, "rmse_runs": runs, "improvement": imp, "tau": results[-1][2],
+            "error": results[0][1]}
+
+
+def _seed_runs(body, filters, scenario_kwargs, window, run_kwargs, seed):
+    """One seed of :func:`compare_filters`: ({filter: RMSE}, {filter: error (n,)}, tau (n,))."""
+    g = make_rng(seed)
+    sc = simulate(body, rng=g, **scenario_kwargs)
+    init = int(g.integers(2**31))
+    out, err = {}, {}
+    for f in filters:
+        run = run_filter(f, sc, rng=init, **run_kwargs)
+        out[f] = rmse(run, sc, *window)
+        err[f] = run.error
+    return out, err, sc.t - (sc.t[0] - sc.dt)
