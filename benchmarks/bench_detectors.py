@@ -48,6 +48,19 @@ def _window_delay(y, w, thr):
     return int(hit[0]) if hit.size else -1
 
 
+def _drift_series(rng, n0, n_f):
+    """Unit white noise (1 component) with a drift reaching 5 sigma over ``n_f`` samples from
+    sample ``n0``; returned from 10 samples before the onset."""
+    y = rng.normal(size=(n0 + 3 * n_f, 1))
+    y[n0:n0 + n_f, 0] += 5.0 * np.arange(n_f) / n_f
+    return y[n0 - 10:]
+
+
+def _delay_s(i, dt):
+    """Delay after the onset (sample 10) of an alarm at sample i, s; inf for none or a false alarm."""
+    return (i - 10) * dt if i >= 10 else np.inf
+
+
 def sequential_comparison(n_trials=200, seed=0):
     """Median delays (s) of the mean CUSUM and a windowed chi-square on a 5-sigma/6000-s drift."""
     rng = np.random.default_rng(seed)
@@ -63,12 +76,9 @@ def sequential_comparison(n_trials=200, seed=0):
         n_f = int(6000 / dt)
         dc, dw = [], []
         for _ in range(n_trials):
-            y = rng.normal(size=(n0 + 3 * n_f, 1))
-            y[n0:n0 + n_f, 0] += 5.0 * np.arange(n_f) / n_f
-            i = _cusum_delay(y[n0 - 10:], design)
-            dc.append((i - 10) * dt if i >= 10 else np.inf)
-            j = _window_delay(y[n0 - 10:], w, thr)
-            dw.append((j - 10) * dt if j >= 10 else np.inf)
+            y = _drift_series(rng, n0, n_f)
+            dc.append(_delay_s(_cusum_delay(y, design), dt))
+            dw.append(_delay_s(_window_delay(y, w, thr), dt))
         out.append({"dt_s": dt, "window": w, "cusum_median_delay_s": float(np.median(dc)),
                     "window_chi2_median_delay_s": float(np.median(dw))})
     return out
@@ -104,13 +114,10 @@ def glr_comparison(n_trials=400, seed=0, window=16, within_s=4000.0):
     n0, n_f = 60, int(6000 / dt)
     dc, dg = [], []
     for _ in range(n_trials):
-        y = rng.normal(size=(n0 + 3 * n_f, 1))
-        y[n0:n0 + n_f, 0] += 5.0 * np.arange(n_f) / n_f
-        i = _cusum_delay(y[n0 - 10:], design)
-        dc.append((i - 10) * dt if i >= 10 else np.inf)
-        hit = np.flatnonzero(drift_glr(y[n0 - 10:, 0], window) > h)
-        j = int(hit[0]) if hit.size else -1
-        dg.append((j - 10) * dt if j >= 10 else np.inf)
+        y = _drift_series(rng, n0, n_f)
+        dc.append(_delay_s(_cusum_delay(y, design), dt))
+        hit = np.flatnonzero(drift_glr(y[:, 0], window) > h)
+        dg.append(_delay_s(int(hit[0]) if hit.size else -1, dt))
     dc, dg = np.array(dc), np.array(dg)
     return {"h_glr": h, "window": window, "cusum_median_s": float(np.median(dc)),
             "glr_median_s": float(np.median(dg)), "cusum_within": float(np.mean(dc <= within_s)),
