@@ -793,7 +793,6 @@ class _Loop:
         x_epochs = self.k_of["xnav"] if "xnav" in self.subs else np.zeros(0, dtype=np.int64)
         rows = np.union1d(np.union1d(inp.record, np.maximum(x_epochs - 2, 0)), [0])
         self.rows = rows
-        self._prop = None          # (epochs, propagated master positions) of the last whitening
         rec_pos = np.full(inp.n, -1, dtype=np.int64)
         rec_pos[rows] = np.arange(rows.size)
         rx, rP = np.zeros((rows.size, 6)), np.zeros((rows.size, 6, 6))
@@ -805,7 +804,6 @@ class _Loop:
         rec = inp.record
 
         def kernel(a, b):
-            self._prop = None      # the records change: no propagated positions carry over
             scenarios.run_kernel(inp, state, a, b, active, beta, gate, rec_pos,
                                  (rx, rP, rxl, rPl), out["nis"], out["flags"])
 
@@ -884,13 +882,14 @@ class _Loop:
         if last <= lo_epoch:
             return None, ()
         batches = {}
+        shared = {}                # propagated master positions, by epochs (UV and CNS share)
         for i, s in enumerate(self.subs):
             k = self.k_of[s]
             lo, hi = np.searchsorted(k, [lo_epoch + 1, last + 1])
             if hi <= lo:
                 continue
             js = np.arange(lo, hi)
-            y = self._whiten(s, js)
+            y = self._whiten(s, js, shared)
             mon = self.mon[s]
             self.ys[s][js] = y / mon.scale
             self.q[s][js] = np.sum(np.square(self.ys[s][js]), axis=1)
@@ -934,9 +933,11 @@ class _Loop:
         self._fed_epoch = e
         return e, who
 
-    def _whiten(self, s, js):
+    def _whiten(self, s, js, shared):
         """Whitened innovations ``L^-1 nu`` (N, m) of subsystem s's measurements js against the
-        master after epoch k - 2 (``L L^T = H P H^T + R``)."""
+        master after epoch k - 2 (``L L^T = H P H^T + R``). ``shared``: the master's positions
+        propagated to the measurements' epochs, keyed by those epochs (filled here, reused by
+        the next optical subsystem of the same feed)."""
         inp = self.inp
         k = self.k_of[s][js]
         r = np.searchsorted(self.rows, np.maximum(k - 2, 0), side="right") - 1
@@ -949,7 +950,11 @@ class _Loop:
                 kind, stars, sig_a, sig_b, m = (1, sen.star_dirs, sen.sigma_star, sen.sigma_horizon,
                                                 sen.dim)
             y = np.empty((js.size, m))
-            innovations.whiten_optical_at(kind, self._positions(k, r, dt), self.rP[r],
+            key = k.tobytes()
+            if key not in shared:
+                shared[key] = np.empty((k.size, 3))
+                innovations.propagate_positions(self.rx[r], dt, GM_MARS, shared[key])
+            innovations.whiten_optical_at(kind, shared[key], self.rP[r],
                                           np.ascontiguousarray(inp.z[s][js]), stars, sig_a, sig_b, y)
             return y
         nu, Prr = self._xnav_residual(r, dt, js)
@@ -958,17 +963,6 @@ class _Loop:
         S = np.einsum("ki,nij,lj->nkl", Hx, Prr, Hx) + np.diag(xs.sigma**2)  # H P H^T + R
         L = np.linalg.cholesky(S)
         return np.linalg.solve(L, nu[..., None])[..., 0]
-
-    def _positions(self, k, r, dt):
-        """The master's positions propagated to the epochs ``k`` from record rows ``r`` by ``dt``
-        (N, 3); the last result is kept, since UV and CNS measure at the same epochs."""
-        last = self._prop
-        if last is not None and np.array_equal(last[0], k):
-            return last[1]
-        R = np.empty((k.size, 3))
-        innovations.propagate_positions(self.rx[r], dt, GM_MARS, R)
-        self._prop = (k, R)
-        return R
 
     def _first_readmission(self, a, b):
         """First epoch c of the ``check_every`` grid in (a, b] at which an isolated subsystem

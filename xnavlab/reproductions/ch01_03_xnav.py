@@ -49,8 +49,7 @@ def _figure(ours, out):
     ax.set_ylabel("ranging accuracy (m)")
     ax.set_yscale("log")
     ax.legend()
-    path = save_figure(fig, out, "xnav-ranging")
-    return path
+    return save_figure(fig, out, "xnav-ranging")
 
 
 def _thirty_days(step=60.0):

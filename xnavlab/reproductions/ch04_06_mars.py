@@ -191,6 +191,5 @@ def mars_nofault(out=None, days=30.0, seed=0, settle_days=1.0, mode="reset"):
         axes[1].axhline(PAPER_VELOCITY_ERROR_MPS, color="k", ls="--", lw=0.8)
         axes[1].set(xlabel="time (days)", ylabel="velocity error (m/s)")
         fig.suptitle("mars-nofault (Fan et al. 2016, Fig. 2)")
-        path = save_figure(fig, out, "mars-nofault")
-        result.figures.append(str(path))
+        result.figures.append(save_figure(fig, out, "mars-nofault"))
     return result

@@ -97,8 +97,7 @@ def ephemeris_error_repro(out=None, t0=ee.EPOCH_1997):
             ax.set_xlabel(f"time since 1997-01-01 ({unit})")
             ax.set_ylabel("|DE421 - DE405| (m)")
             ax.legend()
-        path = save_figure(fig, out, "ephemeris-error")
-        res.figures.append(str(path))
+        res.figures.append(save_figure(fig, out, "ephemeris-error"))
     return res
 
 
@@ -257,8 +256,7 @@ def ukf_vs_ephemeris_error(out=None, sizes=(0.0, 250.0, 500.0, 750.0, 1000.0), s
         ax.set_xlabel("ephemeris error (m)")
         ax.set_ylabel("UKF position RMSE (m)")
         ax.legend()
-        path = save_figure(fig, out, "ukf-vs-ephemeris-error")
-        res.figures.append(str(path))
+        res.figures.append(save_figure(fig, out, "ukf-vs-ephemeris-error"))
     return res
 
 
@@ -271,8 +269,7 @@ def _figure_runs(cmp, body, out, name):
     ax.set_xlabel("time (s)")
     ax.set_ylabel("position error (m)")
     ax.legend(ncol=4)
-    path = save_figure(fig, out, f"{name}")
-    return str(path)
+    return save_figure(fig, out, name)
 
 
 def _ranking(rmse):
@@ -300,26 +297,33 @@ _SETTINGS = (
 )
 
 
+def _pair_order(cmp, a, b):
+    """Paired ``RMSE_a - RMSE_b`` (m), its standard error, and the order it decides at two
+    standard errors: ``"a"`` (a beats b), ``"b"`` (b beats a) or ``"tie"``."""
+    d, se = paired_difference(cmp, a, b)
+    return d, se, "a" if d + 2.0 * se < 0.0 else "b" if d - 2.0 * se > 0.0 else "tie"
+
+
 def _pair_check(cmp, a, b):
     """Paired check that filter ``a`` beats ``b`` (the paper's order): claimed and passing when
     the mean paired difference is below zero by two standard errors; otherwise a NOT CLAIMED
     row that says what was measured."""
-    d, se = paired_difference(cmp, a, b)
+    d, se, order = _pair_order(cmp, a, b)
     name = f"{_NAMES[a]} better than {_NAMES[b]} (paired RMSE difference, m)"
     ours = f"{d:+.0f} +- {se:.0f}"
-    if d + 2.0 * se < 0.0:
+    if order == "a":
         return check_true(name, f"{_NAMES[a]} < {_NAMES[b]}", ours, True, "below zero by 2 standard errors")
-    verdict = ("reversed: " + _NAMES[b] + " better" if d - 2.0 * se > 0.0
+    verdict = ("reversed: " + _NAMES[b] + " better" if order == "b"
                else "undecided: within 2 standard errors of zero")
     return check_info(name, f"{_NAMES[a]} < {_NAMES[b]}", ours, f"{verdict}: see note")
 
 
 def _pair_text(cmp, a, b):
     """One sentence on the paired order of ``a`` and ``b`` (decided or not)."""
-    d, se = paired_difference(cmp, a, b)
-    if d + 2.0 * se < 0.0:
+    d, se, order = _pair_order(cmp, a, b)
+    if order == "a":
         return f"{_NAMES[a]} beats {_NAMES[b]} ({d:+.0f} +- {se:.0f} m, decided)"
-    if d - 2.0 * se > 0.0:
+    if order == "b":
         return f"{_NAMES[b]} beats {_NAMES[a]} ({-d:+.0f} +- {se:.0f} m, decided: the paper's order reversed)"
     return f"{_NAMES[a]} and {_NAMES[b]} tie ({d:+.0f} +- {se:.0f} m, within 2 standard errors)"
 
@@ -490,8 +494,7 @@ def rkf_residual_memory(out=None, lams=RKF_LAMBDAS, seeds=tuple(range(16)), max_
         ax.set_xscale("log")
         ax.set_xlabel("weight of the current residual, lam")
         ax.set_ylabel("RMSE RKF - TDUKF (m), +- 2 SE")
-        path = save_figure(fig, out, "rkf-residual-memory")
-        res.figures.append(str(path))
+        res.figures.append(save_figure(fig, out, "rkf-residual-memory"))
     return res
 
 
@@ -587,6 +590,5 @@ def rkf_sweep(out=None, sizes=(0.0, 1000.0, 1e4, 5e4), body="mars", seeds=(0,), 
         ax.set_xlabel("final ephemeris error (m)")
         ax.set_ylabel("position RMSE (m)")
         ax.legend()
-        path = save_figure(fig, out, "rkf-sweep")
-        res.figures.append(str(path))
+        res.figures.append(save_figure(fig, out, "rkf-sweep"))
     return res

@@ -82,8 +82,7 @@ def _figure(run, out, name, method="sos"):
     m = 3 if method == "qdiff" else 4
     fig, axes = figure(m, 1, sharex=True, figsize=(7, 1.5 * m + 1), squeeze=False)
     att.plot_residuals(run, method, axes=axes[:, 0])
-    path = save_figure(fig, out, f"{name}")
-    return str(path)
+    return save_figure(fig, out, name)
 
 
 @register(

@@ -200,8 +200,7 @@ def _fig2(d, out):
     ax.set_ylabel(r"global residual $\|r_j\|$ (m)")
     ax.set_title("Fig. 2: residuals with steps on PR1-PR3 from 50 s")
     ax.legend(fontsize=8, ncol=3)
-    path = save_figure(fig, out, "plins-fig2")
-    return path
+    return save_figure(fig, out, "plins-fig2")
 
 
 def _fig3(d, sizes, out):
@@ -214,8 +213,7 @@ def _fig3(d, sizes, out):
     ax.set_ylabel("identified step (m)")
     ax.set_title("Fig. 3: identified step sizes (dotted: injected)")
     ax.legend(fontsize=8)
-    path = save_figure(fig, out, "plins-fig3")
-    return path
+    return save_figure(fig, out, "plins-fig3")
 
 
 def _fig4(d, out):
@@ -231,5 +229,4 @@ def _fig4(d, out):
         ax.set_ylabel(label)
         ax.legend(fontsize=8)
     fig.suptitle("Fig. 4: ramp f = a t + b on PR1 from 30 s")
-    path = save_figure(fig, out, "plins-fig4")
-    return path
+    return save_figure(fig, out, "plins-fig4")
