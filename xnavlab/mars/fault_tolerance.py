@@ -957,12 +957,12 @@ class _Loop:
             innovations.whiten_optical_at(kind, shared[key], self.rP[r],
                                           np.ascontiguousarray(inp.z[s][js]), stars, sig_a, sig_b, y)
             return y
-        nu, Prr = self._xnav_residual(r, dt, js)
         xs = self.xnav
-        Hx = xs.n / C                 # H ~ n^T / c (the other terms of eq. (4) are 1e-4 of it)
-        S = np.einsum("ki,nij,lj->nkl", Hx, Prr, Hx) + np.diag(xs.sigma**2)  # H P H^T + R
-        L = np.linalg.cholesky(S)
-        return np.linalg.solve(L, nu[..., None])[..., 0]
+        y = np.empty((js.size, len(xs.sigma)))
+        innovations.whiten_xnav(self.rx[r], dt, self.rP[r], inp.z["xnav"][js],
+                                inp.xnav_bodies[0][js], inp.xnav_bodies[1][js], xs.n,
+                                xs.distance, xs.sigma, GM_MARS, y)
+        return y
 
     def _first_readmission(self, a, b):
         """First epoch c of the ``check_every`` grid in (a, b] at which an isolated subsystem

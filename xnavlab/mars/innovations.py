@@ -7,8 +7,8 @@ of that computation that do not depend on the loop's bookkeeping:
 
 - :func:`two_body_taylor` and :func:`kepler_rk4`: the short propagation of the master
   (second-order Taylor over a few seconds; point-mass RK4 over the 60 s between records);
-- :func:`whiten_optical`: the UV and CNS innovations divided by (the Cholesky factor of)
-  their predicted covariance ``S = H P H^T + R``, compiled with numba;
+- :func:`whiten_optical` and :func:`whiten_xnav`: the UV, CNS and XNAV innovations divided by
+  (the Cholesky factor of) their predicted covariance ``S = H P H^T + R``, compiled with numba;
 - :class:`XnavInnovationWavelet`: the causal db3 detector of the whitened XNAV innovations
   and :func:`unit_sigma`, the per-level noise of the causal details of unit white noise.
 
@@ -30,11 +30,11 @@ import math
 import numpy as np
 from numba import njit
 
-from xnavlab.core.constants import GM_MARS
+from xnavlab.core.constants import GM_MARS, GM_SUN, C
 from xnavlab.core.detection import EventTracker, causal_filters, threshold_multiplier
 
 __all__ = ["unit_sigma", "two_body_taylor", "kepler_rk4", "propagate_positions", "whiten_optical",
-           "whiten_optical_at", "XnavInnovationWavelet"]
+           "whiten_optical_at", "whiten_xnav", "XnavInnovationWavelet"]
 
 
 def unit_sigma(level, wavelet="db3"):
@@ -181,6 +181,64 @@ def whiten_optical_at(kind, R, P, z, stars, sig_a, sig_b, y):
                 for c_ in range(a):
                     s -= L[a, c_] * y[n, c_]
                 y[n, a] = s / L[a, a]
+
+
+_SHAPIRO = 2.0 * GM_SUN / C**3
+
+
+@njit(cache=True)
+def whiten_xnav(x, dt, P, z, r_mars, r_sun, n, distance, sigma, gm, y):
+    """Whitened XNAV innovations ``y = L^-1 (z - h(x))`` (N, k), in place in ``y``.
+
+    ``x`` (N, 6) and ``P`` (N, 6, 6) are the master at the latest record at or before epoch
+    k - 2, propagated here by ``dt`` (N,) s (second-order Taylor, :func:`two_body_taylor`).
+    ``z`` (N, k) measured delays, s; ``r_mars``, ``r_sun`` (N, 3) the filter ephemeris' Mars and
+    Sun relative to the SSB, m; pulsar directions ``n`` (k, 3), ``distance`` (k,) m and noise
+    ``sigma`` (k,) s. ``h`` is paper eq. (1) (Roemer + parallax + Shapiro, as
+    :func:`xnavlab.mars.toa.delay`); ``L L^T = H P H^T + diag(sigma^2)`` with ``H ~ n^T / c``
+    (the other terms of eq. (4) are 1e-4 of it).
+    """
+    N, k = z.shape
+    S = np.empty((k, k))
+    L = np.zeros((k, k))
+    nu = np.empty(k)
+    for q in range(N):
+        rn = math.sqrt(x[q, 0] ** 2 + x[q, 1] ** 2 + x[q, 2] ** 2)
+        h = dt[q]
+        R = np.empty(3)
+        for i in range(3):
+            a = -gm * x[q, i] / rn**3
+            R[i] = r_mars[q, i] + (x[q, i] + x[q, 3 + i] * h + 0.5 * a * h * h)   # Taylor
+        Rn = math.sqrt(R[0] ** 2 + R[1] ** 2 + R[2] ** 2)
+        b0, b1, b2 = -r_sun[q, 0], -r_sun[q, 1], -r_sun[q, 2]
+        bn = math.sqrt(b0 * b0 + b1 * b1 + b2 * b2)
+        for i in range(k):
+            nr = n[i, 0] * R[0] + n[i, 1] * R[1] + n[i, 2] * R[2]
+            nb = n[i, 0] * b0 + n[i, 1] * b1 + n[i, 2] * b2
+            zp = (nr / C + (nr * nr - Rn * Rn) / (2.0 * C * distance[i])
+                  + _SHAPIRO * math.log(abs((nr + Rn) / (nb + bn) + 1.0)))   # paper eq. (1)
+            nu[i] = z[q, i] - zp
+        for a_ in range(k):                           # S = H P H^T + R, H = n^T / c
+            for b_ in range(a_ + 1):
+                s = 0.0
+                for i in range(3):
+                    for j in range(3):
+                        s += n[a_, i] * P[q, i, j] * n[b_, j]
+                s /= C * C
+                if a_ == b_:
+                    s += sigma[a_] ** 2
+                S[a_, b_] = s
+        for a_ in range(k):                           # S = L L^T, y = L^-1 nu
+            for b_ in range(a_ + 1):
+                s = S[a_, b_]
+                for c_ in range(b_):
+                    s -= L[a_, c_] * L[b_, c_]
+                L[a_, b_] = math.sqrt(s) if a_ == b_ else s / L[b_, b_]
+        for a_ in range(k):
+            s = nu[a_]
+            for c_ in range(a_):
+                s -= L[a_, c_] * y[q, c_]
+            y[q, a_] = s / L[a_, a_]
 
 
 class XnavInnovationWavelet:

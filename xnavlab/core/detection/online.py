@@ -65,8 +65,8 @@ What it sees (db3, 5 levels, default ``pfa``; noise ``sigma`` per sample, white)
 
 Use in a navigation scenario
     The detector needs only the raw measurements, not the filter's state, so a scenario can run
-    :func:`wavelet_detect` once per sensor component over the whole series (0.4 s for 30 days
-    at 3 s) and hand ``Detection.faulty`` to the filter loop; :class:`WaveletDetector` gives the
+    :func:`wavelet_detect` once per sensor component over the whole series (0.06-0.1 s for 30
+    days at 3 s, compiled: the a trous cascade and the tests in one pass) and hand ``Detection.faulty`` to the filter loop; :class:`WaveletDetector` gives the
     same flags one sample at a time (about 30 us per sample in numpy).
 """
 
@@ -78,6 +78,7 @@ from collections import deque
 from dataclasses import dataclass, field
 
 import numpy as np
+from numba import njit
 from scipy import stats
 
 from xnavlab.core.detection.mallat import orthogonal_wavelet
@@ -184,9 +185,40 @@ def causal_details(x, wavelet="db3", level=5):
     x = check_finite_array("x", x)
     if x.ndim != 1 or x.size < 1:
         raise ValueError(f"x must be a non-empty 1-D array, got shape {x.shape}")
-    filters = causal_filters(wavelet, level)
-    y = x - x[0]
-    return np.array([np.convolve(y, g)[:x.size] for g in filters])
+    causal_filters(wavelet, level)                      # checks wavelet and level
+    w = orthogonal_wavelet(wavelet)
+    out = np.empty((level, x.size))
+    _atrous(x - x[0], np.array(w.dec_lo), np.array(w.dec_hi), out)
+    return out
+
+
+@njit(cache=True)
+def _atrous(y, lo, hi, out):
+    """The a trous cascade of :func:`causal_details`, in place in ``out`` (level, N).
+
+    ``d_j = hi_(2^j) * a_j``, ``a_(j+1) = lo_(2^j) * a_j``, ``a_0 = y`` (``*_s``: the filter
+    upsampled by ``s``; zero before the start): the equivalent filters of
+    :func:`causal_filters` applied level by level, ``F`` taps a level instead of up to
+    ``(2^j - 1)(F - 1) + 1`` (about 5x fewer operations at five levels).
+    """
+    n = y.size
+    f = lo.size
+    a = y.copy()
+    b = np.empty(n)
+    for j in range(out.shape[0]):
+        step = 1 << j
+        for i in range(n):
+            d = 0.0
+            s = 0.0
+            for m in range(f):
+                k = i - m * step
+                if k < 0:
+                    break
+                d += hi[m] * a[k]          # d_j[n] = sum_m hi[m] a_j[n - m 2^j]
+                s += lo[m] * a[k]          # a_(j+1)[n] = sum_m lo[m] a_j[n - m 2^j]
+            out[j, i] = d
+            b[i] = s
+        a, b = b, a
 
 
 def step_gain(wavelet="db3", level=5):
@@ -666,6 +698,32 @@ def _var_ratio(q, lo, hi):
     return np.maximum(q / hi, lo / np.maximum(q, 1e-300))
 
 
+@njit(cache=True)
+def _batch_ratios(z, k, w, lo, hi, ratios, q, ratio):
+    """The tests of :func:`wavelet_detect` in one pass, in place: ``ratios`` (level [+ 1], N)
+    ``|z_j| / k`` and, for a variance window ``w > 0``, the variance test on
+    ``Q[n] = sum_(i<w) z_1[n - 2i]^2`` (``q``, from sample ``2w - 2`` on); ``ratio`` their
+    maximum per sample."""
+    level, n = z.shape
+    for i in range(n):
+        r = 0.0
+        for j in range(level):
+            v = abs(z[j, i]) / k
+            ratios[j, i] = v
+            r = max(r, v)
+        if w > 0:
+            v = 0.0
+            if i >= 2 * w - 2:
+                s = 0.0
+                for m in range(w):                    # Q[n] = sum_i z_1[n - 2i]^2
+                    s += z[0, i - 2 * m] ** 2
+                q[i] = s
+                v = max(s / hi, lo / max(s, 1e-300))  # > 1 outside [lo, hi]
+            ratios[level, i] = v
+            r = max(r, v)
+        ratio[i] = r
+
+
 def wavelet_detect(t, x, *, wavelet="db3", level=5, sigma=None, train=None, pfa=1e-5,
                    var_window=32, holdoff=None):
     """Batch wavelet detector over a whole series; the same decisions as :class:`WaveletDetector`.
@@ -720,22 +778,15 @@ def wavelet_detect(t, x, *, wavelet="db3", level=5, sigma=None, train=None, pfa=
     z = d / det.sigma[:, None]
     n_tests = det.level + (1 if det.var_window else 0)
     ratios = np.empty((n_tests, n))
-    np.divide(np.abs(z), det.k, out=ratios[:det.level])
+    ratio = np.empty(n)
     names = [f"level {j + 1}" for j in range(det.level)]
     q = np.full(n, np.nan)
     armed = np.zeros(n, dtype=bool)
     armed[max(det.window - 1, start):] = True
+    lo, hi = det.var_bounds if det.var_window else (0.0, 0.0)
+    _batch_ratios(z, det.k, det.var_window, lo, hi, ratios, q, ratio)
     if det.var_window:
-        w = det.var_window
-        z1sq = np.square(z[0])
-        q_all = np.zeros(n)
-        for i in range(w):                                    # Q[n] = sum_i z_1[n - 2i]^2
-            q_all[2 * i:] += z1sq[:n - 2 * i] if 2 * i < n else 0.0
-        valid = np.arange(n) >= 2 * w - 2
-        q[valid] = q_all[valid]
-        ratios[-1] = np.where(valid, _var_ratio(np.where(valid, q_all, 1.0), *det.var_bounds), 0.0)
         names.append("variance")
-    ratio = ratios.max(axis=0)
     alarm = armed & (ratio > 1.0)
     tests = _TestNames(names, ratios)  # the deciding test at each sample (looked up lazily)
     events, faulty = events_from_alarms(t, alarm, ratio, det.holdoff, tests)
