@@ -160,12 +160,10 @@ def test_every_module_declares_all():
 
 #: Modules allowed over MAX_LINES, each with the reason (CONTRIBUTING.md repeats them).
 LONG_MODULES = {
-    # One numba compilation unit: the jitted helpers call each other and share one cache;
-    # split across modules, a change in one would not recompile the callers.
-    "xnavlab.mars.kernels": 1000,
-    # One state machine (the chunked, rolled-back reconfiguration loop, about 490 lines) plus
-    # the 100-line module docstring that documents the four detectors and the isolation rule.
-    "xnavlab.mars.fault_tolerance": 1050,
+    # One numba compilation unit (the filter loop and the combined detector inside it): the
+    # jitted helpers call each other and share one cache; split across modules, a change in
+    # one would not recompile the callers.
+    "xnavlab.mars.kernels": 1200,
     # Four filters of paper 002 (UKF, ASUKF, TDUKF, RKF) that share the sigma-point core and
     # whose step functions are read side by side in chapter 10.
     "xnavlab.robust.filters": 950,

@@ -60,22 +60,25 @@ Isolation and rejoining (our rule)
     subsystem is out; UV and CNS leave at the epoch of their detected onset.
 
 Combined detector in the loop
-    Each subsystem's innovation ``nu = z - h(x)`` is taken against the master at the latest
-    record at or before epoch ``e - 2`` (the book's records, every 60 s, and two epochs before
-    every XNAV epoch) propagated to the measurement (point-mass RK4, 0.1 m over 60 s), whitened
-    by the Cholesky factor of ``S = H P H^T + R`` (UV: the range and the two tangent axes of
-    the direction, with the sensor's noise model; CNS: the three correlated starlight angles;
-    XNAV: the four pulsars), and fed to an :class:`~xnavlab.core.detection.InnovationMonitor`
-    (the XNAV wavelet gets the same whitened innovations divided by the adaptive scale). The
-    UV range and CNS angle wavelets run on the raw series as for ``"wavelet"``. Any part's
-    alarm on a connected subsystem at epoch ``e`` isolates it from ``e`` (the chunk is rolled
-    back, as for XNAV below). Re-admission: at the ``check_every`` grid, once the last ``readmit_samples``
-    scaled NIS sum below ``chi2.isf(readmit_alpha, W m)``; the wavelet's "clear" is not
-    waited for (it sees the end of a fault as a second change, and its window keeps XNAV's
-    end jump for 36 samples: 23,000 s out after a 3000-s step), and the CUSUMs and the XNAV
-    wavelet window restart empty at re-admission.
+    Inside the compiled filter (:func:`xnavlab.mars.kernels.run_epochs`,
+    :mod:`xnavlab.mars.watch`): each measurement's innovation ``nu = z - h(x)`` against the
+    master's one-step prediction is whitened by the Cholesky factor of ``S = H P H^T + R``
+    (UV: the range and the two tangent axes of the direction, with the sensor's noise model;
+    CNS: the three correlated starlight angles; XNAV: the four pulsars) and fed to the
+    innovation parts of an :class:`~xnavlab.core.detection.InnovationMonitor` (and, for XNAV,
+    to the innovation wavelet, on the same innovations over the adaptive scale) *before* the
+    measurement is used. An alarm on a connected subsystem leaves that measurement out (as a
+    gate would) and switches the subsystem out from the next epoch: nothing is run ahead or
+    rolled back, and the kernel stops only after an alarm, when a noise scale is due (its
+    median is taken in numpy) and on the ``check_every`` grid while a subsystem is out. The
+    UV range and CNS angle wavelets run on the raw series as for ``"wavelet"`` (the four
+    series in two threads). Re-admission: at the ``check_every`` grid, once the last
+    ``readmit_samples`` scaled NIS sum below ``chi2.isf(readmit_alpha, W m)`` with no residual
+    bias; the wavelet's "clear" is not waited for (it sees the end of a fault as a second
+    change, and its window keeps XNAV's end jump for 36 samples: 23,000 s out after a 3000-s
+    step), and the CUSUMs and the XNAV wavelet window restart empty at re-admission.
 
-The loop
+The loop (``"wavelet"``)
     The numba kernel of :mod:`xnavlab.mars.scenarios` runs in chunks with the ``active`` mask
     decided between them. XNAV's innovations need the filter's own prediction, so the
     kernel runs ahead speculatively (chunks of up to 7200 epochs, 6 h), the XNAV innovations
@@ -99,12 +102,13 @@ from __future__ import annotations
 
 import math
 import time
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy import stats
 
-from xnavlab.core.constants import DAY, GM_MARS, C
+from xnavlab.core.constants import DAY, C
 from xnavlab.core.detection import (
     CombinedDesign,
     Event,
@@ -116,7 +120,7 @@ from xnavlab.core.detection import (
 )
 from xnavlab.core.faults import Fault, format_spec, inject, parse_spec
 from xnavlab.core.validate import check_choice, check_int, check_real, make_rng
-from xnavlab.mars import innovations, scenarios, sensors
+from xnavlab.mars import innovations, scenarios, sensors, watch
 
 __all__ = [
     "DETECTORS",
@@ -292,7 +296,11 @@ class FaultTolerantRun:
     isolated : ndarray of bool, shape (n, ns)
         Whether each subsystem was switched out at each epoch.
     detection_data : dict
-        Per sensor, the detector's series (``t`` s since start, ``ratio``, ``faulty``).
+        Per sensor, the detector's series (``t`` s since start, ``ratio``, ``faulty``); with
+        ``detector="combined"`` also ``innovations`` (N, m), the whitened innovations over the
+        adaptive scale (NaN before the first epoch), ``design`` (its
+        :class:`~xnavlab.core.detection.CombinedDesign`) and ``innovation_events`` (the
+        alarms of its innovation parts and, for XNAV, its innovation wavelet).
     wall_time : float
         Detection plus filter time, s.
     """
@@ -550,24 +558,35 @@ class _Loop:
     # -- detection of UV and CNS on the raw measurements (causal batch = online)
     def _precompute(self, pfa, train_days):
         inp = self.inp
-        for s in ("uv", "cns"):
-            if s not in self.subs:
-                continue
+        subs = [s for s in ("uv", "cns") if s in self.subs]
+        n_train = {}
+        for s in subs:
             t = inp.t_meas[s]
-            n_train = int(np.searchsorted(t - self.t0, train_days * DAY))
-            if n_train < 356:
-                raise ValueError(f"train_days must give at least 356 {s} samples, got {n_train}")
+            n_train[s] = int(np.searchsorted(t - self.t0, train_days * DAY))
+            if n_train[s] < 356:
+                raise ValueError(f"train_days must give at least 356 {s} samples, got "
+                                 f"{n_train[s]}")
             for f in self.faults:
                 if f.sensor == s and f.onset < train_days * DAY:
                     raise ValueError(
                         f"train_days: the wavelet detector of {s} trains on the first "
                         f"{train_days * DAY:g} s, which must be fault-free, but a {f.kind} fault "
                         f"starts at {f.onset:g} s; use a later onset or a shorter train_days")
-            p = pfa[s] if isinstance(pfa, dict) else pfa
-            if s == "uv":
-                det = wavelet_detect(t, inp.z[s][:, 0], pfa=p, train=n_train)
-            else:
-                det = wavelet_detect_sensor(t, inp.z[s], pfa=p, train=n_train)
+        p = {s: pfa[s] if isinstance(pfa, dict) else pfa for s in subs}
+        # the UV range and the CNS angles are four independent series: two threads
+        dets = {}
+        with ThreadPoolExecutor(max_workers=2) as pool:
+            uv = None if "uv" not in subs else pool.submit(
+                wavelet_detect, inp.t_meas["uv"], inp.z["uv"][:, 0], pfa=p["uv"],
+                train=n_train["uv"])
+            if "cns" in subs:
+                dets["cns"] = wavelet_detect_sensor(inp.t_meas["cns"], inp.z["cns"], pfa=p["cns"],
+                                                    train=n_train["cns"], executor=pool)
+            if uv is not None:
+                dets["uv"] = uv.result()
+        for s in subs:
+            t = inp.t_meas[s]
+            det = dets[s]
             self.flag_of[s] = det.faulty
             self._events[s] = [Event(e.onset - self.t0, e.end - self.t0, e.cleared - self.t0,
                                      e.peak, e.test) for e in det.events]
@@ -661,10 +680,9 @@ class _Loop:
         """Next chunk end b > a: epochs < b run; then active[b + 1:] may change."""
         horizon = self.HORIZON
         if self.detector == "combined":
-            # short chunks while a subsystem is out: a re-admission reruns at most this many
-            horizon = self.HORIZON_OUT if self.out.any() else self.HORIZON_COMBINED
+            horizon = self.HORIZON_COMBINED
         cands = [self.inp.n, a + horizon]
-        if (self.out.any() and self.detector == "wavelet") or self.detector == "chi2":
+        if self.out.any() or self.detector == "chi2":
             cands.append((a // self.check_every + 1) * self.check_every)
         while self._oj < len(self.onset_epochs) and self.onset_epochs[self._oj][0] - 1 <= a:
             self._oj += 1
@@ -774,11 +792,11 @@ class _Loop:
         return [Event(e.onset - t0, e.end - t0, e.cleared - t0, e.peak, prefix + e.test)
                 for e in events]
 
-    # -- the combined detector: innovations of every subsystem, monitors, rollback
-    #: Epochs per speculative chunk of the combined run (a rollback reruns at most this many).
-    HORIZON_COMBINED = 1800
-    #: ... and while a subsystem is out.
-    HORIZON_OUT = 300
+    # -- the combined detector: inside the compiled loop (xnavlab.mars.watch)
+    #: Longest kernel call of the combined run, epochs (a call also ends at every detector stop,
+    #: wavelet onset and, while a subsystem is out, re-admission check; the result does not
+    #: depend on it).
+    HORIZON_COMBINED = 100_000
 
     def run_combined(self):
         inp, sc = self.inp, self.inp.scenario
@@ -786,197 +804,46 @@ class _Loop:
         self.out_arr = out
         active, gate, beta = scenarios.run_options(inp, self.active, None)
         self.active = active
-        ns = self.ns
-        # the master is recorded at the book's records (every record_dt) and two epochs before
-        # every XNAV epoch; an innovation at epoch e is taken against the latest record at or
-        # before e - 2, propagated to the measurement
-        x_epochs = self.k_of["xnav"] if "xnav" in self.subs else np.zeros(0, dtype=np.int64)
-        rows = np.union1d(np.union1d(inp.record, np.maximum(x_epochs - 2, 0)), [0])
-        self.rows = rows
-        rec_pos = np.full(inp.n, -1, dtype=np.int64)
-        rec_pos[rows] = np.arange(rows.size)
-        rx, rP = np.zeros((rows.size, 6)), np.zeros((rows.size, 6, 6))
-        rxl, rPl = np.zeros((rows.size, ns, 6)), np.zeros((rows.size, ns, 6))
-        self.rx, self.rP = rx, rP
-        self.xnav = inp.sensors["xnav"]
-        state = scenarios.filter_state(inp, beta)
-        xs, Ps, shares, xm, Pm = state
         rec = inp.record
-
-        def kernel(a, b):
-            scenarios.run_kernel(inp, state, a, b, active, beta, gate, rec_pos,
-                                 (rx, rP, rxl, rPl), out["nis"], out["flags"])
-
-        self.q = {s: np.full(inp.t_meas[s].size, np.nan) for s in self.subs}   # scaled NIS
-        self.ys = {s: np.zeros((inp.t_meas[s].size, self.design[s].m)) for s in self.subs}
-        self._fed_epoch = -1
-        self.rollbacks = 0
+        rec_pos = np.full(inp.n, -1, dtype=np.int64)
+        rec_pos[rec] = np.arange(rec.size)
+        records = (out["x"], out["P"], out["xl"], out["Pl"])
+        state = scenarios.filter_state(inp, beta)
+        self.watch = watch.Watch(self.subs, self.mon, self.xdet,
+                                 {s: inp.t_meas[s].size for s in self.subs}, self.t0 + self.arm_s)
+        self.ys = self.watch.ys
+        arrays = self.watch.arrays()
         self.out_since = {s: 0 for s in self.subs}
+        self.stops = 0
         t_start = time.perf_counter()
         self._oj = 0
         self._x_set = set()
         a = 0
         while a < inp.n:
             b = self._next_boundary(a)
-            snap = ([v.copy() for v in (xs, Ps, shares, xm, Pm)], self._snapshot_detectors())
-            kernel(a, b)
-            # judge the measurements up to epoch b (their connection is decided)
-            e, who = self._feed_combined(b if b < inp.n else inp.n - 1, snap[1])
-            # the chunk ends early at an alarm on a connected subsystem at epoch e (rerun to
-            # e - 2, isolated from e: its measurement at e stays out) or at the first grid
-            # epoch where an isolated subsystem passes the re-admission test (speculation:
-            # while it is out, its innovations do not depend on the decision)
-            target = b if e is None else e - 1
-            c = self._first_readmission(a, target)
-            if c is not None:
-                target = c
-            if target < b:
-                for arr, val in zip((xs, Ps, shares, xm, Pm), snap[0], strict=True):
-                    arr[...] = val
-                self.rollbacks += 1
-                b = target
-                kernel(a, b)
-                if c is not None:
-                    self._restore_detectors(snap[1])
-                    e, who = self._feed_combined(b, snap[1])
-                # else (an alarm at e): the rerun to e - 1 repeats the kernel's steps exactly,
-                # so the innovations up to e, which the detectors have already judged, are the
-                # same; their state stands
-            if e is not None and e == b + 1:
-                for s in who:
-                    self.out[self.subs.index(s)] = True
+            e = scenarios.run_kernel(inp, state, a, b, active, beta, gate, rec_pos, records,
+                                     out["nis"], out["flags"], arrays)
+            if e >= 0:
+                # the kernel stopped after epoch e: an alarm there (that measurement was left
+                # out, the subsystem is out from e + 1) or a noise scale due
+                self.stops += 1
+                b = e + 1
+                for s in self.watch.after_stop(float(inp.times[e])):
+                    i = self.subs.index(s)
+                    self.out[i] = True
                     self.out_since[s] = e
+                    active[e, i] = False     # reported out from the epoch it was left out at
             if b < inp.n:
                 self._plan_chunk(b, active)
             a = b
         wall = time.perf_counter() - t_start
-        sel = rec_pos[rec]
-        out["x"], out["P"], out["xl"], out["Pl"] = rx[sel], rP[sel], rxl[sel], rPl[sel]
+        for s in self.subs:
+            d = self.detection_data.setdefault(s, {"t": inp.t_meas[s] - self.t0})
+            d.update(innovations=self.ys[s], design=self.design[s],
+                     innovation_events=self._since_start(self.watch.events(s)))
         return scenarios.MarsRun(sc, inp.times[rec], out["x"], out["P"], inp.truth[rec],
                                  out["xl"], out["Pl"], out["nis"], out["flags"], inp.times,
                                  "numba", wall)
-
-    def _snapshot_detectors(self):
-        rows = self.HORIZON_COMBINED + 8
-        return ({s: m.snapshot(rows) for s, m in self.mon.items()},
-                None if self.xdet is None else self.xdet.snapshot(), self._fed_epoch,
-                self.out.copy())
-
-    def _restore_detectors(self, snap):
-        mons, xd, fed, out = snap
-        for s, st in mons.items():
-            self.mon[s].restore(st)
-        if xd is not None:
-            self.xdet.restore(xd)
-        self._fed_epoch = fed
-        self.out[...] = out
-
-    def _feed_combined(self, last, snap):
-        """Feed the whitened innovations of epochs in (fed, last] to the detectors of the
-        connected subsystems, in order; stop at the earliest alarm. ``snap`` is the detectors'
-        state now (:meth:`_snapshot_detectors`).
-
-        Returns ``(e, subsystems)``: the epoch of the earliest alarm and the subsystems alarming
-        there, or ``(None, ())``. The detectors have then seen the measurements up to ``e``."""
-        lo_epoch = self._fed_epoch
-        if last <= lo_epoch:
-            return None, ()
-        batches = {}
-        shared = {}                # propagated master positions, by epochs (UV and CNS share)
-        for i, s in enumerate(self.subs):
-            k = self.k_of[s]
-            lo, hi = np.searchsorted(k, [lo_epoch + 1, last + 1])
-            if hi <= lo:
-                continue
-            js = np.arange(lo, hi)
-            y = self._whiten(s, js, shared)
-            mon = self.mon[s]
-            self.ys[s][js] = y / mon.scale
-            self.q[s][js] = np.sum(np.square(self.ys[s][js]), axis=1)
-            conn = self.active[k[js], i] & (self.inp.t_meas[s][js] - self.t0 >= self.arm_s)
-            batches[s] = (js[conn], y[conn])
-        snaps, xsnap = snap[0], snap[1]
-        first = {}
-        for s, (js, y) in batches.items():
-            t = self.inp.t_meas[s][js]
-            j = self.mon[s].process(t, y)
-            e_s = int(self.k_of[s][js[j]]) if j >= 0 else None
-            if s == "xnav" and self.xdet is not None:
-                ys = y / self.mon[s].scale
-                for q in range(js.size):
-                    if e_s is not None and self.k_of[s][js[q]] > e_s:
-                        break
-                    if self.xdet.update(float(t[q]), ys[q]) and self.xdet.new_onset:
-                        e_w = int(self.k_of[s][js[q]])
-                        e_s = e_w if e_s is None else min(e_s, e_w)
-                        break
-            if e_s is not None:
-                first[s] = e_s
-        if not first:
-            self._fed_epoch = last
-            return None, ()
-        e = min(first.values())
-        who = tuple(s for s, v in first.items() if v == e)
-        # the detectors that ran past e (or alarmed later) see the measurements up to e only
-        for s, (js, y) in batches.items():
-            if first.get(s) == e and s != "xnav":
-                continue
-            keep = self.k_of[s][js] <= e
-            self.mon[s].restore(snaps[s])
-            t = self.inp.t_meas[s][js[keep]]
-            self.mon[s].process(t, y[keep], stop=False)
-            if s == "xnav" and self.xdet is not None:
-                self.xdet.restore(xsnap)
-                ys = y[keep] / self.mon[s].scale
-                for q in range(ys.shape[0]):
-                    self.xdet.update(float(t[q]), ys[q])
-        self._fed_epoch = e
-        return e, who
-
-    def _whiten(self, s, js, shared):
-        """Whitened innovations ``L^-1 nu`` (N, m) of subsystem s's measurements js against the
-        master after epoch k - 2 (``L L^T = H P H^T + R``). ``shared``: the master's positions
-        propagated to the measurements' epochs, keyed by those epochs (filled here, reused by
-        the next optical subsystem of the same feed)."""
-        inp = self.inp
-        k = self.k_of[s][js]
-        r = np.searchsorted(self.rows, np.maximum(k - 2, 0), side="right") - 1
-        dt = inp.times[k] - inp.times[self.rows[r]]
-        if s in ("uv", "cns"):
-            sen = inp.sensors[s]
-            if s == "uv":     # kind, star directions (unused), the two noise sigmas, components
-                kind, stars, sig_a, sig_b, m = 0, np.zeros((1, 3)), sen.sigma_range, sen.sigma_dir, 3
-            else:
-                kind, stars, sig_a, sig_b, m = (1, sen.star_dirs, sen.sigma_star, sen.sigma_horizon,
-                                                sen.dim)
-            y = np.empty((js.size, m))
-            key = k.tobytes()
-            if key not in shared:
-                shared[key] = np.empty((k.size, 3))
-                innovations.propagate_positions(self.rx[r], dt, GM_MARS, shared[key])
-            innovations.whiten_optical_at(kind, shared[key], self.rP[r],
-                                          np.ascontiguousarray(inp.z[s][js]), stars, sig_a, sig_b, y)
-            return y
-        xs = self.xnav
-        y = np.empty((js.size, len(xs.sigma)))
-        innovations.whiten_xnav(self.rx[r], dt, self.rP[r], inp.z["xnav"][js],
-                                inp.xnav_bodies[0][js], inp.xnav_bodies[1][js], xs.n,
-                                xs.distance, xs.sigma, GM_MARS, y)
-        return y
-
-    def _first_readmission(self, a, b):
-        """First epoch c of the ``check_every`` grid in (a, b] at which an isolated subsystem
-        passes the re-admission test, or None."""
-        if not self.out.any():
-            return None
-        ce = self.check_every
-        for c in range((a // ce + 1) * ce, b + 1, ce):
-            if c + 1 >= self.inp.n:
-                break
-            for i, s in enumerate(self.subs):
-                if self.out[i] and self._quiet_combined(c, i, s):
-                    return c
-        return None
 
     def _quiet_combined(self, c, i, s):
         k = self.k_of[s]
@@ -984,27 +851,23 @@ class _Loop:
         w = self.win[s]
         if hi - lo < w:                  # W measurements taken since the isolation
             return False
-        q = self.q[s][hi - w:hi]
+        y = self.ys[s][hi - w:hi]
+        q = np.sum(np.square(y), axis=1)
         if not (np.all(np.isfinite(q)) and np.sum(q) < self.readmit_thr[s]):
             return False
         # and no residual bias: |sum_i y_c[i]| / sqrt(W) below the two-sided normal quantile
-        y = self.ys[s][hi - w:hi]
         zq = stats.norm.isf(self.readmit_alpha / (2 * y.shape[1]))
         return bool(np.all(np.abs(y.sum(axis=0)) < zq * math.sqrt(w)))
 
     def _readmit(self, s):
         """Fresh CUSUMs and an empty XNAV wavelet window at re-admission."""
-        self.mon[s].readmitted()
-        if s == "xnav" and self.xdet is not None:
-            self.xdet.clear()
+        self.watch.readmit(s)
 
     def _combined_events(self):
         ev = {}
         for s in self.subs:
             parts = list(self._events.get(s, []))
-            parts += self._since_start(self.mon[s].all_events())
-            if s == "xnav" and self.xdet is not None:
-                parts += self._since_start(self.xdet.tracker.all_events(), "wavelet ")
+            parts += self._since_start(self.watch.events(s))
             ev[s] = merge_events(parts)
         return ev
 

@@ -31,6 +31,15 @@ position only, so ``J`` is 3 x 3 and the matrix inversion lemma gives
 local (gating, fault detection) is computed as before from ``S_i = H_i P H_i^T / s_i +
 R_i``. The two forms agree to rounding; the tests check both against the numpy loop.
 
+The combined detector inside the loop
+-------------------------------------
+For the subsystems it watches, :func:`run_epochs` whitens each measurement's innovation
+against the master's one-step prediction and feeds the combined detector's innovation parts
+(chi-square, mean and variance CUSUMs; XNAV's innovation wavelet) before the update; an alarm
+leaves the measurement out and switches the subsystem out from the next epoch, and the call
+returns after that epoch, as it does when a noise scale is due (:mod:`xnavlab.mars.watch`
+holds the state and takes the medians). Unwatched runs pay one test per measurement.
+
 Compilation
 -----------
 Every function is compiled with ``cache=True``: the first call in a fresh environment
@@ -812,6 +821,165 @@ def _fuse_information(x, P, ssum, J, b, x_out, P_out, Pt, G):
     return ok
 
 
+# ------------------------------------------------- the combined detector, inside the loop
+
+#: Columns of the watch's float parameters ``wf`` (ns, 6) (:mod:`xnavlab.mars.watch`).
+WF_KMEAN, WF_KVAR, WF_CHI2, WF_HMEAN, WF_HVAR, WF_TARM = range(6)
+#: Columns of its integer state ``wi`` (ns, 8).
+WI_ON, WI_M, WI_W, WI_NRING, WI_POS, WI_NFED, WI_NEXT, WI_XCOUNT = range(8)
+
+
+@njit(**_INLINE)
+def _whiten_uv(x, P, z, jm, sig_r, sig_u, y):
+    """UV innovation at the state ``x`` (6,) with covariance ``P``, whitened per component:
+    the range and the direction's two tangent axes, each ``nu / sqrt(g P g^T + sigma^2)``
+    (the unit vector's radial part carries no information)."""
+    rn = math.sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2])
+    u0, u1, u2 = -x[0] / rn, -x[1] / rn, -x[2] / rn
+    s = 0.0
+    for i in range(3):
+        ui = (u0, u1, u2)[i]
+        for j in range(3):
+            s += ui * P[i, j] * (u0, u1, u2)[j]
+    y[0] = (z[jm, 0] - rn) / math.sqrt(s + sig_r * sig_r)          # range, g = -u
+    if abs(u2) > 1.0 - 1e-12:                     # tangent basis e1 = z x u (x x u at a pole)
+        e1 = (0.0, -u2, u1)
+    else:
+        e1 = (-u1, u0, 0.0)
+    m1 = math.sqrt(e1[0] ** 2 + e1[1] ** 2 + e1[2] ** 2)
+    e1 = (e1[0] / m1, e1[1] / m1, e1[2] / m1)
+    e2 = (u1 * e1[2] - u2 * e1[1], u2 * e1[0] - u0 * e1[2], u0 * e1[1] - u1 * e1[0])
+    for c in range(2):
+        e = e1 if c == 0 else e2
+        d = (z[jm, 1] - u0) * e[0] + (z[jm, 2] - u1) * e[1] + (z[jm, 3] - u2) * e[2]
+        s = 0.0
+        for i in range(3):
+            for j in range(3):
+                s += e[i] * P[i, j] * e[j]
+        y[1 + c] = d / math.sqrt(s / (rn * rn) + sig_u * sig_u)    # g = -e / |r|
+
+
+@njit(**_INLINE)
+def _whiten_at(P, H, R, nu, m, PHt, S, L, y):
+    """``y = L^-1 nu`` with ``L L^T = H P H^T + R``; False if S is not positive definite."""
+    _innovation_cov(P, 1.0, H, R, m, PHt, S)
+    ok = _cholesky(S, m, L)
+    for i in range(m):
+        y[i] = nu[i]
+    _forward(L, m, y)
+    return ok
+
+
+@njit(**_INLINE)
+def _watch_monitor(i, y, m, connected, wf, wi, wS, wsc, ring, ys, jm, alarm):
+    """The innovation parts of the combined detector on one whitened innovation ``y`` (m,)
+    of subsystem ``i`` (:class:`xnavlab.core.detection.InnovationMonitor`, one sample).
+
+    Writes the scaled innovation to ``ys[jm]``; if ``connected`` (and armed): the chi-square
+    ``q = sum z^2``, the CUSUMs ``S+ = max(0, S+ + z - k)``, ``S- = max(0, S- - z - k)``,
+    ``V = max(0, V + z^2 - k_v)`` (``z = y / s``); on an alarm the CUSUMs restart, ``alarm[i]``
+    gets the part and its ratio and True is returned; a healthy sample goes into the scale's
+    ring (the caller recomputes the scale once ``n_fed`` reaches ``next``)."""
+    q = 0.0
+    for c in range(m):
+        z = y[c] / wsc[i, c]
+        ys[jm, c] = z
+        q += z * z                                             # chapter 9 eq. (ch9-chi2)
+    if not connected:
+        return False
+    best = q / wf[i, WF_CHI2]
+    part = 0
+    km, kv = wf[i, WF_KMEAN], wf[i, WF_KVAR]
+    for c in range(m):
+        z = ys[jm, c]
+        a = max(0.0, wS[i, c] + z - km)                       # S+ = max(0, S+ + z - k)
+        b = max(0.0, wS[i, m + c] - z - km)                   # S- = max(0, S- - z - k)
+        v = max(0.0, wS[i, 2 * m + c] + z * z - kv)           # V = max(0, V + z^2 - k_v)
+        wS[i, c], wS[i, m + c], wS[i, 2 * m + c] = a, b, v
+    for j in range(3 * m):
+        r = wS[i, j] / (wf[i, WF_HMEAN] if j < 2 * m else wf[i, WF_HVAR])
+        if r > best:
+            best = r
+            part = 1 + j
+    if best > 1.0:
+        for j in range(3 * m):
+            wS[i, j] = 0.0
+        alarm[i, 0] = part
+        alarm[i, 1] = best
+        return True
+    W = wi[i, WI_W]                                            # a healthy sample: the ring
+    pos = wi[i, WI_POS]
+    for c in range(m):
+        ring[i, c, pos] = y[c]
+    wi[i, WI_POS] = (pos + 1) % W
+    wi[i, WI_NRING] = min(W, wi[i, WI_NRING] + 1)
+    wi[i, WI_NFED] += 1
+    return False
+
+
+@njit(**_HELPER)
+def _watch_wavelet(i, z, m, wi, xbuf, xG, xthr, alarm):
+    """The XNAV innovation wavelet on one scaled innovation ``z`` (m,) (newest first in
+    ``xbuf``; :class:`xnavlab.mars.innovations.XnavInnovationWavelet`): True when a level's
+    ``|d_j| > k sigma_j`` for some pulsar; ``alarm[i, 2:]`` get ``level * m + pulsar`` and the
+    ratio."""
+    nw = xG.shape[1]
+    for r in range(nw - 1, 0, -1):
+        for c in range(m):
+            xbuf[r, c] = xbuf[r - 1, c]
+    for c in range(m):
+        xbuf[0, c] = z[c]
+    wi[i, WI_XCOUNT] += 1
+    if wi[i, WI_XCOUNT] < nw:
+        return False
+    best = -1.0
+    code = 0
+    for lv in range(xG.shape[0]):
+        for c in range(m):
+            d = 0.0
+            for r in range(nw):
+                d += xG[lv, r] * xbuf[r, c]                    # d_j = sum_r g_j[r] z[n - r]
+            ratio = abs(d) / xthr[lv]
+            if ratio > best:
+                best = ratio
+                code = lv * m + c
+    if best > 1.0:
+        alarm[i, 2] = code
+        alarm[i, 3] = best
+        return True
+    return False
+
+
+@njit(**_INLINE)
+def _ys(kind, ys_x, ys_u, ys_c):
+    """The scaled-innovation output of a subsystem kind."""
+    if kind == KIND_UV:
+        return ys_u
+    if kind == KIND_CNS:
+        return ys_c
+    return ys_x
+
+
+@njit(**_INLINE)
+def _watch(kind, i, jm, t, connected, x, P, nu, H, R, m, z_u, sig_r, sig_u, wf, wi, wS, wsc,
+           ring, ys, xbuf, xG, xthr, alarm, PHt, S, L, y):
+    """Whiten subsystem ``i``'s measurement ``jm`` against the master's prediction ``x``,
+    ``P`` (``nu``, ``H``, ``R`` its innovation there) and feed the combined detector's parts.
+    Returns 1 on an alarm, 2 when the scale is due, else 0."""
+    if kind == KIND_UV:
+        _whiten_uv(x, P, z_u, jm, sig_r, sig_u, y)
+        m = 3
+    else:
+        _whiten_at(P, H, R, nu, m, PHt, S, L, y)
+    connected = connected and t >= wf[i, WF_TARM]
+    hit = _watch_monitor(i, y, m, connected, wf, wi, wS, wsc, ring, ys, jm, alarm)
+    if connected and kind == KIND_XNAV and xG.shape[0] > 0:
+        hit = _watch_wavelet(i, ys[jm], m, wi, xbuf, xG, xthr, alarm) or hit
+    if hit:
+        return 1
+    return 2 if connected and wi[i, WI_NFED] >= wi[i, WI_NEXT] else 0
+
+
 # ---------------------------------------------------------------------------- the run
 
 
@@ -822,7 +990,8 @@ def run_epochs(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
                z_x, rm_x, rs_x, n_x, d_x, sig_x,
                z_u, sig_r, sig_u,
                z_c, stars_c, sig_s, sig_h,
-               rec_pos, rec_x, rec_P, rec_xl, rec_Pl, nis_out, flag_out):
+               rec_pos, rec_x, rec_P, rec_xl, rec_Pl, nis_out, flag_out,
+               wf, wi, wS, wsc, ring, ys_x, ys_u, ys_c, xbuf, xG, xthr, alarm):
     """Run epochs ``k0 <= k < k1`` of the federated filter, updating the state in place.
 
     State: ``xs`` (ns, 6) and ``Ps`` (ns, 6, 6) local estimates, ``shares`` (ns,) the
@@ -837,8 +1006,19 @@ def run_epochs(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
     ``stars_c`` (k, 3) and its noise. Outputs: ``rec_pos[k]`` is the record row of
     epoch k or -1 (``rec_x``, ``rec_P``, ``rec_xl``, ``rec_Pl`` the master and the
     locals' estimates and variances), ``nis_out`` and ``flag_out`` (n, ns) for every
-    epoch. Returns False on a numerical failure (a covariance lost positive
-    definiteness).
+    epoch. The combined detector, for the subsystems it watches (``wi[i, WI_ON]``): ``wf``
+    ... ``alarm``, the state arrays of :mod:`xnavlab.mars.watch`; each measurement of a
+    watched subsystem is whitened against the master's prediction and fed to its parts
+    before the update: an alarm leaves the measurement out and switches the subsystem out
+    from the next epoch.
+
+    Returns
+    -------
+    int
+        -1 when the epochs ran to ``k1``; ``k`` when the run stopped after epoch ``k``
+        because the combined detector alarmed there (``alarm``) or a watched subsystem's
+        noise scale is due; -2 on a numerical failure (a covariance lost positive
+        definiteness).
     """
     ns = xs.shape[0]
     nb = tb_pos.shape[1]
@@ -855,12 +1035,14 @@ def run_epochs(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
         np.empty(6), np.empty((6, 6)), np.empty(6), np.empty((6, 6)),       # x/P scratch
         np.zeros((3, 3)), np.zeros(3), np.empty((3, 3)),                    # J, b, G
         np.zeros(ns, dtype=np.bool_), np.empty(ns),                         # use, 1/shares
+        np.empty((1, 6)), np.empty(mm), np.zeros((mm, 6)), np.zeros((mm, mm)),  # watch
+        np.zeros(ns, dtype=np.bool_),
     )
     return _run(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
                 tb_t0, tb_step, tb_pos, tb_vel, tb_gm, kinds, meas_idx, active, beta, reset,
                 gate, z_x, rm_x, rs_x, n_x, d_x, sig_x, z_u, sig_r, sig_u, z_c, stars_c,
                 sig_s, sig_h, rec_pos, rec_x, rec_P, rec_xl, rec_Pl, nis_out, flag_out,
-                *scratch)
+                wf, wi, wS, wsc, ring, ys_x, ys_u, ys_c, xbuf, xG, xthr, alarm, *scratch)
 
 
 @njit(**_HELPER)
@@ -868,13 +1050,16 @@ def _run(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
          tb_t0, tb_step, tb_pos, tb_vel, tb_gm, kinds, meas_idx, active, beta, reset,
          gate, z_x, rm_x, rs_x, n_x, d_x, sig_x, z_u, sig_r, sig_u, z_c, stars_c,
          sig_s, sig_h, rec_pos, rec_x, rec_P, rec_xl, rec_Pl, nis_out, flag_out,
+         wf, wi, wS, wsc, ring, ys_x, ys_u, ys_c, xbuf, xG, xthr, alarm,
          s0, i0, s1, i1, s2, i2, Phi, Ph, T, xc, PHt, S, L, yy, K, W, A,
-         d, Y, yv, Ci, Cf, dx, nu, H, R, xp, Pp, x2, P2, J, bv, G, use, inv_sh):
+         d, Y, yv, Ci, Cf, dx, nu, H, R, xp, Pp, x2, P2, J, bv, G, use, inv_sh,
+         xw, nu2, H2, R2, alarmed):
     """The epoch loop of :func:`run_epochs` (scratch arrays allocated there)."""
     ns = xs.shape[0]
     for i in range(ns):
         inv_sh[i] = 1.0 / shares[i]
     for k in range(k0, k1):
+        stop = False
         if k > 0:
             tp = times[k - 1]
             dt = times[k] - tp
@@ -914,6 +1099,22 @@ def _run(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
                 act = active[k, i]
                 m = _measure(kinds[i], xs, i, j, z_x, rm_x, rs_x, n_x, d_x, sig_x, z_u, sig_r,
                              sig_u, z_c, stars_c, sig_s, sig_h, nu, H, R, A)
+                alarmed[i] = False
+                if wi[i, WI_ON] != 0:
+                    if not reset:   # (in reset mode the local's prediction is the master's)
+                        for a in range(6):
+                            xw[0, a] = xp[a]
+                        _measure(kinds[i], xw, 0, j, z_x, rm_x, rs_x, n_x, d_x, sig_x, z_u,
+                                 sig_r, sig_u, z_c, stars_c, sig_s, sig_h, nu2, H2, R2, A)
+                    wnu, wH, wR = (nu, H, R) if reset else (nu2, H2, R2)
+                    code = _watch(kinds[i], i, j, times[k], act, xp, Pp, wnu, wH, wR, m, z_u,
+                                  sig_r, sig_u, wf, wi, wS, wsc, ring,
+                                  _ys(kinds[i], ys_x, ys_u, ys_c), xbuf, xG, xthr, alarm, PHt,
+                                  S, L, yy)
+                    if code == 1:   # an alarm: this measurement stays out, and so does i
+                        act = False
+                        alarmed[i] = True
+                    stop = stop or code != 0
                 if full:
                     nis = _update_sized(xs, Ps, i, nu, H, R, m, gate[i], act, PHt, S, L, yy, K,
                                         W, T)
@@ -926,7 +1127,7 @@ def _run(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
                 elif nis > gate[i]:
                     flag_out[k, i] = REJECTED
                 elif math.isnan(nis):
-                    return False
+                    return -2
                 else:
                     flag_out[k, i] = UPDATED
             # master fusion of the connected locals
@@ -944,9 +1145,13 @@ def _run(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
                         Pm[a, b] = Pp[a, b]
             elif full:
                 if not _fuse(xs, Ps, use, xm, Pm, d, Y, yv, Ci, Cf, dx):
-                    return False
+                    return -2
             elif not _fuse_information(xp, Pp, ssum, J, bv, xm, Pm, Ci, G):
-                return False
+                return -2
+        if stop and k + 1 < times.shape[0]:
+            for i in range(ns):
+                if alarmed[i]:
+                    active[k + 1, i] = False     # switched out from the next epoch
         r = rec_pos[k]
         if r >= 0:
             for a in range(6):
@@ -968,10 +1173,12 @@ def _run(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
             for i in range(ns):
                 shares[i] = beta[i] / tot if active[kn, i] else 1.0
                 inv_sh[i] = 1.0 / shares[i]
-            if k == k1 - 1:
+            if k == k1 - 1 or stop:
                 for i in range(ns):
                     for a in range(6):
                         xs[i, a] = xm[a]
                         for b in range(6):
                             Ps[i, a, b] = Pm[a, b] * inv_sh[i]
-    return True
+        if stop:
+            return k
+    return -1

@@ -49,6 +49,7 @@ True
 
 from __future__ import annotations
 
+import functools
 import math
 import sys
 import time
@@ -800,11 +801,13 @@ def filter_state(inp, beta):
     return xs, Ps, beta.copy(), inp.x0.copy(), sc.P0.copy()
 
 
-def run_kernel(inp, state, a, b, active, beta, gate, rec_pos, records, nis, flags):
+def run_kernel(inp, state, a, b, active, beta, gate, rec_pos, records, nis, flags, watch=None):
     """Run the compiled federated filter over epochs ``[a, b)``.
 
     ``state`` comes from :func:`filter_state`; ``records`` is ``(x, P, xl, Pl)``, filled
     at the rows ``rec_pos`` gives for each epoch (-1: not recorded). All in place.
+    ``watch``: the combined detector's arrays (:meth:`xnavlab.mars.watch.Watch.arrays`) or
+    None. Returns -1 or the epoch the kernel stopped after (:func:`~.kernels.run_epochs`).
     """
     sc = inp.scenario
     xnav, uv, cns = inp.sensors["xnav"], inp.sensors["uv"], inp.sensors["cns"]
@@ -814,17 +817,26 @@ def run_kernel(inp, state, a, b, active, beta, gate, rec_pos, records, nis, flag
     z_c = inp.z.get("cns", np.zeros((0, cns.dim)))
     tab = inp.table
     xs, Ps, shares, xm, Pm = state
-    ok = kernels.run_epochs(
+    stop = kernels.run_epochs(
         a, b, inp.times, xs, Ps, shares, xm, Pm, sc.q_acc, sc.max_step, GM_MARS,
         tab.t_start, tab.step, tab.pos, tab.vel, tab.gm,
         kinds, inp.meas_idx, active, beta, sc.mode == "reset", gate,
         z_x, inp.xnav_bodies[0], inp.xnav_bodies[1], xnav.n, xnav.distance, xnav.sigma,
         z_u, uv.sigma_range, uv.sigma_dir,
         z_c, cns.star_dirs, cns.sigma_star, cns.sigma_horizon,
-        rec_pos, *records, nis, flags)
-    if not ok:
+        rec_pos, *records, nis, flags, *(_no_watch(len(sc.subsystems)) if watch is None else watch))
+    if stop == -2:
         raise RuntimeError(f"a covariance lost positive definiteness near epoch {b} "
                            f"(t = {inp.times[min(b, inp.n - 1)]:.0f} s)")
+    return int(stop)
+
+
+@functools.lru_cache(maxsize=8)
+def _no_watch(ns):
+    """The combined detector's arrays with no subsystem watched (the kernel skips them)."""
+    z = np.zeros     # wf, wi, wS, wsc, ring, ys (3), xbuf, xG, xthr, alarm
+    return (z((ns, 6)), z((ns, 8), dtype=np.int64), z((ns, 12)), np.ones((ns, 4)), z((ns, 4, 1)),
+            *[z((1, 4)) for _ in range(4)], z((0, 1)), z(0), z((ns, 4)))
 
 
 def _run_numba(inp, active, gate, beta, progress):

@@ -66,8 +66,9 @@ What it sees (db3, 5 levels, default ``pfa``; noise ``sigma`` per sample, white)
 Use in a navigation scenario
     The detector needs only the raw measurements, not the filter's state, so a scenario can run
     :func:`wavelet_detect` once per sensor component over the whole series (0.06-0.1 s for 30
-    days at 3 s, compiled: the a trous cascade and the tests in one pass) and hand ``Detection.faulty`` to the filter loop; :class:`WaveletDetector` gives the
-    same flags one sample at a time (about 30 us per sample in numpy).
+    days at 3 s, compiled: the a trous cascade and the tests in one pass) and hand
+    ``Detection.faulty`` to the filter loop; :class:`WaveletDetector` gives the same flags one
+    sample at a time (about 30 us per sample in numpy).
 """
 
 
@@ -192,15 +193,12 @@ def causal_details(x, wavelet="db3", level=5):
     return out
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _atrous(y, lo, hi, out):
-    """The a trous cascade of :func:`causal_details`, in place in ``out`` (level, N).
-
+    """The a trous cascade of :func:`causal_details` in place in ``out`` (level, N):
     ``d_j = hi_(2^j) * a_j``, ``a_(j+1) = lo_(2^j) * a_j``, ``a_0 = y`` (``*_s``: the filter
-    upsampled by ``s``; zero before the start): the equivalent filters of
-    :func:`causal_filters` applied level by level, ``F`` taps a level instead of up to
-    ``(2^j - 1)(F - 1) + 1`` (about 5x fewer operations at five levels).
-    """
+    upsampled by ``s``, zero before the start), ``F`` taps a level instead of the equivalent
+    filters' ``(2^j - 1)(F - 1) + 1``."""
     n = y.size
     f = lo.size
     a = y.copy()
@@ -698,29 +696,33 @@ def _var_ratio(q, lo, hi):
     return np.maximum(q / hi, lo / np.maximum(q, 1e-300))
 
 
-@njit(cache=True)
-def _batch_ratios(z, k, w, lo, hi, ratios, q, ratio):
-    """The tests of :func:`wavelet_detect` in one pass, in place: ``ratios`` (level [+ 1], N)
-    ``|z_j| / k`` and, for a variance window ``w > 0``, the variance test on
-    ``Q[n] = sum_(i<w) z_1[n - 2i]^2`` (``q``, from sample ``2w - 2`` on); ``ratio`` their
-    maximum per sample."""
-    level, n = z.shape
+@njit(cache=True, nogil=True)
+def _batch_ratios(d, sigma, k, w, lo, hi, which, q, ratio):
+    """The tests of :func:`wavelet_detect` in one pass, in place: the levels' ``|d_j /
+    sigma_j| / k`` and (window ``w > 0``) the variance test on ``Q[n] = sum_(i<w) z_1[n - 2i]^2``
+    (``q``, from sample ``2w - 2``); ``ratio`` their maximum, ``which`` its test's index."""
+    level, n = d.shape
+    z1sq = np.empty(n if w > 0 else 0)
+    for i in range(z1sq.size):
+        z1sq[i] = (d[0, i] / sigma[0]) ** 2
     for i in range(n):
-        r = 0.0
+        r = -1.0
         for j in range(level):
-            v = abs(z[j, i]) / k
-            ratios[j, i] = v
-            r = max(r, v)
+            v = abs(d[j, i] / sigma[j]) / k
+            if v > r:
+                r = v
+                which[i] = j
         if w > 0:
             v = 0.0
             if i >= 2 * w - 2:
                 s = 0.0
                 for m in range(w):                    # Q[n] = sum_i z_1[n - 2i]^2
-                    s += z[0, i - 2 * m] ** 2
+                    s += z1sq[i - 2 * m]
                 q[i] = s
                 v = max(s / hi, lo / max(s, 1e-300))  # > 1 outside [lo, hi]
-            ratios[level, i] = v
-            r = max(r, v)
+            if v > r:
+                r = v
+                which[i] = level
         ratio[i] = r
 
 
@@ -746,8 +748,9 @@ def wavelet_detect(t, x, *, wavelet="db3", level=5, sigma=None, train=None, pfa=
     Returns
     -------
     Detection
-        With ``data["details"]`` (level, N), ``data["z"]`` = details / sigma,
-        ``data["sigma"]``, ``data["k"]`` and ``data["variance"]`` (the Q statistic).
+        With ``data["details"]`` (level, N), ``data["sigma"]`` (level,) (``details /
+        sigma[:, None]`` is the normalised detail), ``data["k"]`` and ``data["variance"]``
+        (the Q statistic).
 
     Examples
     --------
@@ -775,27 +778,26 @@ def wavelet_detect(t, x, *, wavelet="db3", level=5, sigma=None, train=None, pfa=
         else:
             det.train(train)
     d = causal_details(x, det.wavelet, det.level)
-    z = d / det.sigma[:, None]
-    n_tests = det.level + (1 if det.var_window else 0)
-    ratios = np.empty((n_tests, n))
     ratio = np.empty(n)
+    which = np.zeros(n, dtype=np.int8)
     names = [f"level {j + 1}" for j in range(det.level)]
     q = np.full(n, np.nan)
     armed = np.zeros(n, dtype=bool)
     armed[max(det.window - 1, start):] = True
     lo, hi = det.var_bounds if det.var_window else (0.0, 0.0)
-    _batch_ratios(z, det.k, det.var_window, lo, hi, ratios, q, ratio)
+    _batch_ratios(d, np.asarray(det.sigma, dtype=float), det.k, det.var_window, lo, hi, which, q,
+                  ratio)
     if det.var_window:
         names.append("variance")
     alarm = armed & (ratio > 1.0)
-    tests = _TestNames(names, ratios)  # the deciding test at each sample (looked up lazily)
+    tests = _TestNames(names, which)   # the deciding test at each sample (looked up lazily)
     events, faulty = events_from_alarms(t, alarm, ratio, det.holdoff, tests)
     return Detection(t, ratio, alarm, faulty, armed, events,
-                     data={"details": d, "z": z, "sigma": det.sigma, "k": det.k, "variance": q,
+                     data={"details": d, "sigma": det.sigma, "k": det.k, "variance": q,
                            "thresholds": det.thresholds, "holdoff": det.holdoff, "tests": tests})
 
 
-def wavelet_detect_sensor(t, z, *, pfa=1e-5, train=None, sigma=None, **kwargs):
+def wavelet_detect_sensor(t, z, *, pfa=1e-5, train=None, sigma=None, executor=None, **kwargs):
     """Batch wavelet detection of a multi-component sensor: one detector per component, OR-ed.
 
     Each of the ``m`` components gets its own :func:`wavelet_detect` with ``pfa / m``, so the
@@ -815,6 +817,9 @@ def wavelet_detect_sensor(t, z, *, pfa=1e-5, train=None, sigma=None, **kwargs):
         As in :func:`wavelet_detect`, per column for an array.
     sigma : array_like, shape (m, level), optional
         Per-component, per-level noise.
+    executor : concurrent.futures.Executor, optional
+        Runs the components' detectors (a thread pool: their compiled parts release the
+        GIL); the result is the same.
     **kwargs
         ``wavelet``, ``level``, ``var_window``, ``holdoff`` as in :func:`wavelet_detect`.
 
@@ -852,11 +857,13 @@ def wavelet_detect_sensor(t, z, *, pfa=1e-5, train=None, sigma=None, **kwargs):
             train = train[:, None]
         if train.ndim != 2 or train.shape[1] != m:
             raise ValueError(f"train must have shape (N_train, {m}), got {train.shape}")
-    parts = []
-    for i in range(m):
+
+    def one(i):
         tr = train if train is None or isinstance(train, int | np.integer) else train[:, i]
-        parts.append(wavelet_detect(t, z[:, i], pfa=pfa / m, train=tr,
-                                    sigma=None if sigma is None else sigma[i], **kwargs))
+        return wavelet_detect(t, z[:, i], pfa=pfa / m, train=tr,
+                              sigma=None if sigma is None else sigma[i], **kwargs)
+
+    parts = list(map(one, range(m)) if executor is None else executor.map(one, range(m)))
     ratios = np.array([p.ratio for p in parts])
     which = np.argmax(ratios, axis=0)
     ratio = ratios[which, np.arange(t.size)]
@@ -873,11 +880,11 @@ def wavelet_detect_sensor(t, z, *, pfa=1e-5, train=None, sigma=None, **kwargs):
 class _TestNames:
     """``names[n]``: the test with the largest ratio at sample ``n`` (lazy, no N-long array)."""
 
-    def __init__(self, names, ratios):
-        self.names, self.ratios = names, ratios
+    def __init__(self, names, which):
+        self.names, self.which = names, which
 
     def __getitem__(self, n):
-        return self.names[int(np.argmax(self.ratios[:, n]))]
+        return self.names[int(self.which[n])]
 
 
 class _ComponentTests:
