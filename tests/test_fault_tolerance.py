@@ -256,28 +256,29 @@ def test_combined_result_does_not_depend_on_the_kernel_calls(inputs, monkeypatch
 @pytest.mark.parametrize("sensor", ["uv", "cns", "xnav"])
 def test_compiled_monitor_alarms_where_the_reference_monitor_does(inputs, sensor):
     """The kernel's innovation parts against :class:`InnovationMonitor` fed with the kernel's
-    own whitened innovations, segment by segment between re-admissions (fixed scale, a high
-    design rate for many alarms; XNAV's innovation wavelet and the raw UV/CNS wavelets are the
-    other isolations, after which the monitor simply restarts)."""
+    own whitened innovations, segment by segment between re-admissions (adaptive scale, a
+    high design rate for many alarms; XNAV's innovation wavelet and the raw UV/CNS wavelets
+    are the other isolations, after which the monitor simply restarts)."""
     from xnavlab.core.detection import InnovationMonitor
 
     r = ft.run_fault_tolerant(faults=[], detector="combined", inputs=inputs, train_days=TRAIN,
-                              adaptive=False, rate_per_day=40.0, arm_s=600.0)
+                              rate_per_day=40.0, arm_s=600.0)
     data = r.detection_data[sensor]
     i = inputs.scenario.subsystems.index(sensor)
     t = data["t"]
-    y = data["innovations"]                                  # = whitened innovations (scale 1)
+    y = data["innovations"]
     iso = r.isolated[np.searchsorted(inputs.times, inputs.t_meas[sensor]), i]
     kernel_alarms = sorted(e.onset for e in data["innovation_events"]
                            if not e.test.startswith("wavelet"))
-    mon = InnovationMonitor(data["design"], adaptive=False)
+    alarmed = [e.onset for e in data["innovation_events"]]
+    mon = InnovationMonitor(data["design"])
     ref_alarms, start = [], int(np.searchsorted(t, 600.0))
     backs = [iv["back"] for iv in r.isolation_intervals() if iv["sensor"] == sensor]
     outs = [iv["out"] for iv in r.isolation_intervals() if iv["sensor"] == sensor]
     for out, back in zip(outs + [math.inf], backs + [None], strict=True):
         stop = int(np.searchsorted(t, out, side="right"))     # the segment up to the isolation
         seg = np.arange(start, stop)
-        seg = seg[~iso[seg] | (t[seg] == out)]
+        seg = seg[~iso[seg] | np.isin(t[seg], alarmed)]   # the alarming sample was judged
         a = mon.process(t[seg], y[seg])
         if a >= 0:
             ref_alarms.append(float(t[seg[a]]))
@@ -287,6 +288,7 @@ def test_compiled_monitor_alarms_where_the_reference_monitor_does(inputs, sensor
         start = stop
     assert len(kernel_alarms) >= 3
     assert ref_alarms == kernel_alarms
+    np.testing.assert_array_equal(mon.scale, data["scale"])
 
 
 def test_run_mars_cli_defaults_to_combined_with_faults(capsys):

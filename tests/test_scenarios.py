@@ -10,8 +10,8 @@ import pytest
 from xnavlab import reproduce
 from xnavlab.cli import main
 from xnavlab.core.filters import chi2_bounds
-from xnavlab.mars import kernels, scenarios
 from xnavlab.mars import plots as mars_plots
+from xnavlab.mars import scenarios, series
 
 SHORT = dict(days=0.02, record_dt=3.0)   # 576 epochs, three XNAV updates
 
@@ -96,8 +96,8 @@ def test_compiled_measurement_series_equal_the_sensor_models():
     sens = sc.sensors()
     uv, cns = sens["uv"], sens["cns"]
     w_uv, w_cns = rng.standard_normal((500, 3)), rng.standard_normal((500, 2 + 2 * cns.dim))
-    z_uv = kernels.simulate_uv(states, w_uv, uv.sigma_range, uv.sigma_dir, np.empty((500, 4)))
-    z_cns = kernels.simulate_cns(states, w_cns, cns.star_dirs, cns.sigma_star,
+    z_uv = series.simulate_uv(states, w_uv, uv.sigma_range, uv.sigma_dir, np.empty((500, 4)))
+    z_cns = series.simulate_cns(states, w_cns, cns.star_dirs, cns.sigma_star,
                                  cns.sigma_horizon, np.empty((500, cns.dim)))
     # same operations; the sine, cosine and arctangent may differ in the last bit
     np.testing.assert_allclose(z_uv, uv.simulate(states, noise=w_uv), rtol=1e-13, atol=1e-15)
@@ -124,8 +124,8 @@ def test_import_is_light():
     """Importing the package, the Mars scenario and the CLI compiles nothing, loads no ephemeris."""
     code = ("import sys, xnavlab, xnavlab.cli, xnavlab.cli.runners\n"
             "assert 'numba' not in sys.modules, 'import xnavlab pulls numba'\n"
-            "from xnavlab.mars import kernels, scenarios\n"
-            "assert not kernels.run_epochs.signatures and not kernels.simulate_uv.signatures\n"
+            "from xnavlab.mars import kernels, scenarios, series\n"
+            "assert not kernels.run_epochs.signatures and not series.simulate_uv.signatures\n"
             "assert 'jplephem' not in sys.modules and 'scipy.stats' not in sys.modules\n")
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                           check=False)

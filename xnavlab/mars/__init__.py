@@ -12,9 +12,12 @@ module                 what it models
 ``stars``              the bright-star table and the CNS star choice (chapter 4)
 ``sensors``            XNAV, UV and CNS measurement models (chapters 4-5)
 ``scenarios``          the paper's 30-day scenario and the federated run (chapters 5-6)
-``kernels``            the compiled (numba) filter loop behind ``scenarios.run``
+``kernels``            the compiled (numba) filter loop behind ``scenarios.run``, with the
+                       combined detector inside it
+``series``             the compiled draws of the UV and CNS measurement series
 ``fault_tolerance``    fault schedules, detection, isolation, re-admission (chapters 8-9)
-``innovations``        innovations against the master: propagation, whitening, XNAV wavelet
+``watch``              the combined detector's state in the compiled loop, its alarms
+``innovations``        XNAV innovations against the master, the XNAV innovation wavelet
 ``plots``              the figures behind the sliders of chapters 5, 6 and 8
 ``trials``             Monte Carlo trials of the detectors on the Mars run (chapter 9)
 ``campaigns``          the Mars campaigns of ``python -m xnavlab campaign`` (chapter 13)

@@ -69,8 +69,8 @@ Combined detector in the loop
     to the innovation wavelet, on the same innovations over the adaptive scale) *before* the
     measurement is used. An alarm on a connected subsystem leaves that measurement out (as a
     gate would) and switches the subsystem out from the next epoch: nothing is run ahead or
-    rolled back, and the kernel stops only after an alarm, when a noise scale is due (its
-    median is taken in numpy) and on the ``check_every`` grid while a subsystem is out. The
+    rolled back: the kernel stops only after an alarm and, on the ``check_every`` grid, when
+    an isolated subsystem's last innovations pass the re-admission test. The
     UV range and CNS angle wavelets run on the raw series as for ``"wavelet"`` (the four
     series in two threads). Re-admission: at the ``check_every`` grid, once the last
     ``readmit_samples`` scaled NIS sum below ``chi2.isf(readmit_alpha, W m)`` with no residual
@@ -297,10 +297,11 @@ class FaultTolerantRun:
         Whether each subsystem was switched out at each epoch.
     detection_data : dict
         Per sensor, the detector's series (``t`` s since start, ``ratio``, ``faulty``); with
-        ``detector="combined"`` also ``innovations`` (N, m), the whitened innovations over the
-        adaptive scale (NaN before the first epoch), ``design`` (its
-        :class:`~xnavlab.core.detection.CombinedDesign`) and ``innovation_events`` (the
-        alarms of its innovation parts and, for XNAV, its innovation wavelet).
+        ``detector="combined"`` also ``innovations`` (N, m), the whitened innovations (unit
+        white noise when healthy under the model; NaN where none was taken), ``scale`` (m,) the
+        adaptive scale at the end, ``design`` (its :class:`~xnavlab.core.detection.CombinedDesign`)
+        and ``innovation_events`` (the alarms of its innovation parts and, for XNAV, its
+        innovation wavelet).
     wall_time : float
         Detection plus filter time, s.
     """
@@ -534,7 +535,7 @@ class _Loop:
         self.detection_data = {}
         self._events = {}
         # epoch of each measurement
-        self.k_of = {s: np.searchsorted(inp.times, inp.t_meas[s]) for s in self.subs}
+        self.k_of = {s: np.flatnonzero(inp.meas_idx[:, i] >= 0) for i, s in enumerate(self.subs)}
         self.flag_of = {}          # precomputed wavelet flags (UV, CNS) per measurement
         self.onset_epochs = []     # epochs of precomputed detected onsets
         self.onset_set = set()
@@ -682,7 +683,7 @@ class _Loop:
         if self.detector == "combined":
             horizon = self.HORIZON_COMBINED
         cands = [self.inp.n, a + horizon]
-        if self.out.any() or self.detector == "chi2":
+        if (self.out.any() and self.detector == "wavelet") or self.detector == "chi2":
             cands.append((a // self.check_every + 1) * self.check_every)
         while self._oj < len(self.onset_epochs) and self.onset_epochs[self._oj][0] - 1 <= a:
             self._oj += 1
@@ -809,8 +810,11 @@ class _Loop:
         rec_pos[rec] = np.arange(rec.size)
         records = (out["x"], out["P"], out["xl"], out["Pl"])
         state = scenarios.filter_state(inp, beta)
+        zq = {s: stats.norm.isf(self.readmit_alpha / (2 * self.design[s].m)) for s in self.subs}
         self.watch = watch.Watch(self.subs, self.mon, self.xdet,
-                                 {s: inp.t_meas[s].size for s in self.subs}, self.t0 + self.arm_s)
+                                 {s: inp.t_meas[s].size for s in self.subs}, self.t0 + self.arm_s,
+                                 (self.win, self.readmit_thr, zq, self.check_every))
+        self.watch.set_out(self.out)
         self.ys = self.watch.ys
         arrays = self.watch.arrays()
         self.out_since = {s: 0 for s in self.subs}
@@ -835,11 +839,13 @@ class _Loop:
                     active[e, i] = False     # reported out from the epoch it was left out at
             if b < inp.n:
                 self._plan_chunk(b, active)
+                self.watch.set_out(self.out)
             a = b
         wall = time.perf_counter() - t_start
         for s in self.subs:
+            self.mon[s].scale = self.watch.scale(s)
             d = self.detection_data.setdefault(s, {"t": inp.t_meas[s] - self.t0})
-            d.update(innovations=self.ys[s], design=self.design[s],
+            d.update(innovations=self.ys[s], scale=self.mon[s].scale, design=self.design[s],
                      innovation_events=self._since_start(self.watch.events(s)))
         return scenarios.MarsRun(sc, inp.times[rec], out["x"], out["P"], inp.truth[rec],
                                  out["xl"], out["Pl"], out["nis"], out["flags"], inp.times,
@@ -851,7 +857,7 @@ class _Loop:
         w = self.win[s]
         if hi - lo < w:                  # W measurements taken since the isolation
             return False
-        y = self.ys[s][hi - w:hi]
+        y = self.ys[s][hi - w:hi] / self.watch.scale(s)    # (not fed while out: a fixed scale)
         q = np.sum(np.square(y), axis=1)
         if not (np.all(np.isfinite(q)) and np.sum(q) < self.readmit_thr[s]):
             return False

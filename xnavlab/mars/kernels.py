@@ -4,8 +4,7 @@ The readable reference is the numpy loop of :mod:`xnavlab.mars.scenarios` (built
 :mod:`xnavlab.core.filters`, :mod:`xnavlab.mars.sensors`, :mod:`xnavlab.core.federated`
 and :mod:`xnavlab.mars.dynamics`). :func:`run_epochs` computes the same estimates (the
 tests compare them to 1e-9 relative) in about a microsecond per epoch of three EKFs and
-the fusion; :func:`simulate_uv` and :func:`simulate_cns` draw the 30-day measurement
-series of :func:`xnavlab.mars.scenarios.prepare` without the numpy temporaries.
+the fusion (the measurement series are drawn by :mod:`xnavlab.mars.series`).
 
 Two forms of the same filter
 ----------------------------
@@ -37,8 +36,9 @@ For the subsystems it watches, :func:`run_epochs` whitens each measurement's inn
 against the master's one-step prediction and feeds the combined detector's innovation parts
 (chi-square, mean and variance CUSUMs; XNAV's innovation wavelet) before the update; an alarm
 leaves the measurement out and switches the subsystem out from the next epoch, and the call
-returns after that epoch, as it does when a noise scale is due (:mod:`xnavlab.mars.watch`
-holds the state and takes the medians). Unwatched runs pay one test per measurement.
+returns after that epoch, as it does on the re-admission grid when an isolated subsystem's
+last innovations are quiet (:mod:`xnavlab.mars.watch` holds the state; the adaptive scale is
+recomputed here, its medians by selection). Unwatched runs pay one test per measurement.
 
 Compilation
 -----------
@@ -62,7 +62,7 @@ from numba import njit
 
 from xnavlab.core.constants import GM_SUN, C
 
-__all__ = ["run_epochs", "simulate_uv", "simulate_cns", "KIND_XNAV", "KIND_UV", "KIND_CNS"]
+__all__ = ["run_epochs", "KIND_XNAV", "KIND_UV", "KIND_CNS"]
 
 #: Subsystem code of the XNAV filter in the kernels' integer arrays.
 KIND_XNAV = 0
@@ -84,122 +84,6 @@ _FM = {"contract"}
 _HELPER = {"cache": True, "fastmath": _FM, "_nrt": False}
 #: small helpers inlined into their caller (so that constant sizes propagate)
 _INLINE = {"cache": True, "fastmath": _FM, "_nrt": False, "inline": "always"}
-
-
-# ----------------------------------------------------------------- measurement series
-
-
-@njit(cache=True, inline="always", _nrt=False)
-def _perturb(u0, u1, u2, sigma, w1, w2):
-    """:func:`xnavlab.mars.sensors.perturb_direction` for one unit vector (same operations)."""
-    polar = abs(u2) > 1.0 - 1e-12
-    # e1 = z x u = (-uy, ux, 0), or x x u = (0, -uz, uy) near the poles, normalised
-    a0 = 0.0 if polar else -u1
-    a1 = -u2 if polar else u0
-    a2 = u1 if polar else 0.0
-    n = math.sqrt(a0 * a0 + a1 * a1 + a2 * a2)
-    e10, e11, e12 = a0 / n, a1 / n, a2 / n
-    e20 = u1 * e12 - u2 * e11  # e2 = u x e1
-    e21 = u2 * e10 - u0 * e12
-    e22 = u0 * e11 - u1 * e10
-    wn = math.sqrt(w1 * w1 + w2 * w2)
-    ang = sigma * wn
-    f = math.sin(ang) / (wn if wn > 0.0 else 1.0)
-    c = math.cos(ang)
-    # u' = cos|d| u + sin|d| d/|d|, d/|d| = (w1 e1 + w2 e2)/|w|
-    return (c * u0 + f * (w1 * e10 + w2 * e20), c * u1 + f * (w1 * e11 + w2 * e21),
-            c * u2 + f * (w1 * e12 + w2 * e22))
-
-
-@njit(cache=True)
-def simulate_uv(states, noise, sigma_range, sigma_dir, out):
-    """Noisy UV measurements ``[range, u]`` (paper eq. (5)), compiled.
-
-    The same model and operations as :meth:`xnavlab.mars.sensors.UVSensor.simulate`
-    (range plus white noise; the unit vector turned by
-    :func:`xnavlab.mars.sensors.perturb_direction`),
-    compiled; equal to it to rounding (the sine and cosine may differ in the last bit).
-
-    Parameters
-    ----------
-    states : ndarray, shape (n, 6)
-        True states, Mars-centred J2000, m and m/s.
-    noise : ndarray, shape (n, 3)
-        Standard normal draws: range, then the two tangent axes.
-    sigma_range, sigma_dir : float
-        Range noise, m, and per-axis direction noise, rad.
-    out : ndarray, shape (n, 4)
-        Filled with the measurements.
-
-    Returns
-    -------
-    ndarray, shape (n, 4)
-        ``out``.
-
-    Examples
-    --------
-    >>> x = np.array([[3e6, 0.0, 4e6, 0, 0, 0]])
-    >>> z = simulate_uv(x, np.zeros((1, 3)), 5000.0, 1e-3, np.empty((1, 4)))
-    >>> z.tolist()
-    [[5000000.0, -0.6, 0.0, -0.8]]
-    """
-    for k in range(states.shape[0]):
-        r0, r1, r2 = states[k, 0], states[k, 1], states[k, 2]
-        rn = math.sqrt(r0 * r0 + r1 * r1 + r2 * r2)  # paper eq. (5)
-        out[k, 0] = rn + sigma_range * noise[k, 0]
-        out[k, 1], out[k, 2], out[k, 3] = _perturb(-r0 / rn, -r1 / rn, -r2 / rn, sigma_dir,
-                                                   noise[k, 1], noise[k, 2])
-    return out
-
-
-@njit(cache=True)
-def simulate_cns(states, noise, star_dirs, sigma_star, sigma_horizon, out):
-    """Noisy starlight angles (paper eq. (6)), rad, compiled.
-
-    The Mars direction is turned once per epoch (horizon sensor, ``noise[:, 0:2]``) and
-    each star direction separately (star sensor, ``noise[:, 2 + 2j:4 + 2j]``), with the
-    operations of :meth:`xnavlab.mars.sensors.CNSSensor.simulate`; equal to it to rounding.
-
-    Parameters
-    ----------
-    states : ndarray, shape (n, 6)
-        True states, m and m/s.
-    noise : ndarray, shape (n, 2 + 2k)
-        Standard normal draws.
-    star_dirs : ndarray, shape (k, 3)
-        Unit vectors to the stars.
-    sigma_star, sigma_horizon : float
-        Star-sensor and horizon-sensor noise per axis, rad.
-    out : ndarray, shape (n, k)
-        Filled with the angles.
-
-    Returns
-    -------
-    ndarray, shape (n, k)
-        ``out``.
-
-    Examples
-    --------
-    >>> a = simulate_cns(np.array([[4e6, 0.0, 0, 0, 0, 0]]), np.zeros((1, 4)),
-    ...                  np.array([[0.0, 1.0, 0.0]]), 1e-5, 1e-3, np.empty((1, 1)))
-    >>> round(float(np.degrees(a[0, 0])), 9)
-    90.0
-    """
-    for e in range(states.shape[0]):
-        r0, r1, r2 = states[e, 0], states[e, 1], states[e, 2]
-        rn = math.sqrt(r0 * r0 + r1 * r1 + r2 * r2)
-        m0, m1, m2 = _perturb(-r0 / rn, -r1 / rn, -r2 / rn, sigma_horizon,
-                              noise[e, 0], noise[e, 1])
-        for j in range(star_dirs.shape[0]):
-            s0, s1, s2 = _perturb(star_dirs[j, 0], star_dirs[j, 1], star_dirs[j, 2], sigma_star,
-                                  noise[e, 2 + 2 * j], noise[e, 3 + 2 * j])
-            c0 = m1 * s2 - m2 * s1
-            c1 = m2 * s0 - m0 * s2
-            c2 = m0 * s1 - m1 * s0
-            # the angle between the Mars centre and the star, paper eq. (6)
-            out[e, j] = math.atan2(math.sqrt(c0 * c0 + c1 * c1 + c2 * c2),
-                                   m0 * s0 + m1 * s1 + m2 * s2)
-    return out
 
 
 # ----------------------------------------------------------------------- dynamics
@@ -823,10 +707,16 @@ def _fuse_information(x, P, ssum, J, b, x_out, P_out, Pt, G):
 
 # ------------------------------------------------- the combined detector, inside the loop
 
-#: Columns of the watch's float parameters ``wf`` (ns, 6) (:mod:`xnavlab.mars.watch`).
-WF_KMEAN, WF_KVAR, WF_CHI2, WF_HMEAN, WF_HVAR, WF_TARM = range(6)
-#: Columns of its integer state ``wi`` (ns, 8).
-WI_ON, WI_M, WI_W, WI_NRING, WI_POS, WI_NFED, WI_NEXT, WI_XCOUNT = range(8)
+#: Columns of the watch's float parameters ``wf`` (ns, 10) (:mod:`xnavlab.mars.watch`): the
+#: CUSUM references and thresholds, the chi-square threshold, the arming time, the scale's
+#: prior weight and MAD factor, the re-admission test's threshold and normal quantile.
+(WF_KMEAN, WF_KVAR, WF_CHI2, WF_HMEAN, WF_HVAR, WF_TARM, WF_PRIOR, WF_MAD, WF_RTHR,
+ WF_ZQ) = range(10)
+#: Columns of its integer state ``wi`` (ns, 15): watched, components, MAD window, its fill
+#: and next row, samples fed, next scale update, XNAV wavelet samples, scale period, adaptive,
+#: out, measurements since out, last measurement row, re-admission window, check period.
+(WI_ON, WI_M, WI_W, WI_NRING, WI_POS, WI_NFED, WI_NEXT, WI_XCOUNT, WI_EVERY, WI_ADAPT, WI_OUT,
+ WI_NOUT, WI_LAST, WI_RWIN, WI_CHECK) = range(15)
 
 
 @njit(**_INLINE)
@@ -861,8 +751,14 @@ def _whiten_uv(x, P, z, jm, sig_r, sig_u, y):
 
 @njit(**_INLINE)
 def _whiten_at(P, H, R, nu, m, PHt, S, L, y):
-    """``y = L^-1 nu`` with ``L L^T = H P H^T + R``; False if S is not positive definite."""
-    _innovation_cov(P, 1.0, H, R, m, PHt, S)
+    """``y = L^-1 nu`` with ``L L^T = H P H^T + R``; False if S is not positive definite
+    (H has zero velocity columns: only ``P[:3, :3]`` is used)."""
+    for i in range(3):
+        for j in range(m):
+            PHt[i, j] = P[i, 0] * H[j, 0] + P[i, 1] * H[j, 1] + P[i, 2] * H[j, 2]
+    for i in range(m):
+        for j in range(i + 1):
+            S[i, j] = R[i, j] + H[i, 0] * PHt[0, j] + H[i, 1] * PHt[1, j] + H[i, 2] * PHt[2, j]
     ok = _cholesky(S, m, L)
     for i in range(m):
         y[i] = nu[i]
@@ -871,30 +767,30 @@ def _whiten_at(P, H, R, nu, m, PHt, S, L, y):
 
 
 @njit(**_INLINE)
-def _watch_monitor(i, y, m, connected, wf, wi, wS, wsc, ring, ys, jm, alarm):
+def _watch_monitor(i, y, z, m, connected, wf, wi, wS, wsc, ring, ys, jm, alarm, med, cnt):
     """The innovation parts of the combined detector on one whitened innovation ``y`` (m,)
     of subsystem ``i`` (:class:`xnavlab.core.detection.InnovationMonitor`, one sample).
 
-    Writes the scaled innovation to ``ys[jm]``; if ``connected`` (and armed): the chi-square
-    ``q = sum z^2``, the CUSUMs ``S+ = max(0, S+ + z - k)``, ``S- = max(0, S- - z - k)``,
-    ``V = max(0, V + z^2 - k_v)`` (``z = y / s``); on an alarm the CUSUMs restart, ``alarm[i]``
-    gets the part and its ratio and True is returned; a healthy sample goes into the scale's
-    ring (the caller recomputes the scale once ``n_fed`` reaches ``next``)."""
+    Writes ``y`` to ``ys[jm]`` and ``z = y / s`` (the adaptive scale) to ``z``; if
+    ``connected`` (and armed): the chi-square ``q = sum z^2``, the CUSUMs
+    ``S+ = max(0, S+ + z - k)``, ``S- = max(0, S- - z - k)``, ``V = max(0, V + z^2 - k_v)``;
+    on an alarm the CUSUMs restart, ``alarm[i]`` gets the part and its ratio and True is
+    returned; a healthy sample goes into the scale's window, and the scale is recomputed on
+    the monitor's grid of samples fed (:func:`_rescale`)."""
     q = 0.0
     for c in range(m):
-        z = y[c] / wsc[i, c]
-        ys[jm, c] = z
-        q += z * z                                             # chapter 9 eq. (ch9-chi2)
+        ys[jm, c] = y[c]
+        z[c] = y[c] / wsc[i, c]
+        q += z[c] * z[c]                                       # chapter 9 eq. (ch9-chi2)
     if not connected:
         return False
     best = q / wf[i, WF_CHI2]
     part = 0
     km, kv = wf[i, WF_KMEAN], wf[i, WF_KVAR]
     for c in range(m):
-        z = ys[jm, c]
-        a = max(0.0, wS[i, c] + z - km)                       # S+ = max(0, S+ + z - k)
-        b = max(0.0, wS[i, m + c] - z - km)                   # S- = max(0, S- - z - k)
-        v = max(0.0, wS[i, 2 * m + c] + z * z - kv)           # V = max(0, V + z^2 - k_v)
+        a = max(0.0, wS[i, c] + z[c] - km)                    # S+ = max(0, S+ + z - k)
+        b = max(0.0, wS[i, m + c] - z[c] - km)                # S- = max(0, S- - z - k)
+        v = max(0.0, wS[i, 2 * m + c] + z[c] * z[c] - kv)     # V = max(0, V + z^2 - k_v)
         wS[i, c], wS[i, m + c], wS[i, 2 * m + c] = a, b, v
     for j in range(3 * m):
         r = wS[i, j] / (wf[i, WF_HMEAN] if j < 2 * m else wf[i, WF_HVAR])
@@ -907,14 +803,111 @@ def _watch_monitor(i, y, m, connected, wf, wi, wS, wsc, ring, ys, jm, alarm):
         alarm[i, 0] = part
         alarm[i, 1] = best
         return True
-    W = wi[i, WI_W]                                            # a healthy sample: the ring
+    W = wi[i, WI_W]                                            # a healthy sample: the window
     pos = wi[i, WI_POS]
     for c in range(m):
         ring[i, c, pos] = y[c]
     wi[i, WI_POS] = (pos + 1) % W
     wi[i, WI_NRING] = min(W, wi[i, WI_NRING] + 1)
     wi[i, WI_NFED] += 1
+    if wi[i, WI_NFED] >= wi[i, WI_NEXT]:
+        if wi[i, WI_ADAPT]:
+            _rescale(i, m, wf, wi, ring, wsc, med, cnt)
+        nxt = wi[i, WI_NEXT]                 # 100, 200, 400, ... then every scale_every
+        wi[i, WI_NEXT] = min(2 * nxt, nxt + wi[i, WI_EVERY])
     return False
+
+
+@njit(**_HELPER)
+def _rescale(i, m, wf, wi, ring, wsc, med, cnt):
+    """The adaptive scale from the MAD window, as
+    :meth:`xnavlab.core.detection.InnovationMonitor.scale_from`:
+    ``s^2 = (n0 + n MAD^2) / (n0 + n)``, ``MAD = median|y| / 0.6745`` (scratch ``med``,
+    ``cnt``)."""
+    n = wi[i, WI_NRING]
+    n0 = wf[i, WF_PRIOR]
+    for c in range(m):
+        mad = _median_abs(ring[i, c], n, med, cnt) / wf[i, WF_MAD]
+        wsc[i, c] = math.sqrt((n0 + n * (mad * mad)) / (n0 + n))
+
+
+@njit(**_HELPER)
+def _median_abs(x, n, med, cnt):
+    """``median(|x[:n]|)`` exactly as numpy takes it (the mean of the two middle values for even
+    ``n``), by :func:`_radix_select` (scratch ``med`` (>= n,), ``cnt`` (8192,) int64)."""
+    for r in range(n):
+        med[r] = abs(x[r])
+    k = n // 2
+    v = _radix_select(med, n, k, cnt)
+    if n % 2 == 0:
+        below, lo = 0, 0.0
+        for r in range(n):          # (branch-free: the comparisons are coin flips)
+            a = abs(x[r])
+            lt = a < v
+            below += lt
+            lo = max(lo, a * lt)
+        v = ((lo if below >= k else v) + v) / 2.0
+    return v
+
+
+@njit(**_HELPER)
+def _radix_select(f, n, k, cnt):
+    """The k-th smallest (0-based) of the nonnegative ``f[:n]``, destroying ``f``: histograms of
+    the bit patterns (whose order is the values' order), 12 then 13 bits at a time, keep the
+    bucket holding the k-th, until at most 32 are left (few branches, so few mispredictions:
+    half a quickselect's time on a day of innovations)."""
+    u = f.view(np.uint64)
+    shift, width = 52, 12
+    while True:
+        mask = (1 << width) - 1
+        sh, mk = np.uint64(shift), np.uint64(mask)
+        for b in range(mask + 1):
+            cnt[b] = 0
+        for r in range(n):
+            cnt[np.int64((u[r] >> sh) & mk)] += 1
+        b = 0
+        while cnt[b] <= k:
+            k -= cnt[b]
+            b += 1
+        w = 0
+        for r in range(n):          # compaction without a branch
+            e = u[r]
+            u[w] = e
+            w += np.int64((e >> sh) & mk) == b
+        n = w
+        if n <= 32 or shift == 0:      # (at shift 0 the bucket holds one value, repeated)
+            break
+        width = min(13, shift)
+        shift -= width
+    for r in range(1, n):              # insertion sort of the last bucket
+        v, j = f[r], r - 1
+        while j >= 0 and f[j] > v:
+            f[j + 1] = f[j]
+            j -= 1
+        f[j + 1] = v
+    return f[k]
+
+
+@njit(**_HELPER)
+def _quiet(i, wf, wi, wsc, ys):
+    """Whether subsystem ``i``, out, may rejoin (a superset of the loop's own test, which
+    decides): its last ``W`` scaled innovations since the isolation give a NIS sum below the
+    threshold and no component sum beyond ``zq sqrt(W)``."""
+    w = wi[i, WI_RWIN]
+    if wi[i, WI_NOUT] < w:
+        return False
+    m = wi[i, WI_M]
+    last = wi[i, WI_LAST]
+    tot = 0.0
+    for c in range(m):
+        sc = 0.0
+        for r in range(last - w + 1, last + 1):
+            z = ys[r, c] / wsc[i, c]
+            tot += z * z
+            sc += z
+        if abs(sc) > wf[i, WF_ZQ] * math.sqrt(w) * (1.0 + 1e-9):
+            return False
+    return tot < wf[i, WF_RTHR] * (1.0 + 1e-9)
 
 
 @njit(**_HELPER)
@@ -961,23 +954,23 @@ def _ys(kind, ys_x, ys_u, ys_c):
 
 
 @njit(**_INLINE)
-def _watch(kind, i, jm, t, connected, x, P, nu, H, R, m, z_u, sig_r, sig_u, wf, wi, wS, wsc,
-           ring, ys, xbuf, xG, xthr, alarm, PHt, S, L, y):
+def _watch(kind, i, jm, connected, x, P, nu, H, R, m, z_u, sig_r, sig_u, wf, wi, wS, wsc,
+           ring, ys, xbuf, xG, xthr, alarm, PHt, S, L, y, z, med, cnt):
     """Whiten subsystem ``i``'s measurement ``jm`` against the master's prediction ``x``,
-    ``P`` (``nu``, ``H``, ``R`` its innovation there) and feed the combined detector's parts.
-    Returns 1 on an alarm, 2 when the scale is due, else 0."""
+    ``P`` (``nu``, ``H``, ``R`` its innovation there) and feed the combined detector's parts
+    (judged only if ``connected``, and armed). Returns True on an alarm."""
     if kind == KIND_UV:
         _whiten_uv(x, P, z_u, jm, sig_r, sig_u, y)
         m = 3
     else:
         _whiten_at(P, H, R, nu, m, PHt, S, L, y)
-    connected = connected and t >= wf[i, WF_TARM]
-    hit = _watch_monitor(i, y, m, connected, wf, wi, wS, wsc, ring, ys, jm, alarm)
+    wi[i, WI_LAST] = jm
+    if wi[i, WI_OUT]:
+        wi[i, WI_NOUT] += 1
+    hit = _watch_monitor(i, y, z, m, connected, wf, wi, wS, wsc, ring, ys, jm, alarm, med, cnt)
     if connected and kind == KIND_XNAV and xG.shape[0] > 0:
-        hit = _watch_wavelet(i, ys[jm], m, wi, xbuf, xG, xthr, alarm) or hit
-    if hit:
-        return 1
-    return 2 if connected and wi[i, WI_NFED] >= wi[i, WI_NEXT] else 0
+        hit = _watch_wavelet(i, z, m, wi, xbuf, xG, xthr, alarm) or hit
+    return hit
 
 
 # ---------------------------------------------------------------------------- the run
@@ -1016,9 +1009,9 @@ def run_epochs(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
     -------
     int
         -1 when the epochs ran to ``k1``; ``k`` when the run stopped after epoch ``k``
-        because the combined detector alarmed there (``alarm``) or a watched subsystem's
-        noise scale is due; -2 on a numerical failure (a covariance lost positive
-        definiteness).
+        because the combined detector alarmed there (``alarm``) or an isolated subsystem
+        may rejoin at epoch ``k + 1`` (a multiple of its check period); -2 on a numerical
+        failure (a covariance lost positive definiteness).
     """
     ns = xs.shape[0]
     nb = tb_pos.shape[1]
@@ -1036,7 +1029,8 @@ def run_epochs(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
         np.zeros((3, 3)), np.zeros(3), np.empty((3, 3)),                    # J, b, G
         np.zeros(ns, dtype=np.bool_), np.empty(ns),                         # use, 1/shares
         np.empty((1, 6)), np.empty(mm), np.zeros((mm, 6)), np.zeros((mm, mm)),  # watch
-        np.zeros(ns, dtype=np.bool_),
+        np.zeros(ns, dtype=np.bool_), np.empty(mm), np.empty(ring.shape[2]),
+        np.empty(8192, dtype=np.int64),
     )
     return _run(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
                 tb_t0, tb_step, tb_pos, tb_vel, tb_gm, kinds, meas_idx, active, beta, reset,
@@ -1053,7 +1047,7 @@ def _run(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
          wf, wi, wS, wsc, ring, ys_x, ys_u, ys_c, xbuf, xG, xthr, alarm,
          s0, i0, s1, i1, s2, i2, Phi, Ph, T, xc, PHt, S, L, yy, K, W, A,
          d, Y, yv, Ci, Cf, dx, nu, H, R, xp, Pp, x2, P2, J, bv, G, use, inv_sh,
-         xw, nu2, H2, R2, alarmed):
+         xw, nu2, H2, R2, alarmed, zw, med, cnt):
     """The epoch loop of :func:`run_epochs` (scratch arrays allocated there)."""
     ns = xs.shape[0]
     for i in range(ns):
@@ -1107,14 +1101,14 @@ def _run(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
                         _measure(kinds[i], xw, 0, j, z_x, rm_x, rs_x, n_x, d_x, sig_x, z_u,
                                  sig_r, sig_u, z_c, stars_c, sig_s, sig_h, nu2, H2, R2, A)
                     wnu, wH, wR = (nu, H, R) if reset else (nu2, H2, R2)
-                    code = _watch(kinds[i], i, j, times[k], act, xp, Pp, wnu, wH, wR, m, z_u,
-                                  sig_r, sig_u, wf, wi, wS, wsc, ring,
-                                  _ys(kinds[i], ys_x, ys_u, ys_c), xbuf, xG, xthr, alarm, PHt,
-                                  S, L, yy)
-                    if code == 1:   # an alarm: this measurement stays out, and so does i
-                        act = False
+                    armed = act and times[k] >= wf[i, WF_TARM]    # connected and armed
+                    if _watch(kinds[i], i, j, armed, xp, Pp, wnu, wH, wR, m, z_u,
+                              sig_r, sig_u, wf, wi, wS, wsc, ring,
+                              _ys(kinds[i], ys_x, ys_u, ys_c), xbuf, xG, xthr, alarm, PHt, S,
+                              L, yy, zw, med, cnt):
+                        act = False     # an alarm: this measurement stays out, and so does i
                         alarmed[i] = True
-                    stop = stop or code != 0
+                        stop = True
                 if full:
                     nis = _update_sized(xs, Ps, i, nu, H, R, m, gate[i], act, PHt, S, L, yy, K,
                                         W, T)
@@ -1152,6 +1146,10 @@ def _run(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
             for i in range(ns):
                 if alarmed[i]:
                     active[k + 1, i] = False     # switched out from the next epoch
+        for i in range(ns):      # the re-admission grid: stop where the loop may readmit
+            if wi[i, WI_OUT] and (k + 1) % wi[i, WI_CHECK] == 0 and \
+                    _quiet(i, wf, wi, wsc, _ys(kinds[i], ys_x, ys_u, ys_c)):
+                stop = True
         r = rec_pos[k]
         if r >= 0:
             for a in range(6):

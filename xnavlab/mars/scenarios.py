@@ -63,7 +63,7 @@ from xnavlab.core.constants import DAY, GM_MARS, C
 from xnavlab.core.federated import MODES, FederatedFilter
 from xnavlab.core.filters import chi2_bounds
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
-from xnavlab.mars import dynamics, kernels, pulsars, sensors, stars, toa
+from xnavlab.mars import dynamics, kernels, pulsars, sensors, series, stars, toa
 
 __all__ = [
     "alloc_records",
@@ -351,7 +351,7 @@ def prepare(scenario=None, **overrides):
     The truth comes from :func:`xnavlab.mars.dynamics.truth` (the tight DOP853 propagator,
     cached on disk); the last two distinct truths are also kept in memory. The UV and CNS
     series (864 000 epochs each over 30 days) are drawn by
-    :func:`xnavlab.mars.kernels.simulate_uv` and :func:`~xnavlab.mars.kernels.simulate_cns`,
+    :func:`xnavlab.mars.series.simulate_uv` and :func:`~xnavlab.mars.series.simulate_cns`,
     the models of :meth:`xnavlab.mars.sensors.UVSensor.simulate` and
     :meth:`xnavlab.mars.sensors.CNSSensor.simulate` compiled: same
     draws, same values to rounding, without numpy's temporaries.
@@ -412,12 +412,12 @@ def prepare(scenario=None, **overrides):
         elif s == "uv":
             # the model of UVSensor.simulate, compiled (same draws, equal to rounding)
             uv = sens["uv"]
-            z[s] = _series(rng, truth, k, 3, 4, kernels.simulate_uv,
+            z[s] = _series(rng, truth, k, 3, 4, series.simulate_uv,
                            (uv.sigma_range, uv.sigma_dir))
         else:
             # the model of CNSSensor.simulate, compiled (same draws, equal to rounding)
             cns = sens["cns"]
-            z[s] = _series(rng, truth, k, 2 + 2 * cns.dim, cns.dim, kernels.simulate_cns,
+            z[s] = _series(rng, truth, k, 2 + 2 * cns.dim, cns.dim, series.simulate_cns,
                            (cns.star_dirs, cns.sigma_star, cns.sigma_horizon))
     table = dynamics.ThirdBodyTable(sc.t0, float(times[-1]), ("sun", "jupiter"), "mars",
                                     sc.filter_ephem)
@@ -835,7 +835,7 @@ def run_kernel(inp, state, a, b, active, beta, gate, rec_pos, records, nis, flag
 def _no_watch(ns):
     """The combined detector's arrays with no subsystem watched (the kernel skips them)."""
     z = np.zeros     # wf, wi, wS, wsc, ring, ys (3), xbuf, xG, xthr, alarm
-    return (z((ns, 6)), z((ns, 8), dtype=np.int64), z((ns, 12)), np.ones((ns, 4)), z((ns, 4, 1)),
+    return (z((ns, 10)), z((ns, 15), dtype=np.int64), z((ns, 12)), np.ones((ns, 4)), z((ns, 4, 1)),
             *[z((1, 4)) for _ in range(4)], z((0, 1)), z(0), z((ns, 4)))
 
 
