@@ -110,13 +110,13 @@ from scipy import stats
 
 from xnavlab.core.constants import DAY, C
 from xnavlab.core.detection import (
+    BlockWavelet,
+    BlockWaveletSensor,
     CombinedDesign,
     Event,
     InnovationMonitor,
     chi2_threshold,
     events_from_alarms,
-    wavelet_detect,
-    wavelet_detect_sensor,
 )
 from xnavlab.core.faults import Fault, format_spec, inject, parse_spec
 from xnavlab.core.validate import check_choice, check_int, check_real, make_rng
@@ -539,6 +539,7 @@ class _Loop:
         self.flag_of = {}          # precomputed wavelet flags (UV, CNS) per measurement
         self.onset_epochs = []     # epochs of precomputed detected onsets
         self.onset_set = set()
+        self._blocks, self._pending, self._known, self._pool = {}, [], 0, None
         self.xdet = None
         self.mon = {}
         if detector == "combined":
@@ -574,29 +575,58 @@ class _Loop:
                         f"{train_days * DAY:g} s, which must be fault-free, but a {f.kind} fault "
                         f"starts at {f.onset:g} s; use a later onset or a shorter train_days")
         p = {s: pfa[s] if isinstance(pfa, dict) else pfa for s in subs}
-        # the UV range and the CNS angles are four independent series: two threads
-        dets = {}
-        with ThreadPoolExecutor(max_workers=2) as pool:
-            uv = None if "uv" not in subs else pool.submit(
-                wavelet_detect, inp.t_meas["uv"], inp.z["uv"][:, 0], pfa=p["uv"],
-                train=n_train["uv"])
-            if "cns" in subs:
-                dets["cns"] = wavelet_detect_sensor(inp.t_meas["cns"], inp.z["cns"], pfa=p["cns"],
-                                                    train=n_train["cns"], executor=pool)
-            if uv is not None:
-                dets["uv"] = uv.result()
-        for s in subs:
-            t = inp.t_meas[s]
-            det = dets[s]
+        if "uv" in subs:
+            self._blocks["uv"] = BlockWavelet(inp.t_meas["uv"], inp.z["uv"][:, 0], pfa=p["uv"],
+                                              train=n_train["uv"])
+        if "cns" in subs:
+            self._blocks["cns"] = BlockWaveletSensor(inp.t_meas["cns"], inp.z["cns"],
+                                                     pfa=p["cns"], train=n_train["cns"])
+        # the series are computed in blocks of a day, in time order: in a thread of their own
+        # for the combined detector (the loop takes the onsets of a block before it gets there;
+        # the filter kernel releases the GIL), at once otherwise
+        ends = self.t0 + DAY * np.arange(1.0, math.ceil(inp.scenario.span / DAY) + 1.0)
+        ends[-1] = max(ends[-1], float(inp.times[-1]) + 1.0)
+        if self.detector == "combined":
+            self._pool = ThreadPoolExecutor(max_workers=1)
+            self._pending = [(int(np.searchsorted(inp.times, e)),
+                              self._pool.submit(self._block_onsets, e)) for e in ends]
+            self._finished = self._pool.submit(self._finish_blocks)     # after the last block
+        else:
+            for e in ends:
+                self._add_onsets(int(np.searchsorted(inp.times, e)), self._block_onsets(e))
+            self._finish_blocks()
+
+    def _block_onsets(self, t_end):
+        """Compute the raw UV/CNS wavelets up to time ``t_end``; their new onsets as epochs."""
+        out = []
+        for s, b in self._blocks.items():
+            j = b.new_onsets(int(np.searchsorted(self.inp.t_meas[s], t_end)))
+            out += [(int(self.k_of[s][i]), self.subs.index(s)) for i in j]
+        return sorted(out)
+
+    def _add_onsets(self, known, onsets):
+        self.onset_epochs += onsets
+        self.onset_set.update(onsets)
+        self._known = known
+
+    def _await_onsets(self, b):
+        """Before deciding at epoch ``b``: the onsets up to epoch ``b + 1`` must be known."""
+        while self._pending and b + 1 >= self._known:
+            known, fut = self._pending.pop(0)
+            self._add_onsets(known, fut.result())
+        if not self._pending and self._pool is not None:
+            self._pool.shutdown(wait=False)     # (its last task, the results, may still run)
+            self._pool = None
+
+    def _finish_blocks(self):
+        """The wavelets' results once every block is done: flags, events, series."""
+        for s, b in self._blocks.items():
+            t = self.inp.t_meas[s]
+            det = b.detection()
             self.flag_of[s] = det.faulty
             self._events[s] = [Event(e.onset - self.t0, e.end - self.t0, e.cleared - self.t0,
                                      e.peak, e.test) for e in det.events]
             self.detection_data[s] = {"t": t - self.t0, "ratio": det.ratio, "faulty": det.faulty}
-            k = self.k_of[s]
-            onsets = np.searchsorted(t, [e.onset for e in det.events])
-            self.onset_epochs += [(int(k[j]), self.subs.index(s)) for j in onsets]
-        self.onset_epochs.sort()
-        self.onset_set = set(self.onset_epochs)
 
     def events(self):
         if self.detector == "combined":
@@ -689,6 +719,8 @@ class _Loop:
             self._oj += 1
         if self._oj < len(self.onset_epochs):
             cands.append(self.onset_epochs[self._oj][0] - 1)
+        if self._pending:
+            cands.append(self._known - 1)          # the onsets known so far
         b = max(a + 1, min(cands))
         if b in self._x_set and b < self.inp.n:
             # an XNAV epoch must not open a chunk: a rollback needs it after the chunk start
@@ -822,25 +854,33 @@ class _Loop:
         t_start = time.perf_counter()
         self._oj = 0
         self._x_set = set()
-        a = 0
-        while a < inp.n:
-            b = self._next_boundary(a)
-            e = scenarios.run_kernel(inp, state, a, b, active, beta, gate, rec_pos, records,
-                                     out["nis"], out["flags"], arrays)
-            if e >= 0:
-                # the kernel stopped after epoch e: an alarm there (that measurement was left
-                # out, the subsystem is out from e + 1) or a noise scale due
-                self.stops += 1
-                b = e + 1
-                for s in self.watch.after_stop(float(inp.times[e])):
-                    i = self.subs.index(s)
-                    self.out[i] = True
-                    self.out_since[s] = e
-                    active[e, i] = False     # reported out from the epoch it was left out at
-            if b < inp.n:
-                self._plan_chunk(b, active)
-                self.watch.set_out(self.out)
-            a = b
+        try:
+            a = 0
+            while a < inp.n:
+                b = self._next_boundary(a)
+                e = scenarios.run_kernel(inp, state, a, b, active, beta, gate, rec_pos, records,
+                                         out["nis"], out["flags"], arrays)
+                if e >= 0:
+                    # the kernel stopped after epoch e: an alarm there (that measurement was left
+                    # out, the subsystem is out from e + 1) or a subsystem may rejoin at e + 1
+                    self.stops += 1
+                    b = e + 1
+                    for s in self.watch.after_stop(float(inp.times[e])):
+                        i = self.subs.index(s)
+                        self.out[i] = True
+                        self.out_since[s] = e
+                        active[e, i] = False     # reported out from the epoch it was left out at
+                if b < inp.n:
+                    self._await_onsets(b)
+                    self._plan_chunk(b, active)
+                    self.watch.set_out(self.out)
+                a = b
+        except BaseException:   # the wavelets' thread stops too
+            if self._pool is not None:
+                self._pool.shutdown(cancel_futures=True)
+            raise
+        self._await_onsets(inp.n)
+        self._finished.result()
         wall = time.perf_counter() - t_start
         for s in self.subs:
             self.mon[s].scale = self.watch.scale(s)

@@ -726,11 +726,9 @@ def _whiten_uv(x, P, z, jm, sig_r, sig_u, y):
     (the unit vector's radial part carries no information)."""
     rn = math.sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2])
     u0, u1, u2 = -x[0] / rn, -x[1] / rn, -x[2] / rn
-    s = 0.0
-    for i in range(3):
-        ui = (u0, u1, u2)[i]
-        for j in range(3):
-            s += ui * P[i, j] * (u0, u1, u2)[j]
+    p00, p01, p02, p11, p12, p22 = P[0, 0], P[0, 1], P[0, 2], P[1, 1], P[1, 2], P[2, 2]
+    s = (u0 * (p00 * u0 + p01 * u1 + p02 * u2) + u1 * (p01 * u0 + p11 * u1 + p12 * u2)
+         + u2 * (p02 * u0 + p12 * u1 + p22 * u2))                   # u^T P u
     y[0] = (z[jm, 0] - rn) / math.sqrt(s + sig_r * sig_r)          # range, g = -u
     if abs(u2) > 1.0 - 1e-12:                     # tangent basis e1 = z x u (x x u at a pole)
         e1 = (0.0, -u2, u1)
@@ -742,10 +740,8 @@ def _whiten_uv(x, P, z, jm, sig_r, sig_u, y):
     for c in range(2):
         e = e1 if c == 0 else e2
         d = (z[jm, 1] - u0) * e[0] + (z[jm, 2] - u1) * e[1] + (z[jm, 3] - u2) * e[2]
-        s = 0.0
-        for i in range(3):
-            for j in range(3):
-                s += e[i] * P[i, j] * e[j]
+        s = (e[0] * (p00 * e[0] + p01 * e[1] + p02 * e[2]) + e[1] * (p01 * e[0] + p11 * e[1]
+             + p12 * e[2]) + e[2] * (p02 * e[0] + p12 * e[1] + p22 * e[2]))   # e^T P e
         y[1 + c] = d / math.sqrt(s / (rn * rn) + sig_u * sig_u)    # g = -e / |r|
 
 
@@ -784,19 +780,24 @@ def _watch_monitor(i, y, z, m, connected, wf, wi, wS, wsc, ring, ys, jm, alarm, 
         q += z[c] * z[c]                                       # chapter 9 eq. (ch9-chi2)
     if not connected:
         return False
-    best = q / wf[i, WF_CHI2]
-    part = 0
     km, kv = wf[i, WF_KMEAN], wf[i, WF_KVAR]
+    hm, hv = wf[i, WF_HMEAN], wf[i, WF_HVAR]
+    over = q > wf[i, WF_CHI2]
     for c in range(m):
         a = max(0.0, wS[i, c] + z[c] - km)                    # S+ = max(0, S+ + z - k)
         b = max(0.0, wS[i, m + c] - z[c] - km)                # S- = max(0, S- - z - k)
         v = max(0.0, wS[i, 2 * m + c] + z[c] * z[c] - kv)     # V = max(0, V + z^2 - k_v)
         wS[i, c], wS[i, m + c], wS[i, 2 * m + c] = a, b, v
-    for j in range(3 * m):
-        r = wS[i, j] / (wf[i, WF_HMEAN] if j < 2 * m else wf[i, WF_HVAR])
-        if r > best:
-            best = r
-            part = 1 + j
+        over = over or a > hm or b > hm or v > hv
+    best = 0.0
+    if over:                  # (statistic / threshold > 1 needs statistic > threshold)
+        best = q / wf[i, WF_CHI2]
+        part = 0
+        for j in range(3 * m):
+            r = wS[i, j] / (hm if j < 2 * m else hv)
+            if r > best:
+                best = r
+                part = 1 + j
     if best > 1.0:
         for j in range(3 * m):
             wS[i, j] = 0.0
@@ -976,7 +977,7 @@ def _watch(kind, i, jm, connected, x, P, nu, H, R, m, z_u, sig_r, sig_u, wf, wi,
 # ---------------------------------------------------------------------------- the run
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def run_epochs(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
                tb_t0, tb_step, tb_pos, tb_vel, tb_gm,
                kinds, meas_idx, active, beta, reset, gate,

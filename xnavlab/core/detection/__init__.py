@@ -8,7 +8,8 @@ module                 what it holds
 =====================  ===================================================================
 ``mallat``             Mallat's fast algorithm, paper eqs. (9)-(10); detail signals (Fig. 5)
 ``online``             causal undecimated details, MAD thresholds, events, the online
-                       :class:`~.online.WaveletDetector` and batch :func:`~.online.wavelet_detect`
+                       :class:`~.online.WaveletDetector`
+``batch``              the batch :func:`~.batch.wavelet_detect`, whole or block by block
 ``singularity``        modulus maxima, Lipschitz exponents, the CWT (paper eqs. (7)-(8))
 ``chisquare``          the innovation chi-square baseline (:class:`~.chisquare.Chi2Detector`)
 ``combined``           the combined detector: wavelet + chi-square + CUSUMs on innovations
@@ -20,6 +21,8 @@ Every public name of these modules is re-exported here: ``from xnavlab.core impo
 The design decisions (sliding window, thresholds, hold-off) are in :mod:`.online`.
 """
 
+from xnavlab.core.detection.batch import *  # noqa: F403
+from xnavlab.core.detection.batch import __all__ as _batch_all
 from xnavlab.core.detection.chisquare import *  # noqa: F403
 from xnavlab.core.detection.chisquare import __all__ as _chisquare_all
 from xnavlab.core.detection.combined import *  # noqa: F403
@@ -35,5 +38,5 @@ from xnavlab.core.detection.plots import __all__ as _plots_all
 from xnavlab.core.detection.singularity import *  # noqa: F403
 from xnavlab.core.detection.singularity import __all__ as _singularity_all
 
-__all__ = [*_mallat_all, *_online_all, *_singularity_all, *_chisquare_all, *_combined_all,
+__all__ = [*_mallat_all, *_online_all, *_batch_all, *_singularity_all, *_chisquare_all, *_combined_all,
            *_limits_all, *_plots_all]

@@ -6,7 +6,7 @@ data; the innovation chi-square test sees *levels*, but only one sample at a tim
 the noise model. Neither sees a slow drift early. The combined detector runs, per subsystem,
 
 ``wavelet``
-    :func:`~xnavlab.core.detection.online.wavelet_detect` (raw series or innovations);
+    :func:`~xnavlab.core.detection.batch.wavelet_detect` (raw series or innovations);
 ``chi2``
     the per-sample test ``q_n = sum_c (y_c[n] / s_c)^2 > chi2.isf(alpha, m)`` on the whitened
     innovations ``y = L^-1 nu`` (``L L^T = S``), chapter 9 eq. (ch9-chi2);
@@ -65,13 +65,13 @@ import numpy as np
 from numba import njit
 from scipy import optimize, special, stats
 
+from xnavlab.core.detection.batch import wavelet_detect
 from xnavlab.core.detection.online import (
     MAD_SCALE,
     Detection,
     EventTracker,
     TrackedDetector,
     events_from_alarms,
-    wavelet_detect,
 )
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real
 
@@ -600,7 +600,7 @@ def combined_detect(t, y, *, x=None, design=None, rate_per_day=1.0, adaptive=Tru
     adaptive : bool
         Adaptive noise scale of the innovation parts.
     wavelet_kw : dict, optional
-        Passed to :func:`~.online.wavelet_detect` (``level``, ``var_window``, ``sigma``...).
+        Passed to :func:`~.batch.wavelet_detect` (``level``, ``var_window``, ``sigma``...).
     train : int, optional
         Wavelet training samples at the start (default: the series itself).
     holdoff : int, optional

@@ -11,8 +11,9 @@ The package (:mod:`xnavlab.core.detection`) holds
   length (what the paper's Fig. 5 shows), via PyWavelets;
 - :func:`causal_filters`, :func:`causal_details`: the undecimated (a trous, dyadic) detail
   coefficients as causal FIR filters, the sliding window of the online detector;
-- :class:`WaveletDetector` (online, one sample at a time) and :func:`wavelet_detect` (batch over
-  a whole series, identical decisions), with thresholds from robust MAD noise estimates;
+- :class:`WaveletDetector` (online, one sample at a time) and :func:`~.batch.wavelet_detect`
+  (batch over a whole series, identical decisions), with thresholds from robust MAD noise
+  estimates;
 - :func:`~.singularity.modulus_maxima`, :func:`~.singularity.lipschitz_exponent`,
   :func:`~.singularity.cwt`: singularities across scales (paper eqs. (7)-(8)) for the chapter;
 - :class:`~.chisquare.Chi2Detector`, :func:`~.chisquare.chi2_detect`: the baseline innovation
@@ -65,7 +66,7 @@ What it sees (db3, 5 levels, default ``pfa``; noise ``sigma`` per sample, white)
 
 Use in a navigation scenario
     The detector needs only the raw measurements, not the filter's state, so a scenario can run
-    :func:`wavelet_detect` once per sensor component over the whole series (0.06-0.1 s for 30
+    :func:`~.batch.wavelet_detect` once per sensor component over the whole series (0.06-0.1 s for 30
     days at 3 s, compiled: the a trous cascade and the tests in one pass) and hand
     ``Detection.faulty`` to the filter loop; :class:`WaveletDetector` gives the same flags one
     sample at a time (about 30 us per sample in numpy).
@@ -99,8 +100,6 @@ __all__ = [
     "events_from_alarms",
     "EventTracker",
     "WaveletDetector",
-    "wavelet_detect",
-    "wavelet_detect_sensor",
 ]
 
 #: ``median(|N(0, 1)|)``: the MAD of Gaussian noise is ``0.6745 sigma`` (Donoho & Johnstone 1994).
@@ -156,12 +155,12 @@ def _filter_matrix(filters):
     return G
 
 
-def causal_details(x, wavelet="db3", level=5):
+def causal_details(x, wavelet="db3", level=5, origin=None):
     """Undecimated detail coefficients ``d_j[n] = sum_m g_j[m] x[n - m]`` of a whole series.
 
     Causal: ``d_j[n]`` uses samples up to ``n`` only. Samples before the start are taken equal
-    to ``x[0]`` (every ``g_j`` sums to zero, so a constant past contributes nothing); the first
-    ``len(g_level) - 1`` values are therefore warm-up values.
+    to ``origin`` (every ``g_j`` sums to zero, so a constant past contributes nothing); the
+    first ``len(g_level) - 1`` values are therefore warm-up values.
 
     Parameters
     ----------
@@ -171,6 +170,10 @@ def causal_details(x, wavelet="db3", level=5):
         Default ``"db3"``.
     level : int
         Number of levels (default 5).
+    origin : float, optional
+        Subtracted before filtering (default ``x[0]``); a block of a longer series passes that
+        series' first sample, and its details after the warm-up are then the same bits as the
+        whole series'.
 
     Returns
     -------
@@ -189,7 +192,8 @@ def causal_details(x, wavelet="db3", level=5):
     causal_filters(wavelet, level)                      # checks wavelet and level
     w = orthogonal_wavelet(wavelet)
     out = np.empty((level, x.size))
-    _atrous(x - x[0], np.array(w.dec_lo), np.array(w.dec_hi), out)
+    _atrous(x - (x[0] if origin is None else check_real("origin", origin)), np.array(w.dec_lo),
+            np.array(w.dec_hi), out)
     return out
 
 
@@ -694,207 +698,3 @@ class WaveletDetector(TrackedDetector):
 def _var_ratio(q, lo, hi):
     """Variance-test ratio: > 1 outside ``[lo, hi]`` (chi-square bounds of ``Q``)."""
     return np.maximum(q / hi, lo / np.maximum(q, 1e-300))
-
-
-@njit(cache=True, nogil=True)
-def _batch_ratios(d, sigma, k, w, lo, hi, which, q, ratio):
-    """The tests of :func:`wavelet_detect` in one pass, in place: the levels' ``|d_j /
-    sigma_j| / k`` and (window ``w > 0``) the variance test on ``Q[n] = sum_(i<w) z_1[n - 2i]^2``
-    (``q``, from sample ``2w - 2``); ``ratio`` their maximum, ``which`` its test's index."""
-    level, n = d.shape
-    z1sq = np.empty(n if w > 0 else 0)
-    for i in range(z1sq.size):
-        z1sq[i] = (d[0, i] / sigma[0]) ** 2
-    for i in range(n):
-        r = -1.0
-        for j in range(level):
-            v = abs(d[j, i] / sigma[j]) / k
-            if v > r:
-                r = v
-                which[i] = j
-        if w > 0:
-            v = 0.0
-            if i >= 2 * w - 2:
-                s = 0.0
-                for m in range(w):                    # Q[n] = sum_i z_1[n - 2i]^2
-                    s += z1sq[i - 2 * m]
-                q[i] = s
-                v = max(s / hi, lo / max(s, 1e-300))  # > 1 outside [lo, hi]
-            if v > r:
-                r = v
-                which[i] = level
-        ratio[i] = r
-
-
-def wavelet_detect(t, x, *, wavelet="db3", level=5, sigma=None, train=None, pfa=1e-5,
-                   var_window=32, holdoff=None):
-    """Batch wavelet detector over a whole series; the same decisions as :class:`WaveletDetector`.
-
-    Parameters
-    ----------
-    t : array_like, shape (N,)
-        Sample times, s, increasing.
-    x : array_like, shape (N,)
-        Measurements of one component (any unit).
-    wavelet, level, pfa, var_window, holdoff
-        As in :class:`WaveletDetector`.
-    sigma : array_like, shape (level,), optional
-        Per-level noise; if omitted it is trained by MAD on ``train``.
-    train : array_like or int, optional
-        A fault-free training series, or an int ``n``: train on ``x[:n]`` (which must then be
-        fault-free; the detector arms only after it). Default: ``x`` itself, robust as long
-        as faults cover a small fraction of it (the median ignores them).
-
-    Returns
-    -------
-    Detection
-        With ``data["details"]`` (level, N), ``data["sigma"]`` (level,) (``details /
-        sigma[:, None]`` is the normalised detail), ``data["k"]`` and ``data["variance"]``
-        (the Q statistic).
-
-    Examples
-    --------
-    >>> from xnavlab.core.faults import Fault, inject
-    >>> rng = np.random.default_rng(4)
-    >>> t = 3.0 * np.arange(20000)
-    >>> x = inject(t, rng.normal(0.0, 5000.0, t.size), [Fault("uv", "step", 50000.0, 30000.0, 3000.0)], "uv")
-    >>> res = wavelet_detect(t, x)
-    >>> [(e.onset, e.end) for e in res.events]
-    [(30012.0, 30366.0), (33003.0, 33291.0)]
-    """
-    t = check_finite_array("t", t)
-    x = check_finite_array("x", x)
-    if t.ndim != 1 or x.shape != t.shape:
-        raise ValueError(f"t and x must be 1-D arrays of one length, got {t.shape}, {x.shape}")
-    det = WaveletDetector(wavelet, level, sigma=sigma, pfa=pfa, var_window=var_window, holdoff=holdoff)
-    n = x.size
-    start = 0
-    if det.sigma is None:
-        if train is None:
-            det.train(x)
-        elif isinstance(train, int | np.integer) and not isinstance(train, bool):
-            start = check_int("train", train, det.window + 200, n)
-            det.train(x[:start])
-        else:
-            det.train(train)
-    d = causal_details(x, det.wavelet, det.level)
-    ratio = np.empty(n)
-    which = np.zeros(n, dtype=np.int8)
-    names = [f"level {j + 1}" for j in range(det.level)]
-    q = np.full(n, np.nan)
-    armed = np.zeros(n, dtype=bool)
-    armed[max(det.window - 1, start):] = True
-    lo, hi = det.var_bounds if det.var_window else (0.0, 0.0)
-    _batch_ratios(d, np.asarray(det.sigma, dtype=float), det.k, det.var_window, lo, hi, which, q,
-                  ratio)
-    if det.var_window:
-        names.append("variance")
-    alarm = armed & (ratio > 1.0)
-    tests = _TestNames(names, which)   # the deciding test at each sample (looked up lazily)
-    events, faulty = events_from_alarms(t, alarm, ratio, det.holdoff, tests)
-    return Detection(t, ratio, alarm, faulty, armed, events,
-                     data={"details": d, "sigma": det.sigma, "k": det.k, "variance": q,
-                           "thresholds": det.thresholds, "holdoff": det.holdoff, "tests": tests})
-
-
-def wavelet_detect_sensor(t, z, *, pfa=1e-5, train=None, sigma=None, executor=None, **kwargs):
-    """Batch wavelet detection of a multi-component sensor: one detector per component, OR-ed.
-
-    Each of the ``m`` components gets its own :func:`wavelet_detect` with ``pfa / m``, so the
-    sensor as a whole keeps the design false-alarm probability ``pfa`` per sample; a sample
-    alarms when any component alarms, and the combined alarms are grouped into events with the
-    same hold-off.
-
-    Parameters
-    ----------
-    t : array_like, shape (N,)
-        Sample times, s.
-    z : array_like, shape (N, m) or (N,)
-        The sensor's measurements, one column per component.
-    pfa : float
-        Design false-alarm probability per sensor sample.
-    train : int or array_like of shape (N_train, m), optional
-        As in :func:`wavelet_detect`, per column for an array.
-    sigma : array_like, shape (m, level), optional
-        Per-component, per-level noise.
-    executor : concurrent.futures.Executor, optional
-        Runs the components' detectors (a thread pool: their compiled parts release the
-        GIL); the result is the same.
-    **kwargs
-        ``wavelet``, ``level``, ``var_window``, ``holdoff`` as in :func:`wavelet_detect`.
-
-    Returns
-    -------
-    Detection
-        Combined; ``data["components"]`` holds the per-component results and
-        ``data["component"]`` (N,) the component with the largest ratio (-1 where none).
-
-    Examples
-    --------
-    >>> from xnavlab.core.faults import Fault, inject
-    >>> t = 3.0 * np.arange(6000)
-    >>> z = np.random.default_rng(0).normal(0.0, 1.0, (6000, 3))
-    >>> z = inject(t, z, [Fault("cns", "spike", 12.0, onset=9000.0, component=2)], "cns")
-    >>> res = wavelet_detect_sensor(t, z)
-    >>> [(e.onset, e.test) for e in res.events]
-    [(9000.0, 'component 2, level 1')]
-    """
-    t = check_finite_array("t", t)
-    z = check_finite_array("z", z)
-    if z.ndim == 1:
-        z = z[:, None]
-    if t.ndim != 1 or z.ndim != 2 or z.shape[0] != t.size:
-        raise ValueError(f"z must have shape (N, m) with N = len(t) = {t.size}, got {z.shape}")
-    m = z.shape[1]
-    pfa = check_real("pfa", pfa, 0.0, 1.0, lo_open=True, hi_open=True)
-    if sigma is not None:
-        sigma = check_finite_array("sigma", sigma)
-        if sigma.ndim != 2 or sigma.shape[0] != m:
-            raise ValueError(f"sigma must have shape (m, level) with m = {m}, got {sigma.shape}")
-    if train is not None and not isinstance(train, int | np.integer):
-        train = check_finite_array("train", train)
-        if train.ndim == 1:
-            train = train[:, None]
-        if train.ndim != 2 or train.shape[1] != m:
-            raise ValueError(f"train must have shape (N_train, {m}), got {train.shape}")
-
-    def one(i):
-        tr = train if train is None or isinstance(train, int | np.integer) else train[:, i]
-        return wavelet_detect(t, z[:, i], pfa=pfa / m, train=tr,
-                              sigma=None if sigma is None else sigma[i], **kwargs)
-
-    parts = list(map(one, range(m)) if executor is None else executor.map(one, range(m)))
-    ratios = np.array([p.ratio for p in parts])
-    which = np.argmax(ratios, axis=0)
-    ratio = ratios[which, np.arange(t.size)]
-    alarm = np.any([p.alarm for p in parts], axis=0)
-    armed = np.all([p.armed for p in parts], axis=0)
-    names = _ComponentTests(parts, which)
-    holdoff = parts[0].data["holdoff"]
-    events, faulty = events_from_alarms(t, alarm, ratio, holdoff, names)
-    return Detection(t, ratio, alarm, faulty, armed, events,
-                     data={"components": parts, "component": np.where(alarm, which, -1),
-                           "holdoff": holdoff})
-
-
-class _TestNames:
-    """``names[n]``: the test with the largest ratio at sample ``n`` (lazy, no N-long array)."""
-
-    def __init__(self, names, which):
-        self.names, self.which = names, which
-
-    def __getitem__(self, n):
-        return self.names[int(self.which[n])]
-
-
-class _ComponentTests:
-    """``names[n]``: which component and test has the largest ratio at sample ``n`` (lazy)."""
-
-    def __init__(self, parts, which):
-        self.parts, self.which = parts, which
-
-    def __getitem__(self, n):
-        i = int(self.which[n])
-        return f"component {i}, {self.parts[i].data['tests'][n]}"
-
-

@@ -7,7 +7,8 @@ import math
 
 import numpy as np
 
-from xnavlab.core.detection.online import Detection, wavelet_detect
+from xnavlab.core.detection.batch import wavelet_detect
+from xnavlab.core.detection.online import Detection
 from xnavlab.core.faults import Fault, inject
 from xnavlab.core.validate import check_finite_array, check_real
 
@@ -39,7 +40,7 @@ def plot_detection(result, x, faults=(), *, title="", zoom_h=None, ylabel="range
     Parameters
     ----------
     result : Detection
-        From :func:`~.online.wavelet_detect` or :func:`~.chisquare.chi2_detect`; its ``t`` is the time axis.
+        From :func:`~.batch.wavelet_detect` or :func:`~.chisquare.chi2_detect`; its ``t`` is the time axis.
     x : array_like, shape (N,)
         The series the detector saw (plotted divided by ``scale``).
     faults : sequence of Fault, optional
@@ -100,7 +101,7 @@ def plot_detection(result, x, faults=(), *, title="", zoom_h=None, ylabel="range
 
 
 def plot_fault_detection(t, clean, faults, *, sensor="uv", title="", zoom_h=None, **detect):
-    """Inject faults into a fault-free series, run :func:`~.online.wavelet_detect` and plot the result.
+    """Inject faults into a fault-free series, run :func:`~.batch.wavelet_detect` and plot the result.
 
     The figure's title adds what happened at the first fault of ``sensor``: the detection
     delay at its onset (or "onset missed") and the number of false-alarm samples before it.
@@ -121,7 +122,7 @@ def plot_fault_detection(t, clean, faults, *, sensor="uv", title="", zoom_h=None
     zoom_h : (float, float), optional
         Time window shown, hours.
     **detect
-        Keyword arguments of :func:`~.online.wavelet_detect` (``level``, ``pfa``, ``train``, ...).
+        Keyword arguments of :func:`~.batch.wavelet_detect` (``level``, ``pfa``, ``train``, ...).
 
     Returns
     -------
