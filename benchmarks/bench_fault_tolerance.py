@@ -5,8 +5,9 @@ Run: ``.venv/bin/python benchmarks/bench_fault_tolerance.py``. Prints
 - the full 30-day run with the paper's fault schedule under each detector (none, wavelet,
   chi2, combined), end to end as ``python -m xnavlab run mars --faults paper --detector X`` runs
   it (prepare the inputs, inject, detect, filter with isolation and rejoining) against the
-  fault-free run end to end (prepare, filter), in this process (target: ratio <= 1.5); and,
-  for information, the same with the inputs prepared once (filter and detection only);
+  fault-free run end to end (prepare, filter), in this process, best of four each (target:
+  ratio <= 1.5 for the combined detector, issue 13); and, for information, the same with the
+  inputs prepared once (filter and detection only);
 - for each detector: detection delays and the time each faulty subsystem stayed out of the
   fusion after its fault ended (re-admission), paper schedule;
 - the combined detector on 30 fault-free days: false alarms (isolations) per subsystem
@@ -23,6 +24,9 @@ from scipy import stats
 
 from xnavlab.core import montecarlo
 from xnavlab.mars import fault_tolerance, scenarios, trials
+
+#: Runs of each timed case; the best is taken (the shared 2-core machine varies by 20 %).
+REPEAT = 4
 
 
 def readmission_times(run):
@@ -43,14 +47,14 @@ def main():
     faults = fault_tolerance.paper_schedule()
     for det in ("wavelet", "combined"):                         # warm-up of every path
         fault_tolerance.run_fault_tolerant(faults=faults, detector=det, days=0.5, train_days=0.2)
-    t_ref = best_of(lambda: scenarios.run(days=30.0), repeat=2)
-    t_ref_f = best_of(lambda: scenarios.run(inputs=inp), repeat=2)
+    t_ref = best_of(lambda: scenarios.run(days=30.0), repeat=REPEAT)
+    t_ref_f = best_of(lambda: scenarios.run(inputs=inp), repeat=REPEAT)
     print(f"30-day fault-free run, end to end            : {t_ref:7.2f} s (filter only {t_ref_f:.2f} s)")
     for det in fault_tolerance.DETECTORS:
         t = best_of(lambda det=det: fault_tolerance.run_fault_tolerant(
-            faults=faults, detector=det, days=30.0), repeat=2)
+            faults=faults, detector=det, days=30.0), repeat=REPEAT)
         t_f = best_of(lambda det=det: fault_tolerance.run_fault_tolerant(
-            faults=faults, detector=det, inputs=inp), repeat=2)
+            faults=faults, detector=det, inputs=inp), repeat=REPEAT)
         print(f"30-day run, paper faults, detector {det:8s}  : {t:7.2f} s  ratio {t / t_ref:5.2f} "
               f"(target <= 1.5) {'OK' if t / t_ref <= 1.5 else 'MISSED'}; inputs reused "
               f"{t_f:.2f} s, ratio {t_f / t_ref_f:.2f}")

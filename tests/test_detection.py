@@ -251,6 +251,32 @@ def test_sensor_detector_splits_pfa_and_names_the_component():
     assert set(res.data["component"][res.alarm]) == {1}
 
 
+@given(st.lists(st.integers(1, 5999), min_size=1, max_size=12), st.integers(0, 2**32 - 1))
+def test_block_by_block_is_the_batch_to_the_bit(cuts, seed):
+    """BlockWavelet(Sensor): any cutting into blocks gives the batch's bits, and the onsets it
+    hands out block by block are the batch's event onsets."""
+    rng = np.random.default_rng(seed)
+    t = DT * np.arange(6000)
+    z = rng.normal(0.0, 1.0, (t.size, 2)) + 3e3                   # an offset: the origin matters
+    z[3000 + int(rng.integers(0, 2000)):, int(rng.integers(0, 2))] += 6.0
+    whole = D.wavelet_detect_sensor(t, z, train=1000, pfa=1e-3)
+    one = D.wavelet_detect(t, z[:, 0], train=1000, pfa=1e-3)
+    b, b0 = D.BlockWaveletSensor(t, z, train=1000, pfa=1e-3), D.BlockWavelet(t, z[:, 0], train=1000,
+                                                                             pfa=1e-3)
+    onsets, onsets0 = [], []
+    for c in sorted(set(cuts)) + [t.size]:
+        onsets += b.new_onsets(c).tolist()
+        onsets0 += b0.new_onsets(c).tolist()
+    for blocks, batch, ons in ((b, whole, onsets), (b0, one, onsets0)):
+        res = blocks.detection()
+        assert np.array_equal(res.ratio, batch.ratio) and np.array_equal(res.alarm, batch.alarm)
+        assert ons == [int(np.searchsorted(t, e.onset)) for e in batch.events]
+        assert [(e.onset, e.end, e.test) for e in res.events] == \
+               [(e.onset, e.end, e.test) for e in batch.events]
+    with pytest.raises(ValueError, match="stop"):
+        b0.advance(-1)
+
+
 # ---------------------------------------------------------------------------- singularities
 
 def test_lipschitz_exponents_of_step_ramp_spike():

@@ -4,6 +4,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 from scipy import stats
 
 from xnavlab.core.faults import Fault
@@ -289,6 +291,17 @@ def test_compiled_monitor_alarms_where_the_reference_monitor_does(inputs, sensor
     assert len(kernel_alarms) >= 3
     assert ref_alarms == kernel_alarms
     np.testing.assert_array_equal(mon.scale, data["scale"])
+
+
+@given(st.lists(st.floats(-1e300, 1e300), min_size=1, max_size=300)
+       | st.lists(st.sampled_from([0.0, -1.0, 1.0, 2.5, -2.5]), min_size=1, max_size=300))
+def test_kernel_median_is_numpys(values):
+    """The adaptive scale's median inside the kernel (a radix selection) is numpy's, exactly."""
+    from xnavlab.mars import kernels
+
+    x = np.array(values)
+    med, cnt = np.empty(x.size), np.empty(8192, dtype=np.int64)
+    assert kernels._median_abs(x, x.size, med, cnt) == np.median(np.abs(x))
 
 
 def test_run_mars_cli_defaults_to_combined_with_faults(capsys):
