@@ -68,11 +68,12 @@ Combined detector in the loop
     innovation parts of an :class:`~xnavlab.core.detection.InnovationMonitor` (and, for XNAV,
     to the innovation wavelet, on the same innovations over the adaptive scale) *before* the
     measurement is used. An alarm on a connected subsystem leaves that measurement out (as a
-    gate would) and switches the subsystem out from the next epoch: nothing is run ahead or
+    gate would) and switches the subsystem out from the next epoch. Nothing is run ahead or
     rolled back: the kernel stops only after an alarm and, on the ``check_every`` grid, when
-    an isolated subsystem's last innovations pass the re-admission test. The
-    UV range and CNS angle wavelets run on the raw series as for ``"wavelet"`` (the four
-    series in two threads). Re-admission: at the ``check_every`` grid, once the last
+    an isolated subsystem's last innovations pass the re-admission test. The UV range and CNS
+    angle wavelets run on the raw series as for ``"wavelet"``, a day at a time in a thread
+    beside the filter (:class:`~xnavlab.core.detection.BlockWavelet`; the loop takes a day's
+    onsets before it reaches that day). Re-admission: at the ``check_every`` grid, once the last
     ``readmit_samples`` scaled NIS sum below ``chi2.isf(readmit_alpha, W m)`` with no residual
     bias; the wavelet's "clear" is not waited for (it sees the end of a fault as a second
     change, and its window keeps XNAV's end jump for 36 samples: 23,000 s out after a 3000-s

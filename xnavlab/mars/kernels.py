@@ -946,7 +946,7 @@ def _watch_wavelet(i, z, m, wi, xbuf, xG, xthr, alarm):
 
 @njit(**_INLINE)
 def _ys(kind, ys_x, ys_u, ys_c):
-    """The scaled-innovation output of a subsystem kind."""
+    """The innovation output (whitened, unscaled) of a subsystem kind."""
     if kind == KIND_UV:
         return ys_u
     if kind == KIND_CNS:

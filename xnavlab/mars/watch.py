@@ -48,7 +48,7 @@ class Watch:
     xdet : XnavInnovationWavelet or None
         The XNAV innovation wavelet (its filters, thresholds and window).
     n_meas : dict
-        Measurements per subsystem (rows of the scaled-innovation outputs).
+        Measurements per subsystem (rows of the innovation outputs ``ys``).
     t_arm : float
         Time (s, the run's time scale) before which no innovation is tested.
     readmit : tuple
