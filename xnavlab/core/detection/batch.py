@@ -60,7 +60,7 @@ def _batch_ratios(d, sigma, k, w, lo, hi, which, q, ratio):
 
 def wavelet_detect(t, x, *, wavelet="db3", level=5, sigma=None, train=None, pfa=1e-5,
                    var_window=32, holdoff=None):
-    """Batch wavelet detector over a whole series; the same decisions as :class:`WaveletDetector`.
+    """Batch wavelet detector over a whole series; the same decisions as :class:`~.online.WaveletDetector`.
 
     Parameters
     ----------
@@ -69,7 +69,7 @@ def wavelet_detect(t, x, *, wavelet="db3", level=5, sigma=None, train=None, pfa=
     x : array_like, shape (N,)
         Measurements of one component (any unit).
     wavelet, level, pfa, var_window, holdoff
-        As in :class:`WaveletDetector`.
+        As in :class:`~.online.WaveletDetector`.
     sigma : array_like, shape (level,), optional
         Per-level noise; if omitted it is trained by MAD on ``train``.
     train : array_like or int, optional
