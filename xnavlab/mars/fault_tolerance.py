@@ -827,9 +827,9 @@ class _Loop:
                 for e in events]
 
     # -- the combined detector: inside the compiled loop (xnavlab.mars.watch)
-    #: Longest kernel call of the combined run, epochs (a call also ends at every detector stop,
-    #: wavelet onset and, while a subsystem is out, re-admission check; the result does not
-    #: depend on it).
+    #: Longest kernel call of the combined run, epochs (a call also ends after an alarm, before
+    #: a wavelet onset, at the end of the wavelets' computed days and where an isolated
+    #: subsystem may rejoin; the result does not depend on it).
     HORIZON_COMBINED = 100_000
 
     def run_combined(self):
@@ -851,7 +851,6 @@ class _Loop:
         self.ys = self.watch.ys
         arrays = self.watch.arrays()
         self.out_since = {s: 0 for s in self.subs}
-        self.stops = 0
         t_start = time.perf_counter()
         self._oj = 0
         self._x_set = set()
@@ -864,7 +863,6 @@ class _Loop:
                 if e >= 0:
                     # the kernel stopped after epoch e: an alarm there (that measurement was left
                     # out, the subsystem is out from e + 1) or a subsystem may rejoin at e + 1
-                    self.stops += 1
                     b = e + 1
                     for s in self.watch.after_stop(float(inp.times[e])):
                         i = self.subs.index(s)

@@ -747,14 +747,8 @@ def _whiten_uv(x, P, z, jm, sig_r, sig_u, y):
 
 @njit(**_INLINE)
 def _whiten_at(P, H, R, nu, m, PHt, S, L, y):
-    """``y = L^-1 nu`` with ``L L^T = H P H^T + R``; False if S is not positive definite
-    (H has zero velocity columns: only ``P[:3, :3]`` is used)."""
-    for i in range(3):
-        for j in range(m):
-            PHt[i, j] = P[i, 0] * H[j, 0] + P[i, 1] * H[j, 1] + P[i, 2] * H[j, 2]
-    for i in range(m):
-        for j in range(i + 1):
-            S[i, j] = R[i, j] + H[i, 0] * PHt[0, j] + H[i, 1] * PHt[1, j] + H[i, 2] * PHt[2, j]
+    """``y = L^-1 nu`` with ``L L^T = H P H^T + R``; False if S is not positive definite."""
+    _innovation_cov(P, 1.0, H, R, m, PHt, S)                   # S = H P H^T + R
     ok = _cholesky(S, m, L)
     for i in range(m):
         y[i] = nu[i]

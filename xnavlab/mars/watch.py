@@ -79,7 +79,6 @@ class Watch:
             self.ys[s] = np.full((n_meas[s], d.m), np.nan)
             self.wf[i, :K.WF_ZQ + 1] = (d.k_mean, d.k_var, d.chi2_threshold, d.h_mean, d.h_var,
                                         t_arm, mon.prior_samples, MAD_SCALE, thr[s], zq[s])
-            self.wi[i] = 0
             for col, v in ((K.WI_ON, 1), (K.WI_M, d.m), (K.WI_W, mon.scale_samples),
                            (K.WI_NEXT, mon.next_scale_update()), (K.WI_EVERY, mon.scale_every),
                            (K.WI_ADAPT, int(mon.adaptive)), (K.WI_RWIN, win[s]),

@@ -192,6 +192,7 @@ class BlockWavelet:
         self.armed = np.zeros(n, dtype=bool)
         self.armed[max(det.window - 1, start):] = True
         self.warm = len(causal_filters(det.wavelet, det.level)[-1]) - 1 + 2 * det.var_window
+        self.holdoff = det.holdoff
         self.done = 0              # samples computed
         self._last_alarm = None    # the latest alarm's index (events across blocks)
 
@@ -223,13 +224,11 @@ class BlockWavelet:
         that start in the new samples (as :func:`~.online.events_from_alarms` groups them)."""
         lo = self.done
         self.advance(stop)
-        return self._onsets(lo + np.flatnonzero(self.alarm(lo)), self.det.holdoff)
-
-    def _onsets(self, idx, holdoff):
+        idx = lo + np.flatnonzero(self.alarm(lo))
         prev = np.r_[-np.inf if self._last_alarm is None else self._last_alarm, idx[:-1]]
         if idx.size:
             self._last_alarm = int(idx[-1])
-        return idx[idx - prev > holdoff]        # a gap beyond the hold-off starts an event
+        return idx[idx - prev > self.holdoff]   # a gap beyond the hold-off starts an event
 
     def detection(self):
         """The :func:`wavelet_detect` result (the whole series must be done)."""
@@ -253,7 +252,8 @@ class BlockWaveletSensor(BlockWavelet):
     per component with ``pfa / m``, their alarms OR-ed.
 
     Parameters are those of :func:`wavelet_detect_sensor` (``executor`` runs the components
-    of each :meth:`advance`).
+    of each :meth:`advance`). :meth:`~BlockWavelet.new_onsets` is the single series', on the
+    OR-ed alarms.
     """
 
     def __init__(self, t, z, *, pfa=1e-5, train=None, sigma=None, executor=None, **kwargs):
@@ -295,11 +295,6 @@ class BlockWaveletSensor(BlockWavelet):
 
     def alarm(self, lo=0, hi=None):
         return np.any([p.alarm(lo, hi) for p in self.parts], axis=0)
-
-    def new_onsets(self, stop):
-        lo = self.done
-        self.advance(stop)
-        return self._onsets(lo + np.flatnonzero(self.alarm(lo)), self.holdoff)
 
     def detection(self):
         """The :func:`wavelet_detect_sensor` result (the whole series must be done)."""
