@@ -440,3 +440,15 @@ def test_event_tracker_snapshot_restore_and_close():
     assert not tr.faulty and tr.events[-1].cleared == 9.5
     tr.close()                                   # nothing open: no-op
     assert len(tr.events) == 2
+
+
+def test_wavelet_detect_refuses_a_time_axis_that_is_not_increasing():
+    from xnavlab.core.detection.batch import wavelet_detect
+
+    t = 3.0 * np.arange(2000.0)
+    x = np.random.default_rng(0).standard_normal(t.size)
+    with pytest.raises(ValueError, match=r"t must be strictly increasing .* t\[1\] = 5994 follows"):
+        wavelet_detect(t[::-1].copy(), x, sigma=1.0)
+    t[500] = t[499]
+    with pytest.raises(ValueError, match=r"t must be strictly increasing .*t\[500\]"):
+        wavelet_detect(t, x, sigma=1.0)

@@ -151,3 +151,25 @@ def test_ukf_locals_match_ekf_locals_on_a_linear_system():
                 ff.update(i, zs[i], lambda s, i=i: Hs[i] @ s, Hs[i], Rs[i])
             ff.fuse()
     np.testing.assert_allclose(fu.x, fe.x, rtol=1e-6, atol=1e-9)
+
+
+# ------------------------------------------------------------------ guarded steps
+
+
+def test_fuse_refuses_nan_and_indefinite_covariances_naming_them():
+    with pytest.raises(ValueError, match=r"Ps\[1\] must contain only finite"):
+        federated.fuse([np.zeros(2), np.ones(2)], [np.eye(2), np.eye(2) * np.nan])
+    with pytest.raises(ValueError, match=r"Ps\[0\] must be positive definite"):
+        federated.fuse([np.zeros(2), np.ones(2)], [np.zeros((2, 2)), np.eye(2)])
+    with pytest.raises(ValueError, match=r"xs\[1\] must be a 1-D array \(shape \(2,\)\)"):
+        federated.fuse([np.zeros(2), np.ones(3)], [np.eye(2), np.eye(2)])
+    with pytest.raises(ValueError, match="use must hold one flag per estimate"):
+        federated.fuse([np.zeros(2), np.ones(2)], [np.eye(2), np.eye(2)], use=[True])
+
+
+def test_update_of_a_local_that_does_not_exist_names_the_range():
+    ff = federated.FederatedFilter([0.0], [[1.0]], n_local=2)
+    with pytest.raises(ValueError, match=r"i must be an integer in \[0, 1\], got 5"):
+        ff.update(5, [1.0], lambda s: s, np.eye(1), [[1.0]])
+    with pytest.raises(ValueError, match="z must contain only finite"):
+        ff.update(0, [np.nan], lambda s: s, np.eye(1), [[1.0]])

@@ -119,7 +119,92 @@ def test_classes_hold_state_and_skip():
     uk = filters.UKF([0.0, 0.0], np.eye(2))
     uk.predict(lambda s: s, np.eye(2) * 0.1).update([1.0], lambda s: s[:1], [[1.0]])
     np.testing.assert_allclose(uk.x, kf.x, rtol=1e-9)
-    with pytest.raises(ValueError, match="P0 must have shape"):
+    with pytest.raises(ValueError, match="P0 must be a square matrix of shape"):
         filters.EKF([0.0], np.eye(2))
     with pytest.raises(ValueError, match="x0"):
         filters.EKF([np.nan], np.eye(1))
+
+
+# ------------------------------------------------------------------ guarded steps
+
+_GOOD = dict(x=np.zeros(2), P=np.eye(2), z=np.array([1.0]), H=np.array([[1.0, 0.0]]),
+             R=np.eye(1))
+
+
+def _ekf_update(**kw):
+    a = {**_GOOD, **kw}
+    H = a["H"]
+    return filters.ekf_update(a["x"], a["P"], a["z"], lambda s: np.atleast_2d(H) @ s, H, a["R"])
+
+
+@pytest.mark.parametrize("bad, name", [
+    (dict(z=np.array([np.nan])), "z must contain only finite"),
+    (dict(z=np.array([np.inf])), "z must contain only finite"),
+    (dict(P=-np.eye(2)), "P must be positive semi-definite"),
+    (dict(P=np.array([[1.0, 0.5], [0.0, 1.0]])), "P must be symmetric"),
+    (dict(P=np.eye(3)), r"P must be a square matrix of shape \(2, 2\)"),
+    (dict(x=np.zeros((2, 1))), r"x must be a 1-D array"),
+    (dict(H=np.array([[1.0, 0.0, 0.0]])), r"h\(x\) must have shape|H must have shape"),
+    (dict(R=np.eye(2)), r"R must be a square matrix of shape \(1, 1\)"),
+    (dict(R=np.zeros((1, 1))), "R must be positive definite"),
+])
+def test_ekf_update_refuses_bad_input_naming_it(bad, name):
+    with pytest.raises(ValueError, match=name):
+        _ekf_update(**bad)
+
+
+def test_ukf_update_refuses_nan_and_negative_covariance():
+    h = lambda s: s[:1]  # noqa: E731
+    with pytest.raises(ValueError, match="z must contain only finite"):
+        filters.ukf_update(np.zeros(2), np.eye(2), [np.nan], h, np.eye(1))
+    with pytest.raises(ValueError, match="P must be positive semi-definite"):
+        filters.ukf_update(np.zeros(2), -np.eye(2), [1.0], h, np.eye(1))
+    with pytest.raises(ValueError, match=r"h\(x\) of the sigma points must have shape"):
+        filters.ukf_update(np.zeros(2), np.eye(2), [1.0, 2.0], h, np.eye(2))
+    with pytest.raises(ValueError, match="Q must be positive semi-definite"):
+        filters.ukf_predict(np.zeros(2), np.eye(2), lambda s: s, -np.eye(2))
+
+
+def test_predict_refuses_model_outputs_of_the_wrong_shape_or_nan():
+    with pytest.raises(ValueError, match=r"f\(x\) must contain only finite"):
+        filters.ekf_predict(np.zeros(2), np.eye(2), lambda s: s * np.nan, np.eye(2), np.eye(2))
+    with pytest.raises(ValueError, match=r"F must have shape \(2, 2\)"):
+        filters.ekf_predict(np.zeros(2), np.eye(2), lambda s: s, np.eye(3), np.eye(2))
+
+
+def test_classes_refuse_a_column_state():
+    with pytest.raises(ValueError, match="x0 must be a 1-D array"):
+        filters.EKF(np.zeros((2, 1)), np.eye(2))
+    with pytest.raises(ValueError, match="x0 must be a 1-D array"):
+        filters.UKF(np.zeros((2, 1)), np.eye(2))
+
+
+def test_unchecked_steps_equal_checked_steps():
+    rng = np.random.default_rng(3)
+    x, P, H, R = rng.standard_normal(3), _spd(rng, 3), rng.standard_normal((2, 3)), _spd(rng, 2)
+    z = rng.standard_normal(2)
+    a = filters.ekf_update(x, P, z, lambda s: H @ s, H, R)
+    b = filters.ekf_update(x, P, z, lambda s: H @ s, H, R, check=False)
+    np.testing.assert_array_equal(a.x, b.x)
+    np.testing.assert_array_equal(a.P, b.P)
+
+
+@given(st.integers(0, 10_000), st.integers(1, 5), st.integers(1, 3),
+       st.sampled_from(["nan_z", "neg_P", "asym_P", "nan_R", "shape_R"]))
+def test_no_nan_and_no_negative_nis_leave_a_step(seed, n, m, corruption):
+    """Valid inputs give finite outputs and NIS >= 0; each corrupted input is refused."""
+    rng = np.random.default_rng(seed)
+    x, P = rng.standard_normal(n), _spd(rng, n)
+    H, R, z = rng.standard_normal((m, n)), _spd(rng, m, 0.1), rng.standard_normal(m)
+    for step in (lambda *a: filters.ekf_update(a[0], a[1], a[2], lambda s: H @ s, H, a[3]),
+                 lambda *a: filters.ukf_update(a[0], a[1], a[2], lambda s: H @ s, a[3])):
+        up = step(x, P, z, R)
+        assert np.all(np.isfinite(up.x)) and np.all(np.isfinite(up.P)) and up.nis >= 0.0
+        bad = {"nan_z": (x, P, np.where(np.arange(m) == 0, np.nan, z), R),
+               "neg_P": (x, -P, z, R),
+               "asym_P": (x, P + np.triu(np.ones((n, n)), 1) * (1.0 if n > 1 else 0.0) - (
+                   0.0 if n > 1 else 2.0 * P), z, R),
+               "nan_R": (x, P, z, R * np.nan),
+               "shape_R": (x, P, z, np.eye(m + 1))}[corruption]
+        with pytest.raises(ValueError):
+            step(*bad)

@@ -56,7 +56,14 @@ import math
 import numpy as np
 
 from xnavlab.core.filters import EKF, UKF, Update, ekf_update, symmetrize, ukf_update
-from xnavlab.core.validate import check_choice, check_finite_array, check_real
+from xnavlab.core.validate import (
+    check_choice,
+    check_covariance,
+    check_finite_array,
+    check_int,
+    check_real,
+    check_vector,
+)
 
 __all__ = ["MODES", "fuse", "share_factors", "FederatedFilter"]
 
@@ -64,7 +71,7 @@ __all__ = ["MODES", "fuse", "share_factors", "FederatedFilter"]
 MODES = ("reset", "no-reset")
 
 
-def fuse(xs, Ps, use=None):
+def fuse(xs, Ps, use=None, check=True):
     """Information-form fusion of local estimates.
 
     Parameters
@@ -75,6 +82,9 @@ def fuse(xs, Ps, use=None):
         Their covariances.
     use : sequence of bool, optional
         Which locals to fuse (default all).
+    check : bool
+        Check that every estimate is finite of shape (n,) and every covariance finite,
+        symmetric and positive definite of shape (n, n) (``False`` in checked loops).
 
     Returns
     -------
@@ -86,7 +96,7 @@ def fuse(xs, Ps, use=None):
     Raises
     ------
     ValueError
-        If no local is used.
+        If no local is used, or (``check=True``) an estimate or covariance is not valid.
 
     Examples
     --------
@@ -96,6 +106,15 @@ def fuse(xs, Ps, use=None):
     """
     xs = [np.asarray(x, dtype=float) for x in xs]
     Ps = [np.asarray(P, dtype=float) for P in Ps]
+    if len(Ps) != len(xs):
+        raise ValueError(f"Ps must hold one covariance per estimate ({len(xs)}), got {len(Ps)}")
+    if use is not None and len(use) != len(xs):
+        raise ValueError(f"use must hold one flag per estimate ({len(xs)}), got {len(use)}")
+    if check and xs:
+        n = check_vector("xs[0]", xs[0]).size
+        for i, (x, P) in enumerate(zip(xs, Ps, strict=True)):
+            check_vector(f"xs[{i}]", x, n)
+            check_covariance(f"Ps[{i}]", P, n, definite=True)
     use = [True] * len(xs) if use is None else [bool(u) for u in use]
     idx = [i for i, u in enumerate(use) if u]
     if not idx:
@@ -183,8 +202,8 @@ class FederatedFilter:
     def __init__(self, x0, P0, n_local=3, beta=None, mode="reset", kind="ekf", names=None):
         self.mode = check_choice("mode", mode, MODES)
         self.kind = check_choice("kind", kind, ("ekf", "ukf"))
-        x0 = check_finite_array("x0", x0)
-        P0 = symmetrize(check_finite_array("P0", P0))
+        x0 = check_vector("x0", x0)
+        P0 = symmetrize(check_covariance("P0", P0, x0.size, definite=True))
         if isinstance(n_local, bool) or not isinstance(n_local, int) or n_local < 1:
             raise ValueError(f"n_local must be an integer in [1, inf], got {n_local!r}")
         if beta is None:
@@ -236,6 +255,7 @@ class FederatedFilter:
         """
         if gate != math.inf:
             gate = check_real("gate", gate, 0.0)
+        i = check_int("i", i, 0, len(self.locals) - 1)
         lf = self.locals[i]
         if self.kind == "ekf":
             up = ekf_update(lf.x, lf.P, z, h, H, R, residual)
@@ -301,8 +321,7 @@ class FederatedFilter:
             self._reset()
 
     def _set(self, i, flag):
-        if not 0 <= i < len(self.locals):
-            raise ValueError(f"i must be an integer in [0, {len(self.locals) - 1}], got {i!r}")
+        i = check_int("i", i, 0, len(self.locals) - 1)
         active = self.active.copy()
         active[i] = flag
         self.set_active(active)

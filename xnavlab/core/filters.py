@@ -24,6 +24,13 @@ Monte Carlo averages (Bar-Shalom, Li and Kirubarajan 2001, section 5.4).
 Shapes: state ``x`` (n,), covariance ``P`` (n, n), measurement ``z`` (m,),
 ``H`` (m, n), ``R`` (m, m). Units are whatever the model uses (SI in xnavlab).
 
+Guarded steps: every step checks its inputs by default (``check=True``): finite
+arrays of the stated shapes, ``P`` and ``Q`` symmetric positive semi-definite, ``R``
+positive definite, and the model's outputs ``f(x)``, ``h(x)``, ``F``, ``H`` finite and
+of the right shape. A bad input raises one :class:`ValueError` naming the argument, so
+no NaN and no negative NIS leaves a step. Loops that have checked their inputs once pass
+``check=False`` and pay nothing.
+
 Examples
 --------
 A constant-velocity target observed in position:
@@ -42,7 +49,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from xnavlab.core.validate import check_finite_array, check_real
+from xnavlab.core.validate import check_covariance, check_finite_array, check_real, check_vector
 
 __all__ = [
     "Update",
@@ -103,7 +110,22 @@ def _call(f, x):
     return f(x) if callable(f) else np.asarray(f, dtype=float)
 
 
-def ekf_predict(x, P, f, F, Q):
+def _checked_state(x, P):
+    """``x`` (n,) and ``P`` (n, n) symmetric positive semi-definite, or ValueError."""
+    x = check_vector("x", x)
+    return x, check_covariance("P", P, x.size)
+
+
+def _checked_model(name, value, shape):
+    """A model output (``f(x)``, ``h(x)``, ``F``, ``H``) finite and of ``shape``, or ValueError."""
+    arr = check_finite_array(name, value)
+    if arr.shape != shape:
+        want = "(" + ", ".join(str(k) for k in shape) + ("," if len(shape) == 1 else "") + ")"
+        raise ValueError(f"{name} must have shape {want}, got shape {arr.shape}")
+    return arr
+
+
+def ekf_predict(x, P, f, F, Q, check=True):
     """EKF time update.
 
     Parameters
@@ -118,6 +140,8 @@ def ekf_predict(x, P, f, F, Q):
         State-transition matrix ``d f / d x`` at ``x`` (or a callable of ``x``).
     Q : array_like, shape (n, n)
         Process-noise covariance over the step.
+    check : bool
+        Check the inputs and the model's outputs (see the module docstring).
 
     Returns
     -------
@@ -129,11 +153,21 @@ def ekf_predict(x, P, f, F, Q):
     >>> x, P = ekf_predict(np.zeros(2), np.eye(2), np.ones(2), np.eye(2), np.eye(2))
     >>> x.tolist(), P.tolist()
     ([1.0, 1.0], [[2.0, 0.0], [0.0, 2.0]])
+    >>> ekf_predict(np.zeros(2), -np.eye(2), np.ones(2), np.eye(2), np.eye(2))
+    Traceback (most recent call last):
+    ...
+    ValueError: P must be positive semi-definite, got smallest eigenvalue -1
     """
-    x = np.asarray(x, dtype=float)
-    P = np.asarray(P, dtype=float)
-    Phi = _call(F, x)
-    x_new = _call(f, x)
+    if check:
+        x, P = _checked_state(x, P)
+        Q = check_covariance("Q", Q, x.size)
+        Phi = _checked_model("F", _call(F, x), (x.size, x.size))
+        x_new = _checked_model("f(x)", _call(f, x), (x.size,))
+    else:
+        x = np.asarray(x, dtype=float)
+        P = np.asarray(P, dtype=float)
+        Phi = _call(F, x)
+        x_new = _call(f, x)
     P_new = Phi @ P @ Phi.T + np.asarray(Q, dtype=float)  # P = F P F^T + Q
     return x_new, symmetrize(P_new)
 
@@ -150,7 +184,7 @@ def joseph(P, K, H, R):
     return symmetrize(A @ P @ A.T + K @ R @ K.T)  # P = (I-KH) P (I-KH)^T + K R K^T
 
 
-def ekf_update(x, P, z, h, H, R, residual=None):
+def ekf_update(x, P, z, h, H, R, residual=None, check=True):
     """EKF measurement update (Joseph form); ``z=None`` skips it.
 
     Parameters
@@ -169,6 +203,8 @@ def ekf_update(x, P, z, h, H, R, residual=None):
         Measurement-noise covariance.
     residual : callable, optional
         ``residual(z, z_pred) -> innovation`` (default ``z - z_pred``).
+    check : bool
+        Check the inputs and the model's outputs (see the module docstring).
 
     Returns
     -------
@@ -180,15 +216,29 @@ def ekf_update(x, P, z, h, H, R, residual=None):
     >>> up = ekf_update(np.zeros(1), np.eye(1), None, np.zeros(1), np.eye(1), np.eye(1))
     >>> up.x.tolist(), up.innovation, bool(np.isnan(up.nis))
     ([0.0], None, True)
+    >>> ekf_update(np.zeros(1), np.eye(1), [np.nan], np.zeros(1), np.eye(1), np.eye(1))
+    Traceback (most recent call last):
+    ...
+    ValueError: z must contain only finite numbers (no NaN or inf)
     """
-    x = np.asarray(x, dtype=float)
-    P = np.asarray(P, dtype=float)
+    if check:
+        x, P = _checked_state(x, P)
+    else:
+        x = np.asarray(x, dtype=float)
+        P = np.asarray(P, dtype=float)
     if z is None:
         return Update(x, P, None, None, float("nan"))
-    z = np.asarray(z, dtype=float)
-    z_pred = _call(h, x)
-    Hm = np.atleast_2d(_call(H, x))
-    R = np.atleast_2d(np.asarray(R, dtype=float))
+    if check:
+        z = check_vector("z", z)
+        m = z.size
+        Hm = _checked_model("H", np.atleast_2d(_call(H, x)), (m, x.size))
+        z_pred = _checked_model("h(x)", _call(h, x), (m,))
+        R = check_covariance("R", np.atleast_2d(R), m, definite=True)
+    else:
+        z = np.asarray(z, dtype=float)
+        z_pred = _call(h, x)
+        Hm = np.atleast_2d(_call(H, x))
+        R = np.atleast_2d(np.asarray(R, dtype=float))
     nu = residual(z, z_pred) if residual is not None else z - z_pred
     S = symmetrize(Hm @ P @ Hm.T + R)  # S = H P H^T + R
     PHt = P @ Hm.T
@@ -286,13 +336,15 @@ def unscented_transform(Y, Wm, Wc, noise=None, residual=None):
     return mean, symmetrize(cov)
 
 
-def ukf_predict(x, P, f, Q, alpha=1.0, beta=2.0, kappa=0.0):
+def ukf_predict(x, P, f, Q, alpha=1.0, beta=2.0, kappa=0.0, check=True):
     """UKF time update: propagate the sigma points through ``f``.
 
     Parameters
     ----------
     f : callable
         ``f(x) -> x-`` for one state of shape (n,).
+    check : bool
+        Check the inputs and the model's outputs (see the module docstring).
 
     Returns
     -------
@@ -305,14 +357,19 @@ def ukf_predict(x, P, f, Q, alpha=1.0, beta=2.0, kappa=0.0):
     >>> np.round(P, 12).tolist()
     [[4.0, 0.0], [0.0, 4.0]]
     """
+    if check:
+        x, P = _checked_state(x, P)
+        Q = check_covariance("Q", Q, x.size)
     x = np.asarray(x, dtype=float)
     Wm, Wc, lam = ukf_weights(x.size, alpha, beta, kappa)
     X = sigma_points(x, P, lam)
     Y = np.array([f(s) for s in X])
+    if check:
+        Y = _checked_model("f(x) of the sigma points", Y, X.shape)
     return unscented_transform(Y, Wm, Wc, noise=np.asarray(Q, dtype=float))
 
 
-def ukf_update(x, P, z, h, R, alpha=1.0, beta=2.0, kappa=0.0, residual=None):
+def ukf_update(x, P, z, h, R, alpha=1.0, beta=2.0, kappa=0.0, residual=None, check=True):
     """UKF measurement update; ``z=None`` skips it.
 
     Parameters
@@ -321,6 +378,8 @@ def ukf_update(x, P, z, h, R, alpha=1.0, beta=2.0, kappa=0.0, residual=None):
         ``h(x) -> z_pred`` for one state.
     residual : callable, optional
         ``residual(a, b)`` for measurement differences (default ``a - b``).
+    check : bool
+        Check the inputs and the model's outputs (see the module docstring).
 
     Returns
     -------
@@ -332,14 +391,22 @@ def ukf_update(x, P, z, h, R, alpha=1.0, beta=2.0, kappa=0.0, residual=None):
     >>> round(float(up.x[0]), 6), round(float(up.P[0, 0]), 6)
     (0.5, 0.5)
     """
-    x = np.asarray(x, dtype=float)
-    P = np.asarray(P, dtype=float)
+    if check:
+        x, P = _checked_state(x, P)
+    else:
+        x = np.asarray(x, dtype=float)
+        P = np.asarray(P, dtype=float)
     if z is None:
         return Update(x, P, None, None, float("nan"))
+    if check:
+        z = check_vector("z", z)
+        R = check_covariance("R", np.atleast_2d(R), z.size, definite=True)
     z = np.asarray(z, dtype=float)
     Wm, Wc, lam = ukf_weights(x.size, alpha, beta, kappa)
     X = sigma_points(x, P, lam)
     Z = np.array([np.atleast_1d(h(s)) for s in X])
+    if check:
+        Z = _checked_model("h(x) of the sigma points", Z, (X.shape[0], z.size))
     z_pred, S = unscented_transform(Z, Wm, Wc, noise=np.atleast_2d(R), residual=residual)
     res = residual if residual is not None else (lambda a, b: a - b)
     Pxz = (Wc[:, None] * (X - x)).T @ res(Z, z_pred)
@@ -442,10 +509,8 @@ class EKF:
     """
 
     def __init__(self, x0, P0):
-        self.x = check_finite_array("x0", x0).astype(float).copy()
-        self.P = symmetrize(check_finite_array("P0", P0))
-        if self.P.shape != (self.x.size, self.x.size):
-            raise ValueError(f"P0 must have shape ({self.x.size}, {self.x.size}), got {self.P.shape}")
+        self.x = check_vector("x0", x0).astype(float).copy()
+        self.P = symmetrize(check_covariance("P0", P0, self.x.size))
         self.last = None
 
     def predict(self, f, F, Q):

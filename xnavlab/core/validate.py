@@ -17,6 +17,8 @@ __all__ = [
     "check_int",
     "check_finite_array",
     "check_choice",
+    "check_vector",
+    "check_covariance",
     "make_rng",
 ]
 
@@ -120,6 +122,69 @@ def check_choice(name, value, choices):
         allowed = ", ".join(repr(c) for c in choices)
         raise ValueError(f"{name} must be one of {allowed}, got {value!r}")
     return value
+
+
+def check_vector(name, value, n=None):
+    """Return ``value`` as a finite 1-D float array (of length ``n`` when given), else raise.
+
+    Examples
+    --------
+    >>> check_vector("x0", [1.0, 2.0], 2).tolist()
+    [1.0, 2.0]
+    >>> check_vector("x0", [[1.0], [2.0]])
+    Traceback (most recent call last):
+    ...
+    ValueError: x0 must be a 1-D array (shape (n,)), got shape (2, 1)
+    """
+    arr = check_finite_array(name, value)
+    want = "(n,)" if n is None else f"({n},)"
+    if arr.ndim != 1 or (n is not None and arr.shape[0] != n):
+        raise ValueError(f"{name} must be a 1-D array (shape {want}), got shape {arr.shape}")
+    return arr
+
+
+def check_covariance(name, value, n=None, *, definite=False, rtol=1e-8):
+    """Return ``value`` as a finite, symmetric, positive (semi-)definite (n, n) array, else raise.
+
+    Symmetry is tested to ``rtol`` of the largest entry (a covariance that went through
+    floating-point products is symmetric only to rounding); definiteness by the smallest
+    eigenvalue, which must be above ``-rtol`` times the largest (semi-definite) or
+    above zero (``definite=True``: a measurement-noise covariance, which is inverted).
+
+    Parameters
+    ----------
+    name : str
+        Parameter name used in the error message.
+    value : array_like, shape (n, n)
+        The matrix.
+    n : int, optional
+        Required size.
+    definite : bool
+        Require positive definite (else semi-definite).
+
+    Examples
+    --------
+    >>> check_covariance("P", np.eye(2), 2).shape
+    (2, 2)
+    >>> check_covariance("P", -np.eye(2))
+    Traceback (most recent call last):
+    ...
+    ValueError: P must be positive semi-definite, got smallest eigenvalue -1
+    """
+    arr = check_finite_array(name, value)
+    size = arr.shape[0] if arr.ndim == 2 else None
+    want = "(n, n)" if n is None else f"({n}, {n})"
+    if arr.ndim != 2 or arr.shape[1] != size or (n is not None and size != n):
+        raise ValueError(f"{name} must be a square matrix of shape {want}, got shape {arr.shape}")
+    scale = float(np.max(np.abs(arr))) if arr.size else 0.0
+    if np.max(np.abs(arr - arr.T), initial=0.0) > rtol * scale:
+        raise ValueError(f"{name} must be symmetric (to {rtol:g} of its largest entry)")
+    low = float(np.linalg.eigvalsh(0.5 * (arr + arr.T))[0]) if size else 0.0
+    if definite and not low > 0.0:
+        raise ValueError(f"{name} must be positive definite, got smallest eigenvalue {low:.3g}")
+    if low < -rtol * scale:
+        raise ValueError(f"{name} must be positive semi-definite, got smallest eigenvalue {low:.3g}")
+    return arr
 
 
 def make_rng(seed=None):

@@ -173,6 +173,10 @@ class BlockWavelet:
         self.x = x = check_finite_array("x", x)
         if t.ndim != 1 or x.shape != t.shape:
             raise ValueError(f"t and x must be 1-D arrays of one length, got {t.shape}, {x.shape}")
+        if t.size > 1 and not np.all(np.diff(t) > 0):
+            k = int(np.argmax(np.diff(t) <= 0))
+            raise ValueError(f"t must be strictly increasing (sample times), but t[{k + 1}] = "
+                             f"{t[k + 1]:g} follows t[{k}] = {t[k]:g}")
         self.det = det = WaveletDetector(wavelet, level, sigma=sigma, pfa=pfa,
                                          var_window=var_window, holdoff=holdoff)
         self.n = n = x.size
