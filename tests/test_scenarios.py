@@ -288,8 +288,22 @@ def test_cli_faults_json_lists_faults_and_detections(capsys):
     assert {"position_error_m", "velocity_error_mps"} <= set(out)
 
 
-def test_cli_faults_paper_with_chi2(capsys):
-    assert main(["run", "mars", "--days", "7", "--faults", "paper", "--detector", "chi2",
+def test_cli_faults_paper_needs_the_days_of_its_last_onset(capsys):
+    """A schedule whose faults lie after the run's end is refused, never cut in silence."""
+    assert main(["run", "mars", "--days", "7", "--faults", "paper", "--json"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "run at least --days 27.84 (this run: 7 days)" in err
+    assert main(["run", "mars", "--days", "2", "--faults", "xnav:step:1e-5@500000+5000"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "outside this run [0, 172800) s" in err and "--days 5.85" in err
+
+
+def test_cli_faults_of_the_paper_with_chi2(capsys):
+    from xnavlab.core.faults import format_spec
+    from xnavlab.mars.fault_tolerance import components, paper_schedule
+
+    first_two = format_spec(paper_schedule()[:2], components())
+    assert main(["run", "mars", "--days", "7", "--faults", first_two, "--detector", "chi2",
                  "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["detector"] == "chi2"
@@ -314,3 +328,26 @@ def test_cli_bad_detector_is_one_line_exit_2(capsys):
     assert main(["run", "mars", "--days", "0.01", "--detector", "median"]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "detector" in err
+
+
+def test_cli_out_that_is_a_file_is_one_line_exit_2(tmp_path, capsys):
+    path = tmp_path / "taken"
+    path.write_text("")
+    assert main(["run", "mars", "--days", "0.05", "--out", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "out must be a directory" in err
+
+
+def test_fault_spec_takes_full_pulsar_names_and_help_lists_the_grammar(capsys):
+    from xnavlab.cli.runners import FAULT_HELP
+    from xnavlab.mars.fault_tolerance import parse_faults
+
+    full, = parse_faults("xnav.B1937+21:step:1e-5@200000+5000")
+    short, = parse_faults("xnav.B1937:step:1e-5@200000+5000")
+    assert full == short and full.component == 1 and full.duration == 5000.0
+    for word in ("xnav", "uv", "cns", "range", "angle0", "B1937+21", "step", "ramp", "spike",
+                 "stuck", "noise", "rad", "example:"):
+        assert word in FAULT_HELP
+    with pytest.raises(SystemExit):
+        main(["run", "mars", "--help"])
+    assert "fault spec:" in capsys.readouterr().out

@@ -129,6 +129,7 @@ __all__ = [
     "components",
     "paper_schedule",
     "parse_faults",
+    "check_schedule",
     "inject_inputs",
     "FaultTolerantRun",
     "run_fault_tolerant",
@@ -147,6 +148,10 @@ PAPER_ONSETS = {
     "xnav": (500000.0, 1000000.0, 1500000.0, 2000000.0, 2310000.0),
     "cns": (600000.0, 900000.0, 1500000.0, 2100000.0, 2400000.0),
 }
+
+#: Seconds a fault's onset must leave before the run's end for the message of
+#: :func:`check_schedule` to suggest a long enough run (one XNAV integration).
+MIN_FAULT_TAIL_S = 5000.0
 
 _NIS_DOF_UV = 3  # range + two direction angles (the unit vector's radial part is ~0)
 
@@ -242,7 +247,67 @@ def parse_faults(spec, scenario=None):
     sc = scenario if scenario is not None else scenarios.MarsScenario()
     if isinstance(spec, str) and spec.strip() == "paper":
         return paper_schedule(scenario=sc)
+    if isinstance(spec, str) and "xnav" in sc.subsystems:
+        # a pulsar may be named in full (xnav.B1937+21): its '+' is not the duration's
+        for name, short in zip(sc.pulsars, components(sc)["xnav"], strict=True):
+            spec = spec.replace(f"xnav.{name}:", f"xnav.{short}:")
     return parse_spec(spec, components(sc))
+
+
+def check_schedule(faults, scenario, detector="combined", train_days=1.0, paper=False):
+    """Refuse a fault the run cannot use: one ``ValueError`` naming the fault, the span and the fix.
+
+    A fault is used when its onset lies inside the run, ``[0, span)`` s since the start,
+    and, for the wavelet-based detectors (``"wavelet"``, ``"combined"``), a UV or CNS fault
+    starts after the wavelets' fault-free training span (``train_days``). A fault may end
+    after the run (it is then cut at the end, which is a use).
+
+    Parameters
+    ----------
+    faults : sequence of Fault
+        The schedule, times s since the start.
+    scenario : MarsScenario
+        The run (its ``span``, s).
+    detector : str
+        One of :data:`DETECTORS`.
+    train_days : float
+        Training span of the UV/CNS wavelets, days.
+    paper : bool
+        The schedule is the paper's (the message then says how many days it needs).
+
+    Examples
+    --------
+    >>> sc = scenarios.MarsScenario(days=5)
+    >>> try:
+    ...     check_schedule(paper_schedule(), sc, paper=True)
+    ... except ValueError as exc:
+    ...     print(str(exc).split("; ")[1])
+    run at least --days 27.84 (this run: 5 days)
+    """
+    span = float(scenario.span)
+    faults = list(faults)
+    late = [f for f in faults if not 0.0 <= f.onset < span]
+    if late and paper:
+        last = max(f.onset for f in faults)
+        need = (last + MIN_FAULT_TAIL_S) / DAY
+        raise ValueError(f"faults: the paper's schedule has onsets up to {last:.0f} s "
+                         f"({last / DAY:.2f} days); run at least --days {math.ceil(need * 100) / 100:g} "
+                         f"(this run: {span / DAY:g} days)")
+    comps = components(scenario)
+    for f in late:
+        need = (f.onset + MIN_FAULT_TAIL_S) / DAY
+        raise ValueError(f"faults: {format_spec([f], comps)} starts at {f.onset:.6g} s, outside this "
+                         f"run [0, {span:.0f}) s ({span / DAY:g} days): move its onset into the run or "
+                         f"run at least --days {math.ceil(need * 100) / 100:g}")
+    if detector in ("wavelet", "combined"):
+        for f in faults:
+            if f.sensor in ("uv", "cns") and f.onset < train_days * DAY:
+                raise ValueError(
+                    f"faults: {format_spec([f], comps)} starts at {f.onset:.6g} s, inside the "
+                    f"{train_days * DAY:.0f}-s span on which the {f.sensor} wavelet detector trains "
+                    f"(it must be fault-free); move its onset to {train_days * DAY:.0f} s or later, "
+                    f"or use detector chi2")
+    return faults
 
 
 def inject_inputs(inputs, faults, rng=None):
@@ -486,9 +551,10 @@ def run_fault_tolerant(scenario=None, faults=(), detector="wavelet", *, inputs=N
                                 hi_open=True)
     if detector == "combined":
         arm_s = check_real("arm_s", arm_s, 0.0, sc.span, hi_open=True)
+    paper = isinstance(faults, str) and faults.strip() == "paper"
     if isinstance(faults, str):
         faults = parse_faults(faults, sc)
-    faults = list(faults)
+    faults = check_schedule(faults, sc, detector, train_days, paper=paper)
     rng = make_rng(sc.seed + 1 if rng is None else rng)
     t_start = time.perf_counter()
     faulty = inject_inputs(inputs, faults, rng)
