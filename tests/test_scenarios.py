@@ -351,3 +351,16 @@ def test_fault_spec_takes_full_pulsar_names_and_help_lists_the_grammar(capsys):
     with pytest.raises(SystemExit):
         main(["run", "mars", "--help"])
     assert "fault spec:" in capsys.readouterr().out
+
+
+def test_python_and_cli_summaries_of_the_same_run_are_equal(capsys):
+    """One source of defaults: the API's summary() settles as the command line does."""
+    from xnavlab.mars.scenarios import MarsScenario, default_settle_days, run
+
+    res = run(MarsScenario(days=0.2, seed=3))
+    api = res.summary()
+    assert main(["run", "mars", "--days", "0.2", "--seed", "3", "--json"]) == 0
+    cli = json.loads(capsys.readouterr().out)
+    assert api["settle_days"] == cli["settle_days"] == default_settle_days(0.2) == 0.1
+    for key in ("position_error_m", "velocity_error_mps", "position_error_max_m", "epochs"):
+        assert api[key] == cli[key], key

@@ -106,14 +106,13 @@ def execute_mars(args):
         if args.faults:
             fault_tolerance.parse_faults(args.faults, sc)  # a bad spec is named before any run
         # the spec as given: run_fault_tolerant parses it and refuses a fault it cannot use
-        ft = fault_tolerance.run_fault_tolerant(sc, args.faults or [], detector,
-                                                train_days=min(1.0, days / 2))
+        ft = fault_tolerance.run_fault_tolerant(sc, args.faults or [], detector)
         res = ft.run
-        summary = ft.summary(settle_days=min(1.0, days / 2))
+        summary = ft.summary()
     else:
         out_dir(args.out)
         res = run(sc, backend=backend, progress=sys.stderr.isatty())  # a bar for a terminal
-        summary = res.summary(settle_days=min(1.0, days / 2))
+        summary = res.summary()  # the API's own default settling (one source of defaults)
     summary["filter_time_s"] = summary.pop("run_time_s")
     summary["run_time_s"] = time.perf_counter() - t_start
     if args.out:

@@ -403,7 +403,7 @@ class FaultTolerantRun:
         """Detection delay of each fault, s (:func:`fault_detection_delays`)."""
         return fault_detection_delays(self.faults, self.events)
 
-    def summary(self, settle_days=1.0):
+    def summary(self, settle_days=None):
         """JSON-ready: the run's summary, the detector, every injected fault (onset inside the
         run) and every detection."""
         out = self.run.summary(settle_days)
@@ -477,7 +477,7 @@ def _nis_dof(sc):
 
 
 def run_fault_tolerant(scenario=None, faults=(), detector="wavelet", *, inputs=None,
-                       pfa=1e-5, alpha=1e-5, train_days=1.0, readmit_samples=None,
+                       pfa=1e-5, alpha=1e-5, train_days=None, readmit_samples=None,
                        readmit_alpha=0.01, readmit="quiet", xnav_level=3, xnav_holdoff=12, check_every=100,
                        rng=None, rate_per_day=1.0, adaptive=True, arm_s=1800.0, **overrides):
     """Run the Mars scenario with faults, a detector, isolation and rejoining.
@@ -495,8 +495,9 @@ def run_fault_tolerant(scenario=None, faults=(), detector="wavelet", *, inputs=N
         Wavelet design false-alarm probability per sample and sensor, in (0, 1).
     alpha : float
         Chi-square false-alarm probability per measurement, in (0, 1).
-    train_days : float
-        Wavelet training span of UV and CNS (their first days must be fault-free), in (0, days).
+    train_days : float, optional
+        Wavelet training span of UV and CNS (their first days must be fault-free), in
+        (0, days); default :func:`~xnavlab.mars.scenarios.default_settle_days` of the run.
     readmit_samples : dict, optional
         NIS window of the rejoining test per subsystem (default uv 100, cns 100, xnav 4).
     readmit_alpha : float
@@ -546,6 +547,8 @@ def run_fault_tolerant(scenario=None, faults=(), detector="wavelet", *, inputs=N
     elif scenario is not None or overrides:
         raise ValueError("pass either inputs or a scenario (with overrides), not both")
     sc = inputs.scenario
+    if train_days is None:
+        train_days = scenarios.default_settle_days(sc.days)
     if detector in ("wavelet", "combined"):
         train_days = check_real("train_days", train_days, 0.0, sc.days, lo_open=True,
                                 hi_open=True)

@@ -73,6 +73,7 @@ __all__ = [
     "SUBSYSTEMS",
     "DEFAULT_Q_ACC",
     "MarsScenario",
+    "default_settle_days",
     "Inputs",
     "MarsRun",
     "prepare",
@@ -89,6 +90,23 @@ _KIND = {"xnav": 0, "uv": 1, "cns": 2}
 
 #: Default white-acceleration noise PSD of the filters, m^2/s^3 (see :class:`MarsScenario`).
 DEFAULT_Q_ACC = 1.0e-11
+
+
+def default_settle_days(days):
+    """The one default settling span of a run of ``days``: ``min(1, days / 2)`` days.
+
+    The Python API (:meth:`MarsRun.metrics`, :meth:`MarsRun.summary`), the fault-tolerant
+    run's wavelet training span and the command line all take it, so the same run gives
+    the same summary every way: one day for the paper's 30 days (its filter has settled),
+    half the run for a shorter one (so the RMS is never that of one sample).
+
+    Examples
+    --------
+    >>> default_settle_days(30.0), default_settle_days(1.0)
+    (1.0, 0.5)
+    """
+    days = check_real("days", days, 0.0, lo_open=True)
+    return min(1.0, days / 2.0)
 
 
 @dataclass(frozen=True)
@@ -585,8 +603,13 @@ class MarsRun:
         """Norm of the fused velocity error, m/s, shape (nr,)."""
         return np.linalg.norm(self.error[:, 3:], axis=1)
 
-    def metrics(self, settle_days=1.0):
+    def metrics(self, settle_days=None):
         """The error metrics: RMS over time of the error norms after ``settle_days``.
+
+        Parameters
+        ----------
+        settle_days : float, optional
+            Start of the RMS window, days; default :func:`default_settle_days` of the run.
 
         Returns
         -------
@@ -595,6 +618,8 @@ class MarsRun:
             ``position_error_max_m``, ``final_position_error_m``,
             ``final_velocity_error_mps``, ``settle_days``.
         """
+        if settle_days is None:
+            settle_days = default_settle_days(self.scenario.days)
         settle_days = check_real("settle_days", settle_days, 0.0, self.t_days[-1])
         m = self.t_days >= settle_days
         pe, ve = self.position_error(), self.velocity_error()
@@ -621,8 +646,8 @@ class MarsRun:
         """Smallest eigenvalue of each recorded fused covariance (positive when SPD)."""
         return np.linalg.eigvalsh(self.P)[:, 0]
 
-    def summary(self, settle_days=1.0):
-        """JSON-ready summary: metrics, scenario, run time."""
+    def summary(self, settle_days=None):
+        """JSON-ready summary: metrics (settled as :meth:`metrics`), scenario, run time."""
         out = {"scenario": "mars", **self.metrics(settle_days),
                "run_time_s": self.wall_time, "backend": self.backend,
                "epochs": int(self.times.size), "days": self.scenario.days,
