@@ -107,7 +107,7 @@ def execute_mars(args):
             fault_tolerance.parse_faults(args.faults, sc)  # a bad spec is named before any run
         # the spec as given: run_fault_tolerant parses it and refuses a fault it cannot use
         ft = fault_tolerance.run_fault_tolerant(sc, args.faults or [], detector)
-        res = ft.run
+        res = ft  # its save_npz adds the isolation mask and the detector series
         summary = ft.summary()
     else:
         out_dir(args.out)

@@ -403,9 +403,93 @@ class FaultTolerantRun:
         """Detection delay of each fault, s (:func:`fault_detection_delays`)."""
         return fault_detection_delays(self.faults, self.events)
 
+    def score(self, settle_days=None):
+        """Score the run against its injected faults.
+
+        Every fault is detected or missed (a detection of its sensor opening in ``[onset,
+        end + MATCH_WINDOW)``, as :func:`fault_detection_delays`), with its delay and the
+        time its subsystem stayed out of the fusion after the fault ended; every detection
+        is matched to a fault or marked a false alarm; counts per subsystem; the fused
+        position error (RMS after ``settle_days``) inside and outside the fault windows
+        (``[onset, end + MATCH_WINDOW)`` of any fault).
+
+        Returns
+        -------
+        dict
+            ``faults`` (list of dicts: ``spec``, ``sensor``, ``detected``, ``delay_s``,
+            ``out_at_onset`` (its subsystem was already out of the fusion, e.g. after a false
+            alarm, so the fault never entered it), ``out_after_end_s``, ``still_out_at_end``),
+            ``detections`` (list of dicts: the detection plus ``fault`` (the spec it matches,
+            or None) and ``false_alarm``),
+            ``counts`` (per subsystem: ``faults``, ``detected``, ``missed``, ``detections``,
+            ``false_alarms``), ``fused_error`` (``inside_faults_m``, ``outside_faults_m``,
+            ``settle_days``; None where a window is empty).
+        """
+        sc = self.run.scenario
+        comps = components(sc)
+        t = self.run.times - self.run.times[0]  # epochs (the isolation mask's rows)
+        t_rec = self.run.t - self.run.times[0]   # records (the error series)
+        windows = {f: (f.onset, f.onset + (f.duration if math.isfinite(f.duration) else sc.span)
+                       + MATCH_WINDOW.get(f.sensor, 6000.0)) for f in self.faults}
+        faults = []
+        for f, d in zip(self.faults, self.delays(), strict=True):
+            found = math.isfinite(d["delay"])
+            end = f.onset + (f.duration if math.isfinite(f.duration) else sc.span)
+            i = sc.subsystems.index(f.sensor)
+            after = (t >= end) & self.isolated[:, i]
+            rejoin = np.flatnonzero((t >= end) & ~self.isolated[:, i])
+            out_after = (float(t[rejoin[0]] - end) if rejoin.size else float(t[-1] - end)) \
+                if after.any() else 0.0
+            faults.append({"spec": format_spec([f], comps), "sensor": f.sensor, "kind": f.kind,
+                           "onset": f.onset, "detected": found,
+                           "out_at_onset": bool(self.isolated[min(np.searchsorted(t, f.onset),
+                                                                  t.size - 1), i]),
+                           "delay_s": d["delay"] if found else None,
+                           "out_after_end_s": max(out_after, 0.0) if end < sc.span else None,
+                           "still_out_at_end": bool(end < sc.span and self.isolated[-1, i])})
+        detections = []
+        for det in self.detections:
+            hit = next((f for f, (a, b) in windows.items()
+                        if f.sensor == det["sensor"] and a <= det["detected_onset"] < b), None)
+            detections.append({**det, "fault": None if hit is None else format_spec([hit], comps),
+                               "false_alarm": hit is None})
+        counts = {}
+        for s in sc.subsystems:
+            fs = [f for f in faults if f["sensor"] == s]
+            ds = [d for d in detections if d["sensor"] == s]
+            counts[s] = {"faults": len(fs), "detected": sum(f["detected"] for f in fs),
+                         "missed": sum(not f["detected"] for f in fs), "detections": len(ds),
+                         "false_alarms": sum(d["false_alarm"] for d in ds)}
+        settle = self.run.metrics(settle_days)["settle_days"]
+        pe = self.run.position_error()
+        inside = np.zeros(t_rec.size, dtype=bool)
+        for a, b in windows.values():
+            inside |= (t_rec >= a) & (t_rec < b)
+        keep = self.run.t_days >= settle
+
+        def rms(mask):
+            return float(np.sqrt(np.mean(pe[mask] ** 2))) if mask.any() else None
+
+        return {"faults": faults, "detections": detections, "counts": counts,
+                "fused_error": {"inside_faults_m": rms(keep & inside),
+                                "outside_faults_m": rms(keep & ~inside), "settle_days": settle}}
+
+    def save_npz(self, path):
+        """Write the run's series (:meth:`MarsRun.save_npz`) plus ``isolated`` (n, ns), the
+        detector series per sensor (``det_<sensor>_t``, ``_ratio``, ``_faulty``, and
+        ``_innovations`` with the combined detector) and the fault spec, to ``path`` (npz)."""
+        extra = {"isolated": self.isolated, "detector": np.array(self.detector),
+                 "faults": np.array(format_spec(self.faults, components(self.run.scenario))
+                                    if self.faults else "")}
+        for sensor, data in self.detection_data.items():
+            for key in ("t", "ratio", "faulty", "innovations"):
+                if isinstance(data, dict) and key in data and data[key] is not None:
+                    extra[f"det_{sensor}_{key}"] = np.asarray(data[key])
+        self.run.save_npz(path, **extra)
+
     def summary(self, settle_days=None):
         """JSON-ready: the run's summary, the detector, every injected fault (onset inside the
-        run) and every detection."""
+        run), every detection, and the score (:meth:`score`)."""
         out = self.run.summary(settle_days)
         comps = components(self.run.scenario)
         span = self.run.scenario.span
@@ -417,6 +501,7 @@ class FaultTolerantRun:
              "spec": format_spec([f], comps)} for f in self.faults if f.onset < span]
         out["detections"] = self.detections
         out["isolations"] = self.isolation_intervals()
+        out["score"] = self.score(settle_days)
         out["run_time_s"] = self.wall_time
         return out
 

@@ -656,13 +656,13 @@ class MarsRun:
             out[f"updates_{s}"] = int(np.sum(self.flags[:, i] == 1))
         return out
 
-    def save_npz(self, path):
-        """Write the recorded time series to ``path`` (npz)."""
+    def save_npz(self, path, **extra):
+        """Write the recorded time series (and ``extra`` named arrays) to ``path`` (npz)."""
         np.savez_compressed(
             path, t=self.t, x=self.x, P=self.P, truth=self.truth, x_local=self.x_local,
             P_local_diag=self.P_local_diag, position_error=self.position_error(),
             velocity_error=self.velocity_error(), nis=self.nis, flags=self.flags,
-            times=self.times, subsystems=np.array(self.scenario.subsystems),
+            times=self.times, subsystems=np.array(self.scenario.subsystems), **extra,
         )
 
 
