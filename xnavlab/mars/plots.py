@@ -1,8 +1,10 @@
-"""Figures of the Mars system behind the chapters' sliders (chapters 5, 6 and 8).
+"""Figures of the Mars system behind the chapters' sliders (chapters 5, 6 and 8), the paper's
+Figs. 3-5 layouts and the detector table of chapter 9.
 
-Each function is pure in its arguments (the scenario is seeded) and returns a
-:class:`matplotlib.figure.Figure` that is not registered with pyplot, so a chapter can call it
-from :func:`xnavlab.core.widgets.explore` and also leave a static figure for the HTML book.
+Each function is pure in its arguments (the scenario is seeded). The figure functions return a
+:class:`matplotlib.figure.Figure` that is not registered with pyplot, so a chapter can call one
+from :func:`xnavlab.core.widgets.explore` and also leave a static figure for the HTML book;
+:func:`detector_table_markdown` returns Markdown text.
 
 Examples
 --------
@@ -22,7 +24,8 @@ from xnavlab.core.faults import Fault
 from xnavlab.core.validate import check_choice, check_real
 from xnavlab.mars import fault_tolerance, scenarios
 
-__all__ = ["plot_subsystem", "plot_sharing", "plot_fault_response"]
+__all__ = ["plot_subsystem", "plot_sharing", "plot_fault_response", "plot_error_curves",
+           "plot_details", "detector_table_markdown"]
 
 
 def plot_subsystem(subsystem="uv", noise_scale=1.0, interval_s=3, days=0.25):
@@ -189,3 +192,190 @@ def plot_fault_response(size_sigma=5.0, sensor="uv", kind="step", duration=4000.
            title=f"{sensor} {kind} of {size_sigma:g} sigma: " + ", ".join(text))
     ax.legend(fontsize=8, loc="upper left", title="detector: RMS after 40 %", title_fontsize=8)
     return fig
+
+
+def plot_error_curves(curves, faults=(), *, title="", isolations=()):
+    """Fused position error curves (log scale), the faults as grey bands, isolations as ticks.
+
+    The layout of the paper's Figs. 3 and 4 (chapter 8): each curve is a run's fused position
+    error against time; each fault is a grey band from its onset to its end; each isolation
+    interval of a subsystem is a coloured tick along the bottom (green XNAV, red UV, purple CNS).
+
+    Parameters
+    ----------
+    curves : dict of str to (array_like, array_like)
+        Label to ``(t_days, error_m)``: time, days, and the position error norm, m (> 0 for
+        the log scale), of one run, both shape (N,).
+    faults : sequence of Fault
+        Fault onsets and durations, s since the start of the run.
+    title : str
+        Axes title.
+    isolations : sequence of dict
+        ``sensor``, ``out`` and ``back`` (s since the start; ``back`` ``None`` while still out),
+        as from :meth:`xnavlab.mars.fault_tolerance.FaultTolerantRun.isolation_intervals`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One axes; not registered with pyplot.
+
+    Examples
+    --------
+    >>> t = np.linspace(0.0, 2.0, 50)
+    >>> fig = plot_error_curves({"run": (t, 30.0 + t)}, [Fault("uv", "step", 1.0, 86400.0, 3000.0)],
+    ...                         isolations=[{"sensor": "uv", "out": 86400.0, "back": None}])
+    >>> fig.axes[0].get_yscale(), len(fig.axes[0].get_lines())
+    ('log', 1)
+    """
+    from matplotlib.figure import Figure
+
+    if not curves:
+        raise ValueError("curves must hold at least one (t_days, error_m) pair")
+    fig = Figure(figsize=(9.0, 3.6), layout="constrained")
+    ax = fig.add_subplot()
+    for label, (td, e) in curves.items():
+        ax.semilogy(td, e, lw=0.6, label=label)
+    for f in faults:
+        if not isinstance(f, Fault):
+            raise ValueError(f"faults must hold Fault objects, got {type(f).__name__}")
+        ax.axvspan(f.onset / DAY, f.end / DAY, color="0.75", zorder=0)
+    colors = {"xnav": "C2", "uv": "C3", "cns": "C4"}
+    for iv in isolations:
+        back = iv["back"] if iv["back"] is not None else math.inf
+        ax.axvspan(iv["out"] / DAY, min(back, 1e9) / DAY, ymax=0.04,
+                   color=colors.get(iv["sensor"], "k"))
+    ax.set(xlabel="time (days)", ylabel="|position error| (m)", title=title)
+    ax.legend(fontsize=8, loc="upper right")
+    return fig
+
+
+def plot_details(t_days, x, details, onsets_days=(), *, stride=20, title=""):
+    """The paper's Fig. 5 layout: a series and its detail signals D1..DJ, fault onsets dashed.
+
+    Parameters
+    ----------
+    t_days : array_like, shape (N,)
+        Sample times, days.
+    x : array_like, shape (N,)
+        The series, m (plotted in km).
+    details : array_like, shape (J, N)
+        Its detail signals, m, from :func:`xnavlab.core.detection.detail_signals
+        <xnavlab.core.detection.mallat.detail_signals>`.
+    onsets_days : sequence of float
+        Fault onsets, days (dashed lines).
+    stride : int
+        Plot every ``stride``-th sample of the series and the largest ``|D_j|`` over each
+        block of ``stride`` samples (keeps a month of 3-s samples drawable), >= 1.
+    title : str
+        Title of the top panel.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        J + 1 panels sharing the time axis; not registered with pyplot.
+
+    Examples
+    --------
+    >>> t = np.arange(400) * 3.0 / 86400.0
+    >>> x = np.random.default_rng(0).normal(0.0, 5000.0, 400)
+    >>> fig = plot_details(t, x, np.vstack([x, x]), [t[200]], stride=4)
+    >>> len(fig.axes), fig.axes[2].get_ylabel()
+    (3, 'D2 (km)')
+    """
+    from matplotlib.figure import Figure
+
+    from xnavlab.core.validate import check_finite_array, check_int
+
+    t_days = check_finite_array("t_days", t_days)
+    x = check_finite_array("x", x, shape=t_days.shape)
+    details = check_finite_array("details", details)
+    if details.ndim != 2 or details.shape[1] != t_days.size:
+        raise ValueError(f"details must have shape (J, {t_days.size}), got {details.shape}")
+    stride = check_int("stride", stride, 1)
+    J = details.shape[0]
+    fig = Figure(figsize=(9.0, 1.3 * (J + 1) + 0.6), layout="constrained")
+    axes = fig.subplots(J + 1, 1, sharex=True)
+    n = (t_days.size // stride) * stride
+    td = t_days[:n:stride]
+    axes[0].plot(td, x[:n:stride] / 1e3, lw=0.4)
+    axes[0].set_ylabel("range (km)", fontsize=8)
+    for j in range(J):
+        d = details[j, :n].reshape(-1, stride)
+        peak = d[np.arange(d.shape[0]), np.argmax(np.abs(d), axis=1)]   # signed extreme per block
+        axes[j + 1].plot(td, peak / 1e3, lw=0.4)
+        axes[j + 1].set_ylabel(f"D{j + 1} (km)", fontsize=8)
+    for ax in axes:
+        for o in onsets_days:
+            ax.axvline(o, color="C3", ls="--", lw=0.6)
+    axes[-1].set_xlabel("time (days)")
+    if title:
+        axes[0].set_title(title)
+    return fig
+
+
+def detector_table_markdown(table, digits=2):
+    """The detectors' Monte Carlo table in the navigation loop, as a Markdown table.
+
+    One row per fault class, sensor and size (in the order of ``table["rows"]``); one column
+    per detector holding ``Pd / median delay / p95 delay / false alarms per day / RMS ratio``
+    (delays in s, ``-`` where no trial detected the fault). A size the table lists as
+    marked (the combined detector worse than the better of the other two beyond Monte Carlo
+    error) is flagged **(marked)**.
+
+    Parameters
+    ----------
+    table : dict
+        ``rows`` (one dict per class, sensor, size and detector, as from
+        :func:`xnavlab.mars.trials.detector_table`) and ``marked`` (dicts with
+        ``fault_class``, ``sensor``, ``size_index``), as
+        :func:`xnavlab.mars.trials.load_detector_table` returns.
+    digits : int
+        Decimals of Pd and of the RMS ratio, 0..6 (false alarms per day get one fewer, at
+        least one).
+
+    Returns
+    -------
+    str
+        Markdown (display it with ``IPython.display.Markdown``).
+
+    Examples
+    --------
+    >>> rows = [dict(fault_class="step", sensor="uv", size_index=0, size=3.0, detector=d,
+    ...              pd=1.0, delay_median_s=12.0, delay_p95_s=None, false_alarms_per_day=0.5,
+    ...              rms_ratio=1.014) for d in ("chi2", "combined")]
+    >>> md = detector_table_markdown({"rows": rows, "marked": []})
+    >>> len(md.splitlines()), "| 1.00 / 12 / - / 0.5 / 1.01 |" in md
+    (3, True)
+    """
+    from xnavlab.core.plotting import markdown_table
+    from xnavlab.core.validate import check_int
+
+    digits = check_int("digits", digits, 0, 6)
+    try:
+        rows, marked = table["rows"], table["marked"]
+    except (TypeError, KeyError):
+        raise ValueError("table must be a dict with 'rows' and 'marked' "
+                         "(xnavlab.mars.trials.load_detector_table)") from None
+    fa_digits = max(1, digits - 1)
+
+    def delay(v):
+        return "-" if v is None else f"{v:.0f}"
+
+    def summary(r):
+        return (f"{r['pd']:.{digits}f} / {delay(r['delay_median_s'])} / {delay(r['delay_p95_s'])} / "
+                f"{r['false_alarms_per_day']:.{fa_digits}f} / {r['rms_ratio']:.{digits}f}")
+
+    flagged = {(m["fault_class"], m["sensor"], m["size_index"]) for m in marked}
+    cells, detectors = {}, []
+    for r in rows:
+        key = (r["fault_class"], r["sensor"], r["size_index"])
+        cells.setdefault(key, {"size": r["size"]})[r["detector"]] = summary(r)
+        if r["detector"] not in detectors:
+            detectors.append(r["detector"])
+    cols = ["class", "sensor", "size"] + [f"{d}: Pd / med / p95 / FA/d / RMS" for d in detectors]
+    out = []
+    for (fc, sensor, i), c in cells.items():
+        flag = " **(marked)**" if (fc, sensor, i) in flagged else ""
+        out.append(dict(zip(cols, [fc, sensor, f"{c['size']:g}{flag}"]
+                            + [c.get(d, "-") for d in detectors], strict=True)))
+    return markdown_table(out, cols)
