@@ -18,8 +18,9 @@ def test_reproduce_json(capsys):
     assert main(["reproduce", "xnav-ranging", "--json"]) == 0
     payload = json.loads(capsys.readouterr().out)
     assert payload["id"] == "xnav-ranging"
-    assert payload["pass"] is True
-    assert set(payload) >= {"id", "paper", "ours", "tolerance", "pass"}
+    assert payload["pass"] is True and payload["verdict"] == "PASS"
+    assert set(payload) >= {"id", "paper", "ours", "tolerance", "pass", "checks", "verdict"}
+    assert set(payload["checks"].values()) <= {"PASS", "NOT CLAIMED", "FAIL"}
     assert set(payload["ours"]) == {"B0531+21", "B1937+21", "B1957+20", "B1821-24"}
 
 
@@ -64,6 +65,32 @@ def test_all_reports_a_raising_reproduction_as_failed(monkeypatch, capsys):
     assert cli.main(["reproduce", "--all"]) == 1
     out = capsys.readouterr().out
     assert "1 of 2 reproductions pass" in out and "ValueError: boom" in out
+    assert out.rstrip().endswith("; FAIL: broken")
+
+
+def test_all_json_and_dashboard_say_the_same_words(monkeypatch, capsys):
+    from xnavlab import cli, reproduce
+
+    monkeypatch.setattr(reproduce, "ids", lambda: ["xnav-ranging", "broken"])
+    real_run = reproduce.run
+
+    def fake_run(rid, out=None, **kw):
+        if rid == "broken":
+            raise ValueError("boom | <b>")
+        return real_run(rid, out=out, **kw)
+
+    monkeypatch.setattr(reproduce, "run", fake_run)
+    assert cli.main(["reproduce", "--all", "--json"]) == 1
+    captured = capsys.readouterr()
+    payload = json.loads(captured.out)
+    results = [reproduce.run_or_fail(rid) for rid in reproduce.ids()]  # what the dashboard runs
+    assert [p["verdict"] for p in payload] == [r.verdict for r in results] == ["PASS", "FAIL"]
+    assert [p["checks"] for p in payload] == [{c.name: c.verdict for c in r.checks}
+                                              for r in results]
+    headline = reproduce.headline(results)
+    assert captured.err.strip().endswith(headline)
+    page = reproduce.report_html(results)
+    assert headline in page and "boom | &lt;b&gt;" in page
 
 
 def test_run_mars_faults_bad_spec_module_entry_point():

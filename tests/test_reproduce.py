@@ -1,6 +1,8 @@
-"""The registry: every registered reproduction passes; results serialise; IDs are unique."""
+"""The registry: every registered reproduction passes; results serialise; IDs are unique;
+one verdict vocabulary; tables no cell can break."""
 
 import json
+from html.parser import HTMLParser
 
 import pytest
 
@@ -25,13 +27,14 @@ def test_xnav_ranging_within_five_percent():
         assert abs(res.ours[name] - paper) <= 0.05 * paper
     payload = json.loads(res.to_json())
     assert payload["pass"] is True and payload["id"] == "xnav-ranging"
-    assert "| B0531+21 |" in res._repr_markdown_()
+    assert payload["verdict"] == "PASS"
+    assert "<td>B0531+21</td>" in res._repr_html_()
 
 
 def test_failed_checks_are_reported():
     res = reproduce.Result("demo", [reproduce.check_rel("x", 1.0, 2.0, 0.1)])
     assert not res.passed
-    with pytest.raises(AssertionError, match="demo failed"):
+    with pytest.raises(AssertionError, match="demo: FAIL"):
         res.assert_passed()
     assert not reproduce.Result("empty", []).passed
 
@@ -87,3 +90,117 @@ def test_every_registered_reproduction_passes(rid):
     claimed = [c for c in res.checks if c.claimed]
     assert claimed and all(c.tolerance for c in claimed)
     assert res.note, f"{rid}: say how ours was obtained and where it differs"
+
+
+# ------------------------------------------------------------------------------------------
+# one verdict vocabulary, safe tables
+
+
+class _Rows(HTMLParser):
+    """The tables of an HTML fragment as lists of rows of cell texts (th and td)."""
+
+    def __init__(self):
+        super().__init__()
+        self.tables, self._cell = [], None
+
+    def handle_starttag(self, tag, attrs):
+        if tag == "table":
+            self.tables.append([])
+        elif tag == "tr":
+            self.tables[-1].append([])
+        elif tag in ("td", "th"):
+            self._cell = []
+
+    def handle_endtag(self, tag):
+        if tag in ("td", "th"):
+            self.tables[-1][-1].append("".join(self._cell))
+            self._cell = None
+
+    def handle_data(self, data):
+        if self._cell is not None:
+            self._cell.append(data)
+
+
+def _tables(fragment):
+    parser = _Rows()
+    parser.feed(fragment)
+    parser.close()
+    return parser.tables
+
+
+NASTY = "a | b <i>x</i> & c\nnext | line"
+
+
+def _nasty_result():
+    return reproduce.Result("nasty", [
+        reproduce.check_abs(NASTY, 1.0, 1.5, 1.0, unit="m|s"),
+        reproduce.check_info("rank | order", "<RKF>", "ASUKF\n| best", "not | claimed\n<b>"),
+        reproduce.check_true("flag", "x|y", "x|y", False, "same | text"),
+    ], note="a note with | and <script>alert(1)</script>\nover lines")
+
+
+def test_verdict_vocabulary_is_defined_once():
+    assert reproduce.VERDICTS == ("PASS", "NOT CLAIMED", "FAIL")
+    res = _nasty_result()
+    assert [c.verdict for c in res.checks] == ["PASS", "NOT CLAIMED", "FAIL"]
+    assert res.verdict == "FAIL" and not res.passed
+    assert res.counts() == {"PASS": 1, "NOT CLAIMED": 1, "FAIL": 1}
+    assert reproduce.Result("none", []).verdict == "FAIL"
+    info_only = reproduce.Result("info", [reproduce.check_info("x", 1, 2, "why")])
+    assert info_only.verdict == "FAIL"
+    ok = reproduce.Result("ok", [reproduce.check_rel("x", 1.0, 1.0, 0.1)])
+    assert ok.verdict == "PASS"
+    raised = reproduce.Result("raised", ok.checks, error="ValueError: boom")
+    assert raised.verdict == "FAIL"
+
+
+def test_run_or_fail_turns_an_exception_into_fail():
+    res = reproduce.run_or_fail("no-such-reproduction")
+    assert res.verdict == "FAIL" and res.error.startswith("ValueError: unknown reproduction id")
+    assert res.to_dict()["error"] == res.error
+
+
+def test_headline_counts():
+    ok = reproduce.Result("a", [reproduce.check_rel("x", 1.0, 1.0, 0.1),
+                                reproduce.check_info("y", 1, 2, "why"),
+                                reproduce.check_info("z", 1, 2, "why")])
+    assert reproduce.headline([ok]) == "1 of 1 reproductions pass (2 rows not claimed)"
+    text = reproduce.headline([ok, _nasty_result(), reproduce.run_or_fail("no-such")])
+    assert text == "1 of 3 reproductions pass (3 rows not claimed); FAIL: nasty, no-such"
+    n = reproduce.counts([ok, _nasty_result()])
+    assert n["rows"] == {"PASS": 2, "NOT CLAIMED": 3, "FAIL": 1} and n["fail"] == ["nasty"]
+
+
+def test_result_html_has_one_cell_per_column_and_escapes_everything():
+    res = _nasty_result()
+    page = res._repr_html_()
+    assert "<script>" not in page and "<i>" not in page and "<b>" not in page
+    assert "&lt;script&gt;" in page
+    (table,) = _tables(page)
+    header, *rows = table
+    assert header == ["quantity", "paper", "ours", "tolerance", "verdict"]
+    assert len(rows) == len(res.checks)
+    assert all(len(r) == len(header) for r in rows)
+    assert rows[0][0] == NASTY  # the text survives, escaped, in its own cell
+    assert [r[-1] for r in rows] == [c.verdict for c in res.checks]
+    assert set(r[-1] for r in rows) <= set(reproduce.VERDICTS)
+    assert not hasattr(res, "_repr_markdown_")  # text/html is the one rendering
+
+
+def test_report_html_is_safe_and_says_what_the_cli_says():
+    results = [_nasty_result(), reproduce.Result("ok", [reproduce.check_rel("x", 1.0, 1.0, 0.1)])]
+    page = reproduce.report_html(results, elapsed_s=12.3)
+    assert "<script>" not in page
+    assert reproduce.headline(results) in page
+    summary, checks = _tables(page)
+    assert summary[0] == list(reproduce.SUMMARY_HEADER)
+    assert checks[0] == list(reproduce.CHECK_HEADER)
+    for table in (summary, checks):
+        assert all(len(r) == len(table[0]) for r in table)
+    assert [r[1] for r in summary[1:]] == [r.verdict for r in results]
+    assert [r[-1] for r in checks[1:]] == [c.verdict for r in results for c in r.checks]
+    plain = reproduce.results_table(results).splitlines()
+    assert plain[0].split()[-1] == "verdict"
+    assert all(line.rstrip().endswith(c.verdict) for line, c in
+               zip(plain[1:], [c for r in results for c in r.checks], strict=True))
+    assert len(plain) == 1 + sum(len(r.checks) for r in results)  # newlines flattened

@@ -10,10 +10,27 @@ by exactly one piece of code.
 Reproductions live in the modules of :mod:`xnavlab.reproductions`; each module is
 imported on first use of the registry, so adding a file there is all it takes to
 register new IDs.
+
+One verdict vocabulary (:data:`VERDICTS`) is used by every table that shows a
+reproduction: a chapter's last cell, the command line, its JSON and the dashboard.
+
+``PASS``
+    A claimed number within its stated tolerance.
+``NOT CLAIMED``
+    A number measured and shown beside the paper's, with the reason it is not claimed
+    (:func:`check_info`); it never decides a verdict.
+``FAIL``
+    A claimed number out of its tolerance. It fails the tests.
+
+A row's verdict is its :class:`Check`'s; a :class:`Result`'s verdict is ``FAIL`` when any
+claimed check fails, when it has no claimed check, or when the reproduction raised
+(:func:`run_or_fail`), and ``PASS`` otherwise. :func:`headline` is the one sentence that
+counts them, printed by ``python -m xnavlab reproduce --all`` and shown by the dashboard.
 """
 
 from __future__ import annotations
 
+import html
 import importlib
 import json
 import math
@@ -23,9 +40,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from xnavlab.core.plotting import figure
+from xnavlab.core.plotting import SafeHTML, figure, html_table
 
 __all__ = [
+    "PASS",
+    "NOT_CLAIMED",
+    "FAIL",
+    "VERDICTS",
     "Check",
     "Reproduction",
     "Result",
@@ -38,11 +59,29 @@ __all__ = [
     "check_range",
     "check_true",
     "check_info",
+    "run_or_fail",
+    "counts",
+    "headline",
     "results_table",
+    "summary_rows",
+    "check_rows",
+    "report_html",
+    "SUMMARY_HEADER",
+    "CHECK_HEADER",
     "figure",
     "save_figure",
     "jsonable",
 ]
+
+
+#: A claimed number within its stated tolerance.
+PASS = "PASS"
+#: Measured and shown, with the reason it is not claimed; never decides a verdict.
+NOT_CLAIMED = "NOT CLAIMED"
+#: A claimed number out of its tolerance (fails the tests).
+FAIL = "FAIL"
+#: The one verdict vocabulary of every reproduction table, in this order.
+VERDICTS = (PASS, NOT_CLAIMED, FAIL)
 
 
 @dataclass(frozen=True)
@@ -50,7 +89,8 @@ class Check:
     """One comparison: a quantity, the paper's value, ours, the tolerance, the verdict.
 
     ``claimed=False`` marks a row we show but do not claim to reproduce (see
-    :func:`check_info`); it does not count towards the verdict.
+    :func:`check_info`); it does not count towards the verdict. For such a row,
+    ``tolerance`` holds the reason it is not claimed.
     """
 
     name: str
@@ -62,10 +102,10 @@ class Check:
 
     @property
     def verdict(self):
-        """``"PASS"``, ``"FAIL"``, or ``"NOT CLAIMED"`` for an informational row."""
+        """`PASS`, `FAIL`, or `NOT_CLAIMED` for an informational row (see `VERDICTS`)."""
         if not self.claimed:
-            return "NOT CLAIMED"
-        return "PASS" if self.passed else "FAIL"
+            return NOT_CLAIMED
+        return PASS if self.passed else FAIL
 
 
 def check_rel(name, paper, ours, rel):
@@ -146,6 +186,9 @@ class Result:
         Arrays for the chapter's figures (not serialised).
     figures : list of str
         Paths of figures written when ``out`` was given.
+    error : str
+        ``"ExceptionType: message"`` when the reproduction raised (see :func:`run_or_fail`),
+        else empty.
     """
 
     id: str
@@ -153,11 +196,41 @@ class Result:
     note: str = ""
     data: dict[str, Any] = field(default_factory=dict, repr=False)
     figures: list[str] = field(default_factory=list)
+    error: str = ""
+
+    @property
+    def verdict(self):
+        """`FAIL` if a claimed check fails, none is claimed or it raised; else `PASS`.
+
+        Examples
+        --------
+        >>> Result("demo", [check_rel("x", 1.0, 1.02, 0.05)]).verdict
+        'PASS'
+        >>> Result("demo", [check_info("y", "a", "b", "see note")]).verdict
+        'FAIL'
+        """
+        claimed = [c for c in self.checks if c.claimed]
+        ok = bool(claimed) and all(c.passed for c in claimed) and not self.error
+        return PASS if ok else FAIL
 
     @property
     def passed(self):
-        claimed = [c for c in self.checks if c.claimed]
-        return bool(claimed) and all(c.passed for c in claimed)
+        """Whether the verdict is `PASS`."""
+        return self.verdict == PASS
+
+    def counts(self):
+        """Rows by verdict: ``{"PASS": n, "NOT CLAIMED": n, "FAIL": n}`` (every key present).
+
+        Examples
+        --------
+        >>> rows = [check_rel("x", 1.0, 1.0, 0.1), check_info("y", "a", "b", "see note")]
+        >>> Result("demo", rows).counts()
+        {'PASS': 1, 'NOT CLAIMED': 1, 'FAIL': 0}
+        """
+        out = dict.fromkeys(VERDICTS, 0)
+        for c in self.checks:
+            out[c.verdict] += 1
+        return out
 
     @property
     def paper(self):
@@ -172,45 +245,64 @@ class Result:
         return {c.name: c.tolerance for c in self.checks}
 
     def to_dict(self):
-        """The JSON form: ``id``, ``paper``, ``ours``, ``tolerance``, ``pass``, ``note``."""
+        """The JSON form.
+
+        Keys: ``id``, ``verdict`` (`PASS` or `FAIL`), ``pass`` (the same as a bool),
+        ``checks`` (each quantity's verdict), ``counts`` (rows by verdict), ``paper``,
+        ``ours``, ``tolerance`` (by quantity), ``note``, ``figures``, ``error``.
+        """
         return {
             "id": self.id,
+            "verdict": self.verdict,
             "paper": self.paper,
             "ours": self.ours,
             "tolerance": self.tolerance,
             "pass": self.passed,
             "checks": {c.name: c.verdict for c in self.checks},
+            "counts": self.counts(),
             "note": self.note,
             "figures": self.figures,
+            "error": self.error,
         }
 
     def to_json(self):
         return json.dumps(self.to_dict(), default=jsonable)
 
     def table(self):
-        """A plain-text table: quantity, paper, ours, tolerance, verdict."""
+        """A plain-text table: id, quantity, paper, ours, tolerance, verdict."""
         return results_table([self])
 
-    def _repr_markdown_(self):
-        lines = [
-            f"**{self.id}**: {'PASS' if self.passed else 'FAIL'}",
-            "",
-            "| quantity | paper | ours | tolerance | pass |",
-            "|---|---|---|---|---|",
-        ]
-        for c in self.checks:
-            lines.append(
-                f"| {c.name} | {_show(c.paper)} | {_show(c.ours)} | {c.tolerance} | "
-                f"{c.verdict.lower()} |"
-            )
+    def html(self):
+        """The result as safe HTML: its verdict, a table of its checks, its note.
+
+        Every cell and the note are escaped text (a ``|``, ``<`` or newline in a value
+        cannot break the table); the table has the columns :data:`CHECK_HEADER` without
+        the reproduction's ID.
+
+        Examples
+        --------
+        >>> page = Result("demo", [check_abs("a|b", 1.0, 1.5, 1.0)], note="x < y").html()
+        >>> page.count("<td>"), "a|b" in page, "x &lt; y" in page
+        (5, True, True)
+        """
+        head = (f'<p class="xnav-result"><strong>{html.escape(self.id)}</strong>: '
+                f'<span class="xnav-verdict">{self.verdict}</span></p>')
+        table = html_table(CHECK_HEADER[1:], [row[1:] for row in check_rows([self])])
+        parts = [head, table]
+        if self.error:
+            parts.append(f'<p class="xnav-error">raised {html.escape(self.error)}</p>')
         if self.note:
-            lines += ["", self.note]
-        return "\n".join(lines)
+            parts.append(f'<p class="xnav-note">{html.escape(self.note)}</p>')
+        return SafeHTML("\n".join(parts))
+
+    def _repr_html_(self):
+        return self.html()
 
     def assert_passed(self):
-        """Raise ``AssertionError`` listing every failed check."""
+        """Raise ``AssertionError`` listing every check when the verdict is `FAIL`."""
         if not self.passed:
-            raise AssertionError(f"{self.id} failed:\n" + results_table([self]))
+            raise AssertionError(f"{self.id}: {FAIL}\n" + results_table([self])
+                                 + (f"\nraised {self.error}" if self.error else ""))
 
 
 @dataclass(frozen=True)
@@ -333,16 +425,152 @@ def run(id, out=None, **kwargs):
     return result
 
 
-def results_table(results):
-    """Plain-text table of the checks of several results."""
-    rows = [("id", "quantity", "paper", "ours", "tolerance", "pass")]
+def run_or_fail(id, out=None, **kwargs):
+    """Like :func:`run`, but an exception becomes a `FAIL` result instead of propagating.
+
+    The command line's ``--all`` and the dashboard run every reproduction through this
+    function, so a reproduction that raises is counted and shown the same way in both:
+    one claimed check "ran without error" that fails, and ``error`` set.
+
+    Examples
+    --------
+    >>> res = run_or_fail("no-such-id")
+    >>> res.verdict, res.error.startswith("ValueError")
+    ('FAIL', True)
+    """
+    try:
+        return run(id, out=out, **kwargs)
+    except Exception as exc:  # noqa: BLE001 - reported as the FAIL of that reproduction
+        error = " ".join(f"{type(exc).__name__}: {exc}".split())
+        check = Check("ran without error", "runs", error, "must not raise", False)
+        return Result(id, [check], note="the reproduction raised an exception", error=error)
+
+
+def counts(results):
+    """Reproductions and rows by verdict, the numbers of :func:`headline`.
+
+    Returns
+    -------
+    dict
+        ``reproductions`` (how many), ``pass`` (how many with verdict `PASS`), ``fail``
+        (the IDs with verdict `FAIL`, in order) and ``rows`` (every check row by verdict,
+        as :meth:`Result.counts`).
+
+    Examples
+    --------
+    >>> ok = Result("a", [check_rel("x", 1.0, 1.0, 0.1), check_info("y", 1, 2, "why")])
+    >>> counts([ok, Result("b", [])])["fail"]
+    ['b']
+    """
+    rows = dict.fromkeys(VERDICTS, 0)
     for res in results:
-        for c in res.checks:
-            rows.append(
-                (res.id, c.name, _show(c.paper), _show(c.ours), c.tolerance, c.verdict)
-            )
+        for verdict, n in res.counts().items():
+            rows[verdict] += n
+    return {"reproductions": len(results), "pass": sum(r.passed for r in results),
+            "fail": [r.id for r in results if not r.passed], "rows": rows}
+
+
+def headline(results):
+    """The one sentence that counts the verdicts (the CLI's ``--all`` and the dashboard).
+
+    Examples
+    --------
+    >>> ok = Result("a", [check_rel("x", 1.0, 1.0, 0.1), check_info("y", 1, 2, "why")])
+    >>> headline([ok, Result("b", [])])
+    '1 of 2 reproductions pass (1 row not claimed); FAIL: b'
+    """
+    n = counts(results)
+    k = n["rows"][NOT_CLAIMED]
+    text = (f"{n['pass']} of {n['reproductions']} reproductions pass"
+            f" ({k} row{'' if k == 1 else 's'} not claimed)")
+    return text + (f"; {FAIL}: {', '.join(n['fail'])}" if n["fail"] else "")
+
+
+#: Columns of :func:`summary_rows`: one row per reproduction.
+SUMMARY_HEADER = ("reproduction", "verdict", "claimed checks passing", "not claimed",
+                  "chapter", "what")
+#: Columns of :func:`check_rows`: one row per check.
+CHECK_HEADER = ("reproduction", "quantity", "paper", "ours", "tolerance", "verdict")
+
+
+def summary_rows(results):
+    """One row per result (columns :data:`SUMMARY_HEADER`), for :func:`~xnavlab.core.plotting.html_table`."""
+    rows = []
+    for res in results:
+        n = res.counts()
+        try:
+            rep = get(res.id)
+            chapter, title = rep.chapter, rep.title
+        except ValueError:
+            chapter, title = "", ""
+        claimed = n[PASS] + n[FAIL]
+        rows.append((res.id, res.verdict, f"{n[PASS]} of {claimed}", n[NOT_CLAIMED], chapter,
+                     title))
+    return rows
+
+
+def check_rows(results):
+    """One row per check (columns :data:`CHECK_HEADER`), values formatted for a table."""
+    return [(res.id, c.name, _show(c.paper), _show(c.ours), c.tolerance, c.verdict)
+            for res in results for c in res.checks]
+
+
+def report_html(results, elapsed_s=None):
+    """Every result on one page (the dashboard): the headline, a summary table, every check.
+
+    Built only from :func:`headline`, :func:`summary_rows`, :func:`check_rows` and
+    :func:`~xnavlab.core.plotting.html_table`, the same words and counts as the command line;
+    every cell and note is escaped text. The notes (the choices behind each reproduction)
+    follow in a collapsed ``<details>`` block.
+
+    Parameters
+    ----------
+    results : sequence of Result
+        As returned by :func:`run_or_fail`, in the order to show.
+    elapsed_s : float, optional
+        Seconds it took to compute them, stated under the headline when given.
+
+    Returns
+    -------
+    SafeHTML
+
+    Examples
+    --------
+    >>> page = report_html([Result("a", [check_rel("x|y", 1.0, 1.0, 0.1)], note="a < b")])
+    >>> "1 of 1 reproductions pass (0 rows not claimed)" in page, "x|y" in page
+    (True, True)
+    """
+    when = "" if elapsed_s is None else f" (computed when the book was built, in {elapsed_s:.0f} s)"
+    parts = [f'<p class="xnav-headline"><strong>{html.escape(headline(results))}</strong>'
+             f"{html.escape(when)}.</p>",
+             html_table(SUMMARY_HEADER, summary_rows(results)),
+             "<p><strong>Every check</strong></p>",
+             html_table(CHECK_HEADER, check_rows(results))]
+    notes = []
+    for res in results:
+        try:
+            source = f" ({get(res.id).source})"
+        except ValueError:
+            source = ""
+        text = " ".join(res.note.split())
+        if res.error:
+            text = f"raised {res.error}. {text}"
+        notes.append(f"<li><strong>{html.escape(res.id)}</strong>{html.escape(source)}: "
+                     f"{html.escape(text)}</li>")
+    if notes:
+        parts.append('<details class="xnav-notes"><summary>Sources, and the choices behind'
+                     " each reproduction (their notes)</summary>\n<ul>\n" + "\n".join(notes)
+                     + "\n</ul>\n</details>")
+    return SafeHTML("\n".join(parts))
+
+
+def results_table(results):
+    """Plain-text table of the checks of several results (columns :data:`CHECK_HEADER`)."""
+    rows = [CHECK_HEADER] + [tuple(" ".join(str(v).split()) for v in row)
+                             for row in check_rows(results)]
     widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]
-    return "\n".join("  ".join(s.ljust(w) for s, w in zip(r, widths, strict=True)) for r in rows)
+    return "\n".join("  ".join(s.ljust(w) for s, w in zip(r, widths, strict=True)).rstrip()
+                     for r in rows)
 
 
 def _show(x):

@@ -26,7 +26,11 @@ def configure(parser):
 
 
 def execute(args):
-    """Run ``reproduce``; exit code 0 when every check passes, 1 otherwise."""
+    """Run ``reproduce``; exit code 0 when every verdict is PASS, 1 otherwise.
+
+    The table and the JSON use the verdicts of :data:`xnavlab.reproduce.VERDICTS`;
+    ``--all`` ends with :func:`xnavlab.reproduce.headline` (on stderr with ``--json``).
+    """
     if args.list:
         for rid in reproduce.ids():
             rep = reproduce.get(rid)
@@ -43,17 +47,13 @@ def execute(args):
         print(result.table())
         if result.note:
             print(result.note)
+        print(f"{result.id}: {result.verdict}")
     return 0 if result.passed else 1
 
 
 def run_one(rid, out):
-    """Run one reproduction for ``--all``; an exception becomes a failed result, not an abort."""
-    try:
-        return reproduce.run(rid, out=out)
-    except Exception as exc:  # noqa: BLE001 - reported as a failure of that reproduction
-        check = reproduce.Check("ran without error", "runs", f"{type(exc).__name__}: {exc}",
-                                "must not raise", False)
-        return reproduce.Result(rid, [check], note="the reproduction raised an exception")
+    """Run one reproduction for ``--all``; an exception becomes a FAIL result, not an abort."""
+    return reproduce.run_or_fail(rid, out=out)
 
 
 def _reproduce_all(args):
@@ -63,12 +63,12 @@ def _reproduce_all(args):
     for rid in tqdm(reproduce.ids(), desc="reproductions", unit="repro", file=sys.stderr):
         results.append(run_one(rid, args.out))
     payload = [r.to_dict() for r in results]
-    n_pass = sum(r.passed for r in results)
     if args.json:
         print(json.dumps(payload, default=reproduce.jsonable))
+        print(reproduce.headline(results), file=sys.stderr)
     else:
         print(reproduce.results_table(results))
-        print(f"{n_pass} of {len(results)} reproductions pass")
+        print(reproduce.headline(results))
     if args.out:
         path = Path(args.out) / "reproductions.json"
         path.write_text(json.dumps(payload, indent=2, default=reproduce.jsonable))

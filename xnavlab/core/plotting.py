@@ -1,14 +1,22 @@
-"""Figures outside pyplot, and Markdown tables, for reproductions, chapters and the CLI.
+"""Figures outside pyplot, and tables, for reproductions, chapters and the CLI.
 
 A bare :class:`matplotlib.figure.Figure` needs no backend, so writing a figure never
 switches the backend of a running notebook kernel and leaves no open pyplot figure.
+
+Tables are built so that no cell's content can break them: :func:`markdown_table` escapes
+``|`` and newlines, :func:`html_table` escapes every cell (``<``, ``&``, ``|`` are text).
+Prefer :func:`html_table` for a table whose cells may hold ``|`` inside math (a norm, an
+absolute value): in a Markdown table the escaped ``\\|`` reaches the math as ``\\|``.
 """
 
 from __future__ import annotations
 
+import html
+from collections.abc import Mapping
+
 from xnavlab.core.validate import check_int
 
-__all__ = ["figure", "markdown_table"]
+__all__ = ["figure", "markdown_table", "html_table", "SafeHTML", "format_cell"]
 
 
 def figure(*args, figsize=(6.0, 3.5), **kwargs):
@@ -33,13 +41,64 @@ def figure(*args, figsize=(6.0, 3.5), **kwargs):
     return fig, fig.subplots(*args, **kwargs)
 
 
-def markdown_table(rows, cols, digits=4):
-    """Rows of dicts as a Markdown table (a chapter displays it with ``IPython.display.Markdown``).
+def format_cell(v, digits=4):
+    """The text of one table cell: ``None`` as ``-``, floats to ``digits`` significant digits.
 
     Parameters
     ----------
-    rows : sequence of dict
-        One dict per row; each must hold every name of ``cols``.
+    v : object
+        The value.
+    digits : int
+        Significant digits of floats, 1..17.
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> format_cell(2.0 / 3.0, 3), format_cell(None), format_cell("a|b")
+    ('0.667', '-', 'a|b')
+    """
+    digits = check_int("digits", digits, 1, 17)
+    if v is None:
+        return "-"
+    return f"{v:.{digits}g}" if isinstance(v, float) else str(v)
+
+
+def _check_rows(rows, cols):
+    for r in rows:
+        if isinstance(r, Mapping):
+            missing = [c for c in cols if c not in r]
+            if missing:
+                raise ValueError(f"rows: every row must hold the columns {list(cols)}; "
+                                 f"missing {missing}")
+        elif len(r) != len(cols):
+            raise ValueError(f"rows: every row must have {len(cols)} cells (one per column); "
+                             f"got {len(r)}")
+
+
+def _cells(row, cols):
+    return [row[c] for c in cols] if isinstance(row, Mapping) else list(row)
+
+
+def _md_escape(text):
+    # a "|" would end the cell and a newline the row: escape the one, flatten the other
+    return " ".join(text.replace("\\|", "|").replace("|", "\\|").split())
+
+
+def markdown_table(rows, cols, digits=4):
+    """Rows as a Markdown table (a chapter displays it with ``IPython.display.Markdown``).
+
+    Every cell (header too) is escaped so that its content cannot split the table: ``|``
+    becomes ``\\|`` and newlines become spaces. Inside math a bar is better written
+    ``\\lvert x \\rvert``; or use :func:`html_table`.
+
+    Parameters
+    ----------
+    rows : sequence of dict or of sequence
+        One dict per row holding every name of ``cols``, or one sequence of
+        ``len(cols)`` cells per row.
     cols : sequence of str
         Column names, in order (also the header).
     digits : int
@@ -51,23 +110,71 @@ def markdown_table(rows, cols, digits=4):
 
     Examples
     --------
-    >>> print(markdown_table([{"a": 1, "b": 0.123456}, {"a": 2, "b": None}], ["a", "b"], 3))
+    >>> print(markdown_table([{"a": 1, "b": 0.123456}, {"a": "x|y", "b": None}], ["a", "b"], 3))
     | a | b |
     |---|---|
     | 1 | 0.123 |
-    | 2 | - |
+    | x\\|y | - |
     <BLANKLINE>
     """
     digits = check_int("digits", digits, 1, 17)
+    _check_rows(rows, cols)
+    head = "| " + " | ".join(_md_escape(str(c)) for c in cols) + " |\n|" + "---|" * len(cols) + "\n"
+    return head + "".join(
+        "| " + " | ".join(_md_escape(format_cell(v, digits)) for v in _cells(r, cols)) + " |\n"
+        for r in rows
+    )
 
-    def cell(v):
-        if v is None:
-            return "-"
-        return f"{v:.{digits}g}" if isinstance(v, float) else str(v)
 
-    head = "| " + " | ".join(cols) + " |\n|" + "---|" * len(cols) + "\n"
-    for r in rows:
-        missing = [c for c in cols if c not in r]
-        if missing:
-            raise ValueError(f"rows: every row must hold the columns {list(cols)}; missing {missing}")
-    return head + "".join("| " + " | ".join(cell(r[c]) for c in cols) + " |\n" for r in rows)
+class SafeHTML(str):
+    """HTML text that a notebook displays as HTML (``_repr_html_``); it is still a ``str``."""
+
+    def _repr_html_(self):
+        return str(self)
+
+
+def html_table(header, rows, digits=4, css_class="xnav-table"):
+    """Rows as an HTML table in which every cell is escaped text.
+
+    No content can break the table: ``<``, ``>``, ``&`` and quotes are escaped, a ``|`` is
+    plain text, and every row has exactly one ``<td>`` per column.
+
+    Parameters
+    ----------
+    header : sequence of str
+        Column names, in order.
+    rows : sequence of dict or of sequence
+        One dict per row holding every name of ``header``, or one sequence of
+        ``len(header)`` cells per row.
+    digits : int
+        Significant digits of floats, 1..17; ``None`` prints as ``-``.
+    css_class : str
+        Class of the ``<table>`` element.
+
+    Returns
+    -------
+    SafeHTML
+        A ``str`` that a notebook displays as the table.
+
+    Examples
+    --------
+    >>> print(html_table(["a", "b"], [[1, "x|<y>"]]))
+    <table class="xnav-table">
+    <thead><tr><th>a</th><th>b</th></tr></thead>
+    <tbody>
+    <tr><td>1</td><td>x|&lt;y&gt;</td></tr>
+    </tbody>
+    </table>
+    """
+    digits = check_int("digits", digits, 1, 17)
+    _check_rows(rows, header)
+
+    def td(tag, v):
+        text = html.escape(format_cell(v, digits) if tag == "td" else str(v))
+        return f"<{tag}>{text}</{tag}>"
+
+    lines = [f'<table class="{html.escape(css_class)}">',
+             "<thead><tr>" + "".join(td("th", c) for c in header) + "</tr></thead>", "<tbody>"]
+    lines += ["<tr>" + "".join(td("td", v) for v in _cells(r, header)) + "</tr>" for r in rows]
+    lines += ["</tbody>", "</table>"]
+    return SafeHTML("\n".join(lines))

@@ -1,0 +1,65 @@
+"""core.plotting tables: no cell's content can break a row (markdown escapes, HTML escapes)."""
+
+from html.parser import HTMLParser
+
+import pytest
+
+from xnavlab.core.plotting import SafeHTML, html_table, markdown_table
+
+
+def test_markdown_table_escapes_pipes_and_newlines():
+    text = markdown_table([{"a|b": "x | y", "b": "two\nlines"}, {"a|b": "pre\\|escaped", "b": 1.5}],
+                          ["a|b", "b"])
+    lines = text.splitlines()
+    assert lines == ["| a\\|b | b |", "|---|---|", "| x \\| y | two lines |",
+                     "| pre\\|escaped | 1.5 |"]
+    for line in lines:  # every row has exactly two cell separators between its borders
+        assert line.replace("\\|", "").count("|") == 3
+
+
+def test_markdown_table_accepts_sequences():
+    assert markdown_table([(1, None)], ["a", "b"]).splitlines()[-1] == "| 1 | - |"
+    with pytest.raises(ValueError, match="rows"):
+        markdown_table([(1,)], ["a", "b"])
+
+
+class _Cells(HTMLParser):
+    def __init__(self):
+        super().__init__()
+        self.rows, self.text = [], None
+
+    def handle_starttag(self, tag, attrs):
+        if tag == "tr":
+            self.rows.append([])
+        elif tag in ("td", "th"):
+            self.text = []
+
+    def handle_endtag(self, tag):
+        if tag in ("td", "th"):
+            self.rows[-1].append("".join(self.text))
+            self.text = None
+
+    def handle_data(self, data):
+        if self.text is not None:
+            self.text.append(data)
+
+
+def test_html_table_escapes_every_cell():
+    nasty = ["a | b", "<td>x</td>", "1 & 2\nthree", "</table>"]
+    page = html_table(["c|1", "<c2>"], [nasty[:2], {"c|1": nasty[2], "<c2>": nasty[3]},
+                                        [0.123456, None]], digits=3)
+    assert isinstance(page, SafeHTML) and page._repr_html_() == page
+    assert page.count("<table") == 1 and page.count("</table>") == 1
+    assert page.count("<tr>") == 4 and page.count("<td>") == 6
+    parser = _Cells()
+    parser.feed(page)
+    assert parser.rows == [["c|1", "<c2>"], nasty[:2], nasty[2:], ["0.123", "-"]]
+
+
+def test_html_table_checks_its_arguments():
+    with pytest.raises(ValueError, match="rows"):
+        html_table(["a", "b"], [[1, 2, 3]])
+    with pytest.raises(ValueError, match="missing"):
+        html_table(["a", "b"], [{"a": 1}])
+    with pytest.raises(ValueError, match="digits"):
+        html_table(["a"], [[1]], digits=0)
