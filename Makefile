@@ -9,7 +9,8 @@ WARM   := $(VENV)/.warmup-stamp
 export MPLBACKEND := Agg
 export PYDEVD_DISABLE_FILE_VALIDATION := 1
 
-.PHONY: book book-clean test unit notebooks bench lint lab clean setup warmup browser-test lab-test portability
+.PHONY: book book-clean test unit notebooks bench lint lab clean setup warmup browser-test lab-test portability \
+        check-book typed-numbers
 
 # `make book` leaves this behind when the build succeeds; browser-test rebuilds when older
 # than any source of the book.
@@ -47,13 +48,18 @@ book: $(WARM)
 book-clean:
 	rm -rf _build/html _build/.doctrees _build/jupyter_execute _build/.jupyter_cache _build/.jupyter_cache.xnavlab-sha256
 
-## make test: unit tests, doctests, every notebook executed by nbval, then the book built from
-## nothing (no execution cache) and opened in headless Chromium, then every chapter run and its
+## make test: unit tests, doctests, every notebook executed by nbval; no number typed into the
+## prose (tools/typed_numbers.py) and book/references.bib up to date (tools/merge_bib.py --check);
+## then the book built from nothing (no execution cache), opened in headless Chromium and its
+## pages checked as a reader sees them (tools/check_book.py); then every chapter run and its
 ## sliders moved in JupyterLab
 test: $(WARM)
 	$(BIN)/python -m pytest --nbval-lax --nbval-cell-timeout=300 -p no:cacheprovider xnavlab tests book
+	$(BIN)/python tools/typed_numbers.py
+	$(BIN)/python tools/merge_bib.py --check
 	$(MAKE) book-clean
 	$(MAKE) browser-test
+	$(BIN)/python tools/check_book.py
 	$(MAKE) lab-test
 
 ## make browser-test: every built page in headless Chromium, offline (builds the book if stale)
@@ -69,6 +75,17 @@ lab-test: $(WARM)
 
 $(BOOK_STAMP): $(WARM) $(BOOK_SOURCES)
 	$(MAKE) book
+
+## make check-book: the built pages as a reader sees them (builds the book if stale): broken
+## tables, verdicts outside PASS / NOT CLAIMED / FAIL, stray | or $, unresolved references and
+## glue, missing images, empty outputs, exercises without a collapsed executed solution
+check-book: $(STAMP) $(BOOK_STAMP)
+	$(BIN)/python tools/check_book.py
+
+## make typed-numbers: every number typed into the book's prose that is neither glued nor in
+## tools/typed_numbers_allow.txt (python tools/typed_numbers.py book/NN_x.ipynb: one page)
+typed-numbers: $(STAMP)
+	$(BIN)/python tools/typed_numbers.py
 
 unit: $(WARM)
 	$(BIN)/python -m pytest -p no:cacheprovider xnavlab tests
