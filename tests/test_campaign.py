@@ -267,6 +267,56 @@ def test_interrupted_campaign_completes_with_every_run_computed_once(tmp_path):
     assert payload["summary"] == fresh.summary
 
 
+@pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGTERM, signal.SIGINT])
+def test_a_killed_campaign_leaves_no_process_and_resumes_at_once(tmp_path, sig):
+    """Only the campaign process gets the signal (not its group): its pool workers must end
+    with it within 2 s, and the same command then resumes at once, every index once."""
+    import psutil
+
+    n, out = 12, tmp_path / "k"
+    args = ["consistency", "--runs", str(n), "--days", "0.2", "--seed", "5", "--workers", "2",
+            "--out", str(out)]
+    proc = subprocess.Popen([PY, "-m", "xnavlab", "campaign", *args], stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL, env=ENV, start_new_session=True)
+    store = out / cp.STORE_FILE
+    try:
+        deadline = time.monotonic() + 120
+        while time.monotonic() < deadline and proc.poll() is None:
+            if store.exists() and store.read_text().count("\n") >= 3:     # header + 2 runs
+                break
+            time.sleep(0.02)
+        assert proc.poll() is None, "the campaign ended before it was interrupted"
+        children = psutil.Process(proc.pid).children(recursive=True)
+        assert len(children) >= 2, children                             # the pool's workers
+        os.kill(proc.pid, sig)                                          # the parent only
+        proc.wait(timeout=30)
+        gone, alive = psutil.wait_procs(children, timeout=2.0)
+        assert not alive, f"processes of the killed campaign still running: {alive}"
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait(timeout=30)
+    _, before = store_lines(out)
+    done = cli(*args, "--json")
+    assert done.returncode == 0, done.stderr
+    payload = json.loads(done.stdout)
+    assert payload["failed"] == 0 and payload["reused"] == len(before)
+    _, recs = store_lines(out)
+    assert sorted(r["index"] for r in recs) == list(range(n))          # each run exactly once
+
+
+def test_a_store_in_use_names_the_process_holding_it(tmp_path):
+    camp = cp.Campaign("o", square, lambda i: {"x": float(i)})
+    first = cp.Store(tmp_path, camp.header(0))
+    try:
+        with pytest.raises(ValueError, match=f"in use by another running campaign "
+                                             f"\\(process {os.getpid()}\\)"):
+            cp.Store(tmp_path, camp.header(0))
+    finally:
+        first.close()
+    cp.Store(tmp_path, camp.header(0)).close()      # released with its holder
+
+
 # ------------------------------------------------------------------------ Dask cluster
 
 
@@ -324,6 +374,37 @@ def test_dask_cluster_runs_equal_the_local_runs(dask_cluster, tmp_path):
     assert a["runs"] == local.runs() and a["summary"] == local.summary
     assert [r["index"] for r in a["runs"]] == list(range(6))
     assert all(r["status"] == "ok" for r in a["runs"])
+
+
+def test_a_campaign_killed_on_the_dask_scheduler_resumes_at_once(dask_cluster, tmp_path):
+    """SIGKILL of the client mid-campaign: its runs on the cluster are forgotten, the store is
+    free at once, and the same command completes every index exactly once."""
+    n, out = 12, tmp_path / "dk"
+    args = ["consistency", "--runs", str(n), "--days", "0.2", "--seed", "6", "--out", str(out),
+            "--scheduler", dask_cluster, "--timeout", "30"]
+    proc = subprocess.Popen([PY, "-m", "xnavlab", "campaign", *args], stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL, env=ENV, start_new_session=True)
+    store = out / cp.STORE_FILE
+    try:
+        deadline = time.monotonic() + 120
+        while time.monotonic() < deadline and proc.poll() is None:
+            if store.exists() and store.read_text().count("\n") >= 3:
+                break
+            time.sleep(0.02)
+        assert proc.poll() is None, "the campaign ended before it was interrupted"
+        os.kill(proc.pid, signal.SIGKILL)
+        proc.wait(timeout=30)
+    finally:
+        if proc.poll() is None:
+            os.killpg(proc.pid, signal.SIGKILL)
+            proc.wait(timeout=30)
+    _, before = store_lines(out)
+    done = cli(*args, "--json")
+    assert done.returncode == 0, done.stderr
+    payload = json.loads(done.stdout)
+    assert payload["failed"] == 0 and payload["reused"] == len(before)
+    _, recs = store_lines(out)
+    assert sorted(r["index"] for r in recs) == list(range(n))
 
 
 def test_local_cluster_runs_equal_the_serial_runs(tmp_path):

@@ -62,9 +62,12 @@ from __future__ import annotations
 
 import json
 import math
+import multiprocessing
 import os
+import signal
 import socket
 import sys
+import threading
 import time
 from collections import deque
 from collections.abc import Callable
@@ -81,6 +84,7 @@ from xnavlab.core.validate import check_choice, check_int, check_real
 __all__ = [
     "ENGINES",
     "STORE_FILE",
+    "OWNER_FILE",
     "FORMAT",
     "PUBLIC_KEYS",
     "Campaign",
@@ -96,6 +100,8 @@ __all__ = [
 ENGINES = ("serial", "local", "dask", "local-cluster")
 #: The store's file name inside the campaign directory.
 STORE_FILE = "runs.jsonl"
+#: The file naming the process that holds the store (for the "in use" message).
+OWNER_FILE = "owner.pid"
 #: Format tag of the store's header line.
 FORMAT = "xnavlab-campaign/1"
 #: Keys of a record that make up a run's result (the rest is bookkeeping).
@@ -273,11 +279,19 @@ class Store:
             import fcntl
         except ImportError:  # pragma: no cover - no advisory locks on this platform
             return
+        owner = self.path.parent / OWNER_FILE
         try:
             fcntl.flock(self._fh.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
         except OSError:
+            try:
+                who = owner.read_text().split()[0]
+            except (OSError, IndexError):
+                who = "unknown"
             raise ValueError(f"out {self.path.parent} is in use by another running "
-                             f"campaign") from None
+                             f"campaign (process {who})") from None
+        # the lock is the kernel's: it ends with the process that holds it, so a dead
+        # owner's store is taken over at once; the pid is only for the message above
+        owner.write_text(f"{os.getpid()} {socket.gethostname()}\n")
 
     def _parse(self, lines):
         try:
@@ -365,20 +379,58 @@ class _Serial:
         pass
 
 
+def _die_with(parent_pid):
+    """Pool worker initializer: end this worker when the campaign process that started it ends.
+
+    However the parent ends (SIGINT, SIGTERM, SIGKILL), its workers must not outlive it:
+    they would keep computing for nobody and, before the store's descriptor was kept from
+    them, held its lock. On Linux the kernel sends SIGKILL at the parent's death
+    (``prctl(PR_SET_PDEATHSIG)``); everywhere a daemon thread checks every 0.2 s that the
+    parent is still the same process and exits otherwise.
+    """
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+
+            libc = ctypes.CDLL(None, use_errno=True)
+            libc.prctl(1, int(signal.SIGKILL), 0, 0, 0)  # PR_SET_PDEATHSIG = 1
+        except (OSError, AttributeError):  # pragma: no cover - the watchdog still runs
+            pass
+    if os.getppid() != parent_pid:  # the parent died before the prctl took effect
+        os._exit(1)
+
+    def watch():
+        while True:
+            time.sleep(0.2)
+            if os.getppid() != parent_pid:
+                os._exit(1)
+
+    threading.Thread(target=watch, name="xnavlab-parent-watch", daemon=True).start()
+
+
 class _Pool:
-    """A local process pool that is rebuilt when a worker dies (BrokenProcessPool)."""
+    """A local process pool that is rebuilt when a worker dies (BrokenProcessPool).
+
+    Workers are started with ``spawn`` (they inherit no open file, so never the store's
+    lock) and end with the campaign process (:func:`_die_with`).
+    """
 
     def __init__(self, workers):
         self.workers = workers
         self.window = 2 * workers
-        self.pool = ProcessPoolExecutor(max_workers=workers)
+        self.pool = self._new()
+
+    def _new(self):
+        return ProcessPoolExecutor(max_workers=self.workers,
+                                   mp_context=multiprocessing.get_context("spawn"),
+                                   initializer=_die_with, initargs=(os.getpid(),))
 
     def submit(self, trial, seed, params):
         try:
             return self.pool.submit(execute, trial, seed, params)
         except BrokenProcessPool:
             self.pool.shutdown(wait=False, cancel_futures=True)
-            self.pool = ProcessPoolExecutor(max_workers=self.workers)
+            self.pool = self._new()
             return self.pool.submit(execute, trial, seed, params)
 
     def wait(self, handles):
