@@ -133,7 +133,7 @@ class SafeHTML(str):
         return str(self)
 
 
-def html_table(header, rows, digits=4, css_class="xnav-table"):
+def html_table(header, rows, digits=4, css_class="table xnav-table"):
     """Rows as an HTML table in which every cell is escaped text.
 
     No content can break the table: ``<``, ``>``, ``&`` and quotes are escaped, a ``|`` is
@@ -149,7 +149,8 @@ def html_table(header, rows, digits=4, css_class="xnav-table"):
     digits : int
         Significant digits of floats, 1..17; ``None`` prints as ``-``.
     css_class : str
-        Class of the ``<table>`` element.
+        Class of the ``<table>`` element (``table``: styled like the book's other tables).
+        The table sits in a ``<div>`` that scrolls sideways when the page is too narrow.
 
     Returns
     -------
@@ -159,12 +160,12 @@ def html_table(header, rows, digits=4, css_class="xnav-table"):
     Examples
     --------
     >>> print(html_table(["a", "b"], [[1, "x|<y>"]]))
-    <table class="xnav-table">
+    <div class="pst-scrollable-table-container"><table class="table xnav-table">
     <thead><tr><th>a</th><th>b</th></tr></thead>
     <tbody>
     <tr><td>1</td><td>x|&lt;y&gt;</td></tr>
     </tbody>
-    </table>
+    </table></div>
     """
     digits = check_int("digits", digits, 1, 17)
     _check_rows(rows, header)
@@ -173,8 +174,9 @@ def html_table(header, rows, digits=4, css_class="xnav-table"):
         text = html.escape(format_cell(v, digits) if tag == "td" else str(v))
         return f"<{tag}>{text}</{tag}>"
 
-    lines = [f'<table class="{html.escape(css_class)}">',
+    lines = ['<div class="pst-scrollable-table-container">'
+             f'<table class="{html.escape(css_class)}">',
              "<thead><tr>" + "".join(td("th", c) for c in header) + "</tr></thead>", "<tbody>"]
     lines += ["<tr>" + "".join(td("td", v) for v in _cells(r, header)) + "</tr>" for r in rows]
-    lines += ["</tbody>", "</table>"]
+    lines += ["</tbody>", "</table></div>"]
     return SafeHTML("\n".join(lines))
