@@ -1,6 +1,7 @@
 """Command line: ``python -m xnavlab COMMAND ...``, the top layer of the package.
 
-Usage errors print one line on stderr and exit with code 2.
+Usage errors print one line on stderr and exit with code 2. ``python -m xnavlab --version``
+prints ``xnavlab`` and :data:`xnavlab.__version__` on one line and exits with code 0.
 
 Commands are discovered through :data:`COMMANDS`, a table of the modules that implement
 them; nothing below this package imports it, so the models never know about the command
@@ -25,6 +26,8 @@ from __future__ import annotations
 import argparse
 import importlib
 import sys
+
+from xnavlab import __version__
 
 __all__ = ["main", "UsageError", "Parser", "COMMANDS"]
 
@@ -51,6 +54,8 @@ class Parser(argparse.ArgumentParser):
 def build_parser():
     """The full parser; each command module adds its own options."""
     parser = Parser(prog="python -m xnavlab", description="xnavlab command line")
+    parser.add_argument("--version", action="store_true",
+                        help="print the package version (xnavlab.__version__) and exit")
     sub = parser.add_subparsers(dest="command", parser_class=Parser)
     for name, modname in COMMANDS.items():
         module = importlib.import_module(modname)
@@ -64,6 +69,9 @@ def main(argv=None):
     """Entry point; returns the process exit code."""
     try:
         args = build_parser().parse_args(argv)
+        if args.version:
+            print(f"xnavlab {__version__}")
+            return 0
         if args.command is None:
             raise UsageError("a command is required: " + ", ".join(COMMANDS))
         return args.execute(args)
