@@ -167,7 +167,7 @@ LONG_MODULES = {
     # One reconfiguration loop (chunks, isolation, re-admission, the wavelets a day ahead in a
     # thread, about 450 lines) plus the 100-line docstring of the four detectors and the rule.
     "xnavlab.mars.fault_tolerance": 960,
-    # Four filters of paper 002 (UKF, ASUKF, TDUKF, RKF) that share the sigma-point core and
+    # Four filters of Li et al. 2017 (UKF, ASUKF, TDUKF, RKF) that share the sigma-point core and
     # whose step functions are read side by side in chapter 10.
     "xnavlab.robust.filters": 950,
 }

@@ -1,12 +1,13 @@
-"""Companion paper 003: attitude-sensor fault diagnosis with one Kalman filter (SOS vs DOS).
+"""Li, Niu et al. 2019: attitude-sensor fault diagnosis with one Kalman filter (SOS vs DOS).
 
-Li, Niu, Shao & Shen diagnose single faults of a gyro assembly (three orthogonal gyros and
-one skewed gyro) and a star tracker with *one* extended Kalman filter (the single-observer
-scheme, SOS), where the earlier dedicated-observer scheme (DOS, their ref. [21]) ran four.
-Most of the paper's equations were lost from our copy; the modules rebuild them in the
-standard forms of Lefferts, Markley & Shuster (1982) and Crassidis & Junkins (2012, ch. 7),
-keep the paper's equation numbers in the comments and state every choice made where the
-paper is silent (chapter 11). The package imports the core only.
+Li, Niu, Shao & Shen (Li, Niu et al. 2019) diagnose single faults of a gyro assembly (three
+orthogonal gyros and one skewed gyro) and a star tracker with *one* extended Kalman filter
+(the simplified observer scheme, SOS), where the earlier dedicated-observer scheme (DOS,
+their ref. [21]) ran four. Most of the paper's equations were lost from our copy; the
+modules rebuild them in the standard forms of Lefferts, Markley & Shuster (1982) and
+Crassidis & Junkins (2012, ch. 7), keep the paper's equation numbers in the comments and
+state every choice made where the paper is silent (chapter 11). The package imports the
+core only.
 
 =====================  ===================================================================
 module                 what it models

@@ -1,6 +1,6 @@
 """The attitude sensors: a gyro assembly (3 orthogonal + 1 skewed) and a star tracker.
 
-Models (Li, Niu, Shao & Shen; equations lost from our copy, rebuilt in the standard forms
+Models (Li, Niu et al. 2019; equations lost from our copy, rebuilt in the standard forms
 of Crassidis & Junkins 2012, ch. 7, with the paper's numbers in the comments):
 
 Gyros

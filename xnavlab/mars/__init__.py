@@ -1,6 +1,6 @@
 """The main paper's system: autonomous Mars navigation with XNAV, a UV sensor and a CNS.
 
-Fan et al. 2016 (paper 001): three subsystems, each with its own EKF, fused by a
+Fan et al. 2016, the main paper: three subsystems, each with its own EKF, fused by a
 federated filter; wavelet fault detection, isolation and reconfiguration.
 
 =====================  ===================================================================

@@ -1,4 +1,4 @@
-"""Companion paper 004: pseudolite/INS integrated navigation and T-S fuzzy parity equations.
+"""Jin et al. 2011: pseudolite/INS integrated navigation and T-S fuzzy parity equations.
 
 =====================  ===================================================================
 module                 what it models

@@ -1,4 +1,4 @@
-"""Companion paper 002 (Li et al. 2017): planetary-ephemeris error in XNAV and the RKF.
+"""Li et al. 2017: planetary-ephemeris error in XNAV and the RKF.
 
 IDs: ``ephemeris-error`` (Table 1, Figs. 2-3), ``ukf-vs-ephemeris-error`` (Fig. 4),
 ``rkf-earth`` and ``rkf-mars`` (Figs. 6-7, Table 2), ``rkf-sweep`` (Fig. 8).

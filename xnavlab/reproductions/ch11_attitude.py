@@ -1,10 +1,11 @@
 """Chapter 11 reproductions: attitude-sensor fault diagnosis with one Kalman filter.
 
-Source: Li, Niu, Shao & Shen, "satellite attitude sensor fault diagnosis with a single
-Kalman filter" (our copy lost most equations, the fault definitions (38)-(40) and the
-thresholds). Figures 3-6 and the 4x cost claim are reproduced qualitatively: which
-residuals cross, the isolation verdict, the detection delay of the skew ramp, and the
-measured cost ratio. Fault sizes and thresholds are ours (see
+Source: Li, Niu, Shao & Shen, "Fault diagnosis for satellite attitude system by simplified
+filter scheme", Journal of Astronautics 40(7), 2019, cited as Li, Niu et al. 2019 (our copy
+lost most equations, the fault definitions (38)-(40) and the thresholds). Figures 3-6 and
+the 4x cost claim are reproduced qualitatively: which residuals cross, the isolation
+verdict, the detection delay of the skew ramp, and the measured cost ratio. Fault sizes
+and thresholds are ours (see
 :data:`xnavlab.attitude.DEFAULT_MAGNITUDES <xnavlab.attitude.sensors.DEFAULT_MAGNITUDES>`
 and :class:`xnavlab.attitude.SimConfig <xnavlab.attitude.simulation.SimConfig>`)
 and were fixed before looking at the outcome.
@@ -22,7 +23,7 @@ from xnavlab.reproduce import Result, check_range, check_true, figure, register,
 __all__ = ["PAPER", "SOURCE", "CHAPTER", "crossed_after_onset"]
 
 #: The source paper, as the registered reproductions name it.
-SOURCE = "Li, Niu, Shao & Shen, attitude-sensor fault diagnosis with one Kalman filter"
+SOURCE = "Li, Niu et al. 2019 (J. Astronautics 40(7))"
 #: The chapter that shows these reproductions.
 CHAPTER = "11_attitude_sos"
 

@@ -1,4 +1,4 @@
-"""Companion paper 001 (Jin, Song, Qiu & Wang 2011): PL/INS fault diagnosis with fuzzy parity.
+"""Jin et al. 2011 (Jin, Song, Qiu & Wang): PL/INS fault diagnosis with fuzzy parity equations.
 
 Two reproductions, both on the paper's flight (200 s north from 39 N, 116 E at 10 km,
 100 to 200 m/s, window ``s = 11``) simulated by

@@ -1,4 +1,4 @@
-"""Companion paper 002: navigation robust to planetary-ephemeris error.
+"""Li et al. 2017: navigation robust to planetary-ephemeris error.
 
 =======================  =================================================================
 module                   what it models

@@ -1,4 +1,4 @@
-"""Planetary-ephemeris error and its effect on XNAV (Li et al. 2017, companion paper 002).
+"""Planetary-ephemeris error and its effect on XNAV (Li et al. 2017).
 
 An orbiter's XNAV measurement is the projection of its barycentric position on the
 pulsar direction (paper eqs. (1)-(2))::

@@ -1,4 +1,4 @@
-"""Figures of chapter 10's slider: the four filters of paper 002 side by side on the Mars orbit.
+"""Figures of chapter 10's slider: the four filters of Li et al. 2017 side by side on the Mars orbit.
 
 Examples
 --------

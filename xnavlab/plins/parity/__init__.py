@@ -1,6 +1,6 @@
-"""Fuzzy parity equations for pseudolite/INS fault diagnosis (paper 004, chapter 12).
+"""Fuzzy parity equations for pseudolite/INS fault diagnosis (Jin et al. 2011, chapter 12).
 
-A reconstruction of Jin, Song, Qiu & Wang (2011), whose equations were lost in
+A reconstruction of Jin, Song, Qiu & Wang (Jin et al. 2011), whose equations were lost in
 extraction; the standard forms used are those of Chow & Willsky (1984) for parity
 relations over a data window, Gertler (1998) for structured ("fully decoupled")
 residuals, Song & Zhang (2002, 2003) for the parity-plus-Kalman-filter fault
