@@ -60,8 +60,10 @@ def sq_campaign(name="sq"):
 
 
 def store_lines(directory):
+    """The header (``campaign.json``) and the records (``runs.jsonl``, nothing else)."""
+    head = json.loads((Path(directory) / cp.HEADER_FILE).read_text())
     lines = (Path(directory) / cp.STORE_FILE).read_text().splitlines()
-    return json.loads(lines[0]), [json.loads(x) for x in lines[1:] if x.strip()]
+    return head, [json.loads(x) for x in lines if x.strip()]
 
 
 # -------------------------------------------------------------------------- engine
@@ -226,7 +228,15 @@ def test_cli_unreachable_scheduler_exits_2_quickly(tmp_path):
 def test_cli_detectors_json(tmp_path, capsys):
     assert main(["campaign", "detectors", "--runs", "2", "--days", "0.5", "--workers", "1",
                  "--out", str(tmp_path / "d"), "--json"]) == 0
-    payload = json.loads(capsys.readouterr().out)
+    captured = capsys.readouterr()
+    payload = json.loads(captured.out)
+    warn = captured.err.strip().splitlines()
+    assert warn == ["xnavlab: warning: --runs 2 covers 2 of the 45 cells (fault class x sensor "
+                    "x size); a multiple of 45 gives every cell the same number of trials"]
+    summary = json.loads((tmp_path / "d" / cp.SUMMARY_FILE).read_text())
+    assert summary["summary"] == payload["summary"] and "runs" not in summary
+    df = cp.load_runs(tmp_path / "d")
+    assert list(df["parameters.size_index"]) == [0, 1] and "metrics.combined" in df.columns
     assert [r["index"] for r in payload["runs"]] == [0, 1]
     assert [r["parameters"]["size_index"] for r in payload["runs"]] == [0, 1]
     assert set(payload["runs"][0]["metrics"]) == {"wavelet", "chi2", "combined"}
@@ -244,7 +254,7 @@ def test_interrupted_campaign_completes_with_every_run_computed_once(tmp_path):
     try:
         deadline = time.monotonic() + 90
         while time.monotonic() < deadline and proc.poll() is None:
-            if store.exists() and store.read_text().count("\n") >= 4:     # header + 3 runs
+            if store.exists() and store.read_text().count("\n") >= 3:     # 3 runs
                 break
             time.sleep(0.02)
     finally:
@@ -282,7 +292,7 @@ def test_a_killed_campaign_leaves_no_process_and_resumes_at_once(tmp_path, sig):
     try:
         deadline = time.monotonic() + 120
         while time.monotonic() < deadline and proc.poll() is None:
-            if store.exists() and store.read_text().count("\n") >= 3:     # header + 2 runs
+            if store.exists() and store.read_text().count("\n") >= 2:     # 2 runs
                 break
             time.sleep(0.02)
         assert proc.poll() is None, "the campaign ended before it was interrupted"
@@ -388,7 +398,7 @@ def test_a_campaign_killed_on_the_dask_scheduler_resumes_at_once(dask_cluster, t
     try:
         deadline = time.monotonic() + 120
         while time.monotonic() < deadline and proc.poll() is None:
-            if store.exists() and store.read_text().count("\n") >= 3:
+            if store.exists() and store.read_text().count("\n") >= 2:
                 break
             time.sleep(0.02)
         assert proc.poll() is None, "the campaign ended before it was interrupted"
@@ -414,3 +424,41 @@ def test_local_cluster_runs_equal_the_serial_runs(tmp_path):
     assert proc.returncode == 0, proc.stderr
     fresh = cp.run_campaign(campaign("consistency", days=0.02), 3, seed=4, engine="serial")
     assert json.loads(proc.stdout)["runs"] == fresh.runs()
+
+
+# ------------------------------------------------------------------------ tidy results
+
+
+def test_runs_file_holds_only_records_and_pandas_reads_it(tmp_path):
+    import pandas as pd
+
+    cp.run_campaign(sq_campaign(), 4, seed=3, out=tmp_path, engine="serial")
+    df = pd.read_json(tmp_path / cp.STORE_FILE, lines=True)
+    assert list(df["index"]) == [0, 1, 2, 3] and set(cp.PUBLIC_KEYS) <= set(df.columns)
+    head = json.loads((tmp_path / cp.HEADER_FILE).read_text())
+    assert head == sq_campaign().header(3)
+
+
+def test_load_runs_gives_a_frame_with_flat_parameters_and_metrics(tmp_path):
+    res = cp.run_campaign(sq_campaign(), 5, seed=1, out=tmp_path, engine="serial")
+    df = cp.load_runs(tmp_path)
+    assert list(df["index"]) == list(range(5))
+    assert list(df["parameters.x"]) == [0.0, 1.0, 2.0, 3.0, 4.0]
+    assert list(df["metrics.y"]) == [r["metrics"]["y"] for r in res.runs()]
+    assert df.attrs["campaign"]["campaign"] == "sq"
+    with pytest.raises(ValueError, match="holds no campaign"):
+        cp.load_runs(tmp_path / "nothing")
+
+
+def test_a_store_of_the_first_format_is_converted_and_resumed(tmp_path):
+    cp.run_campaign(sq_campaign(), 3, seed=2, out=tmp_path, engine="serial")
+    head, recs = store_lines(tmp_path)
+    old = {**head, "format": cp.LEGACY_FORMAT}
+    (tmp_path / cp.HEADER_FILE).unlink()
+    (tmp_path / cp.STORE_FILE).write_text(
+        "\n".join(json.dumps(x) for x in [old, *recs]) + "\n")
+    assert list(cp.load_runs(tmp_path)["index"]) == [0, 1, 2]
+    r = cp.run_campaign(sq_campaign(), 4, seed=2, out=tmp_path, engine="serial")
+    assert (r.computed, r.reused) == (1, 3)
+    head2, recs2 = store_lines(tmp_path)
+    assert head2 == head and [x["index"] for x in recs2] == [0, 1, 2, 3]

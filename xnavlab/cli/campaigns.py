@@ -11,9 +11,12 @@ The runs execute on a local process pool of ``K`` workers (default 2), on the Da
 whose scheduler is at ``--scheduler``, or on a Dask ``LocalCluster`` of ``K`` worker
 processes (``--local-cluster``); run ``i`` draws its seed from ``SeedSequence(S)`` by its
 index, so the records are the same on each. Every run is appended to ``DIR/runs.jsonl`` as it
-completes; running the same command again reuses the finished runs and computes the missing
-ones (:mod:`xnavlab.core.campaign`). A progress bar on stderr shows the runs done, failed and
-the rate.
+completes (the header in ``DIR/campaign.json``, so ``runs.jsonl`` holds records only and
+``pandas.read_json(DIR + "/runs.jsonl", lines=True)`` or
+:func:`xnavlab.core.campaign.load_runs` reads it); running the same command again reuses
+the finished runs and computes the missing ones (:mod:`xnavlab.core.campaign`). The summary
+(everything but the runs) is written to ``DIR/summary.json``. A progress bar on stderr shows
+the runs done, failed and the rate (none with ``--json`` or ``--quiet``).
 
 Output: the summary table and a line of counts, or with ``--json`` one JSON object with
 ``campaign`` (the manifest), ``runs`` (one record per run in index order: ``index``,
@@ -66,7 +69,10 @@ def configure(parser):
     parser.add_argument("name", metavar="NAME",
                         help="the campaign: consistency (NEES/NIS of the fault-free Mars run) "
                              "or detectors (chapter 9's fault class x detector table)")
-    parser.add_argument("--runs", required=True, help="number of runs, >= 1")
+    parser.add_argument("--runs", required=True,
+                        help="number of runs, >= 1; detectors: run i is cell i mod 45 of "
+                             "fault class x sensor x size, so a multiple of 45 covers every "
+                             "cell equally (fewer leave cells empty, with a warning)")
     parser.add_argument("--days", default="1", help="days simulated per run (default 1)")
     parser.add_argument("--seed", default="0", help="the campaign's seed (default 0)")
     parser.add_argument("--out", required=True, metavar="DIR",
@@ -80,12 +86,14 @@ def configure(parser):
                        help="start a Dask LocalCluster of --workers processes and run on it")
     parser.add_argument("--timeout", default="3",
                         help="seconds to reach the scheduler and its first worker (default 3)")
-    parser.add_argument("--json", action="store_true", help="print one JSON object")
+    parser.add_argument("--json", action="store_true",
+                        help="print one JSON object (no progress bar)")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
 
 
 def execute(args):
     """Run ``campaign``; returns the exit code."""
-    from xnavlab.core.campaign import run_campaign
+    from xnavlab.core.campaign import SUMMARY_FILE, run_campaign
     from xnavlab.mars.campaigns import CAMPAIGNS, campaign
 
     if args.name not in CAMPAIGNS:
@@ -101,20 +109,36 @@ def execute(args):
         workers = check_int("workers", workers, 1, os.cpu_count() or 1)
     engine = "dask" if args.scheduler else ("local-cluster" if args.local_cluster else "local")
     camp = campaign(args.name, days=days)
+    if args.name == "detectors":
+        from xnavlab.mars.campaigns import detector_cells
+
+        cells = len(detector_cells())
+        if runs % cells:
+            covered = min(runs, cells)
+            print(f"xnavlab: warning: --runs {runs} covers {covered} of the {cells} cells "
+                  f"(fault class x sensor x size){' unequally' if runs > cells else ''}; "
+                  f"a multiple of {cells} gives every cell the same number of trials",
+                  file=sys.stderr)
     try:
         res = run_campaign(camp, runs, seed=seed, out=args.out, engine=engine, workers=workers,
-                           scheduler=args.scheduler, timeout=timeout, progress=True)
+                           scheduler=args.scheduler, timeout=timeout,
+                           progress=not (args.quiet or args.json))
     except KeyboardInterrupt:
         print(f"xnavlab: interrupted; the finished runs are in {args.out}; run the same "
               f"command to complete the campaign", file=sys.stderr)
         return 130
+    payload = res.to_json()
+    summary = {k: v for k, v in payload.items() if k != "runs"}
+    with open(os.path.join(args.out, SUMMARY_FILE), "w", encoding="utf-8") as fh:
+        json.dump(summary, fh, indent=1, allow_nan=False)  # beside runs.jsonl, for later analysis
     if args.json:
-        print(json.dumps(res.to_json(), allow_nan=False))
+        print(json.dumps(payload, allow_nan=False))
     else:
         _print_table(res.summary or [], COLUMNS[args.name])
         print(f"{runs} runs of {args.name} ({days:g} days, seed {seed}): {res.computed} "
               f"computed, {res.reused} reused, {res.failed} failed, {res.wall_s:.1f} s; "
-              f"records in {os.path.join(args.out, 'runs.jsonl')}")
+              f"records in {os.path.join(args.out, 'runs.jsonl')}, summary in "
+              f"{os.path.join(args.out, SUMMARY_FILE)}")
         for rec in res.records:
             if rec["status"] != "ok":
                 print(f"run {rec['index']} failed: {rec['error']}")

@@ -84,6 +84,8 @@ from xnavlab.core.validate import check_choice, check_int, check_real
 __all__ = [
     "ENGINES",
     "STORE_FILE",
+    "HEADER_FILE",
+    "SUMMARY_FILE",
     "OWNER_FILE",
     "FORMAT",
     "PUBLIC_KEYS",
@@ -94,16 +96,23 @@ __all__ = [
     "execute",
     "public_record",
     "run_campaign",
+    "load_runs",
 ]
 
 #: Where a campaign can run.
 ENGINES = ("serial", "local", "dask", "local-cluster")
 #: The store's file name inside the campaign directory.
 STORE_FILE = "runs.jsonl"
+#: The store's header file (the campaign's name, manifest, seed, format).
+HEADER_FILE = "campaign.json"
+#: The summary the command line writes beside the runs.
+SUMMARY_FILE = "summary.json"
 #: The file naming the process that holds the store (for the "in use" message).
 OWNER_FILE = "owner.pid"
-#: Format tag of the store's header line.
-FORMAT = "xnavlab-campaign/1"
+#: Format tag of the store's header.
+FORMAT = "xnavlab-campaign/2"
+#: The first format: the header was the first line of ``runs.jsonl`` (read and converted).
+LEGACY_FORMAT = "xnavlab-campaign/1"
 #: Keys of a record that make up a run's result (the rest is bookkeeping).
 PUBLIC_KEYS = ("index", "seed", "parameters", "metrics", "status", "error")
 
@@ -214,6 +223,13 @@ def execute(trial, seed, params):
             "worker": f"{socket.gethostname()}:{os.getpid()}"}
 
 
+def _json_or_none(text):
+    try:
+        return json.loads(text)
+    except json.JSONDecodeError:
+        return None
+
+
 def _describe(exc):
     text = " ".join(str(exc).split())
     return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
@@ -236,7 +252,13 @@ def public_record(record):
 
 
 class Store:
-    """The append-only record file of a campaign, ``DIR/runs.jsonl``, locked while open.
+    """A campaign's files: ``DIR/campaign.json`` (the header) and ``DIR/runs.jsonl`` (records).
+
+    ``runs.jsonl`` holds one record per line and nothing else, so any JSON-lines reader
+    takes it directly (``pandas.read_json(path, lines=True)``, or :func:`load_runs`); it is
+    appended to and locked while a campaign runs. ``campaign.json`` is the header: the
+    campaign's name, manifest, seed and format. A store of the first format (header as the
+    first line of ``runs.jsonl``) is converted when it is opened.
 
     Parameters
     ----------
@@ -255,6 +277,7 @@ class Store:
 
     def __init__(self, directory, header):
         self.path = Path(directory) / STORE_FILE
+        self.header_path = Path(directory) / HEADER_FILE
         self.header = header
         try:
             self.path.parent.mkdir(parents=True, exist_ok=True)
@@ -265,11 +288,8 @@ class Store:
             self._lock()
             self._fh.seek(0)
             lines = self._fh.read().split("\n")
-            if lines == [""]:
-                self._write(header)
-                self._records = []
-            else:
-                self._records = self._parse(lines)
+            lines = self._take_header(lines)
+            self._records = self._parse(lines)
         except BaseException:
             self._fh.close()
             raise
@@ -293,13 +313,34 @@ class Store:
         # owner's store is taken over at once; the pid is only for the message above
         owner.write_text(f"{os.getpid()} {socket.gethostname()}\n")
 
-    def _parse(self, lines):
-        try:
-            head = json.loads(lines[0])
-        except json.JSONDecodeError:
+    def _take_header(self, lines):
+        """Check (or write) the header file; return the record lines."""
+        first = _json_or_none(lines[0]) if lines[0].strip() else None
+        legacy = isinstance(first, dict) and first.get("format") == LEGACY_FORMAT
+        if self.header_path.exists():
+            head = _json_or_none(self.header_path.read_text())
+        elif legacy:
+            head = {**first, "format": FORMAT}
+        elif lines == [""]:
             head = None
-        if not isinstance(head, dict) or head.get("format") != FORMAT:
+        else:
             raise ValueError(f"out {self.path} is not an xnavlab campaign store; choose "
+                             f"another --out")
+        if head is not None:
+            self._check_header(head)
+        if legacy:  # the first format: move the header line to its own file
+            lines = lines[1:]
+            self._fh.seek(0)
+            self._fh.truncate()
+            self._fh.write("\n".join(lines))
+            self._fh.flush()
+        if not self.header_path.exists():
+            self.header_path.write_text(json.dumps(self.header, indent=1, allow_nan=False) + "\n")
+        return lines
+
+    def _check_header(self, head):
+        if not isinstance(head, dict) or head.get("format") != FORMAT:
+            raise ValueError(f"out {self.path.parent} is not an xnavlab campaign store; choose "
                              f"another --out")
         if head != self.header:
             diff = [f"{k} {head.get(k)!r} (asked {self.header.get(k)!r})"
@@ -307,14 +348,13 @@ class Store:
                     if head.get(k) != self.header.get(k)]
             raise ValueError(f"out {self.path.parent} holds another campaign's records: "
                              f"{'; '.join(diff)}; choose another --out")
+
+    def _parse(self, lines):
         records = []
-        for line in lines[1:]:
+        for line in lines:
             if not line.strip():
                 continue
-            try:
-                rec = json.loads(line)
-            except json.JSONDecodeError:  # a line torn by a kill: that run is recomputed
-                continue
+            rec = _json_or_none(line)  # a line torn by a kill: that run is recomputed
             if isinstance(rec, dict) and set(PUBLIC_KEYS) <= set(rec):
                 records.append(rec)
         if lines[-1] != "":
@@ -720,3 +760,59 @@ def _drive(campaign, todo, run_seeds, params, final, store, eng, retries, progre
         bar.close()
         eng.close()
     return computed, attempts
+
+
+def load_runs(directory, final=True):
+    """A campaign directory's runs as a :class:`pandas.DataFrame`, one row per record.
+
+    Columns: ``index``, ``seed``, ``status``, ``error``, then every parameter as
+    ``parameters.NAME`` and every scalar metric as ``metrics.NAME`` (lists and nested
+    values stay Python objects in their cell). The header (``campaign.json``) is in
+    ``df.attrs["campaign"]``. Pandas is needed only here.
+
+    Parameters
+    ----------
+    directory : str or Path
+        A directory written by :func:`run_campaign` (or ``python -m xnavlab campaign``).
+    final : bool
+        Only the record that counts for each index (its ``ok`` one, else its last
+        attempt), sorted by index (default); ``False`` keeps every attempt in file order.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> from xnavlab.core.montecarlo import signal_trial
+    >>> camp = Campaign("s", signal_trial, lambda i: {"kind": "spike", "size_sigma": 9.0})
+    >>> with tempfile.TemporaryDirectory() as d:
+    ...     _ = run_campaign(camp, 3, out=d, engine="serial")
+    ...     df = load_runs(d)
+    >>> list(df["index"]), df.attrs["campaign"]["campaign"]
+    ([0, 1, 2], 's')
+    """
+    try:
+        import pandas as pd
+    except ImportError:
+        raise ValueError("load_runs needs pandas (pip install pandas)") from None
+    directory = Path(directory)
+    path, head = directory / STORE_FILE, directory / HEADER_FILE
+    if not path.exists():
+        raise ValueError(f"directory {str(directory)!r} holds no campaign ({STORE_FILE} missing)")
+    lines = path.read_text(encoding="utf-8").split("\n")
+    first = _json_or_none(lines[0]) if lines[0].strip() else None
+    header = _json_or_none(head.read_text()) if head.exists() else None
+    if isinstance(first, dict) and first.get("format") == LEGACY_FORMAT:
+        header, lines = first, lines[1:]
+    recs = [r for r in map(_json_or_none, (x for x in lines if x.strip()))
+            if isinstance(r, dict) and set(PUBLIC_KEYS) <= set(r)]
+    if final:
+        best = {}
+        for r in recs:
+            if r["index"] not in best or best[r["index"]]["status"] != "ok":
+                best[r["index"]] = r
+        recs = [best[i] for i in sorted(best)]
+    rows = [{"index": r["index"], "seed": r["seed"], "status": r["status"], "error": r["error"],
+             **{f"parameters.{k}": v for k, v in (r["parameters"] or {}).items()},
+             **{f"metrics.{k}": v for k, v in (r["metrics"] or {}).items()}} for r in recs]
+    df = pd.DataFrame(rows, columns=None if rows else ["index", "seed", "status", "error"])
+    df.attrs["campaign"] = header
+    return df
