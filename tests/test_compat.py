@@ -1,0 +1,65 @@
+"""The deprecated flat module names of release 0.1 (``xnavlab.compat.RENAMED``).
+
+Each old name must still import, warn with a ``DeprecationWarning`` that names the new
+module, and give back the new module itself (the same object, so state and ``isinstance``
+checks are shared), whether it is imported by name or taken from the package.
+"""
+
+import importlib
+import subprocess
+import sys
+
+import pytest
+
+import xnavlab
+from xnavlab.compat import RENAMED
+
+ALIASES = sorted(RENAMED.items())
+
+
+def forget(monkeypatch, old):
+    """Make the next import of ``old`` go through the alias finder again."""
+    monkeypatch.delitem(sys.modules, old, raising=False)
+    parent, _, leaf = old.rpartition(".")
+    monkeypatch.delattr(sys.modules[parent], leaf, raising=False)
+
+
+def test_every_alias_points_into_the_package():
+    for old, new in ALIASES:
+        assert old.startswith("xnavlab.") and new.startswith("xnavlab.") and old != new
+        assert old.count(".") == 1, f"{old}: the 0.1 names were flat"
+
+
+@pytest.mark.parametrize(("old", "new"), ALIASES, ids=[old for old, _ in ALIASES])
+def test_import_by_old_name_warns_and_forwards(monkeypatch, old, new):
+    forget(monkeypatch, old)
+    with pytest.warns(DeprecationWarning, match=rf"{old} is deprecated; import {new}\b"):
+        module = importlib.import_module(old)
+    assert module is importlib.import_module(new)
+    assert module.__name__ == new and module.__spec__.name == new
+
+
+@pytest.mark.parametrize(("old", "new"), ALIASES, ids=[old for old, _ in ALIASES])
+def test_from_package_import_warns_and_forwards(monkeypatch, old, new):
+    forget(monkeypatch, old)
+    leaf = old.rpartition(".")[2]
+    with pytest.warns(DeprecationWarning, match=rf"import {new}\b"):
+        namespace = {}
+        exec(f"from xnavlab import {leaf}", namespace)
+    assert namespace[leaf] is importlib.import_module(new)
+
+
+def test_new_names_do_not_warn():
+    """Importing the new modules never goes through the aliases."""
+    code = ("import importlib, warnings; warnings.simplefilter('error'); "
+            "from xnavlab.compat import RENAMED; "
+            "[importlib.import_module(n) for n in sorted(set(RENAMED.values()))]")
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          timeout=600)
+    assert done.returncode == 0, done.stderr
+
+
+def test_unknown_flat_name_is_not_invented():
+    with pytest.raises(ModuleNotFoundError):
+        importlib.import_module("xnavlab.no_such_module")
+    assert not hasattr(xnavlab, "no_such_module")
