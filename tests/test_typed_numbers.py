@@ -150,3 +150,7 @@ def test_clean_page_exits_0(tn, tmp_path):
 def test_the_real_allow_list_is_well_formed(tn):
     for entry in tn.load_allow(tn.ALLOW):
         assert entry.page == "*" or (tn.ROOT / entry.page).is_file(), entry
+    sections = {line[2:].strip() for line in tn.ALLOW.read_text().splitlines()
+                if line.startswith("# book/")}
+    for page in tn.default_paths():  # a new page gets its (empty) section
+        assert tn.display_path(page) in sections, f"no '# {tn.display_path(page)}' section"
