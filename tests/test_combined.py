@@ -1,5 +1,6 @@
-"""The combined detector (issue 13): CUSUM design, budget, adaptive scale, the navigation loop,
-the shipped Monte Carlo table."""
+"""The combined detector (wavelet, per-sample chi-square and CUSUMs on the whitened innovations):
+the CUSUM design, the false-alarm budget, the adaptive noise scale, the navigation loop and the
+shipped Monte Carlo table."""
 
 import math
 

@@ -170,11 +170,11 @@ def test_speculative_chunks_equal_deciding_at_every_xnav_epoch(inputs, monkeypat
     assert short.detections == ref.detections
 
 
-# ------------------------------------------------------------ the combined detector (issue 13)
+# ---------------------------------- the combined detector: delays and accuracy on random faults
 
 
 def _random_schedule(rng, days, sc):
-    """3 faults sized like the paper's at random onsets, sensors and kinds (issue 13)."""
+    """3 faults sized like the paper's at random onsets, sensors and kinds, far apart."""
     faults = []
     t = 0.5 * days * 86400.0
     for _ in range(3):
@@ -203,8 +203,8 @@ def _random_schedule(rng, days, sc):
 
 @pytest.mark.parametrize("seed", [11, 12, 13, 14])
 def test_combined_acceptance_on_random_schedules(seed):
-    """Issue 13: steps and stuck outputs within 1500 s, drifts and noise within 4000 s, fused
-    RMS at most 1.5 times the fault-free run of the same seed."""
+    """The combined detector finds steps and stuck outputs within 1500 s, drifts and noise within
+    4000 s, and keeps the fused RMS at most 1.5 times the fault-free run of the same seed."""
     rng = np.random.default_rng(seed)
     days = 2.0
     inp = scenarios.prepare(days=days, seed=seed)

@@ -252,7 +252,7 @@ def test_reproductions_pass(rid):
 
 def test_rkf_earth_claims_the_decided_orders_of_the_paper():
     """With the registered 32 seeds, RKF < ASUKF and TDUKF < ASUKF are claimed and pass; the order
-    of the RKF and the TDUKF is shown, not claimed (issue 12: undecided in our reconstruction)."""
+    of the RKF and the TDUKF is shown, not claimed (our reconstruction cannot decide it)."""
     res = reproduce.run("rkf-earth")
     res.assert_passed()
     rows = {c.name: c for c in res.checks}

@@ -271,7 +271,7 @@ def test_plot_sharing_reset_mode_ignores_the_shares():
         mars_plots.plot_sharing(0.5, "sometimes")
 
 
-# ---------------------------------------------------------------- faults on the CLI (issue 4)
+# ------------------------------------------- faults on the command line (run mars --faults)
 
 
 def test_cli_faults_json_lists_faults_and_detections(capsys):
