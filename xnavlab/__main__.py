@@ -1,4 +1,4 @@
-"""``python -m xnavlab``: see :mod:`xnavlab.cli`."""
+"""``python -m xnavlab``: see :mod:`xnavlab.cli` (``python -m xnavlab --version`` prints the version)."""
 
 import sys
 
