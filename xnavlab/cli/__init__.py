@@ -19,6 +19,8 @@ warmup
     Compile and cache every numba kernel the chapters use (:mod:`xnavlab.cli.warmup`).
 campaign NAME
     A Monte Carlo campaign, local or on a Dask cluster, resumable (:mod:`xnavlab.cli.campaigns`).
+scenario --dump | --check FILE
+    Write or check a scenario file for ``run mars --scenario`` (:mod:`xnavlab.cli.scenario`).
 """
 
 from __future__ import annotations
@@ -37,6 +39,7 @@ COMMANDS = {
     "run": "xnavlab.cli.runners",
     "warmup": "xnavlab.cli.warmup",
     "campaign": "xnavlab.cli.campaigns",
+    "scenario": "xnavlab.cli.scenario",
 }
 
 

@@ -71,10 +71,13 @@ def configure_mars(parser):
     """Options of ``run mars``."""
     parser.formatter_class = argparse.RawDescriptionHelpFormatter
     parser.epilog = FAULT_HELP
-    parser.add_argument("--days", default="30", help="simulated days (default 30)")
-    parser.add_argument("--seed", default="0", help="noise seed (default 0)")
-    parser.add_argument("--mode", default="reset", help="federated mode: reset or no-reset")
-    parser.add_argument("--backend", default="numba", help="numba (default) or numpy")
+    parser.add_argument("--scenario", metavar="FILE", dest="scenario_file",
+                        help="a scenario file (TOML; python -m xnavlab scenario --dump writes "
+                             "the defaults); the flags below override it")
+    parser.add_argument("--days", default=None, help="simulated days (default 30)")
+    parser.add_argument("--seed", default=None, help="noise seed (default 0)")
+    parser.add_argument("--mode", default=None, help="federated mode: reset or no-reset")
+    parser.add_argument("--backend", default=None, help="numba (default) or numpy")
     parser.add_argument("--json", action="store_true", help="print one JSON object")
     parser.add_argument("--out", metavar="DIR", help="write mars_run.npz and mars_summary.json")
     parser.add_argument("--faults", metavar="SPEC",
@@ -85,34 +88,55 @@ def configure_mars(parser):
                              "else none)")
 
 
+def _settings(args):
+    """The scenario file (or the defaults) with the flags given on the command line applied."""
+    from xnavlab.mars import scenario_files  # imported here: the parser stays light
+
+    sf = scenario_files.load(args.scenario_file) if args.scenario_file else scenario_files.loads("")
+    sf = scenario_files.with_overrides(
+        sf, days=None if args.days is None else _days(args.days),
+        seed=None if args.seed is None else _seed(args.seed),
+        mode=None if args.mode is None else check_choice("mode", args.mode, MODES))
+    run, det = dict(sf.run), dict(sf.detector)
+    if args.backend is not None:
+        run["backend"] = check_choice("backend", args.backend, ("numba", "numpy"))
+    if args.faults is not None:
+        det["faults"] = args.faults
+    if args.detector is not None:
+        det["name"] = args.detector
+    elif args.faults and det["name"] == "none":
+        det["name"] = "combined"
+    return sf.scenario, run, det
+
+
 def execute_mars(args):
     """Run ``run mars``; returns the exit code."""
-    days = _days(args.days)
-    seed = _seed(args.seed)
-    mode = check_choice("mode", args.mode, MODES)
-    backend = check_choice("backend", args.backend, ("numba", "numpy"))
-    from xnavlab.mars.scenarios import MarsScenario, run  # imported here: the parser stays light
+    sc, opts, det = _settings(args)
+    from xnavlab.mars.scenarios import run  # imported here: the parser stays light
 
     t_start = time.perf_counter()
-    sc = MarsScenario(days=days, seed=seed, mode=mode)
-    detector = args.detector or ("combined" if args.faults else "none")
-    if args.faults or detector != "none":
+    detector, faults = det["name"], det["faults"]
+    if faults or detector != "none":
         from xnavlab.mars import fault_tolerance  # only a fault-tolerant run needs it
 
         check_choice("detector", detector, fault_tolerance.DETECTORS)
-        if backend != "numba":
-            raise ValueError("--faults and --detector run with --backend numba only")
+        if opts["backend"] != "numba" or opts["local_filter"] != "ekf":
+            raise ValueError("--faults and --detector run with backend numba and the EKF only")
         out_dir(args.out)
-        if args.faults:
-            fault_tolerance.parse_faults(args.faults, sc)  # a bad spec is named before any run
+        if faults:
+            fault_tolerance.parse_faults(faults, sc)  # a bad spec is named before any run
         # the spec as given: run_fault_tolerant parses it and refuses a fault it cannot use
-        ft = fault_tolerance.run_fault_tolerant(sc, args.faults or [], detector)
+        ft = fault_tolerance.run_fault_tolerant(
+            sc, faults or [], detector, pfa=det["pfa"], alpha=det["alpha"],
+            train_days=det["train_days"], rate_per_day=det["rate_per_day"],
+            adaptive=det["adaptive"], arm_s=det["arm_s"])
         res = ft  # its save_npz adds the isolation mask and the detector series
-        summary = ft.summary()
+        summary = ft.summary(opts["settle_days"])
     else:
         out_dir(args.out)
-        res = run(sc, backend=backend, progress=sys.stderr.isatty())  # a bar for a terminal
-        summary = res.summary()  # the API's own default settling (one source of defaults)
+        res = run(sc, backend=opts["backend"], local_filter=opts["local_filter"],
+                  progress=sys.stderr.isatty() and not args.json)  # a bar for a terminal
+        summary = res.summary(opts["settle_days"])  # the API's own default settling
     summary["filter_time_s"] = summary.pop("run_time_s")
     summary["run_time_s"] = time.perf_counter() - t_start
     if args.out:
@@ -125,9 +149,10 @@ def execute_mars(args):
     else:
         width = max(len(k) for k in summary)
         for key, val in summary.items():
-            if isinstance(val, list):
+            if isinstance(val, list | dict):
+                items = val if isinstance(val, list) else [val]
                 print(f"{key:{width}s}  {len(val)}")
-                for item in val:
+                for item in items:
                     print(" " * (width + 2) + "  " + json.dumps(item))
                 continue
             print(f"{key:{width}s}  {val:.6g}" if isinstance(val, float) else

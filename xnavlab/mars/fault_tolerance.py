@@ -23,7 +23,7 @@ Fault times
     Onsets and durations are seconds since the start of the run (the paper's fault
     instants, e.g. 700000 s, are counted from its start); so are the reported detections.
 
-The paper's schedule (:func:`paper_schedule`)
+The paper's schedule (:func:`~xnavlab.mars.schedules.paper_schedule`)
     The paper gives only the onsets (UV 700000 ... 2400000 s, XNAV 500000 ... 2310000 s,
     CNS 600000 ... 2400000 s). Our magnitudes and durations, all arguments:
     UV range steps of 5 sigma (25 km) for 5000 s (a ranging-channel bias);
@@ -119,39 +119,33 @@ from xnavlab.core.detection import (
     chi2_threshold,
     events_from_alarms,
 )
-from xnavlab.core.faults import Fault, format_spec, inject, parse_spec
+from xnavlab.core.faults import Fault, format_spec, inject  # noqa: F401 - Fault: the doctest
 from xnavlab.core.validate import check_choice, check_int, check_real, make_rng
-from xnavlab.mars import innovations, scenarios, sensors, watch
+from xnavlab.mars import innovations, scenarios, schedules, sensors, watch
+from xnavlab.mars.schedules import (  # noqa: F401 - also importable from here, as before
+    MATCH_WINDOW,
+    PAPER_ONSETS,
+    check_schedule,
+    components,
+    fault_detection_delays,
+    paper_schedule,
+    parse_faults,
+)
 
 __all__ = [
     "DETECTORS",
-    "PAPER_ONSETS",
-    "components",
-    "paper_schedule",
-    "parse_faults",
-    "check_schedule",
     "inject_inputs",
     "FaultTolerantRun",
     "run_fault_tolerant",
     "merge_events",
-    "fault_detection_delays",
-    "MATCH_WINDOW",
     "sensor_sigma",
 ]
+# The schedules (PAPER_ONSETS, components, paper_schedule, parse_faults, check_schedule,
+# fault_detection_delays, MATCH_WINDOW) live in xnavlab.mars.schedules and are importable
+# from here too, as before; they are documented there.
 
 #: The detectors of :func:`run_fault_tolerant`.
 DETECTORS = ("none", "wavelet", "chi2", "combined")
-
-#: The paper's fault instants, s after the start (Fan et al. 2016, section 4.3).
-PAPER_ONSETS = {
-    "uv": (700000.0, 1200000.0, 1700000.0, 2200000.0, 2300000.0, 2400000.0),
-    "xnav": (500000.0, 1000000.0, 1500000.0, 2000000.0, 2310000.0),
-    "cns": (600000.0, 900000.0, 1500000.0, 2100000.0, 2400000.0),
-}
-
-#: Seconds a fault's onset must leave before the run's end for the message of
-#: :func:`check_schedule` to suggest a long enough run (one XNAV integration).
-MIN_FAULT_TAIL_S = 5000.0
 
 _NIS_DOF_UV = 3  # range + two direction angles (the unit vector's radial part is ~0)
 
@@ -160,154 +154,6 @@ _NIS_DOF_UV = 3  # range + two direction angles (the unit vector's radial part i
 #: (UV, CNS: alarms near 1-2 sigma, k = 0.25) and 0.42 sigma a sample at 500 s (XNAV:
 #: alarms within a few samples, near 2 sigma, k = 0.5); measured in benchmarks/bench_detectors.py.
 K_MEAN = {"uv": 0.25, "cns": 0.25, "xnav": 0.5}
-
-
-def components(scenario=None):
-    """Measurement component names per sensor, for :func:`xnavlab.core.faults.parse_spec`.
-
-    ``xnav``: the pulsars as ``B0531``, ``B1937``, ... (or an index ``0..3``);
-    ``uv``: ``range``, ``ux``, ``uy``, ``uz``; ``cns``: ``angle0``, ``angle1``, ``angle2``.
-
-    Examples
-    --------
-    >>> components()["uv"]
-    ('range', 'ux', 'uy', 'uz')
-    """
-    sc = scenario if scenario is not None else scenarios.MarsScenario()
-    n_stars = len(sc.stars) if sc.stars else 3
-    comps = {
-        "xnav": tuple(p.split("+")[0].split("-")[0] for p in sc.pulsars),
-        "uv": ("range", "ux", "uy", "uz"),
-        "cns": tuple(f"angle{i}" for i in range(n_stars)),
-    }
-    return {s: comps[s] for s in sc.subsystems}
-
-
-def paper_schedule(uv_step_sigma=5.0, uv_duration=5000.0, xnav_step_s=1.0e-5,
-                   xnav_ramp=2.0e-9, xnav_duration=5000.0, cns_step_sigma=8.0,
-                   cns_duration=5000.0, scenario=None):
-    """The paper's fault instants with our magnitudes and durations (module notes).
-
-    Parameters
-    ----------
-    uv_step_sigma : float
-        UV range step, in units of the range noise (5000 m), in (0, 1000].
-    uv_duration, xnav_duration, cns_duration : float
-        Fault durations, s, in (0, 1e5] (the paper's onsets are 1e5 s apart at the closest).
-    xnav_step_s : float
-        XNAV delay step, s, on every pulsar (1e-5 s = 3 km).
-    xnav_ramp : float
-        XNAV delay drift, s/s, on pulsar 1 (2e-9 s/s = 0.6 m/s).
-    cns_step_sigma : float
-        Horizon-sensor step on every starlight angle, in units of its noise (0.05 deg).
-    scenario : MarsScenario, optional
-        Supplies the noise levels.
-
-    Returns
-    -------
-    list of Fault
-
-    Examples
-    --------
-    >>> fs = paper_schedule()
-    >>> len(fs), fs[0].sensor, fs[0].magnitude
-    (16, 'xnav', 1e-05)
-    """
-    sc = scenario if scenario is not None else scenarios.MarsScenario()
-    uv_step_sigma = check_real("uv_step_sigma", uv_step_sigma, 0.0, 1000.0, lo_open=True)
-    cns_step_sigma = check_real("cns_step_sigma", cns_step_sigma, 0.0, 1000.0, lo_open=True)
-    for name, v in (("uv_duration", uv_duration), ("xnav_duration", xnav_duration),
-                    ("cns_duration", cns_duration)):
-        check_real(name, v, 0.0, 1e5, lo_open=True)
-    xnav_step_s = check_real("xnav_step_s", xnav_step_s, -1.0, 1.0)
-    xnav_ramp = check_real("xnav_ramp", xnav_ramp, -1e-3, 1e-3)
-    faults = []
-    for i, t in enumerate(PAPER_ONSETS["xnav"]):
-        if i % 2 == 0:
-            faults.append(Fault("xnav", "step", xnav_step_s, t, xnav_duration))
-        else:
-            faults.append(Fault("xnav", "ramp", xnav_ramp, t, xnav_duration, component=1))
-    sig_h = math.radians(sc.sigma_horizon_deg)
-    for t in PAPER_ONSETS["uv"]:
-        faults.append(Fault("uv", "step", uv_step_sigma * sc.sigma_range_m, t, uv_duration,
-                            component=0))
-    for t in PAPER_ONSETS["cns"]:
-        faults.append(Fault("cns", "step", cns_step_sigma * sig_h, t, cns_duration))
-    return sorted(faults, key=lambda f: f.onset)
-
-
-def parse_faults(spec, scenario=None):
-    """``"paper"`` -> :func:`paper_schedule`; otherwise :func:`xnavlab.core.faults.parse_spec`.
-
-    Examples
-    --------
-    >>> [f.component for f in parse_faults("uv.range:step:5000@700000+3000,xnav.1:ramp:2e-9@5e5+5000")]
-    [0, 1]
-    """
-    sc = scenario if scenario is not None else scenarios.MarsScenario()
-    if isinstance(spec, str) and spec.strip() == "paper":
-        return paper_schedule(scenario=sc)
-    if isinstance(spec, str) and "xnav" in sc.subsystems:
-        # a pulsar may be named in full (xnav.B1937+21): its '+' is not the duration's
-        for name, short in zip(sc.pulsars, components(sc)["xnav"], strict=True):
-            spec = spec.replace(f"xnav.{name}:", f"xnav.{short}:")
-    return parse_spec(spec, components(sc))
-
-
-def check_schedule(faults, scenario, detector="combined", train_days=1.0, paper=False):
-    """Refuse a fault the run cannot use: one ``ValueError`` naming the fault, the span and the fix.
-
-    A fault is used when its onset lies inside the run, ``[0, span)`` s since the start,
-    and, for the wavelet-based detectors (``"wavelet"``, ``"combined"``), a UV or CNS fault
-    starts after the wavelets' fault-free training span (``train_days``). A fault may end
-    after the run (it is then cut at the end, which is a use).
-
-    Parameters
-    ----------
-    faults : sequence of Fault
-        The schedule, times s since the start.
-    scenario : MarsScenario
-        The run (its ``span``, s).
-    detector : str
-        One of :data:`DETECTORS`.
-    train_days : float
-        Training span of the UV/CNS wavelets, days.
-    paper : bool
-        The schedule is the paper's (the message then says how many days it needs).
-
-    Examples
-    --------
-    >>> sc = scenarios.MarsScenario(days=5)
-    >>> try:
-    ...     check_schedule(paper_schedule(), sc, paper=True)
-    ... except ValueError as exc:
-    ...     print(str(exc).split("; ")[1])
-    run at least --days 27.84 (this run: 5 days)
-    """
-    span = float(scenario.span)
-    faults = list(faults)
-    late = [f for f in faults if not 0.0 <= f.onset < span]
-    if late and paper:
-        last = max(f.onset for f in faults)
-        need = (last + MIN_FAULT_TAIL_S) / DAY
-        raise ValueError(f"faults: the paper's schedule has onsets up to {last:.0f} s "
-                         f"({last / DAY:.2f} days); run at least --days {math.ceil(need * 100) / 100:g} "
-                         f"(this run: {span / DAY:g} days)")
-    comps = components(scenario)
-    for f in late:
-        need = (f.onset + MIN_FAULT_TAIL_S) / DAY
-        raise ValueError(f"faults: {format_spec([f], comps)} starts at {f.onset:.6g} s, outside this "
-                         f"run [0, {span:.0f}) s ({span / DAY:g} days): move its onset into the run or "
-                         f"run at least --days {math.ceil(need * 100) / 100:g}")
-    if detector in ("wavelet", "combined"):
-        for f in faults:
-            if f.sensor in ("uv", "cns") and f.onset < train_days * DAY:
-                raise ValueError(
-                    f"faults: {format_spec([f], comps)} starts at {f.onset:.6g} s, inside the "
-                    f"{train_days * DAY:.0f}-s span on which the {f.sensor} wavelet detector trains "
-                    f"(it must be fault-free); move its onset to {train_days * DAY:.0f} s or later, "
-                    f"or use detector chi2")
-    return faults
 
 
 def inject_inputs(inputs, faults, rng=None):
@@ -400,79 +246,12 @@ class FaultTolerantRun:
         return sorted(out, key=lambda d: d["out"])
 
     def delays(self):
-        """Detection delay of each fault, s (:func:`fault_detection_delays`)."""
+        """Detection delay of each fault, s (:func:`~xnavlab.mars.schedules.fault_detection_delays`)."""
         return fault_detection_delays(self.faults, self.events)
 
     def score(self, settle_days=None):
-        """Score the run against its injected faults.
-
-        Every fault is detected or missed (a detection of its sensor opening in ``[onset,
-        end + MATCH_WINDOW)``, as :func:`fault_detection_delays`), with its delay and the
-        time its subsystem stayed out of the fusion after the fault ended; every detection
-        is matched to a fault or marked a false alarm; counts per subsystem; the fused
-        position error (RMS after ``settle_days``) inside and outside the fault windows
-        (``[onset, end + MATCH_WINDOW)`` of any fault).
-
-        Returns
-        -------
-        dict
-            ``faults`` (list of dicts: ``spec``, ``sensor``, ``detected``, ``delay_s``,
-            ``out_at_onset`` (its subsystem was already out of the fusion, e.g. after a false
-            alarm, so the fault never entered it), ``out_after_end_s``, ``still_out_at_end``),
-            ``detections`` (list of dicts: the detection plus ``fault`` (the spec it matches,
-            or None) and ``false_alarm``),
-            ``counts`` (per subsystem: ``faults``, ``detected``, ``missed``, ``detections``,
-            ``false_alarms``), ``fused_error`` (``inside_faults_m``, ``outside_faults_m``,
-            ``settle_days``; None where a window is empty).
-        """
-        sc = self.run.scenario
-        comps = components(sc)
-        t = self.run.times - self.run.times[0]  # epochs (the isolation mask's rows)
-        t_rec = self.run.t - self.run.times[0]   # records (the error series)
-        windows = {f: (f.onset, f.onset + (f.duration if math.isfinite(f.duration) else sc.span)
-                       + MATCH_WINDOW.get(f.sensor, 6000.0)) for f in self.faults}
-        faults = []
-        for f, d in zip(self.faults, self.delays(), strict=True):
-            found = math.isfinite(d["delay"])
-            end = f.onset + (f.duration if math.isfinite(f.duration) else sc.span)
-            i = sc.subsystems.index(f.sensor)
-            after = (t >= end) & self.isolated[:, i]
-            rejoin = np.flatnonzero((t >= end) & ~self.isolated[:, i])
-            out_after = (float(t[rejoin[0]] - end) if rejoin.size else float(t[-1] - end)) \
-                if after.any() else 0.0
-            faults.append({"spec": format_spec([f], comps), "sensor": f.sensor, "kind": f.kind,
-                           "onset": f.onset, "detected": found,
-                           "out_at_onset": bool(self.isolated[min(np.searchsorted(t, f.onset),
-                                                                  t.size - 1), i]),
-                           "delay_s": d["delay"] if found else None,
-                           "out_after_end_s": max(out_after, 0.0) if end < sc.span else None,
-                           "still_out_at_end": bool(end < sc.span and self.isolated[-1, i])})
-        detections = []
-        for det in self.detections:
-            hit = next((f for f, (a, b) in windows.items()
-                        if f.sensor == det["sensor"] and a <= det["detected_onset"] < b), None)
-            detections.append({**det, "fault": None if hit is None else format_spec([hit], comps),
-                               "false_alarm": hit is None})
-        counts = {}
-        for s in sc.subsystems:
-            fs = [f for f in faults if f["sensor"] == s]
-            ds = [d for d in detections if d["sensor"] == s]
-            counts[s] = {"faults": len(fs), "detected": sum(f["detected"] for f in fs),
-                         "missed": sum(not f["detected"] for f in fs), "detections": len(ds),
-                         "false_alarms": sum(d["false_alarm"] for d in ds)}
-        settle = self.run.metrics(settle_days)["settle_days"]
-        pe = self.run.position_error()
-        inside = np.zeros(t_rec.size, dtype=bool)
-        for a, b in windows.values():
-            inside |= (t_rec >= a) & (t_rec < b)
-        keep = self.run.t_days >= settle
-
-        def rms(mask):
-            return float(np.sqrt(np.mean(pe[mask] ** 2))) if mask.any() else None
-
-        return {"faults": faults, "detections": detections, "counts": counts,
-                "fused_error": {"inside_faults_m": rms(keep & inside),
-                                "outside_faults_m": rms(keep & ~inside), "settle_days": settle}}
+        """Score the run against its injected faults (:func:`xnavlab.mars.schedules.score`)."""
+        return schedules.score(self, settle_days)
 
     def save_npz(self, path):
         """Write the run's series (:meth:`MarsRun.save_npz`) plus ``isolated`` (n, ns), the
@@ -506,57 +285,6 @@ class FaultTolerantRun:
         return out
 
 
-#: How long after a fault's end a detection still counts as detecting it (an end-jump
-#: detection), s: the response time of each sensor's detector (XNAV: the 3-level window of
-#: 36 samples at 500 s), at least 6000 s.
-MATCH_WINDOW = {"xnav": 18000.0, "uv": 6000.0, "cns": 6000.0}
-
-
-def fault_detection_delays(faults, events, window=None):
-    """For each fault, the delay from its onset to the first detected onset at or after it.
-
-    A detection counts if it opens in ``[onset, end + window)``: a detection of the fault's
-    end jump (a slow ramp) still counts, with its long delay.
-
-    Parameters
-    ----------
-    faults : sequence of Fault
-    events : dict of str to list of Event
-        Per sensor, times in the faults' time base.
-    window : float or dict, optional
-        Seconds after the end; default :data:`MATCH_WINDOW` (6000 s for other sensors).
-
-    Returns
-    -------
-    list of dict
-        ``sensor``, ``kind``, ``onset``, ``delay`` (s; ``inf`` when missed),
-        ``detected_onset``.
-
-    Examples
-    --------
-    >>> f = Fault("uv", "step", 1.0, onset=10.0, duration=5.0)
-    >>> fault_detection_delays([f], {"uv": [Event(12.0, 13.0, 20.0, 2.0, "level 1")]})[0]["delay"]
-    2.0
-    """
-    out = []
-    for f in faults:
-        if isinstance(window, dict):
-            w = window.get(f.sensor, 6000.0)
-        elif window is None:
-            w = MATCH_WINDOW.get(f.sensor, 6000.0)
-        else:
-            w = check_real("window", window, 0.0)
-        end = f.onset + (f.duration if math.isfinite(f.duration) else 0.0) + w
-        hits = [e.onset for e in events.get(f.sensor, []) if f.onset <= e.onset < end]
-        first = min(hits) if hits else math.inf
-        out.append({"sensor": f.sensor, "kind": f.kind, "onset": f.onset,
-                    "delay": first - f.onset, "detected_onset": first})
-    return out
-
-
-# ----------------------------------------------------------------------------- the run
-
-
 def _nis_dof(sc):
     return {"xnav": len(sc.pulsars), "uv": _NIS_DOF_UV, "cns": len(sc.stars) if sc.stars else 3}
 
@@ -572,7 +300,7 @@ def run_fault_tolerant(scenario=None, faults=(), detector="wavelet", *, inputs=N
     scenario : MarsScenario, optional
         Default the paper's (``**overrides`` replace fields, e.g. ``days=1``).
     faults : sequence of Fault or str
-        The schedule (times s since the start) or a spec for :func:`parse_faults`.
+        The schedule (times s since the start) or a spec for :func:`~xnavlab.mars.schedules.parse_faults`.
     detector : {"none", "wavelet", "chi2", "combined"}
     inputs : Inputs, optional
         Fault-free inputs from :func:`xnavlab.mars.scenarios.prepare` to reuse.

@@ -5,7 +5,7 @@ wavelet detection, isolation and rejoining) and ``wavelet-details`` (Fig. 5: db3
 detail signals of the faulty UV range). All chapter 8.
 
 The paper gives the fault instants only; the magnitudes and durations are ours
-(:func:`xnavlab.mars.fault_tolerance.paper_schedule`: UV range steps of 5 sigma, XNAV delay steps
+(:func:`xnavlab.mars.schedules.paper_schedule`: UV range steps of 5 sigma, XNAV delay steps
 of 1e-5 s (3 km) and ramps of 2e-9 s/s, horizon-sensor steps of 8 sigma, 5000 s each). The
 metric is the one of ``mars-nofault``: RMS of the fused error norm from day 1 to day 30; the
 maximum is taken over the same span.
