@@ -56,6 +56,12 @@ CLEAN = _page(
     + CELL.format(out="<div class=\"output text_html\">"
                       "<p>html output with MathJax source \\(|x|\\)</p></div>")
     + EXERCISE + SOLUTION.format(cls="dropdown", body=EXECUTED)
+    + "<p>Unlinked on purpose: <code class=\"xref py py-class docutils literal\">numpy.ndarray</code>"
+    " and <code class=\"xref py py-exc docutils literal\">ValueError</code>.</p>"
+    + CELL.format(out="<div class=\"output text_html\"><p class=\"xnav-result\">id: PASS</p>"
+                      "<table class=\"table xnav-table\"><tr><th>quantity</th><th>verdict</th>"
+                      "</tr><tr><td>max |x| (m)</td><td>PASS</td></tr></table>"
+                      "<p class=\"xnav-note\">|r_1| stays below its threshold</p></div>")
 )
 
 BROKEN = {
@@ -68,6 +74,11 @@ BROKEN = {
     "raw role": "<p>see {eq}`ch9-wavelet` above</p>",
     "shows its label": "<p>as in eq. (ch9-wavelet) above</p>",
     "unresolved reference": "<p>see <code class=\"xref eq docutils literal\">ch9-x</code></p>",
+    "unresolved reference 'MarsRun.save_npz()'": ("<p><code class=\"xref py py-meth docutils\">"
+                                                  "MarsRun.save_npz()</code></p>"),
+    "unresolved reference 'xnavlab.mars.nothing'": ("<p><code class=\"xref py py-mod docutils\">"
+                                                    "xnavlab.mars.nothing</code></p>"),
+    "shown unformatted": "<p>error <span class=\"pasted-text\">np.float64(2.0)</span> m</p>",
     "[missing reference]": "<p>Solution to [missing reference]</p>",
     "glue key not found": "<p>glue key not found: ch05_x</p>",
     "{glue:text}": "<p>the error is {glue:text}`ch05_x:.1f` m</p>",

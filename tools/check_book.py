@@ -8,11 +8,14 @@ index) and prints one line per problem, ``page: what``:
 * a verdict cell (in a column headed "verdict" or "pass", in any table) whose text is not one
   of :data:`xnavlab.reproduce.VERDICTS` (PASS, NOT CLAIMED, FAIL);
 * a literal ``|`` in body text outside math, code and ``pre`` (a Markdown table broken by a bar
-  in a cell leaves one), and a literal ``$`` there (math that did not render);
-* an unresolved reference: a sphinx ``xref`` that is not a link, ``??``, a raw
-  ``{eq}``/``{ref}``/``{doc}``... role, an "eq. (some-label)" showing the label instead of a
-  number, ``[missing reference]``, a literal ``{glue:...}``, myst-nb's "glue key not found",
-  and a ``{glue:text}`` of the page's source that rendered as nothing;
+  in a cell leaves one; text that the registry rendered escaped, classes ``xnav-*``, cannot
+  break and may hold one), and a literal ``$`` there (math that did not render);
+* an unresolved reference: a sphinx ``xref`` that is not a link (a Python one only when it
+  names an xnavlab object: other packages' names and builtins are left unlinked on purpose,
+  as in the nitpick settings of ``_config.yml``), ``??``, a raw ``{eq}``/``{ref}``/``{doc}``...
+  role, an "eq. (some-label)" showing the label instead of a number, ``[missing reference]``,
+  a literal ``{glue:...}``, myst-nb's "glue key not found", a ``{glue:text}`` of the page's
+  source that rendered as nothing, and a glued value shown unformatted (``np.float64(...)``);
 * an ``<img>`` whose file is missing;
 * an empty output (a cell output area, or one output in it, with nothing in it);
 * an exercise without a solution, a solution not collapsed (no ``dropdown`` class), a solution
@@ -29,6 +32,8 @@ Exit status: 0 no problem, 1 some problem, 2 a bad argument (no such directory, 
 from __future__ import annotations
 
 import argparse
+import builtins
+import importlib.util
 import re
 import sys
 from dataclasses import dataclass
@@ -58,6 +63,10 @@ _RAW_ROLE = re.compile(r"\{(?:eq|ref|numref|doc|cite(?::\w+)?|glue(?::\w*)?|math
                        r"|prf:ref|any|py:\w+|abbr)\}")
 _EQ_LABEL = re.compile(r"\b(?:eqs?|equations?)\.?\s*\(([A-Za-z][\w.:]*[-_:][\w.:-]*)\)", re.I)
 _GLUE_TEXT = re.compile(r"\{glue:text\}`[^`]+`")
+#: containers whose text was escaped by xnavlab (reproduce.Result.html, plotting.html_table)
+_ESCAPED_CLASSES = {"xnav-table", "xnav-note", "xnav-notes", "xnav-result", "xnav-headline",
+                    "xnav-error"}
+_UNFORMATTED = re.compile(r"\b(?:np|numpy)\.\w+\(")
 _VISIBLE = {"img", "svg", "table", "iframe", "object", "video", "canvas", "input", "embed",
             "mjx-container", "math"}
 
@@ -82,6 +91,26 @@ def _in_code(node):
         if parent.name in _CODE_TAGS or _classes(parent) & _CODE_CLASSES:
             return True
     return False
+
+
+def _escaped(node):
+    return any(_classes(parent) & _ESCAPED_CLASSES for parent in node.parents)
+
+
+def _foreign_python_name(text):
+    """Whether an unlinked Python reference names a builtin or another package's object."""
+    name = text.strip().rstrip("()").lstrip("~.")
+    first = name.split(".")[0]
+    if not first.isidentifier():
+        return False
+    if "." not in name and hasattr(builtins, name):
+        return True
+    if first == "xnavlab":
+        return False
+    try:
+        return importlib.util.find_spec(first) is not None
+    except (ImportError, ValueError):
+        return False
 
 
 def _short(text, n=50):
@@ -191,7 +220,7 @@ def _check_text(content, page):
 
     for node in _text_nodes(content):
         text = _MATH_SOURCE.sub(" ", str(node))
-        if "|" in text:
+        if "|" in text and not _escaped(node):
             add(f"literal '|' in text: {_short(text)!r}")
         if "$" in text:
             add(f"literal '$' in text (math that did not render?): {_short(text)!r}")
@@ -208,9 +237,16 @@ def _check_text(content, page):
         if "glue key" in text.lower() and "not found" in text.lower():
             add(f"glue key not found: {_short(text)!r}")
     for xref in content.select(".xref"):
-        if xref.find_parent("a") is None and xref.name != "a":
-            add(f"unresolved reference {_short(xref.get_text(), 40)!r}"
-                f" ({' '.join(sorted(_classes(xref) - {'docutils', 'literal', 'notranslate'}))})")
+        if xref.find_parent("a") is not None or xref.name == "a":
+            continue
+        if "py" in _classes(xref) and _foreign_python_name(xref.get_text()):
+            continue
+        add(f"unresolved reference {_short(xref.get_text(), 40)!r}"
+            f" ({' '.join(sorted(_classes(xref) - {'docutils', 'literal', 'notranslate'}))})")
+    for pasted in content.select(".pasted-text, .pasted-inline"):
+        if _UNFORMATTED.search(pasted.get_text()):
+            add(f"glued value shown unformatted: {_short(pasted.get_text(), 40)!r} (glue a Python"
+                " float, not a NumPy scalar)")
     return out
 
 
@@ -232,7 +268,8 @@ def _check_glue(content, page, source):
     shown = len(content.select(".pasted-text"))
     if shown < expected:
         return [Problem(page, f"{expected - shown} of {expected} {{glue:text}} roles rendered as"
-                              " nothing (glue key not found?)")]
+                              " nothing (glue key not found, or a value myst-nb could not format:"
+                              " glue a Python float)")]
     return []
 
 
