@@ -138,7 +138,7 @@ def _save(result, out, fig, name):
 
 
 @register("mars-faults-ekf", title="faults in the 30-day Mars run, no detector (Fig. 3)",
-          source="Fan et al. 2016, section 4.3 and Fig. 3", chapter="08_fault_tolerant")
+          source="Fan et al. 2016, section 4.2 and Fig. 3", chapter="08_fault_tolerant")
 def mars_faults_ekf(out=None, days=30.0, seed=0):
     """Max position error with the paper's schedule and no detector vs the fault-free run."""
     r = paper_runs(days, seed)
@@ -178,7 +178,7 @@ def mars_faults_ekf(out=None, days=30.0, seed=0):
 
 @register("mars-faults-wavelet",
           title="wavelet detection, isolation and rejoining in the faulty Mars run (Fig. 4)",
-          source="Fan et al. 2016, section 4.3 and Fig. 4", chapter="08_fault_tolerant")
+          source="Fan et al. 2016, section 4.2 and Fig. 4", chapter="08_fault_tolerant")
 def mars_faults_wavelet(out=None, days=30.0, seed=0, hand_days=3.0):
     """RMS errors with the wavelet detector vs the paper and vs our fault-free run."""
     r = paper_runs(days, seed)
@@ -254,7 +254,7 @@ def mars_faults_wavelet(out=None, days=30.0, seed=0, hand_days=3.0):
 
 
 @register("wavelet-details", title="db3 5-level detail signals of the faulty UV range (Fig. 5)",
-          source="Fan et al. 2016, section 4.3 and Fig. 5", chapter="08_fault_tolerant")
+          source="Fan et al. 2016, section 4.2 and Fig. 5", chapter="08_fault_tolerant")
 def wavelet_details(out=None, days=30.0, seed=0, pfa=1e-5, train_days=1.0):
     """Detail signals D1..D5 of the UV range with the paper's UV faults; each fault detected."""
     inp = paper_runs(days, seed)["inputs"]
