@@ -8,6 +8,8 @@ module                 what it models
 =====================  ===================================================================
 ``pulsars``            pulsar catalogue, timing model, photons, TOA accuracy (chapter 1)
 ``toa``                the time-transfer (TOA) equation and its gradient (chapter 2)
+``pint_bridge``        PINT offline as a witness: its delays for a spacecraft, shipped
+                       Fermi photons and NANOGrav residuals (chapters 1-2)
 ``dynamics``           Mars-orbit dynamics, truth propagator, transition matrix (chapter 3)
 ``stars``              the bright-star table and the CNS star choice (chapter 4)
 ``sensors``            XNAV, UV and CNS measurement models (chapters 4-5)

@@ -1,0 +1,1 @@
+"""Witness tests: our timing numbers against the field's own tools (PINT, stingray), offline."""
