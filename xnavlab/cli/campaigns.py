@@ -46,7 +46,7 @@ HELP = "run a Monte Carlo campaign (consistency, detectors) locally or on a Dask
 
 #: Columns of the summary printed without ``--json``, per campaign.
 COLUMNS = {
-    "consistency": ("quantity", "t_days", "value", "lo", "hi", "inside", "runs"),
+    "consistency": ("quantity", "t_days", "value", "lo", "hi", "verdict", "runs"),
     "detectors": ("fault_class", "sensor", "size", "detector", "trials", "pd",
                   "delay_median_s", "delay_p95_s", "false_alarms_per_day", "rms_ratio"),
 }

@@ -65,6 +65,8 @@ __all__ = [
     "nees",
     "nis",
     "chi2_bounds",
+    "CONSISTENCY_VERDICTS",
+    "consistency_verdict",
     "EKF",
     "UKF",
 ]
@@ -476,6 +478,30 @@ def chi2_bounds(dof, n_runs=1, p=0.95):
 
     return (float(stats.chi2.ppf((1 - p) / 2, k) / n_runs),
             float(stats.chi2.ppf((1 + p) / 2, k) / n_runs))
+
+
+#: The words of :func:`consistency_verdict`.
+CONSISTENCY_VERDICTS = ("inside", "conservative", "optimistic")
+
+
+def consistency_verdict(value, lo, hi):
+    """Judge an averaged NEES or NIS against its chi-square band.
+
+    ``"inside"`` when ``lo <= value <= hi``; ``"conservative"`` below the band (the filter's
+    covariance is larger than its errors: it trusts its estimate less than it could);
+    ``"optimistic"`` above it (the covariance is smaller than the errors: the dangerous
+    side, where a filter ignores measurements it needs).
+
+    Examples
+    --------
+    >>> lo, hi = chi2_bounds(6, 400)
+    >>> consistency_verdict(4.99, lo, hi), consistency_verdict(6.0, lo, hi)
+    ('conservative', 'inside')
+    """
+    value, lo, hi = (check_real(n, v) for n, v in (("value", value), ("lo", lo), ("hi", hi)))
+    if lo > hi:
+        raise ValueError(f"lo must not exceed hi, got [{lo:g}, {hi:g}]")
+    return "inside" if lo <= value <= hi else ("conservative" if value < lo else "optimistic")
 
 
 # ------------------------------------------------------------------------ classes

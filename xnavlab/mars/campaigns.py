@@ -37,7 +37,7 @@ from itertools import product
 import numpy as np
 
 from xnavlab.core.campaign import Campaign
-from xnavlab.core.filters import chi2_bounds
+from xnavlab.core.filters import chi2_bounds, consistency_verdict
 from xnavlab.core.validate import check_choice, check_int, check_real
 from xnavlab.mars import scenarios, trials
 
@@ -53,7 +53,8 @@ DAYS = {"consistency": (0.0, 30.0), "detectors": (0.5, 5.0)}
 # ------------------------------------------------------------------------- consistency
 
 
-def consistency_run(*, seed, days=1.0, q_acc=scenarios.DEFAULT_Q_ACC):
+def consistency_run(*, seed, days=1.0, q_acc=scenarios.DEFAULT_Q_ACC,
+                    subsystems=scenarios.SUBSYSTEMS, sigma_horizon_deg=0.05):
     """One fault-free Mars run with a random initial error: NEES, NIS and errors.
 
     Parameters
@@ -64,6 +65,10 @@ def consistency_run(*, seed, days=1.0, q_acc=scenarios.DEFAULT_Q_ACC):
         Run length, days, in (0, 30].
     q_acc : float
         Filter process noise PSD, m^2/s^3 (:class:`~xnavlab.mars.scenarios.MarsScenario`).
+    subsystems : sequence of str
+        The subsystems that run (one alone has the whole information share, beta = 1).
+    sigma_horizon_deg : float
+        Horizon-sensor noise of the CNS, deg (the paper's 0.05).
 
     Returns
     -------
@@ -86,7 +91,8 @@ def consistency_run(*, seed, days=1.0, q_acc=scenarios.DEFAULT_Q_ACC):
     span = days * 86400.0
     record_dt = min(60.0, span / (4 * NEES_BINS))       # at least four records a bin
     sc = scenarios.MarsScenario(days=days, seed=seed, init_error="random", record_dt=record_dt,
-                                q_acc=q_acc)
+                                q_acc=q_acc, subsystems=tuple(subsystems),
+                                sigma_horizon_deg=sigma_horizon_deg)
     res = scenarios.run(sc)
     e = res.nees()                                       # e^T P^-1 e, fused estimate
     frac = np.clip((res.t - res.t[0]) / span, 0.0, 1.0 - 1e-12)
@@ -94,6 +100,7 @@ def consistency_run(*, seed, days=1.0, q_acc=scenarios.DEFAULT_Q_ACC):
     bins = [float(np.mean(e[k == b])) for b in range(NEES_BINS)]
     # NIS dof: XNAV one a pulsar; UV range + two direction angles; CNS one a star (3)
     dof = {"xnav": len(sc.pulsars), "uv": 3, "cns": len(sc.stars) if sc.stars else 3}
+    dof = {s: dof[s] for s in sc.subsystems}
     nis_sum, nis_count = {}, {}
     for i, s in enumerate(sc.subsystems):
         v = res.nis[:, i][res.flags[:, i] == 1]
@@ -125,7 +132,9 @@ def summarise_consistency(runs):
     -------
     list of dict
         One row per NEES bin (``quantity`` "NEES", ``t_days``) and per subsystem (``quantity``
-        "NIS <name>"): ``value``, ``dof``, ``lo``, ``hi``, ``inside`` (bool), ``runs``; and a
+        "NIS <name>"): ``value``, ``dof``, ``lo``, ``hi`` (the 95 % chi-square band),
+        ``inside`` (bool), ``verdict`` (:func:`~xnavlab.core.filters.consistency_verdict`:
+        inside, conservative or optimistic), ``runs``; and a
         last row ``quantity`` "position RMS (m)" with the mean over runs and the 5th and 95th
         percentiles as ``lo`` and ``hi``.
 
@@ -143,7 +152,8 @@ def summarise_consistency(runs):
     lo6, hi6 = chi2_bounds(6, n)
     nees = np.mean([m["nees_bins"] for m in ok], axis=0)
     rows = [{"quantity": "NEES", "t_days": float(t), "value": float(v), "dof": 6, "lo": lo6,
-             "hi": hi6, "inside": bool(lo6 <= v <= hi6), "runs": n}
+             "hi": hi6, "inside": bool(lo6 <= v <= hi6),
+             "verdict": consistency_verdict(v, lo6, hi6), "runs": n}
             for t, v in zip(ok[0]["bin_days"], nees, strict=True)]
     for s, dof in ok[0]["nis_dof"].items():
         count = sum(m["nis_count"][s] for m in ok)
@@ -152,11 +162,13 @@ def summarise_consistency(runs):
         v = sum(m["nis_sum"][s] for m in ok) / count
         lo, hi = chi2_bounds(dof, count)
         rows.append({"quantity": f"NIS {s}", "t_days": None, "value": float(v), "dof": dof,
-                     "lo": lo, "hi": hi, "inside": bool(lo <= v <= hi), "runs": n})
+                     "lo": lo, "hi": hi, "inside": bool(lo <= v <= hi),
+                     "verdict": consistency_verdict(v, lo, hi), "runs": n})
     pe = np.array([m["position_error_m"] for m in ok])
     rows.append({"quantity": "position RMS (m)", "t_days": None, "value": float(pe.mean()),
                  "dof": None, "lo": float(np.percentile(pe, 5)),
-                 "hi": float(np.percentile(pe, 95)), "inside": None, "runs": n})
+                 "hi": float(np.percentile(pe, 95)), "inside": None, "verdict": None,
+                 "runs": n})
     return rows
 
 

@@ -56,14 +56,13 @@ meaning), which changes results at rounding level only.
 from __future__ import annotations
 
 import math
-import sys
 
 import numpy as np
 from numba import njit
 
 from xnavlab.core.constants import GM_SUN, C
 
-__all__ = ["run_epochs", "KIND_XNAV", "KIND_UV", "KIND_CNS", "is_compiled", "announce_compile"]
+__all__ = ["run_epochs", "KIND_XNAV", "KIND_UV", "KIND_CNS"]
 
 #: Subsystem code of the XNAV filter in the kernels' integer arrays.
 KIND_XNAV = 0
@@ -1176,42 +1175,3 @@ def _run(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
         if stop:
             return k
     return -1
-
-
-def is_compiled():
-    """Whether :func:`run_epochs` is compiled in this process or loadable from numba's cache.
-
-    Reads numba's cache index beside this file (an index written for another version of
-    the source does not count). Any doubt (numba's internals changed) answers ``True``, so
-    the worst case is a missing notice, never a wrong one.
-
-    Examples
-    --------
-    >>> isinstance(is_compiled(), bool)
-    True
-    """
-    if run_epochs.signatures:
-        return True
-    try:
-        return bool(run_epochs._cache._cache_file._load_index())
-    except Exception:  # noqa: BLE001 - numba's private cache API: assume compiled
-        return True
-
-
-def announce_compile(stream=None):
-    """Print one line when the next kernel call must compile (no cache yet); return whether.
-
-    The first run in a fresh environment compiles the filter kernel for about a minute on
-    two cores (``python -m xnavlab warmup`` does it at set-up); this line says so instead of
-    a silent pause. It prints at most once per process.
-    """
-    global _ANNOUNCED
-    if _ANNOUNCED or is_compiled():
-        return False
-    _ANNOUNCED = True
-    print("xnavlab: compiling the filter kernel, once (about a minute on two cores; later runs "
-          "load it from numba's cache)", file=stream or sys.stderr, flush=True)
-    return True
-
-
-_ANNOUNCED = False

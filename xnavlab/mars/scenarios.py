@@ -63,7 +63,7 @@ from xnavlab.core.constants import DAY, GM_MARS, C
 from xnavlab.core.federated import MODES, FederatedFilter
 from xnavlab.core.filters import chi2_bounds
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
-from xnavlab.mars import dynamics, kernels, pulsars, sensors, series, stars, toa
+from xnavlab.mars import compile_notice, dynamics, kernels, pulsars, sensors, series, stars, toa
 
 __all__ = [
     "alloc_records",
@@ -424,7 +424,8 @@ def prepare(scenario=None, **overrides):
             rm_true = ephemeris.position("mars", t, sc.truth_ephem)
             rs_true = ephemeris.position("sun", t, sc.truth_ephem)
             noise = rng.standard_normal((t.size, xs.dim))
-            z[s] = toa.delay(rm_true + states[:, :3], xs.n, xs.distance, rs_true) + xs.sigma * noise
+            z[s] = (toa.delay(rm_true + states[:, :3], xs.n, xs.distance, rs_true, shapiro="paper")
+                    + xs.sigma * noise)  # paper eq. (1), as the compiled filter
             xnav_bodies = (ephemeris.position("mars", t, sc.filter_ephem).reshape(-1, 3),
                            ephemeris.position("sun", t, sc.filter_ephem).reshape(-1, 3))
         elif s == "uv":
@@ -842,6 +843,7 @@ def run_kernel(inp, state, a, b, active, beta, gate, rec_pos, records, nis, flag
     z_c = inp.z.get("cns", np.zeros((0, cns.dim)))
     tab = inp.table
     xs, Ps, shares, xm, Pm = state
+    compile_notice.announce_compile()  # one line instead of a silent minute on a cold cache
     stop = kernels.run_epochs(
         a, b, inp.times, xs, Ps, shares, xm, Pm, sc.q_acc, sc.max_step, GM_MARS,
         tab.t_start, tab.step, tab.pos, tab.vel, tab.gm,
