@@ -210,7 +210,7 @@ def xnav_h(x, r_mars_ssb, r_sun_ssb, n, distance):
     """
     x = _state(x)
     r_ssb = np.asarray(r_mars_ssb, dtype=float) + x[..., :3]
-    return toa.delay(r_ssb, n, distance, r_sun_ssb)  # paper eq. (1)
+    return toa.delay(r_ssb, n, distance, r_sun_ssb, shapiro="paper")  # paper eq. (1)
 
 
 def xnav_jacobian(x, r_mars_ssb, r_sun_ssb, n, distance):
@@ -225,7 +225,7 @@ def xnav_jacobian(x, r_mars_ssb, r_sun_ssb, n, distance):
     """
     x = _state(x)
     r_ssb = np.asarray(r_mars_ssb, dtype=float) + x[..., :3]
-    g = toa.gradient(r_ssb, n, distance, r_sun_ssb)  # paper eq. (4)
+    g = toa.gradient(r_ssb, n, distance, r_sun_ssb, shapiro="paper")  # paper eq. (4)
     H = np.zeros(g.shape[:-1] + (6,))
     H[..., :3] = g
     return H

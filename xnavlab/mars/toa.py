@@ -6,14 +6,31 @@ A pulse reaches the spacecraft earlier than the solar-system barycentre (SSB) by
 
    \\Delta t = \\frac{n \\cdot R}{c}
    + \\frac{(n \\cdot R)^2 - |R|^2}{2 c D_0}
-   + \\frac{2 \\mu_\\odot}{c^3} \\ln\\left| \\frac{n \\cdot R + |R|}{n \\cdot b + |b|} + 1 \\right|
+   + \\frac{2 \\mu_\\odot}{c^3} \\ln \\frac{n \\cdot x + |x|}{n \\cdot b + |b|}
 
-(paper eq. (1); Sheikh et al. 2006), with ``R = r_M + r`` the spacecraft position
-relative to the SSB (``r`` planet-centred, ``r_M`` the planet relative to the SSB),
-``n`` the unit vector to the pulsar, ``D0`` its distance and ``b`` the SSB position
-relative to the Sun. The three terms are the Roemer delay (geometry), the parallax
-(curvature of the wavefront) and the Shapiro delay (the Sun's gravity), each
-available on its own.
+with ``R`` the spacecraft position relative to the SSB (``R = r_M + r``: ``r``
+planet-centred, ``r_M`` the planet relative to the SSB), ``n`` the unit vector to the
+pulsar, ``D0`` its distance, ``x = R - r_sun`` the spacecraft seen from the Sun and
+``b = -r_sun`` the SSB seen from the Sun. The three terms are the Roemer delay
+(geometry), the parallax (curvature of the wavefront) and the Shapiro delay (the Sun's
+gravity), each available on its own.
+
+The Shapiro delay comes in two forms, chosen by the keyword ``shapiro`` of
+:func:`delay`, :func:`gradient` and :func:`terms`:
+
+- ``"exact"`` (the default, :func:`shapiro`): the logarithm above, the light-time
+  through the Sun's field from the pulsar to the spacecraft minus the same to the SSB
+  (Backer & Hellings 1986, eq. 4.6, with gamma = 1);
+- ``"paper"`` (:func:`shapiro_paper`): the form of the main paper's eq. (1) (Fan et al.
+  2016, after Sheikh et al. 2006), ``ln|(n.R + |R|)/(n.b + |b|) + 1|``, which puts the
+  SSB-relative ``R`` where the Sun-relative ``x`` belongs. Seen from Mars (1990-2030,
+  DE421) it differs from the exact form by up to 0.3 us for a pulsar 50 degrees or more
+  from the Sun (0.9-5.1 ns for the paper's four pulsars over its 30 days), up to 26 us at
+  2.3 degrees and 72 us at 0.22 degree. Everything that reproduces the paper (the Mars
+  scenario, its compiled filter, the reproductions) uses it explicitly.
+
+Both are referred to the SSB: zero for a spacecraft at the SSB. PINT and Tempo2 refer
+theirs to 1 au instead; :func:`shapiro_offset_to_pint` is the difference.
 
 Shapes broadcast: ``R`` has shape (..., 3), ``n`` shape (k, 3) and ``D0`` shape (k,);
 results have shape (..., k) (delays, s) or (..., k, 3) (gradients, s/m).
@@ -30,7 +47,7 @@ from __future__ import annotations
 import numpy as np
 
 from xnavlab.core import ephemeris
-from xnavlab.core.constants import GM_SUN, C
+from xnavlab.core.constants import AU, GM_SUN, C
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real
 from xnavlab.mars import pulsars
 
@@ -38,6 +55,9 @@ __all__ = [
     "roemer",
     "parallax",
     "shapiro",
+    "shapiro_paper",
+    "SHAPIRO_FORMS",
+    "shapiro_offset_to_pint",
     "delay",
     "gradient",
     "terms",
@@ -100,8 +120,38 @@ def _b(r_sun_ssb):
     return -check_finite_array("r_sun_ssb", r_sun_ssb, shape=(3,))
 
 
+#: The two forms of the Shapiro delay (the keyword ``shapiro`` of :func:`delay` and others).
+SHAPIRO_FORMS = ("exact", "paper")
+
+_T_SUN = 2.0 * GM_SUN / C**3  # 2 mu / c^3, s
+
+
+def _log_arg(v, n):
+    """``n . v + |v|`` for rows ``n``, shape (..., k), without cancellation.
+
+    When ``n . v < 0`` the sum cancels (the direction ``n`` nearly opposite ``v``);
+    there it is evaluated as ``|n x v|^2 / (|v| - n . v)``, the same number, from the
+    cross product.
+    """
+    nv = v @ n.T
+    vn = np.linalg.norm(v, axis=-1)[..., None]
+    cross2 = np.sum(np.cross(v[..., None, :], n) ** 2, axis=-1)
+    out = np.where(nv >= 0.0, nv + vn, cross2 / np.where(nv >= 0.0, 1.0, vn - nv))
+    if np.any(out <= 0.0):
+        raise ValueError("n: a pulsar lies exactly behind the Sun's centre as seen from the spacecraft "
+                         "or the SSB (n . v = -|v|): the Shapiro delay is infinite there")
+    return out
+
+
 def shapiro(r_ssb, n, r_sun_ssb):
-    """Shapiro delay ``2 mu/c^3 ln|(n.R + |R|)/(n.b + |b|) + 1|``, s; shape (..., k).
+    """Shapiro delay, exact form: ``2 mu/c^3 ln[(n.x + |x|)/(n.b + |b|)]``, s; shape (..., k).
+
+    ``x = r_ssb - r_sun_ssb`` is the spacecraft seen from the Sun and ``b = -r_sun_ssb``
+    the SSB seen from the Sun: the Sun's Shapiro delay on the way to the spacecraft
+    minus the same on the way to the SSB, with our sign (positive when the spacecraft
+    is nearer the pulsar's side of the Sun, where the pulse arrives earlier). Both
+    sums are evaluated without cancellation (see ``n . v + |v|`` in the module
+    source), so a pulsar close behind the Sun keeps full precision.
 
     Parameters
     ----------
@@ -112,6 +162,11 @@ def shapiro(r_ssb, n, r_sun_ssb):
     r_sun_ssb : array_like, shape (..., 3)
         Sun position relative to the SSB, m (so ``b = -r_sun_ssb``).
 
+    Raises
+    ------
+    ValueError
+        If the line of sight passes exactly through the Sun's centre (infinite delay).
+
     Examples
     --------
     >>> s = shapiro(np.array([2.2e11, 0, 0]), np.array([[0.0, 1.0, 0.0]]), np.zeros(3) + 1e8)
@@ -120,13 +175,82 @@ def shapiro(r_ssb, n, r_sun_ssb):
     """
     r_ssb, n = _args(r_ssb, n)
     b = _b(r_sun_ssb)
+    x = r_ssb + b  # spacecraft from the Sun: R - r_sun
+    return _T_SUN * (np.log(_log_arg(x, n)) - np.log(_log_arg(b, n)))  # Backer & Hellings eq. 4.6
+
+
+def shapiro_paper(r_ssb, n, r_sun_ssb):
+    """Shapiro delay as the paper writes it: ``2 mu/c^3 ln|(n.R + |R|)/(n.b + |b|) + 1|``, s.
+
+    Paper eq. (1), third term (Fan et al. 2016, after Sheikh et al. 2006), with ``R`` the
+    spacecraft relative to the SSB (not to the Sun) and ``b = -r_sun_ssb``; shape (..., k).
+    The Mars scenario and every reproduction of the paper use this form; :func:`shapiro`
+    is the exact one.
+
+    Parameters
+    ----------
+    r_ssb : array_like, shape (..., 3)
+        Spacecraft position relative to the SSB, m.
+    n : array_like, shape (k, 3)
+        Unit vectors to the pulsars.
+    r_sun_ssb : array_like, shape (..., 3)
+        Sun position relative to the SSB, m.
+
+    Examples
+    --------
+    >>> s = shapiro_paper(np.array([2.2e11, 0, 0]), np.array([[0.0, 1.0, 0.0]]), np.zeros(3) + 1e8)
+    >>> bool(0 < s[0] < 1e-4)
+    True
+    """
+    r_ssb, n = _args(r_ssb, n)
+    b = _b(r_sun_ssb)
     u = r_ssb @ n.T + np.linalg.norm(r_ssb, axis=-1)[..., None]
     w = b @ n.T + np.linalg.norm(b, axis=-1)[..., None]
-    return 2.0 * GM_SUN / C**3 * np.log(np.abs(u / w + 1.0))  # paper eq. (1), third term
+    return _T_SUN * np.log(np.abs(u / w + 1.0))  # paper eq. (1), third term
 
 
-def delay(r_ssb, n, distance, r_sun_ssb):
-    """Time-transfer delay, paper eq. (1): Roemer + parallax + Shapiro, s; shape (..., k).
+def shapiro_offset_to_pint(n, r_sun_ssb):
+    """Our exact Shapiro delay minus PINT's (and Tempo2's), s; shape (..., k).
+
+    PINT refers the Sun's Shapiro delay to a distance of 1 au, ``-2 mu/c^3 ln[(|x| +
+    n.x) / 1 au]`` (its sign: added to the emission time); we refer ours to the SSB's
+    own delay. With PINT's value turned to our sign, ``shapiro(R, n, r_sun) -
+    shapiro_offset_to_pint(n, r_sun)`` is PINT's number: the offset is
+    ``2 mu/c^3 ln[1 au / (n.b + |b|)]``, which depends only on the pulsar and on where
+    the Sun is relative to the SSB (about 5 ln-units, 50 us; it drifts by microseconds
+    over Jupiter's 12-year period), not on the spacecraft.
+
+    Parameters
+    ----------
+    n : array_like, shape (k, 3)
+        Unit vectors to the pulsars.
+    r_sun_ssb : array_like, shape (..., 3)
+        Sun position relative to the SSB, m.
+
+    Examples
+    --------
+    >>> (shapiro_offset_to_pint(np.eye(3), np.array([7e8, 1e8, 0.0])) * 1e6).round()  # us
+    array([98., 54., 53.])
+    """
+    b = _b(r_sun_ssb)
+    _, n = _args(np.zeros(3), n)
+    return _T_SUN * (np.log(AU) - np.log(_log_arg(b, n)))
+
+
+def _shapiro_form(form):
+    check_choice("shapiro", form, SHAPIRO_FORMS)
+    return shapiro if form == "exact" else shapiro_paper
+
+
+def delay(r_ssb, n, distance, r_sun_ssb, shapiro="exact"):
+    """Time-transfer delay: Roemer + parallax + Shapiro, s; shape (..., k).
+
+    Parameters
+    ----------
+    r_ssb, n, distance, r_sun_ssb
+        As :func:`roemer`, :func:`parallax` and :func:`shapiro`.
+    shapiro : {"exact", "paper"}
+        The Shapiro form: :func:`shapiro` or the paper's eq. (1) :func:`shapiro_paper`.
 
     Examples
     --------
@@ -134,10 +258,11 @@ def delay(r_ssb, n, distance, r_sun_ssb):
     >>> delay(np.array([2.0e11, 1e10, 0.0]), nvec, dist, np.zeros(3) + 1e8).shape
     (4,)
     """
-    return roemer(r_ssb, n) + parallax(r_ssb, n, distance) + shapiro(r_ssb, n, r_sun_ssb)
+    form = _shapiro_form(shapiro)
+    return roemer(r_ssb, n) + parallax(r_ssb, n, distance) + form(r_ssb, n, r_sun_ssb)
 
 
-def gradient(r_ssb, n, distance, r_sun_ssb):
+def gradient(r_ssb, n, distance, r_sun_ssb, shapiro="exact"):
     """Gradient of :func:`delay` with respect to the spacecraft position, s/m.
 
     Because ``R = r_M + r``, the gradient with respect to the planet-centred ``r`` is
@@ -145,7 +270,15 @@ def gradient(r_ssb, n, distance, r_sun_ssb):
 
     - Roemer: ``n / c``
     - parallax: ``((n . R) n - R) / (c D0)``
-    - Shapiro: ``2 mu/c^3 (n + R/|R|) / (n.R + |R| + n.b + |b|)``
+    - Shapiro, exact: ``2 mu/c^3 (n + x/|x|) / (n.x + |x|)``, ``x = R - r_sun``
+    - Shapiro, paper: ``2 mu/c^3 (n + R/|R|) / (n.R + |R| + n.b + |b|)``
+
+    Parameters
+    ----------
+    r_ssb, n, distance, r_sun_ssb
+        As :func:`delay`.
+    shapiro : {"exact", "paper"}
+        The Shapiro form, as in :func:`delay`.
 
     Returns
     -------
@@ -158,22 +291,30 @@ def gradient(r_ssb, n, distance, r_sun_ssb):
     >>> g.shape, bool(np.allclose(g * C, nvec, atol=1e-6))
     ((4, 3), True)
     """
+    check_choice("shapiro", shapiro, SHAPIRO_FORMS)
     r_ssb, n = _args(r_ssb, n)
     d = _distance(distance, n.shape[0])
     b = _b(r_sun_ssb)
     R = r_ssb[..., None, :]
     nr = (r_ssb @ n.T)[..., None]
     rn = np.linalg.norm(r_ssb, axis=-1)[..., None, None]
-    u = nr + rn
-    w = (b @ n.T)[..., None] + np.linalg.norm(b, axis=-1)[..., None, None]
     g_roemer = n / C
     g_parallax = (nr * n - R) / (C * d[:, None])
-    g_shapiro = 2.0 * GM_SUN / C**3 * (n + R / rn) / (u + w)
+    if shapiro == "exact":
+        x = r_ssb + b
+        xn = np.linalg.norm(x, axis=-1)[..., None, None]
+        g_shapiro = _T_SUN * (n + x[..., None, :] / xn) / _log_arg(x, n)[..., None]
+    else:
+        u = nr + rn
+        w = (b @ n.T)[..., None] + np.linalg.norm(b, axis=-1)[..., None, None]
+        g_shapiro = _T_SUN * (n + R / rn) / (u + w)  # d/dR of paper eq. (1), third term
     return g_roemer + g_parallax + g_shapiro
 
 
-def terms(r_ssb, n, distance, r_sun_ssb):
-    """The three terms of eq. (1) separately: dict with ``roemer``, ``parallax``, ``shapiro``.
+def terms(r_ssb, n, distance, r_sun_ssb, shapiro="exact"):
+    """The three terms separately: dict with ``roemer``, ``parallax``, ``shapiro``.
+
+    ``shapiro`` chooses the Shapiro form, as in :func:`delay`.
 
     Examples
     --------
@@ -181,15 +322,16 @@ def terms(r_ssb, n, distance, r_sun_ssb):
     >>> sorted(terms(np.array([2e11, 0, 0]), nvec, dist, np.ones(3) * 1e8))
     ['parallax', 'roemer', 'shapiro']
     """
+    form = _shapiro_form(shapiro)
     return {
         "roemer": roemer(r_ssb, n),
         "parallax": parallax(r_ssb, n, distance),
-        "shapiro": shapiro(r_ssb, n, r_sun_ssb),
+        "shapiro": form(r_ssb, n, r_sun_ssb),
     }
 
 
-def delays_at(r, t, pulsar_names=pulsars.PAPER_PULSARS, center="mars", ephem="de421"):
-    """Eq. (1) delays for a spacecraft at ``r`` about ``center`` at epochs ``t``.
+def delays_at(r, t, pulsar_names=pulsars.PAPER_PULSARS, center="mars", ephem="de421", shapiro="exact"):
+    """Time-transfer delays (:func:`delay`) for a spacecraft at ``r`` about ``center`` at epochs ``t``.
 
     Parameters
     ----------
@@ -203,6 +345,8 @@ def delays_at(r, t, pulsar_names=pulsars.PAPER_PULSARS, center="mars", ephem="de
         Centre body (``"mars"``, ``"earth"``, ...), see :data:`xnavlab.core.ephemeris.BODIES`.
     ephem : {"de421", "de405"}
         Ephemeris for the centre body and the Sun.
+    shapiro : {"exact", "paper"}
+        The Shapiro form, as in :func:`delay`.
 
     Returns
     -------
@@ -218,7 +362,7 @@ def delays_at(r, t, pulsar_names=pulsars.PAPER_PULSARS, center="mars", ephem="de
     r = check_finite_array("r", r, shape=(3,))
     r_c = ephemeris.position(center, t, ephem)
     r_sun = ephemeris.position("sun", t, ephem)
-    return delay(r + r_c, n, d, r_sun)
+    return delay(r + r_c, n, d, r_sun, shapiro=shapiro)
 
 
 def pdop(n, sigma=None):
@@ -268,7 +412,8 @@ def pdop(n, sigma=None):
     return value, float(np.sqrt(np.trace(np.linalg.inv(n.T @ (w[:, None] * n)))))
 
 
-def gradient_fd(r_ssb, n, distance, r_sun_ssb, step=1.0e3, which=("roemer", "parallax", "shapiro")):
+def gradient_fd(r_ssb, n, distance, r_sun_ssb, step=1.0e3, which=("roemer", "parallax", "shapiro"),
+                shapiro="exact"):
     """Central finite differences of (some of) the delay terms with respect to position.
 
     The check of :func:`gradient`: ``(f(R + step e_j) - f(R - step e_j)) / (2 step)`` for
@@ -290,6 +435,8 @@ def gradient_fd(r_ssb, n, distance, r_sun_ssb, step=1.0e3, which=("roemer", "par
         Finite-difference step, m (> 0).
     which : sequence of {"roemer", "parallax", "shapiro"}
         The terms to differentiate (default all three, the whole delay).
+    shapiro : {"exact", "paper"}
+        The Shapiro form, as in :func:`delay`.
 
     Returns
     -------
@@ -310,15 +457,17 @@ def gradient_fd(r_ssb, n, distance, r_sun_ssb, step=1.0e3, which=("roemer", "par
     for name in which:
         check_choice("which", name, ("roemer", "parallax", "shapiro"))
 
+    check_choice("shapiro", shapiro, SHAPIRO_FORMS)
+
     def f(point):
-        t = terms(point, n, distance, r_sun_ssb)
+        t = terms(point, n, distance, r_sun_ssb, shapiro=shapiro)
         return sum(t[name] for name in which)
 
     cols = [(f(r_ssb + step * e) - f(r_ssb - step * e)) / (2.0 * step) for e in np.eye(3)]
     return np.column_stack(cols)
 
 
-def plot_orbit_terms(pulsar="B0531+21", day=0):
+def plot_orbit_terms(pulsar="B0531+21", day=0, shapiro="exact"):
     """The orbit-dependent part of each delay term over one day of the paper's 30-day orbit.
 
     Spacecraft minus Mars centre, ``c (term(R_M + r) - term(R_M))``, for one pulsar, on
@@ -331,6 +480,8 @@ def plot_orbit_terms(pulsar="B0531+21", day=0):
         One of :data:`xnavlab.mars.pulsars.PAPER_PULSARS`.
     day : int
         Day of the 30, 0 to 29.
+    shapiro : {"exact", "paper"}
+        The Shapiro form, as in :func:`delay`.
 
     Returns
     -------
@@ -349,6 +500,7 @@ def plot_orbit_terms(pulsar="B0531+21", day=0):
 
     check_choice("pulsar", pulsar, pulsars.PAPER_PULSARS)
     day = check_int("day", day, 0, 29)
+    check_choice("shapiro", shapiro, SHAPIRO_FORMS)
     t = dynamics.MARS_T0 + np.arange(0.0, 30 * 86400.0 + 1.0, 60.0)  # the chapter's grid
     i = slice(day * 1440, (day + 1) * 1440 + 1)  # one day of 60-s samples
     x = dynamics.truth(t)[i]
@@ -356,8 +508,8 @@ def plot_orbit_terms(pulsar="B0531+21", day=0):
     r_mars = ephemeris.position("mars", t)
     r_sun = ephemeris.position("sun", t)
     n_p, d_p = pulsars.directions([pulsar])
-    at_sc = terms(r_mars + x[:, :3], n_p, d_p, r_sun)
-    at_mars = terms(r_mars, n_p, d_p, r_sun)
+    at_sc = terms(r_mars + x[:, :3], n_p, d_p, r_sun, shapiro=shapiro)
+    at_mars = terms(r_mars, n_p, d_p, r_sun, shapiro=shapiro)
     hours = (t - t[0]) / 3600.0
     fig = Figure(figsize=(12, 3.4), layout="constrained")
     axes = fig.subplots(1, 3)
