@@ -15,7 +15,7 @@ against freshly computed cells). ``--trials N`` sets the trials per cell (defaul
    :func:`~xnavlab.mars.trials.detector_table`; cells where the combined detector is worse than
    the better of the other two beyond Monte Carlo error are listed
    (:func:`~xnavlab.mars.trials.marked_cells`).
-3. The XNAV cells at the edge of issue 13's acceptance (a drift reaching 5 sigma in 6000 s, a
+3. The XNAV cells at the edge of what the detector must find (a drift reaching 5 sigma in 6000 s, a
    noise increase to 3 and 4 times nominal for 3000 s, one sample per 500 s), with many trials
    of the combined detector (``--edge-trials``, default 96): the fraction found within 4000 s
    of the onset with its Wilson interval, against :func:`xnavlab.mars.trials.detection_limit`,

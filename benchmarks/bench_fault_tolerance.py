@@ -6,7 +6,7 @@ Run: ``.venv/bin/python benchmarks/bench_fault_tolerance.py``. Prints
   chi2, combined), end to end as ``python -m xnavlab run mars --faults paper --detector X`` runs
   it (prepare the inputs, inject, detect, filter with isolation and rejoining) against the
   fault-free run end to end (prepare, filter), in this process, best of four each (target:
-  ratio <= 1.5 for the combined detector, issue 13); and, for information, the same with the
+  ratio <= 1.5 for the combined detector); and, for information, the same with the
   inputs prepared once (filter and detection only);
 - for each detector: detection delays and the time each faulty subsystem stayed out of the
   fusion after its fault ended (re-admission), paper schedule;

@@ -62,7 +62,7 @@ def test_noise_limit_grows_with_the_ratio(r, extra):
 
 
 def test_detection_limit_of_the_xnav_edge_cells():
-    """Issue 13: a 3x XNAV noise lasting 3000 s (6 samples of 500 s) cannot be found every time by
+    """A 3x XNAV noise lasting 3000 s (6 samples of 500 s) cannot be found every time by
     any detector at the design rate; a drift reaching 5 sigma in 6000 s can, within 4000 s."""
     assert trials.detection_limit("noise", "xnav", 3.0) < 0.99
     assert trials.detection_limit("ramp", "xnav", 5.0) > 0.999

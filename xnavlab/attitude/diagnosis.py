@@ -61,7 +61,7 @@ def sos_decide(crossed):
     """SOS decision rule (paper Table 2, reconstructed) from the crossed residuals.
 
     ===================  ================================
-    r4 crossed, and      verdict
+    r4 crossed, and      diagnosis
     ===================  ================================
     none of r1-r3        ``"gyro_skew"``
     exactly r_i          ``"gyro_x"``, ``"gyro_y"``, ``"gyro_z"``

@@ -11,15 +11,15 @@ options) and ``execute(args) -> int`` (the exit code; it may raise :class:`Usage
 
 Commands
 --------
-reproduce ID | --list | --all
+``reproduce ID | --list | --all``
     Run a registered reproduction (:mod:`xnavlab.cli.reproduce`).
-run SCENARIO
+``run SCENARIO``
     Run a scenario, e.g. ``run mars --days 30`` (:mod:`xnavlab.cli.runners`).
-warmup
+``warmup``
     Compile and cache every numba kernel the chapters use (:mod:`xnavlab.cli.warmup`).
-campaign NAME
+``campaign NAME``
     A Monte Carlo campaign, local or on a Dask cluster, resumable (:mod:`xnavlab.cli.campaigns`).
-scenario --dump | --check FILE
+``scenario --dump | --check FILE``
     Write or check a scenario file for ``run mars --scenario`` (:mod:`xnavlab.cli.scenario`).
 """
 

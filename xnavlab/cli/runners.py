@@ -162,7 +162,8 @@ def execute_mars(args):
 
 #: Scenario name -> (configure(parser), execute(args) -> exit code, help).
 RUNNERS = {
-    "mars": (configure_mars, execute_mars, "the main paper's 30-day federated Mars navigation run"),
+    "mars": (configure_mars, execute_mars,
+             "the main paper's (Fan et al. 2016) 30-day federated Mars navigation run"),
 }
 
 

@@ -1,6 +1,6 @@
 """Fault-tolerant federated navigation: the paper's fault schedule, detection, isolation, rejoining.
 
-The main paper (Fan et al. 2016, section 4.3) injects sensor faults into the Mars run and,
+The main paper (Fan et al. 2016, section 4.1) injects sensor faults into the Mars run and,
 with its wavelet detector, switches a faulty subsystem out of the federated filter: the
 subsystem does time updates only, the master fuses the healthy ones, and the subsystem
 rejoins when its fault is over. This module runs that loop on the numba kernel of
@@ -254,8 +254,8 @@ class FaultTolerantRun:
         return schedules.score(self, settle_days)
 
     def save_npz(self, path):
-        """Write the run's series (:meth:`MarsRun.save_npz`) plus ``isolated`` (n, ns), the
-        detector series per sensor (``det_<sensor>_t``, ``_ratio``, ``_faulty``, and
+        """Write the run's series (:meth:`~xnavlab.mars.scenarios.MarsRun.save_npz`) plus
+        ``isolated`` (n, ns), the detector series per sensor (``det_<sensor>_t``, ``_ratio``, ``_faulty``, and
         ``_innovations`` with the combined detector) and the fault spec, to ``path`` (npz)."""
         extra = {"isolated": self.isolated, "detector": np.array(self.detector),
                  "faults": np.array(format_spec(self.faults, components(self.run.scenario))

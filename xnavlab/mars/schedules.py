@@ -1,7 +1,7 @@
 """Fault schedules: the paper's, the command line's, which faults a run can use, and the score.
 
 A fault is a :class:`xnavlab.core.faults.Fault` with times in seconds since the start of
-the run. :func:`paper_schedule` is the main paper's (Fan et al. 2016, section 4.3) with our
+the run. :func:`paper_schedule` is the main paper's (Fan et al. 2016, section 4.1) with our
 magnitudes and durations; :func:`parse_faults` reads the command line's spec;
 :func:`check_schedule` refuses a fault the run cannot use; :func:`fault_detection_delays`
 and :func:`score` set the detections of a run against its faults. The fault-tolerant loop
@@ -31,7 +31,7 @@ __all__ = [
     "score",
 ]
 
-#: The paper's fault instants, s after the start (Fan et al. 2016, section 4.3).
+#: The paper's fault instants, s after the start (Fan et al. 2016, section 4.1).
 PAPER_ONSETS = {
     "uv": (700000.0, 1200000.0, 1700000.0, 2200000.0, 2300000.0, 2400000.0),
     "xnav": (500000.0, 1000000.0, 1500000.0, 2000000.0, 2310000.0),

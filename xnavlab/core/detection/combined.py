@@ -9,7 +9,7 @@ the noise model. Neither sees a slow drift early. The combined detector runs, pe
     :func:`~xnavlab.core.detection.batch.wavelet_detect` (raw series or innovations);
 ``chi2``
     the per-sample test ``q_n = sum_c (y_c[n] / s_c)^2 > chi2.isf(alpha, m)`` on the whitened
-    innovations ``y = L^-1 nu`` (``L L^T = S``), chapter 9 eq. (ch9-chi2);
+    innovations ``y = L^-1 nu`` (``L L^T = S``), the chi-square test of chapter 9;
 ``cusum``
     two one-sided CUSUMs per component on the signed innovation (a mean shift or a drift of
     either sign), ``S+ = max(0, S+ + y_c/s_c - k)``, ``S- = max(0, S- - y_c/s_c - k)``
