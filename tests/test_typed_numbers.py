@@ -154,3 +154,14 @@ def test_the_real_allow_list_is_well_formed(tn):
                 if line.startswith("# book/")}
     for page in tn.default_paths():  # a new page gets its (empty) section
         assert tn.display_path(page) in sections, f"no '# {tn.display_path(page)}' section"
+
+
+def test_all_exempts_one_page_and_never_every_page(tn, tmp_path):
+    page = tmp_path / "p.md"
+    page.write_text("The paper reports 28.835 m and 36.587 m.\n")
+    allow = tmp_path / "allow.txt"
+    shown = tn.display_path(page)
+    allow.write_text(f"{shown} | all | every number on this page is the paper's own\n")
+    assert tn.main([str(page), "--allow", str(allow)]) == 0
+    allow.write_text("* | all | no\n")
+    assert tn.main([str(page), "--allow", str(allow)]) == 2

@@ -29,6 +29,8 @@ Everything else (decimals, percentages, numbers with units, integers above 10) i
 ``tools/typed_numbers_allow.txt`` lists it: one entry a line,
 ``<book path or *> | <number exactly as printed here> | <reason>`` (``#`` starts a comment);
 an entry allows that number everywhere on that page. An entry without a reason is refused.
+The number ``all`` exempts one whole page (for a page whose every number is a source paper's
+own statement, such as the Sources page; never ``*``).
 
 Usage (from the repository root)::
 
@@ -401,7 +403,9 @@ def load_allow(path: Path) -> list[Allow]:
         if not parts[2]:
             raise BadAllowList(f"{path}:{n}: the entry for {parts[1]!r} on {parts[0]} has no"
                                " reason (a reason is mandatory)")
-        if not _NUMBER.fullmatch(parts[1]):
+        if parts[1] == "all" and parts[0] == "*":
+            raise BadAllowList(f"{path}:{n}: 'all' exempts one page, not every page")
+        if parts[1] != "all" and not _NUMBER.fullmatch(parts[1]):
             raise BadAllowList(f"{path}:{n}: {parts[1]!r} is not a number as this tool prints it")
         entries.append(Allow(parts[0], parts[1], parts[2], n))
     return entries
@@ -437,7 +441,8 @@ def main(argv: list[str] | None = None) -> int:
             print(f"typed_numbers: {p}: cannot read ({exc})", file=sys.stderr)
             return 2
         for where, hit in hits:
-            key = next((k for k in ((shown, hit.number), ("*", hit.number)) if k in allowed), None)
+            key = next((k for k in ((shown, hit.number), ("*", hit.number), (shown, "all"))
+                        if k in allowed), None)
             if key is not None:
                 used.add(key)
                 continue
