@@ -1,5 +1,6 @@
 """Pulsar catalogue, phase model, photons, folding, TOA estimation and accuracy."""
 
+import dataclasses
 import math
 
 import numpy as np
@@ -182,3 +183,52 @@ def test_plot_ranging_accuracy_bars_and_reference():
     assert list(ax.lines[0].get_ydata()) == list(ref.values())
     assert "A = 0.5 m$^2$" in ax.get_title()
     assert not pulsars.plot_ranging_accuracy(pulsar_names=["B0531+21"]).axes[0].lines
+
+
+def test_phase_exposure_counts_the_partial_cycle():
+    crab = dataclasses.replace(pulsars.get("B0531+21"), fdot=0.0)  # whole cycles exactly
+    whole = pulsars.phase_exposure((0.0, 298.0 * crab.period), crab, nbins=64)
+    np.testing.assert_allclose(whole, 298.0 / 64, rtol=1e-9)
+    half = pulsars.phase_exposure((0.0, 298.5 * crab.period), crab, nbins=64)
+    assert half.sum() == pytest.approx(298.5, rel=1e-9)
+    np.testing.assert_allclose(half[:32], 299.0 / 64, rtol=1e-9)  # phases 0-0.5 seen once more
+    np.testing.assert_allclose(half[32:], 298.0 / 64, rtol=1e-9)
+    # a span that starts mid-cycle: the extra exposure wraps round phase 0
+    late = pulsars.phase_exposure((0.75 * crab.period, 2.0 * crab.period), crab, nbins=8)
+    np.testing.assert_allclose(late * 8, [1, 1, 1, 1, 1, 1, 2, 2], rtol=1e-9)
+    with pytest.raises(ValueError, match="span"):
+        pulsars.phase_exposure((1.0, 1.0), crab)
+
+
+def test_fold_checks_and_raw_counts():
+    crab = pulsars.get("B0531+21")
+    t = pulsars.simulate_photons(crab, 1.0, area_m2=0.01, rng=2)
+    raw = pulsars.fold(t, crab, nbins=16, exposure=False)
+    assert raw.dtype.kind == "i" and raw.sum() == t.size
+    corrected = pulsars.fold(t, crab, nbins=16, span=(0.0, 1.0))
+    assert corrected.dtype.kind == "f" and corrected.sum() == pytest.approx(t.size, rel=0.02)
+    with pytest.raises(ValueError, match="span must hold every photon"):
+        pulsars.fold(t, crab, span=(0.1, 1.0))
+    with pytest.raises(ValueError, match="two or more"):
+        pulsars.fold([0.5], crab)
+
+
+def test_fold_removes_the_partial_cycle_bias():
+    """The Crab over 10 s (298.5 cycles), 400 trials: the TOA is unbiased once folded with exposure.
+
+    Without the correction the half cycle's extra background pulls the TOA late: measured
+    +1.07 +- 0.28 us (3.8 sigma) on these photons; with it -0.33 +- 0.28 us.
+    """
+    crab = pulsars.get("B0531+21")
+    template = pulsars.binned_template(256, crab.duty_cycle)
+    rng = np.random.default_rng(2024)
+    raw, corrected = [], []
+    for _ in range(400):
+        t = pulsars.simulate_photons(crab, 10.0, area_m2=0.25, rng=rng)
+        raw.append(pulsars.estimate_phase_shift(pulsars.fold(t, crab, exposure=False), template))
+        corrected.append(pulsars.estimate_phase_shift(pulsars.fold(t, crab), template))
+    corrected = np.array(corrected) * crab.period
+    raw = np.array(raw) * crab.period
+    se = corrected.std() / np.sqrt(corrected.size)
+    assert abs(corrected.mean()) < 3 * se
+    assert raw.mean() > 3 * se  # the bias the correction removes
