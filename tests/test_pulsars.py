@@ -232,3 +232,65 @@ def test_fold_removes_the_partial_cycle_bias():
     se = corrected.std() / np.sqrt(corrected.size)
     assert abs(corrected.mean()) < 3 * se
     assert raw.mean() > 3 * se  # the bias the correction removes
+
+
+def _par_values(path):
+    """The first value of each parameter line of a .par file, as text (comments skipped)."""
+    out = {}
+    for line in path.read_text().splitlines():
+        parts = line.split()
+        if len(parts) >= 2 and not line.startswith(("#", "C ")):
+            out.setdefault(parts[0], parts[1])
+    return out
+
+
+def _unit(lon_rad, lat_rad):
+    return np.array([math.cos(lat_rad) * math.cos(lon_rad), math.cos(lat_rad) * math.sin(lon_rad),
+                     math.sin(lat_rad)])
+
+
+def test_from_par_equatorial_j0030():
+    from xnavlab.mars import pint_bridge
+
+    path = pint_bridge.examples_path("PSRJ0030+0451_psrcat.par")
+    par = _par_values(path)
+    with pytest.raises(ValueError, match="distance must be given"):
+        pulsars.from_par(path)  # the parallax line of this file is commented out
+    p = pulsars.from_par(path, distance=0.33 * 3.0857e19, flux_ph_cm2_s=2e-5, duty_cycle=0.05)
+    h, m, s = (float(x) for x in par["RAJ"].split(":"))
+    d, dm, ds = (float(x) for x in par["DECJ"].split(":"))
+    ra = math.radians(15.0 * (h + m / 60 + s / 3600))
+    dec = math.radians(math.copysign(abs(d) + dm / 60 + ds / 3600, d))
+    assert np.linalg.norm(p.direction - _unit(ra, dec)) < 1e-9  # rad; measured 0
+    assert p.frequency == pytest.approx(float(par["F0"]), rel=1e-14)
+    assert p.fdot == float(par["F1"])
+    assert p.flux == pytest.approx(0.2) and p.duty_cycle == pytest.approx(0.05)
+    assert "timing model J0030+0451" in p.sources["ra_deg"]
+
+
+def test_from_par_ecliptic_b1855():
+    from pint.pulsar_ecliptic import OBL
+
+    from xnavlab.core.constants import KPC
+    from xnavlab.mars import pint_bridge
+
+    path = pint_bridge.examples_path("B1855+09_NANOGrav_9yv1.gls.par")
+    par = _par_values(path)
+    p = pulsars.from_par(path)
+    # LAMBDA/BETA turned to ICRS by hand: a rotation about x by the model's obliquity (ECL)
+    eps = OBL[par["ECL"]].to_value("rad")
+    ecl = _unit(math.radians(float(par["LAMBDA"])), math.radians(float(par["BETA"])))
+    rot = np.array([[1.0, 0.0, 0.0], [0.0, math.cos(eps), -math.sin(eps)],
+                    [0.0, math.sin(eps), math.cos(eps)]])
+    assert np.linalg.norm(p.direction - rot @ ecl) < 1e-9  # rad; measured 2e-16
+    assert p.frequency == pytest.approx(float(par["F0"]), rel=1e-14)
+    assert p.fdot == pytest.approx(float(par["F1"].replace("D", "e")), rel=1e-12)
+    assert p.distance == pytest.approx(KPC / float(par["PX"]), rel=1e-12)
+    assert "default" in p.sources["flux"]
+    # usable as any catalogued pulsar
+    n, d = pulsars.directions([p, "B0531+21"])
+    assert n.shape == (2, 3) and d[0] == p.distance
+    with pytest.raises(ValueError, match="pulsed_fraction"):
+        pulsars.from_par(path, pulsed_fraction=0.0)
+    with pytest.raises(ValueError, match="path"):
+        pulsars.from_par(path.with_suffix(".nope"))

@@ -14,6 +14,8 @@ time-transfer terms (:mod:`xnavlab.mars.toa`) beside PINT's and fold real photon
   their phases under the shipped timing model and their weights;
   :func:`fermi_template` the three-Gaussian template shipped beside them.
 - :func:`nanograv_residuals`: the NANOGrav 9-year residuals of PSR B1855+09.
+- :func:`timing_parameters`: position, parallax and spin of any ``.par`` file, the
+  numbers behind :func:`xnavlab.mars.pulsars.from_par`.
 
 PINT is imported inside the functions: ``import xnavlab`` stays fast and works without it.
 
@@ -75,6 +77,7 @@ __all__ = [
     "fermi_photon_phases",
     "fermi_template",
     "nanograv_residuals",
+    "timing_parameters",
 ]
 
 #: The solar-system ephemeris PINT is given (the same DE421 as :mod:`xnavlab.core.ephemeris`).
@@ -613,3 +616,62 @@ def nanograv_residuals():
     """
     data = _nanograv_cached()
     return data["t_mjd"].copy(), data["residual_s"].copy(), data["error_s"].copy()
+
+
+def timing_parameters(path):
+    """Position, parallax and spin of a pulsar from a PINT timing model (a ``.par`` file).
+
+    The position is PINT's ICRS position at the model's position epoch (``POSEPOCH``, or
+    ``PEPOCH`` without one; proper motion is not applied): equatorial models give their
+    ``RAJ``/``DECJ``, ecliptic ones (``ELONG``/``ELAT`` or ``LAMBDA``/``BETA``) are turned
+    to ICRS by PINT with the model's obliquity (``ECL``).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The ``.par`` file.
+
+    Returns
+    -------
+    dict
+        ``name`` (str), ``ra_deg`` and ``dec_deg`` (ICRS, degrees), ``px_mas`` (parallax,
+        mas; ``None`` when the model has none or it is not positive), ``f0`` (Hz), ``f1``
+        (Hz/s, 0 without ``F1``), ``pepoch_mjd`` and ``posepoch_mjd`` (MJD TDB, ``None``
+        when absent) and ``frame`` (``"equatorial"`` or ``"ecliptic"``).
+
+    Examples
+    --------
+    >>> par = timing_parameters(examples_path("B1855+09_NANOGrav_9yv1.gls.par"))
+    >>> par["name"], par["frame"], round(par["f0"], 6), par["px_mas"]
+    ('B1855+09', 'ecliptic', 186.494081, 0.2929)
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise ValueError(f"path must name an existing .par file, got {str(path)!r}")
+    offline()
+    import astropy.units as u
+    from pint.models import get_model
+
+    with _quiet():
+        model = get_model(str(path))
+        icrs = model.coords_as_ICRS()
+    frame = "equatorial" if "AstrometryEquatorial" in model.components else "ecliptic"
+
+    def mjd(name):
+        par = getattr(model, name, None)
+        return None if par is None or par.value is None else float(par.value)
+
+    px = getattr(model, "PX", None)
+    px = None if px is None or px.value is None or not float(px.value) > 0 else float(px.value)
+    f1 = getattr(model, "F1", None)
+    return {
+        "name": str(model.PSR.value),
+        "ra_deg": float(icrs.ra.to_value(u.deg)),
+        "dec_deg": float(icrs.dec.to_value(u.deg)),
+        "px_mas": px,
+        "f0": float(model.F0.value),
+        "f1": 0.0 if f1 is None or f1.value is None else float(f1.value),
+        "pepoch_mjd": mjd("PEPOCH"),
+        "posepoch_mjd": mjd("POSEPOCH"),
+        "frame": frame,
+    }

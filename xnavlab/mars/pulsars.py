@@ -31,6 +31,7 @@ __all__ = [
     "CATALOGUE",
     "PAPER_PULSARS",
     "get",
+    "from_par",
     "names",
     "directions",
     "phase",
@@ -178,6 +179,72 @@ def get(name):
     if name not in CATALOGUE:
         raise ValueError(f"unknown pulsar {name!r}; known pulsars: {', '.join(CATALOGUE)}")
     return CATALOGUE[name]
+
+
+_FROM_PAR = "default of pulsars.from_par (not in a timing model)"
+
+
+def from_par(path, distance=None, flux_ph_cm2_s=1.0e-5, pulsed_fraction=0.5, duty_cycle=0.1):
+    """A :class:`Pulsar` from a radio timing model (a ``.par`` file), read by PINT.
+
+    So that any catalogued pulsar can be navigated with: the direction (ICRS at the
+    model's position epoch, :func:`xnavlab.mars.pint_bridge.timing_parameters`), the
+    distance ``1 / PX`` and the spin ``F0``, ``F1`` come from the model. The X-ray
+    fields, which no timing model holds, are arguments; their defaults (a faint
+    millisecond pulsar) are placeholders, marked as such in :attr:`Pulsar.sources`.
+    PINT is imported here only (offline, :func:`xnavlab.mars.pint_bridge.offline`).
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The ``.par`` file.
+    distance : float, optional
+        Distance, m; by default ``1 / PX`` (kpc per mas). A model without a positive
+        ``PX`` needs it.
+    flux_ph_cm2_s : float
+        X-ray photon flux (2-10 keV), ph/cm^2/s.
+    pulsed_fraction : float
+        Pulsed fraction, in (0, 1].
+    duty_cycle : float
+        Pulse width (FWHM) over period, in (0, 0.5].
+
+    Returns
+    -------
+    Pulsar
+
+    Raises
+    ------
+    ValueError
+        Without ``distance`` when the model has no positive parallax, or for a bad argument.
+
+    Examples
+    --------
+    >>> from xnavlab.mars import pint_bridge
+    >>> p = from_par(pint_bridge.examples_path("B1855+09_NANOGrav_9yv1.gls.par"))
+    >>> p.name, round(p.distance / KPC, 3), round(p.frequency, 6)
+    ('B1855+09', 3.414, 186.494081)
+    """
+    from xnavlab.mars import pint_bridge
+
+    flux = check_real("flux_ph_cm2_s", flux_ph_cm2_s, 0.0, 1e3, lo_open=True)
+    pf = check_real("pulsed_fraction", pulsed_fraction, 0.0, 1.0, lo_open=True)
+    duty = check_real("duty_cycle", duty_cycle, 0.0, 0.5, lo_open=True)
+    par = pint_bridge.timing_parameters(path)
+    sources = dict.fromkeys(("ra_deg", "dec_deg", "period", "fdot"), f"timing model {par['name']}")
+    if distance is None:
+        if par["px_mas"] is None:
+            raise ValueError(f"distance must be given (m, > 0): the timing model of {par['name']} "
+                             "has no positive parallax PX")
+        distance = KPC / par["px_mas"]  # 1 / PX: kpc per mas
+        sources["distance"] = f"timing model {par['name']} (1 / PX)"
+    else:
+        distance = check_real("distance", distance, 0.0, lo_open=True)
+        sources["distance"] = "argument of pulsars.from_par"
+    sources.update(dict.fromkeys(("flux", "pulsed_fraction", "width"), _FROM_PAR))
+    period = 1.0 / par["f0"]
+    return Pulsar(name=par["name"], ra_deg=par["ra_deg"], dec_deg=par["dec_deg"], distance=distance,
+                  period=period, fdot=par["f1"], flux=flux * _PER_CM2, pulsed_fraction=pf,
+                  width=duty * period, sources=sources)
 
 
 def directions(pulsars=PAPER_PULSARS):
