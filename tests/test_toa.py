@@ -276,3 +276,44 @@ def test_plot_orbit_terms_is_spacecraft_minus_mars():
         toa.plot_orbit_terms(day=30)
     with pytest.raises(ValueError, match="pulsar"):
         toa.plot_orbit_terms("J0437-4715")
+
+
+def test_proper_time_at_the_geocentre_is_tt():
+    """A clock riding with the geocentre, Earth's potential left out: TT's rate and annual term.
+
+    Over twelve years (Jupiter's period) the mean of d(tau - TDB)/dTDB is L_B - L_C = L_G
+    (IAU 2000 B1.9 and 2006 B3; measured 6.96957e-10 against 6.96929e-10) and the annual
+    term of TDB - TT is 1.656675 ms (Fairhead & Bretagnon 1990; measured 1.6535 ms).
+    """
+    t = np.arange(0.0, 12 * 365.25 * 86400.0, 86400.0)
+    out = toa.proper_time_terms(t, center="earth")
+    mean_rate = out["tau_minus_tdb"][-1] / (t[-1] - t[0])
+    assert mean_rate == pytest.approx(toa.L_B - 1.48082686741e-8, rel=1e-3)
+    w = 2 * np.pi / (365.2596 * 86400.0)
+    design = np.column_stack([np.ones_like(t), t, np.sin(w * t), np.cos(w * t)])
+    coef = np.linalg.lstsq(design, out["tau_minus_tdb"], rcond=None)[0]
+    assert math.hypot(coef[2], coef[3]) == pytest.approx(1.656675e-3, rel=0.01)
+    assert not out["orbit_term"].any()
+
+
+def test_proper_time_on_the_paper_orbit():
+    """Around Mars: the rate a Mars-orbiting clock gains, and the orbit term -V_Mars . r / c^2."""
+    t = dynamics.MARS_T0 + np.arange(0.0, 86400.0 + 1.0, 60.0)
+    x = dynamics.truth(dynamics.MARS_T0 + np.arange(0.0, 30 * 86400.0 + 1.0, 60.0))[: t.size]
+    out = toa.proper_time_terms(t, x)
+    centre = toa.proper_time_terms(t)
+    _, v_mars = ephemeris.state("mars", t)
+    np.testing.assert_allclose(out["orbit_term"], -np.sum(v_mars * x[:, :3], axis=1) / C**2, rtol=1e-12)
+    assert np.all(np.abs(out["orbit_term"]) < 1e-6)  # -718 to +656 ns over the 30 days (measured)
+    # the accumulated difference from the centre's clock is the orbit term, plus a rate
+    # (Mars's potential and the orbital speed) and Mars's eccentric-orbit ripple of tens of ns
+    diff = out["tau_minus_tdb"] - centre["tau_minus_tdb"]
+    design = np.column_stack([np.ones_like(t), t - t[0]])
+    rest = diff - out["orbit_term"]
+    rest -= design @ np.linalg.lstsq(design, rest, rcond=None)[0]
+    assert np.abs(rest).max() < 0.1 * np.ptp(out["orbit_term"])  # measured 28 ns against 1.37 us p-p
+    assert 5e-9 < out["rate"].mean() < 8e-9  # measured 6.68e-9 on 2016-01-01
+    with pytest.raises(ValueError, match="increasing"):
+        toa.proper_time_terms(t[::-1])
+    with pytest.raises(ValueError, match="center"):
+        toa.proper_time_terms(t, center="pluto")

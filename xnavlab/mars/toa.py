@@ -32,6 +32,11 @@ The Shapiro delay comes in two forms, chosen by the keyword ``shapiro`` of
 Both are referred to the SSB: zero for a spacecraft at the SSB. PINT and Tempo2 refer
 theirs to 1 au instead; :func:`shapiro_offset_to_pint` is the difference.
 
+The delays compare times on one scale, TDB. A clock on board keeps its proper time,
+which drifts from TDB: :func:`proper_time_terms` gives the rate (about +5.6e-9 for a
+Mars orbiter), the Mars-year term (23 ms peak to peak) and the orbit-periodic term
+``-V_Mars . r / c^2`` (-718 to +656 ns on the paper's orbit).
+
 Shapes broadcast: ``R`` has shape (..., 3), ``n`` shape (k, 3) and ``D0`` shape (k,);
 results have shape (..., k) (delays, s) or (..., k, 3) (gradients, s/m).
 
@@ -62,6 +67,9 @@ __all__ = [
     "gradient",
     "terms",
     "delays_at",
+    "L_B",
+    "GM_DE421",
+    "proper_time_terms",
     "pdop",
     "gradient_fd",
     "plot_orbit_terms",
@@ -363,6 +371,94 @@ def delays_at(r, t, pulsar_names=pulsars.PAPER_PULSARS, center="mars", ephem="de
     r_c = ephemeris.position(center, t, ephem)
     r_sun = ephemeris.position("sun", t, ephem)
     return delay(r + r_c, n, d, r_sun, shapiro=shapiro)
+
+
+#: TDB rate against TCB: ``dTDB/dTCB = 1 - L_B`` (IAU 2006 Resolution B3).
+L_B = 1.550519768e-8
+
+#: GM of the bodies :func:`proper_time_terms` sums, m^3/s^2: the DE421 header values
+#: (GMS, GM1, GM2, GMB with EMRAT = 81.3005690699153, GM4, GM5, GM6; au^3/day^2 times
+#: (149597870.6996262 km)^3 / day^2). ``mars``, ``jupiter`` and ``saturn`` are systems.
+GM_DE421 = {
+    "sun": 1.3271244004094463e20,
+    "mercury": 2.2032090000000113e13,
+    "venus": 3.2485859200000125e14,
+    "earth": 4.035032363095675e14 * 81.3005690699153 / 82.3005690699153,
+    "moon": 4.035032363095675e14 / 82.3005690699153,
+    "mars": 4.28283752140002e13,
+    "jupiter": 1.2671276480000032e17,
+    "saturn": 3.794058520000017e16,
+}
+
+
+def proper_time_terms(t, x=None, center="mars", ephem="de421"):
+    """Proper time of a clock on board against TDB: rate, accumulated offset, orbit term.
+
+    A clock at SSB position ``R`` moving at ``V`` in the potential ``U = sum GM_i /
+    |R - R_i|`` keeps proper time ``tau`` with ``dtau/dTCB = 1 - (U + V^2/2)/c^2`` (the
+    IAU 2000 metric to first post-Newtonian order), and ``dTDB/dTCB = 1 - L_B``, so
+
+    ``d(tau - TDB)/dTDB = L_B - (U + V^2/2)/c^2``  (to order 1/c^2)
+
+    which this integrates from ``t[0]`` (trapezoid rule; the step must follow the
+    motion: days for the planet's year, a minute for an orbit around it). For a
+    spacecraft at ``r`` about a body moving at ``V_c``, ``V^2`` holds the cross term ``2
+    V_c . v``, whose integral, ``V_c . r``, is the orbit-periodic part: ``orbit_term =
+    -V_c . r / c^2`` (its contribution to ``tau - TDB``, ``V_c`` treated as constant over
+    an orbit).
+
+    Parameters
+    ----------
+    t : array_like, shape (n,)
+        Epochs, s TDB past J2000, increasing, n >= 2.
+    x : array_like, shape (n, 6) or (6,), optional
+        Spacecraft state relative to ``center`` (m, m/s), J2000 axes. Without it the
+        clock rides with the centre body and its own potential is left out.
+    center : str
+        Centre body, one of :data:`xnavlab.core.ephemeris.BODIES` except ``earthmoon``.
+    ephem : {"de421", "de405"}
+        Ephemeris of the bodies (``GM_DE421`` serves both).
+
+    Returns
+    -------
+    dict of ndarray, shape (n,)
+        ``rate``: ``d(tau - TDB)/dTDB`` (dimensionless, about +5.6e-9 at Mars);
+        ``tau_minus_tdb``: its integral from ``t[0]``, s; ``orbit_term``: ``-V_c . r / c^2``,
+        s (zeros without ``x``).
+
+    Examples
+    --------
+    >>> t = np.arange(0.0, 687 * 86400.0, 86400.0)     # one Mars year, daily
+    >>> out = proper_time_terms(t)
+    >>> round(float(out["rate"].mean()) * 1e9, 1)      # the clock at Mars gains on TDB
+    5.8
+    """
+    t = check_finite_array("t", t)
+    if t.ndim != 1 or t.size < 2 or np.any(np.diff(t) <= 0):
+        raise ValueError(f"t must be 1-D, increasing, with at least 2 epochs, got shape {t.shape}")
+    bodies = tuple(GM_DE421)
+    check_choice("center", center, bodies)
+    r_c, v_c = ephemeris.state(center, t, ephem)
+    if x is None:
+        r, v = r_c, v_c
+        rel = np.zeros_like(r_c)
+    else:
+        x = check_finite_array("x", x, shape=(6,))
+        x = np.broadcast_to(x, (t.size, 6))
+        r, v, rel = r_c + x[:, :3], v_c + x[:, 3:], x[:, :3]
+    potential = np.zeros(t.size)
+    for body in bodies:
+        if body == center and x is None:
+            continue  # riding with the body: its own potential is a constant left out
+        d = r - ephemeris.position(body, t, ephem)
+        potential += GM_DE421[body] / np.linalg.norm(d, axis=1)  # U = sum GM_i / |R - R_i|
+    rate = L_B - (potential + 0.5 * np.sum(v * v, axis=1)) / C**2  # d(tau - TDB)/dTDB
+    steps = 0.5 * (rate[1:] + rate[:-1]) * np.diff(t)  # trapezoid rule
+    return {
+        "rate": rate,
+        "tau_minus_tdb": np.concatenate([[0.0], np.cumsum(steps)]),
+        "orbit_term": -np.sum(v_c * rel, axis=1) / C**2,  # -V_c . r / c^2
+    }
 
 
 def pdop(n, sigma=None):
