@@ -164,9 +164,9 @@ LONG_MODULES = {
     # jitted helpers call each other and share one cache; split across modules, a change in
     # one would not recompile the callers.
     "xnavlab.mars.kernels": 1200,
-    # One reconfiguration loop (chunks, isolation, re-admission, the wavelets a day ahead in a
-    # thread, about 450 lines) plus the 100-line docstring of the four detectors and the rule.
-    "xnavlab.mars.fault_tolerance": 960,
+    # The scenario: one dataclass that validates every field, the inputs it prepares, the run
+    # on both backends (numba kernel, readable numpy loop) and the records with their metrics.
+    "xnavlab.mars.scenarios": 940,
     # Four filters of Li et al. 2017 (UKF, ASUKF, TDUKF, RKF) that share the sigma-point core and
     # whose step functions are read side by side in chapter 10.
     "xnavlab.robust.filters": 950,

@@ -21,10 +21,11 @@ import numpy as np
 from xnavlab.core import detection
 from xnavlab.core.faults import Fault, inject
 from xnavlab.mars import fault_tolerance, scenarios
-from xnavlab.reproduce import Result, check_info, check_range, check_true, figure, register
+from xnavlab.mars.plots import plot_details, plot_error_curves
+from xnavlab.reproduce import Result, check_info, check_range, check_true, register
 
 __all__ = ["PAPER_MAX_ERROR_FAULTS_M", "PAPER_POSITION_ERROR_M", "PAPER_VELOCITY_ERROR_MPS",
-           "HAND_SCHEDULE", "paper_runs", "plot_error_curves", "plot_details"]
+           "HAND_SCHEDULE", "paper_runs"]
 
 #: Fig. 3: largest position error with faults and no detector, about 4 km.
 PAPER_MAX_ERROR_FAULTS_M = 4000.0
@@ -61,73 +62,6 @@ def paper_runs(days=30.0, seed=0):
         "wavelet": fault_tolerance.run_fault_tolerant(faults=faults, detector="wavelet",
                                                       inputs=inp),
     }
-
-
-def plot_error_curves(curves, faults=(), *, title="", isolations=()):
-    """Fused position error curves (log scale) with the faults as grey bands.
-
-    Parameters
-    ----------
-    curves : dict of str to (t_days, error_m)
-    faults : sequence of Fault
-    isolations : sequence of dict
-        ``sensor``, ``out``, ``back`` (s) drawn as coloured ticks under the curves.
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-    """
-    fig, ax = figure(figsize=(9.0, 3.6))
-    for label, (td, e) in curves.items():
-        ax.semilogy(td, e, lw=0.6, label=label)
-    for f in faults:
-        ax.axvspan(f.onset / 86400.0, f.end / 86400.0, color="0.75", zorder=0)
-    colors = {"xnav": "C2", "uv": "C3", "cns": "C4"}
-    for iv in isolations:
-        back = iv["back"] if iv["back"] is not None else math.inf
-        ax.axvspan(iv["out"] / 86400.0, min(back, 1e9) / 86400.0, ymax=0.04,
-                   color=colors.get(iv["sensor"], "k"))
-    ax.set(xlabel="time (days)", ylabel="|position error| (m)", title=title)
-    ax.legend(fontsize=8, loc="upper right")
-    fig.tight_layout()
-    return fig
-
-
-def plot_details(t_days, x, details, onsets_days=(), *, stride=20, title=""):
-    """The paper's Fig. 5 layout: the series and its detail signals D1..DJ, faults marked.
-
-    Parameters
-    ----------
-    t_days : ndarray, shape (N,)
-    x : ndarray, shape (N,)
-        The series, m (plotted in km).
-    details : ndarray, shape (J, N)
-        From :func:`xnavlab.core.detection.detail_signals <xnavlab.core.detection.mallat.detail_signals>`, m.
-    onsets_days : sequence of float
-        Fault onsets, days (dashed lines).
-    stride : int
-        Plot every ``stride``-th sample of the series and the max ``|D|`` over each stride.
-    """
-    stride = max(1, int(stride))
-    J = details.shape[0]
-    fig, axes = figure(J + 1, 1, figsize=(9.0, 1.3 * (J + 1) + 0.6), sharex=True)
-    n = (t_days.size // stride) * stride
-    td = t_days[:n:stride]
-    axes[0].plot(td, x[:n:stride] / 1e3, lw=0.4)
-    axes[0].set_ylabel("range (km)", fontsize=8)
-    for j in range(J):
-        d = details[j, :n].reshape(-1, stride)
-        peak = d[np.arange(d.shape[0]), np.argmax(np.abs(d), axis=1)]
-        axes[j + 1].plot(td, peak / 1e3, lw=0.4)
-        axes[j + 1].set_ylabel(f"D{j + 1} (km)", fontsize=8)
-    for ax in axes:
-        for o in onsets_days:
-            ax.axvline(o, color="C3", ls="--", lw=0.6)
-    axes[-1].set_xlabel("time (days)")
-    if title:
-        axes[0].set_title(title)
-    fig.tight_layout()
-    return fig
 
 
 def _save(result, out, fig, name):
