@@ -31,9 +31,9 @@ Shapiro delay: :func:`xnavlab.mars.toa.shapiro_offset_to_pint` converts.
 
 Offline switches (PINT 1.1.8, astropy 6-8)
 ------------------------------------------
-``astropy.utils.data.conf.allow_internet = False`` and ``astropy.utils.iers.conf
-.auto_download = False`` (astropy then uses the IERS-B table and the leap seconds it
-ships); the solar-system ephemeris is loaded from a local file
+``astropy.utils.data.conf.allow_internet = False`` and
+``astropy.utils.iers.conf.auto_download = False`` (astropy then uses the IERS-B table
+and the leap seconds it ships); the solar-system ephemeris is loaded from a local file
 (``pint.solar_system_ephemerides.load_kernel("de421", path=...)``, which PINT keeps for
 every later call); TOAs are read with ``include_bipm=False`` (no BIPM clock file). PINT
 has no switch for the observatory and GPS clock files, which it fetches from the
