@@ -44,7 +44,7 @@ RUN_DEFAULTS = {"backend": "numba", "local_filter": "ekf", "settle_days": None}
 
 #: Settings of the fault-tolerant run (``name = "none"``: no detector, no faults).
 DETECTOR_DEFAULTS = {"name": "none", "faults": "", "pfa": 1e-5, "alpha": 1e-5,
-                     "rate_per_day": 1.0, "train_days": None, "arm_s": 1800.0,
+                     "rate_per_day": 1.0, "train_days": None, "arm_s": 600.0,
                      "adaptive": True}
 
 # (section, key) -> (where: "scenario" field name, "run" or "detector" key; comment)
