@@ -20,6 +20,7 @@ from xnavlab.attitude.simulation import (
     make_config,
     simulate_sensors,
 )
+from xnavlab.core.plotting import markdown_table
 from xnavlab.core.validate import check_choice, check_int, check_real, make_rng
 
 __all__ = [
@@ -157,7 +158,7 @@ def isolation_table(rows):
     head = ["fault", "kind", "size"]
     for m in ("SOS", "DOS"):
         head += [f"{m} correct", f"{m} missed", f"{m} false alarm", f"{m} delay (s)"]
-    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    body = []
     by = {}
     for r in rows:
         by.setdefault((r["location"], r["kind"], r["factor"]), {})[r["method"]] = r
@@ -171,5 +172,5 @@ def isolation_table(rows):
             delay = "-" if not math.isfinite(r["delay_s"]) else f"{r['delay_s']:.1f}"
             cells += [f"{r['correct']:.0%}", f"{r['missed']:.0%}",
                       f"{r['false_alarm']:.0%}", delay]
-        lines.append("| " + " | ".join(cells) + " |")
-    return "\n".join(lines)
+        body.append(cells)
+    return markdown_table(body, head)  # escaped cells: no content can split a row

@@ -85,7 +85,7 @@ class SimConfig:
         Truth motion, see :func:`~.motion.truth_rate`.
     drift_walk_deg_per_h_sqrt_s : float
         Filter drift random walk, deg/h per sqrt(s) (default 1): sets how fast the drift
-        estimates follow a change (time constant ~2 s at 10 Hz).
+        estimates follow a change (time constant about 3.4 s at 10 Hz, as chapter 11 measures).
     drift_sigma0_deg_per_h : float
         Initial drift uncertainty of the filters (default 100 deg/h).
     n_sigma : float

@@ -22,7 +22,8 @@ Engines (:data:`ENGINES`)
 
 Store (:class:`Store`)
     With ``out=DIR`` every attempt of a run is appended to ``DIR/runs.jsonl`` as one JSON
-    line and flushed as soon as it completes; the file's first line is a header holding the
+    line and flushed as soon as it completes (records only, so any JSON-lines reader and
+    :func:`load_runs` take it directly); ``DIR/campaign.json`` holds the header, the
     campaign's manifest (name, seed, trial, parameters). Running the same campaign into the
     same DIR again reuses every finished run and computes only the missing ones (and those
     whose every attempt failed); a DIR whose header names another campaign is refused with a

@@ -47,7 +47,7 @@ _COMMON = (
     "appear in the grey, unarmed part of the figures); thresholds = 5 predicted sigma; a "
     "flag needs 3 consecutive samples; residuals crossing within 5 s of the detection "
     "form the isolation pattern. r4 is reconstructed as the gyro parity "
-    "|w_g4 - h4^T w_g1 - p_ref| from the paper's operation count."
+    "abs(w_g4 - h4^T w_g1 - p_ref) from the paper's operation count."
 )
 
 
