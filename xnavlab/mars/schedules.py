@@ -307,8 +307,10 @@ def score(ft, settle_days=None):
             if after.any() else 0.0
         faults.append({"spec": format_spec([f], comps), "sensor": f.sensor, "kind": f.kind,
                        "onset": f.onset, "detected": found,
-                       "out_at_onset": bool(ft.isolated[min(np.searchsorted(t, f.onset),
-                                                              t.size - 1), i]),
+                       # out at the last epoch before the onset (an alarm at the onset
+                       # epoch itself marks that epoch isolated: that is a detection)
+                       "out_at_onset": bool(ft.isolated[max(np.searchsorted(t, f.onset) - 1,
+                                                            0), i]),
                        "delay_s": d["delay"] if found else None,
                        "out_after_end_s": max(out_after, 0.0) if end < sc.span else None,
                        "still_out_at_end": bool(end < sc.span and ft.isolated[-1, i])})

@@ -47,7 +47,8 @@ from xnavlab.mars import fault_tolerance, scenarios
 
 __all__ = ["mars_trial", "FAULT_CLASSES", "SENSORS", "SIZES", "DETECTORS", "DURATIONS",
            "fault_for", "detection_limit", "detector_trial", "detector_trials", "detector_table",
-           "marked_cells", "load_detector_table", "TABLE_PATH"]
+           "marked_cells", "load_detector_table", "TABLE_PATH", "EARLY_ONSETS_S",
+           "early_fault_trial", "EARLY_PATH", "load_early_faults"]
 
 #: Fault classes of :func:`detector_trial` (:mod:`xnavlab.core.faults` kinds).
 FAULT_CLASSES = ("step", "ramp", "spike", "stuck", "noise")
@@ -283,6 +284,52 @@ def load_detector_table(path=None):
     """The shipped detector table: a dict with ``rows`` (:func:`detector_table`), ``marked``
     (:func:`marked_cells`), ``trials``, ``seed``, ``days`` and ``command``."""
     return json.loads(Path(TABLE_PATH if path is None else path).read_text())
+
+
+#: Onsets of :func:`early_fault_trial`: 1 h, 6 h and 20 h after the start, s.
+EARLY_ONSETS_S = (3600.0, 21600.0, 72000.0)
+
+
+def early_fault_trial(*, seed, onsets=EARLY_ONSETS_S, size_sigma=6.0, duration=4000.0):
+    """Faults in the first day under the combined detector: delay and fused error per onset.
+
+    For each sensor and onset, one one-day run with a ``size_sigma`` step of ``duration`` s
+    on the sensor's first component, against the fault-free run of the same seed (the UV
+    and CNS wavelets are still training before 12 h: the innovation tests find the fault).
+
+    Returns
+    -------
+    list of dict
+        ``sensor``, ``onset_s``, ``detected``, ``delay_s`` (None when missed), ``out_at_onset``,
+        ``rms_ratio`` (fused RMS over the run after settling, faulty over fault-free).
+    """
+    sc = scenarios.MarsScenario(days=1.0, seed=int(seed) % 2**31)
+    inp = scenarios.prepare(sc)
+    ref = scenarios.run(inputs=inp).metrics()["position_error_m"]
+    out = []
+    for sensor in SENSORS:
+        sig = fault_tolerance.sensor_sigma(sensor, sc)
+        for onset in onsets:
+            f = Fault(sensor, "step", size_sigma * sig, float(onset), duration,
+                      0 if sensor == "uv" else None)
+            r = fault_tolerance.run_fault_tolerant(faults=[f], detector="combined", inputs=inp)
+            score = r.score()["faults"][0]
+            out.append({"sensor": sensor, "onset_s": float(onset), "detected": score["detected"],
+                        "delay_s": score["delay_s"], "out_at_onset": score["out_at_onset"],
+                        "rms_ratio": r.run.metrics()["position_error_m"] / ref})
+    return out
+
+
+#: The shipped early-fault table (``python benchmarks/bench_early_faults.py --write``).
+EARLY_PATH = Path(__file__).resolve().parent.parent / "data" / "early_faults.json"
+
+
+def load_early_faults(path=None):
+    """The shipped early-fault table: ``rows`` (per sensor and onset: ``trials``, ``found``
+    (detected, or its subsystem already out of the fusion), ``out_at_onset``,
+    ``delay_median_s`` and ``delay_max_s`` (of the faults not already out), ``rms_ratio_max``),
+    ``seeds``, ``command``."""
+    return json.loads(Path(EARLY_PATH if path is None else path).read_text())
 
 
 def _quantile_ci(x, q, level=0.95):
