@@ -67,6 +67,7 @@ __all__ = [
     "chi2_bounds",
     "CONSISTENCY_VERDICTS",
     "consistency_verdict",
+    "judge_series",
     "EKF",
     "UKF",
 ]
@@ -502,6 +503,36 @@ def consistency_verdict(value, lo, hi):
     if lo > hi:
         raise ValueError(f"lo must not exceed hi, got [{lo:g}, {hi:g}]")
     return "inside" if lo <= value <= hi else ("conservative" if value < lo else "optimistic")
+
+
+def judge_series(values, lo, hi, inside_min=0.9):
+    """Judge a series of averaged NEES (or NIS) values, one per epoch, against their band.
+
+    Each epoch's value falls inside the 95 % band with probability 0.95 when the filter is
+    consistent; the series is ``"inside"`` when at least ``inside_min`` of its epochs are,
+    and otherwise ``"conservative"`` or ``"optimistic"`` after the side that holds more of
+    the others (:func:`consistency_verdict`'s words).
+
+    Returns
+    -------
+    dict
+        ``verdict``, ``inside``, ``below``, ``above`` (fractions of the epochs).
+
+    Examples
+    --------
+    >>> judge_series([6.0, 5.9, 6.1, 2.0], 5.0, 7.0)["verdict"], judge_series([6.0] * 9, 5, 7)["inside"]
+    ('conservative', 1.0)
+    """
+    v = check_finite_array("values", values).ravel()
+    if v.size == 0:
+        raise ValueError("values must hold at least one number")
+    consistency_verdict(float(v[0]), lo, hi)  # checks lo, hi
+    inside_min = check_real("inside_min", inside_min, 0.0, 1.0)
+    below, above = float(np.mean(v < lo)), float(np.mean(v > hi))
+    inside = 1.0 - below - above
+    verdict = ("inside" if inside >= inside_min else
+               "conservative" if below >= above else "optimistic")
+    return {"verdict": verdict, "inside": inside, "below": below, "above": above}
 
 
 # ------------------------------------------------------------------------ classes
