@@ -30,3 +30,32 @@ def test_headline_runs_are_stored_and_reused(tmp_path, monkeypatch):
 def test_faults_need_the_papers_thirty_days():
     with pytest.raises(ValueError, match="faults needs days = 30"):
         headline.headline_numbers(n_seeds=2, days=5.0, faults=True, cache=False)
+
+
+#: README row label -> (quantity, decimals as printed)
+README_ROWS = {
+    "fused position error, fault-free (m)": ("fused_position_m", 2),
+    "fused velocity error, fault-free (m/s)": ("fused_velocity_mps", 4),
+    "fused position error, the paper's faults, combined detector (m)": ("faulty_position_m", 2),
+    "fused velocity error, the paper's faults, combined detector (m/s)": ("faulty_velocity_mps", 4),
+    "faulty over fault-free position error, same seed": ("fault_ratio", 3),
+}
+
+
+def test_the_readme_states_the_campaigns_numbers():
+    """The README's headline table is the 32-seed campaign's (computed once, then cached)."""
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    h = headline.headline_numbers()
+    for label, (key, dec) in README_ROWS.items():
+        row = next((ln for ln in text.splitlines() if ln.startswith(f"| {label} |")), None)
+        assert row is not None, f"README has no row {label!r}"
+        q = h["quantities"][key]
+        cell = row.split("|")[2]                   # "mean [lo, hi]" as printed
+        printed = [float(v) for v in cell.replace("[", " ").replace("]", " ").replace(",", " ").split()]
+        for value, stated in zip((q["mean"], q["lo"], q["hi"]), printed, strict=True):
+            # one unit of the last printed digit: the rounding of a value near a half-unit
+            # may differ between CPUs' BLAS kernels, nothing more
+            assert abs(value - stated) <= 10.0 ** -dec, (label, key, value, row)
+    assert f"{h['n_seeds']} noise seeds" in text
