@@ -78,7 +78,11 @@ def configure_mars(parser):
     parser.add_argument("--seed", default=None, help="noise seed (default 0)")
     parser.add_argument("--mode", default=None, help="federated mode: reset or no-reset")
     parser.add_argument("--backend", default=None, help="numba (default) or numpy")
-    parser.add_argument("--json", action="store_true", help="print one JSON object")
+    parser.add_argument("--json", action="store_true",
+                        help="print one JSON object (no progress bar)")
+    parser.add_argument("--quiet", action="store_true",
+                        help="no progress bar (a terminal gets one on the numpy backend and "
+                             "the UKF, the slow paths)")
     parser.add_argument("--out", metavar="DIR", help="write mars_run.npz and mars_summary.json")
     parser.add_argument("--faults", metavar="SPEC",
                         help="SENSOR[.COMPONENT]:KIND:MAGNITUDE@ONSET+DURATION[,...] or 'paper' "
@@ -135,7 +139,7 @@ def execute_mars(args):
     else:
         out_dir(args.out)
         res = run(sc, backend=opts["backend"], local_filter=opts["local_filter"],
-                  progress=sys.stderr.isatty() and not args.json)  # a bar for a terminal
+                  progress=sys.stderr.isatty() and not (args.json or args.quiet))
         summary = res.summary(opts["settle_days"])  # the API's own default settling
     summary["filter_time_s"] = summary.pop("run_time_s")
     summary["run_time_s"] = time.perf_counter() - t_start
