@@ -764,7 +764,7 @@ def _drive(campaign, todo, run_seeds, params, final, store, eng, retries, progre
 
 
 def load_runs(directory, final=True):
-    """A campaign directory's runs as a :class:`pandas.DataFrame`, one row per record.
+    """A campaign directory's runs as a ``pandas.DataFrame``, one row per record.
 
     Columns: ``index``, ``seed``, ``status``, ``error``, then every parameter as
     ``parameters.NAME`` and every scalar metric as ``metrics.NAME`` (lists and nested

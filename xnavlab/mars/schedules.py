@@ -160,7 +160,7 @@ def check_schedule(faults, scenario, detector="combined", train_days=1.0, paper=
     scenario : MarsScenario
         The run (its ``span``, s).
     detector : str
-        One of :data:`DETECTORS`.
+        One of :data:`~xnavlab.mars.fault_tolerance.DETECTORS`.
     train_days : float
         Training span of the UV/CNS wavelets, days.
     paper : bool
