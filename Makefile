@@ -54,9 +54,9 @@ book-clean:
 ## pages checked as a reader sees them (tools/check_book.py); then every chapter run and its
 ## sliders moved in JupyterLab
 test: $(WARM)
-	$(BIN)/python -m pytest --nbval-lax --nbval-cell-timeout=300 -p no:cacheprovider xnavlab tests book
 	$(BIN)/python tools/typed_numbers.py
 	$(BIN)/python tools/merge_bib.py --check
+	$(BIN)/python -m pytest --nbval-lax --nbval-cell-timeout=300 -p no:cacheprovider xnavlab tests book
 	$(MAKE) book-clean
 	$(MAKE) browser-test
 	$(BIN)/python tools/check_book.py
