@@ -277,6 +277,29 @@ def test_interrupted_campaign_completes_with_every_run_computed_once(tmp_path):
     assert payload["summary"] == fresh.summary
 
 
+def _start_until_stored(args, out, runs=2):
+    """Start ``campaign ARGS`` in its own session; return it once ``runs`` runs are stored."""
+    proc = subprocess.Popen([PY, "-m", "xnavlab", "campaign", *args], stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL, env=ENV, start_new_session=True)
+    store = out / cp.STORE_FILE
+    deadline = time.monotonic() + 120
+    while time.monotonic() < deadline and proc.poll() is None:
+        if store.exists() and store.read_text().count("\n") >= runs:
+            break
+        time.sleep(0.02)
+    return proc
+
+
+def _resume_completes_every_index_once(args, out, n):
+    _, before = store_lines(out)
+    done = cli(*args, "--json")
+    assert done.returncode == 0, done.stderr
+    payload = json.loads(done.stdout)
+    assert payload["failed"] == 0 and payload["reused"] == len(before)
+    _, recs = store_lines(out)
+    assert sorted(r["index"] for r in recs) == list(range(n))          # each run exactly once
+
+
 @pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGTERM, signal.SIGINT])
 def test_a_killed_campaign_leaves_no_process_and_resumes_at_once(tmp_path, sig):
     """Only the campaign process gets the signal (not its group): its pool workers must end
@@ -286,15 +309,8 @@ def test_a_killed_campaign_leaves_no_process_and_resumes_at_once(tmp_path, sig):
     n, out = 12, tmp_path / "k"
     args = ["consistency", "--runs", str(n), "--days", "0.2", "--seed", "5", "--workers", "2",
             "--out", str(out)]
-    proc = subprocess.Popen([PY, "-m", "xnavlab", "campaign", *args], stdout=subprocess.DEVNULL,
-                            stderr=subprocess.DEVNULL, env=ENV, start_new_session=True)
-    store = out / cp.STORE_FILE
+    proc = _start_until_stored(args, out)
     try:
-        deadline = time.monotonic() + 120
-        while time.monotonic() < deadline and proc.poll() is None:
-            if store.exists() and store.read_text().count("\n") >= 2:     # 2 runs
-                break
-            time.sleep(0.02)
         assert proc.poll() is None, "the campaign ended before it was interrupted"
         children = psutil.Process(proc.pid).children(recursive=True)
         assert len(children) >= 2, children                             # the pool's workers
@@ -306,13 +322,7 @@ def test_a_killed_campaign_leaves_no_process_and_resumes_at_once(tmp_path, sig):
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
             proc.wait(timeout=30)
-    _, before = store_lines(out)
-    done = cli(*args, "--json")
-    assert done.returncode == 0, done.stderr
-    payload = json.loads(done.stdout)
-    assert payload["failed"] == 0 and payload["reused"] == len(before)
-    _, recs = store_lines(out)
-    assert sorted(r["index"] for r in recs) == list(range(n))          # each run exactly once
+    _resume_completes_every_index_once(args, out, n)
 
 
 def test_a_store_in_use_names_the_process_holding_it(tmp_path):
@@ -392,15 +402,8 @@ def test_a_campaign_killed_on_the_dask_scheduler_resumes_at_once(dask_cluster, t
     n, out = 12, tmp_path / "dk"
     args = ["consistency", "--runs", str(n), "--days", "0.2", "--seed", "6", "--out", str(out),
             "--scheduler", dask_cluster, "--timeout", "30"]
-    proc = subprocess.Popen([PY, "-m", "xnavlab", "campaign", *args], stdout=subprocess.DEVNULL,
-                            stderr=subprocess.DEVNULL, env=ENV, start_new_session=True)
-    store = out / cp.STORE_FILE
+    proc = _start_until_stored(args, out)
     try:
-        deadline = time.monotonic() + 120
-        while time.monotonic() < deadline and proc.poll() is None:
-            if store.exists() and store.read_text().count("\n") >= 2:
-                break
-            time.sleep(0.02)
         assert proc.poll() is None, "the campaign ended before it was interrupted"
         os.kill(proc.pid, signal.SIGKILL)
         proc.wait(timeout=30)
@@ -408,13 +411,7 @@ def test_a_campaign_killed_on_the_dask_scheduler_resumes_at_once(dask_cluster, t
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
             proc.wait(timeout=30)
-    _, before = store_lines(out)
-    done = cli(*args, "--json")
-    assert done.returncode == 0, done.stderr
-    payload = json.loads(done.stdout)
-    assert payload["failed"] == 0 and payload["reused"] == len(before)
-    _, recs = store_lines(out)
-    assert sorted(r["index"] for r in recs) == list(range(n))
+    _resume_completes_every_index_once(args, out, n)
 
 
 def test_local_cluster_runs_equal_the_serial_runs(tmp_path):
