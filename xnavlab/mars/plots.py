@@ -25,7 +25,7 @@ from xnavlab.core.validate import check_choice, check_real
 from xnavlab.mars import fault_tolerance, scenarios
 
 __all__ = ["plot_subsystem", "plot_sharing", "plot_fault_response", "plot_error_curves",
-           "plot_details", "detector_table_markdown"]
+           "plot_details", "detector_table_markdown", "plot_shapiro_angle"]
 
 
 def plot_subsystem(subsystem="uv", noise_scale=1.0, interval_s=3, days=0.25):
@@ -379,3 +379,93 @@ def detector_table_markdown(table, digits=2):
         out.append(dict(zip(cols, [fc, sensor, f"{c['size']:g}{flag}"]
                             + [c.get(d, "-") for d in detectors], strict=True)))
     return markdown_table(out, cols)
+
+
+#: Nominal solar radius, m (IAU 2015 Resolution B3): where a line of sight starts to cross the Sun.
+_R_SUN = 6.957e8
+
+
+def plot_shapiro_angle(angle_deg=2.0, t=None):
+    """The Sun's Shapiro delay seen from Mars: exact form against the paper's, by Sun-pulsar angle.
+
+    At the epoch ``t`` a pulsar is placed ``angle_deg`` from the Sun as seen from the
+    centre of Mars, in the plane of the Sun's direction and Mars's velocity (the plane in
+    which a pulsar near the ecliptic passes behind the Sun). The left panel draws the
+    exact delay (:func:`xnavlab.mars.toa.shapiro`) and the paper's eq. (1) form
+    (:func:`xnavlab.mars.toa.shapiro_paper`) against the angle, the right panel their
+    difference in microseconds and metres (``c`` times it) beside the TOA noise of the
+    paper's four pulsars (:func:`xnavlab.mars.pulsars.toa_sigma`, 500 s, 1 m^2); a marker
+    shows ``angle_deg``. Angles inside the Sun's disc are shaded. A pure function of its
+    arguments, for chapter 2's slider.
+
+    Parameters
+    ----------
+    angle_deg : float
+        Angle between the Sun and the pulsar as seen from Mars, degrees, in (0, 180].
+    t : float, optional
+        Epoch, s TDB past J2000; default :data:`xnavlab.mars.dynamics.MARS_T0`.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two axes; not registered with pyplot.
+
+    Examples
+    --------
+    >>> fig = plot_shapiro_angle(1.0)
+    >>> len(fig.axes) >= 2, fig.axes[1].get_title().startswith("1 deg from the Sun")
+    (True, True)
+    """
+    from matplotlib.figure import Figure
+
+    from xnavlab.core import ephemeris
+    from xnavlab.core.constants import C
+    from xnavlab.mars import dynamics, pulsars, toa
+
+    angle_deg = check_real("angle_deg", angle_deg, 0.0, 180.0, lo_open=True)
+    t = dynamics.MARS_T0 if t is None else check_real("t", t)
+    r_mars, v_mars = (np.asarray(a, dtype=float).reshape(3) for a in ephemeris.state("mars", t))
+    r_sun = np.asarray(ephemeris.position("sun", t), dtype=float).reshape(3)
+    to_sun = r_sun - r_mars
+    dist = np.linalg.norm(to_sun)
+    u = to_sun / dist                                  # Mars -> Sun
+    e = v_mars - (v_mars @ u) * u
+    e /= np.linalg.norm(e)                             # in the plane of u and Mars's velocity
+
+    def directions(theta_deg):
+        th = np.radians(np.atleast_1d(theta_deg))
+        return np.cos(th)[:, None] * u + np.sin(th)[:, None] * e
+
+    grid = np.unique(np.concatenate([np.geomspace(0.05, 180.0, 400), [angle_deg]]))
+    exact = toa.shapiro(r_mars, directions(grid), r_sun) * 1e6         # us
+    paper = toa.shapiro_paper(r_mars, directions(grid), r_sun) * 1e6
+    diff = np.abs(paper - exact)
+    at = float(np.interp(angle_deg, grid, diff))
+    ex_at, pa_at = (float(np.interp(angle_deg, grid, v)) for v in (exact, paper))
+    disc_deg = math.degrees(math.asin(_R_SUN / dist))  # the Sun's angular radius from Mars
+
+    fig = Figure(figsize=(10, 3.4), layout="constrained")
+    ax1, ax2 = fig.subplots(1, 2)
+    for ax in (ax1, ax2):
+        ax.axvspan(grid[0], disc_deg, color="0.85", lw=0)
+        ax.axvline(angle_deg, color="k", lw=0.8, ls=":")
+        ax.set(xscale="log", xlabel="Sun-pulsar angle seen from Mars (deg)", xlim=(grid[0], 180.0))
+    ax1.plot(grid, exact, label="exact (toa.shapiro)")
+    ax1.plot(grid, paper, "--", label="paper eq. (1) (toa.shapiro_paper)")
+    ax1.plot([angle_deg] * 2, [ex_at, pa_at], "ko", ms=4)
+    ax1.set(ylabel="Shapiro delay (us)")
+    ax1.set_title("the Sun's Shapiro delay, referred to the SSB", fontsize=10)
+    ax1.legend(fontsize=8)
+    ax2.loglog(grid, diff, color="C3", label="|paper - exact|")
+    for k, name in enumerate(pulsars.PAPER_PULSARS):
+        ax2.axhline(pulsars.toa_sigma(name) * 1e6, color=f"C{k}", lw=0.8, ls="--",
+                    label=f"TOA noise {name}")
+    ax2.plot(angle_deg, at, "ko", ms=5)
+    at_m = C * at * 1e-6
+    ax2.set(ylabel="us", ylim=(1e-4, 1e3))
+    ax2.set_title(f"{angle_deg:g} deg from the Sun: paper - exact = {at:.3g} us = "
+                  + (f"{at_m:,.0f}" if at_m >= 100 else f"{at_m:.2g}") + " m", fontsize=10)
+    sec = ax2.secondary_yaxis("right", functions=(lambda us: us * 1e-6 * C, lambda m: m / C * 1e6))
+    sec.set_ylabel("m")
+    ax2.legend(fontsize=7, loc="lower left")
+    return fig
