@@ -27,6 +27,26 @@ def test_headline_runs_are_stored_and_reused(tmp_path, monkeypatch):
     assert q["fused_position_m"]["lo"] <= q["fused_position_m"]["mean"] <= q["fused_position_m"]["hi"]
 
 
+
+def test_two_processes_asking_at_once_share_one_stored_campaign(tmp_path):
+    """A test and a chapter run side by side (pytest -n 2) both get the numbers: the second
+    waits for the first instead of meeting the store's lock, then reads the same runs."""
+    import json
+    import os
+    import subprocess
+    import sys
+
+    code = ("import json; from xnavlab.mars import headline; "
+            "h = headline.headline_numbers(n_seeds=3, days=0.2, faults=False, workers=1); "
+            "print(json.dumps(h['quantities']['fused_position_m']))")
+    env = {**os.environ, "XNAVLAB_CACHE": str(tmp_path)}
+    procs = [subprocess.Popen([sys.executable, "-c", code], env=env, text=True,
+                              stdout=subprocess.PIPE, stderr=subprocess.PIPE) for _ in range(2)]
+    outs = [p.communicate(timeout=600) for p in procs]
+    assert [p.returncode for p in procs] == [0, 0], [err for _, err in outs]
+    first, second = (json.loads(out) for out, _ in outs)
+    assert first == second and first["n"] == 3
+
 def test_faults_need_the_papers_thirty_days():
     with pytest.raises(ValueError, match="faults needs days = 30"):
         headline.headline_numbers(n_seeds=2, days=5.0, faults=True, cache=False)

@@ -26,6 +26,7 @@ Examples
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import math
 import os
@@ -113,6 +114,29 @@ def _code_key():
     return h.hexdigest()[:16]
 
 
+@contextlib.contextmanager
+def _exclusive(out):
+    """Wait for any other process computing the same cached campaign, then hold it.
+
+    Two processes (a test and a chapter run side by side, ``pytest -n 2``) asking for the same
+    headline numbers would meet at the campaign store, whose lock refuses the second at once.
+    This lock, beside the store, makes the second wait; it then finds every run done and only
+    reads them. Without a cache directory there is nothing to share and nothing to wait for.
+    """
+    if out is None:
+        yield
+        return
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - no advisory locks: the store's own check remains
+        yield
+        return
+    out.parent.mkdir(parents=True, exist_ok=True)
+    with open(out.with_name(out.name + ".lock"), "a", encoding="utf-8") as fh:
+        fcntl.flock(fh.fileno(), fcntl.LOCK_EX)  # blocks; released when the file closes
+        yield
+
+
 def headline_numbers(n_seeds=32, days=30.0, faults=True, seed=2016, cache=True, workers=2,
                      progress=False):
     """The headline accuracies over ``n_seeds`` noise seeds, with 95 % intervals.
@@ -153,8 +177,9 @@ def headline_numbers(n_seeds=32, days=30.0, faults=True, seed=2016, cache=True, 
     if cache:
         base = Path(os.environ.get("XNAVLAB_CACHE", Path.home() / ".cache" / "xnavlab"))
         out = base / "campaigns" / f"headline-{camp.manifest['code']}-{days:g}d-{int(faults)}-{seed}"
-    res = run_campaign(camp, n_seeds, seed=seed, out=out, engine="local" if workers > 1 else
-                       "serial", workers=workers, progress=progress)
+    with _exclusive(out):
+        res = run_campaign(camp, n_seeds, seed=seed, out=out, engine="local" if workers > 1
+                           else "serial", workers=workers, progress=progress)
     runs = [r["metrics"] for r in res.runs() if r["status"] == "ok"]
     if len(runs) < 2:
         raise ValueError(f"only {len(runs)} of {n_seeds} headline runs succeeded")
