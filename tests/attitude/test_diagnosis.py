@@ -1,0 +1,66 @@
+"""Fault decisions (xnavlab.attitude.diagnosis): the SOS and DOS decision tables and the
+persistence, arming and confirmation of a diagnosis."""
+
+import math
+
+import numpy as np
+import pytest
+
+from xnavlab import attitude as att
+
+
+def _patterns(table):
+    """Every boolean pattern a table row allows (None: either)."""
+    for loc, row in table.items():
+        options = [[True, False] if v is None else [v] for v in row]
+        for a in options[0]:
+            for b in options[1]:
+                for c in options[2]:
+                    for d in options[3]:
+                        pat = (a, b, c, d)
+                        if loc == "star_tracker" and not any(pat[:3]):
+                            continue
+                        yield loc, pat
+
+
+def test_sos_decision_rule_inverts_the_table():
+    for loc, pat in _patterns(att.SOS_TABLE):
+        assert att.sos_decide(np.array(pat)) == loc
+    assert att.sos_decide(np.zeros(4, bool)) == "none"
+    assert att.sos_decide(np.array([True, True, False, True])) == "unknown"
+    out = att.sos_decide(np.array([[True, False, False, True], [False, False, False, True]]))
+    assert out.tolist() == ["gyro_x", "gyro_skew"]
+    with pytest.raises(ValueError, match="^crossed"):
+        att.sos_decide([1, 0, 0, 1])
+
+
+def test_dos_decision_rule_inverts_the_table():
+    for loc, pat in _patterns(att.DOS_TABLE):
+        assert att.dos_decide(np.array(pat)) == loc
+    assert att.dos_decide(np.zeros(4, bool)) == "none"
+    assert att.dos_decide(np.array([True, True, False, False])) == "unknown"
+    with pytest.raises(ValueError, match="^crossed"):
+        att.dos_decide(np.ones(3, bool))
+
+
+def test_diagnose_persistence_arming_and_confirmation():
+    t = np.arange(20.0)
+    r = np.zeros((20, 4))
+    r[3, 0] = 5.0  # a one-sample outlier: filtered by persistence
+    r[10:, 3] = 5.0  # r4 from 10 s
+    r[13:, 0] = 5.0  # r1 from 13 s: within the 5 s window
+    d = att.diagnose(t, r, np.ones(4), persist=2, confirm_s=5.0)
+    assert float(d.detect_time) == 11.0 and d.verdict == "gyro_x"
+    assert d.flags.shape == (20, 4) and not d.flags[3, 0]
+    d = att.diagnose(t, r, np.ones(4), persist=2, confirm_s=1.0)
+    assert d.verdict == "gyro_skew"
+    d = att.diagnose(t, r, np.ones(4), t_arm=100.0)
+    assert d.detect_time == math.inf and d.verdict == "none"
+    batch = att.diagnose(t, np.stack([r, 0 * r]), np.ones((2, 4)), persist=2)
+    assert batch.verdict.tolist() == ["gyro_x", "none"]
+    with pytest.raises(ValueError, match="^residuals"):
+        att.diagnose(t, r[:5], np.ones(4))
+    with pytest.raises(ValueError, match="^thresholds"):
+        att.diagnose(t, r, np.ones(3))
+    with pytest.raises(ValueError, match="^persist"):
+        att.diagnose(t, r, np.ones(4), persist=0)

@@ -1,0 +1,113 @@
+"""The attitude EKF (xnavlab.attitude.ekf): covariance invariants, the Jacobian against finite
+differences, the quaternion sign, bad input and convergence to the gyro drifts."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from xnavlab import attitude as att
+from xnavlab.core import quaternions as qt
+
+DPH = att.DEG_PER_H
+
+
+@st.composite
+def unit_quat(draw):
+    v = np.array(draw(st.lists(st.floats(-1, 1), min_size=4, max_size=4)))
+    if np.linalg.norm(v) < 1e-3:
+        v = qt.IDENTITY.copy()
+    return v / np.linalg.norm(v)
+
+
+small_rate = st.lists(st.floats(-0.05, 0.05), min_size=3, max_size=3).map(np.array)
+
+
+def _random_state(q, b, scale):
+    x = np.concatenate([q, b])
+    rng = np.random.default_rng(int(1e6 * abs(scale)) % 1000)
+    L = rng.normal(size=(7, 7)) * scale
+    return x, L @ L.T + 1e-12 * np.eye(7)
+
+
+@given(unit_quat(), small_rate, small_rate, unit_quat(), st.floats(1e-5, 1e-2))
+def test_ekf_keeps_P_symmetric_positive_definite(q, b, w, qm, scale):
+    x, P = _random_state(q, b * 1e-2, scale)
+    x1, P1 = att.ekf_predict(x, P, w, 0.1, 1e-12, 1e-14)
+    x2, P2, nu = att.ekf_update(x1, P1, qm, 1e-10)
+    for M in (P1, P2):
+        np.testing.assert_allclose(M, M.T, atol=1e-15)
+        assert np.linalg.eigvalsh(M).min() > -1e-12 * np.abs(M).max()
+    assert np.trace(P2) <= np.trace(P1) + 1e-18
+    assert np.linalg.norm(x2[:4]) == pytest.approx(1.0, abs=1e-12)
+    assert nu.shape == (4,)
+
+
+@given(unit_quat(), small_rate, small_rate)
+def test_ekf_jacobian_matches_finite_differences(q, b, w):
+    """With P = I and no noise, P(k+1|k) = F F^T; compare with a central-difference F."""
+    dt = 0.1
+    x = np.concatenate([q, b])
+
+    def f(xx):
+        return np.concatenate([qt.quat_propagate(xx[:4], w - xx[4:], dt), xx[4:]])
+
+    J = np.empty((7, 7))
+    for i in range(7):
+        e = np.zeros(7)
+        e[i] = 1e-6
+        J[:, i] = (f(x + e) - f(x - e)) / 2e-6
+    _, P1 = att.ekf_predict(x, np.eye(7), w, dt, 0.0, 0.0)
+    # F uses the first-order -dt/2 Xi(q) (paper eqs. (22)-(23)): error O(dt^2 |w - b|)
+    np.testing.assert_allclose(P1, J @ J.T, atol=0.5 * dt**2 * np.linalg.norm(w - b) + 1e-8)
+
+
+def test_ekf_update_is_sign_invariant():
+    x, P = att.ekf_init(att.DEFAULT_Q0, attitude_sigma=1e-4, drift_sigma=1e-4)
+    qm = qt.quat_product(qt.quat_from_rotvec([1e-4, 0, 0]), att.DEFAULT_Q0)
+    a = att.ekf_update(x, P, qm, 1e-10)
+    b = att.ekf_update(x, P, -qm, 1e-10)
+    np.testing.assert_allclose(a[0], b[0])
+    np.testing.assert_allclose(a[1], b[1])
+
+
+def test_ekf_bad_inputs():
+    x, P = att.ekf_init(att.DEFAULT_Q0, attitude_sigma=1e-4, drift_sigma=1e-4)
+    with pytest.raises(ValueError, match="^dt "):
+        att.ekf_predict(x, P, np.zeros(3), 0.0, 0.0, 0.0)
+    with pytest.raises(ValueError, match="^omega_g"):
+        att.ekf_predict(x, P, np.zeros(4), 0.1, 0.0, 0.0)
+    with pytest.raises(ValueError, match="^gyro_cov"):
+        att.ekf_predict(x, P, np.zeros(3), 0.1, -1.0, 0.0)
+    with pytest.raises(ValueError, match="^R "):
+        att.ekf_update(x, P, att.DEFAULT_Q0, -np.eye(4))
+    with pytest.raises(ValueError, match="^x "):
+        att.ekf_update(np.zeros(7), P, att.DEFAULT_Q0, 1e-10)
+    with pytest.raises(ValueError, match="^P "):
+        att.ekf_update(x, P[:6, :6], att.DEFAULT_Q0, 1e-10)
+    with pytest.raises(ValueError, match="^attitude_sigma"):
+        att.ekf_init(att.DEFAULT_Q0, attitude_sigma=0.0, drift_sigma=1.0)
+    with pytest.raises(ValueError, match="^drift_sigma"):
+        att.ekf_init(att.DEFAULT_Q0, attitude_sigma=1.0, drift_sigma=-1.0)
+
+
+def test_attitude_ekf_converges_to_the_drifts():
+    t, w, q = att.truth_motion(301, 0.1)
+    wg = att.gyro_measurements(t, w, rng=2)
+    qs = att.star_tracker_measurements(t, q, rng=3)
+    f = att.AttitudeEKF(qs[0], 0.1, 0.05 * DPH, math.radians(att.PAPER_STAR_NOISE_DEG),
+                        DPH, 100 * DPH)
+    f.update(qs[0])
+    for k in range(1, len(t)):
+        f.predict(wg[k - 1, :3])
+        f.update(qs[k])
+    np.testing.assert_allclose(f.drift / DPH, att.PAPER_DRIFTS_DEG_PER_H[:3], atol=4.0)
+    assert np.degrees(np.linalg.norm(qt.attitude_error(f.q, q[-1]))) < 0.005
+    with pytest.raises(ValueError, match="^omega_g"):
+        f.predict([0.0, np.nan, 0.0])
+    with pytest.raises(ValueError, match="^q_meas"):
+        f.update([0.0, 0.0, 1.0])
+    with pytest.raises(ValueError, match="^dt "):
+        att.AttitudeEKF(qs[0], -0.1, 0.0, 1e-4, 0.0, 1e-4)

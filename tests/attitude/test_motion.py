@@ -1,0 +1,32 @@
+"""The true attitude motion (xnavlab.attitude.motion): the body rate and its exact quaternion kinematics."""
+
+
+import numpy as np
+import pytest
+
+from xnavlab import attitude as att
+from xnavlab.core import quaternions as qt
+
+
+def test_truth_rate():
+    t = np.linspace(0.0, 300.0, 3001)
+    w = att.truth_rate(t)
+    assert w.shape == (3001, 3)
+    assert np.degrees(w[:, 1].mean()) == pytest.approx(-0.06, abs=1e-3)
+    assert np.degrees(np.abs(w[:, 0]).max()) == pytest.approx(0.01, rel=1e-3)
+    with pytest.raises(ValueError, match="^wobble_period"):
+        att.truth_rate(t, wobble_period=0.0)
+    with pytest.raises(ValueError, match="^omega_orbit_deg_s"):
+        att.truth_rate(t, omega_orbit_deg_s=-1.0)
+
+
+def test_truth_motion_uses_exact_kinematics():
+    t, w, q = att.truth_motion(50, 0.1)
+    assert t.shape == (50,) and w.shape == (50, 3) and q.shape == (50, 4)
+    np.testing.assert_allclose(q[1], qt.quat_propagate(q[0], w[0], 0.1))
+    np.testing.assert_allclose(np.linalg.norm(q, axis=1), 1.0, atol=1e-12)
+    np.testing.assert_allclose(w[3], att.truth_rate([0.35])[0])
+    with pytest.raises(ValueError, match="^n "):
+        att.truth_motion(1, 0.1)
+    with pytest.raises(ValueError, match="^dt "):
+        att.truth_motion(10, 0.0)

@@ -1,0 +1,58 @@
+"""The attitude figures (xnavlab.attitude.plots): residual plots and the fault-case figure."""
+
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+
+from xnavlab import attitude as att
+
+DPH = att.DEG_PER_H
+
+
+@pytest.fixture(scope="module")
+def nominal():
+    return att.simulate()
+
+
+@pytest.mark.parametrize("method", ["sos", "dos", "qdiff"])
+def test_plot_residuals(nominal, method):
+    fig = att.plot_residuals(nominal, method)
+    assert len(fig.axes) == (3 if method == "qdiff" else 4)
+    plt.close(fig)
+
+
+def test_plot_residuals_bad_input(nominal):
+    with pytest.raises(ValueError, match="^method"):
+        att.plot_residuals(nominal, "gos")
+    with pytest.raises(ValueError, match="^run"):
+        att.plot_residuals("run")
+
+
+def test_plot_fault_case_is_simulate_plus_plot_residuals():
+    from matplotlib.figure import Figure
+
+    before = plt.get_fignums()
+    fig = att.plot_fault_case("gyro_y", "ramp", 10.0, n_sigma=4.0)
+    assert isinstance(fig, Figure) and plt.get_fignums() == before  # not left in pyplot
+    run = att.simulate(att.make_fault("gyro_y", "ramp", 10.0 * att.DEFAULT_MAGNITUDES[("gyro", "ramp")]),
+                       n_sigma=4.0)
+    assert len(fig.axes) == 8
+    sos_axes, dos_axes = fig.axes[0::2], fig.axes[1::2]   # subplots(4, 2): row-major
+    for i in range(4):
+        np.testing.assert_allclose(sos_axes[i].lines[0].get_ydata(), run.sos_r[:, i] / DPH)
+        np.testing.assert_allclose(dos_axes[i].lines[0].get_ydata(), run.dos_r[:, i] / DPH)
+    assert sos_axes[0].get_title().startswith(f"SOS: verdict {run.sos.verdict}")
+    st_fig = att.plot_fault_case("star_tracker", "step", 1.0)
+    assert "truth star_tracker" in st_fig.axes[0].get_title()
+
+
+@pytest.mark.parametrize(("kwargs", "name"), [
+    ({"location": "gyro_w"}, "location"),
+    ({"kind": "spike"}, "kind"),
+    ({"size": 0.0}, "size"),
+    ({"n_sigma": -1.0}, "n_sigma"),
+])
+def test_plot_fault_case_bad_input(kwargs, name):
+    with pytest.raises(ValueError, match=rf"\b{name}\b"):
+        att.plot_fault_case(**kwargs)

@@ -1,0 +1,74 @@
+"""The attitude sensors (xnavlab.attitude.sensors): the four-gyro matrix, gyro and star-tracker
+measurement models with their faults, and the fault factory."""
+
+import math
+
+import numpy as np
+import pytest
+
+from xnavlab import attitude as att
+from xnavlab.core import quaternions as qt
+
+DPH = att.DEG_PER_H
+
+
+def test_gyro_matrix():
+    H = att.gyro_matrix()
+    assert H.shape == (4, 3)
+    np.testing.assert_allclose(H[:3], np.eye(3))
+    np.testing.assert_allclose(H[3], np.ones(3) / math.sqrt(3))
+    np.testing.assert_allclose(att.gyro_matrix([2.0, 2.0, 2.0]), H)
+
+
+@pytest.mark.parametrize("axis", [[1.0, 0.0, 1.0], [0.0, 0.0, 0.0], [1.0, 1.0], [np.nan, 1, 1]])
+def test_gyro_matrix_rejects_bad_axes(axis):
+    with pytest.raises(ValueError, match="^skew_axis"):
+        att.gyro_matrix(axis)
+
+
+def test_gyro_measurements_model_and_faults():
+    t, w, _ = att.truth_motion(100, 0.1)
+    clean = att.gyro_measurements(t, w, noise_deg_per_h=0.0)
+    b = np.array(att.PAPER_DRIFTS_DEG_PER_H) * DPH
+    np.testing.assert_allclose(clean, w @ att.gyro_matrix().T + b)
+    f = att.make_fault("gyro_y", "step", 1e-3, onset=5.0)
+    faulty = att.gyro_measurements(t, w, noise_deg_per_h=0.0, faults=[f])
+    diff = faulty - clean
+    np.testing.assert_allclose(diff[t >= 5.0, 1], 1e-3)
+    assert np.all(diff[t < 5.0] == 0) and np.all(diff[:, [0, 2, 3]] == 0)
+    noisy = att.gyro_measurements(t, w, rng=3)
+    assert np.std(noisy - clean) / DPH == pytest.approx(0.05, rel=0.15)
+    with pytest.raises(ValueError, match="^w must"):
+        att.gyro_measurements(t, w[:, :2])
+    with pytest.raises(ValueError, match="^noise_deg_per_h"):
+        att.gyro_measurements(t, w, noise_deg_per_h=-1.0)
+
+
+def test_star_tracker_measurements():
+    t, _, q = att.truth_motion(2000, 0.1)
+    qs = att.star_tracker_measurements(t, q, rng=1)
+    np.testing.assert_allclose(np.linalg.norm(qs, axis=1), 1.0, atol=1e-12)
+    err = qt.attitude_error(qs, q)
+    # q_s = q (x) q_v: the error is the body-frame noise rotated by A(q); per axis sigma
+    sigma = np.degrees(np.sqrt(np.mean(np.sum(err**2, axis=1)) / 3))
+    assert sigma == pytest.approx(att.PAPER_STAR_NOISE_DEG, rel=0.05)
+    f = att.make_fault("star_tracker", "step", 1e-3, onset=100.0)
+    qf = att.star_tracker_measurements(t, q, noise_deg=1e-9, faults=[f])
+    assert np.abs(qf[t < 100] - q[t < 100]).max() < 1e-9
+    assert np.abs(qf[t >= 100] - q[t >= 100]).max() > 5e-4
+    with pytest.raises(ValueError, match="^q must"):
+        att.star_tracker_measurements(t, q[:, :3])
+    with pytest.raises(ValueError, match="^noise_deg"):
+        att.star_tracker_measurements(t, q, noise_deg=np.inf)
+
+
+def test_make_fault():
+    for i, loc in enumerate(att.LOCATIONS[:4]):
+        f = att.make_fault(loc, "step", 1.0)
+        assert (f.sensor, f.component, f.onset) == ("gyro", i, 50.0)
+    f = att.make_fault("star_tracker", "ramp", 1e-5, onset=3.0, duration=4.0)
+    assert (f.sensor, f.component, f.end) == ("star_tracker", 0, 7.0)
+    with pytest.raises(ValueError, match="^location"):
+        att.make_fault("gyro_w", "step", 1.0)
+    with pytest.raises(ValueError, match="^kind"):
+        att.make_fault("gyro_x", "jump", 1.0)

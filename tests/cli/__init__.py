@@ -1,0 +1,1 @@
+"""Tests of xnavlab.cli, one test module per module of the package."""

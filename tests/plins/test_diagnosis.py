@@ -1,0 +1,71 @@
+"""The PL/INS diagnosis (xnavlab.plins.parity.diagnosis): the chi-square monitor, the diagnosis of
+a flight with and without a fault, and the comparison of the two detectors."""
+
+
+import numpy as np
+import pytest
+from scipy.stats import chi2
+
+from xnavlab.core.faults import Fault
+from xnavlab.plins import ins
+from xnavlab.plins import parity as P
+from xnavlab.plins import pseudolites as pl
+
+TRAJ = ins.paper_trajectory()
+
+
+# ------------------------------------------------------------------------ the flight
+def test_first_alarm_is_the_first_crossing_after_the_arming_time():
+    assert P.first_alarm([0.0, 1.0, 2.0], [5.0, 0.0, 5.0], 1.0, after=0.5) == 2.0
+    with pytest.raises(ValueError, match="statistic"):
+        P.first_alarm([0.0, 1.0], [1.0], 1.0)
+
+
+def test_chi2_monitor():
+    A, Qd = ins.error_transitions(TRAJ)
+    x = ins.simulate_errors(TRAJ, rng=0, transitions=(A, Qd))
+    clean = pl.simulate_pseudoranges(TRAJ, x, rng=1)
+    mon = P.chi2_monitor(clean, (A, Qd))
+    assert mon.first_alarm() is None and mon.threshold == pytest.approx(chi2.isf(1e-6, 4))
+    assert np.mean(mon.statistic[20:]) == pytest.approx(4.0, rel=0.25)  # chi^2_4 on average
+    bad = pl.simulate_pseudoranges(
+        TRAJ, x, rng=1, faults=[Fault(pl.SENSOR, "step", 100.0, 80.0, component=2)])
+    assert P.chi2_monitor(bad, (A, Qd)).first_alarm() == 80.0
+    with pytest.raises(ValueError, match="data"):
+        P.chi2_monitor(x, (A, Qd))
+    with pytest.raises(ValueError, match="transitions"):
+        P.chi2_monitor(clean, (A[:5], Qd[:5]))
+
+
+def test_diagnose_flight_fault_free_and_faulty():
+    d = P.diagnose_flight(seed=3)
+    assert d.detection == [None] * 4 and d.identification == {}
+    assert d.null_dim == 10 and d.s == 11 and d.statistic.shape == (190, 4)
+    faults = [Fault(pl.SENSOR, "step", -80.0, 120.0, component=3)]
+    d = P.diagnose_flight(faults, seed=3, with_chi2=True, s=8, threshold=20.0)
+    assert d.detection == [None, None, None, 120.0] and d.threshold == 20.0
+    # a shorter window identifies a step less well: about 3 m (1 sigma) for s = 8
+    assert d.identification[3].final[0] == pytest.approx(-80.0, abs=10.0)
+    assert d.chi2.first_alarm() == 120.0
+
+
+def test_diagnose_flight_bad_input():
+    for kw, name in (({"s": 1}, "s"), ({"sigma": 0.0}, "sigma"), ({"model": "bias"}, "model"),
+                     ({"leak_tol": 0.0}, "leak_tol"), ({"threshold": -1.0}, "threshold"),
+                     ({"duration": 5.0}, "duration"), ({"time_origin": "t"}, "time_origin")):
+        with pytest.raises(ValueError, match=name):
+            P.diagnose_flight(**kw)
+    with pytest.raises(ValueError, match="faults"):
+        P.diagnose_flight(["pseudorange:step:100@50+inf"])
+
+
+def test_compare_detectors_sees_a_slow_drift_by_the_filter_only_and_checks_its_input():
+    rows = P.compare_detectors("ramp", [1.0], n_runs=1)
+    assert rows[0]["parity_rate"] == 0.0 and rows[0]["parity_delay"] is None
+    assert rows[0]["chi2_rate"] == 1.0  # the filter's memory catches the slow drift
+    with pytest.raises(ValueError, match="kind"):
+        P.compare_detectors("spike", [1.0])
+    with pytest.raises(ValueError, match="n_runs"):
+        P.compare_detectors("step", [1.0], n_runs=0)
+    with pytest.raises(ValueError, match="sensor"):
+        P.compare_detectors("step", [100.0], n_runs=1, sensor=9)

@@ -1,0 +1,92 @@
+"""The T-S fuzzy model (xnavlab.plins.parity.fuzzy): premises, operating points, triangular
+memberships that partition unity, and the local linear models."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from xnavlab.plins import ins
+from xnavlab.plins import parity as P
+from xnavlab.plins import pseudolites as pl
+
+finite = dict(allow_nan=False, allow_infinity=False)
+
+
+TRAJ = ins.paper_trajectory()
+
+
+SITES = pl.sites_ecef()
+
+
+MODELS = P.local_models(P.operating_points(TRAJ), TRAJ.lon[0], TRAJ.h[0], SITES, TRAJ.dt)
+
+
+# ------------------------------------------------------------------ T-S fuzzy model
+def test_premises_and_operating_points():
+    rho = P.premises(TRAJ)
+    assert rho.shape == (201, 3)
+    pts = P.operating_points(TRAJ, 5)
+    assert pts.shape == (5, 3)
+    np.testing.assert_allclose(pts[:, 1], [100.0, 125.0, 150.0, 175.0, 200.0])
+    np.testing.assert_allclose(pts[:, 2], 0.5)
+    with pytest.raises(ValueError, match="n_points"):
+        P.operating_points(TRAJ, 0)
+    with pytest.raises(ValueError, match="traj"):
+        P.premises([1, 2, 3])
+
+
+def test_triangular():
+    np.testing.assert_allclose(P.triangular([-1.0, 0.0, 3.0, 4.0], 0.0, 2.0, 4.0),
+                               [0.0, 0.0, 0.5, 0.0])
+    np.testing.assert_allclose(P.triangular([5.0, 1.0], 0.0, 1.0, 1.0), [1.0, 1.0])  # shoulder
+    with pytest.raises(ValueError, match="center"):
+        P.triangular(0.0, 1.0, 0.0, 2.0)
+    with pytest.raises(ValueError, match="right"):
+        P.triangular(0.0, 0.0, 1.0, 0.5)
+    with pytest.raises(ValueError, match="x"):
+        P.triangular(math.nan, 0.0, 1.0, 2.0)
+
+
+@given(
+    x=st.lists(st.floats(-10.0, 10.0, **finite), min_size=1, max_size=20),
+    gaps=st.lists(st.floats(0.1, 3.0, **finite), min_size=0, max_size=5),
+)
+def test_partition_of_unity(x, gaps):
+    centers = np.cumsum([-1.0, *gaps])
+    mu = P.partition_memberships(x, centers)
+    assert mu.shape == (len(x), len(centers))
+    np.testing.assert_allclose(mu.sum(axis=1), 1.0)
+    assert np.all((mu >= 0.0) & (mu <= 1.0))
+
+
+def test_memberships():
+    pts = P.operating_points(TRAJ)
+    w = P.memberships(P.premises(TRAJ), pts)
+    assert w.shape == (201, 3)
+    np.testing.assert_allclose(w.sum(axis=1), 1.0)
+    np.testing.assert_allclose(w[[0, 100, 200]], np.eye(3), atol=1e-12)
+    assert np.all(w[1:100, 2] == 0.0) and np.all(w[101:, 0] == 0.0)
+    with pytest.raises(ValueError, match="centers"):
+        P.partition_memberships([0.0], [1.0, 0.0])
+    with pytest.raises(ValueError, match="rho"):
+        # a premise no rule covers: north acceleration 5 m/s^2 with sets at 0 and 1
+        P.memberships([[39.0, 100.0, 5.0]], [[39.0, 100.0, 0.0], [39.2, 200.0, 1.0]])
+    with pytest.raises(ValueError, match="points"):
+        P.memberships([[39.0, 100.0, 0.5]], [39.0, 100.0, 0.5])
+
+
+def test_local_models():
+    assert len(MODELS) == 3
+    lm = MODELS[0]
+    np.testing.assert_allclose(lm.point, [39.0, 100.0, 0.5], atol=1e-9)
+    F = ins.error_matrix(TRAJ.lat[0], TRAJ.h[0], TRAJ.v_enu[0], TRAJ.f_enu[0])
+    A, Qd = ins.discretize(F, ins.noise_matrix(), ins.imu_noise_psd(), 1.0)
+    np.testing.assert_allclose(lm.A, A, rtol=1e-9, atol=1e-15)
+    np.testing.assert_allclose(lm.B @ lm.B.T, Qd, rtol=1e-6, atol=1e-18)
+    np.testing.assert_allclose(
+        lm.C, pl.measurement_matrix(TRAJ.lat[0], TRAJ.lon[0], TRAJ.h[0], SITES))
+    with pytest.raises(ValueError, match="points"):
+        P.local_models([1.0, 2.0, 3.0], 0.0, 0.0, SITES, 1.0)

@@ -1,0 +1,92 @@
+"""Fault identification (xnavlab.plins.parity.identification): fault signatures, the onset
+estimate, and the random-walk Kalman filter of the fault's parameters."""
+
+
+import numpy as np
+import pytest
+
+from xnavlab.core.faults import Fault
+from xnavlab.plins import ins
+from xnavlab.plins import parity as P
+from xnavlab.plins import pseudolites as pl
+
+TRAJ = ins.paper_trajectory()
+
+
+SITES = pl.sites_ecef()
+
+
+MODELS = P.local_models(P.operating_points(TRAJ), TRAJ.lon[0], TRAJ.h[0], SITES, TRAJ.dt)
+
+
+def test_fault_signature():
+    t = np.array([28.0, 29.0, 30.0, 31.0])
+    np.testing.assert_allclose(P.fault_signature(t, "bias"), np.ones((4, 1)))
+    np.testing.assert_allclose(P.fault_signature(t, "step", 30.0)[:, 0], [0, 0, 1, 1])
+    ramp = P.fault_signature(t, "ramp", 30.0) @ [10.0, -300.0]  # the paper's ramp, absolute t
+    np.testing.assert_allclose(ramp, [0.0, 0.0, 0.0, 10.0])
+    ramp = P.fault_signature(t, "ramp", 30.0, "onset") @ [10.0, -300.0]
+    np.testing.assert_allclose(ramp, [0.0, 0.0, -300.0, -290.0])
+    with pytest.raises(ValueError, match="model"):
+        P.fault_signature(t, "drift")
+    with pytest.raises(ValueError, match="time_origin"):
+        P.fault_signature(t, "ramp", 30.0, "relative")
+    with pytest.raises(ValueError, match="t_window"):
+        P.fault_signature(np.ones((2, 2)), "step")
+
+
+# ------------------------------------------------------------------------- residuals
+def _design(s=11, tol=0.6):
+    V = [P.align_bases([P.parity_basis(m.A, m.C[j], s, B=m.B, state_std=P.TYPICAL_STATE_STD,
+                                       tol=tol) for m in MODELS]) for j in range(4)]
+    stacked = np.stack([np.stack([V[j][lm] for j in range(4)]) for lm in range(3)])
+    return P.blended_bases(P.memberships(P.premises(TRAJ), P.operating_points(TRAJ)), stacked)
+
+
+W_DESIGN = _design()
+
+
+def test_estimate_onset_and_identification_without_noise():
+    t = TRAJ.t
+    x = ins.simulate_errors(TRAJ, rng=7)
+    ramp = Fault(pl.SENSOR, "ramp", 10.0, 30.0, component=0)
+    step = Fault(pl.SENSOR, "step", -120.0, 70.0, component=1)
+    d = pl.simulate_pseudoranges(TRAJ, x, sigma=0.0, faults=[ramp, step])
+    assert P.estimate_onset(t, d.z[:, 1], W_DESIGN[:, 1], 70, "step") == 70.0
+    idn = P.identify_fault(t, d.z[:, 1], W_DESIGN[:, 1], 70.0, "step", sigma=0.1, sensor=1)
+    assert idn.final[0] == pytest.approx(-120.0, abs=0.5)
+    assert idn.names == ("f",) and idn.t[0] == 70.0 and idn.std[0] > 0
+    idn = P.identify_fault(t, d.z[:, 0], W_DESIGN[:, 0], 30.0, "ramp", sigma=0.1)
+    np.testing.assert_allclose(idn.final, [10.0, -300.0], rtol=0.01)
+    with pytest.raises(ValueError, match="onset"):
+        P.identify_fault(t, d.z[:, 0], W_DESIGN[:, 0], 500.0, "step")
+    with pytest.raises(ValueError, match="k_alarm"):
+        P.estimate_onset(t, d.z[:, 0], W_DESIGN[:, 0], 3, "step")
+    with pytest.raises(ValueError, match="model"):
+        P.estimate_onset(t, d.z[:, 0], W_DESIGN[:, 0], 40, "bias")
+
+
+# ------------------------------------------------------------------ identification KF
+def test_random_walk_kalman_filter():
+    th, Pm = P.rw_predict([1.0, 2.0], np.eye(2), 0.5 * np.eye(2))
+    np.testing.assert_allclose(Pm, 1.5 * np.eye(2))
+    th, Pm = P.rw_update([0.0], [[1.0]], [4.0, 4.0], [[1.0], [1.0]], np.eye(2))
+    assert th[0] == pytest.approx(8.0 / 3.0) and Pm[0, 0] == pytest.approx(1.0 / 3.0)
+    kf = P.FaultIdentifier([0.0, 0.0], 1e6 * np.eye(2), np.zeros((2, 2)))
+    rng = np.random.default_rng(1)
+    for k in range(200):
+        G = np.array([[1.0, float(k)]])
+        kf.step(G @ [3.0, 0.5] + 0.01 * rng.normal(size=1), G, [[1e-4]])
+    np.testing.assert_allclose(kf.theta, [3.0, 0.5], atol=1e-2)
+    ths, Ps = P.kf_identify(np.ones((5, 2)), np.ones((5, 2, 1)), np.eye(2), [[0.0]])
+    assert ths.shape == (5, 1) and Ps.shape == (5, 1, 1)
+    with pytest.raises(ValueError, match="P"):
+        P.rw_predict([0.0], np.eye(2), np.eye(2))
+    with pytest.raises(ValueError, match="shapes"):
+        P.rw_update([0.0], [[1.0]], [1.0], [[1.0, 2.0]], [[1.0]])
+    with pytest.raises(ValueError, match="R"):
+        P.kf_identify(np.ones((5, 1)), np.ones((5, 1, 1)), -1.0, 0.0)
+    with pytest.raises(ValueError, match="G"):
+        P.kf_identify(np.ones((5, 1)), np.ones((4, 1, 1)), 1.0, 0.0)
+    with pytest.raises(ValueError, match="P0"):
+        P.FaultIdentifier([0.0], np.eye(2), [[0.0]])

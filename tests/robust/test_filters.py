@@ -1,0 +1,296 @@
+"""The four filters of Li et al. 2017 (xnavlab.robust.filters): the simulated measurements, the
+UKF, ASUKF, TDUKF and RKF steps and their invariants, the RKF's bound, the filter runs and their
+comparison."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
+
+from xnavlab import robust as rb
+from xnavlab.robust import ephemeris_error as ee
+
+N = ee.directions()
+
+
+R = np.diag(np.square(ee.SIGMA_M))
+
+
+def _spd(a, n):
+    """A symmetric positive-definite matrix from an unconstrained array."""
+    A = a.reshape(n, n)
+    return A @ A.T + n * np.eye(n)
+
+
+def _is_psd(P, rtol=1e-9):
+    """Symmetric and positive semi-definite within ``rtol`` of the matrix's scale.
+
+    A covariance that is singular by construction (the TDUKF's clone block) has a smallest
+    eigenvalue at rounding level whose sign depends on the BLAS kernel, so the test allows
+    ``-rtol * max|eig|`` and never decides on that sign.
+    """
+    scale = np.abs(P).max()
+    eig = np.linalg.eigvalsh(0.5 * (P + P.T))
+    return np.allclose(P, P.T, rtol=0, atol=1e-9 * scale) and eig.min() >= -rtol * np.abs(eig).max()
+
+
+@pytest.fixture(scope="module")
+def mars_sc():
+    return rb.simulate("mars", n_steps=60, rng=3)
+
+
+def test_simulate_shapes_and_measurement_model():
+    sc = rb.simulate("earth", n_steps=8, error="none", rng=0)
+    assert sc.t.shape == (8,) and sc.x_true.shape == (8, 6) and sc.y.shape == (8, 3)
+    resid = sc.y - sc.x_true[:, :3] @ sc.n.T  # y = N r + N dr_E + v with dr_E = 0
+    assert np.all(np.abs(resid) < 6 * np.array(ee.SIGMA_M))
+    de = rb.simulate("earth", n_steps=3, rng=0)
+    np.testing.assert_allclose(de.dr_e, ee.ephemeris_error("earth", de.t))
+    other = rb.simulate("mars", n_steps=2, pulsar_names=("B0531+21", "B1937+21"), rng=0)
+    assert other.R.shape == (2, 2)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "name"),
+    [({"body": "venus"}, "body"), ({"n_steps": 0}, "n_steps"), ({"dt": 0.0}, "dt"),
+     ({"error": "big"}, "error"), ({"size": -1.0}, "size"), ({"sigma_m": [1.0, 2.0]}, "sigma_m")],
+)
+def test_simulate_rejects_bad_input(kwargs, name):
+    with pytest.raises(ValueError, match=name):
+        rb.simulate(**({"n_steps": 2} | kwargs))
+
+
+def test_predict_matches_propagation_for_tight_covariance():
+    o = ee.orbit("mars")
+    x, P = rb.predict(o.state0, np.eye(6) * 1e-6, 500.0, "mars", np.zeros((6, 6)))
+    np.testing.assert_allclose(x, ee.propagate(o.state0, 500.0, "mars"), atol=1e-6)
+    assert _is_psd(P + np.eye(6) * 1e-12)
+    xa, Pa = rb.predict(np.r_[o.state0, 1.0, 2.0, 3.0], np.eye(9), 500.0, "mars", np.eye(9))
+    np.testing.assert_allclose(xa[6:], [1.0, 2.0, 3.0], atol=1e-9)  # the bias is held
+    with pytest.raises(ValueError, match="x must be 1-D"):
+        rb.predict(np.zeros(3), np.eye(3), 1.0, "mars", np.eye(3))
+    with pytest.raises(ValueError, match="body"):
+        rb.predict(o.state0, np.eye(6), 1.0, "venus", np.eye(6))
+
+
+@given(arrays(float, 36, elements=st.floats(-10, 10)), arrays(float, 3, elements=st.floats(-1e3, 1e3)))
+def test_ukf_update_invariants(a, y):
+    P = _spd(a, 6)
+    x, P1, nu = rb.ukf_update(np.zeros(6), P, y, R, N)
+    assert _is_psd(P1)
+    assert np.all(np.diag(P1) <= np.diag(P) + 1e-9)  # a measurement never adds uncertainty
+    np.testing.assert_allclose(nu, y)
+
+
+@given(arrays(float, 81, elements=st.floats(-10, 10)))
+def test_asukf_update_invariants(a):
+    P = _spd(a, 9)
+    x, P1, _ = rb.asukf_update(np.zeros(9), P, np.ones(3), R, N)
+    assert x.shape == (9,) and _is_psd(P1)
+
+
+def test_asukf_rejects_wrong_state_size():
+    with pytest.raises(ValueError, match="x must have 6 \\+ 3"):
+        rb.asukf_update(np.zeros(6), np.eye(6), np.ones(3), R, N)
+
+
+def test_update_rejects_bad_shapes():
+    with pytest.raises(ValueError, match="y must have shape"):
+        rb.ukf_update(np.zeros(6), np.eye(6), np.ones(2), R, N)
+    with pytest.raises(ValueError, match="n must"):
+        rb.ukf_update(np.zeros(6), np.eye(6), np.ones(3), R, np.eye(2))
+    with pytest.raises(ValueError, match="x must have 6"):
+        rb.ukf_update(np.zeros(7), np.eye(7), np.ones(3), R, N)
+
+
+def test_tdukf_steps():
+    o = ee.orbit("earth")
+    x, P = rb.tdukf_predict(np.r_[o.state0, np.zeros(3)], np.diag(np.r_[np.ones(6), ee.SIGMA_M]) ** 2,
+                            500.0, "earth", np.eye(6) * 1e-6)
+    assert x.shape == (15,) and _is_psd(P)
+    np.testing.assert_allclose(x[6:12], o.state0, atol=1e-6)  # the clone
+    x1, P1, nu = rb.tdukf_update(x, P, np.zeros(3), R, N, carry_noise=True)
+    assert x1.shape == (9,) and _is_psd(P1)
+    np.testing.assert_array_equal(P1, P1.T)  # symmetric by construction
+    x2, P2, _ = rb.tdukf_update(x[:12], P[:12, :12], np.zeros(3), R, N)  # default: white 2R
+    assert x2.shape == (6,) and _is_psd(P2)
+    np.testing.assert_array_equal(P2, P2.T)
+    with pytest.raises(ValueError, match="12 entries"):
+        rb.tdukf_update(x, P, np.zeros(3), R, N, carry_noise=False)
+    with pytest.raises(ValueError, match="Q"):
+        rb.tdukf_predict(x[:9], P[:9, :9], 500.0, "earth", np.eye(3))
+
+
+def test_tdukf_cancels_a_constant_bias():
+    """Differenced measurements of a constant bias are bias-free: the TDUKF cannot tell the runs apart."""
+    clean = rb.simulate("mars", n_steps=30, error="none", rng=5)
+    biased = rb.simulate("mars", n_steps=30, error="constant", size=2000.0, rng=5)
+    a = rb.run_filter("tdukf", clean, rng=1)
+    b = rb.run_filter("tdukf", biased, rng=1)
+    np.testing.assert_allclose(a.x, b.x, atol=1e-3)
+    u = rb.run_filter("ukf", biased, rng=1)
+    assert np.abs(u.x - a.x).max() > 100.0  # the UKF does see the bias
+
+
+def test_rkf_gain_limits():
+    Pzz, Pxz = N @ np.eye(3) @ N.T * 1e4, np.vstack([np.eye(3) * 1e4 @ N.T, np.zeros((3, 3))])
+    kf = np.linalg.solve(Pzz + R, Pxz.T).T
+    np.testing.assert_allclose(rb.rkf_gain(Pxz, Pzz, R, np.zeros((3, 3)), 1e15), kf, rtol=1e-9)
+    b = N @ np.array([1e3, 0.0, 0.0])
+    K = rb.rkf_gain(Pxz, Pzz, R, np.outer(b, b), 1e6)
+    assert np.linalg.norm(K @ b) < 1e-3 * np.linalg.norm(kf @ b)  # the bias direction is rejected
+    with pytest.raises(ValueError, match="eps"):
+        rb.rkf_gain(Pxz, Pzz, R, np.zeros((3, 3)), 0.0)
+
+
+@given(arrays(float, 6, elements=st.floats(-1e3, 1e3)), arrays(float, 6, elements=st.floats(-1e3, 1e3)),
+       st.floats(1e-3, 1e4))
+def test_matrix_inequality_behind_the_rkf(a, b, eps):
+    """(a + b)(a + b)^T <= (1 + 1/eps) a a^T + (1 + eps) b b^T for every eps > 0."""
+    lhs = np.outer(a + b, a + b)
+    rhs = (1 + 1 / eps) * np.outer(a, a) + (1 + eps) * np.outer(b, b)
+    scale = 1.0 + np.abs(rhs).max() + np.abs(lhs).max()
+    assert np.linalg.eigvalsh(rhs - lhs).min() >= -1e-9 * scale
+
+
+@given(arrays(float, 36, elements=st.floats(-10, 10)), st.floats(1.0, 1e4),
+       arrays(float, 18, elements=st.floats(-1, 1)))
+def test_rkf_gain_minimises_the_bound(a, eps, dK):
+    """tr Sigma+(K) is smallest at the RKF gain."""
+    S = _spd(a, 6) * 100.0
+    H = np.hstack([N, np.zeros((3, 3))])
+    b = N @ np.array([300.0, -100.0, 50.0])
+    BB = np.outer(b, b)
+
+    def bound(K):
+        A = np.eye(6) - K @ H
+        return np.trace((1 + 1 / eps) * A @ S @ A.T + K @ (R + (1 + eps) * BB) @ K.T)
+
+    K = rb.rkf_gain(S @ H.T, H @ S @ H.T, R, BB, eps)
+    assert bound(K) <= bound(K + 1e-3 * dK.reshape(6, 3)) * (1 + 1e-12)
+
+
+@given(arrays(float, 36, elements=st.floats(-10, 10)), st.floats(1.0, 1e4))
+def test_rkf_update_keeps_bound_spd(a, eps):
+    P = _spd(a, 6)
+    b = N @ np.array([100.0, 0.0, 0.0])
+    x, P1, nu = rb.rkf_update(np.zeros(6), P, np.ones(3), R, N, np.outer(b, b), eps)
+    assert _is_psd(P1)
+    with pytest.raises(ValueError, match="BB"):
+        rb.rkf_update(np.zeros(6), P, np.ones(3), R, N, np.eye(2), eps)
+
+
+def test_rkf_bias_bound():
+    S = np.eye(3) * 100.0
+    assert np.allclose(rb.rkf_bias_bound(np.zeros(3), S, 0.1), 0.0)  # "otherwise 0"
+    m = np.array([100.0, 0.0, 0.0])
+    BB = rb.rkf_bias_bound(m, S, 0.1)
+    assert np.linalg.eigvalsh(BB).min() >= -1e-9
+    assert abs(BB[0, 0] - (1e4 - 0.1 / 1.9 * 100.0)) < 1e-6
+    with pytest.raises(ValueError, match="lam"):
+        rb.rkf_bias_bound(m, S, 0.0)
+
+
+@pytest.mark.parametrize("name", rb.FILTERS)
+def test_run_filter_invariants(mars_sc, name):
+    run = rb.run_filter(name, mars_sc, rng=1)
+    assert run.x.shape == (60, 6) and run.error.shape == (60,)
+    assert np.all(np.isfinite(run.error))
+    for P in run.P[::10]:
+        assert _is_psd(P)
+    assert run.error[-10:].mean() < run.error[:3].mean() + 5e3
+
+
+def test_run_filter_options_and_errors(mars_sc):
+    r1 = rb.run_filter("rkf", mars_sc, rkf_bias="residual", rng=1)
+    assert r1.extra["bias_bound"].shape == (60,)
+    r2 = rb.run_filter("rkf", mars_sc, rkf_bias="oracle", oracle_error=[0.0, 0.0, 0.0], eps=1e12, rng=1)
+    u = rb.run_filter("ukf", mars_sc, rng=1)
+    np.testing.assert_allclose(r2.x, u.x, atol=1.0)  # B = 0, eps large: close to the UKF
+    assert rb.run_filter("tdukf", mars_sc, td_carry_noise=True, rng=1).x.shape == (60, 6)
+    assert rb.run_filter("asukf", mars_sc, rng=1).extra["bias"].shape == (60, 3)
+    for kwargs, name in (({"name": "ekf"}, "name"), ({"eps": -1.0}, "eps"), ({"rkf_bias": "x"}, "rkf_bias"),
+                         ({"sigma_r0": 0.0}, "sigma_r0"), ({"oracle_error": [1.0]}, "oracle_error"),
+                         ({"q_b": math.nan}, "q_b")):
+        with pytest.raises(ValueError, match=name):
+            rb.run_filter(**({"name": "rkf", "scenario": mars_sc} | kwargs))
+    with pytest.raises(ValueError, match="scenario"):
+        rb.run_filter("ukf", object())
+
+
+def test_rmse_and_improvement(mars_sc):
+    run = rb.run_filter("ukf", mars_sc, rng=1)
+    tau = mars_sc.t - mars_sc.t[0] + mars_sc.dt
+    want = math.sqrt(np.mean(run.error[(tau >= 5000) & (tau <= 20000)] ** 2))
+    assert abs(rb.rmse(run, mars_sc, 5000.0, 20000.0) - want) < 1e-9
+    with pytest.raises(ValueError, match="no epochs"):
+        rb.rmse(run, mars_sc, 1e7, 2e7)
+    with pytest.raises(ValueError, match="t_to"):
+        rb.rmse(run, mars_sc, 10.0, 5.0)
+    assert rb.improvement(10.0, 40.0) == 75.0
+    with pytest.raises(ValueError, match="rmse_ukf"):
+        rb.improvement(1.0, 0.0)
+
+
+def test_compare_filters():
+    out = rb.compare_filters("mars", error="growing", size=5000.0, n_steps=100, window=(2e4, 5e4),
+                             seeds=(0, 1))
+    assert set(out["rmse"]) == set(rb.FILTERS)
+    assert len(out["rmse_runs"]["ukf"]) == 2
+    assert out["rmse"]["ukf"] > 2 * max(out["rmse"][f] for f in ("asukf", "tdukf", "rkf"))
+    with pytest.raises(ValueError, match="filters"):
+        rb.compare_filters("mars", filters=("kf",))
+    with pytest.raises(ValueError, match="seeds"):
+        rb.compare_filters("mars", seeds=())
+
+
+def test_growing_error_scenarios():
+    g = rb.simulate("earth", n_steps=10, error="growing", size=1000.0, profile="quadratic", rng=0)
+    np.testing.assert_allclose(np.linalg.norm(g.dr_e, axis=1), 1000.0 * (np.arange(1, 11) / 10) ** 2)
+    d = rb.simulate("earth", n_steps=3, error="growing", size=10.0, direction="de405", rng=0)
+    u = ee.ephemeris_error("earth", ee.EPOCH_1997)
+    np.testing.assert_allclose(d.dr_e[-1], 10.0 * u / np.linalg.norm(u))
+    drift = rb.simulate("mars", n_steps=3, error="de405-drift", rng=0)
+    np.testing.assert_allclose(drift.dr_e, ee.ephemeris_drift("mars", drift.t, ee.EPOCH_1997))
+    for kwargs, name in (({"growth_time": 0.0}, "growth_time"), ({"direction": "sun"}, "direction"),
+                         ({"profile": "cubic"}, "profile")):
+        with pytest.raises(ValueError, match=name):
+            rb.simulate(**({"n_steps": 2, "error": "growing", "size": 1.0} | kwargs))
+
+
+def test_rkf_residual_bound_is_default_and_sees_a_growing_error():
+    """The residual bound stays zero-ish without error and grows with a growing error; the oracle
+    variant uses the true bias."""
+    sc = rb.simulate("mars", n_steps=200, error="growing", size=2e4, rng=2)
+    run = rb.run_filter("rkf", sc, rng=1)
+    assert run.extra["bias_bound"][0] == 0.0  # no residual seen yet: B B^T >= 0
+    assert run.extra["bias_bound"][-20:].mean() > 1e3
+    oracle = rb.run_filter("rkf", sc, rkf_bias="oracle", rng=1)
+    want = np.linalg.norm(sc.dr_e @ sc.n.T, axis=1)  # sqrt(tr B B^T) = |N dr_E|
+    np.testing.assert_allclose(oracle.extra["bias_bound"], want, rtol=1e-9)
+    ukf = rb.run_filter("ukf", sc, rng=1)
+    tau = sc.t - sc.t[0] + sc.dt
+    late = tau > 5e4
+    assert np.sqrt(np.mean(run.error[late] ** 2)) < 0.5 * np.sqrt(np.mean(ukf.error[late] ** 2))
+
+
+def test_white_tdukf_differs_from_the_exact_form(mars_sc):
+    white = rb.run_filter("tdukf", mars_sc, rng=1)
+    exact = rb.run_filter("tdukf", mars_sc, td_carry_noise=True, rng=1)
+    assert np.abs(white.x - exact.x).max() > 1.0
+    for P in white.P[::10]:
+        assert _is_psd(P)
+
+
+def test_compare_filters_gives_the_same_numbers_on_two_processes():
+    kw = dict(seeds=(0, 1, 2), n_steps=60, window=(5e3, 2.5e4), error="growing", size=2000.0)
+    a = rb.compare_filters("mars", **kw)
+    b = rb.compare_filters("mars", max_workers=2, **kw)
+    assert a["rmse_runs"] == b["rmse_runs"]
+    for f in rb.FILTERS:
+        np.testing.assert_array_equal(a["error"][f], b["error"][f])
+    with pytest.raises(ValueError, match="max_workers"):
+        rb.compare_filters("mars", max_workers=0, **kw)
