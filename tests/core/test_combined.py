@@ -1,6 +1,6 @@
-"""The combined detector (wavelet, per-sample chi-square and CUSUMs on the whitened innovations):
-the CUSUM design, the false-alarm budget, the adaptive noise scale, the navigation loop and the
-shipped Monte Carlo table."""
+"""The combined detector (xnavlab.core.detection.combined: wavelet, per-sample chi-square and
+CUSUMs on the whitened innovations): the CUSUM design, the false-alarm budget, the adaptive noise
+scale, streaming against batch, and the drift GLR."""
 
 import math
 
@@ -20,7 +20,6 @@ from xnavlab.core.detection import (
     plot_combined_parts,
     variance_reference,
 )
-from xnavlab.mars import trials
 
 
 def test_cusum_arl_matches_the_literature_and_simulation():
@@ -162,41 +161,6 @@ def test_plot_combined_parts_is_a_figure_and_checks_input():
     assert "cusum" in fig.axes[0].get_title()
     with pytest.raises(ValueError, match="noise_ratio"):
         plot_combined_parts(noise_ratio=0.5)
-
-
-# ------------------------------------------------------------------ the shipped MC table
-
-
-@pytest.fixture(scope="module")
-def table():
-    return trials.load_detector_table()
-
-
-def test_table_is_complete_and_self_consistent(table):
-    rows = table["rows"]
-    keys = {(r["fault_class"], r["sensor"], r["size_index"], r["detector"]) for r in rows}
-    assert len(keys) == len(trials.FAULT_CLASSES) * len(trials.SENSORS) * 3 * len(trials.DETECTORS)
-    for r in rows:
-        assert r["trials"] == table["trials"]
-        assert r["pd_lo"] <= r["pd"] <= r["pd_hi"]
-        assert r["false_alarms_per_day_lo"] <= r["false_alarms_per_day"] <= r["false_alarms_per_day_hi"]
-    assert trials.marked_cells(rows) == table["marked"]
-
-
-def test_table_cells_recompute(table):
-    # the stored first trial of a few cells, recomputed from its seed: same decisions
-    for chk in table["checks"][:2]:
-        fresh = trials.detector_trials(**chk["params"], seed=chk["seed"])
-        for old, new in zip(chk["records"], fresh, strict=True):
-            assert new["detector"] == old["detector"]
-            assert new["detected"] == old["detected"]
-            if old["detected"]:
-                assert abs(new["delay_s"] - old["delay_s"]) <= 30.0
-            assert new["fused_rms_ratio"] == pytest.approx(old["fused_rms_ratio"], rel=0.05)
-            row = next(r for r in table["rows"] if (r["fault_class"], r["sensor"],
-                                                    r["size_index"], r["detector"])
-                       == (new["fault_class"], new["sensor"], new["size_index"], new["detector"]))
-            assert row["pd_hi"] > 0.0 if new["detected"] else row["pd_lo"] < 1.0
 
 
 def test_drift_glr_is_the_matched_statistic_and_checks_its_input():

@@ -1,0 +1,57 @@
+"""The chi-square innovation detector (xnavlab.core.detection.chisquare): its false-alarm rate,
+its detection of a bias online and in batch, and its statistic."""
+
+import math
+
+import numpy as np
+import pytest
+
+from xnavlab.core import detection as D
+from xnavlab.core.faults import Fault, inject
+
+DT = 3.0                # s, UV sampling of the paper
+
+
+def _same_events(a, b):
+    key = [(e.onset, e.end, e.cleared, e.test) for e in a]
+    assert key == [(e.onset, e.end, e.cleared, e.test) for e in b]
+    assert np.allclose([e.peak for e in a], [e.peak for e in b], rtol=1e-9)
+
+
+def _innovations(n, m, seed):
+    rng = np.random.default_rng(seed)
+    A = rng.normal(size=(m, m))
+    S = A @ A.T + m * np.eye(m)
+    nu = rng.multivariate_normal(np.zeros(m), S, n)
+    return nu, S
+
+
+@pytest.mark.parametrize("window", [1, 5])
+def test_chi2_false_alarm_rate_near_alpha(window):
+    nu, S = _innovations(200000, 3, 11)
+    res = D.chi2_detect(np.arange(nu.shape[0]) * DT, nu, S, alpha=1e-2, window=window)
+    assert res.data["dof"] == 3 * window
+    assert 0.85e-2 <= res.false_alarm_rate <= 1.15e-2
+
+
+def test_chi2_detects_bias_and_online_equals_batch():
+    nu, S = _innovations(3000, 3, 12)
+    t = np.arange(3000) * DT
+    nu = inject(t, nu, [Fault("uv", "step", 10.0 * math.sqrt(S[0, 0]), 3000.0, 300.0, component=0)], "uv")
+    S_n = np.broadcast_to(S, (3000, 3, 3))
+    res = D.chi2_detect(t, nu, S_n, window=3, holdoff=5)
+    assert res.first_onset_after(3000.0) == 3000.0
+    big = [e for e in res.events if e.onset >= 3000.0]
+    assert big[0].end >= 3000.0 + 300.0 - 2 * DT
+    det = D.Chi2Detector(3, window=3, holdoff=5)
+    flags = [det.update(ti, v, S) for ti, v in zip(t, nu, strict=True)]
+    assert np.array_equal(flags, res.faulty)
+    _same_events(det.all_events(), res.events)
+
+
+def test_chi2_statistic_is_the_normalised_innovation_squared():
+    nu, S = _innovations(50, 2, 13)
+    stat, dof = D.chi2_statistic(nu, S)
+    assert dof == 2 and np.allclose(stat, np.einsum("ni,ij,nj->n", nu, np.linalg.inv(S), nu))
+    stat1, _ = D.chi2_statistic(nu[:, 0], np.full(50, S[0, 0]))
+    assert np.allclose(stat1, nu[:, 0] ** 2 / S[0, 0])

@@ -1,0 +1,76 @@
+"""The causal wavelet detector's parts (xnavlab.core.detection.online): causal filters and details,
+the threshold and its false-alarm probability, the MAD noise estimate and the event tracker."""
+
+import math
+
+import numpy as np
+import pywt
+
+from xnavlab.core import detection as D
+
+SIGMA = 5000.0          # m, UV range noise of the paper
+
+
+def test_causal_filters_unit_norm_and_vanishing_moments():
+    for j, g in enumerate(D.causal_filters("db3", 5), start=1):
+        assert len(g) == (2**j - 1) * 5 + 1
+        assert np.isclose(g @ g, 1.0)
+        m = np.arange(len(g)) / len(g)
+        for p in range(3):                                              # db3: 3 vanishing moments
+            assert abs(np.sum(m**p * g)) < 1e-12
+
+
+def test_causal_details_are_pywt_swt_delayed():
+    """Our causal details equal the stationary wavelet transform, delayed by 3 (2^j - 1) samples."""
+    x = np.random.default_rng(0).normal(size=512)
+    ours = D.causal_details(x)
+    swt = pywt.swt(x, "db3", level=5, trim_approx=False)
+    for j in range(1, 6):
+        ref = np.roll(swt[5 - j][1], 3 * (2**j - 1))
+        assert np.max(np.abs(ours[j - 1, 200:] - ref[200:])) < 1e-12
+
+
+def test_threshold_and_false_alarm_probability_are_inverse():
+    for pfa in (1e-2, 1e-5, 1e-8):
+        k = D.threshold_multiplier(pfa, 6)
+        assert math.isclose(D.false_alarm_probability(k, 6), pfa, rel_tol=1e-9)
+
+
+def test_mad_sigma_of_db3_details_of_white_noise_is_sigma():
+    x = np.random.default_rng(2).normal(0.0, SIGMA, 50000)
+    sig = D.mad_sigma(D.causal_details(x)[:, 200:])
+    assert np.allclose(sig / SIGMA, 1.0, atol=0.03)
+
+
+def test_event_tracker_matches_events_from_alarms():
+    rng = np.random.default_rng(10)
+    alarm = rng.random(2000) < 0.02
+    ratio = np.where(alarm, 1.0 + rng.random(2000), 0.5)
+    t = np.arange(2000.0)
+    events, faulty = D.events_from_alarms(t, alarm, ratio, 30)
+    tr = D.EventTracker(30)
+    flags = [tr.update(ti, a, r) for ti, a, r in zip(t, alarm, ratio, strict=True)]
+    assert np.array_equal(flags, faulty)
+    assert [(e.onset, e.end, e.cleared, e.peak) for e in tr.all_events()] == \
+           [(e.onset, e.end, e.cleared, e.peak) for e in events]
+
+
+def test_event_tracker_snapshot_restore_and_close():
+    from xnavlab.core.detection import EventTracker
+
+    tr = EventTracker(holdoff=3)
+    tr.update(0.0, True, 2.0, "a")
+    snap = tr.snapshot()
+    for i in range(1, 6):
+        tr.update(float(i), i == 2, 3.0, "b")
+    after = [(e.onset, e.end, e.cleared) for e in tr.events]
+    tr.restore(snap)
+    assert tr.faulty and tr.events == []
+    for i in range(1, 6):
+        tr.update(float(i), i == 2, 3.0, "b")
+    assert [(e.onset, e.end, e.cleared) for e in tr.events] == after == [(0.0, 2.0, 5.0)]
+    tr.update(9.0, True, 2.0, "c")
+    tr.close(9.5)
+    assert not tr.faulty and tr.events[-1].cleared == 9.5
+    tr.close()                                   # nothing open: no-op
+    assert len(tr.events) == 2

@@ -1,0 +1,58 @@
+"""The detection figures (xnavlab.core.detection.plots)."""
+
+
+import numpy as np
+import pytest
+
+from xnavlab.core import detection as D
+from xnavlab.core.faults import Fault, inject
+
+SIGMA = 5000.0          # m, UV range noise of the paper
+
+
+DT = 3.0                # s, UV sampling of the paper
+
+
+def _range_like(t):
+    """A UV range-like truth: 4190 km mean, 380 km orbital swing, 2.3 h period (m)."""
+    return 4.19e6 - 3.8e5 * np.cos(2.0 * np.pi * t / 8280.0)
+
+
+def test_plot_fault_detection_reports_delay_and_is_pure():
+    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
+
+    t = DT * np.arange(8000)
+    clean = _range_like(t) + np.random.default_rng(7).normal(0.0, SIGMA, t.size)
+    step = Fault("uv", "step", 10 * SIGMA, onset=12_000.0, duration=3000.0)
+    before = plt.get_fignums()
+    fig = D.plot_fault_detection(t, clean, [step], train=3000, zoom_h=(3.0, 4.0), title="10 sigma")
+    assert isinstance(fig, Figure) and plt.get_fignums() == before  # not left in pyplot
+    res = D.wavelet_detect(t, inject(t, clean, [step], "uv"), train=3000)
+    delay = res.first_onset_after(step.onset) - step.onset
+    assert fig.get_suptitle() == (f"10 sigma, k = {res.data['k']:.2f}: onset detected after "
+                                  f"{delay:.0f} s, 0 false-alarm samples before it")
+    ax1, ax2 = fig.axes
+    assert ax1.get_xlim() == (3.0, 4.0) and ax2.get_ylabel() == "ratio"
+    np.testing.assert_allclose(ax2.lines[0].get_ydata(), np.maximum(res.ratio, 1e-3))
+    # a step far below the threshold is missed, and said so
+    small = Fault("uv", "step", 0.5 * SIGMA, onset=12_000.0, duration=3000.0)
+    assert "onset missed" in D.plot_fault_detection(t, clean, [small], train=3000).get_suptitle()
+
+
+@pytest.mark.parametrize(("kwargs", "name"), [
+    ({"zoom_h": (2.0, 1.0)}, "zoom_h"),
+    ({"zoom_h": 3.0}, "zoom_h"),
+    ({"scale": 0.0}, "scale"),
+    ({"faults": ["step"]}, "faults"),
+])
+def test_plot_detection_bad_input(kwargs, name):
+    t = DT * np.arange(600)
+    x = np.random.default_rng(0).normal(0.0, SIGMA, t.size)
+    res = D.wavelet_detect(t, x)
+    with pytest.raises(ValueError, match=rf"\b{name}\b"):
+        D.plot_detection(res, x, **kwargs)
+    with pytest.raises(ValueError, match=r"\bx\b"):
+        D.plot_detection(res, x[:-1])
+    with pytest.raises(ValueError, match=r"\bresult\b"):
+        D.plot_detection(None, x)
