@@ -1,0 +1,41 @@
+"""``python -m xnavlab reproduce`` (xnavlab.cli.reproduce): the list, one reproduction, --all with
+its JSON file, and the usage errors."""
+
+import json
+
+from xnavlab import reproduce
+from xnavlab.cli import main
+from xnavlab.cli import reproduce as cli_reproduce
+
+
+def test_list_prints_one_line_per_registered_id(capsys):
+    assert main(["reproduce", "--list"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert [line.split()[0] for line in lines] == reproduce.ids()
+
+
+def test_one_reproduction_prints_its_table_and_verdict(capsys):
+    assert main(["reproduce", "xnav-ranging"]) == 0
+    assert capsys.readouterr().out.rstrip().endswith("xnav-ranging: PASS")
+
+
+def test_all_with_out_writes_every_result_as_json(monkeypatch, tmp_path, capsys):
+    monkeypatch.setattr(reproduce, "ids", lambda: ["xnav-ranging"])
+    assert main(["reproduce", "--all", "--out", str(tmp_path)]) == 0
+    saved = json.loads((tmp_path / "reproductions.json").read_text())
+    assert [r["id"] for r in saved] == ["xnav-ranging"] and saved[0]["verdict"] == "PASS"
+    assert "1 of 1 reproductions pass" in capsys.readouterr().out
+
+
+def test_run_one_turns_an_exception_into_a_failed_result(monkeypatch):
+    def boom(rid, out=None, **kw):
+        raise RuntimeError("no data")
+
+    monkeypatch.setattr(reproduce, "run", boom)
+    result = cli_reproduce.run_one("xnav-ranging", None)
+    assert result.verdict == "FAIL" and not result.passed
+
+
+def test_list_and_all_together_is_a_usage_error(capsys):
+    assert main(["reproduce", "--list", "--all"]) == 2
+    assert "not allowed with argument" in capsys.readouterr().err

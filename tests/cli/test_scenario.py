@@ -1,0 +1,43 @@
+"""``python -m xnavlab scenario`` (xnavlab.cli.scenario): --dump writes the defaults, --check reads
+a file back to the same settings, and bad command lines exit 2 with one line."""
+
+import json
+
+import pytest
+
+from xnavlab.cli import main
+from xnavlab.mars import scenario_files
+
+
+def test_dump_to_stdout_is_the_default_scenario_file(capsys):
+    assert main(["scenario", "--dump"]) == 0
+    assert capsys.readouterr().out == scenario_files.dump()
+
+
+def test_dump_to_a_file_then_check_gives_the_default_settings(tmp_path, capsys):
+    path = tmp_path / "mars.toml"
+    assert main(["scenario", "--dump", "--out", str(path)]) == 0
+    assert path.read_text(encoding="utf-8") == scenario_files.dump()
+    capsys.readouterr()
+    assert main(["scenario", "--check", str(path)]) == 0
+    got = json.loads(capsys.readouterr().out)
+    default = scenario_files.loads("")
+    assert got["run"] == json.loads(json.dumps(default.run))
+    assert got["detector"] == json.loads(json.dumps(default.detector))
+    assert got["scenario"]["days"] == default.scenario.days
+
+
+@pytest.mark.parametrize(("argv", "words"), [
+    (["scenario"], "needs --dump or --check"),
+    (["scenario", "--check", "x.toml", "--out", "y.toml"], "--out goes with --dump"),
+    (["scenario", "--dump", "--check", "x.toml"], "not allowed with argument"),
+])
+def test_bad_command_lines_exit_2_with_one_line(argv, words, capsys):
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert words in err and len(err.splitlines()) == 1
+
+
+def test_dump_refuses_a_directory_as_out(tmp_path, capsys):
+    assert main(["scenario", "--dump", "--out", str(tmp_path)]) == 2
+    assert "is a directory" in capsys.readouterr().err

@@ -1,0 +1,53 @@
+"""The Mars system's campaign registry (xnavlab.mars.campaigns): the named campaigns, their
+parameters per run, their allowed lengths and the detector cells. The physics of the consistency
+campaign (NEES, NIS against their bands) is tested in tests/mars/test_consistency.py."""
+
+import pytest
+
+from xnavlab.mars import campaigns as mc
+from xnavlab.mars import trials
+
+
+def test_detector_cells_cover_every_class_sensor_and_size_once():
+    cells = mc.detector_cells()
+    assert len(cells) == len(set(cells)) == sum(
+        len(trials.SIZES[f]) for f in trials.FAULT_CLASSES) * len(trials.SENSORS)
+    assert mc.detector_cells(("step",), ("uv",)) == [("step", "uv", i)
+                                                      for i in range(len(trials.SIZES["step"]))]
+    with pytest.raises(ValueError, match="fault_class"):
+        mc.detector_cells(("wobble",))
+    with pytest.raises(ValueError, match="sensor"):
+        mc.detector_cells(sensors=("gps",))
+
+
+def test_detectors_campaign_cycles_through_the_cells():
+    c = mc.campaign("detectors", days=2.0)
+    cells = mc.detector_cells()
+    for i in (0, 7, len(cells), len(cells) + 7):
+        f, s, k = cells[i % len(cells)]
+        assert c.params(i) == {"fault_class": f, "sensor": s, "size_index": k, "days": 2.0}
+    assert c.manifest["detectors"] == list(trials.DETECTORS)
+
+
+def test_consistency_campaign_passes_its_days_to_every_run():
+    c = mc.campaign("consistency", days=0.5)
+    assert c.params(0) == c.params(99) == {"days": 0.5}
+    assert c.manifest["nees_bins"] == mc.NEES_BINS
+
+
+@pytest.mark.parametrize(("name", "days"), [("consistency", 0.0), ("consistency", 31.0),
+                                            ("detectors", 0.25), ("detectors", 6.0)])
+def test_a_campaign_refuses_days_outside_its_range(name, days):
+    with pytest.raises(ValueError, match="^days"):
+        mc.campaign(name, days=days)
+
+
+def test_an_unknown_campaign_is_refused_by_name():
+    with pytest.raises(ValueError, match="^campaign"):
+        mc.campaign("everything")
+    assert set(mc.CAMPAIGNS) == set(mc.DAYS)
+
+
+def test_summarise_detectors_skips_failed_runs():
+    failed = {"status": "error", "parameters": {}, "metrics": {}}
+    assert mc.summarise_detectors([failed]) == []
