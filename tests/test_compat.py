@@ -8,6 +8,7 @@ checks are shared), whether it is imported by name or taken from the package.
 import importlib
 import subprocess
 import sys
+import warnings
 
 import pytest
 
@@ -63,3 +64,24 @@ def test_unknown_flat_name_is_not_invented():
     with pytest.raises(ModuleNotFoundError):
         importlib.import_module("xnavlab.no_such_module")
     assert not hasattr(xnavlab, "no_such_module")
+
+
+@pytest.mark.parametrize(("old", "new"), ALIASES, ids=[old for old, _ in ALIASES])
+def test_from_old_module_import_a_name_warns_and_gives_the_new_object(monkeypatch, old, new):
+    """``from xnavlab.toa import roemer`` still works: the name is the new module's own object."""
+    forget(monkeypatch, old)
+    name = importlib.import_module(new).__all__[0]
+    with pytest.warns(DeprecationWarning, match=rf"{old} is deprecated; import {new}\b"):
+        namespace = {}
+        exec(f"from {old} import {name}", namespace)
+    assert namespace[name] is getattr(importlib.import_module(new), name)
+
+
+def test_the_second_import_of_an_old_name_does_not_warn_again(monkeypatch):
+    old, new = ALIASES[0]
+    forget(monkeypatch, old)
+    with pytest.warns(DeprecationWarning):
+        importlib.import_module(old)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert importlib.import_module(old) is importlib.import_module(new)
