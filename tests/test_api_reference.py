@@ -26,7 +26,8 @@ def modules():
         parts = list(path.relative_to(ROOT).with_suffix("").parts)
         if parts[-1] == "__init__":
             parts.pop()
-        if parts[-1] != "__main__":
+        private = any(p.startswith("_") and not p.startswith("__") for p in parts)
+        if parts[-1] != "__main__" and not private:  # a _private module is plumbing, not API
             names.append(".".join(parts))
     return names
 

@@ -112,12 +112,39 @@ def test_no_import_cycle():
             visit(m)
 
 
+def is_private(part):
+    return part.startswith("_") and not part.startswith("__")
+
+
+def private_home(module):
+    """The package a private module belongs to (``xnavlab.a._b`` -> ``xnavlab.a``), or None."""
+    parts = module.split(".")
+    for i, part in enumerate(parts):
+        if is_private(part):
+            return ".".join(parts[:i])
+    return None
+
+
 def test_no_private_name_crosses_a_module_border():
     bad = [f"{src}:{line} imports {name} from {dst}" for src, dst, name, line in edges()
-           if name and name.startswith("_") and not name.startswith("__") and dst != src]
-    bad += [f"{src}:{line} imports the private module {dst}" for src, dst, _, line in edges()
-            if any(p.startswith("_") and not p.startswith("__") for p in dst.split("."))]
+           if name and is_private(name) and dst != src]
     assert not bad, "\n".join(bad)
+
+
+def test_a_private_module_is_imported_only_inside_its_own_subpackage():
+    """``xnavlab.attitude._checks`` is plumbing of ``xnavlab.attitude``: only its modules use it."""
+    bad = []
+    for src, dst, _, line in edges():
+        home = private_home(dst)
+        if home is not None and not (src == home or src.startswith(home + ".")):
+            bad.append(f"{src}:{line} imports the private module {dst} of {home}")
+    assert not bad, "\n".join(bad)
+
+
+def test_private_modules_exist_and_are_seen_by_the_walk():
+    private = [m for m in MODULES if private_home(m)]
+    assert "xnavlab.attitude._checks" in private
+    assert all(private_home(m) in MODULES for m in private)
 
 
 def test_no_private_attribute_of_an_imported_module():

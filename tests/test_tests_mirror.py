@@ -4,8 +4,9 @@
 ``tests/<sub>/test_<module>.py``; a package's ``__init__.py`` that defines functions or classes
 by ``tests/<sub>/test_<package>.py``; a top-level ``xnavlab/<module>.py`` by
 ``tests/test_<module>.py``. A module has logic when it defines a function or a class at its top
-level; re-export-only ``__init__.py`` files and pure data modules have none. The few modules
-tested elsewhere are listed in :data:`EXEMPT`, each with the test module that covers it.
+level; re-export-only ``__init__.py`` files and pure data modules have none. A ``_private``
+module is plumbing of its subpackage, tested through the public modules that use it. The few
+modules tested elsewhere are listed in :data:`EXEMPT`, each with the test module that covers it.
 """
 
 import ast
@@ -50,9 +51,14 @@ def exempt(path):
     return any(rel == key or key.endswith("/") and rel.startswith(key) for key in EXEMPT)
 
 
+def is_private(path):
+    return any(p.startswith("_") and not p.startswith("__") for p in path.relative_to(PACKAGE).parts)
+
+
 def modules_with_logic():
     return [p for p in sorted(PACKAGE.rglob("*.py"))
-            if p.name != "__main__.py" and "__pycache__" not in p.parts and has_logic(p)]
+            if p.name != "__main__.py" and "__pycache__" not in p.parts and not is_private(p)
+            and has_logic(p)]
 
 
 def test_the_walk_sees_the_package():

@@ -32,9 +32,9 @@ module                 what it models
 A module imports only those above it in this table (and :mod:`xnavlab.core`). The names
 listed in ``__all__`` below are re-exported here: ``from xnavlab import attitude as att``
 then ``att.simulate(...)``. A few building blocks are public in their own module only:
-``sensors.check_sample``, ``ekf.ekf_predict_unchecked``, ``ekf.ekf_update_unchecked``,
 ``simulation.make_config``, ``simulation.simulate_sensors`` and
-``simulation.diagnose_batch``.
+``simulation.diagnose_batch``. The plumbing the modules share (the per-sample input check,
+the EKF steps without checks) lives in the private modules ``_checks`` and ``_ekf_steps``.
 
 Units are SI inside (rad, rad/s, s); names say otherwise (``drifts_deg_per_h``).
 """

@@ -17,9 +17,10 @@ import time
 
 import numpy as np
 
+from xnavlab.attitude._checks import check_sample
 from xnavlab.attitude.dos import DOS_GROUPS, dos_rate_matrices
 from xnavlab.attitude.ekf import AttitudeEKF
-from xnavlab.attitude.sensors import DEG_PER_H, check_sample, gyro_matrix
+from xnavlab.attitude.sensors import DEG_PER_H, gyro_matrix
 from xnavlab.attitude.simulation import make_config, simulate_sensors
 from xnavlab.core.validate import check_finite_array, check_int, check_real, make_rng
 

@@ -15,9 +15,6 @@ Faults
     :class:`xnavlab.core.faults.Fault`, and :data:`DEFAULT_MAGNITUDES` are our reference
     sizes (the paper's eqs. (38)-(40) were lost).
 
-:func:`check_sample` is the light per-sample input check the on-board loops share
-(:class:`xnavlab.attitude.ekf.AttitudeEKF`, :mod:`xnavlab.attitude.monitors`).
-
 Units are SI inside (rad, rad/s, s); names say otherwise (``drifts_deg_per_h``).
 """
 
@@ -48,7 +45,6 @@ __all__ = [
     "gyro_measurements",
     "star_tracker_measurements",
     "make_fault",
-    "check_sample",
 ]
 
 #: rad/s in one deg/h.
@@ -248,37 +244,3 @@ def make_fault(location, kind, magnitude, onset=50.0, duration=math.inf):
     return Fault("gyro", kind, magnitude, onset, duration, LOCATIONS.index(location))
 
 
-def check_sample(name, value, n):
-    """One sensor sample as ``n`` finite floats: the light check of the on-board loops.
-
-    Cheaper than :func:`xnavlab.core.validate.check_finite_array` (one shape test, one
-    finiteness test), because :class:`xnavlab.attitude.ekf.AttitudeEKF` and the monitors of
-    :mod:`xnavlab.attitude.monitors` call it at every sample.
-
-    Parameters
-    ----------
-    name : str
-        Name of the argument, for the error message.
-    value : array_like, shape (n,)
-        One sample: gyro rates (rad/s) or a star-tracker quaternion.
-    n : int
-        Expected length.
-
-    Returns
-    -------
-    ndarray, shape (n,)
-
-    Raises
-    ------
-    ValueError
-        If ``value`` is not ``n`` finite numbers.
-
-    Examples
-    --------
-    >>> check_sample("omega_g", [0.0, 0.1, 0.2], 3).shape
-    (3,)
-    """
-    arr = np.asarray(value, dtype=float)
-    if arr.shape != (n,) or not np.isfinite(arr).all():
-        raise ValueError(f"{name} must be {n} finite numbers, got {value!r}")
-    return arr

@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from xnavlab.attitude._ekf_steps import ekf_predict_unchecked, ekf_update_unchecked
 from xnavlab.attitude.diagnosis import (
     Diagnosis,
     diagnose,
@@ -33,7 +34,7 @@ from xnavlab.attitude.diagnosis import (
 )
 from xnavlab.attitude.differentiation import qdiff_fault_estimates
 from xnavlab.attitude.dos import DOS_GROUPS, dos_rate_matrices, dos_residuals
-from xnavlab.attitude.ekf import ekf_init, ekf_predict_unchecked, ekf_update_unchecked
+from xnavlab.attitude.ekf import ekf_init
 from xnavlab.attitude.motion import DEFAULT_Q0, truth_motion
 from xnavlab.attitude.sensors import (
     DEG_PER_H,

@@ -47,7 +47,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 
 from xnavlab.core import ephemeris
@@ -64,9 +63,9 @@ from xnavlab.core.constants import (
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real
 from xnavlab.mars import pulsars
 from xnavlab.mars.dynamics import MARS_POLE, MARS_STATE0
+from xnavlab.robust._propagation import derivatives, propagate_unchecked
 
 __all__ = [
-    "propagate_unchecked",
     "EPOCH_1997",
     "YEAR",
     "PULSARS",
@@ -399,7 +398,7 @@ def acceleration(r, body="earth"):
     gm, j2, radius, pole = PLANETS[body]
     X = np.zeros(r.shape[:-1] + (6,))
     X[..., :3] = r
-    return _deriv(np.atleast_2d(X), gm, j2, radius, pole)[:, 3:].reshape(r.shape)
+    return derivatives(np.atleast_2d(X), gm, j2, radius, pole)[:, 3:].reshape(r.shape)
 
 
 def propagate(x, dt, body="earth", substep=20.0):
@@ -431,52 +430,7 @@ def propagate(x, dt, body="earth", substep=20.0):
     x = check_finite_array("x", x, shape=(6,))
     dt = check_real("dt", dt, -1e6, 1e6)
     substep = check_real("substep", substep, 0.0, 1e5, lo_open=True)
-    return propagate_unchecked(x, dt, body, substep)
-
-
-def propagate_unchecked(x, dt, body, substep=20.0):
-    """:func:`propagate` without the argument checks, for the filters' inner loops.
-
-    ``x`` (..., 6) body-centred J2000 states (m, m/s), ``dt`` (s), ``body`` a key of
-    :data:`PLANETS`; returns the propagated states, same shape. The caller guarantees
-    finite inputs (sigma points of a filter).
-    """
-    gm, j2, radius, pole = PLANETS[body]
-    nsub = max(1, int(math.ceil(abs(dt) / substep)))
-    X = np.ascontiguousarray(np.atleast_2d(x), dtype=float)
-    out = _rk4(X, float(dt), nsub, gm, j2, radius, np.ascontiguousarray(pole, dtype=float))
-    return out.reshape(np.shape(x))
-
-
-@numba.njit(cache=True)
-def _deriv(X, gm, j2, radius, pole):  # pragma: no cover - compiled
-    out = np.empty_like(X)
-    for k in range(X.shape[0]):
-        r0, r1, r2 = X[k, 0], X[k, 1], X[k, 2]
-        rn2 = r0 * r0 + r1 * r1 + r2 * r2
-        rn = math.sqrt(rn2)
-        c = -gm / (rn2 * rn)  # a = -mu r / |r|^3
-        z = r0 * pole[0] + r1 * pole[1] + r2 * pole[2]
-        kj = -1.5 * j2 * gm * radius * radius / (rn2 * rn2 * rn)
-        f = 1.0 - 5.0 * z * z / rn2  # J2: k [(1 - 5 z^2/r^2) r + 2 z p]
-        out[k, 0], out[k, 1], out[k, 2] = X[k, 3], X[k, 4], X[k, 5]
-        out[k, 3] = c * r0 + kj * (f * r0 + 2.0 * z * pole[0])
-        out[k, 4] = c * r1 + kj * (f * r1 + 2.0 * z * pole[1])
-        out[k, 5] = c * r2 + kj * (f * r2 + 2.0 * z * pole[2])
-    return out
-
-
-@numba.njit(cache=True)
-def _rk4(X, dt, nsub, gm, j2, radius, pole):  # pragma: no cover - compiled
-    h = dt / nsub
-    Y = X.copy()
-    for _ in range(nsub):
-        k1 = _deriv(Y, gm, j2, radius, pole)
-        k2 = _deriv(Y + 0.5 * h * k1, gm, j2, radius, pole)
-        k3 = _deriv(Y + 0.5 * h * k2, gm, j2, radius, pole)
-        k4 = _deriv(Y + h * k3, gm, j2, radius, pole)
-        Y = Y + (h / 6.0) * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
-    return Y
+    return propagate_unchecked(x, dt, PLANETS[body], substep)
 
 
 def elements_to_state(a, e, i_deg, raan_deg, argp_deg, nu_deg, gm):

@@ -71,6 +71,7 @@ import numpy as np
 from xnavlab.core.filters import joseph, sigma_points, symmetrize, ukf_weights, unscented_transform
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
 from xnavlab.robust import ephemeris_error as ee
+from xnavlab.robust._propagation import propagate_unchecked
 
 __all__ = [
     "FILTERS",
@@ -275,7 +276,8 @@ def _predict(x, P, dt, body, Q, n_dyn=6):
     Wm, Wc, lam = _weights(x.size)
     X = sigma_points(x, P, lam)
     Y = X.copy()
-    Y[:, :n_dyn] = ee.propagate_unchecked(X[:, :n_dyn], dt, body)  # x_k|k-1 = f(x_k-1), per sigma point
+    # x_k|k-1 = f(x_k-1), per sigma point
+    Y[:, :n_dyn] = propagate_unchecked(X[:, :n_dyn], dt, ee.PLANETS[body])
     return unscented_transform(Y, Wm, Wc, noise=Q)  # P- = sum Wc (Y - x-)(Y - x-)^T + Q
 
 
@@ -463,7 +465,8 @@ def _tdukf_predict(x, P, dt, body, Q):
     m = x.size
     Wm, Wc, lam = _weights(m)
     X = sigma_points(x, P, lam)
-    Y = np.hstack([ee.propagate_unchecked(X[:, :6], dt, body), X[:, :6], X[:, 6:]])  # [f(x_k), x_k, v_k]
+    fx = propagate_unchecked(X[:, :6], dt, ee.PLANETS[body])
+    Y = np.hstack([fx, X[:, :6], X[:, 6:]])  # [f(x_k), x_k, v_k]
     noise = np.zeros((m + 6, m + 6))
     noise[:6, :6] = Q
     xo, Po = unscented_transform(Y, Wm, Wc, noise=noise)  # P- = sum Wc (Y - x-)(Y - x-)^T + Q

@@ -8,7 +8,8 @@ from collections import deque
 import numpy as np
 from scipy import stats
 
-from xnavlab.core.detection.online import Detection, EventTracker, TrackedDetector, events_from_alarms
+from xnavlab.core.detection._tracked import TrackedDetector
+from xnavlab.core.detection.online import Detection, EventTracker, events_from_alarms
 from xnavlab.core.validate import check_finite_array, check_int, check_real
 
 __all__ = [

@@ -65,12 +65,12 @@ import numpy as np
 from numba import njit
 from scipy import optimize, special, stats
 
+from xnavlab.core.detection._tracked import TrackedDetector
 from xnavlab.core.detection.batch import wavelet_detect
 from xnavlab.core.detection.online import (
     MAD_SCALE,
     Detection,
     EventTracker,
-    TrackedDetector,
     events_from_alarms,
 )
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real

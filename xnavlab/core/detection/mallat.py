@@ -10,10 +10,10 @@ import math
 import numpy as np
 import pywt
 
+from xnavlab.core.detection._wavelets import orthogonal_wavelet
 from xnavlab.core.validate import check_choice, check_finite_array, check_int
 
 __all__ = [
-    "orthogonal_wavelet",
     "MALLAT_MODES",
     "mallat_filters",
     "max_level",
@@ -35,29 +35,6 @@ _NP_PAD = {"zero": "constant", "symmetric": "symmetric", "reflect": "reflect",
 # --------------------------------------------------------------------------------------------
 # Mallat's fast algorithm, paper eqs. (9)-(10)
 # --------------------------------------------------------------------------------------------
-
-def orthogonal_wavelet(wavelet):
-    """The :class:`pywt.Wavelet` for ``wavelet`` (a name or a Wavelet), checked to be orthogonal.
-
-    Raises ``ValueError`` for an unknown name or a non-orthogonal wavelet (eqs. (9)-(10)
-    need orthonormal ``h`` and ``g``).
-
-    Examples
-    --------
-    >>> orthogonal_wavelet("db3").dec_len
-    6
-    """
-    if isinstance(wavelet, pywt.Wavelet):
-        w = wavelet
-    else:
-        if not isinstance(wavelet, str) or wavelet not in pywt.wavelist(kind="discrete"):
-            raise ValueError(f"wavelet must be a discrete PyWavelets wavelet name such as 'db3', "
-                             f"got {wavelet!r}")
-        w = pywt.Wavelet(wavelet)
-    if not w.orthogonal:
-        raise ValueError(f"wavelet must be orthogonal (h and g of eqs. (9)-(10)), got {w.name!r}")
-    return w
-
 
 def mallat_filters(wavelet="db3"):
     """Scaling and wavelet coefficients ``h_m``, ``g_m`` (m = 0..F-1) of eqs. (9)-(10).

@@ -83,11 +83,11 @@ import numpy as np
 from numba import njit
 from scipy import stats
 
-from xnavlab.core.detection.mallat import orthogonal_wavelet
+from xnavlab.core.detection._tracked import TrackedDetector
+from xnavlab.core.detection._wavelets import orthogonal_wavelet
 from xnavlab.core.validate import check_finite_array, check_int, check_real
 
 __all__ = [
-    "TrackedDetector",
     "MAD_SCALE",
     "Event",
     "Detection",
@@ -535,27 +535,6 @@ class EventTracker:
 # The wavelet detector
 # --------------------------------------------------------------------------------------------
 
-class TrackedDetector:
-    """Base of the online detectors: event reporting from an :class:`EventTracker`.
-
-    A subclass keeps its tracker in ``self._tracker``; this base exposes its events.
-    """
-
-    @property
-    def events(self):
-        """Closed events, list of :class:`Event`."""
-        return self._tracker.events
-
-    @property
-    def faulty(self):
-        """Whether an event is open now."""
-        return self._tracker.faulty
-
-    def all_events(self):
-        """Closed events plus the open one."""
-        return self._tracker.all_events()
-
-
 class WaveletDetector(TrackedDetector):
     """Online causal wavelet singularity detector for one measurement component.
 
@@ -590,7 +569,7 @@ class WaveletDetector(TrackedDetector):
     thresholds : ndarray, shape (level,)
         ``k sigma_j`` in the measurement unit.
     events : list of Event
-        Closed events so far (:meth:`~TrackedDetector.all_events` adds the open one).
+        Closed events so far (``all_events()`` adds the open one).
 
     Examples
     --------
