@@ -3,12 +3,10 @@
 from __future__ import annotations
 
 from xnavlab.mars import pulsars
+from xnavlab.mars.pulsars import PAPER_RANGING_M  # the paper's values, with the pulsars
 from xnavlab.reproduce import Result, check_rel, figure, register, save_figure
 
 __all__: list[str] = []  # registers reproductions; exports nothing
-
-#: Paper section 4.1: ranging accuracy (m), 500 s, 1 m^2, background 0.005 ph/cm^2/s.
-PAPER_RANGING_M = {"B0531+21": 109.0, "B1937+21": 344.0, "B1957+20": 1866.0, "B1821-24": 325.0}
 
 
 @register(
