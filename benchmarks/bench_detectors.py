@@ -2,7 +2,7 @@
 
 Run: ``.venv/bin/python benchmarks/bench_detectors.py`` (prints; about 10 min on 2 cores) or
 ``.venv/bin/python benchmarks/bench_detectors.py --write`` (also rewrites the shipped table
-``xnavlab/data/detector_table.json`` that chapter 9 loads and ``tests/mars/test_combined.py`` checks
+``xnavlab/data/detector_table.json`` that chapter 9 loads and ``tests/mars/test_trials.py`` checks
 against freshly computed cells). ``--trials N`` sets the trials per cell (default 20).
 
 1. Sequential test chosen by measurement: on unit white innovations with a drift reaching
@@ -132,7 +132,7 @@ def run_table(n_trials=20, seed=0, days=1.0, max_workers=2):
     return records, trials.detector_table(records)
 
 
-#: Tasks re-run by tests/mars/test_combined.py (their records are stored with the table).
+#: Tasks re-run by tests/mars/test_trials.py (their records are stored with the table).
 CHECK_CELLS = (("step", "uv", 1), ("ramp", "cns", 1), ("noise", "xnav", 2))
 
 
