@@ -1,6 +1,6 @@
 """The detector trials of the Mars system (xnavlab.mars.trials): the shipped Monte Carlo table is
-complete and self-consistent, and its stored cells recompute from their seeds."""
-
+complete and self-consistent, its stored cells recompute from their seeds, and the Neyman-Pearson
+limit of a cell bounds what any detector can find."""
 
 import pytest
 
@@ -37,3 +37,26 @@ def test_table_cells_recompute(table):
                                                     r["size_index"], r["detector"])
                        == (new["fault_class"], new["sensor"], new["size_index"], new["detector"]))
             assert row["pd_hi"] > 0.0 if new["detected"] else row["pd_lo"] < 1.0
+
+
+def test_detection_limit_of_the_xnav_edge_cells():
+    """A 3x XNAV noise lasting 3000 s (6 samples of 500 s) cannot be found every time by
+    any detector at the design rate; a drift reaching 5 sigma in 6000 s can, within 4000 s."""
+    assert trials.detection_limit("noise", "xnav", 3.0) < 0.99
+    assert trials.detection_limit("ramp", "xnav", 5.0) > 0.999
+    assert trials.detection_limit("ramp", "xnav", 5.0, window_s=400.0) == 0.0   # no sample yet
+    assert trials.detection_limit("step", "uv", 3.0) > 0.999
+    with pytest.raises(ValueError, match="sensor"):
+        trials.detection_limit("noise", "cns", 3.0)
+    with pytest.raises(ValueError, match="fault_class"):
+        trials.detection_limit("stuck", "xnav", 600.0)
+
+
+def test_shipped_noise_cells_stay_below_the_limit():
+    """A noise fault leaves no evidence after it ends: no detector finds it more often than the
+    limit over its duration (to within the Wilson interval of the shipped table)."""
+    rows = trials.load_detector_table()["rows"]
+    for r in rows:
+        if r["fault_class"] == "noise" and r["sensor"] == "xnav":
+            lim = trials.detection_limit("noise", "xnav", r["size"], trials.DURATIONS["noise"])
+            assert r["pd_lo"] <= lim + 1e-9, r
