@@ -774,7 +774,7 @@ def _run_numpy(inp, active, gate, beta, progress, kind="ekf"):
     R_x, R_uv = xs.R(), sens["uv"].R()
     rm_x, rs_x = inp.xnav_bodies
     times = inp.times
-    bar = _progress(inp.n, progress, "mars (numpy)")
+    bar = _progress(inp.n, progress, f"mars (numpy, {kind})")  # ukf: the slowest path
     for k in range(inp.n):
         if k > 0:
             tp, dt = times[k - 1], times[k] - times[k - 1]
