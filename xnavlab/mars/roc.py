@@ -45,6 +45,16 @@ may be left out (``"combined"``, 0.5). Unknown keys are refused. The onsets are 
 55-70 % of the run and the detectors train on the first 40 %, as in
 :func:`xnavlab.mars.trials.detector_trial`.
 
+The runs in pandas (:func:`xnavlab.core.campaign.load_runs`): one row a run, its thresholds
+in the list ``metrics.per_threshold``; one row a (run, threshold)::
+
+    import pandas as pd
+    from xnavlab.core.campaign import load_runs
+    df = load_runs(DIR).explode("metrics.per_threshold", ignore_index=True)
+    long = pd.concat([df.drop(columns="metrics.per_threshold"),
+                      pd.json_normalize(df["metrics.per_threshold"].tolist())], axis=1)
+    long.groupby(["parameters.fault_class", "threshold"])["detected"].mean()
+
 The shipped curves (:data:`CURVES_PATH`, :func:`load_curves`) are written by
 ``python benchmarks/bench_roc.py --write``: the combined and chi-square detectors on
 :data:`DEFAULT_GRID`'s faults (a few minutes on two cores; chapter 9 reads them).
