@@ -1,6 +1,7 @@
 """xnavlab.core.widgets: the live widget and the kernel-free HTML scrubber."""
 
 import base64
+import io
 import json
 import re
 
@@ -207,3 +208,18 @@ def test_error_line(exc, line):
 def test_error_line_is_short():
     line = widgets.error_line(ValueError("x" * 1000))
     assert len(line) == 300 and line.endswith("\u2026")
+
+
+def test_live_png_has_the_pixels_of_the_default_png():
+    """The live widget's fast zlib level changes the bytes, never the image."""
+    from PIL import Image
+
+    fig = Figure(figsize=(3, 2), dpi=60)
+    fig.add_subplot().plot(np.arange(50.0) ** 0.5, label="sqrt")
+    default = io.BytesIO()
+    fig.savefig(default, format="png")
+    fast = widgets.live_png(fig)
+    assert fast[:8] == b"\x89PNG\r\n\x1a\n"
+    a = np.asarray(Image.open(io.BytesIO(fast)))
+    b = np.asarray(Image.open(io.BytesIO(default.getvalue())))
+    assert a.shape == b.shape and np.array_equal(a, b)

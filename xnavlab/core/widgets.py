@@ -47,7 +47,7 @@ import numpy as np
 
 from xnavlab.core.validate import check_choice, check_int
 
-__all__ = ["explore", "Explorer", "error_line", "BUSY"]
+__all__ = ["explore", "Explorer", "error_line", "live_png", "BUSY"]
 
 _MIME_WIDGET = "application/vnd.jupyter.widget-view+json"
 
@@ -240,10 +240,9 @@ class Explorer:
                 self.last_error = None
                 # one PNG at the figure's own size and dpi (display(fig) would draw it twice
                 # for a tight bounding box: up to a third of a redraw)
-                buf = io.BytesIO()
-                fig.savefig(buf, format="png")
+                png = live_png(fig)
                 plt.close(fig)  # shown once, not again by the inline backend
-                display(Image(data=buf.getvalue(), format="png"))
+                display(Image(data=png, format="png"))
 
             widget = w.interactive(show, **controls, **fixed)
             widget.add_class("xnav-explore")
@@ -258,6 +257,37 @@ class Explorer:
             view = self.widget()._repr_mimebundle_()
             bundle.update({k: v for k, v in view.items() if k == _MIME_WIDGET})
         return bundle
+
+
+def live_png(fig):
+    """The live widget's rendering of a figure: PNG bytes at its own size and dpi, fast zlib.
+
+    One Agg draw (no tight bounding box, which would draw twice) and zlib level 1 instead of
+    matplotlib's default 6: the same pixels (PNG is lossless), a few per cent more bytes, and
+    about 0.05 s less per redraw of a large figure. The HTML scrubber's frames keep the default
+    compression, since they are stored in the page.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+        Any figure (an Agg canvas is attached when it has none).
+
+    Returns
+    -------
+    bytes
+        The PNG file.
+
+    Examples
+    --------
+    >>> from matplotlib.figure import Figure
+    >>> fig = Figure(figsize=(2, 1), dpi=50)
+    >>> png = live_png(fig)
+    >>> png[:8] == b"\\x89PNG\\r\\n\\x1a\\n"
+    True
+    """
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", pil_kwargs={"compress_level": 1})
+    return buf.getvalue()
 
 
 def error_line(exc):
