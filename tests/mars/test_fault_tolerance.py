@@ -413,3 +413,17 @@ def test_save_npz_keeps_the_isolation_mask_and_the_detector_series(runs, tmp_pat
         np.testing.assert_array_equal(z["isolated"], run.isolated)
         assert str(z["detector"]) == "combined" and "uv.range:step" in str(z["faults"])
         assert any(k.startswith("det_uv_") for k in z.files)
+
+
+def test_plot_fault_response_with_kept_inputs_draws_what_fresh_inputs_draw():
+    """The slider keeps the fault-free inputs between moves; each curve is a fresh run's."""
+    mars_plots.plot_fault_response(3.0, "uv", "step", days=0.5)      # keeps the inputs
+    ax = mars_plots.plot_fault_response(8.0, "cns", "ramp", days=0.5).axes[0]
+    kept = [line.get_ydata() for line in ax.get_lines()]
+    onset, duration = round(0.6 * 0.5 * 86400.0) + 1.0, 4000.0
+    fault = Fault("cns", "ramp", 8.0 * ft.sensor_sigma("cns") / duration, onset, duration, None)
+    inputs = scenarios.prepare(days=0.5, seed=0)
+    assert len(kept) == len(ft.DETECTORS)
+    for det, curve in zip(ft.DETECTORS, kept, strict=True):
+        r = ft.run_fault_tolerant(faults=[fault], detector=det, inputs=inputs, train_days=0.2)
+        assert np.array_equal(curve, r.run.position_error())

@@ -15,6 +15,7 @@ Examples
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -167,10 +168,12 @@ def plot_fault_response(size_sigma=5.0, sensor="uv", kind="step", duration=4000.
     mag = size_sigma * sig / (duration if kind == "ramp" else 1.0)
     comp = 0 if sensor == "uv" else None
     fault = Fault(sensor, kind, mag, onset, duration, comp)
-    inp = scenarios.prepare(days=days, seed=seed)
+    inp = _fault_free_inputs(float(days), int(seed))   # the same for every slider position
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(8.5, 3.4), layout="constrained")
+    # fixed margins, not the constrained layout: the live slider redraws this at every move
+    fig = Figure(figsize=(8.5, 3.4))
+    fig.subplots_adjust(left=0.08, right=0.99, bottom=0.14, top=0.91)
     ax = fig.add_subplot()
     settle = 0.4 * days
     text = []
@@ -192,6 +195,12 @@ def plot_fault_response(size_sigma=5.0, sensor="uv", kind="step", duration=4000.
            title=f"{sensor} {kind} of {size_sigma:g} sigma: " + ", ".join(text))
     ax.legend(fontsize=8, loc="upper left", title="detector: RMS after 40 %", title_fontsize=8)
     return fig
+
+
+@functools.lru_cache(maxsize=4)
+def _fault_free_inputs(days, seed):
+    """``scenarios.prepare(days=days, seed=seed)``, kept: the slider's runs only read it."""
+    return scenarios.prepare(days=days, seed=seed)
 
 
 def plot_error_curves(curves, faults=(), *, title="", isolations=()):
