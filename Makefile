@@ -7,6 +7,10 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed-stamp
 WARM   := $(VENV)/.warmup-stamp
 export MPLBACKEND := Agg
+# pytest workers (pytest-xdist) and chapters executed at once by `make book`: one per core.
+# A notebook's cells stay together on one worker (--dist loadfile): they share a kernel.
+JOBS   ?= $(shell nproc 2>/dev/null || echo 2)
+XDIST  := -n $(JOBS) --dist loadfile
 export PYDEVD_DISABLE_FILE_VALIDATION := 1
 
 .PHONY: book book-clean test unit notebooks bench lint lab clean setup warmup browser-test lab-test portability \
@@ -41,6 +45,7 @@ warmup: $(WARM)
 # (MPLBACKEND=Agg, exported above for the tests, would stop the kernels' inline figures)
 book: $(WARM)
 	$(BIN)/python tools/book_cache.py
+	env -u MPLBACKEND $(BIN)/python tools/book_execute.py --jobs $(JOBS)
 	env -u MPLBACKEND $(BIN)/jupyter-book build . -W -n --keep-going
 	touch $(BOOK_STAMP)
 
@@ -56,7 +61,7 @@ book-clean:
 test: $(WARM)
 	$(BIN)/python tools/typed_numbers.py
 	$(BIN)/python tools/merge_bib.py --check
-	$(BIN)/python -m pytest --nbval-lax --nbval-cell-timeout=300 -p no:cacheprovider xnavlab tests book
+	$(BIN)/python -m pytest $(XDIST) --nbval-lax --nbval-cell-timeout=300 -p no:cacheprovider xnavlab tests book
 	$(MAKE) book-clean
 	$(MAKE) browser-test
 	$(BIN)/python tools/check_book.py
@@ -88,10 +93,10 @@ typed-numbers: $(STAMP)
 	$(BIN)/python tools/typed_numbers.py
 
 unit: $(WARM)
-	$(BIN)/python -m pytest -p no:cacheprovider xnavlab tests
+	$(BIN)/python -m pytest $(XDIST) -p no:cacheprovider xnavlab tests
 
 notebooks: $(WARM)
-	$(BIN)/python -m pytest --nbval-lax --nbval-cell-timeout=300 -p no:cacheprovider book
+	$(BIN)/python -m pytest $(XDIST) --nbval-lax --nbval-cell-timeout=300 -p no:cacheprovider book
 
 bench: $(STAMP)
 	for f in benchmarks/bench_*.py; do $(BIN)/python $$f || exit 1; done
@@ -108,7 +113,7 @@ lab: $(STAMP)
 portability: $(WARM)
 	for core in Haswell Sandybridge Prescott; do \
 	  echo "== OPENBLAS_CORETYPE=$$core"; \
-	  OPENBLAS_CORETYPE=$$core $(BIN)/python -m pytest -q -p no:cacheprovider xnavlab tests || exit 1; \
+	  OPENBLAS_CORETYPE=$$core $(BIN)/python -m pytest $(XDIST) -q -p no:cacheprovider xnavlab tests || exit 1; \
 	done
 
 clean:

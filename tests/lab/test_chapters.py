@@ -30,5 +30,7 @@ def test_chapter(chapter, lab, lab_server, lab_report):
     lab_report(rep)
     problems = "\n".join(f"  - {p}" for p in rep.problems)
     assert not rep.problems, f"{rep.summary()}\n{problems}"
-    assert sum(r.control == rep.redraws[0].control for r in rep.redraws) == 2
-    assert lab_server.kernels() == [], "the chapter's kernel is still running"
+    moves = sum(r.control == rep.redraws[0].control for r in rep.redraws)
+    assert moves == 2, (f"{chapter}: the main slider {rep.redraws[0].control!r} was moved "
+                        f"{moves} times, not 2\n{rep.summary()}")
+    assert lab_server.kernels() == [], f"{chapter}: the chapter's kernel is still running"

@@ -1,0 +1,63 @@
+"""tools/book_execute.py: the book's notebook pages executed into myst-nb's cache, found there."""
+
+import importlib
+import json
+from pathlib import Path
+
+import nbformat
+import pytest
+
+TOOL = Path(__file__).resolve().parents[1] / "tools" / "book_execute.py"
+ROOT = TOOL.parents[1]
+
+
+@pytest.fixture
+def tool(tmp_path, monkeypatch):
+    # importable by name: the worker processes find the page runner by its module's name
+    monkeypatch.syspath_prepend(str(TOOL.parent))
+    mod = importlib.import_module("book_execute")
+    monkeypatch.setattr(mod, "ROOT", tmp_path)
+    monkeypatch.setattr(mod, "CACHE", tmp_path / "_build" / ".jupyter_cache")
+    monkeypatch.setattr(mod, "TIMES", tmp_path / "_build" / "times.json")
+    return mod
+
+
+def _book(root, code):
+    (root / "book").mkdir()
+    (root / "_toc.yml").write_text("format: jb-book\nroot: book/intro\nchapters:\n"
+                                   "  - file: book/one\n  - file: book/notes\n")
+    (root / "_config.yml").write_text("execute:\n  timeout: 60\n")
+    (root / "book" / "intro.md").write_text("# Intro\n\nNot a notebook.\n")
+    (root / "book" / "notes.md").write_text("# Notes\n")
+    nb = nbformat.v4.new_notebook(cells=[nbformat.v4.new_code_cell(code)])
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3",
+                                 "language": "python"}
+    nbformat.write(nb, root / "book" / "one.ipynb")
+
+
+def test_the_books_own_notebook_pages_are_every_chapter_and_the_dashboard(tool):
+    names = [p.name for p in tool.notebook_pages(ROOT)]
+    assert "dashboard.md" in names and "bibliography.md" not in names
+    assert sum(n.endswith(".ipynb") for n in names) == len(list((ROOT / "book").glob("[0-9][0-9]_*.ipynb")))
+    assert tool.default_timeout(ROOT) >= 60
+
+
+def test_a_page_is_executed_once_and_then_found_in_the_cache(tool, tmp_path, capsys):
+    from jupyter_cache import get_cache
+
+    _book(tmp_path, "print(6 * 7)")
+    assert [p.name for p in tool.notebook_pages()] == ["one.ipynb"]
+    assert tool.main(["--jobs", "1"]) == 0
+    record = get_cache(str(tool.CACHE)).match_cache_notebook(
+        tool.read_page(tmp_path / "book" / "one.ipynb"))
+    assert record.pk >= 1
+    assert "one.ipynb" in json.loads(tool.TIMES.read_text())
+    assert tool.main(["--jobs", "1"]) == 0
+    assert "every page is in the execution cache" in capsys.readouterr().out
+
+
+def test_a_failing_page_stops_with_its_error_and_is_not_cached(tool, tmp_path, capsys):
+    _book(tmp_path, "raise RuntimeError('broken chapter')")
+    assert tool.main(["--jobs", "1"]) == 1
+    assert "broken chapter" in capsys.readouterr().err
+    assert tool.main(["--jobs", "0"]) == 2

@@ -1,0 +1,165 @@
+"""Execute the book's notebooks into myst-nb's execution cache, several at a time.
+
+``make book`` runs ``jupyter-book build`` in myst-nb's ``cache`` mode. Left alone, the build
+executes the chapters one after another: on a two-core machine one core waits while the
+other runs a chapter. This script runs first and executes every page of ``_toc.yml`` that is
+a notebook (``.ipynb``, or MyST Markdown with notebook top-matter) and is not in the cache
+yet, ``--jobs`` at a time, exactly as myst-nb would (the same reader, the same
+``jupyter_cache`` executor, the page's directory as working directory, the ``execute:``
+timeout of ``_config.yml`` or the page's own ``mystnb.execution_timeout``, errors not
+allowed) and stores each executed notebook in the cache, where the build then finds it
+("Using cached notebook") instead of executing it again. Nothing is executed twice and
+nothing is skipped: a page whose code cells match the cache is not run, every other is.
+
+A page that fails stops the script with its traceback and exit code 1 (the build would stop
+on it too, later). ``tools/book_cache.py`` must run before it, so that a cache made with an
+older package is dropped first.
+
+Usage: ``python tools/book_execute.py [--jobs N]`` from the repository root.
+"""
+
+import argparse
+import concurrent.futures
+import json
+import os
+import sys
+import time
+from pathlib import Path
+
+import nbformat
+import yaml
+from jupyter_cache import get_cache
+from jupyter_cache.base import CacheBundleIn
+from jupyter_cache.executors.utils import single_nb_execution
+from myst_nb.core.read import (
+    is_myst_markdown_notebook,
+    read_myst_markdown_notebook,
+    standard_nb_read,
+)
+
+ROOT = Path(__file__).resolve().parents[1]
+CACHE = ROOT / "_build" / ".jupyter_cache"
+#: Each page's last execution time here (seconds), for the order of the next run.
+TIMES = ROOT / "_build" / ".book-execute-times.json"
+
+
+def toc_files(toc):
+    """Every ``file:`` of a ``_toc.yml`` tree, in reading order."""
+    if isinstance(toc, dict):
+        found = [toc["file"]] if "file" in toc else []
+        for key in ("root",):
+            if key in toc:
+                found.append(toc[key])
+        for value in toc.values():
+            if isinstance(value, (list, dict)):
+                found += toc_files(value)
+        return found
+    if isinstance(toc, list):
+        return [f for item in toc for f in toc_files(item)]
+    return []
+
+
+def read_page(path):
+    """The page as myst-nb reads it, or None when it is not a notebook."""
+    text = path.read_text(encoding="utf-8")
+    if path.suffix == ".ipynb":
+        return standard_nb_read(text)
+    if is_myst_markdown_notebook(text):
+        return read_myst_markdown_notebook(text, add_source_map=True, path=str(path))
+    return None
+
+
+def notebook_pages(root=None):
+    """Paths of the pages of ``_toc.yml`` that are notebooks."""
+    root = root or ROOT
+    toc = yaml.safe_load((root / "_toc.yml").read_text(encoding="utf-8"))
+    pages = []
+    for name in dict.fromkeys(toc_files(toc)):
+        for suffix in (".ipynb", ".md"):
+            path = root / f"{name}{suffix}"
+            if path.exists() and read_page(path) is not None:
+                pages.append(path)
+                break
+    return pages
+
+
+def default_timeout(root=None):
+    """The ``execute: timeout`` of ``_config.yml`` (seconds per cell)."""
+    root = root or ROOT
+    config = yaml.safe_load((root / "_config.yml").read_text(encoding="utf-8"))
+    return int(config.get("execute", {}).get("timeout", 30))
+
+
+def longest_first(pages):
+    """The pages, slowest first by their last run here (so two jobs end together), else
+    Markdown notebooks (the dashboard) first, then in reading order."""
+    try:
+        last = json.loads(TIMES.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        last = {}
+    return sorted(pages, key=lambda p: (-float(last.get(p.name, 0.0)), p.suffix != ".md"))
+
+
+def execute(path, timeout):
+    """Execute one page in its directory; return (path, notebook JSON or None, seconds, error)."""
+    nb = read_page(path)
+    timeout = int(nb.metadata.get("mystnb", {}).get("execution_timeout", timeout))
+    result = single_nb_execution(nb, cwd=str(path.parent), timeout=timeout,
+                                 allow_errors=False, meta_override=True)
+    if result.err is not None:
+        return path, None, result.time, result.exc_string
+    return path, nbformat.writes(nb), result.time, None
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                        help="pages executed at once (default: the number of CPUs)")
+    parser.add_argument("pages", nargs="*", type=Path,
+                        help="only these pages (default: every notebook page of _toc.yml)")
+    args = parser.parse_args(argv)
+    if args.jobs < 1:
+        print(f"book_execute: --jobs must be at least 1, got {args.jobs}", file=sys.stderr)
+        return 2
+    cache = get_cache(str(CACHE))
+    todo = []
+    pages = [p.resolve() for p in args.pages] if args.pages else notebook_pages()
+    for path in longest_first(pages):
+        try:
+            cache.match_cache_notebook(read_page(path))
+        except KeyError:
+            todo.append(path)
+    if not todo:
+        print("book_execute: every page is in the execution cache")
+        return 0
+    timeout = default_timeout()
+    try:
+        times = json.loads(TIMES.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        times = {}
+    start = time.perf_counter()
+    print(f"book_execute: {len(todo)} pages, {args.jobs} at a time", flush=True)
+    with concurrent.futures.ProcessPoolExecutor(args.jobs) as pool:
+        futures = [pool.submit(execute, path, timeout) for path in todo]
+        for future in concurrent.futures.as_completed(futures):
+            path, text, seconds, error = future.result()
+            name = path.relative_to(ROOT)
+            if error is not None:
+                print(f"book_execute: {name} failed after {seconds:.1f} s\n{error}",
+                      file=sys.stderr, flush=True)
+                for other in futures:
+                    other.cancel()
+                return 1
+            nb = nbformat.reads(text, as_version=4)
+            cache.cache_notebook_bundle(
+                CacheBundleIn(nb, str(path), data={"execution_seconds": seconds}),
+                check_validity=False, overwrite=True)
+            times[path.name] = round(seconds, 1)
+            print(f"book_execute: {name} {seconds:.1f} s", flush=True)
+    TIMES.write_text(json.dumps(times, indent=1, sort_keys=True), encoding="utf-8")
+    print(f"book_execute: done in {time.perf_counter() - start:.1f} s wall", flush=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
