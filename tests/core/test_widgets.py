@@ -223,3 +223,22 @@ def test_live_png_has_the_pixels_of_the_default_png():
     a = np.asarray(Image.open(io.BytesIO(fast)))
     b = np.asarray(Image.open(io.BytesIO(default.getvalue())))
     assert a.shape == b.shape and np.array_equal(a, b)
+
+
+def test_widget_shows_a_position_drawn_before_without_calling_plot_again(capsys):
+    """plot is pure: back at a seen position, the kept PNG is shown, not a new draw."""
+    calls = []
+
+    def counted(omega=1.0):
+        calls.append(omega)
+        return wave(omega)
+
+    ex = explore(counted, omega=[1.0, 2.0, 3.0])
+    w = ex.widget()                       # draws the opening position, 2.0
+    slider = [c for c in w.children if "xnav-control" in c._dom_classes][0]
+    slider.value = 3.0
+    slider.value = 2.0                    # seen: no call
+    slider.value = 3.0                    # seen: no call
+    assert calls == [2.0, 3.0]
+    assert ex.status.value == "" and ex.last_error is None
+    w.close()

@@ -47,9 +47,12 @@ import numpy as np
 
 from xnavlab.core.validate import check_choice, check_int
 
-__all__ = ["explore", "Explorer", "error_line", "live_png", "BUSY"]
+__all__ = ["explore", "Explorer", "error_line", "live_png", "BUSY", "LIVE_MEMO_FRAMES"]
 
 _MIME_WIDGET = "application/vnd.jupyter.widget-view+json"
+
+#: Positions whose PNG the live widget keeps, to show them again without a redraw.
+LIVE_MEMO_FRAMES = 64
 
 #: Text of the live widget's status line while a redraw runs.
 BUSY = "computing\u2026"
@@ -133,6 +136,7 @@ class Explorer:
         self._start = self.frame_values.index(grid[k0])
         self._frames = None
         self._widget = None
+        self._seen = {}  # the live widget's PNG of each position drawn, most recent last
         self.status = None
         self.last_error = None
 
@@ -198,7 +202,9 @@ class Explorer:
         """The live ``ipywidgets.interactive`` (built once), ``continuous_update=False``.
 
         Below the controls sits the status line (attribute ``status``, ``computing…`` during a
-        redraw), then the figure. An exception raised by ``plot`` (or ``plot`` not returning a
+        redraw), then the figure. ``plot`` being pure, a position drawn before is shown again
+        from its kept PNG (the last :data:`LIVE_MEMO_FRAMES` positions), without calling it.
+        An exception raised by ``plot`` (or ``plot`` not returning a
         Figure) shows :func:`error_line` in place of the figure and is kept in
         attribute ``last_error``; the widget stays usable.
         """
@@ -225,6 +231,12 @@ class Explorer:
             self.status = status
 
             def show(**values):
+                key = _memo_key(values)
+                if key in self._seen:  # a position drawn before: its PNG again, no redraw
+                    self._seen[key] = self._seen.pop(key)  # most recently used last
+                    self.last_error = None
+                    display(Image(data=self._seen[key], format="png"))
+                    return
                 status.value = _BUSY_HTML  # sent to the browser at once (iopub thread)
                 try:
                     fig = self.figure(**values)
@@ -242,6 +254,10 @@ class Explorer:
                 # for a tight bounding box: up to a third of a redraw)
                 png = live_png(fig)
                 plt.close(fig)  # shown once, not again by the inline backend
+                if key is not None:
+                    self._seen[key] = png
+                    while len(self._seen) > LIVE_MEMO_FRAMES:
+                        self._seen.pop(next(iter(self._seen)))
                 display(Image(data=png, format="png"))
 
             widget = w.interactive(show, **controls, **fixed)
@@ -404,6 +420,16 @@ def explore(plot: Callable, *, main=None, initial=None, max_frames=12, dpi=80, *
         else:
             start[name] = grid[(len(grid) - 1) // 2]
     return Explorer(plot, grids, fixed, main, start, max_frames, dpi)
+
+
+def _memo_key(values):
+    """A hashable key of a widget position (``None`` when a value is not hashable)."""
+    key = tuple(sorted(values.items()))
+    try:
+        hash(key)
+    except TypeError:
+        return None
+    return key
 
 
 def _index(grid, value, name="value"):
