@@ -303,7 +303,8 @@ def _resume_completes_every_index_once(args, out, n):
 @pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGTERM, signal.SIGINT])
 def test_a_killed_campaign_leaves_no_process_and_resumes_at_once(tmp_path, sig):
     """Only the campaign process gets the signal (not its group): its pool workers must end
-    with it within 2 s, and the same command then resumes at once, every index once."""
+    with it, and the same command then resumes at once, every index once. The bound (20 s) is
+    for a loaded machine: an orphaned worker would instead wait on its queue for ever."""
     import psutil
 
     n, out = 12, tmp_path / "k"
@@ -316,7 +317,7 @@ def test_a_killed_campaign_leaves_no_process_and_resumes_at_once(tmp_path, sig):
         assert len(children) >= 2, children                             # the pool's workers
         os.kill(proc.pid, sig)                                          # the parent only
         proc.wait(timeout=30)
-        gone, alive = psutil.wait_procs(children, timeout=2.0)
+        gone, alive = psutil.wait_procs(children, timeout=20.0)
         assert not alive, f"processes of the killed campaign still running: {alive}"
     finally:
         if proc.poll() is None:
