@@ -66,6 +66,10 @@ def test_planet_shapiro_is_the_suns_formula_with_the_planets_mass():
     x = r - ephemeris.position("jupiter", t)
     by_hand = 2 * toa.GM_DE421["jupiter"] / C**3 * np.log((x @ N.T + np.linalg.norm(x, axis=1)[:, None]) / AU)
     np.testing.assert_allclose(au, by_hand, rtol=1e-9)
+    both = tt.planet_shapiro(r, t, N, bodies=("jupiter", "venus"), reference="both")
+    np.testing.assert_array_equal(both["total"], out["total"])
+    np.testing.assert_allclose(both["jupiter_au"], au, rtol=1e-15)
+    np.testing.assert_allclose(both["total_au"], both["jupiter_au"] + both["venus_au"], rtol=1e-15)
 
 
 def test_planet_shapiro_input_checks():
@@ -175,3 +179,25 @@ def test_navigation_effect_reports_a_breakdown():
 def test_constants():
     assert GM_SUN == pytest.approx(toa.GM_DE421["sun"], rel=1e-8)
     assert tt.MARS_YEAR_DAYS == pytest.approx(687.0, abs=0.1)
+
+
+def test_summary_rows_and_plot_terms(day_orbit):
+    t, _, orbit = day_orbit
+    year = tt.mars_year_terms(step_days=10.0)
+    sigma = np.array([pulsars.ranging_accuracy(p) for p in pulsars.PAPER_PULSARS])
+    zero = np.zeros((2, 4))
+    witness = {key: zero for key in ("roemer", "parallax", "shapiro", "shapiro_paper", "jupiter",
+                                     "saturn", "venus", "pint_uranus_neptune", "pint_planets")}
+    witness["saturn"] = np.full((2, 4), 2e-14)
+    nav = {None: {"position_error_m": 30.0}, "planets": {"position_error_m": 31.0},
+           "clock": {"failed": "a covariance lost positive definiteness"}}
+    header, rows = tt.summary_rows(orbit, year, N, sigma, witness, nav)
+    by_term = {row[0]: row for row in rows}
+    assert len(rows) == len(tt.TERMS) and all(len(row) == len(header) for row in rows)
+    planets = by_term["planets' Shapiro (Venus, Earth, Mars, Jupiter, Saturn)"]
+    assert planets[5] == 2e-14 and planets[7] == 31.0
+    assert planets[2] == pytest.approx(C * planets[1])
+    assert by_term["clock: tau - TDB, whole"][7] == "the filter breaks down"
+    assert by_term["clock: mean rate"][7] == "-" and by_term["clock: mean rate"][5].startswith("not in PINT")
+    fig = tt.plot_terms(t, orbit, year, year["t"][:2], witness)
+    assert len(fig.axes) == 2 and len(fig.legends) == 1

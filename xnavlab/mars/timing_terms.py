@@ -60,6 +60,8 @@ __all__ = [
     "xnav_run_with_term",
     "navigation_effect",
     "pint_witness",
+    "summary_rows",
+    "plot_terms",
 ]
 
 #: The bodies :func:`planet_shapiro` sums by default (those of :data:`xnavlab.mars.toa.GM_DE421`
@@ -176,7 +178,8 @@ def planet_shapiro(r_ssb, t, n, bodies=PLANET_BODIES, reference="ssb", ephem="de
     ``Delta_p = 2 GM_p/c^3 ln[(n.x + |x|)/(n.b + |b|)]``  (Backer & Hellings 1986, eq. 4.6)
 
     referred to the SSB like :func:`xnavlab.mars.toa.shapiro`; with ``reference="au"`` the
-    denominator is 1 au instead, PINT's and Tempo2's convention (their ``PLANET_SHAPIRO``).
+    denominator is 1 au instead, PINT's and Tempo2's convention (their ``PLANET_SHAPIRO``);
+    ``reference="both"`` returns the two, one ephemeris look-up per body.
 
     Parameters
     ----------
@@ -188,7 +191,7 @@ def planet_shapiro(r_ssb, t, n, bodies=PLANET_BODIES, reference="ssb", ephem="de
         Unit vectors to the pulsars.
     bodies : sequence of str
         Bodies of :data:`xnavlab.mars.toa.GM_DE421` other than the Sun.
-    reference : {"ssb", "au"}
+    reference : {"ssb", "au", "both"}
         What the delay is referred to.
     ephem : {"de421", "de405"}
         Ephemeris of the bodies.
@@ -196,7 +199,8 @@ def planet_shapiro(r_ssb, t, n, bodies=PLANET_BODIES, reference="ssb", ephem="de
     Returns
     -------
     dict of ndarray, shape (m, k) (or (k,))
-        One entry per body and their sum ``total``, s.
+        One entry per body and their sum ``total``, s; with ``reference="both"`` also the
+        same referred to 1 au under the names ``<body>_au`` and ``total_au``.
 
     Examples
     --------
@@ -208,22 +212,26 @@ def planet_shapiro(r_ssb, t, n, bodies=PLANET_BODIES, reference="ssb", ephem="de
     >>> bool(np.abs(out["total"]).max() < 1e-7)     # nanoseconds
     True
     """
-    check_choice("reference", reference, ("ssb", "au"))
+    check_choice("reference", reference, ("ssb", "au", "both"))
     r = check_finite_array("r_ssb", r_ssb, shape=(3,))
     n = check_finite_array("n", n, shape=(3,))
     t = check_finite_array("t", t)
-    out = {}
+    ssb, au = {}, {}
     for body in bodies:
         check_choice("bodies", body, tuple(b for b in toa.GM_DE421 if b != "sun"))
         r_p = ephemeris.position(body, t, ephem).reshape(r.shape)
         ratio = toa.GM_DE421[body] / GM_SUN  # toa.shapiro is 2 GM_sun/c^3 ln[...]
         # the body in place of the Sun: 2 GM_p/c^3 ln[(n.x + |x|)/(n.b + |b|)]
-        delay = ratio * toa.shapiro(r, n, r_p)
-        if reference == "au":
-            delay = delay - ratio * toa.shapiro_offset_to_pint(n, r_p)  # ln[(n.x + |x|)/1 au]
-        out[body] = delay
-    out["total"] = sum(out.values())
-    return out
+        ssb[body] = ratio * toa.shapiro(r, n, r_p)
+        if reference != "ssb":  # ln[(n.x + |x|)/1 au]
+            au[body] = ssb[body] - ratio * toa.shapiro_offset_to_pint(n, r_p)
+    ssb["total"] = sum(ssb.values())
+    if reference == "ssb":
+        return ssb
+    au["total"] = sum(au.values())
+    if reference == "au":
+        return au
+    return {**ssb, **{f"{key}_au": value for key, value in au.items()}}
 
 
 def clock_terms(t, x, ephem="de421"):
@@ -288,7 +296,8 @@ def orbit_terms(t, x, pulsar_names=pulsars.PAPER_PULSARS, ephem="de421"):
     -------
     dict of ndarray, shape (m, k)
         The terms of :data:`TERMS`, s (the clock terms, the same for every pulsar, repeated
-        on the last axis); and ``rate`` (float), ``sun_angle_deg`` (m, k).
+        on the last axis); ``planets_au`` (the planets referred to 1 au, PINT's convention),
+        ``sun_angle_deg`` (m, k) and ``rate`` (float).
 
     Examples
     --------
@@ -304,8 +313,9 @@ def orbit_terms(t, x, pulsar_names=pulsars.PAPER_PULSARS, ephem="de421"):
     n, _ = pulsars.directions(pulsar_names)
     r = ephemeris.position("mars", t, ephem).reshape(-1, 3) + x[:, :3]
     r_sun = ephemeris.position("sun", t, ephem).reshape(-1, 3)
+    planets = planet_shapiro(r, t, n, ephem=ephem, reference="both")
     out = {"shapiro_exact_minus_paper": toa.shapiro(r, n, r_sun) - toa.shapiro_paper(r, n, r_sun),
-           "planets": planet_shapiro(r, t, n, ephem=ephem)["total"],
+           "planets": planets["total"], "planets_au": planets["total_au"],
            "sun_angle_deg": sun_angle_deg(r, n, r_sun)}
     clock = clock_terms(t, x, ephem)
     for key in ("clock", "clock_rate", "clock_mars_year", "clock_orbit"):
@@ -336,7 +346,8 @@ def mars_year_terms(t0=None, step_days=1.0, pulsar_names=pulsars.PAPER_PULSARS, 
     -------
     dict
         ``t`` (m,) s; ``shapiro_exact_minus_paper``, ``planets`` (:data:`PLANET_BODIES`
-        but Mars, whose own delay at its centre is infinite), ``sun_angle_deg`` (m, k);
+        but Mars, whose own delay at its centre is infinite), ``planets_au`` (the same
+        referred to 1 au), ``sun_angle_deg`` (m, k);
         ``clock`` (m,): ``-(tau - TDB)`` of a clock riding with Mars; ``clock_mars_year``
         (m,): ``clock`` less its straight-line fit; ``rate`` (float): the mean rate of the
         clock; ``clock_orbit_bound`` (m,): ``|V_Mars| r / c^2``, the amplitude of the
@@ -360,10 +371,11 @@ def mars_year_terms(t0=None, step_days=1.0, pulsar_names=pulsars.PAPER_PULSARS, 
     r_sun = ephemeris.position("sun", t, ephem)
     clock = -toa.proper_time_terms(t, center="mars", ephem=ephem)["tau_minus_tdb"]
     fit = np.polyval(np.polyfit(t - t0, clock, 1), t - t0)
+    planets = planet_shapiro(r_mars, t, n, bodies=tuple(b for b in PLANET_BODIES if b != "mars"),
+                             ephem=ephem, reference="both")
     return {"t": t,
             "shapiro_exact_minus_paper": toa.shapiro(r_mars, n, r_sun) - toa.shapiro_paper(r_mars, n, r_sun),
-            "planets": planet_shapiro(r_mars, t, n, bodies=tuple(b for b in PLANET_BODIES if b != "mars"),
-                                      ephem=ephem)["total"],
+            "planets": planets["total"], "planets_au": planets["total_au"],
             "sun_angle_deg": sun_angle_deg(r_mars, n, r_sun),
             "clock": clock, "clock_mars_year": clock - fit,
             "rate": float(-np.polyfit(t - t0, clock, 1)[0]),
@@ -631,3 +643,142 @@ def pint_witness(r_ssb, t, n, distance):
     except OSError:
         pass
     return out
+
+
+_LABELS = {
+    "shapiro_exact_minus_paper": "Sun's Shapiro: exact minus the paper's form",
+    "planets": "planets' Shapiro (Venus, Earth, Mars, Jupiter, Saturn)",
+    "clock": "clock: tau - TDB, whole",
+    "clock_rate": "clock: mean rate",
+    "clock_mars_year": "clock: Mars-year term",
+    "clock_orbit": "clock: orbit term V_Mars . r / c^2",
+}
+
+
+def _year_term(year, term):
+    """The Mars-year counterpart of an orbit term, s, shape (m, k) or (m,)."""
+    if term == "clock_rate":
+        return year["clock"] - year["clock_mars_year"]
+    if term == "clock_orbit":
+        return year["clock_orbit_bound"]
+    return year[term]
+
+
+def summary_rows(orbit, year, n, sigma, witness=None, nav=None):
+    """One row per omitted term (:data:`TERMS`): sizes, ours against PINT, effect on navigation.
+
+    Parameters
+    ----------
+    orbit : dict
+        :func:`orbit_terms` along the orbit.
+    year : dict
+        :func:`mars_year_terms`.
+    n : array_like, shape (k, 3)
+        Unit vectors to the pulsars.
+    sigma : array_like, shape (k,)
+        Ranging accuracies of the pulsars, m (for :func:`position_bias`).
+    witness : dict, optional
+        :func:`pint_witness`; without it the column says ``-``.
+    nav : dict, optional
+        :func:`navigation_effect`; without it the column says ``-``.
+
+    Returns
+    -------
+    header : list of str
+    rows : list of list
+        Floats (s, m) or text, for :func:`xnavlab.core.plotting.html_table`.
+
+    Examples
+    --------
+    >>> t = dynamics.MARS_T0 + np.arange(0.0, 86400.0 + 1.0, 600.0)
+    >>> n, _ = pulsars.directions()
+    >>> header, rows = summary_rows(orbit_terms(t, dynamics.truth(t)), mars_year_terms(step_days=10.0),
+    ...                             n, [109.0, 344.0, 1866.0, 325.0])
+    >>> len(header), len(rows), rows[0][0]
+    (8, 6, "Sun's Shapiro: exact minus the paper's form")
+    """
+    header = ["term", "orbit, 30 days: max (s)", "(m)", "Mars year: max (s)", "(m)",
+              "ours minus PINT: max (s)", "snapshot position bias, orbit (m)",
+              "XNAV filter RMS position error (m)"]
+    pint_col = {"shapiro_exact_minus_paper": "shapiro", "planets": ("jupiter", "saturn", "venus")}
+    rows = []
+    for term in TERMS:
+        on_orbit = float(np.abs(orbit[term]).max())
+        in_year = float(np.abs(_year_term(year, term)).max())
+        bias = float(np.linalg.norm(position_bias(orbit[term], n, sigma), axis=-1).max())
+        if witness is None:
+            theirs = "-"
+        elif term in pint_col:
+            keys = pint_col[term] if isinstance(pint_col[term], tuple) else (pint_col[term],)
+            theirs = float(max(np.abs(witness[key]).max() for key in keys))
+        else:
+            theirs = "not in PINT (it takes TDB epochs)"
+        if nav is None or term not in nav:
+            effect = "-"
+        elif "failed" in nav[term]:
+            effect = "the filter breaks down"
+        else:
+            effect = float(nav[term]["position_error_m"])
+        rows.append([_LABELS[term], on_orbit, C * on_orbit, in_year, C * in_year, theirs, bias, effect])
+    return header, rows
+
+
+def plot_terms(t, orbit, year, witness_t=None, witness=None):
+    """Every omitted term in metres (``c`` times its largest value over the pulsars), log scale.
+
+    Left: around the paper's orbit; right: over a Mars year at Mars's centre (the orbit
+    clock term as its amplitude), both counted in days from ``t[0]`` (so ``year`` should
+    start there). PINT's numbers, where given, are markers: the paper's
+    Shapiro form against PINT's exact one and PINT's five planets (referred to 1 au,
+    beside ours referred to 1 au, dashed).
+
+    Parameters
+    ----------
+    t : array_like, shape (m,)
+        Epochs of ``orbit``, s TDB past J2000.
+    orbit, year : dict
+        :func:`orbit_terms` and :func:`mars_year_terms`.
+    witness_t : array_like, shape (w,), optional
+        Epochs of ``witness`` (:func:`pint_witness`).
+    witness : dict, optional
+        :func:`pint_witness` at ``witness_t``.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two axes; not registered with pyplot.
+
+    Examples
+    --------
+    >>> t = dynamics.MARS_T0 + np.arange(0.0, 86400.0 + 1.0, 600.0)
+    >>> fig = plot_terms(t, orbit_terms(t, dynamics.truth(t)), mars_year_terms(step_days=10.0))
+    >>> [ax.get_yscale() for ax in fig.axes]
+    ['log', 'log']
+    """
+    from matplotlib.figure import Figure
+
+    t = check_finite_array("t", t)
+    fig = Figure(figsize=(12, 5.2), layout="constrained")
+    axes = fig.subplots(1, 2, sharey=True)
+    panels = ((axes[0], (t - t[0]) / DAY, orbit, "days of the paper's run (around the orbit)"),
+              (axes[1], (year["t"] - year["t"][0]) / DAY, year, "days of a Mars year (at Mars's centre)"))
+    for ax, days, data, xlabel in panels:
+        for i, term in enumerate(TERMS):
+            value = data[term] if data is orbit else _year_term(year, term)
+            size = np.abs(value).max(axis=-1) if np.ndim(value) == 2 else np.abs(value)
+            ax.plot(days, C * np.maximum(size, 1e-30), color=f"C{i}", label=_LABELS[term])
+        ax.plot(days, C * np.abs(data["planets_au"]).max(axis=-1), "--", color="C1",
+                label="planets' Shapiro referred to 1 au (PINT's convention)")
+        ax.set(yscale="log", xlabel=xlabel, ylim=(1e-2, 1e9))
+    if witness is not None:
+        wt = (check_finite_array("witness_t", witness_t) - t[0]) / DAY
+        for ax, span in ((axes[0], (t[-1] - t[0]) / DAY), (axes[1], (year["t"][-1] - t[0]) / DAY)):
+            inside = (wt >= -1e-9) & (wt <= span + 1e-9)
+            ax.plot(wt[inside], C * np.abs(witness["shapiro_paper"][inside]).max(axis=-1), "kx",
+                    label="PINT: paper's form minus PINT's Shapiro")
+            ax.plot(wt[inside], C * np.abs(witness["pint_planets"][inside]).max(axis=-1), "k+",
+                    label="PINT: its five planets")
+    axes[0].set_ylabel("largest over the pulsars, times c (m)")
+    handles, labels = axes[1].get_legend_handles_labels()
+    fig.legend(handles, labels, fontsize=8, ncol=3, loc="outside lower center")
+    return fig
