@@ -33,9 +33,11 @@ Both are referred to the SSB: zero for a spacecraft at the SSB. PINT and Tempo2 
 theirs to 1 au instead; :func:`shapiro_offset_to_pint` is the difference.
 
 The delays compare times on one scale, TDB. A clock on board keeps its proper time,
-which drifts from TDB: :func:`proper_time_terms` gives the rate (about +5.6e-9 for a
-Mars orbiter), the Mars-year term (23 ms peak to peak) and the orbit-periodic term
-``-V_Mars . r / c^2`` (-718 to +656 ns on the paper's orbit).
+which drifts from TDB: :func:`proper_time_terms` gives the rate (about +5.5e-9 to
++6.6e-9 for a Mars orbiter: with Mars over its year, or on the paper's orbit), the Mars-year
+term (22-23 ms peak to peak, by how the mean rate is fitted) and the orbit-periodic term
+``-V_Mars . r / c^2`` (-718 to +656 ns on the paper's orbit). Chapter 2 measures each
+(:mod:`xnavlab.mars.timing_terms`).
 
 Shapes broadcast: ``R`` has shape (..., 3), ``n`` shape (k, 3) and ``D0`` shape (k,);
 results have shape (..., k) (delays, s) or (..., k, 3) (gradients, s/m).
