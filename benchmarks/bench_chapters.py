@@ -1,0 +1,162 @@
+"""What "run all" costs: every chapter, and the dashboard page, executed in a fresh kernel.
+
+Run: ``.venv/bin/python benchmarks/bench_chapters.py [--chapters 08 09] [--no-dashboard]
+[--json FILE] [--numba-cache-dir DIR]``.
+
+Each page is executed as the book's build executes it: with ``nbclient`` in a new
+``python3`` kernel of this environment, working directory ``book/``, ``MPLBACKEND`` unset
+(the inline backend, as ``make book`` runs), one page at a time. A chapter is
+``book/NN_*.ipynb``; the dashboard, ``book/dashboard.md``, is a MyST Markdown notebook and is
+read into a notebook with ``myst_nb``'s own reader (what the build uses; ``jupytext`` is not
+needed). Per page: the kernel's start (to the first cell's start), the cells (first cell's start to
+the last one's reply, from the timing nbclient records in each cell's metadata), the whole
+run-all (the two together, what a reader waits for after "Restart and run all"), and the
+three slowest cells with their first line (what dominates a miss).
+
+From a warm environment: the numba kernels compiled and the 30-day truth cached
+(``make setup`` runs ``python -m xnavlab warmup``; run it first, with the same
+``NUMBA_CACHE_DIR`` when ``--numba-cache-dir DIR`` points the kernels at ``DIR``). A page's
+own caches (e.g. a campaign store in a temporary directory) are whatever the page makes.
+
+Targets: each chapter's run-all at most 10 s, the dashboard at most 30 s. The machine may be
+shared: the load average is printed before and after every page.
+"""
+
+import argparse
+import time
+from pathlib import Path
+
+from _timing import (
+    ROOT,
+    chapters,
+    child_env,
+    loadavg,
+    machine_line,
+    table,
+    verdict,
+    write_json,
+)
+
+TARGET_CHAPTER_S = 10.0
+TARGET_DASHBOARD_S = 30.0
+DASHBOARD = ROOT / "book" / "dashboard.md"
+
+
+def read_page(path):
+    """A chapter (``.ipynb``) or a MyST Markdown notebook (``.md``) as an nbformat notebook."""
+    import nbformat
+
+    if path.suffix == ".md":
+        from myst_nb.core.read import read_myst_markdown_notebook
+
+        return read_myst_markdown_notebook(path.read_text(), path=path)
+    return nbformat.read(path, as_version=4)
+
+
+def _stamp(value):
+    """An nbclient timing stamp (ISO 8601 text or datetime) as seconds since the epoch."""
+    from datetime import datetime
+
+    if isinstance(value, str):
+        value = datetime.fromisoformat(value.replace("Z", "+00:00"))
+    return value.timestamp()
+
+
+def run_page(path, numba_cache_dir, timeout):
+    """Execute one page in a fresh kernel; kernel start, per-cell and total times, s.
+
+    ``nbclient``'s own ``execute`` runs the page (kernel start, every cell, shut-down), as the
+    book's build does; each cell's time is read from the timing it records in the cell's
+    metadata (``iopub.execute_input`` to ``shell.execute_reply``). A page that raises stops
+    there, and the error is reported with the time up to it.
+    """
+    from nbclient import NotebookClient
+    from nbclient.exceptions import CellExecutionError, CellTimeoutError
+
+    nb = read_page(path)
+    env = child_env(numba_cache_dir, MPLBACKEND=None)
+    client = NotebookClient(nb, timeout=timeout, kernel_name="python3", record_timing=True,
+                            resources={"metadata": {"path": str(path.parent)}})
+    error = None
+    load = loadavg()
+    t0 = time.time()
+    try:
+        client.execute(env=env)
+    except (CellExecutionError, CellTimeoutError) as exc:
+        error = str(exc).strip().splitlines()[-1][:200]
+    t_end = time.time()
+    cells = []
+    for index, cell in enumerate(nb.cells):
+        timing = cell.get("metadata", {}).get("execution", {})
+        if cell.cell_type != "code" or "iopub.execute_input" not in timing:
+            continue
+        start = _stamp(timing["iopub.execute_input"])
+        stop = _stamp(timing.get("shell.execute_reply", timing["iopub.execute_input"]))
+        first = next((ln for ln in cell.source.splitlines()
+                      if ln.strip() and not ln.startswith("#")), "")
+        cells.append({"index": index, "first_line": first[:60], "seconds": stop - start,
+                      "start": start, "stop": stop})
+    first_start = cells[0]["start"] if cells else t_end
+    last_stop = cells[-1]["stop"] if cells else t_end
+    return {"page": path.name, "kernel_start_s": first_start - t0,
+            "cells_s": last_stop - first_start, "total_s": last_stop - t0,
+            "teardown_s": t_end - last_stop, "cells": cells,
+            "error": error, "load_before": load, "load_after": loadavg()}
+
+
+def run_isolated(path, numba_cache_dir, timeout):
+    """:func:`run_page` in a new process of its own (spawned), one per page.
+
+    Several kernels started one after the other from one process sometimes left the second
+    page waiting for a reply that never came (the kernel idle); a process per page, as the
+    book's build runs one page per client, does not.
+    """
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    with ProcessPoolExecutor(1, mp_context=multiprocessing.get_context("spawn")) as pool:
+        return pool.submit(run_page, path, numba_cache_dir, timeout).result()
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--chapters", nargs="+", metavar="NN", help="only these chapters")
+    parser.add_argument("--no-dashboard", action="store_true", help="skip book/dashboard.md")
+    parser.add_argument("--json", metavar="FILE", help="also write the results as JSON")
+    parser.add_argument("--numba-cache-dir", metavar="DIR",
+                        help="NUMBA_CACHE_DIR of the kernels (default: the environment's)")
+    parser.add_argument("--timeout", type=float, default=1800.0, help="per cell, s")
+    args = parser.parse_args()
+
+    pages = [(p, TARGET_CHAPTER_S) for p in chapters(args.chapters)]
+    if not args.no_dashboard and not args.chapters:
+        pages.append((DASHBOARD, TARGET_DASHBOARD_S))
+    before = machine_line()
+    print(f"machine: {before}")
+    results, rows = [], []
+    for path, target in pages:
+        res = run_isolated(Path(path), args.numba_cache_dir, args.timeout)
+        res["target_s"] = target
+        res["ok"] = res["error"] is None and res["total_s"] <= target
+        results.append(res)
+        slow = sorted(res["cells"], key=lambda c: -c["seconds"])[:3]
+        res["slowest"] = slow
+        print(f"{res['page']}: {res['total_s']:.1f} s (kernel {res['kernel_start_s']:.1f} s, "
+              f"cells {res['cells_s']:.1f} s; load {res['load_before']} -> {res['load_after']})"
+              + (f"  ERROR {res['error']}" if res["error"] else ""), flush=True)
+        for c in slow:
+            print(f"    cell {c['index']:3d}  {c['seconds']:6.1f} s  {c['first_line']}")
+        rows.append([res["page"], f"{res['kernel_start_s']:.1f}", f"{res['cells_s']:.1f}",
+                     f"{res['total_s']:.1f}", f"<= {target:.0f}",
+                     "ERROR" if res["error"] else verdict(res["ok"]),
+                     f"{slow[0]['seconds']:.1f} s, cell {slow[0]['index']}" if slow else ""])
+    print()
+    table(["page", "kernel s", "cells s", "run-all s", "target s", "verdict", "slowest cell"],
+          rows)
+    after = machine_line()
+    print(f"\nmachine: {after}")
+    write_json(args.json, {"machine_before": before, "machine_after": after, "pages": results})
+
+
+if __name__ == "__main__":
+    main()
