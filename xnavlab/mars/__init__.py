@@ -10,18 +10,27 @@ module                 what it models
 ``toa``                the time-transfer (TOA) equation and its gradient (chapter 2)
 ``pint_bridge``        PINT offline as a witness: its delays for a spacecraft, shipped
                        Fermi photons and NANOGrav residuals (chapters 1-2)
+``timing_terms``       what the paper's TOA equation leaves out: exact vs paper Shapiro,
+                       the planets' Shapiro, the on-board clock against TDB (chapter 2)
 ``dynamics``           Mars-orbit dynamics, truth propagator, transition matrix (chapter 3)
 ``stars``              the bright-star table and the CNS star choice (chapter 4)
 ``sensors``            XNAV, UV and CNS measurement models (chapters 4-5)
 ``scenarios``          the paper's 30-day scenario and the federated run (chapters 5-6)
+``scenario_files``     every scenario setting in a TOML file, with units (``run mars
+                       --scenario``, ``python -m xnavlab scenario --dump``)
+``headline``           the headline accuracies as means over noise seeds, with intervals
 ``kernels``            the compiled (numba) filter loop behind ``scenarios.run``, with the
                        combined detector inside it
+``compile_notice``     the one-line notice before the kernel's first compile
 ``series``             the compiled draws of the UV and CNS measurement series
 ``fault_tolerance``    fault schedules, detection, isolation, re-admission (chapters 8-9)
+``schedules``          fault schedules checked against a run, and a run's faults scored
 ``watch``              the combined detector's state in the compiled loop, its alarms
 ``innovations``        XNAV innovations against the master, the XNAV innovation wavelet
 ``plots``              the figures behind the sliders of chapters 5, 6 and 8
 ``trials``             Monte Carlo trials of the detectors on the Mars run (chapter 9)
+``roc``                a detector's threshold swept over a fault grid: Pd against false
+                       alarms per day (``campaign roc``, chapter 9)
 ``campaigns``          the Mars campaigns of ``python -m xnavlab campaign`` (chapter 13)
 =====================  ===================================================================
 
