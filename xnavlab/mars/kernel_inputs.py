@@ -19,9 +19,12 @@ is a load through it plus an atomic reference-count update. Measured on a toy (a
 process per variant, 2 shared cores at load 9-14): positional arguments compiled in 1.7-1.8 s
 and ran at 1.3-1.7 ns per call, the named tuple 1.6-1.9 s and 1.3-1.5 ns, ``structref`` 2.1-3.8
 s and 6.7-8.7 ns, ``jitclass`` 6.9-8.4 s and 4.3-6.2 ns. The price of a named tuple is at the
-Python boundary: the dispatcher types a tuple's members one by one in Python (about 0.4 us per
-array, some 30 us per :func:`~xnavlab.mars.kernels.run_epochs` call), against the 54 arguments'
-fast path before.
+Python boundary: the dispatcher types a tuple's members in Python, and hashing the signature of
+such types is slow, so nothing may ask for ``run_epochs.signatures`` at every call
+(:func:`xnavlab.mars.compile_notice.announce_compile` stops asking once it knows). A call of
+:func:`xnavlab.mars.scenarios.run_kernel` over no epoch then costs 33 us (58 us with the 54
+positional arguments and that question asked each time; load 3), which matters to the
+chi-square detector's 8675 calls in the 30-day run.
 
 A change of a container's fields must come with a change of :mod:`xnavlab.mars.kernels`
 (its ``_LAYOUT`` check fails at import until then): numba keys its on-disk cache by that
