@@ -43,12 +43,18 @@ def announce_compile(stream=None):
 
     The first run in a fresh environment compiles the filter kernel for about a minute on
     two cores (``python -m xnavlab warmup`` does it at set-up); this line says so instead of
-    a silent pause. It prints at most once per process.
+    a silent pause. It prints at most once per process, and looks only until it has printed
+    or found the kernel compiled.
     """
     global _ANNOUNCED
-    if _ANNOUNCED or is_compiled():
+    if _ANNOUNCED:
         return False
+    # once printed or once compiled, nothing more to say in this process: asked again at every
+    # kernel call (8675 of them in a chi-square run), is_compiled would hash the signature of
+    # named-tuple types each time (some 40 us)
     _ANNOUNCED = True
+    if is_compiled():
+        return False
     print("xnavlab: compiling the filter kernel, once (about a minute on two cores; later runs "
           "load it from numba's cache)", file=stream or sys.stderr, flush=True)
     return True

@@ -50,17 +50,21 @@ nothing): otherwise numba may wrap each call that passes arrays in atomic
 reference-count updates, which cost more than the arithmetic of these 6 x 6 steps. The
 filter arithmetic may contract ``a * b + c`` into fused multiply-adds
 (``fastmath={"contract"}``; no other fast-math assumption: NaN and inf keep their
-meaning), which changes results at rounding level only.
+meaning), which changes results at rounding level only. The arguments come in the named
+tuples of :mod:`xnavlab.mars.kernel_inputs` (why named tuples: there), the scratch arrays
+in four private ones that :func:`run_epochs` allocates once per call.
 """
 
 from __future__ import annotations
 
 import math
+from collections import namedtuple
 
 import numpy as np
 from numba import njit
 
 from xnavlab.core.constants import GM_SUN, C
+from xnavlab.mars import kernel_inputs
 
 __all__ = ["run_epochs", "KIND_XNAV", "KIND_UV", "KIND_CNS"]
 
@@ -86,14 +90,34 @@ _HELPER = {"cache": True, "fastmath": _FM, "_nrt": False}
 _INLINE = {"cache": True, "fastmath": _FM, "_nrt": False, "inline": "always"}
 
 
+#: The containers' fields as the code below reads them. numba keys its cache by this file's
+#: source and the fields' types, not their names: a change of :mod:`xnavlab.mars.kernel_inputs`
+#: must change this literal too (checked here), which recompiles the kernels.
+_LAYOUT = (
+    "FilterState(xs Ps shares xm Pm)", "Plan(times kinds meas_idx active beta reset gate)",
+    "Propagation(q max_step gm_mars tb_t0 tb_step tb_pos tb_vel tb_gm)",
+    "Sensors(z_x rm_x rs_x n_x d_x sig_x z_u sig_r sig_u z_c stars_c sig_s sig_h)",
+    "Records(pos x P xl Pl nis flags)", "WatchState(wf wi wS wsc ring ys_x ys_u ys_c xbuf xG xthr alarm)",
+)
+if sorted(kernel_inputs.layout()) != sorted(_LAYOUT):
+    raise ImportError("xnavlab.mars.kernel_inputs changed its fields: update kernels._LAYOUT")
+#: The scratch arrays :func:`run_epochs` allocates (their shapes there): of :func:`_predict`,
+#: of the measurement updates, of the fusions, of the watch.
+_Prop = namedtuple("_Prop", "Phi Ph T xc s0 i0 s1 i1 s2 i2")
+_Upd = namedtuple("_Upd", "PHt S L y K W A nu H R")
+_Fus = namedtuple("_Fus", "d Y yv Ci Cf dx xp Pp x2 P2 J bv G use inv_sh")
+_Wat = namedtuple("_Wat", "xw nu2 H2 R2 alarmed zw med cnt")
+
+
 # ----------------------------------------------------------------------- dynamics
 
 
 @njit(**_INLINE)
-def _bodies(t, tb_t0, tb_step, tb_pos, tb_vel, tb_gm, s, ind):
+def _bodies(t, pr, s, ind):
     """Third bodies at t: positions ``s`` (nb, 3) by cubic Hermite interpolation of the
-    table (as :class:`~xnavlab.mars.dynamics.ThirdBodyTable`) and indirect terms
-    ``ind = mu s / |s|^3``."""
+    table ``pr.tb_*`` (:class:`~xnavlab.mars.kernel_inputs.Propagation`, as
+    :class:`~xnavlab.mars.dynamics.ThirdBodyTable`) and indirect terms ``ind = mu s / |s|^3``."""
+    tb_t0, tb_step, tb_pos, tb_vel, tb_gm = pr.tb_t0, pr.tb_step, pr.tb_pos, pr.tb_vel, pr.tb_gm
     nk = tb_pos.shape[0]
     x = (t - tb_t0) / tb_step
     i = int(x)
@@ -139,18 +163,21 @@ def _accel(r0, r1, r2, gm_mars, tb_gm, s, ind):
 
 
 @njit(**_INLINE)
-def _rk4(x, t, h, gm_mars, tb_t0, tb_step, tb_pos, tb_vel, tb_gm, out, s0, i0, s1, i1, s2, i2):
-    """One classical Runge-Kutta step of r' = v, v' = a(t, r) (third bodies at t, t + h/2,
-    t + h in the scratch pairs (s0, i0), (s1, i1), (s2, i2))."""
-    _bodies(t, tb_t0, tb_step, tb_pos, tb_vel, tb_gm, s0, i0)
+def _rk4(x, t, h, pr, out, sc):
+    """One classical Runge-Kutta step of r' = v, v' = a(t, r) with the model ``pr``
+    (:class:`~xnavlab.mars.kernel_inputs.Propagation`; third bodies at t, t + h/2, t + h in
+    the scratch pairs (s0, i0), (s1, i1), (s2, i2) of ``sc``, a :data:`_Prop`)."""
+    gm_mars, tb_gm = pr.gm_mars, pr.tb_gm
+    s0, i0, s1, i1, s2, i2 = sc.s0, sc.i0, sc.s1, sc.i1, sc.s2, sc.i2
+    _bodies(t, pr, s0, i0)
     x0, x1, x2, x3, x4, x5 = x[0], x[1], x[2], x[3], x[4], x[5]
     hh = 0.5 * h
     a0, a1, a2 = _accel(x0, x1, x2, gm_mars, tb_gm, s0, i0)
     k10, k11, k12, k13, k14, k15 = x3, x4, x5, a0, a1, a2
     # the bodies at t + h/2 and t + h do not depend on the state: placed here, the CPU
     # computes them while it waits on the first stage
-    _bodies(t + 0.5 * h, tb_t0, tb_step, tb_pos, tb_vel, tb_gm, s1, i1)
-    _bodies(t + h, tb_t0, tb_step, tb_pos, tb_vel, tb_gm, s2, i2)
+    _bodies(t + 0.5 * h, pr, s1, i1)
+    _bodies(t + h, pr, s2, i2)
     a0, a1, a2 = _accel(x0 + hh * k10, x1 + hh * k11, x2 + hh * k12, gm_mars, tb_gm, s1, i1)
     k20, k21, k22 = x3 + hh * k13, x4 + hh * k14, x5 + hh * k15
     k23, k24, k25 = a0, a1, a2
@@ -221,20 +248,22 @@ def _matmul6(A, B, out):
 
 
 @njit(**_HELPER)
-def _predict(x, P, t, dt, q, inv_scale, max_step, gm_mars, tb_t0, tb_step, tb_pos, tb_vel,
-             tb_gm, x_out, P_out, Phi, Ph, T, xc, s0, i0, s1, i1, s2, i2):
+def _predict(x, P, t, dt, inv_scale, pr, x_out, P_out, sc):
     """EKF time update over dt in n = ceil(dt / max_step) equal sub-steps.
 
     Each sub-step: one RK4 step of the state and the fourth-order transition matrix at
-    its start; ``Phi = Phi_n ... Phi_1``; ``P = Phi P Phi^T + Q(dt) * inv_scale``.
-    Scratch: Phi, Ph, T (6, 6), xc (6,), s*, i* (nb, 3).
+    its start; ``Phi = Phi_n ... Phi_1``; ``P = Phi P Phi^T + Q(dt) * inv_scale``. The model
+    ``pr`` (:class:`~xnavlab.mars.kernel_inputs.Propagation`: ``q``, ``max_step``, forces);
+    scratch ``sc`` (:data:`_Prop`).
     """
+    q, max_step, gm_mars = pr.q, pr.max_step, pr.gm_mars
+    Phi, Ph, T, xc = sc.Phi, sc.Ph, sc.T, sc.xc
     nsub = int(math.ceil(dt / max_step - 1e-9))
     if nsub < 1:
         nsub = 1
     h = dt / nsub
     _transition(x, h, gm_mars, Phi)
-    _rk4(x, t, h, gm_mars, tb_t0, tb_step, tb_pos, tb_vel, tb_gm, x_out, s0, i0, s1, i1, s2, i2)
+    _rk4(x, t, h, pr, x_out, sc)
     for sub in range(1, nsub):
         _transition(x_out, h, gm_mars, Ph)
         _matmul6(Ph, Phi, T)  # Phi = Phi_sub ... Phi_1
@@ -243,8 +272,7 @@ def _predict(x, P, t, dt, q, inv_scale, max_step, gm_mars, tb_t0, tb_step, tb_po
                 Phi[i, j] = T[i, j]
         for j in range(6):
             xc[j] = x_out[j]
-        _rk4(xc, t + sub * h, h, gm_mars, tb_t0, tb_step, tb_pos, tb_vel, tb_gm, x_out,
-             s0, i0, s1, i1, s2, i2)
+        _rk4(xc, t + sub * h, h, pr, x_out, sc)
     # P = Phi P Phi^T + Q, Q = q [[dt^3/3 I, dt^2/2 I], [dt^2/2 I, dt I]]
     _matmul6(Phi, P, T)
     q33 = q * dt * dt * dt / 3.0 * inv_scale
@@ -422,18 +450,18 @@ def _h_cns(xs, i_, z, jm, star, sig_s, sig_h, nu, H, R, A):
 
 
 @njit(**_INLINE)
-def _measure(kind, xs, i_, jm, z_x, rm_x, rs_x, n_x, d_x, sig_x, z_u, sig_r, sig_u,
-             z_c, stars_c, sig_s, sig_h, nu, H, R, A):
-    """Innovation, Jacobian (position columns) and R of subsystem ``kind`` for the
-    state in row ``i_`` of ``xs``; returns the measurement size m."""
+def _measure(kind, xs, i_, jm, se, nu, H, R, A):
+    """Innovation, Jacobian (position columns) and R of subsystem ``kind``'s measurement
+    ``jm`` of ``se`` (:class:`~xnavlab.mars.kernel_inputs.Sensors`) for the state in row
+    ``i_`` of ``xs``; returns the measurement size m."""
     if kind == KIND_UV:
-        _h_uv(xs, i_, z_u, jm, sig_r, sig_u, nu, H, R)
+        _h_uv(xs, i_, se.z_u, jm, se.sig_r, se.sig_u, nu, H, R)
         return 4
     if kind == KIND_CNS:
-        _h_cns(xs, i_, z_c, jm, stars_c, sig_s, sig_h, nu, H, R, A)
-        return stars_c.shape[0]
-    _h_xnav(xs, i_, rm_x, rs_x, jm, n_x, d_x, sig_x, z_x, nu, H, R)
-    return n_x.shape[0]
+        _h_cns(xs, i_, se.z_c, jm, se.stars_c, se.sig_s, se.sig_h, nu, H, R, A)
+        return se.stars_c.shape[0]
+    _h_xnav(xs, i_, se.rm_x, se.rs_x, jm, se.n_x, se.d_x, se.sig_x, se.z_x, nu, H, R)
+    return se.n_x.shape[0]
 
 
 # ------------------------------------------------------------------------ the updates
@@ -757,9 +785,10 @@ def _whiten_at(P, H, R, nu, m, PHt, S, L, y):
 
 
 @njit(**_INLINE)
-def _watch_monitor(i, y, z, m, connected, wf, wi, wS, wsc, ring, ys, jm, alarm, med, cnt):
+def _watch_monitor(i, y, z, m, connected, ws, ys, jm, med, cnt):
     """The innovation parts of the combined detector on one whitened innovation ``y`` (m,)
-    of subsystem ``i`` (:class:`xnavlab.core.detection.InnovationMonitor`, one sample).
+    of subsystem ``i`` (:class:`xnavlab.core.detection.InnovationMonitor`, one sample), its
+    state in ``ws`` (:class:`~xnavlab.mars.kernel_inputs.WatchState`).
 
     Writes ``y`` to ``ys[jm]`` and ``z = y / s`` (the adaptive scale) to ``z``; if
     ``connected`` (and armed): the chi-square ``q = sum z^2``, the CUSUMs
@@ -767,6 +796,7 @@ def _watch_monitor(i, y, z, m, connected, wf, wi, wS, wsc, ring, ys, jm, alarm, 
     on an alarm the CUSUMs restart, ``alarm[i]`` gets the part and its ratio and True is
     returned; a healthy sample goes into the scale's window, and the scale is recomputed on
     the monitor's grid of samples fed (:func:`_rescale`)."""
+    wf, wi, wS, wsc, ring, alarm = ws.wf, ws.wi, ws.wS, ws.wsc, ws.ring, ws.alarm
     q = 0.0
     for c in range(m):
         ys[jm, c] = y[c]
@@ -939,32 +969,38 @@ def _watch_wavelet(i, z, m, wi, xbuf, xG, xthr, alarm):
 
 
 @njit(**_INLINE)
-def _ys(kind, ys_x, ys_u, ys_c):
-    """The innovation output (whitened, unscaled) of a subsystem kind."""
+def _ys(kind, ws):
+    """The innovation output (whitened, unscaled) of a subsystem kind (``ws`` a
+    :class:`~xnavlab.mars.kernel_inputs.WatchState`)."""
     if kind == KIND_UV:
-        return ys_u
+        return ws.ys_u
     if kind == KIND_CNS:
-        return ys_c
-    return ys_x
+        return ws.ys_c
+    return ws.ys_x
 
 
 @njit(**_INLINE)
-def _watch(kind, i, jm, connected, x, P, nu, H, R, m, z_u, sig_r, sig_u, wf, wi, wS, wsc,
-           ring, ys, xbuf, xG, xthr, alarm, PHt, S, L, y, z, med, cnt):
+def _watch(kind, i, jm, connected, x, P, nu, H, R, m, se, ws, up, wt):
     """Whiten subsystem ``i``'s measurement ``jm`` against the master's prediction ``x``,
     ``P`` (``nu``, ``H``, ``R`` its innovation there) and feed the combined detector's parts
-    (judged only if ``connected``, and armed). Returns True on an alarm."""
+    (judged only if ``connected``, and armed). Returns True on an alarm.
+
+    ``se`` the :class:`~xnavlab.mars.kernel_inputs.Sensors`, ``ws`` the detector's
+    :class:`~xnavlab.mars.kernel_inputs.WatchState`; scratch ``up`` (:data:`_Upd`: PHt, S, L,
+    y) and ``wt`` (:data:`_Wat`: zw, med, cnt).
+    """
+    wi, y = ws.wi, up.y
     if kind == KIND_UV:
-        _whiten_uv(x, P, z_u, jm, sig_r, sig_u, y)
+        _whiten_uv(x, P, se.z_u, jm, se.sig_r, se.sig_u, y)
         m = 3
     else:
-        _whiten_at(P, H, R, nu, m, PHt, S, L, y)
+        _whiten_at(P, H, R, nu, m, up.PHt, up.S, up.L, y)
     wi[i, WI_LAST] = jm
     if wi[i, WI_OUT]:
         wi[i, WI_NOUT] += 1
-    hit = _watch_monitor(i, y, z, m, connected, wf, wi, wS, wsc, ring, ys, jm, alarm, med, cnt)
-    if connected and kind == KIND_XNAV and xG.shape[0] > 0:
-        hit = _watch_wavelet(i, z, m, wi, xbuf, xG, xthr, alarm) or hit
+    hit = _watch_monitor(i, y, wt.zw, m, connected, ws, _ys(kind, ws), jm, wt.med, wt.cnt)
+    if connected and kind == KIND_XNAV and ws.xG.shape[0] > 0:
+        hit = _watch_wavelet(i, wt.zw, m, wi, ws.xbuf, ws.xG, ws.xthr, ws.alarm) or hit
     return hit
 
 
@@ -972,78 +1008,71 @@ def _watch(kind, i, jm, connected, x, P, nu, H, R, m, z_u, sig_r, sig_u, wf, wi,
 
 
 @njit(cache=True, nogil=True)
-def run_epochs(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
-               tb_t0, tb_step, tb_pos, tb_vel, tb_gm,
-               kinds, meas_idx, active, beta, reset, gate,
-               z_x, rm_x, rs_x, n_x, d_x, sig_x,
-               z_u, sig_r, sig_u,
-               z_c, stars_c, sig_s, sig_h,
-               rec_pos, rec_x, rec_P, rec_xl, rec_Pl, nis_out, flag_out,
-               wf, wi, wS, wsc, ring, ys_x, ys_u, ys_c, xbuf, xG, xthr, alarm):
+def run_epochs(k0, k1, st, pr, pl, se, rec, ws):
     """Run epochs ``k0 <= k < k1`` of the federated filter, updating the state in place.
 
-    State: ``xs`` (ns, 6) and ``Ps`` (ns, 6, 6) local estimates, ``shares`` (ns,) the
-    information share each local carries, ``xm`` (6,) and ``Pm`` (6, 6) the master.
-    Third bodies: the table of :class:`~xnavlab.mars.dynamics.ThirdBodyTable`
-    (``tb_*``). Subsystems: ``kinds`` (ns,) codes (:data:`KIND_XNAV`, ...),
-    ``meas_idx`` (n, ns) the row of each epoch's measurement or -1, ``active`` (n, ns),
-    ``beta`` (ns,), ``reset`` the mode, ``gate`` (ns,) NIS thresholds. Measurements and
-    sensor parameters: XNAV ``z_x`` (m_x, p) s, the filter ephemeris' Mars and Sun
-    ``rm_x``, ``rs_x`` (m_x, 3), pulsar directions ``n_x`` (p, 3), distances ``d_x``
-    and noise ``sig_x`` (p,); UV ``z_u`` (m_u, 4) and its noise; CNS ``z_c`` (m_c, k),
-    ``stars_c`` (k, 3) and its noise. Outputs: ``rec_pos[k]`` is the record row of
-    epoch k or -1 (``rec_x``, ``rec_P``, ``rec_xl``, ``rec_Pl`` the master and the
-    locals' estimates and variances), ``nis_out`` and ``flag_out`` (n, ns) for every
-    epoch. The combined detector, for the subsystems it watches (``wi[i, WI_ON]``): ``wf``
-    ... ``alarm``, the state arrays of :mod:`xnavlab.mars.watch`; each measurement of a
-    watched subsystem is whitened against the master's prediction and fed to its parts
-    before the update: an alarm leaves the measurement out and switches the subsystem out
-    from the next epoch.
+    The containers are those of :mod:`xnavlab.mars.kernel_inputs` (their fields, shapes and
+    units are documented there).
+
+    Parameters
+    ----------
+    k0, k1 : int
+        The epochs to run, ``0 <= k0 <= k1 <= n``.
+    st : FilterState
+        The local and master estimates and the shares, updated in place.
+    pr : Propagation
+        The time update's model (process noise, sub-step, Mars and the third-body table).
+    pl : Plan
+        Epochs, subsystem codes, measurement rows, connections, sharing factors, mode and
+        gates; ``pl.active[k + 1, i]`` is cleared when subsystem ``i`` alarms at epoch ``k``.
+    se : Sensors
+        The measurements and noise of XNAV, UV and CNS.
+    rec : Records
+        Written in place: the master's and the locals' estimates at the recorded epochs, every
+        epoch's NIS and flag.
+    ws : WatchState
+        The combined detector's state (:mod:`xnavlab.mars.watch`), for the subsystems it
+        watches (``ws.wi[i, WI_ON]``): each of their measurements is whitened against the
+        master's prediction and fed to its parts before the update; an alarm leaves the
+        measurement out and switches the subsystem out from the next epoch.
 
     Returns
     -------
     int
         -1 when the epochs ran to ``k1``; ``k`` when the run stopped after epoch ``k``
-        because the combined detector alarmed there (``alarm``) or an isolated subsystem
+        because the combined detector alarmed there (``ws.alarm``) or an isolated subsystem
         may rejoin at epoch ``k + 1`` (a multiple of its check period); -2 on a numerical
         failure (a covariance lost positive definiteness).
     """
-    ns = xs.shape[0]
-    nb = tb_pos.shape[1]
-    mm = max(4, n_x.shape[0], stars_c.shape[0])
-    scratch = (
-        np.empty((nb, 3)), np.empty((nb, 3)), np.empty((nb, 3)), np.empty((nb, 3)),
-        np.empty((nb, 3)), np.empty((nb, 3)),                              # third bodies
-        np.empty((6, 6)), np.empty((6, 6)), np.empty((6, 6)), np.empty(6),  # Phi, Ph, T, xc
-        np.empty((6, mm)), np.empty((mm, mm)), np.empty((mm, mm)), np.empty(mm),  # PHt S L y
-        np.empty((6, mm)), np.empty((6, mm)), np.empty((mm, 3)),            # K, W, A
-        np.empty(6), np.empty((6, 6)), np.empty(6), np.empty((6, 6)), np.empty((6, 6)),
-        np.empty(6),                                                        # fusion
-        np.empty(mm), np.zeros((mm, 6)), np.zeros((mm, mm)),               # nu, H, R
-        np.empty(6), np.empty((6, 6)), np.empty(6), np.empty((6, 6)),       # x/P scratch
-        np.zeros((3, 3)), np.zeros(3), np.empty((3, 3)),                    # J, b, G
-        np.zeros(ns, dtype=np.bool_), np.empty(ns),                         # use, 1/shares
-        np.empty((1, 6)), np.empty(mm), np.zeros((mm, 6)), np.zeros((mm, mm)),  # watch
-        np.zeros(ns, dtype=np.bool_), np.empty(mm), np.empty(ring.shape[2]),
-        np.empty(8192, dtype=np.int64),
-    )
-    return _run(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
-                tb_t0, tb_step, tb_pos, tb_vel, tb_gm, kinds, meas_idx, active, beta, reset,
-                gate, z_x, rm_x, rs_x, n_x, d_x, sig_x, z_u, sig_r, sig_u, z_c, stars_c,
-                sig_s, sig_h, rec_pos, rec_x, rec_P, rec_xl, rec_Pl, nis_out, flag_out,
-                wf, wi, wS, wsc, ring, ys_x, ys_u, ys_c, xbuf, xG, xthr, alarm, *scratch)
+    ns = st.xs.shape[0]
+    nb = pr.tb_pos.shape[1]
+    mm = max(4, se.n_x.shape[0], se.stars_c.shape[0])
+    e = np.empty     # (s*, i*: the third bodies' positions and indirect terms at t, t + h/2, t + h)
+    sp = _Prop(e((6, 6)), e((6, 6)), e((6, 6)), e(6),
+               e((nb, 3)), e((nb, 3)), e((nb, 3)), e((nb, 3)), e((nb, 3)), e((nb, 3)))
+    up = _Upd(e((6, mm)), e((mm, mm)), e((mm, mm)), e(mm), e((6, mm)), e((6, mm)), e((mm, 3)),
+              e(mm), np.zeros((mm, 6)), np.zeros((mm, mm)))
+    fu = _Fus(e(6), e((6, 6)), e(6), e((6, 6)), e((6, 6)), e(6),          # the fusion's
+              e(6), e((6, 6)), e(6), e((6, 6)),                            # xp, Pp; x2, P2
+              np.zeros((3, 3)), np.zeros(3), e((3, 3)),                    # J, bv, G
+              np.zeros(ns, dtype=np.bool_), e(ns))                         # use, 1 / shares
+    wt = _Wat(e((1, 6)), e(mm), np.zeros((mm, 6)), np.zeros((mm, mm)),    # xw, nu2, H2, R2
+              np.zeros(ns, dtype=np.bool_), e(mm), e(ws.ring.shape[2]), e(8192, dtype=np.int64))
+    return _run(k0, k1, st, pr, pl, se, rec, ws, sp, up, fu, wt)
 
 
 @njit(**_HELPER)
-def _run(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
-         tb_t0, tb_step, tb_pos, tb_vel, tb_gm, kinds, meas_idx, active, beta, reset,
-         gate, z_x, rm_x, rs_x, n_x, d_x, sig_x, z_u, sig_r, sig_u, z_c, stars_c,
-         sig_s, sig_h, rec_pos, rec_x, rec_P, rec_xl, rec_Pl, nis_out, flag_out,
-         wf, wi, wS, wsc, ring, ys_x, ys_u, ys_c, xbuf, xG, xthr, alarm,
-         s0, i0, s1, i1, s2, i2, Phi, Ph, T, xc, PHt, S, L, yy, K, W, A,
-         d, Y, yv, Ci, Cf, dx, nu, H, R, xp, Pp, x2, P2, J, bv, G, use, inv_sh,
-         xw, nu2, H2, R2, alarmed, zw, med, cnt):
-    """The epoch loop of :func:`run_epochs` (scratch arrays allocated there)."""
+def _run(k0, k1, st, pr, pl, se, rec, ws, sp, up, fu, wt):
+    """The epoch loop of :func:`run_epochs` (its arguments, then the scratch allocated there:
+    :data:`_Prop`, :data:`_Upd`, :data:`_Fus`, :data:`_Wat`)."""
+    xs, Ps, shares, xm, Pm = st
+    times, kinds, meas_idx, active, beta, reset, gate = pl
+    rec_pos, rec_x, rec_P, rec_xl, rec_Pl, nis_out, flag_out = rec
+    wf, wi = ws.wf, ws.wi
+    PHt, S, L, yy, K, W, A, nu, H, R = up
+    d, Y, yv, Ci, Cf, dx, xp, Pp, x2, P2, J, bv, G, use, inv_sh = fu
+    xw, nu2, H2, R2, alarmed = wt.xw, wt.nu2, wt.H2, wt.R2, wt.alarmed
+    T = sp.T
     ns = xs.shape[0]
     for i in range(ns):
         inv_sh[i] = 1.0 / shares[i]
@@ -1053,8 +1082,7 @@ def _run(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
             tp = times[k - 1]
             dt = times[k] - tp
             # master time update (full Q): xp, Pp
-            _predict(xm, Pm, tp, dt, q, 1.0, max_step, gm_mars, tb_t0, tb_step, tb_pos, tb_vel,
-                     tb_gm, xp, Pp, Phi, Ph, T, xc, s0, i0, s1, i1, s2, i2)
+            _predict(xm, Pm, tp, dt, 1.0, pr, xp, Pp, sp)
             full = not reset or rec_pos[k] >= 0  # run the locals in full (else: information)
             if reset:
                 # after a reset every local equals the master scaled by 1/share, and the time
@@ -1072,9 +1100,7 @@ def _run(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
                         x2[a] = xs[i, a]
                         for b in range(6):
                             P2[a, b] = Ps[i, a, b]
-                    _predict(x2, P2, tp, dt, q, inv_sh[i], max_step, gm_mars, tb_t0, tb_step,
-                             tb_pos, tb_vel, tb_gm, xs[i], Ps[i], Phi, Ph, T, xc, s0, i0, s1, i1,
-                             s2, i2)
+                    _predict(x2, P2, tp, dt, inv_sh[i], pr, xs[i], Ps[i], sp)
             # measurement updates
             for a in range(3):
                 bv[a] = 0.0
@@ -1086,21 +1112,16 @@ def _run(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
                     flag_out[k, i] = NO_MEAS
                     continue
                 act = active[k, i]
-                m = _measure(kinds[i], xs, i, j, z_x, rm_x, rs_x, n_x, d_x, sig_x, z_u, sig_r,
-                             sig_u, z_c, stars_c, sig_s, sig_h, nu, H, R, A)
+                m = _measure(kinds[i], xs, i, j, se, nu, H, R, A)
                 alarmed[i] = False
                 if wi[i, WI_ON] != 0:
                     if not reset:   # (in reset mode the local's prediction is the master's)
                         for a in range(6):
                             xw[0, a] = xp[a]
-                        _measure(kinds[i], xw, 0, j, z_x, rm_x, rs_x, n_x, d_x, sig_x, z_u,
-                                 sig_r, sig_u, z_c, stars_c, sig_s, sig_h, nu2, H2, R2, A)
+                        _measure(kinds[i], xw, 0, j, se, nu2, H2, R2, A)
                     wnu, wH, wR = (nu, H, R) if reset else (nu2, H2, R2)
                     armed = act and times[k] >= wf[i, WF_TARM]    # connected and armed
-                    if _watch(kinds[i], i, j, armed, xp, Pp, wnu, wH, wR, m, z_u,
-                              sig_r, sig_u, wf, wi, wS, wsc, ring,
-                              _ys(kinds[i], ys_x, ys_u, ys_c), xbuf, xG, xthr, alarm, PHt, S,
-                              L, yy, zw, med, cnt):
+                    if _watch(kinds[i], i, j, armed, xp, Pp, wnu, wH, wR, m, se, ws, up, wt):
                         act = False     # an alarm: this measurement stays out, and so does i
                         alarmed[i] = True
                         stop = True
@@ -1143,7 +1164,7 @@ def _run(k0, k1, times, xs, Ps, shares, xm, Pm, q, max_step, gm_mars,
                     active[k + 1, i] = False     # switched out from the next epoch
         for i in range(ns):      # the re-admission grid: stop where the loop may readmit
             if wi[i, WI_OUT] and (k + 1) % wi[i, WI_CHECK] == 0 and \
-                    _quiet(i, wf, wi, wsc, _ys(kinds[i], ys_x, ys_u, ys_c)):
+                    _quiet(i, wf, wi, ws.wsc, _ys(kinds[i], ws)):
                 stop = True
         r = rec_pos[k]
         if r >= 0:

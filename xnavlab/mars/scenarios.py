@@ -64,6 +64,7 @@ from xnavlab.core.federated import MODES, FederatedFilter
 from xnavlab.core.filters import chi2_bounds
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
 from xnavlab.mars import compile_notice, dynamics, kernels, pulsars, sensors, series, stars, toa
+from xnavlab.mars import kernel_inputs as ki
 
 __all__ = [
     "alloc_records",
@@ -832,26 +833,26 @@ def run_kernel(inp, state, a, b, active, beta, gate, rec_pos, records, nis, flag
 
     ``state`` comes from :func:`filter_state`; ``records`` is ``(x, P, xl, Pl)``, filled
     at the rows ``rec_pos`` gives for each epoch (-1: not recorded). All in place.
-    ``watch``: the combined detector's arrays (:meth:`xnavlab.mars.watch.Watch.arrays`) or
+    ``watch``: the combined detector's state (:meth:`xnavlab.mars.watch.Watch.arrays`) or
     None. Returns -1 or the epoch the kernel stopped after (:func:`~.kernels.run_epochs`).
     """
     sc = inp.scenario
     xnav, uv, cns = inp.sensors["xnav"], inp.sensors["uv"], inp.sensors["cns"]
     kinds = np.array([_KIND[s] for s in sc.subsystems], dtype=np.int64)
-    z_x = inp.z.get("xnav", np.zeros((0, xnav.dim)))
-    z_u = inp.z.get("uv", np.zeros((0, 4)))
-    z_c = inp.z.get("cns", np.zeros((0, cns.dim)))
+    z = inp.z
     tab = inp.table
-    xs, Ps, shares, xm, Pm = state
     compile_notice.announce_compile()  # one line instead of a silent minute on a cold cache
     stop = kernels.run_epochs(
-        a, b, inp.times, xs, Ps, shares, xm, Pm, sc.q_acc, sc.max_step, GM_MARS,
-        tab.t_start, tab.step, tab.pos, tab.vel, tab.gm,
-        kinds, inp.meas_idx, active, beta, sc.mode == "reset", gate,
-        z_x, inp.xnav_bodies[0], inp.xnav_bodies[1], xnav.n, xnav.distance, xnav.sigma,
-        z_u, uv.sigma_range, uv.sigma_dir,
-        z_c, cns.star_dirs, cns.sigma_star, cns.sigma_horizon,
-        rec_pos, *records, nis, flags, *(_no_watch(len(sc.subsystems)) if watch is None else watch))
+        a, b, ki.FilterState(*state),
+        ki.Propagation(sc.q_acc, sc.max_step, GM_MARS, tab.t_start, tab.step, tab.pos, tab.vel,
+                       tab.gm),
+        ki.Plan(inp.times, kinds, inp.meas_idx, active, beta, sc.mode == "reset", gate),
+        ki.Sensors(z.get("xnav", np.zeros((0, xnav.dim))), *inp.xnav_bodies, xnav.n,
+                   xnav.distance, xnav.sigma, z.get("uv", np.zeros((0, 4))), uv.sigma_range,
+                   uv.sigma_dir, z.get("cns", np.zeros((0, cns.dim))), cns.star_dirs,
+                   cns.sigma_star, cns.sigma_horizon),
+        ki.Records(rec_pos, *records, nis, flags),
+        _no_watch(len(sc.subsystems)) if watch is None else watch)
     if stop == -2:
         raise RuntimeError(f"a covariance lost positive definiteness near epoch {b} "
                            f"(t = {inp.times[min(b, inp.n - 1)]:.0f} s)")
@@ -862,8 +863,8 @@ def run_kernel(inp, state, a, b, active, beta, gate, rec_pos, records, nis, flag
 def _no_watch(ns):
     """The combined detector's arrays with no subsystem watched (the kernel skips them)."""
     z = np.zeros     # wf, wi, wS, wsc, ring, ys (3), xbuf, xG, xthr, alarm
-    return (z((ns, 10)), z((ns, 15), dtype=np.int64), z((ns, 12)), np.ones((ns, 4)), z((ns, 4, 1)),
-            *[z((1, 4)) for _ in range(4)], z((0, 1)), z(0), z((ns, 4)))
+    return ki.WatchState(z((ns, 10)), z((ns, 15), dtype=np.int64), z((ns, 12)), np.ones((ns, 4)),
+                         z((ns, 4, 1)), *[z((1, 4)) for _ in range(4)], z((0, 1)), z(0), z((ns, 4)))
 
 
 def _run_numba(inp, active, gate, beta, progress):

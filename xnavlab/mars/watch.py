@@ -30,7 +30,7 @@ import math
 import numpy as np
 
 from xnavlab.core.detection import MAD_SCALE, Event
-from xnavlab.mars import kernels
+from xnavlab.mars import kernel_inputs, kernels
 
 __all__ = ["Watch"]
 
@@ -94,9 +94,11 @@ class Watch:
         self._events = {s: [] for s in self.subs}     # [onset, end, cleared, peak, test]
 
     def arrays(self):
-        """The kernel's watch arguments, in :func:`~xnavlab.mars.kernels.run_epochs` order."""
-        return (self.wf, self.wi, self.wS, self.wsc, self.ring, self.ys["xnav"], self.ys["uv"],
-                self.ys["cns"], self.xbuf, self.xG, self.xthr, self.alarm)
+        """The kernel's watch argument: a :class:`~xnavlab.mars.kernel_inputs.WatchState` of
+        this object's arrays (shared, not copied)."""
+        return kernel_inputs.WatchState(self.wf, self.wi, self.wS, self.wsc, self.ring,
+                                        self.ys["xnav"], self.ys["uv"], self.ys["cns"], self.xbuf,
+                                        self.xG, self.xthr, self.alarm)
 
     def scale(self, s):
         """The adaptive scale (m,) of subsystem ``s`` now."""
