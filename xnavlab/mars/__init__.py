@@ -21,6 +21,7 @@ module                 what it models
 ``headline``           the headline accuracies as means over noise seeds, with intervals
 ``kernels``            the compiled (numba) filter loop behind ``scenarios.run``, with the
                        combined detector inside it
+``kernel_inputs``      the kernel's arguments in six named containers, with units
 ``compile_notice``     the one-line notice before the kernel's first compile
 ``series``             the compiled draws of the UV and CNS measurement series
 ``fault_tolerance``    fault schedules, detection, isolation, re-admission (chapters 8-9)
