@@ -69,3 +69,18 @@ def test_compare_detectors_sees_a_slow_drift_by_the_filter_only_and_checks_its_i
         P.compare_detectors("step", [1.0], n_runs=0)
     with pytest.raises(ValueError, match="sensor"):
         P.compare_detectors("step", [100.0], n_runs=1, sensor=9)
+
+
+def test_every_window_of_chapter_12s_slider_is_a_valid_design():
+    """The chapter's slider offers s = 4..29; each gives a flight design. At s = 30 one sensor's
+    local parity spaces differ in dimension (28 against 29) and the design is refused with one
+    line, which is why the slider stops at 29."""
+    from xnavlab.plins import ins, pseudolites
+    from xnavlab.plins.parity import diagnosis
+
+    traj, sites = ins.paper_trajectory(), pseudolites.sites_ecef()
+    tol = 0.3 * pseudolites.DEFAULT_SIGMA
+    for s in range(4, 30):
+        diagnosis.flight_design(traj, sites, s, tol)
+    with pytest.raises(ValueError, match="differ in dimension"):
+        diagnosis.flight_design(traj, sites, 30, tol)
