@@ -25,8 +25,6 @@ EXEMPT = {
     "mars/kernels.py": "tested through both backends: tests/mars/test_scenarios.py",
     "mars/plots.py": "tested by tests/mars/test_scenarios.py and tests/mars/test_fault_tolerance.py",
     "cli/campaigns.py": "tested by the CLI section of tests/core/test_campaign.py",
-    # The detector's watch is driven by every fault-tolerant run (xnavlab.mars.fault_tolerance).
-    "mars/watch.py": "tested through tests/mars/test_fault_tolerance.py",
     # PINT as a witness: its tests need PINT's shipped data and run with ``-m witness``.
     "mars/pint_bridge.py": "tested by tests/witness/test_pint.py",
 }
