@@ -781,7 +781,9 @@ def check_notebook(lab, path, screenshot=None, max_redraw_s=MAX_REDRAW_S):
             if ok and max_redraw_s is not None and redraw.seconds > max_redraw_s:
                 # slow: once more, the same change of value (back untimed, then forth timed),
                 # and the faster of the two counts; a loaded machine makes one slow draw,
-                # a slow function makes two
+                # a slow function makes two. The widget keeps the PNGs of positions drawn
+                # before (xnavlab.core.widgets.LIVE_MEMO_FRAMES) and shows them again at once:
+                # the retry then times that, which is what the reader gets on a second visit
                 if control == "slider":
                     back, forth = click_slider(before["slider"]["now"]), \
                         click_slider(after["slider"]["now"])

@@ -52,6 +52,12 @@ explore(stuck, a=[1.0, 2.0, 3.0])
 SLOW = HEAD + """
 import time
 
+import xnavlab.core.widgets
+
+# every move computes: a position seen before would otherwise come from the widget's memo of
+# drawn PNGs, and the budget's retry (the same change again) would time the memo
+xnavlab.core.widgets.LIVE_MEMO_FRAMES = 0
+
 
 def slow(a=1.0):
     if a == 2.0:
