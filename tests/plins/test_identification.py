@@ -10,13 +10,7 @@ from xnavlab.plins import ins
 from xnavlab.plins import parity as P
 from xnavlab.plins import pseudolites as pl
 
-TRAJ = ins.paper_trajectory()
-
-
-SITES = pl.sites_ecef()
-
-
-MODELS = P.local_models(P.operating_points(TRAJ), TRAJ.lon[0], TRAJ.h[0], SITES, TRAJ.dt)
+from ._paper_design import TRAJ, W_DESIGN
 
 
 def test_fault_signature():
@@ -36,16 +30,6 @@ def test_fault_signature():
 
 
 # ------------------------------------------------------------------------- residuals
-def _design(s=11, tol=0.6):
-    V = [P.align_bases([P.parity_basis(m.A, m.C[j], s, B=m.B, state_std=P.TYPICAL_STATE_STD,
-                                       tol=tol) for m in MODELS]) for j in range(4)]
-    stacked = np.stack([np.stack([V[j][lm] for j in range(4)]) for lm in range(3)])
-    return P.blended_bases(P.memberships(P.premises(TRAJ), P.operating_points(TRAJ)), stacked)
-
-
-W_DESIGN = _design()
-
-
 def test_estimate_onset_and_identification_without_noise():
     t = TRAJ.t
     x = ins.simulate_errors(TRAJ, rng=7)
