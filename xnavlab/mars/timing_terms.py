@@ -738,7 +738,7 @@ def plot_terms(t, orbit, year, witness_t=None, witness=None):
         Epochs of ``orbit``, s TDB past J2000.
     orbit, year : dict
         :func:`orbit_terms` and :func:`mars_year_terms`.
-    witness_t : array_like, shape (w,), optional
+    witness_t : array_like, shape (k,), optional
         Epochs of ``witness`` (:func:`pint_witness`).
     witness : dict, optional
         :func:`pint_witness` at ``witness_t``.
