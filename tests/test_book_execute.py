@@ -61,3 +61,21 @@ def test_a_failing_page_stops_with_its_error_and_is_not_cached(tool, tmp_path, c
     assert tool.main(["--jobs", "1"]) == 1
     assert "broken chapter" in capsys.readouterr().err
     assert tool.main(["--jobs", "0"]) == 2
+
+
+def test_each_page_names_its_slowest_cell_and_the_cache_holds_no_timing(tool, tmp_path, capsys):
+    from jupyter_cache import get_cache
+
+    _book(tmp_path, "x = 1")
+    nb = nbformat.read(tmp_path / "book" / "one.ipynb", as_version=4)
+    nb.cells.append(nbformat.v4.new_code_cell("# waits\nimport time\ntime.sleep(0.5)"))
+    nbformat.write(nb, tmp_path / "book" / "one.ipynb")
+    assert tool.main(["--jobs", "1"]) == 0
+    line = next(ln for ln in capsys.readouterr().out.splitlines() if "one.ipynb" in ln)
+    assert "slowest: cell 1," in line and "`import time`" in line
+    seconds = float(line.split("slowest: cell 1, ")[1].split(" s")[0])
+    assert seconds >= 0.5
+    cache = get_cache(str(tool.CACHE))
+    record = cache.match_cache_notebook(tool.read_page(tmp_path / "book" / "one.ipynb"))
+    cached = cache.get_cache_bundle(record.pk).nb
+    assert all("execution" not in cell.metadata for cell in cached.cells)

@@ -11,7 +11,8 @@ allowed) and stores each executed notebook in the cache, where the build then fi
 ("Using cached notebook") instead of executing it again. Nothing is executed twice and
 nothing is skipped: a page whose code cells match the cache is not run, every other is.
 
-A page that fails stops the script with its traceback and exit code 1 (the build would stop
+Each page's line names its slowest cell (nbclient's timing), so a page that takes long says
+where. A page that fails stops the script with its traceback and exit code 1 (the build would stop
 on it too, later). ``tools/book_cache.py`` must run before it, so that a cache made with an
 older package is dropped first.
 
@@ -24,6 +25,7 @@ import json
 import os
 import sys
 import time
+from datetime import datetime
 from pathlib import Path
 
 import nbformat
@@ -100,15 +102,46 @@ def longest_first(pages):
     return sorted(pages, key=lambda p: (-float(last.get(p.name, 0.0)), p.suffix != ".md"))
 
 
+def _stamp(value):
+    if isinstance(value, str):
+        value = datetime.fromisoformat(value.replace("Z", "+00:00"))
+    return value.timestamp()
+
+
+def slowest_cell(nb):
+    """The code cell that took longest, from nbclient's timing: (index, seconds, first line).
+
+    The timing (``metadata.execution``) is removed from every cell, so the cached page holds
+    what myst-nb's own execution would store. ``(None, 0.0, "")`` when no cell has a timing.
+    """
+    best = (None, 0.0, "")
+    for index, cell in enumerate(nb.cells):
+        timing = cell.get("metadata", {}).pop("execution", None) or {}
+        if cell.cell_type != "code" or "iopub.execute_input" not in timing:
+            continue
+        stop = timing.get("shell.execute_reply", timing["iopub.execute_input"])
+        seconds = _stamp(stop) - _stamp(timing["iopub.execute_input"])
+        if seconds >= best[1]:
+            first = next((ln for ln in cell.source.splitlines()
+                          if ln.strip() and not ln.startswith(("#", "%"))), "")
+            best = (index, seconds, first[:50])
+    return best
+
+
 def execute(path, timeout):
-    """Execute one page in its directory; return (path, notebook JSON or None, seconds, error)."""
+    """Execute one page in its directory.
+
+    Returns (path, notebook JSON or None, seconds, error, slowest cell): the slowest cell as
+    :func:`slowest_cell` gives it, so that a page that takes long says where.
+    """
     nb = read_page(path)
     timeout = int(nb.metadata.get("mystnb", {}).get("execution_timeout", timeout))
     result = single_nb_execution(nb, cwd=str(path.parent), timeout=timeout,
-                                 allow_errors=False, meta_override=True)
+                                 allow_errors=False, meta_override=True, record_timing=True)
+    slowest = slowest_cell(nb)
     if result.err is not None:
-        return path, None, result.time, result.exc_string
-    return path, nbformat.writes(nb), result.time, None
+        return path, None, result.time, result.exc_string, slowest
+    return path, nbformat.writes(nb), result.time, None, slowest
 
 
 def main(argv=None):
@@ -142,10 +175,11 @@ def main(argv=None):
     with concurrent.futures.ProcessPoolExecutor(args.jobs) as pool:
         futures = [pool.submit(execute, path, timeout) for path in todo]
         for future in concurrent.futures.as_completed(futures):
-            path, text, seconds, error = future.result()
+            path, text, seconds, error, (index, cell_s, line) = future.result()
             name = path.relative_to(ROOT)
+            where = f" (slowest: cell {index}, {cell_s:.1f} s, `{line}`)" if index is not None else ""
             if error is not None:
-                print(f"book_execute: {name} failed after {seconds:.1f} s\n{error}",
+                print(f"book_execute: {name} failed after {seconds:.1f} s{where}\n{error}",
                       file=sys.stderr, flush=True)
                 for other in futures:
                     other.cancel()
@@ -155,7 +189,7 @@ def main(argv=None):
                 CacheBundleIn(nb, str(path), data={"execution_seconds": seconds}),
                 check_validity=False, overwrite=True)
             times[path.name] = round(seconds, 1)
-            print(f"book_execute: {name} {seconds:.1f} s", flush=True)
+            print(f"book_execute: {name} {seconds:.1f} s{where}", flush=True)
     TIMES.write_text(json.dumps(times, indent=1, sort_keys=True), encoding="utf-8")
     print(f"book_execute: done in {time.perf_counter() - start:.1f} s wall", flush=True)
     return 0
