@@ -61,7 +61,7 @@ book-clean:
 test: $(WARM)
 	$(BIN)/python tools/typed_numbers.py
 	$(BIN)/python tools/merge_bib.py --check
-	$(BIN)/python -m pytest $(XDIST) --nbval-lax --nbval-cell-timeout=300 -p no:cacheprovider xnavlab tests book
+	$(BIN)/python -m pytest $(XDIST) --durations=25 --nbval-lax --nbval-cell-timeout=300 -p no:cacheprovider xnavlab tests book
 	$(MAKE) book-clean
 	$(MAKE) browser-test
 	$(BIN)/python tools/check_book.py
