@@ -35,6 +35,21 @@ def test_roc_writes_the_curve_and_resumes(tmp_path, grid_file, capsys):
     assert (again["reused"], again["computed"], again["failed"]) == (2, 0, 0)
     assert again["curve"] == data["curve"] and again["grid"] == data["grid"]
     assert (tmp_path / "camp" / "summary.json").exists()
+    _the_pandas_recipe_of_the_roc_docs_reads_the_runs(tmp_path / "camp", data["curve"])
+
+
+def _the_pandas_recipe_of_the_roc_docs_reads_the_runs(directory, curve):
+    # xnavlab.mars.roc's module docstring, as a reader would paste it: one row a (run, threshold)
+    import pandas as pd
+
+    from xnavlab.core.campaign import load_runs
+
+    df = load_runs(directory).explode("metrics.per_threshold", ignore_index=True)
+    long = pd.concat([df.drop(columns="metrics.per_threshold"),
+                      pd.json_normalize(df["metrics.per_threshold"].tolist())], axis=1)
+    pd_by = long.groupby(["parameters.fault_class", "threshold"])["detected"].mean()
+    assert len(long) == 2 * 2 and list(pd_by.index.get_level_values("threshold")) == [1e-7, 1e-3]
+    assert list(pd_by) == [r["pd"] for r in curve]
 
 
 def _write(tmp_path, name, text):
