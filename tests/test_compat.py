@@ -19,10 +19,20 @@ ALIASES = sorted(RENAMED.items())
 
 
 def forget(monkeypatch, old):
-    """Make the next import of ``old`` go through the alias finder again."""
-    monkeypatch.delitem(sys.modules, old, raising=False)
+    """Make the next import of ``old`` go through the alias finder again, and leave it
+    afterwards as it was before the test (absent stays absent).
+
+    ``setitem``/``setattr`` first record the state before the test (``delitem``/``delattr``
+    of a missing entry record nothing), so the alias a test imports does not stay in
+    ``sys.modules`` or on the package: a later test or doctest in the same worker (the
+    ``xnavlab.compat`` doctest imports ``toa`` and expects its warning) meets the same
+    fresh state, in any order pytest-xdist runs them.
+    """
     parent, _, leaf = old.rpartition(".")
-    monkeypatch.delattr(sys.modules[parent], leaf, raising=False)
+    monkeypatch.setitem(sys.modules, old, None)
+    monkeypatch.delitem(sys.modules, old)
+    monkeypatch.setattr(sys.modules[parent], leaf, None, raising=False)
+    monkeypatch.delattr(sys.modules[parent], leaf)
 
 
 def test_every_alias_points_into_the_package():
@@ -85,3 +95,17 @@ def test_the_second_import_of_an_old_name_does_not_warn_again(monkeypatch):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert importlib.import_module(old) is importlib.import_module(new)
+
+
+def test_a_test_leaves_an_alias_as_it_found_it():
+    """What a test imports through ``forget`` is gone again after it, present or not before."""
+    old, _ = ALIASES[0]
+    parent, _, leaf = old.rpartition(".")
+    before = (sys.modules.get(old), vars(sys.modules[parent]).get(leaf))
+    with pytest.MonkeyPatch.context() as mp:
+        forget(mp, old)
+        with pytest.warns(DeprecationWarning):
+            importlib.import_module(old)
+        assert old in sys.modules
+    assert (sys.modules.get(old), vars(sys.modules[parent]).get(leaf)) == before
+    assert (old in sys.modules) == (before[0] is not None)
