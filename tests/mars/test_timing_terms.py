@@ -172,8 +172,15 @@ def test_navigation_effect_of_the_orbit_clock_term():
 
 def test_navigation_effect_reports_a_breakdown():
     out = tt.navigation_effect(("clock",), days=30.0)
-    # the whole clock offset, 17 ms (5000 km) after 30 days: the XNAV filter breaks down
-    assert "failed" in out["clock"] and "positive definite" in out["clock"]["failed"]
+    # the whole clock offset, 17 ms (5000 km) after 30 days: the XNAV filter breaks down. How
+    # depends on the BLAS kernels (make portability): a covariance loses positive definiteness
+    # (Haswell), or stays positive definite and the estimate runs away (Prescott, Sandybridge:
+    # RMS 49,105 km). Either is a breakdown; which one is a rounding-level outcome.
+    clock = out["clock"]
+    if "failed" in clock:
+        assert "positive definite" in clock["failed"]
+    else:
+        assert clock["position_error_m"] > 1e6
 
 
 def test_constants():
