@@ -42,11 +42,12 @@ warmup: $(WARM)
 ## make book: execute the chapters and render _build/html (a warning fails the build).
 ## Chapters execute in myst-nb's cache mode: only a chapter whose code changed runs again;
 ## tools/book_cache.py drops the cache when xnavlab/ or the environment changed.
-# (MPLBACKEND=Agg, exported above for the tests, would stop the kernels' inline figures)
+# (MPLBACKEND=Agg, exported above for the tests, would stop the kernels' inline figures;
+# XNAVLAB_SCRUBBER_FRAMES=1: a page executed for the book draws its sliders' HTML frames)
 book: $(WARM)
 	$(BIN)/python tools/book_cache.py
 	env -u MPLBACKEND $(BIN)/python tools/book_execute.py --jobs $(JOBS)
-	env -u MPLBACKEND $(BIN)/jupyter-book build . -W -n --keep-going
+	env -u MPLBACKEND XNAVLAB_SCRUBBER_FRAMES=1 $(BIN)/jupyter-book build . -W -n --keep-going
 	touch $(BOOK_STAMP)
 
 ## make book-clean: forget the executed chapters and the rendered pages (next build: all)
@@ -73,10 +74,12 @@ browser-test: $(STAMP) $(BOOK_STAMP)
 	XNAVLAB_BROWSER_TEST=1 $(BIN)/python -m pytest -p no:cacheprovider tests/browser
 
 ## make lab-test: JupyterLab on 127.0.0.1 driven by headless Chromium: every chapter run, its
-## explore slider moved twice, the figure checked to change; screenshots in _build/lab-screenshots
+## explore slider moved twice, the figure checked to change; screenshots in _build/lab-screenshots.
+## One JupyterLab server and one Chromium per pytest worker, the chapters shared out one at a
+## time (--dist load): 338 s on 2 workers against 478 s on one, quiet machine
 lab-test: $(WARM)
 	@sh tools/ensure_chromium.sh
-	XNAVLAB_LAB_TEST=1 $(BIN)/python -m pytest -p no:cacheprovider tests/lab
+	XNAVLAB_LAB_TEST=1 $(BIN)/python -m pytest -n $(JOBS) --dist load -p no:cacheprovider tests/lab
 
 $(BOOK_STAMP): $(WARM) $(BOOK_SOURCES)
 	$(MAKE) book

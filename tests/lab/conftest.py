@@ -59,15 +59,24 @@ def lab(lab_server):
 
 
 @pytest.fixture
-def lab_report():
-    """Collects :class:`lab_driver.NotebookReport` objects for the summary at the end."""
-    return _REPORTS.append
+def lab_report(record_property):
+    """Records a :class:`lab_driver.NotebookReport`'s summary line for the summary at the end.
+
+    The line travels as a user property of the test's report, so that it reaches the summary
+    also when pytest-xdist runs the chapters on several workers (``make lab-test`` does).
+    """
+    return lambda rep: record_property("lab_summary", rep.summary())
+
+
+def pytest_runtest_logreport(report):
+    if report.when == "call":
+        _REPORTS.extend(v for k, v in report.user_properties if k == "lab_summary")
 
 
 def pytest_terminal_summary(terminalreporter):
     if not _REPORTS:
         return
-    lines = [r.summary() for r in _REPORTS]
+    lines = sorted(_REPORTS)
     terminalreporter.section("JupyterLab: run times and redraw times (input to new figure)")
     for line in lines:
         terminalreporter.write_line(line)
