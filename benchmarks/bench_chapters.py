@@ -3,9 +3,10 @@
 Run: ``.venv/bin/python benchmarks/bench_chapters.py [--chapters 08 09] [--no-dashboard]
 [--json FILE] [--numba-cache-dir DIR]``.
 
-Each page is executed as the book's build executes it: with ``nbclient`` in a new
-``python3`` kernel of this environment, working directory ``book/``, ``MPLBACKEND`` unset
-(the inline backend, as ``make book`` runs), one page at a time. A chapter is
+Each page is executed as a reader's "Restart and run all" executes it: with ``nbclient`` in a
+new ``python3`` kernel of this environment, working directory ``book/``, ``MPLBACKEND`` unset
+(the inline backend), ``XNAVLAB_SCRUBBER_FRAMES`` unset (a slider draws its opening figure,
+not the HTML scrubber's frames that only the book's build draws), one page at a time. A chapter is
 ``book/NN_*.ipynb``; the dashboard, ``book/dashboard.md``, is a MyST Markdown notebook and is
 read into a notebook with ``myst_nb``'s own reader (what the build uses; ``jupytext`` is not
 needed). Per page: the kernel's start (to the first cell's start), the cells (first cell's start to
@@ -23,6 +24,7 @@ shared: the load average is printed before and after every page.
 """
 
 import argparse
+import sys
 import time
 from pathlib import Path
 
@@ -37,29 +39,14 @@ from _timing import (
     write_json,
 )
 
+from xnavlab.core.widgets import FRAMES_ENV
+
+sys.path.insert(0, str(ROOT / "tools"))
+from book_execute import cell_times, read_page  # noqa: E402  (tools/book_execute.py)
+
 TARGET_CHAPTER_S = 10.0
 TARGET_DASHBOARD_S = 30.0
 DASHBOARD = ROOT / "book" / "dashboard.md"
-
-
-def read_page(path):
-    """A chapter (``.ipynb``) or a MyST Markdown notebook (``.md``) as an nbformat notebook."""
-    import nbformat
-
-    if path.suffix == ".md":
-        from myst_nb.core.read import read_myst_markdown_notebook
-
-        return read_myst_markdown_notebook(path.read_text(), path=path)
-    return nbformat.read(path, as_version=4)
-
-
-def _stamp(value):
-    """An nbclient timing stamp (ISO 8601 text or datetime) as seconds since the epoch."""
-    from datetime import datetime
-
-    if isinstance(value, str):
-        value = datetime.fromisoformat(value.replace("Z", "+00:00"))
-    return value.timestamp()
 
 
 def run_page(path, numba_cache_dir, timeout):
@@ -74,7 +61,8 @@ def run_page(path, numba_cache_dir, timeout):
     from nbclient.exceptions import CellExecutionError, CellTimeoutError
 
     nb = read_page(path)
-    env = child_env(numba_cache_dir, MPLBACKEND=None)
+    # a reader's run-all: the inline backend, no scrubber frames (only the book's build draws them)
+    env = child_env(numba_cache_dir, MPLBACKEND=None, **{FRAMES_ENV: None})
     client = NotebookClient(nb, timeout=timeout, kernel_name="python3", record_timing=True,
                             resources={"metadata": {"path": str(path.parent)}})
     error = None
@@ -85,17 +73,7 @@ def run_page(path, numba_cache_dir, timeout):
     except (CellExecutionError, CellTimeoutError) as exc:
         error = str(exc).strip().splitlines()[-1][:200]
     t_end = time.time()
-    cells = []
-    for index, cell in enumerate(nb.cells):
-        timing = cell.get("metadata", {}).get("execution", {})
-        if cell.cell_type != "code" or "iopub.execute_input" not in timing:
-            continue
-        start = _stamp(timing["iopub.execute_input"])
-        stop = _stamp(timing.get("shell.execute_reply", timing["iopub.execute_input"]))
-        first = next((ln for ln in cell.source.splitlines()
-                      if ln.strip() and not ln.startswith("#")), "")
-        cells.append({"index": index, "first_line": first[:60], "seconds": stop - start,
-                      "start": start, "stop": stop})
+    cells = cell_times(nb)
     first_start = cells[0]["start"] if cells else t_end
     last_stop = cells[-1]["stop"] if cells else t_end
     return {"page": path.name, "kernel_start_s": first_start - t0,

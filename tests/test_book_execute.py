@@ -2,6 +2,7 @@
 
 import importlib
 import json
+import os
 from pathlib import Path
 
 import nbformat
@@ -79,3 +80,11 @@ def test_each_page_names_its_slowest_cell_and_the_cache_holds_no_timing(tool, tm
     record = cache.match_cache_notebook(tool.read_page(tmp_path / "book" / "one.ipynb"))
     cached = cache.get_cache_bundle(record.pk).nb
     assert all("execution" not in cell.metadata for cell in cached.cells)
+
+
+def test_a_page_is_executed_for_the_html_book(tool, tmp_path, monkeypatch):
+    # its kernel draws the sliders' scrubber frames; the calling process is left as it was
+    monkeypatch.delenv("XNAVLAB_SCRUBBER_FRAMES", raising=False)
+    _book(tmp_path, "import os\nassert os.environ['XNAVLAB_SCRUBBER_FRAMES'] == '1'")
+    assert tool.main(["--jobs", "1"]) == 0
+    assert "XNAVLAB_SCRUBBER_FRAMES" not in os.environ

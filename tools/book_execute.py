@@ -11,6 +11,10 @@ allowed) and stores each executed notebook in the cache, where the build then fi
 ("Using cached notebook") instead of executing it again. Nothing is executed twice and
 nothing is skipped: a page whose code cells match the cache is not run, every other is.
 
+The kernels run with ``XNAVLAB_SCRUBBER_FRAMES=1`` (:data:`xnavlab.core.widgets.FRAMES_ENV`):
+a page executed for the HTML book draws its sliders' scrubber frames, which a reader's kernel
+does not.
+
 Each page's line names its slowest cell (nbclient's timing), so a page that takes long says
 where. A page that fails stops the script with its traceback and exit code 1 (the build would stop
 on it too, later). ``tools/book_cache.py`` must run before it, so that a cache made with an
@@ -38,6 +42,8 @@ from myst_nb.core.read import (
     read_myst_markdown_notebook,
     standard_nb_read,
 )
+
+from xnavlab.core.widgets import FRAMES_ENV
 
 ROOT = Path(__file__).resolve().parents[1]
 CACHE = ROOT / "_build" / ".jupyter_cache"
@@ -103,28 +109,46 @@ def longest_first(pages):
 
 
 def _stamp(value):
+    """An nbclient timing stamp (ISO 8601 text or datetime) as seconds since the epoch."""
     if isinstance(value, str):
         value = datetime.fromisoformat(value.replace("Z", "+00:00"))
     return value.timestamp()
 
 
+def cell_times(nb, remove=False):
+    """Each executed code cell's time, from the timing nbclient records (``record_timing``).
+
+    Returns a list of dicts, in page order: ``index`` (of the cell in ``nb.cells``),
+    ``first_line`` (its first line of code, at most 60 characters), ``start`` and ``stop``
+    (seconds since the epoch: ``iopub.execute_input`` to ``shell.execute_reply``) and
+    ``seconds``. ``remove=True`` also removes the timing (``metadata.execution``) from every
+    cell, so that a page stored afterwards holds what myst-nb's own execution would store.
+    """
+    times = []
+    for index, cell in enumerate(nb.cells):
+        meta = cell.get("metadata", {})
+        timing = (meta.pop("execution", None) if remove else meta.get("execution")) or {}
+        if cell.cell_type != "code" or "iopub.execute_input" not in timing:
+            continue
+        start = _stamp(timing["iopub.execute_input"])
+        stop = _stamp(timing.get("shell.execute_reply", timing["iopub.execute_input"]))
+        first = next((ln for ln in cell.source.splitlines()
+                      if ln.strip() and not ln.startswith(("#", "%"))), "")
+        times.append({"index": index, "first_line": first[:60], "start": start, "stop": stop,
+                      "seconds": stop - start})
+    return times
+
+
 def slowest_cell(nb):
     """The code cell that took longest, from nbclient's timing: (index, seconds, first line).
 
-    The timing (``metadata.execution``) is removed from every cell, so the cached page holds
-    what myst-nb's own execution would store. ``(None, 0.0, "")`` when no cell has a timing.
+    The timing is removed from every cell (:func:`cell_times` with ``remove=True``).
+    ``(None, 0.0, "")`` when no cell has a timing.
     """
     best = (None, 0.0, "")
-    for index, cell in enumerate(nb.cells):
-        timing = cell.get("metadata", {}).pop("execution", None) or {}
-        if cell.cell_type != "code" or "iopub.execute_input" not in timing:
-            continue
-        stop = timing.get("shell.execute_reply", timing["iopub.execute_input"])
-        seconds = _stamp(stop) - _stamp(timing["iopub.execute_input"])
-        if seconds >= best[1]:
-            first = next((ln for ln in cell.source.splitlines()
-                          if ln.strip() and not ln.startswith(("#", "%"))), "")
-            best = (index, seconds, first[:50])
+    for t in cell_times(nb, remove=True):
+        if t["seconds"] >= best[1]:
+            best = (t["index"], t["seconds"], t["first_line"][:50])
     return best
 
 
@@ -134,6 +158,9 @@ def execute(path, timeout):
     Returns (path, notebook JSON or None, seconds, error, slowest cell): the slowest cell as
     :func:`slowest_cell` gives it, so that a page that takes long says where.
     """
+    # (a worker process of its own) the page is executed for the HTML book: its kernel's
+    # sliders draw the scrubber's frames
+    os.environ[FRAMES_ENV] = "1"
     nb = read_page(path)
     timeout = int(nb.metadata.get("mystnb", {}).get("execution_timeout", timeout))
     result = single_nb_execution(nb, cwd=str(path.parent), timeout=timeout,

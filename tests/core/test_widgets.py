@@ -106,6 +106,45 @@ def test_mimebundle_in_kernel_adds_widget(monkeypatch):
     w.close()
 
 
+def test_kernel_outside_the_book_draws_one_figure(monkeypatch):
+    # a reader's kernel (or nbval's): the HTML part is the widget's opening figure, drawn once
+    monkeypatch.setattr(widgets, "_in_kernel", lambda: True)
+    monkeypatch.delenv(widgets.FRAMES_ENV, raising=False)
+    CALLS.clear()
+    ex = explore(wave, omega=np.linspace(0.5, 3.0, 11), max_frames=6)
+    bundle = ex._repr_mimebundle_()
+    page = bundle["text/html"]
+    assert widgets._MIME_WIDGET in bundle
+    assert "xnav-scrubber" not in page and page.count("<img") == 1
+    assert ex._frames is None and CALLS == [(ex.initial["omega"], 0.0, "-")]
+    png = base64.b64decode(re.search(r'base64,([^"]+)"', page).group(1))
+    assert png == ex._last_png and png.startswith(b"\x89PNG")
+    ex.widget().close()
+
+
+def test_kernel_building_the_book_draws_the_frames(monkeypatch):
+    monkeypatch.setattr(widgets, "_in_kernel", lambda: True)
+    monkeypatch.setenv(widgets.FRAMES_ENV, "1")
+    ex = explore(wave, omega=np.linspace(0.5, 3.0, 11), max_frames=6)
+    bundle = ex._repr_mimebundle_()
+    assert widgets._MIME_WIDGET in bundle
+    assert len(scrubber_data(bundle["text/html"])["frames"]) == 6
+    ex.widget().close()
+
+
+def test_kernel_still_html_names_an_opening_error(monkeypatch):
+    monkeypatch.setattr(widgets, "_in_kernel", lambda: True)
+    monkeypatch.delenv(widgets.FRAMES_ENV, raising=False)
+
+    def broken(a=1.0):
+        raise ValueError("a must be in [0, 1], got 1.5")
+
+    ex = explore(broken, a=[1.0, 2.0])
+    page = ex._repr_mimebundle_()["text/html"]
+    assert 'class="xnav-error"' in page and "a must be in [0, 1]" in page
+    ex.widget().close()
+
+
 @pytest.mark.parametrize(
     ("kwargs", "match"),
     [

@@ -24,6 +24,15 @@ names another; the others are held at their ``initial`` value in the scrubber (t
 widget gets a slider or menu for every grid). A keyword given a scalar is passed through
 unchanged, with no control.
 
+Drawing the scrubber's frames (up to ``max_frames`` figures) is work that only the built book
+shows, so a kernel draws them only when the page is executed for the HTML book: when the
+environment variable :data:`FRAMES_ENV` (``XNAVLAB_SCRUBBER_FRAMES``) is ``1``, which
+``make book`` (``tools/book_execute.py`` and the ``jupyter-book`` call) sets. In any other
+kernel (a reader's JupyterLab, nbval, the JupyterLab test) the HTML part of the display is
+one static image, the live widget's opening figure, drawn once for both: "Run All" costs
+one figure per slider, not thirteen. Outside a kernel, :meth:`Explorer.html` always draws
+the frames.
+
 The live widget never leaves the reader without feedback: while a redraw runs, its status
 line says ``computing…`` (shown only once the redraw has taken 0.3 s, so quick redraws do
 not flicker), and an exception raised by the plotting function replaces the figure with one
@@ -40,6 +49,7 @@ import base64
 import html as _html
 import io
 import json
+import os
 from collections.abc import Callable
 from numbers import Number
 
@@ -47,12 +57,17 @@ import numpy as np
 
 from xnavlab.core.validate import check_choice, check_int
 
-__all__ = ["explore", "Explorer", "error_line", "live_png", "BUSY", "LIVE_MEMO_FRAMES"]
+__all__ = ["explore", "Explorer", "error_line", "live_png", "BUSY", "LIVE_MEMO_FRAMES",
+           "FRAMES_ENV"]
 
 _MIME_WIDGET = "application/vnd.jupyter.widget-view+json"
 
 #: Positions whose PNG the live widget keeps, to show them again without a redraw.
 LIVE_MEMO_FRAMES = 64
+
+#: The environment variable that makes a kernel draw the HTML scrubber's frames (``"1"``):
+#: set where a page is executed for the HTML book.
+FRAMES_ENV = "XNAVLAB_SCRUBBER_FRAMES"
 
 #: Text of the live widget's status line while a redraw runs.
 BUSY = "computing\u2026"
@@ -137,6 +152,7 @@ class Explorer:
         self._frames = None
         self._widget = None
         self._seen = {}  # the live widget's PNG of each position drawn, most recent last
+        self._last_png = None  # the live widget's latest figure (its opening one at first)
         self.status = None
         self.last_error = None
 
@@ -234,6 +250,7 @@ class Explorer:
                 key = _memo_key(values)
                 if key in self._seen:  # a position drawn before: its PNG again, no redraw
                     self._seen[key] = self._seen.pop(key)  # most recently used last
+                    self._last_png = self._seen[key]
                     self.last_error = None
                     display(Image(data=self._seen[key], format="png"))
                     return
@@ -254,6 +271,7 @@ class Explorer:
                 # for a tight bounding box: up to a third of a redraw)
                 png = live_png(fig)
                 plt.close(fig)  # shown once, not again by the inline backend
+                self._last_png = png
                 if key is not None:
                     self._seen[key] = png
                     while len(self._seen) > LIVE_MEMO_FRAMES:
@@ -267,11 +285,27 @@ class Explorer:
             self._widget = widget
         return self._widget
 
+    def still_html(self):
+        """The HTML of a kernel that is not building the book: the live widget's opening
+        figure as one static image (drawn once, for the widget and this), no frames.
+
+        What a saved notebook shows where the widget cannot be (a viewer without a kernel).
+        """
+        self.widget()  # built once: its construction draws the opening figure
+        png = self._last_png
+        if png is None:  # the opening figure raised: the widget shows the error line
+            return f'<pre class="xnav-error">{_html.escape(self.last_error or "")}</pre>'
+        alt = _html.escape(f"{getattr(self.plot, '__name__', 'figure')} at the opening values")
+        return (f'<img src="data:image/png;base64,{base64.b64encode(png).decode("ascii")}" '
+                f'alt="{alt}" style="max-width:100%;height:auto">')
+
     def _repr_mimebundle_(self, include=None, exclude=None):
-        bundle = {"text/plain": repr(self), "text/html": self.html()}
-        if _in_kernel():
-            view = self.widget()._repr_mimebundle_()
-            bundle.update({k: v for k, v in view.items() if k == _MIME_WIDGET})
+        if not _in_kernel():
+            return {"text/plain": repr(self), "text/html": self.html()}
+        view = self.widget()._repr_mimebundle_()
+        page = self.html() if os.environ.get(FRAMES_ENV) == "1" else self.still_html()
+        bundle = {"text/plain": repr(self), "text/html": page}
+        bundle.update({k: v for k, v in view.items() if k == _MIME_WIDGET})
         return bundle
 
 
