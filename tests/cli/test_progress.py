@@ -33,3 +33,17 @@ def test_campaign_bar_and_nothing_with_quiet_or_json(tmp_path, capsys):
     assert main([*base, "--runs", "3", "--json"]) == 0
     out = capsys.readouterr()
     assert out.err == "" and json.loads(out.out)["computed"] == 1
+
+
+def test_reproduce_all_bar_and_nothing_with_quiet_or_json(monkeypatch, capsys):
+    from xnavlab import reproduce
+
+    monkeypatch.setattr(reproduce, "ids", lambda: ["mars-orbit"])
+    assert main(["reproduce", "--all"]) == 0
+    assert "reproductions: 100%" in capsys.readouterr().err
+    assert main(["reproduce", "--all", "--quiet"]) == 0
+    assert capsys.readouterr().err == ""
+    assert main(["reproduce", "--all", "--json"]) == 0
+    out = capsys.readouterr()
+    assert out.err.strip() == reproduce.headline([reproduce.run("mars-orbit")])
+    assert json.loads(out.out)[0]["id"] == "mars-orbit"

@@ -21,7 +21,9 @@ def configure(parser):
     group = parser.add_mutually_exclusive_group()
     group.add_argument("--list", action="store_true", help="list the registered IDs")
     group.add_argument("--all", action="store_true", help="run every reproduction")
-    parser.add_argument("--json", action="store_true", help="print JSON instead of a table")
+    parser.add_argument("--json", action="store_true",
+                        help="print JSON instead of a table (no progress bar)")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar (--all)")
     parser.add_argument("--out", metavar="DIR", help="write figures (and JSON for --all) here")
 
 
@@ -60,7 +62,9 @@ def _reproduce_all(args):
     from tqdm import tqdm
 
     results = []
-    for rid in tqdm(reproduce.ids(), desc="reproductions", unit="repro", file=sys.stderr):
+    # a bar on stderr as campaigns have, none with --json or --quiet (as for run and campaign)
+    for rid in tqdm(reproduce.ids(), desc="reproductions", unit="repro", file=sys.stderr,
+                    disable=args.json or args.quiet):
         results.append(run_one(rid, args.out))
     payload = [r.to_dict() for r in results]
     if args.json:
