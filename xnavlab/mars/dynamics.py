@@ -27,7 +27,6 @@ import hashlib
 import math
 import os
 from dataclasses import dataclass
-from pathlib import Path
 from typing import NamedTuple
 
 import numba
@@ -35,6 +34,7 @@ import numpy as np
 
 from xnavlab.core import ephemeris
 from xnavlab.core.constants import GM_JUPITER, GM_MARS, GM_SUN, J2_MARS, J2_MARS_RADIUS, R_MARS
+from xnavlab.core.diskcache import cache_dir
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real
 
 __all__ = [
@@ -300,11 +300,6 @@ def propagate(t_eval, state0=MARS_STATE0, t0=MARS_T0, third_bodies=("sun", "jupi
 TRUTH_CACHE_VERSION = 1
 
 
-def _cache_dir():
-    root = os.environ.get("XNAVLAB_CACHE") or Path.home() / ".cache" / "xnavlab"
-    return Path(root)
-
-
 def truth(t_eval, state0=MARS_STATE0, t0=MARS_T0, third_bodies=("sun", "jupiter"), j2=False,
           ephem="de421", cache=True):
     """:func:`propagate` with the default tolerances, cached on disk.
@@ -336,7 +331,7 @@ def truth(t_eval, state0=MARS_STATE0, t0=MARS_T0, third_bodies=("sun", "jupiter"
         h.update(repr((J2_MARS, J2_MARS_RADIUS)).encode())
     h.update(np.ascontiguousarray(t_eval).tobytes())
     h.update(np.ascontiguousarray(state0).tobytes())
-    path = _cache_dir() / f"truth-{h.hexdigest()[:24]}.npy"
+    path = cache_dir() / f"truth-{h.hexdigest()[:24]}.npy"
     if path.exists():
         try:
             x = np.load(path)

@@ -29,12 +29,12 @@ from __future__ import annotations
 import contextlib
 import hashlib
 import math
-import os
 from pathlib import Path
 
 import numpy as np
 
 from xnavlab.core.campaign import Campaign, run_campaign
+from xnavlab.core.diskcache import cache_dir
 from xnavlab.core.validate import check_int, check_real
 
 __all__ = ["PAPER", "headline_run", "headline_numbers", "mean_interval"]
@@ -175,8 +175,7 @@ def headline_numbers(n_seeds=32, days=30.0, faults=True, seed=2016, cache=True, 
                     manifest={"days": days, "faults": bool(faults), "code": _code_key()})
     out = None
     if cache:
-        base = Path(os.environ.get("XNAVLAB_CACHE", Path.home() / ".cache" / "xnavlab"))
-        out = base / "campaigns" / f"headline-{camp.manifest['code']}-{days:g}d-{int(faults)}-{seed}"
+        out = cache_dir() / "campaigns" / f"headline-{camp.manifest['code']}-{days:g}d-{int(faults)}-{seed}"
     with _exclusive(out):
         res = run_campaign(camp, n_seeds, seed=seed, out=out, engine="local" if workers > 1
                            else "serial", workers=workers, progress=progress)

@@ -48,13 +48,10 @@ the machine code in ``__pycache__``; later processes load it in a fraction of a 
 The helpers are compiled with ``_nrt=False`` (numba's switch for functions that allocate
 nothing): otherwise numba may wrap each call that passes arrays in atomic
 reference-count updates, which cost more than the arithmetic of these 6 x 6 steps. No
-fast-math flag is set, not even FMA contraction: with ``fastmath={"contract"}``, which
-these kernels once allowed, a process that compiled the kernels itself and one that
-loaded them from numba's cache gave different last digits (the paper's 30-day RMS
-position error 26.412803132646456 m against 26.41280310716354 m), since LLVM contracted
-differently in the two; without it both give the same bits (26.412803121293372 m) and the
-30-day filter costs the same (1.23 s against 1.24 s). The same seed gives the same numbers
-whatever the cache held. The arguments come in the named
+fast-math, not even FMA contraction: with ``fastmath={"contract"}`` a process that compiled
+the kernels and one that loaded them from numba's cache gave different last digits (30-day
+RMS 26.412803132646456 m against 26.41280310716354 m); without it both give the same bits
+(26.412803121293372 m) at the same cost (1.23 s against 1.24 s). The arguments come in the named
 tuples of :mod:`xnavlab.mars.kernel_inputs` (why named tuples: there), the scratch arrays
 in four private ones that :func:`run_epochs` allocates once per call.
 """

@@ -56,7 +56,6 @@ import functools
 import hashlib
 import importlib.metadata
 import importlib.resources
-import os
 import sys
 import warnings
 from pathlib import Path
@@ -64,6 +63,7 @@ from pathlib import Path
 import numpy as np
 
 from xnavlab.core.constants import DAY, KPC
+from xnavlab.core.diskcache import cache_dir, cached_arrays
 from xnavlab.core.validate import check_choice, check_finite_array, check_int
 
 __all__ = [
@@ -401,30 +401,17 @@ def _cache_file(kind, sources):
     for path in sources:
         h.update(path.name.encode())
         h.update(str(path.stat().st_size).encode())
-    root = Path(os.environ.get("XNAVLAB_CACHE") or Path.home() / ".cache" / "xnavlab")
-    return root / f"pint-{kind}-{h.hexdigest()[:24]}.npz"
+    return cache_dir() / f"pint-{kind}-{h.hexdigest()[:24]}.npz"
 
 
 def _cached(kind, sources, compute):
     """``compute()`` (a dict of arrays; run offline, PINT's warnings filtered), stored on disk."""
-    path = _cache_file(kind, sources)
-    if path.exists():
-        try:
-            with np.load(path) as data:
-                return {key: data[key] for key in data.files}
-        except (OSError, ValueError):
-            pass
-    offline()
-    with _quiet():
-        result = compute()
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_suffix(f".{os.getpid()}.tmp.npz")
-        np.savez(tmp, **result)
-        os.replace(tmp, path)
-    except OSError:  # a read-only home still gets the result
-        pass
-    return result
+    def offline_compute():
+        offline()
+        with _quiet():
+            return compute()
+
+    return cached_arrays(_cache_file(kind, sources), offline_compute)
 
 
 def _read_gauss_template(path):

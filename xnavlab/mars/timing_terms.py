@@ -34,13 +34,12 @@ from __future__ import annotations
 
 import hashlib
 import importlib.metadata
-import os
-from pathlib import Path
 
 import numpy as np
 
 from xnavlab.core import ephemeris
 from xnavlab.core.constants import DAY, GM_SUN, C
+from xnavlab.core.diskcache import cache_dir, cached_arrays
 from xnavlab.core.validate import check_choice, check_finite_array, check_real
 from xnavlab.mars import dynamics, pulsars, scenarios, toa
 
@@ -71,6 +70,10 @@ PLANET_BODIES = ("venus", "earth", "mars", "jupiter", "saturn")
 #: The omitted terms :func:`orbit_terms` returns, each an addition to ``Delta t``, s.
 TERMS = ("shapiro_exact_minus_paper", "planets", "clock", "clock_rate", "clock_mars_year",
          "clock_orbit")
+
+#: An RMS position error beyond this (1000 km) is a filter that ran away, m: the worst term
+#: the XNAV filter survives (the Mars-year clock term) leaves 6.1 km after 30 days.
+RUNAWAY_M = 1e6
 
 #: Mars's sidereal year, days (687 days; the span of :func:`mars_year_terms`).
 MARS_YEAR_DAYS = 686.98
@@ -541,7 +544,11 @@ def navigation_effect(terms=TERMS, days=30.0, subsystems=("xnav",), seed=0):
         ``None`` (the run without a term) and each term: a dict with
         ``position_error_m`` (RMS after settling), ``position_error_max_m`` and
         ``settle_days`` (:meth:`xnavlab.mars.scenarios.MarsRun.metrics`), or, when the
-        filter broke down, ``failed`` (the error's message).
+        filter broke down, ``failed`` (why). A breakdown is either a covariance that lost
+        positive definiteness (the run raised) or an estimate that ran away (RMS position
+        error beyond :data:`RUNAWAY_M`, its metrics kept beside ``failed``): which of the
+        two a marginal run meets can depend on the CPU's BLAS kernels, so both are one
+        outcome here.
 
     Examples
     --------
@@ -562,6 +569,9 @@ def navigation_effect(terms=TERMS, days=30.0, subsystems=("xnav",), seed=0):
             out[term] = {"failed": str(exc)}
             continue
         out[term] = {k: m[k] for k in ("position_error_m", "position_error_max_m", "settle_days")}
+        if m["position_error_m"] > RUNAWAY_M:  # broke down too, the covariance still valid
+            out[term]["failed"] = (f"the estimate ran away: RMS position error "
+                                   f"{m['position_error_m']:.3g} m, beyond {RUNAWAY_M:.0e} m")
     inp.z["xnav"] = z0
     return out
 
@@ -570,8 +580,7 @@ def _cache_path(kind, arrays):
     h = hashlib.sha256(repr((1, kind, importlib.metadata.version("pint-pulsar"))).encode())
     for a in arrays:
         h.update(np.ascontiguousarray(a, dtype=float).tobytes())
-    root = Path(os.environ.get("XNAVLAB_CACHE") or Path.home() / ".cache" / "xnavlab")
-    return root / f"pint-witness-{h.hexdigest()[:24]}.npz"
+    return cache_dir() / f"pint-witness-{h.hexdigest()[:24]}.npz"
 
 
 def pint_witness(r_ssb, t, n, distance):
@@ -614,13 +623,11 @@ def pint_witness(r_ssb, t, n, distance):
     t = np.atleast_1d(check_finite_array("t", t))
     n = check_finite_array("n", n, shape=(3,))
     d = check_finite_array("distance", distance)
-    path = _cache_path("terms", (r, t, n, d))
-    if path.exists():
-        try:
-            with np.load(path) as data:
-                return {key: data[key] for key in data.files}
-        except (OSError, ValueError):
-            pass
+    return cached_arrays(_cache_path("terms", (r, t, n, d)), lambda: _witness(r, t, n, d))
+
+
+def _witness(r, t, n, d):
+    """:func:`pint_witness`'s arrays, computed (PINT's import and its delays)."""
     from xnavlab.mars import pint_bridge
 
     pint = pint_bridge.pint_delays(r, t, n, d, planets=True)
@@ -635,13 +642,6 @@ def pint_witness(r_ssb, t, n, distance):
            "pint_planets": sum(pint[f"shapiro_{p}"] for p in pint_bridge.PLANETS)}
     for p in ("jupiter", "saturn", "venus"):
         out[p] = ours[p] - pint[f"shapiro_{p}"]
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_suffix(f".{os.getpid()}.tmp.npz")
-        np.savez(tmp, **out)
-        os.replace(tmp, path)
-    except OSError:
-        pass
     return out
 
 

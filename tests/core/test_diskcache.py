@@ -1,0 +1,42 @@
+"""xnavlab.core.diskcache: the cache's root, and arrays stored once and read back."""
+
+import numpy as np
+
+from xnavlab.core import diskcache
+
+
+def test_root_from_the_environment_or_home(monkeypatch, tmp_path):
+    monkeypatch.setenv("XNAVLAB_CACHE", str(tmp_path))
+    assert diskcache.cache_dir() == tmp_path
+    monkeypatch.setenv("XNAVLAB_CACHE", "")  # empty counts as unset, never the working dir
+    assert diskcache.cache_dir().parts[-2:] == (".cache", "xnavlab")
+
+
+def test_computed_once_then_read(tmp_path):
+    calls = []
+
+    def compute():
+        calls.append(1)
+        return {"a": np.arange(4.0), "b": np.eye(2)}
+
+    entry = tmp_path / "sub" / "e.npz"
+    first = diskcache.cached_arrays(entry, compute)
+    second = diskcache.cached_arrays(entry, compute)
+    assert len(calls) == 1 and entry.exists()
+    assert set(second) == {"a", "b"} and np.array_equal(first["b"], second["b"])
+    assert not list(entry.parent.glob("*.tmp.npz"))  # written atomically
+
+
+def test_an_unreadable_entry_is_computed_again(tmp_path):
+    entry = tmp_path / "e.npz"
+    entry.write_bytes(b"PK\x03\x04 truncated")
+    out = diskcache.cached_arrays(entry, lambda: {"x": [1.0, 2.0]})
+    assert out["x"].tolist() == [1.0, 2.0]
+    assert diskcache.cached_arrays(entry, lambda: {"x": [9.0]})["x"].tolist() == [1.0, 2.0]
+
+
+def test_a_cache_that_cannot_be_written_still_gives_the_result(tmp_path):
+    blocked = tmp_path / "file"
+    blocked.write_text("a file where the cache's directory should be")
+    out = diskcache.cached_arrays(blocked / "e.npz", lambda: {"x": np.ones(2)})
+    assert out["x"].tolist() == [1.0, 1.0]

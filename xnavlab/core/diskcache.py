@@ -1,0 +1,87 @@
+"""The package's disk cache: where it lives, and arrays stored there atomically.
+
+Results that are expensive and unchanged between processes (a 30-day truth trajectory,
+PINT's delays, the headline campaign) are kept under ``$XNAVLAB_CACHE`` (default
+``~/.cache/xnavlab``), each file named by a hash of everything that determines it, so that
+a changed input or model is never served from a stale file. A write goes to a temporary
+file first and is renamed into place, so a reader never sees half a file, and two processes
+computing the same entry at once both succeed. A home that cannot be written still gets
+its result, uncached.
+"""
+
+from __future__ import annotations
+
+import os
+import zipfile
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["cache_dir", "cached_arrays"]
+
+
+def cache_dir():
+    """The cache's root: ``$XNAVLAB_CACHE``, or ``~/.cache/xnavlab`` when it is unset or empty.
+
+    Returns
+    -------
+    pathlib.Path
+        Not created here.
+
+    Examples
+    --------
+    >>> import os
+    >>> os.environ["XNAVLAB_CACHE"] = "/tmp/xnav-cache"
+    >>> str(cache_dir())
+    '/tmp/xnav-cache'
+    >>> del os.environ["XNAVLAB_CACHE"]
+    >>> cache_dir() == Path.home() / ".cache" / "xnavlab"
+    True
+    """
+    return Path(os.environ.get("XNAVLAB_CACHE") or Path.home() / ".cache" / "xnavlab")
+
+
+def cached_arrays(path, compute):
+    """The dict of arrays stored at ``path`` (an ``.npz``), else ``compute()`` stored there.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The entry, ending in ``.npz``, its name a hash of the inputs (the caller's key).
+    compute : callable
+        ``compute() -> dict of str to array_like``, called only when ``path`` is missing or
+        unreadable.
+
+    Returns
+    -------
+    dict of str to ndarray
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> calls = []
+    >>> def compute():
+    ...     calls.append(1)
+    ...     return {"x": np.arange(3.0)}
+    >>> entry = Path(tempfile.mkdtemp()) / "demo.npz"
+    >>> cached_arrays(entry, compute)["x"].tolist(), cached_arrays(entry, compute)["x"].tolist()
+    ([0.0, 1.0, 2.0], [0.0, 1.0, 2.0])
+    >>> len(calls)
+    1
+    """
+    path = Path(path)
+    if path.exists():
+        try:
+            with open(path, "rb") as f, np.load(f) as data:
+                return {key: data[key] for key in data.files}
+        except (OSError, ValueError, EOFError, zipfile.BadZipFile):  # unreadable: computed again
+            pass
+    result = compute()
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_suffix(f".{os.getpid()}.tmp.npz")
+        np.savez(tmp, **result)
+        os.replace(tmp, path)
+    except OSError:  # a read-only home still gets the result
+        pass
+    return {key: np.asarray(value) for key, value in result.items()}
