@@ -68,10 +68,11 @@ test: $(WARM)
 	$(BIN)/python tools/check_book.py
 	$(MAKE) lab-test
 
-## make browser-test: every built page in headless Chromium, offline (builds the book if stale)
+## make browser-test: every built page in headless Chromium, offline (builds the book if stale);
+## one server and one Chromium per pytest worker, the pages shared out (--dist load)
 browser-test: $(STAMP) $(BOOK_STAMP)
 	@sh tools/ensure_chromium.sh
-	XNAVLAB_BROWSER_TEST=1 $(BIN)/python -m pytest -p no:cacheprovider tests/browser
+	XNAVLAB_BROWSER_TEST=1 $(BIN)/python -m pytest -n $(JOBS) --dist load -p no:cacheprovider tests/browser
 
 ## make lab-test: JupyterLab on 127.0.0.1 driven by headless Chromium: every chapter run, its
 ## explore slider moved twice, the figure checked to change; screenshots in _build/lab-screenshots.

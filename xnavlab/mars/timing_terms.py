@@ -47,6 +47,7 @@ __all__ = [
     "PLANET_BODIES",
     "TERMS",
     "MARS_YEAR_DAYS",
+    "RUNAWAY_M",
     "sun_angle_deg",
     "directions_from_sun",
     "shapiro_by_angle",
