@@ -4,6 +4,7 @@ one verdict vocabulary; tables no cell can break."""
 import json
 from html.parser import HTMLParser
 
+import numpy as np
 import pytest
 
 from xnavlab import reproduce
@@ -204,3 +205,80 @@ def test_report_html_is_safe_and_says_what_the_cli_says():
     assert all(line.rstrip().endswith(c.verdict) for line, c in
                zip(plain[1:], [c for r in results for c in r.checks], strict=True))
     assert len(plain) == 1 + sum(len(r.checks) for r in results)  # newlines flattened
+
+
+# -- the disk cache -------------------------------------------------------------------------
+
+@pytest.fixture
+def dummy(monkeypatch, tmp_path):
+    """A registered reproduction that counts its calls, with an empty disk cache."""
+    monkeypatch.setenv("XNAVLAB_CACHE", str(tmp_path))
+    monkeypatch.delenv(reproduce.CACHE_ENV, raising=False)
+    calls = []
+
+    def func(out=None, seed=0):
+        calls.append(seed)
+        return reproduce.Result("test-dummy", [reproduce.check_rel("x", 1.0, 1.0, 0.1)],
+                                data={"a": np.arange(3.0) + seed})
+
+    def forget():  # what a new process would not have: the session's results
+        for key in [k for k in reproduce._CACHE if k[0].startswith("test-")]:
+            del reproduce._CACHE[key]
+
+    reproduce.register("test-dummy", title="t", source="s", chapter="c")(func)
+    yield calls, forget
+    forget()
+    reproduce._REGISTRY.pop("test-dummy", None)
+    reproduce._REGISTRY.pop("test-timing", None)
+
+
+def test_a_result_is_computed_once_for_the_same_code(dummy, tmp_path):
+    calls, forget = dummy
+    first = reproduce.run("test-dummy")
+    forget()
+    again = reproduce.run("test-dummy")
+    assert calls == [0] and again.from_cache and not first.from_cache
+    assert again.checks == first.checks and np.array_equal(again.data["a"], first.data["a"])
+    assert len(list((tmp_path / "reproductions").glob("test-dummy-*.pickle"))) == 1
+    page = reproduce.report_html([again], elapsed_s=1.0)
+    assert "0 computed, 1 read from the reproduction cache" in page
+
+
+def test_fresh_arguments_or_the_switch_compute_again(dummy, monkeypatch):
+    calls, forget = dummy
+    reproduce.run("test-dummy")
+    assert not reproduce.run("test-dummy", fresh=True).from_cache
+    forget()
+    reproduce.run("test-dummy", seed=2)  # arguments: computed, not stored
+    forget()
+    reproduce.run("test-dummy", seed=2)
+    forget()
+    monkeypatch.setenv(reproduce.CACHE_ENV, "0")
+    assert not reproduce.run("test-dummy").from_cache
+    assert calls == [0, 0, 2, 2, 0]
+
+
+def test_other_code_or_an_unreadable_entry_computes_again(dummy, monkeypatch, tmp_path):
+    calls, forget = dummy
+    reproduce.run("test-dummy")
+    forget()
+    for entry in (tmp_path / "reproductions").glob("*.pickle"):
+        entry.write_bytes(b"not a pickle")
+    assert not reproduce.run("test-dummy").from_cache
+    forget()
+    monkeypatch.setattr(reproduce, "source_digest", lambda *a, **k: "another version")
+    assert not reproduce.run("test-dummy").from_cache
+    assert calls == [0, 0, 0]
+    # one entry an ID: the other code's result is gone
+    assert len(list((tmp_path / "reproductions").glob("test-dummy-*.pickle"))) == 1
+
+
+def test_a_timing_is_never_read_from_disk(dummy, tmp_path):
+    calls, forget = dummy
+    func = reproduce.get("test-dummy").func
+    reproduce.register("test-timing", title="t", source="s", chapter="c", cache=False)(func)
+    reproduce.run("test-timing")
+    forget()
+    assert not reproduce.run("test-timing").from_cache and calls == [0, 0]
+    assert not list((tmp_path / "reproductions").glob("test-timing-*"))
+    assert reproduce.get("attitude-cost").cache is False

@@ -7,6 +7,14 @@ verdict. The chapters' last cells, ``tests/`` and the command line
 (``python -m xnavlab reproduce ID``) all call :func:`run`, so a number is computed
 by exactly one piece of code.
 
+A reproduction's result is kept on disk, under ``$XNAVLAB_CACHE/reproductions`` (default
+``~/.cache/xnavlab``), keyed by the ID, every file of the package (code and shipped data),
+the numeric libraries' versions and ``OPENBLAS_CORETYPE``: the same code on the same machine
+gives the same numbers (the seeds are fixed), so a chapter, a test and the dashboard that
+ask for the same reproduction compute it once between them (a run with arguments, with
+``out`` or with ``fresh=True``, a reproduction registered with ``cache=False`` (a measured
+timing), or ``XNAVLAB_REPRODUCE_CACHE=0`` computes it afresh).
+
 Reproductions live in the modules of :mod:`xnavlab.reproductions`; each module is
 imported on first use of the registry, so adding a file there is all it takes to
 register new IDs.
@@ -30,16 +38,21 @@ counts them, printed by ``python -m xnavlab reproduce --all`` and shown by the d
 
 from __future__ import annotations
 
+import hashlib
 import html
 import importlib
+import importlib.metadata
 import json
 import math
+import os
+import pickle
 import pkgutil
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from xnavlab.core.diskcache import cache_dir, source_digest
 from xnavlab.core.plotting import SafeHTML, figure, html_table
 
 __all__ = [
@@ -60,6 +73,7 @@ __all__ = [
     "check_true",
     "check_info",
     "run_or_fail",
+    "CACHE_ENV",
     "counts",
     "headline",
     "results_table",
@@ -189,6 +203,9 @@ class Result:
     error : str
         ``"ExceptionType: message"`` when the reproduction raised (see :func:`run_or_fail`),
         else empty.
+    from_cache : bool
+        True when :func:`run` read it from the disk cache (computed earlier by the same
+        code on this machine).
     """
 
     id: str
@@ -197,6 +214,8 @@ class Result:
     data: dict[str, Any] = field(default_factory=dict, repr=False)
     figures: list[str] = field(default_factory=list)
     error: str = ""
+    #: True when this result was read from the disk cache (computed earlier by the same code)
+    from_cache: bool = field(default=False, compare=False)
 
     @property
     def verdict(self):
@@ -314,6 +333,7 @@ class Reproduction:
     source: str
     chapter: str
     func: Callable[..., Result]
+    cache: bool = True
 
 
 _REGISTRY: dict[str, Reproduction] = {}
@@ -337,7 +357,7 @@ def save_figure(fig, out, name):
     return str(path)
 
 
-def register(id, *, title, source, chapter):
+def register(id, *, title, source, chapter, cache=True):
     """Decorator registering ``func(out=None) -> Result`` under ``id``.
 
     Parameters
@@ -350,12 +370,15 @@ def register(id, *, title, source, chapter):
         The paper and figure/table, e.g. ``"Fan et al. 2016, section 4.1"``.
     chapter : str
         The book chapter that shows it (notebook file name).
+    cache : bool
+        Keep its result on disk (see the module docs); ``False`` for a measurement that is
+        not a function of the code alone (a timing).
     """
 
     def deco(func):
         if id in _REGISTRY and _REGISTRY[id].func is not func:
             raise ValueError(f"reproduction {id!r} is registered twice")
-        _REGISTRY[id] = Reproduction(id, title, source, chapter, func)
+        _REGISTRY[id] = Reproduction(id, title, source, chapter, func, cache)
         return func
 
     return deco
@@ -396,12 +419,61 @@ def get(id):
 
 _CACHE: dict[tuple, Result] = {}
 
+#: Set to ``"0"`` to compute every reproduction afresh instead of reading the disk cache.
+CACHE_ENV = "XNAVLAB_REPRODUCE_CACHE"
+#: The distributions whose version is part of a cached result's key (the numbers depend on them).
+_DEPENDS = ("numpy", "scipy", "numba", "PyWavelets", "jplephem", "de421", "de405", "pint-pulsar")
+_PACKAGE = Path(__file__).resolve().parent
 
-def run(id, out=None, **kwargs):
+
+def _disk_path(id):
+    h = hashlib.sha256(repr((1, id, source_digest(_PACKAGE))).encode())
+    for dist in _DEPENDS:
+        try:
+            h.update(f"{dist}={importlib.metadata.version(dist)}".encode())
+        except importlib.metadata.PackageNotFoundError:
+            h.update(f"{dist}=none".encode())
+    h.update(os.environ.get("OPENBLAS_CORETYPE", "").encode())
+    return cache_dir() / "reproductions" / f"{id}-{h.hexdigest()[:24]}.pickle"
+
+
+def _from_disk(path):
+    try:
+        with open(path, "rb") as f:
+            result = pickle.load(f)
+    except FileNotFoundError:
+        return None
+    except Exception:  # noqa: BLE001 - an unreadable entry is computed again
+        return None
+    if not isinstance(result, Result):
+        return None
+    result.from_cache = True
+    return result
+
+
+def _to_disk(id, path, result):
+    """Store ``result`` at ``path``; the entries of ``id`` for other code are removed (one an
+    ID, so the cache does not grow with every edit of the package)."""
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_suffix(f".{os.getpid()}.tmp")
+        with open(tmp, "wb") as f:
+            pickle.dump(result, f, protocol=pickle.HIGHEST_PROTOCOL)
+        os.replace(tmp, path)
+    except (OSError, pickle.PicklingError, TypeError, AttributeError):  # kept in memory only
+        return
+    for old in path.parent.glob(f"{id}-*.pickle"):
+        if old != path and len(old.stem) == len(path.stem):  # not another ID's
+            old.unlink(missing_ok=True)
+
+
+def run(id, out=None, fresh=False, **kwargs):
     """Run the reproduction ``id`` and return its :class:`Result`.
 
     Results without ``out`` are cached for the session, so a chapter that plots a
-    reproduction's data and then asserts its numbers computes it once.
+    reproduction's data and then asserts its numbers computes it once; without ``out`` and
+    arguments they are also kept on disk for the same code (see the module docs), so the
+    chapters, the tests and the dashboard compute each once between them.
 
     Parameters
     ----------
@@ -409,17 +481,27 @@ def run(id, out=None, **kwargs):
         A registered ID (see :func:`ids`).
     out : str or Path, optional
         Directory for the figures; created if missing. ``None`` writes none.
+    fresh : bool, optional
+        Compute it even when a result is cached (in this session or on disk), and store the
+        new one.
     **kwargs
         Passed to the reproduction (for example ``seed``).
     """
     rep = get(id)
     key = (id, tuple(sorted(kwargs.items())))
-    if out is None and key in _CACHE:
+    if out is None and key in _CACHE and not fresh:
         return _CACHE[key]
-    if out is not None:
-        out = Path(out)
-        out.mkdir(parents=True, exist_ok=True)
-    result = rep.func(out=out, **kwargs)
+    on_disk = (out is None and not kwargs and rep.cache
+               and os.environ.get(CACHE_ENV, "1") != "0")
+    path = _disk_path(id) if on_disk else None
+    result = None if (path is None or fresh) else _from_disk(path)
+    if result is None:
+        if out is not None:
+            out = Path(out)
+            out.mkdir(parents=True, exist_ok=True)
+        result = rep.func(out=out, **kwargs)
+        if path is not None:
+            _to_disk(id, path, result)
     if out is None:
         _CACHE[key] = result
     return result
@@ -540,7 +622,12 @@ def report_html(results, elapsed_s=None):
     >>> "1 of 1 reproductions pass (0 rows not claimed)" in page, "x|y" in page
     (True, True)
     """
+    reused = sum(r.from_cache for r in results)
     when = "" if elapsed_s is None else f" (computed when the book was built, in {elapsed_s:.0f} s)"
+    if elapsed_s is not None and reused:
+        when = (f" (when the book was built, in {elapsed_s:.0f} s: {len(results) - reused} "
+                f"computed, {reused} read from the reproduction cache, where the chapters and "
+                "tests left them, computed by the same code on this machine)")
     parts = [f'<p class="xnav-headline"><strong>{html.escape(headline(results))}</strong>'
              f"{html.escape(when)}.</p>",
              html_table(SUMMARY_HEADER, summary_rows(results)),

@@ -25,6 +25,9 @@ def configure(parser):
                         help="print JSON instead of a table (no progress bar)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar (--all)")
     parser.add_argument("--out", metavar="DIR", help="write figures (and JSON for --all) here")
+    parser.add_argument("--fresh", action="store_true",
+                        help="compute every result again, not from the reproduction cache "
+                             "(results computed before by the same code on this machine)")
 
 
 def execute(args):
@@ -42,7 +45,7 @@ def execute(args):
         return _reproduce_all(args)
     if not args.id:
         raise UsageError("reproduce needs an ID, --list or --all")
-    result = reproduce.run(args.id, out=args.out)
+    result = reproduce.run(args.id, out=args.out, fresh=args.fresh)
     if args.json:
         print(result.to_json())
     else:
@@ -53,9 +56,9 @@ def execute(args):
     return 0 if result.passed else 1
 
 
-def run_one(rid, out):
+def run_one(rid, out, fresh=False):
     """Run one reproduction for ``--all``; an exception becomes a FAIL result, not an abort."""
-    return reproduce.run_or_fail(rid, out=out)
+    return reproduce.run_or_fail(rid, out=out, fresh=fresh)
 
 
 def _reproduce_all(args):
@@ -65,7 +68,7 @@ def _reproduce_all(args):
     # a bar on stderr as campaigns have, none with --json or --quiet (as for run and campaign)
     for rid in tqdm(reproduce.ids(), desc="reproductions", unit="repro", file=sys.stderr,
                     disable=args.json or args.quiet):
-        results.append(run_one(rid, args.out))
+        results.append(run_one(rid, args.out, args.fresh))
     payload = [r.to_dict() for r in results]
     if args.json:
         print(json.dumps(payload, default=reproduce.jsonable))

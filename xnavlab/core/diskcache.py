@@ -11,13 +11,15 @@ its result, uncached.
 
 from __future__ import annotations
 
+import functools
+import hashlib
 import os
 import zipfile
 from pathlib import Path
 
 import numpy as np
 
-__all__ = ["cache_dir", "cached_arrays"]
+__all__ = ["cache_dir", "cached_arrays", "source_digest"]
 
 
 def cache_dir():
@@ -85,3 +87,43 @@ def cached_arrays(path, compute):
     except OSError:  # a read-only home still gets the result
         pass
     return {key: np.asarray(value) for key, value in result.items()}
+
+
+@functools.lru_cache(maxsize=8)
+def source_digest(root, skip=()):
+    """A hash of every file of a package tree: an entry keyed by it is served only for the
+    same code and data.
+
+    Every file below ``root`` (sources and shipped data, ``__pycache__`` passed over), its
+    path and its bytes, in sorted order. Computed once per process and argument.
+
+    Parameters
+    ----------
+    root : str or pathlib.Path
+        The package's directory.
+    skip : tuple of str
+        Directory names whose files are left out (e.g. ``("reproductions",)``).
+
+    Returns
+    -------
+    str
+        16 hexadecimal digits.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> d = Path(tempfile.mkdtemp())
+    >>> _ = (d / "a.py").write_text("x = 1")
+    >>> first = source_digest(d)
+    >>> len(first), source_digest(d) == first
+    (16, True)
+    """
+    root = Path(root)
+    h = hashlib.sha256()
+    for path in sorted(root.rglob("*")):
+        parts = path.relative_to(root).parts
+        if not path.is_file() or "__pycache__" in parts or set(parts[:-1]) & set(skip):
+            continue
+        h.update(str(path.relative_to(root)).encode())
+        h.update(path.read_bytes())
+    return h.hexdigest()[:16]

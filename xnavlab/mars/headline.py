@@ -27,14 +27,13 @@ Examples
 from __future__ import annotations
 
 import contextlib
-import hashlib
 import math
 from pathlib import Path
 
 import numpy as np
 
 from xnavlab.core.campaign import Campaign, run_campaign
-from xnavlab.core.diskcache import cache_dir
+from xnavlab.core.diskcache import cache_dir, source_digest
 from xnavlab.core.validate import check_int, check_real
 
 __all__ = ["PAPER", "headline_run", "headline_numbers", "mean_interval"]
@@ -106,12 +105,7 @@ def mean_interval(values, level=0.95):
 
 def _code_key():
     """A hash of the package's source: a stored campaign is reused only for the same code."""
-    root = Path(__file__).resolve().parents[1]
-    h = hashlib.sha256()
-    for p in sorted(root.rglob("*.py")):
-        if "reproductions" not in p.parts:
-            h.update(p.read_bytes())
-    return h.hexdigest()[:16]
+    return source_digest(Path(__file__).resolve().parents[1], skip=("reproductions",))
 
 
 @contextlib.contextmanager

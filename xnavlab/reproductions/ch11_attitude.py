@@ -242,6 +242,7 @@ def qdiff(out=None, ramp_per_s=5e-5, seed=0, window_s=10.0):
     title="cost of DOS (four filters) against SOS (one filter), measured",
     source=f"{SOURCE}, section 3 (remark 3)",
     chapter=CHAPTER,
+    cache=False,  # a timing of this process, not a function of the code alone
 )
 def cost(out=None, n_steps=400, repeats=3, seed=0):
     """Measured per-sample time of DOS over SOS, in this process (paper: about 4x)."""
