@@ -52,7 +52,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from xnavlab.core.diskcache import cache_dir, source_digest
+from xnavlab.core.diskcache import cache_dir, source_digest, store
 from xnavlab.core.plotting import SafeHTML, figure, html_table
 
 __all__ = [
@@ -441,9 +441,7 @@ def _from_disk(path):
     try:
         with open(path, "rb") as f:
             result = pickle.load(f)
-    except FileNotFoundError:
-        return None
-    except Exception:  # noqa: BLE001 - an unreadable entry is computed again
+    except Exception:  # noqa: BLE001 - missing or unreadable: computed again
         return None
     if not isinstance(result, Result):
         return None
@@ -455,12 +453,10 @@ def _to_disk(id, path, result):
     """Store ``result`` at ``path``; the entries of ``id`` for other code are removed (one an
     ID, so the cache does not grow with every edit of the package)."""
     try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_suffix(f".{os.getpid()}.tmp")
-        with open(tmp, "wb") as f:
-            pickle.dump(result, f, protocol=pickle.HIGHEST_PROTOCOL)
-        os.replace(tmp, path)
-    except (OSError, pickle.PicklingError, TypeError, AttributeError):  # kept in memory only
+        blob = pickle.dumps(result, protocol=pickle.HIGHEST_PROTOCOL)
+    except (pickle.PicklingError, TypeError, AttributeError):  # kept in memory only
+        return
+    if not store(path, lambda f: f.write(blob)):
         return
     for old in path.parent.glob(f"{id}-*.pickle"):
         if old != path and len(old.stem) == len(path.stem):  # not another ID's
@@ -626,8 +622,8 @@ def report_html(results, elapsed_s=None):
     when = "" if elapsed_s is None else f" (computed when the book was built, in {elapsed_s:.0f} s)"
     if elapsed_s is not None and reused:
         when = (f" (when the book was built, in {elapsed_s:.0f} s: {len(results) - reused} "
-                f"computed, {reused} read from the reproduction cache, where the chapters and "
-                "tests left them, computed by the same code on this machine)")
+                f"computed, {reused} read from the reproduction cache, computed earlier by the "
+                "same code on this machine)")
     parts = [f'<p class="xnav-headline"><strong>{html.escape(headline(results))}</strong>'
              f"{html.escape(when)}.</p>",
              html_table(SUMMARY_HEADER, summary_rows(results)),

@@ -11,6 +11,7 @@ its result, uncached.
 
 from __future__ import annotations
 
+import contextlib
 import functools
 import hashlib
 import os
@@ -19,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["cache_dir", "cached_arrays", "source_digest"]
+__all__ = ["cache_dir", "cached_arrays", "source_digest", "store"]
 
 
 def cache_dir():
@@ -79,14 +80,46 @@ def cached_arrays(path, compute):
         except (OSError, ValueError, EOFError, zipfile.BadZipFile):  # unreadable: computed again
             pass
     result = compute()
+    store(path, lambda f: np.savez(f, **result))
+    return {key: np.asarray(value) for key, value in result.items()}
+
+
+def store(path, write):
+    """Write a cache entry atomically: ``write(f)`` into a temporary file beside ``path``
+    (opened ``"wb"``), then renamed to ``path``.
+
+    Parameters
+    ----------
+    path : pathlib.Path
+        The entry.
+    write : callable
+        ``write(f)`` writes the entry's bytes to the open file ``f``.
+
+    Returns
+    -------
+    bool
+        True when stored; False where the cache cannot be written (a read-only home): the
+        caller keeps its result, uncached, and no temporary file is left.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> entry = Path(tempfile.mkdtemp()) / "demo.bin"
+    >>> store(entry, lambda f: f.write(b"42")), entry.read_bytes()
+    (True, b'42')
+    """
+    path = Path(path)
+    tmp = path.with_suffix(f".{os.getpid()}.tmp{path.suffix}")
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_suffix(f".{os.getpid()}.tmp.npz")
-        np.savez(tmp, **result)
+        with open(tmp, "wb") as f:
+            write(f)
         os.replace(tmp, path)
-    except OSError:  # a read-only home still gets the result
-        pass
-    return {key: np.asarray(value) for key, value in result.items()}
+    except OSError:
+        with contextlib.suppress(OSError):
+            tmp.unlink(missing_ok=True)
+        return False
+    return True
 
 
 @functools.lru_cache(maxsize=8)

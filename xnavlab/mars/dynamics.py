@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import hashlib
 import math
-import os
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -34,7 +33,7 @@ import numpy as np
 
 from xnavlab.core import ephemeris
 from xnavlab.core.constants import GM_JUPITER, GM_MARS, GM_SUN, J2_MARS, J2_MARS_RADIUS, R_MARS
-from xnavlab.core.diskcache import cache_dir
+from xnavlab.core.diskcache import cache_dir, store
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real
 
 __all__ = [
@@ -340,13 +339,7 @@ def truth(t_eval, state0=MARS_STATE0, t0=MARS_T0, third_bodies=("sun", "jupiter"
         except (OSError, ValueError):
             pass
     x = propagate(t_eval, state0, t0, bodies, j2, ephem)
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        tmp = path.with_suffix(f".{os.getpid()}.tmp.npy")
-        np.save(tmp, x)
-        os.replace(tmp, path)
-    except OSError:  # a read-only home still gets the result
-        pass
+    store(path, lambda f: np.save(f, x))  # a read-only home still gets the result
     return x
 
 
