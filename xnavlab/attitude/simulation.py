@@ -48,6 +48,7 @@ from xnavlab.attitude.sensors import (
     star_tracker_measurements,
 )
 from xnavlab.attitude.sos import gyro_parity, sos_residuals
+from xnavlab.core.distributions import chi2_isf
 from xnavlab.core.faults import Fault
 from xnavlab.core.quaternions import attitude_error, quat_normalize
 from xnavlab.core.validate import check_finite_array, check_int, check_real, make_rng
@@ -443,8 +444,6 @@ def diagnose_batch(omega_g, q_meas, config):
     >>> out["sos_r"].shape, out["sos"].verdict.tolist()
     ((1, 501, 4), ['none'])
     """
-    from scipy.stats import chi2
-
     cfg = _config_arg(config)
     omega_g = check_finite_array("omega_g", omega_g, shape=(cfg.n, 4))
     q_meas = check_finite_array("q_meas", q_meas, shape=(cfg.n, 4))
@@ -475,7 +474,7 @@ def diagnose_batch(omega_g, q_meas, config):
         d_ref = d_hat[:, cal].mean(axis=1)
         dos_r = dos_residuals(d_hat, d_ref[:, None])
         scale = np.sqrt(np.trace(P_dd[:, k_arm], axis1=-2, axis2=-1) / 3.0)
-        dos_J = math.sqrt(chi2.isf(_tail_prob(cfg.n_sigma), 3)) * scale
+        dos_J = math.sqrt(chi2_isf(_tail_prob(cfg.n_sigma), 3)) * scale
         dos = diagnose(t, dos_r, dos_J, decide=dos_decide, **kw)
     else:
         dos_r = np.zeros_like(sos_r)

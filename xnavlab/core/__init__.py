@@ -5,6 +5,7 @@ module                    what it models
 ========================  =================================================================
 ``constants``             physical constants, each with its source
 ``validate``              argument checks (``ValueError`` naming the parameter and range), RNGs
+``distributions``         normal, chi-square and t quantiles for thresholds (no ``scipy.stats``)
 ``ephemeris``             Sun and planet states from the JPL ephemerides DE421/DE405
 ``quaternions``           scalar-last quaternion algebra and kinematics
 ``filters``               EKF and UKF as pure step functions plus thin classes; NEES/NIS
@@ -12,6 +13,8 @@ module                    what it models
 ``faults``                sensor fault injection (step, ramp, spike, stuck, noise)
 ``detection``             wavelet singularity detection and chi-square tests (a package)
 ``montecarlo``            Monte Carlo over any ``concurrent.futures.Executor``, seeds per run
+``campaign``              resumable Monte Carlo campaigns (local pool or Dask), one store
+``diskcache``             the on-disk cache's root and its atomic entries
 ``plotting``              figures outside pyplot, for reproductions and chapters
 ``widgets``               ``explore``: a live slider in Jupyter, a scrubber in the HTML book
 ========================  =================================================================

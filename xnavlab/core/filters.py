@@ -49,6 +49,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from xnavlab.core.distributions import chi2_ppf
 from xnavlab.core.validate import check_covariance, check_finite_array, check_real, check_vector
 
 __all__ = [
@@ -475,10 +476,7 @@ def chi2_bounds(dof, n_runs=1, p=0.95):
     n_runs = check_real("n_runs", n_runs, 1.0)
     p = check_real("p", p, 0.0, 1.0, lo_open=True, hi_open=True)
     k = dof * n_runs
-    from scipy import stats  # imported here: scipy.stats takes ~0.5 s to import
-
-    return (float(stats.chi2.ppf((1 - p) / 2, k) / n_runs),
-            float(stats.chi2.ppf((1 + p) / 2, k) / n_runs))
+    return chi2_ppf((1 - p) / 2, k) / n_runs, chi2_ppf((1 + p) / 2, k) / n_runs
 
 
 #: The words of :func:`consistency_verdict`.

@@ -40,6 +40,7 @@ from concurrent.futures import Executor, ProcessPoolExecutor
 import numpy as np
 
 from xnavlab.core.detection import chi2_detect, wavelet_detect
+from xnavlab.core.distributions import norm_isf
 from xnavlab.core.faults import Fault, inject
 from xnavlab.core.validate import check_choice, check_int, check_real
 
@@ -350,12 +351,10 @@ def wilson_interval(k, n, level=0.95):
     >>> round(lo, 3), round(hi, 3)
     (0.596, 0.982)
     """
-    from scipy import stats
-
     n = check_int("n", n, 1)
     k = check_int("k", k, 0, n)
     level = check_real("level", level, 0.0, 1.0, lo_open=True, hi_open=True)
-    z = float(stats.norm.isf((1.0 - level) / 2.0))
+    z = norm_isf((1.0 - level) / 2.0)
     p = k / n
     den = 1.0 + z * z / n
     centre = (p + z * z / (2 * n)) / den
@@ -372,12 +371,10 @@ def runs_for_halfwidth(pd, halfwidth, level=0.95):
     >>> runs_for_halfwidth(0.95, 0.01)
     1825
     """
-    from scipy import stats
-
     pd = check_real("pd", pd, 0.0, 1.0, lo_open=True, hi_open=True)
     halfwidth = check_real("halfwidth", halfwidth, 0.0, 0.5, lo_open=True)
     level = check_real("level", level, 0.0, 1.0, lo_open=True, hi_open=True)
-    z = float(stats.norm.isf((1.0 - level) / 2.0))
+    z = norm_isf((1.0 - level) / 2.0)
     return math.ceil(z * z * pd * (1.0 - pd) / halfwidth**2)
 
 

@@ -107,7 +107,6 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field, replace
 
 import numpy as np
-from scipy import stats
 
 from xnavlab.core.constants import DAY, C
 from xnavlab.core.detection import (
@@ -119,6 +118,7 @@ from xnavlab.core.detection import (
     chi2_threshold,
     events_from_alarms,
 )
+from xnavlab.core.distributions import chi2_isf, norm_isf
 from xnavlab.core.faults import Fault, format_spec, inject  # noqa: F401 - Fault: the doctest
 from xnavlab.core.validate import check_choice, check_int, check_real, make_rng
 from xnavlab.mars import innovations, scenarios, schedules, sensors, watch
@@ -413,7 +413,7 @@ class _Loop:
         self.t0 = float(inp.times[0])
         self.check_every = check_every
         dof = _nis_dof(sc)
-        self.readmit_thr = {s: float(stats.chi2.isf(readmit_alpha, win[s] * dof[s]))
+        self.readmit_thr = {s: chi2_isf(readmit_alpha, win[s] * dof[s])
                             for s in self.subs}
         self.win = win
         self.readmit_alpha = readmit_alpha
@@ -732,7 +732,7 @@ class _Loop:
         rec_pos[rec] = np.arange(rec.size)
         records = (out["x"], out["P"], out["xl"], out["Pl"])
         state = scenarios.filter_state(inp, beta)
-        zq = {s: stats.norm.isf(self.readmit_alpha / (2 * self.design[s].m)) for s in self.subs}
+        zq = {s: norm_isf(self.readmit_alpha / (2 * self.design[s].m)) for s in self.subs}
         self.watch = watch.Watch(self.subs, self.mon, self.xdet,
                                  {s: inp.t_meas[s].size for s in self.subs}, self.t0 + self.arm_s,
                                  (self.win, self.readmit_thr, zq, self.check_every))
@@ -790,7 +790,7 @@ class _Loop:
         if not (np.all(np.isfinite(q)) and np.sum(q) < self.readmit_thr[s]):
             return False
         # and no residual bias: |sum_i y_c[i]| / sqrt(W) below the two-sided normal quantile
-        zq = stats.norm.isf(self.readmit_alpha / (2 * y.shape[1]))
+        zq = norm_isf(self.readmit_alpha / (2 * y.shape[1]))
         return bool(np.all(np.abs(y.sum(axis=0)) < zq * math.sqrt(w)))
 
     def _readmit(self, s):

@@ -34,6 +34,7 @@ import numpy as np
 
 from xnavlab.core.campaign import Campaign, run_campaign
 from xnavlab.core.diskcache import cache_dir, source_digest
+from xnavlab.core.distributions import t_ppf
 from xnavlab.core.validate import check_int, check_real
 
 __all__ = ["PAPER", "headline_run", "headline_numbers", "mean_interval"]
@@ -95,10 +96,8 @@ def mean_interval(values, level=0.95):
     if v.ndim != 1 or v.size < 2 or not np.all(np.isfinite(v)):
         raise ValueError(f"values must hold at least two finite numbers, got {v.size}")
     level = check_real("level", level, 0.0, 1.0, lo_open=True, hi_open=True)
-    from scipy import stats
-
     sd = float(v.std(ddof=1))
-    half = float(stats.t.ppf(0.5 + level / 2, v.size - 1)) * sd / math.sqrt(v.size)
+    half = t_ppf(0.5 + level / 2, v.size - 1) * sd / math.sqrt(v.size)
     mean = float(v.mean())
     return {"mean": mean, "lo": mean - half, "hi": mean + half, "sd": sd, "n": int(v.size)}
 

@@ -80,11 +80,11 @@ import json
 from pathlib import Path
 
 import numpy as np
-from scipy import stats
 
 from xnavlab.core import montecarlo
 from xnavlab.core.campaign import Campaign
 from xnavlab.core.constants import DAY
+from xnavlab.core.distributions import chi2_ppf
 from xnavlab.core.validate import check_choice, check_int, check_real
 from xnavlab.mars import fault_tolerance, scenarios, trials
 
@@ -291,8 +291,8 @@ def poisson_interval(k, level=0.95):
     k = check_int("k", k, 0)
     level = check_real("level", level, 0.0, 1.0, lo_open=True, hi_open=True)
     a = (1.0 - level) / 2.0
-    lo = float(stats.chi2.ppf(a, 2 * k) / 2.0) if k else 0.0      # Garwood lower limit
-    return lo, float(stats.chi2.ppf(1.0 - a, 2 * k + 2) / 2.0)   # Garwood upper limit
+    lo = chi2_ppf(a, 2 * k) / 2.0 if k else 0.0      # Garwood lower limit
+    return lo, chi2_ppf(1.0 - a, 2 * k + 2) / 2.0   # Garwood upper limit
 
 
 def _row(threshold, cells):

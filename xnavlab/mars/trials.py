@@ -36,11 +36,11 @@ from collections import OrderedDict
 from pathlib import Path
 
 import numpy as np
-from scipy import stats
 
 from xnavlab.core import montecarlo
 from xnavlab.core.constants import DAY
 from xnavlab.core.detection import limits
+from xnavlab.core.distributions import chi2_ppf
 from xnavlab.core.faults import Fault
 from xnavlab.core.validate import check_choice, check_int, check_real
 from xnavlab.mars import fault_tolerance, scenarios
@@ -334,6 +334,8 @@ def load_early_faults(path=None):
 
 def _quantile_ci(x, q, level=0.95):
     """Order-statistic confidence interval of the q-quantile of a sample (distribution free)."""
+    from scipy import stats  # imported here: the binomial law only for this interval
+
     x = np.sort(np.asarray(x, dtype=float))
     n = x.size
     lo = int(stats.binom.ppf((1 - level) / 2, n, q))
@@ -381,8 +383,8 @@ def detector_table(records):
         delays = [r["delay_s"] for r in rs if r["delay_s"] is not None]
         fa = sum(r["false_alarms"] for r in rs)
         armed = sum(r["armed_days"] for r in rs)
-        fa_lo = stats.chi2.ppf(0.025, 2 * fa) / 2 if fa else 0.0    # Poisson (Garwood) interval
-        fa_hi = stats.chi2.ppf(0.975, 2 * fa + 2) / 2
+        fa_lo = chi2_ppf(0.025, 2 * fa) / 2 if fa else 0.0    # Poisson (Garwood) interval
+        fa_hi = chi2_ppf(0.975, 2 * fa + 2) / 2
         ratio = np.array([r["fused_rms_ratio"] for r in rs])
         row = {"fault_class": fc, "sensor": s, "size_index": si, "size": rs[0]["size"],
                "detector": det, "trials": n, "pd": k / n, "pd_lo": pd_lo, "pd_hi": pd_hi}

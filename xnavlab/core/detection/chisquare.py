@@ -6,10 +6,10 @@ from __future__ import annotations
 from collections import deque
 
 import numpy as np
-from scipy import stats
 
 from xnavlab.core.detection._tracked import TrackedDetector
 from xnavlab.core.detection.online import Detection, EventTracker, events_from_alarms
+from xnavlab.core.distributions import chi2_isf
 from xnavlab.core.validate import check_finite_array, check_int, check_real
 
 __all__ = [
@@ -33,7 +33,7 @@ def chi2_threshold(alpha, dof):
     """
     alpha = check_real("alpha", alpha, 0.0, 1.0, lo_open=True, hi_open=True)
     dof = check_int("dof", dof, 1)
-    return float(stats.chi2.isf(alpha, dof))
+    return chi2_isf(alpha, dof)
 
 
 def _nis(nu, S):

@@ -63,7 +63,7 @@ import math
 
 import numpy as np
 from numba import njit
-from scipy import optimize, special, stats
+from scipy import special
 
 from xnavlab.core.detection._tracked import TrackedDetector
 from xnavlab.core.detection.batch import wavelet_detect
@@ -73,6 +73,7 @@ from xnavlab.core.detection.online import (
     EventTracker,
     events_from_alarms,
 )
+from xnavlab.core.distributions import chi2_cdf, chi2_isf
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real
 
 __all__ = [
@@ -127,7 +128,7 @@ def _arl(h, k, dof, cells):
     elif dof == 1:
         cdf = _chi2_1_cdf                                            # increments y^2 - k
     else:
-        cdf = stats.chi2(dof).cdf
+        cdf = functools.partial(chi2_cdf, dof=dof)
     # P(S' = 0 | s) = P(X <= k - s); P(S' in cell j | s) = P(k - s + lo_j < X <= k - s + hi_j)
     F = cdf(k - mids[:, None] + np.r_[0.0, upper][None, :])          # (cells + 1, cells + 1)
     R = np.empty((cells + 1, cells + 1))
@@ -190,6 +191,8 @@ def cusum_threshold(arl, k, dof=0):
         lo *= 0.5
     while f(hi) < 0:
         hi *= 1.5
+    from scipy import optimize  # imported here: only a threshold design needs it
+
     return float(optimize.brentq(f, lo, hi, xtol=1e-4))
 
 
@@ -292,7 +295,7 @@ class CombinedDesign:
         self.alpha = shares["chi2"] * F / n
         if self.alpha >= 0.5:
             raise ValueError(f"rate_per_day {F} is too high for {n} samples a day")
-        self.chi2_threshold = float(stats.chi2.isf(self.alpha, self.m))
+        self.chi2_threshold = chi2_isf(self.alpha, self.m)
         self.arl_mean = 2 * self.m * n / (shares["cusum"] * F)
         self.arl_var = self.m * n / (shares["variance"] * F)
         self.h_mean = cusum_threshold(self.arl_mean, self.k_mean)

@@ -33,8 +33,8 @@ variance, independent) of ``m`` components:
 from __future__ import annotations
 
 import numpy as np
-from scipy import stats
 
+from xnavlab.core.distributions import norm_cdf, norm_isf
 from xnavlab.core.validate import check_finite_array, check_int, check_real, make_rng
 
 __all__ = ["window_false_alarm", "mean_shift_pd_limit", "ramp_means", "noise_pd_limit"]
@@ -97,7 +97,7 @@ def mean_shift_pd_limit(mu, alpha):
     mu = check_finite_array("mu", mu)
     alpha = _alpha(alpha)
     d = float(np.sqrt(np.sum(np.square(mu))))
-    return float(stats.norm.cdf(d - stats.norm.isf(alpha)))  # Pd = Phi(||mu|| - z_(1-alpha))
+    return norm_cdf(d - norm_isf(alpha))  # Pd = Phi(||mu|| - z_(1-alpha))
 
 
 def ramp_means(slopes, n, phase=1.0):

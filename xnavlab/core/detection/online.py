@@ -81,10 +81,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from numba import njit
-from scipy import stats
 
 from xnavlab.core.detection._tracked import TrackedDetector
 from xnavlab.core.detection._wavelets import orthogonal_wavelet
+from xnavlab.core.distributions import chi2_isf, chi2_ppf, norm_isf, norm_ppf, norm_sf
 from xnavlab.core.validate import check_finite_array, check_int, check_real
 
 __all__ = [
@@ -103,7 +103,7 @@ __all__ = [
 ]
 
 #: ``median(|N(0, 1)|)``: the MAD of Gaussian noise is ``0.6745 sigma`` (Donoho & Johnstone 1994).
-MAD_SCALE = float(stats.norm.ppf(0.75))
+MAD_SCALE = norm_ppf(0.75)
 
 
 # --------------------------------------------------------------------------------------------
@@ -277,7 +277,7 @@ def threshold_multiplier(pfa, n_tests=6):
     """
     pfa = check_real("pfa", pfa, 0.0, 1.0, lo_open=True, hi_open=True)
     n_tests = check_int("n_tests", n_tests, 1)
-    return float(stats.norm.isf(pfa / (2 * n_tests)))
+    return norm_isf(pfa / (2 * n_tests))
 
 
 def false_alarm_probability(k, n_tests=6):
@@ -290,7 +290,7 @@ def false_alarm_probability(k, n_tests=6):
     """
     k = check_real("k", k, 0.0, lo_open=True)
     n_tests = check_int("n_tests", n_tests, 1)
-    return float(min(1.0, n_tests * 2.0 * stats.norm.sf(k)))
+    return float(min(1.0, n_tests * 2.0 * norm_sf(k)))
 
 
 # --------------------------------------------------------------------------------------------
@@ -596,8 +596,8 @@ class WaveletDetector(TrackedDetector):
         self.k = threshold_multiplier(self.pfa, n_tests)
         p_each = self.pfa / n_tests
         self.var_bounds = (
-            (float(stats.chi2.ppf(p_each / 2, self.var_window)),
-             float(stats.chi2.isf(p_each / 2, self.var_window))) if self.var_window else None
+            (chi2_ppf(p_each / 2, self.var_window), chi2_isf(p_each / 2, self.var_window))
+            if self.var_window else None
         )
         default_hold = max(self.window, 2 * self.var_window)
         self.holdoff = _check_holdoff(default_hold if holdoff is None else holdoff)

@@ -16,9 +16,9 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.stats import chi2 as _chi2
 
 from xnavlab.core import faults as _faults
+from xnavlab.core.distributions import chi2_isf
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
 from xnavlab.plins import ins as _ins
 from xnavlab.plins import pseudolites as _pl
@@ -152,7 +152,7 @@ def chi2_monitor(data, transitions, sites=None, x0_std=None, p_fa=1e-6):
     x0_std = _ins.DEFAULT_INITIAL_STD if x0_std is None else \
         check_finite_array("x0_std", x0_std, shape=(10,))
     p_fa = check_real("p_fa", p_fa, 0.0, 0.5, lo_open=True, hi_open=True)
-    thr = float(_chi2.isf(p_fa, m))
+    thr = chi2_isf(p_fa, m)
     R = max(data.sigma, 1e-3) ** 2 * np.eye(m)
     lat, lon, h = _pl.ecef_to_geodetic(data.r_ins)
     x = np.zeros(10)

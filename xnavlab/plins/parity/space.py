@@ -27,8 +27,8 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.stats import chi2 as _chi2
 
+from xnavlab.core.distributions import chi2_isf
 from xnavlab.core.validate import check_finite_array, check_int, check_real
 
 __all__ = [
@@ -368,4 +368,4 @@ def residual_threshold(sigma, q, p_fa=1e-6):
     sigma = check_real("sigma", sigma, 0.0, lo_open=True)
     q = check_int("q", q, 1)
     p_fa = check_real("p_fa", p_fa, 0.0, 0.5, lo_open=True, hi_open=True)
-    return sigma * math.sqrt(_chi2.isf(p_fa, q))
+    return sigma * math.sqrt(chi2_isf(p_fa, q))

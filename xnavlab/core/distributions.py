@@ -1,0 +1,133 @@
+"""Tail probabilities and quantiles of the normal, chi-square and Student t laws, no ``scipy.stats``.
+
+The detectors' thresholds need a handful of these numbers (a chi-square gate for a false-alarm
+rate, a normal quantile for a Bonferroni split). ``scipy.stats`` would give them too, but
+importing it costs about a second, which every chapter, every ``python -m xnavlab`` call and
+every worker of a campaign paid before the first line of its own work. Each function here
+calls the ``scipy.special`` routine that ``scipy.stats`` itself calls for the same law
+(scipy's ``norm_gen``, ``chi2_gen`` and ``t_gen``), so the numbers are the same;
+``tests/core/test_distributions.py`` holds them against ``scipy.stats``.
+
+Probabilities are plain numbers in (0, 1); ``dof`` is the law's degrees of freedom.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy import special
+
+from xnavlab.core.validate import check_real
+
+__all__ = [
+    "norm_cdf", "norm_sf", "norm_ppf", "norm_isf", "chi2_cdf", "chi2_ppf", "chi2_isf", "t_ppf",
+]
+
+def _prob(name, p):
+    return check_real(name, p, 0.0, 1.0, lo_open=True, hi_open=True)
+
+
+def _dof(dof):
+    return check_real("dof", dof, 0.0, lo_open=True)
+
+
+def norm_cdf(x):
+    """``P(X <= x)`` for ``X ~ N(0, 1)``.
+
+    Examples
+    --------
+    >>> round(norm_cdf(1.959963984540054), 6)
+    0.975
+    """
+    return float(special.ndtr(check_real("x", x)))   # Phi(x)
+
+
+def norm_sf(x):
+    """``P(X > x)`` for ``X ~ N(0, 1)``, accurate far in the tail (no ``1 - Phi(x)``).
+
+    Examples
+    --------
+    >>> f"{norm_sf(6.0):.3e}"
+    '9.866e-10'
+    """
+    return float(special.ndtr(-check_real("x", x)))   # 1 - Phi(x) = Phi(-x)
+
+
+def norm_ppf(q):
+    """The ``q`` quantile of ``N(0, 1)``: ``x`` with ``P(X <= x) = q``, ``0 < q < 1``.
+
+    Examples
+    --------
+    >>> round(norm_ppf(0.75), 6)   # the MAD's scale for a normal law
+    0.67449
+    """
+    return float(special.ndtri(_prob("q", q)))   # Phi^-1(q)
+
+
+def norm_isf(p):
+    """The upper ``p`` point of ``N(0, 1)``: ``x`` with ``P(X > x) = p``, ``0 < p < 1``.
+
+    Examples
+    --------
+    >>> round(norm_isf(0.025), 4)
+    1.96
+    """
+    return float(-special.ndtri(_prob("p", p)))   # Phi^-1(1 - p) = -Phi^-1(p)
+
+
+def chi2_cdf(x, dof):
+    """``P(X <= x)`` for ``X ~ chi2(dof)``, elementwise; 0 for ``x <= 0``.
+
+    Parameters
+    ----------
+    x : float or array_like
+        Where to evaluate (any shape; NaN stays NaN).
+    dof : float
+        Degrees of freedom, > 0.
+
+    Returns
+    -------
+    ndarray, shape of ``x``
+
+    Examples
+    --------
+    >>> chi2_cdf([-1.0, 0.0, 7.814727903251178], 3).round(6)
+    array([0.  , 0.  , 0.95])
+    """
+    x = np.asarray(x, dtype=float)
+    # P(chi2_k <= x) = P(k/2, x/2), the regularised lower incomplete gamma function
+    return np.where(x > 0.0, special.chdtr(_dof(dof), np.maximum(x, 0.0)), np.where(x <= 0.0, 0.0, x))
+
+
+def chi2_ppf(q, dof):
+    """The ``q`` quantile of ``chi2(dof)``: ``x`` with ``P(X <= x) = q``, ``0 < q < 1``.
+
+    Examples
+    --------
+    >>> round(chi2_ppf(0.025, 2), 6)   # the lower end of a Garwood interval for 0 events
+    0.050636
+    """
+    return float(2.0 * special.gammaincinv(_dof(dof) / 2.0, _prob("q", q)))   # P(k/2, x/2) = q
+
+
+def chi2_isf(p, dof):
+    """The upper ``p`` point of ``chi2(dof)``: ``x`` with ``P(X > x) = p``, ``0 < p < 1``.
+
+    The gate of a chi-square (NIS) test with false-alarm rate ``p`` per test.
+
+    Examples
+    --------
+    >>> round(chi2_isf(0.05, 3), 4)
+    7.8147
+    """
+    return float(special.chdtri(_dof(dof), _prob("p", p)))   # Q(k/2, x/2) = p
+
+
+def t_ppf(q, dof):
+    """The ``q`` quantile of Student's t law with ``dof`` degrees of freedom, ``0 < q < 1``.
+
+    Examples
+    --------
+    >>> round(t_ppf(0.975, 31), 4)   # the 95 % interval of a mean over 32 runs
+    2.0395
+    """
+    return float(special.stdtrit(_dof(dof), _prob("q", q)))   # F_t^-1(q)
