@@ -244,23 +244,40 @@ def test_a_result_is_computed_once_for_the_same_code(dummy, tmp_path):
     assert "0 computed, 1 read from the reproduction cache" in page
 
 
-def test_fresh_arguments_or_the_switch_compute_again(dummy, monkeypatch):
+def test_fresh_odd_arguments_or_the_switch_compute_again(dummy, monkeypatch):
     calls, forget = dummy
     reproduce.run("test-dummy")
     assert not reproduce.run("test-dummy", fresh=True).from_cache
     forget()
-    reproduce.run("test-dummy", seed=2)  # arguments: computed, not stored
+    assert not reproduce.run("test-dummy", seed=np.int64(3)).from_cache  # not a plain number:
     forget()
-    reproduce.run("test-dummy", seed=2)
+    assert not reproduce.run("test-dummy", seed=np.int64(3)).from_cache  # computed, not stored
     forget()
     monkeypatch.setenv(reproduce.CACHE_ENV, "0")
     assert not reproduce.run("test-dummy").from_cache
-    assert calls == [0, 0, 2, 2, 0]
+    assert calls == [0, 0, 3, 3, 0]
+
+
+def test_each_set_of_arguments_and_blas_family_keeps_its_entry(dummy, monkeypatch, tmp_path):
+    # a chapter's shortened run, the full run and a `make portability` run side by side
+    calls, forget = dummy
+    reproduce.run("test-dummy")
+    reproduce.run("test-dummy", seed=2)
+    forget()   # (a process reads OPENBLAS_CORETYPE once: another one is another process)
+    monkeypatch.setenv("OPENBLAS_CORETYPE", "Prescott")
+    reproduce.run("test-dummy")
+    forget()
+    monkeypatch.delenv("OPENBLAS_CORETYPE")
+    again = [reproduce.run("test-dummy", seed=2), reproduce.run("test-dummy")]
+    assert calls == [0, 2, 0] and all(r.from_cache for r in again)
+    assert again[0].data["a"][0] == 2.0
+    assert len(list((tmp_path / "reproductions").glob("test-dummy-*.pickle"))) == 3
 
 
 def test_other_code_or_an_unreadable_entry_computes_again(dummy, monkeypatch, tmp_path):
     calls, forget = dummy
     reproduce.run("test-dummy")
+    reproduce.run("test-dummy", seed=2)
     forget()
     for entry in (tmp_path / "reproductions").glob("*.pickle"):
         entry.write_bytes(b"not a pickle")
@@ -268,8 +285,8 @@ def test_other_code_or_an_unreadable_entry_computes_again(dummy, monkeypatch, tm
     forget()
     monkeypatch.setattr(reproduce, "source_digest", lambda *a, **k: "another version")
     assert not reproduce.run("test-dummy").from_cache
-    assert calls == [0, 0, 0]
-    # one entry an ID: the other code's result is gone
+    assert calls == [0, 2, 0, 0]
+    # the other code's results, of every family, are gone
     assert len(list((tmp_path / "reproductions").glob("test-dummy-*.pickle"))) == 1
 
 

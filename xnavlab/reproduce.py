@@ -8,12 +8,16 @@ verdict. The chapters' last cells, ``tests/`` and the command line
 by exactly one piece of code.
 
 A reproduction's result is kept on disk, under ``$XNAVLAB_CACHE/reproductions`` (default
-``~/.cache/xnavlab``), keyed by the ID, every file of the package (code and shipped data),
-the numeric libraries' versions and ``OPENBLAS_CORETYPE``: the same code on the same machine
-gives the same numbers (the seeds are fixed), so a chapter, a test and the dashboard that
-ask for the same reproduction compute it once between them (a run with arguments, with
-``out`` or with ``fresh=True``, a reproduction registered with ``cache=False`` (a measured
-timing), or ``XNAVLAB_REPRODUCE_CACHE=0`` computes it afresh).
+``~/.cache/xnavlab``), keyed by the ID, its arguments, every file of the package (code and
+shipped data), the numeric libraries' versions and ``OPENBLAS_CORETYPE``: the same code on the
+same machine gives the same numbers (the seeds are fixed), so a chapter, a test and the
+dashboard that ask for the same reproduction compute it once between them. Each ID keeps one
+entry per set of arguments and BLAS kernel family (a chapter's shortened run beside the full
+one, a ``make portability`` run beside the default kernels); the first entry stored for a new
+version of the code removes the ID's entries for the old one. Computed afresh: a run with
+``out``, with ``fresh=True`` or with an argument that is not a plain number, string or tuple
+of them, a reproduction registered with ``cache=False`` (a measured timing), and every run
+under ``XNAVLAB_REPRODUCE_CACHE=0``.
 
 Reproductions live in the modules of :mod:`xnavlab.reproductions`; each module is
 imported on first use of the registry, so adding a file there is all it takes to
@@ -47,6 +51,7 @@ import math
 import os
 import pickle
 import pkgutil
+import re
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -426,15 +431,25 @@ _DEPENDS = ("numpy", "scipy", "numba", "PyWavelets", "jplephem", "de421", "de405
 _PACKAGE = Path(__file__).resolve().parent
 
 
-def _disk_path(id):
-    h = hashlib.sha256(repr((1, id, source_digest(_PACKAGE))).encode())
+def _plain(value):
+    """Whether ``value`` has a ``repr`` that names it exactly (an argument a key may hold)."""
+    if isinstance(value, tuple):
+        return all(_plain(v) for v in value)
+    return value is None or type(value) in (bool, int, float, str)
+
+
+def _disk_path(id, kwargs):
+    """``<id>-<family>-<code>.pickle``: the family is the arguments and the BLAS kernels (each
+    keeps its entry), the code is the package's files and the numeric libraries' versions."""
+    family = repr((id, sorted(kwargs.items()), os.environ.get("OPENBLAS_CORETYPE", "")))
+    h = hashlib.sha256(repr((2, id, source_digest(_PACKAGE))).encode())
     for dist in _DEPENDS:
         try:
             h.update(f"{dist}={importlib.metadata.version(dist)}".encode())
         except importlib.metadata.PackageNotFoundError:
             h.update(f"{dist}=none".encode())
-    h.update(os.environ.get("OPENBLAS_CORETYPE", "").encode())
-    return cache_dir() / "reproductions" / f"{id}-{h.hexdigest()[:24]}.pickle"
+    name = f"{id}-{hashlib.sha256(family.encode()).hexdigest()[:8]}-{h.hexdigest()[:24]}"
+    return cache_dir() / "reproductions" / f"{name}.pickle"
 
 
 def _from_disk(path):
@@ -450,16 +465,18 @@ def _from_disk(path):
 
 
 def _to_disk(id, path, result):
-    """Store ``result`` at ``path``; the entries of ``id`` for other code are removed (one an
-    ID, so the cache does not grow with every edit of the package)."""
+    """Store ``result`` at ``path``; the ID's entries for other code, of every family, are
+    removed (so the cache does not grow with every edit of the package)."""
     try:
         blob = pickle.dumps(result, protocol=pickle.HIGHEST_PROTOCOL)
     except (pickle.PicklingError, TypeError, AttributeError):  # kept in memory only
         return
     if not store(path, lambda f: f.write(blob)):
         return
+    code = path.stem[-24:]
     for old in path.parent.glob(f"{id}-*.pickle"):
-        if old != path and len(old.stem) == len(path.stem):  # not another ID's
+        ours = re.fullmatch(re.escape(id) + r"-[0-9a-f]{8}-([0-9a-f]{24})", old.stem)
+        if ours and ours.group(1) != code:     # (another ID's entry never matches)
             old.unlink(missing_ok=True)
 
 
@@ -467,9 +484,9 @@ def run(id, out=None, fresh=False, **kwargs):
     """Run the reproduction ``id`` and return its :class:`Result`.
 
     Results without ``out`` are cached for the session, so a chapter that plots a
-    reproduction's data and then asserts its numbers computes it once; without ``out`` and
-    arguments they are also kept on disk for the same code (see the module docs), so the
-    chapters, the tests and the dashboard compute each once between them.
+    reproduction's data and then asserts its numbers computes it once; they are also kept on
+    disk for the same code and arguments (see the module docs), so the chapters, the tests
+    and the dashboard compute each once between them.
 
     Parameters
     ----------
@@ -487,9 +504,9 @@ def run(id, out=None, fresh=False, **kwargs):
     key = (id, tuple(sorted(kwargs.items())))
     if out is None and key in _CACHE and not fresh:
         return _CACHE[key]
-    on_disk = (out is None and not kwargs and rep.cache
+    on_disk = (out is None and rep.cache and all(_plain(v) for v in kwargs.values())
                and os.environ.get(CACHE_ENV, "1") != "0")
-    path = _disk_path(id) if on_disk else None
+    path = _disk_path(id, kwargs) if on_disk else None
     result = None if (path is None or fresh) else _from_disk(path)
     if result is None:
         if out is not None:
