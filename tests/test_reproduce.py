@@ -279,6 +279,8 @@ def test_other_code_or_an_unreadable_entry_computes_again(dummy, monkeypatch, tm
     reproduce.run("test-dummy")
     reproduce.run("test-dummy", seed=2)
     forget()
+    legacy = tmp_path / "reproductions" / f"test-dummy-{'0' * 24}.pickle"  # an entry named
+    legacy.write_bytes(b"")                                               # before the families
     for entry in (tmp_path / "reproductions").glob("*.pickle"):
         entry.write_bytes(b"not a pickle")
     assert not reproduce.run("test-dummy").from_cache

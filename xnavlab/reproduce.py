@@ -475,8 +475,10 @@ def _to_disk(id, path, result):
         return
     code = path.stem[-24:]
     for old in path.parent.glob(f"{id}-*.pickle"):
-        ours = re.fullmatch(re.escape(id) + r"-[0-9a-f]{8}-([0-9a-f]{24})", old.stem)
-        if ours and ours.group(1) != code:     # (another ID's entry never matches)
+        # (another ID's entry never matches; nor does an entry named before the families,
+        # "<id>-<code>", which is removed with the old code's)
+        ours = re.fullmatch(re.escape(id) + r"(?:-[0-9a-f]{8})?-([0-9a-f]{24})", old.stem)
+        if ours and ours.group(1) != code:
             old.unlink(missing_ok=True)
 
 
