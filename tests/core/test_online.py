@@ -74,3 +74,9 @@ def test_event_tracker_snapshot_restore_and_close():
     assert not tr.faulty and tr.events[-1].cleared == 9.5
     tr.close()                                   # nothing open: no-op
     assert len(tr.events) == 2
+
+
+def test_mad_scale_is_the_normal_quartile():
+    from xnavlab.core.distributions import norm_ppf
+
+    assert math.isclose(D.MAD_SCALE, norm_ppf(0.75), rel_tol=1e-15)

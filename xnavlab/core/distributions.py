@@ -14,13 +14,20 @@ Probabilities are plain numbers in (0, 1); ``dof`` is the law's degrees of freed
 from __future__ import annotations
 
 import numpy as np
-from scipy import special
 
 from xnavlab.core.validate import check_real
 
 __all__ = [
     "norm_cdf", "norm_sf", "norm_ppf", "norm_isf", "chi2_cdf", "chi2_ppf", "chi2_isf", "t_ppf",
 ]
+
+def _special():
+    # imported on first use: scipy.special takes 0.25 s to import, which a process that imports
+    # the detectors but computes no quantile (a fault-free `run mars`) need not pay
+    from scipy import special
+
+    return special
+
 
 def _prob(name, p):
     return check_real(name, p, 0.0, 1.0, lo_open=True, hi_open=True)
@@ -38,7 +45,7 @@ def norm_cdf(x):
     >>> round(norm_cdf(1.959963984540054), 6)
     0.975
     """
-    return float(special.ndtr(check_real("x", x)))   # Phi(x)
+    return float(_special().ndtr(check_real("x", x)))   # Phi(x)
 
 
 def norm_sf(x):
@@ -49,7 +56,7 @@ def norm_sf(x):
     >>> f"{norm_sf(6.0):.3e}"
     '9.866e-10'
     """
-    return float(special.ndtr(-check_real("x", x)))   # 1 - Phi(x) = Phi(-x)
+    return float(_special().ndtr(-check_real("x", x)))   # 1 - Phi(x) = Phi(-x)
 
 
 def norm_ppf(q):
@@ -60,7 +67,7 @@ def norm_ppf(q):
     >>> round(norm_ppf(0.75), 6)   # the MAD's scale for a normal law
     0.67449
     """
-    return float(special.ndtri(_prob("q", q)))   # Phi^-1(q)
+    return float(_special().ndtri(_prob("q", q)))   # Phi^-1(q)
 
 
 def norm_isf(p):
@@ -71,7 +78,7 @@ def norm_isf(p):
     >>> round(norm_isf(0.025), 4)
     1.96
     """
-    return float(-special.ndtri(_prob("p", p)))   # Phi^-1(1 - p) = -Phi^-1(p)
+    return float(-_special().ndtri(_prob("p", p)))   # Phi^-1(1 - p) = -Phi^-1(p)
 
 
 def chi2_cdf(x, dof):
@@ -95,7 +102,7 @@ def chi2_cdf(x, dof):
     """
     x = np.asarray(x, dtype=float)
     # P(chi2_k <= x) = P(k/2, x/2), the regularised lower incomplete gamma function
-    return np.where(x > 0.0, special.chdtr(_dof(dof), np.maximum(x, 0.0)), np.where(x <= 0.0, 0.0, x))
+    return np.where(x > 0.0, _special().chdtr(_dof(dof), np.maximum(x, 0.0)), np.where(x <= 0.0, 0.0, x))
 
 
 def chi2_ppf(q, dof):
@@ -106,7 +113,7 @@ def chi2_ppf(q, dof):
     >>> round(chi2_ppf(0.025, 2), 6)   # the lower end of a Garwood interval for 0 events
     0.050636
     """
-    return float(2.0 * special.gammaincinv(_dof(dof) / 2.0, _prob("q", q)))   # P(k/2, x/2) = q
+    return float(2.0 * _special().gammaincinv(_dof(dof) / 2.0, _prob("q", q)))   # P(k/2, x/2) = q
 
 
 def chi2_isf(p, dof):
@@ -119,7 +126,7 @@ def chi2_isf(p, dof):
     >>> round(chi2_isf(0.05, 3), 4)
     7.8147
     """
-    return float(special.chdtri(_dof(dof), _prob("p", p)))   # Q(k/2, x/2) = p
+    return float(_special().chdtri(_dof(dof), _prob("p", p)))   # Q(k/2, x/2) = p
 
 
 def t_ppf(q, dof):
@@ -130,4 +137,4 @@ def t_ppf(q, dof):
     >>> round(t_ppf(0.975, 31), 4)   # the 95 % interval of a mean over 32 runs
     2.0395
     """
-    return float(special.stdtrit(_dof(dof), _prob("q", q)))   # F_t^-1(q)
+    return float(_special().stdtrit(_dof(dof), _prob("q", q)))   # F_t^-1(q)

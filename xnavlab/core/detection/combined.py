@@ -63,7 +63,6 @@ import math
 
 import numpy as np
 from numba import njit
-from scipy import special
 
 from xnavlab.core.detection._tracked import TrackedDetector
 from xnavlab.core.detection.batch import wavelet_detect
@@ -113,6 +112,8 @@ def variance_reference(lam=2.0):
 
 
 def _chi2_1_cdf(x):
+    from scipy import special
+
     return special.erf(np.sqrt(np.maximum(x, 0.0) / 2.0))   # chi2(1): P(y^2 <= x) = erf(sqrt(x/2))
 
 
@@ -123,6 +124,8 @@ def _arl(h, k, dof, cells):
     w = h / cells
     mids = np.r_[0.0, (np.arange(cells) + 0.5) * w]                  # state 0: S = 0
     upper = (np.arange(cells) + 1.0) * w                             # upper cell edges
+    from scipy import special  # imported here: only an ARL needs it
+
     if dof == 0:
         cdf = special.ndtr                                           # increments y - k
     elif dof == 1:
