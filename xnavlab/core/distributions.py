@@ -21,6 +21,7 @@ __all__ = [
     "norm_cdf", "norm_sf", "norm_ppf", "norm_isf", "chi2_cdf", "chi2_ppf", "chi2_isf", "t_ppf",
 ]
 
+
 def _special():
     # imported on first use: scipy.special takes 0.25 s to import, which a process that imports
     # the detectors but computes no quantile (a fault-free `run mars`) need not pay
