@@ -101,9 +101,10 @@ def chi2_cdf(x, dof):
     >>> chi2_cdf([-1.0, 0.0, 7.814727903251178], 3).round(6)
     array([0.  , 0.  , 0.95])
     """
-    x = np.asarray(x, dtype=float)
-    # P(chi2_k <= x) = P(k/2, x/2), the regularised lower incomplete gamma function
-    return np.where(x > 0.0, _special().chdtr(_dof(dof), np.maximum(x, 0.0)), np.where(x <= 0.0, 0.0, x))
+    # P(chi2_k <= x) = P(k/2, x/2), the regularised lower incomplete gamma function; it is 0 at
+    # x = 0, so x <= 0 is clipped there (np.maximum keeps a NaN)
+    x = np.maximum(np.asarray(x, dtype=float), 0.0)
+    return np.asarray(_special().chdtr(_dof(dof), x))
 
 
 def chi2_ppf(q, dof):
