@@ -12,6 +12,10 @@ export MPLBACKEND := Agg
 JOBS   ?= $(shell nproc 2>/dev/null || echo 2)
 XDIST  := -n $(JOBS) --dist loadfile
 export PYDEVD_DISABLE_FILE_VALIDATION := 1
+# Bytecode caches on (__pycache__/ is ignored by git): an environment that sets
+# PYTHONDONTWRITEBYTECODE=1 makes every process compile xnavlab and the tests from source,
+# 4.5 s of each pytest collection (18 s instead of 13.5 s) and 0.1 s of each kernel's imports
+unexport PYTHONDONTWRITEBYTECODE
 
 .PHONY: book book-clean test unit notebooks bench lint lab clean setup warmup browser-test lab-test portability \
         check-book typed-numbers
