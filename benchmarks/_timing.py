@@ -29,8 +29,26 @@ def loadavg():
 
 
 def machine_line():
-    """One line naming the CPU count and the load average, printed before and after a run."""
-    return f"{os.cpu_count()} CPUs, load average {loadavg()} (1, 5, 15 min)"
+    """One line naming the CPU count, the load average and the CPU's speed (:func:`cpu_ms`).
+
+    Printed before and after a run, so that numbers from different days can be compared: the
+    project's machine is a shared virtual machine whose speed changes from day to day.
+    """
+    return (f"{os.cpu_count()} CPUs, load average {loadavg()} (1, 5, 15 min), "
+            f"CPU reference {cpu_ms():.1f} ms")
+
+
+def cpu_ms():
+    """The CPU's speed for pure Python: ``sum(range(10**6))``, best of 5, milliseconds.
+
+    Lower is faster. Matplotlib's rendering and the package's Python loops scale with it.
+    """
+    best = float("inf")
+    for _ in range(5):
+        t0 = time.perf_counter()
+        sum(range(10**6))
+        best = min(best, time.perf_counter() - t0)
+    return best * 1e3
 
 
 def median_max(values):
