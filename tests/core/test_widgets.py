@@ -375,3 +375,22 @@ def test_frames_drawn_on_a_shared_renderer_carry_nothing_of_the_frame_before():
     blank = Figure(figsize=(4, 2.5), layout="constrained")
     assert np.array_equal(png_pixels(widgets.live_png(blank, widgets.SteadyLayout())),
                           png_pixels(widgets.live_png(Figure(figsize=(4, 2.5)))))
+
+
+def test_a_slider_whose_layout_keeps_changing_lays_out_every_frame():
+    """Each larger y label needs more room than the kept layout gives: a misfit each time."""
+    def labelled(size):
+        fig = Figure(figsize=(4, 2.5), layout="constrained")
+        fig.add_subplot().set_ylabel("y", fontsize=size)
+        return fig
+
+    steady = widgets.SteadyLayout()
+    steady.png(labelled(10))
+    assert steady.last == "laid out"
+    steady.png(labelled(10))
+    assert steady.last == "kept layout"
+    for k, size in enumerate([40, 80][: widgets.MAX_MISFITS], start=1):
+        steady.png(labelled(size))
+        assert (steady.last, steady.misfits) == ("laid out again", k)
+    steady.png(labelled(10))
+    assert steady.last == "laid out"

@@ -58,7 +58,7 @@ import numpy as np
 from xnavlab.core.validate import check_choice, check_int
 
 __all__ = ["explore", "Explorer", "SteadyLayout", "error_line", "live_png", "BUSY",
-           "LIVE_MEMO_FRAMES", "FRAMES_ENV"]
+           "LIVE_MEMO_FRAMES", "FRAMES_ENV", "MAX_MISFITS"]
 
 _MIME_WIDGET = "application/vnd.jupyter.widget-view+json"
 
@@ -332,7 +332,8 @@ class SteadyLayout:
     The kept layout is checked on what was drawn: a frame in which a text (a tick label, a
     title) sticks out of the figure or runs into another axes' frame, where the first frame's
     own layout had none, is laid out again by its own engine and drawn again, and its layout
-    is kept from then on. So is a frame whose figure or axes differ. A figure without a
+    is kept from then on (after :data:`MAX_MISFITS` such frames, the slider's frames are all
+    laid out by their own engine). So is a frame whose figure or axes differ. A figure without a
     layout engine (fixed margins) is drawn as it is. Every frame is drawn on an Agg renderer
     shared by the frames of its size, which keeps the text metrics it has measured.
 
@@ -365,6 +366,8 @@ class SteadyLayout:
         self._texts = None
         self._engine = None  # the layout engine of the figure prepared last
         self._trusted = True  # the laid-out frame drew clear (see png): its layout may be kept
+        #: Frames the kept layout did not fit; at :data:`MAX_MISFITS` no layout is kept.
+        self.misfits = 0
         #: How the last frame was laid out: ``'laid out'``, ``'kept layout'``, ``'laid out
         #: again'`` (the kept layout did not fit it) or ``'fixed'`` (no layout engine).
         self.last = None
@@ -386,8 +389,10 @@ class SteadyLayout:
         shape = _figure_shape(fig)
         if shape == self._shape and self._trusted:
             for ax, (original, active) in zip(fig.axes, self._boxes, strict=True):
+                in_layout = ax.get_in_layout()  # set_position takes the axes out of layout
                 ax.set_position(original, which="original")
                 ax.set_position(active, which="active")
+                ax.set_in_layout(in_layout)  # (a frame the kept layout misfits is laid out)
             for name, xy in self._texts.items():
                 getattr(fig, name).set_position(xy)
             how = "kept layout"
@@ -420,13 +425,20 @@ class SteadyLayout:
                 fig.set_layout_engine(self._engine)
                 self._shape = None
                 self.prepare(fig)
-                png, self._trusted = _png_checked(fig, dpi, compress_level)
+                png, clear = _png_checked(fig, dpi, compress_level)
+                self.misfits += 1  # a slider whose layouts keep changing lays out every frame
+                self._trusted = clear and self.misfits < MAX_MISFITS
                 how = "laid out again"
         self.last = how
         return png
 
 
 _SUP_TEXTS = ("_suptitle", "_supxlabel", "_supylabel")
+
+#: Frames a kept layout may fail to fit before a slider lays out every frame by its own
+#: engine: a figure whose labels change size from frame to frame would otherwise pay a
+#: second draw at every misfit.
+MAX_MISFITS = 2
 
 
 def _figure_shape(fig):
