@@ -182,7 +182,8 @@ class Explorer:
     def frames(self):
         """PNG bytes of the figure at each of ``frame_values`` (computed once).
 
-        The opening frame is drawn first; the others take its layout (:attr:`layout`).
+        The opening frame is drawn first; the others take its layout (attribute ``layout``, a
+        :class:`SteadyLayout`).
         """
         if self._frames is None:
             import matplotlib.pyplot as plt
