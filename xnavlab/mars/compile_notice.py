@@ -1,7 +1,8 @@
-"""The filter kernel's first compile, announced: one line instead of a silent minute.
+"""The filter kernel's first compile, announced: one line instead of a silent pause.
 
 :mod:`xnavlab.mars.kernels` is compiled by numba on its first call in a fresh environment
-(about a minute on two cores; ``python -m xnavlab warmup`` does it at set-up) and loaded
+(about two minutes on two cores: 92-108 s measured; ``python -m xnavlab warmup`` does it at
+set-up) and loaded
 from numba's on-disk cache afterwards. :func:`announce_compile` prints one line when the
 next call must compile; :func:`xnavlab.mars.scenarios.run_kernel` calls it. It lives
 outside ``kernels.py`` because any edit of that file invalidates numba's cache of it.
@@ -41,7 +42,7 @@ def is_compiled():
 def announce_compile(stream=None):
     """Print one line when the next kernel call must compile (no cache yet); return whether.
 
-    The first run in a fresh environment compiles the filter kernel for about a minute on
+    The first run in a fresh environment compiles the filter kernel for about two minutes on
     two cores (``python -m xnavlab warmup`` does it at set-up); this line says so instead of
     a silent pause. It prints at most once per process, and looks only until it has printed
     or found the kernel compiled.
@@ -55,6 +56,6 @@ def announce_compile(stream=None):
     _ANNOUNCED = True
     if is_compiled():
         return False
-    print("xnavlab: compiling the filter kernel, once (about a minute on two cores; later runs "
-          "load it from numba's cache)", file=stream or sys.stderr, flush=True)
+    print("xnavlab: compiling the filter kernel, once (about two minutes on two cores; later "
+          "runs load it from numba's cache)", file=stream or sys.stderr, flush=True)
     return True
