@@ -394,3 +394,16 @@ def test_a_slider_whose_layout_keeps_changing_lays_out_every_frame():
         assert (steady.last, steady.misfits) == ("laid out again", k)
     steady.png(labelled(10))
     assert steady.last == "laid out"
+
+
+def test_the_shared_renderer_keeps_no_figure_alive():
+    import gc
+    import weakref
+
+    steady = widgets.SteadyLayout()
+    fig = titled("kept alive?")
+    widgets.live_png(fig, steady)
+    ref = weakref.ref(fig)
+    del fig
+    gc.collect()
+    assert ref() is None

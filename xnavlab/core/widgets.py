@@ -459,14 +459,16 @@ def _png_checked(fig, dpi, compress_level, check=True):
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=dpi, pil_kwargs={"compress_level": compress_level})
     if not check:
+        canvas.renderer.texts = []
         return buf.getvalue(), None
     renderer = canvas.renderer  # the one that drew, at the saved dpi
+    texts, renderer.texts = renderer.texts, []  # the shared renderer keeps no figure alive
     from matplotlib.transforms import Bbox
 
     width, height = renderer.width, renderer.height
     inside = Bbox([[-1 / width, -1 / height], [1 + 1 / width, 1 + 1 / height]])
     frames = [ax.get_position().frozen() for ax in fig.axes]  # figure fractions
-    for text in getattr(renderer, "texts", None) or ():
+    for text in texts:
         if text.get_clip_on() and text.get_clip_box() is not None:
             continue
         px = text.get_window_extent(renderer, dpi=renderer.dpi)
@@ -503,7 +505,9 @@ def _recording_canvas_class():
         from matplotlib.backends.backend_agg import FigureCanvasAgg, RendererAgg
 
         class TextRecorder(RendererAgg):
-            texts = ()
+            def __init__(self, width, height, dpi):
+                super().__init__(width, height, dpi)
+                self.texts = []
 
             def clear(self):
                 super().clear()
