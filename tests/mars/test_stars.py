@@ -96,3 +96,13 @@ def test_pick_three_keeps_away_from_the_avoided_direction_and_checks_its_input()
         stars.pick_three(vmag_max=20.0)
     with pytest.raises(ValueError, match="avoid_deg"):
         stars.pick_three(avoid=sun, avoid_deg=-1.0)
+
+
+def test_pick_three_is_kept_per_arguments_and_checks_them():
+    """The triple is worked out once per set of arguments; an array and a list agree."""
+    sun = np.array([[1.0, 0.2, 0.1]])
+    first = stars.pick_three(avoid=sun, avoid_deg=30.0)
+    assert stars.pick_three(avoid=sun.tolist(), avoid_deg=30.0) == first
+    assert stars.pick_three(avoid=sun, avoid_deg=30.0) is first  # the kept tuple
+    with pytest.raises(ValueError, match="t"):
+        stars.pick_three(t=float("nan"))
