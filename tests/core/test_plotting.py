@@ -63,3 +63,23 @@ def test_html_table_checks_its_arguments():
         html_table(["a", "b"], [{"a": 1}])
     with pytest.raises(ValueError, match="digits"):
         html_table(["a"], [[1]], digits=0)
+
+
+def test_sparse_log_minors_reach_log_axes_and_secondary_axes_only():
+    from matplotlib.ticker import LogLocator
+
+    from xnavlab.core.plotting import LOG_MINOR_SUBS, figure, sparse_log_minors
+
+    fig, (lin, log) = figure(1, 2)
+    log.set(yscale="log", ylim=(1e-4, 1e3))
+    sec = log.secondary_yaxis("right", functions=(lambda u: 2.0 * u, lambda m: m / 2.0))
+    default_lin = lin.yaxis.get_minor_locator()
+    sparse_log_minors(lin, log)
+    assert lin.yaxis.get_minor_locator() is default_lin
+    for axis in (log.yaxis, sec.yaxis):
+        locator = axis.get_minor_locator()
+        assert isinstance(locator, LogLocator)
+        inside = [float(v) for v in locator.tick_values(1.0, 1e3) if 1.0 < v < 1e3]
+        assert inside == [s * 10.0**k for k in range(3) for s in LOG_MINOR_SUBS]
+    ticks = [v for v in log.yaxis.get_minorticklocs() if 1e-4 < v < 1e3]
+    assert len(ticks) == 2 * 7

@@ -42,6 +42,7 @@ import numpy as np
 from xnavlab.core.detection import chi2_detect, wavelet_detect
 from xnavlab.core.distributions import norm_isf
 from xnavlab.core.faults import Fault, inject
+from xnavlab.core.plotting import sparse_log_minors
 from xnavlab.core.validate import check_choice, check_int, check_real
 
 __all__ = ["KINDS", "DETECTORS", "signal_trial", "run_tasks", "seeds",
@@ -438,4 +439,5 @@ def plot_pd_error(runs=100, pd=0.9, campaigns=400, seed=0):
     ax2.set(xlabel="runs N", ylabel="95 % half-width of the Pd estimate",
             title=f"Wilson intervals holding the true Pd: {cover:.0%}")
     ax2.grid(True, which="both", lw=0.3)
+    sparse_log_minors(ax2)
     return fig

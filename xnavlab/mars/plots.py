@@ -22,6 +22,7 @@ import numpy as np
 
 from xnavlab.core.constants import DAY
 from xnavlab.core.faults import Fault
+from xnavlab.core.plotting import sparse_log_minors
 from xnavlab.core.validate import check_choice, check_real
 from xnavlab.mars import fault_tolerance, scenarios
 
@@ -477,4 +478,5 @@ def plot_shapiro_angle(angle_deg=2.0, t=None):
     sec = ax2.secondary_yaxis("right", functions=(lambda us: us * 1e-6 * C, lambda m: m / C * 1e6))
     sec.set_ylabel("m")
     ax2.legend(fontsize=7, loc="lower left")
+    sparse_log_minors(ax1, ax2)  # three log axes over 4-7 decades: half the render
     return fig

@@ -784,6 +784,8 @@ def plot_ranging_accuracy(area_m2=1.0, t_obs=500.0, background_ph_cm2_s=0.005, r
     """
     from matplotlib.figure import Figure
 
+    from xnavlab.core.plotting import sparse_log_minors
+
     names = list(pulsar_names)
     ours = [ranging_accuracy(n, area_m2, t_obs, background_ph_cm2_s) for n in names]
     fig = Figure(figsize=(6, 3.2), layout="constrained")
@@ -796,4 +798,5 @@ def plot_ranging_accuracy(area_m2=1.0, t_obs=500.0, background_ph_cm2_s=0.005, r
              f"B = {background_ph_cm2_s:.3g} ph/cm$^2$/s")
     ax.set(yscale="log", ylim=(1, 1e5), ylabel="ranging accuracy (m)", title=title)
     ax.legend(fontsize=8)
+    sparse_log_minors(ax)
     return fig

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import functools
 
+from xnavlab.core.plotting import sparse_log_minors
 from xnavlab.core.validate import check_choice, check_real, make_rng
 from xnavlab.robust import filters
 
@@ -66,6 +67,7 @@ def plot_filter_comparison(size=5000.0, eps=100.0, pulsar_set="paper: B0531+21, 
     ax1.legend(ncol=4, fontsize=8)
     ax2.bar([FILTER_NAMES[f] for f in out["rmse"]], list(out["rmse"].values()))
     ax2.set(yscale="log", ylabel="RMSE (m)", title="RMSE 5e4-2.5e5 s")
+    sparse_log_minors(ax1, ax2)
     return fig
 
 
