@@ -48,6 +48,7 @@ __all__ = [
     "acceleration",
     "propagate",
     "truth",
+    "chapter_times",
     "gravity_gradient",
     "transition_matrix",
     "OrbitalElements",
@@ -499,6 +500,27 @@ def orbital_elements(state, gm=GM_MARS, pole=MARS_POLE):
     )
 
 
+def chapter_times():
+    """The chapters' epochs: the paper's 30 days from :data:`MARS_T0` every 60 s.
+
+    The grid on which chapters 2 and 3 and chapter 3's slider (:func:`plot_model_difference`)
+    ask for :func:`truth`, whose disk cache is keyed by the epochs: ``python -m xnavlab
+    warmup`` fills it for every force model of the slider.
+
+    Returns
+    -------
+    ndarray, shape (43201,)
+        Seconds TDB past J2000.
+
+    Examples
+    --------
+    >>> t = chapter_times()
+    >>> t.size, float(t[1] - t[0]), float(t[-1] - t[0]) / 86400.0
+    (43201, 60.0, 30.0)
+    """
+    return MARS_T0 + np.arange(0.0, 30 * 86400.0 + 1.0, 60.0)
+
+
 def model_difference(t_eval, third_bodies=("sun", "jupiter"), j2=False):
     """Position difference of a force-model variant from the paper's model, split by direction.
 
@@ -568,7 +590,7 @@ def plot_model_difference(sun=True, jupiter=True, j2=False, days_shown=30):
 
     days_shown = check_int("days_shown", days_shown, 1, 30)
     bodies = tuple(b for b, on in (("sun", sun), ("jupiter", jupiter)) if on)
-    t = MARS_T0 + np.arange(0.0, 30 * 86400.0 + 1.0, 60.0)  # the chapters' grid (cached)
+    t = chapter_times()  # the chapters' grid (cached truths)
     shown = slice(0, days_shown * 1440 + 1)
     d = {k: v[shown] for k, v in model_difference(t, bodies, j2).items()}
     days = (t[shown] - t[0]) / 86400.0
