@@ -14,8 +14,8 @@ Each step runs a tiny case through the same public functions the chapters call, 
 kernels are compiled for exactly the argument types the chapters pass. Running it again
 is cheap (everything is loaded from the caches).
 
-The filter kernel's compile is the longest step (about a minute and a half on two cores)
-and uses one core. Where it is still to be done, and the machine has a second core, it runs
+The filter kernel's compile is the longest step (about two minutes on two cores: 92-110 s
+measured) and uses one core. Where it is still to be done, and the machine has a second core, it runs
 in a second process (:func:`compile_kernel`) while this one does the steps listed before it,
 which need no kernel: the truths the chapters plot (chapters 2 and 3, every force-model
 variant of chapter 3's slider) and PINT's witnesses of chapter 1, so that no chapter's
@@ -53,14 +53,9 @@ def compile_kernel():
 
 
 def _force_models():
-    import itertools
-
     from xnavlab.mars import dynamics
 
-    t = dynamics.chapter_times()
-    for sun, jupiter, j2 in itertools.product((True, False), (True, False), (False, True)):
-        bodies = tuple(b for b, on in (("sun", sun), ("jupiter", jupiter)) if on)
-        dynamics.truth(t, third_bodies=bodies, j2=j2)  # the key plot_model_difference uses
+    dynamics.chapter_truths()  # the keys plot_model_difference and chapters 2 and 3 use
 
 
 def _pint_witnesses():

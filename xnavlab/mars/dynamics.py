@@ -24,6 +24,7 @@ True
 from __future__ import annotations
 
 import hashlib
+import itertools
 import math
 from dataclasses import dataclass
 from typing import NamedTuple
@@ -49,6 +50,7 @@ __all__ = [
     "propagate",
     "truth",
     "chapter_times",
+    "chapter_truths",
     "gravity_gradient",
     "transition_matrix",
     "OrbitalElements",
@@ -521,6 +523,28 @@ def chapter_times():
     return MARS_T0 + np.arange(0.0, 30 * 86400.0 + 1.0, 60.0)
 
 
+def chapter_truths():
+    """Fill :func:`truth`'s disk cache for every force model chapter 3's slider offers.
+
+    The eight models of :func:`plot_model_difference` (the Sun, Jupiter and J2 each on or off,
+    the paper's model among them) on :func:`chapter_times`; ``python -m xnavlab warmup``
+    calls it, so no chapter integrates them on a reader's first run (about 60 s in all).
+
+    Examples
+    --------
+    >>> chapter_truths()  # doctest: +SKIP
+    >>> d = model_difference(chapter_times(), ("sun",))  # doctest: +SKIP
+    """
+    t = chapter_times()
+    for sun, jupiter, j2 in itertools.product((True, False), (True, False), (False, True)):
+        truth(t, third_bodies=_bodies(sun, jupiter), j2=j2)
+
+
+def _bodies(sun, jupiter):
+    """The third bodies of a force model with the Sun and Jupiter on or off."""
+    return tuple(b for b, on in (("sun", sun), ("jupiter", jupiter)) if on)
+
+
 def model_difference(t_eval, third_bodies=("sun", "jupiter"), j2=False):
     """Position difference of a force-model variant from the paper's model, split by direction.
 
@@ -589,7 +613,7 @@ def plot_model_difference(sun=True, jupiter=True, j2=False, days_shown=30):
     from matplotlib.figure import Figure
 
     days_shown = check_int("days_shown", days_shown, 1, 30)
-    bodies = tuple(b for b, on in (("sun", sun), ("jupiter", jupiter)) if on)
+    bodies = _bodies(sun, jupiter)
     t = chapter_times()  # the chapters' grid (cached truths)
     shown = slice(0, days_shown * 1440 + 1)
     d = {k: v[shown] for k, v in model_difference(t, bodies, j2).items()}
