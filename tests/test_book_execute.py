@@ -44,13 +44,11 @@ def test_the_books_own_notebook_pages_are_every_chapter_and_the_dashboard(tool):
 
 
 def test_a_page_is_executed_once_and_then_found_in_the_cache(tool, tmp_path, capsys):
-    from jupyter_cache import get_cache
-
     _book(tmp_path, "print(6 * 7)")
     assert [p.name for p in tool.notebook_pages()] == ["one.ipynb"]
     assert tool.main(["--jobs", "1"]) == 0
-    record = get_cache(str(tool.CACHE)).match_cache_notebook(
-        tool.read_page(tmp_path / "book" / "one.ipynb"))
+    with tool.open_cache() as cache:
+        record = cache.match_cache_notebook(tool.read_page(tmp_path / "book" / "one.ipynb"))
     assert record.pk >= 1
     assert "one.ipynb" in json.loads(tool.TIMES.read_text())
     assert tool.main(["--jobs", "1"]) == 0
@@ -65,8 +63,6 @@ def test_a_failing_page_stops_with_its_error_and_is_not_cached(tool, tmp_path, c
 
 
 def test_each_page_names_its_slowest_cell_and_the_cache_holds_no_timing(tool, tmp_path, capsys):
-    from jupyter_cache import get_cache
-
     _book(tmp_path, "x = 1")
     nb = nbformat.read(tmp_path / "book" / "one.ipynb", as_version=4)
     nb.cells.append(nbformat.v4.new_code_cell("# waits\nimport time\ntime.sleep(0.5)"))
@@ -76,9 +72,9 @@ def test_each_page_names_its_slowest_cell_and_the_cache_holds_no_timing(tool, tm
     assert "slowest: cell 1," in line and "`import time`" in line
     seconds = float(line.split("slowest: cell 1, ")[1].split(" s")[0])
     assert seconds >= 0.5
-    cache = get_cache(str(tool.CACHE))
-    record = cache.match_cache_notebook(tool.read_page(tmp_path / "book" / "one.ipynb"))
-    cached = cache.get_cache_bundle(record.pk).nb
+    with tool.open_cache() as cache:
+        record = cache.match_cache_notebook(tool.read_page(tmp_path / "book" / "one.ipynb"))
+        cached = cache.get_cache_bundle(record.pk).nb
     assert all("execution" not in cell.metadata for cell in cached.cells)
 
 
@@ -88,3 +84,29 @@ def test_a_page_is_executed_for_the_html_book(tool, tmp_path, monkeypatch):
     _book(tmp_path, "import os\nassert os.environ['XNAVLAB_SCRUBBER_FRAMES'] == '1'")
     assert tool.main(["--jobs", "1"]) == 0
     assert "XNAVLAB_SCRUBBER_FRAMES" not in os.environ
+
+
+@pytest.mark.parametrize(("code", "status"), [("x = 1", 0), ("raise RuntimeError('broken')", 1)])
+def test_the_cache_database_is_closed_when_the_run_ends(tool, tmp_path, code, status):
+    # jupyter_cache never closes its sqlite connections; left to the garbage collector, each is a
+    # ResourceWarning on Python 3.13. Every connection opened during a run is closed at its end.
+    import sqlite3
+
+    from sqlalchemy import event
+    from sqlalchemy.engine import Engine
+
+    opened = []
+
+    def record(dbapi_connection, _record):
+        opened.append(dbapi_connection)
+
+    _book(tmp_path, code)
+    event.listen(Engine, "connect", record)
+    try:
+        assert tool.main(["--jobs", "1"]) == status
+    finally:
+        event.remove(Engine, "connect", record)
+    assert opened
+    for connection in opened:
+        with pytest.raises(sqlite3.ProgrammingError, match="closed database"):
+            connection.execute("select 1")

@@ -25,6 +25,7 @@ Usage: ``python tools/book_execute.py [--jobs N]`` from the repository root.
 
 import argparse
 import concurrent.futures
+import contextlib
 import json
 import os
 import sys
@@ -49,6 +50,22 @@ ROOT = Path(__file__).resolve().parents[1]
 CACHE = ROOT / "_build" / ".jupyter_cache"
 #: Each page's last execution time here (seconds), for the order of the next run.
 TIMES = ROOT / "_build" / ".book-execute-times.json"
+
+
+@contextlib.contextmanager
+def open_cache(path=None):
+    """myst-nb's execution cache at ``path`` (default :data:`CACHE`), its database closed on exit.
+
+    ``jupyter_cache`` opens its database (a SQLAlchemy engine, a pool of sqlite connections) on
+    first use and never closes it: left to the garbage collector, each pooled connection is a
+    ``ResourceWarning: unclosed database`` on Python 3.13, an error under the tests'
+    ``filterwarnings = error``. Disposing of the engine closes them.
+    """
+    cache = get_cache(str(path or CACHE))
+    try:
+        yield cache
+    finally:
+        cache.db.dispose()
 
 
 def toc_files(toc):
@@ -181,7 +198,12 @@ def main(argv=None):
     if args.jobs < 1:
         print(f"book_execute: --jobs must be at least 1, got {args.jobs}", file=sys.stderr)
         return 2
-    cache = get_cache(str(CACHE))
+    with open_cache() as cache:
+        return _run(args, cache)
+
+
+def _run(args, cache):
+    """The body of :func:`main`, with the execution cache open."""
     todo = []
     pages = [p.resolve() for p in args.pages] if args.pages else notebook_pages()
     for path in longest_first(pages):
