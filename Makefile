@@ -2,7 +2,9 @@
 # Both create .venv from environment.txt and install xnavlab (editable) first.
 
 PYTHON ?= python3
-VENV   := .venv
+# The environment; another beside it: `make test PYTHON=python3.13 VENV=_build/venv-3.13`
+# (what `make pythons` does for each Python)
+VENV   ?= .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed-stamp
 WARM   := $(VENV)/.warmup-stamp
@@ -18,7 +20,27 @@ export PYDEVD_DISABLE_FILE_VALIDATION := 1
 unexport PYTHONDONTWRITEBYTECODE
 
 .PHONY: book book-clean test unit notebooks bench lint lab clean setup warmup browser-test lab-test portability \
-        check-book typed-numbers
+        check-book typed-numbers pythons
+
+# The supported Pythons: requires-python of pyproject.toml (">=3.10,<3.14", a lower and an
+# excluded upper bound). PY_CHECK is "ok" or what $(PYTHON) is; it runs on any Python, 2.7 too.
+PY_RANGE := $(shell sed -n 's/^requires-python *= *"\(.*\)"$$/\1/p' pyproject.toml)
+PY_CHECK = $(shell $(PYTHON) -c 'import re, sys; lo, hi = [tuple(int(n) for n in b.split(".")) for b in re.findall(r"[0-9][0-9.]*", sys.argv[1])]; print("ok" if lo <= sys.version_info[:2] < hi else "Python %d.%d.%d" % sys.version_info[:3])' '$(PY_RANGE)' 2>/dev/null || echo "not a Python that runs")
+PY_OUTSIDE = PYTHON=$(PYTHON) is $(PY_CHECK); this project supports Python $(PY_RANGE) (requires-python, pyproject.toml): give PYTHON= a Python in that range
+# In a recipe: stops make, one line, when $(PYTHON) is outside the range (make expands a
+# recipe whole before it runs its first line: nothing is installed)
+check-python = $(if $(filter ok,$(PY_CHECK)),,$(error $(PY_OUTSIDE)))
+
+# PYTHON= given while $(VENV) exists, made by another Python: say so, rather than use the
+# environment that is there and test another Python than the one asked for
+ifneq ($(filter command line environment,$(origin PYTHON)),)
+ifneq ($(wildcard $(BIN)/python),)
+py_minor = $(shell $(1) -c 'import sys; print("%d.%d" % sys.version_info[:2])' 2>/dev/null)
+ifneq ($(call py_minor,$(BIN)/python),$(call py_minor,$(PYTHON)))
+$(error $(VENV) was made by Python $(call py_minor,$(BIN)/python), not by PYTHON=$(PYTHON) ($(or $(call py_minor,$(PYTHON)),not found)): add VENV=_build/venv-$(or $(call py_minor,$(PYTHON)),X.Y) for an environment beside it, or remove $(VENV))
+endif
+endif
+endif
 
 # `make book` leaves this behind when the build succeeds; browser-test rebuilds when older
 # than any source of the book.
@@ -29,6 +51,7 @@ BOOK_SOURCES := _config.yml _toc.yml $(wildcard book/*.ipynb book/*.md book/*.bi
 setup: $(WARM)
 
 $(STAMP): environment.txt pyproject.toml
+	$(if $(wildcard $(BIN)/python),,$(check-python))
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
 	$(BIN)/python -m pip install --quiet -r environment.txt
@@ -125,6 +148,13 @@ portability: $(WARM)
 	  echo "== OPENBLAS_CORETYPE=$$core"; \
 	  OPENBLAS_CORETYPE=$$core $(BIN)/python -m pytest $(XDIST) -q -p no:cacheprovider xnavlab tests || exit 1; \
 	done
+
+## make pythons: the unit tests, doctests and notebooks under every supported Python found on
+## this machine (python3.X on PATH or a pyenv version), each in its own environment
+## _build/venv-3.X (`make clean` removes them); says which versions it skipped and, per
+## version, the passed / failed / skipped counts and the wall time (tools/pythons.sh)
+pythons:
+	@sh tools/pythons.sh '$(PY_RANGE)' '$(MAKE)'
 
 clean:
 	rm -rf _build
