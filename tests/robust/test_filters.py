@@ -221,6 +221,19 @@ def test_run_filter_options_and_errors(mars_sc):
         rb.run_filter("ukf", object())
 
 
+def test_rkf_prior_bound_option(mars_sc):
+    """``rkf_bias="prior"``: B B^T <= d_max^2 N N^T; d_max = 0 is the eps-inflated UKF gain, and a
+    bias_max missing, negative or of the wrong length is refused naming it."""
+    r = rb.run_filter("rkf", mars_sc, rkf_bias="prior", bias_max=0.0, rng=1)
+    o = rb.run_filter("rkf", mars_sc, rkf_bias="oracle", oracle_error=[0.0, 0.0, 0.0], rng=1)
+    np.testing.assert_allclose(r.x, o.x, rtol=0, atol=1e-6)
+    big = rb.run_filter("rkf", mars_sc, rkf_bias="prior", bias_max=np.full(60, 5e4), rng=1)
+    assert np.trace(big.P[-1, :3, :3]) > np.trace(r.P[-1, :3, :3])
+    for bad in (None, -1.0, np.ones(59)):
+        with pytest.raises(ValueError, match="bias_max"):
+            rb.run_filter("rkf", mars_sc, rkf_bias="prior", bias_max=bad)
+
+
 def test_rmse_and_improvement(mars_sc):
     run = rb.run_filter("ukf", mars_sc, rng=1)
     tau = mars_sc.t - mars_sc.t[0] + mars_sc.dt

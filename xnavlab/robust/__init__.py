@@ -6,6 +6,8 @@ module                   what it models
 ``ephemeris_error``      the DE421 - DE405 ephemeris error, orbits about Earth or Mars, the
                          XNAV measurements that see the error (chapter 10)
 ``filters``              UKF, ASUKF, TDUKF and the robust Kalman filter (RKF)
+``coverage``             whether the RKF's ``Sigma`` bounds its error: coverage of the
+                         3-sigma ellipse, NEES, over seeds; the prior bound on ``B B^T``
 ``plots``                the figure behind chapter 10's slider
 =======================  =================================================================
 

@@ -49,6 +49,8 @@ RKF (the paper's method, eqs. (8)-(26) lost; re-derived)
     (teaching only: a filter that knew it would subtract it). ``H Sigma- H^T`` and
     ``Sigma- H^T`` come from the unscented transform (paper: the UKF replaces eqs. (8)
     and (13)); for this linear measurement they equal the closed forms (:func:`rkf_update`).
+    That is a lower bound, so ``Sigma`` is no bound: :mod:`xnavlab.robust.coverage` measures
+    it and adds ``rkf_bias="prior"``, ``B B^T <= d_max^2 N N^T`` from ``|dr_E| <= d_max``.
 
 Units: m, m/s, s. Frames: planet-centred J2000 for ``r, v``; measurement space for ``b``.
 
@@ -682,12 +684,12 @@ def _rkf_update(x, P, y, R, H, BB, eps):
 
 
 #: Where the RKF's bound on ``B B^T`` comes from (:func:`run_filter`).
-RKF_BIAS = ("residual", "oracle")
+RKF_BIAS = ("residual", "oracle", "prior")
 
 
 def run_filter(name, scenario, eps=None, sigma_r0=1000.0, sigma_v0=1.0, q_r=0.0, q_v=1e-4,
                q_b=1.0, sigma_b0=3000.0, rkf_bias="residual", oracle_error=None, lam=0.02,
-               td_carry_noise=False, rng=None):
+               td_carry_noise=False, rng=None, bias_max=None):
     """Run one filter over a scenario from a random initial error.
 
     Parameters
@@ -705,14 +707,15 @@ def run_filter(name, scenario, eps=None, sigma_r0=1000.0, sigma_v0=1.0, q_r=0.0,
         ASUKF bias random-walk step, m per step (1 sigma).
     sigma_b0 : float
         ASUKF initial bias uncertainty, m.
-    rkf_bias : {"residual", "oracle"}
+    rkf_bias : {"residual", "oracle", "prior"}
         Where the RKF's bound on ``B B^T`` comes from. ``"residual"`` (default, the
         paper's, re-derived): the lower bound of :func:`rkf_bias_bound` from the running
         mean of the innovations up to the previous epoch (each epoch's innovation updates
         the mean after its update; the bound then sets the next gain). ``"oracle"``
         (teaching only): ``B = N dr`` with ``dr`` the true ephemeris error of the epoch
         (or ``oracle_error``); a filter that knew ``dr`` should subtract it, so this only
-        shows what a perfect bound would give.
+        shows what a perfect bound would give. ``"prior"``: an upper bound that holds
+        whenever ``|dr_E| <= bias_max``, ``B B^T <= bias_max^2 N N^T``.
     oracle_error : array_like, shape (3,) or (n, 3), optional
         ``dr`` for ``rkf_bias="oracle"``, m (default: the scenario's true error).
     lam : float
@@ -723,6 +726,8 @@ def run_filter(name, scenario, eps=None, sigma_r0=1000.0, sigma_v0=1.0, q_r=0.0,
         paper's competitor); True carries the previous noise exactly (:func:`tdukf_update`).
     rng : numpy.random.Generator or int, optional
         Draws the initial error.
+    bias_max : float or array_like, shape (n,), optional
+        ``rkf_bias="prior"``: bound on the ephemeris error ``|dr_E|`` (each epoch), m.
 
     Returns
     -------
@@ -754,6 +759,11 @@ def run_filter(name, scenario, eps=None, sigma_r0=1000.0, sigma_v0=1.0, q_r=0.0,
     if oracle_error.shape not in ((3,), (N, 3)):
         raise ValueError(f"oracle_error must have shape (3,) or ({N}, 3), got {oracle_error.shape}")
     oracle_error = np.broadcast_to(oracle_error, (N, 3))
+    if rkf_bias == "prior":
+        bias_max = check_finite_array("bias_max", bias_max)
+        if bias_max.shape not in ((), (N,)) or np.any(bias_max < 0):
+            raise ValueError(f"bias_max must be >= 0 m, a scalar or one per epoch ({N},)")
+        bias_max = np.broadcast_to(bias_max, (N,))
     rng = make_rng(rng)
     body, dt, n, R = sc.body, sc.dt, sc.n, sc.R
     k = n.shape[0]
@@ -804,6 +814,8 @@ def run_filter(name, scenario, eps=None, sigma_r0=1000.0, sigma_v0=1.0, q_r=0.0,
             if rkf_bias == "oracle":
                 b = n @ oracle_error[i]  # B = N dr_E (paper eq. (17)), the true bias
                 BB = np.outer(b, b)
+            elif rkf_bias == "prior":  # B B^T = N dr dr^T N^T <= |dr|^2 N N^T <= d_max^2 N N^T
+                BB = bias_max[i] ** 2 * (n @ n.T)
             S = symmetrize(H @ P @ H.T) + R  # innovation covariance without the bias
             extra["bias_bound"][i] = float(np.sqrt(np.trace(BB)))
             x, P, nu = _rkf_update(x, P, sc.y[i], R, H, BB, eps)
