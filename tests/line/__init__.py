@@ -1,0 +1,1 @@
+"""Tests of xnavlab.line, one test module per module of the package."""

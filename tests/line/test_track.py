@@ -1,0 +1,93 @@
+"""The constant-velocity filter fed by folded TOAs (xnavlab.line.track)."""
+
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy.integrate import quad_vec
+
+from xnavlab.line import track
+
+
+@pytest.mark.parametrize("dim", [1, 2])
+def test_cv_model_q_is_the_integrated_white_acceleration(dim):
+    dt, a = 7.0, 0.02
+    F, Q = track.cv_model(dt, a, dim)
+    G = np.vstack([np.zeros((dim, dim)), np.eye(dim)])
+
+    def integrand(s):
+        Phi = track.cv_model(s, 0.0, dim)[0] if s > 0 else np.eye(2 * dim)
+        return Phi @ G @ G.T @ Phi.T * a**2
+
+    assert np.allclose(Q, quad_vec(integrand, 0.0, dt)[0], rtol=1e-10, atol=0)
+    assert np.allclose(F[:dim, dim:], dt * np.eye(dim))
+
+
+def test_cv_model_rejects_a_bad_step():
+    with pytest.raises(ValueError, match="dt"):
+        track.cv_model(0.0)
+    with pytest.raises(ValueError, match="dim"):
+        track.cv_model(1.0, dim=4)
+
+
+def test_simulate_without_noise_moves_at_constant_velocity():
+    truth = track.simulate(np.array([1.0, 2.0, 3.0, -4.0]), 5.0, 10)
+    assert truth.shape == (11, 4)
+    assert np.allclose(truth[-1], [1.0 + 150.0, 2.0 - 200.0, 3.0, -4.0])
+
+
+def test_simulate_with_noise_has_the_model_spread_of_velocity():
+    truth = np.array([track.simulate(np.zeros(2), 10.0, 100, 0.01, rng=s)[-1] for s in range(300)])
+    assert np.std(truth[:, 1]) == pytest.approx(0.01 * math.sqrt(1000.0), rel=0.15)
+
+
+def test_the_filter_is_consistent():
+    """NEES and NIS averaged over runs stay near their dimensions (2 and 1)."""
+    nees, nis = [], []
+    for seed in range(12):
+        truth = track.simulate(np.array([2.0e11, 2.0e4]), 20.0, 60, rng=seed)
+        run = track.track(truth, 20.0, truth[0] + [300.0, 1.0], np.diag([1e6, 4.0]), rng=seed + 50)
+        e = run.x[-1] - truth[-1]
+        nees.append(e @ np.linalg.solve(run.P[-1], e))
+        nis.extend(run.nis)
+    assert 1.0 < np.mean(nees) < 3.5
+    assert 0.8 < np.mean(nis) < 1.2
+    assert run.z.shape == (60, 1) and run.P.shape == (61, 2, 2)
+
+
+def test_one_pulsar_leaves_the_other_axis_unobserved_two_bound_it():
+    truth = track.simulate(np.array([2.0e11, 0.0, 2.0e4, 0.0]), 20.0, 40)
+    P0 = np.diag([1e8, 1e8, 1.0, 1.0])
+    pair = ("B0531+21", "B1937+21")
+    n2 = np.array([[1.0, 0.0], [math.cos(2.2), math.sin(2.2)]])
+    one = track.track(truth, 20.0, truth[0], P0, pair[:1], n2[:1], rng=1)
+    two = track.track(truth, 20.0, truth[0], P0, pair, n2, rng=1)
+    assert one.P[-1, 1, 1] > one.P[0, 1, 1]  # across the line of sight: grows
+    assert two.P[-1, 1, 1] < 1e-2 * two.P[0, 1, 1]
+    assert one.P[-1, 0, 0] < 1e-3 * one.P[0, 0, 0]
+
+
+def test_track_rejects_mismatched_shapes():
+    with pytest.raises(ValueError, match="directions"):
+        track.track(np.zeros((3, 2)), 10.0, np.zeros(2), np.eye(2), ("B0531+21", "B1937+21"))
+    with pytest.raises(ValueError, match="P0"):
+        track.track(np.zeros((3, 2)), 10.0, np.zeros(2), -np.eye(2))
+
+
+@settings(max_examples=30, deadline=None)
+@given(theta=st.floats(0.05, math.pi - 0.05), sigma=st.floats(1.0, 1e4))
+def test_snapshot_axes_of_two_equal_pulsars(theta, sigma):
+    """Semi-axes sigma / sqrt(1 -+ cos theta) for two pulsars theta apart."""
+    P = track.snapshot_covariance([[1.0, 0.0], [math.cos(theta), math.sin(theta)]], [sigma] * 2)
+    axes = np.sqrt(np.linalg.eigvalsh(P))
+    expect = sorted(sigma / math.sqrt(1.0 + s * abs(math.cos(theta))) for s in (1, -1))
+    assert np.allclose(axes, expect, rtol=1e-9)
+
+
+def test_plot_tracking_labels_its_axes_and_states_the_final_sigma():
+    fig = track.plot_tracking(exposure_s=100.0, span_s=1000.0)
+    ax1, ax2 = fig.axes
+    assert ax1.get_ylabel() == "position error (m)" and ax2.get_xlabel() == "time (s)"
+    assert "10 TOAs" in fig.get_suptitle()

@@ -1,0 +1,176 @@
+"""A constant-velocity Kalman filter fed by folded pulsar TOAs, on a line or in a plane.
+
+The state is ``[r, v]`` with ``r`` (d,) the position relative to the SSB (d = 1 on the line
+to one pulsar, d = 2 in the plane of two) and ``v`` its velocity; an unknown acceleration,
+white with spectral density ``accel_sigma**2``, drives it. Each epoch every pulsar gives one
+range ``n_i . r`` (:func:`xnavlab.line.measure.fold_range`); the steps are the core's
+(:func:`xnavlab.core.filters.ekf_predict`, :func:`~xnavlab.core.filters.ekf_update`), which
+for this linear model are the Kalman filter itself.
+
+Units: m, s. Arrays: ``truth`` (n + 1, 2 d), directions (m, d) unit vectors.
+
+Examples
+--------
+>>> truth = simulate(np.array([2.0e11, 2.0e4]), dt=10.0, n=50)
+>>> run = track(truth, 10.0, x0=truth[0] + [300.0, 1.0], P0=np.diag([1e6, 4.0]))
+>>> bool(abs(run.x[-1, 0] - truth[-1, 0]) < 3 * np.sqrt(run.P[-1, 0, 0]))
+True
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from xnavlab.core.constants import AU
+from xnavlab.core.filters import ekf_predict, ekf_update
+from xnavlab.core.validate import check_covariance, check_finite_array, check_int, check_real, make_rng
+from xnavlab.line.measure import fold_range, range_sigma
+
+__all__ = ["cv_model", "simulate", "Track", "track", "snapshot_covariance", "plot_tracking"]
+
+
+def cv_model(dt, accel_sigma=0.0, dim=1):
+    """Transition ``F`` and process noise ``Q`` of a constant-velocity model, (2 dim, 2 dim).
+
+    ``F = [[I, dt I], [0, I]]``, ``Q = q [[dt^3/3 I, dt^2/2 I], [dt^2/2 I, dt I]]`` with
+    ``q = accel_sigma**2`` (m^2/s^3): white acceleration integrated over the step.
+
+    Examples
+    --------
+    >>> F, Q = cv_model(10.0, 1e-3)
+    >>> F.tolist(), round(float(Q[1, 1]), 9)
+    ([[1.0, 10.0], [0.0, 1.0]], 1e-05)
+    """
+    dt = check_real("dt", dt, 0.0, 1e7, lo_open=True)
+    q = check_real("accel_sigma", accel_sigma, 0.0, 1.0) ** 2
+    eye = np.eye(check_int("dim", dim, 1, 3))
+    F = np.block([[eye, dt * eye], [0 * eye, eye]])
+    Q = q * np.block([[dt**3 / 3 * eye, dt**2 / 2 * eye], [dt**2 / 2 * eye, dt * eye]])
+    return F, Q
+
+
+def simulate(state0, dt, n, accel_sigma=0.0, rng=None):
+    """True states ``x_k = F x_{k-1} + w_k``, ``w_k ~ N(0, Q)``, shape (n + 1, 2 d).
+
+    Examples
+    --------
+    >>> simulate(np.array([0.0, 5.0]), 2.0, 3)[:, 0].tolist()
+    [0.0, 10.0, 20.0, 30.0]
+    """
+    state0 = check_finite_array("state0", state0)
+    F, Q = cv_model(dt, accel_sigma, state0.size // 2)
+    w = make_rng(rng).multivariate_normal(np.zeros(state0.size), Q, check_int("n", n, 1, 10**6))
+    out = [state0]
+    for wk in w:
+        out.append(F @ out[-1] + wk)  # x_k = F x_{k-1} + w_k
+    return np.array(out)
+
+
+class Track(NamedTuple):
+    """A filter run: estimates ``x`` (n + 1, 2 d), covariances ``P`` (n + 1, 2 d, 2 d), ranges
+    ``z`` (n, m), m, and the normalised innovations squared ``nis`` (n,)."""
+
+    x: np.ndarray
+    P: np.ndarray
+    z: np.ndarray
+    nis: np.ndarray
+
+
+def track(truth, exposure, x0, P0, pulsar_names=("B0531+21",), directions=((1.0,),),
+          accel_sigma=0.0, rng=None, area_m2=1.0):
+    """Run the constant-velocity Kalman filter on ranges from folded photons.
+
+    Parameters
+    ----------
+    truth : array_like, shape (n + 1, 2 d)
+        True states at ``t_k = k exposure`` (:func:`simulate`).
+    exposure : float
+        Window of each TOA and step of the filter, s.
+    x0, P0 : array_like, shapes (2 d,), (2 d, 2 d)
+        The filter's initial estimate and covariance.
+    pulsar_names : sequence of str
+        One pulsar per line of sight (default the Crab alone).
+    directions : array_like, shape (m, d)
+        Unit vectors to the pulsars in the line (d = 1) or the plane (d = 2).
+    accel_sigma : float
+        The filter's (and truth's) white acceleration, m/s^1.5.
+    rng, area_m2
+        As :func:`~xnavlab.line.measure.fold_range`.
+
+    Returns
+    -------
+    Track
+    """
+    truth = check_finite_array("truth", truth)
+    N = check_finite_array("directions", directions)
+    d = N.shape[1]
+    if truth.ndim != 2 or truth.shape[1] != 2 * d or N.shape[0] != len(pulsar_names):
+        raise ValueError(f"truth must be (n + 1, {2 * d}) and directions one row a pulsar, "
+                         f"got {truth.shape} and {N.shape} for {len(pulsar_names)} pulsars")
+    rng = make_rng(rng)
+    F, Q = cv_model(exposure, accel_sigma, d)
+    H = np.hstack([N, np.zeros_like(N)])  # z_i = n_i . r
+    R = np.diag([range_sigma(p, exposure, area_m2) ** 2 for p in pulsar_names])
+    x = check_finite_array("x0", x0, (2 * d,))
+    P = check_covariance("P0", P0, 2 * d)
+    xs, Ps, zs, nis = [x], [P], [], []
+    for k in range(1, len(truth)):
+        x, P = ekf_predict(x, P, F @ x, F, Q, check=k == 1)  # x- = F x, P- = F P F^T + Q
+        z = np.array([fold_range(n @ truth[k, :d], n @ x[:d], p, exposure, rng, area_m2)
+                      for p, n in zip(pulsar_names, N, strict=True)])
+        x, P, _, _, s = ekf_update(x, P, z, lambda s: H @ s, H, R, check=k == 1)  # K = P- H^T S^-1
+        xs.append(x)
+        Ps.append(P)
+        zs.append(z)
+        nis.append(s)
+    return Track(np.array(xs), np.array(Ps), np.array(zs), np.array(nis))
+
+
+def snapshot_covariance(directions, sigmas):
+    """Position covariance from one range per pulsar, ``(H^T R^-1 H)^-1``, shape (d, d), m^2.
+
+    Examples
+    --------
+    >>> snapshot_covariance([[1.0, 0.0], [0.0, 1.0]], [3.0, 4.0]).tolist()
+    [[9.0, 0.0], [0.0, 16.0]]
+    """
+    H = check_finite_array("directions", directions)
+    w = 1.0 / check_finite_array("sigmas", sigmas) ** 2
+    return np.linalg.inv(H.T @ (w[:, None] * H))  # (H^T R^-1 H)^-1
+
+
+def plot_tracking(exposure_s=10.0, accel_sigma=0.0, span_s=2000.0, dv=1.0, seed=0):
+    """Chapter 0's slider: the Crab alone, a 1-D filter's errors over ``span_s``, Figure.
+
+    The spacecraft starts 1.5 au from the SSB at 20 km/s towards the Crab; the filter starts
+    300 m and ``dv`` m/s off (sigmas 1 km, 2 m/s). Top: each TOA's range error and the
+    filter's position error with its 1-sigma band; bottom: the velocity error.
+
+    Examples
+    --------
+    >>> fig = plot_tracking(exposure_s=50.0)
+    >>> [ax.get_ylabel() for ax in fig.axes]
+    ['position error (m)', 'velocity error (m/s)']
+    """
+    from matplotlib.figure import Figure
+
+    n = max(1, round(check_real("span_s", span_s, 1.0, 1e5) / exposure_s))
+    truth = simulate(np.array([1.5 * AU, 2.0e4]), exposure_s, n, accel_sigma, seed)
+    run = track(truth, exposure_s, truth[0] + [300.0, dv], np.diag([1e6, 4.0]),
+                accel_sigma=accel_sigma, rng=seed + 1)
+    t, err, sd = exposure_s * np.arange(n + 1), run.x - truth, np.sqrt(run.P[:, [0, 1], [0, 1]])
+    fig = Figure(figsize=(7, 4.2), layout="constrained")
+    ax1, ax2 = fig.subplots(2, 1, sharex=True)
+    ax1.plot(t[1:], run.z[:, 0] - truth[1:, 0], ".", color="0.6", ms=3, label="one TOA's range")
+    for ax, i in ((ax1, 0), (ax2, 1)):
+        ax.fill_between(t, -sd[:, i], sd[:, i], color="C0", alpha=0.2, label="filter's 1 sigma")
+        ax.plot(t, err[:, i], color="C0", label="filter")
+    top = 4 * sd[n // 10:, 0].max()
+    ax1.set(ylabel="position error (m)", ylim=(-top, top))
+    ax2.set(xlabel="time (s)", ylabel="velocity error (m/s)")
+    ax1.legend(fontsize=8, loc="lower left", bbox_to_anchor=(0.0, 1.0), ncols=3, frameon=False)
+    fig.suptitle(f"exposure {exposure_s:g} s: {n} TOAs, final 1 sigma {sd[-1, 0]:.0f} m", x=0.99,
+                 ha="right", fontsize=10)
+    return fig
