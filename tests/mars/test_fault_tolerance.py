@@ -119,7 +119,7 @@ def test_summary_lists_faults_and_detections(runs):
 def test_fault_inside_the_training_span_is_refused(inputs):
     with pytest.raises(ValueError, match="starts at 100 s, inside the .* wavelet detector trains"):
         ft.run_fault_tolerant(faults=[Fault("uv", "step", 1e4, 100.0, 100.0)], inputs=inputs,
-                              train_days=TRAIN)
+                              detector="wavelet", train_days=TRAIN)
 
 
 @pytest.mark.parametrize("kw,name", [(dict(detector="kalman"), "detector"),

@@ -276,7 +276,9 @@ def test_from_par_ecliptic_b1855():
 
     path = pint_bridge.examples_path("B1855+09_NANOGrav_9yv1.gls.par")
     par = _par_values(path)
-    p = pulsars.from_par(path)
+    with pytest.raises(ValueError, match="has no flux_ph_cm2_s, pulsed_fraction, width_s: "):
+        pulsars.from_par(path)  # not in the X-ray table: refused, never a placeholder
+    p = pulsars.from_par(path, flux_ph_cm2_s=1e-5, pulsed_fraction=0.5, duty_cycle=0.1)
     # LAMBDA/BETA turned to ICRS by hand: a rotation about x by the model's obliquity (ECL)
     eps = OBL[par["ECL"]].to_value("rad")
     ecl = _unit(math.radians(float(par["LAMBDA"])), math.radians(float(par["BETA"])))
@@ -286,11 +288,11 @@ def test_from_par_ecliptic_b1855():
     assert p.frequency == pytest.approx(float(par["F0"]), rel=1e-14)
     assert p.fdot == pytest.approx(float(par["F1"].replace("D", "e")), rel=1e-12)
     assert p.distance == pytest.approx(KPC / float(par["PX"]), rel=1e-12)
-    assert "default" in p.sources["flux"]
+    assert "argument" in p.sources["flux"]
     # usable as any catalogued pulsar
     n, d = pulsars.directions([p, "B0531+21"])
     assert n.shape == (2, 3) and d[0] == p.distance
     with pytest.raises(ValueError, match="pulsed_fraction"):
-        pulsars.from_par(path, pulsed_fraction=0.0)
+        pulsars.from_par(path, flux_ph_cm2_s=1e-5, pulsed_fraction=0.0, duty_cycle=0.1)
     with pytest.raises(ValueError, match="path"):
         pulsars.from_par(path.with_suffix(".nope"))

@@ -2,10 +2,12 @@
 
 Usage::
 
-    python -m xnavlab scenario --dump [--out FILE]   # the defaults, every key with its unit
-    python -m xnavlab scenario --check FILE          # read it; print the settings it gives
+    python -m xnavlab scenario --dump [--setup study] [--out FILE]   # every key with its unit
+    python -m xnavlab scenario --check FILE   # read it; print the settings it gives, with units
 
 A written file read back gives the same settings (:mod:`xnavlab.mars.scenario_files`).
+``--setup paper`` (the default) writes the paper's set-up (truth and filter share the
+paper's force model), ``--setup study`` the studies' (:meth:`xnavlab.mars.scenarios.MarsScenario.study`).
 Exit codes: 0 done; 2 a bad file or command line (one line on stderr).
 """
 
@@ -29,6 +31,9 @@ def configure(parser):
                       help="write the default scenario file (stdout, or --out)")
     what.add_argument("--check", metavar="FILE", help="read FILE and print the settings it gives")
     parser.add_argument("--out", metavar="FILE", help="with --dump: write here instead of stdout")
+    parser.add_argument("--setup", default=None,
+                        help="with --dump: paper (default: truth and filter share the paper's "
+                             "force model) or study (a rich truth, the paper's filter)")
 
 
 def execute(args):
@@ -36,20 +41,32 @@ def execute(args):
     from xnavlab.mars import scenario_files
 
     if args.dump:
-        text = scenario_files.dump()
-        if args.out:
-            out = Path(args.out)
+        from xnavlab.core.validate import check_choice
+        from xnavlab.mars import scenarios
+
+        setup = check_choice("setup", args.setup or "paper", scenario_files.SETUPS)
+        out = Path(args.out) if args.out else None
+        if out is not None:
             if out.is_dir():
                 raise ValueError(f"out must be a file name, but {str(out)!r} is a directory")
-            out.write_text(text, encoding="utf-8")
+            if not out.parent.is_dir():
+                raise ValueError(f"out: the folder {str(out.parent)!r} does not exist")
+        sc = scenarios.MarsScenario.study() if setup == "study" else scenarios.MarsScenario()
+        text = scenario_files.dump(sc)
+        if out is not None:
+            try:
+                out.write_text(text, encoding="utf-8")
+            except OSError as exc:
+                raise ValueError(f"out {str(out)!r} cannot be written ({exc.strerror})") from None
         else:
             print(text, end="")
         return 0
     if args.check:
-        if args.out:
-            raise UsageError("--out goes with --dump")
+        if args.out or args.setup:
+            raise UsageError(f"{'--out' if args.out else '--setup'} goes with --dump")
         sf = scenario_files.load(args.check)
-        fields = {k: v for k, v in vars(sf.scenario).items()}
-        print(json.dumps({"scenario": fields, "run": sf.run, "detector": sf.detector}, indent=1))
+        units = {k: scenario_files.UNITS.get(k, "-") for k in scenario_files.scenario_json(sf.scenario)}
+        print(json.dumps({"scenario": scenario_files.scenario_json(sf.scenario), "units": units,
+                          "run": sf.run, "detector": sf.detector}, indent=1))
         return 0
     raise UsageError("scenario needs --dump or --check FILE")

@@ -29,6 +29,8 @@ module                 what it models
 ``watch``              the combined detector's state in the compiled loop, its alarms
 ``innovations``        XNAV innovations against the master, the XNAV innovation wavelet
 ``plots``              the figures behind the sliders of chapters 5, 6 and 8
+``schematics``         drawings of the XNAV geometry, the UV and starlight angles, the
+                       federated filter and the isolate/rejoin rule (chapters 2, 4, 6, 8)
 ``trials``             Monte Carlo trials of the detectors on the Mars run (chapter 9)
 ``roc``                a detector's threshold swept over a fault grid: Pd against false
                        alarms per day (``campaign roc``, chapter 9)

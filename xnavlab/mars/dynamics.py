@@ -92,6 +92,10 @@ class ThirdBodyTable:
     ephem : {"de421", "de405"}
     step : float
         Knot spacing, s (default one hour).
+    gm : sequence of float, optional
+        GM of each body, m^3/s^2; then ``bodies`` may be any of
+        :data:`xnavlab.core.ephemeris.BODIES` (:mod:`xnavlab.mars.force_models` tabulates the
+        planets so). Default: :data:`GM_BODIES`.
 
     Examples
     --------
@@ -106,12 +110,21 @@ class ThirdBodyTable:
     center: str = "mars"
     ephem: str = "de421"
     step: float = 3600.0
+    gm: tuple | None = None
 
     def __post_init__(self):
         self.t_start = check_real("t_start", self.t_start)
         self.t_end = check_real("t_end", self.t_end, self.t_start)
         self.step = check_real("step", self.step, 1.0, 86400.0)
-        self.bodies = tuple(check_choice("third body", b, tuple(GM_BODIES)) for b in self.bodies)
+        known = tuple(GM_BODIES) if self.gm is None else tuple(
+            b for b in ephemeris.BODIES if b != self.center)
+        self.bodies = tuple(check_choice("third body", b, known) for b in self.bodies)
+        if self.gm is None:
+            gm = [GM_BODIES[b] for b in self.bodies]
+        else:
+            gm = check_finite_array("gm", self.gm).reshape(-1)
+            if gm.shape != (len(self.bodies),) or np.any(gm < 0):
+                raise ValueError(f"gm must hold {len(self.bodies)} values >= 0, m^3/s^2, one a body")
         n = max(2, int(math.ceil((self.t_end - self.t_start) / self.step)) + 2)
         self.knots = self.t_start + self.step * np.arange(n)
         rc, vc = ephemeris.state(self.center, self.knots, self.ephem)
@@ -123,7 +136,7 @@ class ThirdBodyTable:
         #: shape (n_knots, n_bodies, 3)
         self.pos = np.stack(pos, axis=1) if pos else np.zeros((n, 0, 3))
         self.vel = np.stack(vel, axis=1) if vel else np.zeros((n, 0, 3))
-        self.gm = np.array([GM_BODIES[b] for b in self.bodies])
+        self.gm = np.array(gm, dtype=float)
 
     def positions(self, t):
         """Positions of the third bodies relative to the centre at scalar ``t``, shape (k, 3), m."""

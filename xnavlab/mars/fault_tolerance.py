@@ -290,7 +290,7 @@ def _nis_dof(sc):
     return {"xnav": len(sc.pulsars), "uv": _NIS_DOF_UV, "cns": len(sc.stars) if sc.stars else 3}
 
 
-def run_fault_tolerant(scenario=None, faults=(), detector="wavelet", *, inputs=None,
+def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=None,
                        pfa=1e-5, alpha=1e-5, train_days=None, readmit_samples=None,
                        readmit_alpha=0.01, readmit="quiet", xnav_level=3, xnav_holdoff=12, check_every=100,
                        rng=None, rate_per_day=1.0, adaptive=True, arm_s=EARLIEST_ONSET_S, **overrides):
@@ -303,6 +303,7 @@ def run_fault_tolerant(scenario=None, faults=(), detector="wavelet", *, inputs=N
     faults : sequence of Fault or str
         The schedule (times s since the start) or a spec for :func:`~xnavlab.mars.schedules.parse_faults`.
     detector : {"none", "wavelet", "chi2", "combined"}
+        Default ``"combined"``, the book's detector (chapter 9), as ``run mars --faults``.
     inputs : Inputs, optional
         Fault-free inputs from :func:`xnavlab.mars.scenarios.prepare` to reuse.
     pfa : float

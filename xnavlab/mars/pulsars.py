@@ -18,13 +18,16 @@ Examples
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
 from xnavlab.core.constants import KPC, C
 from xnavlab.core.validate import check_finite_array, check_int, check_real, make_rng
+from xnavlab.mars import xray_pulsars
 
 __all__ = [
     "Pulsar",
@@ -169,10 +172,15 @@ def names():
 def get(name):
     """Return the :class:`Pulsar` called ``name`` (a Pulsar passes through).
 
+    ``name`` is a catalogue name or the path of a timing model (a ``.par`` file, read by
+    :func:`from_par` with its X-ray properties from :mod:`xnavlab.mars.xray_pulsars`; read
+    once per file and version).
+
     Raises
     ------
     ValueError
-        For an unknown name, listing the known ones.
+        For an unknown name, listing the known ones, or a ``.par`` that :func:`from_par`
+        refuses.
 
     Examples
     --------
@@ -181,22 +189,40 @@ def get(name):
     """
     if isinstance(name, Pulsar):
         return name
+    if isinstance(name, str) and name.strip().lower().endswith(".par"):
+        path = Path(name).expanduser()
+        try:
+            stamp = path.stat().st_mtime_ns
+        except OSError:
+            raise ValueError(f"pulsar {name!r}: no such timing model (.par) file") from None
+        return _par_pulsar(str(path.resolve()), stamp)
     if name not in CATALOGUE:
-        raise ValueError(f"unknown pulsar {name!r}; known pulsars: {', '.join(CATALOGUE)}")
+        hint = (f" ({name} is in the X-ray table but needs its timing model: give the path of "
+                f"its .par file)" if isinstance(name, str) and xray_pulsars.lookup(name) else "")
+        raise ValueError(f"unknown pulsar {name!r}{hint}; known pulsars: {', '.join(CATALOGUE)}, "
+                         f"or the path of a timing model (.par)")
     return CATALOGUE[name]
 
 
-_FROM_PAR = "default of pulsars.from_par (not in a timing model)"
+@functools.lru_cache(maxsize=64)
+def _par_pulsar(path, stamp):
+    """:func:`from_par` of a file, kept per path and modification time."""
+    return from_par(path)
 
 
-def from_par(path, distance=None, flux_ph_cm2_s=1.0e-5, pulsed_fraction=0.5, duty_cycle=0.1):
+_FROM_PAR = "argument of pulsars.from_par"
+
+
+def from_par(path, distance=None, flux_ph_cm2_s=None, pulsed_fraction=None, duty_cycle=None,
+             width_s=None):
     """A :class:`Pulsar` from a radio timing model (a ``.par`` file), read by PINT.
 
     So that any catalogued pulsar can be navigated with: the direction (ICRS at the
     model's position epoch, :func:`xnavlab.mars.pint_bridge.timing_parameters`), the
     distance ``1 / PX`` and the spin ``F0``, ``F1`` come from the model. The X-ray
-    fields, which no timing model holds, are arguments; their defaults (a faint
-    millisecond pulsar) are placeholders, marked as such in :attr:`Pulsar.sources`.
+    fields, which no timing model holds, are arguments or, left out, the X-ray table's
+    (:mod:`xnavlab.mars.xray_pulsars`, by the model's pulsar name); a field in neither is
+    refused, never filled in. :attr:`Pulsar.sources` says where each value came from.
     PINT is imported here only (offline, :func:`xnavlab.mars.pint_bridge.offline`).
 
     Parameters
@@ -206,12 +232,15 @@ def from_par(path, distance=None, flux_ph_cm2_s=1.0e-5, pulsed_fraction=0.5, dut
     distance : float, optional
         Distance, m; by default ``1 / PX`` (kpc per mas). A model without a positive
         ``PX`` needs it.
-    flux_ph_cm2_s : float
-        X-ray photon flux (2-10 keV), ph/cm^2/s.
-    pulsed_fraction : float
+    flux_ph_cm2_s : float, optional
+        X-ray photon flux (2-10 keV), ph/cm^2/s, in (0, 1000].
+    pulsed_fraction : float, optional
         Pulsed fraction, in (0, 1].
-    duty_cycle : float
+    duty_cycle : float, optional
         Pulse width (FWHM) over period, in (0, 0.5].
+    width_s : float, optional
+        Pulse width (FWHM), s (instead of ``duty_cycle``); ``duty_cycle`` and ``width_s``
+        default to the table's width.
 
     Returns
     -------
@@ -220,21 +249,43 @@ def from_par(path, distance=None, flux_ph_cm2_s=1.0e-5, pulsed_fraction=0.5, dut
     Raises
     ------
     ValueError
-        Without ``distance`` when the model has no positive parallax, or for a bad argument.
+        Without ``distance`` when the model has no positive parallax; for an X-ray field
+        neither given nor in the table (one line naming each one missing); or for a bad
+        argument.
 
     Examples
     --------
     >>> from xnavlab.mars import pint_bridge
-    >>> p = from_par(pint_bridge.examples_path("B1855+09_NANOGrav_9yv1.gls.par"))
+    >>> p = from_par(pint_bridge.examples_path("B1855+09_NANOGrav_9yv1.gls.par"),
+    ...              flux_ph_cm2_s=1e-5, pulsed_fraction=0.5, duty_cycle=0.1)
     >>> p.name, round(p.distance / KPC, 3), round(p.frequency, 6)
     ('B1855+09', 3.414, 186.494081)
     """
     from xnavlab.mars import pint_bridge
 
-    flux = check_real("flux_ph_cm2_s", flux_ph_cm2_s, 0.0, 1e3, lo_open=True)
-    pf = check_real("pulsed_fraction", pulsed_fraction, 0.0, 1.0, lo_open=True)
-    duty = check_real("duty_cycle", duty_cycle, 0.0, 0.5, lo_open=True)
+    if duty_cycle is not None and width_s is not None:
+        raise ValueError("give duty_cycle or width_s, not both (the same pulse width)")
     par = pint_bridge.timing_parameters(path)
+    period = 1.0 / par["f0"]
+    row = xray_pulsars.lookup(par["name"])
+    given = {"flux_ph_cm2_s": flux_ph_cm2_s, "pulsed_fraction": pulsed_fraction,
+             "width_s": width_s if duty_cycle is None else duty_cycle * period}
+    missing = [k for k, v in given.items() if v is None and row is None]
+    if missing:
+        raise ValueError(f"pulsar {par['name']} (timing model {Path(path).name}) has no "
+                         f"{', '.join(missing)}: a timing model holds none and the X-ray table "
+                         f"({xray_pulsars.SOURCE}) has no row for it; give them (arguments "
+                         f"of from_par; in a scenario file the keys of a pulsar table "
+                         f"{{par = ..., {' = ..., '.join(missing)} = ...}})")
+    src = {k: _FROM_PAR if v is not None else row["source"] for k, v in given.items()}
+    vals = {k: row[k] if v is None else v for k, v in given.items()}
+    flux = check_real("flux_ph_cm2_s", vals["flux_ph_cm2_s"], 0.0, 1e3, lo_open=True)
+    pf = check_real("pulsed_fraction", vals["pulsed_fraction"], 0.0, 1.0, lo_open=True)
+    if duty_cycle is not None:
+        duty = check_real("duty_cycle", duty_cycle, 0.0, 0.5, lo_open=True)
+    else:
+        width = check_real("width_s", vals["width_s"], 0.0, 0.5 * period, lo_open=True)
+        duty = width / period
     sources = dict.fromkeys(("ra_deg", "dec_deg", "period", "fdot"), f"timing model {par['name']}")
     if distance is None:
         if par["px_mas"] is None:
@@ -245,8 +296,8 @@ def from_par(path, distance=None, flux_ph_cm2_s=1.0e-5, pulsed_fraction=0.5, dut
     else:
         distance = check_real("distance", distance, 0.0, lo_open=True)
         sources["distance"] = "argument of pulsars.from_par"
-    sources.update(dict.fromkeys(("flux", "pulsed_fraction", "width"), _FROM_PAR))
-    period = 1.0 / par["f0"]
+    sources.update({"flux": src["flux_ph_cm2_s"], "pulsed_fraction": src["pulsed_fraction"],
+                    "width": src["width_s"]})
     return Pulsar(name=par["name"], ra_deg=par["ra_deg"], dec_deg=par["dec_deg"], distance=distance,
                   period=period, fdot=par["f1"], flux=flux * _PER_CM2, pulsed_fraction=pf,
                   width=duty * period, sources=sources)

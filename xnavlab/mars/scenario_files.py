@@ -12,12 +12,22 @@ defaults as :func:`~xnavlab.mars.scenarios.run` and
 A key left out takes its default; an unknown section or key, or a value out of its
 range, is one ``ValueError`` naming ``[section] key`` and what is allowed.
 
+The set-up (``[run] setup``): ``"paper"`` (the default, :class:`~xnavlab.mars.scenarios.MarsScenario`:
+truth and filter share the paper's force model, as in the book's reproductions) or ``"study"``
+(:meth:`~xnavlab.mars.scenarios.MarsScenario.study`: a rich truth, the paper's filter, ``q_acc``
+derived from their difference); the keys of the file then depart from that set-up's defaults.
+``[truth_model]`` and ``[filter_model]`` name the two force models
+(:class:`xnavlab.mars.force_models.ForceModel`); ``[filter] q_acc = "derived"`` computes the
+process noise from them (:func:`xnavlab.mars.force_models.derived_q_acc`). ``[xnav] pulsars``
+takes catalogue names, ``.par`` paths (relative to the file's folder) and inline tables
+(:mod:`xnavlab.mars.pulsar_specs`).
+
 Examples
 --------
 >>> text = dump()
 >>> sf = loads(text)
 >>> sf.scenario == scenarios.MarsScenario(), sf.run["backend"], sf.detector["name"]
-(True, 'numba', 'none')
+(True, 'numba', None)
 >>> loads('[uv]\\nsigma_range_m = 2500.0').scenario.sigma_range_m
 2500.0
 >>> loads('[uv]\\nsigma_range = 1')
@@ -34,21 +44,39 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from xnavlab.core.validate import check_choice, check_real
-from xnavlab.mars import scenarios
+from xnavlab.mars import force_models, pulsar_specs, scenarios
 
-__all__ = ["SECTIONS", "RUN_DEFAULTS", "DETECTOR_DEFAULTS", "ScenarioFile", "dump", "load", "loads",
-           "with_overrides"]
+__all__ = ["SECTIONS", "SETUPS", "RUN_DEFAULTS", "DETECTOR_DEFAULTS", "UNITS", "ScenarioFile",
+           "dump", "load", "loads", "with_overrides", "detector_name", "scenario_json"]
+
+#: The set-ups a file's defaults come from (``[run] setup``).
+SETUPS = ("paper", "study")
 
 #: Settings of the run that are not fields of MarsScenario (``None``: the API's own default).
-RUN_DEFAULTS = {"backend": "numba", "local_filter": "ekf", "settle_days": None}
+RUN_DEFAULTS = {"setup": "paper", "backend": "numba", "local_filter": "ekf", "settle_days": None}
 
-#: Settings of the fault-tolerant run (``name = "none"``: no detector, no faults).
-DETECTOR_DEFAULTS = {"name": "none", "faults": "", "pfa": 1e-5, "alpha": 1e-5,
+#: Settings of the fault-tolerant run (``name = None``: :func:`detector_name`, the combined
+#: detector when there are faults, else none: a plain run).
+DETECTOR_DEFAULTS = {"name": None, "faults": "", "pfa": 1e-5, "alpha": 1e-5,
                      "rate_per_day": 1.0, "train_days": None, "arm_s": 600.0,
                      "adaptive": True}
 
+_BODIES = ", ".join(force_models.PLANETS)
+_MODEL_KEYS = {
+    "gravity_degree": "Mars gravity field MRO95A (Konopliv et al. 2011) to this degree and "
+                      "order: 0 (point mass) or 2-8",
+    "third_bodies": f"point masses from the ephemeris, any of {_BODIES}",
+    "srp": "solar radiation pressure (cannonball, Mars's cylindrical shadow), true/false",
+    "area_m2": "SRP cross-section, m^2, (0, 1000]",
+    "mass_kg": "spacecraft mass for SRP, kg, (0, 1e5]",
+    "reflectivity": "SRP coefficient C_R, [1, 2]",
+}
+
 # (section, key) -> (where: "scenario" field name, "run" or "detector" key; comment)
 _KEYS = {
+    ("run", "setup"): ("run:setup", "the set-up the defaults come from: \"paper\" (truth and "
+                                    "filter share the paper's force model) or \"study\" "
+                                    "(MarsScenario.study(): rich truth, the paper's filter)"),
     ("run", "days"): ("days", "simulated span, days, (0, 365]"),
     ("run", "seed"): ("seed", "seed of every noise draw, integer >= 0"),
     ("run", "mode"): ("mode", "federated mode: \"reset\" or \"no-reset\""),
@@ -67,12 +95,21 @@ _KEYS = {
     ("orbit", "truth_ephem"): ("truth_ephem", "ephemeris of the truth: \"de421\" or \"de405\""),
     ("orbit", "filter_ephem"): ("filter_ephem", "ephemeris of the filter: \"de421\" or "
                                                 "\"de405\""),
-    ("filter", "q_acc"): ("q_acc", "process noise, white-acceleration PSD, m^2/s^3, [0, 1]"),
+    **{("truth_model", k): (f"truth_model.{k}", c) for k, c in _MODEL_KEYS.items()},
+    **{("filter_model", k): (f"filter_model.{k}", c + (" (the compiled filter: 0 only)"
+                                                     if k == "gravity_degree" else
+                                                     " (the compiled filter: false only)"
+                                                     if k == "srp" else ""))
+       for k, c in _MODEL_KEYS.items()},
+    ("filter", "q_acc"): ("q_acc", "process noise, white-acceleration PSD, m^2/s^3, [0, 1], or "
+                                   "\"derived\" (from the truth and filter models)"),
     ("filter", "pos_err0_m"): ("pos_err0_m", "initial position error and 1-sigma per axis, m"),
     ("filter", "vel_err0_mps"): ("vel_err0_mps", "initial velocity error and 1-sigma per axis, "
                                                  "m/s"),
     ("filter", "init_error"): ("init_error", "\"fixed\" (the paper's) or \"random\" (N(0, P0))"),
-    ("xnav", "pulsars"): ("pulsars", "the pulsars, by catalogue name"),
+    ("xnav", "pulsars"): ("pulsars", "catalogue names, .par paths (from this file's folder) "
+                                     "or tables {par = ..., flux_ph_cm2_s = ..., "
+                                     "pulsed_fraction = ..., width_s = ..., distance_m = ...}"),
     ("xnav", "dt_s"): ("dt_xnav", "measurement interval and integration time, s, [0.1, 86400]"),
     ("xnav", "sigma_m"): ("xnav_sigma_m", "ranging accuracy per pulsar, m; omit to compute it "
                                           "from area_m2, dt_s and background"),
@@ -85,7 +122,8 @@ _KEYS = {
     ("cns", "sigma_star_arcsec"): ("sigma_star_arcsec", "star-sensor noise, arcsec"),
     ("cns", "sigma_horizon_deg"): ("sigma_horizon_deg", "horizon-sensor noise, deg"),
     ("cns", "stars"): ("stars", "the three stars, by name; omit to pick them from the catalogue"),
-    ("detector", "name"): ("detector:name", "\"none\", \"wavelet\", \"chi2\" or \"combined\""),
+    ("detector", "name"): ("detector:name", "\"none\", \"wavelet\", \"chi2\" or \"combined\"; "
+                                            "omit for combined with faults, else none"),
     ("detector", "faults"): ("detector:faults", "fault spec (run mars --help) or \"paper\"; "
                                                 "\"\" for none"),
     ("detector", "pfa"): ("detector:pfa", "wavelet false-alarm probability per sample, (0, 1)"),
@@ -101,7 +139,21 @@ _KEYS = {
 }
 
 #: The sections of a scenario file, in the order :func:`dump` writes them.
-SECTIONS = ("run", "orbit", "filter", "xnav", "uv", "cns", "detector")
+SECTIONS = ("run", "orbit", "truth_model", "filter_model", "filter", "xnav", "uv", "cns",
+            "detector")
+
+#: Unit of each MarsScenario field (``scenario --check`` prints them beside the values).
+UNITS = {"days": "day", "dt_xnav": "s", "dt_uv": "s", "dt_cns": "s", "pulsars": "-",
+         "xnav_sigma_m": "m", "area_m2": "m^2", "background": "ph/cm^2/s", "sigma_range_m": "m",
+         "sigma_dir_deg": "deg", "sigma_star_arcsec": "arcsec", "sigma_horizon_deg": "deg",
+         "stars": "-", "pos_err0_m": "m", "vel_err0_mps": "m/s", "init_error": "-",
+         "q_acc": "m^2/s^3", "max_step": "s", "truth_ephem": "-", "filter_ephem": "-",
+         "truth_model": "gravity_degree: -, third_bodies: -, srp: -, area_m2: m^2, "
+                        "mass_kg: kg, reflectivity: -",
+         "filter_model": "gravity_degree: -, third_bodies: -, srp: -, area_m2: m^2, "
+                         "mass_kg: kg, reflectivity: -",
+         "subsystems": "-", "beta": "-", "mode": "-", "record_dt": "s", "seed": "-",
+         "t0": "s TDB past J2000", "state0": "m, m/s (Mars-centred J2000)"}
 
 
 @dataclass(frozen=True)
@@ -113,7 +165,7 @@ class ScenarioFile:
     scenario : MarsScenario
         The scenario.
     run : dict
-        ``backend``, ``local_filter``, ``settle_days`` (``None``: the default).
+        ``setup``, ``backend``, ``local_filter``, ``settle_days`` (``None``: the default).
     detector : dict
         ``name``, ``faults``, ``pfa``, ``alpha``, ``rate_per_day``, ``train_days``, ``arm_s``,
         ``adaptive``.
@@ -125,6 +177,8 @@ class ScenarioFile:
 
 
 def _toml(value):
+    if isinstance(value, force_models.ForceModel):
+        raise TypeError("a force model is written key by key")  # pragma: no cover
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, str):
@@ -145,7 +199,8 @@ def dump(scenario=None, run=None, detector=None):
         TOML text; :func:`loads` of it gives the same settings back.
     """
     sc = scenario if scenario is not None else scenarios.MarsScenario()
-    values = {"run": {**RUN_DEFAULTS, **(run or {})},
+    values = {"run": {**RUN_DEFAULTS, "setup": "paper" if sc.paper_setup else "study",
+                      **(run or {})},
               "detector": {**DETECTOR_DEFAULTS, **(detector or {})}}
     lines = ["# xnavlab Mars scenario: python -m xnavlab run mars --scenario THIS_FILE",
              "# Every key is optional (left out: the default below). Units and ranges in the "
@@ -158,10 +213,16 @@ def dump(scenario=None, run=None, detector=None):
             if ":" in where:
                 part, name = where.split(":")
                 value = values[part][name]
+            elif "." in where:
+                part, name = where.split(".")
+                value = getattr(getattr(sc, part), name)
             else:
                 value = getattr(sc, where)
             if value is None:
                 lines.append(f"# {key} = ...  # {comment}")
+            elif where == "pulsars":
+                items = ", ".join(pulsar_specs.to_toml(p) for p in value)
+                lines.append(f"{key} = [{items}]  # {comment}")
             else:
                 lines.append(f"{key} = {_toml(value)}  # {comment}")
         lines.append("")
@@ -182,10 +243,15 @@ def _parse_toml(text):
         raise ValueError(f"scenario file: not valid TOML ({exc})") from None
 
 
-def loads(text):
-    """Read scenario-file text; returns a :class:`ScenarioFile` (see the module docstring)."""
+def loads(text, base=None):
+    """Read scenario-file text; returns a :class:`ScenarioFile` (see the module docstring).
+
+    ``base``: the folder relative ``.par`` paths are read from (:func:`load` passes the
+    file's own folder; default the working directory).
+    """
     data = _parse_toml(text)
     fields, run, detector = {}, dict(RUN_DEFAULTS), dict(DETECTOR_DEFAULTS)
+    models = {"truth_model": {}, "filter_model": {}}
     for section, table in data.items():
         if section not in SECTIONS or not isinstance(table, dict):
             raise ValueError(f"scenario file: unknown section [{section}] "
@@ -198,15 +264,46 @@ def loads(text):
             if ":" in where:
                 part, name = where.split(":")
                 (run if part == "run" else detector)[name] = value
+            elif "." in where:
+                models[section][key] = value
+            elif where == "pulsars":
+                fields[where] = _pulsars(value, base)
             else:
                 fields[where] = tuple(value) if isinstance(value, list) else value
+    check_choice("[run] setup", run["setup"], SETUPS)
+    for section, given in models.items():
+        if given:
+            start = (force_models.STUDY if section == "truth_model" and run["setup"] == "study"
+                     else force_models.PAPER)
+            try:
+                fields[section] = force_models.ForceModel(**{**start.as_dict(), **given})
+            except (TypeError, ValueError) as exc:
+                raise ValueError(f"scenario file: [{section}] {exc}") from None
+    derived = fields.get("q_acc") == "derived"
+    if derived:
+        del fields["q_acc"]
     try:
-        sc = scenarios.MarsScenario(**fields)
+        if run["setup"] == "study":
+            sc = scenarios.MarsScenario.study(**fields)
+        else:
+            sc = scenarios.MarsScenario(**fields)
+            if derived:
+                sc = dataclasses.replace(sc, q_acc=force_models.derived_q_acc(
+                    sc.truth_model, sc.filter_model, state0=sc.state0, t0=sc.t0,
+                    truth_ephem=sc.truth_ephem, filter_ephem=sc.filter_ephem))
     except (TypeError, ValueError) as exc:
         raise ValueError(f"scenario file: {_where(exc)}{exc}") from None
     _check_run(run, sc)
     _check_detector(detector, sc)
     return ScenarioFile(sc, run, detector)
+
+
+def _pulsars(value, base):
+    """``[xnav] pulsars``: checked here so that a message names the key."""
+    try:
+        return pulsar_specs.check_list(value, base)
+    except ValueError as exc:
+        raise ValueError(f"scenario file: [xnav] {exc}") from None
 
 
 def _where(exc):
@@ -219,6 +316,7 @@ def _where(exc):
 
 
 def _check_run(run, sc):
+    check_choice("[run] setup", run["setup"], SETUPS)
     check_choice("[run] backend", run["backend"], ("numba", "numpy"))
     check_choice("[run] local_filter", run["local_filter"], ("ekf", "ukf"))
     if run["local_filter"] == "ukf" and run["backend"] != "numpy":
@@ -231,7 +329,8 @@ def _check_run(run, sc):
 def _check_detector(det, sc):
     from xnavlab.mars.fault_tolerance import DETECTORS
 
-    check_choice("[detector] name", det["name"], DETECTORS)
+    if det["name"] is not None:
+        check_choice("[detector] name", det["name"], DETECTORS)
     if not isinstance(det["faults"], str):
         raise ValueError(f"[detector] faults must be a fault spec string, got {det['faults']!r}")
     for key in ("pfa", "alpha"):
@@ -254,7 +353,48 @@ def load(path):
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
         raise ValueError(f"scenario file {str(path)!r} cannot be read ({exc.strerror})") from None
-    return loads(text)
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"scenario file {str(path)!r} is not UTF-8 text (byte {exc.start}: "
+                         f"{exc.reason})") from None
+    return loads(text, base=path.resolve().parent)
+
+
+def detector_name(detector):
+    """The detector of a run: ``detector["name"]``, or when it is ``None`` (left out) the
+    combined detector with faults and none without (a plain run) -- the default both of
+    ``run mars`` and of :func:`xnavlab.mars.fault_tolerance.run_fault_tolerant`.
+
+    Examples
+    --------
+    >>> detector_name({"name": None, "faults": "paper"}), detector_name({"name": None, "faults": ""})
+    ('combined', 'none')
+    """
+    if detector["name"] is not None:
+        return detector["name"]
+    return "combined" if detector["faults"] else "none"
+
+
+def scenario_json(scenario):
+    """The fields of a :class:`~xnavlab.mars.scenarios.MarsScenario` as JSON-ready values
+    (force models as dicts, pulsars as :func:`xnavlab.mars.pulsar_specs.to_json`).
+
+    Examples
+    --------
+    >>> d = scenario_json(scenarios.MarsScenario())
+    >>> d["truth_model"]["gravity_degree"], d["pulsars"][0]
+    (0, 'B0531+21')
+    """
+    out = {}
+    for f in dataclasses.fields(scenario):
+        v = getattr(scenario, f.name)
+        if isinstance(v, force_models.ForceModel):
+            v = v.as_dict()
+        elif f.name == "pulsars":
+            v = [pulsar_specs.to_json(p) for p in v]
+        elif isinstance(v, tuple):
+            v = list(v)
+        out[f.name] = v
+    return out
 
 
 def with_overrides(sf, **fields):

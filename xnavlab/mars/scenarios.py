@@ -63,7 +63,8 @@ from xnavlab.core.constants import DAY, GM_MARS, C
 from xnavlab.core.federated import MODES, FederatedFilter
 from xnavlab.core.filters import chi2_bounds
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
-from xnavlab.mars import compile_notice, dynamics, kernels, pulsars, sensors, series, stars, toa
+from xnavlab.mars import compile_notice, dynamics, force_models, kernels, pulsar_specs, pulsars
+from xnavlab.mars import sensors, series, stars, toa
 from xnavlab.mars import kernel_inputs as ki
 
 __all__ = [
@@ -120,8 +121,10 @@ class MarsScenario:
         Simulated span, days (paper: 30).
     dt_xnav, dt_uv, dt_cns : float
         Measurement intervals, s (paper: 500, 3, 3).
-    pulsars : tuple of str
-        XNAV pulsars (paper: B0531+21, B1937+21, B1957+20, B1821-24).
+    pulsars : tuple
+        XNAV pulsars (paper: B0531+21, B1937+21, B1957+20, B1821-24): catalogue names, paths
+        of timing models (``.par``) or tables of their properties
+        (:mod:`xnavlab.mars.pulsar_specs`; a table is kept as its Pulsar).
     xnav_sigma_m : tuple of float or None
         Ranging accuracy of each pulsar, m; ``None`` computes it for ``area_m2``,
         ``dt_xnav`` (the integration time) and ``background`` (109, 344, 1866, 325 m).
@@ -148,6 +151,15 @@ class MarsScenario:
         Longest filter integration sub-step, s (a longer epoch gap is split).
     truth_ephem, filter_ephem : {"de421", "de405"}
         Ephemerides of the truth and of the filter (dynamics and XNAV).
+    truth_model, filter_model : ForceModel or str
+        Force models of the truth orbit and of the filter
+        (:class:`xnavlab.mars.force_models.ForceModel`, or ``"paper"`` / ``"study"``). Default
+        both the paper's (Mars point mass, the Sun and Jupiter): the paper's set-up
+        (:attr:`paper_setup`), a filter that knows the dynamics exactly. The compiled filter
+        integrates a point mass and third bodies only (no harmonics, no SRP in
+        ``filter_model``). :meth:`study` gives the studies' set-up: the rich truth
+        :data:`~xnavlab.mars.force_models.STUDY`, the paper's filter and a ``q_acc`` derived
+        from their difference.
     subsystems : tuple of str
         Which subsystems run, any of ``("xnav", "uv", "cns")``.
     beta : tuple of float or None
@@ -193,6 +205,8 @@ class MarsScenario:
     max_step: float = 10.0
     truth_ephem: str = "de421"
     filter_ephem: str = "de421"
+    truth_model: force_models.ForceModel = force_models.PAPER
+    filter_model: force_models.ForceModel = force_models.PAPER
     subsystems: tuple = SUBSYSTEMS
     beta: tuple | None = None
     mode: str = "reset"
@@ -218,15 +232,22 @@ class MarsScenario:
         check_real("max_step", self.max_step, 0.01, 3600.0)
         check_choice("truth_ephem", self.truth_ephem, ephemeris.EPHEMERIDES)
         check_choice("filter_ephem", self.filter_ephem, ephemeris.EPHEMERIDES)
+        for name in ("truth_model", "filter_model"):
+            try:
+                object.__setattr__(self, name, force_models.model(getattr(self, name)))
+            except ValueError as exc:
+                raise ValueError(f"{name}: {exc}") from None
+        if not self.filter_model.compiled_filter_ok:
+            raise ValueError(f"filter_model must be a point mass with third bodies (gravity_degree "
+                             f"0, srp false: the compiled filter integrates no more), got "
+                             f"{self.filter_model.describe()}")
         subs = tuple(self.subsystems)
         if not subs or len(set(subs)) != len(subs):
             raise ValueError(f"subsystems must be distinct names from {SUBSYSTEMS}, got {subs!r}")
         for s in subs:
             check_choice("subsystem", s, SUBSYSTEMS)
         object.__setattr__(self, "subsystems", subs)
-        object.__setattr__(self, "pulsars", tuple(self.pulsars))
-        for p in self.pulsars:
-            pulsars.get(p)
+        object.__setattr__(self, "pulsars", pulsar_specs.check_list(self.pulsars))
         if self.xnav_sigma_m is not None:
             sig = tuple(float(check_real("xnav_sigma_m", s, 0.0, 1e9, lo_open=True))
                         for s in self.xnav_sigma_m)
@@ -247,6 +268,34 @@ class MarsScenario:
         s0 = check_finite_array("state0", self.state0, shape=(6,))
         object.__setattr__(self, "state0", tuple(float(v) for v in s0))
 
+    @classmethod
+    def study(cls, **fields):
+        """The studies' set-up: a rich truth, the paper's filter, ``q_acc`` from their difference.
+
+        ``truth_model`` :data:`xnavlab.mars.force_models.STUDY` (Mars's field MRO95A 8x8, the
+        Sun and four planets, solar radiation pressure), ``filter_model`` the paper's, and
+        ``q_acc`` from :func:`xnavlab.mars.force_models.derived_q_acc` over the first day of this
+        scenario's own orbit (unless ``fields`` give one). ``fields`` replace any default.
+
+        Examples
+        --------
+        >>> sc = MarsScenario.study(days=1.0)
+        >>> sc.paper_setup, sc.truth_model.gravity_degree, sc.q_acc > DEFAULT_Q_ACC
+        (False, 8, True)
+        """
+        fields = {"truth_model": force_models.STUDY, "filter_model": force_models.PAPER, **fields}
+        if "q_acc" not in fields:
+            probe = cls(**{**fields, "q_acc": DEFAULT_Q_ACC})
+            fields["q_acc"] = _derived_q(probe.truth_model, probe.filter_model, probe.state0,
+                                         probe.t0, probe.truth_ephem, probe.filter_ephem)
+        return cls(**fields)
+
+    @property
+    def paper_setup(self):
+        """Whether truth and filter share the paper's force model and ephemeris (the paper's set-up)."""
+        return (self.truth_model.is_paper and self.filter_model.is_paper
+                and self.truth_ephem == self.filter_ephem)
+
     @property
     def span(self):
         """Simulated span, s."""
@@ -261,7 +310,9 @@ class MarsScenario:
         """The sensor objects ``{"xnav": XNAVSensor, "uv": UVSensor, "cns": CNSSensor}``."""
         sig = (None if self.xnav_sigma_m is None else np.array(self.xnav_sigma_m) / C)
         return {
-            "xnav": sensors.XNAVSensor(self.pulsars, sigma=sig, area_m2=self.area_m2,
+            "xnav": sensors.XNAVSensor(tuple(p if p in pulsars.CATALOGUE else pulsars.get(p)
+                                             for p in self.pulsars), sigma=sig,
+                                       area_m2=self.area_m2,
                                        t_obs=self.dt_xnav, background=self.background,
                                        ephem=self.filter_ephem),
             "uv": sensors.UVSensor(self.sigma_range_m, self.sigma_dir_deg),
@@ -326,12 +377,18 @@ class Inputs:
 _TRUTH_CACHE: OrderedDict = OrderedDict()
 
 
+@functools.lru_cache(maxsize=8)
+def _derived_q(truth_model, filter_model, state0, t0, truth_ephem, filter_ephem):
+    return force_models.derived_q_acc(truth_model, filter_model, state0=np.array(state0), t0=t0,
+                                      truth_ephem=truth_ephem, filter_ephem=filter_ephem)
+
+
 def _truth(times, sc):
-    key = (sc.t0, sc.state0, sc.truth_ephem, times.size, float(times[-1]), sc.dt_uv,
-           sc.dt_xnav, sc.dt_cns)
+    key = (sc.t0, sc.state0, sc.truth_ephem, sc.truth_model, times.size, float(times[-1]),
+           sc.dt_uv, sc.dt_xnav, sc.dt_cns)
     if key not in _TRUTH_CACHE:
-        _TRUTH_CACHE[key] = dynamics.truth(times, np.array(sc.state0), sc.t0,
-                                           ("sun", "jupiter"), ephem=sc.truth_ephem)
+        _TRUTH_CACHE[key] = force_models.truth(times, np.array(sc.state0), sc.t0, sc.truth_model,
+                                               ephem=sc.truth_ephem)
         while len(_TRUTH_CACHE) > 2:
             _TRUTH_CACHE.popitem(last=False)
     return _TRUTH_CACHE[key]
@@ -439,8 +496,8 @@ def prepare(scenario=None, **overrides):
             cns = sens["cns"]
             z[s] = _series(rng, truth, k, 2 + 2 * cns.dim, cns.dim, series.simulate_cns,
                            (cns.star_dirs, cns.sigma_star, cns.sigma_horizon))
-    table = dynamics.ThirdBodyTable(sc.t0, float(times[-1]), ("sun", "jupiter"), "mars",
-                                    sc.filter_ephem)
+    table = force_models.third_body_table(sc.filter_model, sc.t0, float(times[-1]),
+                                          sc.filter_ephem)
     rec_t = sc.t0 + np.arange(0.0, span + 1e-9, sc.record_dt)
     record = np.unique(np.append(np.minimum(np.searchsorted(times, rec_t - 1e-6), times.size - 1),
                                  times.size - 1))

@@ -17,7 +17,7 @@ import numpy as np
 from xnavlab.core.constants import DAY
 from xnavlab.core.faults import Fault, format_spec, parse_spec
 from xnavlab.core.validate import check_real
-from xnavlab.mars import scenarios
+from xnavlab.mars import pulsar_specs, scenarios
 
 __all__ = [
     "PAPER_ONSETS",
@@ -65,7 +65,7 @@ def components(scenario=None):
     sc = scenario if scenario is not None else scenarios.MarsScenario()
     n_stars = len(sc.stars) if sc.stars else 3
     comps = {
-        "xnav": tuple(p.split("+")[0].split("-")[0] for p in sc.pulsars),
+        "xnav": pulsar_specs.fault_names(sc.pulsars),  # B1937, J0030, ... (any pulsar)
         "uv": ("range", "ux", "uy", "uz"),
         "cns": tuple(f"angle{i}" for i in range(n_stars)),
     }
@@ -138,7 +138,8 @@ def parse_faults(spec, scenario=None):
         return paper_schedule(scenario=sc)
     if isinstance(spec, str) and "xnav" in sc.subsystems:
         # a pulsar may be named in full (xnav.B1937+21): its '+' is not the duration's
-        for name, short in zip(sc.pulsars, components(sc)["xnav"], strict=True):
+        for name, short in zip(pulsar_specs.names(sc.pulsars), components(sc)["xnav"],
+                               strict=True):
             spec = spec.replace(f"xnav.{name}:", f"xnav.{short}:")
     return parse_spec(spec, components(sc))
 

@@ -1,0 +1,201 @@
+"""What a truth the filter does not share does to accuracy and consistency: matched vs mismatched.
+
+The paper's runs (and the book's reproductions) give the truth and the filter the same force
+model (:attr:`xnavlab.mars.scenarios.MarsScenario.paper_setup`): the optimistic case of a filter
+that knows the dynamics exactly. This module runs the same navigation three ways, every run
+with a random initial error drawn from N(0, P0) (so the NEES is a fair test):
+
+``matched``
+    the paper's set-up: truth and filter under the paper's model, the paper's ``q_acc``
+    (:data:`~xnavlab.mars.scenarios.DEFAULT_Q_ACC`).
+``mismatched, derived q``
+    the studies' set-up (:meth:`~xnavlab.mars.scenarios.MarsScenario.study`): the rich truth
+    :data:`~xnavlab.mars.force_models.STUDY`, the paper's filter and the ``q_acc`` that
+    :func:`~xnavlab.mars.force_models.derived_q_acc` computes from the models' difference.
+``mismatched, paper q``
+    the rich truth with the paper's filter and the paper's ``q_acc``: what happens when the
+    model difference is not allowed for.
+
+:func:`mismatch_table` returns one row per case (errors averaged over the seeds, the NEES
+judged against its chi-square band); :func:`mismatch_runs` the per-seed numbers behind it.
+Both are cached on disk (keyed by their arguments and the package's source), so a chapter
+that calls them after ``python -m xnavlab warmup`` (or a first call) reads the numbers back.
+
+Examples
+--------
+>>> rows = mismatch_table(days=0.05, seeds=(0, 1), cache=False)
+>>> [r["case"] for r in rows]
+['matched', 'mismatched, derived q', 'mismatched, paper q']
+>>> rows[0]["paper_setup"], rows[1]["paper_setup"]
+(True, False)
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+
+import xnavlab
+from xnavlab.core.diskcache import cache_dir, source_digest, store
+from xnavlab.core.filters import chi2_bounds, judge_series
+from xnavlab.core.validate import check_int, check_real
+from xnavlab.mars import scenarios
+
+__all__ = ["CASES", "case_scenario", "mismatch_runs", "mismatch_table", "TABLE_COLUMNS"]
+
+#: The three cases, in the order of the table.
+CASES = ("matched", "mismatched, derived q", "mismatched, paper q")
+
+#: Columns of :func:`mismatch_table` for a chapter's table (``html_table(rows, TABLE_COLUMNS)``).
+TABLE_COLUMNS = ("case", "truth_model", "filter_model", "q_acc", "position_error_m",
+                 "velocity_error_mps", "nees", "nees_lo", "nees_hi", "nees_inside",
+                 "nees_verdict")
+
+
+def case_scenario(case, days=30.0, seed=0):
+    """The :class:`~xnavlab.mars.scenarios.MarsScenario` of one case of :data:`CASES`.
+
+    Random initial error (``init_error="random"``); everything else the paper's.
+
+    Examples
+    --------
+    >>> case_scenario("matched", days=1.0).paper_setup
+    True
+    >>> case_scenario("mismatched, paper q", days=1.0).q_acc == scenarios.DEFAULT_Q_ACC
+    True
+    """
+    if case not in CASES:
+        raise ValueError(f"case must be one of {', '.join(repr(c) for c in CASES)}, got {case!r}")
+    fields = {"days": days, "seed": seed, "init_error": "random"}
+    if case == "matched":
+        return scenarios.MarsScenario(**fields)
+    sc = scenarios.MarsScenario.study(**fields)
+    return sc if case == "mismatched, derived q" else replace(sc, q_acc=scenarios.DEFAULT_Q_ACC)
+
+
+def _key(kind, days, seeds, settle_days):
+    h = hashlib.sha256(repr((kind, days, seeds, settle_days)).encode())
+    h.update(source_digest(Path(xnavlab.__file__).parent, ("reproductions",)).encode())
+    return cache_dir() / f"mismatch-{kind}-{h.hexdigest()[:20]}.json"
+
+
+def _cached(path, compute, cache):
+    if cache and path.exists():
+        try:
+            return json.loads(path.read_text(encoding="utf-8"))
+        except (OSError, ValueError):
+            pass
+    result = compute()
+    if cache:
+        store(path, lambda f: f.write(json.dumps(result).encode()))
+    return result
+
+
+def _check(days, seeds, settle_days):
+    days = check_real("days", days, 0.0, 365.0, lo_open=True)
+    if isinstance(seeds, int | str) or not hasattr(seeds, "__iter__"):
+        raise ValueError(f"seeds must be a list of distinct integers >= 0, got {seeds!r}")
+    seeds = tuple(check_int("seed", s, 0, 2**62) for s in seeds)
+    if not seeds or len(set(seeds)) != len(seeds):
+        raise ValueError(f"seeds must be a non-empty list of distinct integers, got {seeds!r}")
+    if settle_days is None:
+        settle_days = scenarios.default_settle_days(days)
+    settle_days = check_real("settle_days", settle_days, 0.0, days, hi_open=True)
+    return days, seeds, settle_days
+
+
+def mismatch_runs(days=30.0, seeds=(0, 1, 2, 3, 4), settle_days=None, cache=True):
+    """Every case of :data:`CASES` on every seed: errors, NEES and the case's set-up.
+
+    Parameters
+    ----------
+    days : float
+        Run length, days, in (0, 365].
+    seeds : sequence of int
+        Distinct seeds (initial error and noise of each run).
+    settle_days : float, optional
+        Start of the RMS and NEES window, days, in [0, days); default
+        :func:`~xnavlab.mars.scenarios.default_settle_days`.
+    cache : bool
+        Read and store the result on disk (keyed by the arguments and the package's source).
+
+    Returns
+    -------
+    dict
+        ``{case: {"q_acc", "truth_model", "filter_model", "paper_setup", "t_days" (list, the
+        recorded epochs), "runs": [{"seed", "position_error_m", "velocity_error_mps",
+        "nees_mean", "final_position_error_m"}], "nees": list (the run-averaged NEES at each
+        record)}}``.
+    """
+    days, seeds, settle_days = _check(days, seeds, settle_days)
+
+    def compute():
+        out = {}
+        for case in CASES:
+            runs, nees = [], None
+            for seed in seeds:
+                sc = case_scenario(case, days, seed)
+                res = scenarios.run(sc)
+                m = res.metrics(settle_days)
+                e = res.nees()
+                k = res.t_days >= settle_days
+                runs.append({"seed": seed, "position_error_m": m["position_error_m"],
+                             "velocity_error_mps": m["velocity_error_mps"],
+                             "nees_mean": float(np.mean(e[k])),
+                             "final_position_error_m": m["final_position_error_m"]})
+                nees = e if nees is None else nees + e
+            out[case] = {"q_acc": sc.q_acc, "truth_model": sc.truth_model.describe(),
+                         "filter_model": sc.filter_model.describe(),
+                         "paper_setup": sc.paper_setup, "t_days": res.t_days.tolist(),
+                         "runs": runs, "nees": (nees / len(seeds)).tolist()}
+        return out
+
+    return _cached(_key("runs", days, seeds, settle_days), compute, cache)
+
+
+def mismatch_table(days=30.0, seeds=(0, 1, 2, 3, 4), settle_days=None, cache=True):
+    """Matched vs mismatched, one row per case of :data:`CASES`.
+
+    Parameters
+    ----------
+    days, seeds, settle_days, cache
+        As :func:`mismatch_runs`.
+
+    Returns
+    -------
+    list of dict
+        Keys :data:`TABLE_COLUMNS` plus ``paper_setup``, ``position_error_min_m``,
+        ``position_error_max_m`` (over the seeds) and ``seeds``: ``position_error_m`` and
+        ``velocity_error_mps`` are the seeds' mean RMS after ``settle_days``; ``nees`` the
+        time average (after ``settle_days``) of the run-averaged fused NEES (dof 6),
+        ``nees_lo``/``nees_hi`` the 95 % band of an average of ``len(seeds)`` runs
+        (:func:`xnavlab.core.filters.chi2_bounds`), ``nees_inside`` the fraction of records
+        whose run-averaged NEES is inside it and ``nees_verdict`` the word of
+        :func:`xnavlab.core.filters.judge_series` (``inside``, ``conservative``, ``optimistic``).
+    """
+    days, seeds, settle_days = _check(days, seeds, settle_days)
+    data = mismatch_runs(days, seeds, settle_days, cache)
+    lo, hi = chi2_bounds(6, len(seeds))
+    rows = []
+    for case in CASES:
+        d = data[case]
+        t = np.array(d["t_days"])
+        nees = np.array(d["nees"])[t >= settle_days]
+        pos = [r["position_error_m"] for r in d["runs"]]
+        judged = judge_series(nees, lo, hi)
+        rows.append({"case": case, "truth_model": d["truth_model"],
+                     "filter_model": d["filter_model"], "q_acc": d["q_acc"],
+                     "paper_setup": d["paper_setup"],
+                     "position_error_m": float(np.mean(pos)),
+                     "position_error_min_m": float(np.min(pos)),
+                     "position_error_max_m": float(np.max(pos)),
+                     "velocity_error_mps": float(np.mean([r["velocity_error_mps"]
+                                                          for r in d["runs"]])),
+                     "nees": float(np.mean(nees)), "nees_lo": lo, "nees_hi": hi,
+                     "nees_inside": judged["inside"], "nees_verdict": judged["verdict"],
+                     "seeds": len(seeds)})
+    return rows
