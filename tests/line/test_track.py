@@ -86,6 +86,15 @@ def test_snapshot_axes_of_two_equal_pulsars(theta, sigma):
     assert np.allclose(axes, expect, rtol=1e-9)
 
 
+def test_run_line_flies_the_chapter_spacecraft():
+    truth, run = track.run_line(exposure_s=100.0, span_s=1000.0, dv=2.0)
+    assert truth[0].tolist() == [track.X0, track.V0 + 2.0]
+    assert run.x[0].tolist() == [track.X0 + 2e3, track.V0]
+    assert truth.shape == (11, 2) and run.nis.shape == (10,)
+    with pytest.raises(ValueError, match="exposure_s"):
+        track.run_line(exposure_s=0.0)
+
+
 def test_plot_tracking_labels_its_axes_and_states_the_final_sigma():
     fig = track.plot_tracking(exposure_s=100.0, span_s=1000.0)
     ax1, ax2 = fig.axes

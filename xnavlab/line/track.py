@@ -5,7 +5,8 @@ to one pulsar, d = 2 in the plane of two) and ``v`` its velocity; an unknown acc
 white with spectral density ``accel_sigma**2``, drives it. Each epoch every pulsar gives one
 range ``n_i . r`` (:func:`xnavlab.line.measure.fold_range`); the steps are the core's
 (:func:`xnavlab.core.filters.ekf_predict`, :func:`~xnavlab.core.filters.ekf_update`), which
-for this linear model are the Kalman filter itself.
+for this linear model are the Kalman filter itself. :func:`run_line` flies chapter 0's
+spacecraft on the line to the Crab and :func:`plot_tracking` draws it for the chapter's slider.
 
 Units: m, s. Arrays: ``truth`` (n + 1, 2 d), directions (m, d) unit vectors.
 
@@ -28,7 +29,13 @@ from xnavlab.core.filters import ekf_predict, ekf_update
 from xnavlab.core.validate import check_covariance, check_finite_array, check_int, check_real, make_rng
 from xnavlab.line.measure import fold_range, range_sigma
 
-__all__ = ["cv_model", "simulate", "Track", "track", "snapshot_covariance", "plot_tracking"]
+__all__ = ["X0", "V0", "cv_model", "simulate", "Track", "track", "snapshot_covariance", "run_line",
+           "plot_tracking"]
+
+#: Chapter 0's spacecraft: its distance from the SSB along ``n`` at the start, m (1.5 au) ...
+X0 = 1.5 * AU
+#: ... and its planned speed towards the pulsar, m/s.
+V0 = 2.0e4
 
 
 def cv_model(dt, accel_sigma=0.0, dim=1):
@@ -141,12 +148,37 @@ def snapshot_covariance(directions, sigmas):
     return np.linalg.inv(H.T @ (w[:, None] * H))  # (H^T R^-1 H)^-1
 
 
-def plot_tracking(exposure_s=10.0, accel_sigma=0.0, span_s=2000.0, dv=1.0, seed=0):
-    """Chapter 0's slider: the Crab alone, a 1-D filter's errors over ``span_s``, Figure.
+def run_line(exposure_s=10.0, accel_sigma=0.0, span_s=2000.0, dv=1.0, seed=0):
+    """Chapter 0's spacecraft on the line to the Crab, and the filter that tracks it.
 
-    The spacecraft starts 1.5 au from the SSB at 20 km/s towards the Crab; the filter starts
-    300 m and ``dv`` m/s off (sigmas 1 km, 2 m/s). Top: each TOA's range error and the
-    filter's position error with its 1-sigma band; bottom: the velocity error.
+    The spacecraft starts :data:`X0` from the SSB at :data:`V0` plus ``dv`` towards the
+    Crab; the filter starts 2 km off at :data:`V0` (sigmas 3 km and 2 m/s) and takes one
+    TOA every ``exposure_s`` over ``span_s``.
+
+    Returns
+    -------
+    truth : ndarray, shape (n + 1, 2)
+    run : Track
+
+    Examples
+    --------
+    >>> truth, run = run_line(exposure_s=500.0)
+    >>> truth.shape, run.z.shape
+    ((5, 2), (4, 1))
+    """
+    exposure_s = check_real("exposure_s", exposure_s, 0.1, 1e4)
+    n = max(1, round(check_real("span_s", span_s, 1.0, 1e5) / exposure_s))
+    truth = simulate(np.array([X0, V0 + dv]), exposure_s, n, accel_sigma, seed)
+    run = track(truth, exposure_s, np.array([X0 + 2e3, V0]), np.diag([3e3**2, 2.0**2]),
+                accel_sigma=accel_sigma, rng=seed + 1)
+    return truth, run
+
+
+def plot_tracking(exposure_s=10.0, accel_sigma=0.0, span_s=2000.0, dv=1.0, seed=0):
+    """Chapter 0's slider: the errors of :func:`run_line`'s filter over time; a Figure.
+
+    Top: each TOA's range error and the filter's position error with its 1-sigma band;
+    bottom: the velocity error and its band.
 
     Examples
     --------
@@ -156,10 +188,8 @@ def plot_tracking(exposure_s=10.0, accel_sigma=0.0, span_s=2000.0, dv=1.0, seed=
     """
     from matplotlib.figure import Figure
 
-    n = max(1, round(check_real("span_s", span_s, 1.0, 1e5) / exposure_s))
-    truth = simulate(np.array([1.5 * AU, 2.0e4]), exposure_s, n, accel_sigma, seed)
-    run = track(truth, exposure_s, truth[0] + [300.0, dv], np.diag([1e6, 4.0]),
-                accel_sigma=accel_sigma, rng=seed + 1)
+    truth, run = run_line(exposure_s, accel_sigma, span_s, dv, seed)
+    n = len(truth) - 1
     t, err, sd = exposure_s * np.arange(n + 1), run.x - truth, np.sqrt(run.P[:, [0, 1], [0, 1]])
     fig = Figure(figsize=(7, 4.2), layout="constrained")
     ax1, ax2 = fig.subplots(2, 1, sharex=True)
