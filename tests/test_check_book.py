@@ -48,9 +48,10 @@ CLEAN = _page(
     "<span class=\"math notranslate nohighlight\">\\(|a|\\)</span>, code <code>a | b</code>; "
     "the value is <span class=\"pasted-text\">26.4</span> m.</p>"
     "<pre>shell | pipe $ HOME</pre>"
-    + TABLE.format(rows="<tr><td>x</td><td>1</td><td>PASS</td></tr>"
-                        "<tr><td>y</td><td>2</td><td><strong>NOT CLAIMED</strong></td></tr>"
-                        "<tr><td colspan=\"2\">both</td><td>FAIL</td></tr>")
+    + TABLE.format(rows="<tr><td>x</td><td>1</td><td>REPRODUCED</td></tr>"
+                        "<tr><td>y</td><td>2</td><td><strong>NOT REPRODUCED</strong></td></tr>"
+                        "<tr><td>z</td><td>2</td><td>CHECK</td></tr>"
+                        "<tr><td colspan=\"2\">both</td><td>PARTLY REPRODUCED</td></tr>")
     + "<table><tr><th rowspan=\"2\">a</th><th>b</th></tr><tr><td>c</td></tr></table>"
     + CELL.format(out="<img src=\"fig.png\" alt=\"a figure\">")
     + CELL.format(out="<div class=\"output text_html\">"
@@ -58,15 +59,15 @@ CLEAN = _page(
     + EXERCISE + SOLUTION.format(cls="dropdown", body=EXECUTED)
     + "<p>Unlinked on purpose: <code class=\"xref py py-class docutils literal\">numpy.ndarray</code>"
     " and <code class=\"xref py py-exc docutils literal\">ValueError</code>.</p>"
-    + CELL.format(out="<div class=\"output text_html\"><p class=\"xnav-result\">id: PASS</p>"
+    + CELL.format(out="<div class=\"output text_html\"><p class=\"xnav-result\">id: UNDECIDED</p>"
                       "<table class=\"table xnav-table\"><tr><th>quantity</th><th>verdict</th>"
-                      "</tr><tr><td>max |x| (m)</td><td>PASS</td></tr></table>"
+                      "</tr><tr><td>max |x| (m)</td><td>UNDECIDED</td></tr></table>"
                       "<p class=\"xnav-note\">|r_1| stays below its threshold</p></div>")
 )
 
 BROKEN = {
-    "cells": TABLE.format(rows="<tr><td>x</td><td>1</td><td>PASS</td><td>extra</td></tr>"),
-    "verdict": TABLE.format(rows="<tr><td>x</td><td>1</td><td>ok</td></tr>"),
+    "cells": TABLE.format(rows="<tr><td>x</td><td>1</td><td>CHECK</td><td>extra</td></tr>"),
+    "verdict": TABLE.format(rows="<tr><td>x</td><td>1</td><td>PASS</td></tr>"),
     "verdict 'fail'": "<table><tr><th>id</th><th>pass</th></tr><tr><td>a</td><td>fail</td></tr></table>",
     "literal '|'": "<p>| quantity | paper | broke</p>",
     "literal '$'": "<p>the error $\\sigma is large</p>",
@@ -121,6 +122,31 @@ def test_each_broken_page_is_rejected(cb, tmp_path, capsys, kind):
     assert any(kind in line for line in lines), lines
 
 
+CHAPTER_BROKEN = {
+    "template leak 'nan'": CELL.format(out="<div class=\"output stream\"><pre>mean a = nan m/s</pre></div>"),
+    "template leak 'inf'": "<p>detected after inf s</p>",
+    "template leak 'm(s)'": "<p>the alarm(s) of the detector</p>",
+    "holds 'glue('": CELL.replace("x = 1", "glue(\"ch05_x\", 1.0, display=False)").format(out="1"),
+    "holds 'assert'": CELL.replace("x = 1", "y = 2\nassert y > 1").format(out="1"),
+}
+
+
+@pytest.mark.parametrize("kind", sorted(CHAPTER_BROKEN))
+def test_a_chapter_page_with_a_leak_or_bookkeeping_in_sight_is_rejected(cb, tmp_path, capsys, kind):
+    html = _book(tmp_path, {"05_x.html": _page(CHAPTER_BROKEN[kind])})
+    assert cb.main(["--html", str(html)]) == 1
+    assert kind in capsys.readouterr().out
+
+
+def test_leaks_and_bookkeeping_are_looked_for_on_chapters_only(cb, tmp_path, capsys):
+    html = _book(tmp_path, {"api.html": _page("".join(CHAPTER_BROKEN.values()))})
+    assert cb.main(["--html", str(html)]) == 0
+    clean = _page("<p>nanoseconds, infinite, a (1) list and inf-norm words</p>"
+                  + CELL.replace("x = 1", "inside = nan_count(x)  # the glue_ideas").format(out="1"))
+    html = _book(tmp_path / "b", {"05_x.html": clean})
+    assert cb.main(["--html", str(html)]) == 0, capsys.readouterr().out
+
+
 def test_glue_that_rendered_as_nothing(cb, tmp_path, capsys):
     nb = {"cells": [{"cell_type": "markdown", "metadata": {}, "source":
                      "Error {glue:text}`ch05_a:.1f` m and {glue:text}`ch05_b:.1f` m."}],
@@ -134,9 +160,9 @@ def test_glue_that_rendered_as_nothing(cb, tmp_path, capsys):
 
 
 def test_verdict_vocabulary_is_the_registrys(cb):
-    from xnavlab.reproduce import VERDICTS
+    from xnavlab.reproduce import HEADLINES, VERDICTS
 
-    assert cb.VERDICTS == VERDICTS
+    assert cb.VERDICTS == VERDICTS and cb.HEADLINES == HEADLINES
 
 
 def test_bad_arguments_exit_2(cb, tmp_path, capsys):

@@ -1,5 +1,5 @@
-"""The registry: every registered reproduction passes; results serialise; IDs are unique;
-one verdict vocabulary; tables no cell can break."""
+"""The registry: every registered reproduction runs and its checks hold; results serialise; IDs
+are unique; one verdict vocabulary, claims and checks apart; tables no cell can break."""
 
 import json
 import os
@@ -22,29 +22,70 @@ def test_unknown_id():
         reproduce.get("nope")
 
 
-def test_xnav_ranging_within_five_percent():
+def test_xnav_ranging_rows_and_json():
     res = reproduce.run("xnav-ranging")
-    res.assert_passed()
-    for name, paper in res.paper.items():
-        assert abs(res.ours[name] - paper) <= 0.05 * paper
+    res.assert_ok()
     payload = json.loads(res.to_json())
-    assert payload["pass"] is True and payload["id"] == "xnav-ranging"
-    assert payload["verdict"] == "PASS"
-    assert "<td>B0531+21</td>" in res._repr_html_()
+    assert payload["ok"] is True and payload["id"] == "xnav-ranging"
+    assert payload["verdict"] == res.verdict in reproduce.HEADLINES
+    kinds = {row["name"]: row["kind"] for row in payload["rows"]}
+    assert kinds["B0531+21 ranging (m)"] == "claim"
+    assert "<td>B0531+21 ranging (m)</td>" in res._repr_html_()
 
 
-def test_failed_checks_are_reported():
-    res = reproduce.Result("demo", [reproduce.check_rel("x", 1.0, 2.0, 0.1)])
-    assert not res.passed
-    with pytest.raises(AssertionError, match="demo: FAIL"):
-        res.assert_passed()
-    assert not reproduce.Result("empty", []).passed
+def test_a_failed_check_of_ours_is_an_error_a_refuted_claim_is_not():
+    refuted = reproduce.Result("demo", [reproduce.check_rel("x", 1.0, 2.0, 0.1, why="w")])
+    assert refuted.ok and refuted.verdict == "NOT REPRODUCED"
+    refuted.assert_ok()
+    broken = reproduce.Result("demo", [reproduce.check_sanity("y", "> 0", -1.0, False, "positive")])
+    assert not broken.ok and broken.verdict == "ERROR"
+    with pytest.raises(AssertionError, match="demo: ERROR"):
+        broken.assert_ok()
+    assert reproduce.Result("empty", []).verdict == "CHECK"
 
 
 def test_check_helpers():
-    assert reproduce.check_abs("a", 10.0, 12.0, 3.0).passed
-    assert not reproduce.check_range("b", 1.0, float("nan"), 0.0, 2.0, "range").passed
-    assert reproduce.check_true("c", "x", "x", True, "same").passed
+    assert reproduce.check_abs("a", 10.0, 12.0, 3.0, why="w").verdict == "REPRODUCED"
+    nan = reproduce.check_range("b", 1.0, float("nan"), 0.0, 2.0, why="range")
+    assert nan.verdict == "NOT REPRODUCED"
+    assert reproduce.check_true("c", "x", "x", True, why="same").verdict == "REPRODUCED"
+    assert reproduce.check_measure("d", 3, "shown").verdict == "CHECK"
+
+
+@pytest.mark.parametrize("make", [
+    lambda: reproduce.check_rel("x", 1.0, 1.0, 0.1, why=""),
+    lambda: reproduce.check_true("x", 1, 1, True, why="  "),
+    lambda: reproduce.check_range("x", 1, 1.0, 0.0, 2.0, why=None),
+    lambda: reproduce.check_sanity("x", 1, 1, True, ""),
+    lambda: reproduce.check_measure("x", 1, ""),
+])
+def test_a_tolerance_without_its_reason_is_refused(make):
+    with pytest.raises(ValueError, match="must say, in words"):
+        make()
+
+
+def test_a_single_run_number_is_judged_among_at_least_32_runs():
+    with pytest.raises(ValueError, match="at least 32 single runs; got 31"):
+        reproduce.check_draw("x", 1.0, np.ones(31))
+    with pytest.raises(ValueError, match="finite"):
+        reproduce.check_draw("x", 1.0, [np.nan] * 40)
+    runs = np.arange(40.0)
+    inside = reproduce.check_draw("x (m)", 19.7, runs)
+    assert inside.verdict == "REPRODUCED" and "50th percentile of our 40 runs" in inside.reading
+    above = reproduce.check_draw("x (m)", 60.0, runs)
+    assert above.verdict == "NOT REPRODUCED" and "above all of our 40 runs" in above.reading
+    with pytest.raises(ValueError, match="must say, in words"):
+        reproduce.check_draw("x (m)", 41.0, runs, slack=5.0)
+    widened = reproduce.check_draw("x (m)", 41.0, runs, slack=5.0, why="printed digits")
+    assert widened.verdict == "REPRODUCED" and "printed digits" in widened.tolerance
+
+
+def test_an_ordering_is_reproduced_refuted_or_undecided_with_the_runs_it_needs():
+    assert reproduce.check_order("a < b", "a < b", [-2.0, -3.0, -2.5]).verdict == "REPRODUCED"
+    against = reproduce.check_order("a < b", "a < b", [2.0, 3.0, 2.5])
+    assert against.verdict == "NOT REPRODUCED" and "opposite order" in against.reading
+    open_ = reproduce.check_order("a < b", "a < b", [-1.0, 1.5, -2.0, 1.0])
+    assert open_.verdict == "UNDECIDED" and "runs would decide it (we have 4)" in open_.reading
 
 
 def test_double_registration_is_refused():
@@ -58,19 +99,20 @@ def test_run_writes_figures(tmp_path):
     assert res.figures and all((tmp_path / "figs").glob("*.png"))
 
 
-def test_unclaimed_rows_are_shown_but_do_not_decide():
-    rows = [reproduce.check_rel("x", 1.0, 1.0, 0.1), reproduce.check_info("rank", "a", "b", "see note")]
+def test_checks_are_shown_but_never_counted_as_reproductions():
+    rows = [reproduce.check_rel("x", 1.0, 1.0, 0.1, why="w"),
+            reproduce.check_measure("rank", "b", "shown", paper="a")]
     res = reproduce.Result("demo", rows)
-    assert res.passed
-    assert "NOT CLAIMED" in res.table()
-    assert res.to_dict()["checks"] == {"x": "PASS", "rank": "NOT CLAIMED"}
-    only_info = reproduce.Result("info", rows[1:])
-    assert not only_info.passed
+    assert res.verdict == "REPRODUCED" and "CHECK" in res.table()
+    assert [r["kind"] for r in res.to_dict()["rows"]] == ["claim", "check"]
+    assert reproduce.Result("info", rows[1:]).verdict == "CHECK"
 
 
 @pytest.mark.parametrize("rid", ["toa-terms", "mars-orbit"])
-def test_part_one_sanity_reproductions(rid):
-    reproduce.run(rid).assert_passed()
+def test_part_one_sanity_reproductions_are_checks(rid):
+    res = reproduce.run(rid)
+    res.assert_ok()
+    assert res.verdict == "CHECK" and not res.claims
 
 
 def test_package_never_switches_the_matplotlib_backend():
@@ -85,12 +127,13 @@ def test_package_never_switches_the_matplotlib_backend():
 
 
 @pytest.mark.parametrize("rid", reproduce.ids())
-def test_every_registered_reproduction_passes(rid):
-    """Every number the book claims is asserted here too (paper, ours, tolerance in the table)."""
+def test_every_registered_reproduction_runs_and_its_checks_hold(rid):
+    """Every row states its tolerance and reason; the claims' verdicts are in test_verdicts.py."""
     res = reproduce.run(rid)
-    res.assert_passed()
-    claimed = [c for c in res.checks if c.claimed]
-    assert claimed and all(c.tolerance for c in claimed)
+    res.assert_ok()
+    assert all(c.tolerance for c in res.checks)
+    assert all(c.reading for c in res.claims if c.verdict in ("NOT REPRODUCED", "UNDECIDED")), \
+        f"{rid}: a claim not reproduced must say by how much, an undecided one what would decide it"
     assert res.note, f"{rid}: say how ours was obtained and where it differs"
 
 
@@ -135,42 +178,59 @@ NASTY = "a | b <i>x</i> & c\nnext | line"
 
 def _nasty_result():
     return reproduce.Result("nasty", [
-        reproduce.check_abs(NASTY, 1.0, 1.5, 1.0, unit="m|s"),
-        reproduce.check_info("rank | order", "<RKF>", "ASUKF\n| best", "not | claimed\n<b>"),
-        reproduce.check_true("flag", "x|y", "x|y", False, "same | text"),
+        reproduce.check_abs(NASTY, 1.0, 1.5, 1.0, unit="m|s", why="a | reason"),
+        reproduce.check_measure("rank | order", "ASUKF\n| best", "not | claimed\n<b>", paper="<RKF>"),
+        reproduce.check_true("flag", "x|y", "x|y", False, why="same | text"),
+        reproduce.check_order("a | b", "a < b", [-1.0, 1.5, -2.0, 1.0]),
     ], note="a note with | and <script>alert(1)</script>\nover lines")
 
 
 def test_verdict_vocabulary_is_defined_once():
-    assert reproduce.VERDICTS == ("PASS", "NOT CLAIMED", "FAIL")
+    assert reproduce.VERDICTS == ("REPRODUCED", "NOT REPRODUCED", "UNDECIDED", "CHECK", "CHECK FAILED")
+    assert reproduce.HEADLINES == ("REPRODUCED", "PARTLY REPRODUCED", "NOT REPRODUCED",
+                                   "UNDECIDED", "CHECK", "ERROR")
     res = _nasty_result()
-    assert [c.verdict for c in res.checks] == ["PASS", "NOT CLAIMED", "FAIL"]
-    assert res.verdict == "FAIL" and not res.passed
-    assert res.counts() == {"PASS": 1, "NOT CLAIMED": 1, "FAIL": 1}
-    assert reproduce.Result("none", []).verdict == "FAIL"
-    info_only = reproduce.Result("info", [reproduce.check_info("x", 1, 2, "why")])
-    assert info_only.verdict == "FAIL"
-    ok = reproduce.Result("ok", [reproduce.check_rel("x", 1.0, 1.0, 0.1)])
-    assert ok.verdict == "PASS"
-    raised = reproduce.Result("raised", ok.checks, error="ValueError: boom")
-    assert raised.verdict == "FAIL"
+    assert [c.verdict for c in res.checks] == ["REPRODUCED", "CHECK", "NOT REPRODUCED", "UNDECIDED"]
+    assert res.verdict == "PARTLY REPRODUCED" and res.ok
+    undecided = reproduce.Result("u", res.checks[3:])
+    assert undecided.verdict == "UNDECIDED"
+    refuted = reproduce.Result("n", res.checks[2:])
+    assert refuted.verdict == "NOT REPRODUCED"
+    with pytest.raises(ValueError, match="verdict must be one of"):
+        reproduce.Check("x", 1, 1, "t", "PASS")
+    raised = reproduce.Result("raised", res.checks, error="ValueError: boom")
+    assert raised.verdict == "ERROR"
 
 
-def test_run_or_fail_turns_an_exception_into_fail():
+def test_run_or_fail_turns_an_exception_into_an_error():
     res = reproduce.run_or_fail("no-such-reproduction")
-    assert res.verdict == "FAIL" and res.error.startswith("ValueError: unknown reproduction id")
+    assert res.verdict == "ERROR" and res.error.startswith("ValueError: unknown reproduction id")
     assert res.to_dict()["error"] == res.error
 
 
-def test_headline_counts():
-    ok = reproduce.Result("a", [reproduce.check_rel("x", 1.0, 1.0, 0.1),
-                                reproduce.check_info("y", 1, 2, "why"),
-                                reproduce.check_info("z", 1, 2, "why")])
-    assert reproduce.headline([ok]) == "1 of 1 reproductions pass (2 rows not claimed)"
+def test_headline_counts_claims_and_checks_apart():
+    ok = reproduce.Result("a", [reproduce.check_rel("x", 1.0, 1.0, 0.1, why="w"),
+                                reproduce.check_measure("y", 2, "why"),
+                                reproduce.check_measure("z", 2, "why")])
+    assert reproduce.headline([ok]) == ("1 of 1 paper claim reproduced (0 not reproduced, "
+                                        "0 undecided); 2 of 2 checks hold")
     text = reproduce.headline([ok, _nasty_result(), reproduce.run_or_fail("no-such")])
-    assert text == "1 of 3 reproductions pass (3 rows not claimed); FAIL: nasty, no-such"
+    assert text == ("2 of 4 paper claims reproduced (1 not reproduced, 1 undecided); "
+                    "3 of 4 checks hold; ERROR: no-such")
     n = reproduce.counts([ok, _nasty_result()])
-    assert n["rows"] == {"PASS": 2, "NOT CLAIMED": 3, "FAIL": 1} and n["fail"] == ["nasty"]
+    assert n["claims"] == 4 and n["checks"] == 3 and n["errors"] == []
+    assert n["headlines"]["PARTLY REPRODUCED"] == 1 and n["headlines"]["REPRODUCED"] == 1
+
+
+def test_a_sentence_and_the_summary_box_come_from_the_rows():
+    res = _nasty_result()
+    assert res.sentence("flag").startswith("flag: the paper x|y, ours x|y: NOT REPRODUCED (")
+    with pytest.raises(ValueError, match="has no row 'nope'"):
+        res.sentence("nope")
+    box = reproduce.summary_box([res])
+    assert "<script>" not in box and "admonition" in box
+    assert box.count("<li>") == len(res.claims) + 1      # one per claim, one for the checks
+    assert "1 check of ours holds (not claims of the paper)" in box
 
 
 def test_result_html_has_one_cell_per_column_and_escapes_everything():
@@ -180,30 +240,32 @@ def test_result_html_has_one_cell_per_column_and_escapes_everything():
     assert "&lt;script&gt;" in page
     (table,) = _tables(page)
     header, *rows = table
-    assert header == ["quantity", "paper", "ours", "tolerance", "verdict"]
+    assert header == ["quantity", "paper", "ours", "tolerance", "verdict", "reading"]
     assert len(rows) == len(res.checks)
     assert all(len(r) == len(header) for r in rows)
     assert rows[0][0] == NASTY  # the text survives, escaped, in its own cell
-    assert [r[-1] for r in rows] == [c.verdict for c in res.checks]
-    assert set(r[-1] for r in rows) <= set(reproduce.VERDICTS)
+    assert [r[-2] for r in rows] == [c.verdict for c in res.checks]
+    assert set(r[-2] for r in rows) <= set(reproduce.VERDICTS)
     assert not hasattr(res, "_repr_markdown_")  # text/html is the one rendering
 
 
 def test_report_html_is_safe_and_says_what_the_cli_says():
-    results = [_nasty_result(), reproduce.Result("ok", [reproduce.check_rel("x", 1.0, 1.0, 0.1)])]
+    results = [_nasty_result(), reproduce.Result("ok", [reproduce.check_rel("x", 1.0, 1.0, 0.1, why="w")])]
     page = reproduce.report_html(results, elapsed_s=12.3)
     assert "<script>" not in page
     assert reproduce.headline(results) in page
-    summary, checks = _tables(page)
+    count, summary, checks = _tables(page)
+    assert count[0] == list(reproduce.COUNT_HEADER)
+    assert count[1][1:4] == ["2", "1", "1"] and count[2][4:] == ["1", "0"]
     assert summary[0] == list(reproduce.SUMMARY_HEADER)
     assert checks[0] == list(reproduce.CHECK_HEADER)
     for table in (summary, checks):
         assert all(len(r) == len(table[0]) for r in table)
     assert [r[1] for r in summary[1:]] == [r.verdict for r in results]
-    assert [r[-1] for r in checks[1:]] == [c.verdict for r in results for c in r.checks]
+    assert [r[-2] for r in checks[1:]] == [c.verdict for r in results for c in r.checks]
     plain = reproduce.results_table(results).splitlines()
-    assert plain[0].split()[-1] == "verdict"
-    assert all(line.rstrip().endswith(c.verdict) for line, c in
+    assert plain[0].split()[-2:] == ["verdict", "reading"]
+    assert all(f"  {c.verdict}" in line for line, c in
                zip(plain[1:], [c for r in results for c in r.checks], strict=True))
     assert len(plain) == 1 + sum(len(r.checks) for r in results)  # newlines flattened
 
@@ -219,7 +281,7 @@ def dummy(monkeypatch, tmp_path):
 
     def func(out=None, seed=0):
         calls.append(seed)
-        return reproduce.Result("test-dummy", [reproduce.check_rel("x", 1.0, 1.0, 0.1)],
+        return reproduce.Result("test-dummy", [reproduce.check_rel("x", 1.0, 1.0, 0.1, why="w")],
                                 data={"a": np.arange(3.0) + seed})
 
     def forget():  # what a new process would not have: the session's results

@@ -6,7 +6,13 @@ index) and prints one line per problem, ``page: what``:
 
 * a table row whose cell count (with ``colspan`` and ``rowspan``) differs from its header's;
 * a verdict cell (in a column headed "verdict" or "pass", in any table) whose text is not one
-  of :data:`xnavlab.reproduce.VERDICTS` (PASS, NOT CLAIMED, FAIL);
+  of :data:`xnavlab.reproduce.VERDICTS` (a row's: REPRODUCED, NOT REPRODUCED, UNDECIDED, CHECK,
+  CHECK FAILED) or :data:`xnavlab.reproduce.HEADLINES` (a reproduction's: those of a claim and
+  PARTLY REPRODUCED, CHECK, ERROR);
+* a template leak on a chapter or the dashboard, in prose or in an output: a ``nan`` or
+  ``inf`` shown as a number, or a "(s)" plural;
+* a visible code cell (its input shown on the page) that holds ``glue(`` or a bare ``assert``:
+  bookkeeping belongs in cells whose input is removed (``remove-input``/``remove-cell``);
 * a literal ``|`` in body text outside math, code and ``pre`` (a Markdown table broken by a bar
   in a cell leaves one; text that the registry rendered escaped, classes ``xnav-*``, cannot
   break and may hold one), and a literal ``$`` there (math that did not render);
@@ -43,9 +49,10 @@ from urllib.parse import unquote, urlsplit
 from bs4 import BeautifulSoup, Comment, Declaration, Doctype, NavigableString, ProcessingInstruction
 
 try:
-    from xnavlab.reproduce import VERDICTS
+    from xnavlab.reproduce import HEADLINES, VERDICTS
 except ImportError:  # pragma: no cover - the tool runs in the project's environment
-    VERDICTS = ("PASS", "NOT CLAIMED", "FAIL")
+    VERDICTS = ("REPRODUCED", "NOT REPRODUCED", "UNDECIDED", "CHECK", "CHECK FAILED")
+    HEADLINES = ("REPRODUCED", "PARTLY REPRODUCED", "NOT REPRODUCED", "UNDECIDED", "CHECK", "ERROR")
 
 ROOT = Path(__file__).resolve().parent.parent
 DEFAULT_HTML = ROOT / "_build" / "html"
@@ -67,6 +74,13 @@ _GLUE_TEXT = re.compile(r"\{glue:text\}`[^`]+`")
 _ESCAPED_CLASSES = {"xnav-table", "xnav-note", "xnav-notes", "xnav-result", "xnav-headline",
                     "xnav-error"}
 _UNFORMATTED = re.compile(r"\b(?:np|numpy)\.\w+\(")
+#: a number that is not one, or a plural left to the reader: a template that printed for a case
+#: it was not written for
+_LEAK = re.compile(r"(?<![\w.])(?:nan|NaN|-?inf|-?Infinity)(?![\w(-])|\w\(s\)")
+#: a visible code line that is bookkeeping, not the idea
+_BOOKKEEPING = re.compile(r"(?<![\w.])glue\(|^\s*assert\b", re.M)
+#: pages that show chapters' prose and outputs (the API reference quotes code: not checked)
+_CHAPTER_PAGE = re.compile(r"(?:^|/)(?:\d\d_[^/]*|dashboard)\.html$")
 _VISIBLE = {"img", "svg", "table", "iframe", "object", "video", "canvas", "input", "embed",
             "mjx-container", "math"}
 
@@ -189,9 +203,10 @@ def _check_tables(content, page):
                 if i >= len(row) or row[i] is None:
                     continue
                 text = " ".join(row[i].get_text(" ", strip=True).split())
-                if text not in VERDICTS:
+                if text not in VERDICTS and text not in HEADLINES:
+                    allowed = ", ".join(dict.fromkeys(VERDICTS + HEADLINES))
                     out.append(Problem(page, f"{name} row {r}: verdict {text!r} is not one of"
-                                             f" {', '.join(VERDICTS)}"))
+                                             f" {allowed}"))
     return out
 
 
@@ -271,6 +286,38 @@ def _check_glue(content, page, source):
                               " nothing (glue key not found, or a value myst-nb could not format:"
                               " glue a Python float)")]
     return []
+
+
+def _check_leaks(content, page):
+    """Template leaks in a chapter's prose and outputs (not in its code's input)."""
+    if not _CHAPTER_PAGE.search(page):
+        return []
+    out, seen = [], set()
+    for node in content.find_all(string=True):
+        if not isinstance(node, NavigableString) or isinstance(node, Comment):
+            continue
+        if node.find_parent(class_="cell_input") or node.find_parent(["script", "style"]):
+            continue
+        if _in_code(node) and not node.find_parent(class_="cell_output"):
+            continue
+        m = _LEAK.search(_MATH_SOURCE.sub(" ", str(node)))
+        if m and (m.group(), _short(str(node))) not in seen:
+            seen.add((m.group(), _short(str(node))))
+            out.append(Problem(page, f"template leak {m.group()!r}: {_short(str(node))!r}"))
+    return out
+
+
+def _check_visible_code(content, page):
+    """Visible code cells hold the idea; ``glue(`` and bare ``assert`` belong out of sight."""
+    if not _CHAPTER_PAGE.search(page):
+        return []
+    out = []
+    for n, cell in enumerate(content.select(".cell_input"), start=1):
+        m = _BOOKKEEPING.search(cell.get_text())
+        if m:
+            out.append(Problem(page, f"visible code cell {n} holds {m.group().strip()!r}: move the "
+                                     "bookkeeping into a cell tagged remove-input or remove-cell"))
+    return out
 
 
 # --------------------------------------------------------------------------------------------
@@ -371,7 +418,8 @@ def check_page(path: Path, html_dir: Path) -> list[Problem]:
             break
     return (_check_tables(content, page) + _check_text(content, page)
             + _check_glue(content, page, source) + _check_images(content, path, page)
-            + _check_outputs(content, page) + _check_exercises(content, page))
+            + _check_outputs(content, page) + _check_exercises(content, page)
+            + _check_leaks(content, page) + _check_visible_code(content, page))
 
 
 def main(argv: list[str] | None = None) -> int:

@@ -1,43 +1,58 @@
-"""The registry of reproductions: every paper number the book claims, computed in one place.
+"""The registry of reproductions: every paper claim the book judges, computed in one place.
 
 A *reproduction* is a function registered under an ID (``"xnav-ranging"``,
-``"mars-nofault"``, ...) that recomputes one figure or table of a source paper and
-returns a :class:`Result` holding the paper's values, ours, the tolerance and the
-verdict. The chapters' last cells, ``tests/`` and the command line
-(``python -m xnavlab reproduce ID``) all call :func:`run`, so a number is computed
-by exactly one piece of code.
+``"mars-nofault"``, ...) that recomputes one figure or table of a source paper and returns a
+:class:`Result`: a list of :class:`Check` rows, each the paper's value beside ours, the
+tolerance with its reason, and a verdict. The chapters' last cells, ``tests/``, the dashboard
+and the command line (``python -m xnavlab reproduce ID``) all call :func:`run`, so a number is
+computed, and a verdict decided, by exactly one piece of code.
 
 A reproduction's result is kept on disk, under ``$XNAVLAB_CACHE/reproductions`` (default
 ``~/.cache/xnavlab``), keyed by the ID, its arguments, every file of the package (code and
 shipped data), the numeric libraries' versions and ``OPENBLAS_CORETYPE``: the same code on the
 same machine gives the same numbers (the seeds are fixed), so a chapter, a test and the
 dashboard that ask for the same reproduction compute it once between them. Each ID keeps one
-entry per set of arguments and BLAS kernel family (a chapter's shortened run beside the full
-one, a ``make portability`` run beside the default kernels); the first entry stored for a new
-version of the code removes the ID's entries for the old one. Computed afresh: a run with
-``out``, with ``fresh=True`` or with an argument that is not a plain number, string or tuple
-of them, a reproduction registered with ``cache=False`` (a measured timing), and every run
-under ``XNAVLAB_REPRODUCE_CACHE=0``.
+entry per set of arguments and BLAS kernel family; the first entry stored for a new version of
+the code removes the ID's entries for the old one. Computed afresh: a run with ``out``, with
+``fresh=True`` or with an argument that is not a plain number, string or tuple of them, a
+reproduction registered with ``cache=False`` (a measured timing), and every run under
+``XNAVLAB_REPRODUCE_CACHE=0``.
 
-Reproductions live in the modules of :mod:`xnavlab.reproductions`; each module is
-imported on first use of the registry, so adding a file there is all it takes to
-register new IDs.
+Reproductions live in the modules of :mod:`xnavlab.reproductions`; each module is imported on
+first use of the registry, so adding a file there is all it takes to register new IDs.
 
-One verdict vocabulary (:data:`VERDICTS`) is used by every table that shows a
-reproduction: a chapter's last cell, the command line, its JSON and the dashboard.
+The verdicts
+------------
+One vocabulary (:data:`VERDICTS`) is used by every table that shows a reproduction: a
+chapter's last cell and its summary box, the command line, its JSON and the dashboard. A row
+is either a *claim* of the paper, judged against our numbers, or a *check* of ours, which is
+never counted as a reproduction.
 
-``PASS``
-    A claimed number within its stated tolerance.
-``NOT CLAIMED``
-    A number measured and shown beside the paper's, with the reason it is not claimed
-    (:func:`check_info`); it never decides a verdict.
-``FAIL``
-    A claimed number out of its tolerance. It fails the tests.
+``REPRODUCED``
+    The paper's claim holds within a stated tolerance, whose reason is written beside it. For
+    a number the paper reports from one run, the tolerance is our own spread: the paper's
+    number must fall inside the 95 % range of at least 32 of our single runs
+    (:func:`check_draw`).
+``NOT REPRODUCED``
+    Our numbers contradict the claim; the row says by how much.
+``UNDECIDED``
+    The claim is inside our noise (an ordering whose paired difference is not resolved by our
+    runs, :func:`check_order`); the row says about how many runs would decide it.
+``CHECK``
+    Not a claim of the paper: a sanity or consistency check of ours that holds, or an extra
+    measurement shown beside the paper's (where the paper gives no number).
+``CHECK FAILED``
+    A check of ours that does not hold: a defect, which fails the tests.
 
-A row's verdict is its :class:`Check`'s; a :class:`Result`'s verdict is ``FAIL`` when any
-claimed check fails, when it has no claimed check, or when the reproduction raised
-(:func:`run_or_fail`), and ``PASS`` otherwise. :func:`headline` is the one sentence that
-counts them, printed by ``python -m xnavlab reproduce --all`` and shown by the dashboard.
+A reproduction's headline (:attr:`Result.verdict`, :data:`HEADLINES`) follows its claims:
+``REPRODUCED`` (every claim), ``PARTLY REPRODUCED`` (some claims reproduced, others not or
+undecided), ``NOT REPRODUCED`` (claims, none reproduced, at least one refuted), ``UNDECIDED``
+(every claim undecided), ``CHECK`` (no claim of the paper: only checks), or ``ERROR`` (it
+raised or a check failed). A result is :attr:`Result.ok` when it has no error and every check
+holds: that, and the verdicts recorded in ``tests/test_verdicts.py``, is what the tests
+assert; a claim that is not reproduced is an honest result, not a failure. :func:`headline`
+is the one sentence that counts the claims and the checks, printed by
+``python -m xnavlab reproduce --all`` and shown by the dashboard.
 """
 
 from __future__ import annotations
@@ -57,14 +72,23 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from xnavlab.core.diskcache import cache_dir, source_digest, store
 from xnavlab.core.plotting import SafeHTML, figure, html_table
 
 __all__ = [
-    "PASS",
-    "NOT_CLAIMED",
-    "FAIL",
+    "REPRODUCED",
+    "NOT_REPRODUCED",
+    "UNDECIDED",
+    "CHECK",
+    "CHECK_FAILED",
+    "PARTLY_REPRODUCED",
+    "ERROR",
+    "CLAIM_VERDICTS",
     "VERDICTS",
+    "HEADLINES",
+    "MIN_RUNS",
     "Check",
     "Reproduction",
     "Result",
@@ -76,7 +100,10 @@ __all__ = [
     "check_abs",
     "check_range",
     "check_true",
-    "check_info",
+    "check_draw",
+    "check_order",
+    "check_sanity",
+    "check_measure",
     "run_or_fail",
     "CACHE_ENV",
     "counts",
@@ -85,108 +112,351 @@ __all__ = [
     "summary_rows",
     "check_rows",
     "report_html",
+    "summary_box",
     "SUMMARY_HEADER",
     "CHECK_HEADER",
+    "COUNT_HEADER",
     "figure",
     "save_figure",
     "jsonable",
 ]
 
 
-#: A claimed number within its stated tolerance.
-PASS = "PASS"
-#: Measured and shown, with the reason it is not claimed; never decides a verdict.
-NOT_CLAIMED = "NOT CLAIMED"
-#: A claimed number out of its tolerance (fails the tests).
-FAIL = "FAIL"
-#: The one verdict vocabulary of every reproduction table, in this order.
-VERDICTS = (PASS, NOT_CLAIMED, FAIL)
+#: The paper's claim holds within a stated, justified tolerance.
+REPRODUCED = "REPRODUCED"
+#: Our numbers contradict the paper's claim (the row says by how much).
+NOT_REPRODUCED = "NOT REPRODUCED"
+#: The claim is inside our noise (the row says how many runs would decide it).
+UNDECIDED = "UNDECIDED"
+#: A check of ours (sanity, consistency, an extra measurement) that holds; not a claim.
+CHECK = "CHECK"
+#: A check of ours that does not hold: a defect (fails the tests).
+CHECK_FAILED = "CHECK FAILED"
+#: The verdicts of a claim of the paper.
+CLAIM_VERDICTS = (REPRODUCED, NOT_REPRODUCED, UNDECIDED)
+#: The one verdict vocabulary of every row of every reproduction table, in this order.
+VERDICTS = (*CLAIM_VERDICTS, CHECK, CHECK_FAILED)
+#: Headline of a reproduction with some claims reproduced and others not, or undecided.
+PARTLY_REPRODUCED = "PARTLY REPRODUCED"
+#: Headline of a reproduction that raised, or whose check failed.
+ERROR = "ERROR"
+#: A reproduction's headline verdict (:attr:`Result.verdict`), in this order.
+HEADLINES = (REPRODUCED, PARTLY_REPRODUCED, NOT_REPRODUCED, UNDECIDED, CHECK, ERROR)
+#: The fewest of our single runs a paper's single-run number is judged against.
+MIN_RUNS = 32
 
 
 @dataclass(frozen=True)
 class Check:
-    """One comparison: a quantity, the paper's value, ours, the tolerance, the verdict.
+    """One row: a quantity, the paper's value, ours, the tolerance with its reason, the verdict.
 
-    ``claimed=False`` marks a row we show but do not claim to reproduce (see
-    :func:`check_info`); it does not count towards the verdict. For such a row,
-    ``tolerance`` holds the reason it is not claimed.
+    Attributes
+    ----------
+    name : str
+        The quantity, with its unit.
+    paper : object
+        The paper's value (a number, or words where the paper gives words).
+    ours : object
+        Our value.
+    tolerance : str
+        The criterion and the reason for it ("within 5 %: the paper prints three digits").
+    verdict : str
+        One of :data:`VERDICTS`.
+    reading : str
+        What the numbers say beyond the verdict: where the paper's number falls among our runs,
+        by how much ours differs, or how many runs would decide an undecided claim.
     """
 
     name: str
     paper: Any
     ours: Any
     tolerance: str
-    passed: bool
-    claimed: bool = True
+    verdict: str
+    reading: str = ""
+
+    def __post_init__(self):
+        if self.verdict not in VERDICTS:
+            raise ValueError(f"verdict must be one of {', '.join(VERDICTS)}; got {self.verdict!r}")
 
     @property
-    def verdict(self):
-        """`PASS`, `FAIL`, or `NOT_CLAIMED` for an informational row (see `VERDICTS`)."""
-        if not self.claimed:
-            return NOT_CLAIMED
-        return PASS if self.passed else FAIL
+    def claimed(self):
+        """Whether the row is a claim of the paper (not a check of ours)."""
+        return self.verdict in CLAIM_VERDICTS
+
+    @property
+    def ok(self):
+        """False only for a check of ours that does not hold (`CHECK_FAILED`)."""
+        return self.verdict != CHECK_FAILED
+
+    def sentence(self):
+        """The row in one plain sentence, for a chapter's prose (glued, never typed).
+
+        Examples
+        --------
+        >>> c = check_rel("B0531+21 (m)", 109.0, 111.0, 0.05, why="three digits")
+        >>> print(c.sentence())  # doctest: +NORMALIZE_WHITESPACE
+        B0531+21 (m): the paper 109, ours 111: REPRODUCED (within 5 % of the paper:
+        three digits; ours is 1.8 % above the paper).
+        """
+        if self.claimed:
+            text = f"{self.name}: the paper {_show(self.paper)}, ours {_show(self.ours)}: {self.verdict}"
+        else:
+            text = f"{self.name}: ours {_show(self.ours)}: {self.verdict}"
+        detail = "; ".join(s for s in (self.tolerance, self.reading) if s)
+        return f"{text} ({detail})." if detail else f"{text}."
 
 
-def check_rel(name, paper, ours, rel):
-    """Pass when ``|ours - paper| <= rel * |paper|``.
+def _claim(name, paper, ours, holds, tolerance, reading):
+    """A claim row: `REPRODUCED` when ``holds``, else `NOT_REPRODUCED`."""
+    return Check(name, paper, ours, tolerance, REPRODUCED if holds else NOT_REPRODUCED, reading)
+
+
+def _why(criterion, why):
+    if not (isinstance(why, str) and why.strip()):
+        raise ValueError("why must say, in words, the reason for the tolerance")
+    return f"{criterion}: {why.strip()}"
+
+
+def _finite(name, value):
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a real number; got {value!r}") from None
+    return value
+
+
+def _relative(ours, paper):
+    if not (math.isfinite(ours) and paper != 0):
+        return ""
+    d = 100.0 * (ours - paper) / abs(paper)
+    if not d:
+        return "ours equals the paper"
+    return f"ours is {abs(d):.2g} % {'above' if d > 0 else 'below'} the paper"
+
+
+def check_rel(name, paper, ours, rel, why):
+    """A claim that holds when ``|ours - paper| <= rel * |paper|``.
+
+    Parameters
+    ----------
+    name : str
+        The quantity, with its unit.
+    paper, ours : float
+        The paper's value and ours.
+    rel : float
+        The relative tolerance (0.05 is 5 %).
+    why : str
+        The reason for that tolerance (the paper's printed digits, a lost parameter, a named
+        physical difference). Required: a tolerance without a reason is not a check.
 
     Examples
     --------
-    >>> check_rel("B0531+21", 109.0, 111.0, 0.05).passed
-    True
+    >>> check_rel("B0531+21 (m)", 109.0, 111.0, 0.05, why="three printed digits").verdict
+    'REPRODUCED'
+    >>> check_rel("B0531+21 (m)", 109.0, 131.0, 0.05, why="three printed digits").reading
+    'ours is 20 % above the paper'
     """
+    paper, ours = _finite("paper", paper), _finite("ours", ours)
     ok = math.isfinite(ours) and abs(ours - paper) <= rel * abs(paper)
-    return Check(name, paper, float(ours), f"within {rel:.0%} of the paper", bool(ok))
+    return _claim(name, paper, ours, ok, _why(f"within {100 * rel:g} % of the paper", why),
+                  _relative(ours, paper))
 
 
-def check_abs(name, paper, ours, tol, unit=""):
-    """Pass when ``|ours - paper| <= tol``.
+def check_abs(name, paper, ours, tol, unit="", why=""):
+    """A claim that holds when ``|ours - paper| <= tol``.
 
     Examples
     --------
-    >>> check_abs("improvement", 67.4, 60.0, 10.0, "pp").passed
-    True
+    >>> check_abs("improvement (%)", 67.4, 60.0, 10.0, "pp", why="one run").verdict
+    'REPRODUCED'
     """
+    paper, ours = _finite("paper", paper), _finite("ours", ours)
     ok = math.isfinite(ours) and abs(ours - paper) <= tol
-    return Check(name, paper, float(ours), f"within {tol:g} {unit}".rstrip(), bool(ok))
+    reading = f"ours is {abs(ours - paper):.3g} {unit} {'above' if ours > paper else 'below'} the paper" \
+        if math.isfinite(ours) and ours != paper else ""
+    return _claim(name, paper, ours, ok, _why(f"within {tol:g} {unit}".rstrip(), why),
+                  " ".join(reading.split()))
 
 
-def check_range(name, paper, ours, lo, hi, tolerance):
-    """Pass when ``lo <= ours <= hi``; ``tolerance`` says in words why those bounds.
+def check_range(name, paper, ours, lo, hi, why):
+    """A claim that holds when ``lo <= ours <= hi``; ``why`` says why those bounds.
 
     Examples
     --------
-    >>> check_range("position_error_m", 28.8, 40.0, 14.4, 57.7, "factor of 2").passed
-    True
+    >>> check_range("mean error (m)", "lost", 1487.0, 100.0, 1e4, why="DE405-class").verdict
+    'REPRODUCED'
     """
+    ours = _finite("ours", ours)
     ok = math.isfinite(ours) and lo <= ours <= hi
-    return Check(name, paper, float(ours), tolerance, bool(ok))
+    return _claim(name, paper, ours, ok, _why(f"between {lo:g} and {hi:g}", why), "")
 
 
-def check_true(name, paper, ours, condition, tolerance):
-    """A qualitative check (e.g. "isolated as the x gyro"): pass when ``condition`` holds.
-
-    Examples
-    --------
-    >>> check_true("isolated", "x gyro", "x gyro", True, "same sensor").passed
-    True
-    """
-    return Check(name, paper, ours, tolerance, bool(condition))
-
-
-def check_info(name, paper, ours, why):
-    """A row shown beside the paper's value that we do not claim to reproduce.
-
-    Use it where ours differs from the paper for a stated reason (``why``), so the
-    difference is visible in every table and in the dashboard instead of hidden.
+def check_true(name, paper, ours, condition, why):
+    """A qualitative claim (e.g. "isolated as the x gyro"): reproduced when ``condition`` holds.
 
     Examples
     --------
-    >>> c = check_info("ranking", "RKF best", "ASUKF best", "not reproduced: see note")
-    >>> c.verdict
-    'NOT CLAIMED'
+    >>> check_true("isolated", "x gyro", "x gyro", True, why="the same sensor").verdict
+    'REPRODUCED'
     """
-    return Check(name, paper, ours, why, passed=False, claimed=False)
+    if not (isinstance(why, str) and why.strip()):
+        raise ValueError("why must say, in words, what the condition checks")
+    return _claim(name, paper, ours, bool(condition), why.strip(), "")
+
+
+def _ordinal(p):
+    n = int(round(p))
+    suffix = "th" if 10 <= n % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(n % 10, "th")
+    return f"{n}{suffix}"
+
+
+def check_draw(name, paper, runs, why="", slack=0.0, unit=""):
+    """A number the paper reports from one run, judged as one draw from our single runs.
+
+    Our ``runs`` (at least :data:`MIN_RUNS`, one per seed) give the 95 % range of a single
+    run (its 2.5th to 97.5th percentiles). The claim is reproduced when the paper's number
+    falls inside that range, widened by ``slack`` on either side when a reason for more is
+    written in ``why`` (the paper's printed digits, a lost parameter, a named physical
+    difference). The reading gives the paper's percentile among our runs.
+
+    Parameters
+    ----------
+    name : str
+        The quantity, with its unit.
+    paper : float
+        The paper's single-run number.
+    runs : array_like, shape (n,)
+        Our single runs, one per seed; ``n >= MIN_RUNS``, all finite.
+    why : str, optional
+        The reason for a ``slack`` (required when ``slack > 0``).
+    slack : float, optional
+        Added to both ends of our range, in the quantity's unit.
+    unit : str, optional
+        The quantity's unit, for the reading.
+
+    Examples
+    --------
+    >>> runs = np.linspace(26.0, 30.0, 40)
+    >>> c = check_draw("fused position error (m)", 28.835, runs)
+    >>> c.verdict, c.reading
+    ('REPRODUCED', "the paper's number is at the 70th percentile of our 40 runs")
+    >>> check_draw("fused position error (m)", 36.587, runs).verdict
+    'NOT REPRODUCED'
+    """
+    paper = _finite("paper", paper)
+    runs = np.asarray(runs, dtype=float).ravel()
+    if runs.size < MIN_RUNS:
+        raise ValueError(f"runs must hold at least {MIN_RUNS} single runs; got {runs.size}")
+    if not np.all(np.isfinite(runs)):
+        raise ValueError("runs must all be finite")
+    if slack < 0 or not math.isfinite(slack):
+        raise ValueError(f"slack must be finite and >= 0; got {slack!r}")
+    lo, hi = np.percentile(runs, [2.5, 97.5])
+    criterion = f"inside the 95 % range of our {runs.size} single runs"
+    if slack > 0:
+        criterion = _why(f"{criterion}, widened by {slack:g} {unit}".rstrip(), why)
+    elif why:
+        criterion = f"{criterion}: {why.strip()}"
+    pct = 100.0 * (np.sum(runs < paper) + 0.5 * np.sum(runs == paper)) / runs.size
+    med = float(np.median(runs))
+    if paper < runs.min():
+        where = f"the paper's number is below all of our {runs.size} runs"
+    elif paper > runs.max():
+        where = f"the paper's number is above all of our {runs.size} runs"
+    else:
+        where = f"the paper's number is at the {_ordinal(pct)} percentile of our {runs.size} runs"
+    inside = lo - slack <= paper <= hi + slack
+    if not inside and med != 0:
+        where += f"; {_relative(paper, med).replace('ours is', 'it is').replace('the paper', 'our median')}"
+    ours = f"median {med:.4g} [{lo:.4g}, {hi:.4g}]"
+    return _claim(name, paper, ours, inside, criterion, where)
+
+
+def check_order(name, claim, differences, unit="", why=""):
+    """A claimed ordering ("A better than B"), judged on paired differences over seeds.
+
+    ``differences`` are ``A - B`` per seed (e.g. RMSE of A minus RMSE of B: negative where A
+    is better, as claimed). With the mean difference and its 95 % interval (1.96 standard
+    errors): `REPRODUCED` when the interval lies below zero, `NOT_REPRODUCED` when it lies
+    above, `UNDECIDED` otherwise, with the number of runs that would decide it if the mean and
+    spread stayed as measured.
+
+    Parameters
+    ----------
+    name : str
+        The ordering, e.g. ``"RKF better than TDUKF (paired RMSE difference, m)"``.
+    claim : str
+        The paper's claim in words (``"RKF < TDUKF"``).
+    differences : array_like, shape (n,)
+        Paired differences, A minus B, one per seed; ``n >= 2``, all finite.
+    unit : str, optional
+        Their unit.
+    why : str, optional
+        Anything beyond the statistics the reader needs (a named difference of set-up).
+
+    Examples
+    --------
+    >>> check_order("A better than B (m)", "A < B", [-3.0, -2.0, -4.0, -3.0]).verdict
+    'REPRODUCED'
+    >>> c = check_order("A better than B (m)", "A < B", [-3.0, 2.0, -4.0, 3.0])
+    >>> c.verdict, c.reading
+    ('UNDECIDED', 'the 95 % interval holds zero; about 190 runs would decide it (we have 4)')
+    """
+    d = np.asarray(differences, dtype=float).ravel()
+    if d.size < 2 or not np.all(np.isfinite(d)):
+        raise ValueError("differences must hold at least 2 finite paired differences")
+    mean, se = float(d.mean()), float(d.std(ddof=1) / math.sqrt(d.size))
+    lo, hi = mean - 1.96 * se, mean + 1.96 * se
+    ours = f"{mean:+.3g} [{lo:+.3g}, {hi:+.3g}] {unit}".rstrip()
+    criterion = f"95 % interval of the mean paired difference over {d.size} seeds below zero"
+    if why:
+        criterion += f": {why.strip()}"
+    if hi < 0:
+        return Check(name, claim, ours, criterion, REPRODUCED, "")
+    if lo > 0:
+        return Check(name, claim, ours, criterion, NOT_REPRODUCED,
+                     "the opposite order holds: the interval lies above zero")
+    if mean == 0:
+        reading = "the 95 % interval holds zero and the mean difference is zero"
+    else:
+        need = math.ceil((1.96 * float(d.std(ddof=1)) / abs(mean)) ** 2)
+        reading = (f"the 95 % interval holds zero; about {need} runs would decide it "
+                   f"(we have {d.size})")
+    return Check(name, claim, ours, criterion, UNDECIDED, reading)
+
+
+def check_sanity(name, expected, ours, condition, what):
+    """A check of ours (not a claim of the paper): `CHECK` when ``condition`` holds.
+
+    Use it for sanity and consistency checks (an orbit stays bound, a covariance stays
+    positive definite, our implementation matches a witness). ``expected`` says what we
+    expect; ``what`` says the criterion. A check that does not hold is `CHECK_FAILED`, a
+    defect that fails the tests.
+
+    Examples
+    --------
+    >>> check_sanity("min altitude (km)", "above the surface", 420.4, True, "> 0").verdict
+    'CHECK'
+    """
+    if not (isinstance(what, str) and what.strip()):
+        raise ValueError("what must say, in words, the criterion of the check")
+    return Check(name, expected, ours, what.strip(), CHECK if condition else CHECK_FAILED, "")
+
+
+def check_measure(name, ours, what, paper="not given"):
+    """An extra measurement shown beside the paper's (`CHECK`): nothing is decided by it.
+
+    Use it where the paper gives no number (``paper="not given"``) or gives one for another
+    set-up; ``what`` says what the number is and why it is shown.
+
+    Examples
+    --------
+    >>> check_measure("false alarms in 30 days", 4, "design pfa 1e-5 per sample").verdict
+    'CHECK'
+    """
+    if not (isinstance(what, str) and what.strip()):
+        raise ValueError("what must say, in words, what the measurement shows")
+    return Check(name, paper, ours, what.strip(), CHECK, "")
 
 
 @dataclass
@@ -198,7 +468,7 @@ class Result:
     id : str
         The reproduction ID.
     checks : list of Check
-        The asserted comparisons; the reproduction passes when all pass.
+        Its rows: the paper's claims, judged, and our checks.
     note : str
         The honest account: choices made where the paper is silent, reasons for gaps.
     data : dict
@@ -223,38 +493,64 @@ class Result:
     from_cache: bool = field(default=False, compare=False)
 
     @property
-    def verdict(self):
-        """`FAIL` if a claimed check fails, none is claimed or it raised; else `PASS`.
-
-        Examples
-        --------
-        >>> Result("demo", [check_rel("x", 1.0, 1.02, 0.05)]).verdict
-        'PASS'
-        >>> Result("demo", [check_info("y", "a", "b", "see note")]).verdict
-        'FAIL'
-        """
-        claimed = [c for c in self.checks if c.claimed]
-        ok = bool(claimed) and all(c.passed for c in claimed) and not self.error
-        return PASS if ok else FAIL
+    def claims(self):
+        """The rows that are claims of the paper."""
+        return [c for c in self.checks if c.claimed]
 
     @property
-    def passed(self):
-        """Whether the verdict is `PASS`."""
-        return self.verdict == PASS
+    def ok(self):
+        """No error, and every check of ours holds (a refuted claim is not a defect)."""
+        return not self.error and all(c.ok for c in self.checks)
 
-    def counts(self):
-        """Rows by verdict: ``{"PASS": n, "NOT CLAIMED": n, "FAIL": n}`` (every key present).
+    @property
+    def verdict(self):
+        """The headline (one of :data:`HEADLINES`), which follows the claims.
 
         Examples
         --------
-        >>> rows = [check_rel("x", 1.0, 1.0, 0.1), check_info("y", "a", "b", "see note")]
-        >>> Result("demo", rows).counts()
-        {'PASS': 1, 'NOT CLAIMED': 1, 'FAIL': 0}
+        >>> yes = check_rel("x", 1.0, 1.02, 0.05, why="two digits")
+        >>> no = check_rel("y", 1.0, 2.0, 0.05, why="two digits")
+        >>> Result("demo", [yes]).verdict, Result("demo", [yes, no]).verdict
+        ('REPRODUCED', 'PARTLY REPRODUCED')
+        >>> Result("demo", [check_measure("z", 3, "shown")]).verdict
+        'CHECK'
+        """
+        if not self.ok:
+            return ERROR
+        found = {c.verdict for c in self.claims}
+        if not found:
+            return CHECK
+        if found == {REPRODUCED}:
+            return REPRODUCED
+        if REPRODUCED in found:
+            return PARTLY_REPRODUCED
+        return UNDECIDED if found == {UNDECIDED} else NOT_REPRODUCED
+
+    def counts(self):
+        """Rows by verdict: ``{"REPRODUCED": n, ..., "CHECK FAILED": n}`` (every key present).
+
+        Examples
+        --------
+        >>> rows = [check_rel("x", 1.0, 1.0, 0.1, why="w"), check_measure("y", 2, "shown")]
+        >>> Result("demo", rows).counts()["CHECK"]
+        1
         """
         out = dict.fromkeys(VERDICTS, 0)
         for c in self.checks:
             out[c.verdict] += 1
         return out
+
+    def check(self, name):
+        """The row named ``name`` (a ``ValueError`` lists the names when there is none)."""
+        for c in self.checks:
+            if c.name == name:
+                return c
+        names = "; ".join(c.name for c in self.checks)
+        raise ValueError(f"{self.id} has no row {name!r}; its rows: {names}")
+
+    def sentence(self, name):
+        """The row ``name`` in one sentence (:meth:`Check.sentence`), for a chapter to glue."""
+        return self.check(name).sentence()
 
     @property
     def paper(self):
@@ -271,33 +567,26 @@ class Result:
     def to_dict(self):
         """The JSON form.
 
-        Keys: ``id``, ``verdict`` (`PASS` or `FAIL`), ``pass`` (the same as a bool),
-        ``checks`` (each quantity's verdict), ``counts`` (rows by verdict), ``paper``,
-        ``ours``, ``tolerance`` (by quantity), ``note``, ``figures``, ``error``.
+        Keys: ``id``, ``verdict`` (the headline, one of :data:`HEADLINES`), ``ok`` (no error
+        and every check holds), ``counts`` (rows by verdict), ``rows`` (each row's ``name``,
+        ``kind`` ("claim" or "check"), ``paper``, ``ours``, ``tolerance``, ``verdict`` and
+        ``reading``), ``note``, ``figures``, ``error``.
         """
-        return {
-            "id": self.id,
-            "verdict": self.verdict,
-            "paper": self.paper,
-            "ours": self.ours,
-            "tolerance": self.tolerance,
-            "pass": self.passed,
-            "checks": {c.name: c.verdict for c in self.checks},
-            "counts": self.counts(),
-            "note": self.note,
-            "figures": self.figures,
-            "error": self.error,
-        }
+        rows = [{"name": c.name, "kind": "claim" if c.claimed else "check", "paper": c.paper,
+                 "ours": c.ours, "tolerance": c.tolerance, "verdict": c.verdict,
+                 "reading": c.reading} for c in self.checks]
+        return {"id": self.id, "verdict": self.verdict, "ok": self.ok, "counts": self.counts(),
+                "rows": rows, "note": self.note, "figures": self.figures, "error": self.error}
 
     def to_json(self):
         return json.dumps(self.to_dict(), default=jsonable)
 
     def table(self):
-        """A plain-text table: id, quantity, paper, ours, tolerance, verdict."""
+        """A plain-text table of the rows (columns :data:`CHECK_HEADER`)."""
         return results_table([self])
 
     def html(self):
-        """The result as safe HTML: its verdict, a table of its checks, its note.
+        """The result as safe HTML: its headline, a table of its rows, its note.
 
         Every cell and the note are escaped text (a ``|``, ``<`` or newline in a value
         cannot break the table); the table has the columns :data:`CHECK_HEADER` without
@@ -305,9 +594,10 @@ class Result:
 
         Examples
         --------
-        >>> page = Result("demo", [check_abs("a|b", 1.0, 1.5, 1.0)], note="x < y").html()
+        >>> row = check_abs("a|b", 1.0, 1.5, 1.0, why="x < y")
+        >>> page = Result("demo", [row], note="x < y").html()
         >>> page.count("<td>"), "a|b" in page, "x &lt; y" in page
-        (5, True, True)
+        (6, True, True)
         """
         head = (f'<p class="xnav-result"><strong>{html.escape(self.id)}</strong>: '
                 f'<span class="xnav-verdict">{self.verdict}</span></p>')
@@ -322,11 +612,13 @@ class Result:
     def _repr_html_(self):
         return self.html()
 
-    def assert_passed(self):
-        """Raise ``AssertionError`` listing every check when the verdict is `FAIL`."""
-        if not self.passed:
-            raise AssertionError(f"{self.id}: {FAIL}\n" + results_table([self])
+    def assert_ok(self):
+        """Raise ``AssertionError`` listing every row when it raised or a check failed."""
+        if not self.ok:
+            raise AssertionError(f"{self.id}: {ERROR}\n" + results_table([self])
                                  + (f"\nraised {self.error}" if self.error else ""))
+
+
 
 
 @dataclass(frozen=True)
@@ -523,71 +815,85 @@ def run(id, out=None, fresh=False, **kwargs):
 
 
 def run_or_fail(id, out=None, **kwargs):
-    """Like :func:`run`, but an exception becomes a `FAIL` result instead of propagating.
+    """Like :func:`run`, but an exception becomes an `ERROR` result instead of propagating.
 
     The command line's ``--all`` and the dashboard run every reproduction through this
     function, so a reproduction that raises is counted and shown the same way in both:
-    one claimed check "ran without error" that fails, and ``error`` set.
+    one check "ran without error" that failed, and ``error`` set.
 
     Examples
     --------
     >>> res = run_or_fail("no-such-id")
     >>> res.verdict, res.error.startswith("ValueError")
-    ('FAIL', True)
+    ('ERROR', True)
     """
     try:
         return run(id, out=out, **kwargs)
-    except Exception as exc:  # noqa: BLE001 - reported as the FAIL of that reproduction
+    except Exception as exc:  # noqa: BLE001 - reported as the ERROR of that reproduction
         error = " ".join(f"{type(exc).__name__}: {exc}".split())
-        check = Check("ran without error", "runs", error, "must not raise", False)
+        check = Check("ran without error", "runs", error, "must not raise", CHECK_FAILED)
         return Result(id, [check], note="the reproduction raised an exception", error=error)
 
 
 def counts(results):
-    """Reproductions and rows by verdict, the numbers of :func:`headline`.
+    """The paper's claims and our checks by verdict, over several results (:func:`headline`).
 
     Returns
     -------
     dict
-        ``reproductions`` (how many), ``pass`` (how many with verdict `PASS`), ``fail``
-        (the IDs with verdict `FAIL`, in order) and ``rows`` (every check row by verdict,
-        as :meth:`Result.counts`).
+        ``reproductions`` (how many), ``headlines`` (reproductions by headline, every key of
+        :data:`HEADLINES`), ``rows`` (every row by verdict, as :meth:`Result.counts`),
+        ``claims`` (rows that are claims of the paper), ``checks`` (rows that are checks of
+        ours) and ``errors`` (the IDs whose headline is `ERROR`, in order).
 
     Examples
     --------
-    >>> ok = Result("a", [check_rel("x", 1.0, 1.0, 0.1), check_info("y", 1, 2, "why")])
-    >>> counts([ok, Result("b", [])])["fail"]
-    ['b']
+    >>> ok = Result("a", [check_rel("x", 1.0, 1.0, 0.1, why="w"), check_measure("y", 2, "shown")])
+    >>> n = counts([ok, run_or_fail("no-such-id")])
+    >>> n["claims"], n["checks"], n["errors"]
+    (1, 2, ['no-such-id'])
     """
     rows = dict.fromkeys(VERDICTS, 0)
+    heads = dict.fromkeys(HEADLINES, 0)
     for res in results:
+        heads[res.verdict] += 1
         for verdict, n in res.counts().items():
             rows[verdict] += n
-    return {"reproductions": len(results), "pass": sum(r.passed for r in results),
-            "fail": [r.id for r in results if not r.passed], "rows": rows}
+    return {"reproductions": len(results), "headlines": heads, "rows": rows,
+            "claims": sum(rows[v] for v in CLAIM_VERDICTS),
+            "checks": rows[CHECK] + rows[CHECK_FAILED],
+            "errors": [r.id for r in results if r.verdict == ERROR]}
+
+
+def _plural(n, word):
+    return f"{n} {word}" if n == 1 else f"{n} {word}s"
 
 
 def headline(results):
-    """The one sentence that counts the verdicts (the CLI's ``--all`` and the dashboard).
+    """The one sentence that counts the claims and the checks (the CLI's ``--all``, the dashboard).
 
     Examples
     --------
-    >>> ok = Result("a", [check_rel("x", 1.0, 1.0, 0.1), check_info("y", 1, 2, "why")])
-    >>> headline([ok, Result("b", [])])
-    '1 of 2 reproductions pass (1 row not claimed); FAIL: b'
+    >>> ok = Result("a", [check_rel("x", 1.0, 1.0, 0.1, why="w"), check_measure("y", 2, "shown")])
+    >>> headline([ok])
+    '1 of 1 paper claim reproduced (0 not reproduced, 0 undecided); 1 of 1 check holds'
     """
     n = counts(results)
-    k = n["rows"][NOT_CLAIMED]
-    text = (f"{n['pass']} of {n['reproductions']} reproductions pass"
-            f" ({k} row{'' if k == 1 else 's'} not claimed)")
-    return text + (f"; {FAIL}: {', '.join(n['fail'])}" if n["fail"] else "")
+    r = n["rows"]
+    claims = (f"{r[REPRODUCED]} of {_plural(n['claims'], 'paper claim')} reproduced "
+              f"({r[NOT_REPRODUCED]} not reproduced, {r[UNDECIDED]} undecided)")
+    checks = f"{r[CHECK]} of {n['checks']} {'check holds' if n['checks'] == 1 else 'checks hold'}"
+    text = f"{claims}; {checks}"
+    return text + (f"; {ERROR}: {', '.join(n['errors'])}" if n["errors"] else "")
 
 
+#: Columns of the dashboard's table of counts: how many rows of each verdict.
+COUNT_HEADER = ("", *VERDICTS)
 #: Columns of :func:`summary_rows`: one row per reproduction.
-SUMMARY_HEADER = ("reproduction", "verdict", "claimed checks passing", "not claimed",
-                  "chapter", "what")
+SUMMARY_HEADER = ("reproduction", "verdict", "claims reproduced", "not reproduced",
+                  "undecided", "checks holding", "chapter", "what")
 #: Columns of :func:`check_rows`: one row per check.
-CHECK_HEADER = ("reproduction", "quantity", "paper", "ours", "tolerance", "verdict")
+CHECK_HEADER = ("reproduction", "quantity", "paper", "ours", "tolerance", "verdict", "reading")
 
 
 def summary_rows(results):
@@ -600,25 +906,25 @@ def summary_rows(results):
             chapter, title = rep.chapter, rep.title
         except ValueError:
             chapter, title = "", ""
-        claimed = n[PASS] + n[FAIL]
-        rows.append((res.id, res.verdict, f"{n[PASS]} of {claimed}", n[NOT_CLAIMED], chapter,
-                     title))
+        claims = sum(n[v] for v in CLAIM_VERDICTS)
+        rows.append((res.id, res.verdict, f"{n[REPRODUCED]} of {claims}", n[NOT_REPRODUCED],
+                     n[UNDECIDED], f"{n[CHECK]} of {n[CHECK] + n[CHECK_FAILED]}", chapter, title))
     return rows
 
 
 def check_rows(results):
     """One row per check (columns :data:`CHECK_HEADER`), values formatted for a table."""
-    return [(res.id, c.name, _show(c.paper), _show(c.ours), c.tolerance, c.verdict)
+    return [(res.id, c.name, _show(c.paper), _show(c.ours), c.tolerance, c.verdict, c.reading)
             for res in results for c in res.checks]
 
 
 def report_html(results, elapsed_s=None):
-    """Every result on one page (the dashboard): the headline, a summary table, every check.
+    """Every result on one page (the dashboard): the headline, the counts, a summary, every row.
 
-    Built only from :func:`headline`, :func:`summary_rows`, :func:`check_rows` and
-    :func:`~xnavlab.core.plotting.html_table`, the same words and counts as the command line;
-    every cell and note is escaped text. The notes (the choices behind each reproduction)
-    follow in a collapsed ``<details>`` block.
+    Built only from :func:`headline`, :func:`counts`, :func:`summary_rows`, :func:`check_rows`
+    and :func:`~xnavlab.core.plotting.html_table`, the same words and counts as the command
+    line; every cell and note is escaped text. The notes (the choices behind each
+    reproduction) follow in a collapsed ``<details>`` block.
 
     Parameters
     ----------
@@ -633,8 +939,9 @@ def report_html(results, elapsed_s=None):
 
     Examples
     --------
-    >>> page = report_html([Result("a", [check_rel("x|y", 1.0, 1.0, 0.1)], note="a < b")])
-    >>> "1 of 1 reproductions pass (0 rows not claimed)" in page, "x|y" in page
+    >>> row = check_rel("x|y", 1.0, 1.0, 0.1, why="w")
+    >>> page = report_html([Result("a", [row], note="a < b")])
+    >>> "1 of 1 paper claim reproduced" in page, "x|y" in page
     (True, True)
     """
     reused = sum(r.from_cache for r in results)
@@ -643,10 +950,16 @@ def report_html(results, elapsed_s=None):
         when = (f" (when the book was built, in {elapsed_s:.0f} s: {len(results) - reused} "
                 f"computed, {reused} read from the reproduction cache, computed earlier by the "
                 "same code on this machine)")
+    n = counts(results)
+    claims = [n["rows"][v] if v in CLAIM_VERDICTS else "" for v in VERDICTS]
+    checks = [n["rows"][v] if v not in CLAIM_VERDICTS else "" for v in VERDICTS]
     parts = [f'<p class="xnav-headline"><strong>{html.escape(headline(results))}</strong>'
              f"{html.escape(when)}.</p>",
+             html_table(COUNT_HEADER, [("claims of the papers", *claims),
+                                       ("checks of ours (not reproductions)", *checks)]),
+             "<p><strong>Every reproduction</strong></p>",
              html_table(SUMMARY_HEADER, summary_rows(results)),
-             "<p><strong>Every check</strong></p>",
+             "<p><strong>Every row</strong></p>",
              html_table(CHECK_HEADER, check_rows(results))]
     notes = []
     for res in results:
@@ -666,8 +979,59 @@ def report_html(results, elapsed_s=None):
     return SafeHTML("\n".join(parts))
 
 
+def summary_box(results, title="Reproducing the paper: the verdicts"):
+    """A chapter's closing box: per claim, what the paper claimed, what we got, the verdict, why.
+
+    HTML in the admonition style of the book's theme (it renders the same in the HTML book and
+    in JupyterLab). Per reproduction its headline; per claim two or three lines: the claim and
+    the paper's value, ours, the verdict with its tolerance and reason, and the reading; the
+    checks of ours are counted in one line, never listed as reproductions.
+
+    Parameters
+    ----------
+    results : sequence of Result
+        The chapter's reproductions, in the order to show.
+    title : str, optional
+        The box's title.
+
+    Returns
+    -------
+    SafeHTML
+
+    Examples
+    --------
+    >>> res = Result("a", [check_rel("x (m)", 1.0, 1.02, 0.05, why="two digits"),
+    ...                    check_sanity("y", "> 0", 1.0, True, "positive")])
+    >>> box = summary_box([res])
+    >>> "REPRODUCED" in box, "1 check of ours holds" in box
+    (True, True)
+    """
+    items = []
+    for res in results:
+        lines = []
+        for c in res.claims:
+            lines.append(
+                f"<li><strong>{html.escape(c.name)}</strong>: the paper "
+                f"{html.escape(_show(c.paper))}, ours {html.escape(_show(c.ours))}. "
+                f'<span class="xnav-verdict">{c.verdict}</span>: {html.escape(c.tolerance)}'
+                + (f"; {html.escape(c.reading)}" if c.reading else "") + ".</li>")
+        n = res.counts()
+        held, total = n[CHECK], n[CHECK] + n[CHECK_FAILED]
+        if total:
+            word = "check of ours holds" if held == 1 else "checks of ours hold"
+            lines.append(f"<li>{held} of {total} {word} (not claims of the paper).</li>")
+        if res.error:
+            lines.append(f"<li>raised {html.escape(res.error)}</li>")
+        items.append(f"<p><strong>{html.escape(res.id)}</strong>: "
+                     f'<span class="xnav-verdict">{res.verdict}</span></p>\n<ul>\n'
+                     + "\n".join(lines) + "\n</ul>")
+    return SafeHTML('<div class="admonition important xnav-summary">\n'
+                    f'<p class="admonition-title">{html.escape(title)}</p>\n'
+                    + "\n".join(items) + "\n</div>")
+
+
 def results_table(results):
-    """Plain-text table of the checks of several results (columns :data:`CHECK_HEADER`)."""
+    """Plain-text table of the rows of several results (columns :data:`CHECK_HEADER`)."""
     rows = [CHECK_HEADER] + [tuple(" ".join(str(v).split()) for v in row)
                              for row in check_rows(results)]
     widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]))]

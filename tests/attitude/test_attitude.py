@@ -24,7 +24,7 @@ def test_all_attitude_reproductions_are_registered():
 @pytest.mark.parametrize("rid", ATTITUDE_IDS)
 def test_reproduction_passes(rid):
     res = reproduce.run(rid)
-    res.assert_passed()
+    res.assert_ok()
     assert res.note
 
 

@@ -16,15 +16,17 @@ def test_list_prints_one_line_per_registered_id(capsys):
 
 def test_one_reproduction_prints_its_table_and_verdict(capsys):
     assert main(["reproduce", "xnav-ranging"]) == 0
-    assert capsys.readouterr().out.rstrip().endswith("xnav-ranging: PASS")
+    verdict = reproduce.run("xnav-ranging").verdict
+    assert capsys.readouterr().out.rstrip().endswith(f"xnav-ranging: {verdict}")
 
 
 def test_all_with_out_writes_every_result_as_json(monkeypatch, tmp_path, capsys):
     monkeypatch.setattr(reproduce, "ids", lambda: ["xnav-ranging"])
     assert main(["reproduce", "--all", "--out", str(tmp_path)]) == 0
     saved = json.loads((tmp_path / "reproductions.json").read_text())
-    assert [r["id"] for r in saved] == ["xnav-ranging"] and saved[0]["verdict"] == "PASS"
-    assert "1 of 1 reproductions pass" in capsys.readouterr().out
+    assert [r["id"] for r in saved] == ["xnav-ranging"] and saved[0]["ok"] is True
+    assert saved[0]["verdict"] == reproduce.run("xnav-ranging").verdict
+    assert reproduce.headline([reproduce.run("xnav-ranging")]) in capsys.readouterr().out
 
 
 def test_run_one_turns_an_exception_into_a_failed_result(monkeypatch):
@@ -33,7 +35,7 @@ def test_run_one_turns_an_exception_into_a_failed_result(monkeypatch):
 
     monkeypatch.setattr(reproduce, "run", boom)
     result = cli_reproduce.run_one("xnav-ranging", None)
-    assert result.verdict == "FAIL" and not result.passed
+    assert result.verdict == "ERROR" and not result.ok
 
 
 def test_list_and_all_together_is_a_usage_error(capsys):

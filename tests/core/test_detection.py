@@ -50,4 +50,4 @@ def test_bad_input_raises_value_error_naming_the_parameter(call, name):
 def test_reproduction_mallat_vs_pywavelets_passes():
     from xnavlab import reproduce
 
-    reproduce.run("mallat-vs-pywavelets").assert_passed()
+    reproduce.run("mallat-vs-pywavelets").assert_ok()

@@ -10,7 +10,7 @@ from xnavlab import reproduce
 def test_reproductions_pass(rid):
     assert rid in reproduce.ids()
     result = reproduce.run(rid)
-    result.assert_passed()
+    result.assert_ok()
     assert result.note and reproduce.get(rid).chapter == "12_fuzzy_parity"
 
 

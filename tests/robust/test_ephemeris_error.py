@@ -159,7 +159,7 @@ def test_orbit():
 
 
 def test_ephemeris_error_reproduction_passes():
-    reproduce.run("ephemeris-error").assert_passed()
+    reproduce.run("ephemeris-error").assert_ok()
 
 
 def test_compiled_model_matches_the_dynamics_module():

@@ -31,10 +31,13 @@ def configure(parser):
 
 
 def execute(args):
-    """Run ``reproduce``; exit code 0 when every verdict is PASS, 1 otherwise.
+    """Run ``reproduce``; exit code 0 when it ran and every check of ours holds, 1 otherwise.
 
-    The table and the JSON use the verdicts of :data:`xnavlab.reproduce.VERDICTS`;
-    ``--all`` ends with :func:`xnavlab.reproduce.headline` (on stderr with ``--json``).
+    A paper claim that is not reproduced, or undecided, is a result, not an error: the exit code
+    is 1 only for a reproduction that raised or whose check of ours failed (``ERROR``). The table
+    and the JSON use the verdicts of :data:`xnavlab.reproduce.VERDICTS` and the headlines of
+    :data:`xnavlab.reproduce.HEADLINES`; ``--all`` ends with
+    :func:`xnavlab.reproduce.headline` (on stderr with ``--json``).
     """
     if args.list:
         for rid in reproduce.ids():
@@ -53,11 +56,11 @@ def execute(args):
         if result.note:
             print(result.note)
         print(f"{result.id}: {result.verdict}")
-    return 0 if result.passed else 1
+    return 0 if result.ok else 1
 
 
 def run_one(rid, out, fresh=False):
-    """Run one reproduction for ``--all``; an exception becomes a FAIL result, not an abort."""
+    """Run one reproduction for ``--all``; an exception becomes an ERROR result, not an abort."""
     return reproduce.run_or_fail(rid, out=out, fresh=fresh)
 
 
@@ -79,4 +82,4 @@ def _reproduce_all(args):
     if args.out:
         path = Path(args.out) / "reproductions.json"
         path.write_text(json.dumps(payload, indent=2, default=reproduce.jsonable))
-    return 0 if all(r.passed for r in results) else 1
+    return 0 if all(r.ok for r in results) else 1

@@ -14,8 +14,10 @@ Our metric: the RMS over time of the norm of the fused position (velocity) error
 from day 1 to day 30 (:meth:`xnavlab.mars.scenarios.MarsRun.metrics`). The RMS of the norm
 summarises a curve like Fig. 2 in one number, weighs every axis and epoch equally and
 leaves out the 5-km initial transient, which has died out well before day 1.
-Acceptance: within a factor of 2 of the paper (the paper gives neither its process
-noise nor its metric, and both move the number by tens of per cent).
+Acceptance: the paper's numbers come from one run, so each is judged as one draw from our
+single runs over 32 noise seeds (:func:`xnavlab.reproduce.check_draw`, the runs of
+:func:`xnavlab.mars.headline.headline_numbers`): reproduced when it falls inside their 95 %
+range. The paper gives neither its process noise nor its metric; ours are stated in the note.
 """
 
 from __future__ import annotations
@@ -26,7 +28,15 @@ import numpy as np
 
 from xnavlab.core.constants import C
 from xnavlab.mars import dynamics, pulsars, scenarios, sensors
-from xnavlab.reproduce import Result, check_range, check_rel, check_true, register, save_figure
+from xnavlab.reproduce import (
+    Result,
+    check_draw,
+    check_measure,
+    check_sanity,
+    check_true,
+    register,
+    save_figure,
+)
 from xnavlab.reproduce import figure as _figure
 
 __all__ = ["PAPER_POSITION_ERROR_M", "PAPER_VELOCITY_ERROR_MPS", "PAPER_SENSORS",
@@ -68,22 +78,26 @@ def mars_sensors(out=None, n=40_000, seed=0):
     xs = sensors.XNAVSensor()
     t = np.full(n, dynamics.MARS_T0)
     zx = xs.simulate(t[:2000], states[:2000], rng=rng) - xs.h(x, dynamics.MARS_T0)
-    tol = 0.02
-    checks = [
-        check_rel("UV range (m)", 5000.0, float(np.std(zu[:, 0] - uv.h(x)[0])), tol),
-        check_rel("UV direction per axis (deg)", 0.1, dir_deg, tol),
-        check_rel("starlight angle (deg), horizon 0.05 deg + star 3 arcsec", 0.05,
-                  math.degrees(float(np.mean(np.std(ang, axis=0)))), tol),
-        check_true("starlight-angle errors share the horizon error (max |correlation|)",
-                   "correlated", float(np.abs(np.corrcoef(ang.T)[np.triu_indices(3, 1)]).max()),
-                   float(np.abs(np.corrcoef(ang.T)[np.triu_indices(3, 1)]).max()) > 0.1,
-                   "> 0.1: R is not diagonal"),
+    tol = 0.02  # 40,000 draws: the sample sigma's own scatter is 0.35 %
+    corr = float(np.abs(np.corrcoef(ang.T)[np.triu_indices(3, 1)]).max())
+
+    def same(name, paper, ours, within):
+        return check_sanity(name, paper, ours, abs(ours - paper) <= within * paper,
+                            f"within {100 * within:g} % of the set-up's value")
+
+    checks = [  # our simulators against the set-up of section 4.1: checks, not claims
+        same("UV range (m)", 5000.0, float(np.std(zu[:, 0] - uv.h(x)[0])), tol),
+        same("UV direction per axis (deg)", 0.1, dir_deg, tol),
+        same("starlight angle (deg), horizon 0.05 deg + star 3 arcsec", 0.05,
+             math.degrees(float(np.mean(np.std(ang, axis=0)))), tol),
+        check_sanity("starlight-angle errors share the horizon error (max |correlation|)",
+                     "correlated", corr, corr > 0.1, "> 0.1: R is not diagonal"),
     ]
     for i, p in enumerate(pulsars.PAPER_PULSARS):
         paper = PAPER_SENSORS[f"{p} ranging (m)"]
-        checks.append(check_rel(f"{p} ranging (m)", paper, float(xs.sigma[i] * C), 0.01))
-        checks.append(check_rel(f"{p} simulated delay scatter x c (m)", paper,
-                                float(np.std(zx[:, i]) * C), 0.05))
+        checks.append(same(f"{p} ranging (m)", paper, float(xs.sigma[i] * C), 0.01))
+        checks.append(same(f"{p} simulated delay scatter x c (m)", paper,
+                           float(np.std(zx[:, i]) * C), 0.05))
     note = (
         f"{n} draws of each sensor at the paper's initial state. Direction noise is applied as a "
         "rotation of the true unit vector by a small random angle (two independent tangent "
@@ -115,11 +129,14 @@ def mars_subsystems(out=None, days=3.0, seed=0):
     best_single = min(rms[s][1] for s in ("xnav", "uv", "cns"))
     checks = [
         check_true(f"{s}: error does not grow (last day vs the day before, m)", "bounded",
-                   rms[s][1], rms[s][1] <= 1.1 * rms[s][0], "last-day RMS <= 1.1 x previous day")
+                   rms[s][1], rms[s][1] <= 1.1 * rms[s][0],
+                   "last-day RMS at most 1.1 times the day before's: one seed's day-to-day "
+                   "scatter is a few per cent")
         for s in ("xnav", "uv", "cns", "xnav+uv+cns")
     ]
     checks.append(check_true("fused better than the best subsystem alone (m)", "higher accuracy",
-                             fused, fused < best_single, f"< best single {best_single:.1f} m"))
+                             fused, fused < best_single,
+                             f"below the best single subsystem's {best_single:.1f} m"))
     note = (
         "The paper argues (sections 0 and 3) that XNAV, UV and CNS navigation all have errors "
         "that do not grow with time and that federated fusion gives higher accuracy than each; "
@@ -143,17 +160,26 @@ def mars_nofault(out=None, days=30.0, seed=0, settle_days=1.0, mode="reset"):
     sym = float(np.max(np.abs(res.P - np.swapaxes(res.P, 1, 2))))
     after = res.t_days >= settle_days
     inside = float(np.mean(res.position_error()[after] <= 3.0 * res.sigma_position()[after]))
-    checks = [
-        check_range("position_error_m", PAPER_POSITION_ERROR_M, pos,
-                    PAPER_POSITION_ERROR_M / 2, PAPER_POSITION_ERROR_M * 2,
-                    "within a factor of 2 (RMS of |error| after day 1)"),
-        check_range("velocity_error_mps", PAPER_VELOCITY_ERROR_MPS, vel,
-                    PAPER_VELOCITY_ERROR_MPS / 2, PAPER_VELOCITY_ERROR_MPS * 2,
-                    "within a factor of 2 (RMS of |error| after day 1)"),
-        check_true("covariance SPD over the run (smallest eigenvalue)", "> 0", min_eig,
-                   min_eig > 0.0 and sym == 0.0, "symmetric, all eigenvalues > 0"),
-        check_true("|position error| within 3 sigma after day 1 (fraction)", ">= 0.99", inside,
-                   inside >= 0.99, "the filter's covariance covers its error"),
+    checks = []
+    if (days, settle_days, mode) == (30.0, 1.0, "reset"):
+        # the paper's numbers are single runs: judged among ours over 32 seeds
+        from xnavlab.mars import headline
+
+        runs = headline.headline_numbers(n_seeds=32)["runs"]
+        checks += [
+            check_draw("fused position error (m), RMS after day 1", PAPER_POSITION_ERROR_M,
+                       runs["fused_position_m"]),
+            check_draw("fused velocity error (m/s), RMS after day 1", PAPER_VELOCITY_ERROR_MPS,
+                       runs["fused_velocity_mps"]),
+        ]
+    checks += [
+        check_measure(f"fused position error of the plotted run, seed {seed} (m)", pos,
+                      "one single run, the one whose curves the chapter plots",
+                      paper=PAPER_POSITION_ERROR_M),
+        check_sanity("covariance SPD over the run (smallest eigenvalue)", "> 0", min_eig,
+                     min_eig > 0.0 and sym == 0.0, "symmetric, all eigenvalues > 0"),
+        check_sanity("|position error| within 3 sigma after day 1 (fraction)", ">= 0.99", inside,
+                     inside >= 0.99, "the filter's covariance covers its error"),
     ]
     note = (
         f"Metric (the paper defines none): RMS over time of the norm of the fused error from "

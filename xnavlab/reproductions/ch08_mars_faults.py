@@ -22,7 +22,7 @@ from xnavlab.core import detection
 from xnavlab.core.faults import Fault, inject
 from xnavlab.mars import fault_tolerance, scenarios
 from xnavlab.mars.plots import plot_details, plot_error_curves
-from xnavlab.reproduce import Result, check_info, check_range, check_true, register
+from xnavlab.reproduce import Result, check_draw, check_measure, check_range, check_true, register
 
 __all__ = ["PAPER_MAX_ERROR_FAULTS_M", "PAPER_POSITION_ERROR_M", "PAPER_VELOCITY_ERROR_MPS",
            "HAND_SCHEDULE", "paper_runs"]
@@ -79,15 +79,33 @@ def mars_faults_ekf(out=None, days=30.0, seed=0):
     m_bad = r["none"].run.metrics()
     m_ok = r["clean"].metrics()
     bad, ok = m_bad["position_error_max_m"], m_ok["position_error_max_m"]
-    checks = [
-        check_range("max |position error|, faults, no detector (m)", PAPER_MAX_ERROR_FAULTS_M,
-                    bad, 1000.0, 10000.0, "same order of magnitude: in the km range (1-10 km)"),
-        check_range("max |position error|, fault-free (m)", "hundreds of m", ok, 0.0, 1000.0,
-                    "hundreds of metres or less"),
-        check_true("faults / fault-free max error", ">> 1", bad / ok, bad / ok >= 10.0, ">= 10"),
-        check_info("RMS |position error|, faults, no detector (m)", "not given",
-                   m_bad["position_error_m"], "the paper gives only the maximum for Fig. 3"),
-    ]
+    checks = []
+    if (days, seed) == (30.0, 0):
+        # the paper's Fig. 3 is one run: judged among our single runs over 32 seeds
+        from xnavlab.mars import headline
+
+        runs = headline.headline_numbers(n_seeds=32)["runs"]
+        ekf, clean = np.asarray(runs["ekf_max_position_m"]), np.asarray(runs["clean_max_position_m"])
+        checks += [
+            check_draw("max |position error|, faults, no detector (m)", PAPER_MAX_ERROR_FAULTS_M,
+                       ekf, slack=500.0, unit="m",
+                       why="the paper reads 'about 4 km' off its figure; the fault sizes behind "
+                           "it are not given, ours are chosen (see the note)"),
+            check_range("max |position error|, fault-free, largest of our runs (m)",
+                        "hundred-metre level", float(clean.max()), 100 / np.sqrt(10), 100 * np.sqrt(10),
+                        why="'hundred-metre level' read as the order of magnitude of 100 m "
+                            "(a factor sqrt(10) either side)"),
+            check_true("faults / fault-free max error, smallest of our runs", "grows to km level",
+                       float((ekf / clean).min()), bool((ekf / clean).min() >= 10.0),
+                       why="undetected faults raise the largest error by more than an order "
+                           "of magnitude in every run"),
+        ]
+    checks.append(check_measure(f"max |position error|, faults, no detector, seed {seed} (m)",
+                                bad, "the run whose curve the chapter plots",
+                                paper=PAPER_MAX_ERROR_FAULTS_M))
+    checks.append(check_measure("RMS |position error|, faults, no detector (m)",
+                                m_bad["position_error_m"],
+                                "the paper gives only the maximum for Fig. 3"))
     note = (
         f"The paper's fault instants with our magnitudes and durations (5000 s each: UV range "
         "steps of 5 sigma = 25 km; XNAV delay steps of 1e-5 s = 3 km on every pulsar and ramps "
@@ -95,8 +113,8 @@ def mars_faults_ekf(out=None, days=30.0, seed=0):
         f"starlight angles). No detector: the federated filter takes every biased measurement. "
         f"Ours peaks at {bad / 1e3:.2f} km (paper about 4 km) against {ok:.0f} m fault-free; the "
         "CNS horizon bias causes the largest excursions, the UV range steps the smallest (the "
-        "range noise is 5 km). The paper gives no magnitudes, so only the order of magnitude "
-        "and the effect are claimed."
+        "range noise is 5 km). The paper gives no magnitudes: its 4 km is judged among our "
+        "runs with our magnitudes, with half a kilometre of slack for reading it off a figure."
     )
     data = {"t_days": r["none"].run.t_days, "faulty": r["none"].run.position_error(),
             "clean": r["clean"].position_error(), "faults": r["faults"],
@@ -129,25 +147,41 @@ def mars_faults_wavelet(out=None, days=30.0, seed=0, hand_days=3.0):
     hd = hand.delays()
     hand_missed = [d for d in hd if not math.isfinite(d["delay"])]
     hand_ratio = hand.run.metrics()["position_error_m"] / hand_clean.metrics()["position_error_m"]
-    checks = [
-        check_range("position_error_m", PAPER_POSITION_ERROR_M, pos, PAPER_POSITION_ERROR_M / 2,
-                    PAPER_POSITION_ERROR_M * 2, "within a factor of 2 (RMS after day 1)"),
-        check_range("velocity_error_mps", PAPER_VELOCITY_ERROR_MPS, vel,
-                    PAPER_VELOCITY_ERROR_MPS / 2, PAPER_VELOCITY_ERROR_MPS * 2,
-                    "within a factor of 2 (RMS after day 1)"),
-        check_range("position error / ours fault-free", "close to 1", pos / m0["position_error_m"],
-                    0.0, 1.5, "<= 1.5"),
-        check_range("velocity error / ours fault-free", "close to 1",
-                    vel / m0["velocity_error_mps"], 0.0, 1.5, "<= 1.5"),
-        check_true("scheduled faults detected", "all", f"{len(delays) - len(missed)} of {len(delays)}",
-                   not missed, "every fault"),
-        check_true("every subsystem connected at the end", "yes", bool(not ftr.isolated[-1].any()),
-                   not ftr.isolated[-1].any(), "rejoined after its fault"),
-        check_true(f"hand-made schedule ({hand_days:g} days, other onsets): detected",
-                   "all", f"{len(hd) - len(hand_missed)} of {len(hd)}", not hand_missed,
-                   "every fault"),
-        check_range("hand-made schedule: position error / fault-free", "close to 1", hand_ratio,
-                    0.0, 1.5, "<= 1.5"),
+    checks = []
+    if (days, seed) == (30.0, 0):
+        # the paper's Fig. 4 is one run: its numbers judged among our single runs over 32 seeds
+        from xnavlab.mars import headline
+
+        runs = headline.headline_numbers(n_seeds=32)["runs"]
+        paper_ratio = PAPER_POSITION_ERROR_M / headline.PAPER["fused_position_m"]
+        ratio = np.asarray(runs["wavelet_ratio"])
+        found = np.asarray(runs["wavelet_detected_fraction"])
+        checks += [
+            check_draw("fused position error with faults (m), RMS after day 1",
+                       PAPER_POSITION_ERROR_M, runs["wavelet_position_m"]),
+            check_draw("fused velocity error with faults (m/s), RMS after day 1",
+                       PAPER_VELOCITY_ERROR_MPS, runs["wavelet_velocity_mps"]),
+            check_true("close to the fault-free run: faulty / fault-free position error, "
+                       "95th percentile of our runs", f"close ({paper_ratio:.2f} in the paper)",
+                       float(np.percentile(ratio, 95)), np.percentile(ratio, 95) <= paper_ratio,
+                       why="at most the paper's own ratio, which it calls close, in 95 % of runs"),
+            check_true("every scheduled fault detected, share of our runs", "all detected",
+                       float(np.mean(found == 1.0)), bool(np.all(found == 1.0)),
+                       why="the paper shows every fault detected and isolated"),
+        ]
+    checks += [
+        check_measure(f"fused position error with faults, seed {seed} (m)", pos,
+                      "the run whose curves the chapter plots", paper=PAPER_POSITION_ERROR_M),
+        check_measure(f"scheduled faults detected, seed {seed}",
+                      f"{len(delays) - len(missed)} of {len(delays)}", "the plotted run",
+                      paper="all"),
+        check_measure(f"every subsystem connected at the end, seed {seed}",
+                      bool(not ftr.isolated[-1].any()), "the plotted run", paper="yes"),
+        check_measure(f"hand-made schedule ({hand_days:g} days, other onsets): detected",
+                      f"{len(hd) - len(hand_missed)} of {len(hd)}",
+                      "faults at onsets the paper does not use"),
+        check_measure("hand-made schedule: position error / fault-free", float(hand_ratio),
+                      "faults at onsets the paper does not use"),
     ]
     finite = [d["delay"] for d in delays if math.isfinite(d["delay"])]
     by = {}
@@ -210,12 +244,15 @@ def wavelet_details(out=None, days=30.0, seed=0, pfa=1e-5, train_days=1.0):
                   if any(f.onset <= e.onset <= f.end + 600.0 for f in faults))
     false = len(det.events) - matched
     checks = [
+        check_true("detail peak at each onset / threshold (min over faults)", "fault instants shown",
+                   min(peaks), min(peaks) > 1.0,
+                   why="each onset stands out above the detector's threshold in D1..D5"),
         check_true("scheduled UV faults detected within 600 s (online detector)", "all 6",
-                   f"{len(faults) - len(late)} of {len(faults)}", not late, "every onset"),
-        check_true("detail peak at each onset / threshold (min over faults)", "> 1",
-                   min(peaks), min(peaks) > 1.0, "each onset stands out in D1..D5"),
-        check_info("false alarms in 30 days (events away from faults)", "not given", false,
-                   f"design pfa {pfa:g} per sample; {x.size} samples"),
+                   f"{len(faults) - len(late)} of {len(faults)}", not late,
+                   why="the paper marks every fault instant; 600 s is 200 UV samples, our "
+                       "criterion for 'at the instant'"),
+        check_measure("false alarms in 30 days (events away from faults)", false,
+                      f"design pfa {pfa:g} per sample; {x.size} samples"),
     ]
     note = (
         "The UV range (5000 m noise, every 3 s) with the paper's six UV fault instants as 25-km "

@@ -18,7 +18,17 @@ import math
 import numpy as np
 
 from xnavlab import attitude as att
-from xnavlab.reproduce import Result, check_range, check_true, figure, register, save_figure
+from xnavlab.reproduce import (
+    Result,
+    check_draw,
+    check_measure,
+    check_range,
+    check_sanity,
+    check_true,
+    figure,
+    register,
+    save_figure,
+)
 
 __all__ = ["PAPER", "SOURCE", "CHAPTER", "crossed_after_onset"]
 
@@ -39,6 +49,8 @@ PAPER = {
 }
 
 _NAMES = ("r1", "r2", "r3", "r4")
+#: Runs of the skew ramp the paper's single-run delay is judged among (60 s each).
+SKEW_RUNS = 32
 _COMMON = (
     "Choices where the paper is silent: 10 Hz sampling; skewed gyro on [1,1,1]/sqrt3; an "
     "Earth-pointing truth motion (pitch -0.06 deg/s plus a 0.01 deg/s wobble); fault onset "
@@ -101,13 +113,13 @@ def xgyro_step(out=None, magnitude_deg_per_h=36.0, seed=0):
     delay_r1 = _first_flag_delay(run, 0)
     checks = [
         check_true("residuals over threshold", PAPER["xgyro_crossed"], crossed,
-                   crossed == PAPER["xgyro_crossed"], "same set"),
+                   crossed == PAPER["xgyro_crossed"], why="the same set"),
         check_true("SOS verdict", PAPER["xgyro_verdict"], run.sos.verdict,
-                   run.sos.verdict == "gyro_x", "same sensor"),
+                   run.sos.verdict == "gyro_x", why="the same sensor"),
         check_range("r1 delay (s)", "quickly", delay_r1, 0.0, run.config.confirm_s,
-                    "'quickly': within the 5 s isolation window"),
-        check_true("false alarm before onset", "none", "yes" if _false_alarm(run) else "none",
-                   not _false_alarm(run), "none once armed"),
+                    why="'quickly' read as within the 5-s isolation window"),
+        check_sanity("false alarm before onset", "none", "yes" if _false_alarm(run) else "none",
+                     not _false_alarm(run), "none once armed"),
     ]
     note = (
         f"Fault (paper eq. (38) lost): +{magnitude_deg_per_h:g} deg/h (0.01 deg/s) on the x "
@@ -136,15 +148,19 @@ def skew_ramp(out=None, rate_deg_per_h_per_s=0.1, seed=0):
     crossed = crossed_after_onset(run)
     delay = float(run.sos.detect_time - run.onset)
     expected = run.sos_J[3] / rate + (run.config.persist - 1) * run.config.dt
+    runs = [att.simulate(att.make_fault("gyro_skew", "ramp", rate), rng=seed + 1 + k, duration=60.0)
+            for k in range(SKEW_RUNS)]
+    delays = [float(r.sos.detect_time - r.onset) for r in runs]
     checks = [
         check_true("residuals over threshold", PAPER["skew_crossed"], crossed,
-                   crossed == PAPER["skew_crossed"], "same set"),
+                   crossed == PAPER["skew_crossed"], why="the same set"),
         check_true("SOS verdict", "gyro_skew", run.sos.verdict,
-                   run.sos.verdict == "gyro_skew", "same sensor"),
-        check_range("r4 delay (s)", PAPER["skew_delay_s"], delay, 1.25, 5.0,
-                    "within a factor 2 of 2.5 s (threshold and ramp rate lost)"),
-        check_true("false alarm before onset", "none", "yes" if _false_alarm(run) else "none",
-                   not _false_alarm(run), "none once armed"),
+                   run.sos.verdict == "gyro_skew", why="the same sensor"),
+        check_draw("r4 delay (s)", PAPER["skew_delay_s"], delays),
+        check_measure(f"r4 delay, seed {seed} (s)", delay, "the run the chapter plots",
+                      paper=PAPER["skew_delay_s"]),
+        check_sanity("false alarm before onset", "none", "yes" if _false_alarm(run) else "none",
+                     not _false_alarm(run), "none once armed"),
     ]
     note = (
         f"Fault (paper eq. (39) lost): a ramp of {rate_deg_per_h_per_s:g} deg/h per second on "
@@ -152,8 +168,10 @@ def skew_ramp(out=None, rate_deg_per_h_per_s=0.1, seed=0):
         f"by construction: threshold J4 = 5 x 0.05 deg/h x sqrt2 = {run.sos_J[3] / att.DEG_PER_H:.3f}"
         f" deg/h over the ramp rate, plus 2 samples of persistence = {expected:.1f} s; ours "
         f"{delay:.1f} s against the paper's 2.5 s. A rate of "
-        f"{run.sos_J[3] / att.DEG_PER_H / 2.5:.2f} deg/h/s would give 2.5 s, so the match says "
-        "only that the paper's ramp and threshold are of this order. Caveat found here: an "
+        f"{run.sos_J[3] / att.DEG_PER_H / 2.5:.2f} deg/h/s would give 2.5 s: the paper's delay "
+        f"is judged among {SKEW_RUNS} runs of 60 s (seeds {seed + 1}-{seed + SKEW_RUNS}) with the rate "
+        "we chose, and the paper's ramp rate and threshold, both lost, decide it. Caveat found "
+        "here: an "
         "x-, y- or z-gyro ramp this slow also crosses r4 alone within the 5 s window and is "
         "called a skew fault too (see the Monte Carlo table in the chapter). " + _COMMON
     )
@@ -180,13 +198,13 @@ def star_tracker(out=None, ramp_per_s=5e-5, seed=0):
     hit = run.sos.flags[run.t >= run.onset].any(axis=0)
     checks = [
         check_true("r4 over threshold", "no", "yes" if hit[3] else "no", not hit[3],
-                   "gyro parity blind to the star tracker"),
+                   why="the gyro parity is blind to the star tracker"),
         check_true("any of r1-r3 over threshold", "yes", crossed, bool(hit[:3].any()),
-                   "at least one"),
+                   why="at least one drift residual"),
         check_true("SOS verdict", PAPER["star_verdict"], run.sos.verdict,
-                   run.sos.verdict == "star_tracker", "same sensor"),
-        check_true("false alarm before onset", "none", "yes" if _false_alarm(run) else "none",
-                   not _false_alarm(run), "none once armed"),
+                   run.sos.verdict == "star_tracker", why="the same sensor"),
+        check_sanity("false alarm before onset", "none", "yes" if _false_alarm(run) else "none",
+                     not _false_alarm(run), "none once armed"),
     ]
     note = (
         f"Fault (paper eq. (40) lost): an additive ramp f_q of {ramp_per_s:g} per second on "
@@ -218,9 +236,9 @@ def qdiff(out=None, ramp_per_s=5e-5, seed=0, window_s=10.0):
     peak = float(np.max(np.abs(run.qd_f[run.t_qd >= run.onset]) / run.qd_J))
     checks = [
         check_true("ref. [22] verdict", PAPER["qdiff_verdict"], v, v.startswith("gyro"),
-                   "blames one or more gyros"),
+                   why="it blames one or more gyros"),
         check_true("SOS verdict on the same data", "star_tracker", run.sos.verdict,
-                   run.sos.verdict == "star_tracker", "same sensor"),
+                   run.sos.verdict == "star_tracker", why="the same sensor"),
     ]
     note = (
         f"Ref. [22] as reconstructed: rate from a least-squares slope of the star-tracker "
@@ -249,10 +267,11 @@ def cost(out=None, n_steps=400, repeats=3, seed=0):
     r = att.time_sos_dos(n_steps=n_steps, repeats=repeats, rng=seed)
     checks = [
         check_range("DOS/SOS time per sample", PAPER["cost_ratio"], r["ratio"], 2.0, 8.0,
-                    "between 2x and 8x (timing on a shared machine)"),
+                    why="the paper's 4x is an operation count; a timing on a shared machine "
+                        "moves by up to a factor of 2 either way"),
     ]
     note = (
-        f"SOS {r['sos_us']:.0f} us, DOS {r['dos_us']:.0f} us per sample (best of {repeats} "
+        f"SOS {r['sos_us']:.0f} µs, DOS {r['dos_us']:.0f} µs per sample (best of {repeats} "
         f"runs of {n_steps} samples, time.perf_counter, same process and data). The paper's "
         "4x is an operation count (four filters against one, r4 costing 3 multiplications, "
         "4 additions and 1 absolute value); in Python the per-call overhead is the same for "
