@@ -288,20 +288,41 @@ def check_range(name, paper, ours, lo, hi, why):
     """
     ours = _finite("ours", ours)
     ok = math.isfinite(ours) and lo <= ours <= hi
-    return _claim(name, paper, ours, ok, _why(f"between {lo:g} and {hi:g}", why), "")
+    return _claim(name, paper, ours, ok, _why(f"between {lo:g} and {hi:g}", why),
+                  "" if ok else _outside(ours, lo, hi))
 
 
-def check_true(name, paper, ours, condition, why):
+def _outside(ours, lo, hi):
+    """How far ``ours`` lies outside ``[lo, hi]``, in words."""
+    if not math.isfinite(ours):
+        return f"ours is {ours}, not a number in the range"
+    bound, side = (lo, "below") if ours < lo else (hi, "above")
+    gap = abs(ours - bound)
+    if bound != 0 and ours != 0 and (ours / bound > 0):
+        ratio = max(abs(ours / bound), abs(bound / ours))
+        if ratio >= 1.5:
+            return f"ours is {ratio:.2g} times {side} the {'lower' if side == 'below' else 'upper'} bound"
+    return f"ours is {gap:.3g} {side} the {'lower' if side == 'below' else 'upper'} bound"
+
+
+def check_true(name, paper, ours, condition, why, reading=""):
     """A qualitative claim (e.g. "isolated as the x gyro"): reproduced when ``condition`` holds.
+
+    ``reading`` says what the numbers show beyond the verdict; when the claim fails and none is
+    given, the row says that ours does not meet the condition.
 
     Examples
     --------
     >>> check_true("isolated", "x gyro", "x gyro", True, why="the same sensor").verdict
     'REPRODUCED'
+    >>> check_true("isolated", "x gyro", "y gyro", False, why="the same sensor").reading
+    'ours (y gyro) does not meet it'
     """
     if not (isinstance(why, str) and why.strip()):
         raise ValueError("why must say, in words, what the condition checks")
-    return _claim(name, paper, ours, bool(condition), why.strip(), "")
+    if not condition and not reading:
+        reading = f"ours ({_show(ours)}) does not meet it"
+    return _claim(name, paper, ours, bool(condition), why.strip(), reading)
 
 
 def _ordinal(p):
