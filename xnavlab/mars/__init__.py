@@ -7,6 +7,8 @@ federated filter; wavelet fault detection, isolation and reconfiguration.
 module                 what it models
 =====================  ===================================================================
 ``pulsars``            pulsar catalogue, timing model, photons, TOA accuracy (chapter 1)
+``timing_bound``       the Poisson Cramer-Rao bound of the TOA, the maximum-likelihood TOA
+                       that reaches it, XNAV noise at the bound (chapter 1)
 ``toa``                the time-transfer (TOA) equation and its gradient (chapter 2)
 ``pint_bridge``        PINT offline as a witness: its delays for a spacecraft, shipped
                        Fermi photons and NANOGrav residuals (chapters 1-2)

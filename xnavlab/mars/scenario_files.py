@@ -113,6 +113,8 @@ _KEYS = {
     ("xnav", "dt_s"): ("dt_xnav", "measurement interval and integration time, s, [0.1, 86400]"),
     ("xnav", "sigma_m"): ("xnav_sigma_m", "ranging accuracy per pulsar, m; omit to compute it "
                                           "from area_m2, dt_s and background"),
+    ("xnav", "noise"): ("xnav_noise", "how sigma_m is computed when omitted: \"paper\" (the "
+                                      "paper's formula) or \"crlb\" (the Cramer-Rao bound)"),
     ("xnav", "area_m2"): ("area_m2", "detector area, m^2, (0, 100]"),
     ("xnav", "background"): ("background", "X-ray background, ph/cm^2/s, [0, 10]"),
     ("uv", "dt_s"): ("dt_uv", "measurement interval, s, [0.1, 86400]"),

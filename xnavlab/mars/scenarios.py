@@ -64,7 +64,7 @@ from xnavlab.core.federated import MODES, FederatedFilter
 from xnavlab.core.filters import chi2_bounds
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
 from xnavlab.mars import compile_notice, dynamics, force_models, kernels, pulsar_specs, pulsars
-from xnavlab.mars import sensors, series, stars, toa
+from xnavlab.mars import sensors, series, stars, timing_bound, toa
 from xnavlab.mars import kernel_inputs as ki
 
 __all__ = [
@@ -127,7 +127,10 @@ class MarsScenario:
         (:mod:`xnavlab.mars.pulsar_specs`; a table is kept as its Pulsar).
     xnav_sigma_m : tuple of float or None
         Ranging accuracy of each pulsar, m; ``None`` computes it for ``area_m2``,
-        ``dt_xnav`` (the integration time) and ``background`` (109, 344, 1866, 325 m).
+        ``dt_xnav`` (the integration time) and ``background`` with ``xnav_noise``.
+    xnav_noise : {"paper", "crlb"}
+        What ``None`` computes (:func:`xnavlab.mars.timing_bound.xnav_noise_sigma`): the
+        paper's formula or the Cramer-Rao bound (99, 454, 2637, 381 m); for noise and R alike.
     area_m2, background : float
         Detector area, m^2, and X-ray background, ph/cm^2/s.
     sigma_range_m, sigma_dir_deg : float
@@ -191,6 +194,7 @@ class MarsScenario:
     dt_cns: float = 3.0
     pulsars: tuple = pulsars.PAPER_PULSARS
     xnav_sigma_m: tuple | None = None
+    xnav_noise: str = "paper"
     area_m2: float = 1.0
     background: float = 0.005
     sigma_range_m: float = 5000.0
@@ -254,6 +258,7 @@ class MarsScenario:
             if len(sig) != len(self.pulsars):
                 raise ValueError(f"xnav_sigma_m must hold {len(self.pulsars)} values, one a pulsar")
             object.__setattr__(self, "xnav_sigma_m", sig)
+        check_choice("xnav_noise", self.xnav_noise, timing_bound.XNAV_NOISE)
         if self.stars is not None:
             object.__setattr__(self, "stars", tuple(stars.get(s).name for s in self.stars))
         if self.beta is not None:
@@ -309,6 +314,9 @@ class MarsScenario:
     def sensors(self):
         """The sensor objects ``{"xnav": XNAVSensor, "uv": UVSensor, "cns": CNSSensor}``."""
         sig = (None if self.xnav_sigma_m is None else np.array(self.xnav_sigma_m) / C)
+        if sig is None and self.xnav_noise == "crlb":
+            sig = timing_bound.xnav_noise_sigma("crlb", self.pulsars, self.area_m2, self.dt_xnav,
+                                                self.background)
         return {
             "xnav": sensors.XNAVSensor(tuple(p if p in pulsars.CATALOGUE else pulsars.get(p)
                                              for p in self.pulsars), sigma=sig,
