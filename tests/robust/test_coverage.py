@@ -95,3 +95,12 @@ def test_prior_bias_max_and_arguments():
                          ({"rkf_bias": "x"}, "rkf_bias"), ({"n_steps": 1}, "n_steps")):
         with pytest.raises(ValueError, match=name):
             cv.coverage_over_seeds(**kwargs)
+
+
+def test_compare_bounds_rows():
+    rows = cv.compare_bounds((0,), n_steps=120)
+    assert [r["source"] for r in rows] == list(cv.BOUND_SOURCES)
+    by = {r["source"]: r for r in rows}
+    assert by["prior"]["is_bound"] and not by["ukf"]["is_bound"]
+    with pytest.raises(ValueError, match="sources"):
+        cv.compare_bounds((0,), ("kalman",), n_steps=20)

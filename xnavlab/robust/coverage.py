@@ -56,6 +56,8 @@ __all__ = [
     "bound_coverage",
     "prior_bias_max",
     "coverage_over_seeds",
+    "BOUND_SOURCES",
+    "compare_bounds",
 ]
 
 #: The ellipse's size in sigmas: ``|e_r| <= K_SIGMA sqrt(tr Sigma_rr)``.
@@ -208,3 +210,46 @@ def coverage_over_seeds(name="rkf", seeds=(0, 1, 2, 3), body="mars", error="grow
     return {"coverage": float(np.mean(ratio <= k)), "median_ratio": float(np.median(ratio)),
             "nees": float(np.mean(np.concatenate(nees))), "rmse_m": float(np.sqrt(np.mean(sq))),
             "median_sigma_m": float(np.median(sig)), "per_seed": per, "level": 1.0 - 1.0 / k**2}
+
+
+#: The RKF's sources of ``B B^T`` compared by :func:`compare_bounds`, and the UKF for reference.
+BOUND_SOURCES = ("residual", "prior", "oracle", "ukf")
+
+
+def compare_bounds(seeds=(0, 1, 2, 3), sources=BOUND_SOURCES, **scenario):
+    """:func:`coverage_over_seeds` for each source of ``B B^T`` (and the UKF), one row each.
+
+    Parameters
+    ----------
+    seeds : sequence of int
+    sources : sequence of str
+        Any of :data:`BOUND_SOURCES` (``"ukf"``: the UKF's own covariance).
+    **scenario
+        ``body``, ``error``, ``size``, ``n_steps``, ``bias_max``, ``eps``, ... as in
+        :func:`coverage_over_seeds`.
+
+    Returns
+    -------
+    list of dict
+        ``source``, ``coverage``, ``median_ratio``, ``nees``, ``rmse_m``,
+        ``median_sigma_m``, ``is_bound`` (coverage at least the Chebyshev level and mean NEES
+        at most 3).
+
+    Examples
+    --------
+    >>> rows = compare_bounds((0,), ("residual", "prior"), n_steps=60)
+    >>> [r["source"] for r in rows]
+    ['residual', 'prior']
+    """
+    rows = []
+    for src in sources:
+        check_choice("sources", src, BOUND_SOURCES)
+        if src == "ukf":
+            kw = {k: v for k, v in scenario.items() if k not in ("bias_max", "eps", "lam")}
+            out = coverage_over_seeds("ukf", seeds, **kw)
+        else:
+            out = coverage_over_seeds("rkf", seeds, rkf_bias=src, **scenario)
+        rows.append({"source": src, **{k: out[k] for k in ("coverage", "median_ratio", "nees",
+                                                            "rmse_m", "median_sigma_m")},
+                     "is_bound": out["coverage"] >= out["level"] and out["nees"] <= 3.0})
+    return rows
