@@ -72,6 +72,16 @@ def test_flags_override_the_file(tmp_path, capsys):
     ("[run]\ndays = 0.1\nlocal_filter = \"ukf\"\n", "needs backend = \"numpy\""),
     ("[detector]\nname = \"kalman\"\n", "[detector] name"),
     ("[run\n", "not valid TOML"),
+    ("[run]\nsetup = \"rich\"\n", "[run] setup must be one of"),
+    ("[truth_model]\ngravity_degree = 1\n", "[truth_model] gravity_degree must be 0"),
+    ("[truth_model]\nthird_bodies = [\"pluto\"]\n", "[truth_model] third_bodies must be"),
+    ("[truth_model]\nj2 = true\n", "[truth_model] has no key 'j2'"),
+    ("[filter_model]\nsrp = true\n", "filter_model must be a point mass with third bodies"),
+    ("[filter]\nq_acc = \"large\"\n", "q_acc must be a real number"),
+    ("[xnav]\npulsars = []\n", "[xnav] pulsars must name at least one pulsar"),
+    ("[xnav]\npulsars = \"B0531+21\"\n", "[xnav] pulsars must be a list of pulsars, got the string"),
+    ("[xnav]\npulsars = [\"B0531+21\", \"B0531+21\"]\n", "lists B0531+21 twice"),
+    ("[xnav]\npulsars = [\"B\"]\n", "unknown pulsar 'B'"),
 ])
 def test_a_bad_field_is_one_line_naming_it(tmp_path, capsys, text, words):
     code, err = _run(capsys, tmp_path, text)
@@ -81,3 +91,65 @@ def test_a_bad_field_is_one_line_naming_it(tmp_path, capsys, text, words):
 def test_a_missing_file_is_one_line(capsys):
     assert main(["run", "mars", "--scenario", "/nonexistent/s.toml"]) == 2
     assert "cannot be read" in capsys.readouterr().err
+
+
+def test_a_non_utf8_file_is_one_line_naming_it(tmp_path, capsys):
+    path = tmp_path / "latin.toml"
+    path.write_bytes("[uv]\n# r\xe9sum\xe9\nsigma_range_m = 1.0\n".encode("latin-1"))
+    assert main(["run", "mars", "--scenario", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "is not UTF-8 text" in err and str(path) in err and len(err.splitlines()) == 1
+
+
+def test_a_study_scenario_round_trips_and_the_setup_marks_it():
+    sc = scenarios.MarsScenario.study(days=1.0)
+    text = sfm.dump(sc)
+    assert 'setup = "study"' in text and "gravity_degree = 8" in text
+    assert sfm.loads(text).scenario == sc
+    assert sfm.loads('[run]\nsetup = "study"\ndays = 1.0\n').scenario == sc
+    paper = sfm.loads("")
+    assert paper.scenario.paper_setup and paper.run["setup"] == "paper"
+
+
+def test_q_acc_derived_from_the_models():
+    sf = sfm.loads('[truth_model]\nsrp = true\n[filter]\nq_acc = "derived"\n')
+    assert sf.scenario.truth_model.srp and 0.0 < sf.scenario.q_acc < 1e-12  # SRP alone
+    same = sfm.loads('[filter]\nq_acc = "derived"\n').scenario
+    assert same.q_acc == 0.0  # truth and filter alike: nothing to stand for
+
+
+def test_a_truth_model_apart_runs_from_the_cli_and_python_with_identical_numbers(tmp_path, capsys):
+    text = ("[run]\ndays = 0.05\nseed = 2\n[truth_model]\ngravity_degree = 4\nsrp = true\n"
+            "third_bodies = [\"sun\", \"jupiter\", \"saturn\"]\n[filter]\nq_acc = 1e-5\n")
+    code, cli = _run(capsys, tmp_path, text)
+    assert code == 0 and cli["setup"] == "study" and "MRO95A 4x4" in cli["truth_model"]
+    sf = sfm.load(tmp_path / "s.toml")
+    assert not sf.scenario.paper_setup and sf.scenario.filter_model.is_paper
+    py = scenarios.run(sf.scenario).summary()
+    for key in ("position_error_m", "velocity_error_mps", "final_position_error_m",
+                "updates_xnav", "updates_uv", "updates_cns"):
+        assert cli[key] == py[key], key
+    matched = scenarios.run(sf.scenario, truth_model="paper").summary()
+    assert matched["position_error_m"] != py["position_error_m"]
+
+
+def test_a_timing_model_pulsar_in_a_file_runs_dumps_checks_and_takes_faults(tmp_path, capsys):
+    from xnavlab.mars import pint_bridge
+
+    src = pint_bridge.examples_path("J1614-2230_NANOGrav_12yv3.wb.gls.par")
+    (tmp_path / "m.par").write_text(src.read_text())
+    text = ("[run]\ndays = 0.05\n[xnav]\npulsars = [\"B0531+21\", \"B1937+21\", {par = \"m.par\", "
+            "flux_ph_cm2_s = 1e-4, pulsed_fraction = 0.5, width_s = 1e-4}]\n")
+    code, res = _run(capsys, tmp_path, text, "--faults", "xnav.J1614:step:1e-5@1500+2000")
+    assert code == 0 and res["detector"] == "combined" and res["updates_xnav"] > 0
+    assert [(f["component"], f["spec"]) for f in res["faults"]] == [
+        (2, "xnav.J1614:step:1e-05@1500+2000")]
+    sf = sfm.load(tmp_path / "s.toml")
+    assert sfm.loads(sfm.dump(sf.scenario)).scenario == sf.scenario
+    assert main(["scenario", "--check", str(tmp_path / "s.toml")]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["scenario"]["pulsars"][2]["name"] == "J1614-2230"
+    assert out["units"]["q_acc"] == "m^2/s^3" and "kg" in out["units"]["truth_model"]
+    bare = "[run]\ndays = 0.05\n[xnav]\npulsars = [\"m.par\"]\n"
+    code, err = _run(capsys, tmp_path, bare)
+    assert code == 2 and "J1614-2230" in err and "flux_ph_cm2_s, pulsed_fraction, width_s" in err

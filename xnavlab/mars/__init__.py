@@ -7,6 +7,8 @@ federated filter; wavelet fault detection, isolation and reconfiguration.
 module                 what it models
 =====================  ===================================================================
 ``pulsars``            pulsar catalogue, timing model, photons, TOA accuracy (chapter 1)
+``xray_pulsars``       the X-ray side of navigation pulsars: flux, pulsed fraction, width
+``pulsar_specs``       a scenario's pulsars by name, timing model (``.par``) or table
 ``timing_bound``       the Poisson Cramer-Rao bound of the TOA, the maximum-likelihood TOA
                        that reaches it, XNAV noise at the bound (chapter 1)
 ``toa``                the time-transfer (TOA) equation and its gradient (chapter 2)
@@ -15,11 +17,16 @@ module                 what it models
 ``timing_terms``       what the paper's TOA equation leaves out: exact vs paper Shapiro,
                        the planets' Shapiro, the on-board clock against TDB (chapter 2)
 ``dynamics``           Mars-orbit dynamics, truth propagator, transition matrix (chapter 3)
+``force_models``       the truth's and the filter's force models apart: Mars's field
+                       (MRO95A), the Sun and planets, SRP; q_acc from their difference
+``model_noise``        the process noise a filter needs for what its model leaves out
 ``stars``              the bright-star table and the CNS star choice (chapter 4)
 ``sensors``            XNAV, UV and CNS measurement models (chapters 4-5)
 ``scenarios``          the paper's 30-day scenario and the federated run (chapters 5-6)
 ``scenario_files``     every scenario setting in a TOML file, with units (``run mars
                        --scenario``, ``python -m xnavlab scenario --dump``)
+``model_mismatch``     matched vs mismatched truth and filter: accuracy and NEES
+                       (chapters 3, 5, 6)
 ``headline``           the headline accuracies as means over noise seeds, with intervals
 ``kernels``            the compiled (numba) filter loop behind ``scenarios.run``, with the
                        combined detector inside it

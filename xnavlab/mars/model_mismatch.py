@@ -11,7 +11,7 @@ with a random initial error drawn from N(0, P0) (so the NEES is a fair test):
 ``mismatched, derived q``
     the studies' set-up (:meth:`~xnavlab.mars.scenarios.MarsScenario.study`): the rich truth
     :data:`~xnavlab.mars.force_models.STUDY`, the paper's filter and the ``q_acc`` that
-    :func:`~xnavlab.mars.force_models.derived_q_acc` computes from the models' difference.
+    :func:`~xnavlab.mars.model_noise.derived_q_acc` computes from the models' difference.
 ``mismatched, paper q``
     the rich truth with the paper's filter and the paper's ``q_acc``: what happens when the
     model difference is not allowed for.

@@ -18,7 +18,7 @@ truth and filter share the paper's force model, as in the book's reproductions) 
 derived from their difference); the keys of the file then depart from that set-up's defaults.
 ``[truth_model]`` and ``[filter_model]`` name the two force models
 (:class:`xnavlab.mars.force_models.ForceModel`); ``[filter] q_acc = "derived"`` computes the
-process noise from them (:func:`xnavlab.mars.force_models.derived_q_acc`). ``[xnav] pulsars``
+process noise from them (:func:`xnavlab.mars.model_noise.derived_q_acc`). ``[xnav] pulsars``
 takes catalogue names, ``.par`` paths (relative to the file's folder) and inline tables
 (:mod:`xnavlab.mars.pulsar_specs`).
 
@@ -44,7 +44,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from xnavlab.core.validate import check_choice, check_real
-from xnavlab.mars import force_models, pulsar_specs, scenarios
+from xnavlab.mars import force_models, model_noise, pulsar_specs, scenarios
 
 __all__ = ["SECTIONS", "SETUPS", "RUN_DEFAULTS", "DETECTOR_DEFAULTS", "UNITS", "ScenarioFile",
            "dump", "load", "loads", "with_overrides", "detector_name", "scenario_json"]
@@ -290,7 +290,7 @@ def loads(text, base=None):
         else:
             sc = scenarios.MarsScenario(**fields)
             if derived:
-                sc = dataclasses.replace(sc, q_acc=force_models.derived_q_acc(
+                sc = dataclasses.replace(sc, q_acc=model_noise.derived_q_acc(
                     sc.truth_model, sc.filter_model, state0=sc.state0, t0=sc.t0,
                     truth_ephem=sc.truth_ephem, filter_ephem=sc.filter_ephem))
     except (TypeError, ValueError) as exc:

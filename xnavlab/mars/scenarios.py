@@ -63,8 +63,20 @@ from xnavlab.core.constants import DAY, GM_MARS, C
 from xnavlab.core.federated import MODES, FederatedFilter
 from xnavlab.core.filters import chi2_bounds
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
-from xnavlab.mars import compile_notice, dynamics, force_models, kernels, pulsar_specs, pulsars
-from xnavlab.mars import sensors, series, stars, timing_bound, toa
+from xnavlab.mars import (
+    compile_notice,
+    dynamics,
+    force_models,
+    kernels,
+    model_noise,
+    pulsar_specs,
+    pulsars,
+    sensors,
+    series,
+    stars,
+    timing_bound,
+    toa,
+)
 from xnavlab.mars import kernel_inputs as ki
 
 __all__ = [
@@ -155,14 +167,9 @@ class MarsScenario:
     truth_ephem, filter_ephem : {"de421", "de405"}
         Ephemerides of the truth and of the filter (dynamics and XNAV).
     truth_model, filter_model : ForceModel or str
-        Force models of the truth orbit and of the filter
-        (:class:`xnavlab.mars.force_models.ForceModel`, or ``"paper"`` / ``"study"``). Default
-        both the paper's (Mars point mass, the Sun and Jupiter): the paper's set-up
-        (:attr:`paper_setup`), a filter that knows the dynamics exactly. The compiled filter
-        integrates a point mass and third bodies only (no harmonics, no SRP in
-        ``filter_model``). :meth:`study` gives the studies' set-up: the rich truth
-        :data:`~xnavlab.mars.force_models.STUDY`, the paper's filter and a ``q_acc`` derived
-        from their difference.
+        Force models of the truth and of the filter (:mod:`xnavlab.mars.force_models`; the
+        filter's: no harmonics, no SRP). Default both the paper's: the paper's set-up
+        (:attr:`paper_setup`); :meth:`study` gives the studies' set-up.
     subsystems : tuple of str
         Which subsystems run, any of ``("xnav", "uv", "cns")``.
     beta : tuple of float or None
@@ -236,15 +243,9 @@ class MarsScenario:
         check_real("max_step", self.max_step, 0.01, 3600.0)
         check_choice("truth_ephem", self.truth_ephem, ephemeris.EPHEMERIDES)
         check_choice("filter_ephem", self.filter_ephem, ephemeris.EPHEMERIDES)
-        for name in ("truth_model", "filter_model"):
-            try:
-                object.__setattr__(self, name, force_models.model(getattr(self, name)))
-            except ValueError as exc:
-                raise ValueError(f"{name}: {exc}") from None
-        if not self.filter_model.compiled_filter_ok:
-            raise ValueError(f"filter_model must be a point mass with third bodies (gravity_degree "
-                             f"0, srp false: the compiled filter integrates no more), got "
-                             f"{self.filter_model.describe()}")
+        models = force_models.check_models(self.truth_model, self.filter_model)
+        object.__setattr__(self, "truth_model", models[0])
+        object.__setattr__(self, "filter_model", models[1])
         subs = tuple(self.subsystems)
         if not subs or len(set(subs)) != len(subs):
             raise ValueError(f"subsystems must be distinct names from {SUBSYSTEMS}, got {subs!r}")
@@ -275,25 +276,9 @@ class MarsScenario:
 
     @classmethod
     def study(cls, **fields):
-        """The studies' set-up: a rich truth, the paper's filter, ``q_acc`` from their difference.
-
-        ``truth_model`` :data:`xnavlab.mars.force_models.STUDY` (Mars's field MRO95A 8x8, the
-        Sun and four planets, solar radiation pressure), ``filter_model`` the paper's, and
-        ``q_acc`` from :func:`xnavlab.mars.force_models.derived_q_acc` over the first day of this
-        scenario's own orbit (unless ``fields`` give one). ``fields`` replace any default.
-
-        Examples
-        --------
-        >>> sc = MarsScenario.study(days=1.0)
-        >>> sc.paper_setup, sc.truth_model.gravity_degree, sc.q_acc > DEFAULT_Q_ACC
-        (False, 8, True)
-        """
-        fields = {"truth_model": force_models.STUDY, "filter_model": force_models.PAPER, **fields}
-        if "q_acc" not in fields:
-            probe = cls(**{**fields, "q_acc": DEFAULT_Q_ACC})
-            fields["q_acc"] = _derived_q(probe.truth_model, probe.filter_model, probe.state0,
-                                         probe.t0, probe.truth_ephem, probe.filter_ephem)
-        return cls(**fields)
+        """The studies' set-up: rich truth, the paper's filter, ``q_acc`` from their difference
+        (:func:`xnavlab.mars.model_noise.study_fields`); ``fields`` replace any of them."""
+        return cls(**model_noise.study_fields(lambda kw: cls(**kw), fields))
 
     @property
     def paper_setup(self):
@@ -383,12 +368,6 @@ class Inputs:
 # ------------------------------------------------------------------ preparation
 
 _TRUTH_CACHE: OrderedDict = OrderedDict()
-
-
-@functools.lru_cache(maxsize=8)
-def _derived_q(truth_model, filter_model, state0, t0, truth_ephem, filter_ephem):
-    return force_models.derived_q_acc(truth_model, filter_model, state0=np.array(state0), t0=t0,
-                                      truth_ephem=truth_ephem, filter_ephem=filter_ephem)
 
 
 def _truth(times, sc):

@@ -1,0 +1,42 @@
+"""Matched vs mismatched: the three cases, their set-ups, the table's columns and its cache."""
+
+import pytest
+
+from xnavlab.mars import force_models, model_mismatch, scenarios
+
+
+def test_the_cases_and_their_setups():
+    m = model_mismatch.case_scenario("matched", days=1.0, seed=3)
+    d = model_mismatch.case_scenario("mismatched, derived q", days=1.0)
+    p = model_mismatch.case_scenario("mismatched, paper q", days=1.0)
+    assert m.paper_setup and m.init_error == "random" and m.seed == 3
+    assert d.truth_model == force_models.STUDY and d.filter_model == force_models.PAPER
+    assert d.q_acc > 1e-6 and p.q_acc == scenarios.DEFAULT_Q_ACC and not p.paper_setup
+    with pytest.raises(ValueError, match="case must be one of"):
+        model_mismatch.case_scenario("both")
+
+
+def test_a_short_table_has_every_column_and_reads_back_from_its_cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("XNAVLAB_CACHE", str(tmp_path))
+    rows = model_mismatch.mismatch_table(days=0.05, seeds=(0, 1))
+    assert [r["case"] for r in rows] == list(model_mismatch.CASES)
+    for r in rows:
+        assert set(model_mismatch.TABLE_COLUMNS) <= set(r) and r["seeds"] == 2
+        assert r["nees_lo"] < r["nees_hi"] and 0.0 <= r["nees_inside"] <= 1.0
+    assert rows[0]["paper_setup"] and not rows[1]["paper_setup"]
+    assert rows[2]["position_error_m"] > rows[1]["position_error_m"]  # no q for the difference
+    assert list(tmp_path.glob("mismatch-runs-*.json"))
+    assert model_mismatch.mismatch_table(days=0.05, seeds=(0, 1)) == rows
+
+
+@pytest.mark.parametrize(("kw", "words"), [
+    ({"seeds": ()}, "non-empty list of distinct integers"),
+    ({"seeds": (1, 1)}, "distinct"),
+    ({"seeds": 3}, "seeds must be a list"),
+    ({"days": 0.0}, "days must be a real number in (0, 365]"),
+    ({"days": 1.0, "settle_days": 1.0}, "settle_days must be a real number in [0, 1)"),
+])
+def test_bad_arguments_are_refused(kw, words):
+    with pytest.raises(ValueError) as exc:
+        model_mismatch.mismatch_runs(cache=False, **kw)
+    assert words in str(exc.value)
