@@ -17,6 +17,7 @@ module                    what it models
 ``diskcache``             the on-disk cache's root and its atomic entries
 ``plotting``              figures outside pyplot, for reproductions and chapters
 ``widgets``               ``explore``: a live slider in Jupyter, a scrubber in the HTML book
+``prose``                 a chapter's glued numbers, shown by its prose's ``{eval}`` roles
 ========================  =================================================================
 
 Nothing here imports :mod:`xnavlab.mars`, :mod:`xnavlab.robust`, :mod:`xnavlab.attitude`,
