@@ -110,3 +110,65 @@ def test_the_cache_database_is_closed_when_the_run_ends(tool, tmp_path, code, st
     for connection in opened:
         with pytest.raises(sqlite3.ProgrammingError, match="closed database"):
             connection.execute("select 1")
+
+
+def _prose_book(root, cells):
+    """A book whose one page is ``cells``: ("code", source) and ("md", source) pairs."""
+    _book(root, "from xnavlab.core.prose import glue, glued")
+    nb = nbformat.read(root / "book" / "one.ipynb", as_version=4)
+    for kind, source in cells:
+        new = nbformat.v4.new_code_cell if kind == "code" else nbformat.v4.new_markdown_cell
+        nb.cells.append(new(source))
+    nbformat.write(nb, root / "book" / "one.ipynb")
+
+
+def _evaluated(tool, root):
+    with tool.open_cache() as cache:
+        record = cache.match_cache_notebook(tool.read_page(root / "book" / "one.ipynb"))
+        return record.data[tool.BOOK_CACHE_KEY]
+
+
+def test_the_prose_eval_roles_are_evaluated_in_place_and_kept_with_the_page(tool, tmp_path):
+    _prose_book(tmp_path, [
+        ("code", 'glue("ch99_r_km", 4190.0)\nglue("ch99_v", "REPRODUCED")'),
+        ("md", 'A range of {eval}`glued["ch99_r_km:,.0f"]` km: {eval}`glued["ch99_v"]`.'),
+        ("code", 'glue("ch99_n", 12)'),
+        ("md", '```{exercise}\n:label: ch99-ex1\n\n{eval}`glued["ch99_n:d"]` runs\n```'),
+    ])
+    assert tool.main(["--jobs", "1"]) == 0
+    shown = {expr: res["data"]["text/plain"] for expr, res in _evaluated(tool, tmp_path).items()}
+    assert shown == {'glued["ch99_r_km:,.0f"]': "4,190", 'glued["ch99_v"]': "REPRODUCED",
+                     'glued["ch99_n:d"]': "12"}
+
+
+def test_a_page_whose_prose_gained_an_expression_is_executed_again(tool, tmp_path, capsys):
+    _prose_book(tmp_path, [("code", 'glue("ch99_a", 1.5)'), ("md", "No number yet.")])
+    assert tool.main(["--jobs", "1"]) == 0
+    nb = nbformat.read(tmp_path / "book" / "one.ipynb", as_version=4)
+    nb.cells[-1].source = 'Now {eval}`glued["ch99_a:.1f"]`.'  # the code, and so its hash, is unchanged
+    nbformat.write(nb, tmp_path / "book" / "one.ipynb")
+    capsys.readouterr()
+    assert tool.main(["--jobs", "1"]) == 0
+    assert "book_execute: 1 pages" in capsys.readouterr().out
+    assert _evaluated(tool, tmp_path)['glued["ch99_a:.1f"]']["data"]["text/plain"] == "1.5"
+    assert tool.main(["--jobs", "1"]) == 0
+    assert "every page is in the execution cache" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(("cells", "message"), [
+    ([("md", 'Too early: {eval}`glued["ch99_late"]`.'), ("code", 'glue("ch99_late", 1)')],
+     "raised KeyError"),
+    ([("code", "x = 3"), ("md", "Any code: {eval}`x`.")], "is not an entry of the glued table"),
+    ([("code", 'glue("ch99_x", 1)'), ("md", '{eval}`glued["ch99_x"]`'), ("code", 'glue("ch99_x", 2)')],
+     "after the last cell: a reader's JupyterLab may show either"),
+    ([("code", 'glue("ch99_x", 1)'), ("md", '{eval}`glued["ch99_x"]`'), ("code", 'glue("ch99_x", 2)'),
+      ("md", 'again {eval}`glued["ch99_x"]`')], "glue each name once"),
+    ([("code", 'glue("ch99_x", "text")'), ("md", '{eval}`glued["ch99_x:.1f"]`')],
+     "does not format the value"),
+])
+def test_a_prose_expression_that_cannot_be_shown_fails_the_page(tool, tmp_path, capsys, cells,
+                                                                message):
+    _prose_book(tmp_path, cells)
+    assert tool.main(["--jobs", "1"]) == 1
+    err = capsys.readouterr().err
+    assert message in err and "book_execute: book/one.ipynb failed" in err

@@ -15,6 +15,18 @@ The kernels run with ``XNAVLAB_SCRUBBER_FRAMES=1`` (:data:`xnavlab.core.widgets.
 a page executed for the HTML book draws its sliders' scrubber frames, which a reader's kernel
 does not.
 
+A markdown cell's ``{eval}`` roles (``{eval}`glued["ch07_sigma_m:g"]```: the chapters' numbers,
+:mod:`xnavlab.core.prose`) are evaluated in the page's kernel at that cell's place, between the
+code cells before and after it, as JupyterLab does when a reader runs the cells in order (one
+``execute_request`` with the expressions as ``user_expressions``). The results are stored with
+the executed page, in its cache record's data (:data:`xnavlab.core.prose.BOOK_CACHE_KEY`), where
+``book/_ext/xnav_eval.py`` gives them to myst-nb's ``{eval}`` role. A page fails on an expression
+that the book does not evaluate (:data:`xnavlab.core.prose.EVAL_NAME`), that raises, or whose
+value changes after the prose showed it (every expression is evaluated again after the last
+cell: JupyterLab's "Run All Cells" may evaluate the prose late). A page that is in the cache
+but lacks the value of one of its expressions (its prose changed, not its code) is executed
+again.
+
 Each page's line names its slowest cell (nbclient's timing), so a page that takes long says
 where. A page that fails stops the script with its traceback and exit code 1 (the build would stop
 on it too, later). ``tools/book_cache.py`` must run before it, so that a cache made with an
@@ -28,8 +40,10 @@ import concurrent.futures
 import contextlib
 import json
 import os
+import re
 import sys
 import time
+import traceback
 from datetime import datetime
 from pathlib import Path
 
@@ -37,13 +51,18 @@ import nbformat
 import yaml
 from jupyter_cache import get_cache
 from jupyter_cache.base import CacheBundleIn
-from jupyter_cache.executors.utils import single_nb_execution
+from jupyter_cache.executors.utils import ExecutionResult
+from jupyter_cache.utils import Timer
 from myst_nb.core.read import (
     is_myst_markdown_notebook,
     read_myst_markdown_notebook,
     standard_nb_read,
 )
+from nbclient import NotebookClient
+from nbclient.exceptions import CellExecutionError, CellTimeoutError
+from nbclient.util import ensure_async
 
+from xnavlab.core.prose import BOOK_CACHE_KEY, EVAL_NAME, eval_expressions
 from xnavlab.core.widgets import FRAMES_ENV
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -169,23 +188,115 @@ def slowest_cell(nb):
     return best
 
 
+def page_expressions(nb):
+    """Every ``{eval}`` expression of the page's markdown cells, in order, each once."""
+    return list(dict.fromkeys(e for cell in nb.cells if cell.cell_type == "markdown"
+                              for e in eval_expressions(cell.source)))
+
+
+def _eval_error(where, expr, why):
+    """A failed ``{eval}`` as nbclient reports a failed cell (the page fails the same way)."""
+    msg = f"{where}: {{eval}}`{expr}` {why}"
+    return CellExecutionError(msg, "EvalError", msg)
+
+
+class EvalNotebookClient(NotebookClient):
+    """nbclient's client, also evaluating each markdown cell's ``{eval}`` expressions in place.
+
+    ``evaluated`` maps each expression to its result (``{"data": ..., "metadata": ...}``, the
+    ``user_expressions`` reply of the kernel), the value at the first cell that shows it.
+    """
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.evaluated = {}
+        self._shown_at = {}
+
+    async def _evaluate(self, expressions, where):
+        """The kernel's ``user_expressions`` reply for ``expressions``: expression -> result."""
+        for expr in expressions:
+            if not re.match(EVAL_NAME, expr):
+                raise _eval_error(where, expr, "is not an entry of the glued table: the book "
+                                  'evaluates only glued["name"] and glued["name:spec"] '
+                                  "(xnavlab.core.prose)")
+        keys = {str(i): expr for i, expr in enumerate(expressions)}
+        msg_id = await ensure_async(self.kc.execute(
+            "", silent=True, store_history=False, user_expressions=keys))
+        reply = await self.async_wait_for_reply(msg_id)
+        content = (reply or {}).get("content", {})
+        if content.get("status") != "ok":
+            raise _eval_error(where, expressions[0], f"was not evaluated: {content!r:.300}")
+        results = {}
+        for key, expr in keys.items():
+            res = content.get("user_expressions", {}).get(key, {})
+            if res.get("status") != "ok":
+                raise _eval_error(where, expr, f"raised {res.get('ename')}: {res.get('evalue')}")
+            results[expr] = {"data": res.get("data", {}), "metadata": res.get("metadata", {})}
+        return results
+
+    async def async_execute_cell(self, cell, cell_index, execution_count=None,
+                                 store_history=True):
+        if cell.cell_type == "markdown" and (exprs := eval_expressions(cell.source)):
+            for expr, res in (await self._evaluate(exprs, f"markdown cell {cell_index}")).items():
+                if expr in self.evaluated and self.evaluated[expr] != res:
+                    raise _eval_error(f"markdown cell {cell_index}", expr, (
+                        f"shows {res['data'].get('text/plain')!r} here but "
+                        f"{self.evaluated[expr]['data'].get('text/plain')!r} in cell "
+                        f"{self._shown_at[expr]}: glue each name once"))
+                self.evaluated.setdefault(expr, res)
+                self._shown_at.setdefault(expr, cell_index)
+        cell = await super().async_execute_cell(cell, cell_index, execution_count, store_history)
+        if cell_index == len(self.nb.cells) - 1 and self.evaluated:
+            final = await self._evaluate(list(self.evaluated), "after the last cell")
+            for expr, res in final.items():
+                if res != self.evaluated[expr]:
+                    raise _eval_error(f"markdown cell {self._shown_at[expr]}", expr, (
+                        f"shows {self.evaluated[expr]['data'].get('text/plain')!r}, but the "
+                        f"value is {res['data'].get('text/plain')!r} after the last cell: a "
+                        "reader's JupyterLab may show either; glue each name once"))
+        return cell
+
+
+def execute_notebook(nb, cwd, timeout, allow_errors=False, record_timing=True):
+    """Execute ``nb`` in place, as jupyter_cache's ``single_nb_execution`` does, and evaluate
+    its ``{eval}`` expressions (:class:`EvalNotebookClient`).
+
+    Returns (``jupyter_cache``'s ``ExecutionResult``, the evaluated expressions).
+    """
+    if "execution" in nb.metadata:  # jupyter_cache's meta_override
+        timeout = nb.metadata.execution.get("timeout", timeout)
+        allow_errors = nb.metadata.execution.get("allow_errors", allow_errors)
+    client = EvalNotebookClient(nb, timeout=timeout, allow_errors=allow_errors,
+                                record_timing=record_timing,
+                                resources={"metadata": {"path": cwd}})
+    error = exc_string = None
+    timer = Timer()
+    with timer:
+        try:
+            client.execute()
+        except (CellExecutionError, CellTimeoutError) as err:
+            error = err
+            exc_string = "".join(traceback.format_exc())
+    return ExecutionResult(nb, cwd, timer.last_split, error, exc_string), client.evaluated
+
+
 def execute(path, timeout):
     """Execute one page in its directory.
 
-    Returns (path, notebook JSON or None, seconds, error, slowest cell): the slowest cell as
-    :func:`slowest_cell` gives it, so that a page that takes long says where.
+    Returns (path, notebook JSON or None, seconds, error, slowest cell, evaluated
+    expressions): the slowest cell as :func:`slowest_cell` gives it, so that a page that takes
+    long says where.
     """
     # (a worker process of its own) the page is executed for the HTML book: its kernel's
     # sliders draw the scrubber's frames
     os.environ[FRAMES_ENV] = "1"
     nb = read_page(path)
     timeout = int(nb.metadata.get("mystnb", {}).get("execution_timeout", timeout))
-    result = single_nb_execution(nb, cwd=str(path.parent), timeout=timeout,
-                                 allow_errors=False, meta_override=True, record_timing=True)
+    result, evaluated = execute_notebook(nb, str(path.parent), timeout)
     slowest = slowest_cell(nb)
     if result.err is not None:
-        return path, None, result.time, result.exc_string, slowest
-    return path, nbformat.writes(nb), result.time, None, slowest
+        return path, None, result.time, result.exc_string, slowest, {}
+    return path, nbformat.writes(nb), result.time, None, slowest, evaluated
 
 
 def main(argv=None):
@@ -207,10 +318,14 @@ def _run(args, cache):
     todo = []
     pages = [p.resolve() for p in args.pages] if args.pages else notebook_pages()
     for path in longest_first(pages):
+        nb = read_page(path)
         try:
-            cache.match_cache_notebook(read_page(path))
+            record = cache.match_cache_notebook(nb)
         except KeyError:
             todo.append(path)
+            continue
+        if set(page_expressions(nb)) - set((record.data or {}).get(BOOK_CACHE_KEY, {})):
+            todo.append(path)  # its prose shows an expression its cached run did not evaluate
     if not todo:
         print("book_execute: every page is in the execution cache")
         return 0
@@ -224,7 +339,7 @@ def _run(args, cache):
     with concurrent.futures.ProcessPoolExecutor(args.jobs) as pool:
         futures = [pool.submit(execute, path, timeout) for path in todo]
         for future in concurrent.futures.as_completed(futures):
-            path, text, seconds, error, (index, cell_s, line) = future.result()
+            path, text, seconds, error, (index, cell_s, line), evaluated = future.result()
             name = path.relative_to(ROOT)
             where = f" (slowest: cell {index}, {cell_s:.1f} s, `{line}`)" if index is not None else ""
             if error is not None:
@@ -235,7 +350,8 @@ def _run(args, cache):
                 return 1
             nb = nbformat.reads(text, as_version=4)
             cache.cache_notebook_bundle(
-                CacheBundleIn(nb, str(path), data={"execution_seconds": seconds}),
+                CacheBundleIn(nb, str(path), data={"execution_seconds": seconds,
+                                                   BOOK_CACHE_KEY: evaluated}),
                 check_validity=False, overwrite=True)
             times[path.name] = round(seconds, 1)
             print(f"book_execute: {name} {seconds:.1f} s{where}", flush=True)

@@ -31,7 +31,7 @@ Rules that keep the two readers in agreement:
 This module is the kernel side: :func:`glue` records a value in the table :data:`glued` (a
 :class:`Glued`), whose entries are :class:`Text`, a string shown without quotes. It also holds
 what the tools share about the role (:data:`EVAL_ROLE`, :data:`EVAL_NAME`,
-:func:`eval_expressions`).
+:func:`eval_expressions`, :data:`BOOK_CACHE_KEY`).
 """
 
 from __future__ import annotations
@@ -48,6 +48,7 @@ __all__ = [
     "EVAL_ROLE",
     "EVAL_NAME",
     "eval_expressions",
+    "BOOK_CACHE_KEY",
 ]
 
 #: An ``{eval}`` role in MyST markdown (single backticks); group 1 is the expression.
@@ -55,6 +56,9 @@ EVAL_ROLE = re.compile(r"\{eval\}`([^`\n]+)`")
 #: The expressions the book evaluates: an entry of :data:`glued`, ``glued["name"]`` or
 #: ``glued["name:spec"]`` (``nb_eval_name_regex`` of ``_config.yml`` is this pattern).
 EVAL_NAME = r'^glued\["[A-Za-z_][A-Za-z0-9_]*(:[^"\\]*)?"\]$'
+#: Where ``tools/book_execute.py`` keeps a page's evaluated expressions: this key of the data of
+#: the page's record in myst-nb's execution cache (``book/_ext/xnav_eval.py`` reads it).
+BOOK_CACHE_KEY = "xnavlab_eval"
 _NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 # Code in markdown that is shown, not evaluated: fenced blocks that are not directives
 # (```python ..., not ```{exercise}) and inline code spans.
