@@ -2,14 +2,17 @@
 
 Usage::
 
-    python -m xnavlab campaign NAME --runs N --days D --seed S --out DIR
+    python -m xnavlab campaign NAME --runs N --days D --seed S --out DIR [--scenario FILE]
         [--workers K | --scheduler tcp://HOST:PORT | --local-cluster [--workers K]]
         [--timeout SECONDS] [--json] [--quiet]
     python -m xnavlab campaign roc --grid FILE --runs N --seed S --out DIR [...]
 
 ``NAME`` is one of :data:`xnavlab.mars.campaigns.CAMPAIGNS` (``consistency``, ``detectors``)
-or ``roc``: the receiver operating characteristic of a detector (:mod:`xnavlab.mars.roc`),
-its threshold swept over the values of a grid file (TOML or JSON, the format in
+(``consistency --scenario FILE`` takes the pulsars, force models, ``q_acc``, subsystems and
+horizon noise of a scenario file: a study's truth, or pulsars from timing models; its days and
+seed are ``--days`` and ``--seed``'s) or ``roc``: the receiver operating characteristic of a
+detector (:mod:`xnavlab.mars.roc`), its threshold swept over the values of a grid file (TOML
+or JSON, the format in
 :mod:`xnavlab.mars.roc`; without ``--grid``, :data:`xnavlab.mars.roc.DEFAULT_GRID`) on its
 faults (run ``i`` is fault ``i mod F``, every threshold on the same run). The run length is
 the grid's ``days`` (``--days`` is refused). Besides ``runs.jsonl`` and ``summary.json`` it
@@ -35,7 +38,7 @@ table), ``computed``, ``reused``, ``failed`` and ``wall_s``.
 
 Exit codes: 0 every run ok; 1 some runs failed (after their retry; they are in the output
 and the store); 2 bad input (one line on stderr), including a DIR that holds another
-campaign and an unreachable scheduler (``--timeout``, default 3 s); 130 interrupted (the
+campaign and an unreachable scheduler (``--timeout``, default 5 s); 130 interrupted (the
 finished runs are stored).
 """
 
@@ -89,23 +92,28 @@ def configure(parser):
                              "cell equally (fewer leave cells empty, with a warning); roc: "
                              "run i is fault i mod F of the grid")
     parser.add_argument("--days", default=None,
-                        help="days simulated per run (default 1; roc: the grid's days)")
+                        help="days simulated per run (default 1); roc takes the grid's days "
+                             "and refuses --days")
     parser.add_argument("--grid", metavar="FILE", default=None,
                         help="roc only: the threshold and fault grid, TOML or JSON (keys "
                              "detector, thresholds, days, faults: see xnavlab.mars.roc); "
                              "default xnavlab.mars.roc.DEFAULT_GRID")
     parser.add_argument("--seed", default="0", help="the campaign's seed (default 0)")
+    parser.add_argument("--scenario", metavar="FILE", dest="scenario_file", default=None,
+                        help="consistency only: take the pulsars, force models, q_acc, "
+                             "subsystems and horizon noise of this scenario file")
     parser.add_argument("--out", required=True, metavar="DIR",
                         help="campaign directory: runs.jsonl is appended there and reused")
     parser.add_argument("--workers", default=None,
-                        help="local worker processes (default 2), also of --local-cluster")
+                        help="local worker processes (default 2), also of --local-cluster; "
+                             "refused with --scheduler (its cluster has its own)")
     where = parser.add_mutually_exclusive_group()
     where.add_argument("--scheduler", metavar="ADDRESS",
                        help="run on the Dask cluster of this scheduler, e.g. tcp://HOST:8786")
     where.add_argument("--local-cluster", action="store_true",
                        help="start a Dask LocalCluster of --workers processes and run on it")
-    parser.add_argument("--timeout", default="3",
-                        help="seconds to reach the scheduler and its first worker (default 3)")
+    parser.add_argument("--timeout", default=None,
+                        help="seconds to reach the scheduler and its first worker (default 5)")
     parser.add_argument("--json", action="store_true",
                         help="print one JSON object (no progress bar)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -121,11 +129,18 @@ def execute(args):
                          f"got {args.name!r}")
     if args.grid is not None and args.name != "roc":
         raise UsageError("--grid is an option of campaign roc only")
+    if args.scenario_file is not None and args.name != "consistency":
+        raise UsageError("--scenario is an option of campaign consistency only")
     if args.name == "roc":
         return _execute_roc(args)
     runs, seed, where = _common(args)
     days = _number("days", "1" if args.days is None else args.days, float, -math.inf, math.inf)
-    camp = campaign(args.name, days=days)
+    scenario = None
+    if args.scenario_file is not None:
+        from xnavlab.mars import scenario_files
+
+        scenario = scenario_files.load(args.scenario_file).scenario
+    camp = campaign(args.name, days=days, scenario=scenario)
     if args.name == "detectors":
         from xnavlab.mars.campaigns import detector_cells
 
@@ -160,15 +175,16 @@ def _common(args):
     scheduler, timeout)."""
     runs = _number("runs", args.runs, int, 1, 10**7)
     seed = _number("seed", args.seed, int, 0, 2**63 - 1)
-    timeout = _number("timeout", args.timeout, float, 0.0, 3600.0, lo_open=True)
+    timeout = (None if args.timeout is None  # None: run_campaign's own default
+               else _number("timeout", args.timeout, float, 0.0, 3600.0, lo_open=True))
     if args.workers is not None and args.scheduler:
         raise UsageError("--workers sets local processes; the cluster at --scheduler has its own")
     workers = _number("workers", args.workers or "2", int, 1, 256)
     if not args.local_cluster and not args.scheduler:
         workers = check_int("workers", workers, 1, os.cpu_count() or 1)
     engine = "dask" if args.scheduler else ("local-cluster" if args.local_cluster else "local")
-    return runs, seed, {"engine": engine, "workers": workers, "scheduler": args.scheduler,
-                        "timeout": timeout}
+    where = {"engine": engine, "workers": workers, "scheduler": args.scheduler}
+    return runs, seed, where if timeout is None else {**where, "timeout": timeout}
 
 
 def _run(args, camp, runs, seed, where):

@@ -32,8 +32,8 @@ def configure(parser):
     what.add_argument("--check", metavar="FILE", help="read FILE and print the settings it gives")
     parser.add_argument("--out", metavar="FILE", help="with --dump: write here instead of stdout")
     parser.add_argument("--setup", default=None,
-                        help="with --dump: paper (default: truth and filter share the paper's "
-                             "force model) or study (a rich truth, the paper's filter)")
+                        help="with --dump: paper (default), truth and filter sharing the "
+                             "paper's force model, or study, a rich truth and the paper's filter")
 
 
 def execute(args):

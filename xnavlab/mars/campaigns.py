@@ -39,7 +39,7 @@ import numpy as np
 from xnavlab.core.campaign import Campaign
 from xnavlab.core.filters import chi2_bounds, consistency_verdict
 from xnavlab.core.validate import check_choice, check_int, check_real
-from xnavlab.mars import scenarios, trials
+from xnavlab.mars import pulsar_specs, pulsars, scenarios, trials
 
 __all__ = ["CAMPAIGNS", "NEES_BINS", "DAYS", "campaign", "consistency_run", "detectors_run",
            "summarise_consistency", "summarise_detectors", "detector_cells"]
@@ -54,7 +54,9 @@ DAYS = {"consistency": (0.0, 30.0), "detectors": (0.5, 5.0)}
 
 
 def consistency_run(*, seed, days=1.0, q_acc=scenarios.DEFAULT_Q_ACC,
-                    subsystems=scenarios.SUBSYSTEMS, sigma_horizon_deg=0.05):
+                    subsystems=scenarios.SUBSYSTEMS, sigma_horizon_deg=0.05,
+                    pulsars=pulsars.PAPER_PULSARS, truth_model="paper",
+                    filter_model="paper"):
     """One fault-free Mars run with a random initial error: NEES, NIS and errors.
 
     Parameters
@@ -69,6 +71,10 @@ def consistency_run(*, seed, days=1.0, q_acc=scenarios.DEFAULT_Q_ACC,
         The subsystems that run (one alone has the whole information share, beta = 1).
     sigma_horizon_deg : float
         Horizon-sensor noise of the CNS, deg (the paper's 0.05).
+    pulsars : sequence
+        The XNAV pulsars: names, ``.par`` paths or tables (:mod:`xnavlab.mars.pulsar_specs`).
+    truth_model, filter_model : str or dict
+        Force models (:func:`xnavlab.mars.force_models.model`; default the paper's set-up).
 
     Returns
     -------
@@ -92,7 +98,8 @@ def consistency_run(*, seed, days=1.0, q_acc=scenarios.DEFAULT_Q_ACC,
     record_dt = min(60.0, span / (4 * NEES_BINS))       # at least four records a bin
     sc = scenarios.MarsScenario(days=days, seed=seed, init_error="random", record_dt=record_dt,
                                 q_acc=q_acc, subsystems=tuple(subsystems),
-                                sigma_horizon_deg=sigma_horizon_deg)
+                                sigma_horizon_deg=sigma_horizon_deg, pulsars=pulsars,
+                                truth_model=truth_model, filter_model=filter_model)
     res = scenarios.run(sc)
     e = res.nees()                                       # e^T P^-1 e, fused estimate
     frac = np.clip((res.t - res.t[0]) / span, 0.0, 1.0 - 1e-12)
@@ -234,11 +241,20 @@ def summarise_detectors(runs):
 # ---------------------------------------------------------------------------- registry
 
 
-def _consistency(days):
+def _consistency(days, scenario=None):
     days = check_real("days", days, *DAYS["consistency"], lo_open=True)
-    return Campaign("consistency", consistency_run, lambda i: {"days": days},
-                    manifest={"days": days, "q_acc": scenarios.DEFAULT_Q_ACC,
-                              "nees_bins": NEES_BINS},
+    if scenario is None:
+        return Campaign("consistency", consistency_run, lambda i: {"days": days},
+                        manifest={"days": days, "q_acc": scenarios.DEFAULT_Q_ACC,
+                                  "nees_bins": NEES_BINS},
+                        summarise=summarise_consistency)
+    base = {"q_acc": scenario.q_acc, "subsystems": list(scenario.subsystems),
+            "sigma_horizon_deg": scenario.sigma_horizon_deg,
+            "pulsars": [pulsar_specs.to_json(p) for p in scenario.pulsars],
+            "truth_model": scenario.truth_model.as_dict(),
+            "filter_model": scenario.filter_model.as_dict()}
+    return Campaign("consistency", consistency_run, lambda i: {"days": days, **base},
+                    manifest={"days": days, **base, "nees_bins": NEES_BINS},
                     summarise=summarise_consistency)
 
 
@@ -266,8 +282,12 @@ CAMPAIGNS = {
 }
 
 
-def campaign(name, *, days=1.0):
+def campaign(name, *, days=1.0, scenario=None):
     """The :class:`~xnavlab.core.campaign.Campaign` called ``name`` with runs of ``days`` days.
+
+    ``scenario`` (``consistency`` only): a :class:`~xnavlab.mars.scenarios.MarsScenario` whose
+    pulsars, force models, ``q_acc``, subsystems and horizon noise the runs take (``campaign
+    consistency --scenario FILE``); default the paper's.
 
     Raises
     ------
@@ -280,4 +300,9 @@ def campaign(name, *, days=1.0):
     {'fault_class': 'step', 'sensor': 'uv', 'size_index': 1, 'days': 1.0}
     """
     check_choice("campaign", name, tuple(CAMPAIGNS))
+    if scenario is not None:
+        if name != "consistency":
+            raise ValueError(f"scenario goes with campaign consistency; campaign {name} runs "
+                             f"the paper's scenario")
+        return _consistency(days, scenario)
     return CAMPAIGNS[name][0](days)
