@@ -436,9 +436,11 @@ def plot_roc(curves, ax=None):
     for label, rows in curves.items():
         x = np.array([r["false_alarms_per_day"] for r in rows])
         y = np.array([r["pd"] for r in rows])
-        xerr = [x - [r["false_alarms_per_day_lo"] for r in rows],
-                np.array([r["false_alarms_per_day_hi"] for r in rows]) - x]
-        yerr = [y - [r["pd_lo"] for r in rows], np.array([r["pd_hi"] for r in rows]) - y]
+        # one (2, N) array each, matplotlib's documented form: a list of two arrays makes
+        # matplotlib 3.10 (the last for Python 3.10) convert a one-point array to a scalar
+        xerr = np.array([x - [r["false_alarms_per_day_lo"] for r in rows],
+                         np.array([r["false_alarms_per_day_hi"] for r in rows]) - x])
+        yerr = np.array([y - [r["pd_lo"] for r in rows], np.array([r["pd_hi"] for r in rows]) - y])
         line = ax.errorbar(x, y, xerr=xerr, yerr=yerr, marker="o", capsize=3, label=label)
         for r in rows:
             ax.annotate(f"{r['threshold']:g}", (r["false_alarms_per_day"], r["pd"]),
