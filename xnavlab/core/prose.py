@@ -219,7 +219,7 @@ def eval_expressions(markdown):
     """The ``{eval}`` expressions of a markdown cell, in order, each once.
 
     Roles inside code (a fenced block that is not a directive, an inline code span) are
-    left out; roles inside directives (```` ```{exercise} ````, admonitions) count.
+    left out; roles inside directives (an exercise, an admonition, a table cell) count.
 
     Examples
     --------
