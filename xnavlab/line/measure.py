@@ -65,7 +65,7 @@ def fold_range(x, x_ref, pulsar="B0531+21", exposure=10.0, rng=None, area_m2=1.0
         True distance of the spacecraft from the SSB along ``n`` (mid-window), m.
     x_ref : float
         Predicted distance, m; the cycle nearest it is chosen (error below ``c P / 2``).
-    pulsar : str or Pulsar
+    pulsar : str or xnavlab.mars.pulsars.Pulsar
         Default the Crab, B0531+21.
     exposure : float
         Window length, s, in (0, 1e5].

@@ -91,16 +91,16 @@ def track(truth, exposure, x0, P0, pulsar_names=("B0531+21",), directions=((1.0,
 
     Parameters
     ----------
-    truth : array_like, shape (n + 1, 2 d)
-        True states at ``t_k = k exposure`` (:func:`simulate`).
+    truth : array_like
+        True states at ``t_k = k exposure`` (:func:`simulate`), shape (n + 1, 2 d).
     exposure : float
         Window of each TOA and step of the filter, s.
-    x0, P0 : array_like, shapes (2 d,), (2 d, 2 d)
-        The filter's initial estimate and covariance.
+    x0, P0 : array_like
+        The filter's initial estimate and covariance, shapes (2 d,) and (2 d, 2 d).
     pulsar_names : sequence of str
         One pulsar per line of sight (default the Crab alone).
-    directions : array_like, shape (m, d)
-        Unit vectors to the pulsars in the line (d = 1) or the plane (d = 2).
+    directions : array_like
+        Unit vectors to the pulsars in the line (d = 1) or the plane (d = 2), shape (m, d).
     accel_sigma : float
         The filter's (and truth's) white acceleration, m/s^1.5.
     rng, area_m2
@@ -157,8 +157,10 @@ def run_line(exposure_s=10.0, accel_sigma=0.0, span_s=2000.0, dv=1.0, seed=0):
 
     Returns
     -------
-    truth : ndarray, shape (n + 1, 2)
+    truth : ndarray
+        True states, shape (n + 1, 2): position (m) and velocity (m/s).
     run : Track
+        The filter's run.
 
     Examples
     --------

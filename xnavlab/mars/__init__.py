@@ -12,6 +12,8 @@ module                 what it models
 ``timing_bound``       the Poisson Cramer-Rao bound of the TOA, the maximum-likelihood TOA
                        that reaches it, XNAV noise at the bound (chapter 1)
 ``toa``                the time-transfer (TOA) equation and its gradient (chapter 2)
+``fold_toa``           the TOA of a fold: photons time-transferred along the a-priori orbit,
+                       the time tag, the instantaneous model's error (chapter 2)
 ``pint_bridge``        PINT offline as a witness: its delays for a spacecraft, shipped
                        Fermi photons and NANOGrav residuals (chapters 1-2)
 ``timing_terms``       what the paper's TOA equation leaves out: exact vs paper Shapiro,

@@ -174,7 +174,7 @@ def plot_xnav_geometry(pulsar="B1937+21"):
     ax.plot(0, 0, "k+", ms=12, mew=1.5, zorder=4)
     ax.annotate(f"SSB, {np.linalg.norm(r_sun) / _R_SUN:.2f} solar radii\nfrom the Sun's centre",
                 (0, 0), (0.25, -0.75), fontsize=8, arrowprops=dict(arrowstyle="-", lw=0.6))
-    ax.annotate("Sun", sun, (-0.45, -0.55), fontsize=8, arrowprops=dict(arrowstyle="-", lw=0.6))
+    ax.annotate("Sun", sun, (-0.3, -0.45), fontsize=8, arrowprops=dict(arrowstyle="-", lw=0.6))
     ax.plot(*mars, "o", color="C3", ms=9, zorder=4)
     ax.text(*(mars + [0.1, 0.08]), "Mars and the spacecraft\n(2016-01-01, the scenario's start)",
             fontsize=8)
@@ -202,10 +202,11 @@ def plot_xnav_geometry(pulsar="B1937+21"):
     ax.plot(d_fake + rad * np.cos(ang), rad * np.sin(ang), color="C1", lw=1.0)
     ax.plot([sc[0], sc[0]], [sc[1] + 0.25, -0.35], color="0.6", lw=0.8)
     _arrow(ax, (sc[0], 0.0), (d_fake - rad, 0.0), style="<->", color="C1")
-    ax.text(d_fake - rad - 0.05, 0.3,
+    ax.text(d_fake - rad, -0.72,
             "parallax: the wavefront's curvature\n(pulsar drawn 4 au away)\n"
             "$[(\\mathbf{n}\\cdot\\mathbf{R})^2 - |\\mathbf{R}|^2]/(2cD_0)$"
-            f" = {terms['parallax'] * 1e6:.2f} µs", color="C1", fontsize=8, ha="right")
+            f" = {terms['parallax'] * 1e6:.2f} µs", color="C1", fontsize=8, ha="center",
+            va="top")
     ax.text(sun[0] + 0.35, sun[1] + 0.3,
             f"Shapiro: the Sun's potential\non the path = {terms['shapiro'] * 1e6:.1f} µs",
             color="goldenrod", fontsize=8, ha="left")
@@ -322,7 +323,7 @@ def plot_federated_filter(scenario=None):
 
     Parameters
     ----------
-    scenario : MarsScenario, optional
+    scenario : xnavlab.mars.scenarios.MarsScenario, optional
         Default the paper's (:class:`xnavlab.mars.scenarios.MarsScenario`).
 
     Returns
