@@ -13,6 +13,9 @@ time-transfer terms (:mod:`xnavlab.mars.toa`) beside PINT's and fold real photon
 - :func:`fermi_photon_phases`: the Fermi-LAT photons of PSR J0030+0451 shipped with PINT,
   their phases under the shipped timing model and their weights;
   :func:`fermi_template` the three-Gaussian template shipped beside them.
+- :func:`fermi_photon_geometry`: where PINT put the geocentre and the pulsar for each of
+  those photons; :func:`fermi_displaced_phases` their phases with the geocentre moved
+  (the witness of :mod:`xnavlab.mars.photon_fix`).
 - :func:`nanograv_residuals`: the NANOGrav 9-year residuals of PSR B1855+09.
 - :func:`timing_parameters`: position, parallax and spin of any ``.par`` file, the
   numbers behind :func:`xnavlab.mars.pulsars.from_par`.
@@ -76,6 +79,8 @@ __all__ = [
     "planet_shapiro",
     "fermi_photon_phases",
     "fermi_template",
+    "fermi_photon_geometry",
+    "fermi_displaced_phases",
     "nanograv_residuals",
     "timing_parameters",
 ]
@@ -534,6 +539,123 @@ def fermi_template(nbins=None, phases=None):
     cdf = 0.5 * erf(z).sum(axis=-1)  # (nbins + 1, c): wrapped CDF up to a constant
     per_bin = np.diff(cdf, axis=0) @ comps[:, 2]
     return per_bin / per_bin.sum()
+
+
+@functools.cache
+def _fermi_toas():
+    """PINT's TOAs of the Fermi photons and the shipped model, read once per process (~17 s)."""
+    from pint.fermi_toas import get_Fermi_TOAs
+    from pint.models import get_model
+
+    offline()
+    with _quiet():
+        model = get_model(str(examples_path(_FERMI_PAR)))
+        with open(examples_path(_FERMI_EVENTS), "rb") as fh:
+            toas = get_Fermi_TOAs(fh, weightcolumn="PSRJ0030+0451", include_bipm=False,
+                                  ephem=EPHEMERIS, planets=False)
+    return toas, model
+
+
+def _fermi_geometry():
+    from astropy import units as u
+
+    toas, model = _fermi_toas()
+    tbl = toas.table
+    tdb = np.asarray(tbl["tdbld"], dtype=float)  # MJD TDB
+    n = model.components["AstrometryEquatorial"].ssb_to_psb_xyz_ICRS(epoch=tdb)
+    spin = model.F0.value + model.F1.value * (tdb - float(model.PEPOCH.value)) * DAY
+    return {
+        "r_geo_ssb": np.asarray(tbl["ssb_obs_pos"].quantity.to_value(u.m), dtype=float),
+        "direction": np.asarray(n, dtype=float),
+        "spin_frequency": np.asarray(spin, dtype=float),
+        "t": (tdb - _MJD_J2000) * DAY,
+    }
+
+
+@functools.cache
+def _fermi_geometry_cached():
+    sources = [examples_path(name) for name in (_FERMI_EVENTS, _FERMI_PAR)]
+    return _cached("fermi-j0030-geometry", sources, _fermi_geometry)
+
+
+def fermi_photon_geometry():
+    """Where PINT put the geocentre and the pulsar for each Fermi photon of J0030+0451.
+
+    The same photons, in the same order, as :func:`fermi_photon_phases` (read the same
+    way, DE421, no BIPM correction). Cached in memory and on disk (``$XNAVLAB_CACHE``);
+    the first call reads the photons with PINT (about twenty seconds).
+
+    Returns
+    -------
+    dict of ndarray
+        - ``r_geo_ssb`` (n, 3): the geocentre relative to the SSB at each photon, ICRF
+          axes, m (PINT's ``ssb_obs_pos``: the photon times are referred to the geocentre);
+        - ``direction`` (n, 3): the unit vector from the SSB to the pulsar at each photon,
+          ICRF (PINT's ``ssb_to_psb_xyz_ICRS``, proper motion applied);
+        - ``spin_frequency`` (n,): the model's spin frequency at each photon,
+          ``F0 + F1 (t - PEPOCH)``, Hz;
+        - ``t`` (n,): the photon epochs, s TDB past J2000.
+
+    Examples
+    --------
+    >>> geo = fermi_photon_geometry()  # doctest: +SKIP
+    >>> geo["direction"].shape == geo["r_geo_ssb"].shape  # doctest: +SKIP
+    True
+    """
+    return {key: value.copy() for key, value in _fermi_geometry_cached().items()}
+
+
+def fermi_displaced_phases(offsets_m):
+    """PINT's phases of the Fermi photons of J0030+0451 with the geocentre moved.
+
+    For each offset ``dr``, every photon's observatory position (PINT's ``ssb_obs_pos``,
+    the geocentre) is moved by ``dr`` and its position relative to the Sun
+    (``obs_sun_pos``) by ``-dr``; PINT's ``model.phase`` then phases the photons as
+    :func:`fermi_photon_phases` does, so the difference is PINT's own answer to "what if
+    the photons had been recorded ``dr`` away from the geocentre" (its Roemer and solar
+    Shapiro delays both see the move). Cached on disk per set of offsets.
+
+    Parameters
+    ----------
+    offsets_m : array_like, shape (k, 3)
+        Offsets of the assumed geocentre, ICRF axes, m.
+
+    Returns
+    -------
+    ndarray, shape (k, n)
+        Pulse phases, cycles in [0, 1), the photons in the order of
+        :func:`fermi_photon_phases`.
+
+    Examples
+    --------
+    >>> phases = fermi_displaced_phases([[0.0, 0.0, 0.0]])  # doctest: +SKIP
+    >>> bool(np.allclose(phases[0], fermi_photon_phases()[0]))  # doctest: +SKIP
+    True
+    """
+    offsets = check_finite_array("offsets_m", offsets_m, shape=(3,))
+    if offsets.ndim != 2:
+        raise ValueError(f"offsets_m must have shape (k, 3), got {offsets.shape}")
+
+    def compute():
+        from astropy import units as u
+
+        toas, model = _fermi_toas()
+        tbl = toas.table
+        saved = tbl["ssb_obs_pos"].quantity.copy(), tbl["obs_sun_pos"].quantity.copy()
+        out = np.empty((offsets.shape[0], len(tbl)))
+        try:
+            for k, dr in enumerate(offsets):
+                tbl["ssb_obs_pos"] = saved[0] + dr * u.m
+                tbl["obs_sun_pos"] = saved[1] - dr * u.m
+                phase = model.phase(toas, abs_phase=False)
+                out[k] = np.asarray(phase.frac.to_value(u.dimensionless_unscaled), dtype=float) % 1.0
+        finally:
+            tbl["ssb_obs_pos"], tbl["obs_sun_pos"] = saved
+        return {"phases": out}
+
+    key = hashlib.sha256(np.ascontiguousarray(offsets).tobytes()).hexdigest()[:16]
+    sources = [examples_path(name) for name in (_FERMI_EVENTS, _FERMI_PAR)]
+    return _cached(f"fermi-j0030-displaced-{key}", sources, compute)["phases"].copy()
 
 
 @contextlib.contextmanager
