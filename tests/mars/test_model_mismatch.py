@@ -40,3 +40,9 @@ def test_bad_arguments_are_refused(kw, words):
     with pytest.raises(ValueError) as exc:
         model_mismatch.mismatch_runs(cache=False, **kw)
     assert words in str(exc.value)
+
+
+def test_the_setup_note_says_which_set_up_a_run_has():
+    assert model_mismatch.setup_note(scenarios.MarsScenario()).startswith("Paper set-up:")
+    note = model_mismatch.setup_note(model_mismatch.case_scenario("mismatched, derived q", 1.0))
+    assert note.startswith("Study set-up: the truth flies Mars MRO95A 8x8") and "q_acc 0.00513" in note

@@ -7,7 +7,9 @@ milliseconds. It also computes the paper's 30-day Mars truth trajectory into the
 cache (``$XNAVLAB_CACHE``, default ``~/.cache/xnavlab``), which chapters 5, 6 and 8 and
 the Mars reproductions use, and the headline campaign of chapters 6 and 8 (32 noise seeds of
 the 30-day run, clean and with the paper's faults: :func:`xnavlab.mars.headline.headline_numbers`)
-into its campaign store there, so that no chapter cell waits minutes for it, and two chapters
+into its campaign store there, and the table of matched vs mismatched force models of chapters
+3, 5 and 6 (:func:`xnavlab.mars.model_mismatch.mismatch_table`, with the studies' rich truth
+before it), so that no chapter cell waits minutes for it, and two chapters
 executed side by side (``make book``, ``pytest -n 2``) do not wait for each other.
 
 Each step runs a tiny case through the same public functions the chapters call, so the
@@ -89,6 +91,20 @@ def _headline_campaign():
     headline.headline_numbers()  # the chapters' call: stored under $XNAVLAB_CACHE/campaigns
 
 
+def _study_truth():
+    from xnavlab.mars.scenarios import MarsScenario, prepare
+
+    # the rich truth (MRO95A 8x8, planets, SRP) on the runs' 30-day grid, and the first day's
+    # truth behind its derived q_acc (MarsScenario.study)
+    prepare(MarsScenario.study(days=30.0))
+
+
+def _model_mismatch():
+    from xnavlab.mars import model_mismatch
+
+    model_mismatch.mismatch_table()  # the chapters' call (3, 5, 6): stored under $XNAVLAB_CACHE
+
+
 #: The label of the filter kernel's compile in :data:`STEPS`.
 KERNEL_STEP = "federated filter kernel"
 
@@ -99,9 +115,11 @@ STEPS = (
     ("ephemeris-error propagator", _ephemeris_error),
     ("the chapters' truths of 8 force models, 30 days (truth cache)", _force_models),
     ("PINT's photon phases and residuals (chapter 1's cache)", _pint_witnesses),
+    ("the studies' rich truth, 30 days, and its q_acc (truth cache)", _study_truth),
     (KERNEL_STEP, compile_kernel),
     ("fault-tolerant runs", _mars_fault_tolerant),
     ("headline campaign, 32 seeds (campaign cache)", _headline_campaign),
+    ("matched vs mismatched models, 30 days x 5 seeds x 3 cases (cache)", _model_mismatch),
 )
 
 

@@ -45,7 +45,8 @@ from xnavlab.core.filters import chi2_bounds, judge_series
 from xnavlab.core.validate import check_int, check_real
 from xnavlab.mars import scenarios
 
-__all__ = ["CASES", "case_scenario", "mismatch_runs", "mismatch_table", "TABLE_COLUMNS"]
+__all__ = ["CASES", "case_scenario", "mismatch_runs", "mismatch_table", "TABLE_COLUMNS",
+           "setup_note"]
 
 #: The three cases, in the order of the table.
 CASES = ("matched", "mismatched, derived q", "mismatched, paper q")
@@ -75,6 +76,24 @@ def case_scenario(case, days=30.0, seed=0):
         return scenarios.MarsScenario(**fields)
     sc = scenarios.MarsScenario.study(**fields)
     return sc if case == "mismatched, derived q" else replace(sc, q_acc=scenarios.DEFAULT_Q_ACC)
+
+
+def setup_note(scenario):
+    """One sentence that says which set-up a run has, for a chapter or a reproduction's note.
+
+    Examples
+    --------
+    >>> setup_note(scenarios.MarsScenario())
+    "Paper set-up: truth and filter share the paper's force model (Mars point mass + Sun, \
+Jupiter); q_acc 1e-11 m^2/s^3."
+    """
+    sc = scenario
+    if sc.paper_setup:
+        return (f"Paper set-up: truth and filter share the paper's force model "
+                f"({sc.filter_model.describe()}); q_acc {sc.q_acc:.3g} m^2/s^3.")
+    return (f"Study set-up: the truth flies {sc.truth_model.describe()} "
+            f"({sc.truth_ephem}), the filter {sc.filter_model.describe()} ({sc.filter_ephem}); "
+            f"q_acc {sc.q_acc:.3g} m^2/s^3.")
 
 
 def _key(kind, days, seeds, settle_days):
