@@ -159,6 +159,23 @@ def test_glue_that_rendered_as_nothing(cb, tmp_path, capsys):
     assert "1 of 2 {glue:text} roles rendered as nothing" in capsys.readouterr().out
 
 
+def test_eval_that_rendered_as_nothing_or_raw(cb, tmp_path, capsys):
+    # myst-nb renders an {eval} role as <span class="output text_plain">; a code cell's own
+    # text output (class output text_plain too, inside cell_output) does not count for it
+    nb = {"cells": [{"cell_type": "markdown", "metadata": {}, "source":
+                     'Error {eval}`glued["ch05_a:.1f"]` m and {eval}`glued["ch05_b:.1f"]` m.'}],
+          "metadata": {}, "nbformat": 4, "nbformat_minor": 5}
+    html = _book(tmp_path, {"05_x.html": _page(
+        '<p>Error <span class="output text_plain">1.5</span> m and  m.</p>'
+        '<div class="cell_output"><span class="output text_plain">2.5</span></div>'
+        '<p>raw {eval}`glued["ch05_c"]`</p>')})
+    (html / "_sources" / "book").mkdir(parents=True)
+    (html / "_sources" / "book" / "05_x.ipynb").write_text(json.dumps(nb))
+    assert cb.main(["--html", str(html)]) == 1
+    out = capsys.readouterr().out
+    assert "1 of 2 {eval} roles rendered as nothing" in out and "raw role {eval}" in out
+
+
 def test_verdict_vocabulary_is_the_registrys(cb):
     from xnavlab.reproduce import HEADLINES, VERDICTS
 

@@ -20,8 +20,9 @@ index) and prints one line per problem, ``page: what``:
   names an xnavlab object: other packages' names and builtins are left unlinked on purpose,
   as in the nitpick settings of ``_config.yml``), ``??``, a raw ``{eq}``/``{ref}``/``{doc}``...
   role, an "eq. (some-label)" showing the label instead of a number, ``[missing reference]``,
-  a literal ``{glue:...}``, myst-nb's "glue key not found", a ``{glue:text}`` of the page's
-  source that rendered as nothing, and a glued value shown unformatted (``np.float64(...)``);
+  a literal ``{glue:...}`` or ``{eval}``, myst-nb's "glue key not found", a ``{glue:text}`` or
+  ``{eval}`` role of the page's source that rendered as nothing, and a glued value shown
+  unformatted (``np.float64(...)``);
 * an ``<img>`` whose file is missing;
 * an empty output (a cell output area, or one output in it, with nothing in it);
 * an exercise without a solution, a solution not collapsed (no ``dropdown`` class), a solution
@@ -66,10 +67,13 @@ _CODE_TAGS = {"pre", "code", "kbd", "samp", "tt", "script", "style", "textarea",
               "mjx-container", "head", "title", "template", "noscript"}
 _CODE_CLASSES = {"math", "highlight", "MathJax", "MathJax_Preview", "mjx-chtml", "xnav-verbatim"}
 _MATH_SOURCE = re.compile(r"\\\(.*?\\\)|\\\[.*?\\\]|\$\$.*?\$\$", re.S)
-_RAW_ROLE = re.compile(r"\{(?:eq|ref|numref|doc|cite(?::\w+)?|glue(?::\w*)?|math|term|download"
+_RAW_ROLE = re.compile(r"\{(?:eq|ref|numref|doc|cite(?::\w+)?|glue(?::\w*)?|eval|math|term|download"
                        r"|prf:ref|any|py:\w+|abbr)\}")
 _EQ_LABEL = re.compile(r"\b(?:eqs?|equations?)\.?\s*\(([A-Za-z][\w.:]*[-_:][\w.:-]*)\)", re.I)
 _GLUE_TEXT = re.compile(r"\{glue:text\}`[^`]+`")
+_EVAL = re.compile(r"\{eval\}`[^`]+`")
+#: what myst-nb renders a {glue:text} and an {eval} (a value's text/plain, inline) as
+_PASTED = ".pasted-text, .pasted-inline, span.output.text_plain"
 #: containers whose text was escaped by xnavlab (reproduce.Result.html, plotting.html_table)
 _ESCAPED_CLASSES = {"xnav-table", "xnav-note", "xnav-notes", "xnav-result", "xnav-headline",
                     "xnav-error"}
@@ -258,7 +262,7 @@ def _check_text(content, page):
             continue
         add(f"unresolved reference {_short(xref.get_text(), 40)!r}"
             f" ({' '.join(sorted(_classes(xref) - {'docutils', 'literal', 'notranslate'}))})")
-    for pasted in content.select(".pasted-text, .pasted-inline"):
+    for pasted in content.select(_PASTED):
         if _UNFORMATTED.search(pasted.get_text()):
             add(f"glued value shown unformatted: {_short(pasted.get_text(), 40)!r} (glue a Python"
                 " float, not a NumPy scalar)")
@@ -266,7 +270,7 @@ def _check_text(content, page):
 
 
 def _check_glue(content, page, source):
-    """``{glue:text}`` roles of the page's source against the glued texts on the page."""
+    """``{glue:text}`` and ``{eval}`` roles of the page's source against the texts on the page."""
     if source is None or not source.is_file():
         return []
     text = source.read_text(encoding="utf-8", errors="replace")
@@ -279,13 +283,20 @@ def _check_glue(content, page, source):
             return []
         text = "\n".join("".join(c.get("source", "")) for c in nb.get("cells", [])
                          if c.get("cell_type") == "markdown")
+    out = []
     expected = len(_GLUE_TEXT.findall(text))
     shown = len(content.select(".pasted-text"))
     if shown < expected:
-        return [Problem(page, f"{expected - shown} of {expected} {{glue:text}} roles rendered as"
-                              " nothing (glue key not found, or a value myst-nb could not format:"
-                              " glue a Python float)")]
-    return []
+        out.append(Problem(page, f"{expected - shown} of {expected} {{glue:text}} roles rendered as"
+                                 " nothing (glue key not found, or a value myst-nb could not"
+                                 " format: glue a Python float)"))
+    expected = len(_EVAL.findall(text))
+    shown = len([s for s in content.select("span.output.text_plain")
+                 if s.find_parent(class_="cell_output") is None])
+    if shown < expected:
+        out.append(Problem(page, f"{expected - shown} of {expected} {{eval}} roles rendered as"
+                                 " nothing (not evaluated by tools/book_execute.py?)"))
+    return out
 
 
 def _check_leaks(content, page):

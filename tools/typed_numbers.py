@@ -1,7 +1,9 @@
 """List the numbers typed into the book's prose (they should be glued from a computation).
 
 A number in a chapter's markdown that comes from a computation must be glued
-(``{glue:text}`ch05_fused_rms_m:.1f```), never typed: a typed number goes stale when the code
+(``glue("ch05_fused_rms_m", rms)`` in the code, ``{eval}`glued["ch05_fused_rms_m:.1f"]``` in the
+prose: :mod:`xnavlab.core.prose`; a chapter not yet converted by ``tools/eval_roles.py`` still
+has ``{glue:text}`ch05_fused_rms_m:.1f```), never typed: a typed number goes stale when the code
 changes. This tool reads the markdown cells of ``book/NN_*.ipynb`` and the prose of the
 ``book/*.md`` pages (not ``bibliography.md``, not the API pages, not code cells or outputs) and
 prints every number that is neither glued nor allow-listed, one line per hit::
@@ -15,8 +17,8 @@ Not a hit:
 
 * anything inside math (``$...$``, ``$$...$$``, ``\\(...\\)``, ``\\begin{..}...\\end{..}``, the
   ``{math}`` role), code spans and code fences (and ``{code-cell}``/``{math}``/... directives),
-  MyST roles with their targets (``{eq}``, ``{ref}``, ``{numref}``, ``{doc}``, ``{cite}``,
-  ``{glue:text}``...), directive header and option lines (`````{exercise}``, ``:label: ...``),
+  MyST roles with their targets (``{eval}``, ``{eq}``, ``{ref}``, ``{numref}``, ``{doc}``,
+  ``{cite}``, ``{glue:text}``...), directive header and option lines (`````{exercise}``, ``:label: ...``),
   link targets and URLs, HTML tags and comments, substitutions, front matter, list markers;
 * digits inside identifiers and names (``B1937+21``, ``J0030+0451``, ``db3``, ``3D``, ``DE421``,
   ``x1``, ``ch05-ex1``, ``SO(3)``, a DOI);
@@ -46,6 +48,8 @@ Examples
 ['28.8', '3']
 >>> [h.number for h in scan_text("See chapter 12, B1937+21 and {glue:text}`ch05_x:.1f` in 2016.")]
 []
+>>> [h.number for h in scan_text('The error is {eval}`glued["ch05_rms_m:.1f"]` m after 12 days.')]
+['12']
 """
 
 from __future__ import annotations
@@ -455,7 +459,8 @@ def main(argv: list[str] | None = None) -> int:
                   f" {a.page} any more (entry can go)", file=sys.stderr)
     if n_hits:
         print(f"typed_numbers: {n_hits} typed number(s) in {len(paths)} page(s): glue them"
-              f" (myst_nb.glue + {{glue:text}}) or allow-list a paper constant in"
+              f" (xnavlab.core.prose.glue + {{eval}}`glued[\"name:spec\"]`) or allow-list a"
+              f" paper constant in"
               f" {display_path(args.allow)}", file=sys.stderr)
         return 1
     return 0
