@@ -570,8 +570,7 @@ def window_survey(pulsar_names=pulsars.PAPER_PULSARS, error=PAPER_ERROR0, n_wind
     spacing = check_real("spacing", spacing, 1.0, 86400.0)
     err = check_finite_array("error", error, shape=(6,))
     starts = t0 + spacing * np.arange(n_windows)
-    states = dynamics.truth(starts, state0, t0) if n_windows > 1 or starts[0] != t0 else \
-        np.asarray(state0, dtype=float)[None]
+    states = dynamics.truth(starts, state0, t0)
     rows = []
     for name in pulsar_names:
         p = pulsars.get(name)

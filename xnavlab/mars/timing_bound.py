@@ -28,7 +28,7 @@ bound is 99, 454, 2637 and 381 m: three of the four quoted accuracies are below 
 (the global maximum of the binned Poisson log-likelihood on the bin grid, by FFT, refined by
 safeguarded Newton steps on the exact bin integrals of the profile). The package's other
 estimator, :func:`~xnavlab.mars.pulsars.estimate_phase_shift`, is the cross-correlation
-(FFTFIT) one: maximum likelihood only when the background dominates (the MSPs), 16 % above the
+(FFTFIT) one: maximum likelihood only when the background dominates (the MSPs), 18 % above the
 bound for the Crab. :func:`monte_carlo_ml_toa` measures the ML estimator on simulated photons
 and :func:`accuracy_table` puts formula, bound and both Monte Carlos side by side for the
 chapter. For a symmetric profile the bound with the rates unknown equals the bound with them
