@@ -352,7 +352,7 @@ def test_other_code_or_an_unreadable_entry_computes_again(dummy, monkeypatch, tm
         entry.write_bytes(b"not a pickle")
     assert not reproduce.run("test-dummy").from_cache
     forget()
-    monkeypatch.setattr(reproduce, "source_digest", lambda *a, **k: "another version")
+    monkeypatch.setattr(reproduce, "code_digest", lambda *a, **k: "another version")
     assert not reproduce.run("test-dummy").from_cache
     assert calls == [0, 2, 0, 0]
     # the other code's results, of every family, are gone

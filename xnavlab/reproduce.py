@@ -8,8 +8,10 @@ and the command line (``python -m xnavlab reproduce ID``) all call :func:`run`, 
 computed, and a verdict decided, by exactly one piece of code.
 
 A reproduction's result is kept on disk, under ``$XNAVLAB_CACHE/reproductions`` (default
-``~/.cache/xnavlab``), keyed by the ID, its arguments, every file of the package (code and
-shipped data), the numeric libraries' versions and ``OPENBLAS_CORETYPE``: the same code on the
+``~/.cache/xnavlab``), keyed by the ID, its arguments, the code that computes it (its module,
+every module of the package that one imports, directly or not, and the shipped data:
+:func:`~xnavlab.core.diskcache.code_digest`), the numeric libraries' versions and
+``OPENBLAS_CORETYPE``: the same code on the
 same machine gives the same numbers (the seeds are fixed), so a chapter, a test and the
 dashboard that ask for the same reproduction compute it once between them. Each ID keeps one
 entry per set of arguments and BLAS kernel family; the first entry stored for a new version of
@@ -74,7 +76,7 @@ from typing import Any
 
 import numpy as np
 
-from xnavlab.core.diskcache import cache_dir, source_digest, store
+from xnavlab.core.diskcache import cache_dir, code_digest, store
 from xnavlab.core.plotting import SafeHTML, figure, html_table
 
 __all__ = [
@@ -741,7 +743,6 @@ _CACHE: dict[tuple, Result] = {}
 CACHE_ENV = "XNAVLAB_REPRODUCE_CACHE"
 #: The distributions whose version is part of a cached result's key (the numbers depend on them).
 _DEPENDS = ("numpy", "scipy", "numba", "PyWavelets", "jplephem", "de421", "de405", "pint-pulsar")
-_PACKAGE = Path(__file__).resolve().parent
 
 
 def _plain(value):
@@ -755,7 +756,8 @@ def _disk_path(id, kwargs):
     """``<id>-<family>-<code>.pickle``: the family is the arguments and the BLAS kernels (each
     keeps its entry), the code is the package's files and the numeric libraries' versions."""
     family = repr((id, sorted(kwargs.items()), os.environ.get("OPENBLAS_CORETYPE", "")))
-    h = hashlib.sha256(repr((2, id, source_digest(_PACKAGE))).encode())
+    code = code_digest((get(id).func.__module__, __name__))
+    h = hashlib.sha256(repr((3, id, code)).encode())
     for dist in _DEPENDS:
         try:
             h.update(f"{dist}={importlib.metadata.version(dist)}".encode())

@@ -1,6 +1,7 @@
 """xnavlab.core.diskcache: the cache's root, and arrays stored once and read back."""
 
 import numpy as np
+import pytest
 
 from xnavlab.core import diskcache
 
@@ -40,3 +41,45 @@ def test_a_cache_that_cannot_be_written_still_gives_the_result(tmp_path):
     blocked.write_text("a file where the cache's directory should be")
     out = diskcache.cached_arrays(blocked / "e.npz", lambda: {"x": np.ones(2)})
     assert out["x"].tolist() == [1.0, 1.0]
+
+
+def _package(tmp_path):
+    root = tmp_path / "pkg"
+    (root / "sub").mkdir(parents=True)
+    (root / "data").mkdir()
+    (root / "__init__.py").write_text("")
+    (root / "sub" / "__init__.py").write_text("")
+    (root / "top.py").write_text("import pkg.sub.low\n")
+    (root / "sub" / "low.py").write_text("def f():\n    from pkg import late\n    return late.X\n")
+    (root / "late.py").write_text("X = 1\n")
+    (root / "other.py").write_text("Y = 2\n")
+    (root / "data" / "table.csv").write_text("a,b\n")
+    return root
+
+
+def test_code_digest_follows_every_import_and_nothing_else(tmp_path):
+    from xnavlab.core.diskcache import code_digest
+
+    root = _package(tmp_path)
+    first = code_digest(("pkg.top",), root=root)
+    (root / "other.py").write_text("Y = 3\n")                 # not imported: same key
+    code_digest.cache_clear()
+    assert code_digest(("pkg.top",), root=root) == first
+    for path, text in ((root / "late.py", "X = 2\n"),        # imported inside a function
+                       (root / "sub" / "__init__.py", "# a package above\n"),
+                       (root / "data" / "table.csv", "a,b,c\n")):
+        path.write_text(text)
+        code_digest.cache_clear()
+        changed = code_digest(("pkg.top",), root=root)
+        assert changed != first, path
+        first = changed
+
+
+def test_code_digest_refuses_what_is_not_a_module_of_the_package(tmp_path):
+    from xnavlab.core.diskcache import code_digest
+
+    root = _package(tmp_path)
+    with pytest.raises(ValueError, match="modules must name modules of pkg"):
+        code_digest(("pkg.nothing",), root=root)
+    with pytest.raises(ValueError, match="a tuple of module names"):
+        code_digest("pkg.top", root=root)

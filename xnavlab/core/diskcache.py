@@ -3,7 +3,10 @@
 Results that are expensive and unchanged between processes (a 30-day truth trajectory,
 PINT's delays, the headline campaign) are kept under ``$XNAVLAB_CACHE`` (default
 ``~/.cache/xnavlab``), each file named by a hash of everything that determines it, so that
-a changed input or model is never served from a stale file. A write goes to a temporary
+a changed input or model is never served from a stale file. The code is part of that hash:
+:func:`code_digest` hashes the source of the module that computes an entry and of every
+module of the package it imports, directly or not, with the shipped data; an edit anywhere in
+that code computes the entry again, an edit elsewhere in the package does not. A write goes to a temporary
 file first and is renamed into place, so a reader never sees half a file, and two processes
 computing the same entry at once both succeed. A home that cannot be written still gets
 its result, uncached.
@@ -20,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["cache_dir", "cached_arrays", "source_digest", "store"]
+__all__ = ["cache_dir", "cached_arrays", "code_digest", "source_digest", "store"]
 
 
 def cache_dir():
@@ -159,4 +162,99 @@ def source_digest(root, skip=()):
             continue
         h.update(str(path.relative_to(root)).encode())
         h.update(path.read_bytes())
+    return h.hexdigest()[:16]
+
+
+def _module_file(root, name):
+    """The source file of module ``name`` (``xnavlab.a.b``) under the package's ``root``, or None."""
+    parts = name.split(".")[1:]
+    base = root.joinpath(*parts) if parts else root
+    for candidate in (base.with_suffix(".py"), base / "__init__.py"):
+        if candidate.is_file():
+            return candidate
+    return None
+
+
+def _imported(name, path, package):
+    """Every module name of ``package`` that the source at ``path`` imports (at any depth of
+    the file: module level and inside functions), with the packages above each."""
+    import ast
+
+    is_pkg = path.name == "__init__.py"
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"), str(path))):
+        if isinstance(node, ast.Import):
+            targets = [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                anchor = name if is_pkg else name.rpartition(".")[0]
+                for _ in range(node.level - 1):
+                    anchor = anchor.rpartition(".")[0]
+                base = f"{anchor}.{base}" if base else anchor
+            targets = [base] + [f"{base}.{a.name}" for a in node.names]
+        else:
+            continue
+        for target in targets:
+            if target == package or target.startswith(package + "."):
+                parts = target.split(".")
+                found.update(".".join(parts[:k]) for k in range(1, len(parts) + 1))
+    return found
+
+
+@functools.lru_cache(maxsize=64)
+def code_digest(modules, root=None):
+    """A hash of the code that computes a cache entry: ``modules``, everything they import.
+
+    The source of each module named in ``modules`` and of every module of the package it
+    imports, directly or through others, at module level or inside a function (found by reading
+    the source, so an import made only on a call counts too), with the packages above each and
+    the package's shipped data (``data/``). An entry keyed by it is computed again when any of
+    that code changes, and only then. Computed once per process and argument.
+
+    Parameters
+    ----------
+    modules : tuple of str
+        Dotted module names of the package (``("xnavlab.mars.headline",)``).
+    root : str or pathlib.Path, optional
+        The package's directory (default: this package's, ``xnavlab/``).
+
+    Returns
+    -------
+    str
+        16 hexadecimal digits.
+
+    Examples
+    --------
+    >>> a = code_digest(("xnavlab.core.constants",))
+    >>> len(a), a == code_digest(("xnavlab.core.constants",))
+    (16, True)
+    >>> a == code_digest(("xnavlab.core.diskcache",))
+    False
+    """
+    if isinstance(modules, str):
+        raise ValueError("modules must be a tuple of module names, not one string")
+    root = Path(root) if root is not None else Path(__file__).resolve().parents[1]
+    package = root.name
+    seen, todo = {}, list(modules)
+    while todo:
+        name = todo.pop()
+        if name in seen:
+            continue
+        inside = name == package or name.startswith(package + ".")
+        path = _module_file(root, name) if inside else None
+        seen[name] = path
+        if path is not None:
+            todo.extend(_imported(name, path, package) - set(seen))
+    if not any(path is not None for name, path in seen.items() if name in modules):
+        raise ValueError(f"modules must name modules of {package}; got {modules!r}")
+    h = hashlib.sha256()
+    for name in sorted(n for n, p in seen.items() if p is not None):
+        h.update(name.encode())
+        h.update(seen[name].read_bytes())
+    data = root / "data"
+    for path in sorted(data.rglob("*")) if data.is_dir() else ():
+        if path.is_file() and "__pycache__" not in path.parts:
+            h.update(str(path.relative_to(root)).encode())
+            h.update(path.read_bytes())
     return h.hexdigest()[:16]

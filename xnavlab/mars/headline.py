@@ -32,12 +32,11 @@ from __future__ import annotations
 
 import contextlib
 import math
-from pathlib import Path
 
 import numpy as np
 
 from xnavlab.core.campaign import Campaign, run_campaign
-from xnavlab.core.diskcache import cache_dir, source_digest
+from xnavlab.core.diskcache import cache_dir, code_digest
 from xnavlab.core.distributions import t_ppf
 from xnavlab.core.validate import check_int, check_real
 
@@ -129,8 +128,9 @@ def mean_interval(values, level=0.95):
 
 
 def _code_key():
-    """A hash of the package's source: a stored campaign is reused only for the same code."""
-    return source_digest(Path(__file__).resolve().parents[1], skip=("reproductions",))
+    """A hash of the code that computes the campaign (this module and everything it imports,
+    :func:`~xnavlab.core.diskcache.code_digest`): a stored campaign is reused only for it."""
+    return code_digest((__name__,))
 
 
 @contextlib.contextmanager
