@@ -50,7 +50,7 @@ BOOK_SOURCES := _config.yml _toc.yml $(wildcard book/*.ipynb book/*.md book/*.bi
 
 setup: $(WARM)
 
-$(STAMP): environment.txt pyproject.toml
+$(STAMP): environment.txt pyproject.toml tools/jupyterlab-overrides.json
 	$(if $(wildcard $(BIN)/python),,$(check-python))
 	test -x $(BIN)/python || $(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
@@ -58,6 +58,11 @@ $(STAMP): environment.txt pyproject.toml
 	@# an environment made before environment.txt held jsonschema<4.25 may still hold this (3 s an import)
 	$(BIN)/python -m pip uninstall --quiet --yes rfc3987-syntax 2>/dev/null || true
 	$(BIN)/python -m pip install --quiet --no-build-isolation -e .
+	@# JupyterLab's defaults for this environment: every notebook cell rendered, not only those in
+	@# view (windowingMode none), so that "Run All Cells" evaluates every {eval} of the prose
+	@# (jupyterlab-myst reads a markdown cell's expressions from its rendering)
+	mkdir -p $(VENV)/share/jupyter/lab/settings
+	cp tools/jupyterlab-overrides.json $(VENV)/share/jupyter/lab/settings/overrides.json
 	touch $(STAMP)
 
 ## make warmup: compile the numba kernels and cache the 30-day truth (setup runs it; again

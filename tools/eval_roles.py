@@ -29,7 +29,7 @@ Usage, from the repository root::
 
     .venv/bin/python tools/eval_roles.py book/07_wavelets.ipynb   # convert in place
     .venv/bin/python tools/eval_roles.py                          # every chapter
-    .venv/bin/python tools/eval_roles.py --check [book/NN_x.ipynb ...]
+    .venv/bin/python tools/eval_roles.py --check [book/NN_<name>.ipynb ...]
 
 ``--check`` changes nothing and exits 1 when a chapter is not converted or is not
 consistent: a role the conversion rewrites, a ``from myst_nb import glue``, an ``{eval}``
