@@ -12,6 +12,9 @@ the default grid's four faults at the edge of detection, in half-day runs. The s
 line does one detector: ``python -m xnavlab campaign roc --grid FILE --runs N --out DIR``.
 The precomputed curves are shipped because the combined detector's CUSUM design takes a few
 seconds per threshold and the curves need hundreds of runs: minutes, not a chapter's seconds.
+Each detector's first :data:`CHECK_RUNS` runs (one per fault of the grid) are stored beside its
+curve (``checks``: index, seed, parameters, metrics), for ``tests/mars/test_roc.py`` to
+recompute. Detected, late and false alarms: :func:`xnavlab.mars.schedules.score_faults`.
 """
 
 import argparse
@@ -26,6 +29,14 @@ from xnavlab.mars import roc
 
 #: The chi-square detector's thresholds: false-alarm probability per measurement.
 CHI2_THRESHOLDS = [1e-9, 1e-7, 1e-5, 1e-4, 1e-3]
+#: Runs of each curve stored with it for the tests to recompute (the grid's four faults).
+CHECK_RUNS = 4
+
+
+def checks(runs, n=CHECK_RUNS):
+    """The first ``n`` runs of a campaign (index order) as stored check records."""
+    return [{k: r[k] for k in ("index", "seed", "parameters", "metrics")}
+            for r in sorted(runs, key=lambda r: r["index"])[:n]]
 
 
 def grids():
@@ -55,7 +66,7 @@ def main():
                            workers=args.workers, progress=True)
         wall = time.perf_counter() - t0
         data = roc.write_curve(store / det, grid, res.runs(), args.seed)
-        out["curves"][det] = data
+        out["curves"][det] = {**data, "checks": checks(res.runs())}
         print(f"\n{det} ({grid['threshold_name']}), {runs} runs, {res.failed} failed, "
               f"{wall:.0f} s ({res.reused} reused)")
         table(roc.CURVE_COLUMNS, [[r[c] if not isinstance(r[c], float) else f"{r[c]:.4g}"

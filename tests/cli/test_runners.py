@@ -44,3 +44,51 @@ def test_a_short_numpy_run_prints_json_and_writes_its_files(tmp_path, capsys):
     assert summary["run_time_s"] >= summary["filter_time_s"] > 0.0
     assert json.loads((tmp_path / "mars_summary.json").read_text()) == summary
     assert (tmp_path / "mars_run.npz").stat().st_size > 0
+
+
+@pytest.mark.parametrize(("spec", "words"), [
+    ("uv.range:step:0@3600+3000", "magnitude of a step fault must be a nonzero finite real number"),
+    ("uv.range:step:25000@3600+0", "duration of a step fault must be a real number in (0, inf]"),
+    ("uv.range:ramp:25000@3600+-60", "duration of a ramp fault must be a real number in (0, inf]"),
+    ("uv.range:noise:0@3600+3000", "magnitude of a noise fault"),
+    ("uv.range:step:nan@3600+3000", "magnitude must be a finite real number"),
+    ("uv.range:step:inf@3600+3000", "magnitude must be a finite real number"),
+    ("uv.range:step:25000@nan+3000", "onset must be a finite real number"),
+    ("uv.range:step:25000@-100+3000", "before the run's start"),
+    ("uv.range:step:25000@1e9+3000", "outside this run"),
+    ("xnav.0:step:1e-5@3100+300", "acts on no sample"),
+])
+def test_a_fault_that_would_inject_nothing_exits_2_with_one_line(spec, words, capsys):
+    """A zero-size, zero-length or non-finite fault, or one outside the run, is refused before
+    any score is given (it would be injected as nothing and scored as missed)."""
+    assert main(["run", "mars", "--days", "0.1", "--json", "--faults", spec]) == 2
+    cap = capsys.readouterr()
+    err = cap.err.strip()
+    assert words in err and len(err.splitlines()) == 1 and cap.out == ""
+
+
+def test_help_states_the_refusals_and_the_scoring_rule(capsys):
+    from xnavlab.mars import schedules
+
+    with pytest.raises(SystemExit):
+        main(["run", "mars", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    for words in ("a zero, NaN or infinite MAGNITUDE", "a DURATION <= 0", "acts on no sample",
+                  "raised while it acts, [onset, end)", "from before the onset to the end (delay 0)",
+                  f"up to {schedules.LATE_WINDOW_S['uv']:.0f} s after the end "
+                  f"(XNAV {schedules.LATE_WINDOW_S['xnav']:.0f} s)", '"late", never detected',
+                  "no fault explains is a false alarm (a late one is not)"):
+        assert words in text, words
+    assert schedules.LATE_WINDOW_S["uv"] == schedules.LATE_WINDOW_S["cns"]
+
+
+def test_an_alarm_after_the_fault_ended_is_scored_late_in_the_json(capsys):
+    """The issue's run: the 8000-s XNAV step is flagged 500 s after its end: LATE, no delay."""
+    assert main(["run", "mars", "--days", "2", "--seed", "53", "--json", "--faults",
+                 "xnav.2:step:3e-6@61000+8000"]) == 0
+    score = json.loads(capsys.readouterr().out)["score"]
+    f, = score["faults"]
+    assert (f["status"], f["detected"], f["delay_s"], f["late_s"]) == ("late", False, None, 500.0)
+    late = [d for d in score["detections"] if d["match"] == "late"]
+    assert len(late) == 1 and late[0]["detected_onset"] == 69500.0 and not late[0]["false_alarm"]
+    assert score["counts"]["xnav"]["late"] == 1 and score["counts"]["xnav"]["detected"] == 0

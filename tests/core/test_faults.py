@@ -48,15 +48,45 @@ def test_mask():
 
 @pytest.mark.parametrize("kwargs, match", [
     ({"kind": "wobble"}, "kind must be one of"),
-    ({"magnitude": math.nan}, "magnitude"),
-    ({"duration": -1.0}, "duration"),
+    ({"magnitude": math.nan}, r"^magnitude must be a finite real number"),
+    ({"magnitude": math.inf}, r"^magnitude must be a finite real number"),
+    ({"magnitude": -math.inf}, r"^magnitude must be a finite real number"),
+    ({"onset": math.nan}, r"^onset must be a finite real number, s"),
+    ({"onset": math.inf}, r"^onset must be a finite real number, s"),
+    ({"duration": -1.0}, r"^duration of a step fault must be a real number in \(0, inf\]"),
+    ({"duration": -math.inf}, r"^duration of a step fault must be a real number in \(0, inf\]"),
+    ({"duration": math.nan}, r"^duration of a step fault must be a real number in \(0, inf\]"),
     ({"component": -1}, "component"),
-    ({"kind": "noise", "magnitude": -1.0}, "magnitude"),
+    ({"kind": "noise", "magnitude": -1.0}, r"^magnitude of a noise fault .* in \(0, inf\)"),
+    ({"kind": "spike", "duration": -1.0}, r"^duration of a spike fault \(ignored\)"),
 ])
 def test_bad_fault(kwargs, match):
     args = {"sensor": "uv", "kind": "step", "magnitude": 1.0, "onset": 0.0} | kwargs
     with pytest.raises(ValueError, match=match):
         Fault(**args)
+
+
+@pytest.mark.parametrize("kind", ["step", "ramp", "spike", "noise"])
+def test_a_zero_size_fault_is_refused_naming_the_magnitude(kind):
+    """A zero-size fault would be injected as nothing and then scored as missed."""
+    with pytest.raises(ValueError, match=r"^magnitude of a \w+ fault") as err:
+        Fault("uv", kind, 0.0, 100.0, 50.0)
+    assert "(0, inf)" in str(err.value)
+
+
+@pytest.mark.parametrize("kind", ["step", "ramp", "stuck", "noise"])
+@pytest.mark.parametrize("duration", [0.0, -5.0])
+def test_a_zero_or_negative_length_fault_is_refused_naming_the_duration(kind, duration):
+    with pytest.raises(ValueError, match=r"^duration of a \w+ fault must be a real number in "
+                                         r"\(0, inf\], s, got .* injects nothing\)$"):
+        Fault("uv", kind, 1.0, 100.0, duration)
+
+
+def test_what_a_kind_ignores_may_be_zero():
+    """A spike's duration and a stuck output's magnitude are ignored: zero is accepted."""
+    assert Fault("uv", "spike", 5.0, 10.0, 0.0).duration == 0.0
+    assert Fault("uv", "stuck", 0.0, 10.0, 5.0).magnitude == 0.0
+    assert Fault("uv", "step", -2.0, 10.0, math.inf).end == math.inf      # permanent, negative
 
 
 def test_component_out_of_range():
@@ -79,6 +109,13 @@ def test_parse_spec_examples():
     ("uv:jump:1@0+1", "kind must be one of"),
     ("uv:step:big@0+1", "'big' is not a number"),
     ("uv:step:1@0+-5", "duration"),
+    ("uv:step:0@3600+3000", r"^bad fault item .*: magnitude of a step fault must be a nonzero"),
+    ("uv:step:25000@3600+0", r"^bad fault item .*: duration of a step fault must be a real "
+                             r"number in \(0, inf\], s, got 0\.0"),
+    ("uv:ramp:nan@3600+10", "magnitude must be a finite real number"),
+    ("uv:step:inf@3600+10", "magnitude must be a finite real number"),
+    ("uv:step:1@nan+10", "onset must be a finite real number"),
+    ("uv:step:1@3600+nan", "duration of a step fault"),
     ("", "non-empty"),
 ])
 def test_parse_spec_errors_name_the_bad_part(spec, match):
@@ -88,7 +125,7 @@ def test_parse_spec_errors_name_the_bad_part(spec, match):
 
 @given(
     st.sampled_from(sorted(COMPS)), st.sampled_from(KINDS),
-    st.floats(0, 1e6, allow_nan=False), st.floats(0, 3e6), st.floats(0, 1e5),
+    st.floats(1e-12, 1e6), st.floats(0, 3e6), st.floats(1e-3, 1e5),
 )
 def test_format_parse_round_trip(sensor, kind, mag, onset, dur):
     f = Fault(sensor, kind, float(f"{mag:g}"), float(f"{onset:g}"), float(f"{dur:g}"), 0)

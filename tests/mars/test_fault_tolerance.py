@@ -383,14 +383,16 @@ def test_score_matches_every_detection_or_calls_it_a_false_alarm(runs, detector)
     assert len(sc["faults"]) == len(HAND)
     assert len(sc["detections"]) == len(run.detections)
     for d in sc["detections"]:
-        assert d["false_alarm"] == (d["fault"] is None)
+        assert d["false_alarm"] == (d["fault"] is None) == (d["match"] == "false alarm")
     for f, delay in zip(sc["faults"], run.delays(), strict=True):
-        assert f["detected"] == np.isfinite(delay["delay"])
+        assert f["detected"] == np.isfinite(delay["delay"]) == (f["status"] == "detected")
         assert (f["delay_s"] is None) == (not f["detected"])
+        assert (f["late_s"] is None) == (f["status"] != "late")
         assert f["out_after_end_s"] is None or f["out_after_end_s"] >= 0.0
     for s, c in sc["counts"].items():
-        assert c["detected"] + c["missed"] == c["faults"] == sum(f.sensor == s for f in HAND)
-        assert c["false_alarms"] <= c["detections"]
+        assert c["detected"] + c["late"] + c["missed"] == c["faults"] == sum(f.sensor == s
+                                                                          for f in HAND)
+        assert c["false_alarms"] <= c["alarms"]
     err = sc["fused_error"]
     assert err["inside_faults_m"] > 0.0 and err["outside_faults_m"] > 0.0
     assert run.summary()["score"]["counts"] == sc["counts"]

@@ -107,7 +107,7 @@ def test_roc_run_same_seed_same_record_and_a_large_step_is_found():
 
 def _record(fc, detected, false_alarms, status="ok"):
     per = [{"threshold": t, "detected": d, "delay_s": 10.0 if d else None,
-            "out_at_onset": False, "false_alarms": f}
+            "out_at_onset": False, "late": not d, "false_alarms": f}
            for t, d, f in zip((0.1, 1.0), detected, false_alarms, strict=True)]
     return {"status": status, "parameters": {"fault_class": fc, "sensor": "uv", "size": 3.0},
             "metrics": {"onset_s": 1.0, "armed_days": 0.5, "per_threshold": per}}
@@ -118,6 +118,7 @@ def test_roc_curve_pools_runs_per_threshold_with_intervals():
             _record("step", (True, True), (0, 0), status="failed")]
     c0, c1 = roc.roc_curve(runs)
     assert (c0["threshold"], c0["trials"], c0["detected"], c0["pd"]) == (0.1, 2, 1, 0.5)
+    assert (c0["late"], c1["late"]) == (1, 0)                  # counted apart, not in pd
     assert c1["false_alarms"] == 5 and c1["armed_days"] == 1.0
     assert c1["false_alarms_per_day"] == 5.0
     for row in (c0, c1):
@@ -155,9 +156,25 @@ def test_shipped_curves_are_consistent():
         assert [r["threshold"] for r in cur["curve"]] == grid["thresholds"]
         for r in cur["curve"]:
             assert r["pd_lo"] <= r["pd"] <= r["pd_hi"]
+            assert r["detected"] + r["late"] <= r["trials"]
             assert (r["false_alarms_per_day_lo"] <= r["false_alarms_per_day"]
                     <= r["false_alarms_per_day_hi"])
             assert r["trials"] == cur["runs"]
+
+
+@pytest.mark.parametrize(("detector", "threshold"), [("combined", 1.0), ("chi2", 1e-5)])
+def test_shipped_curve_runs_recompute(detector, threshold):
+    """The stored first run of each curve (the grid's first fault), at one threshold,
+    recomputed from its seed by the code here: the same decisions (detected, late, out at
+    onset, false alarms), the delay to 30 s."""
+    chk = roc.load_curves()["curves"][detector]["checks"][0]
+    fresh, = roc.roc_run(**{**chk["parameters"], "thresholds": [threshold]},
+                         seed=chk["seed"])["per_threshold"]
+    old = next(r for r in chk["metrics"]["per_threshold"] if r["threshold"] == threshold)
+    for key in ("detected", "late", "out_at_onset", "false_alarms"):
+        assert fresh[key] == old[key], (key, old, fresh)
+    if old["detected"]:
+        assert abs(fresh["delay_s"] - old["delay_s"]) <= 30.0
 
 
 def test_plot_roc_draws_one_curve_per_detector():

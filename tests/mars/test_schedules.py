@@ -1,10 +1,13 @@
 """Fault schedules of the Mars run (xnavlab.mars.schedules): the components a spec may name, the
 paper's schedule, the command line's spec, the check that refuses a fault a run cannot use, and
-the matching of detections to faults."""
+the scoring rule (detected while the fault acts or out at its onset, late after its end, false
+alarms what no fault explains)."""
 
 import math
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from xnavlab.core.detection import Event
 from xnavlab.core.faults import Fault
@@ -66,7 +69,7 @@ def test_check_schedule_refuses_a_wavelet_fault_in_the_training_span():
     with pytest.raises(ValueError, match="on which the cns wavelet detector trains"):
         s.check_schedule(early, sc, detector="wavelet", train_days=1.0)
     assert s.check_schedule(early, sc, detector="combined")
-    xnav = [Fault("xnav", "step", 1e-5, 3600.0, 100.0)]          # XNAV does not train
+    xnav = [Fault("xnav", "step", 1e-5, 3600.0, 1000.0)]         # XNAV does not train
     assert s.check_schedule(xnav, sc, detector="wavelet")
 
 
@@ -77,19 +80,128 @@ def test_check_schedule_refuses_a_fault_before_the_filter_settles_for_the_combin
     assert s.check_schedule([Fault("uv", "step", 1.0, s.EARLIEST_ONSET_S, 10.0)], sc)
 
 
-def test_fault_detection_delays_count_a_detection_until_the_window_after_the_end():
-    f = Fault("uv", "ramp", 1.0, onset=100.0, duration=50.0)
+def test_check_schedule_refuses_a_negative_onset_without_a_nonsense_fix():
+    sc = scenarios.MarsScenario(days=1)
+    with pytest.raises(ValueError, match=r"starts at -100 s, before the run's start: an onset "
+                                         r"is s since the start, in \[0, 86400\)$"):
+        s.check_schedule([Fault("uv", "step", 1.0, -100.0, 10.0)], sc)
+    with pytest.raises(ValueError, match=r"outside this run .*: move its onset into the run$"):
+        s.check_schedule([Fault("uv", "step", 1.0, 1e9, 10.0)], sc)     # no --days > 365
 
-    def delay(onset, window=None):
-        events = {"uv": [Event(onset, onset + 1.0, onset + 2.0, 2.0, "level 1")]}
-        return s.fault_detection_delays([f], events, window)[0]["delay"]
 
-    assert delay(130.0) == 30.0
-    assert delay(50.0) == math.inf                                    # before the onset
-    assert delay(150.0 + s.MATCH_WINDOW["uv"] - 1.0) == s.MATCH_WINDOW["uv"] + 49.0
-    assert delay(150.0 + s.MATCH_WINDOW["uv"]) == math.inf
-    assert delay(160.0, window=5.0) == math.inf and delay(154.0, window=5.0) == 54.0
-    assert delay(154.0, window={"uv": 5.0}) == 54.0
-    assert s.fault_detection_delays([f], {})[0]["detected_onset"] == math.inf
-    with pytest.raises(ValueError, match="^window"):
-        delay(130.0, window=-1.0)
+def test_check_schedule_refuses_a_fault_that_acts_on_no_sample():
+    """A 300-s XNAV step between two samples 500 s apart would be injected as nothing."""
+    sc = scenarios.MarsScenario(days=1)
+    with pytest.raises(ValueError, match=r"acts on no sample: it lasts 300 s between two xnav "
+                                         r"samples \(one every 500 s\): make it last at least 500 s"):
+        s.check_schedule([Fault("xnav", "step", 1e-5, 61100.0, 300.0)], sc)
+    assert s.check_schedule([Fault("xnav", "step", 1e-5, 61000.0, 300.0)], sc)   # on a sample
+    assert s.check_schedule([Fault("xnav", "spike", 1e-5, 61100.0, 0.0)], sc)    # its next one
+    with pytest.raises(ValueError, match="comes after the run's last xnav sample"):
+        s.check_schedule([Fault("xnav", "spike", 1e-5, 86300.0, 0.0)], sc)
+
+
+def test_paper_schedule_refuses_a_zero_xnav_fault():
+    with pytest.raises(ValueError, match=r"^xnav_step_s must be a nonzero real number"):
+        s.paper_schedule(xnav_step_s=0.0)
+    with pytest.raises(ValueError, match=r"^xnav_ramp must be a nonzero real number"):
+        s.paper_schedule(xnav_ramp=0.0)
+
+
+# ------------------------------------------------------------------ the scoring rule
+
+
+def _ev(*onsets):
+    return [Event(t, t, t + 10.0, 2.0, "test") for t in onsets]
+
+
+STEP = Fault("xnav", "step", 3e-6, onset=61000.0, duration=8000.0)     # acts on [61000, 69000)
+
+
+def test_an_alarm_after_the_end_is_late_not_a_detection():
+    """The issue's case: a step of 8000 s flagged 500 s after its end."""
+    res = s.score_faults([STEP], {"xnav": _ev(69500.0)})
+    f, = res["faults"]
+    assert (f["status"], f["detected"], f["delay_s"], f["late_s"]) == ("late", False, None, 500.0)
+    assert res["alarms"] == [{"sensor": "xnav", "onset": 69500.0, "match": "late", "fault": 0}]
+    d, = s.fault_detection_delays([STEP], {"xnav": _ev(69500.0)})
+    assert d["delay"] == math.inf and d["status"] == "late"
+    # the fault acts on [onset, end): an alarm at the end itself is raised on a clean sample
+    assert s.score_faults([STEP], {"xnav": _ev(69000.0)})["faults"][0]["status"] == "late"
+    assert s.score_faults([STEP], {"xnav": _ev(68999.0)})["faults"][0]["delay_s"] == 7999.0
+
+
+def test_an_alarm_open_at_the_onset_over_the_whole_fault_is_a_detection_at_delay_0():
+    out = [{"sensor": "xnav", "out": 60000.0, "back": 69000.0}]         # back at the end
+    f, = s.score_faults([STEP], {"xnav": _ev(60000.0)}, out)["faults"]
+    assert (f["status"], f["delay_s"], f["out_at_onset"], f["detected_onset"]) == \
+        ("detected", 0.0, True, 61000.0)
+    still = [{"sensor": "xnav", "out": 60000.0, "back": None}]           # out to the run's end
+    assert s.score_faults([STEP], {}, still)["faults"][0]["out_at_onset"]
+    # out at the onset but back in before the end: the rest of the fault reached the filter
+    early_back = [{"sensor": "xnav", "out": 60000.0, "back": 65000.0}]
+    f, = s.score_faults([STEP], {}, early_back)["faults"]
+    assert (f["status"], f["out_at_onset"]) == ("missed", False)
+    f, = s.score_faults([STEP], {"xnav": _ev(66000.0)}, early_back)["faults"]
+    assert (f["status"], f["delay_s"], f["out_at_onset"]) == ("detected", 5000.0, False)
+    # out from the onset epoch itself is the fault's own alarm, not "out at onset"
+    own = [{"sensor": "xnav", "out": 61000.0, "back": None}]
+    f, = s.score_faults([STEP], {"xnav": _ev(61000.0)}, own)["faults"]
+    assert (f["delay_s"], f["out_at_onset"]) == (0.0, False)
+    # another subsystem out does not cover the fault
+    assert s.score_faults([STEP], {}, [{"sensor": "uv", "out": 0.0, "back": None}])[
+        "faults"][0]["status"] == "missed"
+
+
+def test_every_alarm_is_matched_once_and_false_alarms_are_what_no_fault_explains():
+    ramp = Fault("uv", "ramp", 1.0, onset=1000.0, duration=500.0)          # nothing finds it
+    events = {"xnav": _ev(100.0, 61500.0, 62000.0, 69400.0, 69000.0 + s.LATE_WINDOW_S["xnav"]),
+              "uv": _ev(1600.0, 1700.0), "cns": _ev(61500.0)}
+    res = s.score_faults([STEP, ramp], events)
+    assert [f["status"] for f in res["faults"]] == ["detected", "late"]
+    assert res["faults"][0]["delay_s"] == 500.0 and res["faults"][1]["late_s"] == 100.0
+    match = [(a["sensor"], a["onset"], a["match"], a["fault"]) for a in res["alarms"]]
+    assert match == [
+        ("xnav", 100.0, "false alarm", None),          # before the onset
+        ("uv", 1600.0, "late", 1),                     # the ramp's first alarm after its end
+        ("uv", 1700.0, "after end", 1),                # a second one: neither late nor false
+        ("xnav", 61500.0, "detection", 0),
+        ("cns", 61500.0, "false alarm", None),         # another sensor: a false alarm
+        ("xnav", 62000.0, "during fault", 0),
+        ("xnav", 69400.0, "after end", 0),             # the detected step's end alarm
+        ("xnav", 87000.0, "false alarm", None),        # beyond the late window
+    ]
+
+
+def test_a_spike_is_detected_only_on_its_own_sample():
+    spike = Fault("xnav", "spike", 1e-5, onset=61001.0, duration=0.0)    # acts at 61500 s
+    dt = s.sample_intervals()
+    assert s.scoring_span(spike, dt) == (61001.0, 61750.0)
+    assert s.score_faults([spike], {"xnav": _ev(61500.0)}, dt=dt)["faults"][0]["delay_s"] == 499.0
+    late, = s.score_faults([spike], {"xnav": _ev(62000.0)}, dt=dt)["faults"]
+    assert (late["status"], late["late_s"]) == ("late", 250.0)
+    with pytest.raises(ValueError, match="^dt must give the sampling interval of sensor 'xnav'"):
+        s.score_faults([spike], {})
+
+
+def test_a_fault_that_outlasts_the_run_is_scored_to_its_end():
+    forever = Fault("uv", "step", 1.0, onset=1000.0)
+    f, = s.score_faults([forever], {"uv": _ev(5000.0)}, span=8000.0)["faults"]
+    assert (f["end"], f["delay_s"]) == (8000.0, 4000.0)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.lists(st.floats(0.0, 2e5), max_size=12), st.floats(1.0, 2e4), st.floats(1.0, 1e5))
+def test_scoring_is_a_partition(alarms, onset, duration):
+    """Each fault gets one status; each alarm one match; the false alarms are exactly the
+    alarms outside [onset, end + LATE_WINDOW_S) of every fault of their sensor."""
+    f = Fault("uv", "step", 1.0, onset, duration)
+    res = s.score_faults([f], {"uv": _ev(*alarms)})
+    r, = res["faults"]
+    assert r["status"] in s.STATUSES and r["detected"] == (r["status"] == "detected")
+    assert [a["match"] in s.MATCHES for a in res["alarms"]] == [True] * len(alarms)
+    false = [a["onset"] for a in res["alarms"] if a["match"] == "false alarm"]
+    assert sorted(false) == sorted(t for t in alarms
+                                   if not onset <= t < onset + duration + s.LATE_WINDOW_S["uv"])
+    assert sum(a["match"] == "detection" for a in res["alarms"]) == int(r["detected"])
+    assert sum(a["match"] == "late" for a in res["alarms"]) == int(r["status"] == "late")

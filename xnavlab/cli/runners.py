@@ -47,13 +47,19 @@ since the start, DURATION may be inf; no COMPONENT means every component of the 
           full names such as B1937+21 also work)
   uv      range, ux, uy, uz (or 0-3)              m (range); 1 (unit-vector components)
   cns     angle0, angle1, angle2 (or 0-2)         rad (starlight angle)
-  kinds   step (+magnitude), ramp (+magnitude * (t - onset)), spike (one sample),
-          stuck (output frozen; magnitude ignored), noise (extra noise of that sigma)
-Refused: a fault whose onset lies outside the run; with the wavelet detector a UV or CNS
+  kinds   step (+magnitude), ramp (+magnitude * (t - onset)), spike (one sample; duration
+          ignored), stuck (output frozen; magnitude ignored), noise (extra noise of that sigma)
+Refused: a zero, NaN or infinite MAGNITUDE (a noise sigma must be > 0); a DURATION <= 0 or
+NaN; a fault whose onset lies outside the run, or that acts on no sample of its sensor
+(XNAV: one every 500 s); with the wavelet detector a UV or CNS
 fault that starts inside the wavelets' training span (the first day, or half the run when
 shorter); with the combined detector a fault that starts before 600 s (its innovation
 tests watch while the wavelets train, so a UV or CNS fault inside the training span is
 taken). 'paper' is the paper's 16-fault schedule (refused below --days 27.84).
+Score (the summary's "score"): a fault is detected when an alarm on its sensor is raised
+while it acts, [onset, end), or when that sensor was out of the fusion from before the
+onset to the end (delay 0); an alarm up to 6000 s after the end (XNAV 18000 s) makes it
+"late", never detected; an alarm that no fault explains is a false alarm (a late one is not).
 A pulsar from a scenario file's timing model is named the same way (xnav.J0030 or its
 index). --faults and --detector run with backend numba and the EKF only.
 example: --faults uv.range:step:25000@200000+3000,xnav.B1937+21:ramp:2e-9@300000+5000

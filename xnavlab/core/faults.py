@@ -22,6 +22,17 @@ stuck
     the output freezes at the last fault-free sample before the onset.
 noise
     ``+ N(0, magnitude^2)`` while active.
+
+What a fault refuses
+--------------------
+A fault that would be injected as nothing is refused with a ``ValueError`` naming the
+parameter and its range, because a run with it would score a fault that never acted as
+missed: a zero ``magnitude`` (step, ramp, spike; a noise sigma must be > 0; a stuck
+output's magnitude is ignored), a zero or negative ``duration`` (every kind but the spike,
+whose duration is ignored; ``math.inf`` is a permanent fault), and a ``magnitude``,
+``onset`` or finite ``duration`` that is NaN or infinite. Whether a fault falls inside a
+run and acts on at least one sample is the run's check
+(:func:`xnavlab.mars.schedules.check_schedule` for the Mars run).
 """
 
 from __future__ import annotations
@@ -29,10 +40,11 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass
+from numbers import Real
 
 import numpy as np
 
-from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
+from xnavlab.core.validate import check_choice, check_finite_array, check_int, make_rng
 
 __all__ = ["KINDS", "Fault", "inject", "fault_mask", "parse_spec", "format_spec"]
 
@@ -77,12 +89,25 @@ class Fault:
         if not isinstance(self.sensor, str) or not self.sensor:
             raise ValueError(f"sensor must be a non-empty string, got {self.sensor!r}")
         check_choice("kind", self.kind, KINDS)
-        check_real("magnitude", self.magnitude)
-        if self.kind == "noise":
-            check_real("magnitude", self.magnitude, 0.0)
-        check_real("onset", self.onset)
-        if not (isinstance(self.duration, int | float) and self.duration == math.inf):
-            check_real("duration", self.duration, 0.0)
+        _check_finite("magnitude", self.magnitude, "the measurement's SI unit")
+        if self.kind == "noise" and not self.magnitude > 0.0:
+            raise ValueError(f"magnitude of a noise fault (the extra noise's standard deviation) "
+                             f"must be a real number in (0, inf), got {self.magnitude!r}")
+        if self.kind not in ("noise", "stuck") and self.magnitude == 0.0:
+            raise ValueError(f"magnitude of a {self.kind} fault must be a nonzero finite real "
+                             f"number, in (-inf, 0) or (0, inf), got {self.magnitude!r} (a "
+                             "zero-size fault injects nothing)")
+        _check_finite("onset", self.onset, "s")
+        d = self.duration
+        real = isinstance(d, Real) and not isinstance(d, bool)
+        if self.kind == "spike":         # one sample: the duration is ignored
+            if not (real and d >= 0.0):
+                raise ValueError(f"duration of a spike fault (ignored) must be a real number in "
+                                 f"[0, inf], s, got {d!r}")
+        elif not (real and 0.0 < d <= math.inf):
+            why = " (a fault of zero or negative length injects nothing)" if real and d <= 0 else ""
+            raise ValueError(f"duration of a {self.kind} fault must be a real number in "
+                             f"(0, inf], s, got {d!r}{why}")
         if self.component is not None:
             check_int("component", self.component, 0)
 
@@ -101,6 +126,11 @@ class Fault:
                 mask[idx[0]] = True
             return mask
         return (t >= self.onset) & (t < self.end)
+
+
+def _check_finite(name, value, unit):
+    if isinstance(value, bool) or not isinstance(value, Real) or not math.isfinite(float(value)):
+        raise ValueError(f"{name} must be a finite real number, {unit}, got {value!r}")
 
 
 def fault_mask(t, faults, sensor):

@@ -23,6 +23,13 @@ Fault times
     Onsets and durations are seconds since the start of the run (the paper's fault
     instants, e.g. 700000 s, are counted from its start); so are the reported detections.
 
+Scoring (:meth:`FaultTolerantRun.score`, :meth:`FaultTolerantRun.delays`)
+    One rule, :func:`xnavlab.mars.schedules.score_faults`: a fault is detected by an alarm
+    on its subsystem raised while it acts, or when that subsystem was out of the fusion
+    from before its onset to its end (delay 0); an alarm within
+    :data:`~xnavlab.mars.schedules.LATE_WINDOW_S` after the end of a fault nothing detected
+    makes it LATE (never a detection); an alarm no fault explains is a false alarm.
+
 The paper's schedule (:func:`~xnavlab.mars.schedules.paper_schedule`)
     The paper gives only the onsets (UV 700000 ... 2400000 s, XNAV 500000 ... 2310000 s,
     CNS 600000 ... 2400000 s). Our magnitudes and durations, all arguments:
@@ -124,7 +131,7 @@ from xnavlab.core.validate import check_choice, check_int, check_real, make_rng
 from xnavlab.mars import innovations, scenarios, schedules, sensors, watch
 from xnavlab.mars.schedules import (  # noqa: F401 - also importable from here, as before
     EARLIEST_ONSET_S,
-    MATCH_WINDOW,
+    LATE_WINDOW_S,
     PAPER_ONSETS,
     check_schedule,
     components,
@@ -142,8 +149,8 @@ __all__ = [
     "sensor_sigma",
 ]
 # The schedules (PAPER_ONSETS, components, paper_schedule, parse_faults, check_schedule,
-# fault_detection_delays, MATCH_WINDOW) live in xnavlab.mars.schedules and are importable
-# from here too, as before; they are documented there.
+# fault_detection_delays, LATE_WINDOW_S) live in xnavlab.mars.schedules and are importable
+# from here too, as before; they are documented there, with the scoring rule.
 
 #: The detectors of :func:`run_fault_tolerant`.
 DETECTORS = ("none", "wavelet", "chi2", "combined")
@@ -247,11 +254,16 @@ class FaultTolerantRun:
         return sorted(out, key=lambda d: d["out"])
 
     def delays(self):
-        """Detection delay of each fault, s (:func:`~xnavlab.mars.schedules.fault_detection_delays`)."""
-        return fault_detection_delays(self.faults, self.events)
+        """Detection delay of each fault, s (:func:`~xnavlab.mars.schedules.fault_detection_delays`:
+        ``inf`` unless an alarm was raised while it acted or its subsystem was out from before
+        its onset to its end; an alarm after the end is LATE, ``status`` says so)."""
+        sc = self.run.scenario
+        return fault_detection_delays(self.faults, self.events, self.isolation_intervals(),
+                                      span=float(sc.span), dt=schedules.sample_intervals(sc))
 
     def score(self, settle_days=None):
-        """Score the run against its injected faults (:func:`xnavlab.mars.schedules.score`)."""
+        """Score the run against its injected faults (:func:`xnavlab.mars.schedules.score`;
+        the rule: :func:`~xnavlab.mars.schedules.score_faults`)."""
         return schedules.score(self, settle_days)
 
     def save_npz(self, path):

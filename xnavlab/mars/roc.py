@@ -9,9 +9,17 @@ between runs). :func:`roc_curve` pools the runs per threshold:
 
 ``pd``
     faults detected over faults injected, with the Wilson (1927) score 95 % interval
-    (:func:`xnavlab.core.montecarlo.wilson_interval`);
+    (:func:`xnavlab.core.montecarlo.wilson_interval`). Detected, late and false are decided
+    by :func:`xnavlab.mars.schedules.score_faults` (through
+    :func:`~xnavlab.mars.schedules.trial_outcome`): an alarm on the fault's subsystem raised
+    while it acts, or the subsystem out of the fusion from before the onset to the end;
+``late``
+    faults whose first alarm came only after their end (within
+    :data:`~xnavlab.mars.schedules.LATE_WINDOW_S`): not detections, counted here;
 ``false_alarms_per_day``
-    detections matched to no fault (:func:`xnavlab.mars.schedules.score`) that open after the
+    alarms that no fault explains (raised neither while the fault acts nor within
+    :data:`~xnavlab.mars.schedules.LATE_WINDOW_S` after its end on its subsystem; late
+    alarms are not false alarms) that open after the
     training span, over the armed days, with the exact Poisson 95 % interval of Garwood
     (1936), ``chi2.ppf(0.025, 2k)/2`` to ``chi2.ppf(0.975, 2k + 2)/2`` events, divided by the
     armed days. The count includes alarms on every subsystem of a faulty run (a fault that
@@ -86,7 +94,7 @@ from xnavlab.core.campaign import Campaign
 from xnavlab.core.constants import DAY
 from xnavlab.core.distributions import chi2_ppf
 from xnavlab.core.validate import check_choice, check_int, check_real
-from xnavlab.mars import fault_tolerance, scenarios, trials
+from xnavlab.mars import fault_tolerance, scenarios, schedules, trials
 
 __all__ = ["THRESHOLDS", "THRESHOLD_RANGES", "DEFAULT_GRID", "TRAIN_FRACTION", "CURVE_COLUMNS",
            "CURVES_PATH", "check_grid", "load_grid", "roc_run", "roc_curve", "campaign",
@@ -111,7 +119,7 @@ DEFAULT_GRID = {
                {"fault_class": "spike", "sensor": "uv", "size": 5.0}],
 }
 #: Columns of the curve (:func:`roc_curve`, :func:`curve_csv`).
-CURVE_COLUMNS = ("threshold", "trials", "detected", "pd", "pd_lo", "pd_hi", "false_alarms",
+CURVE_COLUMNS = ("threshold", "trials", "detected", "pd", "pd_lo", "pd_hi", "late", "false_alarms",
                  "armed_days", "false_alarms_per_day", "false_alarms_per_day_lo",
                  "false_alarms_per_day_hi", "delay_median_s")
 #: The shipped curves (``python benchmarks/bench_roc.py --write``).
@@ -249,9 +257,9 @@ def roc_run(fault_class, sensor, size, detector, thresholds, *, seed, days=0.5):
     -------
     dict
         JSON-ready: ``onset_s``, ``armed_days`` (after the training span), ``per_threshold``
-        (list, one per threshold in order: ``threshold``, ``detected``, ``delay_s`` (None if
-        missed), ``out_at_onset``, ``false_alarms`` (unmatched detections after the training
-        span)).
+        (list, one per threshold in order: ``threshold``, ``detected``, ``delay_s`` (None
+        unless detected), ``out_at_onset``, ``late``, ``false_alarms`` (alarms no fault
+        explains, after the training span): :func:`xnavlab.mars.schedules.trial_outcome`).
     """
     check_choice("detector", detector, tuple(THRESHOLDS))
     seed = check_int("seed", seed, 0)
@@ -267,12 +275,10 @@ def roc_run(fault_class, sensor, size, detector, thresholds, *, seed, days=0.5):
         ft = fault_tolerance.run_fault_tolerant(
             faults=[fault], detector=detector, inputs=inp, train_days=TRAIN_FRACTION * days,
             rng=np.random.default_rng(noise_seed), **{THRESHOLDS[detector]: thr})
-        sc = ft.score()
-        f = sc["faults"][0]
-        fa = sum(d["false_alarm"] and d["detected_onset"] >= t_train for d in sc["detections"])
-        per.append({"threshold": float(thr), "detected": bool(f["detected"]),
-                    "delay_s": f["delay_s"], "out_at_onset": bool(f["out_at_onset"]),
-                    "false_alarms": int(fa)})
+        o = schedules.trial_outcome(ft, t_train)
+        per.append({"threshold": float(thr), "detected": o["detected"], "delay_s": o["delay_s"],
+                    "out_at_onset": o["out_at_onset"], "late": o["late"],
+                    "false_alarms": o["false_alarms"]})
     return {"onset_s": onset, "armed_days": float(days * (1.0 - TRAIN_FRACTION)),
             "per_threshold": per}
 
@@ -298,13 +304,14 @@ def poisson_interval(k, level=0.95):
 def _row(threshold, cells):
     n = len(cells)
     k = sum(c["detected"] for c in cells)
+    late = sum(c["late"] for c in cells)
     lo, hi = montecarlo.wilson_interval(k, n)
     fa = sum(c["false_alarms"] for c in cells)
     armed = sum(c["armed_days"] for c in cells)
     fa_lo, fa_hi = poisson_interval(fa)
     delays = [c["delay_s"] for c in cells if c["delay_s"] is not None]
     return {"threshold": threshold, "trials": n, "detected": k, "pd": k / n, "pd_lo": lo,
-            "pd_hi": hi, "false_alarms": fa, "armed_days": armed,
+            "pd_hi": hi, "late": late, "false_alarms": fa, "armed_days": armed,
             "false_alarms_per_day": fa / armed, "false_alarms_per_day_lo": fa_lo / armed,
             "false_alarms_per_day_hi": fa_hi / armed,
             "delay_median_s": float(np.median(delays)) if delays else None}
@@ -325,8 +332,9 @@ def roc_curve(runs, by_fault=False):
     Returns
     -------
     list of dict
-        ``pd`` with its Wilson 95 % interval, ``false_alarms_per_day`` with its exact Poisson
-        (Garwood) 95 % interval, the median delay of the detected faults, s.
+        ``pd`` with its Wilson 95 % interval, ``late`` (faults found only after their end:
+        not in ``pd``), ``false_alarms_per_day`` with its exact Poisson (Garwood) 95 %
+        interval, the median delay of the detected faults, s.
     """
     groups = {}
     for r in runs:

@@ -3,9 +3,32 @@
 A fault is a :class:`xnavlab.core.faults.Fault` with times in seconds since the start of
 the run. :func:`paper_schedule` is the main paper's (Fan et al. 2016, section 4.1) with our
 magnitudes and durations; :func:`parse_faults` reads the command line's spec;
-:func:`check_schedule` refuses a fault the run cannot use; :func:`fault_detection_delays`
-and :func:`score` set the detections of a run against its faults. The fault-tolerant loop
-itself is :mod:`xnavlab.mars.fault_tolerance`, which re-exports these names.
+:func:`check_schedule` refuses a fault the run cannot use; :func:`score_faults` is the
+scoring rule, and :func:`score`, :func:`fault_detection_delays` and :func:`trial_outcome`
+apply it to a run. The fault-tolerant loop itself is :mod:`xnavlab.mars.fault_tolerance`,
+which re-exports the schedules' names.
+
+Scoring (:func:`score_faults`, the one place every Pd, delay and false-alarm rate of the
+book comes from)
+    An *alarm* is a detector event raised on a sensor (a subsystem: UV, CNS, XNAV), at the
+    event's onset. A fault acts on ``[onset, end)`` (a spike: on its one sample).
+
+    * DETECTED: an alarm on its sensor is raised while it acts (delay: the first one's,
+      from the onset), or its subsystem was already out of the fusion before the onset and
+      stays out to the end (*out at onset*, delay 0; out at the onset but back in before the
+      end is not credited).
+    * LATE: not detected, and an alarm on its sensor is raised within
+      :data:`LATE_WINDOW_S` after the end. Reported in its own field (``late_s``, the
+      trials' ``late``), never as a detection: the whole fault went into the filter first.
+    * MISSED: neither.
+    * A FALSE ALARM is an alarm that no fault explains: not raised while a fault of its
+      sensor acts nor within :data:`LATE_WINDOW_S` after one's end. Late alarms and a
+      detected fault's end alarms are therefore not false alarms; the false-alarm rate is
+      the one a detector's design rate promises.
+
+    The only window is :data:`LATE_WINDOW_S` (XNAV 18000 s, UV and CNS 6000 s), which
+    decides whether an alarm after a fault's end is put down to it (late, or an end alarm)
+    or is a false alarm, and bounds the "inside the faults" window of the fused error.
 """
 
 from __future__ import annotations
@@ -22,14 +45,21 @@ from xnavlab.mars import pulsar_specs, scenarios
 __all__ = [
     "PAPER_ONSETS",
     "MIN_FAULT_TAIL_S",
+    "MAX_DAYS",
     "EARLIEST_ONSET_S",
-    "MATCH_WINDOW",
+    "LATE_WINDOW_S",
+    "STATUSES",
+    "MATCHES",
     "components",
+    "sample_intervals",
     "paper_schedule",
     "parse_faults",
     "check_schedule",
+    "scoring_span",
+    "score_faults",
     "fault_detection_delays",
     "score",
+    "trial_outcome",
 ]
 
 #: The paper's fault instants, s after the start (Fan et al. 2016, section 4.1).
@@ -45,6 +75,9 @@ PAPER_ONSETS = {
 #: their training (their MAD-based training is robust to a fault inside it), so a fault
 #: between 600 s and the end of the training span is found by the innovation tests.
 EARLIEST_ONSET_S = 600.0
+
+#: The longest run of the command line, days (``run mars --days``).
+MAX_DAYS = 365.0
 
 #: Seconds a fault's onset must leave before the run's end for the message of
 #: :func:`check_schedule` to suggest a long enough run (one XNAV integration).
@@ -84,9 +117,9 @@ def paper_schedule(uv_step_sigma=5.0, uv_duration=5000.0, xnav_step_s=1.0e-5,
     uv_duration, xnav_duration, cns_duration : float
         Fault durations, s, in (0, 1e5] (the paper's onsets are 1e5 s apart at the closest).
     xnav_step_s : float
-        XNAV delay step, s, on every pulsar (1e-5 s = 3 km).
+        XNAV delay step, s, on every pulsar (1e-5 s = 3 km), nonzero, in [-1, 1].
     xnav_ramp : float
-        XNAV delay drift, s/s, on pulsar 1 (2e-9 s/s = 0.6 m/s).
+        XNAV delay drift, s/s, on pulsar 1 (2e-9 s/s = 0.6 m/s), nonzero, in [-1e-3, 1e-3].
     cns_step_sigma : float
         Horizon-sensor step on every starlight angle, in units of its noise (0.05 deg).
     scenario : MarsScenario, optional
@@ -110,6 +143,10 @@ def paper_schedule(uv_step_sigma=5.0, uv_duration=5000.0, xnav_step_s=1.0e-5,
         check_real(name, v, 0.0, 1e5, lo_open=True)
     xnav_step_s = check_real("xnav_step_s", xnav_step_s, -1.0, 1.0)
     xnav_ramp = check_real("xnav_ramp", xnav_ramp, -1e-3, 1e-3)
+    for name, v, lim in (("xnav_step_s", xnav_step_s, "1"), ("xnav_ramp", xnav_ramp, "0.001")):
+        if v == 0.0:
+            raise ValueError(f"{name} must be a nonzero real number in [-{lim}, {lim}], got 0.0 "
+                             "(a zero-size fault injects nothing)")
     faults = []
     for i, t in enumerate(PAPER_ONSETS["xnav"]):
         if i % 2 == 0:
@@ -147,7 +184,9 @@ def parse_faults(spec, scenario=None):
 def check_schedule(faults, scenario, detector="combined", train_days=1.0, paper=False):
     """Refuse a fault the run cannot use: one ``ValueError`` naming the fault, the span and the fix.
 
-    A fault is used when its onset lies inside the run, ``[0, span)`` s since the start;
+    A fault is used when its onset lies inside the run, ``[0, span)`` s since the start,
+    and it acts on at least one sample of its sensor (a step of 300 s between two XNAV
+    samples 500 s apart would be injected as nothing and scored as missed);
     with the paper's ``"wavelet"`` detector a UV or CNS fault must start after the wavelets'
     fault-free training span (``train_days``), and with the ``"combined"`` detector any
     fault from :data:`EARLIEST_ONSET_S` (600 s) on is taken (its innovation tests watch
@@ -187,10 +226,27 @@ def check_schedule(faults, scenario, detector="combined", train_days=1.0, paper=
                          f"(this run: {span / DAY:g} days)")
     comps = components(scenario)
     for f in late:
-        need = (f.onset + MIN_FAULT_TAIL_S) / DAY
+        if f.onset < 0.0:
+            raise ValueError(f"faults: {format_spec([f], comps)} starts at {f.onset:.6g} s, before "
+                             f"the run's start: an onset is s since the start, in [0, {span:.0f})")
+        need = math.ceil((f.onset + MIN_FAULT_TAIL_S) / DAY * 100) / 100
+        longer = f" or run at least --days {need:g}" if need <= MAX_DAYS else ""
         raise ValueError(f"faults: {format_spec([f], comps)} starts at {f.onset:.6g} s, outside this "
-                         f"run [0, {span:.0f}) s ({span / DAY:g} days): move its onset into the run or "
-                         f"run at least --days {math.ceil(need * 100) / 100:g}")
+                         f"run [0, {span:.0f}) s ({span / DAY:g} days): move its onset into the "
+                         f"run{longer}")
+    dts = sample_intervals(scenario)
+    for f in faults:
+        if f.sensor not in dts:
+            continue                     # inject_inputs names a sensor the run lacks
+        dt = dts[f.sensor]
+        first = _first_sample(f.onset, dt)
+        last = dt * math.floor(span / dt + 1e-9)
+        if first > last or (f.kind != "spike" and first >= f.end):
+            why = (f"lasts {f.duration:.6g} s between two {f.sensor} samples (one every "
+                   f"{dt:g} s): make it last at least {dt:g} s or move it onto a sample"
+                   if first <= last else f"comes after the run's last {f.sensor} sample "
+                   f"({last:.0f} s)")
+            raise ValueError(f"faults: {format_spec([f], comps)} acts on no sample: it {why}")
     if detector == "wavelet":
         for f in faults:
             if f.sensor in ("uv", "cns") and f.onset < train_days * DAY:
@@ -210,31 +266,208 @@ def check_schedule(faults, scenario, detector="combined", train_days=1.0, paper=
     return faults
 
 
-#: How long after a fault's end a detection still counts as detecting it (an end-jump
-#: detection), s: the response time of each sensor's detector (XNAV: the 3-level window of
-#: 36 samples at 500 s), at least 6000 s.
-MATCH_WINDOW = {"xnav": 18000.0, "uv": 6000.0, "cns": 6000.0}
+#: How long after a fault's end an alarm on its sensor is still put down to the fault, s
+#: (module notes, "Scoring"): as the fault's LATE alarm when nothing found it while it
+#: acted, as its END ALARM when something did; an alarm later than this is a false alarm.
+#: It is the span over which the sensor's detector still answers the fault's end:
+#: XNAV 18000 s, the window of its three-level db3 innovation wavelet (36 samples of 500 s),
+#: which an end jump takes that long to leave; UV and CNS 6000 s, the longest fault of the
+#: trials (a 6000-s drift): after an undetected fault the local filter has absorbed up to
+#: that much of it, and the end jump in its innovations decays over the filter's own
+#: response. The same span after each fault is the "inside the faults" window of the fused
+#: error in :func:`score`.
+LATE_WINDOW_S = {"xnav": 18000.0, "uv": 6000.0, "cns": 6000.0}
+
+#: The scored outcome of a fault (:func:`score_faults`).
+STATUSES = ("detected", "late", "missed")
+#: What an alarm is to the faults (:func:`score_faults`).
+MATCHES = ("detection", "late", "during fault", "after end", "false alarm")
 
 
-def fault_detection_delays(faults, events, window=None):
-    """For each fault, the delay from its onset to the first detected onset at or after it.
+def sample_intervals(scenario=None):
+    """Sampling interval of each subsystem, s (its samples fall at ``k dt``, ``k >= 1``).
 
-    A detection counts if it opens in ``[onset, end + window)``: a detection of the fault's
-    end jump (a slow ramp) still counts, with its long delay.
+    Examples
+    --------
+    >>> sample_intervals()
+    {'xnav': 500.0, 'uv': 3.0, 'cns': 3.0}
+    """
+    sc = scenario if scenario is not None else scenarios.MarsScenario()
+    dts = {"xnav": sc.dt_xnav, "uv": sc.dt_uv, "cns": sc.dt_cns}
+    return {s: float(dts[s]) for s in sc.subsystems}
+
+
+def _first_sample(onset, dt):
+    """The first sample time at or after ``onset`` on the grid ``k dt``, ``k >= 1``."""
+    return dt * max(1.0, math.ceil(onset / dt - 1e-9))
+
+
+def scoring_span(fault, dt=None, span=math.inf):
+    """The alarm times that detect ``fault``: ``(onset, stop)``, the half-open ``[onset, stop)``, s.
+
+    ``stop`` is the fault's end, ``onset + duration`` (it acts on the samples in ``[onset,
+    end)``, :meth:`xnavlab.core.faults.Fault.active`), cut at the run's end ``span``. A spike
+    acts on one sample, the first at or after its onset (its duration is ignored): ``stop``
+    is half a sampling interval after that sample, so that only an alarm raised on the
+    spiked sample itself detects it (a later one comes after the spike went into the filter).
+
+    Parameters
+    ----------
+    fault : Fault
+        Times s since the start.
+    dt : dict of str to float, optional
+        Sampling interval per sensor, s (:func:`sample_intervals`); needed for a spike.
+    span : float
+        The run's length, s.
+
+    Returns
+    -------
+    tuple of float
+
+    Examples
+    --------
+    >>> scoring_span(Fault("xnav", "spike", 1e-5, 61001.0, 0.0), dt={"xnav": 500.0})
+    (61001.0, 61750.0)
+    >>> scoring_span(Fault("uv", "step", 1.0, 100.0, 50.0))
+    (100.0, 150.0)
+    """
+    if fault.kind == "spike":
+        if dt is None or fault.sensor not in dt:
+            raise ValueError(f"dt must give the sampling interval of sensor {fault.sensor!r} "
+                             "to score a spike (one sample)")
+        step = check_real(f"dt[{fault.sensor!r}]", dt[fault.sensor], 0.0, lo_open=True)
+        return fault.onset, min(_first_sample(fault.onset, step) + 0.5 * step, span)
+    return fault.onset, min(fault.end, span)
+
+
+def score_faults(faults, events, isolations=(), *, span=math.inf, dt=None):
+    """The scoring rule: every fault detected, late or missed; every alarm matched or false.
+
+    This is the one place the book's detection numbers are decided (Pd, delays, false
+    alarms per day: :func:`score`, the trials of :mod:`xnavlab.mars.trials`, the ROC
+    curves of :mod:`xnavlab.mars.roc`). An *alarm* is a detector event's onset, the time
+    it was raised (every detector here is causal); it belongs to a *sensor*, i.e. a
+    subsystem, not to a measurement component: a subsystem is isolated as a whole, and the
+    combined detector's whitened innovations mix the components of correlated sensors.
+
+    A fault acts on the alarm times ``[onset, stop)`` of :func:`scoring_span` (its end, cut
+    at the run's end; a spike: its one sample).
+
+    DETECTED (``delay_s`` from the onset)
+        an alarm on its sensor is raised in ``[onset, stop)``: the delay is the first one's;
+        or *out at onset*: its subsystem was already switched out of the fusion before the
+        onset (an earlier alarm) and stays out until ``stop`` or later, so that none of the
+        fault reached the filter: delay 0, ``out_at_onset`` True. Out at the onset but back
+        in before the end does not count (the rest of the fault went into the filter): the
+        fault is then detected only by an alarm raised while it acts.
+    LATE (``late_s`` after ``stop``)
+        not detected, and an alarm on its sensor is raised in ``[stop, stop +
+        LATE_WINDOW_S)`` (:data:`LATE_WINDOW_S`). Never a detection: the whole fault went
+        into the filter first.
+    MISSED
+        neither.
+
+    Every alarm gets one ``match`` (:data:`MATCHES`), the first that applies:
+    ``"detection"`` (the alarm that detected a fault), ``"late"`` (the first alarm after the
+    end of a fault that nothing detected, within :data:`LATE_WINDOW_S`), ``"during fault"``
+    (any other alarm raised while a fault of its sensor acts), ``"after end"`` (any other
+    alarm within :data:`LATE_WINDOW_S` after a fault's end: a detected step's end event),
+    ``"false alarm"`` (the rest). Late alarms are counted apart and are *not* false alarms:
+    the false-alarm count is the alarms that no fault explains, the quantity a detector's
+    design rate promises; what a late alarm costs shows as the fault's LATE status and as
+    the time its subsystem stays out after the end (:func:`score`, ``out_after_end_s``).
 
     Parameters
     ----------
     faults : sequence of Fault
+        Times s since the start.
     events : dict of str to list of xnavlab.core.detection.Event
-        Per sensor, times in the faults' time base.
-    window : float or dict, optional
-        Seconds after the end; default :data:`MATCH_WINDOW` (6000 s for other sensors).
+        The detector's events per sensor, same time base.
+    isolations : sequence of dict, optional
+        The run's isolation intervals (``sensor``, ``out``, ``back``: s, ``back`` None when
+        still out at the end; :meth:`~xnavlab.mars.fault_tolerance.FaultTolerantRun.isolation_intervals`).
+    span : float
+        The run's length, s (a fault that outlasts it is scored up to it).
+    dt : dict of str to float, optional
+        Sampling interval per sensor (needed to score a spike; :func:`sample_intervals`).
+
+    Returns
+    -------
+    dict
+        ``faults``: per fault ``sensor``, ``kind``, ``onset``, ``end`` (``stop``), ``status``,
+        ``detected``, ``delay_s`` (None unless detected), ``detected_onset`` (the detecting
+        alarm, the onset when out at onset, None), ``out_at_onset``, ``late_s`` (None unless
+        late); ``alarms``: per event, in order of onset, ``sensor``, ``onset``, ``match``,
+        ``fault`` (index into ``faults`` or None).
+
+    Examples
+    --------
+    >>> from xnavlab.core.detection import Event
+    >>> f = Fault("xnav", "step", 3e-6, onset=61000.0, duration=8000.0)
+    >>> late = score_faults([f], {"xnav": [Event(69500.0, 69500.0, 70000.0, 2.0, "cusum")]})
+    >>> late["faults"][0]["status"], late["faults"][0]["late_s"], late["alarms"][0]["match"]
+    ('late', 500.0, 'late')
+    >>> out = score_faults([f], {}, [{"sensor": "xnav", "out": 60000.0, "back": 71000.0}])
+    >>> out["faults"][0]["status"], out["faults"][0]["delay_s"], out["faults"][0]["out_at_onset"]
+    ('detected', 0.0, True)
+    """
+    faults = list(faults)
+    for f in faults:
+        if f.sensor not in LATE_WINDOW_S:
+            raise ValueError(f"faults: sensor {f.sensor!r} has no late window "
+                             f"(known: {', '.join(LATE_WINDOW_S)})")
+    stops = [scoring_span(f, dt, span)[1] for f in faults]
+    alarms = sorted(((e.onset, s) for s, evs in events.items() for e in evs), key=lambda a: a[0])
+    role = {}                            # alarm index -> (match, fault index): its main role
+    per = []
+    for k, (f, stop) in enumerate(zip(faults, stops, strict=True)):
+        on = [j for j, (_, s) in enumerate(alarms) if s == f.sensor]
+        inside = [j for j in on if f.onset <= alarms[j][0] < stop]
+        after = [j for j in on if stop <= alarms[j][0] < stop + LATE_WINDOW_S[f.sensor]]
+        covered = any(iv["sensor"] == f.sensor and iv["out"] < f.onset
+                      and (iv["back"] is None or iv["back"] >= stop) for iv in isolations)
+        rec = {"sensor": f.sensor, "kind": f.kind, "onset": f.onset, "end": stop,
+               "status": "missed", "detected": False, "delay_s": None, "detected_onset": None,
+               "out_at_onset": covered, "late_s": None}
+        if covered:
+            rec.update(status="detected", detected=True, delay_s=0.0, detected_onset=f.onset)
+        elif inside:
+            t = alarms[inside[0]][0]
+            rec.update(status="detected", detected=True, delay_s=t - f.onset, detected_onset=t)
+            if role.get(inside[0], ("",))[0] != "detection":    # a detection outranks
+                role[inside[0]] = ("detection", k)                # another fault's late
+        elif after:
+            rec.update(status="late", late_s=alarms[after[0]][0] - stop)
+            if role.get(after[0], ("",))[0] != "detection":
+                role[after[0]] = ("late", k)
+        per.append(rec)
+    out = []
+    for j, (t, s) in enumerate(alarms):
+        if j not in role:
+            mine = [k for k, f in enumerate(faults)
+                    if f.sensor == s and f.onset <= t < stops[k] + LATE_WINDOW_S[s]]
+            during = [k for k in mine if t < stops[k]]
+            role[j] = (("during fault", during[0]) if during else ("after end", mine[0]) if mine
+                       else ("false alarm", None))
+        out.append({"sensor": s, "onset": t, "match": role[j][0], "fault": role[j][1]})
+    return {"faults": per, "alarms": out}
+
+
+def fault_detection_delays(faults, events, isolations=(), *, span=math.inf, dt=None):
+    """For each fault, the delay from its onset to its detection (:func:`score_faults`).
+
+    Parameters
+    ----------
+    faults, events, isolations, span, dt
+        As :func:`score_faults`.
 
     Returns
     -------
     list of dict
-        ``sensor``, ``kind``, ``onset``, ``delay`` (s; ``inf`` when missed),
-        ``detected_onset``.
+        ``sensor``, ``kind``, ``onset``, ``delay`` (s; ``inf`` unless detected: an alarm
+        raised after the fault's end is LATE, not a detection), ``detected_onset`` (``inf``
+        unless detected), ``status`` (``"detected"``, ``"late"`` or ``"missed"``),
+        ``late_s`` (s after the end; None unless late), ``out_at_onset``.
 
     Examples
     --------
@@ -242,35 +475,33 @@ def fault_detection_delays(faults, events, window=None):
     >>> from xnavlab.core.detection import Event
     >>> fault_detection_delays([f], {"uv": [Event(12.0, 13.0, 20.0, 2.0, "level 1")]})[0]["delay"]
     2.0
+    >>> fault_detection_delays([f], {"uv": [Event(16.0, 16.0, 20.0, 2.0, "level 1")]})[0]["status"]
+    'late'
     """
-    out = []
-    for f in faults:
-        if isinstance(window, dict):
-            w = window.get(f.sensor, 6000.0)
-        elif window is None:
-            w = MATCH_WINDOW.get(f.sensor, 6000.0)
-        else:
-            w = check_real("window", window, 0.0)
-        end = f.onset + (f.duration if math.isfinite(f.duration) else 0.0) + w
-        hits = [e.onset for e in events.get(f.sensor, []) if f.onset <= e.onset < end]
-        first = min(hits) if hits else math.inf
-        out.append({"sensor": f.sensor, "kind": f.kind, "onset": f.onset,
-                    "delay": first - f.onset, "detected_onset": first})
-    return out
+    res = score_faults(faults, events, isolations, span=span, dt=dt)["faults"]
+    return [{"sensor": r["sensor"], "kind": r["kind"], "onset": r["onset"],
+             "delay": r["delay_s"] if r["detected"] else math.inf,
+             "detected_onset": r["detected_onset"] if r["detected"] else math.inf,
+             "status": r["status"], "late_s": r["late_s"], "out_at_onset": r["out_at_onset"]}
+            for r in res]
 
 
 # ----------------------------------------------------------------------------- the run
 
 
-def score(ft, settle_days=None):
-    """Score a fault-tolerant run against its injected faults.
+def _out_after(sensor, stop, isolations, span):
+    """Seconds ``sensor`` was out after ``stop`` in isolations opened before ``stop`` plus its
+    late window (the one over the end, and those of its late or end alarms)."""
+    total = 0.0
+    for iv in isolations:
+        back = span if iv["back"] is None else min(iv["back"], span)
+        if iv["sensor"] == sensor and iv["out"] < stop + LATE_WINDOW_S[sensor] and back > stop:
+            total += back - max(stop, iv["out"])
+    return total
 
-    Every fault is detected or missed (a detection of its sensor opening in ``[onset,
-    end + MATCH_WINDOW)``, as :func:`fault_detection_delays`), with its delay and the
-    time its subsystem stayed out of the fusion after the fault ended; every detection
-    is matched to a fault or marked a false alarm; counts per subsystem; the fused
-    position error (RMS after ``settle_days``) inside and outside the fault windows
-    (``[onset, end + MATCH_WINDOW)`` of any fault).
+
+def score(ft, settle_days=None):
+    """Score a fault-tolerant run against its injected faults (the rule: :func:`score_faults`).
 
     Parameters
     ----------
@@ -282,57 +513,53 @@ def score(ft, settle_days=None):
     Returns
     -------
     dict
-        ``faults`` (list of dicts: ``spec``, ``sensor``, ``detected``, ``delay_s``,
-        ``out_at_onset`` (its subsystem was already out of the fusion, e.g. after a false
-        alarm, so the fault never entered it), ``out_after_end_s``, ``still_out_at_end``),
-        ``detections`` (list of dicts: the detection plus ``fault`` (the spec it matches,
-        or None) and ``false_alarm``),
-        ``counts`` (per subsystem: ``faults``, ``detected``, ``missed``, ``detections``,
-        ``false_alarms``), ``fused_error`` (``inside_faults_m``, ``outside_faults_m``,
-        ``settle_days``; None where a window is empty).
+        ``faults`` (list of dicts: ``spec``, ``sensor``, ``kind``, ``onset``, ``end`` (the
+        end of its scoring span, s), ``status`` (``"detected"``, ``"late"``, ``"missed"``),
+        ``detected``, ``delay_s`` (None unless detected), ``out_at_onset`` (detected at delay
+        0 because its subsystem was out of the fusion from before the onset to the end),
+        ``late_s`` (s after the end of a LATE fault's first alarm, else None),
+        ``out_after_end_s`` (time its subsystem was out after the end in isolations opened
+        before ``end + LATE_WINDOW_S``; None when the fault outlasts the run),
+        ``still_out_at_end``),
+        ``detections`` (every alarm: the detection's dict plus ``match`` (:data:`MATCHES`),
+        ``fault`` (the spec it is put down to, or None) and ``false_alarm``),
+        ``counts`` (per subsystem: ``faults``, ``detected``, ``late``, ``missed``, ``alarms``,
+        ``false_alarms``), ``fused_error`` (``inside_faults_m`` over ``[onset, end +
+        LATE_WINDOW_S)`` of every fault, ``outside_faults_m``, ``settle_days``; None where a
+        window is empty).
     """
     sc = ft.run.scenario
     comps = components(sc)
-    t = ft.run.times - ft.run.times[0]  # epochs (the isolation mask's rows)
+    span = float(sc.span)
     t_rec = ft.run.t - ft.run.times[0]   # records (the error series)
-    windows = {f: (f.onset, f.onset + (f.duration if math.isfinite(f.duration) else sc.span)
-                   + MATCH_WINDOW.get(f.sensor, 6000.0)) for f in ft.faults}
+    isol = ft.isolation_intervals()
+    core = score_faults(ft.faults, ft.events, isol, span=span, dt=sample_intervals(sc))
+    specs = [format_spec([f], comps) for f in ft.faults]
     faults = []
-    for f, d in zip(ft.faults, ft.delays(), strict=True):
-        found = math.isfinite(d["delay"])
-        end = f.onset + (f.duration if math.isfinite(f.duration) else sc.span)
+    for f, r, spec in zip(ft.faults, core["faults"], specs, strict=True):
         i = sc.subsystems.index(f.sensor)
-        after = (t >= end) & ft.isolated[:, i]
-        rejoin = np.flatnonzero((t >= end) & ~ft.isolated[:, i])
-        out_after = (float(t[rejoin[0]] - end) if rejoin.size else float(t[-1] - end)) \
-            if after.any() else 0.0
-        faults.append({"spec": format_spec([f], comps), "sensor": f.sensor, "kind": f.kind,
-                       "onset": f.onset, "detected": found,
-                       # out at the last epoch before the onset (an alarm at the onset
-                       # epoch itself marks that epoch isolated: that is a detection)
-                       "out_at_onset": bool(ft.isolated[max(np.searchsorted(t, f.onset) - 1,
-                                                            0), i]),
-                       "delay_s": d["delay"] if found else None,
-                       "out_after_end_s": max(out_after, 0.0) if end < sc.span else None,
-                       "still_out_at_end": bool(end < sc.span and ft.isolated[-1, i])})
+        ends = r["end"] < span
+        faults.append({"spec": spec, **{k: r[k] for k in ("sensor", "kind", "onset", "end", "status",
+                                                          "detected", "delay_s", "out_at_onset",
+                                                          "late_s")},
+                       "out_after_end_s": _out_after(f.sensor, r["end"], isol, span) if ends else None,
+                       "still_out_at_end": bool(ends and ft.isolated[-1, i])})
     detections = []
-    for det in ft.detections:
-        hit = next((f for f, (a, b) in windows.items()
-                    if f.sensor == det["sensor"] and a <= det["detected_onset"] < b), None)
-        detections.append({**det, "fault": None if hit is None else format_spec([hit], comps),
-                           "false_alarm": hit is None})
+    for det, a in zip(ft.detections, core["alarms"], strict=True):
+        detections.append({**det, "match": a["match"],
+                           "fault": None if a["fault"] is None else specs[a["fault"]],
+                           "false_alarm": a["match"] == "false alarm"})
     counts = {}
     for s in sc.subsystems:
         fs = [f for f in faults if f["sensor"] == s]
         ds = [d for d in detections if d["sensor"] == s]
-        counts[s] = {"faults": len(fs), "detected": sum(f["detected"] for f in fs),
-                     "missed": sum(not f["detected"] for f in fs), "detections": len(ds),
-                     "false_alarms": sum(d["false_alarm"] for d in ds)}
+        counts[s] = {"faults": len(fs), **{k: sum(f["status"] == k for f in fs) for k in STATUSES},
+                     "alarms": len(ds), "false_alarms": sum(d["false_alarm"] for d in ds)}
     settle = ft.run.metrics(settle_days)["settle_days"]
     pe = ft.run.position_error()
     inside = np.zeros(t_rec.size, dtype=bool)
-    for a, b in windows.values():
-        inside |= (t_rec >= a) & (t_rec < b)
+    for f, r in zip(ft.faults, core["faults"], strict=True):
+        inside |= (t_rec >= f.onset) & (t_rec < r["end"] + LATE_WINDOW_S[f.sensor])
     keep = ft.run.t_days >= settle
 
     def rms(mask):
@@ -341,3 +568,35 @@ def score(ft, settle_days=None):
     return {"faults": faults, "detections": detections, "counts": counts,
             "fused_error": {"inside_faults_m": rms(keep & inside),
                             "outside_faults_m": rms(keep & ~inside), "settle_days": settle}}
+
+
+def trial_outcome(ft, armed_from_s=0.0):
+    """The Monte Carlo record of a run with one fault (:func:`score`): what the trials of
+    :mod:`xnavlab.mars.trials` and :mod:`xnavlab.mars.roc` store.
+
+    Parameters
+    ----------
+    ft : FaultTolerantRun
+        A run with exactly one fault.
+    armed_from_s : float
+        False alarms are counted from this time on, s since the start (the detectors'
+        training span), >= 0.
+
+    Returns
+    -------
+    dict
+        ``detected``, ``delay_s`` (None unless detected), ``out_at_onset``, ``late`` (bool),
+        ``late_s`` (s after the end, None unless late), ``false_alarms`` (alarms no fault
+        explains raised from ``armed_from_s`` on; late alarms are not among them),
+        ``time_out_s`` (``out_after_end_s``, 0 when the fault outlasts the run).
+    """
+    armed_from_s = check_real("armed_from_s", armed_from_s, 0.0)
+    if len(ft.faults) != 1:
+        raise ValueError(f"ft must hold exactly one fault, got {len(ft.faults)}")
+    sc = score(ft)
+    f = sc["faults"][0]
+    fa = sum(d["false_alarm"] and d["detected_onset"] >= armed_from_s for d in sc["detections"])
+    return {"detected": bool(f["detected"]), "delay_s": f["delay_s"],
+            "out_at_onset": bool(f["out_at_onset"]), "late": f["status"] == "late",
+            "late_s": f["late_s"], "false_alarms": int(fa),
+            "time_out_s": float(f["out_after_end_s"] or 0.0)}

@@ -25,6 +25,14 @@ Fault model of :func:`detector_trial`
     seconds. Steps, noise and stuck outputs last 3000 s. The onset is drawn uniformly in
     55-70 % of the run; the wavelet detectors train on the first 40 %, and only alarms after
     that count as false alarms.
+
+Scoring
+    Every trial is scored by :func:`xnavlab.mars.schedules.trial_outcome`, the rule of
+    :func:`xnavlab.mars.schedules.score_faults`: detected when an alarm on the fault's
+    subsystem is raised while it acts, or when the subsystem was out of the fusion from
+    before the onset to the end (delay 0); LATE (its own column, never a detection) when
+    the first alarm comes within :data:`~xnavlab.mars.schedules.LATE_WINDOW_S` after the
+    end; false alarms are the alarms no fault explains (late alarms are not among them).
 """
 
 from __future__ import annotations
@@ -43,7 +51,7 @@ from xnavlab.core.detection import limits
 from xnavlab.core.distributions import chi2_ppf
 from xnavlab.core.faults import Fault
 from xnavlab.core.validate import check_choice, check_int, check_real
-from xnavlab.mars import fault_tolerance, scenarios
+from xnavlab.mars import fault_tolerance, scenarios, schedules
 
 __all__ = ["mars_trial", "FAULT_CLASSES", "SENSORS", "SIZES", "DETECTORS", "DURATIONS",
            "fault_for", "detection_limit", "detector_trial", "detector_trials", "detector_table",
@@ -73,8 +81,10 @@ def mars_trial(size_sigma=5.0, detector="wavelet", *, seed=0, days=1.0, duration
     Returns
     -------
     dict
-        ``delay`` (s, inf if missed), ``position_error_m``, ``velocity_error_mps`` (RMS after
-        40 % of the run), ``max_position_error_m``, ``isolations`` (count), ``wall_time``.
+        ``delay`` (s, inf unless detected: :func:`~xnavlab.mars.schedules.score_faults`),
+        ``status`` (``"detected"``, ``"late"``, ``"missed"``), ``position_error_m``,
+        ``velocity_error_mps`` (RMS after 40 % of the run), ``max_position_error_m``,
+        ``isolations`` (count), ``wall_time``.
     """
     size_sigma = check_real("size_sigma", size_sigma, 0.0, 1000.0)
     check_choice("detector", detector, fault_tolerance.DETECTORS)
@@ -86,8 +96,8 @@ def mars_trial(size_sigma=5.0, detector="wavelet", *, seed=0, days=1.0, duration
     r = fault_tolerance.run_fault_tolerant(faults=[fault], detector=detector, days=days,
                                            seed=seed % (2**62), train_days=0.4 * days)
     m = r.run.metrics(0.4 * days)
-    d = r.delays()[0]["delay"] if detector != "none" else math.inf
-    return {"delay": d, "position_error_m": m["position_error_m"],
+    d = r.delays()[0] if detector != "none" else {"delay": math.inf, "status": "missed"}
+    return {"delay": d["delay"], "status": d["status"], "position_error_m": m["position_error_m"],
             "velocity_error_mps": m["velocity_error_mps"],
             "max_position_error_m": m["position_error_max_m"],
             "isolations": len(r.isolation_intervals()), "wall_time": r.wall_time}
@@ -212,12 +222,14 @@ def detector_trial(fault_class, sensor, size_index, detector, *, seed, days=1.0)
     Returns
     -------
     dict
-        JSON-ready: the parameters, ``size``, ``onset_s``, ``detected`` (bool), ``delay_s``
-        (float, ``None`` if missed; 0 if the subsystem was already out at the onset and kept
-        out through the fault), ``false_alarms`` (isolations not explained by the fault
-        after the training span, int), ``armed_days``, ``rms_m`` and ``rms_ref_m`` (fused
-        position RMS after the training span, faulty and fault-free), ``fused_rms_ratio``,
-        ``time_out_s`` (time the faulty subsystem was isolated after the fault's end, s),
+        JSON-ready: the parameters, ``size``, ``onset_s``, and the outcome of
+        :func:`xnavlab.mars.schedules.trial_outcome`: ``detected`` (bool), ``delay_s``
+        (float, ``None`` unless detected; 0 if the subsystem was already out at the onset and
+        kept out through the fault: ``out_at_onset``), ``late`` (bool: first alarm after the
+        end) and ``late_s`` (s after the end), ``false_alarms`` (alarms no fault explains,
+        after the training span, int), ``time_out_s`` (time the faulty subsystem was out after
+        the fault's end, s); ``armed_days``, ``rms_m`` and ``rms_ref_m`` (fused position RMS
+        after the training span, faulty and fault-free), ``fused_rms_ratio``,
         ``wall_time_s``.
 
     Examples
@@ -242,31 +254,13 @@ def detector_trial(fault_class, sensor, size_index, detector, *, seed, days=1.0)
     r = fault_tolerance.run_fault_tolerant(faults=[fault], detector=detector, inputs=inp,
                                            train_days=_TRAIN * days, rng=rng)
     wall = time.perf_counter() - t0
-    d = r.delays()[0]["delay"]
-    if not math.isfinite(d) and any(
-            iv["sensor"] == sensor and iv["out"] <= onset
-            and (iv["back"] is None or iv["back"] >= fault.end) for iv in r.isolation_intervals()):
-        d = 0.0      # already out (an earlier alarm) and kept out through the whole fault
+    out = schedules.trial_outcome(r, _TRAIN * days * DAY)
     rms = r.run.metrics(_TRAIN * days)["position_error_m"]
-    window = fault_tolerance.MATCH_WINDOW[sensor]
-    t_train = _TRAIN * days * DAY
-    false_alarms = 0
-    time_out = 0.0
-    for iv in r.isolation_intervals():
-        back = iv["back"] if iv["back"] is not None else days * DAY
-        explained = (iv["sensor"] == sensor and iv["out"] >= onset
-                     and iv["out"] < fault.end + window)
-        if iv["sensor"] == sensor and back > fault.end and iv["out"] < fault.end + window:
-            time_out += back - max(fault.end, iv["out"])
-        if not explained and iv["out"] >= t_train:
-            false_alarms += 1
     return {"fault_class": fault_class, "sensor": sensor, "size_index": size_index,
             "size": size, "detector": detector, "seed": seed, "days": days, "onset_s": onset,
-            "detected": bool(math.isfinite(d)), "delay_s": float(d) if math.isfinite(d) else None,
-            "false_alarms": int(false_alarms), "armed_days": float(days * (1.0 - _TRAIN)),
+            **out, "armed_days": float(days * (1.0 - _TRAIN)),
             "rms_m": float(rms), "rms_ref_m": float(ref["position_error_m"]),
-            "fused_rms_ratio": float(rms / ref["position_error_m"]),
-            "time_out_s": float(time_out), "wall_time_s": float(wall)}
+            "fused_rms_ratio": float(rms / ref["position_error_m"]), "wall_time_s": float(wall)}
 
 
 def detector_trials(fault_class, sensor, size_index, *, seed, days=1.0):
@@ -300,8 +294,11 @@ def early_fault_trial(*, seed, onsets=EARLY_ONSETS_S, size_sigma=6.0, duration=4
     Returns
     -------
     list of dict
-        ``sensor``, ``onset_s``, ``detected``, ``delay_s`` (None when missed), ``out_at_onset``,
-        ``rms_ratio`` (fused RMS over the run after settling, faulty over fault-free).
+        ``sensor``, ``onset_s``, ``detected``, ``delay_s`` (None unless detected),
+        ``out_at_onset`` (detected at delay 0: out of the fusion from before the onset to
+        the end), ``late`` (first alarm after the end), ``rms_ratio`` (fused RMS over the
+        run after settling, faulty over fault-free); scored by
+        :func:`xnavlab.mars.schedules.trial_outcome`.
     """
     sc = scenarios.MarsScenario(days=1.0, seed=int(seed) % 2**31)
     inp = scenarios.prepare(sc)
@@ -313,10 +310,10 @@ def early_fault_trial(*, seed, onsets=EARLY_ONSETS_S, size_sigma=6.0, duration=4
             f = Fault(sensor, "step", size_sigma * sig, float(onset), duration,
                       0 if sensor == "uv" else None)
             r = fault_tolerance.run_fault_tolerant(faults=[f], detector="combined", inputs=inp)
-            score = r.score()["faults"][0]
-            out.append({"sensor": sensor, "onset_s": float(onset), "detected": score["detected"],
-                        "delay_s": score["delay_s"], "out_at_onset": score["out_at_onset"],
-                        "rms_ratio": r.run.metrics()["position_error_m"] / ref})
+            o = schedules.trial_outcome(r)
+            out.append({"sensor": sensor, "onset_s": float(onset), "detected": o["detected"],
+                        "delay_s": o["delay_s"], "out_at_onset": o["out_at_onset"],
+                        "late": o["late"], "rms_ratio": r.run.metrics()["position_error_m"] / ref})
     return out
 
 
@@ -326,9 +323,11 @@ EARLY_PATH = Path(__file__).resolve().parent.parent / "data" / "early_faults.jso
 
 def load_early_faults(path=None):
     """The shipped early-fault table: ``rows`` (per sensor and onset: ``trials``, ``found``
-    (detected, or its subsystem already out of the fusion), ``out_at_onset``,
-    ``delay_median_s`` and ``delay_max_s`` (of the faults not already out), ``rms_ratio_max``),
-    ``seeds``, ``command``."""
+    (detected, :func:`xnavlab.mars.schedules.score_faults`: an alarm while the fault acts, or
+    its subsystem out of the fusion from before the onset to the end), ``out_at_onset`` (the
+    latter), ``late`` (first alarm after the end: not found), ``delay_median_s`` and
+    ``delay_max_s`` (of the faults found by an alarm), ``rms_ratio_max``), ``seeds``,
+    ``command``."""
     return json.loads(Path(EARLY_PATH if path is None else path).read_text())
 
 
@@ -355,16 +354,17 @@ def detector_table(records):
     list of dict
         One row per cell, JSON-ready: ``fault_class``, ``sensor``, ``size_index``, ``size``,
         ``detector``, ``trials``; ``pd`` with its Wilson 95 % interval ``pd_lo``, ``pd_hi``;
-        ``delay_median_s`` and ``delay_p95_s`` over the detected trials, with order-statistic
-        95 % intervals (``*_lo``, ``*_hi``; ``None`` where undefined); ``false_alarms_per_day``
-        with its Poisson 95 % interval; ``rms_ratio`` (mean of ``fused_rms_ratio``) with a
-        normal 95 % interval (``rms_ratio_err``) and its maximum ``rms_ratio_max``;
-        ``time_out_median_s``.
+        ``late`` (trials whose first alarm came after the fault's end: not detections) and
+        ``late_fraction``; ``delay_median_s`` and ``delay_p95_s`` over the detected trials,
+        with order-statistic 95 % intervals (``*_lo``, ``*_hi``; ``None`` where undefined);
+        ``false_alarms_per_day`` with its Poisson 95 % interval; ``rms_ratio`` (mean of
+        ``fused_rms_ratio``) with a normal 95 % interval (``rms_ratio_err``) and its maximum
+        ``rms_ratio_max``; ``time_out_median_s``.
 
     Examples
     --------
     >>> recs = [dict(fault_class="step", sensor="uv", size_index=0, size=3.0, detector="chi2",
-    ...              detected=True, delay_s=float(d), false_alarms=0, armed_days=0.6,
+    ...              detected=True, delay_s=float(d), late=False, false_alarms=0, armed_days=0.6,
     ...              fused_rms_ratio=1.0, time_out_s=300.0) for d in range(1, 21)]
     >>> row, = detector_table(recs)
     >>> row["pd"], row["delay_median_s"], row["trials"]
@@ -386,8 +386,10 @@ def detector_table(records):
         fa_lo = chi2_ppf(0.025, 2 * fa) / 2 if fa else 0.0    # Poisson (Garwood) interval
         fa_hi = chi2_ppf(0.975, 2 * fa + 2) / 2
         ratio = np.array([r["fused_rms_ratio"] for r in rs])
+        late = sum(bool(r["late"]) for r in rs)
         row = {"fault_class": fc, "sensor": s, "size_index": si, "size": rs[0]["size"],
-               "detector": det, "trials": n, "pd": k / n, "pd_lo": pd_lo, "pd_hi": pd_hi}
+               "detector": det, "trials": n, "pd": k / n, "pd_lo": pd_lo, "pd_hi": pd_hi,
+               "late": late, "late_fraction": late / n}
         for name, q in (("delay_median_s", 0.5), ("delay_p95_s", 0.95)):
             if delays:
                 lo, hi = _quantile_ci(delays, q)
