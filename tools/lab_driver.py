@@ -10,7 +10,11 @@ and to every kernel it started) and checks that the port is free again.
 :func:`check_notebook` opens one notebook in that JupyterLab, in Chromium over the DevTools
 protocol (``tools/chromium.py``, no browser download and no extra package), runs all
 cells with JupyterLab's own "Run All Cells" command, waits for the kernel to go idle, then
-finds the notebook's first live ``xnavlab.core.widgets.explore`` widget (its CSS classes
+reads every rendered markdown cell (:data:`PROSE_PROBLEMS`: no raw role text, no role or
+directive that ``jupyterlab-myst`` did not understand, every ``{eval}`` evaluated, every
+cross-reference resolved but those JupyterLab cannot resolve, :data:`LAB_LIMITS`) and takes a
+screenshot of the first prose number, then finds the notebook's first live
+``xnavlab.core.widgets.explore`` widget (its CSS classes
 ``xnav-explore``, ``xnav-main``, ``xnav-output``) and moves its main slider twice (a mouse
 click on the track, then a key press) and a dropdown once (a key press), timing each redraw
 from the input event to the new figure painted. It returns a :class:`NotebookReport` whose
@@ -28,6 +32,7 @@ import contextlib
 import dataclasses
 import json
 import os
+import re
 import secrets
 import shutil
 import signal
@@ -70,6 +75,21 @@ USER_SETTINGS = {
 }
 
 WIDGET_PLUGIN = "@jupyter-widgets/jupyterlab-manager:plugin"
+MYST_PLUGIN = "jupyterlab-myst:content-factory"
+NOTEBOOK_PLUGIN = "@jupyterlab/notebook-extension:tracker"
+#: What a rendered markdown cell must not show: a role or directive as typed (MyST not
+#: rendered), one jupyterlab-myst does not know (it shows only the role's text: ``{glue:text}``,
+#: ``{py:func}``...), an ``{eval}`` with an error or no value, a reference it could not resolve.
+PROSE_PROBLEMS = ("raw role text", "unknown role", "unknown directive", "expression failed",
+                  "expression not evaluated", "unresolved reference")
+#: What JupyterLab cannot show as the book does, by design, and the test reports without
+#: failing: ``{cite}`` (no bibliography in JupyterLab: the key is shown, flagged "Citation Not
+#: Found") and ``{numref}`` to a figure whose caption and name are a code cell's ``mystnb``
+#: metadata (jupyterlab-myst reads markdown cells only: the label is shown).
+LAB_LIMITS = ("citation", "figure reference")
+#: How long the prose's expressions may take to arrive after "Run All Cells" ended (each
+#: markdown cell sends its own request to the kernel once it has rendered).
+PROSE_TIMEOUT_S = 60.0
 WIDGET_MIME = "application/vnd.jupyter.widget-view+json"
 _KEYS = {"Enter": 13, "End": 35, "Home": 36, "ArrowLeft": 37, "ArrowUp": 38, "ArrowRight": 39,
          "ArrowDown": 40}
@@ -255,7 +275,13 @@ _APP_READY = r"""
   if (!app) { return {ok: false, why: "window.jupyterapp never appeared"}; }
   await app.started; await app.restored;
   const has = id => (app.isPluginActivated ? app.isPluginActivated(id) : app.hasPlugin(id));
-  return {ok: true, widgets: has(%(plugin)s), version: app.version};
+  let windowing = null;
+  try {
+    const s = await app.serviceManager.settings.fetch(%(notebook)s);
+    windowing = s.composite ? s.composite.windowingMode : null;
+  } catch (e) { /* reported as unknown */ }
+  return {ok: true, widgets: has(%(plugin)s), myst: has(%(myst)s), version: app.version,
+          windowing};
 })()
 """
 
@@ -310,6 +336,70 @@ _OUTPUTS = r"""
               source: cell.model.sharedModel.getSource().slice(0, 200)});
   });
   return res;
+})()
+"""
+
+# Every markdown cell as jupyterlab-myst rendered it: its text (math left out), what it did not
+# understand (roles and directives it keeps as mystRole / mystDirective nodes), its {eval}
+# expressions and the results the kernel sent (the cell's user_expressions), and the references
+# it flagged as not found. Figure names of code cells (mystnb metadata) come along.
+_PROSE = r"""
+(() => {
+  const cells = window.__xnavPanel.content.widgets;
+  const walk = (node, out) => {
+    if (!node || typeof node !== "object") { return out; }
+    if (node.type === "mystRole") { out.roles.push("{" + node.name + "}`" + (node.value || "") + "`"); }
+    if (node.type === "mystDirective") { out.directives.push("{" + node.name + "}"); }
+    if (node.type === "inlineExpression") { out.expressions.push(node.value); }
+    (node.children || []).forEach(c => walk(c, out));
+    return out;
+  };
+  const res = [], figures = [];
+  cells.forEach((cell, i) => {
+    const meta = cell.model.toJSON().metadata || {};
+    if (cell.model.type === "code") {
+      const fig = ((meta.mystnb || {}).figure || {}).name;
+      if (fig) { figures.push(fig); }
+      return;
+    }
+    if (cell.model.type !== "markdown") { return; }
+    const view = cell.node.querySelector(".myst") || cell.node.querySelector(".jp-RenderedMarkdown");
+    let text = "";
+    if (view) {
+      const copy = view.cloneNode(true);
+      copy.querySelectorAll(".katex-mathml, annotation, mjx-assistive-mml, script").forEach(e => e.remove());
+      text = copy.textContent;
+    }
+    const found = walk(cell.mystModel ? cell.mystModel.mdast : null,
+                       {roles: [], directives: [], expressions: []});
+    const results = (meta.user_expressions || []).map(u => ({
+        expression: u.expression, status: u.result ? u.result.status : null,
+        error: u.result && u.result.status === "error" ? (u.result.ename + ": " + u.result.evalue) : null,
+        text: u.result && u.result.data ? (u.result.data["text/plain"] || "") : ""}));
+    const flagged = sel => view ? [...view.querySelectorAll(sel)].map(e => e.textContent.trim()) : [];
+    res.push({index: i, rendered: !!cell.rendered, myst: !!cell.node.querySelector(".myst"),
+              source: cell.model.sharedModel.getSource().slice(0, 120), text,
+              roles: found.roles, directives: found.directives, expressions: found.expressions,
+              results, unresolved: flagged('[title="Cross Reference Not Found"]'),
+              citations: flagged('[title="Citation Not Found"]')});
+  });
+  return {cells: res, figures};
+})()
+"""
+
+# For the screenshot of the prose: the first evaluated number (else the first markdown cell
+# after a code cell) in view, a little below the top.
+_SHOW_PROSE = r"""
+(() => {
+  const cells = window.__xnavPanel.content.widgets;
+  let target = cells.find(c => c.model.type === "markdown"
+      && ((c.model.toJSON().metadata || {}).user_expressions || []).some(
+          u => u.result && u.result.status === "ok"));
+  if (!target) { target = cells.find((c, i) => c.model.type === "markdown" && i > 0) || cells[0]; }
+  target.node.scrollIntoView({block: "start"});
+  const scroller = target.node.closest(".jp-WindowedPanel-outer");
+  if (scroller) { scroller.scrollTop = Math.max(0, scroller.scrollTop - 120); }
+  return cells.indexOf(target);
 })()
 """
 
@@ -545,11 +635,22 @@ class NotebookReport:
     redraws: list = dataclasses.field(default_factory=list)
     screenshot: str | None = None
     stderr: list = dataclasses.field(default_factory=list)
+    #: {eval} expressions evaluated in the markdown, and a few of the numbers they showed
+    expressions: int = 0
+    numbers: list = dataclasses.field(default_factory=list)
+    #: what JupyterLab cannot show as the book does (:data:`LAB_LIMITS`), not failures
+    lab_limits: list = dataclasses.field(default_factory=list)
+    prose_screenshot: str | None = None
 
     def summary(self):
         """One line per redraw, e.g. ``sigma_m mouse 100 -> 500: 0.21 s``."""
         lines = [f"{self.path}: ran in {self.run_seconds:.1f} s" if self.run_seconds
                  else f"{self.path}: did not run"]
+        if self.expressions or self.lab_limits:
+            lines.append(f"  prose: {self.expressions} {{eval}} numbers shown"
+                         + (f" ({', '.join(self.numbers[:4])}, ...)" if self.numbers else "")
+                         + (f"; JupyterLab limits: {', '.join(self.lab_limits)}"
+                            if self.lab_limits else ""))
         for r in self.redraws:
             t = f"{r.seconds:.2f} s" if r.seconds is not None else "no redraw"
             if r.retry_seconds is not None:
@@ -570,12 +671,16 @@ class LabBrowser:
         try:
             self.page.send("Network.disable")  # kernel websocket frames would pile up as events
             self.page.send("Page.navigate", url=server.lab_url())
-            ready = self.page.evaluate(_APP_READY % {"plugin": json.dumps(WIDGET_PLUGIN)},
+            ready = self.page.evaluate(_APP_READY % {"plugin": json.dumps(WIDGET_PLUGIN),
+                                                     "myst": json.dumps(MYST_PLUGIN),
+                                                     "notebook": json.dumps(NOTEBOOK_PLUGIN)},
                                        timeout=120)
             if not ready.get("ok"):
                 raise RuntimeError(f"JupyterLab did not load: {ready.get('why')}")
             self.lab_version = ready.get("version")
             self.widgets_extension = bool(ready.get("widgets"))
+            self.myst_extension = bool(ready.get("myst"))
+            self.windowing = ready.get("windowing")
         except BaseException:
             self.browser.close()
             raise
@@ -611,6 +716,64 @@ class LabBrowser:
 def _stderr_problem(text):
     """A stderr stream that reports a failure (warnings and progress bars are fine)."""
     return any(marker in text for marker in ("Traceback (most recent call last)", "Error:"))
+
+
+_RAW_ROLE = re.compile(r"\{(?:glue(?::\w*)?|eval|numref|ref|eq|doc|cite(?::\w+)?|py:\w+|math|term"
+                       r"|download|abbr|prf:ref|any)\}|`{3}\{|:{3}\{")
+
+
+def prose_problems(lab, rep):
+    """The rendered markdown cells' problems (:data:`PROSE_PROBLEMS`), added to ``rep``.
+
+    Waits up to :data:`PROSE_TIMEOUT_S` for the values of every ``{eval}`` expression. Also
+    fills ``rep.expressions``, ``rep.numbers`` and ``rep.lab_limits``.
+    """
+    deadline = time.monotonic() + PROSE_TIMEOUT_S
+    while True:
+        prose = lab.page.evaluate(_PROSE)
+        pending = [c for c in prose["cells"]
+                   if {r["expression"] for r in c["results"]} < set(c["expressions"])]
+        if not pending or time.monotonic() > deadline:
+            break
+        time.sleep(0.5)
+    figures = set(prose["figures"])
+    hint = (f" (jupyterlab-myst active: {lab.myst_extension}; notebook windowingMode: "
+            f"{lab.windowing!r}, which must be 'none' for Run All Cells to evaluate every cell: "
+            "make setup installs the JupyterLab settings overrides.json)")
+    problems, limits = [], {"citation": 0, "figure reference": 0}
+    for c in prose["cells"]:
+        where = f"markdown cell {c['index']}"
+        if not c["myst"]:
+            problems.append(f"{where}: not rendered by jupyterlab-myst{hint}")
+        m = _RAW_ROLE.search(c["text"])
+        if m:
+            at = c["text"].find(m.group())
+            problems.append(f"{where}: raw role text {m.group()!r}: "
+                            f"{c['text'][max(at - 40, 0):at + 60]!r}")
+        for role in c["roles"]:
+            problems.append(f"{where}: unknown role {role} (JupyterLab shows only its text; "
+                            "tools/eval_roles.py converts it)")
+        for d in dict.fromkeys(c["directives"]):
+            problems.append(f"{where}: unknown directive {d}")
+        results = {r["expression"]: r for r in c["results"]}
+        for expr in c["expressions"]:
+            r = results.get(expr)
+            if r is None:
+                problems.append(f"{where}: expression not evaluated: {{eval}}`{expr}`{hint}")
+            elif r["status"] != "ok":
+                problems.append(f"{where}: expression failed: {{eval}}`{expr}`: {r['error']}")
+            else:
+                rep.expressions += 1
+                if len(rep.numbers) < 6:
+                    rep.numbers.append(r["text"])
+        for label in c["unresolved"]:
+            if label in figures:
+                limits["figure reference"] += 1
+            else:
+                problems.append(f"{where}: unresolved reference {label!r}")
+        limits["citation"] += len(c["citations"])
+    rep.problems += problems
+    rep.lab_limits = [f"{n} {k}s" for k, n in limits.items() if n]
 
 
 def _move(lab, control, how, act, starts):
@@ -649,7 +812,7 @@ def _move(lab, control, how, act, starts):
 
 
 def check_notebook(lab, path, screenshot=None, max_redraw_s=MAX_REDRAW_S):
-    """Open ``path`` in JupyterLab, run all cells, move its first explore widget's controls.
+    """Open ``path`` in JupyterLab, run all cells, read its prose, move its explore widget.
 
     Parameters
     ----------
@@ -658,7 +821,8 @@ def check_notebook(lab, path, screenshot=None, max_redraw_s=MAX_REDRAW_S):
     path : str
         The notebook, relative to the server's root.
     screenshot : path, optional
-        Where to save a PNG of the widget after the moves.
+        Where to save a PNG of the widget after the moves; the prose's first numbers go to
+        ``<stem>-prose.png`` beside it.
     max_redraw_s : float or None
         A speed budget for a redraw, seconds; None (the default) measures without judging.
 
@@ -706,6 +870,13 @@ def check_notebook(lab, path, screenshot=None, max_redraw_s=MAX_REDRAW_S):
                                 + (f": {st['run'].get('why')}" if st["run"].get("why") else ""))
         if rep.problems:
             return rep
+        prose_problems(lab, rep)
+        if screenshot is not None:
+            page.evaluate(_SHOW_PROSE)
+            page.evaluate("new Promise(r => requestAnimationFrame(() => setTimeout(r, 300)))")
+            shot = Path(screenshot)
+            rep.prose_screenshot = str(shot.with_name(f"{shot.stem}-prose{shot.suffix}"))
+            lab.screenshot(rep.prose_screenshot)
         if not any(WIDGET_MIME in o["mimes"] for c in cells for o in c["outputs"]):
             rep.problems.append("no live explore widget: no cell shows a widget "
                                 "(xnavlab.core.widgets.explore)")

@@ -124,6 +124,63 @@ def test_a_speed_budget_when_one_is_set_and_the_computing_line(lab, lab_root):
     assert any("redraw took" in p for p in rep.problems), rep.problems
 
 
+def write_prose(root, name, *cells):
+    """A notebook of ``OK``'s widget and then ``cells``: ("code", source, metadata) or
+    ("md", source)."""
+    nb = nbformat.v4.new_notebook()
+    nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3",
+                                 "language": "python"}
+    nb.cells = [nbformat.v4.new_code_cell("from xnavlab.core.prose import glue, glued\n\n"
+                                          "glue('ch99_r_km', 4190.0)\n" + OK)]
+    for kind, source, *meta in cells:
+        new = nbformat.v4.new_code_cell if kind == "code" else nbformat.v4.new_markdown_cell
+        nb.cells.append(new(source, metadata=meta[0] if meta else {}))
+    nbformat.write(nb, root / name)
+    return name
+
+
+PROSE = [
+    ("md", "# Prose\n\nA range of {eval}`glued[\"ch99_r_km:,.0f\"]` km, eq. {eq}`ch99-a`, "
+           "{cite}`fan2016wavelet` and [chapter 7](07_wavelets.ipynb):\n\n"
+           "$$\na = \\frac{b}{c}\n$$ (ch99-a)"),
+    ("code", "import matplotlib.pyplot as plt\nplt.plot([0, 1]); plt.show()",
+     {"mystnb": {"figure": {"caption": "A line.", "name": "fig-ch99-line"}}}),
+    ("md", "As {numref}`fig-ch99-line` shows.\n\n```{admonition} Note\n"
+           "In a box: {eval}`glued[\"ch99_r_km:.0f\"]` km.\n```"),
+    ("md", "```{exercise}\n:label: ch99-ex1\n\nWhy {eval}`glued[\"ch99_r_km:.1f\"]`?\n```"),
+    ("md", "```{solution-start} ch99-ex1\n:class: dropdown\n```"),
+    ("code", "answer = 42"),
+    ("md", "```{solution-end}\n```"),
+]
+
+
+def test_prose_that_reads_like_the_book_passes_and_shows_its_numbers(lab, lab_root, tmp_path):
+    rep = lab_driver.check_notebook(lab, write_prose(lab_root, "prose.ipynb", *PROSE),
+                                    screenshot=tmp_path / "prose.png")
+    assert not rep.problems, rep.problems
+    assert rep.expressions == 3 and rep.numbers == ["4,190", "4190", "4190.0"]
+    # what JupyterLab cannot show as the book does is reported, not failed
+    assert rep.lab_limits == ["1 citations", "1 figure references"]
+    assert (tmp_path / "prose-prose.png").stat().st_size > 10_000
+
+
+@pytest.mark.parametrize(
+    ("markdown", "match"),
+    [
+        ("Raw {glue:text}`ch99_r_km:.1f` km", "unknown role {glue:text}`ch99_r_km:.1f`"),
+        ("See {py:func}`~xnavlab.core.filters.ekf_update`", "unknown role {py:func}"),
+        ('A typo: {eval}`glued["ch99_nope"]`', "expression failed: {eval}`glued[\"ch99_nope\"]`: "
+                                               "KeyError"),
+        ("As {numref}`fig-nowhere` shows", "unresolved reference 'fig-nowhere'"),
+        ("```{glue:figure} ch99_fig\n```", "unknown directive {glue:figure}"),
+    ],
+)
+def test_fails_on_prose_that_does_not_render(lab, lab_root, markdown, match):
+    rep = lab_driver.check_notebook(lab, write_prose(lab_root, "bad_prose.ipynb", ("md", markdown)))
+    assert any(match in p for p in rep.problems), rep.problems
+    assert rep.redraws, "the widget is still checked"
+
+
 @pytest.mark.parametrize(
     ("cells", "match"),
     [

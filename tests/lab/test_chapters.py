@@ -2,7 +2,12 @@
 
 Run by ``make lab-test`` (after ``make test``'s static browser test). For each
 ``book/NN_*.ipynb`` the test opens the chapter in JupyterLab, runs all cells ("Run All
-Cells"), waits for the kernel to go idle and fails on any error output; then it finds the
+Cells"), waits for the kernel to go idle and fails on any error output; it reads every
+rendered markdown cell and fails on raw role text, a role or directive jupyterlab-myst does not
+understand, an ``{eval}`` that failed or was not evaluated and an unresolved reference (a
+``{cite}`` key and a reference to a code cell's figure are reported as JupyterLab's limits,
+``lab_driver.LAB_LIMITS``), and saves a screenshot of the prose's first numbers
+(``NN_x-prose.png``); then it finds the
 chapter's first live ``xnavlab.core.widgets.explore`` widget, moves its main slider to two
 other values (a mouse click on the track, a key press) and a dropdown where there is one, and
 fails unless the figure changed each time (it waits on the new image and the status line, up
