@@ -16,6 +16,11 @@ module                 what it models
                        the time tag, the instantaneous model's error (chapter 2)
 ``pint_bridge``        PINT offline as a witness: its delays for a spacecraft, shipped
                        Fermi photons and NANOGrav residuals (chapters 1-2)
+``photon_fix``         a held-out fix along the line to J0030+0451 from PINT's Fermi
+                       photons: the geocentre as the spacecraft (chapter 1, real photons)
+``photon_error``       that fix's error bar against exposure and chapter 1's formula,
+                       checked over random splits of the months
+``photon_plots``       the figures of the fix: slider, recovery, cycle ambiguity, exposure
 ``timing_terms``       what the paper's TOA equation leaves out: exact vs paper Shapiro,
                        the planets' Shapiro, the on-board clock against TDB (chapter 2)
 ``dynamics``           Mars-orbit dynamics, truth propagator, transition matrix (chapter 3)
