@@ -45,6 +45,7 @@ def test_split_pulls_shapes(photons):
     out = photon_error.split_pulls(photons, seeds=range(3))
     assert out["pulls"].shape == (3,)
     assert np.allclose(out["pulls"], out["along_m"] / out["sigma_m"])
+    assert np.all(out["sigma_photons_m"] < out["sigma_m"])
     assert np.all(np.abs(out["pulls"]) < 5.0)
     with pytest.raises(ValueError, match="seeds"):
         photon_error.split_pulls(photons, seeds=[1])

@@ -165,7 +165,8 @@ def split_pulls(photons, seeds=range(16), bandwidth=0.004):
     Returns
     -------
     dict of ndarray
-        ``along_m`` and ``sigma_m`` of each split's fix (m), ``pulls`` their ratio.
+        ``along_m``, ``sigma_m`` and ``sigma_photons_m`` (the navigation photons' part) of
+        each split's fix (m), and ``pulls``, ``along_m / sigma_m``.
 
     Examples
     --------
@@ -177,11 +178,10 @@ def split_pulls(photons, seeds=range(16), bandwidth=0.004):
     seeds = list(seeds)
     if len(seeds) < 3:
         raise ValueError(f"seeds must hold at least 3 seeds, got {len(seeds)}")
-    along, sigma = [], []
+    rows = []
     for seed in seeds:
         ref = build_reference(photons, split_months(photons, seed), bandwidth=bandwidth)
         f = fix(photons, np.zeros(3), ref)
-        along.append(f.along_m)
-        sigma.append(f.sigma_m)
-    along, sigma = np.array(along), np.array(sigma)
-    return {"along_m": along, "sigma_m": sigma, "pulls": along / sigma}
+        rows.append((f.along_m, f.sigma_m, f.sigma_photons_m))
+    along, sigma, photons_only = np.array(rows).T
+    return {"along_m": along, "sigma_m": sigma, "sigma_photons_m": photons_only, "pulls": along / sigma}
