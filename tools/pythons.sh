@@ -9,7 +9,7 @@
 # Usage: sh tools/pythons.sh RANGE [MAKE]   (RANGE as requires-python: ">=3.10,<3.14")
 # A Python 3.X is looked for as python3.X on PATH, then as the newest pyenv version 3.X.*
 # ($PYENV_ROOT, default ~/.pyenv); each candidate is run to check it is 3.X (a pyenv shim of a
-# version not selected is not). Exit status 1 when any version failed, 0 otherwise.
+# version not selected is not). Exit status 1 when any version failed or none was found.
 set -u
 range=$1
 make=${2:-make}
@@ -51,16 +51,20 @@ counts() {  # counts LOG: "passed N, failed N, skipped N[, errors N]" summed ove
 
 report=""
 status=0
+tested=0
 while [ "$minor" -lt "$stop" ]; do
     v=$major.$minor
     minor=$((minor + 1))
     py=$(find_python "$v")
+    # the interpreter itself, not a pyenv shim in front of it
+    [ -z "$py" ] || py=$("$py" -c 'import sys; print(sys.executable)')
     if [ -z "$py" ]; then
         echo "pythons: $v skipped (not found: no python$v on PATH, none under $pyenv_root/versions)"
         report="$report
 $v  skipped (not found)"
         continue
     fi
+    tested=$((tested + 1))
     log=_build/pythons-$v.log
     full=$("$py" -c 'import sys; print(sys.version.split()[0])')
     echo "pythons: $full ($py) in _build/venv-$v, log $log"
@@ -81,7 +85,8 @@ $v  skipped (not found)"
     tally=$(counts "$log")
     if [ "$setup_rc" != 0 ]; then
         result="FAILED in the set-up (see $log)"
-    elif [ "$unit_rc" = 0 ] && [ "$nb_rc" = 0 ] && [ "${tally#passed 0,}" = "$tally" ]; then
+    elif [ "$unit_rc" = 0 ] && [ "$nb_rc" = 0 ] && [ "${tally#passed 0,}" = "$tally" ] \
+         && [ "${tally#*failed 0,}" != "$tally" ] && [ "${tally#*errors}" = "$tally" ]; then
         result="green"
     else
         result="FAILED (unit exit $unit_rc, notebooks exit $nb_rc; see $log)"
@@ -93,4 +98,8 @@ $v  skipped (not found)"
 $line"
 done
 echo "pythons: supported $range; results (unit tests and doctests, then the notebooks):$report"
+if [ "$tested" = 0 ]; then
+    echo "pythons: no supported Python found: nothing tested" >&2
+    exit 1
+fi
 exit $status
