@@ -137,3 +137,13 @@ def test_model_names_and_tables():
 def test_accelerations_refuse_mismatched_shapes():
     with pytest.raises(ValueError, match=r"r shape \(n, 3\)"):
         fm.accelerations([dynamics.MARS_T0], np.zeros((2, 3)))
+
+
+def test_a_filter_with_more_planets_runs_the_same_on_both_backends():
+    from xnavlab.mars import scenarios
+
+    sc = scenarios.MarsScenario(days=0.01, filter_model={"third_bodies": ["sun", "jupiter",
+                                                                          "saturn", "venus"]})
+    a, b = scenarios.run(sc), scenarios.run(sc, backend="numpy")
+    assert np.allclose(a.x, b.x, rtol=1e-9, atol=1e-6)
+    assert not np.array_equal(a.x, scenarios.run(sc, filter_model="paper").x)
