@@ -25,9 +25,10 @@ ALLOWED = {
     # The on-ramp (chapter 0) folds the book's pulsars with chapter 1's photon model and TOA
     # estimator, so it may use xnavlab.mars.pulsars.
     "line": {"mars"},
-    "reproductions": SYSTEMS | {"reproduce"},
-    "reproduce": set(),
-    "cli": SYSTEMS | {"reproduce", "reproductions"},
+    "reproductions": SYSTEMS | {"reproduce", "verdicts"},
+    "reproduce": {"verdicts"},
+    "verdicts": set(),
+    "cli": SYSTEMS | {"reproduce", "reproductions", "verdicts"},
     "compat": set(),
     "__init__": {"compat"},
     "__main__": {"cli"},

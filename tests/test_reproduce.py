@@ -44,50 +44,6 @@ def test_a_failed_check_of_ours_is_an_error_a_refuted_claim_is_not():
     assert reproduce.Result("empty", []).verdict == "CHECK"
 
 
-def test_check_helpers():
-    assert reproduce.check_abs("a", 10.0, 12.0, 3.0, why="w").verdict == "REPRODUCED"
-    nan = reproduce.check_range("b", 1.0, float("nan"), 0.0, 2.0, why="range")
-    assert nan.verdict == "NOT REPRODUCED"
-    assert reproduce.check_true("c", "x", "x", True, why="same").verdict == "REPRODUCED"
-    assert reproduce.check_measure("d", 3, "shown").verdict == "CHECK"
-
-
-@pytest.mark.parametrize("make", [
-    lambda: reproduce.check_rel("x", 1.0, 1.0, 0.1, why=""),
-    lambda: reproduce.check_true("x", 1, 1, True, why="  "),
-    lambda: reproduce.check_range("x", 1, 1.0, 0.0, 2.0, why=None),
-    lambda: reproduce.check_sanity("x", 1, 1, True, ""),
-    lambda: reproduce.check_measure("x", 1, ""),
-])
-def test_a_tolerance_without_its_reason_is_refused(make):
-    with pytest.raises(ValueError, match="must say, in words"):
-        make()
-
-
-def test_a_single_run_number_is_judged_among_at_least_32_runs():
-    with pytest.raises(ValueError, match="at least 32 single runs; got 31"):
-        reproduce.check_draw("x", 1.0, np.ones(31))
-    with pytest.raises(ValueError, match="finite"):
-        reproduce.check_draw("x", 1.0, [np.nan] * 40)
-    runs = np.arange(40.0)
-    inside = reproduce.check_draw("x (m)", 19.7, runs)
-    assert inside.verdict == "REPRODUCED" and "50th percentile of our 40 runs" in inside.reading
-    above = reproduce.check_draw("x (m)", 60.0, runs)
-    assert above.verdict == "NOT REPRODUCED" and "above all of our 40 runs" in above.reading
-    with pytest.raises(ValueError, match="must say, in words"):
-        reproduce.check_draw("x (m)", 41.0, runs, slack=5.0)
-    widened = reproduce.check_draw("x (m)", 41.0, runs, slack=5.0, why="printed digits")
-    assert widened.verdict == "REPRODUCED" and "printed digits" in widened.tolerance
-
-
-def test_an_ordering_is_reproduced_refuted_or_undecided_with_the_runs_it_needs():
-    assert reproduce.check_order("a < b", "a < b", [-2.0, -3.0, -2.5]).verdict == "REPRODUCED"
-    against = reproduce.check_order("a < b", "a < b", [2.0, 3.0, 2.5])
-    assert against.verdict == "NOT REPRODUCED" and "opposite order" in against.reading
-    open_ = reproduce.check_order("a < b", "a < b", [-1.0, 1.5, -2.0, 1.0])
-    assert open_.verdict == "UNDECIDED" and "runs would decide it (we have 4)" in open_.reading
-
-
 def test_double_registration_is_refused():
     reproduce.ids()
     with pytest.raises(ValueError, match="registered twice"):

@@ -166,7 +166,7 @@ def source_digest(root, skip=()):
 
 
 def _module_file(root, name):
-    """The source file of module ``name`` (``xnavlab.a.b``) under the package's ``root``, or None."""
+    """The source file of module ``name`` (``xnavlab.mars.toa``) under the package's ``root``, or None."""
     parts = name.split(".")[1:]
     base = root.joinpath(*parts) if parts else root
     for candidate in (base.with_suffix(".py"), base / "__init__.py"):

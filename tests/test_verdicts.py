@@ -1,0 +1,196 @@
+"""The verdicts (xnavlab.verdicts): the rows' constructors, and the verdict of every claim the book
+judges, recorded.
+
+The table :data:`EXPECTED` holds, for every registered reproduction, its headline and the verdict
+of each claim of the paper as the book states it (the chapters glue them from the registry). A
+verdict changes only by an edit of this table, made on purpose and reviewed: a REPRODUCED that
+turns into NOT REPRODUCED (or back) after a change of the code fails here first, with the row.
+The claims' numbers, tolerances and reasons are in the registry's tables (``python -m xnavlab
+reproduce ID``); our checks (CHECK) must all hold (tests/test_reproduce.py).
+"""
+
+import numpy as np
+import pytest
+
+from xnavlab import reproduce, verdicts
+
+#: Every reproduction's headline and the verdict of each of its claims, as the book states them.
+EXPECTED = {
+    'attitude-cost': ('REPRODUCED', {
+        'DOS/SOS Kalman filters run per sample': 'REPRODUCED',
+    }),
+    'attitude-qdiff': ('REPRODUCED', {
+        'ref. [22] verdict': 'REPRODUCED',
+        'SOS verdict on the same data': 'REPRODUCED',
+    }),
+    'attitude-skew-ramp': ('PARTLY REPRODUCED', {
+        'residuals over threshold': 'REPRODUCED',
+        'SOS verdict': 'REPRODUCED',
+        'r4 delay (s)': 'NOT REPRODUCED',
+    }),
+    'attitude-star-tracker': ('REPRODUCED', {
+        'r4 over threshold': 'REPRODUCED',
+        'any of r1-r3 over threshold': 'REPRODUCED',
+        'SOS verdict': 'REPRODUCED',
+    }),
+    'attitude-xgyro-step': ('REPRODUCED', {
+        'residuals over threshold': 'REPRODUCED',
+        'SOS verdict': 'REPRODUCED',
+        'r1 delay (s)': 'REPRODUCED',
+    }),
+    'ephemeris-error': ('PARTLY REPRODUCED', {
+        'earth: error grows over the year (mean of the last 30 days, m)': 'REPRODUCED',
+        'mars: error grows over the year (mean of the last 30 days, m)': 'NOT REPRODUCED',
+        'earth: change over 24 h / mean (slowly varying)': 'REPRODUCED',
+        'mars: change over 24 h / mean (slowly varying)': 'REPRODUCED',
+        'Mars error / Earth error, 1-year means': 'NOT REPRODUCED',
+        'mars: largest error over 1997 (m)': 'NOT REPRODUCED',
+    }),
+    'mallat-vs-pywavelets': ('CHECK', {
+    }),
+    'mars-faults-ekf': ('PARTLY REPRODUCED', {
+        'max |position error|, faults, no detector (m)': 'NOT REPRODUCED',
+        'max |position error|, fault-free, largest of our runs (m)': 'REPRODUCED',
+        'faults / fault-free max error, smallest of our runs': 'REPRODUCED',
+    }),
+    'mars-faults-wavelet': ('PARTLY REPRODUCED', {
+        'fused position error with faults (m), RMS after day 1': 'REPRODUCED',
+        'fused velocity error with faults (m/s), RMS after day 1': 'REPRODUCED',
+        'close to fault-free: faulty / fault-free error, 95th percentile': 'NOT REPRODUCED',
+        'every scheduled fault detected, share of our runs': 'REPRODUCED',
+    }),
+    'mars-nofault': ('REPRODUCED', {
+        'fused position error (m), RMS after day 1': 'REPRODUCED',
+        'fused velocity error (m/s), RMS after day 1': 'REPRODUCED',
+    }),
+    'mars-orbit': ('CHECK', {
+    }),
+    'mars-sensors': ('CHECK', {
+    }),
+    'mars-subsystems': ('REPRODUCED', {
+        'xnav: error does not grow (last day vs the day before, m)': 'REPRODUCED',
+        'uv: error does not grow (last day vs the day before, m)': 'REPRODUCED',
+        'cns: error does not grow (last day vs the day before, m)': 'REPRODUCED',
+        'xnav+uv+cns: error does not grow (last day vs the day before, m)': 'REPRODUCED',
+        'fused better than the best subsystem alone (m)': 'REPRODUCED',
+    }),
+    'plins-ramp': ('PARTLY REPRODUCED', {
+        'PR1 detection delay (s)': 'REPRODUCED',
+        'PR2-PR4 alarms': 'REPRODUCED',
+        'a and b both identified within 5 %, share of 40 runs': 'NOT REPRODUCED',
+    }),
+    'plins-step': ('REPRODUCED', {
+        'PR1 detection time (s)': 'REPRODUCED',
+        'PR2 detection time (s)': 'REPRODUCED',
+        'PR3 detection time (s)': 'REPRODUCED',
+        'PR4 (healthy) alarm': 'REPRODUCED',
+        'PR1 identified within 5 % of the step, share of 40 runs': 'REPRODUCED',
+        'PR2 identified within 5 % of the step, share of 40 runs': 'REPRODUCED',
+        'PR3 identified within 5 % of the step, share of 40 runs': 'REPRODUCED',
+    }),
+    'rkf-earth': ('PARTLY REPRODUCED', {
+        'ASUKF improvement over UKF (%)': 'NOT REPRODUCED',
+        'TDUKF improvement over UKF (%)': 'REPRODUCED',
+        'RKF improvement over UKF (%)': 'NOT REPRODUCED',
+        'RKF better than TDUKF (paired RMSE difference)': 'UNDECIDED',
+        'TDUKF better than ASUKF (paired RMSE difference)': 'REPRODUCED',
+        'ASUKF better than UKF (paired RMSE difference)': 'REPRODUCED',
+        'ranking of the mean RMSE, best first': 'UNDECIDED',
+    }),
+    'rkf-mars': ('PARTLY REPRODUCED', {
+        'ASUKF improvement over UKF (%)': 'NOT REPRODUCED',
+        'TDUKF improvement over UKF (%)': 'NOT REPRODUCED',
+        'RKF improvement over UKF (%)': 'NOT REPRODUCED',
+        'RKF better than TDUKF (paired RMSE difference)': 'NOT REPRODUCED',
+        'TDUKF better than ASUKF (paired RMSE difference)': 'REPRODUCED',
+        'ASUKF better than UKF (paired RMSE difference)': 'REPRODUCED',
+        'ranking of the mean RMSE, best first': 'NOT REPRODUCED',
+    }),
+    'rkf-residual-memory': ('CHECK', {
+    }),
+    'rkf-sweep': ('PARTLY REPRODUCED', {
+        'UKF error grows with the ephemeris error (m, largest minus none)': 'REPRODUCED',
+        'TDUKF and RKF stay small at the largest error (worst mean RMSE, m)': 'REPRODUCED',
+        'ASUKF stays small at the largest error (mean RMSE, m)': 'NOT REPRODUCED',
+        'RKF best of the three at every size': 'NOT REPRODUCED',
+    }),
+    'toa-terms': ('CHECK', {
+    }),
+    'ukf-vs-ephemeris-error': ('PARTLY REPRODUCED', {
+        'UKF error per metre of ephemeris error': 'NOT REPRODUCED',
+        'error grows linearly (R^2 of the line)': 'REPRODUCED',
+    }),
+    'wavelet-details': ('REPRODUCED', {
+        'detail peak at each onset / threshold (min over faults)': 'REPRODUCED',
+        'scheduled UV faults detected within 600 s (online detector)': 'REPRODUCED',
+    }),
+    'xnav-ranging': ('REPRODUCED', {
+        'B0531+21 ranging (m)': 'REPRODUCED',
+        'B1937+21 ranging (m)': 'REPRODUCED',
+        'B1957+20 ranging (m)': 'REPRODUCED',
+        'B1821-24 ranging (m)': 'REPRODUCED',
+    }),
+}
+
+
+@pytest.mark.parametrize("rid", reproduce.ids())
+def test_every_claim_has_the_verdict_the_book_states(rid):
+    assert rid in EXPECTED, f"{rid}: record its headline and claims' verdicts in EXPECTED"
+    res = reproduce.run(rid)
+    res.assert_ok()
+    headline, claims = EXPECTED[rid]
+    got = {c.name: c.verdict for c in res.claims}
+    changed = {n: (claims.get(n), got.get(n)) for n in claims.keys() | got.keys()
+               if claims.get(n) != got.get(n)}
+    assert not changed, f"{rid}: claim verdicts (recorded, now): {changed}\n{res.table()}"
+    assert res.verdict == headline
+
+
+def test_no_recorded_reproduction_is_gone():
+    assert set(EXPECTED) == set(reproduce.ids())
+
+
+def test_check_helpers():
+    assert verdicts.check_abs("a", 10.0, 12.0, 3.0, why="w").verdict == "REPRODUCED"
+    nan = verdicts.check_range("b", 1.0, float("nan"), 0.0, 2.0, why="range")
+    assert nan.verdict == "NOT REPRODUCED"
+    assert verdicts.check_true("c", "x", "x", True, why="same").verdict == "REPRODUCED"
+    assert verdicts.check_measure("d", 3, "shown").verdict == "CHECK"
+
+
+@pytest.mark.parametrize("make", [
+    lambda: verdicts.check_rel("x", 1.0, 1.0, 0.1, why=""),
+    lambda: verdicts.check_true("x", 1, 1, True, why="  "),
+    lambda: verdicts.check_range("x", 1, 1.0, 0.0, 2.0, why=None),
+    lambda: verdicts.check_sanity("x", 1, 1, True, ""),
+    lambda: verdicts.check_measure("x", 1, ""),
+])
+def test_a_tolerance_without_its_reason_is_refused(make):
+    with pytest.raises(ValueError, match="must say, in words"):
+        make()
+
+
+def test_a_single_run_number_is_judged_among_at_least_32_runs():
+    with pytest.raises(ValueError, match="at least 32 single runs; got 31"):
+        verdicts.check_draw("x", 1.0, np.ones(31))
+    with pytest.raises(ValueError, match="finite"):
+        verdicts.check_draw("x", 1.0, [np.nan] * 40)
+    runs = np.arange(40.0)
+    inside = verdicts.check_draw("x (m)", 19.7, runs)
+    assert inside.verdict == "REPRODUCED" and "50th percentile of our 40 runs" in inside.reading
+    above = verdicts.check_draw("x (m)", 60.0, runs)
+    assert above.verdict == "NOT REPRODUCED" and "above all of our 40 runs" in above.reading
+    with pytest.raises(ValueError, match="must say, in words"):
+        verdicts.check_draw("x (m)", 41.0, runs, slack=5.0)
+    widened = verdicts.check_draw("x (m)", 41.0, runs, slack=5.0, why="printed digits")
+    assert widened.verdict == "REPRODUCED" and "printed digits" in widened.tolerance
+
+
+def test_an_ordering_is_reproduced_refuted_or_undecided_with_the_runs_it_needs():
+    assert verdicts.check_order("a < b", "a < b", [-2.0, -3.0, -2.5]).verdict == "REPRODUCED"
+    against = verdicts.check_order("a < b", "a < b", [2.0, 3.0, 2.5])
+    assert against.verdict == "NOT REPRODUCED" and "opposite order" in against.reading
+    open_ = verdicts.check_order("a < b", "a < b", [-1.0, 1.5, -2.0, 1.0])
+    assert open_.verdict == "UNDECIDED" and "runs would decide it (we have 4)" in open_.reading
+
+

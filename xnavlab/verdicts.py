@@ -1,0 +1,443 @@
+"""The verdicts of the reproductions: one vocabulary, and the rows that judge a paper's claims.
+
+A reproduction (:mod:`xnavlab.reproduce`) returns rows (:class:`Check`), each the paper's value
+beside ours, the tolerance with its reason, and a verdict. This module holds the vocabulary and
+the constructors of the rows; :mod:`xnavlab.reproduce` holds the registry, the results and
+their tables, and re-exports these names (``reproduce.check_rel`` is this ``check_rel``).
+
+The verdicts
+------------
+One vocabulary (:data:`VERDICTS`) is used by every table that shows a reproduction: a
+chapter's last cell and its summary box, the command line, its JSON and the dashboard. A row
+is either a *claim* of the paper, judged against our numbers, or a *check* of ours, which is
+never counted as a reproduction.
+
+``REPRODUCED``
+    The paper's claim holds within a stated tolerance, whose reason is written beside it. For
+    a number the paper reports from one run, the tolerance is our own spread: the paper's
+    number must fall inside the 95 % range of at least 32 of our single runs
+    (:func:`check_draw`).
+``NOT REPRODUCED``
+    Our numbers contradict the claim; the row says by how much.
+``UNDECIDED``
+    The claim is inside our noise (an ordering whose paired difference is not resolved by our
+    runs, :func:`check_order`); the row says about how many runs would decide it.
+``CHECK``
+    Not a claim of the paper: a sanity or consistency check of ours that holds, or an extra
+    measurement shown beside the paper's (where the paper gives no number).
+``CHECK FAILED``
+    A check of ours that does not hold: a defect, which fails the tests.
+
+A reproduction's headline (:attr:`Result.verdict`, :data:`HEADLINES`) follows its claims:
+``REPRODUCED`` (every claim), ``PARTLY REPRODUCED`` (some claims reproduced, others not or
+undecided), ``NOT REPRODUCED`` (claims, none reproduced, at least one refuted), ``UNDECIDED``
+(every claim undecided), ``CHECK`` (no claim of the paper: only checks), or ``ERROR`` (it
+raised or a check failed). A result is :attr:`Result.ok` when it has no error and every check
+holds: that, and the verdicts recorded in ``tests/test_verdicts.py``, is what the tests
+assert; a claim that is not reproduced is an honest result, not a failure. :func:`headline`
+is the one sentence that counts the claims and the checks, printed by
+``python -m xnavlab reproduce --all`` and shown by the dashboard.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+__all__ = [
+    "REPRODUCED",
+    "NOT_REPRODUCED",
+    "UNDECIDED",
+    "CHECK",
+    "CHECK_FAILED",
+    "PARTLY_REPRODUCED",
+    "ERROR",
+    "CLAIM_VERDICTS",
+    "VERDICTS",
+    "HEADLINES",
+    "MIN_RUNS",
+    "Check",
+    "check_rel",
+    "check_abs",
+    "check_range",
+    "check_true",
+    "check_draw",
+    "check_order",
+    "check_sanity",
+    "check_measure",
+    "show",
+]
+
+
+#: The paper's claim holds within a stated, justified tolerance.
+REPRODUCED = "REPRODUCED"
+#: Our numbers contradict the paper's claim (the row says by how much).
+NOT_REPRODUCED = "NOT REPRODUCED"
+#: The claim is inside our noise (the row says how many runs would decide it).
+UNDECIDED = "UNDECIDED"
+#: A check of ours (sanity, consistency, an extra measurement) that holds; not a claim.
+CHECK = "CHECK"
+#: A check of ours that does not hold: a defect (fails the tests).
+CHECK_FAILED = "CHECK FAILED"
+#: The verdicts of a claim of the paper.
+CLAIM_VERDICTS = (REPRODUCED, NOT_REPRODUCED, UNDECIDED)
+#: The one verdict vocabulary of every row of every reproduction table, in this order.
+VERDICTS = (*CLAIM_VERDICTS, CHECK, CHECK_FAILED)
+#: Headline of a reproduction with some claims reproduced and others not, or undecided.
+PARTLY_REPRODUCED = "PARTLY REPRODUCED"
+#: Headline of a reproduction that raised, or whose check failed.
+ERROR = "ERROR"
+#: A reproduction's headline verdict (:attr:`Result.verdict`), in this order.
+HEADLINES = (REPRODUCED, PARTLY_REPRODUCED, NOT_REPRODUCED, UNDECIDED, CHECK, ERROR)
+#: The fewest of our single runs a paper's single-run number is judged against.
+MIN_RUNS = 32
+
+
+@dataclass(frozen=True)
+class Check:
+    """One row: a quantity, the paper's value, ours, the tolerance with its reason, the verdict.
+
+    Attributes
+    ----------
+    name : str
+        The quantity, with its unit.
+    paper : object
+        The paper's value (a number, or words where the paper gives words).
+    ours : object
+        Our value.
+    tolerance : str
+        The criterion and the reason for it ("within 5 %: the paper prints three digits").
+    verdict : str
+        One of :data:`VERDICTS`.
+    reading : str
+        What the numbers say beyond the verdict: where the paper's number falls among our runs,
+        by how much ours differs, or how many runs would decide an undecided claim.
+    """
+
+    name: str
+    paper: Any
+    ours: Any
+    tolerance: str
+    verdict: str
+    reading: str = ""
+
+    def __post_init__(self):
+        if self.verdict not in VERDICTS:
+            raise ValueError(f"verdict must be one of {', '.join(VERDICTS)}; got {self.verdict!r}")
+
+    @property
+    def claimed(self):
+        """Whether the row is a claim of the paper (not a check of ours)."""
+        return self.verdict in CLAIM_VERDICTS
+
+    @property
+    def ok(self):
+        """False only for a check of ours that does not hold (`CHECK_FAILED`)."""
+        return self.verdict != CHECK_FAILED
+
+    def sentence(self):
+        """The row in one plain sentence, for a chapter's prose (glued, never typed).
+
+        Examples
+        --------
+        >>> c = check_rel("B0531+21 (m)", 109.0, 111.0, 0.05, why="three digits")
+        >>> print(c.sentence())  # doctest: +NORMALIZE_WHITESPACE
+        B0531+21 (m): the paper 109, ours 111: REPRODUCED (within 5 % of the paper:
+        three digits; ours is 1.8 % above the paper).
+        """
+        if self.claimed:
+            text = f"{self.name}: the paper {show(self.paper)}, ours {show(self.ours)}: {self.verdict}"
+        else:
+            text = f"{self.name}: ours {show(self.ours)}: {self.verdict}"
+        detail = "; ".join(s for s in (self.tolerance, self.reading) if s)
+        return f"{text} ({detail})." if detail else f"{text}."
+
+
+def _claim(name, paper, ours, holds, tolerance, reading):
+    """A claim row: `REPRODUCED` when ``holds``, else `NOT_REPRODUCED`."""
+    return Check(name, paper, ours, tolerance, REPRODUCED if holds else NOT_REPRODUCED, reading)
+
+
+def _why(criterion, why):
+    if not (isinstance(why, str) and why.strip()):
+        raise ValueError("why must say, in words, the reason for the tolerance")
+    return f"{criterion}: {why.strip()}"
+
+
+def _finite(name, value):
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a real number; got {value!r}") from None
+    return value
+
+
+def _relative(ours, paper):
+    if not (math.isfinite(ours) and paper != 0):
+        return ""
+    d = 100.0 * (ours - paper) / abs(paper)
+    if not d:
+        return "ours equals the paper"
+    return f"ours is {abs(d):.2g} % {'above' if d > 0 else 'below'} the paper"
+
+
+def check_rel(name, paper, ours, rel, why):
+    """A claim that holds when ``|ours - paper| <= rel * |paper|``.
+
+    Parameters
+    ----------
+    name : str
+        The quantity, with its unit.
+    paper, ours : float
+        The paper's value and ours.
+    rel : float
+        The relative tolerance (0.05 is 5 %).
+    why : str
+        The reason for that tolerance (the paper's printed digits, a lost parameter, a named
+        physical difference). Required: a tolerance without a reason is not a check.
+
+    Examples
+    --------
+    >>> check_rel("B0531+21 (m)", 109.0, 111.0, 0.05, why="three printed digits").verdict
+    'REPRODUCED'
+    >>> check_rel("B0531+21 (m)", 109.0, 131.0, 0.05, why="three printed digits").reading
+    'ours is 20 % above the paper'
+    """
+    paper, ours = _finite("paper", paper), _finite("ours", ours)
+    ok = math.isfinite(ours) and abs(ours - paper) <= rel * abs(paper)
+    return _claim(name, paper, ours, ok, _why(f"within {100 * rel:g} % of the paper", why),
+                  _relative(ours, paper))
+
+
+def check_abs(name, paper, ours, tol, unit="", why=""):
+    """A claim that holds when ``|ours - paper| <= tol``.
+
+    Examples
+    --------
+    >>> check_abs("improvement (%)", 67.4, 60.0, 10.0, "pp", why="one run").verdict
+    'REPRODUCED'
+    """
+    paper, ours = _finite("paper", paper), _finite("ours", ours)
+    ok = math.isfinite(ours) and abs(ours - paper) <= tol
+    reading = f"ours is {abs(ours - paper):.3g} {unit} {'above' if ours > paper else 'below'} the paper" \
+        if math.isfinite(ours) and ours != paper else ""
+    return _claim(name, paper, ours, ok, _why(f"within {tol:g} {unit}".rstrip(), why),
+                  " ".join(reading.split()))
+
+
+def check_range(name, paper, ours, lo, hi, why):
+    """A claim that holds when ``lo <= ours <= hi``; ``why`` says why those bounds.
+
+    Examples
+    --------
+    >>> check_range("mean error (m)", "lost", 1487.0, 100.0, 1e4, why="DE405-class").verdict
+    'REPRODUCED'
+    """
+    ours = _finite("ours", ours)
+    ok = math.isfinite(ours) and lo <= ours <= hi
+    return _claim(name, paper, ours, ok, _why(f"between {lo:g} and {hi:g}", why),
+                  "" if ok else _outside(ours, lo, hi))
+
+
+def _outside(ours, lo, hi):
+    """How far ``ours`` lies outside ``[lo, hi]``, in words."""
+    if not math.isfinite(ours):
+        return f"ours is {ours}, not a number in the range"
+    bound, side = (lo, "below") if ours < lo else (hi, "above")
+    gap = abs(ours - bound)
+    if bound != 0 and ours != 0 and (ours / bound > 0):
+        ratio = max(abs(ours / bound), abs(bound / ours))
+        if ratio >= 1.5:
+            return f"ours is {ratio:.2g} times {side} the {'lower' if side == 'below' else 'upper'} bound"
+    return f"ours is {gap:.3g} {side} the {'lower' if side == 'below' else 'upper'} bound"
+
+
+def check_true(name, paper, ours, condition, why, reading=""):
+    """A qualitative claim (e.g. "isolated as the x gyro"): reproduced when ``condition`` holds.
+
+    ``reading`` says what the numbers show beyond the verdict; when the claim fails and none is
+    given, the row says that ours does not meet the condition.
+
+    Examples
+    --------
+    >>> check_true("isolated", "x gyro", "x gyro", True, why="the same sensor").verdict
+    'REPRODUCED'
+    >>> check_true("isolated", "x gyro", "y gyro", False, why="the same sensor").reading
+    'ours (y gyro) does not meet it'
+    """
+    if not (isinstance(why, str) and why.strip()):
+        raise ValueError("why must say, in words, what the condition checks")
+    if not condition and not reading:
+        reading = f"ours ({show(ours)}) does not meet it"
+    return _claim(name, paper, ours, bool(condition), why.strip(), reading)
+
+
+def _ordinal(p):
+    n = int(round(p))
+    suffix = "th" if 10 <= n % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(n % 10, "th")
+    return f"{n}{suffix}"
+
+
+def check_draw(name, paper, runs, why="", slack=0.0, unit=""):
+    """A number the paper reports from one run, judged as one draw from our single runs.
+
+    Our ``runs`` (at least :data:`MIN_RUNS`, one per seed) give the 95 % range of a single
+    run (its 2.5th to 97.5th percentiles). The claim is reproduced when the paper's number
+    falls inside that range, widened by ``slack`` on either side when a reason for more is
+    written in ``why`` (the paper's printed digits, a lost parameter, a named physical
+    difference). The reading gives the paper's percentile among our runs.
+
+    Parameters
+    ----------
+    name : str
+        The quantity, with its unit.
+    paper : float
+        The paper's single-run number.
+    runs : array_like, shape (n,)
+        Our single runs, one per seed; ``n >= MIN_RUNS``, all finite.
+    why : str, optional
+        The reason for a ``slack`` (required when ``slack > 0``).
+    slack : float, optional
+        Added to both ends of our range, in the quantity's unit.
+    unit : str, optional
+        The quantity's unit, for the reading.
+
+    Examples
+    --------
+    >>> runs = np.linspace(26.0, 30.0, 40)
+    >>> c = check_draw("fused position error (m)", 28.835, runs)
+    >>> c.verdict, c.reading
+    ('REPRODUCED', "the paper's number is at the 70th percentile of our 40 runs")
+    >>> check_draw("fused position error (m)", 36.587, runs).verdict
+    'NOT REPRODUCED'
+    """
+    paper = _finite("paper", paper)
+    runs = np.asarray(runs, dtype=float).ravel()
+    if runs.size < MIN_RUNS:
+        raise ValueError(f"runs must hold at least {MIN_RUNS} single runs; got {runs.size}")
+    if not np.all(np.isfinite(runs)):
+        raise ValueError("runs must all be finite")
+    if slack < 0 or not math.isfinite(slack):
+        raise ValueError(f"slack must be finite and >= 0; got {slack!r}")
+    lo, hi = np.percentile(runs, [2.5, 97.5])
+    criterion = f"inside the 95 % range of our {runs.size} single runs"
+    if slack > 0:
+        criterion = _why(f"{criterion}, widened by {slack:g} {unit}".rstrip(), why)
+    elif why:
+        criterion = f"{criterion}: {why.strip()}"
+    pct = 100.0 * (np.sum(runs < paper) + 0.5 * np.sum(runs == paper)) / runs.size
+    med = float(np.median(runs))
+    if paper < runs.min():
+        where = f"the paper's number is below all of our {runs.size} runs"
+    elif paper > runs.max():
+        where = f"the paper's number is above all of our {runs.size} runs"
+    else:
+        where = f"the paper's number is at the {_ordinal(pct)} percentile of our {runs.size} runs"
+    inside = lo - slack <= paper <= hi + slack
+    if not inside and med != 0:
+        where += f"; {_relative(paper, med).replace('ours is', 'it is').replace('the paper', 'our median')}"
+    ours = f"median {med:.4g} [{lo:.4g}, {hi:.4g}]"
+    return _claim(name, paper, ours, inside, criterion, where)
+
+
+def check_order(name, claim, differences, unit="", why=""):
+    """A claimed ordering ("A better than B"), judged on paired differences over seeds.
+
+    ``differences`` are ``A - B`` per seed (e.g. RMSE of A minus RMSE of B: negative where A
+    is better, as claimed). With the mean difference and its 95 % interval (1.96 standard
+    errors): `REPRODUCED` when the interval lies below zero, `NOT_REPRODUCED` when it lies
+    above, `UNDECIDED` otherwise, with the number of runs that would decide it if the mean and
+    spread stayed as measured.
+
+    Parameters
+    ----------
+    name : str
+        The ordering, e.g. ``"RKF better than TDUKF (paired RMSE difference, m)"``.
+    claim : str
+        The paper's claim in words (``"RKF < TDUKF"``).
+    differences : array_like, shape (n,)
+        Paired differences, A minus B, one per seed; ``n >= 2``, all finite.
+    unit : str, optional
+        Their unit.
+    why : str, optional
+        Anything beyond the statistics the reader needs (a named difference of set-up).
+
+    Examples
+    --------
+    >>> check_order("A better than B (m)", "A < B", [-3.0, -2.0, -4.0, -3.0]).verdict
+    'REPRODUCED'
+    >>> c = check_order("A better than B (m)", "A < B", [-3.0, 2.0, -4.0, 3.0])
+    >>> c.verdict, c.reading
+    ('UNDECIDED', 'the 95 % interval holds zero; about 190 runs would decide it (we have 4)')
+    """
+    d = np.asarray(differences, dtype=float).ravel()
+    if d.size < 2 or not np.all(np.isfinite(d)):
+        raise ValueError("differences must hold at least 2 finite paired differences")
+    mean, se = float(d.mean()), float(d.std(ddof=1) / math.sqrt(d.size))
+    lo, hi = mean - 1.96 * se, mean + 1.96 * se
+    ours = f"{mean:+.3g} [{lo:+.3g}, {hi:+.3g}] {unit}".rstrip()
+    criterion = f"95 % interval of the mean paired difference over {d.size} seeds below zero"
+    if why:
+        criterion += f": {why.strip()}"
+    if hi < 0:
+        return Check(name, claim, ours, criterion, REPRODUCED, "")
+    if lo > 0:
+        return Check(name, claim, ours, criterion, NOT_REPRODUCED,
+                     "the opposite order holds: the interval lies above zero")
+    if mean == 0:
+        reading = "the 95 % interval holds zero and the mean difference is zero"
+    else:
+        need = math.ceil((1.96 * float(d.std(ddof=1)) / abs(mean)) ** 2)
+        reading = (f"the 95 % interval holds zero; about {need} runs would decide it "
+                   f"(we have {d.size})")
+    return Check(name, claim, ours, criterion, UNDECIDED, reading)
+
+
+def check_sanity(name, expected, ours, condition, what):
+    """A check of ours (not a claim of the paper): `CHECK` when ``condition`` holds.
+
+    Use it for sanity and consistency checks (an orbit stays bound, a covariance stays
+    positive definite, our implementation matches a witness). ``expected`` says what we
+    expect; ``what`` says the criterion. A check that does not hold is `CHECK_FAILED`, a
+    defect that fails the tests.
+
+    Examples
+    --------
+    >>> check_sanity("min altitude (km)", "above the surface", 420.4, True, "> 0").verdict
+    'CHECK'
+    """
+    if not (isinstance(what, str) and what.strip()):
+        raise ValueError("what must say, in words, the criterion of the check")
+    return Check(name, expected, ours, what.strip(), CHECK if condition else CHECK_FAILED, "")
+
+
+def check_measure(name, ours, what, paper="not given"):
+    """An extra measurement shown beside the paper's (`CHECK`): nothing is decided by it.
+
+    Use it where the paper gives no number (``paper="not given"``) or gives one for another
+    set-up; ``what`` says what the number is and why it is shown.
+
+    Examples
+    --------
+    >>> check_measure("false alarms in 30 days", 4, "design pfa 1e-5 per sample").verdict
+    'CHECK'
+    """
+    if not (isinstance(what, str) and what.strip()):
+        raise ValueError("what must say, in words, what the measurement shows")
+    return Check(name, paper, ours, what.strip(), CHECK, "")
+
+
+def show(x):
+    """A value as a table shows it: a float to four significant digits, anything else as text.
+
+    Examples
+    --------
+    >>> show(28.8351), show("RKF < TDUKF")
+    ('28.84', 'RKF < TDUKF')
+    """
+    if isinstance(x, float):
+        return f"{x:.4g}"
+    return str(x)
