@@ -152,7 +152,7 @@ def test_naive_rejoining_lets_the_biased_stretch_in(inputs):
 def test_reproductions_pass(rid):
     from xnavlab import reproduce
 
-    reproduce.run(rid).assert_passed()
+    reproduce.run(rid).assert_ok()
 
 
 def test_plot_fault_response_is_a_figure():
