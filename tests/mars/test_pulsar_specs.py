@@ -96,3 +96,12 @@ def test_a_scenario_with_a_timing_model_pulsar_runs(par):
     res = scenarios.run(sc)
     assert np.isfinite(res.metrics()["position_error_m"])
     assert res.nis.shape[1] == 3
+
+
+def test_a_malformed_timing_model_is_one_line_naming_it(tmp_path):
+    bad = tmp_path / "bad.par"
+    bad.write_text("PSR J0000\nGARBAGE x\n")
+    with pytest.raises(ValueError) as exc:
+        pulsar_specs.check_list([str(bad)])
+    assert "PINT cannot read the timing model" in str(exc.value) and str(bad) in str(exc.value)
+    assert len(str(exc.value).splitlines()) == 1

@@ -265,7 +265,14 @@ def from_par(path, distance=None, flux_ph_cm2_s=None, pulsed_fraction=None, duty
 
     if duty_cycle is not None and width_s is not None:
         raise ValueError("give duty_cycle or width_s, not both (the same pulse width)")
-    par = pint_bridge.timing_parameters(path)
+    try:
+        par = pint_bridge.timing_parameters(path)
+    except ValueError:
+        raise
+    except Exception as exc:  # PINT's own errors on a malformed model: one line, named
+        why = (str(exc).strip().splitlines() or [""])[0]
+        raise ValueError(f"path: PINT cannot read the timing model {str(path)!r} "
+                         f"({type(exc).__name__}: {why})") from None
     period = 1.0 / par["f0"]
     row = xray_pulsars.lookup(par["name"])
     given = {"flux_ph_cm2_s": flux_ph_cm2_s, "pulsed_fraction": pulsed_fraction,
