@@ -6,6 +6,7 @@ import sys
 
 import pytest
 
+from xnavlab import reproduce
 from xnavlab.cli import main
 
 
@@ -18,10 +19,11 @@ def test_reproduce_json(capsys):
     assert main(["reproduce", "xnav-ranging", "--json"]) == 0
     payload = json.loads(capsys.readouterr().out)
     assert payload["id"] == "xnav-ranging"
-    assert payload["pass"] is True and payload["verdict"] == "PASS"
-    assert set(payload) >= {"id", "paper", "ours", "tolerance", "pass", "checks", "verdict"}
-    assert set(payload["checks"].values()) <= {"PASS", "NOT CLAIMED", "FAIL"}
-    assert set(payload["ours"]) == {"B0531+21", "B1937+21", "B1957+20", "B1821-24"}
+    assert payload["ok"] is True and payload["verdict"] in reproduce.HEADLINES
+    assert set(payload) >= {"id", "verdict", "ok", "counts", "rows", "note", "figures", "error"}
+    assert {row["verdict"] for row in payload["rows"]} <= set(reproduce.VERDICTS)
+    assert {row["kind"] for row in payload["rows"]} == {"claim"}
+    assert {row["name"] for row in payload["rows"]} >= {"B0531+21 ranging (m)", "B1821-24 ranging (m)"}
 
 
 def test_reproduce_out_writes_figure(tmp_path, capsys):
