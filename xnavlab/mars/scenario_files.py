@@ -33,7 +33,8 @@ Examples
 >>> loads('[uv]\\nsigma_range = 1')
 Traceback (most recent call last):
 ...
-ValueError: scenario file: [uv] has no key 'sigma_range' (keys: dt_s, sigma_range_m, sigma_dir_deg)
+ValueError: scenario file: [uv] has no key 'sigma_range' (keys: dt_s, sigma_range_m, sigma_dir_deg, \
+range_model, limb)
 """
 
 from __future__ import annotations
@@ -120,9 +121,15 @@ _KEYS = {
     ("uv", "dt_s"): ("dt_uv", "measurement interval, s, [0.1, 86400]"),
     ("uv", "sigma_range_m"): ("sigma_range_m", "range noise, m"),
     ("uv", "sigma_dir_deg"): ("sigma_dir_deg", "direction noise per axis, deg"),
+    ("uv", "range_model"): ("uv_range_model", "\"constant\" (the paper's) or \"radius\" (from "
+                                              "the apparent radius, orbit-mean sigma_range_m)"),
+    ("uv", "limb"): ("limb", "limb of the UV and horizon sensors: \"sphere\" (the paper's) or "
+                             "\"oblate\" (Mars's ellipsoid fitted by a sphere)"),
     ("cns", "dt_s"): ("dt_cns", "measurement interval, s, [0.1, 86400]"),
     ("cns", "sigma_star_arcsec"): ("sigma_star_arcsec", "star-sensor noise, arcsec"),
     ("cns", "sigma_horizon_deg"): ("sigma_horizon_deg", "horizon-sensor noise, deg"),
+    ("cns", "horizon_tau_s"): ("horizon_tau_s", "correlation time of the horizon errors, s; 0 "
+                                                "for white (the paper's)"),
     ("cns", "stars"): ("stars", "the three stars, by name; omit to pick them from the catalogue"),
     ("detector", "name"): ("detector:name", "\"none\", \"wavelet\", \"chi2\" or \"combined\"; "
                                             "omit for combined with faults, else none"),

@@ -69,10 +69,10 @@ from xnavlab.mars import (
     force_models,
     kernels,
     model_noise,
+    optics,
     pulsar_specs,
     pulsars,
     sensors,
-    series,
     stars,
     timing_bound,
     toa,
@@ -149,6 +149,11 @@ class MarsScenario:
         UV range and per-axis direction noise (paper: 5000 m, 0.1 deg).
     sigma_star_arcsec, sigma_horizon_deg : float
         CNS star-sensor and horizon-sensor noise (paper: 3 arcsec, 0.05 deg).
+    uv_range_model, limb, horizon_tau_s : str, str, float
+        The optical sensors as instruments (:mod:`xnavlab.mars.optics`; the filter keeps its
+        white ``R``): UV range ``"constant"`` (paper) or ``"radius"`` (from the apparent
+        radius), limb ``"sphere"`` (paper) or ``"oblate"``, horizon errors white (``0``,
+        paper) or Gauss-Markov with this correlation time, s.
     stars : tuple of str or None
         The three CNS stars; ``None`` applies :func:`xnavlab.mars.stars.pick_three`.
     pos_err0_m, vel_err0_mps : float
@@ -209,6 +214,9 @@ class MarsScenario:
     sigma_star_arcsec: float = 3.0
     sigma_horizon_deg: float = 0.05
     stars: tuple | None = None
+    uv_range_model: str = "constant"
+    limb: str = "sphere"
+    horizon_tau_s: float = 0.0
     pos_err0_m: float = 5000.0
     vel_err0_mps: float = 1.0
     init_error: str = "fixed"
@@ -236,6 +244,9 @@ class MarsScenario:
         check_real("sigma_dir_deg", self.sigma_dir_deg, 0.0, 10.0, lo_open=True)
         check_real("sigma_star_arcsec", self.sigma_star_arcsec, 0.0, 3600.0, lo_open=True)
         check_real("sigma_horizon_deg", self.sigma_horizon_deg, 0.0, 10.0, lo_open=True)
+        check_choice("uv_range_model", self.uv_range_model, optics.RANGE_MODELS)
+        check_choice("limb", self.limb, optics.LIMBS)
+        check_real("horizon_tau_s", self.horizon_tau_s, 0.0, 1e8)
         check_real("pos_err0_m", self.pos_err0_m, 0.0, 1e7, lo_open=True)
         check_real("vel_err0_mps", self.vel_err0_mps, 0.0, 1e3, lo_open=True)
         check_choice("init_error", self.init_error, ("fixed", "random"))
@@ -474,15 +485,13 @@ def prepare(scenario=None, **overrides):
             xnav_bodies = (ephemeris.position("mars", t, sc.filter_ephem).reshape(-1, 3),
                            ephemeris.position("sun", t, sc.filter_ephem).reshape(-1, 3))
         elif s == "uv":
-            # the model of UVSensor.simulate, compiled (same draws, equal to rounding)
-            uv = sens["uv"]
-            z[s] = _series(rng, truth, k, 3, 4, series.simulate_uv,
-                           (uv.sigma_range, uv.sigma_dir))
+            # the model of UVSensor.simulate, compiled (same draws, equal to rounding), or
+            # the instrument options of xnavlab.mars.optics (same draws)
+            z[s] = _series(rng, truth, k, 3, 4, *optics.uv_series_model(sc, sens["uv"]))
         else:
             # the model of CNSSensor.simulate, compiled (same draws, equal to rounding)
             cns = sens["cns"]
-            z[s] = _series(rng, truth, k, 2 + 2 * cns.dim, cns.dim, series.simulate_cns,
-                           (cns.star_dirs, cns.sigma_star, cns.sigma_horizon))
+            z[s] = _series(rng, truth, k, 2 + 2 * cns.dim, cns.dim, *optics.cns_series_model(sc, cns))
     table = force_models.third_body_table(sc.filter_model, sc.t0, float(times[-1]),
                                           sc.filter_ephem)
     rec_t = sc.t0 + np.arange(0.0, span + 1e-9, sc.record_dt)

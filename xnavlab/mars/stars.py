@@ -46,6 +46,7 @@ __all__ = [
     "radec",
     "spread",
     "pick_three",
+    "starlight_geometry",
 ]
 
 #: Hipparcos catalogue epoch J1991.25 in s TDB past J2000 (-8.75 Julian years).
@@ -211,8 +212,10 @@ def pick_three(vmag_max=1.0, t=0.0, avoid=None, avoid_deg=0.0, candidates=None):
     Among the stars with ``V <= vmag_max`` (and farther than ``avoid_deg`` from every
     direction in ``avoid``, e.g. the Sun), return the triple that maximises
     :func:`spread`, the volume spanned by the three unit vectors. Well-spread stars
-    keep every starlight angle away from 0 and 180 deg, where eq. (6) loses its
-    sensitivity, whatever the direction to Mars. Ties go to the brighter triple.
+    keep the three starlight angles from all nearing 0 or 180 deg (where eq. (6) loses
+    its sensitivity) at once, not each of them: on the paper's orbit Acrux comes within
+    15 deg of the Mars direction and is behind Mars's disc for about a quarter of each
+    orbit (:func:`starlight_geometry`). Ties go to the brighter triple.
 
     Parameters
     ----------
@@ -268,3 +271,52 @@ def _pick_three(vmag_max, t, avoid, avoid_deg, names):
         if val > best_val + 1e-12:
             best, best_val = trio, val
     return tuple(s.name for s in best)
+
+
+def starlight_geometry(r, star_names=None, t=0.0, radius=None):
+    """Each star's starlight angle range and the fraction of the time it is hidden behind Mars.
+
+    The starlight angle of star ``j`` is ``arccos(-r . s_j / |r|)`` (paper eq. (6)); the star
+    is behind Mars's disc (occulted, no measurement) when that angle is below the disc's
+    apparent radius ``arcsin(R / |r|)``.
+
+    Parameters
+    ----------
+    r : array_like, shape (n, 3)
+        Spacecraft positions, Mars-centred J2000, m, sampled uniformly in time (e.g. the
+        truth of :func:`xnavlab.mars.scenarios.prepare`).
+    star_names : sequence of str, optional
+        Default :func:`pick_three`.
+    t : float
+        Epoch of the star directions, s TDB past J2000.
+    radius : float, optional
+        Mars's radius, m (default :data:`xnavlab.core.constants.R_MARS`, equatorial).
+
+    Returns
+    -------
+    dict
+        ``{name: {"min_deg", "max_deg", "occulted_fraction"}}``.
+
+    Examples
+    --------
+    >>> ang = np.linspace(0.0, 2 * np.pi, 360, endpoint=False)
+    >>> r = 4.2e6 * np.c_[np.cos(ang), np.sin(ang), np.zeros(360)]
+    >>> g = starlight_geometry(r, ("Polaris",))["Polaris"]
+    >>> round(g["min_deg"]), round(g["max_deg"]), g["occulted_fraction"]
+    (89, 91, 0.0)
+    """
+    from xnavlab.core.constants import R_MARS
+
+    r = check_finite_array("r", r, shape=(3,)).reshape(-1, 3)
+    radius = R_MARS if radius is None else check_real("radius", radius, 0.0, lo_open=True)
+    rho = np.linalg.norm(r, axis=1)
+    if np.any(rho <= radius):
+        raise ValueError("r must lie outside Mars (|r| > radius)")
+    names = pick_three(t=t) if star_names is None else tuple(get(s).name for s in star_names)
+    disc = np.arcsin(radius / rho)  # apparent radius of the disc
+    out = {}
+    for name in names:
+        ang = np.arccos(np.clip(-(r @ direction(name, t)) / rho, -1.0, 1.0))  # paper eq. (6)
+        out[name] = {"min_deg": float(np.degrees(ang.min())), "max_deg": float(np.degrees(ang.max())),
+                     "occulted_fraction": float(np.mean(ang < disc))}
+    return out
