@@ -31,8 +31,6 @@ module                 what it models
 ``sensors``            XNAV, UV and CNS measurement models (chapters 4-5)
 ``optics``             the optical sensors as instruments: range from the apparent radius,
                        Mars's oblate limb, correlated horizon errors (chapters 4-6)
-``optics``             the optical sensors as instruments: range from the apparent radius,
-                       Mars's oblate limb, correlated horizon errors (chapters 4-6)
 ``scenarios``          the paper's 30-day scenario and the federated run (chapters 5-6)
 ``scenario_files``     every scenario setting in a TOML file, with units (``run mars
                        --scenario``, ``python -m xnavlab scenario --dump``)
