@@ -32,6 +32,8 @@ module                 what it models
 ``optics``             the optical sensors as instruments: range from the apparent radius,
                        Mars's oblate limb, correlated horizon errors (chapters 4-6)
 ``scenarios``          the paper's 30-day scenario and the federated run (chapters 5-6)
+``time_update``        the filters' time update: RK4 with the paper's force model, the
+                       transition matrix, the process noise (chapter 5)
 ``scenario_files``     every scenario setting in a TOML file, with units (``run mars
                        --scenario``, ``python -m xnavlab scenario --dump``)
 ``model_mismatch``     matched vs mismatched truth and filter: accuracy and NEES

@@ -78,6 +78,7 @@ from xnavlab.mars import (
     toa,
 )
 from xnavlab.mars import kernel_inputs as ki
+from xnavlab.mars.time_update import Propagation, process_noise
 
 __all__ = [
     "alloc_records",
@@ -92,9 +93,6 @@ __all__ = [
     "MarsRun",
     "prepare",
     "run",
-    "process_noise",
-    "filter_step",
-    "filter_propagate",
     "nees_monte_carlo",
 ]
 
@@ -500,104 +498,6 @@ def prepare(scenario=None, **overrides):
     return Inputs(sc, times, truth, x0, meas_idx, z, t_meas, xnav_bodies, table, record, sens)
 
 
-# ------------------------------------------------------------- filter dynamics
-
-
-def process_noise(dt, q):
-    """White-acceleration process noise over ``dt``: ``q [[dt^3/3 I, dt^2/2 I], [dt^2/2 I, dt I]]``.
-
-    Examples
-    --------
-    >>> process_noise(2.0, 3.0)[[0, 0, 3], [0, 3, 3]].tolist()
-    [8.0, 6.0, 6.0]
-    """
-    Q = np.zeros((6, 6))
-    I3 = np.eye(3)
-    Q[:3, :3] = q * dt**3 / 3.0 * I3
-    Q[:3, 3:] = Q[3:, :3] = q * dt**2 / 2.0 * I3
-    Q[3:, 3:] = q * dt * I3
-    return Q
-
-
-def filter_step(x, t, dt, table):
-    """The filters' state propagation: one classical RK4 step of the paper's force model.
-
-    Parameters
-    ----------
-    x : ndarray, shape (6,)
-        State at ``t``.
-    t, dt : float
-        Epoch and step, s.
-    table : ThirdBodyTable
-        Third bodies (filter ephemeris).
-
-    Examples
-    --------
-    >>> tab = dynamics.ThirdBodyTable(dynamics.MARS_T0, dynamics.MARS_T0 + 100.0)
-    >>> x1 = filter_step(dynamics.MARS_STATE0, dynamics.MARS_T0, 3.0, tab)
-    >>> truth = dynamics.propagate([dynamics.MARS_T0 + 3.0])[0]
-    >>> bool(np.abs(x1 - truth)[:3].max() < 1e-6)
-    True
-    """
-
-    def f(tt, y):
-        return np.concatenate([y[3:], dynamics.acceleration(tt, y[:3], table)])
-
-    k1 = f(t, x)
-    k2 = f(t + dt / 2, x + dt / 2 * k1)
-    k3 = f(t + dt / 2, x + dt / 2 * k2)
-    k4 = f(t + dt, x + dt * k3)
-    return x + dt / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
-
-
-def filter_propagate(x, t, dt, table, max_step=10.0):
-    """The filters' time update of the state: ``ceil(dt / max_step)`` RK4 sub-steps.
-
-    Returns the propagated state and the transition matrix ``Phi_n ... Phi_1``
-    (:func:`xnavlab.mars.dynamics.transition_matrix` at the start of each sub-step).
-
-    Returns
-    -------
-    x : ndarray, shape (6,)
-    Phi : ndarray, shape (6, 6)
-
-    Examples
-    --------
-    >>> tab = dynamics.ThirdBodyTable(dynamics.MARS_T0, dynamics.MARS_T0 + 600.0)
-    >>> x, Phi = filter_propagate(dynamics.MARS_STATE0, dynamics.MARS_T0, 500.0, tab)
-    >>> truth = dynamics.propagate([dynamics.MARS_T0 + 500.0])[0]
-    >>> bool(np.abs(x - truth)[:3].max() < 1e-3)
-    True
-    """
-    n = max(1, math.ceil(dt / max_step - 1e-9))
-    h = dt / n
-    Phi = np.eye(6)
-    for i in range(n):
-        Phi = dynamics.transition_matrix(x[:3], h) @ Phi
-        x = filter_step(x, t + i * h, h, table)
-    return x, Phi
-
-
-class _Propagation:
-    """Memo of one time update, so that ``f(x)`` and ``F(x)`` integrate once."""
-
-    def __init__(self, t, dt, table, max_step):
-        self.args = (t, dt, table, max_step)
-        self.key, self.val = None, None
-
-    def _get(self, x):
-        key = x.tobytes()
-        if key != self.key:
-            self.key, self.val = key, filter_propagate(x, *self.args)
-        return self.val
-
-    def f(self, x):
-        return self._get(x)[0]
-
-    def F(self, x):
-        return self._get(x)[1]
-
-
 # ------------------------------------------------------------------------ runs
 
 
@@ -832,7 +732,7 @@ def _run_numpy(inp, active, gate, beta, progress, kind="ekf"):
     for k in range(inp.n):
         if k > 0:
             tp, dt = times[k - 1], times[k] - times[k - 1]
-            prop = _Propagation(tp, dt, inp.table, sc.max_step)
+            prop = Propagation(tp, dt, inp.table, sc.max_step)
             ff.predict(prop.f, prop.F, process_noise(dt, sc.q_acc))  # P = F P F^T + Q
             for i, s in enumerate(sc.subsystems):
                 j = inp.meas_idx[k, i]
