@@ -83,3 +83,33 @@ def test_code_digest_refuses_what_is_not_a_module_of_the_package(tmp_path):
         code_digest(("pkg.nothing",), root=root)
     with pytest.raises(ValueError, match="a tuple of module names"):
         code_digest("pkg.top", root=root)
+
+
+def test_every_cache_entry_is_keyed_by_the_code_that_computes_it():
+    """A module that stores a result names its entry with entry_path (its code in the key); only
+    the reproduction cache and the headline campaign key by code_digest themselves."""
+    import ast
+    from pathlib import Path
+
+    root = Path(diskcache.__file__).resolve().parents[1]
+    own_key = {"xnavlab/core/diskcache.py", "xnavlab/reproduce.py", "xnavlab/mars/headline.py"}
+    offenders = []
+    for path in sorted(root.rglob("*.py")):
+        rel = path.relative_to(root.parent).as_posix()
+        calls = [n for n in ast.walk(ast.parse(path.read_text()))
+                 if isinstance(n, ast.Call) and getattr(n.func, "id", getattr(n.func, "attr", "")) == "cache_dir"]
+        if calls and rel not in own_key:
+            offenders.append(rel)
+    assert not offenders, f"cache entries not made by entry_path: {offenders}"
+
+
+def test_an_entry_moves_with_its_arguments_code_and_versions(monkeypatch):
+    base = diskcache.entry_path("demo", (1,), [np.arange(2.0)], ("xnavlab.core.constants",))
+    assert diskcache.entry_path("demo", (1,), [np.arange(2.0)], ("xnavlab.core.constants",)) == base
+    assert diskcache.entry_path("demo", (1,), [np.arange(2)], ("xnavlab.core.constants",)) != base
+    assert diskcache.entry_path("demo", (1,), [np.arange(2.0)], ("xnavlab.core.constants",),
+                                versions=("numpy",)) != base
+    monkeypatch.setattr(diskcache, "code_digest", lambda modules, root=None: "changed code")
+    assert diskcache.entry_path("demo", (1,), [np.arange(2.0)], ("xnavlab.core.constants",)) != base
+    with pytest.raises(ValueError, match="modules must name the modules"):
+        diskcache.entry_path("demo", (1,))

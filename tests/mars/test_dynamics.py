@@ -79,6 +79,22 @@ def test_truth_cache_round_trip(tmp_path, monkeypatch):
     np.testing.assert_allclose(a, dynamics.propagate(t), rtol=0, atol=1e-6)
 
 
+def test_a_changed_dynamics_code_computes_the_truth_again(tmp_path, monkeypatch):
+    from xnavlab.core import diskcache
+
+    monkeypatch.setenv("XNAVLAB_CACHE", str(tmp_path))
+    t = T0 + np.arange(0.0, 180.0, 60.0)
+    calls = []
+    real = dynamics.propagate
+    monkeypatch.setattr(dynamics, "propagate", lambda *a, **k: calls.append(1) or real(*a, **k))
+    dynamics.truth(t)
+    dynamics.truth(t)
+    assert len(calls) == 1                                   # the second read the file
+    monkeypatch.setattr(diskcache, "code_digest", lambda modules, root=None: "edited dynamics")
+    dynamics.truth(t)
+    assert len(calls) == 2 and len(list(tmp_path.glob("truth-*.npy"))) == 2
+
+
 @given(st.floats(1.0, 10.0))  # filter steps are 3 s; longer steps are subdivided
 def test_stm_matches_finite_differences(dt):
     r = X0[:3]

@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["cache_dir", "cached_arrays", "code_digest", "source_digest", "store"]
+__all__ = ["cache_dir", "cached_arrays", "code_digest", "entry_path", "load_array", "source_digest", "store"]
 
 
 def cache_dir():
@@ -258,3 +258,82 @@ def code_digest(modules, root=None):
             h.update(str(path.relative_to(root)).encode())
             h.update(path.read_bytes())
     return h.hexdigest()[:16]
+
+
+def entry_path(prefix, parts=(), arrays=(), modules=(), versions=(), suffix=".npz"):
+    """The cache entry for one result: ``$XNAVLAB_CACHE/<prefix>-<key><suffix>``.
+
+    The one place a cache key is made. The key covers everything that determines the result:
+    the arguments (``parts``, by their ``repr``; ``arrays``, by their bytes and dtype), the code
+    that computes it (:func:`code_digest` of ``modules``: the module and all it imports) and the
+    versions of the other distributions it calls (``versions``, e.g. ``("pint-pulsar",)``).
+
+    Parameters
+    ----------
+    prefix : str
+        What the entry holds (``"truth"``, ``"pint-witness"``).
+    parts : tuple
+        Arguments with an exact ``repr`` (numbers, strings, tuples of them).
+    arrays : sequence of array_like
+        Array arguments.
+    modules : tuple of str
+        The modules of the package that compute the entry (at least one).
+    versions : tuple of str
+        Distributions whose version is part of the key.
+    suffix : str
+        The file's suffix.
+
+    Returns
+    -------
+    pathlib.Path
+        Not created here.
+
+    Examples
+    --------
+    >>> a = entry_path("demo", (1, "x"), [np.arange(3.0)], ("xnavlab.core.constants",))
+    >>> a.name.startswith("demo-") and a.suffix == ".npz"
+    True
+    >>> a == entry_path("demo", (2, "x"), [np.arange(3.0)], ("xnavlab.core.constants",))
+    False
+    """
+    import importlib.metadata
+
+    if not modules:
+        raise ValueError("modules must name the modules that compute the entry (its code is "
+                         "part of the key)")
+    h = hashlib.sha256(repr((prefix, tuple(parts))).encode())
+    for a in arrays:
+        a = np.ascontiguousarray(a)
+        h.update(a.dtype.str.encode() + repr(a.shape).encode())
+        h.update(a.tobytes())
+    h.update(code_digest(tuple(modules)).encode())
+    for dist in versions:
+        try:
+            h.update(f"{dist}={importlib.metadata.version(dist)}".encode())
+        except importlib.metadata.PackageNotFoundError:
+            h.update(f"{dist}=none".encode())
+    return cache_dir() / f"{prefix}-{h.hexdigest()[:24]}{suffix}"
+
+
+def load_array(path, shape):
+    """The array stored at ``path`` (``.npy``) when it exists, is readable and has ``shape``, else None.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> entry = Path(tempfile.mkdtemp()) / "demo.npy"
+    >>> load_array(entry, (3,)) is None
+    True
+    >>> store(entry, lambda f: np.save(f, np.arange(3.0)))
+    True
+    >>> load_array(entry, (3,)).tolist(), load_array(entry, (4,))
+    ([0.0, 1.0, 2.0], None)
+    """
+    path = Path(path)
+    if not path.exists():
+        return None
+    try:
+        x = np.load(path)
+    except (OSError, ValueError):
+        return None
+    return x if x.shape == tuple(shape) else None

@@ -23,7 +23,6 @@ True
 
 from __future__ import annotations
 
-import hashlib
 import itertools
 import math
 from dataclasses import dataclass
@@ -34,7 +33,7 @@ import numpy as np
 
 from xnavlab.core import ephemeris
 from xnavlab.core.constants import GM_JUPITER, GM_MARS, GM_SUN, J2_MARS, J2_MARS_RADIUS, R_MARS
-from xnavlab.core.diskcache import cache_dir, store
+from xnavlab.core.diskcache import entry_path, load_array, store
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real
 
 __all__ = [
@@ -311,18 +310,14 @@ def propagate(t_eval, state0=MARS_STATE0, t0=MARS_T0, third_bodies=("sun", "jupi
     return sol.sol(t_eval).T
 
 
-#: Bump when the dynamics change, so that cached truth trajectories are recomputed.
-TRUTH_CACHE_VERSION = 1
-
-
 def truth(t_eval, state0=MARS_STATE0, t0=MARS_T0, third_bodies=("sun", "jupiter"), j2=False,
           ephem="de421", cache=True):
     """:func:`propagate` with the default tolerances, cached on disk.
 
     The first call for a given set of arguments integrates and stores the result under
     ``$XNAVLAB_CACHE`` (default ``~/.cache/xnavlab``); later calls, from any process,
-    load it. The key covers every argument, ``TRUTH_CACHE_VERSION`` and, with ``j2``, the
-    J2 model (``J2_MARS`` and its reference radius), so a changed model is never served
+    load it. The key covers every argument and the code that computes it (this module and all
+    it imports, :func:`xnavlab.core.diskcache.entry_path`), so a changed model is never served
     from a stale file.
 
     Returns
@@ -339,21 +334,11 @@ def truth(t_eval, state0=MARS_STATE0, t0=MARS_T0, third_bodies=("sun", "jupiter"
     bodies = tuple(third_bodies)
     if not cache:
         return propagate(t_eval, state0, t0, bodies, j2, ephem)
-    h = hashlib.sha256()
-    for part in (TRUTH_CACHE_VERSION, float(t0), bodies, bool(j2), ephem):
-        h.update(repr(part).encode())
-    if j2:  # the J2 model (value and reference radius) is part of the key
-        h.update(repr((J2_MARS, J2_MARS_RADIUS)).encode())
-    h.update(np.ascontiguousarray(t_eval).tobytes())
-    h.update(np.ascontiguousarray(state0).tobytes())
-    path = cache_dir() / f"truth-{h.hexdigest()[:24]}.npy"
-    if path.exists():
-        try:
-            x = np.load(path)
-            if x.shape == (t_eval.size, 6):
-                return x
-        except (OSError, ValueError):
-            pass
+    path = entry_path("truth", (float(t0), bodies, bool(j2), ephem), (t_eval, state0),
+                      (__name__,), suffix=".npy")
+    x = load_array(path, (t_eval.size, 6))
+    if x is not None:
+        return x
     x = propagate(t_eval, state0, t0, bodies, j2, ephem)
     store(path, lambda f: np.save(f, x))  # a read-only home still gets the result
     return x

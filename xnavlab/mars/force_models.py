@@ -48,7 +48,6 @@ True
 from __future__ import annotations
 
 import functools
-import hashlib
 import math
 from dataclasses import dataclass
 from importlib import resources
@@ -58,7 +57,7 @@ import numpy as np
 
 from xnavlab.core import ephemeris
 from xnavlab.core.constants import AU, DAY, GM_JUPITER, GM_MARS, GM_SUN, R_MARS, C
-from xnavlab.core.diskcache import cache_dir, store
+from xnavlab.core.diskcache import entry_path, load_array, store
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real
 from xnavlab.mars import dynamics
 
@@ -85,7 +84,6 @@ __all__ = [
     "third_body_table",
     "accelerations",
     "propagate",
-    "TRUTH_CACHE_VERSION",
     "truth",
 ]
 
@@ -745,10 +743,6 @@ def propagate(t_eval, state0=dynamics.MARS_STATE0, t0=dynamics.MARS_T0, force_mo
     return sol.sol(t_eval).T
 
 
-#: Bump when the rich dynamics change, so that cached truths are recomputed.
-TRUTH_CACHE_VERSION = 1
-
-
 def truth(t_eval, state0=dynamics.MARS_STATE0, t0=dynamics.MARS_T0, force_model=PAPER,
           ephem="de421", cache=True):
     """The truth trajectory of a model, cached on disk like :func:`xnavlab.mars.dynamics.truth`.
@@ -757,7 +751,8 @@ def truth(t_eval, state0=dynamics.MARS_STATE0, t0=dynamics.MARS_T0, force_model=
     the degree-2 zonal term is not what :func:`~xnavlab.mars.dynamics.truth` has) goes to
     :func:`xnavlab.mars.dynamics.truth`, so the paper's runs keep their numbers bit for bit;
     any other model is integrated by :func:`propagate` and stored under a key of every field,
-    the coefficients, the orientation, the GMs and :data:`TRUTH_CACHE_VERSION`.
+    the ephemeris's GMs and the code that computes it (this module, its coefficients and all
+    it imports: :func:`xnavlab.core.diskcache.entry_path`).
 
     Returns
     -------
@@ -778,24 +773,12 @@ def truth(t_eval, state0=dynamics.MARS_STATE0, t0=dynamics.MARS_T0, force_model=
         return dynamics.truth(t_eval, state0, t0, bodies, False, ephem, cache=cache)
     if not cache:
         return propagate(t_eval, state0, t0, fm, ephem)
-    h = hashlib.sha256()
-    Cu, Su = gravity_coefficients()
-    for part in (TRUTH_CACHE_VERSION, float(t0), sorted(fm.as_dict().items()), ephem,
-                 sorted(MARS_ORIENTATION.items()), GRAVITY_RADIUS, GM_MARS, R_MARS,
-                 SOLAR_PRESSURE_1AU, [planet_gm(b, ephem) for b in fm.third_bodies]):
-        h.update(repr(part).encode())
-    h.update(Cu.tobytes())
-    h.update(Su.tobytes())
-    h.update(np.ascontiguousarray(t_eval).tobytes())
-    h.update(np.ascontiguousarray(state0).tobytes())
-    path = cache_dir() / f"truth-model-{h.hexdigest()[:24]}.npy"
-    if path.exists():
-        try:
-            x = np.load(path)
-            if x.shape == (t_eval.size, 6):
-                return x
-        except (OSError, ValueError):
-            pass
+    gms = tuple(planet_gm(b, ephem) for b in fm.third_bodies)
+    path = entry_path("truth-model", (float(t0), tuple(sorted(fm.as_dict().items())), ephem, gms),
+                      (t_eval, state0), (__name__,), suffix=".npy")
+    x = load_array(path, (t_eval.size, 6))
+    if x is not None:
+        return x
     x = propagate(t_eval, state0, t0, fm, ephem)
     store(path, lambda f: np.save(f, x))
     return x

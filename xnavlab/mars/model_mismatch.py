@@ -32,15 +32,12 @@ Examples
 
 from __future__ import annotations
 
-import hashlib
 import json
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 
-import xnavlab
-from xnavlab.core.diskcache import cache_dir, source_digest, store
+from xnavlab.core.diskcache import entry_path, store
 from xnavlab.core.filters import chi2_bounds, judge_series
 from xnavlab.core.validate import check_int, check_real
 from xnavlab.mars import scenarios
@@ -97,9 +94,8 @@ Jupiter); q_acc 1e-11 m^2/s^3."
 
 
 def _key(kind, days, seeds, settle_days):
-    h = hashlib.sha256(repr((kind, days, seeds, settle_days)).encode())
-    h.update(source_digest(Path(xnavlab.__file__).parent, ("reproductions",)).encode())
-    return cache_dir() / f"mismatch-{kind}-{h.hexdigest()[:20]}.json"
+    return entry_path(f"mismatch-{kind}", (days, tuple(seeds), settle_days), (), (__name__,),
+                      suffix=".json")
 
 
 def _cached(path, compute, cache):

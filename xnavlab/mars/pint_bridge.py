@@ -66,7 +66,7 @@ from pathlib import Path
 import numpy as np
 
 from xnavlab.core.constants import DAY, KPC
-from xnavlab.core.diskcache import cache_dir, cached_arrays
+from xnavlab.core.diskcache import cached_arrays, entry_path
 from xnavlab.core.validate import check_choice, check_finite_array, check_int
 
 __all__ = [
@@ -91,8 +91,6 @@ EPHEMERIS = "de421"
 PLANETS = ("jupiter", "saturn", "venus", "uranus", "neptune")
 
 _MJD_J2000 = 51544.5  # MJD of J2000 (JD 2451545.0)
-#: Bump when a cached result changes meaning, so that stale files are recomputed.
-_CACHE_VERSION = 1
 _FERMI_EVENTS = "J0030+0451_P8_15.0deg_239557517_458611204_ft1weights_GEO_wt.gt.0.4.fits"
 _FERMI_PAR = "PSRJ0030+0451_psrcat.par"
 _FERMI_TEMPLATE = "templateJ0030.3gauss"
@@ -400,13 +398,10 @@ def planet_shapiro(r_sc_ssb, t, n):
 
 
 def _cache_file(kind, sources):
-    """Path of a disk cache entry under ``$XNAVLAB_CACHE`` (default ``~/.cache/xnavlab``)."""
-    h = hashlib.sha256()
-    h.update(repr((_CACHE_VERSION, kind, importlib.metadata.version("pint-pulsar"))).encode())
-    for path in sources:
-        h.update(path.name.encode())
-        h.update(str(path.stat().st_size).encode())
-    return cache_dir() / f"pint-{kind}-{h.hexdigest()[:24]}.npz"
+    """Path of a disk cache entry: keyed by the shipped files (names and sizes), this module's
+    code and PINT's version (:func:`xnavlab.core.diskcache.entry_path`)."""
+    files = tuple((path.name, path.stat().st_size) for path in sources)
+    return entry_path(f"pint-{kind}", files, (), (__name__,), versions=("pint-pulsar",))
 
 
 def _cached(kind, sources, compute):

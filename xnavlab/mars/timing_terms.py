@@ -32,14 +32,11 @@ True
 
 from __future__ import annotations
 
-import hashlib
-import importlib.metadata
-
 import numpy as np
 
 from xnavlab.core import ephemeris
 from xnavlab.core.constants import DAY, GM_SUN, C
-from xnavlab.core.diskcache import cache_dir, cached_arrays
+from xnavlab.core.diskcache import cached_arrays, entry_path
 from xnavlab.core.validate import check_choice, check_finite_array, check_real
 from xnavlab.mars import dynamics, pulsars, scenarios, toa
 
@@ -578,10 +575,8 @@ def navigation_effect(terms=TERMS, days=30.0, subsystems=("xnav",), seed=0):
 
 
 def _cache_path(kind, arrays):
-    h = hashlib.sha256(repr((1, kind, importlib.metadata.version("pint-pulsar"))).encode())
-    for a in arrays:
-        h.update(np.ascontiguousarray(a, dtype=float).tobytes())
-    return cache_dir() / f"pint-witness-{h.hexdigest()[:24]}.npz"
+    return entry_path("pint-witness", (kind,), [np.asarray(a, dtype=float) for a in arrays],
+                      (__name__,), versions=("pint-pulsar",))
 
 
 def pint_witness(r_ssb, t, n, distance):
