@@ -113,3 +113,46 @@ def test_tags_and_inputs_are_checked(big_window):
         big_window.processing_delay("exact")
     with pytest.raises(ValueError, match="error must"):
         ft.fold_window("B1821-24", T0, X0, error=(1.0, 2.0))
+
+
+def test_the_fold_shows_the_pulse_only_after_the_per_photon_time_transfer(big_window):
+    u = ft.simulate_window_photons(big_window, rng=3)
+    folds = {c: ft.fold_photons(big_window, u, c, nbins=128) for c in ft.CORRECTIONS}
+    for counts in folds.values():
+        assert counts.shape == (128,) and counts.sum() == pytest.approx(u.size, rel=0.01)
+    contrast = {c: f.max() / np.median(f) for c, f in folds.items()}
+    assert contrast["apriori"] > 2.0 and max(contrast["mars"], contrast["constant"]) < 1.5
+    # fold_toa measures the pulse of the same fold
+    r = ft.fold_toa(big_window, u, nbins=128)
+    assert abs(r.offset / big_window.pulsar.period) < 0.05
+    with pytest.raises(ValueError, match="u must hold photon offsets"):
+        ft.fold_photons(big_window, np.array([0.0, 260.0]))
+
+
+def test_the_survey_is_cached_by_its_arguments(monkeypatch, tmp_path):
+    monkeypatch.setenv("XNAVLAB_CACHE", str(tmp_path))
+    args = dict(pulsar_names=["B0531+21"], n_windows=1)
+    first = ft.window_survey(**args, cache=True)
+    assert first == ft.window_survey(**args)
+    assert len(list(tmp_path.glob("fold-survey-*.json"))) == 1
+    other = ft.window_survey(**args, error=ft.SETTLED_ERROR, cache=True)  # another key
+    assert other != first and len(list(tmp_path.glob("fold-survey-*.json"))) == 2
+    monkeypatch.setattr(ft, "expected_error", lambda *a, **k: None)  # would fail if called
+    assert ft.window_survey(**args, cache=True) == first
+
+
+def test_the_survey_figure_groups_the_tags_per_pulsar():
+    rows = [{"pulsar": n, "crlb_m": 100.0 * k, "apriori_mid_m": 10.0 * k,
+             "apriori_end_m": 50.0 * k} for k, n in enumerate(("B0531+21", "B1937+21"), 1)]
+    fig = ft.plot_survey({"initial": rows, "settled": rows})
+    ax = fig.axes[0]
+    assert [t.get_text() for t in ax.get_xticklabels()] == ["B0531+21", "B1937+21"]
+    labels = ax.get_legend_handles_labels()[1]
+    assert labels == ["Cramer-Rao bound of one TOA", "initial, mid-window tag", "initial, end tag",
+                      "settled, mid-window tag", "settled, end tag"]
+    heights = sorted(p.get_height() for p in ax.patches)
+    assert heights == sorted([10.0, 20.0, 50.0, 100.0] * 2)
+    with pytest.raises(ValueError, match="same pulsars"):
+        ft.plot_survey({"a": rows, "b": rows[:1]})
+    with pytest.raises(ValueError, match="at least one survey"):
+        ft.plot_survey({})

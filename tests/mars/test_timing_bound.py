@@ -144,3 +144,31 @@ def test_the_scenario_draws_and_weighs_xnav_noise_at_the_bound():
     truth = a.sensors["xnav"].h(a.truth[a.meas_idx[:, 0] >= 0], a.t_meas["xnav"])
     np.testing.assert_allclose((b.z["xnav"] - truth) / crlb, (a.z["xnav"] - truth) / paper,
                                rtol=1e-6, atol=1e-6)
+
+
+def test_the_table_is_cached_by_its_arguments(monkeypatch, tmp_path):
+    monkeypatch.setenv("XNAVLAB_CACHE", str(tmp_path))
+    args = dict(pulsar_names=["B1821-24"], n_trials=20, xcorr_trials=0, rng=3)
+    first = tb.accuracy_table(**args, cache=True)
+    assert first == tb.accuracy_table(**args)  # the same rows as computed without the cache
+    assert len(list(tmp_path.glob("accuracy-table-*.json"))) == 1
+    calls = []
+    monkeypatch.setattr(tb, "monte_carlo_ml_toa", lambda *a, **k: calls.append(1))
+    assert tb.accuracy_table(**args, cache=True) == first and not calls  # read back
+    with pytest.raises(ValueError, match="rng must be an int seed"):
+        tb.accuracy_table(["B1821-24"], n_trials=20, rng=np.random.default_rng(0), cache=True)
+
+
+def test_the_figure_shows_each_accuracy_over_the_bound():
+    row = {"pulsar": "B1937+21", "paper_m": 344.0, "formula_m": 344.5, "crlb_m": 454.2,
+           "ml_m": 475.4, "ml_lo_m": 461.1, "ml_hi_m": 490.6, "xcorr_m": 495.0}
+    other = dict(row, pulsar="J0000+0000", paper_m=None, xcorr_m=None)
+    fig = tb.plot_accuracy([row, other])
+    ax = fig.axes[0]
+    assert [t.get_text() for t in ax.get_xticklabels()] == ["B1937+21", "J0000+0000"]
+    labels = ax.get_legend_handles_labels()[1]
+    assert labels[0] == "Cramer-Rao bound" and "the paper's value" in labels
+    paper = next(line for line in ax.lines if line.get_label() == "the paper's value")
+    np.testing.assert_allclose(paper.get_ydata(), [344.0 / 454.2])  # only the row that has it
+    with pytest.raises(ValueError, match="rows must hold"):
+        tb.plot_accuracy([])

@@ -53,6 +53,7 @@ Examples
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass, field
 from typing import NamedTuple
@@ -61,6 +62,7 @@ import numpy as np
 
 from xnavlab.core import ephemeris
 from xnavlab.core.constants import C
+from xnavlab.core.diskcache import entry_path, store
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
 from xnavlab.mars import dynamics, pulsars, timing_bound, toa
 
@@ -76,11 +78,13 @@ __all__ = [
     "FoldError",
     "expected_error",
     "simulate_window_photons",
+    "fold_photons",
     "FoldTOA",
     "fold_toa",
     "window_survey",
     "SURVEY_COLUMNS",
     "survey_html",
+    "plot_survey",
 ]
 
 #: How each photon's time is carried to the SSB: along the a-priori orbit (``"apriori"``, the
@@ -445,6 +449,51 @@ class FoldTOA(NamedTuple):
     error: float
 
 
+def fold_photons(window, u, correction="apriori", tag="mid", nbins=None):
+    """Fold a window's photons after a processing's time transfer: counts per phase bin.
+
+    Each photon is carried to the SSB with the processing delay of ``correction``
+    (:meth:`FoldWindow.processing_delay`) and folded with the pulsar's phase model,
+    exposure-corrected (:func:`xnavlab.mars.pulsars.fold`); bin 0 starts at the phase the
+    pulse has at SSB time ``t_mid + d0``, so a perfect time transfer puts the pulse at phase 0
+    (the first bin, wrapping round to the last).
+
+    Parameters
+    ----------
+    window : FoldWindow
+    u : array_like, shape (n,)
+        Photon arrival offsets from ``t_mid``, s, within ``[-T/2, T/2)``.
+    correction : {"apriori", "mars", "constant"}
+    tag : {"start", "mid", "end"} or float
+        The time tag (it matters to ``"mars"`` and ``"constant"`` only).
+    nbins : int, optional
+        Phase bins (default :func:`xnavlab.mars.timing_bound.default_nbins`).
+
+    Returns
+    -------
+    ndarray, shape (nbins,)
+        Photons per bin (exposure-corrected).
+
+    Examples
+    --------
+    >>> w = fold_window("B1821-24", dynamics.MARS_T0, dynamics.MARS_STATE0, error=PAPER_ERROR0)
+    >>> u = simulate_window_photons(w, rng=1)
+    >>> folds = [fold_photons(w, u, c, nbins=128) for c in CORRECTIONS]
+    >>> [bool(f.max() > 2 * np.median(f)) for f in folds]      # the pulse stands out, or not
+    [True, False, False]
+    """
+    p, T = window.pulsar, window.duration
+    u = check_finite_array("u", u)
+    if u.ndim != 1 or u.size < 2 or u.min() < -T / 2.0 or u.max() >= T / 2.0:
+        raise ValueError(f"u must hold photon offsets within [-{T / 2:g}, {T / 2:g}) s")
+    nbins = timing_bound.default_nbins(p) if nbins is None else check_int("nbins", nbins, 8, 2**20)
+    proc = _spline(window.u, window.processing_delay(correction, tag))
+    x = u + proc(u) - window.phase0 * p.period  # SSB offset from the phase reference, s
+    ends = np.array([-T / 2.0, T / 2.0])
+    span = ends + proc(ends) - window.phase0 * p.period
+    return pulsars.fold(x, p, nbins, span=(min(span[0], x.min()), max(span[1], x.max())))
+
+
 def fold_toa(window, u, correction="apriori", tag="mid", area_m2=1.0,
              background_ph_cm2_s=0.005, nbins=None, search=0.5):
     """Process a window's photons into a delay measurement at a time tag (:class:`FoldTOA`).
@@ -483,15 +532,8 @@ def fold_toa(window, u, correction="apriori", tag="mid", area_m2=1.0,
     True
     """
     p, T = window.pulsar, window.duration
-    u = check_finite_array("u", u)
-    if u.ndim != 1 or u.size < 2 or u.min() < -T / 2.0 or u.max() >= T / 2.0:
-        raise ValueError(f"u must hold photon offsets within [-{T / 2:g}, {T / 2:g}) s")
-    nbins = timing_bound.default_nbins(p) if nbins is None else check_int("nbins", nbins, 8, 2**20)
+    counts = fold_photons(window, u, correction, tag, nbins)
     proc = _spline(window.u, window.processing_delay(correction, tag))
-    x = u + proc(u) - window.phase0 * p.period  # SSB offset from the phase reference, s
-    ends = np.array([-T / 2.0, T / 2.0])
-    span = ends + proc(ends) - window.phase0 * p.period
-    counts = pulsars.fold(x, p, nbins, span=(min(span[0], x.min()), max(span[1], x.max())))
     ls, lb = pulsars.photon_rates(p, area_m2, background_ph_cm2_s)
     tau = timing_bound.ml_phase_shift(counts, p.duty_cycle, ls * T, lb * T, search) * p.period
     u_tag = tag_offset(tag, T)
@@ -518,7 +560,8 @@ SURVEY_COLUMNS = {
 
 def window_survey(pulsar_names=pulsars.PAPER_PULSARS, error=PAPER_ERROR0, n_windows=17,
                   spacing=500.0, duration=500.0, t0=dynamics.MARS_T0,
-                  state0=dynamics.MARS_STATE0, area_m2=1.0, background_ph_cm2_s=0.005):
+                  state0=dynamics.MARS_STATE0, area_m2=1.0, background_ph_cm2_s=0.005,
+                  cache=False):
     """The fold's errors over the paper's orbit: the largest of each, per pulsar (noise-free).
 
     Windows start every ``spacing`` s from ``t0`` (default: 17 windows, one orbit of 8,252 s);
@@ -554,6 +597,10 @@ def window_survey(pulsar_names=pulsars.PAPER_PULSARS, error=PAPER_ERROR0, n_wind
     state0 : array_like, shape (6,)
         True state at ``t0``.
     area_m2, background_ph_cm2_s : float
+    cache : bool
+        Read the rows from the disk cache, or compute and store them there (keyed by the
+        arguments and the code, :func:`xnavlab.core.diskcache.entry_path`): the default survey
+        takes about 10-15 s.
 
     Returns
     -------
@@ -569,6 +616,19 @@ def window_survey(pulsar_names=pulsars.PAPER_PULSARS, error=PAPER_ERROR0, n_wind
     n_windows = check_int("n_windows", n_windows, 1, 10**4)
     spacing = check_real("spacing", spacing, 1.0, 86400.0)
     err = check_finite_array("error", error, shape=(6,))
+    if cache:
+        names = tuple(pulsars.get(n).name for n in pulsar_names)
+        x0 = check_finite_array("state0", state0, shape=(6,))
+        parts = (names, n_windows, spacing, float(duration), float(t0), float(area_m2),
+                 float(background_ph_cm2_s))
+        path = entry_path("fold-survey", parts, (err, x0), (__name__,), suffix=".json")
+        try:
+            return json.loads(path.read_text(encoding="utf-8"))
+        except (OSError, ValueError):  # missing or unreadable: computed and stored
+            rows = window_survey(names, err, n_windows, spacing, duration, t0, x0, area_m2,
+                                 background_ph_cm2_s)
+            store(path, lambda f: f.write(json.dumps(rows).encode()))
+            return rows
     starts = t0 + spacing * np.arange(n_windows)
     states = dynamics.truth(starts, state0, t0)
     rows = []
@@ -616,3 +676,61 @@ def survey_html(rows, digits=4):
 
     return html_table(list(SURVEY_COLUMNS.values()),
                       [[r[k] for k in SURVEY_COLUMNS] for r in rows], digits=digits)
+
+
+def plot_survey(surveys, bound=True):
+    """The instantaneous model's error per pulsar, mid-window and end tags: a Figure.
+
+    Grouped bars (log scale), one group per pulsar: for each survey of :func:`window_survey`
+    (labelled by the a-priori error it assumed) the largest error of the a-priori-corrected
+    fold with the mid-window tag and with the end tag; a black tick marks each pulsar's
+    Cramer-Rao bound (the noise of one TOA) when ``bound``.
+
+    Parameters
+    ----------
+    surveys : dict of str to list of dict
+        ``{label: window_survey(...) rows}``, the same pulsars in each, in order.
+    bound : bool
+        Mark each pulsar's bound.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Not registered with pyplot.
+
+    Examples
+    --------
+    >>> rows = [{"pulsar": "B0531+21", "crlb_m": 98.7, "apriori_mid_m": 70.3,
+    ...          "apriori_end_m": 888.1}]
+    >>> fig = plot_survey({"the paper's initial error": rows})
+    >>> fig.axes[0].get_ylabel()
+    'largest error over the orbit (m)'
+    """
+    from matplotlib.figure import Figure
+
+    if not surveys:
+        raise ValueError("surveys must hold at least one survey")
+    labels = list(surveys)
+    names = [r["pulsar"] for r in surveys[labels[0]]]
+    if any([r["pulsar"] for r in surveys[k]] != names for k in labels):
+        raise ValueError("surveys must hold the same pulsars, in the same order")
+    fig = Figure(figsize=(8.0, 3.6), layout="constrained")
+    ax = fig.subplots()
+    x = np.arange(len(names))
+    width = 0.8 / (2 * len(labels))
+    for k, label in enumerate(labels):
+        for j, (key, tag, hatch) in enumerate((("apriori_mid_m", "mid-window tag", ""),
+                                               ("apriori_end_m", "end tag", "//"))):
+            pos = x - 0.4 + width * (2 * k + j + 0.5)
+            ax.bar(pos, [r[key] for r in surveys[label]], width, color=f"C{k}", hatch=hatch,
+                   alpha=0.85 if j == 0 else 0.45, edgecolor=f"C{k}",
+                   label=f"{label}, {tag}")
+    if bound:
+        ax.plot(x, [r["crlb_m"] for r in surveys[labels[0]]], "k_", ms=40, mew=2,
+                label="Cramer-Rao bound of one TOA")
+    ax.set_xticks(x, names)
+    ax.set(yscale="log", ylabel="largest error over the orbit (m)")
+    lo, hi = ax.get_ylim()
+    ax.set_ylim(lo, hi * 300.0)  # room for the legend above the bars
+    ax.legend(fontsize=8, loc="upper center", ncols=2)
+    return fig
