@@ -36,8 +36,9 @@ def xnav_ranging(out=None, area_m2=1.0, t_obs=500.0, background_ph_cm2_s=0.005):
             f"{name} ranging (m) reachable: the Cramer-Rao bound", paper, round(bound[name], 1),
             reachable, why="an unbiased TOA estimator cannot scatter less than the bound of the "
                            "same rates, pulse profile and background (1 % for the catalogue's digits)",
-            reading="" if reachable else
-            f"the paper's value is {100 * (1 - paper / bound[name]):.0f} % below the bound"))
+            reading=(f"the paper's value is {100 * (paper / bound[name] - 1):.0f} % above the bound"
+                     if paper >= bound[name] else
+                     f"the paper's value is {100 * (1 - paper / bound[name]):.0f} % below the bound")))
     result = Result(
         "xnav-ranging",
         checks,
