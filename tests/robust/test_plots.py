@@ -36,3 +36,38 @@ def test_filter_comparison_gives_compare_filters_numbers_and_keeps_them():
     assert again["error"]["rkf"] is out["error"]["rkf"]   # the kept run, not a new one
     with pytest.raises(ValueError, match="eps"):
         rplots.filter_comparison(700.0, 0.0, key)
+
+
+def test_bound_table_gives_compare_bounds_numbers_and_stores_them(tmp_path, monkeypatch):
+    """Each case's rows are compare_bounds' (the real error with the prior from the ephemeris
+    difference); a second call reads the disk cache; bad arguments name themselves."""
+    from xnavlab.robust import coverage
+    from xnavlab.robust import plots as rplots
+
+    monkeypatch.setenv("XNAVLAB_CACHE", str(tmp_path))
+    kw = {"seeds": (0,), "sources": ("residual", "prior"), "n_steps": 40}
+    table = rplots.bound_table(**kw)
+    assert list(table) == list(rplots.BOUND_CASES)
+    real = coverage.compare_bounds((0,), ("residual", "prior"), body="mars", error="de405",
+                                   n_steps=40, bias_max=coverage.prior_bias_max("mars", span=40 * 500.0))
+    for got, ref in zip(table["real DE421 - DE405 error"], real, strict=True):
+        assert got["source"] == ref["source"] and got["is_bound"] == ref["is_bound"]
+        for k in rplots.BOUND_STATS:
+            assert got[k] == pytest.approx(ref[k], rel=1e-12)
+    assert len(list(tmp_path.glob("bound-table-*.npz"))) == 1
+    monkeypatch.setattr(coverage, "compare_bounds", None)   # a cache hit computes nothing
+    assert rplots.bound_table(**kw) == table
+    for bad, name in (({"seeds": ()}, "seeds"), ({"sources": ("kalman",)}, "sources"),
+                      ({"n_steps": 1}, "n_steps")):
+        with pytest.raises(ValueError, match=name):
+            rplots.bound_table(**{**kw, **bad}, cache=False)
+
+
+def test_bound_table_html_has_one_escaped_row_per_case_and_source():
+    from xnavlab.robust import plots as rplots
+
+    row = {"source": "residual", "coverage": 0.099, "median_ratio": 4.74, "nees": 145.3,
+           "rmse_m": 1738.0, "median_sigma_m": 333.0, "is_bound": False}
+    page = rplots.bound_table_html({"a <case>": [row, {**row, "source": "ukf"}]})
+    assert page.count("<tr>") == 3 and "a &lt;case&gt;" in page
+    assert "9.9" in page and "1.74" in page and ">no<" in page

@@ -1,4 +1,5 @@
-"""Figures of chapter 10's slider: the four filters of Li et al. 2017 side by side on the Mars orbit.
+"""Chapter 10's figures and tables: the four filters of Li et al. 2017 side by side on the Mars
+orbit (the slider), and whether the RKF's ``Sigma`` bounds its error (the bound table).
 
 Examples
 --------
@@ -11,11 +12,15 @@ from __future__ import annotations
 
 import functools
 
-from xnavlab.core.plotting import sparse_log_minors
-from xnavlab.core.validate import check_choice, check_real, make_rng
-from xnavlab.robust import filters
+import numpy as np
 
-__all__ = ["FILTER_NAMES", "PULSAR_SETS", "plot_filter_comparison", "filter_comparison"]
+from xnavlab.core.diskcache import cached_arrays, entry_path
+from xnavlab.core.plotting import html_table, sparse_log_minors
+from xnavlab.core.validate import check_choice, check_int, check_real, make_rng
+from xnavlab.robust import coverage, filters
+
+__all__ = ["FILTER_NAMES", "PULSAR_SETS", "plot_filter_comparison", "filter_comparison",
+           "BOUND_CASES", "BOUND_STATS", "BOUND_SOURCE_NAMES", "bound_table", "bound_table_html"]
 
 #: Display names of :data:`xnavlab.robust.filters.FILTERS`.
 FILTER_NAMES = {"ukf": "UKF", "asukf": "ASUKF", "tdukf": "TDUKF", "rkf": "RKF"}
@@ -133,3 +138,113 @@ def _filter_run(name, size, eps, pulsar_set):
     err = run.error
     err.flags.writeable = False
     return filters.rmse(run, sc, *filters.WINDOWS["mars"]), err
+
+
+#: The cases of chapter 10's bound table (:func:`bound_table`), both on the Mars orbit of 500
+#: steps of 500 s: the paper's set-up (an error growing from 0 to 50 km along (1, 1, 1)/sqrt(3))
+#: and the real DE421 - DE405 error of 1997. The ``"prior"`` source bounds ``|dr_E|`` by the
+#: error's known size: the injected 50 km, or the largest real error of the run
+#: (:func:`xnavlab.robust.coverage.prior_bias_max`).
+BOUND_CASES = {
+    "paper's set-up: error growing to 50 km": {"body": "mars", "error": "growing", "size": 5e4},
+    "real DE421 - DE405 error": {"body": "mars", "error": "de405"},
+}
+#: The statistics :func:`bound_table` keeps per case and source
+#: (:func:`xnavlab.robust.coverage.compare_bounds`).
+BOUND_STATS = ("coverage", "median_ratio", "nees", "rmse_m", "median_sigma_m")
+#: Display names of :data:`xnavlab.robust.coverage.BOUND_SOURCES`.
+BOUND_SOURCE_NAMES = {"residual": "RKF, residual estimate (the paper's)",
+                      "prior": "RKF, prior bound |dr_E| <= d_max",
+                      "oracle": "RKF, true B (teaching only)", "ukf": "UKF (its own P)"}
+_BOUND_VERSIONS = ("numpy", "scipy", "numba", "jplephem", "de421", "de405")
+
+
+def bound_table(seeds=tuple(range(8)), sources=coverage.BOUND_SOURCES, n_steps=500, cache=True):
+    """:func:`xnavlab.robust.coverage.compare_bounds` for each case of :data:`BOUND_CASES`.
+
+    The runs take about a minute on a quiet machine (two cases, four sources, eight seeds), so
+    the numbers are stored on disk (``$XNAVLAB_CACHE``), keyed by the seeds, the sources and the
+    code that computes them (:func:`xnavlab.core.diskcache.entry_path`).
+
+    Parameters
+    ----------
+    seeds : sequence of int
+        Seeds of the scenarios and initial errors (at least one).
+    sources : sequence of str
+        Any of :data:`xnavlab.robust.coverage.BOUND_SOURCES`.
+    n_steps : int
+        Steps of 500 s per run (the paper's Mars run: 500).
+    cache : bool
+        Read and write the disk cache (False: compute, store nothing).
+
+    Returns
+    -------
+    dict
+        Case name (a key of :data:`BOUND_CASES`) -> list of dicts, one per source, with
+        ``source``, the :data:`BOUND_STATS` (coverage as a fraction of the kept epochs, RMSE
+        and ``median_sigma_m`` in m) and ``is_bound`` (coverage at least Chebyshev's 8/9 and
+        mean NEES at most 3).
+
+    Examples
+    --------
+    >>> t = bound_table(seeds=(0,), sources=("prior",), n_steps=40, cache=False)
+    >>> [row["source"] for row in t["real DE421 - DE405 error"]]
+    ['prior']
+    """
+    seeds = tuple(int(v) for v in seeds)
+    if not seeds:
+        raise ValueError("seeds must list at least one seed")
+    sources = tuple(sources)
+    for src in sources:
+        check_choice("sources", src, coverage.BOUND_SOURCES)
+    n_steps = check_int("n_steps", n_steps, 2, 10**6)
+
+    def compute():
+        stats = np.empty((len(BOUND_CASES), len(sources), len(BOUND_STATS)))
+        for i, case in enumerate(BOUND_CASES.values()):
+            kw = dict(case)
+            if kw["error"] == "de405":  # the prior: the real error's size over the run
+                kw["bias_max"] = coverage.prior_bias_max(kw["body"], span=n_steps * 500.0)
+            rows = coverage.compare_bounds(seeds, sources, n_steps=n_steps, **kw)
+            stats[i] = [[row[k] for k in BOUND_STATS] for row in rows]
+        return {"stats": stats}
+
+    if cache:
+        path = entry_path("bound-table", (seeds, sources, n_steps, tuple(BOUND_CASES)), (),
+                          ("xnavlab.robust.plots", "xnavlab.robust.coverage"), _BOUND_VERSIONS)
+        stats = cached_arrays(path, compute)["stats"]
+    else:
+        stats = compute()["stats"]
+    level = coverage.CHEBYSHEV_LEVEL
+    out = {}
+    for i, name in enumerate(BOUND_CASES):
+        out[name] = []
+        for j, src in enumerate(sources):
+            row = {"source": src, **{k: float(stats[i, j, n]) for n, k in enumerate(BOUND_STATS)}}
+            row["is_bound"] = row["coverage"] >= level and row["nees"] <= 3.0
+            out[name].append(row)
+    return out
+
+
+def bound_table_html(table):
+    """:func:`bound_table`'s numbers as one escaped HTML table, a row per case and source.
+
+    Columns: the case, the source of ``B B^T`` (:data:`BOUND_SOURCE_NAMES`), the share of
+    epochs inside the 3-sigma ball (%), the median ``|e_r| / sqrt(tr Sigma_rr)``, the mean
+    NEES, the RMSE (km) and whether ``Sigma`` behaves as a bound.
+
+    Examples
+    --------
+    >>> row = {"source": "prior", "coverage": 1.0, "median_ratio": 0.3, "nees": 0.4,
+    ...        "rmse_m": 1172.7, "median_sigma_m": 3092.0, "is_bound": True}
+    >>> page = bound_table_html({"real DE421 - DE405 error": [row]})
+    >>> page.count("<tr>"), "100" in page, "1.17" in page
+    (2, True, True)
+    """
+    header = ("case", "source of B B^T", "within 3 sigma (%)", "median |e| / sigma",
+              "mean NEES", "RMSE (km)", "a bound?")
+    rows = [(case, BOUND_SOURCE_NAMES[r["source"]], f"{100 * r['coverage']:.1f}",
+             f"{r['median_ratio']:.2f}", f"{r['nees']:.3g}", f"{r['rmse_m'] / 1e3:.3g}",
+             "yes" if r["is_bound"] else "no")
+            for case, rows in table.items() for r in rows]
+    return html_table(header, rows)
