@@ -66,7 +66,7 @@ def _write(tmp_path, name, text):
     ("g.toml", GRID.replace('"uv"', '"gps"'), [], "faults[0].sensor must be one of"),
     ("g.toml", GRID + "onset = 5\n", [], "faults[0]: unknown key 'onset'"),
     ("g.toml", GRID.split("[[faults]]")[0], [], "missing key 'faults'"),
-    ("g.toml", "thresholds = [", [], "is not valid toml"),
+    ("g.toml", "thresholds = [", [], "is not valid TOML"),
     ("g.json", "{}", [], "missing key 'thresholds'"),
     ("g.txt", GRID, [], "must end in .toml or .json"),
     ("g.toml", GRID, ["--days", "1"], "takes its run length from the grid file's days"),

@@ -65,8 +65,8 @@ def test_load_grid_reads_toml_and_json_alike(tmp_path):
 
 @pytest.mark.parametrize("name, text, words", [
     ("g.yaml", "", "must end in .toml or .json"),
-    ("g.toml", "thresholds = [", "is not valid toml"),
-    ("g.json", "{", "is not valid json"),
+    ("g.toml", "thresholds = [", "is not valid TOML"),
+    ("g.json", "{", "is not valid JSON"),
     ("g.json", json.dumps({**GRID, "days": 9}), "days must be a real number in [0.5, 5]"),
 ])
 def test_load_grid_bad_file_is_one_line(tmp_path, name, text, words):

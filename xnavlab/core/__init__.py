@@ -14,7 +14,8 @@ module                    what it models
 ``detection``             wavelet singularity detection and chi-square tests (a package)
 ``montecarlo``            Monte Carlo over any ``concurrent.futures.Executor``, seeds per run
 ``campaign``              resumable Monte Carlo campaigns (local pool or Dask), one store
-``diskcache``             the on-disk cache's root and its atomic entries
+``diskcache``             the on-disk cache's root, its atomic entries keyed by the code
+``userfiles``             a user's input files read or refused with one line; outputs checked
 ``plotting``              figures outside pyplot, for reproductions and chapters
 ``widgets``               ``explore``: a live slider in Jupyter, a scrubber in the HTML book
 ``prose``                 a chapter's glued numbers, shown by its prose's ``{eval}`` roles

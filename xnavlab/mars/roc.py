@@ -93,6 +93,7 @@ from xnavlab.core import montecarlo
 from xnavlab.core.campaign import Campaign
 from xnavlab.core.constants import DAY
 from xnavlab.core.distributions import chi2_ppf
+from xnavlab.core.userfiles import load_table
 from xnavlab.core.validate import check_choice, check_int, check_real
 from xnavlab.mars import fault_tolerance, scenarios, schedules, trials
 
@@ -200,17 +201,6 @@ def check_grid(grid):
             "faults": [_check_fault(i, f) for i, f in enumerate(faults)]}
 
 
-def _toml(text):
-    try:
-        import tomllib
-    except ModuleNotFoundError:  # Python 3.10
-        try:
-            import tomli as tomllib
-        except ModuleNotFoundError:
-            raise ValueError("TOML grid files need Python 3.11+ or the package tomli") from None
-    return tomllib.loads(text)
-
-
 def load_grid(path):
     """Read and validate a grid file (``.toml`` or ``.json``; module notes).
 
@@ -220,17 +210,7 @@ def load_grid(path):
         An unreadable file, a syntax error or a bad field: one line naming the file.
     """
     path = Path(path)
-    if path.suffix.lower() not in (".toml", ".json"):
-        raise ValueError(f"grid file {str(path)!r} must end in .toml or .json")
-    try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise ValueError(f"grid file {str(path)!r} cannot be read ({exc.strerror})") from None
-    try:
-        grid = _toml(text) if path.suffix.lower() == ".toml" else json.loads(text)
-    except ValueError as exc:       # TOMLDecodeError and JSONDecodeError are ValueErrors
-        msg = str(exc).splitlines()[0]
-        raise ValueError(f"grid file {str(path)!r} is not valid {path.suffix[1:]}: {msg}") from None
+    grid = load_table(path, "grid file")
     try:
         return check_grid(grid)
     except ValueError as exc:

@@ -44,6 +44,7 @@ import json
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from xnavlab.core.userfiles import parse_toml, read_text
 from xnavlab.core.validate import check_choice, check_real
 from xnavlab.mars import force_models, model_noise, pulsar_specs, scenarios
 
@@ -238,27 +239,13 @@ def dump(scenario=None, run=None, detector=None):
     return "\n".join(lines)
 
 
-def _parse_toml(text):
-    try:
-        import tomllib
-    except ModuleNotFoundError:  # Python 3.10
-        try:
-            import tomli as tomllib
-        except ModuleNotFoundError:
-            raise ValueError("scenario files need Python 3.11+ or the package tomli") from None
-    try:
-        return tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        raise ValueError(f"scenario file: not valid TOML ({exc})") from None
-
-
 def loads(text, base=None):
     """Read scenario-file text; returns a :class:`ScenarioFile` (see the module docstring).
 
     ``base``: the folder relative ``.par`` paths are read from (:func:`load` passes the
     file's own folder; default the working directory).
     """
-    data = _parse_toml(text)
+    data = parse_toml(text, "scenario file")
     fields, run, detector = {}, dict(RUN_DEFAULTS), dict(DETECTOR_DEFAULTS)
     models = {"truth_model": {}, "filter_model": {}}
     for section, table in data.items():
@@ -358,14 +345,12 @@ def _check_detector(det, sc):
 def load(path):
     """Read the scenario file at ``path`` (:func:`loads`); a missing file is a ValueError."""
     path = Path(path)
+    text = read_text(path, "scenario file")
     try:
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise ValueError(f"scenario file {str(path)!r} cannot be read ({exc.strerror})") from None
-    except UnicodeDecodeError as exc:
-        raise ValueError(f"scenario file {str(path)!r} is not UTF-8 text (byte {exc.start}: "
-                         f"{exc.reason})") from None
-    return loads(text, base=path.resolve().parent)
+        return loads(text, base=path.resolve().parent)
+    except ValueError as exc:  # the file's name in the one line
+        msg = str(exc).removeprefix("scenario file: ").removeprefix("scenario file ")
+        raise ValueError(f"scenario file {str(path)!r}: {msg}") from None
 
 
 def detector_name(detector):

@@ -1,0 +1,56 @@
+"""The files a user hands to the package (xnavlab.core.userfiles): every bad file is one line
+that names it; an output place is checked before any work."""
+
+import os
+
+import pytest
+
+from xnavlab.core import userfiles
+
+
+@pytest.mark.parametrize("make, words", [
+    (lambda p: p, "cannot be read"),                                  # missing
+    (lambda p: (p.mkdir(), p)[1], "is a folder, not a file"),
+    (lambda p: (p.write_bytes(b"a = '\xe9'"), p)[1], "is not UTF-8 text: byte"),
+])
+def test_a_file_that_cannot_be_read_is_one_line_naming_it(tmp_path, make, words):
+    path = make(tmp_path / "scenario.toml")
+    with pytest.raises(ValueError) as err:
+        userfiles.read_text(path, "scenario file")
+    text = str(err.value)
+    assert words in text and "scenario.toml" in text and "\n" not in text
+
+
+@pytest.mark.parametrize("name, text, words", [
+    ("g.toml", "days = [", "is not valid TOML"),
+    ("g.json", "{", "is not valid JSON"),
+    ("g.json", "[1, 2]", "must hold a table of keys, not a list"),
+    ("g.yaml", "days: 1", "must end in .toml or .json"),
+])
+def test_a_bad_table_file_is_one_line_naming_it(tmp_path, name, text, words):
+    path = tmp_path / name
+    path.write_text(text)
+    with pytest.raises(ValueError) as err:
+        userfiles.load_table(path, "grid file")
+    assert words in str(err.value) and name in str(err.value) and "\n" not in str(err.value)
+
+
+def test_an_output_place_is_made_or_refused_before_the_work(tmp_path):
+    out = userfiles.output_path(tmp_path / "a" / "b" / "run.toml", "--out")
+    assert out.parent.is_dir()
+    assert userfiles.output_path(tmp_path / "runs", "--out", folder=True).is_dir()
+    (tmp_path / "file").write_text("x")
+    with pytest.raises(ValueError, match="a part of its folder is a file"):
+        userfiles.output_path(tmp_path / "file" / "run.toml", "--out")
+    with pytest.raises(ValueError, match="is a file, not a folder"):
+        userfiles.output_path(tmp_path / "file", "--out", folder=True)
+    with pytest.raises(ValueError, match="is a folder, not a file"):
+        userfiles.output_path(tmp_path / "runs", "--out")
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root writes anywhere: no unwritable folder to test")
+def test_an_unwritable_folder_is_refused(tmp_path):
+    locked = tmp_path / "locked"
+    locked.mkdir(mode=0o500)
+    with pytest.raises(ValueError, match="cannot be written"):
+        userfiles.output_path(locked / "run.toml", "--out")

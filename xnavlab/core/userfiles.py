@@ -1,0 +1,166 @@
+"""The files a user hands to the package: read and parsed, or refused with one line.
+
+A scenario file (:mod:`xnavlab.mars.scenario_files`), a fault grid (:mod:`xnavlab.mars.roc`) or
+any other input file is read here, so that every reader refuses the same things the same way:
+a missing or unreadable file, a folder where a file belongs, text that is not UTF-8, and a
+syntax error each give one :class:`ValueError` that names the file and what is wrong with it,
+never a traceback or a codec error without the file's name. :func:`output_path` checks a
+place the package will write to, before a run, so that no result is computed and then lost.
+
+TOML needs the standard library's ``tomllib`` (Python 3.11+) or the package ``tomli`` (3.10,
+installed by ``environment.txt`` there).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from pathlib import Path
+
+__all__ = ["read_text", "parse_toml", "load_table", "output_path"]
+
+
+def read_text(path, what="file"):
+    """The text of the UTF-8 file at ``path``; anything else is one ValueError naming it.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+    what : str
+        What the file is, for the message (``"scenario file"``).
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> bad = Path(tempfile.mkdtemp()) / "latin1.toml"
+    >>> _ = bad.write_bytes("dt = 3 # \\u00e9".encode("latin-1"))
+    >>> try:
+    ...     read_text(bad, "scenario file")
+    ... except ValueError as exc:
+    ...     print(str(exc).split(": byte")[0].endswith("latin1.toml' is not UTF-8 text"))
+    True
+    """
+    path = Path(path)
+    if path.is_dir():
+        raise ValueError(f"{what} {str(path)!r} is a folder, not a file")
+    try:
+        return path.read_text(encoding="utf-8")
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"{what} {str(path)!r} is not UTF-8 text: byte {exc.start} "
+                         f"({exc.reason})") from None
+    except OSError as exc:
+        raise ValueError(f"{what} {str(path)!r} cannot be read ({exc.strerror})") from None
+
+
+def parse_toml(text, what="TOML text"):
+    """The table of a TOML text; a syntax error is one ValueError naming ``what``.
+
+    Examples
+    --------
+    >>> parse_toml("days = 2\\n[xnav]\\ndt = 500")
+    {'days': 2, 'xnav': {'dt': 500}}
+    >>> try:
+    ...     parse_toml("days = ", "scenario file 'x.toml'")
+    ... except ValueError as exc:
+    ...     print(str(exc).split(":")[0])
+    scenario file 'x.toml' is not valid TOML
+    """
+    try:
+        import tomllib
+    except ModuleNotFoundError:  # Python 3.10
+        try:
+            import tomli as tomllib
+        except ModuleNotFoundError:
+            raise ValueError(f"{what}: reading TOML needs Python 3.11+ or the package tomli") from None
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ValueError(f"{what} is not valid TOML: {str(exc).splitlines()[0]}") from None
+
+
+def load_table(path, what="file", suffixes=(".toml", ".json")):
+    """The table (dict) in a ``.toml`` or ``.json`` file; anything else is one ValueError.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+    what : str
+        What the file is, for the messages.
+    suffixes : tuple of str
+        The suffixes accepted (lower case).
+
+    Returns
+    -------
+    dict
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> grid = Path(tempfile.mkdtemp()) / "grid.json"
+    >>> _ = grid.write_text('{"days": 1}')
+    >>> load_table(grid, "grid file")
+    {'days': 1}
+    """
+    path = Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in suffixes:
+        raise ValueError(f"{what} {str(path)!r} must end in {' or '.join(suffixes)}")
+    text = read_text(path, what)
+    name = f"{what} {str(path)!r}"
+    if suffix == ".toml":
+        table = parse_toml(text, name)
+    else:
+        try:
+            table = json.loads(text)
+        except ValueError as exc:
+            raise ValueError(f"{name} is not valid JSON: {str(exc).splitlines()[0]}") from None
+    if not isinstance(table, dict):
+        raise ValueError(f"{name} must hold a table of keys, not a {type(table).__name__}")
+    return table
+
+
+def output_path(path, what="output", folder=False):
+    """Check, before any work, that the package can write ``path``; return it as a Path.
+
+    The parent folder (or, with ``folder``, the folder itself) is created when missing; a
+    parent that is a file, a folder that cannot be written, or a file where a folder belongs is
+    one ValueError naming the path.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+    what : str
+        What will be written there, for the messages (``"--out"``).
+    folder : bool
+        ``path`` is a folder to write files into (else a file).
+
+    Returns
+    -------
+    pathlib.Path
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> out = output_path(Path(tempfile.mkdtemp()) / "new" / "run.toml", "--out")
+    >>> out.parent.is_dir()
+    True
+    """
+    path = Path(path)
+    target = path if folder else path.parent
+    if folder and path.exists() and not path.is_dir():
+        raise ValueError(f"{what} {str(path)!r} is a file, not a folder")
+    if not folder and path.is_dir():
+        raise ValueError(f"{what} {str(path)!r} is a folder, not a file")
+    try:
+        target.mkdir(parents=True, exist_ok=True)
+    except (FileExistsError, NotADirectoryError):
+        raise ValueError(f"{what} {str(path)!r}: a part of its folder is a file") from None
+    except OSError as exc:
+        raise ValueError(f"{what} {str(path)!r}: its folder cannot be made ({exc.strerror})") from None
+    if not os.access(target, os.W_OK):
+        raise ValueError(f"{what} {str(path)!r}: the folder {str(target)!r} cannot be written")
+    return path
