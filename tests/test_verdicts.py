@@ -63,6 +63,8 @@ EXPECTED = {
         'fused position error (m), RMS after day 1': 'REPRODUCED',
         'fused velocity error (m/s), RMS after day 1': 'REPRODUCED',
     }),
+    'mars-optics': ('CHECK', {
+    }),
     'mars-orbit': ('CHECK', {
     }),
     'mars-sensors': ('CHECK', {
@@ -73,6 +75,8 @@ EXPECTED = {
         'cns: error does not grow (last day vs the day before, m)': 'REPRODUCED',
         'xnav+uv+cns: error does not grow (last day vs the day before, m)': 'REPRODUCED',
         'fused better than the best subsystem alone (m)': 'REPRODUCED',
+    }),
+    'mars-xnav-crlb': ('CHECK', {
     }),
     'plins-ramp': ('PARTLY REPRODUCED', {
         'PR1 detection delay (s)': 'REPRODUCED',
