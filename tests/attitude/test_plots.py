@@ -42,9 +42,9 @@ def test_plot_fault_case_is_simulate_plus_plot_residuals():
     for i in range(4):
         np.testing.assert_allclose(sos_axes[i].lines[0].get_ydata(), run.sos_r[:, i] / DPH)
         np.testing.assert_allclose(dos_axes[i].lines[0].get_ydata(), run.dos_r[:, i] / DPH)
-    assert sos_axes[0].get_title().startswith(f"SOS: verdict {run.sos.verdict}")
+    assert sos_axes[0].get_title().startswith(f"SOS: verdict {att.location_name(run.sos.verdict)}")
     st_fig = att.plot_fault_case("star_tracker", "step", 1.0)
-    assert "truth star_tracker" in st_fig.axes[0].get_title()
+    assert "truth star tracker" in st_fig.axes[0].get_title()
 
 
 @pytest.mark.parametrize(("kwargs", "name"), [
@@ -56,3 +56,11 @@ def test_plot_fault_case_is_simulate_plus_plot_residuals():
 def test_plot_fault_case_bad_input(kwargs, name):
     with pytest.raises(ValueError, match=rf"\b{name}\b"):
         att.plot_fault_case(**kwargs)
+
+
+def test_location_name_gives_plain_words_for_every_verdict():
+    from xnavlab.attitude.diagnosis import VERDICTS
+
+    names = [att.location_name(v) for v in VERDICTS]
+    assert all("_" not in n for n in names) and len(set(names)) == len(VERDICTS)
+    assert att.location_name("gyro_x") == "x gyro" and att.location_name("new_thing") == "new thing"

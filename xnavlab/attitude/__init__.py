@@ -55,7 +55,7 @@ from xnavlab.attitude.ekf import AttitudeEKF, ekf_init, ekf_predict, ekf_update
 from xnavlab.attitude.monitors import DOSMonitor, SOSMonitor, time_sos_dos
 from xnavlab.attitude.montecarlo import isolation_monte_carlo, isolation_table
 from xnavlab.attitude.motion import DEFAULT_Q0, truth_motion, truth_rate
-from xnavlab.attitude.plots import plot_fault_case, plot_residuals
+from xnavlab.attitude.plots import LOCATION_NAMES, location_name, plot_fault_case, plot_residuals
 from xnavlab.attitude.sensors import (
     DEFAULT_MAGNITUDES,
     DEG_PER_H,
@@ -125,6 +125,8 @@ __all__ = [
     "isolation_monte_carlo",
     "isolation_table",
     # plots
+    "LOCATION_NAMES",
+    "location_name",
     "plot_residuals",
     "plot_fault_case",
 ]

@@ -17,9 +17,28 @@ from xnavlab.attitude.simulation import AttitudeRun, simulate
 from xnavlab.core.validate import check_choice, check_real
 
 __all__ = [
+    "LOCATION_NAMES",
+    "location_name",
     "plot_residuals",
     "plot_fault_case",
 ]
+
+#: Plain words for the fault locations and the diagnoses' verdicts
+#: (:data:`xnavlab.attitude.diagnosis.VERDICTS`), for titles and printed output.
+LOCATION_NAMES = {"none": "none", "gyro_x": "x gyro", "gyro_y": "y gyro", "gyro_z": "z gyro",
+                  "gyro_skew": "skewed gyro", "star_tracker": "star tracker", "unknown": "unknown"}
+
+
+def location_name(name):
+    """A location or verdict in plain words (:data:`LOCATION_NAMES`; others: ``_`` as a space).
+
+    Examples
+    --------
+    >>> location_name("gyro_skew"), location_name("star_tracker"), location_name("a_b")
+    ('skewed gyro', 'star tracker', 'a b')
+    """
+    name = str(name)
+    return LOCATION_NAMES.get(name, name.replace("_", " "))
 
 
 def plot_residuals(run, method="sos", axes=None):
@@ -81,8 +100,8 @@ def plot_residuals(run, method="sos", axes=None):
         when = f"detected {det - run.onset:+.1f} s after onset"
     else:
         when = f"detected at {det:.1f} s"
-    axes[0].set_title(f"{method.upper()}: verdict {verdict} ({when}); truth {run.truth}",
-                      fontsize=9)
+    axes[0].set_title(f"{method.upper()}: verdict {location_name(verdict)} ({when}); "
+                      f"truth {location_name(run.truth)}", fontsize=9)
     axes[m - 1].set_xlabel("t (s)")
     return fig
 
@@ -114,7 +133,7 @@ def plot_fault_case(location="gyro_x", kind="ramp", size=10.0, n_sigma=5.0, *, r
     --------
     >>> fig = plot_fault_case("gyro_x", "step", 1.0)
     >>> len(fig.axes), fig.axes[0].get_title()[:23]
-    (8, 'SOS: verdict gyro_x (de')
+    (8, 'SOS: verdict x gyro (de')
     """
     check_choice("location", location, LOCATIONS)
     check_choice("kind", kind, ("step", "ramp"))
