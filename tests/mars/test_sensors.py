@@ -200,3 +200,12 @@ def test_plot_optical_geometry_scales_with_the_noise():
     # the UV across-track axis is r sigma_dir; the CNS axes r sigma_horizon (star noise aside)
     np.testing.assert_allclose(coarse[0].get_ydata(), 2 * lines[0].get_ydata(), rtol=1e-9)
     np.testing.assert_allclose(coarse[2].get_ydata(), 2 * lines[2].get_ydata(), rtol=0.01)
+
+
+def test_plot_optical_geometry_keeps_its_legend_off_the_curves_and_labels_plain_numbers():
+    fig = sensors.plot_optical_geometry(0.1, 0.05, 1.0)
+    ax = fig.axes[0]
+    assert ax.get_legend() is None and len(fig.legends) == 1   # the legend is the figure's
+    fig.canvas.draw()
+    labels = [t.get_text() for t in ax.get_yticklabels(minor=True) + ax.get_yticklabels()]
+    assert labels and not any("times" in t or "^" in t for t in labels)   # no 6 x 10^0

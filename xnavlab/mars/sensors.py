@@ -453,7 +453,9 @@ def plot_optical_geometry(sigma_dir_deg=0.1, sigma_horizon_deg=0.05, vmag_max=1.
     (6, 'stars Arcturus, Procyon, Acrux')
     """
     from matplotlib.figure import Figure
+    from matplotlib.ticker import FuncFormatter
 
+    from xnavlab.core.plotting import sparse_log_minors
     from xnavlab.mars import dynamics
 
     t0 = dynamics.MARS_T0
@@ -473,7 +475,11 @@ def plot_optical_geometry(sigma_dir_deg=0.1, sigma_horizon_deg=0.05, vmag_max=1.
         ax.plot(hours, finite[:, -1] / 1e3, color=color, ls=":", label=f"{k}: smallest axis")
     ax.set(xlabel="time (h)", ylabel="semi-axis (km)", yscale="log",
            title=f"stars {', '.join(names)}")
-    ax.legend(fontsize=7, ncol=3, loc="upper center")
+    sparse_log_minors(ax)  # 2 and 5 of each decade, labelled as plain numbers
+    plain = FuncFormatter(lambda v, _: f"{v:g}")
+    ax.yaxis.set_major_formatter(plain)
+    ax.yaxis.set_minor_formatter(plain)
+    fig.legend(fontsize=7, ncol=3, loc="outside lower center")  # off the curves
     return fig
 
 
