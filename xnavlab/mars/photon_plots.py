@@ -257,11 +257,11 @@ def plot_exposure(scaling, paper_m=None, total=None):
     ax.errorbar(n, meas, unc, fmt="o", color="C0", ms=5, capsize=3,
                 label="measured: scatter of the sets' fixes")
     ax.plot(n, scaling["stated_m"], "s", color="C1", mfc="none", ms=6,
-            label="stated: photon statistics, eq. (ch01-photon-sigma)")
+            label="stated: photon statistics")
     n_line = np.geomspace(0.7 * n.min(), 1.4 * (total[0] if total else n.max()), 50)
     k_formula = np.sqrt(np.mean(np.asarray(scaling["formula_m"]) ** 2 * n))  # sigma = k / sqrt(N)
     ax.plot(n_line, k_formula / np.sqrt(n_line), color="k", lw=1.0, ls="--",
-            label="chapter 1's formula, eq. (ch1-snr)")
+            label="chapter 1's formula")
     if total is not None:
         ax.plot([total[0]], [total[1]], "D", color="C1", ms=6,
                 label="stated, all navigation photons")
