@@ -205,3 +205,12 @@ def test_scoring_is_a_partition(alarms, onset, duration):
                                    if not onset <= t < onset + duration + s.LATE_WINDOW_S["uv"])
     assert sum(a["match"] == "detection" for a in res["alarms"]) == int(r["detected"])
     assert sum(a["match"] == "late" for a in res["alarms"]) == int(r["status"] == "late")
+
+
+def test_trial_outcome_takes_a_run_of_one_fault():
+    from types import SimpleNamespace
+
+    with pytest.raises(ValueError, match="^ft must hold exactly one fault, got 2"):
+        s.trial_outcome(SimpleNamespace(faults=[STEP, STEP]))
+    with pytest.raises(ValueError, match="^armed_from_s must be a real number in"):
+        s.trial_outcome(SimpleNamespace(faults=[STEP]), armed_from_s=-1.0)

@@ -58,7 +58,7 @@ tests watch while the wavelets train, so a UV or CNS fault inside the training s
 taken). 'paper' is the paper's 16-fault schedule (refused below --days 27.84).
 Score (the summary's "score"): a fault is detected when an alarm on its sensor is raised
 while it acts, [onset, end), or when that sensor was out of the fusion from before the
-onset to the end (delay 0); an alarm up to 6000 s after the end (XNAV 18000 s) makes it
+onset to the end (delay 0); an alarm up to 2000 s after the end (XNAV 18000 s) makes it
 "late", never detected; an alarm that no fault explains is a false alarm (a late one is not).
 A pulsar from a scenario file's timing model is named the same way (xnav.J0030 or its
 index). --faults and --detector run with backend numba and the EKF only.
