@@ -147,7 +147,8 @@ def skew_ramp(out=None, rate_deg_per_h_per_s=0.1, seed=0):
     run = att.simulate(att.make_fault("gyro_skew", "ramp", rate), rng=seed)
     crossed = crossed_after_onset(run)
     delay = float(run.sos.detect_time - run.onset)
-    expected = run.sos_J[3] / rate + (run.config.persist - 1) * run.config.dt
+    persistence = (run.config.persist - 1) * run.config.dt  # s from the first sample over to the flag
+    expected = run.sos_J[3] / rate + persistence
     runs = [att.simulate(att.make_fault("gyro_skew", "ramp", rate), rng=seed + 1 + k, duration=60.0)
             for k in range(SKEW_RUNS)]
     delays = [float(r.sos.detect_time - r.onset) for r in runs]
@@ -166,9 +167,11 @@ def skew_ramp(out=None, rate_deg_per_h_per_s=0.1, seed=0):
         f"Fault (paper eq. (39) lost): a ramp of {rate_deg_per_h_per_s:g} deg/h per second on "
         f"the skewed gyro from 50 s, a round number chosen before the run. The delay is set "
         f"by construction: threshold J4 = 5 x 0.05 deg/h x sqrt2 = {run.sos_J[3] / att.DEG_PER_H:.3f}"
-        f" deg/h over the ramp rate, plus 2 samples of persistence = {expected:.1f} s; ours "
+        f" deg/h over the ramp rate, plus {run.config.persist - 1} samples of persistence = "
+        f"{expected:.1f} s; ours "
         f"{delay:.1f} s against the paper's 2.5 s. A rate of "
-        f"{run.sos_J[3] / att.DEG_PER_H / 2.5:.2f} deg/h/s would give 2.5 s: the paper's delay "
+        f"{run.sos_J[3] / att.DEG_PER_H / (PAPER['skew_delay_s'] - persistence):.2f} deg/h/s "
+        "would give 2.5 s: the paper's delay "
         f"is judged among {SKEW_RUNS} runs of 60 s (seeds {seed + 1}-{seed + SKEW_RUNS}) with the rate "
         "we chose, and the paper's ramp rate and threshold, both lost, decide it. Caveat found "
         "here: an "
