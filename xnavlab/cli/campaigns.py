@@ -61,9 +61,9 @@ HELP = ("run a Monte Carlo campaign (consistency, detectors, roc) locally or on 
 #: Columns of the summary printed without ``--json``, per campaign.
 COLUMNS = {
     "consistency": ("quantity", "t_days", "value", "lo", "hi", "verdict", "runs"),
-    "detectors": ("fault_class", "sensor", "size", "detector", "trials", "pd",
+    "detectors": ("fault_class", "sensor", "size", "detector", "trials", "pd", "late",
                   "delay_median_s", "delay_p95_s", "false_alarms_per_day", "rms_ratio"),
-    "roc": ("threshold", "trials", "pd", "pd_lo", "pd_hi", "false_alarms_per_day",
+    "roc": ("threshold", "trials", "pd", "pd_lo", "pd_hi", "late", "false_alarms_per_day",
             "false_alarms_per_day_lo", "false_alarms_per_day_hi", "delay_median_s"),
 }
 
