@@ -54,6 +54,7 @@ module                 what it models
 ``trials``             Monte Carlo trials of the detectors on the Mars run (chapter 9)
 ``roc``                a detector's threshold swept over a fault grid: Pd against false
                        alarms per day (``campaign roc``, chapter 9)
+``detector_maps``      the detector table as heat maps and false-alarm strips (chapter 9)
 ``campaigns``          the Mars campaigns of ``python -m xnavlab campaign`` (chapter 13)
 =====================  ===================================================================
 
