@@ -22,7 +22,6 @@ EXEMPT = {
     # (test_every_registered_reproduction_passes) and again in its system's tests.
     "reproductions/": "tested through the registry: tests/test_reproduce.py",
     # The numba kernel is checked against the readable numpy loop of the same scenario.
-    "mars/plots.py": "tested by tests/mars/test_scenarios.py and tests/mars/test_fault_tolerance.py",
     "cli/campaigns.py": "tested by the CLI section of tests/core/test_campaign.py",
     # PINT as a witness: its tests need PINT's shipped data and run with ``-m witness``.
     "mars/pint_bridge.py": "tested by tests/witness/test_pint.py",

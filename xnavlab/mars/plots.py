@@ -182,9 +182,10 @@ def plot_fault_response(size_sigma=5.0, sensor="uv", kind="step", duration=4000.
         r = fault_tolerance.run_fault_tolerant(faults=[fault], detector=det, inputs=inp, train_days=settle)
         rms = r.run.metrics(settle)["position_error_m"]
         ax.semilogy(r.run.t_days * 24, r.run.position_error(), lw=0.7, label=f"{det}: {rms:.0f} m")
-        d = r.delays()[0]["delay"]
-        if det != "none":
-            text.append(f"{det} delay {d:.0f} s" if math.isfinite(d) else f"{det} missed")
+        d = r.delays()[0]
+        if det != "none":      # the scoring rule: schedules.score_faults
+            text.append(f"{det} delay {d['delay']:.0f} s" if d["status"] == "detected" else
+                        f"{det} late" if d["status"] == "late" else f"{det} missed")
             band = fault_tolerance.DETECTORS.index(det) - 1          # one band of isolation per detector
             for iv in r.isolation_intervals():
                 back = iv["back"] if iv["back"] is not None else days * DAY

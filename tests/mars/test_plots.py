@@ -1,0 +1,19 @@
+"""The chapter figures of xnavlab.mars.plots (more in test_scenarios and test_fault_tolerance)."""
+
+import re
+
+import matplotlib
+
+from xnavlab.mars import plots as mars_plots
+
+matplotlib.use("Agg")
+
+
+def test_fault_response_title_says_late_for_an_alarm_after_the_end():
+    """A slow UV range drift: the wavelet flags only its end jump, which the scoring rule
+    (schedules.score_faults) counts as late, never as a delay; the chi-square test sees it
+    while it acts."""
+    fig = mars_plots.plot_fault_response(5.0, "uv", "ramp", days=0.5)
+    title = fig.axes[0].get_title()
+    assert "wavelet late" in title
+    assert re.search(r"chi2 delay \d+ s", title)
