@@ -55,7 +55,7 @@ Examples
 >>> res = run_campaign(camp, 3, seed=1, engine="serial")
 >>> [r["index"] for r in res.runs()], res.computed, res.failed
 ([0, 1, 2], 3, 0)
->>> res.runs()[0]["metrics"]["wavelet"]["detected"]
+>>> res.runs()[0]["metrics"]["chi2"]["detected"]
 True
 """
 

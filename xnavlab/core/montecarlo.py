@@ -93,15 +93,24 @@ def signal_trial(kind, size_sigma, *, seed=0, n=4000, train=1500, duration=300, 
     pfa : float
         False-alarm probability per sample of both detectors (the chi-square ``alpha``).
     window : int, optional
-        Samples after the fault's end in which a detection still counts (default 200).
+        Samples after the fault's end in which a first alarm makes the fault *late* (default
+        200); never a detection.
 
     Returns
     -------
     dict
-        For each detector: ``detected`` (bool), ``delay`` (s, inf if missed),
-        ``false_alarms`` (alarm samples before the onset), ``armed_before`` (samples),
-        ``peak_fault`` and ``peak_clean`` (largest ratio in the fault window and in an
-        equally long fault-free window before it).
+        ``onset`` (s) and for each detector: ``detected`` (bool: an alarm raised while the
+        fault acts, ``[onset, end)``; a spike acts on its own sample only), ``delay`` (s from
+        the onset, inf unless detected), ``late`` (bool: not detected, and an alarm raised in
+        the ``window`` samples after the end), ``false_alarms`` (alarm samples before the
+        onset), ``armed_before`` (samples), ``peak_fault`` and ``peak_clean`` (largest ratio
+        while the fault acts and in an equally long fault-free span before it).
+
+    Notes
+    -----
+    The rule is the book's one scoring rule (:func:`xnavlab.mars.schedules.score_faults`) on a
+    single series: a fault counts as detected only by an alarm while it acts; an alarm after
+    its end comes after the whole fault reached the filter, and is counted apart.
     """
     check_choice("kind", kind, KINDS)
     size_sigma = check_real("size_sigma", size_sigma, 0.0, 1000.0)
@@ -119,21 +128,22 @@ def signal_trial(kind, size_sigma, *, seed=0, n=4000, train=1500, duration=300, 
     if size_sigma > 0:
         mag = size_sigma / (duration * _DT) if kind == "ramp" else size_sigma
         x = inject(t, x, [Fault("s", kind, mag, onset, duration * _DT)], "s", rng)
-    fault_win = (t >= onset) & (t < onset + (duration + window) * _DT)
-    clean_win = (t >= onset - (duration + window) * _DT) & (t < onset)
+    stop = onset + (1 if kind == "spike" else duration) * _DT       # the fault acts in [onset, stop)
+    fault_win = (t >= onset) & (t < stop)
+    clean_win = (t >= 2 * onset - stop) & (t < onset)
+    late_win = (t >= stop) & (t < stop + window * _DT)
     out = {"onset": float(onset)}
     wav = wavelet_detect(t, x, train=train, pfa=pfa)
     chi = chi2_detect(t, x, np.ones(n), alpha=pfa)
     chi.armed[:train] = False
     chi.alarm[:train] = False
     for name, det in (("wavelet", wav), ("chi2", chi)):
-        first = [e.onset for e in det.events if onset <= e.onset < onset + (duration + window) * _DT]
-        if name == "chi2":
-            first = [tt for tt in t[det.alarm & fault_win]][:1]
+        first = t[det.alarm & fault_win][:1]
         before = det.armed & (t < onset)
         out[name] = {
-            "detected": bool(first),
-            "delay": float(first[0] - onset) if first else math.inf,
+            "detected": bool(first.size),
+            "delay": float(first[0] - onset) if first.size else math.inf,
+            "late": bool(not first.size and np.any(det.alarm & late_win)),
             "false_alarms": int(np.sum(det.alarm & before)),
             "armed_before": int(np.sum(before)),
             "peak_fault": float(np.max(det.ratio[fault_win])),
@@ -203,7 +213,8 @@ def run_tasks(func, params, *, seed=0, executor=None, max_workers=2, chunksize=1
 
 
 def summarise(results, detector):
-    """Probability of detection, false-alarm rate per sample and median delay of trials.
+    """Probability of detection, share of late trials (flagged only after the fault's end),
+    false-alarm rate per sample and median delay of the detected trials.
 
     Examples
     --------
@@ -218,6 +229,7 @@ def summarise(results, detector):
     found = [x["delay"] for x in r if x["detected"]]
     armed = sum(x["armed_before"] for x in r)
     return {"pd": float(np.mean([x["detected"] for x in r])),
+            "late": float(np.mean([x.get("late", False) for x in r])),
             "far": float(sum(x["false_alarms"] for x in r) / armed) if armed else math.nan,
             "median_delay_s": float(np.median(found)) if found else math.inf,
             "trials": len(r)}
@@ -231,14 +243,17 @@ def detection_table(kinds=KINDS, sizes=(2.0, 4.0, 8.0), *, trials=20, seed=0, no
     -------
     list of dict
         One row per (kind, size): ``kind``, ``size_sigma``, ``noise_scale`` and, per detector,
-        ``{det}_pd``, ``{det}_far``, ``{det}_delay_s``; plus ``winner`` (higher Pd, then the
-        shorter delay, then the lower false-alarm rate).
+        ``{det}_pd``, ``{det}_late`` (share flagged only after the end), ``{det}_far``,
+        ``{det}_delay_s`` (median over the detected trials, inf when none); plus ``winner``
+        (higher Pd, then the shorter delay, then the lower false-alarm rate).
 
     Examples
     --------
-    >>> rows = detection_table(("spike",), (10.0,), trials=2, max_workers=1)
+    >>> rows = detection_table(("step", "spike"), (10.0,), trials=2, max_workers=1)
     >>> rows[0]["wavelet_pd"], rows[0]["chi2_pd"], rows[0]["winner"]
     (1.0, 1.0, 'chi2')
+    >>> rows[1]["wavelet_pd"], rows[1]["wavelet_late"]        # a spike: flagged after its sample
+    (0.0, 1.0)
     """
     trials = check_int("trials", trials, 1)
     cells = [(k, float(s)) for k in kinds for s in sizes]
@@ -251,8 +266,8 @@ def detection_table(kinds=KINDS, sizes=(2.0, 4.0, 8.0), *, trials=20, seed=0, no
         row = {"kind": k, "size_sigma": s, "noise_scale": noise_scale}
         for d in DETECTORS:
             sm = summarise(chunk, d)
-            row[f"{d}_pd"], row[f"{d}_far"], row[f"{d}_delay_s"] = (
-                sm["pd"], sm["far"], sm["median_delay_s"])
+            row[f"{d}_pd"], row[f"{d}_late"], row[f"{d}_far"], row[f"{d}_delay_s"] = (
+                sm["pd"], sm["late"], sm["far"], sm["median_delay_s"])
         row["winner"] = _winner(row)
         rows.append(row)
     return rows
@@ -268,8 +283,8 @@ def _winner(row):
 
 
 def roc_curve(results, detector, thresholds=None):
-    """ROC from trials: for each threshold on the ratio, the fraction of fault windows whose
-    peak exceeds it (Pd) and of equally long fault-free windows (Pfa per window).
+    """ROC from trials: for each threshold on the ratio, the fraction of faults whose peak
+    while they act exceeds it (Pd) and of equally long fault-free spans (Pfa per span).
 
     Returns
     -------
