@@ -99,6 +99,14 @@ def _study_truth():
     prepare(MarsScenario.study(days=30.0))
 
 
+def _timing_tables():
+    from xnavlab.mars import fold_toa, timing_bound
+
+    timing_bound.accuracy_table(cache=True)  # chapter 1's call: 2000 ML, 300 cross-correlation folds
+    fold_toa.window_survey(cache=True)  # chapter 2's two surveys of the fold over one orbit
+    fold_toa.window_survey(error=fold_toa.SETTLED_ERROR, cache=True)
+
+
 def _model_mismatch():
     from xnavlab.mars import model_mismatch
 
@@ -116,6 +124,7 @@ STEPS = (
     ("the chapters' truths of 8 force models, 30 days (truth cache)", _force_models),
     ("PINT's photon phases and residuals (chapter 1's cache)", _pint_witnesses),
     ("the studies' rich truth, 30 days, and its q_acc (truth cache)", _study_truth),
+    ("chapter 1's TOA accuracies and chapter 2's fold surveys (cache)", _timing_tables),
     (KERNEL_STEP, compile_kernel),
     ("fault-tolerant runs", _mars_fault_tolerant),
     ("headline campaign, 32 seeds (campaign cache)", _headline_campaign),
