@@ -17,3 +17,11 @@ def test_fault_response_title_says_late_for_an_alarm_after_the_end():
     title = fig.axes[0].get_title()
     assert "wavelet late" in title
     assert re.search(r"chi2 delay \d+ s", title)
+
+
+def test_the_sliders_figures_label_their_unit_and_keep_the_legend_off_the_axes():
+    for fig in (mars_plots.plot_subsystem("uv", 1.0, 30, days=0.02),
+                mars_plots.plot_sharing(0.5, "reset", days=0.02)):
+        ax = fig.axes[0]
+        assert ax.get_ylabel().endswith("(m)")
+        assert ax.get_legend() is None and len(fig.legends) == 1

@@ -79,11 +79,12 @@ def plot_subsystem(subsystem="uv", noise_scale=1.0, interval_s=3, days=0.25):
     hours = res.t_days * 24
     fig = Figure(figsize=(7, 3), layout="constrained")
     ax = fig.add_subplot()
-    ax.fill_between(hours, 0, 3 * res.sigma_position(), color="C0", alpha=0.15, label="3 sigma")
+    ax.fill_between(hours, 0, 3 * res.sigma_position(), color="C0", alpha=0.15,
+                    label="the filter's 3 sigma")
     ax.plot(hours, res.position_error(), color="C0", label="|position error|")
-    ax.set(xlabel="time (h)", ylabel="m", yscale="log", ylim=(10, 3e4),
+    ax.set(xlabel="time (h)", ylabel="|position error| (m)", yscale="log", ylim=(10, 3e4),
            title=f"{subsystem}: noise x {noise_scale:.2g}, every {kw['dt_' + subsystem]:g} s")
-    ax.legend(fontsize=8)
+    fig.legend(fontsize=8, ncol=2, loc="outside lower center")  # off the shaded band
     return fig
 
 
@@ -125,11 +126,11 @@ def plot_sharing(beta_xnav=1 / 3, mode="reset", days=0.5):
     fig = Figure(figsize=(7, 3), layout="constrained")
     ax = fig.add_subplot()
     ax.semilogy(hours, res.position_error(), label="|position error|")
-    ax.semilogy(hours, res.sigma_position(), "--", label="1-sigma")
-    ax.set(xlabel="time (h)", ylabel="m", ylim=(10, 2e4),
+    ax.semilogy(hours, res.sigma_position(), "--", label="the filter's 1 sigma")
+    ax.set(xlabel="time (h)", ylabel="position (m)", ylim=(10, 2e4),
            title=f"{mode}, beta = ({beta_xnav:.2f}, {rest:.2f}, {rest:.2f}): "
                  f"{res.metrics(settle)['position_error_m']:.0f} m after {settle * 24:g} h")
-    ax.legend(fontsize=8)
+    fig.legend(fontsize=8, ncol=2, loc="outside lower center")  # off the curves
     return fig
 
 
