@@ -70,3 +70,15 @@ def test_false_alarm_strips_draw_design_and_mean():
     ys = {tuple(line.get_ydata()) for line in ax.get_lines() if len(line.get_ydata()) == 2}
     assert (3.0, 3.0) in ys and (1.0, 1.0) in ys and (0.2, 0.2) in ys
     assert [t.get_text() for t in ax.get_legend().get_texts()][0] == "a cell (16 one-day runs)"
+
+
+def test_signal_pd_one_panel_per_kind_with_late_dashed():
+    rows = [{"kind": k, "size_sigma": s, "wavelet_pd": 0.5, "wavelet_late": 0.25,
+             "chi2_pd": 1.0, "chi2_late": 0.0} for k in ("step", "ramp") for s in (2.0, 8.0)]
+    fig = dm.plot_signal_pd(rows)
+    assert [ax.get_title() for ax in fig.axes] == ["step", "ramp"]
+    lines = fig.axes[1].get_lines()
+    assert [tuple(ln.get_ydata()) for ln in lines] == [(0.5, 0.5), (0.25, 0.25), (1.0, 1.0),
+                                                       (0.0, 0.0)]
+    assert lines[1].get_linestyle() == "--"
+    assert [t.get_text() for t in fig.legends[0].get_texts()][1] == "wavelet: late"

@@ -11,7 +11,10 @@ read; these figures show one quantity at a time across all cells:
 * :func:`plot_cell_maps`: one heat map per detector, a row per fault class and size, a column
   per sensor, each square annotated with its value (and its late trials for ``pd``);
 * :func:`plot_false_alarms`: the false alarms per day of every cell, one strip per detector,
-  against each detector's design rate.
+  against each detector's design rate;
+* :func:`plot_signal_pd`: the white-noise trials of :func:`xnavlab.core.montecarlo.detection_table`
+  (one panel per fault kind): the probability of detection and the share of late trials against
+  the fault's size, per detector.
 
 Examples
 --------
@@ -28,7 +31,8 @@ import numpy as np
 
 from xnavlab.core.validate import check_choice
 
-__all__ = ["SENSORS", "cell_label", "cell_grid", "plot_cell_maps", "plot_false_alarms"]
+__all__ = ["SENSORS", "cell_label", "cell_grid", "plot_cell_maps", "plot_false_alarms",
+           "plot_signal_pd"]
 
 #: Columns of the maps, in the table's order.
 SENSORS = ("uv", "cns", "xnav")
@@ -209,4 +213,50 @@ def plot_false_alarms(table, design, detectors=("wavelet", "chi2", "combined")):
     ax.set_ylabel("false alarms per day (all subsystems)")
     ax.legend(loc="upper right", fontsize=8)
     fig.tight_layout()
+    return fig
+
+
+def plot_signal_pd(rows, detectors=("wavelet", "chi2")):
+    """Probability of detection and share of late trials against the fault size, per kind.
+
+    Parameters
+    ----------
+    rows : sequence of dict
+        :func:`xnavlab.core.montecarlo.detection_table` rows: ``kind``, ``size_sigma`` and,
+        per detector, ``{det}_pd`` and ``{det}_late``.
+    detectors : sequence of str
+        One colour each.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One panel per kind, in the rows' order: Pd solid with dots, the late share dashed.
+
+    Examples
+    --------
+    >>> rows = [{"kind": "step", "size_sigma": s, "wavelet_pd": p, "wavelet_late": 0.0,
+    ...          "chi2_pd": 1.0, "chi2_late": 0.0} for s, p in ((2.0, 0.1), (4.0, 0.9))]
+    >>> fig = plot_signal_pd(rows)
+    >>> [ax.get_title() for ax in fig.axes]
+    ['step']
+    """
+    from matplotlib.figure import Figure
+
+    kinds = list(dict.fromkeys(r["kind"] for r in rows))
+    fig = Figure(figsize=(2.6 * len(kinds) + 0.8, 3.2), layout="constrained")
+    axes = fig.subplots(1, len(kinds), sharey=True, squeeze=False)[0]
+    for ax, kind in zip(axes, kinds, strict=True):
+        mine = sorted((r for r in rows if r["kind"] == kind), key=lambda r: r["size_sigma"])
+        size = [r["size_sigma"] for r in mine]
+        for i, det in enumerate(detectors):
+            ax.plot(size, [r[f"{det}_pd"] for r in mine], "o-", color=f"C{i}",
+                    label=f"{det}: detected")
+            ax.plot(size, [r[f"{det}_late"] for r in mine], "x--", color=f"C{i}", alpha=0.7,
+                    label=f"{det}: late")
+        ax.set(title=kind, xscale="log", xlabel="fault size (noise sigma)", ylim=(-0.05, 1.05))
+        ax.set_xticks(size, [f"{v:g}" for v in size])
+        ax.minorticks_off()
+    axes[0].set_ylabel("share of trials")
+    fig.legend(*axes[0].get_legend_handles_labels(), loc="outside lower center",
+               ncol=2 * len(detectors), fontsize=8)
     return fig
