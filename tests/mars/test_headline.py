@@ -59,6 +59,8 @@ README_ROWS = {
     "fused position error, the paper's faults, combined detector (m)": ("faulty_position_m", 2),
     "fused velocity error, the paper's faults, combined detector (m/s)": ("faulty_velocity_mps", 4),
     "faulty over fault-free position error, same seed": ("fault_ratio", 3),
+    "fused position error, the paper's faults, the paper's wavelet detector (m)":
+        ("wavelet_position_m", 2),
 }
 
 
