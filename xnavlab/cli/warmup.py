@@ -9,8 +9,10 @@ the Mars reproductions use, and the headline campaign of chapters 6 and 8 (32 no
 the 30-day run, clean and with the paper's faults: :func:`xnavlab.mars.headline.headline_numbers`)
 into its campaign store there, and the table of matched vs mismatched force models of chapters
 3, 5 and 6 (:func:`xnavlab.mars.model_mismatch.mismatch_table`, with the studies' rich truth
-before it), so that no chapter cell waits minutes for it, and two chapters
-executed side by side (``make book``, ``pytest -n 2``) do not wait for each other.
+before it), and chapter 10's Monte Carlo reproductions and its table of the RKF's bound
+(:func:`xnavlab.robust.plots.bound_table`, minutes together), so that no chapter cell waits
+minutes for it, and two chapters executed side by side (``make book``, ``pytest -n 2``) do not
+wait for each other.
 
 Each step runs a tiny case through the same public functions the chapters call, so the
 kernels are compiled for exactly the argument types the chapters pass. Running it again
@@ -113,6 +115,15 @@ def _model_mismatch():
     model_mismatch.mismatch_table()  # the chapters' call (3, 5, 6): stored under $XNAVLAB_CACHE
 
 
+def _ephemeris_chapter():
+    from xnavlab import reproduce
+    from xnavlab.robust import plots
+
+    plots.bound_table()  # chapter 10's call: stored under $XNAVLAB_CACHE
+    for rid in ("ukf-vs-ephemeris-error", "rkf-earth", "rkf-mars", "rkf-sweep", "rkf-residual-memory"):
+        reproduce.run(rid)  # the registered Monte Carlo runs chapter 10 reads (reproduction cache)
+
+
 #: The label of the filter kernel's compile in :data:`STEPS`.
 KERNEL_STEP = "federated filter kernel"
 
@@ -129,6 +140,7 @@ STEPS = (
     ("fault-tolerant runs", _mars_fault_tolerant),
     ("headline campaign, 32 seeds (campaign cache)", _headline_campaign),
     ("matched vs mismatched models, 30 days x 5 seeds x 3 cases (cache)", _model_mismatch),
+    ("chapter 10's bound table and its Monte Carlo reproductions (caches)", _ephemeris_chapter),
 )
 
 

@@ -8,7 +8,8 @@ module                   what it models
 ``filters``              UKF, ASUKF, TDUKF and the robust Kalman filter (RKF)
 ``coverage``             whether the RKF's ``Sigma`` bounds its error: coverage of the
                          3-sigma ellipse, NEES, over seeds; the prior bound on ``B B^T``
-``plots``                the figure behind chapter 10's slider
+``plots``                the figure behind chapter 10's slider, and its table of the RKF's
+                         bound over seeds (stored on disk)
 =======================  =================================================================
 
 The filters' public names are re-exported here (``from xnavlab import robust``).

@@ -25,6 +25,8 @@ def plot_diagnosis(diag, axes=None):
     Returns
     -------
     matplotlib.figure.Figure
+        Left, the residual norms and the threshold (log scale, m), their legend below the axes;
+        right, the identified parameters with the injected faults dotted.
 
     Examples
     --------
@@ -53,7 +55,8 @@ def plot_diagnosis(diag, axes=None):
     ax0.yaxis.set_minor_formatter(FuncFormatter(lambda v, _: ""))
     ax0.set_xlabel("time (s)")
     ax0.set_ylabel(r"$\|r_j\|$ (m)")
-    ax0.legend(fontsize=8, ncol=2)
+    # below the axes, in one row: the residuals fill the panel (a fault's peak sits anywhere)
+    ax0.legend(fontsize=8, ncol=5, loc="upper center", bbox_to_anchor=(0.5, -0.2), frameon=False)
     for j, idn in diag.identification.items():
         for i, name in enumerate(idn.names):
             ax1.plot(idn.t, idn.theta[:, i], label=f"PR{j + 1} {name}")
