@@ -25,3 +25,19 @@ def test_the_sliders_figures_label_their_unit_and_keep_the_legend_off_the_axes()
         ax = fig.axes[0]
         assert ax.get_ylabel().endswith("(m)")
         assert ax.get_legend() is None and len(fig.legends) == 1
+
+
+def test_plot_consistency_judges_each_case_after_the_settling_span():
+    import numpy as np
+
+    t = np.linspace(0.0, 3.0, 3 * 1440 + 1)
+    nees = np.where(t < 1.0, 1e4, 6.0)                 # optimistic only while settling
+    half = np.where(np.arange(t.size) % 2 == 0, 1.0, 6.0)   # half below the band
+    fig = mars_plots.plot_consistency({"settles": (t, nees), "timid": (t, half)}, (4.0, 8.0))
+    top, bars = fig.axes
+    assert [x.get_text() for x in bars.get_yticklabels()] == ["settles: inside",
+                                                              "timid: conservative"]
+    widths = np.array([p.get_width() for p in bars.patches]).reshape(2, 3)  # below, in, above
+    np.testing.assert_allclose(widths.sum(axis=1), 1.0)
+    np.testing.assert_allclose(widths[:, 0], [0.0, 0.5], atol=1e-3)   # after day 1 only
+    assert len(top.lines) == 3 and top.get_yscale() == "log"   # two cases and the mean 6

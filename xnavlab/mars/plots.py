@@ -27,7 +27,7 @@ from xnavlab.core.validate import check_choice, check_real
 from xnavlab.mars import fault_tolerance, scenarios
 
 __all__ = ["plot_subsystem", "plot_sharing", "plot_fault_response", "plot_error_curves",
-           "plot_details", "detector_table_markdown", "plot_shapiro_angle"]
+           "plot_details", "detector_table_markdown", "plot_shapiro_angle", "plot_consistency"]
 
 
 def plot_subsystem(subsystem="uv", noise_scale=1.0, interval_s=3, days=0.25):
@@ -482,3 +482,87 @@ def plot_shapiro_angle(angle_deg=2.0, t=None):
     ax2.legend(fontsize=7, loc="lower left")
     sparse_log_minors(ax1, ax2)  # three log axes over 4-7 decades: half the render
     return fig
+
+
+#: Line colours of the cases of :func:`plot_consistency` (green and red mark the band's shares).
+_CASE_COLORS = ("C0", "k", "C1", "C4", "C5", "C6", "C8", "C9")
+
+
+def plot_consistency(cases, band, dof=6, settle_days=1.0, bin_days=1.0 / 24.0, ylim=None):
+    """Run-averaged NEES of several cases over time, and the share of records in their band.
+
+    Top: the NEES averaged over ``bin_days`` bins (log scale), with the 95 % band of one record
+    and the mean ``dof`` of a consistent filter. Bottom: for each case, the shares of the
+    records after ``settle_days`` below, inside and above the band
+    (:func:`xnavlab.core.filters.judge_series`, whose verdict labels the bar). For chapter 5's
+    instruments and force-model cases.
+
+    Parameters
+    ----------
+    cases : dict
+        ``{label: (t_days, nees)}``: record times, days since the start, shape (n,), and the
+        run-averaged NEES at each, shape (n,).
+    band : tuple of float
+        ``(lo, hi)``: the 95 % band of one record's average
+        (:func:`xnavlab.core.filters.chi2_bounds`).
+    dof : int
+        Degrees of freedom (6: position and velocity).
+    settle_days : float
+        Start of the judged span, days.
+    bin_days : float
+        Width of the averaging bins of the top panel, days (default one hour).
+    ylim : tuple of float, optional
+        Limits of the top panel's NEES axis (a diverging case may leave it; its bar still
+        shows it).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two axes; not registered with pyplot.
+
+    Examples
+    --------
+    >>> t = np.linspace(0.0, 2.0, 2881)
+    >>> fig = plot_consistency({"a": (t, np.full(t.size, 6.0)), "b": (t, np.full(t.size, 1e3))},
+    ...                        (4.0, 8.0))
+    >>> [label.get_text() for label in fig.axes[1].get_yticklabels()]
+    ['a: inside', 'b: optimistic']
+    """
+    from matplotlib.figure import Figure
+
+    from xnavlab.core.filters import judge_series
+
+    lo, hi = (check_real(n, v, 0.0) for n, v in zip(("lo", "hi"), band, strict=True))
+    bin_days = check_real("bin_days", bin_days, 0.0, lo_open=True)
+    fig = Figure(figsize=(8, 5.6), layout="constrained")
+    top, bars = fig.subplots(2, 1, height_ratios=(2, 1))
+    names = []
+    for k, (label, (t, nees)) in enumerate(cases.items()):
+        t, nees = np.asarray(t, dtype=float), np.asarray(nees, dtype=float)
+        b = np.floor(t / bin_days).astype(int)
+        n = np.bincount(b)
+        have = n > 0
+        top.semilogy(((np.arange(n.size) + 0.5) * bin_days)[have],
+                     (np.bincount(b, nees) / np.maximum(n, 1))[have],
+                     color=_CASE_COLORS[k % len(_CASE_COLORS)], lw=0.8, label=label)
+        j = judge_series(nees[t >= settle_days], lo, hi)
+        left = 0.0
+        for share, color, word in ((j["below"], "0.6", "below"), (j["inside"], "C2", "inside"),
+                                   (j["above"], "C3", "above")):
+            bars.barh(k, share, left=left, color=color, label=word if k == 0 else None)
+            left += share
+        names.append(f"{label}: {j['verdict']}")
+    top.axhspan(lo, hi, color="C2", alpha=0.25, label="95 % band of one record")
+    top.axhline(dof, color="k", ls="--", lw=0.8, label=f"{dof}: a consistent filter's mean")
+    top.set(xlabel="time (days)", ylabel="NEES, hourly mean" if bin_days == 1.0 / 24.0
+            else "NEES, binned mean")
+    if ylim is not None:
+        top.set_ylim(*ylim)
+    fig.legend(*top.get_legend_handles_labels(), fontsize=7, ncol=3, loc="outside upper center")
+    bars.set_yticks(range(len(names)), names, fontsize=8)
+    bars.invert_yaxis()
+    bars.set(xlim=(0.0, 1.0), xlabel=f"share of the records after day {settle_days:g} "
+             "below, inside and above the band")
+    bars.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    return fig
+
