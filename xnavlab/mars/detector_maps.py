@@ -116,6 +116,7 @@ def plot_cell_maps(table, key="pd", detectors=("wavelet", "chi2", "combined"), *
     Returns
     -------
     matplotlib.figure.Figure
+        Not registered with pyplot.
 
     Examples
     --------
@@ -125,8 +126,9 @@ def plot_cell_maps(table, key="pd", detectors=("wavelet", "chi2", "combined"), *
     >>> len(fig.axes)
     3
     """
-    import matplotlib.pyplot as plt
+    import matplotlib
     from matplotlib.colors import LogNorm, Normalize
+    from matplotlib.figure import Figure
 
     check_choice("key", key, tuple(_QUANTITIES))
     rows = table["rows"]
@@ -138,10 +140,9 @@ def plot_cell_maps(table, key="pd", detectors=("wavelet", "chi2", "combined"), *
     hi = float(allv.max()) if hi is None else hi
     norm = LogNorm(max(lo, 1e-3), max(hi, 1.001 * max(lo, 1e-3))) if log else Normalize(lo, hi)
     labels = next(iter(grids.values()))[0]
-    fig, axes = plt.subplots(1, len(detectors), figsize=(3.1 * len(detectors) + 1.4,
-                                                           0.33 * len(labels) + 1.3),
-                             sharey=True, squeeze=False)
-    cmap = plt.get_cmap("viridis")
+    fig = Figure(figsize=(3.1 * len(detectors) + 1.4, 0.33 * len(labels) + 1.3))
+    axes = fig.subplots(1, len(detectors), sharey=True, squeeze=False)
+    cmap = matplotlib.colormaps["viridis"]
     for ax, det in zip(axes[0], detectors, strict=True):
         _, v = grids[det]
         image = ax.imshow(np.ma.masked_invalid(v), cmap=cmap, norm=norm, aspect="auto")
@@ -193,12 +194,13 @@ def plot_false_alarms(table, design, detectors=("wavelet", "chi2", "combined")):
     >>> fig.axes[0].get_ylabel()
     'false alarms per day (all subsystems)'
     """
-    import matplotlib.pyplot as plt
+    from matplotlib.figure import Figure
 
     rng = np.random.default_rng(0)              # the strips' horizontal jitter only
     n = table.get("trials")
     cell = f"a cell ({n} one-day runs)" if n else "a cell"
-    fig, ax = plt.subplots(figsize=(6.4, 3.6))
+    fig = Figure(figsize=(6.4, 3.6))
+    ax = fig.add_subplot()
     for i, det in enumerate(detectors):
         fa = np.array([r["false_alarms_per_day"] for r in table["rows"] if r["detector"] == det])
         ax.plot(i + rng.uniform(-0.18, 0.18, fa.size), fa, "o", ms=4, alpha=0.6, color=f"C{i}",
