@@ -111,3 +111,13 @@ def test_attitude_ekf_converges_to_the_drifts():
         f.update([0.0, 0.0, 1.0])
     with pytest.raises(ValueError, match="^dt "):
         att.AttitudeEKF(qs[0], -0.1, 0.0, 1e-4, 0.0, 1e-4)
+
+
+def test_a_complex_sample_or_initial_attitude_is_refused_by_name():
+    f = att.AttitudeEKF([0.0, 0.0, 0.0, 1.0], 0.1, 1e-6, 1e-4, 1e-7, 1e-6)
+    with pytest.raises(ValueError, match="^omega_g must be 3 finite real numbers"):
+        f.predict([0.0, 0.0, 1e-3 + 1e-9j])
+    with pytest.raises(ValueError, match="^q_meas must be 4 finite real numbers"):
+        f.update(np.array([0.0, 0.0, 0.0, 1.0]) + 0j)
+    with pytest.raises(ValueError, match="^q0 must hold real numbers"):
+        att.AttitudeEKF([0.0, 0.0, 1j, 1.0], 0.1, 1e-6, 1e-4, 1e-7, 1e-6)

@@ -105,3 +105,142 @@ def test_run_mars_faults_bad_spec_module_entry_point():
     assert proc.returncode == 2
     assert len(proc.stderr.strip().splitlines()) == 1
     assert "oops" in proc.stderr
+
+
+# ---- issue 35: the argument grammar, as properties (exit 2 and one line, never a traceback) ----
+
+import math  # noqa: E402
+import re  # noqa: E402
+
+from hypothesis import assume, example, given  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+from xnavlab.cli import number  # noqa: E402
+
+#: Odd texts for a number flag: anything, numbers of every size, and the spellings Python's own
+#: float() and int() take but a command line should not (underscores, hex, blanks, other digits).
+ODD = st.one_of(
+    st.text(max_size=12),
+    st.floats(allow_nan=True, allow_infinity=True).map(repr),
+    st.integers(-10**30, 10**30).map(str),
+    st.sampled_from(["1_0", "0x10", " 1", "1 ", "1e400", "-0", "1j", "\u0663", "", "nan", "-inf",
+                     "+.5e-3", "1.", ".", "e3", "1e", "--1", "0.0", "1/2", "１"]),
+)
+_PLAIN = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?", re.A)
+
+
+@given(ODD)
+@example("1_0")
+@example("1e400")
+def test_a_real_number_flag_takes_plain_decimals_in_range_or_says_so_in_one_line(text):
+    try:
+        value = number("days", text, float, 0.0, 365.0, lo_open=True)
+    except ValueError as exc:
+        assert str(exc) == f"days must be a real number in (0, 365], got {text!r}"
+    else:
+        assert _PLAIN.fullmatch(text) and 0.0 < value <= 365.0 and value == float(text)
+
+
+@given(ODD)
+def test_an_integer_flag_takes_plain_integers_in_range_or_says_so_in_one_line(text):
+    try:
+        value = number("seed", text, int, 0, 2**63 - 1)
+    except ValueError as exc:
+        assert str(exc) == f"seed must be an integer in [0, 9223372036854775807], got {text!r}"
+    else:
+        assert re.fullmatch(r"[+-]?\d+", text, re.A) and 0 <= value < 2**63
+
+
+def _valid(text, kind, lo, hi, lo_open=False):
+    try:
+        number("x", text, kind, lo, hi, lo_open=lo_open)
+    except ValueError:
+        return False
+    return True
+
+
+#: (argv before the flag, flag, its name in the message, is this text valid)
+NUMBER_FLAGS = [
+    (["run", "mars"], "--days", "days", lambda t: _valid(t, float, 0.0, 365.0, True)),
+    (["run", "mars", "--days=0.01"], "--seed", "seed", lambda t: _valid(t, int, 0, 2**63 - 1)),
+    (["campaign", "consistency"], "--runs", "runs", lambda t: _valid(t, int, 1, 10**7)),
+    (["campaign", "consistency", "--runs=1"], "--days", "days",
+     lambda t: _valid(t, float, 0.0, 30.0, True) and float(t) >= 0.000417),
+    (["campaign", "detectors", "--runs=1"], "--days", "days", lambda t: _valid(t, float, 0.5, 5.0)),
+    (["campaign", "consistency", "--runs=1"], "--seed", "seed", lambda t: _valid(t, int, 0, 2**63 - 1)),
+    (["campaign", "consistency", "--runs=1"], "--workers", "workers", lambda t: False),  # see below
+    (["campaign", "consistency", "--runs=1"], "--timeout", "timeout",
+     lambda t: _valid(t, float, 0.0, 3600.0, True)),
+]
+
+
+@given(st.sampled_from(NUMBER_FLAGS), ODD)
+def test_a_bad_number_on_the_command_line_exits_2_with_one_line_naming_it(tmp_path_factory, flag,
+                                                                           text):
+    before, option, name, valid = flag
+    if option == "--workers":   # valid workers would start a campaign: keep the refused ones
+        assume(not _valid(text, int, 1, 1))
+        before = [*before, "--days=1e-9"] if _valid(text, int, 1, 256) else before
+    assume(not valid(text))
+    out = tmp_path_factory.getbasetemp() / "grammar"
+    argv = [*before, f"{option}={text}"]
+    if before[0] == "campaign":
+        argv.append(f"--out={out}")
+    import contextlib
+    import io
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+        code = main(argv)
+    lines = err.getvalue().splitlines()
+    assert code == 2 and len(lines) == 1 and lines[0].startswith("xnavlab: error: "), lines
+    assert name in lines[0] or "days" in lines[0], lines
+
+
+CHOICE_FLAGS = [(["run", "mars", "--days=0.01"], "--mode", ("reset", "no-reset")),
+                (["run", "mars", "--days=0.01"], "--backend", ("numba", "numpy")),
+                (["run", "mars", "--days=0.01"], "--detector", ("none",)),
+                (["scenario", "--dump"], "--setup", ("paper", "study"))]
+
+
+@given(st.sampled_from(CHOICE_FLAGS), st.text(max_size=10))
+def test_an_unknown_choice_exits_2_with_one_line(flag, text):
+    before, option, valid = flag
+    assume(text not in valid)
+    import contextlib
+    import io
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+        code = main([*before, f"{option}={text}"])
+    lines = err.getvalue().splitlines()
+    assert code == 2 and len(lines) == 1 and option.strip("-") in lines[0], lines
+
+
+SPEC_PART = st.one_of(ODD, st.sampled_from(["uv", "xnav", "cns", "uv.range", "xnav.B1937",
+                                            "cns.angle0", "step", "ramp", "spike", "stuck",
+                                            "noise", "25000", "100", "inf", "0"]))
+
+
+@given(st.lists(st.tuples(SPEC_PART, SPEC_PART, SPEC_PART, SPEC_PART, SPEC_PART), min_size=1,
+                max_size=2), st.sampled_from([":@+", "::+", ":", ""]))
+def test_a_fault_spec_is_used_or_refused_in_one_line_before_any_run(items, seps):
+    from xnavlab.mars import fault_tolerance, scenarios
+
+    a, b, c = (seps + ":@+")[:3]
+    spec = ",".join(f"{s}{a}{k}:{m}{b}{o}{c}{d}" for s, k, m, o, d in items)
+    assume(spec.strip())
+    sc = scenarios.MarsScenario(days=0.05)
+    try:   # a spec the run would take is not for this test (it would run)
+        faults = fault_tolerance.parse_faults(spec, sc)
+        fault_tolerance.check_schedule(faults, sc, "combined", scenarios.default_settle_days(0.05))
+    except ValueError:
+        pass
+    else:
+        assume(False)
+    import contextlib
+    import io
+    err = io.StringIO()
+    with contextlib.redirect_stderr(err), contextlib.redirect_stdout(io.StringIO()):
+        code = main(["run", "mars", "--days=0.05", f"--faults={spec}"])
+    lines = err.getvalue().splitlines()
+    assert code == 2 and len(lines) == 1 and lines[0].startswith("xnavlab: error: "), lines
+    assert math.isfinite(len(lines))

@@ -92,3 +92,29 @@ def test_an_alarm_after_the_fault_ended_is_scored_late_in_the_json(capsys):
     late = [d for d in score["detections"] if d["match"] == "late"]
     assert len(late) == 1 and late[0]["detected_onset"] == 69500.0 and not late[0]["false_alarm"]
     assert score["counts"]["xnav"]["late"] == 1 and score["counts"]["xnav"]["detected"] == 0
+
+
+def test_an_out_that_cannot_be_written_is_refused_before_the_run(tmp_path, monkeypatch, capsys):
+    # issue 35: --out under a file, or in /proc, ended in a traceback after the run (result lost)
+    from xnavlab.mars import scenarios
+
+    monkeypatch.setattr(scenarios, "run", lambda *a, **k: pytest.fail("the run started"))
+    (tmp_path / "f").write_text("")
+    for out, words in ((tmp_path / "f" / "x", "a part of its folder is a file"),
+                       ("", "--out must name a folder, got ''")):
+        assert main(["run", "mars", "--days=0.01", f"--out={out}"]) == 2
+        err = capsys.readouterr().err.strip()
+        assert words in err and len(err.splitlines()) == 1
+    assert runners.out_dir(tmp_path / "new" / "deeper").is_dir()      # made before the run
+
+
+@pytest.mark.parametrize(("flags", "words"), [
+    (["--days", "1e-5"], "days must span at least one measurement interval"),  # was settle_days
+    (["--days", "1_0"], "days must be a real number in (0, 365], got '1_0'"),    # was 10 days
+    (["--scenario="], "scenario file must name a file, got ''"),                 # was the defaults
+    (["--days", "0.01", "--detector", "wavelet"], "run at least days = 0.0247"),  # was train_days
+])
+def test_a_flag_is_refused_in_the_users_own_words(flags, words, capsys):
+    assert main(["run", "mars", *flags]) == 2
+    err = capsys.readouterr().err.strip()
+    assert words in err and len(err.splitlines()) == 1

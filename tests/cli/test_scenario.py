@@ -40,4 +40,16 @@ def test_bad_command_lines_exit_2_with_one_line(argv, words, capsys):
 
 def test_dump_refuses_a_directory_as_out(tmp_path, capsys):
     assert main(["scenario", "--dump", "--out", str(tmp_path)]) == 2
-    assert "is a directory" in capsys.readouterr().err
+    assert "is a folder, not a file" in capsys.readouterr().err
+
+
+def test_dump_makes_a_missing_folder_and_refuses_what_it_cannot_write(tmp_path, capsys):
+    # issue 35: a missing folder ended in a traceback
+    assert main(["scenario", "--dump", "--out", str(tmp_path / "new" / "s.toml")]) == 0
+    assert (tmp_path / "new" / "s.toml").read_text(encoding="utf-8") == scenario_files.dump()
+    (tmp_path / "f").write_text("")
+    for argv, words in ((["--out", str(tmp_path / "f" / "s.toml")], "a part of its folder is a file"),
+                        (["--out="], "--out must name a file"), (["--setup="], "setup must be one of")):
+        assert main(["scenario", "--dump", *argv]) == 2
+        err = capsys.readouterr().err.strip()
+        assert words in err and len(err.splitlines()) == 1

@@ -177,3 +177,12 @@ def test_wavelet_detect_refuses_a_time_axis_that_is_not_increasing():
     t[500] = t[499]
     with pytest.raises(ValueError, match=r"t must be strictly increasing .*t\[500\]"):
         wavelet_detect(t, x, sigma=1.0)
+
+
+def test_a_training_series_is_named_train():
+    t = np.arange(600.0)
+    with pytest.raises(ValueError, match="^train must hold real numbers"):
+        D.BlockWavelet(t, np.zeros(600), train=np.zeros(600) + 1j)
+    b = D.BlockWavelet(t, np.random.default_rng(0).normal(size=600))
+    with pytest.raises(ValueError, match=r"^lo must be an integer in \[0, inf\)"):
+        b.alarm(lo=1.5)

@@ -16,6 +16,7 @@ import pytest
 
 from xnavlab.cli import main
 from xnavlab.core import campaign as cp
+from xnavlab.core import campaign_records
 from xnavlab.core.montecarlo import seeds
 from xnavlab.mars.campaigns import campaign
 
@@ -97,8 +98,9 @@ def test_torn_last_line_is_recomputed(tmp_path):
     r = cp.run_campaign(sq_campaign(), 3, seed=2, out=tmp_path, engine="serial")
     assert (r.computed, r.reused, r.failed) == (1, 2, 0)
     rest = path.read_text().splitlines()[len(lines) - 1:]
-    assert rest[0] == lines[-1][:20]                   # the torn line, ended, then skipped
-    assert [json.loads(x)["index"] for x in rest[1:]] == [json.loads(lines[-1])["index"]]
+    # the torn line is cut off (no broken line stays in the file), its run computed again
+    assert [json.loads(x)["index"] for x in rest] == [json.loads(lines[-1])["index"]]
+    assert len(cp.load_runs(tmp_path)) == 3             # and the file reads without a warning
 
 
 def test_other_campaign_in_dir_is_refused(tmp_path):
@@ -432,7 +434,7 @@ def test_runs_file_holds_only_records_and_pandas_reads_it(tmp_path):
 
     cp.run_campaign(sq_campaign(), 4, seed=3, out=tmp_path, engine="serial")
     df = pd.read_json(tmp_path / cp.STORE_FILE, lines=True)
-    assert list(df["index"]) == [0, 1, 2, 3] and set(cp.PUBLIC_KEYS) <= set(df.columns)
+    assert list(df["index"]) == [0, 1, 2, 3] and set(campaign_records.PUBLIC_KEYS) <= set(df.columns)
     head = json.loads((tmp_path / cp.HEADER_FILE).read_text())
     assert head == sq_campaign().header(3)
 
@@ -460,3 +462,87 @@ def test_a_store_of_the_first_format_is_converted_and_resumed(tmp_path):
     assert (r.computed, r.reused) == (1, 3)
     head2, recs2 = store_lines(tmp_path)
     assert head2 == head and [x["index"] for x in recs2] == [0, 1, 2, 3]
+
+
+# ---- issue 35: a corrupt record is reported with its line number, never dropped silently ----
+
+def _corrupt(tmp_path, bad):
+    cp.run_campaign(sq_campaign(), 4, seed=1, out=tmp_path, engine="serial")
+    path = tmp_path / cp.STORE_FILE
+    lines = path.read_text().splitlines()
+    path.write_text("\n".join([lines[0], bad, *lines[1:]]) + "\n")   # line 2 of the file
+    return path
+
+
+@pytest.mark.parametrize(("bad", "why"), [
+    ('{"index": 1, "seed"', "not JSON"),
+    ('[1, 2]', "not a JSON object"),
+    ('{"index": 9}', "no seed, parameters, metrics, status, error"),
+    ('{"index": -1, "seed": 0, "parameters": {}, "metrics": {}, "status": "ok", "error": null}',
+     "index -1 is not an integer >= 0"),
+    ('{"index": 1, "seed": 0, "parameters": {}, "metrics": {}, "status": "done", "error": null}',
+     "status 'done' is neither 'ok' nor 'failed'"),
+])
+def test_load_runs_reports_a_corrupt_line_by_its_number(tmp_path, bad, why):
+    _corrupt(tmp_path, bad)
+    with pytest.warns(UserWarning, match=rf"line 2 \({why}\)") as rec:
+        df = cp.load_runs(tmp_path)
+    assert list(df["index"]) == [0, 1, 2, 3] and "runs.jsonl" in str(rec[0].message)
+
+
+def test_a_resumed_store_reports_a_corrupt_line_and_recomputes_nothing_it_has(tmp_path):
+    _corrupt(tmp_path, "garbage")
+    with pytest.warns(UserWarning, match=r"computed again: line 2 \(not JSON\)"):
+        r = cp.run_campaign(sq_campaign(), 4, seed=1, out=tmp_path, engine="serial")
+    assert (r.computed, r.reused) == (0, 4)
+
+
+def test_a_torn_last_line_is_reported_by_load_runs(tmp_path):
+    cp.run_campaign(sq_campaign(), 3, seed=2, out=tmp_path, engine="serial")
+    path = tmp_path / cp.STORE_FILE
+    text = path.read_text()
+    path.write_text(text[:-15])                                     # killed mid-write, not resumed
+    with pytest.warns(UserWarning, match=r"torn by an interrupted write.*line 3 \(not JSON\)"):
+        assert len(cp.load_runs(tmp_path)) == 2
+
+
+def test_a_store_that_is_not_utf8_is_one_line(tmp_path):
+    cp.run_campaign(sq_campaign(), 2, seed=1, out=tmp_path, engine="serial")
+    (tmp_path / cp.STORE_FILE).write_bytes(b'{"index": "\xe9"}\n')
+    with pytest.raises(ValueError, match="is not UTF-8 text"):
+        cp.load_runs(tmp_path)
+    with pytest.raises(ValueError, match="runs.jsonl is not UTF-8 text"):
+        cp.run_campaign(sq_campaign(), 2, seed=1, out=tmp_path, engine="serial")
+
+
+def test_the_cli_prints_a_corrupt_line_as_one_warning_line(tmp_path, capsys):
+    _corrupt(tmp_path, "garbage")
+    from xnavlab.core.userfiles import InputWarning
+
+    def warn_once():
+        import warnings
+        warnings.warn("runs.jsonl: 1 line not read", InputWarning, stacklevel=1)
+        return 0
+
+    import argparse
+    args = argparse.Namespace(version=False, command="x", execute=lambda a: warn_once())
+    import xnavlab.cli as cli
+    orig = cli.build_parser
+    cli.build_parser = lambda: argparse.Namespace(parse_args=lambda argv: args)
+    try:
+        assert main([]) == 0
+    finally:
+        cli.build_parser = orig
+    assert capsys.readouterr().err == "xnavlab: warning: runs.jsonl: 1 line not read\n"
+
+
+def test_a_campaign_out_that_cannot_be_written_is_refused_before_any_run(tmp_path, capsys):
+    (tmp_path / "f").write_text("")
+    for out, words in ((tmp_path / "f", "is a file, not a folder"),
+                       (tmp_path / "f" / "x", "a part of its folder is a file")):
+        assert main(["campaign", "consistency", "--runs=1", "--days=0.01", f"--out={out}"]) == 2
+        err = capsys.readouterr().err.strip()
+        assert words in err and len(err.splitlines()) == 1
+    assert main(["campaign", "consistency", "--runs=1", "--days=1e-5",
+                 f"--out={tmp_path / 'c'}"]) == 2                       # was a failed run, exit 1
+    assert "days must be at least 0.000417" in capsys.readouterr().err

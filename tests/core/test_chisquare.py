@@ -55,3 +55,19 @@ def test_chi2_statistic_is_the_normalised_innovation_squared():
     assert dof == 2 and np.allclose(stat, np.einsum("ni,ij,nj->n", nu, np.linalg.inv(S), nu))
     stat1, _ = D.chi2_statistic(nu[:, 0], np.full(50, S[0, 0]))
     assert np.allclose(stat1, nu[:, 0] ** 2 / S[0, 0])
+
+
+@pytest.mark.parametrize(("S", "words"), [
+    ([[1.0, 2.0], [2.0, 1.0]], "indefinite"), ([[1.0, 1.0], [1.0, 1.0]], "singular"),
+])
+def test_the_chi2_statistic_refuses_an_indefinite_or_singular_S_by_name(S, words):
+    with pytest.raises(ValueError, match=rf"^S\[0\] must be positive definite, but it is {words}"):
+        D.chi2_statistic(np.ones((3, 2)), S)
+
+
+def test_the_online_test_refuses_a_complex_or_misshapen_S():
+    det = D.Chi2Detector(m=1)
+    with pytest.raises(ValueError, match="^S must hold real numbers"):
+        det.update(0.0, [1.0], [[1.0 + 1j]])
+    with pytest.raises(ValueError, match=r"^S must have shape \(1, 1\)"):
+        det.update(0.0, [1.0], np.eye(2))

@@ -177,3 +177,13 @@ def test_drift_glr_is_the_matched_statistic_and_checks_its_input():
     for bad, name in ((dict(y=np.ones((3, 2))), "y"), (dict(window=0), "window")):
         with pytest.raises(ValueError, match=name):
             drift_glr(**({"y": y, "window": 5} | bad))
+
+
+def test_the_monitor_refuses_complex_innovations_by_name():
+    mon = InnovationMonitor(CombinedDesign(samples_per_day=28800.0, m=2))
+    with pytest.raises(ValueError, match="^y must hold real numbers"):
+        mon.process(np.arange(3.0), np.ones((3, 2)) * (1 + 1j))
+    with pytest.raises(ValueError, match=r"^t must have shape \(n,\) and y \(n, 2\)"):
+        mon.process(np.arange(3.0), np.ones((3, 3)))
+    with pytest.raises(ValueError, match="^healthy must contain only finite"):
+        mon.scale_from(np.full((4, 2), np.nan))

@@ -78,3 +78,11 @@ def test_bad_names():
 def test_time_conversions_round_trip():
     t = np.array([-1e9, 0.0, 5.05e8])
     np.testing.assert_allclose(ephemeris.t_from_jd(ephemeris.jd_from_t(t)), t, atol=1e-6)
+
+
+@pytest.mark.parametrize("bad", [1j, np.nan, "0"])
+def test_time_conversions_refuse_complex_nan_and_text(bad):
+    with pytest.raises(ValueError, match="^t must"):
+        ephemeris.jd_from_t(bad)
+    with pytest.raises(ValueError, match="^jd must"):
+        ephemeris.t_from_jd(bad)

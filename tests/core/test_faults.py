@@ -130,3 +130,13 @@ def test_parse_spec_errors_name_the_bad_part(spec, match):
 def test_format_parse_round_trip(sensor, kind, mag, onset, dur):
     f = Fault(sensor, kind, float(f"{mag:g}"), float(f"{onset:g}"), float(f"{dur:g}"), 0)
     assert parse_spec(format_spec([f], COMPS), COMPS) == [f]
+
+
+def test_sample_times_and_measurements_are_checked_before_injection():
+    f = Fault("uv", "step", 1.0, 1.0, 1.0)
+    with pytest.raises(ValueError, match="^z must hold real numbers"):
+        inject(np.arange(3.0), np.zeros(3) + 1j, [f], "uv")
+    with pytest.raises(ValueError, match="^t must contain only finite"):
+        fault_mask([0.0, np.nan], [f], "uv")
+    with pytest.raises(ValueError, match="^t must hold real numbers"):
+        f.active([1j])

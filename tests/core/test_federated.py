@@ -173,3 +173,20 @@ def test_update_of_a_local_that_does_not_exist_names_the_range():
         ff.update(5, [1.0], lambda s: s, np.eye(1), [[1.0]])
     with pytest.raises(ValueError, match="z must contain only finite"):
         ff.update(0, [np.nan], lambda s: s, np.eye(1), [[1.0]])
+
+
+def test_complex_or_non_flag_inputs_are_refused_by_name():
+    # issue 35: the locals were cast to float before their check (the imaginary part dropped)
+    with pytest.raises(ValueError, match=r"^xs\[1\] must hold real numbers"):
+        federated.fuse([np.zeros(2), np.array([1.0 + 1j, 0.0])], [np.eye(2), np.eye(2)])
+    with pytest.raises(ValueError, match="^beta must hold positive"):
+        federated.share_factors([0.5, -0.5], [True, True])
+    with pytest.raises(ValueError, match=r"^active must hold 2 flags"):
+        federated.share_factors([0.5, 0.5], [0.5, 1.0])
+    ff = federated.FederatedFilter(np.zeros(2), np.eye(2), n_local=2)
+    with pytest.raises(ValueError, match=r"^active must hold 2 flags"):
+        ff.set_active(["yes", "no"])
+    with pytest.raises(ValueError, match=r"^Q must hold real numbers"):
+        ff.predict(lambda x: x, np.eye(2), np.eye(2) * (1 + 0j))
+    with pytest.raises(ValueError, match=r"^n_local must be an integer in \[1, inf\), got 0$"):
+        federated.FederatedFilter(np.zeros(2), np.eye(2), n_local=0)

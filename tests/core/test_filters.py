@@ -208,3 +208,54 @@ def test_no_nan_and_no_negative_nis_leave_a_step(seed, n, m, corruption):
                "shape_R": (x, P, z, np.eye(m + 1))}[corruption]
         with pytest.raises(ValueError):
             step(*bad)
+
+
+# ---- issue 35: complex numbers and bad covariances are refused by name ------------------------
+
+def test_a_complex_measurement_is_refused_not_cut_to_its_real_part():
+    with pytest.raises(ValueError, match="^z must hold real numbers, got complex values"):
+        filters.ekf_update(np.zeros(2), np.eye(2), np.array([1.0 + 1.0j]), lambda x: x[:1],
+                           np.array([[1.0, 0.0]]), np.eye(1))
+    with pytest.raises(ValueError, match="^F must hold real numbers"):
+        filters.ekf_predict(np.zeros(1), np.eye(1), np.zeros(1), np.array([[1.0 + 0j]]), np.eye(1))
+
+
+@pytest.mark.parametrize(("stat", "matrix", "words"), [
+    (filters.nis, [[1.0, 2.0], [2.0, 1.0]], r"^S must be positive definite, but it is indefinite"),
+    (filters.nees, np.zeros((2, 2)), r"^P must be positive definite, but it is singular"),
+    (filters.nees, [[1.0, 1.0], [1.0, 1.0]], r"^P must be positive definite, but it is singular"),
+    (filters.nis, [[1.0, 0.3], [0.0, 1.0]], r"^S must be symmetric"),
+])
+def test_a_statistic_refuses_an_indefinite_or_singular_covariance(stat, matrix, words):
+    # nis was -2.0 for the indefinite one, nees a raw LinAlgError for the singular one
+    with pytest.raises(ValueError, match=words):
+        stat(np.ones(2), np.asarray(matrix))
+
+
+def test_nees_over_a_stack_names_the_bad_epoch_and_matching_axes():
+    P = np.stack([np.eye(2)] * 4)
+    assert filters.nees(np.ones((4, 2)), P).tolist() == [2.0] * 4
+    P[3, 1, 1] = -1.0
+    with pytest.raises(ValueError, match=r"^P\[3\] must be positive definite"):
+        filters.nees(np.ones((4, 2)), P)
+    with pytest.raises(ValueError, match="do not match"):
+        filters.nees(np.ones((3, 2)), np.stack([np.eye(2)] * 4))
+
+
+@pytest.mark.parametrize(("call", "name"), [
+    (lambda b: filters.symmetrize(b * np.eye(2)), "P"),
+    (lambda b: filters.joseph(np.eye(1), b * np.ones((1, 1)), np.eye(1), np.eye(1)), "K"),
+    (lambda b: filters.sigma_points(b * np.ones(1), np.eye(1), 0.0), "x"),
+    (lambda b: filters.sigma_points(np.zeros(1), np.eye(1), b), "lam"),
+    (lambda b: filters.unscented_transform(b * np.ones((3, 1)), np.ones(3) / 3, np.ones(3) / 3), "Y"),
+    (lambda b: filters.ukf_weights(2, alpha=b), "alpha"),
+])
+@pytest.mark.parametrize("bad", [complex(1, 1), np.nan])
+def test_the_step_helpers_refuse_complex_and_nan_by_name(call, name, bad):
+    with pytest.raises(ValueError, match=rf"^{name} must"):
+        call(bad)
+
+
+def test_a_ukf_step_on_a_singular_covariance_names_it():
+    with pytest.raises(ValueError, match=r"^P must be positive definite, but it is singular"):
+        filters.sigma_points(np.zeros(2), np.diag([1.0, 0.0]), 0.0)

@@ -101,3 +101,12 @@ def test_markdown_table_formats_and_checks_columns():
         markdown_table([{"a": 1}], ["a", "b"])
     with pytest.raises(ValueError, match="digits"):
         markdown_table([], ["a"], digits=0)
+
+
+@pytest.mark.parametrize(("kw", "words"), [
+    (dict(sizes=(2.0, 2.0)), r"^sizes lists 2.0 twice"), (dict(sizes=(1j,)), r"^sizes\[0\] must"),
+    (dict(sizes=4.0), "^sizes must be a list"), (dict(kinds="step"), "^kinds must be a list"),
+])
+def test_detection_table_refuses_bad_lists_before_any_trial(kw, words):
+    with pytest.raises(ValueError, match=words):
+        mc.detection_table(**kw, trials=1)

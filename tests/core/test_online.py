@@ -127,3 +127,17 @@ def test_signal_threshold_ratio():
     for sigma in (0.0, np.ones(4)):
         with pytest.raises(ValueError, match="sigma"):
             D.signal_threshold_ratio(step, sigma)
+
+
+def test_events_refuse_complex_or_nan_times_ratios_and_flags():
+    tr = D.EventTracker(holdoff=2)
+    for args, name in (((complex(1, 1), True, 2.0), "t"), ((1.0, True, math.nan), "ratio"),
+                       ((1.0, math.nan, 2.0), "alarm"), ((1.0, 0.5, 2.0), "alarm")):
+        with pytest.raises(ValueError, match=f"^{name} must"):
+            tr.update(*args)
+    with pytest.raises(ValueError, match="^t must hold real numbers"):
+        D.events_from_alarms(np.arange(3.0) + 1j, np.zeros(3, bool), np.zeros(3), 1)
+    with pytest.raises(ValueError, match="^ratio must not contain NaN"):
+        D.events_from_alarms(np.arange(3.0), np.zeros(3, bool), [0.0, np.nan, 0.0], 1)
+    with pytest.raises(ValueError, match="^t0 must be a real number"):
+        D.Detection(np.zeros(0), *[np.zeros(0)] * 4, []).first_onset_after(math.nan)

@@ -143,3 +143,10 @@ def test_normalize_and_conjugate():
 def test_bad_input_names_the_parameter(func, args, name):
     with pytest.raises(ValueError, match=rf"^{name} "):
         func(*args)
+
+
+def test_attitude_error_names_its_own_arguments():
+    with pytest.raises(ValueError, match="^q_est must hold real numbers"):
+        qt.attitude_error([1j, 0, 0, 1], [0, 0, 0, 1])
+    with pytest.raises(ValueError, match="^q_true must contain only finite"):
+        qt.attitude_error([0, 0, 0, 1], [np.nan, 0, 0, 1])

@@ -54,3 +54,24 @@ def test_an_unwritable_folder_is_refused(tmp_path):
     locked.mkdir(mode=0o500)
     with pytest.raises(ValueError, match="cannot be written"):
         userfiles.output_path(locked / "run.toml", "--out")
+
+
+def test_a_table_row_without_its_keys_or_with_nan_is_refused_by_row():
+    assert userfiles.check_rows([{"pd": 0.5}], ("pd",), "t") == [{"pd": 0.5}]
+    for rows, words in (([], "must hold a non-empty list"), ({"pd": 1}, "non-empty list"),
+                        ([{"pd": 1}, 3], "row 1 is not a table"), ([{"x": 1}], "row 0 has no pd"),
+                        ([{"pd": float("nan")}], "row 0 has NaN in pd")):
+        with pytest.raises(ValueError, match=words):
+            userfiles.check_rows(rows, ("pd",), "t")
+
+
+@pytest.mark.parametrize(("text", "words"), [
+    ("a,b\n1", "line 2: 1 cells, the header has 2"),
+    ("# c\na,b\n1,2,3", "line 3: 3 cells"),
+    ("a,b\nx,nan", "line 2: b must be a finite number, got 'nan'"),
+    ("a,b\nx,", "line 2: b must be a finite number, got ''"),
+    ("# only comments", "holds no header line"),
+])
+def test_a_shipped_csv_row_that_is_not_whole_is_refused_with_its_line(text, words):
+    with pytest.raises(ValueError, match=words):
+        userfiles.csv_rows(text, "table", ("b",))

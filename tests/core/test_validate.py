@@ -5,7 +5,15 @@ import math
 import numpy as np
 import pytest
 
-from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
+from xnavlab.core.validate import (
+    check_choice,
+    check_definite,
+    check_finite_array,
+    check_int,
+    check_items,
+    check_real,
+    make_rng,
+)
 
 
 def test_check_real():
@@ -43,7 +51,87 @@ def test_make_rng():
     g = np.random.default_rng(5)
     assert make_rng(g) is g
     assert make_rng(None).integers(1 << 30) == make_rng(0).integers(1 << 30)
-    with pytest.raises(ValueError, match="seed must be an integer"):
+    with pytest.raises(ValueError, match="^rng must be a numpy Generator or an integer seed"):
         make_rng(-1)
     with pytest.raises(ValueError, match="seed"):
         make_rng("x")
+
+
+# ---- issue 35: every input used or refused --------------------------------------------------
+
+def test_a_range_is_the_real_one_never_minus_inf_to_inf():
+    with pytest.raises(ValueError, match=r"^x must be a finite real number, got nan$"):
+        check_real("x", math.nan)
+    with pytest.raises(ValueError, match=r"^x must be a real number in \[0, inf\), got -1$"):
+        check_real("x", -1, 0.0)
+    with pytest.raises(ValueError, match=r"^n must be an integer in \[1, inf\), got 0$"):
+        check_int("n", 0, 1)
+    with pytest.raises(ValueError, match=r"in \[0, 9223372036854775807\], got -1$"):
+        check_int("seed", -1, 0, 2**63 - 1)                 # exact, not 9.22337e+18
+    with pytest.raises(ValueError, match=r"got 2.5$"):         # a numpy scalar shown plainly
+        check_int("n", np.float64(2.5), 0, 5)
+
+
+@pytest.mark.parametrize("bad", [[1.0, 2.0 + 1e-9j], np.array([1.0 + 1j]), [np.complex128(1)]])
+def test_complex_numbers_are_refused_not_cut_to_their_real_part(bad):
+    with pytest.raises(ValueError, match="^z must hold real numbers, got complex values"):
+        check_finite_array("z", bad)
+    with pytest.raises(ValueError, match="^z must be a finite real number"):
+        check_real("z", complex(1, 1))
+
+
+@pytest.mark.parametrize("bad", ["3.0", ["1", "2"], [True, False], [None], [[1.0], [2.0, 3.0]]])
+def test_text_flags_and_ragged_lists_are_not_numbers(bad):
+    with pytest.raises(ValueError, match="^r must be an array of finite numbers"):
+        check_finite_array("r", bad)
+
+
+def test_finite_false_lets_nan_through_but_not_complex():
+    assert np.isnan(check_finite_array("x", [np.nan, 1.0], finite=False)[0])
+    with pytest.raises(ValueError, match="complex"):
+        check_finite_array("x", [1j], finite=False)
+
+
+@pytest.mark.parametrize(("matrix", "words"), [
+    ([[1.0, 2.0], [2.0, 1.0]], r"^S must be positive definite, but it is indefinite \(smallest"),
+    ([[1.0, 1.0], [1.0, 1.0]], r"^S must be positive definite, but it is singular"),
+    (np.diag([1.0, 0.0]), r"^S must be positive definite, but it is singular"),
+    (np.diag([1.0, -1e-30]), r"^S must be positive definite, but it is indefinite"),
+    ([[1.0, 0.5], [0.0, 1.0]], r"^S must be symmetric"),
+    ([[1.0, 0.0, 0.0]], r"^S must be a square matrix"),
+    ([[1.0, np.nan], [np.nan, 1.0]], r"^S must contain only finite numbers"),
+])
+def test_check_definite_names_the_matrix_and_what_is_wrong(matrix, words):
+    with pytest.raises(ValueError, match=words) as err:
+        check_definite("S", matrix)
+    assert "\n" not in str(err.value)
+
+
+def test_check_definite_takes_mixed_units_and_names_the_bad_matrix_of_a_stack():
+    P = np.diag([1e12, 1e12, 1e12, 1e-6, 1e-6, 1e-6])       # m^2 beside m^2/s^2
+    P[0, 3] = P[3, 0] = 0.999 * math.sqrt(1e12 * 1e-6)       # strongly correlated, not singular
+    assert check_definite("P", P, 6).shape == (6, 6)
+    stack = np.stack([np.eye(2)] * 3)
+    stack[2] = [[1.0, 2.0], [2.0, 1.0]]
+    with pytest.raises(ValueError, match=r"^P\[2\] must be positive definite, but it is indefinite"):
+        check_definite("P", stack)
+
+
+def test_check_items_refuses_strings_empty_lists_and_repeats():
+    assert check_items("stars", ("Vega", "Sirius"), "star") == ("Vega", "Sirius")
+    cases = [("Vega", r"^stars must be a list of stars, got the string 'Vega' \(write \[\"Vega\"\]\)$"),
+             ((), r"^stars must name at least one star, got an empty list$"),
+             (["Vega", "Deneb", "Vega"], r"^stars lists Vega twice \(items 0 and 2\)$"),
+             (3.0, r"^stars must be a list of stars, got 3.0$"),
+             ({"Vega": 1}, r"^stars must be a list of stars"),
+             ([["Vega"]], r"^stars\[0\] must be a star")]
+    for value, words in cases:
+        with pytest.raises(ValueError, match=words):
+            check_items("stars", value, "star")
+    with pytest.raises(ValueError, match=r"^stars\[1\] must be one of 'Vega'"):
+        check_items("stars", ["Vega", "x"], "star", lambda lab, s: check_choice(lab, s, ("Vega",)))
+
+
+def test_make_rng_names_the_callers_parameter():
+    with pytest.raises(ValueError, match=r"^seed must be a numpy Generator or an integer seed .* got 1j$"):
+        make_rng(1j, "seed")

@@ -100,3 +100,10 @@ def test_plot_tracking_labels_its_axes_and_states_the_final_sigma():
     ax1, ax2 = fig.axes
     assert ax1.get_ylabel() == "position error (m)" and ax2.get_xlabel() == "time (s)"
     assert "10 TOAs" in fig.get_suptitle()
+
+
+def test_track_names_its_own_exposure_and_pulsars():
+    with pytest.raises(ValueError, match="^exposure must be a real number"):
+        track.track(np.zeros((2, 2)), 10.0 + 1j, np.zeros(2), np.eye(2))
+    with pytest.raises(ValueError, match="^dv must be a real number"):
+        track.run_line(dv=float("nan"))

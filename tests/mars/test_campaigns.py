@@ -51,3 +51,12 @@ def test_an_unknown_campaign_is_refused_by_name():
 def test_summarise_detectors_skips_failed_runs():
     failed = {"status": "error", "parameters": {}, "metrics": {}}
     assert mc.summarise_detectors([failed]) == []
+
+
+def test_a_consistency_campaign_too_short_for_its_nees_bins_is_refused_before_any_run():
+    # issue 35: 1e-5 days failed inside every run (a record_dt below its range, or an empty bin)
+    for make in (lambda: mc.campaign("consistency", days=1e-5),
+                 lambda: mc.consistency_run(seed=0, days=1e-4)):
+        with pytest.raises(ValueError, match=r"^days must be at least 0.000417 for the "
+                                             r"consistency campaign: each of its 12 NEES bins"):
+            make()

@@ -193,3 +193,22 @@ def test_j2_uses_the_mgs95j_reference_radius():
         assert np.linalg.norm(total - want) <= 1e-6 * np.linalg.norm(want)
     old = (-1.5 * mu * j2 * 3396.19e3**2 / np.linalg.norm(X0[:3]) ** 5)  # IAU radius: 1.1e-4 too strong
     assert abs(old / (-1.5 * mu * j2 * radius**2 / np.linalg.norm(X0[:3]) ** 5) - 1.0) > 1e-4
+
+
+@pytest.mark.parametrize(("call", "name"), [
+    (lambda b: dynamics.point_mass(np.array([4e6, 0.0, b])), "r"),
+    (lambda b: dynamics.acceleration(dynamics.MARS_T0, np.array([4e6, 0.0, b])), "r"),
+    (lambda b: dynamics.gravity_gradient(np.array([4e6, 0.0, b])), "r"),
+    (lambda b: dynamics.transition_matrix(np.array([4e6, 0.0, 0.0]), b), "dt"),
+    (lambda b: dynamics.j2_acceleration(np.array([4e6, 0.0, 0.0]), pole=np.array([0, 0, b])), "pole"),
+    (lambda b: dynamics.third_body(np.zeros(3), np.array([[1e11, 0, 0]]), np.array([b])), "gm"),
+])
+@pytest.mark.parametrize("bad", [complex(1, 1), np.nan])
+def test_the_force_model_refuses_complex_and_nan_by_name(call, name, bad):
+    with pytest.raises(ValueError, match=f"^{name} must"):
+        call(bad)
+
+
+def test_the_centre_itself_is_refused_not_turned_into_nan():
+    with pytest.raises(ValueError, match=r"^r must not be the centre"):
+        dynamics.point_mass(np.zeros(3))

@@ -429,3 +429,17 @@ def test_plot_fault_response_with_kept_inputs_draws_what_fresh_inputs_draw():
     for det, curve in zip(ft.DETECTORS, kept, strict=True):
         r = ft.run_fault_tolerant(faults=[fault], detector=det, inputs=inputs, train_days=0.2)
         assert np.array_equal(curve, r.run.position_error())
+
+
+@pytest.mark.parametrize(("days", "kw", "words"), [
+    (0.03, {"arm_s": 3000.0}, r"^arm_s \(3000 s: .*\) must be shorter than the run, days = "
+                              r"0.03 \(2592 s\)"),
+    (0.01, {}, r"^train_days = 0.005 days gives the uv wavelet detector 143 samples .* "
+               r"run at least days = 0.0247"),
+    (0.05, {"train_days": 0.01}, r"^train_days = 0.01 days .* give train_days >= 0.0124"),
+])
+def test_a_run_too_short_for_the_detector_names_days_not_an_internal_setting(days, kw, words):
+    # issue 35: these named arm_s's range [0, 432) and "train_days must give at least 356 ..."
+    # for settings the user never gave
+    with pytest.raises(ValueError, match=words):
+        ft.run_fault_tolerant(scenarios.MarsScenario(days=days), [], "combined", **kw)

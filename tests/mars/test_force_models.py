@@ -160,3 +160,12 @@ def test_a_filter_with_more_planets_runs_the_same_on_both_backends():
     a, b = scenarios.run(sc), scenarios.run(sc, backend="numpy")
     assert np.allclose(a.x, b.x, rtol=1e-9, atol=1e-6)
     assert not np.array_equal(a.x, scenarios.run(sc, filter_model="paper").x)
+
+
+def test_tables_and_accelerations_refuse_complex_and_reversed_times():
+    with pytest.raises(ValueError, match=r"^t_end must be a real number in \["):
+        fm.Tables("paper", dynamics.MARS_T0, dynamics.MARS_T0 - 1.0)
+    with pytest.raises(ValueError, match="^t_start must be a"):
+        fm.Tables("paper", 1j, dynamics.MARS_T0)
+    with pytest.raises(ValueError, match="^r must hold real numbers"):
+        fm.acceleration(dynamics.MARS_T0, dynamics.MARS_STATE0[:3] + 0j)

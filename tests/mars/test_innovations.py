@@ -70,3 +70,10 @@ def test_wavelet_names_the_pulsar_of_a_step_and_clear_rearms_it():
     w.clear()
     assert not w.tracker.faulty and w.count == w.window
     assert not w.update(500.0 * 400, np.zeros(3))              # a zero window: no detail
+
+
+def test_two_body_taylor_refuses_complex_and_nan():
+    with pytest.raises(ValueError, match="^x must hold real numbers"):
+        inn.two_body_taylor(np.r_[4e6, 0, 0, 0, 3e3, 0] + 0j, 3.0)
+    with pytest.raises(ValueError, match="^dt must contain only finite"):
+        inn.two_body_taylor(np.r_[4e6, 0, 0, 0, 3e3, 0], np.nan)

@@ -41,3 +41,24 @@ def test_plot_consistency_judges_each_case_after_the_settling_span():
     np.testing.assert_allclose(widths.sum(axis=1), 1.0)
     np.testing.assert_allclose(widths[:, 0], [0.0, 0.5], atol=1e-3)   # after day 1 only
     assert len(top.lines) == 3 and top.get_yscale() == "log"   # two cases and the mean 6
+
+
+def test_plot_runs_draws_each_error_and_sigma_against_the_first_with_the_band_on_both():
+    import numpy as np
+    import pytest
+
+    from xnavlab.mars import scenarios
+
+    run = scenarios.run(days=0.02)
+    fig = mars_plots.plot_runs({"a": run, "b": run}, band_days=(0.005, 0.01))
+    top, bottom = fig.axes
+    assert len(top.lines) == len(bottom.lines) == 2
+    np.testing.assert_allclose(top.lines[0].get_ydata(), run.position_error())
+    np.testing.assert_allclose(bottom.lines[1].get_ydata(), 0.0)     # b's sigma over a's
+    assert len(top.patches) == len(bottom.patches) == 1            # the shaded span
+    assert top.get_legend() is None and len(fig.legends) == 1
+    assert bottom.get_xlabel() == "time (days)" and bottom.get_ylabel().endswith("a's (%)")
+    with pytest.raises(ValueError, match="runs"):
+        mars_plots.plot_runs({})
+    with pytest.raises(ValueError, match="share their epochs"):
+        mars_plots.plot_runs({"a": run, "short": scenarios.run(days=0.01)})

@@ -296,3 +296,52 @@ def test_from_par_ecliptic_b1855():
         pulsars.from_par(path, flux_ph_cm2_s=1e-5, pulsed_fraction=0.0, duty_cycle=0.1)
     with pytest.raises(ValueError, match="path"):
         pulsars.from_par(path.with_suffix(".nope"))
+
+
+# ---- issue 35: every list of pulsars refuses the same things, by its own name ----------------
+
+def _entry_points():
+    from xnavlab.line import track
+    from xnavlab.mars import sensors, timing_bound, timing_terms, toa
+    from xnavlab.robust import filters as rf
+
+    x = np.r_[-3.4e6, -1.3e6, -2.6e6, 0.0, 0.0, 0.0]
+    return [
+        ("pulsars", lambda p: pulsars.directions(p)),
+        ("pulsar_names", lambda p: toa.delays_at(x[:3], 5.0e8, p)),
+        ("pulsar_names", lambda p: sensors.xnav_sigma(p)),
+        ("pulsar_names", lambda p: sensors.XNAVSensor(p)),
+        ("pulsar_names", lambda p: timing_bound.xnav_noise_sigma("paper", p)),
+        ("pulsar_names", lambda p: timing_terms.orbit_terms([5.0e8], x[None], p)),
+        ("pulsar_names", lambda p: rf.simulate("mars", n_steps=3, pulsar_names=p, rng=0)),
+        ("pulsar_names", lambda p: track.track(np.zeros((2, 2)), 10.0, np.zeros(2), np.eye(2), p)),
+        ("pulsar_names", lambda p: pulsars.plot_ranging_accuracy(pulsar_names=p)),
+    ]
+
+
+@pytest.mark.parametrize(("value", "words"), [
+    ([], "must name at least one pulsar, got an empty list"),
+    (["B1937+21", "B1937+21"], r"lists B1937\+21 twice \(items 0 and 1\)"),
+    ("B1937+21", r"must be a list of pulsars, got the string 'B1937\+21'"),   # was 'unknown pulsar B'
+    (["B1937+21", 3], r"\[1\] must be a pulsar name, a .par path or a Pulsar, got 3"),
+    (["B1937+21", "nope"], "unknown pulsar 'nope'"),
+])
+def test_every_list_of_pulsars_refuses_empty_repeated_and_wrong_types(value, words):
+    for name, call in _entry_points():
+        with pytest.raises(ValueError, match=words) as err:
+            call(value)
+        assert str(err.value).startswith(name) or "unknown pulsar" in words, str(err.value)
+
+
+def test_a_pulsar_under_two_names_counts_once():
+    crab = pulsars.get("B0531+21")
+    twin = dataclasses.replace(crab, name="J0534+2200")
+    with pytest.raises(ValueError, match=r"lists B0531\+21 twice"):
+        pulsars.check_names([crab, twin])
+
+
+@pytest.mark.parametrize(("field", "value"), [("ra_deg", 1j), ("period", math.nan), ("flux", -1.0),
+                                              ("pulsed_fraction", 2.0), ("distance", 0.0)])
+def test_a_pulsar_with_a_complex_nan_or_out_of_range_property_is_refused(field, value):
+    with pytest.raises(ValueError, match=f"^Pulsar {field} must be a"):
+        dataclasses.replace(pulsars.get("B1937+21"), **{field: value})

@@ -184,3 +184,15 @@ def test_plot_roc_draws_one_curve_per_detector():
     assert [t.get_text() for t in ax.get_legend().get_texts()] == list(data["curves"])
     assert ax.get_xscale() == "symlog"
     plt.close(fig)
+
+
+def test_corrupt_shipped_curves_are_refused_with_the_row(tmp_path):
+    data = roc.load_curves()
+    data["curves"]["chi2"]["curve"][1]["pd"] = float("nan")    # json.dumps writes NaN
+    path = tmp_path / "curves.json"
+    path.write_text(json.dumps(data))
+    with pytest.raises(ValueError, match=r"curves.json', chi2: row 1 has NaN in pd"):
+        roc.load_curves(path)
+    path.write_text('{"curves": []}')
+    with pytest.raises(ValueError, match="must hold a table 'curves'"):
+        roc.load_curves(path)

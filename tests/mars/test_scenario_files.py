@@ -153,3 +153,51 @@ def test_a_timing_model_pulsar_in_a_file_runs_dumps_checks_and_takes_faults(tmp_
     bare = "[run]\ndays = 0.05\n[xnav]\npulsars = [\"m.par\"]\n"
     code, err = _run(capsys, tmp_path, bare)
     assert code == 2 and "J1614-2230" in err and "flux_ph_cm2_s, pulsed_fraction, width_s" in err
+
+
+# ---- issue 35: every field of the file, given anything, is used or refused in one line ----------
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+#: TOML values of every kind: numbers of any size (nan, inf), booleans, text, lists, tables
+_SCALAR = st.one_of(st.integers(-10**6, 10**6).map(str), st.booleans().map(lambda b: str(b).lower()),
+                    st.floats(allow_nan=True, allow_infinity=True).map(
+                        lambda x: "nan" if x != x else ("inf" if x == float("inf") else
+                                                        "-inf" if x == float("-inf") else repr(x))),
+                    st.text("abcxyz.+-_ 0123456789", max_size=8).map(lambda s: '"' + s + '"'),
+                    st.sampled_from(['"paper"', '"none"', '"B1937+21"', '"Vega"', '"uv"', '"de405"']))
+_VALUE = st.one_of(_SCALAR, st.lists(_SCALAR, max_size=4).map(lambda xs: "[" + ", ".join(xs) + "]"),
+                   _SCALAR.map(lambda v: "{ x = " + v + " }"))
+@settings(max_examples=200)   # every field a few times (one example is ~25 ms)
+@given(st.sampled_from(sorted(sfm._KEYS)), _VALUE)
+def test_any_value_of_any_field_is_used_or_refused_in_one_line_naming_the_field(field, value):
+    section, key = field
+    try:
+        sf = sfm.loads(f"[{section}]\n{key} = {value}\n")
+    except ValueError as exc:
+        msg = str(exc)
+        assert "\n" not in msg and key in msg, msg
+    else:   # used: the file written back reads the same settings
+        assert sfm.loads(sfm.dump(sf.scenario, sf.run, sf.detector)).scenario == sf.scenario
+
+
+@pytest.mark.parametrize("field", sorted(sfm._KEYS))
+def test_a_table_where_a_value_belongs_is_refused_for_every_field(field):
+    section, key = field
+    with pytest.raises(ValueError, match=key):
+        sfm.loads(f"[{section}]\n{key} = {{ x = 1 }}\n")
+
+
+def test_a_bad_fault_spec_is_refused_by_check_not_first_by_the_run():
+    with pytest.raises(ValueError, match=r"^scenario file: \[detector\] faults: bad fault item 'abc'|"
+                                         r"^\[detector\] faults: bad fault item 'abc'"):
+        sfm.loads('[detector]\nfaults = "abc"\n')
+
+
+def test_a_short_plain_run_is_not_refused_for_the_combined_detectors_arming_time():
+    # issue 35: a 0.005-day file without faults was refused: "[detector] arm_s ... [0, 432)"
+    assert sfm.loads("[run]\ndays = 0.005\n").scenario.days == 0.005
+    with pytest.raises(ValueError, match=r"arm_s \(600 s, .*\) must be shorter than the run: "
+                                         r"\[run\] days = 0.005 is 432 s"):
+        sfm.loads('[run]\ndays = 0.005\n[detector]\nfaults = "uv.range:step:1e5@100+10"\n')

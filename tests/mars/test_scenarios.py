@@ -364,3 +364,30 @@ def test_python_and_cli_summaries_of_the_same_run_are_equal(capsys):
     assert api["settle_days"] == cli["settle_days"] == default_settle_days(0.2) == 0.1
     for key in ("position_error_m", "velocity_error_mps", "position_error_max_m", "epochs"):
         assert api[key] == cli[key], key
+
+
+# ---- issue 35: lists and lengths refused by the user's own parameter name ---------------------
+
+@pytest.mark.parametrize(("field", "value", "words"), [
+    ("days", 1e-5, r"^days must span at least one measurement interval \(3 s"),   # was settle_days
+    ("subsystems", "xnav", r"^subsystems must be a list of subsystems, got the string 'xnav'"),
+    ("subsystems", ("uv", "uv"), r"^subsystems lists uv twice"),
+    ("subsystems", (), r"^subsystems must name at least one subsystem"),
+    ("stars", "Vega", r"^stars must be a list of stars, got the string 'Vega'"),
+    ("stars", ("Vega", "Sirius", "Vega"), r"^stars lists Vega twice \(items 0 and 2\)"),
+    ("stars", (), r"^stars must name at least one star"),
+    ("beta", 0.5, r"^beta must be a list of numbers, got 0.5"),
+    ("beta", (0.5, "a", 0.2), r"^beta\[1\] must be a real number in \(0, 1\]"),
+    ("xnav_sigma_m", 100.0, r"^xnav_sigma_m must be a list of numbers"),
+    ("pulsars", ["B1937+21", "B1937+21"], r"^pulsars lists B1937\+21 twice"),
+])
+def test_a_bad_list_or_too_short_a_run_is_one_line_naming_the_field(field, value, words):
+    with pytest.raises(ValueError, match=words) as err:
+        scenarios.MarsScenario(**{field: value})
+    assert "\n" not in str(err.value)
+
+
+def test_the_shortest_run_is_one_measurement():
+    assert scenarios.MarsScenario(days=3.0 / 86400.0).span == 3.0
+    with pytest.raises(ValueError, match=r"^days must span .* \(500 s"):
+        scenarios.MarsScenario(days=0.001, subsystems=("xnav",))

@@ -214,3 +214,11 @@ def test_trial_outcome_takes_a_run_of_one_fault():
         s.trial_outcome(SimpleNamespace(faults=[STEP, STEP]))
     with pytest.raises(ValueError, match="^armed_from_s must be a real number in"):
         s.trial_outcome(SimpleNamespace(faults=[STEP]), armed_from_s=-1.0)
+
+
+@pytest.mark.parametrize("span", [math.nan, 1j, 0.0, "1"])
+def test_a_runs_span_that_is_not_a_positive_number_is_refused(span):
+    with pytest.raises(ValueError, match=r"^span must be a real number in \(0, inf\]"):
+        s.scoring_span(Fault("uv", "step", 1.0, 100.0, 50.0), span=span)
+    with pytest.raises(ValueError, match="^span must"):
+        s.score_faults([], {}, span=span)

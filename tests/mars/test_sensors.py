@@ -209,3 +209,13 @@ def test_plot_optical_geometry_keeps_its_legend_off_the_curves_and_labels_plain_
     fig.canvas.draw()
     labels = [t.get_text() for t in ax.get_yticklabels(minor=True) + ax.get_yticklabels()]
     assert labels and not any("times" in t or "^" in t for t in labels)   # no 6 x 10^0
+
+
+def test_direction_noise_and_xnav_model_refuse_complex_and_name_their_arguments():
+    with pytest.raises(ValueError, match="^u must hold real numbers"):
+        sensors.perturb_direction(np.array([0, 0, 1 + 0j]), 1e-3, np.zeros(2))
+    with pytest.raises(ValueError, match="^u must hold unit vectors"):
+        sensors.tangent_basis([0.0, 0.0, 2.0])
+    n, d = pulsars.directions()
+    with pytest.raises(ValueError, match="^r_mars_ssb must contain only finite"):
+        sensors.xnav_h(np.r_[4e6, 0, 0, 0, 0, 0], [np.nan, 0, 0], [1e8, 0, 0], n, d)

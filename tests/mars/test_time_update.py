@@ -42,3 +42,16 @@ def test_one_memoised_step_integrates_once(table, monkeypatch):
     x = dynamics.MARS_STATE0
     prop.f(x), prop.F(x), prop.f(x)
     assert len(calls) == 1
+
+
+def test_the_time_update_refuses_complex_and_nan_by_name():
+    tab = dynamics.ThirdBodyTable(dynamics.MARS_T0, dynamics.MARS_T0 + 600.0)
+    x = dynamics.MARS_STATE0.astype(complex)
+    with pytest.raises(ValueError, match="^x must hold real numbers"):
+        time_update.filter_propagate(x, dynamics.MARS_T0, 60.0, tab)
+    with pytest.raises(ValueError, match="^max_step must be a real number"):
+        time_update.filter_propagate(dynamics.MARS_STATE0, dynamics.MARS_T0, 60.0, tab, np.nan)
+    with pytest.raises(ValueError, match="^q must be a real number"):
+        time_update.process_noise(1.0, 1j)
+    with pytest.raises(ValueError, match="^dt must be a real number"):
+        time_update.Propagation(dynamics.MARS_T0, np.nan, tab, 10.0)

@@ -92,3 +92,18 @@ def test_shipped_noise_cells_stay_below_the_limit():
         if r["fault_class"] == "noise" and r["sensor"] == "xnav":
             lim = trials.detection_limit("noise", "xnav", r["size"], trials.DURATIONS["noise"])
             assert r["pd_lo"] <= lim + 1e-9, r
+
+
+@pytest.mark.parametrize(("text", "words"), [
+    ("{", "is not valid JSON"),
+    ('{"rows": []}', "must hold a non-empty list of rows"),
+    ('{"rows": [{"sensor": "uv"}]}', "row 0 has no fault_class"),
+])
+def test_a_corrupt_detector_table_is_refused_with_its_file_and_row(tmp_path, text, words):
+    path = tmp_path / "table.json"
+    path.write_text(text)
+    with pytest.raises(ValueError, match=words) as err:
+        trials.load_detector_table(path)
+    assert "table.json" in str(err.value)
+    with pytest.raises(ValueError, match="table.json"):
+        trials.load_early_faults(path)

@@ -84,3 +84,9 @@ def test_every_window_of_chapter_12s_slider_is_a_valid_design():
         diagnosis.flight_design(traj, sites, s, tol)
     with pytest.raises(ValueError, match="differ in dimension"):
         diagnosis.flight_design(traj, sites, 30, tol)
+
+
+def test_first_alarm_refuses_a_nan_or_complex_arming_time():
+    for after in (float("nan"), 1j, "0"):
+        with pytest.raises(ValueError, match="^after must be a real number"):
+            P.first_alarm([0.0, 1.0], [5.0, 5.0], 1.0, after=after)

@@ -104,3 +104,19 @@ def test_compare_bounds_rows():
     assert by["prior"]["is_bound"] and not by["ukf"]["is_bound"]
     with pytest.raises(ValueError, match="sources"):
         cv.compare_bounds((0,), ("kalman",), n_steps=20)
+
+
+def test_seeds_are_integers_given_once():
+    # issue 35: int(1.5) made seed 1 silently
+    with pytest.raises(ValueError, match=r"^seeds\[0\] must be an integer"):
+        cv.coverage_over_seeds(seeds=(1.5,), n_steps=20)
+    with pytest.raises(ValueError, match="^seeds lists 3 twice"):
+        cv.coverage_over_seeds(seeds=(3, 3), n_steps=20)
+
+
+def test_a_singular_bound_is_named_not_a_raw_linalg_error():
+    sc = filters.simulate("mars", n_steps=20, error="none", rng=0)
+    run = filters.run_filter("ukf", sc, rng=0)
+    run.P[-1, :3, :3] = 0.0
+    with pytest.raises(ValueError, match=r"^run.P\[\d+\] must be positive definite, but it is singular"):
+        cv.bound_coverage(run, sc)

@@ -307,3 +307,21 @@ def test_compare_filters_gives_the_same_numbers_on_two_processes():
         np.testing.assert_array_equal(a["error"][f], b["error"][f])
     with pytest.raises(ValueError, match="max_workers"):
         rb.compare_filters("mars", max_workers=0, **kw)
+
+
+@pytest.mark.parametrize(("kw", "words"), [
+    (dict(filters="ukf"), r"^filters must be a list of filters, got the string 'ukf'"),  # was 'u'
+    (dict(seeds=(0, 0)), r"^seeds lists 0 twice"),
+    (dict(seeds=(1.5,)), r"^seeds\[0\] must be an integer"),
+    (dict(window=(1j, 2e3)), r"^window\[0\] must be a real number"),          # was 't_from'
+    (dict(window=(3e3, 1e3)), r"^window must be \(t_from, t_to\)"),
+    (dict(window=5.0), r"^window must be a list of times"),
+])
+def test_compare_filters_refuses_bad_lists_by_their_own_names(kw, words):
+    with pytest.raises(ValueError, match=words):
+        rb.compare_filters("mars", **{"filters": ("ukf",), **kw}, n_steps=10)
+
+
+def test_a_complex_differenced_measurement_is_named_dy():
+    with pytest.raises(ValueError, match="^dy must hold real numbers"):
+        rb.tdukf_update(np.zeros(12), np.eye(12), np.zeros(3) + 1j, np.eye(3), np.eye(3))

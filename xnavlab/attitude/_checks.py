@@ -41,7 +41,10 @@ def check_sample(name, value, n):
     >>> check_sample("omega_g", [0.0, 0.1, 0.2], 3).shape
     (3,)
     """
-    arr = np.asarray(value, dtype=float)
+    arr = np.asarray(value)
+    if arr.dtype.kind not in "fiu":  # complex (never cut to its real part), text, flags
+        raise ValueError(f"{name} must be {n} finite real numbers, got {value!r}")
+    arr = arr.astype(float, copy=False)
     if arr.shape != (n,) or not np.isfinite(arr).all():
         raise ValueError(f"{name} must be {n} finite numbers, got {value!r}")
     return arr

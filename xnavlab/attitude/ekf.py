@@ -58,7 +58,7 @@ def ekf_init(q_meas, *, attitude_sigma, drift_sigma):
     >>> x0.shape, P0.shape
     ((7,), (7, 7))
     """
-    q = quat_normalize(q_meas)
+    q = quat_normalize(check_finite_array("q_meas", q_meas, shape=(4,)))
     sa = check_real("attitude_sigma", attitude_sigma, 0.0, lo_open=True)
     if np.ndim(drift_sigma) == 0:
         sd = check_real("drift_sigma", drift_sigma, 0.0, lo_open=True)
@@ -207,6 +207,7 @@ class AttitudeEKF:
         self.gyro_cov = sg**2 * np.eye(3)
         self.drift_cov = dw**2 * self.dt * np.eye(3)
         self.R = (0.5 * ss) ** 2 * np.eye(4)
+        q0 = check_finite_array("q0", q0, shape=(4,))
         self.x, self.P = ekf_init(q0, attitude_sigma=ss, drift_sigma=drift_sigma)
 
     @property

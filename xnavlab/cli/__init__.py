@@ -27,11 +27,14 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import math
+import re
 import sys
+import warnings
 
 from xnavlab import __version__
 
-__all__ = ["main", "UsageError", "Parser", "COMMANDS"]
+__all__ = ["main", "UsageError", "Parser", "COMMANDS", "number"]
 
 #: Command name -> module implementing it (``HELP``, ``configure``, ``execute``).
 COMMANDS = {
@@ -54,6 +57,45 @@ class Parser(argparse.ArgumentParser):
         raise UsageError(message)
 
 
+_REAL = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?|[+-]?(inf|infinity|nan)", re.I | re.A)
+_INT = re.compile(r"[+-]?\d+", re.A)
+
+
+def number(name, text, kind=float, lo=-math.inf, hi=math.inf, lo_open=False, hi_open=False):
+    """A flag's number: plain decimal text (``1e-3``, ``30``), in range, or one ValueError that
+    names the flag, its range and the text as typed.
+
+    Python's own ``float``/``int`` would also take ``1_0`` (ten), ``0x10`` or surrounding
+    blanks; a command line takes only what it shows.
+
+    Examples
+    --------
+    >>> number("days", "0.5", float, 0.0, 365.0, lo_open=True)
+    0.5
+    >>> number("days", "1_0", float, 0.0, 365.0, lo_open=True)
+    Traceback (most recent call last):
+    ...
+    ValueError: days must be a real number in (0, 365], got '1_0'
+    """
+    from xnavlab.core.validate import check_int, check_real
+
+    pattern = _INT if kind is int else _REAL
+    try:
+        if not isinstance(text, str) or not pattern.fullmatch(text):
+            raise ValueError
+        if kind is int:
+            return check_int(name, int(text), lo, hi)
+        return check_real(name, float(text), lo, hi, lo_open=lo_open, hi_open=hi_open)
+    except ValueError as exc:  # the range as the check words it, the text as typed
+        probe = "x" if kind is int else math.nan
+        try:
+            (check_int(name, probe, lo, hi) if kind is int else
+             check_real(name, probe, lo, hi, lo_open=lo_open, hi_open=hi_open))
+        except ValueError as words:
+            head = str(words).rsplit(", got ", 1)[0]
+        raise ValueError(f"{head}, got {text!r}") from exc.__cause__
+
+
 def build_parser():
     """The full parser; each command module adds its own options."""
     parser = Parser(prog="python -m xnavlab", description="xnavlab command line")
@@ -68,8 +110,25 @@ def build_parser():
     return parser
 
 
+def _warning_line(message, category, filename, lineno, file=None, line=None):
+    print(f"xnavlab: warning: {message}", file=sys.stderr)
+
+
 def main(argv=None):
-    """Entry point; returns the process exit code."""
+    """Entry point; returns the process exit code.
+
+    A :class:`xnavlab.core.userfiles.InputWarning` (part of a user's file left unused, e.g. a
+    corrupt line of a campaign store) is printed as one line, ``xnavlab: warning: ...``.
+    """
+    from xnavlab.core.userfiles import InputWarning
+
+    with warnings.catch_warnings():
+        warnings.filterwarnings("always", category=InputWarning)
+        warnings.showwarning = _warning_line
+        return _main(argv)
+
+
+def _main(argv):
     try:
         args = build_parser().parse_args(argv)
         if args.version:

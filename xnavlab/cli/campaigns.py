@@ -45,12 +45,12 @@ finished runs are stored).
 from __future__ import annotations
 
 import json
-import math
 import os
 import sys
 
-from xnavlab.cli import UsageError
-from xnavlab.core.validate import check_int, check_real
+from xnavlab.cli import UsageError, number
+from xnavlab.core.userfiles import output_path
+from xnavlab.core.validate import check_int
 
 __all__ = ["HELP", "COLUMNS", "configure", "execute"]
 
@@ -69,14 +69,7 @@ COLUMNS = {
 
 
 def _number(name, text, kind, lo, hi, lo_open=False):
-    try:
-        value = kind(text)
-    except (TypeError, ValueError):
-        what = "an integer" if kind is int else "a real number"
-        raise ValueError(f"{name} must be {what}, got {text!r}") from None
-    if kind is int:
-        return check_int(name, value, lo, hi)
-    return check_real(name, value, lo, hi, lo_open=lo_open)
+    return number(name, text, kind, lo, hi, lo_open=lo_open)
 
 
 def configure(parser):
@@ -122,7 +115,7 @@ def configure(parser):
 def execute(args):
     """Run ``campaign``; returns the exit code."""
     from xnavlab.core.campaign import SUMMARY_FILE
-    from xnavlab.mars.campaigns import CAMPAIGNS, campaign
+    from xnavlab.mars.campaigns import CAMPAIGNS, DAYS, campaign
 
     if args.name not in CAMPAIGNS and args.name != "roc":
         raise UsageError(f"campaign must be one of {', '.join(CAMPAIGNS)}, roc, "
@@ -134,7 +127,9 @@ def execute(args):
     if args.name == "roc":
         return _execute_roc(args)
     runs, seed, where = _common(args)
-    days = _number("days", "1" if args.days is None else args.days, float, -math.inf, math.inf)
+    lo, hi = DAYS[args.name]  # the campaign's own range, checked again (with more) below
+    days = _number("days", "1" if args.days is None else args.days, float, lo, hi,
+                   lo_open=args.name == "consistency")
     scenario = None
     if args.scenario_file is not None:
         from xnavlab.mars import scenario_files
@@ -175,6 +170,7 @@ def _common(args):
     scheduler, timeout)."""
     runs = _number("runs", args.runs, int, 1, 10**7)
     seed = _number("seed", args.seed, int, 0, 2**63 - 1)
+    output_path(args.out, "--out", folder=True)  # made and writable before any run
     timeout = (None if args.timeout is None  # None: run_campaign's own default
                else _number("timeout", args.timeout, float, 0.0, 3600.0, lo_open=True))
     if args.workers is not None and args.scheduler:

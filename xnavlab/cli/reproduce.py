@@ -8,6 +8,7 @@ from pathlib import Path
 
 from xnavlab import reproduce
 from xnavlab.cli import UsageError
+from xnavlab.core.userfiles import output_path
 
 __all__ = ["HELP", "configure", "execute"]
 
@@ -39,6 +40,8 @@ def execute(args):
     :data:`xnavlab.reproduce.HEADLINES`; ``--all`` ends with
     :func:`xnavlab.reproduce.headline` (on stderr with ``--json``).
     """
+    if args.out is not None:  # made and writable before any reproduction runs
+        output_path(args.out, "--out", folder=True)
     if args.list:
         for rid in reproduce.ids():
             rep = reproduce.get(rid)

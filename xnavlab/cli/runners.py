@@ -11,9 +11,10 @@ import sys
 import time
 from pathlib import Path
 
-from xnavlab.cli import Parser, UsageError
+from xnavlab.cli import Parser, UsageError, number
 from xnavlab.core.federated import MODES
-from xnavlab.core.validate import check_choice, check_int, check_real
+from xnavlab.core.userfiles import output_path
+from xnavlab.core.validate import check_choice
 
 __all__ = ["HELP", "FAULT_HELP", "RUNNERS", "configure", "execute", "configure_mars", "execute_mars",
            "out_dir"]
@@ -23,19 +24,11 @@ HELP = "run a scenario"
 
 
 def _days(text):
-    try:
-        value = float(text)
-    except ValueError:
-        raise ValueError(f"days must be a real number in (0, 365], got {text!r}") from None
-    return check_real("days", value, 0.0, 365.0, lo_open=True)
+    return number("days", text, float, 0.0, 365.0, lo_open=True)
 
 
 def _seed(text):
-    try:
-        value = int(text)
-    except ValueError:
-        raise ValueError(f"seed must be an integer in [0, 2^63 - 1], got {text!r}") from None
-    return check_int("seed", value, 0, 2**63 - 1)
+    return number("seed", text, int, 0, 2**63 - 1)
 
 
 #: The fault-spec grammar, listed by ``run mars --help``.
@@ -67,14 +60,15 @@ example: --faults uv.range:step:25000@200000+3000,xnav.B1937+21:ramp:2e-9@300000
 
 
 def out_dir(path):
-    """``--out``: ``None``, or a directory that exists or can be made; else ValueError."""
+    """``--out``: ``None``, or a directory that exists or is made now (before the run, so that
+    no result is computed and then lost) and can be written; else ValueError."""
     if path is None:
         return None
     out = Path(path)
-    if out.exists() and not out.is_dir():
+    if str(path).strip() and out.exists() and not out.is_dir():
         raise ValueError(f"out must be a directory (for mars_run.npz and mars_summary.json), "
                          f"but {str(out)!r} is a file")
-    return out
+    return output_path(path, "--out", folder=True)
 
 
 def configure_mars(parser):
@@ -107,7 +101,8 @@ def _settings(args):
     """The scenario file (or the defaults) with the flags given on the command line applied."""
     from xnavlab.mars import scenario_files  # imported here: the parser stays light
 
-    sf = scenario_files.load(args.scenario_file) if args.scenario_file else scenario_files.loads("")
+    sf = (scenario_files.load(args.scenario_file) if args.scenario_file is not None
+          else scenario_files.loads(""))
     sf = scenario_files.with_overrides(
         sf, days=None if args.days is None else _days(args.days),
         seed=None if args.seed is None else _seed(args.seed),
@@ -157,11 +152,14 @@ def execute_mars(args):
     summary["q_acc"] = sc.q_acc
     summary["filter_time_s"] = summary.pop("run_time_s")
     summary["run_time_s"] = time.perf_counter() - t_start
-    if args.out:
+    if args.out is not None:
         out = out_dir(args.out)
-        out.mkdir(parents=True, exist_ok=True)
-        res.save_npz(out / "mars_run.npz")
-        (out / "mars_summary.json").write_text(json.dumps(summary, indent=2))
+        try:
+            res.save_npz(out / "mars_run.npz")
+            (out / "mars_summary.json").write_text(json.dumps(summary, indent=2))
+        except OSError as exc:
+            raise ValueError(f"--out {str(out)!r}: the results cannot be written "
+                             f"({exc.strerror})") from None
     if args.json:
         print(json.dumps(summary))
     else:

@@ -14,9 +14,9 @@ Exit codes: 0 done; 2 a bad file or command line (one line on stderr).
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 from xnavlab.cli import UsageError
+from xnavlab.core.userfiles import output_path
 
 __all__ = ["HELP", "configure", "execute"]
 
@@ -44,26 +44,24 @@ def execute(args):
         from xnavlab.core.validate import check_choice
         from xnavlab.mars import scenarios
 
-        setup = check_choice("setup", args.setup or "paper", scenario_files.SETUPS)
-        out = Path(args.out) if args.out else None
-        if out is not None:
-            if out.is_dir():
-                raise ValueError(f"out must be a file name, but {str(out)!r} is a directory")
-            if not out.parent.is_dir():
-                raise ValueError(f"out: the folder {str(out.parent)!r} does not exist")
+        setup = check_choice("setup", "paper" if args.setup is None else args.setup,
+                             scenario_files.SETUPS)
+        # a missing folder is made; a folder, a file on the way or an unwritable folder is
+        # one line, before the file is written
+        out = output_path(args.out, "--out") if args.out is not None else None
         sc = scenarios.MarsScenario.study() if setup == "study" else scenarios.MarsScenario()
         text = scenario_files.dump(sc)
         if out is not None:
             try:
                 out.write_text(text, encoding="utf-8")
             except OSError as exc:
-                raise ValueError(f"out {str(out)!r} cannot be written ({exc.strerror})") from None
+                raise ValueError(f"--out {str(out)!r} cannot be written ({exc.strerror})") from None
         else:
             print(text, end="")
         return 0
     if args.check:
-        if args.out or args.setup:
-            raise UsageError(f"{'--out' if args.out else '--setup'} goes with --dump")
+        if args.out is not None or args.setup is not None:
+            raise UsageError(f"{'--out' if args.out is not None else '--setup'} goes with --dump")
         sf = scenario_files.load(args.check)
         units = {k: scenario_files.UNITS.get(k, "-") for k in scenario_files.scenario_json(sf.scenario)}
         print(json.dumps({"scenario": scenario_files.scenario_json(sf.scenario), "units": units,

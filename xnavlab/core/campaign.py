@@ -70,6 +70,7 @@ import socket
 import sys
 import threading
 import time
+import warnings
 from collections import deque
 from collections.abc import Callable
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
@@ -79,7 +80,15 @@ from pathlib import Path
 
 import numpy as np
 
+from xnavlab.core.campaign_records import (
+    PUBLIC_KEYS,
+    json_or_none,
+    parse_records,
+    report_bad_lines,
+    why_not_a_record,
+)
 from xnavlab.core.montecarlo import seeds as spawn_seeds
+from xnavlab.core.userfiles import InputWarning, read_text
 from xnavlab.core.validate import check_choice, check_int, check_real
 
 __all__ = [
@@ -89,7 +98,6 @@ __all__ = [
     "SUMMARY_FILE",
     "OWNER_FILE",
     "FORMAT",
-    "PUBLIC_KEYS",
     "Campaign",
     "CampaignResult",
     "Store",
@@ -114,8 +122,6 @@ OWNER_FILE = "owner.pid"
 FORMAT = "xnavlab-campaign/2"
 #: The first format: the header was the first line of ``runs.jsonl`` (read and converted).
 LEGACY_FORMAT = "xnavlab-campaign/1"
-#: Keys of a record that make up a run's result (the rest is bookkeeping).
-PUBLIC_KEYS = ("index", "seed", "parameters", "metrics", "status", "error")
 
 
 @dataclass(frozen=True)
@@ -224,13 +230,6 @@ def execute(trial, seed, params):
             "worker": f"{socket.gethostname()}:{os.getpid()}"}
 
 
-def _json_or_none(text):
-    try:
-        return json.loads(text)
-    except json.JSONDecodeError:
-        return None
-
-
 def _describe(exc):
     text = " ".join(str(exc).split())
     return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
@@ -288,9 +287,15 @@ class Store:
         try:
             self._lock()
             self._fh.seek(0)
-            lines = self._fh.read().split("\n")
+            try:
+                lines = self._fh.read().split("\n")
+            except UnicodeDecodeError as exc:
+                raise ValueError(f"out {str(self.path.parent)!r}: {STORE_FILE} is not UTF-8 text "
+                                 f"(byte {exc.start}), not an xnavlab campaign store; choose "
+                                 f"another --out") from None
+            n_all = len(lines)
             lines = self._take_header(lines)
-            self._records = self._parse(lines)
+            self._records = self._parse(lines, n_all - len(lines))
         except BaseException:
             self._fh.close()
             raise
@@ -316,10 +321,10 @@ class Store:
 
     def _take_header(self, lines):
         """Check (or write) the header file; return the record lines."""
-        first = _json_or_none(lines[0]) if lines[0].strip() else None
+        first = json_or_none(lines[0]) if lines[0].strip() else None
         legacy = isinstance(first, dict) and first.get("format") == LEGACY_FORMAT
         if self.header_path.exists():
-            head = _json_or_none(self.header_path.read_text())
+            head = json_or_none(read_text(self.header_path, "campaign header"))
         elif legacy:
             head = {**first, "format": FORMAT}
         elif lines == [""]:
@@ -350,17 +355,21 @@ class Store:
             raise ValueError(f"out {self.path.parent} holds another campaign's records: "
                              f"{'; '.join(diff)}; choose another --out")
 
-    def _parse(self, lines):
-        records = []
-        for line in lines:
-            if not line.strip():
-                continue
-            rec = _json_or_none(line)  # a line torn by a kill: that run is recomputed
-            if isinstance(rec, dict) and set(PUBLIC_KEYS) <= set(rec):
-                records.append(rec)
-        if lines[-1] != "":
-            self._fh.write("\n")  # finish a torn last line before appending
+    def _parse(self, lines, skipped=0):
+        if lines[-1] != "" and why_not_a_record(json_or_none(lines[-1])):
+            # the last line torn by a kill: cut it off (its run is recomputed), so that no
+            # broken line stays in the middle of the file
+            keep = len(("\n".join(lines[:-1]) + "\n").encode("utf-8")) if len(lines) > 1 else 0
+            self._fh.truncate(keep)
+            self._fh.seek(0, os.SEEK_END)
             self._fh.flush()
+            lines = lines[:-1] + [""]
+        elif lines[-1] != "":
+            self._fh.write("\n")  # a whole record that lost only its newline
+            self._fh.flush()
+        records, bad = parse_records(lines, skipped)
+        if bad:
+            report_bad_lines(bad, self.path, "their runs are computed again")
         return records
 
     def _write(self, obj):
@@ -798,13 +807,22 @@ def load_runs(directory, final=True):
     path, head = directory / STORE_FILE, directory / HEADER_FILE
     if not path.exists():
         raise ValueError(f"directory {str(directory)!r} holds no campaign ({STORE_FILE} missing)")
-    lines = path.read_text(encoding="utf-8").split("\n")
-    first = _json_or_none(lines[0]) if lines[0].strip() else None
-    header = _json_or_none(head.read_text()) if head.exists() else None
+    lines = read_text(path, "campaign store").split("\n")
+    first = json_or_none(lines[0]) if lines[0].strip() else None
+    header = json_or_none(read_text(head, "campaign header")) if head.exists() else None
+    if head.exists() and not isinstance(header, dict):
+        warnings.warn(f"{head}: not a campaign header (not a JSON object); "
+                      f"df.attrs['campaign'] is None", InputWarning, stacklevel=2)
+        header = None
+    skipped = 0
     if isinstance(first, dict) and first.get("format") == LEGACY_FORMAT:
-        header, lines = first, lines[1:]
-    recs = [r for r in map(_json_or_none, (x for x in lines if x.strip()))
-            if isinstance(r, dict) and set(PUBLIC_KEYS) <= set(r)]
+        header, lines, skipped = first, lines[1:], 1
+    recs, bad = parse_records(lines, skipped)
+    if bad:
+        torn = lines[-1] != "" and bad[-1][0] == len(lines) + skipped
+        report_bad_lines(bad, path, "left out of the table" + (
+            " (the last one torn by an interrupted write: run the campaign again to compute "
+            "its run)" if torn else ""))
     if final:
         best = {}
         for r in recs:

@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from xnavlab.core.validate import check_real
+from xnavlab.core.validate import check_finite_array, check_real
 
 __all__ = [
     "norm_cdf", "norm_sf", "norm_ppf", "norm_isf", "chi2_cdf", "chi2_ppf", "chi2_isf", "t_ppf",
@@ -103,7 +103,7 @@ def chi2_cdf(x, dof):
     """
     # P(chi2_k <= x) = P(k/2, x/2), the regularised lower incomplete gamma function; it is 0 at
     # x = 0, so x <= 0 is clipped there (np.maximum keeps a NaN)
-    x = np.maximum(np.asarray(x, dtype=float), 0.0)
+    x = np.maximum(check_finite_array("x", x, finite=False), 0.0)
     return np.asarray(_special().chdtr(_dof(dof), x))
 
 

@@ -78,7 +78,7 @@ def jd_from_t(t):
     >>> jd_from_t(86400.0)
     2451546.0
     """
-    return J2000_JD + np.asarray(t, dtype=float) / DAY
+    return J2000_JD + check_finite_array("t", t) / DAY
 
 
 def t_from_jd(jd):
@@ -89,7 +89,7 @@ def t_from_jd(jd):
     >>> t_from_jd(2457388.5)   # 2016-01-01 00:00 TDB
     504878400.0
     """
-    return (np.asarray(jd, dtype=float) - J2000_JD) * DAY
+    return (check_finite_array("jd", jd) - J2000_JD) * DAY
 
 
 def _raw(body, days, ephem):

@@ -118,7 +118,7 @@ class Fault:
 
     def active(self, t):
         """Boolean mask of the samples ``t`` (s) at which the fault acts."""
-        t = np.asarray(t, dtype=float)
+        t = check_finite_array("t", t)
         if self.kind == "spike":
             mask = np.zeros(t.shape, dtype=bool)
             idx = np.flatnonzero(t >= self.onset)
@@ -141,7 +141,7 @@ def fault_mask(t, faults, sensor):
     >>> fault_mask([0.0, 1.0, 2.0], [Fault("uv", "step", 1.0, 1.0, 1.0)], "uv").tolist()
     [False, True, False]
     """
-    t = np.asarray(t, dtype=float)
+    t = check_finite_array("t", t)
     mask = np.zeros(t.shape, dtype=bool)
     for f in faults:
         if f.sensor == sensor:
@@ -177,7 +177,7 @@ def inject(t, z, faults, sensor, rng=None):
     [0.0, 0.0, 0.0, 2.0, 4.0]
     """
     t = check_finite_array("t", t)
-    z = np.array(z, dtype=float)
+    z = check_finite_array("z", z).copy()
     if t.ndim != 1 or z.shape[0] != t.shape[0]:
         raise ValueError(f"t must have shape (n,) matching z's first axis; got {t.shape}, {z.shape}")
     rng = make_rng(rng)

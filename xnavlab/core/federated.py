@@ -104,12 +104,17 @@ def fuse(xs, Ps, use=None, check=True):
     >>> x.tolist(), P.tolist()
     ([1.0, 1.0], [[1.0, 0.0], [0.0, 1.0]])
     """
+    if check:  # before any cast: a complex entry is refused, not cut to its real part
+        xs = [check_finite_array(f"xs[{i}]", x) for i, x in enumerate(xs)]
+        Ps = [check_finite_array(f"Ps[{i}]", P) for i, P in enumerate(Ps)]
     xs = [np.asarray(x, dtype=float) for x in xs]
     Ps = [np.asarray(P, dtype=float) for P in Ps]
     if len(Ps) != len(xs):
         raise ValueError(f"Ps must hold one covariance per estimate ({len(xs)}), got {len(Ps)}")
     if use is not None and len(use) != len(xs):
         raise ValueError(f"use must hold one flag per estimate ({len(xs)}), got {len(use)}")
+    if use is not None:
+        use = _flags("use", use, len(xs))
     if check and xs:
         n = check_vector("xs[0]", xs[0]).size
         for i, (x, P) in enumerate(zip(xs, Ps, strict=True)):
@@ -146,10 +151,21 @@ def share_factors(beta, active):
     >>> share_factors([0.5, 0.25, 0.25], [True, False, True]).tolist()
     [0.6666666666666666, 1.0, 0.3333333333333333]
     """
-    beta = np.asarray(beta, dtype=float)
-    active = np.asarray(active, dtype=bool)
+    beta = check_vector("beta", beta)
+    if np.any(beta <= 0.0):
+        raise ValueError(f"beta must hold positive information-sharing factors, got {beta.tolist()}")
+    active = _flags("active", active, beta.size)
     tot = beta[active].sum()
     return np.where(active, beta / tot if tot > 0 else 1.0, 1.0)
+
+
+def _flags(name, value, n):
+    """``value`` as ``n`` booleans (True/False or 1/0), else one ValueError naming it."""
+    arr = np.asarray(value)
+    ok = arr.dtype.kind == "b" or (arr.dtype.kind in "iuf" and np.all((arr == 0) | (arr == 1)))
+    if not ok or arr.ndim != 1 or arr.size != n:
+        raise ValueError(f"{name} must hold {n} flags (true/false), got {value!r}")
+    return arr.astype(bool)
 
 
 class FederatedFilter:
@@ -204,8 +220,7 @@ class FederatedFilter:
         self.kind = check_choice("kind", kind, ("ekf", "ukf"))
         x0 = check_vector("x0", x0)
         P0 = symmetrize(check_covariance("P0", P0, x0.size, definite=True))
-        if isinstance(n_local, bool) or not isinstance(n_local, int) or n_local < 1:
-            raise ValueError(f"n_local must be an integer in [1, inf], got {n_local!r}")
+        n_local = check_int("n_local", n_local, 1)
         if beta is None:
             beta = np.full(n_local, 1.0 / n_local)
         beta = check_finite_array("beta", beta).reshape(-1)
@@ -225,7 +240,7 @@ class FederatedFilter:
 
         ``F`` is ignored by UKF locals. Returns ``self``.
         """
-        Q = np.asarray(Q, dtype=float)
+        Q = check_covariance("Q", Q, self.x.size)
         for lf, s in zip(self.locals, self.shares, strict=True):
             if self.kind == "ekf":
                 lf.predict(f, F, Q / s)  # Q_i = Q / beta_i
@@ -313,10 +328,7 @@ class FederatedFilter:
 
         In reset mode the master is re-split among the connected locals.
         """
-        active = np.array(active, dtype=bool).reshape(-1)
-        if active.shape != self.active.shape:
-            raise ValueError(f"active must hold {len(self.locals)} flags, got {active.shape}")
-        self.active = active
+        self.active = _flags("active", active, len(self.locals))
         if self.mode == "reset":
             self._reset()
 

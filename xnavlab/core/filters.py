@@ -50,7 +50,14 @@ from typing import NamedTuple
 import numpy as np
 
 from xnavlab.core.distributions import chi2_ppf
-from xnavlab.core.validate import check_covariance, check_finite_array, check_real, check_vector
+from xnavlab.core.validate import (
+    check_covariance,
+    check_definite,
+    check_finite_array,
+    check_int,
+    check_real,
+    check_vector,
+)
 
 __all__ = [
     "Update",
@@ -106,12 +113,24 @@ def symmetrize(P):
     >>> symmetrize(np.array([[1.0, 2.0], [0.0, 1.0]])).tolist()
     [[1.0, 1.0], [1.0, 1.0]]
     """
-    P = np.asarray(P, dtype=float)
+    return _sym(_square("P", P))
+
+
+def _sym(P):
     return 0.5 * (P + P.T)
 
 
+def _square(name, value, n=None):
+    """A finite square matrix (of size ``n`` when given), or ValueError naming it."""
+    arr = check_finite_array(name, value)
+    if arr.ndim != 2 or arr.shape[0] != arr.shape[1] or (n is not None and arr.shape[0] != n):
+        want = "(n, n)" if n is None else f"({n}, {n})"
+        raise ValueError(f"{name} must be a square matrix of shape {want}, got shape {arr.shape}")
+    return arr
+
+
 def _call(f, x):
-    return f(x) if callable(f) else np.asarray(f, dtype=float)
+    return f(x) if callable(f) else f
 
 
 def _checked_state(x, P):
@@ -170,10 +189,10 @@ def ekf_predict(x, P, f, F, Q, check=True):
     else:
         x = np.asarray(x, dtype=float)
         P = np.asarray(P, dtype=float)
-        Phi = _call(F, x)
-        x_new = _call(f, x)
+        Phi = np.asarray(_call(F, x), dtype=float)
+        x_new = np.asarray(_call(f, x), dtype=float)
     P_new = Phi @ P @ Phi.T + np.asarray(Q, dtype=float)  # P = F P F^T + Q
-    return x_new, symmetrize(P_new)
+    return x_new, _sym(P_new)
 
 
 def joseph(P, K, H, R):
@@ -184,8 +203,16 @@ def joseph(P, K, H, R):
     >>> joseph(np.eye(1) * 4.0, np.array([[0.8]]), np.eye(1), np.eye(1)).tolist()
     [[0.8]]
     """
+    P, R = _square("P", P), _square("R", R)
+    n, m = P.shape[0], R.shape[0]
+    K = _checked_model("K", K, (n, m))
+    H = _checked_model("H", H, (m, n))
+    return _joseph(P, K, H, R)
+
+
+def _joseph(P, K, H, R):
     A = np.eye(P.shape[0]) - K @ H
-    return symmetrize(A @ P @ A.T + K @ R @ K.T)  # P = (I-KH) P (I-KH)^T + K R K^T
+    return _sym(A @ P @ A.T + K @ R @ K.T)  # P = (I-KH) P (I-KH)^T + K R K^T
 
 
 def ekf_update(x, P, z, h, H, R, residual=None, check=True):
@@ -240,15 +267,15 @@ def ekf_update(x, P, z, h, H, R, residual=None, check=True):
         R = check_covariance("R", np.atleast_2d(R), m, definite=True)
     else:
         z = np.asarray(z, dtype=float)
-        z_pred = _call(h, x)
-        Hm = np.atleast_2d(_call(H, x))
+        z_pred = np.asarray(_call(h, x), dtype=float)
+        Hm = np.atleast_2d(np.asarray(_call(H, x), dtype=float))
         R = np.atleast_2d(np.asarray(R, dtype=float))
     nu = residual(z, z_pred) if residual is not None else z - z_pred
-    S = symmetrize(Hm @ P @ Hm.T + R)  # S = H P H^T + R
+    S = _sym(Hm @ P @ Hm.T + R)  # S = H P H^T + R
     PHt = P @ Hm.T
     K = np.linalg.solve(S, PHt.T).T  # K = P H^T S^-1
     x_new = x + K @ nu  # x+ = x- + K (z - h(x-))
-    P_new = joseph(P, K, Hm, R)
+    P_new = _joseph(P, K, Hm, R)
     return Update(x_new, P_new, nu, S, float(nu @ np.linalg.solve(S, nu)))
 
 
@@ -286,6 +313,7 @@ def ukf_weights(n, alpha=1.0, beta=2.0, kappa=0.0):
     >>> Wm.tolist(), lam
     ([0.0, 0.25, 0.25, 0.25, 0.25], 0.0)
     """
+    n = check_int("n", n, 1)
     alpha = check_real("alpha", alpha, 0.0, 1.0, lo_open=True)
     beta = check_real("beta", beta)
     kappa = check_real("kappa", kappa, -n, lo_open=True)
@@ -311,9 +339,15 @@ def sigma_points(x, P, lam):
     >>> sigma_points(np.zeros(1), np.eye(1) * 4.0, 0.0).ravel().tolist()
     [0.0, 2.0, -2.0]
     """
-    x = np.asarray(x, dtype=float)
+    x = check_vector("x", x)
     n = x.size
-    L = np.linalg.cholesky((n + lam) * symmetrize(P))
+    P = _square("P", P, n)
+    lam = check_real("lam", lam, -n, lo_open=True)
+    try:
+        L = np.linalg.cholesky((n + lam) * _sym(P))
+    except np.linalg.LinAlgError:  # name what is wrong with P: indefinite or singular
+        check_definite("P", P, n)
+        raise ValueError("P must be positive definite (its Cholesky factor failed)") from None
     return np.vstack([x, x + L.T, x - L.T])
 
 
@@ -330,14 +364,18 @@ def unscented_transform(Y, Wm, Wc, noise=None, residual=None):
     >>> m.tolist(), S.tolist()
     ([0.0], [[4.0]])
     """
-    Y = np.asarray(Y, dtype=float)
+    Y = check_finite_array("Y", Y)
+    if Y.ndim != 2:
+        raise ValueError(f"Y must have shape (2n+1, m), got shape {Y.shape}")
+    Wm = check_vector("Wm", Wm, Y.shape[0])
+    Wc = check_vector("Wc", Wc, Y.shape[0])
     res = residual if residual is not None else (lambda a, b: a - b)
     mean = Y[0] + Wm @ res(Y, Y[0])
     D = res(Y, mean)
     cov = (Wc[:, None] * D).T @ D
     if noise is not None:
-        cov = cov + noise
-    return mean, symmetrize(cov)
+        cov = cov + _square("noise", noise, Y.shape[1])
+    return mean, _sym(cov)
 
 
 def ukf_predict(x, P, f, Q, alpha=1.0, beta=2.0, kappa=0.0, check=True):
@@ -417,7 +455,7 @@ def ukf_update(x, P, z, h, R, alpha=1.0, beta=2.0, kappa=0.0, residual=None, che
     K = np.linalg.solve(S, Pxz.T).T  # K = Pxz S^-1
     nu = res(z, z_pred)
     x_new = x + K @ nu
-    P_new = symmetrize(P - K @ S @ K.T)  # P = P - K S K^T
+    P_new = _sym(P - K @ S @ K.T)  # P = P - K S K^T
     return Update(x_new, P_new, nu, S, float(nu @ np.linalg.solve(S, nu)))
 
 
@@ -434,15 +472,19 @@ def nees(err, P):
     P : array_like, shape (..., n, n)
         Covariance.
 
+    Raises
+    ------
+    ValueError
+        Naming ``err`` or ``P``: a complex or non-finite entry, shapes that do not match, or
+        a ``P`` that is not symmetric positive definite (indefinite or singular: the
+        statistic would be negative or undefined).
+
     Examples
     --------
     >>> float(nees([1.0, 2.0], np.diag([1.0, 4.0])))
     2.0
     """
-    err = check_finite_array("err", err)
-    P = check_finite_array("P", P)
-    sol = np.linalg.solve(P, err[..., None])[..., 0]
-    return np.sum(err * sol, axis=-1)
+    return _normalised_square("err", err, "P", P)
 
 
 def nis(nu, S):
@@ -453,7 +495,21 @@ def nis(nu, S):
     >>> float(nis([3.0], [[9.0]]))
     1.0
     """
-    return nees(nu, S)
+    return _normalised_square("nu", nu, "S", S)
+
+
+def _normalised_square(ename, err, pname, P):
+    err = check_finite_array(ename, err)
+    if err.ndim == 0:
+        raise ValueError(f"{ename} must be a vector (shape (..., n)), got a scalar")
+    P = check_definite(pname, P, err.shape[-1])
+    try:
+        np.broadcast_shapes(err.shape[:-1], P.shape[:-2])
+    except ValueError:
+        raise ValueError(f"{ename} of shape {err.shape} and {pname} of shape {P.shape} do not "
+                         f"match (leading axes)") from None
+    sol = np.linalg.solve(P, err[..., None])[..., 0]
+    return np.sum(err * sol, axis=-1)  # e^T P^-1 e
 
 
 def chi2_bounds(dof, n_runs=1, p=0.95):
@@ -565,7 +621,7 @@ class EKF:
 
     def __init__(self, x0, P0):
         self.x = check_vector("x0", x0).astype(float).copy()
-        self.P = symmetrize(check_covariance("P0", P0, self.x.size))
+        self.P = _sym(check_covariance("P0", P0, self.x.size))
         self.last = None
 
     def predict(self, f, F, Q):

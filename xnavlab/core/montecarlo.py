@@ -43,7 +43,7 @@ from xnavlab.core.detection import chi2_detect, wavelet_detect
 from xnavlab.core.distributions import norm_isf
 from xnavlab.core.faults import Fault, inject
 from xnavlab.core.plotting import sparse_log_minors
-from xnavlab.core.validate import check_choice, check_int, check_real
+from xnavlab.core.validate import check_choice, check_int, check_items, check_real
 
 __all__ = ["KINDS", "DETECTORS", "signal_trial", "run_tasks", "seeds",
            "detection_table", "roc_curve", "summarise", "plot_roc", "plot_pd",
@@ -256,6 +256,8 @@ def detection_table(kinds=KINDS, sizes=(2.0, 4.0, 8.0), *, trials=20, seed=0, no
     (0.0, 1.0)
     """
     trials = check_int("trials", trials, 1)
+    sizes = [check_real(f"sizes[{i}]", s, 0.0) for i, s in enumerate(check_items("sizes", sizes, "size"))]
+    kinds = check_items("kinds", kinds, "kind")
     cells = [(k, float(s)) for k in kinds for s in sizes]
     params = [dict(kind=k, size_sigma=s, noise_scale=noise_scale, **trial_kw)
               for k, s in cells for _ in range(trials)]

@@ -401,4 +401,5 @@ def attitude_error(q_est, q_true):
     >>> np.allclose(attitude_error(quat_product(dq, q), q), [1e-4, 0.0, 0.0])
     True
     """
+    q_est, q_true = _quat("q_est", q_est), _quat("q_true", q_true)
     return quat_to_rotvec(quat_product(q_est, quat_conjugate(q_true)))

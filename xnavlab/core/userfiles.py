@@ -17,7 +17,13 @@ import json
 import os
 from pathlib import Path
 
-__all__ = ["read_text", "parse_toml", "load_table", "output_path"]
+__all__ = ["InputWarning", "read_text", "parse_toml", "load_table", "check_rows", "csv_rows",
+           "output_path"]
+
+
+class InputWarning(UserWarning):
+    """Part of a user's file was not used (a corrupt line of a campaign store, say): the
+    warning names the file and the line. The command line prints it as one line."""
 
 
 def read_text(path, what="file"):
@@ -44,6 +50,8 @@ def read_text(path, what="file"):
     ...     print(str(exc).split(": byte")[0].endswith("latin1.toml' is not UTF-8 text"))
     True
     """
+    if not str(path).strip():
+        raise ValueError(f"{what} must name a file, got {str(path)!r}")
     path = Path(path)
     if path.is_dir():
         raise ValueError(f"{what} {str(path)!r} is a folder, not a file")
@@ -123,6 +131,76 @@ def load_table(path, what="file", suffixes=(".toml", ".json")):
     return table
 
 
+def check_rows(rows, required, what):
+    """``rows`` if it is a non-empty list of tables that each hold the ``required`` keys and no
+    NaN (a table that ``json.loads`` read from a hand-edited or truncated file), else one
+    ValueError naming ``what`` and the row.
+
+    Examples
+    --------
+    >>> check_rows([{"pd": 0.5}], ("pd",), "detector table 'x.json'")
+    [{'pd': 0.5}]
+    >>> check_rows([{"pd": 0.5}, {"pd": float("nan")}], ("pd",), "detector table 'x.json'")
+    Traceback (most recent call last):
+    ...
+    ValueError: detector table 'x.json': row 1 has NaN in pd
+    """
+    if not isinstance(rows, list) or not rows:
+        raise ValueError(f"{what} must hold a non-empty list of rows, got {type(rows).__name__}")
+    for i, row in enumerate(rows):
+        if not isinstance(row, dict):
+            raise ValueError(f"{what}: row {i} is not a table but a {type(row).__name__}")
+        missing = [k for k in required if k not in row]
+        if missing:
+            raise ValueError(f"{what}: row {i} has no {', '.join(missing)}")
+        nan = [k for k, v in row.items() if isinstance(v, float) and v != v]
+        if nan:
+            raise ValueError(f"{what}: row {i} has NaN in {', '.join(nan)}")
+    return rows
+
+
+def csv_rows(text, what, numbers=()):
+    """The rows of a comma-separated table (``#`` lines are comments, the first other line
+    the header) as dicts, the ``numbers`` columns as finite floats; a row with too few or too
+    many cells, or a number that is not one (or NaN, inf), is one ValueError naming ``what``
+    and the row's line number.
+
+    Examples
+    --------
+    >>> csv_rows("# a table\\nname,flux\\nCrab,1.5", "table", ("flux",))
+    [{'name': 'Crab', 'flux': 1.5}]
+    >>> csv_rows("name,flux\\nCrab,nan", "table", ("flux",))
+    Traceback (most recent call last):
+    ...
+    ValueError: table, line 2: flux must be a finite number, got 'nan'
+    """
+    import math
+
+    lines = [(n, ln) for n, ln in enumerate(text.splitlines(), 1)
+             if ln.strip() and not ln.startswith("#")]
+    if not lines:
+        raise ValueError(f"{what} holds no header line")
+    header = [h.strip() for h in lines[0][1].split(",")]
+    rows = []
+    for n, ln in lines[1:]:
+        cells = [c.strip() for c in ln.split(",")]
+        if len(cells) != len(header):
+            raise ValueError(f"{what}, line {n}: {len(cells)} cells, the header has "
+                             f"{len(header)}")
+        row = dict(zip(header, cells, strict=True))
+        for key in numbers:
+            try:
+                value = float(row[key])
+            except ValueError:
+                value = math.nan
+            if not math.isfinite(value):
+                raise ValueError(f"{what}, line {n}: {key} must be a finite number, got "
+                                 f"{row[key]!r}")
+            row[key] = value
+        rows.append(row)
+    return rows
+
+
 def output_path(path, what="output", folder=False):
     """Check, before any work, that the package can write ``path``; return it as a Path.
 
@@ -149,6 +227,8 @@ def output_path(path, what="output", folder=False):
     >>> out.parent.is_dir()
     True
     """
+    if not str(path).strip():
+        raise ValueError(f"{what} must name a {'folder' if folder else 'file'}, got {str(path)!r}")
     path = Path(path)
     target = path if folder else path.parent
     if folder and path.exists() and not path.is_dir():

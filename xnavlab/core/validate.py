@@ -8,6 +8,7 @@ instead of propagating a NaN, clipping silently or failing deep in a traceback.
 from __future__ import annotations
 
 import math
+import warnings
 from numbers import Integral, Real
 
 import numpy as np
@@ -19,6 +20,8 @@ __all__ = [
     "check_choice",
     "check_vector",
     "check_covariance",
+    "check_definite",
+    "check_items",
     "make_rng",
 ]
 
@@ -45,12 +48,18 @@ def check_real(name, value, lo=-math.inf, hi=math.inf, *, lo_open=False, hi_open
     Traceback (most recent call last):
     ...
     ValueError: sigma_deg must be a real number in (0, 10], got -1
+    >>> check_real("t0", complex(1, 2))
+    Traceback (most recent call last):
+    ...
+    ValueError: t0 must be a finite real number, got (1+2j)
+
+    An infinite bound is written open (``[0, inf)``: every finite number from 0) and no
+    bounds at all as "a finite real number", never ``[-inf, inf]``.
     """
-    left = "(" if lo_open else "["
-    right = ")" if hi_open else "]"
-    rng = f"{left}{_fmt(lo)}, {_fmt(hi)}{right}"
+    want = f"a {'finite ' if lo == -math.inf and hi == math.inf else ''}real number" \
+        + _range(lo, hi, lo_open, hi_open)
     if isinstance(value, bool) or not isinstance(value, Real | np.floating | np.integer):
-        raise ValueError(f"{name} must be a real number in {rng}, got {value!r}")
+        raise ValueError(f"{name} must be {want}, got {_shown(value)}")
     x = float(value)
     bad = (
         not math.isfinite(x)
@@ -58,7 +67,7 @@ def check_real(name, value, lo=-math.inf, hi=math.inf, *, lo_open=False, hi_open
         or (x > hi or (hi_open and x == hi))
     )
     if bad:
-        raise ValueError(f"{name} must be a real number in {rng}, got {value!r}")
+        raise ValueError(f"{name} must be {want}, got {_shown(value)}")
     return x
 
 
@@ -69,17 +78,25 @@ def check_int(name, value, lo=-math.inf, hi=math.inf):
     --------
     >>> check_int("levels", 5, 1, 10)
     5
+    >>> check_int("window", 0, 1)
+    Traceback (most recent call last):
+    ...
+    ValueError: window must be an integer in [1, inf), got 0
     """
-    rng = f"[{_fmt(lo)}, {_fmt(hi)}]"
+    want = "an integer" + _range(lo, hi, False, False, exact=True)
     if isinstance(value, bool) or not isinstance(value, Integral | np.integer):
-        raise ValueError(f"{name} must be an integer in {rng}, got {value!r}")
+        raise ValueError(f"{name} must be {want}, got {_shown(value)}")
     if value < lo or value > hi:
-        raise ValueError(f"{name} must be an integer in {rng}, got {value!r}")
+        raise ValueError(f"{name} must be {want}, got {_shown(value)}")
     return int(value)
 
 
-def check_finite_array(name, value, shape=None, dtype=float):
+def check_finite_array(name, value, shape=None, dtype=float, finite=True):
     """Return ``value`` as a finite float array, checking its trailing shape.
+
+    Complex numbers (whose imaginary part a cast would drop), text and booleans are refused,
+    not converted. ``finite=False`` lets NaN and inf through (an elementwise function that
+    maps NaN to NaN, as scipy's do).
 
     Parameters
     ----------
@@ -94,18 +111,35 @@ def check_finite_array(name, value, shape=None, dtype=float):
     --------
     >>> check_finite_array("r", [1.0, 2.0, 3.0], shape=(3,)).shape
     (3,)
+    >>> check_finite_array("z", [1.0, 2.0 + 1e-3j])
+    Traceback (most recent call last):
+    ...
+    ValueError: z must hold real numbers, got complex values (an imaginary part is not dropped)
     """
     try:
-        arr = np.asarray(value, dtype=dtype)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", np.exceptions.VisibleDeprecationWarning)
+            raw = np.asarray(value)
     except (TypeError, ValueError):
-        raise ValueError(f"{name} must be an array of finite numbers, got {value!r}") from None
+        raise ValueError(f"{name} must be an array of finite numbers, got {_short(value)}") from None
+    kinds = {raw.dtype.kind} if raw.dtype.kind != "O" else \
+        {np.asarray(v).dtype.kind for v in raw.ravel()[:10_000]}
+    if "c" in kinds:
+        raise ValueError(f"{name} must hold real numbers, got complex values (an imaginary part "
+                         f"is not dropped)")
+    if kinds & set("USbO"):
+        raise ValueError(f"{name} must be an array of finite numbers, got {_short(value)}")
+    try:
+        arr = raw.astype(dtype, copy=False)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be an array of finite numbers, got {_short(value)}") from None
     if shape is not None:
         tail = arr.shape[arr.ndim - len(shape):] if arr.ndim >= len(shape) else None
         ok = tail is not None and all(s is None or s == t for s, t in zip(shape, tail, strict=True))
         if not ok:
             want = "(..., " + ", ".join("n" if s is None else str(s) for s in shape) + ")"
             raise ValueError(f"{name} must have trailing shape {want}, got shape {arr.shape}")
-    if not np.all(np.isfinite(arr)):
+    if finite and not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} must contain only finite numbers (no NaN or inf)")
     return arr
 
@@ -187,11 +221,141 @@ def check_covariance(name, value, n=None, *, definite=False, rtol=1e-8):
     return arr
 
 
-def make_rng(seed=None):
+def check_definite(name, value, n=None, *, rtol=1e-8):
+    """Return ``value`` as finite, symmetric, positive definite, invertible matrices, else raise.
+
+    The check of a matrix a statistic inverts (a NEES, NIS or chi-square test): one ValueError
+    that names the matrix and what is wrong with it (not square, not symmetric, indefinite or
+    singular), never a raw ``LinAlgError`` or a negative statistic. Vectorised over leading
+    axes: a stack ``(..., n, n)`` names its first bad matrix by index. Definiteness is judged
+    on the correlation matrix (the matrix scaled by its diagonal), so mixed units (m^2 beside
+    m^2/s^2) do not look singular: a correlation eigenvalue at or below ``100 n eps`` is
+    singular.
+
+    Parameters
+    ----------
+    name : str
+        Parameter name used in the error message.
+    value : array_like, shape (..., n, n)
+    n : int, optional
+        Required size.
+    rtol : float
+        Symmetry tolerance, relative to each matrix's largest entry.
+
+    Examples
+    --------
+    >>> check_definite("S", [[4.0, 0.0], [0.0, 1e-6]]).shape
+    (2, 2)
+    >>> check_definite("S", [[1.0, 2.0], [2.0, 1.0]])
+    Traceback (most recent call last):
+    ...
+    ValueError: S must be positive definite, but it is indefinite (smallest eigenvalue -1)
+    >>> check_definite("P", np.stack([np.eye(2), np.diag([2.0, 0.0])]))
+    Traceback (most recent call last):
+    ...
+    ValueError: P[1] must be positive definite, but it is singular (smallest eigenvalue 0, largest 2)
+    """
+    arr = check_finite_array(name, value)
+    want = "(..., n, n)" if n is None else f"(..., {n}, {n})"
+    if arr.ndim < 2 or arr.shape[-1] != arr.shape[-2] or (n is not None and arr.shape[-1] != n):
+        raise ValueError(f"{name} must be a square matrix of shape {want}, got shape {arr.shape}")
+    m = arr.shape[-1]
+    if arr.size == 0:
+        return arr
+    flat = arr.reshape(-1, m, m)
+
+    def label(k):
+        where = np.unravel_index(k, arr.shape[:-2])
+        return name if arr.ndim == 2 else f"{name}[{', '.join(str(int(i)) for i in where)}]"
+
+    scale = np.max(np.abs(flat), axis=(1, 2))
+    asym = np.max(np.abs(flat - flat.transpose(0, 2, 1)), axis=(1, 2)) > rtol * scale
+    if asym.any():
+        raise ValueError(f"{label(int(np.argmax(asym)))} must be symmetric (to {rtol:g} of its "
+                         f"largest entry)")
+    d = np.diagonal(flat, axis1=1, axis2=2)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = 1.0 / np.sqrt(np.where(d > 0.0, d, 1.0))
+        corr = 0.5 * (flat + flat.transpose(0, 2, 1)) * s[:, :, None] * s[:, None, :]
+    low = np.where(np.all(d > 0.0, axis=1), np.linalg.eigvalsh(corr)[:, 0], -1.0)
+    low = np.where(np.any(d == 0.0, axis=1) & np.all(d >= 0.0, axis=1), 0.0, low)
+    bad = low <= 100.0 * m * np.finfo(float).eps
+    if bad.any():
+        k = int(np.argmax(bad))
+        eig = np.linalg.eigvalsh(0.5 * (flat[k] + flat[k].T))
+        what = ("indefinite" if low[k] < -100.0 * m * np.finfo(float).eps else "singular")
+        more = f", largest {float(eig[-1]):.3g}" if what == "singular" else ""
+        raise ValueError(f"{label(k)} must be positive definite, but it is {what} (smallest "
+                         f"eigenvalue {float(eig[0]):.3g}{more})")
+    return arr
+
+
+def check_items(name, value, what="item", each=None, min_len=1):
+    """Return ``value`` as a tuple of items: a list (not a string, a table or a number), with
+    at least ``min_len`` items and none twice, else one ValueError naming ``name``.
+
+    A list of pulsars, stars or subsystems: a string where the list belongs is refused (not
+    split into its letters), an empty list is refused, and an item given twice (which would
+    count its information twice) is named with both positions.
+
+    Parameters
+    ----------
+    name : str
+        Parameter name used in the error message.
+    value : object
+        The list (any iterable but a string, bytes or a mapping).
+    what : str
+        What one item is, for the messages (``"pulsar"``).
+    each : callable, optional
+        ``each(label, item) -> key``: checks one item (``label`` is ``name[i]``, for its
+        message) and returns the key that identifies it (two equal keys are a repeat); by
+        default the item is its own key.
+    min_len : int
+        Fewest items.
+
+    Examples
+    --------
+    >>> check_items("subsystems", ["uv", "cns"], "subsystem")
+    ('uv', 'cns')
+    >>> check_items("pulsars", "B1937+21", "pulsar")
+    Traceback (most recent call last):
+    ...
+    ValueError: pulsars must be a list of pulsars, got the string 'B1937+21' (write ["B1937+21"])
+    >>> check_items("stars", ["Vega", "Sirius", "Vega"], "star")
+    Traceback (most recent call last):
+    ...
+    ValueError: stars lists Vega twice (items 0 and 2)
+    """
+    if isinstance(value, str | bytes):
+        text = value.decode(errors="replace") if isinstance(value, bytes) else value
+        raise ValueError(f"{name} must be a list of {what}s, got the string {text!r} "
+                         f"(write [\"{text}\"])")
+    flat = not isinstance(value, np.ndarray) or value.ndim == 1
+    if isinstance(value, dict) or not hasattr(value, "__iter__") or not flat:
+        raise ValueError(f"{name} must be a list of {what}s, got {_short(value)}")
+    items = tuple(value)
+    if len(items) < min_len:
+        got = "an empty list" if not items else f"{len(items)}"
+        least = f"one {what}" if min_len == 1 else f"{min_len} {what}s"
+        raise ValueError(f"{name} must name at least {least}, got {got}")
+    seen = {}
+    for i, item in enumerate(items):
+        key = each(f"{name}[{i}]", item) if each is not None else item
+        try:
+            first = seen.setdefault(key, i)
+        except TypeError:  # an unhashable item (a list inside the list)
+            raise ValueError(f"{name}[{i}] must be a {what}, got {_short(item)}") from None
+        if first != i:
+            raise ValueError(f"{name} lists {key} twice (items {first} and {i})")
+    return items
+
+
+def make_rng(seed=None, name="rng"):
     """Return a :class:`numpy.random.Generator` from a seed or an existing generator.
 
     ``None`` gives seed 0, so that every result in the book is reproducible unless a
-    caller asks otherwise by passing a Generator.
+    caller asks otherwise by passing a Generator. ``name``: the caller's parameter, for the
+    message that refuses anything else.
 
     Examples
     --------
@@ -202,8 +366,10 @@ def make_rng(seed=None):
         return seed
     if seed is None:
         seed = 0
-    seed = check_int("seed", seed, 0, 2**63 - 1)
-    return np.random.default_rng(seed)
+    if isinstance(seed, bool) or not isinstance(seed, Integral | np.integer) or not 0 <= seed < 2**63:
+        raise ValueError(f"{name} must be a numpy Generator or an integer seed in "
+                         f"[0, {2**63 - 1}], got {_shown(seed)}")
+    return np.random.default_rng(int(seed))
 
 
 def _fmt(x):
@@ -212,3 +378,26 @@ def _fmt(x):
     if x == -math.inf:
         return "-inf"
     return f"{x:g}"
+
+
+def _range(lo, hi, lo_open, hi_open, exact=False):
+    """`` in [lo, hi]`` with an infinite bound written open; empty when both are infinite.
+    ``exact``: integer bounds in full (2^63 - 1 is not 9.22337e+18)."""
+    if lo == -math.inf and hi == math.inf:
+        return ""
+    fmt = (lambda x: str(int(x)) if math.isfinite(x) else _fmt(x)) if exact else _fmt
+    left = "(" if lo_open or lo == -math.inf else "["
+    right = ")" if hi_open or hi == math.inf else "]"
+    return f" in {left}{fmt(lo)}, {fmt(hi)}{right}"
+
+
+def _shown(value):
+    """``repr`` of a value for a message, numpy scalars as plain numbers."""
+    if isinstance(value, np.generic):
+        value = value.item()
+    return repr(value)
+
+
+def _short(value):
+    text = repr(value)
+    return text if len(text) <= 80 else text[:77] + "..."

@@ -28,6 +28,7 @@ from xnavlab.core.constants import AU
 from xnavlab.core.filters import ekf_predict, ekf_update
 from xnavlab.core.validate import check_covariance, check_finite_array, check_int, check_real, make_rng
 from xnavlab.line.measure import fold_range, range_sigma
+from xnavlab.mars import pulsars
 
 __all__ = ["X0", "V0", "cv_model", "simulate", "Track", "track", "snapshot_covariance", "run_line",
            "plot_tracking"]
@@ -111,12 +112,16 @@ def track(truth, exposure, x0, P0, pulsar_names=("B0531+21",), directions=((1.0,
     Track
     """
     truth = check_finite_array("truth", truth)
+    pulsar_names = pulsars.check_names(pulsar_names, "pulsar_names")
     N = check_finite_array("directions", directions)
+    if N.ndim != 2:
+        raise ValueError(f"directions must hold one row a pulsar, got shape {N.shape}")
     d = N.shape[1]
     if truth.ndim != 2 or truth.shape[1] != 2 * d or N.shape[0] != len(pulsar_names):
         raise ValueError(f"truth must be (n + 1, {2 * d}) and directions one row a pulsar, "
                          f"got {truth.shape} and {N.shape} for {len(pulsar_names)} pulsars")
     rng = make_rng(rng)
+    exposure = check_real("exposure", exposure, 0.0, 1e7, lo_open=True)
     F, Q = cv_model(exposure, accel_sigma, d)
     H = np.hstack([N, np.zeros_like(N)])  # z_i = n_i . r
     R = np.diag([range_sigma(p, exposure, area_m2) ** 2 for p in pulsar_names])
@@ -170,6 +175,7 @@ def run_line(exposure_s=10.0, accel_sigma=0.0, span_s=2000.0, dv=1.0, seed=0):
     """
     exposure_s = check_real("exposure_s", exposure_s, 0.1, 1e4)
     n = max(1, round(check_real("span_s", span_s, 1.0, 1e5) / exposure_s))
+    dv = check_real("dv", dv, -1e5, 1e5)
     truth = simulate(np.array([X0, V0 + dv]), exposure_s, n, accel_sigma, seed)
     run = track(truth, exposure_s, np.array([X0 + 2e3, V0]), np.diag([3e3**2, 2.0**2]),
                 accel_sigma=accel_sigma, rng=seed + 1)

@@ -92,7 +92,7 @@ def consistency_run(*, seed, days=1.0, q_acc=scenarios.DEFAULT_Q_ACC,
     >>> len(r["nees_bins"]), sorted(r["nis_dof"].items())
     (12, [('cns', 3), ('uv', 3), ('xnav', 4)])
     """
-    days = check_real("days", days, *DAYS["consistency"], lo_open=True)
+    days = _consistency_days(days, subsystems)
     seed = check_int("seed", seed, 0, 2**63 - 1)
     span = days * 86400.0
     record_dt = min(60.0, span / (4 * NEES_BINS))       # at least four records a bin
@@ -241,8 +241,22 @@ def summarise_detectors(runs):
 # ---------------------------------------------------------------------------- registry
 
 
-def _consistency(days, scenario=None):
+def _consistency_days(days, subsystems):
+    """``days`` in (0, 30] and long enough that each of the NEES_BINS bins holds a measurement
+    (the shortest interval of the subsystems, at the scenario's default rates), else one line."""
     days = check_real("days", days, *DAYS["consistency"], lo_open=True)
+    dt = {"xnav": 500.0, "uv": 3.0, "cns": 3.0}
+    shortest = min(dt.get(s, 3.0) for s in subsystems)
+    if days * 86400.0 < NEES_BINS * shortest:
+        raise ValueError(f"days must be at least {NEES_BINS * shortest / 86400.0:.3g} for the "
+                         f"consistency campaign: each of its {NEES_BINS} NEES bins needs a "
+                         f"measurement (one every {shortest:g} s), got {days:g}")
+    return days
+
+
+def _consistency(days, scenario=None):
+    days = _consistency_days(days, scenarios.SUBSYSTEMS if scenario is None
+                             else scenario.subsystems)
     if scenario is None:
         return Campaign("consistency", consistency_run, lambda i: {"days": days},
                         manifest={"days": days, "q_acc": scenarios.DEFAULT_Q_ACC,

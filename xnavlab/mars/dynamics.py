@@ -139,7 +139,8 @@ class ThirdBodyTable:
 
     def positions(self, t):
         """Positions of the third bodies relative to the centre at scalar ``t``, shape (k, 3), m."""
-        if not (self.t_start <= t <= self.knots[-1]):
+        if isinstance(t, bool) or not isinstance(t, float | int | np.floating | np.integer) \
+                or not (self.t_start <= t <= self.knots[-1]):
             raise ValueError(
                 f"t must lie in [{self.t_start:.9g}, {self.knots[-1]:.9g}] s, the table's span; got {t!r}"
             )
@@ -155,6 +156,14 @@ class ThirdBodyTable:
                 + h01 * self.pos[i + 1] + h11 * h * self.vel[i + 1])
 
 
+def _position(name, r):
+    """A finite position (..., 3), m, off the centre (the field is singular there)."""
+    r = check_finite_array(name, r, shape=(3,))
+    if np.any(np.all(r == 0.0, axis=-1)):
+        raise ValueError(f"{name} must not be the centre (0, 0, 0): the field is singular there")
+    return r
+
+
 def point_mass(r, gm=GM_MARS):
     """Central gravity ``-mu r / |r|^3``, m/s^2; ``r`` shape (..., 3).
 
@@ -164,7 +173,8 @@ def point_mass(r, gm=GM_MARS):
     >>> round(-a[0], 3)   # surface gravity of Mars, m/s^2
     3.713
     """
-    r = np.asarray(r, dtype=float)
+    r = _position("r", r)
+    gm = check_real("gm", gm, 0.0)
     rn = np.linalg.norm(r, axis=-1, keepdims=True)
     return -gm * r / rn**3
 
@@ -186,13 +196,16 @@ def third_body(r, s, gm):
     >>> third_body(np.zeros(3), np.array([[1e11, 0, 0]]), np.array([GM_SUN])).tolist()
     [0.0, 0.0, 0.0]
     """
-    r = np.asarray(r, dtype=float)
-    s = np.asarray(s, dtype=float).reshape(-1, 3)
+    r = check_finite_array("r", r, shape=(3,))
+    s = _position("s", s).reshape(-1, 3)
+    gm = check_finite_array("gm", gm).reshape(-1)
+    if gm.size != s.shape[0]:
+        raise ValueError(f"gm must hold one GM per body of s ({s.shape[0]}), got {gm.size}")
     d = s - r
     dn3 = np.linalg.norm(d, axis=-1) ** 3
     sn3 = np.linalg.norm(s, axis=-1) ** 3
     # a_k = mu_k [ (s - r)/|s - r|^3 - s/|s|^3 ]
-    return np.sum(np.asarray(gm)[:, None] * (d / dn3[:, None] - s / sn3[:, None]), axis=0)
+    return np.sum(gm[:, None] * (d / dn3[:, None] - s / sn3[:, None]), axis=0)
 
 
 def j2_acceleration(r, j2=J2_MARS, radius=J2_MARS_RADIUS, gm=GM_MARS, pole=MARS_POLE):
@@ -208,7 +221,9 @@ def j2_acceleration(r, j2=J2_MARS, radius=J2_MARS_RADIUS, gm=GM_MARS, pole=MARS_
     >>> bool(a[2] > 0)   # over the pole J2 weakens gravity
     True
     """
-    r = np.asarray(r, dtype=float)
+    r = _position("r", r)
+    pole = check_finite_array("pole", pole, shape=(3,))
+    j2, radius, gm = (check_real(n, v) for n, v in (("j2", j2), ("radius", radius), ("gm", gm)))
     rn2 = float(r @ r)
     z = float(r @ pole)
     k = -1.5 * j2 * gm * radius**2 / rn2**2.5
@@ -235,7 +250,7 @@ def acceleration(t, r, table=None, j2=False):
     >>> bool(2.0 < np.linalg.norm(a) < 2.2)
     True
     """
-    r = np.asarray(r, dtype=float)
+    r = _position("r", r)
     a = point_mass(r)
     if table is not None and table.bodies:
         a = a + third_body(r, table.positions(t), table.gm)
@@ -396,7 +411,10 @@ def gravity_gradient(r, gm=GM_MARS):
     >>> bool(G[0, 0] > 0 and G[1, 1] < 0)
     True
     """
-    r = np.asarray(r, dtype=float)
+    r = _position("r", r)
+    if r.shape != (3,):
+        raise ValueError(f"r must have shape (3,), got {r.shape}")
+    gm = check_real("gm", gm, 0.0)
     rn = np.linalg.norm(r)
     return gm * (3.0 * np.outer(r, r) / rn**5 - np.eye(3) / rn**3)
 
@@ -426,6 +444,7 @@ def transition_matrix(r, dt, gm=GM_MARS):
     ((6, 6), 3.0)
     """
     G = gravity_gradient(r, gm)
+    dt = check_real("dt", dt)
     G2 = G @ G
     I3 = np.eye(3)
     # Phi = I + F dt + (F dt)^2/2 + (F dt)^3/6 + (F dt)^4/24, with F^2 = diag(G, G):

@@ -302,6 +302,25 @@ def _nis_dof(sc):
     return {"xnav": len(sc.pulsars), "uv": _NIS_DOF_UV, "cns": len(sc.stars) if sc.stars else 3}
 
 
+def _check_training(inputs, train_days, given):
+    """The wavelets' training span holds 356 UV and CNS samples, or one line naming what to
+    change (``train_days``, or ``days`` when train_days is the default half of the run)."""
+    sc = inputs.scenario
+    for s in ("uv", "cns"):
+        if s not in sc.subsystems:
+            continue
+        t = inputs.t_meas[s] - float(inputs.times[0])
+        n = int(np.searchsorted(t, train_days * DAY))
+        if n >= 356:
+            continue
+        need = (float(t[355]) if t.size > 355 else 356 * getattr(sc, f"dt_{s}")) / DAY * 1.001
+        fix = (f"give train_days >= {need:.3g} (and days above it)" if given or need >= 1.0 else
+               f"run at least days = {2.0 * need:.3g} (train_days is min(1, days / 2) unless "
+               f"given)")
+        raise ValueError(f"train_days = {train_days:g} days gives the {s} wavelet detector "
+                         f"{n} samples to train on; it needs at least 356: {fix}")
+
+
 def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=None,
                        pfa=1e-5, alpha=1e-5, train_days=None, readmit_samples=None,
                        readmit_alpha=0.01, readmit="quiet", xnav_level=3, xnav_holdoff=12, check_every=100,
@@ -380,13 +399,17 @@ def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=
     elif scenario is not None or overrides:
         raise ValueError("pass either inputs or a scenario (with overrides), not both")
     sc = inputs.scenario
+    given = train_days is not None
     if train_days is None:
         train_days = scenarios.default_settle_days(sc.days)
     if detector in ("wavelet", "combined"):
         train_days = check_real("train_days", train_days, 0.0, sc.days, lo_open=True,
                                 hi_open=True)
-    if detector == "combined":
-        arm_s = check_real("arm_s", arm_s, 0.0, sc.span, hi_open=True)
+        _check_training(inputs, train_days, given)
+    if detector == "combined" and not arm_s < sc.span:  # the message names the run's length
+        raise ValueError(f"arm_s ({arm_s:g} s: the combined detector's tests start then) must be "
+                         f"shorter than the run, days = {sc.days:g} ({sc.span:g} s): run at "
+                         f"least days = {arm_s / DAY * 1.001:.3g} or lower arm_s")
     paper = isinstance(faults, str) and faults.strip() == "paper"
     if isinstance(faults, str):
         faults = parse_faults(faults, sc)

@@ -266,6 +266,7 @@ def tag_offset(tag, duration):
     >>> tag_offset("end", 500.0), tag_offset(-100.0, 500.0)
     (250.0, -100.0)
     """
+    duration = check_real("duration", duration, 0.0, lo_open=True)
     if isinstance(tag, str):
         check_choice("tag", tag, TAGS)
         return {"start": -0.5, "mid": 0.0, "end": 0.5}[tag] * duration
@@ -616,6 +617,7 @@ def window_survey(pulsar_names=pulsars.PAPER_PULSARS, error=PAPER_ERROR0, n_wind
     n_windows = check_int("n_windows", n_windows, 1, 10**4)
     spacing = check_real("spacing", spacing, 1.0, 86400.0)
     err = check_finite_array("error", error, shape=(6,))
+    pulsar_names = pulsars.check_names(pulsar_names, "pulsar_names")
     if cache:
         names = tuple(pulsars.get(n).name for n in pulsar_names)
         x0 = check_finite_array("state0", state0, shape=(6,))

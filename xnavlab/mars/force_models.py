@@ -58,6 +58,7 @@ import numpy as np
 from xnavlab.core import ephemeris
 from xnavlab.core.constants import AU, DAY, GM_JUPITER, GM_MARS, GM_SUN, R_MARS, C
 from xnavlab.core.diskcache import entry_path, load_array, store
+from xnavlab.core.userfiles import csv_rows
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real
 from xnavlab.mars import dynamics
 
@@ -286,14 +287,22 @@ def gravity_coefficients():
     1.95661
     """
     text = resources.files("xnavlab").joinpath("data/mars_gravity_mro95a.csv").read_text("utf-8")
-    rows = [line.split(",") for line in text.splitlines() if line and not line.startswith("#")]
+    where = "data/mars_gravity_mro95a.csv"
+    rows = csv_rows(text, where, ("n", "m", "C", "S"))
     Cu = np.zeros((MAX_DEGREE + 1, MAX_DEGREE + 1))
     Su = np.zeros_like(Cu)
-    for n, m, c, s in rows[1:]:
-        n, m = int(n), int(m)
+    seen = set()
+    for row in rows:
+        n, m, c, s = int(row["n"]), int(row["m"]), row["C"], row["S"]
+        if not (0 <= m <= n <= MAX_DEGREE) or (n, m) in seen:
+            raise ValueError(f"{where}: degree {n}, order {m} is out of range or listed twice")
+        seen.add((n, m))
         norm = math.sqrt((2 - (m == 0)) * (2 * n + 1) * math.factorial(n - m)
                          / math.factorial(n + m))  # M&G eq. (3.13)
         Cu[n, m], Su[n, m] = norm * float(c), norm * float(s)
+    if len(seen) != (MAX_DEGREE + 1) * (MAX_DEGREE + 2) // 2 - 3:  # every (n, m), n >= 2
+        raise ValueError(f"{where}: {len(seen)} coefficients, not every degree 2 to "
+                         f"{MAX_DEGREE} and order")
     Cu.setflags(write=False)
     Su.setflags(write=False)
     return Cu, Su
@@ -498,6 +507,8 @@ class Tables:
     """
 
     def __init__(self, force_model, t_start, t_end, ephem="de421"):
+        t_start = check_real("t_start", t_start)
+        t_end = check_real("t_end", t_end, t_start)
         fm = model(force_model)
         bodies = list(fm.third_bodies)
         if fm.srp and "sun" not in bodies:
@@ -655,7 +666,7 @@ def acceleration(t, r, force_model=PAPER, ephem="de421"):
     True
     """
     t = check_real("t", t)
-    return accelerations(np.array([t]), np.asarray(r, dtype=float).reshape(1, 3),
+    return accelerations(np.array([t]), check_finite_array("r", r, shape=(3,)).reshape(1, 3),
                          force_model, ephem)[0]
 
 

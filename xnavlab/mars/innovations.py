@@ -29,6 +29,7 @@ import numpy as np
 
 from xnavlab.core.constants import GM_MARS
 from xnavlab.core.detection import EventTracker, causal_filters, threshold_multiplier
+from xnavlab.core.validate import check_finite_array
 
 __all__ = ["unit_sigma", "two_body_taylor", "XnavInnovationWavelet"]
 
@@ -40,6 +41,7 @@ def unit_sigma(level, wavelet="db3"):
 
 def two_body_taylor(x, dt):
     """Propagate Mars-centred states (..., 6) by a few seconds (Taylor, point mass; mm at 6 s)."""
+    x, dt = check_finite_array("x", x, shape=(6,)), check_finite_array("dt", dt)
     r, v = x[..., :3], x[..., 3:]
     rn = np.linalg.norm(r, axis=-1, keepdims=True)
     a = -GM_MARS * r / rn**3

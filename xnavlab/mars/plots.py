@@ -26,7 +26,7 @@ from xnavlab.core.plotting import sparse_log_minors
 from xnavlab.core.validate import check_choice, check_real
 from xnavlab.mars import fault_tolerance, scenarios
 
-__all__ = ["plot_subsystem", "plot_sharing", "plot_fault_response", "plot_error_curves",
+__all__ = ["plot_subsystem", "plot_sharing", "plot_runs", "plot_fault_response", "plot_error_curves",
            "plot_details", "detector_table_markdown", "plot_shapiro_angle", "plot_consistency"]
 
 
@@ -131,6 +131,60 @@ def plot_sharing(beta_xnav=1 / 3, mode="reset", days=0.5):
            title=f"{mode}, beta = ({beta_xnav:.2f}, {rest:.2f}, {rest:.2f}): "
                  f"{res.metrics(settle)['position_error_m']:.0f} m after {settle * 24:g} h")
     fig.legend(fontsize=8, ncol=2, loc="outside lower center")  # off the curves
+    return fig
+
+
+def plot_runs(runs, band_days=None):
+    """The fused position error of several Mars runs, and their filters' 1 sigma against the first's.
+
+    Chapter 6 compares the federated modes and a subsystem switched out with it: the top
+    panel holds each run's fused position error (log scale), the bottom one the uncertainty
+    each filter claims, ``100 (sigma / sigma_first - 1)`` per cent above the first run's, so
+    that a change of the covariance by a few per cent can be told from the noise of one run.
+
+    Parameters
+    ----------
+    runs : dict of str to xnavlab.mars.scenarios.MarsRun
+        Label to run (anything with ``t_days``, ``position_error()`` and ``sigma_position()``,
+        each shape (N,), days and m); all recorded at the same epochs. The first is the
+        reference of the bottom panel.
+    band_days : tuple of float, optional
+        ``(start, end)``, days: a span to shade grey on both panels (e.g. a subsystem out).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Two axes sharing the time axis (the top one log scale), one legend below them; not
+        registered with pyplot.
+
+    Examples
+    --------
+    >>> run = scenarios.run(days=0.02)
+    >>> fig = plot_runs({"reset": run}, band_days=(0.005, 0.01))
+    >>> [ax.get_ylabel() for ax in fig.axes]
+    ['|position error| (m)', "filter's 1 sigma above reset's (%)"]
+    """
+    from matplotlib.figure import Figure
+
+    if not runs:
+        raise ValueError("runs must hold at least one labelled run")
+    fig = Figure(figsize=(8.0, 4.6), layout="constrained")
+    top, bottom = fig.subplots(2, 1, sharex=True)
+    first = next(iter(runs))
+    reference = runs[first].sigma_position()
+    for k, (label, run) in enumerate(runs.items()):
+        sigma = run.sigma_position()
+        if sigma.shape != reference.shape:
+            raise ValueError(f"runs must share their epochs: {label!r} has {sigma.size} records, "
+                             f"{first!r} {reference.size}")
+        top.semilogy(run.t_days, run.position_error(), lw=0.5, color=f"C{k}", label=label)
+        bottom.plot(run.t_days, 100.0 * (sigma / reference - 1.0), lw=1.0, color=f"C{k}")
+    for ax in (top, bottom):
+        if band_days is not None:
+            ax.axvspan(*band_days, color="0.9", zorder=0)
+    top.set(ylabel="|position error| (m)")
+    bottom.set(xlabel="time (days)", ylabel=f"filter's 1 sigma above {first}'s (%)")
+    fig.legend(fontsize=8, ncol=len(runs), loc="outside lower center")  # off the curves
     return fig
 
 

@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from xnavlab.core.constants import KPC, C
-from xnavlab.core.validate import check_finite_array, check_int, check_real, make_rng
+from xnavlab.core.validate import check_finite_array, check_int, check_items, check_real, make_rng
 from xnavlab.mars import xray_pulsars
 
 __all__ = [
@@ -37,6 +37,7 @@ __all__ = [
     "get",
     "from_par",
     "names",
+    "check_names",
     "directions",
     "phase",
     "profile",
@@ -95,6 +96,13 @@ class Pulsar:
     pulsed_fraction: float
     width: float
     sources: dict = field(default_factory=dict, compare=False, repr=False)
+
+    def __post_init__(self):  # a complex, NaN or out-of-range property is refused, by name
+        for key, lo, hi in (("ra_deg", 0, 360), ("dec_deg", -90, 90), ("distance", 0, math.inf),
+                            ("period", 0, math.inf), ("fdot", -math.inf, math.inf),
+                            ("flux", 0, math.inf), ("pulsed_fraction", 0, 1), ("width", 0, math.inf)):
+            check_real(f"Pulsar {key}", getattr(self, key), lo, hi,
+                       lo_open=key in ("distance", "period", "width"))
 
     @property
     def direction(self):
@@ -310,6 +318,35 @@ def from_par(path, distance=None, flux_ph_cm2_s=None, pulsed_fraction=None, duty
                   width=duty * period, sources=sources)
 
 
+def check_names(pulsars, name="pulsars"):
+    """A list of pulsars (names, ``.par`` paths or Pulsars) as a tuple, or one ValueError.
+
+    Refused, naming ``name``: a string where the list belongs, an empty list, an item that is
+    not a pulsar, an unknown one, and a pulsar given twice (by name or by sky position: its
+    information would count twice).
+
+    Examples
+    --------
+    >>> check_names(["B1937+21", "B0531+21"])
+    ('B1937+21', 'B0531+21')
+    >>> check_names(["B1937+21", "B1937+21"], "pulsar_names")
+    Traceback (most recent call last):
+    ...
+    ValueError: pulsar_names lists B1937+21 twice (items 0 and 1)
+    """
+    seen = []
+
+    def each(label, item):
+        if not isinstance(item, str | Pulsar):
+            raise ValueError(f"{label} must be a pulsar name, a .par path or a Pulsar, got {item!r}")
+        p = get(item)
+        same = [q.name for q in seen if float(np.dot(p.direction, q.direction)) > math.cos(1e-6)]
+        seen.append(p)
+        return same[0] if same else p.name
+
+    return check_items(name, pulsars, "pulsar", each)
+
+
 def directions(pulsars=PAPER_PULSARS):
     """Unit vectors to several pulsars, shape (k, 3), and their distances, shape (k,), m.
 
@@ -319,9 +356,7 @@ def directions(pulsars=PAPER_PULSARS):
     >>> n.shape, d.shape
     ((4, 3), (4,))
     """
-    ps = [get(p) for p in pulsars]
-    if not ps:
-        raise ValueError("pulsars must name at least one pulsar")
+    ps = [get(p) for p in check_names(pulsars)]
     return np.array([p.direction for p in ps]), np.array([p.distance for p in ps])
 
 
@@ -353,8 +388,8 @@ def phase(t, freqs, t0=0.0, phase0=0.0):
     freqs = check_finite_array("freqs", freqs)
     if freqs.ndim != 1 or freqs.size == 0:
         raise ValueError("freqs must be a non-empty sequence [f, fdot, ...]")
-    dt = t - t0
-    out = np.full(dt.shape, float(phase0))
+    dt = t - check_real("t0", t0)
+    out = np.full(dt.shape, check_real("phase0", phase0))
     term = np.ones_like(dt)
     for n, fn in enumerate(freqs, start=1):
         term = term * dt / n  # (t - t0)^n / n!
@@ -376,7 +411,7 @@ def profile(ph, duty):
     """
     duty = check_real("duty", duty, 0.0, 0.5, lo_open=True)
     sig = duty / (2.0 * math.sqrt(2.0 * math.log(2.0)))
-    ph = np.asarray(ph, dtype=float)
+    ph = check_finite_array("ph", ph)
     x = ph - np.round(ph)  # in [-0.5, 0.5]
     out = np.zeros_like(x)
     for k in (-2, -1, 0, 1, 2):
@@ -844,7 +879,7 @@ def plot_ranging_accuracy(area_m2=1.0, t_obs=500.0, background_ph_cm2_s=0.005, r
 
     from xnavlab.core.plotting import sparse_log_minors
 
-    names = list(pulsar_names)
+    names = list(check_names(pulsar_names, "pulsar_names"))
     ours = [ranging_accuracy(n, area_m2, t_obs, background_ph_cm2_s) for n in names]
     fig = Figure(figsize=(6, 3.2), layout="constrained")
     ax = fig.add_subplot()

@@ -93,7 +93,7 @@ from xnavlab.core import montecarlo
 from xnavlab.core.campaign import Campaign
 from xnavlab.core.constants import DAY
 from xnavlab.core.distributions import chi2_ppf
-from xnavlab.core.userfiles import load_table
+from xnavlab.core.userfiles import check_rows, load_table
 from xnavlab.core.validate import check_choice, check_int, check_real
 from xnavlab.mars import fault_tolerance, scenarios, schedules, trials
 
@@ -392,8 +392,18 @@ def write_curve(directory, grid, runs, seed):
 
 
 def load_curves(path=None):
-    """The shipped curves: ``{"curves": {detector: roc.json dict}, "command": str}``."""
-    return json.loads(Path(CURVES_PATH if path is None else path).read_text())
+    """The shipped curves: ``{"curves": {detector: roc.json dict}, "command": str}``; a file
+    that is not such a table (a curve's row without its keys or with NaN) is one ValueError."""
+    path = Path(CURVES_PATH if path is None else path)
+    data = load_table(path, "ROC curves", (".json",))
+    curves = data.get("curves")
+    if not isinstance(curves, dict) or not curves:
+        raise ValueError(f"ROC curves {str(path)!r} must hold a table 'curves' of detectors")
+    for name, c in curves.items():
+        what = f"ROC curves {str(path)!r}, {name}"
+        check_rows(c.get("curve") if isinstance(c, dict) else None,
+                   ("threshold", "trials", "pd", "pd_lo", "pd_hi", "false_alarms_per_day"), what)
+    return data
 
 
 def plot_roc(curves, ax=None):

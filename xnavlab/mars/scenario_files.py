@@ -304,7 +304,7 @@ def _pulsars(value, base):
 
 def _where(exc):
     """``[section] key: `` of the field a MarsScenario error names, if one does."""
-    name = str(exc).split(" ")[0]
+    name = str(exc).split(" ")[0].split("[")[0]
     for (section, key), (where, _) in _KEYS.items():
         if where == name:
             return f"[{section}] {key}: "
@@ -323,12 +323,17 @@ def _check_run(run, sc):
 
 
 def _check_detector(det, sc):
-    from xnavlab.mars.fault_tolerance import DETECTORS
+    from xnavlab.mars.fault_tolerance import DETECTORS, parse_faults
 
     if det["name"] is not None:
         check_choice("[detector] name", det["name"], DETECTORS)
     if not isinstance(det["faults"], str):
         raise ValueError(f"[detector] faults must be a fault spec string, got {det['faults']!r}")
+    if det["faults"].strip():  # a bad spec is named by --check, not first by the run
+        try:
+            parse_faults(det["faults"], sc)
+        except ValueError as exc:
+            raise ValueError(f"[detector] faults: {exc}") from None
     for key in ("pfa", "alpha"):
         det[key] = check_real(f"[detector] {key}", det[key], 0.0, 1.0, lo_open=True,
                               hi_open=True)
@@ -337,13 +342,19 @@ def _check_detector(det, sc):
     if det["train_days"] is not None:
         det["train_days"] = check_real("[detector] train_days", det["train_days"], 0.0, sc.days,
                                        lo_open=True, hi_open=True)
-    det["arm_s"] = check_real("[detector] arm_s", det["arm_s"], 0.0, sc.span, hi_open=True)
+    det["arm_s"] = check_real("[detector] arm_s", det["arm_s"], 0.0, 1e8)
+    if detector_name(det) == "combined" and not det["arm_s"] < sc.span:  # names the run's days
+        raise ValueError(f"[detector] arm_s ({det['arm_s']:g} s, when the combined detector's "
+                         f"tests start) must be shorter than the run: [run] days = {sc.days:g} "
+                         f"is {sc.span:g} s")
     if not isinstance(det["adaptive"], bool):
         raise ValueError(f"[detector] adaptive must be true or false, got {det['adaptive']!r}")
 
 
 def load(path):
     """Read the scenario file at ``path`` (:func:`loads`); a missing file is a ValueError."""
+    if not str(path).strip():
+        raise ValueError(f"scenario file must name a file, got {str(path)!r}")
     path = Path(path)
     text = read_text(path, "scenario file")
     try:

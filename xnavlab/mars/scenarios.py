@@ -62,7 +62,14 @@ from xnavlab.core import ephemeris
 from xnavlab.core.constants import DAY, GM_MARS, C
 from xnavlab.core.federated import MODES, FederatedFilter
 from xnavlab.core.filters import chi2_bounds
-from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
+from xnavlab.core.validate import (
+    check_choice,
+    check_finite_array,
+    check_int,
+    check_items,
+    check_real,
+    make_rng,
+)
 from xnavlab.mars import (
     compile_notice,
     dynamics,
@@ -255,24 +262,31 @@ class MarsScenario:
         models = force_models.check_models(self.truth_model, self.filter_model)
         object.__setattr__(self, "truth_model", models[0])
         object.__setattr__(self, "filter_model", models[1])
-        subs = tuple(self.subsystems)
-        if not subs or len(set(subs)) != len(subs):
-            raise ValueError(f"subsystems must be distinct names from {SUBSYSTEMS}, got {subs!r}")
-        for s in subs:
-            check_choice("subsystem", s, SUBSYSTEMS)
+        subs = check_items("subsystems", self.subsystems, "subsystem",
+                           lambda label, s: check_choice(label, s, SUBSYSTEMS))
         object.__setattr__(self, "subsystems", subs)
+        shortest = min(getattr(self, f"dt_{s}") for s in subs)
+        if self.days * DAY < shortest:  # no measurement, one record: nothing to judge
+            raise ValueError(f"days must span at least one measurement interval ({shortest:g} s "
+                             f"= {shortest / DAY:.3g} days, the shortest of {', '.join(subs)}), "
+                             f"got {self.days:g}")
         object.__setattr__(self, "pulsars", pulsar_specs.check_list(self.pulsars))
         if self.xnav_sigma_m is not None:
-            sig = tuple(float(check_real("xnav_sigma_m", s, 0.0, 1e9, lo_open=True))
-                        for s in self.xnav_sigma_m)
+            sig = tuple(float(check_real(f"xnav_sigma_m[{i}]", s, 0.0, 1e9, lo_open=True))
+                        for i, s in enumerate(check_items("xnav_sigma_m", self.xnav_sigma_m,
+                                                          "number", lambda _, v: object())))
             if len(sig) != len(self.pulsars):
                 raise ValueError(f"xnav_sigma_m must hold {len(self.pulsars)} values, one a pulsar")
             object.__setattr__(self, "xnav_sigma_m", sig)
         check_choice("xnav_noise", self.xnav_noise, timing_bound.XNAV_NOISE)
         if self.stars is not None:
+            object.__setattr__(self, "stars", check_items("stars", self.stars, "star",
+                                                          lambda _, s: stars.get(s).name))
             object.__setattr__(self, "stars", tuple(stars.get(s).name for s in self.stars))
         if self.beta is not None:
-            b = tuple(float(check_real("beta", v, 0.0, 1.0, lo_open=True)) for v in self.beta)
+            b = tuple(float(check_real(f"beta[{i}]", v, 0.0, 1.0, lo_open=True))
+                      for i, v in enumerate(check_items("beta", self.beta, "number",
+                                                        lambda _, v: object())))
             if len(b) != len(subs):
                 raise ValueError(f"beta must hold {len(subs)} factors, one a subsystem")
             object.__setattr__(self, "beta", b)

@@ -335,6 +335,7 @@ def scoring_span(fault, dt=None, span=math.inf):
     >>> scoring_span(Fault("uv", "step", 1.0, 100.0, 50.0))
     (100.0, 150.0)
     """
+    span = _span(span)
     if fault.kind == "spike":
         if dt is None or fault.sensor not in dt:
             raise ValueError(f"dt must give the sampling interval of sensor {fault.sensor!r} "
@@ -342,6 +343,14 @@ def scoring_span(fault, dt=None, span=math.inf):
         step = check_real(f"dt[{fault.sensor!r}]", dt[fault.sensor], 0.0, lo_open=True)
         return fault.onset, min(_first_sample(fault.onset, step) + 0.5 * step, span)
     return fault.onset, min(fault.end, span)
+
+
+def _span(span):
+    """A run's span, s: a real number > 0 (inf: no end)."""
+    if isinstance(span, bool) or not isinstance(span, int | float | np.integer | np.floating) \
+            or not span > 0:
+        raise ValueError(f"span must be a real number in (0, inf], s, got {span!r}")
+    return float(span)
 
 
 def score_faults(faults, events, isolations=(), *, span=math.inf, dt=None):
@@ -416,6 +425,7 @@ def score_faults(faults, events, isolations=(), *, span=math.inf, dt=None):
     ('detected', 0.0, True)
     """
     faults = list(faults)
+    span = _span(span)
     for f in faults:
         if f.sensor not in LATE_WINDOW_S:
             raise ValueError(f"faults: sensor {f.sensor!r} has no late window "

@@ -115,7 +115,9 @@ def tangent_basis(u):
     >>> (e1 + 0.0).tolist(), (e2 + 0.0).tolist()
     ([0.0, 1.0, 0.0], [0.0, 0.0, 1.0])
     """
-    u = np.asarray(u, dtype=float)
+    u = check_finite_array("u", u, shape=(3,))
+    if np.any(np.abs(np.linalg.norm(u, axis=-1) - 1.0) > 1e-6):
+        raise ValueError("u must hold unit vectors (|u| = 1)")
     ux, uy, uz = u[..., 0], u[..., 1], u[..., 2]
     polar = np.abs(uz) > 1.0 - 1e-12
     zero = np.zeros_like(ux)
@@ -158,8 +160,11 @@ def perturb_direction(u, sigma, w):
     >>> round(float(np.degrees(np.arccos(v[2]))), 4), round(float(np.linalg.norm(v)), 12)
     (0.573, 1.0)
     """
-    u = np.asarray(u, dtype=float)
-    w = np.asarray(w, dtype=float)
+    u = check_finite_array("u", u, shape=(3,))
+    w = check_finite_array("w", w, shape=(2,))
+    sigma = check_finite_array("sigma", sigma)
+    if np.any(sigma < 0):
+        raise ValueError("sigma must be >= 0, rad")
     e1, e2 = tangent_basis(u)
     w1, w2 = w[..., 0:1], w[..., 1:2]
     wn = np.sqrt(w1 * w1 + w2 * w2)
@@ -182,7 +187,7 @@ def xnav_sigma(pulsar_names=pulsars.PAPER_PULSARS, area_m2=1.0, t_obs=500.0,
     [109, 345, 1868, 326]
     """
     return np.array([pulsars.ranging_accuracy(p, area_m2, t_obs, background)
-                     for p in pulsar_names]) / C
+                     for p in pulsars.check_names(pulsar_names, "pulsar_names")]) / C
 
 
 def xnav_h(x, r_mars_ssb, r_sun_ssb, n, distance):
@@ -209,7 +214,7 @@ def xnav_h(x, r_mars_ssb, r_sun_ssb, n, distance):
     (4,)
     """
     x = _state(x)
-    r_ssb = np.asarray(r_mars_ssb, dtype=float) + x[..., :3]
+    r_ssb = check_finite_array("r_mars_ssb", r_mars_ssb, shape=(3,)) + x[..., :3]
     return toa.delay(r_ssb, n, distance, r_sun_ssb, shapiro="paper")  # paper eq. (1)
 
 
@@ -224,7 +229,7 @@ def xnav_jacobian(x, r_mars_ssb, r_sun_ssb, n, distance):
     ((4, 6), True, False)
     """
     x = _state(x)
-    r_ssb = np.asarray(r_mars_ssb, dtype=float) + x[..., :3]
+    r_ssb = check_finite_array("r_mars_ssb", r_mars_ssb, shape=(3,)) + x[..., :3]
     g = toa.gradient(r_ssb, n, distance, r_sun_ssb, shapiro="paper")  # paper eq. (4)
     H = np.zeros(g.shape[:-1] + (6,))
     H[..., :3] = g
@@ -516,9 +521,7 @@ class XNAVSensor:
     name: str = field(default="xnav", init=False)
 
     def __post_init__(self):
-        self.pulsar_names = tuple(self.pulsar_names)
-        if not self.pulsar_names:
-            raise ValueError("pulsar_names must name at least one pulsar")
+        self.pulsar_names = pulsars.check_names(self.pulsar_names, "pulsar_names")
         self.n, self.distance = pulsars.directions(self.pulsar_names)
         if self.sigma is None:
             self.sigma = xnav_sigma(self.pulsar_names, self.area_m2, self.t_obs, self.background)

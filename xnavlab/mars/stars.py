@@ -24,7 +24,6 @@ Examples
 
 from __future__ import annotations
 
-import csv
 import functools
 import itertools
 import math
@@ -33,6 +32,7 @@ from importlib import resources
 
 import numpy as np
 
+from xnavlab.core.userfiles import csv_rows
 from xnavlab.core.validate import check_finite_array, check_int, check_real
 
 __all__ = [
@@ -101,11 +101,12 @@ def catalogue():
     (38, 'Sirius')
     """
     text = resources.files("xnavlab").joinpath("data/bright_stars.csv").read_text("utf-8")
-    rows = csv.DictReader(line for line in text.splitlines() if not line.startswith("#"))
+    rows = csv_rows(text, "data/bright_stars.csv", ("hip", "ra_deg", "dec_deg",
+                                                    "pm_ra_cosdec_mas_yr", "pm_dec_mas_yr",
+                                                    "parallax_mas", "vmag"))
     stars = [
-        Star(int(r["hip"]), r["name"], r["designation"], float(r["ra_deg"]),
-             float(r["dec_deg"]), float(r["pm_ra_cosdec_mas_yr"]), float(r["pm_dec_mas_yr"]),
-             float(r["parallax_mas"]), float(r["vmag"]))
+        Star(int(r["hip"]), r["name"], r["designation"], r["ra_deg"], r["dec_deg"],
+             r["pm_ra_cosdec_mas_yr"], r["pm_dec_mas_yr"], r["parallax_mas"], r["vmag"])
         for r in rows
     ]
     return tuple(sorted(stars, key=lambda s: s.vmag))

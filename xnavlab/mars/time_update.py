@@ -14,6 +14,7 @@ import math
 
 import numpy as np
 
+from xnavlab.core.validate import check_finite_array, check_real
 from xnavlab.mars import dynamics
 
 __all__ = ["process_noise", "filter_step", "filter_propagate", "Propagation"]
@@ -27,6 +28,7 @@ def process_noise(dt, q):
     >>> process_noise(2.0, 3.0)[[0, 0, 3], [0, 3, 3]].tolist()
     [8.0, 6.0, 6.0]
     """
+    dt, q = check_real("dt", dt, 0.0), check_real("q", q, 0.0)
     Q = np.zeros((6, 6))
     I3 = np.eye(3)
     Q[:3, :3] = q * dt**3 / 3.0 * I3
@@ -55,6 +57,8 @@ def filter_step(x, t, dt, table):
     >>> bool(np.abs(x1 - truth)[:3].max() < 1e-6)
     True
     """
+    x = check_finite_array("x", x, shape=(6,))
+    t, dt = check_real("t", t), check_real("dt", dt)
 
     def f(tt, y):
         return np.concatenate([y[3:], dynamics.acceleration(tt, y[:3], table)])
@@ -85,6 +89,9 @@ def filter_propagate(x, t, dt, table, max_step=10.0):
     >>> bool(np.abs(x - truth)[:3].max() < 1e-3)
     True
     """
+    x = check_finite_array("x", x, shape=(6,))
+    t, dt = check_real("t", t), check_real("dt", dt, 0.0)
+    max_step = check_real("max_step", max_step, 0.0, lo_open=True)
     n = max(1, math.ceil(dt / max_step - 1e-9))
     h = dt / n
     Phi = np.eye(6)
@@ -116,10 +123,13 @@ class Propagation:
     """
 
     def __init__(self, t, dt, table, max_step):
+        t, dt = check_real("t", t), check_real("dt", dt, 0.0)
+        max_step = check_real("max_step", max_step, 0.0, lo_open=True)
         self.args = (t, dt, table, max_step)
         self.key, self.val = None, None
 
     def _get(self, x):
+        x = check_finite_array("x", x, shape=(6,))
         key = x.tobytes()
         if key != self.key:
             self.key, self.val = key, filter_propagate(x, *self.args)

@@ -112,7 +112,7 @@ def profile_derivative(ph, duty):
     True
     """
     sig = _sigma(duty)
-    x = np.asarray(ph, dtype=float)
+    x = check_finite_array("ph", ph)
     x = x - np.round(x)
     u = (x[..., None] + _WRAPS) / sig
     g = np.exp(-0.5 * u * u) / (sig * math.sqrt(2.0 * math.pi))
@@ -543,6 +543,7 @@ def accuracy_table(pulsar_names=pulsars.PAPER_PULSARS, n_trials=2000, rng=0, are
     xcorr_trials = check_int("xcorr_trials", xcorr_trials, 0, 10**6)
     if xcorr_trials == 1:
         raise ValueError("xcorr_trials must be 0 (skip) or at least 2")
+    pulsar_names = pulsars.check_names(pulsar_names, "pulsar_names")
     if cache:
         if isinstance(rng, bool) or not isinstance(rng, int | np.integer):
             raise ValueError(f"rng must be an int seed when cache=True (a key), got {rng!r}")
@@ -684,9 +685,7 @@ def xnav_noise_sigma(kind="paper", pulsar_names=pulsars.PAPER_PULSARS, area_m2=1
     """
     check_choice("kind", kind, XNAV_NOISE)
     eff = check_real("efficiency", efficiency, 0.0, 1.0, lo_open=True)
-    names = list(pulsar_names)
-    if not names:
-        raise ValueError("pulsar_names must name at least one pulsar")
+    names = list(pulsars.check_names(pulsar_names, "pulsar_names"))
     if kind == "paper":
         if eff != 1.0:
             raise ValueError("efficiency applies to kind='crlb' only")

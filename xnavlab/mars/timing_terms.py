@@ -311,7 +311,7 @@ def orbit_terms(t, x, pulsar_names=pulsars.PAPER_PULSARS, ephem="de421"):
     x = check_finite_array("x", x, shape=(6,))
     if x.shape != (t.size, 6):
         raise ValueError(f"x must have shape ({t.size}, 6), got {x.shape}")
-    n, _ = pulsars.directions(pulsar_names)
+    n, _ = pulsars.directions(pulsars.check_names(pulsar_names, "pulsar_names"))
     r = ephemeris.position("mars", t, ephem).reshape(-1, 3) + x[:, :3]
     r_sun = ephemeris.position("sun", t, ephem).reshape(-1, 3)
     planets = planet_shapiro(r, t, n, ephem=ephem, reference="both")
@@ -367,7 +367,7 @@ def mars_year_terms(t0=None, step_days=1.0, pulsar_names=pulsars.PAPER_PULSARS, 
         orbit_radius_m = float(np.linalg.norm(dynamics.truth(day)[:, :3], axis=1).max())
     orbit_radius_m = check_real("orbit_radius_m", orbit_radius_m, 0.0, 1e10, lo_open=True)
     t = t0 + np.arange(0.0, MARS_YEAR_DAYS * DAY, step * DAY)
-    n, _ = pulsars.directions(pulsar_names)
+    n, _ = pulsars.directions(pulsars.check_names(pulsar_names, "pulsar_names"))
     r_mars, v_mars = ephemeris.state("mars", t, ephem)
     r_sun = ephemeris.position("sun", t, ephem)
     clock = -toa.proper_time_terms(t, center="mars", ephem=ephem)["tau_minus_tdb"]

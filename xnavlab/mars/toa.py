@@ -368,7 +368,7 @@ def delays_at(r, t, pulsar_names=pulsars.PAPER_PULSARS, center="mars", ephem="de
     >>> delays_at([-3.4e6, -1.3e6, -2.6e6], 5.0e8).shape
     (4,)
     """
-    n, d = pulsars.directions(pulsar_names)
+    n, d = pulsars.directions(pulsars.check_names(pulsar_names, "pulsar_names"))
     r = check_finite_array("r", r, shape=(3,))
     r_c = ephemeris.position(center, t, ephem)
     r_sun = ephemeris.position("sun", t, ephem)

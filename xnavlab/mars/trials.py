@@ -37,7 +37,6 @@ Scoring
 
 from __future__ import annotations
 
-import json
 import math
 import time
 from collections import OrderedDict
@@ -50,6 +49,7 @@ from xnavlab.core.constants import DAY
 from xnavlab.core.detection import limits
 from xnavlab.core.distributions import chi2_ppf
 from xnavlab.core.faults import Fault
+from xnavlab.core.userfiles import check_rows, load_table
 from xnavlab.core.validate import check_choice, check_int, check_real
 from xnavlab.mars import fault_tolerance, scenarios, schedules
 
@@ -276,8 +276,14 @@ TABLE_PATH = Path(__file__).resolve().parent.parent / "data" / "detector_table.j
 
 def load_detector_table(path=None):
     """The shipped detector table: a dict with ``rows`` (:func:`detector_table`), ``marked``
-    (:func:`marked_cells`), ``trials``, ``seed``, ``days`` and ``command``."""
-    return json.loads(Path(TABLE_PATH if path is None else path).read_text())
+    (:func:`marked_cells`), ``trials``, ``seed``, ``days`` and ``command``. A file that is not
+    such a table (unreadable, not JSON, a row without its keys or with NaN) is one ValueError."""
+    path = Path(TABLE_PATH if path is None else path)
+    what = f"detector table {str(path)!r}"
+    table = load_table(path, "detector table", (".json",))
+    check_rows(table.get("rows"), ("fault_class", "sensor", "size", "detector", "trials", "pd",
+                                   "late", "false_alarms_per_day", "delay_median_s"), what)
+    return table
 
 
 #: Onsets of :func:`early_fault_trial`: 1 h, 6 h and 20 h after the start, s.
@@ -327,8 +333,13 @@ def load_early_faults(path=None):
     its subsystem out of the fusion from before the onset to the end), ``out_at_onset`` (the
     latter), ``late`` (first alarm after the end: not found), ``delay_median_s`` and
     ``delay_max_s`` (of the faults found by an alarm), ``rms_ratio_max``), ``seeds``,
-    ``command``."""
-    return json.loads(Path(EARLY_PATH if path is None else path).read_text())
+    ``command``. A file that is not such a table is one ValueError."""
+    path = Path(EARLY_PATH if path is None else path)
+    table = load_table(path, "early-fault table", (".json",))
+    check_rows(table.get("rows"), ("sensor", "onset_s", "trials", "found", "late",
+                                   "delay_median_s", "rms_ratio_max"),
+               f"early-fault table {str(path)!r}")
+    return table
 
 
 def _quantile_ci(x, q, level=0.95):

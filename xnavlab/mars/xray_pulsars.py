@@ -23,6 +23,8 @@ from __future__ import annotations
 import functools
 from importlib import resources
 
+from xnavlab.core.userfiles import csv_rows
+
 __all__ = ["SOURCE", "TABLE_FILE", "FIELDS", "table", "lookup", "names"]
 
 #: Where the values come from.
@@ -44,16 +46,16 @@ def table():
     (10, ('J0534+2200',))
     """
     text = resources.files("xnavlab").joinpath(TABLE_FILE).read_text("utf-8")
-    lines = [ln for ln in text.splitlines() if ln.strip() and not ln.startswith("#")]
-    header = lines[0].split(",")
     rows = {}
-    for ln in lines[1:]:
-        cells = dict(zip(header, ln.split(","), strict=True))
+    for cells in csv_rows(text, TABLE_FILE, ("period_s", "width_s", "flux_ph_cm2_s",
+                                             "pulsed_fraction")):
+        if cells["name"] in rows:
+            raise ValueError(f"{TABLE_FILE}: pulsar {cells['name']} is listed twice")
         rows[cells["name"]] = {
             "name": cells["name"], "aliases": tuple(cells["aliases"].split()),
-            "period_s": float(cells["period_s"]), "width_s": float(cells["width_s"]),
-            "flux_ph_cm2_s": float(cells["flux_ph_cm2_s"]),
-            "pulsed_fraction": float(cells["pulsed_fraction"]), "source": SOURCE,
+            "period_s": cells["period_s"], "width_s": cells["width_s"],
+            "flux_ph_cm2_s": cells["flux_ph_cm2_s"],
+            "pulsed_fraction": cells["pulsed_fraction"], "source": SOURCE,
         }
     return rows
 

@@ -45,7 +45,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from xnavlab.core.validate import check_choice, check_int, check_real
+from xnavlab.core.validate import check_choice, check_definite, check_int, check_items, check_real
 from xnavlab.robust import ephemeris_error as ee
 from xnavlab.robust import filters
 
@@ -106,7 +106,7 @@ def bound_coverage(run, scenario, k=K_SIGMA, skip=SKIP):
     skip = check_real("skip", skip, 0.0, 1.0, hi_open=True)
     first = int(skip * scenario.t.size)
     e = run.x[first:, :3] - scenario.x_true[first:, :3]
-    P = run.P[first:, :3, :3]
+    P = check_definite("run.P", run.P[first:, :3, :3])  # NEES inverts it: not indefinite, singular
     sig = np.sqrt(np.trace(P, axis1=1, axis2=2))  # sqrt(tr Sigma_rr)
     dist = np.linalg.norm(e, axis=1)
     ratio = dist / sig
@@ -187,9 +187,7 @@ def coverage_over_seeds(name="rkf", seeds=(0, 1, 2, 3), body="mars", error="grow
     """
     check_choice("name", name, filters.FILTERS)
     check_choice("rkf_bias", rkf_bias, filters.RKF_BIAS)
-    seeds = tuple(int(s) for s in seeds)
-    if not seeds:
-        raise ValueError("seeds must list at least one seed")
+    seeds = check_items("seeds", seeds, "seed", lambda lab, s: check_int(lab, s, 0, 2**63 - 1))
     n_steps = check_int("n_steps", n_steps, 2, 10**6)
     k = check_real("k", k, 0.0, lo_open=True)
     per, ratios, nees, sq, sig = [], [], [], [], []

@@ -70,6 +70,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from xnavlab.core import validate
 from xnavlab.core.filters import joseph, sigma_points, symmetrize, ukf_weights, unscented_transform
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
 from xnavlab.robust import ephemeris_error as ee
@@ -230,7 +231,7 @@ def simulate(body="earth", n_steps=1200, dt=500.0, error="de405", size=0.0, puls
     rng = make_rng(rng)
     from xnavlab.mars import pulsars
 
-    names = ee.PULSARS if pulsar_names is None else tuple(pulsar_names)
+    names = ee.PULSARS if pulsar_names is None else pulsars.check_names(pulsar_names, "pulsar_names")
     if sigma_m is None:
         if names == ee.PULSARS:
             sigma_m = ee.SIGMA_M
@@ -340,15 +341,15 @@ def _update_linear(x, P, y, R, H):
     return x + K @ nu, symmetrize(P - K @ S @ K.T), nu  # P+ = P- - K S K^T
 
 
-def _check_update(x, P, y, R, n):
+def _check_update(x, P, y, R, n, yname="y"):
     x = check_finite_array("x", x)
     P = check_finite_array("P", P)
-    y = check_finite_array("y", y)
+    y = check_finite_array(yname, y)
     R = check_finite_array("R", R)
     n = check_finite_array("n", n, shape=(None, 3))
     k = n.shape[0]
     if y.shape != (k,) or R.shape != (k, k) or P.shape != (x.size, x.size):
-        raise ValueError(f"y must have shape ({k},), R ({k}, {k}) and P ({x.size}, {x.size}); "
+        raise ValueError(f"{yname} must have shape ({k},), R ({k}, {k}) and P ({x.size}, {x.size}); "
                          f"got {y.shape}, {R.shape}, {P.shape}")
     return x, P, y, R, n
 
@@ -530,7 +531,7 @@ def tdukf_update(x, P, dy, R, n, carry_noise=False):
     >>> tdukf_update(np.zeros(15), np.eye(15), np.zeros(3), np.eye(3), np.eye(3), True)[0].shape
     (9,)
     """
-    x, P, dy, R, n = _check_update(x, P, dy, R, n)
+    x, P, dy, R, n = _check_update(x, P, dy, R, n, "dy")
     k = n.shape[0]
     if not carry_noise:
         if x.size != 12:
@@ -908,15 +909,15 @@ def compare_filters(body="earth", filters=FILTERS, error="de405", size=0.0, eps=
     (['rkf', 'ukf'], True)
     """
     check_choice("body", body, tuple(ee.PLANETS))
-    filters = tuple(filters)
-    for f in filters:
-        check_choice("filters", f, FILTERS)
-    seeds = tuple(seeds)
-    if not seeds:
-        raise ValueError("seeds must list at least one seed")
+    filters = validate.check_items("filters", filters, "filter",
+                                   lambda lab, f: check_choice(lab, f, FILTERS))
+    seeds = validate.check_items("seeds", seeds, "seed", lambda lab, s: check_int(lab, s, 0, 2**63))
     max_workers = check_int("max_workers", max_workers, 1, 64)
     n_steps = _N_STEPS[body] if n_steps is None else n_steps
-    window = WINDOWS[body] if window is None else tuple(window)
+    window = WINDOWS[body] if window is None else validate.check_items(
+        "window", window, "time", lambda lab, v: (lab, check_real(lab, v, 0.0)), 2)
+    if len(window) != 2 or not window[0] < window[1]:
+        raise ValueError(f"window must be (t_from, t_to), 0 <= t_from < t_to, s, got {window!r}")
     one = functools.partial(_seed_runs, body, filters, dict(
         n_steps=n_steps, error=error, size=size, pulsar_names=pulsar_names, direction=direction,
         growth_time=growth_time, profile=profile), window, dict(filter_kwargs, eps=eps))
@@ -936,7 +937,7 @@ def compare_filters(body="earth", filters=FILTERS, error="de405", size=0.0, eps=
 
 def _seed_runs(body, filters, scenario_kwargs, window, run_kwargs, seed):
     """One seed of :func:`compare_filters`: ({filter: RMSE}, {filter: error (n,)}, tau (n,))."""
-    g = make_rng(seed)
+    g = make_rng(seed, "seed")
     sc = simulate(body, rng=g, **scenario_kwargs)
     init = int(g.integers(2**31))
     out, err = {}, {}

@@ -188,7 +188,7 @@ class BlockWavelet:
                 start = check_int("train", train, det.window + 200, n)
                 det.train(x[:start])
             else:
-                det.train(train)
+                det.train(check_finite_array("train", train))
         self.d = np.empty((det.level, n))
         self.ratio = np.empty(n)
         self.which = np.zeros(n, dtype=np.int8)
@@ -220,7 +220,8 @@ class BlockWavelet:
 
     def alarm(self, lo=0, hi=None):
         """Alarms of samples ``[lo, hi)`` (computed ones)."""
-        hi = self.done if hi is None else min(hi, self.done)
+        lo = check_int("lo", lo, 0)
+        hi = self.done if hi is None else min(check_int("hi", hi, lo), self.done)
         return self.armed[lo:hi] & (self.ratio[lo:hi] > 1.0)
 
     def new_onsets(self, stop):

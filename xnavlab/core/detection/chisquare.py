@@ -10,7 +10,7 @@ import numpy as np
 from xnavlab.core.detection._tracked import TrackedDetector
 from xnavlab.core.detection.online import Detection, EventTracker, events_from_alarms
 from xnavlab.core.distributions import chi2_isf
-from xnavlab.core.validate import check_finite_array, check_int, check_real
+from xnavlab.core.validate import check_definite, check_finite_array, check_int, check_real
 
 __all__ = [
     "chi2_statistic",
@@ -50,10 +50,8 @@ def _nis(nu, S):
         S = np.broadcast_to(S, (n, m, m))
     if S.shape != (n, m, m):
         raise ValueError(f"S must have shape (m, m) or (N, m, m) with m = {m}, N = {n}, got {S.shape}")
-    try:
-        L = np.linalg.cholesky(S)
-    except np.linalg.LinAlgError:
-        raise ValueError("S must be symmetric positive definite") from None
+    check_definite("S", S, m)  # one line naming S: not symmetric, indefinite or singular
+    L = np.linalg.cholesky(S)
     y = np.linalg.solve(L, nu[..., None])[..., 0]
     return np.sum(y * y, axis=-1), m                                # nu^T S^-1 nu
 
@@ -130,7 +128,10 @@ class Chi2Detector(TrackedDetector):
         """Feed one innovation ``nu`` (m,) with covariance ``S`` (m, m); return the flag."""
         t = check_real("t", t)
         nu = check_finite_array("nu", nu, shape=(self.m,))
-        q, _ = _nis(nu[None, :], np.asarray(S, dtype=float).reshape(1, self.m, self.m))
+        S = check_finite_array("S", S)
+        if S.size != self.m * self.m:
+            raise ValueError(f"S must have shape ({self.m}, {self.m}), got shape {S.shape}")
+        q, _ = _nis(nu[None, :], S.reshape(1, self.m, self.m))
         self._q.append(float(q[0]))
         if len(self._q) < self.window:
             return False

@@ -417,6 +417,9 @@ class InnovationMonitor(TrackedDetector):
     def scale_from(self, healthy):
         """The adaptive scale (m,) from the healthy innovations ``healthy`` (n, m) of the MAD
         window: ``s^2 = (n0 + n MAD^2) / (n0 + n)``, ``MAD = median|y| / 0.6745``."""
+        healthy = check_finite_array("healthy", healthy)
+        if healthy.ndim != 2 or healthy.shape[1] != self.m:
+            raise ValueError(f"healthy must have shape (n, {self.m}), got shape {healthy.shape}")
         n, n0 = healthy.shape[0], self.prior_samples
         if not self.adaptive or n == 0:
             return self.scale.copy()
@@ -486,8 +489,12 @@ class InnovationMonitor(TrackedDetector):
         int
             Index of the first alarm in this chunk, or -1.
         """
-        t = np.asarray(t, dtype=float)
-        y = np.asarray(y, dtype=float).reshape(t.size, self.m)
+        t = check_finite_array("t", t)
+        y = check_finite_array("y", y)
+        if t.ndim != 1 or y.size != t.size * self.m:
+            raise ValueError(f"t must have shape (n,) and y (n, {self.m}), got {t.shape} and "
+                             f"{y.shape}")
+        y = y.reshape(t.size, self.m)
         first = -1
         i = 0
         n = t.size

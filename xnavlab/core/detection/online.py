@@ -384,6 +384,9 @@ class Detection:
         >>> Detection(np.zeros(0), *[np.zeros(0)] * 4, [ev]).first_onset_after(4.0)
         5.0
         """
+        if isinstance(t0, bool) or not isinstance(t0, int | float | np.integer | np.floating) \
+                or math.isnan(t0):
+            raise ValueError(f"t0 must be a real number (s; -inf for any), got {t0!r}")
         for ev in self.events:
             if ev.onset >= t0:
                 return ev.onset
@@ -424,9 +427,17 @@ def events_from_alarms(t, alarm, ratio, holdoff, tests=None):
     >>> [(e.onset, e.end, e.cleared) for e in ev], faulty.astype(int).tolist()
     ([(1.0, 3.0, 5.0), (7.0, 7.0, 9.0)], [0, 1, 1, 1, 1, 0, 0, 1, 1, 0])
     """
-    t = np.asarray(t, dtype=float)
-    alarm = np.asarray(alarm, dtype=bool)
-    ratio = np.asarray(ratio, dtype=float)
+    t = check_finite_array("t", t)
+    alarm = np.asarray(alarm)
+    if alarm.dtype.kind != "b" and not (alarm.dtype.kind in "iuf" and np.all((alarm == 0) | (alarm == 1))):
+        raise ValueError(f"alarm must hold flags (true/false), got dtype {alarm.dtype}")
+    alarm = alarm.astype(bool)
+    ratio = check_finite_array("ratio", ratio, finite=False)
+    if np.isnan(ratio).any():
+        raise ValueError("ratio must not contain NaN")
+    if not t.ndim == alarm.ndim == ratio.ndim == 1 or not t.size == alarm.size == ratio.size:
+        raise ValueError(f"t, alarm and ratio must be 1-D of one length, got {t.shape}, "
+                         f"{alarm.shape}, {ratio.shape}")
     holdoff = _check_holdoff(holdoff)
     n = t.size
     faulty = np.zeros(n, dtype=bool)
@@ -563,6 +574,13 @@ class EventTracker:
 
     def update(self, t, alarm, ratio=0.0, test=""):
         """Advance one sample; return whether the detector flags the sensor after it."""
+        t = check_real("t", t)
+        if isinstance(ratio, complex) or ratio != ratio:  # complex or NaN
+            raise ValueError(f"ratio must be a real number, got {ratio!r}")
+        if alarm is not True and alarm is not False and not (
+                isinstance(alarm, int | float | np.bool_ | np.integer | np.floating)
+                and alarm in (0, 1)):
+            raise ValueError(f"alarm must be true or false, got {alarm!r}")
         if alarm:
             if self._open is None:
                 self._open = [t, t, ratio, test]
@@ -610,6 +628,8 @@ class EventTracker:
         >>> tr.update(1.0, True, 2.0), tr.close(4.0), tr.faulty, tr.events[0].cleared
         (True, None, False, 4.0)
         """
+        if t is not None:
+            t = check_real("t", t)
         if self._open is None:
             return
         onset, end, peak, tst = self._open

@@ -75,6 +75,9 @@ def first_alarm(t, statistic, threshold, after=-math.inf):
     if t.shape != st.shape or t.ndim != 1:
         raise ValueError("t and statistic must have the same shape (n,)")
     threshold = check_real("threshold", threshold)
+    if isinstance(after, bool) or not isinstance(after, int | float | np.integer | np.floating) \
+            or math.isnan(after):
+        raise ValueError(f"after must be a real number (s; -inf for any), got {after!r}")
     idx = np.flatnonzero((st > threshold) & (t >= after))
     return float(t[idx[0]]) if idx.size else None
 
@@ -407,7 +410,7 @@ def diagnose_flight(faults=(), *, model="step", s=11, threshold=None, sigma=_pl.
     for f in faults:
         if not isinstance(f, _faults.Fault):
             raise ValueError(f"faults must hold xnavlab.core.faults.Fault objects, got {f!r}")
-    rng = make_rng(seed)
+    rng = make_rng(seed, "seed")
     traj, trans = _flight(dt, duration)
     sites = _pl.sites_ecef(sites_deg)
     x_err = _ins.simulate_errors(traj, rng=rng, transitions=trans)

@@ -1,0 +1,41 @@
+"""Tests for xnavlab.core.campaign_records: what a line of a campaign store must be."""
+
+import json
+
+import pytest
+
+from xnavlab.core import campaign_records as cr
+from xnavlab.core.userfiles import InputWarning
+
+RECORD = {"index": 0, "seed": 7, "parameters": {}, "metrics": {"rmse": 1.0}, "status": "ok",
+          "error": None}
+
+
+def test_a_whole_record_is_read_and_every_other_line_named_by_its_number():
+    good = json.dumps(RECORD)
+    lines = [good, "", '{"index": 1', "[1, 2]", json.dumps({**RECORD, "index": -1}),
+             json.dumps({k: v for k, v in RECORD.items() if k != "seed"}),
+             json.dumps({**RECORD, "metrics": [1]})]
+    records, bad = cr.parse_records(lines, first=1)
+    assert records == [RECORD]
+    assert [n for n, _ in bad] == [4, 5, 6, 7, 8]          # line numbers count the first line
+    assert [why for _, why in bad] == ["not JSON", "not a JSON object",
+                                       "index -1 is not an integer >= 0", "no seed",
+                                       "metrics is not a table"]
+
+
+@pytest.mark.parametrize(("change", "why"), [
+    ({"index": True}, "index True is not an integer >= 0"),
+    ({"seed": 1.5}, "seed 1.5 is not an integer"),
+    ({"status": "done"}, "status 'done' is neither 'ok' nor 'failed'"),
+    ({"parameters": None}, None),
+])
+def test_why_not_a_record(change, why):
+    assert cr.why_not_a_record({**RECORD, **change}) == why
+
+
+def test_bad_lines_are_one_warning_naming_the_file_and_the_first_ten():
+    bad = [(n, "not JSON") for n in range(1, 13)]
+    with pytest.warns(InputWarning, match=r"^runs.jsonl: 12 lines not read .* again: line 1 "
+                                          r"\(not JSON\).*line 10 \(not JSON\); and 2 more$"):
+        cr.report_bad_lines(bad, "runs.jsonl", "their runs are computed again")
