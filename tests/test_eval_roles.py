@@ -44,7 +44,7 @@ def test_a_chapter_is_converted_and_then_checks_clean(tool, tmp_path, capsys):
     out = capsys.readouterr().out
     assert "08_x.ipynb: 1 doc, 3 glue:text, 1 import, 3 py" in out and "left:" not in out
     nb = nbformat.read(path, as_version=4)
-    assert "from xnavlab.core.prose import glue, glued\n" in nb.cells[0].source
+    assert tool.IMPORT_NEW + "\n" in nb.cells[0].source
     assert 'glue("ch08_rms_m", 44.69, display=False)' in nb.cells[0].source  # the calls stay
     assert nb.cells[1].source == (
         'The error is {eval}`glued["ch08_rms_m:.1f"]` m and {eval}`glued["ch08_a_s"]` s, see '

@@ -52,7 +52,7 @@ from xnavlab.core.prose import EVAL_NAME, eval_expressions
 
 ROOT = Path(__file__).resolve().parents[1]
 IMPORT_OLD = "from myst_nb import glue"
-IMPORT_NEW = "from xnavlab.core.prose import glue, glued"
+IMPORT_NEW = "from xnavlab.core.prose import glue, glued  # noqa: F401 (glued: read by the {eval} roles)"
 
 _GLUE_TEXT = re.compile(r"\{glue:text\}`([^`\n]+)`")
 _GLUE_OTHER = re.compile(r"\{glue(?::(?!text\})[\w-]*)?\}`[^`\n]*`")

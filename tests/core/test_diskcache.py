@@ -96,8 +96,8 @@ def test_every_cache_entry_is_keyed_by_the_code_that_computes_it():
     offenders = []
     for path in sorted(root.rglob("*.py")):
         rel = path.relative_to(root.parent).as_posix()
-        calls = [n for n in ast.walk(ast.parse(path.read_text()))
-                 if isinstance(n, ast.Call) and getattr(n.func, "id", getattr(n.func, "attr", "")) == "cache_dir"]
+        calls = [n for n in ast.walk(ast.parse(path.read_text())) if isinstance(n, ast.Call)
+                 and getattr(n.func, "id", getattr(n.func, "attr", "")) == "cache_dir"]
         if calls and rel not in own_key:
             offenders.append(rel)
     assert not offenders, f"cache entries not made by entry_path: {offenders}"
