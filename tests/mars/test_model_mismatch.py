@@ -46,3 +46,21 @@ def test_the_setup_note_says_which_set_up_a_run_has():
     assert model_mismatch.setup_note(scenarios.MarsScenario()).startswith("Paper set-up:")
     note = model_mismatch.setup_note(model_mismatch.case_scenario("mismatched, derived q", 1.0))
     assert note.startswith("Study set-up: the truth flies Mars MRO95A 8x8") and "q_acc 0.00513" in note
+
+
+def test_each_local_filter_s_nis_is_judged_from_the_same_cached_runs(tmp_path, monkeypatch):
+    monkeypatch.setenv("XNAVLAB_CACHE", str(tmp_path))
+    rows = model_mismatch.subsystem_nis(days=0.05, seeds=(0, 1))
+    assert [(r["case"], r["subsystem"]) for r in rows] == [
+        (c, s) for c in model_mismatch.CASES for s in ("xnav", "uv", "cns")]
+    for r in rows:
+        assert r["updates"] > 0 and r["nis_lo"] < r["dof"] < r["nis_hi"]
+        assert r["nis_ratio"] == pytest.approx(r["nis"] / r["dof"])
+        assert r["nis_verdict"] in ("inside", "conservative", "optimistic")
+    assert {r["dof"] for r in rows if r["subsystem"] != "xnav"} == {3}
+    ratio = {(r["case"], r["subsystem"]): r["nis_ratio"] for r in rows}
+    for s in ("xnav", "uv", "cns"):          # the unallowed-for force model: every local sees it
+        assert ratio["mismatched, paper q", s] > ratio["matched", s]
+    assert rows[6]["subsystem"] == "xnav" and rows[6]["nis_verdict"] == "optimistic"
+    assert len(list(tmp_path.glob("mismatch-runs-*.json"))) == 1      # the table's runs
+    assert model_mismatch.subsystem_nis(days=0.05, seeds=(0, 1)) == rows

@@ -17,7 +17,9 @@ with a random initial error drawn from N(0, P0) (so the NEES is a fair test):
     model difference is not allowed for.
 
 :func:`mismatch_table` returns one row per case (errors averaged over the seeds, the NEES
-judged against its chi-square band); :func:`mismatch_runs` the per-seed numbers behind it.
+judged against its chi-square band); :func:`mismatch_runs` the per-seed numbers behind it;
+:func:`subsystem_nis` the same runs seen by each local filter of the federated filter (its NIS,
+the test a local can make without the truth).
 Both are cached on disk (keyed by their arguments and the package's source), so a chapter
 that calls them after ``python -m xnavlab warmup`` (or a first call) reads the numbers back.
 
@@ -37,13 +39,14 @@ from dataclasses import replace
 
 import numpy as np
 
+from xnavlab.core.constants import DAY
 from xnavlab.core.diskcache import entry_path, store
-from xnavlab.core.filters import chi2_bounds, judge_series
+from xnavlab.core.filters import chi2_bounds, consistency_verdict, judge_series
 from xnavlab.core.validate import check_int, check_real
 from xnavlab.mars import scenarios
 
 __all__ = ["CASES", "case_scenario", "mismatch_runs", "mismatch_table", "TABLE_COLUMNS",
-           "setup_note"]
+           "setup_note", "subsystem_nis"]
 
 #: The three cases, in the order of the table.
 CASES = ("matched", "mismatched, derived q", "mismatched, paper q")
@@ -143,8 +146,10 @@ def mismatch_runs(days=30.0, seeds=(0, 1, 2, 3, 4), settle_days=None, cache=True
     dict
         ``{case: {"q_acc", "truth_model", "filter_model", "paper_setup", "t_days" (list, the
         recorded epochs), "runs": [{"seed", "position_error_m", "velocity_error_mps",
-        "nees_mean", "final_position_error_m"}], "nees": list (the run-averaged NEES at each
-        record)}}``.
+        "nees_mean", "final_position_error_m", "nis_sum", "nis_count"}], "nees": list (the
+        run-averaged NEES at each record), "nis_dof"}}``; ``nis_sum`` and ``nis_count`` hold,
+        per subsystem, the sum and the number of the NIS of its accepted updates after
+        ``settle_days``, ``nis_dof`` each subsystem's NIS degrees of freedom.
     """
     days, seeds, settle_days = _check(days, seeds, settle_days)
 
@@ -158,15 +163,23 @@ def mismatch_runs(days=30.0, seeds=(0, 1, 2, 3, 4), settle_days=None, cache=True
                 m = res.metrics(settle_days)
                 e = res.nees()
                 k = res.t_days >= settle_days
+                late = (res.times - res.times[0]) / DAY >= settle_days   # every filter epoch
+                nis = {s: res.nis[late & (res.flags[:, i] == 1), i]
+                       for i, s in enumerate(sc.subsystems)}
                 runs.append({"seed": seed, "position_error_m": m["position_error_m"],
                              "velocity_error_mps": m["velocity_error_mps"],
                              "nees_mean": float(np.mean(e[k])),
-                             "final_position_error_m": m["final_position_error_m"]})
+                             "final_position_error_m": m["final_position_error_m"],
+                             "nis_sum": {s: float(v.sum()) for s, v in nis.items()},
+                             "nis_count": {s: int(v.size) for s, v in nis.items()}})
                 nees = e if nees is None else nees + e
             out[case] = {"q_acc": sc.q_acc, "truth_model": sc.truth_model.describe(),
                          "filter_model": sc.filter_model.describe(),
                          "paper_setup": sc.paper_setup, "t_days": res.t_days.tolist(),
-                         "runs": runs, "nees": (nees / len(seeds)).tolist()}
+                         "runs": runs, "nees": (nees / len(seeds)).tolist(),
+                         # NIS dof: XNAV one a pulsar; UV range + two angles; CNS one a star (3)
+                         "nis_dof": {"xnav": len(sc.pulsars), "uv": 3,
+                                     "cns": len(sc.stars) if sc.stars else 3}}
         return out
 
     return _cached(_key("runs", days, seeds, settle_days), compute, cache)
@@ -213,4 +226,51 @@ def mismatch_table(days=30.0, seeds=(0, 1, 2, 3, 4), settle_days=None, cache=Tru
                      "nees": float(np.mean(nees)), "nees_lo": lo, "nees_hi": hi,
                      "nees_inside": judged["inside"], "nees_verdict": judged["verdict"],
                      "seeds": len(seeds)})
+    return rows
+
+
+def subsystem_nis(days=30.0, seeds=(0, 1, 2, 3, 4), settle_days=None, cache=True):
+    """Each local filter's NIS in each case of :data:`CASES`: the runs of :func:`mismatch_runs`.
+
+    The fused NEES of :func:`mismatch_table` needs the truth; a local filter of the federated
+    filter can only watch its own innovations. This averages, per case and subsystem, the NIS of
+    every accepted update after ``settle_days`` over all the seeds, and judges the average
+    against the two-sided 95 % band of an average of that many chi-square values.
+
+    Parameters
+    ----------
+    days, seeds, settle_days, cache
+        As :func:`mismatch_runs` (the same cached runs).
+
+    Returns
+    -------
+    list of dict
+        One row per case and subsystem, in the order of :data:`CASES` and of the scenario's
+        subsystems: ``case``, ``subsystem``, ``nis`` (the average), ``dof``, ``nis_ratio``
+        (``nis / dof``: 1 for a consistent local), ``nis_lo``, ``nis_hi`` (the band,
+        :func:`xnavlab.core.filters.chi2_bounds`), ``nis_verdict``
+        (:func:`xnavlab.core.filters.consistency_verdict`: ``inside``, ``conservative``,
+        ``optimistic``) and ``updates`` (how many were averaged).
+
+    Examples
+    --------
+    >>> rows = subsystem_nis(days=0.05, seeds=(0,), cache=False)
+    >>> [(r["case"], r["subsystem"]) for r in rows][:3]
+    [('matched', 'xnav'), ('matched', 'uv'), ('matched', 'cns')]
+    """
+    days, seeds, settle_days = _check(days, seeds, settle_days)
+    data = mismatch_runs(days, seeds, settle_days, cache)
+    rows = []
+    for case in CASES:
+        d = data[case]
+        for s in d["runs"][0]["nis_sum"]:           # the scenario's subsystems, in order
+            dof = d["nis_dof"][s]
+            total = sum(r["nis_sum"][s] for r in d["runs"])
+            count = sum(r["nis_count"][s] for r in d["runs"])
+            nis = total / count if count else float("nan")
+            lo, hi = chi2_bounds(dof, max(count, 1))
+            rows.append({"case": case, "subsystem": s, "nis": nis, "dof": dof,
+                         "nis_ratio": nis / dof, "nis_lo": lo, "nis_hi": hi,
+                         "nis_verdict": consistency_verdict(nis, lo, hi) if count else "no updates",
+                         "updates": count})
     return rows
