@@ -647,7 +647,9 @@ def rkf_sweep(out=None, sizes=(0.0, 1000.0, 1e4, 5e4), body="mars", seeds=(0, 1,
         found = [c.verdict for c in orders]
         verdict = (REPRODUCED if all(v == REPRODUCED for v in found)
                    else NOT_REPRODUCED if NOT_REPRODUCED in found else UNDECIDED)
-        against = [c.name for c in orders if c.verdict == NOT_REPRODUCED]
+        pairs = [(s, o) for s in sizes for o in ("asukf", "tdukf")]      # the order of `orders`
+        against = [f"{_NAMES[o]} better than RKF at {s:g} m"        # the order measured
+                   for (s, o), c in zip(pairs, orders, strict=True) if c.verdict == NOT_REPRODUCED]
         reading = (f"reversed: {'; '.join(against)}" if against else
                    f"{found.count(REPRODUCED)} of {len(found)} pairs decided in the paper's order")
         checks.append(Check("RKF best of the three at every size", "yes",
