@@ -2,7 +2,7 @@
 
 A *reproduction* is a function registered under an ID (``"xnav-ranging"``,
 ``"mars-nofault"``, ...) that recomputes one figure or table of a source paper and returns a
-:class:`Result`: a list of :class:`Check` rows, each the paper's value beside ours, the
+:class:`Result`: a list of :class:`~xnavlab.verdicts.Check` rows, each the paper's value beside ours, the
 tolerance with its reason, and a verdict. The chapters' last cells, ``tests/``, the dashboard
 and the command line (``python -m xnavlab reproduce ID``) all call :func:`run`, so a number is
 computed, and a verdict decided, by exactly one piece of code.
@@ -147,7 +147,7 @@ class Result:
 
     @property
     def verdict(self):
-        """The headline (one of :data:`HEADLINES`), which follows the claims.
+        """The headline (one of :data:`~xnavlab.verdicts.HEADLINES`), which follows the claims.
 
         Examples
         --------
@@ -192,7 +192,8 @@ class Result:
         raise ValueError(f"{self.id} has no row {name!r}; its rows: {names}")
 
     def sentence(self, name):
-        """The row ``name`` in one sentence (:meth:`Check.sentence`), for a chapter to glue."""
+        """The row ``name`` in one sentence (:meth:`xnavlab.verdicts.Check.sentence`), for a
+        chapter to glue."""
         return self.check(name).sentence()
 
     @property
@@ -210,7 +211,7 @@ class Result:
     def to_dict(self):
         """The JSON form.
 
-        Keys: ``id``, ``verdict`` (the headline, one of :data:`HEADLINES`), ``ok`` (no error
+        Keys: ``id``, ``verdict`` (the headline, one of :data:`~xnavlab.verdicts.HEADLINES`), ``ok`` (no error
         and every check holds), ``counts`` (rows by verdict), ``rows`` (each row's ``name``,
         ``kind`` ("claim" or "check"), ``paper``, ``ours``, ``tolerance``, ``verdict`` and
         ``reading``), ``note``, ``figures``, ``error``.
@@ -485,7 +486,7 @@ def counts(results):
     -------
     dict
         ``reproductions`` (how many), ``headlines`` (reproductions by headline, every key of
-        :data:`HEADLINES`), ``rows`` (every row by verdict, as :meth:`Result.counts`),
+        :data:`~xnavlab.verdicts.HEADLINES`), ``rows`` (every row by verdict, as :meth:`Result.counts`),
         ``claims`` (rows that are claims of the paper), ``checks`` (rows that are checks of
         ours) and ``errors`` (the IDs whose headline is `ERROR`, in order).
 

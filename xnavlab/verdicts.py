@@ -5,8 +5,8 @@ beside ours, the tolerance with its reason, and a verdict. This module holds the
 the constructors of the rows; :mod:`xnavlab.reproduce` holds the registry, the results and
 their tables, and re-exports these names (``reproduce.check_rel`` is this ``check_rel``).
 
-The verdicts
-------------
+Claims and checks
+-----------------
 One vocabulary (:data:`VERDICTS`) is used by every table that shows a reproduction: a
 chapter's last cell and its summary box, the command line, its JSON and the dashboard. A row
 is either a *claim* of the paper, judged against our numbers, or a *check* of ours, which is
@@ -28,13 +28,14 @@ never counted as a reproduction.
 ``CHECK FAILED``
     A check of ours that does not hold: a defect, which fails the tests.
 
-A reproduction's headline (:attr:`Result.verdict`, :data:`HEADLINES`) follows its claims:
+A reproduction's headline (:attr:`~xnavlab.reproduce.Result.verdict`, :data:`HEADLINES`) follows its claims:
 ``REPRODUCED`` (every claim), ``PARTLY REPRODUCED`` (some claims reproduced, others not or
 undecided), ``NOT REPRODUCED`` (claims, none reproduced, at least one refuted), ``UNDECIDED``
 (every claim undecided), ``CHECK`` (no claim of the paper: only checks), or ``ERROR`` (it
-raised or a check failed). A result is :attr:`Result.ok` when it has no error and every check
+raised or a check failed). A result is :attr:`~xnavlab.reproduce.Result.ok` when it has no error
+and every check
 holds: that, and the verdicts recorded in ``tests/test_verdicts.py``, is what the tests
-assert; a claim that is not reproduced is an honest result, not a failure. :func:`headline`
+assert; a claim that is not reproduced is an honest result, not a failure. :func:`~xnavlab.reproduce.headline`
 is the one sentence that counts the claims and the checks, printed by
 ``python -m xnavlab reproduce --all`` and shown by the dashboard.
 """
@@ -90,7 +91,7 @@ VERDICTS = (*CLAIM_VERDICTS, CHECK, CHECK_FAILED)
 PARTLY_REPRODUCED = "PARTLY REPRODUCED"
 #: Headline of a reproduction that raised, or whose check failed.
 ERROR = "ERROR"
-#: A reproduction's headline verdict (:attr:`Result.verdict`), in this order.
+#: A reproduction's headline verdict (:attr:`~xnavlab.reproduce.Result.verdict`), in this order.
 HEADLINES = (REPRODUCED, PARTLY_REPRODUCED, NOT_REPRODUCED, UNDECIDED, CHECK, ERROR)
 #: The fewest of our single runs a paper's single-run number is judged against.
 MIN_RUNS = 32

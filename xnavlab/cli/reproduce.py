@@ -36,8 +36,8 @@ def execute(args):
 
     A paper claim that is not reproduced, or undecided, is a result, not an error: the exit code
     is 1 only for a reproduction that raised or whose check of ours failed (``ERROR``). The table
-    and the JSON use the verdicts of :data:`xnavlab.reproduce.VERDICTS` and the headlines of
-    :data:`xnavlab.reproduce.HEADLINES`; ``--all`` ends with
+    and the JSON use the verdicts of :data:`xnavlab.verdicts.VERDICTS` and the headlines of
+    :data:`xnavlab.verdicts.HEADLINES`; ``--all`` ends with
     :func:`xnavlab.reproduce.headline` (on stderr with ``--json``).
     """
     if args.out is not None:  # made and writable before any reproduction runs

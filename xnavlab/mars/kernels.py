@@ -1020,7 +1020,7 @@ def run_epochs(k0, k1, st, pr, pl, se, rec, ws):
         The epochs to run, ``0 <= k0 <= k1 <= n``.
     st : FilterState
         The local and master estimates and the shares, updated in place.
-    pr : Propagation
+    pr : xnavlab.mars.kernel_inputs.Propagation
         The time update's model (process noise, sub-step, Mars and the third-body table).
     pl : Plan
         Epochs, subsystem codes, measurement rows, connections, sharing factors, mode and

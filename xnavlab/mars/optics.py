@@ -374,7 +374,7 @@ class UVInstrument:
     model: ``noise`` (n, 3), range then the two tangent axes). Range: ``"constant"``, the
     fitted range plus ``sigma_range w``; ``"radius"``, ``r_fit / sin(alpha_fit + sigma_alpha
     w)`` with ``sigma_alpha`` from :func:`sigma_alpha_for` (orbit-mean noise
-    ``sigma_range``). Direction: the fitted centre turned by :func:`perturb_direction`.
+    ``sigma_range``). Direction: the fitted centre turned by :func:`~xnavlab.mars.sensors.perturb_direction`.
 
     Parameters
     ----------

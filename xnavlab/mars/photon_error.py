@@ -84,7 +84,8 @@ def exposure_scaling(photons, reference, months=(1, 2, 3, 4, 6, 8), min_sets=4):
 
     The navigation months (those not in the reference) are cut into sets of ``m``
     consecutive navigation months for each ``m`` of ``months``; every set gives a fix at
-    zero offset (:func:`estimate_offset`). All sets share the reference, so their scatter
+    zero offset (:func:`~xnavlab.mars.photon_fix.estimate_offset`). All sets share the reference,
+    so their scatter
     about their mean measures the photon noise alone.
 
     Parameters
@@ -149,7 +150,8 @@ def exposure_scaling(photons, reference, months=(1, 2, 3, 4, 6, 8), min_sets=4):
 def split_pulls(photons, seeds=range(16), bandwidth=0.004):
     """Is the stated error bar honest? Zero-offset fixes over random splits of the months.
 
-    Each seed splits the months at random (:func:`split_months`), builds a reference from
+    Each seed splits the months at random (:func:`~xnavlab.mars.photon_fix.split_months`), builds a
+    reference from
     one half and fixes the position, not displaced, from the other. Over many splits the
     fixes divided by their stated standard deviations (the pulls) should have a standard
     deviation of 1.
@@ -160,7 +162,7 @@ def split_pulls(photons, seeds=range(16), bandwidth=0.004):
     seeds : iterable of int
         One split per seed (at least 3).
     bandwidth : float
-        As :func:`build_reference`.
+        As :func:`~xnavlab.mars.photon_fix.build_reference`.
 
     Returns
     -------

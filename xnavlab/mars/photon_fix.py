@@ -98,7 +98,7 @@ class Photons:
         The timing model's spin frequency at each photon, Hz.
     components : ndarray, shape (c, 3)
         The shipped three-Gaussian template (rows: phase, FWHM in cycles, amplitude), used
-        only by the signal-to-noise formula (:func:`snr_range_sigma`).
+        only by the signal-to-noise formula (:func:`~xnavlab.mars.photon_error.snr_range_sigma`).
     t_first : float, optional
         Start of month 0, s TDB past J2000 (default the first photon); a subset keeps its
         parent's, so months are counted alike.

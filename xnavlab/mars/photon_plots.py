@@ -227,7 +227,7 @@ def plot_exposure(scaling, paper_m=None, total=None):
     Parameters
     ----------
     scaling : dict
-        From :func:`exposure_scaling`.
+        From :func:`~xnavlab.mars.photon_error.exposure_scaling`.
     paper_m : sequence of float, optional
         Ranging accuracies to shade as a band (m), e.g. the main paper's X-ray ones.
     total : tuple of (float, float, float), optional

@@ -8,9 +8,9 @@ scoring rule, and :func:`score`, :func:`fault_detection_delays` and :func:`trial
 apply it to a run. The fault-tolerant loop itself is :mod:`xnavlab.mars.fault_tolerance`,
 which re-exports the schedules' names.
 
-Scoring (:func:`score_faults`, the one place every Pd, delay and false-alarm rate of the
-book comes from)
-    An *alarm* is a detector event raised on a sensor (a subsystem: UV, CNS, XNAV), at the
+Scoring (:func:`score_faults`)
+    The one place every Pd, delay and false-alarm rate of the book comes from. An *alarm* is a
+    detector event raised on a sensor (a subsystem: UV, CNS, XNAV), at the
     event's onset. A fault acts on ``[onset, end)`` (a spike: on its one sample).
 
     * DETECTED: an alarm on its sensor is raised while it acts (delay: the first one's,

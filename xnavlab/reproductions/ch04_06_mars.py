@@ -20,7 +20,7 @@ from day 1 to day 30 (:meth:`xnavlab.mars.scenarios.MarsRun.metrics`). The RMS o
 summarises a curve like Fig. 2 in one number, weighs every axis and epoch equally and
 leaves out the 5-km initial transient, which has died out well before day 1.
 Acceptance: the paper's numbers come from one run, so each is judged as one draw from our
-single runs over 32 noise seeds (:func:`xnavlab.reproduce.check_draw`, the runs of
+single runs over 32 noise seeds (:func:`xnavlab.verdicts.check_draw`, the runs of
 :func:`xnavlab.mars.headline.headline_numbers`): reproduced when it falls inside their 95 %
 range. The paper gives neither its process noise nor its metric; ours are stated in the note.
 """

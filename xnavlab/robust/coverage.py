@@ -159,7 +159,7 @@ def coverage_over_seeds(name="rkf", seeds=(0, 1, 2, 3), body="mars", error="grow
     ----------
     name : {"ukf", "asukf", "tdukf", "rkf"}
     seeds : sequence of int
-    body, error, size, n_steps
+    body, error, size, n_steps : optional
         The scenario (default: the paper's Mars case, an error growing from 0 to 50 km over
         500 steps of 500 s along (1, 1, 1)/sqrt(3)).
     rkf_bias : {"residual", "oracle", "prior"}
