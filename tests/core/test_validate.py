@@ -135,3 +135,9 @@ def test_check_items_refuses_strings_empty_lists_and_repeats():
 def test_make_rng_names_the_callers_parameter():
     with pytest.raises(ValueError, match=r"^seed must be a numpy Generator or an integer seed .* got 1j$"):
         make_rng(1j, "seed")
+
+
+def test_an_integer_beyond_every_float_is_refused_in_one_short_line():
+    # 10**400 raised OverflowError from float() (a traceback from `scenario --check`)
+    with pytest.raises(ValueError, match=r"^days must be a real number in \(0, 365\], got 1000+\.\.\.$"):
+        check_real("days", 10**400, 0.0, 365.0, lo_open=True)

@@ -60,7 +60,10 @@ def check_real(name, value, lo=-math.inf, hi=math.inf, *, lo_open=False, hi_open
         + _range(lo, hi, lo_open, hi_open)
     if isinstance(value, bool) or not isinstance(value, Real | np.floating | np.integer):
         raise ValueError(f"{name} must be {want}, got {_shown(value)}")
-    x = float(value)
+    try:
+        x = float(value)
+    except OverflowError:  # an integer beyond any float (10**400): out of every range
+        x = math.inf
     bad = (
         not math.isfinite(x)
         or (x < lo or (lo_open and x == lo))
@@ -395,7 +398,8 @@ def _shown(value):
     """``repr`` of a value for a message, numpy scalars as plain numbers."""
     if isinstance(value, np.generic):
         value = value.item()
-    return repr(value)
+    text = repr(value)
+    return text if len(text) <= 80 else text[:77] + "..."
 
 
 def _short(value):
