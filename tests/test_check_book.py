@@ -187,3 +187,10 @@ def test_bad_arguments_exit_2(cb, tmp_path, capsys):
     assert cb.main(["--html", str(tmp_path)]) == 2  # no page
     assert cb.main(["--bogus"]) == 2
     capsys.readouterr()
+
+
+def test_an_absolute_value_in_text_is_not_a_broken_table(cb):
+    # '|S|', '|position error|' and '|dr_E|' are notation; '| a | b |' is a table that did not render
+    assert not cb._ABS.sub(" ", "The largest |S| in the cone |b| <= 3a").count("|")
+    assert not cb._ABS.sub(" ", "max |position error|, faults; |dr_E|").count("|")
+    assert "|" in cb._ABS.sub(" ", "| a | b |")

@@ -131,6 +131,10 @@ def _foreign_python_name(text):
         return False
 
 
+#: |x| written in text (an absolute value, a norm: '|S|', '|position error|'), not a table's bar
+_ABS = re.compile(r"\|[^|\s](?:[^|\n]{0,40}?[^|\s])?\|")
+
+
 def _short(text, n=50):
     text = " ".join(text.split())
     return text if len(text) <= n else text[: n - 3] + "..."
@@ -239,7 +243,7 @@ def _check_text(content, page):
 
     for node in _text_nodes(content):
         text = _MATH_SOURCE.sub(" ", str(node))
-        if "|" in text and not _escaped(node):
+        if "|" in _ABS.sub(" ", text) and not _escaped(node):
             add(f"literal '|' in text: {_short(text)!r}")
         if "$" in text:
             add(f"literal '$' in text (math that did not render?): {_short(text)!r}")

@@ -55,6 +55,8 @@ __all__ = [
 EVAL_ROLE = re.compile(r"\{eval\}`([^`\n]+)`")
 #: The expressions the book evaluates: an entry of :data:`glued`, ``glued["name"]`` or
 #: ``glued["name:spec"]`` (``nb_eval_name_regex`` of ``_config.yml`` is this pattern).
+#:
+#: :meta hide-value:
 EVAL_NAME = r'^glued\["[A-Za-z_][A-Za-z0-9_]*(:[^"\\]*)?"\]$'
 #: Where ``tools/book_execute.py`` keeps a page's evaluated expressions: this key of the data of
 #: the page's record in myst-nb's execution cache (``book/_ext/xnav_eval.py`` reads it).

@@ -21,7 +21,7 @@ The steps, each a function:
    part, so the fix never uses the photons its template came from.
 3. :func:`build_reference` (reference part only): the timing model's corrections (spin
    frequency and pulsar direction, which the shipped catalogue model gets slightly wrong,
-   eq. ch01-photon-timing) and a smoothed template of the pulse (a kernel estimate of the
+   chapter 1's timing equation) and a smoothed template of the pulse (a kernel estimate of the
    weighted fold), with the covariance of the corrections (:class:`Reference`).
 4. :func:`estimate_offset` (navigation part): the offset that maximises the photons'
    likelihood (eq. ch01-photon-like) and its photon noise (eq. ch01-photon-sigma);
@@ -179,7 +179,7 @@ class Reference:
                                 fr @ self.east, fr @ self.north])
 
     def correction(self, photons):
-        """The phase correction of each photon, cycles, shape (n,) (eq. ch01-photon-timing)."""
+        """The phase correction of each photon, cycles, shape (n,) (chapter 1's timing equation)."""
         return self.regressors(photons) @ self.theta  # phi0 + df (t - t_ref) + f dn . R / c
 
     def corrected(self, photons, phases=None):
@@ -539,7 +539,7 @@ def build_reference(photons, in_reference=None, bandwidth=0.004, iterations=4):
        (12 harmonics), which sharpens the fold;
     2. then, ``iterations`` times: a template from the corrected phases (weighted kernel
        estimate, Gaussian kernel of ``bandwidth`` cycles) and a maximum-likelihood fit of
-       the four corrections of eq. (ch01-photon-timing) by Fisher scoring: a phase offset,
+       the four corrections of chapter 1's timing equation by Fisher scoring: a phase offset,
        the spin frequency, and the pulsar direction's error east and north (seen as an
        annual term, the error times the geocentre's distance from the SSB);
     3. the template rebuilt once more and the covariance of the corrections from their
