@@ -169,7 +169,7 @@ NUMBER_FLAGS = [
     (["campaign", "detectors", "--runs=1"], "--days", "days", lambda t: _valid(t, float, 0.5, 5.0)),
     (["campaign", "consistency", "--runs=1"], "--seed", "seed", lambda t: _valid(t, int, 0, 2**63 - 1)),
     (["campaign", "consistency", "--runs=1"], "--workers", "workers", lambda t: False),  # see below
-    (["campaign", "consistency", "--runs=1"], "--timeout", "timeout",
+    (["campaign", "consistency", "--runs=1", "--local-cluster"], "--timeout", "timeout",
      lambda t: _valid(t, float, 0.0, 3600.0, True)),
 ]
 
@@ -244,3 +244,60 @@ def test_a_fault_spec_is_used_or_refused_in_one_line_before_any_run(items, seps)
     lines = err.getvalue().splitlines()
     assert code == 2 and len(lines) == 1 and lines[0].startswith("xnavlab: error: "), lines
     assert math.isfinite(len(lines))
+
+
+def _options():
+    """(subcommand argv, option, a value or None for a flag) of every option of every parser."""
+    import argparse
+
+    from xnavlab.cli import build_parser
+
+    found = []
+
+    def walk(parser, argv):
+        for action in parser._actions:
+            if isinstance(action, argparse._SubParsersAction):
+                for name, sub in action.choices.items():
+                    walk(sub, [*argv, name])
+            elif action.option_strings and action.dest != "help":
+                found.append((argv, max(action.option_strings, key=len), action.nargs != 0))
+    walk(build_parser(), [])
+    return found
+
+
+@pytest.mark.parametrize("argv,option,takes_value", _options())
+def test_every_option_given_twice_is_refused_in_one_line(argv, option, takes_value, capsys):
+    """argparse would keep the last of --faults A --faults B and drop A without a word."""
+    twice = [option, "1", option, "2"] if takes_value else [option, option]
+    assert main([*argv, *twice]) == 2
+    lines = capsys.readouterr().err.splitlines()
+    assert lines == [f"xnavlab: error: {option} given twice; give each option once"
+                     + ("; join the fault specs with ','" if option == "--faults" else "")]
+
+
+def test_the_walk_sees_every_command_and_the_faults_flag():
+    options = _options()
+    assert {a[0] for a, _, _ in options if a} >= {"reproduce", "run", "campaign", "scenario"}
+    assert (["run", "mars"], "--faults", True) in options
+
+
+@pytest.mark.parametrize("argv,words", [
+    (["campaign", "consistency", "--runs", "1", "--timeout", "10"], "--timeout is the wait"),
+    (["reproduce", "--list", "extra"], "--list takes no ID ('extra')"),
+    (["reproduce", "--list", "--json", "--fresh"], "--list takes no --json, --fresh"),
+    (["reproduce", "--list", "--quiet"], "--list takes no --quiet"),
+    (["reproduce", "--all", "toa-terms"], "--all takes no ID"),
+    (["reproduce", "xnav-ranging", "--quiet"], "--quiet goes with --all"),
+])
+def test_an_option_that_would_be_ignored_is_refused_in_one_line(argv, words, tmp_path, capsys):
+    out = tmp_path / "out"
+    assert main([*argv, "--out", str(out)] if argv[0] == "campaign" else argv) == 2
+    lines = capsys.readouterr().err.splitlines()
+    assert len(lines) == 1 and words in lines[0], lines
+    assert not out.exists()   # refused before any folder is made
+
+
+def test_list_with_out_makes_no_folder(tmp_path, capsys):
+    assert main(["reproduce", "--list", "--out", str(tmp_path / "x")]) == 2
+    assert "--list takes no --out" in capsys.readouterr().err
+    assert not (tmp_path / "x").exists()

@@ -1,6 +1,7 @@
 """Command line: ``python -m xnavlab COMMAND ...``, the top layer of the package.
 
-Usage errors print one line on stderr and exit with code 2. ``python -m xnavlab --version``
+Usage errors print one line on stderr and exit with code 2; so does an option given twice
+(``--faults A --faults B``: argparse would keep B and drop A without a word). ``python -m xnavlab --version``
 prints ``xnavlab`` and :data:`xnavlab.__version__` on one line and exits with code 0.
 
 Commands are discovered through :data:`COMMANDS`, a table of the modules that implement
@@ -50,8 +51,52 @@ class UsageError(Exception):
     """A bad command line: reported as one line, exit code 2."""
 
 
+def _given_once(action, namespace, option_string):
+    """Refuse an option given a second time on one command line (argparse would keep the last
+    value and drop the earlier one without a word)."""
+    if option_string is None:  # a positional argument: argparse takes it once
+        return
+    given = getattr(namespace, "given_options", None)
+    if given is None:
+        given = set()
+        namespace.given_options = given
+    if action.dest in given:
+        name = max(action.option_strings, key=len)
+        hint = "; join the fault specs with ','" if name == "--faults" else ""
+        raise UsageError(f"{name} given twice; give each option once{hint}")
+    given.add(action.dest)
+
+
+class _StoreOnce(argparse.Action):
+    """argparse's ``store``, given once."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        _given_once(self, namespace, option_string)
+        setattr(namespace, self.dest, values)
+
+
+class _StoreTrueOnce(argparse.Action):
+    """argparse's ``store_true``, given once."""
+
+    def __init__(self, option_strings, dest, default=False, required=False, help=None):
+        super().__init__(option_strings, dest, nargs=0, const=True, default=default,
+                         required=required, help=help)
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        _given_once(self, namespace, option_string)
+        setattr(namespace, self.dest, self.const)
+
+
 class Parser(argparse.ArgumentParser):
-    """An ``ArgumentParser`` that raises :class:`UsageError` instead of exiting."""
+    """An ``ArgumentParser`` that raises :class:`UsageError` instead of exiting, and refuses an
+    option given twice on one command line (``--days 0.2 --days 0.3``), which argparse would
+    read as the last one alone."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self.register("action", None, _StoreOnce)
+        self.register("action", "store", _StoreOnce)
+        self.register("action", "store_true", _StoreTrueOnce)
 
     def error(self, message):
         raise UsageError(message)

@@ -106,7 +106,8 @@ def configure(parser):
     where.add_argument("--local-cluster", action="store_true",
                        help="start a Dask LocalCluster of --workers processes and run on it")
     parser.add_argument("--timeout", default=None,
-                        help="seconds to reach the scheduler and its first worker (default 5)")
+                        help="seconds to reach the scheduler and its first worker (default 5); "
+                             "with --scheduler or --local-cluster only")
     parser.add_argument("--json", action="store_true",
                         help="print one JSON object (no progress bar)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
@@ -168,6 +169,9 @@ def execute(args):
 def _common(args):
     """The options every campaign shares: runs, seed and where to run (engine, workers,
     scheduler, timeout)."""
+    if args.timeout is not None and not (args.scheduler or args.local_cluster):
+        raise UsageError("--timeout is the wait for a Dask cluster: it goes with --scheduler "
+                         "or --local-cluster (local workers need none)")
     runs = _number("runs", args.runs, int, 1, 10**7)
     seed = _number("seed", args.seed, int, 0, 2**63 - 1)
     output_path(args.out, "--out", folder=True)  # made and writable before any run

@@ -40,6 +40,7 @@ def execute(args):
     :data:`xnavlab.verdicts.HEADLINES`; ``--all`` ends with
     :func:`xnavlab.reproduce.headline` (on stderr with ``--json``).
     """
+    _refuse_unused(args)
     if args.out is not None:  # made and writable before any reproduction runs
         output_path(args.out, "--out", folder=True)
     if args.list:
@@ -60,6 +61,21 @@ def execute(args):
             print(result.note)
         print(f"{result.id}: {result.verdict}")
     return 0 if result.ok else 1
+
+
+def _refuse_unused(args):
+    """Every option given is used, or the command line is refused in one line."""
+    if args.list:
+        unused = ([f"ID ({args.id!r})"] if args.id else []) + [
+            flag for flag, given in (("--json", args.json), ("--out", args.out is not None),
+                                     ("--fresh", args.fresh), ("--quiet", args.quiet)) if given]
+        if unused:
+            raise UsageError(f"--list takes no {', '.join(unused)}: it prints the registered IDs")
+    elif args.all and args.id:
+        raise UsageError(f"--all takes no ID (got {args.id!r}): it runs every reproduction; "
+                         f"give the ID alone to run one")
+    elif args.quiet and not args.all:
+        raise UsageError("--quiet goes with --all (one reproduction shows no progress bar)")
 
 
 def run_one(rid, out, fresh=False):
