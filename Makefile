@@ -96,6 +96,7 @@ book-clean:
 test: $(WARM)
 	$(BIN)/python tools/typed_numbers.py
 	$(BIN)/python tools/eval_roles.py --check
+	$(BIN)/python tools/hidden_names.py
 	$(BIN)/python tools/merge_bib.py --check
 	$(BIN)/python -m pytest $(XDIST) --durations=25 --nbval-lax --nbval-cell-timeout=300 -p no:cacheprovider xnavlab tests book
 	$(MAKE) book-clean
