@@ -148,6 +148,25 @@ def test_naive_rejoining_lets_the_biased_stretch_in(inputs):
         ft.run_fault_tolerant(readmit="clear", **{**kw, "detector": "chi2"})
 
 
+def test_a_cns_onset_detected_right_after_an_xnav_epoch_stays_out_while_flagged(inputs):
+    # the paper's onsets are multiples of the 500-s XNAV interval: a CNS step detected at its
+    # first sample after such an onset lands on the epoch right after an XNAV measurement
+    # (where the wavelet loop may not open a chunk); it must leave the fusion there and stay
+    # out while its detector flags, as at any other epoch (it was back in 3 s after)
+    sc = inputs.scenario
+    f = Fault("cns", "step", math.radians(0.4), onset=76500.0, duration=3000.0)
+    r = ft.run_fault_tolerant(faults=[f], detector="wavelet", inputs=inputs, train_days=TRAIN)
+    t = r.run.times - r.run.times[0]
+    first = r.events["cns"][0].onset
+    assert f.onset % sc.dt_xnav == 0.0 and first == f.onset + sc.dt_cns      # the case
+    i = sc.subsystems.index("cns")
+    det = r.detection_data["cns"]
+    flagged = np.searchsorted(t, det["t"][det["faulty"]])
+    assert flagged.size and r.isolated[flagged, i].all()   # out whenever its detector flags
+    (iv,) = r.isolation_intervals()
+    assert iv["sensor"] == "cns" and iv["out"] == first and iv["back"] > f.end
+
+
 @pytest.mark.parametrize("rid", ["mars-faults-ekf", "mars-faults-wavelet", "wavelet-details"])
 def test_reproductions_pass(rid):
     from xnavlab import reproduce

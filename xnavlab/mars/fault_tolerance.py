@@ -464,7 +464,7 @@ class _Loop:
         self.k_of = {s: np.flatnonzero(inp.meas_idx[:, i] >= 0) for i, s in enumerate(self.subs)}
         self.flag_of = {}          # precomputed wavelet flags (UV, CNS) per measurement
         self.onset_epochs = []     # epochs of precomputed detected onsets
-        self.onset_set = set()
+        self._dj = 0               # onset_epochs[:_dj] have switched their subsystem out
         self._blocks, self._pending, self._known, self._pool = {}, [], 0, None
         self.xdet = None
         self.mon = {}
@@ -532,7 +532,6 @@ class _Loop:
 
     def _add_onsets(self, known, onsets):
         self.onset_epochs += onsets
-        self.onset_set.update(onsets)
         self._known = known
 
     def _await_onsets(self, b):
@@ -602,7 +601,7 @@ class _Loop:
                                   (rx, rP, rxl, rPl), out["nis"], out["flags"])
 
         t_start = time.perf_counter()
-        self._oj = 0
+        self._oj = self._dj = 0
         self._xfed = 0          # XNAV measurements fed to the innovation detector
         a = 0
         while a < inp.n:
@@ -697,11 +696,16 @@ class _Loop:
         # isolation by the chi-square gate and rejoining are decided on a fixed grid of
         # epochs (multiples of check_every), whatever the chunking
         periodic = c % self.check_every == 0
+        # wavelet on raw UV/CNS: every detected onset up to epoch c + 1 not decided yet switches
+        # its subsystem out, also one at an epoch no chunk ended before (an XNAV epoch cannot
+        # end a chunk, so an onset on the epoch after it was masked for its chunk alone)
+        while self._dj < len(self.onset_epochs) and self.onset_epochs[self._dj][0] <= nxt:
+            k, i = self.onset_epochs[self._dj]
+            self._dj += 1
+            if self.detector == "combined" and not self.out[i]:
+                self.out_since[self.subs[i]] = k
+            self.out[i] = True
         for i, s in enumerate(self.subs):
-            if (nxt, i) in self.onset_set:    # wavelet on raw UV/CNS: detected onset at c + 1
-                if self.detector == "combined" and not self.out[i]:
-                    self.out_since[s] = nxt
-                self.out[i] = True
             if not periodic:
                 continue
             if self.detector == "combined":
@@ -777,7 +781,7 @@ class _Loop:
         arrays = self.watch.arrays()
         self.out_since = {s: 0 for s in self.subs}
         t_start = time.perf_counter()
-        self._oj = 0
+        self._oj = self._dj = 0
         self._x_set = set()
         try:
             a = 0
