@@ -46,6 +46,12 @@ def test_a_name_bound_in_sight_first_is_not_a_finding(tool):
     assert _names(tool, ("visible", "x = 1"), ("hidden", "x = 2"), ("visible", "print(x)")) == []
 
 
+def test_a_name_a_visible_cell_rebinds_before_use_is_not_a_finding(tool):
+    # hidden first, then rebound in sight: a reader's copy of the visible cells has it
+    assert _names(tool, ("hidden", "near = [1]"), ("visible", "near = {'a': 1}"),
+                  ("visible", "print(near['a'])")) == []
+
+
 def test_a_visible_cell_that_binds_the_name_itself_is_not_a_finding(tool):
     assert _names(tool, ("hidden", "n = 3"), ("visible", "n = 10\nprint(n)")) == []
 

@@ -7,7 +7,8 @@ cell must not use a name that only a hidden cell defines. This tool walks a note
 cells in order, parses each with :mod:`ast` (IPython magics are first turned into Python) and
 reports a visible cell that loads a name
 
-* whose first binding in the notebook was in a hidden cell, and
+* whose first binding in the notebook was in a hidden cell,
+* that no visible cell before it binds (a reader who copied those has the name), and
 * that the visible cell does not bind itself,
 
 one line per name and cell::
@@ -232,7 +233,7 @@ def _source(cell):
 def check_cells(cells, path="<notebook>"):
     """Findings for a notebook's cell list (``nb["cells"]``), in cell order."""
     first_hidden = {}  # name -> index of the hidden cell that bound it first
-    seen = set()
+    in_sight = set()   # names some visible cell has bound
     findings = []
     for index, cell in enumerate(cells):
         if cell.get("cell_type") != "code":
@@ -244,12 +245,13 @@ def check_cells(cells, path="<notebook>"):
         hidden = is_hidden(cell)
         if not hidden:
             for name in sorted(loads - binds):
-                if name in first_hidden and not _always_defined(name):
+                if name in first_hidden and name not in in_sight and not _always_defined(name):
                     findings.append(Finding(str(path), index, name, first_hidden[name]))
-        for name in binds - seen:
-            seen.add(name)
-            if hidden:
-                first_hidden[name] = index
+        if hidden:
+            for name in binds - in_sight:
+                first_hidden.setdefault(name, index)
+        else:
+            in_sight |= binds
     return findings
 
 
