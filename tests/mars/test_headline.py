@@ -81,3 +81,43 @@ def test_the_readme_states_the_campaigns_numbers():
             # may differ between CPUs' BLAS kernels, nothing more
             assert abs(value - stated) <= 10.0 ** -dec, (label, key, value, row)
     assert f"{h['n_seeds']} noise seeds" in text
+
+
+def test_the_default_campaign_is_read_from_the_shipped_runs():
+    h = headline.headline_numbers()
+    assert h["source"] == "shipped" and h["n_seeds"] == headline.SHIPPED["n_seeds"]
+    assert h["directory"] is None
+    runs = headline.load_shipped()["runs"]
+    assert h["runs"]["fused_position_m"] == [r["metrics"]["fused_position_m"] for r in runs]
+
+
+#: Relative agreement of a recomputed run with the shipped one: far above the last digits an
+#: OpenBLAS kernel family or a compiler moves (1e-12 here), far below any change of the model.
+RECOMPUTE_RTOL = 1e-6
+
+
+def test_the_shipped_runs_recompute_from_their_seeds():
+    """The first shipped run, computed again from its seed by the code here: every metric to
+    RECOMPUTE_RTOL. A change that moves it fails here until bench_headline.py --write."""
+    first = headline.load_shipped()["runs"][0]
+    fresh = headline.headline_run(seed=first["seed"], days=headline.SHIPPED["days"],
+                                  faults=headline.SHIPPED["faults"])
+    assert sorted(fresh) == sorted(first["metrics"])
+    for key, value in first["metrics"].items():
+        assert fresh[key] == pytest.approx(value, rel=RECOMPUTE_RTOL, abs=1e-12), key
+
+
+@pytest.mark.parametrize(("edit", "message"), [
+    (lambda d: d.update(campaign={**d["campaign"], "seed": 1}), "must hold the campaign"),
+    (lambda d: d["runs"].pop(3), "must hold runs 0 to 31 in order"),
+    (lambda d: d["runs"][2]["metrics"].update(fused_position_m=None), "run 2 must hold"),
+])
+def test_a_broken_shipped_table_is_one_line_naming_it(tmp_path, edit, message):
+    import json
+
+    data = json.loads(headline.RUNS_PATH.read_text())
+    edit(data)
+    path = tmp_path / "headline_runs.json"
+    path.write_text(json.dumps(data))
+    with pytest.raises(ValueError, match=message):
+        headline.load_shipped(path)

@@ -3,16 +3,15 @@
 ``make setup`` runs it once after installing, so no reader's chapter (and no timed first
 ``run mars``) pays for a compile: numba writes each compiled kernel to its on-disk cache
 (``cache=True``, in ``__pycache__`` beside the source) and every later process loads it in
-milliseconds. It also computes the paper's 30-day Mars truth trajectory into the truth
-cache (``$XNAVLAB_CACHE``, default ``~/.cache/xnavlab``), which chapters 5, 6 and 8 and
-the Mars reproductions use, and the headline campaign of chapters 6 and 8 (32 noise seeds of
-the 30-day run, clean and with the paper's faults: :func:`xnavlab.mars.headline.headline_numbers`)
-into its campaign store there, and the table of matched vs mismatched force models of chapters
+milliseconds. It also computes into the truth cache (``$XNAVLAB_CACHE``, default
+``~/.cache/xnavlab``): the paper's 30-day Mars truth trajectory, which chapters 5, 6 and 8
+and the Mars reproductions use; the table of matched vs mismatched force models of chapters
 3, 5 and 6 (:func:`xnavlab.mars.model_mismatch.mismatch_table`, with the studies' rich truth
-before it), and chapter 10's Monte Carlo reproductions and its table of the RKF's bound
-(:func:`xnavlab.robust.plots.bound_table`, minutes together), so that no chapter cell waits
-minutes for it, and two chapters executed side by side (``make book``, ``pytest -n 2``) do not
-wait for each other.
+before it); chapter 10's Monte Carlo reproductions and its table of the RKF's bound
+(:func:`xnavlab.robust.plots.bound_table`, minutes together). No chapter cell then waits
+minutes, and two chapters executed side by side (``make book``, ``pytest -n 2``) do not
+wait for each other. (The headline campaign of chapters 6 and 8, 32 noise seeds of the 30-day
+run, is shipped with the package: :data:`xnavlab.mars.headline.RUNS_PATH`.)
 
 Each step runs a tiny case through the same public functions the chapters call, so the
 kernels are compiled for exactly the argument types the chapters pass. Running it again
@@ -87,12 +86,6 @@ def _ephemeris_error():
         ee.propagate(np.array(ee.orbit(body).state0), 60.0, body)
 
 
-def _headline_campaign():
-    from xnavlab.mars import headline
-
-    headline.headline_numbers()  # the chapters' call: stored under $XNAVLAB_CACHE/campaigns
-
-
 def _study_truth():
     from xnavlab.mars.scenarios import MarsScenario, prepare
 
@@ -138,7 +131,6 @@ STEPS = (
     ("chapter 1's TOA accuracies and chapter 2's fold surveys (cache)", _timing_tables),
     (KERNEL_STEP, compile_kernel),
     ("fault-tolerant runs", _mars_fault_tolerant),
-    ("headline campaign, 32 seeds (campaign cache)", _headline_campaign),
     ("matched vs mismatched models, 30 days x 5 seeds x 3 cases (cache)", _model_mismatch),
     ("chapter 10's bound table and its Monte Carlo reproductions (caches)", _ephemeris_chapter),
 )

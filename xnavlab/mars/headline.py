@@ -5,9 +5,13 @@ noise seed is one draw. :func:`headline_numbers` runs the paper's 30-day scenari
 ``n_seeds`` noise seeds (default 32), fault-free and with the paper's fault schedule under the
 combined detector, through the campaign machinery (:mod:`xnavlab.core.campaign`), and
 returns for each quantity the mean over the seeds, its 95 % interval (Student t) and the
-spread. The runs are stored in a resumable campaign directory under the truth cache
-(``$XNAVLAB_CACHE/campaigns``), keyed by the code, so a book build computes them once
-(about a minute on two cores) and reads them afterwards.
+spread. The default campaign (32 seeds of 30 days from seed 2016, :data:`SHIPPED`) is
+shipped with the package (:data:`RUNS_PATH`, written by ``python benchmarks/bench_headline.py
+--write``: four minutes on two cores) and read, not computed; ``tests/mars/test_headline.py``
+recomputes its first runs from their seeds, so a change of the code that moves them fails
+there until the table is written again. Any other campaign is stored in a resumable campaign
+directory under the truth cache (``$XNAVLAB_CACHE/campaigns``), keyed by the code, and
+computed once.
 
 Quantities (metres and metres per second, RMS after day 1, as the paper's figures):
 ``fused_position_m``, ``fused_velocity_mps`` of the fault-free run (the paper: 28.835 m,
@@ -32,19 +36,29 @@ from __future__ import annotations
 
 import contextlib
 import math
+from pathlib import Path
 
 import numpy as np
 
 from xnavlab.core.campaign import Campaign, run_campaign
 from xnavlab.core.diskcache import cache_dir, code_digest
 from xnavlab.core.distributions import t_ppf
+from xnavlab.core.userfiles import load_table
 from xnavlab.core.validate import check_int, check_real
 
-__all__ = ["PAPER", "headline_run", "headline_numbers", "mean_interval"]
+__all__ = ["PAPER", "SHIPPED", "RUNS_PATH", "headline_run", "headline_numbers",
+           "headline_records", "load_shipped", "mean_interval", "numbers_of"]
 
 #: The paper's single-run values (Fan et al. 2016, section 4.2, Figs. 2 and 4).
 PAPER = {"fused_position_m": 28.835, "fused_velocity_mps": 0.02149,
          "faulty_position_m": 36.587, "faulty_velocity_mps": 0.02293}
+
+#: The campaign shipped in :data:`RUNS_PATH`: :func:`headline_numbers`' defaults (also
+#: :func:`headline_records`' arguments).
+SHIPPED = {"n_seeds": 32, "days": 30.0, "faults": True, "seed": 2016}
+
+#: The shipped runs of :data:`SHIPPED` (``python benchmarks/bench_headline.py --write``).
+RUNS_PATH = Path(__file__).resolve().parent.parent / "data" / "headline_runs.json"
 
 
 def headline_run(*, seed, days=30.0, faults=True):
@@ -156,8 +170,36 @@ def _exclusive(out):
         yield
 
 
+def load_shipped(path=None):
+    """The shipped runs: ``{"campaign": SHIPPED, "runs": [{"index", "seed", "metrics"}],
+    "command": str, ...}``, one per seed in index order; a file that is not such a table (a
+    missing run, a run without its metrics, another campaign) is one ValueError.
+
+    Examples
+    --------
+    >>> data = load_shipped()
+    >>> len(data["runs"]) == SHIPPED["n_seeds"], sorted(data["runs"][0])
+    (True, ['index', 'metrics', 'seed'])
+    """
+    path = Path(RUNS_PATH if path is None else path)
+    data = load_table(path, "headline runs", (".json",))
+    what = f"headline runs {str(path)!r}"
+    if data.get("campaign") != SHIPPED:
+        raise ValueError(f"{what} must hold the campaign {SHIPPED}, got {data.get('campaign')}")
+    runs = data.get("runs")
+    if not isinstance(runs, list) or [r.get("index") if isinstance(r, dict) else None
+                                      for r in runs] != list(range(SHIPPED["n_seeds"])):
+        raise ValueError(f"{what} must hold runs 0 to {SHIPPED['n_seeds'] - 1} in order")
+    for r in runs:
+        m = r.get("metrics")
+        if (not isinstance(m, dict) or not m or not isinstance(r.get("seed"), int)
+                or not all(isinstance(v, (int, float)) and math.isfinite(v) for v in m.values())):
+            raise ValueError(f"{what}: run {r['index']} must hold its seed and finite metrics")
+    return data
+
+
 def headline_numbers(n_seeds=32, days=30.0, faults=True, seed=2016, cache=True, workers=2,
-                     progress=False):
+                     progress=False, shipped=True):
     """The headline accuracies over ``n_seeds`` noise seeds, with 95 % intervals.
 
     Parameters
@@ -177,6 +219,9 @@ def headline_numbers(n_seeds=32, days=30.0, faults=True, seed=2016, cache=True, 
         Local worker processes.
     progress : bool
         A progress bar on stderr.
+    shipped : bool
+        Read the shipped runs (:func:`load_shipped`) when the campaign is :data:`SHIPPED`
+        (default); False computes it (``bench_headline.py --write`` does).
 
     Returns
     -------
@@ -184,26 +229,61 @@ def headline_numbers(n_seeds=32, days=30.0, faults=True, seed=2016, cache=True, 
         ``quantities``: name -> :func:`mean_interval` dict (``mean``, ``lo``, ``hi``, ``sd``,
         ``n``); ``runs``: name -> the single runs' values, one per seed (the paper's
         single-run numbers are judged against these); ``paper``: :data:`PAPER`; ``n_seeds``,
-        ``days``, ``seed``; ``directory`` (the store, or None).
+        ``days``, ``seed``; ``directory`` (the store, or None); ``source``: ``"shipped"`` or
+        ``"computed"``.
     """
     n_seeds = check_int("n_seeds", n_seeds, 2, 10_000)
     days = check_real("days", days, 0.0, 30.0, lo_open=True)
     if faults and days < 30.0:
         raise ValueError(f"faults needs days = 30 (the paper's schedule runs to 27.84 days), "
                          f"got {days:g}")
-    camp = Campaign("headline", headline_run, lambda i: {"days": days, "faults": bool(faults)},
-                    manifest={"days": days, "faults": bool(faults), "code": _code_key()})
+    if shipped and {"n_seeds": n_seeds, "days": days, "faults": bool(faults),
+                    "seed": seed} == SHIPPED:
+        return _numbers([r["metrics"] for r in load_shipped()["runs"]], days, seed, None,
+                        "shipped")
     out = None
     if cache:
-        out = cache_dir() / "campaigns" / f"headline-{camp.manifest['code']}-{days:g}d-{int(faults)}-{seed}"
+        out = (cache_dir() / "campaigns"
+               / f"headline-{_code_key()}-{days:g}d-{int(faults)}-{seed}")
+    records = headline_records(n_seeds, days, faults, seed, out=out, workers=workers,
+                               progress=progress)
+    runs = [r["metrics"] for r in records]
+    if len(runs) < 2:
+        raise ValueError(f"only {len(runs)} of {n_seeds} headline runs succeeded")
+    return _numbers(runs, days, seed, None if out is None else str(out), "computed")
+
+
+def headline_records(n_seeds=32, days=30.0, faults=True, seed=2016, out=None, workers=2,
+                     progress=False):
+    """The campaign's successful runs, computed (or resumed from the store ``out``).
+
+    Parameters are :func:`headline_numbers`' (checked there); ``out`` is the campaign's
+    directory (None: in memory).
+
+    Returns
+    -------
+    list of dict
+        ``{"index", "seed", "metrics"}`` per successful run, in index order: the records
+        :data:`RUNS_PATH` ships.
+    """
+    camp = Campaign("headline", headline_run, lambda i: {"days": days, "faults": bool(faults)},
+                    manifest={"days": days, "faults": bool(faults), "code": _code_key()})
     with _exclusive(out):
         res = run_campaign(camp, n_seeds, seed=seed, out=out, engine="local" if workers > 1
                            else "serial", workers=workers, progress=progress)
-    runs = [r["metrics"] for r in res.runs() if r["status"] == "ok"]
-    if len(runs) < 2:
-        raise ValueError(f"only {len(runs)} of {n_seeds} headline runs succeeded")
+    return [{"index": r["index"], "seed": r["seed"], "metrics": r["metrics"]}
+            for r in sorted(res.runs(), key=lambda r: r["index"]) if r["status"] == "ok"]
+
+
+def numbers_of(runs):
+    """Each quantity's :func:`mean_interval` over the runs' metrics (a list of dicts)."""
+    return {k: mean_interval([r[k] for r in runs]) for k in sorted(runs[0])}
+
+
+def _numbers(runs, days, seed, directory, source):
+    """:func:`headline_numbers`' dictionary from the runs' metrics."""
     names = sorted(runs[0])
-    return {"quantities": {k: mean_interval([r[k] for r in runs]) for k in names},
+    return {"quantities": numbers_of(runs),
             "runs": {k: [r[k] for r in runs] for k in names},
             "paper": dict(PAPER), "n_seeds": len(runs), "days": days, "seed": seed,
-            "directory": None if out is None else str(out)}
+            "directory": directory, "source": source}
