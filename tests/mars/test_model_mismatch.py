@@ -8,7 +8,7 @@ from xnavlab.mars import force_models, model_mismatch, scenarios
 def test_the_cases_and_their_setups():
     m = model_mismatch.case_scenario("matched", days=1.0, seed=3)
     d = model_mismatch.case_scenario("mismatched, derived q", days=1.0)
-    p = model_mismatch.case_scenario("mismatched, paper q", days=1.0)
+    p = model_mismatch.case_scenario("mismatched, default q", days=1.0)
     assert m.paper_setup and m.init_error == "random" and m.seed == 3
     assert d.truth_model == force_models.STUDY and d.filter_model == force_models.PAPER
     assert d.q_acc > 1e-6 and p.q_acc == scenarios.DEFAULT_Q_ACC and not p.paper_setup
@@ -60,7 +60,7 @@ def test_each_local_filter_s_nis_is_judged_from_the_same_cached_runs(tmp_path, m
     assert {r["dof"] for r in rows if r["subsystem"] != "xnav"} == {3}
     ratio = {(r["case"], r["subsystem"]): r["nis_ratio"] for r in rows}
     for s in ("xnav", "uv", "cns"):          # the unallowed-for force model: every local sees it
-        assert ratio["mismatched, paper q", s] > ratio["matched", s]
+        assert ratio["mismatched, default q", s] > ratio["matched", s]
     assert rows[6]["subsystem"] == "xnav" and rows[6]["nis_verdict"] == "optimistic"
     assert len(list(tmp_path.glob("mismatch-runs-*.json"))) == 1      # the table's runs
     assert model_mismatch.subsystem_nis(days=0.05, seeds=(0, 1)) == rows

@@ -6,14 +6,14 @@ that knows the dynamics exactly. This module runs the same navigation three ways
 with a random initial error drawn from N(0, P0) (so the NEES is a fair test):
 
 ``matched``
-    the paper's set-up: truth and filter under the paper's model, the paper's ``q_acc``
-    (:data:`~xnavlab.mars.scenarios.DEFAULT_Q_ACC`).
+    the paper's set-up: truth and filter under the paper's model, the book's default ``q_acc``
+    (:data:`~xnavlab.mars.scenarios.DEFAULT_Q_ACC`; the paper gives no process noise).
 ``mismatched, derived q``
     the studies' set-up (:meth:`~xnavlab.mars.scenarios.MarsScenario.study`): the rich truth
     :data:`~xnavlab.mars.force_models.STUDY`, the paper's filter and the ``q_acc`` that
     :func:`~xnavlab.mars.model_noise.derived_q_acc` computes from the models' difference.
-``mismatched, paper q``
-    the rich truth with the paper's filter and the paper's ``q_acc``: what happens when the
+``mismatched, default q``
+    the rich truth with the paper's filter and the default ``q_acc``: what happens when the
     model difference is not allowed for.
 
 :func:`mismatch_table` returns one row per case (errors averaged over the seeds, the NEES
@@ -27,7 +27,7 @@ Examples
 --------
 >>> rows = mismatch_table(days=0.05, seeds=(0, 1), cache=False)
 >>> [r["case"] for r in rows]
-['matched', 'mismatched, derived q', 'mismatched, paper q']
+['matched', 'mismatched, derived q', 'mismatched, default q']
 >>> rows[0]["paper_setup"], rows[1]["paper_setup"]
 (True, False)
 """
@@ -49,7 +49,7 @@ __all__ = ["CASES", "case_scenario", "mismatch_runs", "mismatch_table", "TABLE_C
            "setup_note", "subsystem_nis"]
 
 #: The three cases, in the order of the table.
-CASES = ("matched", "mismatched, derived q", "mismatched, paper q")
+CASES = ("matched", "mismatched, derived q", "mismatched, default q")
 
 #: Columns of :func:`mismatch_table` for a chapter's table (``html_table(rows, TABLE_COLUMNS)``).
 TABLE_COLUMNS = ("case", "truth_model", "filter_model", "q_acc", "position_error_m",
@@ -66,7 +66,7 @@ def case_scenario(case, days=30.0, seed=0):
     --------
     >>> case_scenario("matched", days=1.0).paper_setup
     True
-    >>> case_scenario("mismatched, paper q", days=1.0).q_acc == scenarios.DEFAULT_Q_ACC
+    >>> case_scenario("mismatched, default q", days=1.0).q_acc == scenarios.DEFAULT_Q_ACC
     True
     """
     if case not in CASES:

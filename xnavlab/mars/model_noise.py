@@ -18,7 +18,8 @@ random walk whose white noise is ``sigma_a^2 tau`` (:func:`derived_q_acc`).
 
 For the study's truth against the paper's filter on the paper's orbit (first day, 30-s samples)
 this is an RMS of 5.1e-3 m/s^2 (Mars's J2 and C22 dominate; SRP is 2-3e-8), ``tau`` = 588 s and
-``q`` = 5.1e-3 m^2/s^3, against the paper's typed 1e-11.
+``q`` = 5.1e-3 m^2/s^3, against the book's default 1e-11
+(:data:`xnavlab.mars.scenarios.DEFAULT_Q_ACC`; the paper gives no process noise).
 
 Examples
 --------
