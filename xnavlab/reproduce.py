@@ -74,6 +74,8 @@ from xnavlab.verdicts import (  # noqa: F401 - re-exported: reproduce.check_rel 
     check_rel,
     check_sanity,
     check_true,
+    combine,
+    part_of,
     show,
 )
 
@@ -124,6 +126,9 @@ class Result:
     from_cache : bool
         True when :func:`run` read it from the disk cache (computed earlier by the same
         code on this machine).
+    main : str
+        The paper's main claim (a row's name, or the ``claim`` its rows are parts of), which
+        the headline follows first (:attr:`verdict`); empty when no claim is the main one.
     """
 
     id: str
@@ -134,11 +139,31 @@ class Result:
     error: str = ""
     #: True when this result was read from the disk cache (computed earlier by the same code)
     from_cache: bool = field(default=False, compare=False)
+    main: str = ""
 
     @property
     def claims(self):
         """The rows that are claims of the paper."""
         return [c for c in self.checks if c.claimed]
+
+    def claim_verdicts(self):
+        """The paper's distinct claims and their verdicts, in order: ``{claim: verdict}``.
+
+        A row is a claim of its own (keyed by its name) unless it is a part of a claim that
+        takes several rows (:func:`~xnavlab.verdicts.part_of`), which is counted once with the
+        verdict of its parts (:func:`~xnavlab.verdicts.combine`).
+
+        Examples
+        --------
+        >>> a = check_rel("PR1 (s)", 50.0, 50.0, 0.01, why="one sample")
+        >>> b = check_rel("PR2 (s)", 50.0, 60.0, 0.01, why="one sample")
+        >>> Result("demo", part_of("steps detected at the onset", a, b)).claim_verdicts()
+        {'steps detected at the onset': 'NOT REPRODUCED'}
+        """
+        parts = {}
+        for c in self.claims:
+            parts.setdefault(c.claim or c.name, []).append(c.verdict)
+        return {k: combine(v) for k, v in parts.items()}
 
     @property
     def ok(self):
@@ -157,14 +182,23 @@ class Result:
         ('REPRODUCED', 'PARTLY REPRODUCED')
         >>> Result("demo", [check_measure("z", 3, "shown")]).verdict
         'CHECK'
+        >>> Result("demo", [yes, no], main="y").verdict  # the main claim fails
+        'NOT REPRODUCED'
         """
         if not self.ok:
             return ERROR
-        found = {c.verdict for c in self.claims}
+        claims = self.claim_verdicts()
+        found = set(claims.values())
         if not found:
             return CHECK
         if found == {REPRODUCED}:
             return REPRODUCED
+        if self.main:
+            if self.main not in claims:
+                raise ValueError(f"{self.id}: main claim {self.main!r} is none of its claims: "
+                                 + "; ".join(claims))
+            if claims[self.main] != REPRODUCED:
+                return claims[self.main]
         if REPRODUCED in found:
             return PARTLY_REPRODUCED
         return UNDECIDED if found == {UNDECIDED} else NOT_REPRODUCED
@@ -181,6 +215,22 @@ class Result:
         out = dict.fromkeys(VERDICTS, 0)
         for c in self.checks:
             out[c.verdict] += 1
+        return out
+
+    def claim_counts(self):
+        """Distinct claims of the paper by verdict (:meth:`claim_verdicts`; every claim
+        verdict a key).
+
+        Examples
+        --------
+        >>> rows = part_of("one claim", check_rel("x", 1.0, 1.0, 0.1, why="w"),
+        ...                check_rel("y", 1.0, 1.0, 0.1, why="w"))
+        >>> Result("demo", rows).claim_counts()["REPRODUCED"]
+        1
+        """
+        out = dict.fromkeys(CLAIM_VERDICTS, 0)
+        for v in self.claim_verdicts().values():
+            out[v] += 1
         return out
 
     def check(self, name):
@@ -212,14 +262,18 @@ class Result:
         """The JSON form.
 
         Keys: ``id``, ``verdict`` (the headline, one of :data:`~xnavlab.verdicts.HEADLINES`), ``ok`` (no error
-        and every check holds), ``counts`` (rows by verdict), ``rows`` (each row's ``name``,
-        ``kind`` ("claim" or "check"), ``paper``, ``ours``, ``tolerance``, ``verdict`` and
-        ``reading``), ``note``, ``figures``, ``error``.
+        and every check holds), ``counts`` (rows by verdict), ``claims`` (the distinct claims
+        of the paper and their verdicts, :meth:`claim_verdicts`), ``main`` (the main claim, or
+        empty), ``rows`` (each row's ``name``, ``kind`` ("claim" or "check"), ``paper``,
+        ``ours``, ``tolerance``, ``verdict``, ``reading`` and ``claim`` (the claim it is a
+        part of)), ``note``, ``figures``, ``error``.
         """
         rows = [{"name": c.name, "kind": "claim" if c.claimed else "check", "paper": c.paper,
                  "ours": c.ours, "tolerance": c.tolerance, "verdict": c.verdict,
-                 "reading": c.reading} for c in self.checks]
+                 "reading": c.reading, "claim": c.claim or (c.name if c.claimed else "")}
+                for c in self.checks]
         return {"id": self.id, "verdict": self.verdict, "ok": self.ok, "counts": self.counts(),
+                "claims": self.claim_verdicts(), "main": self.main,
                 "rows": rows, "note": self.note, "figures": self.figures, "error": self.error}
 
     def to_json(self):
@@ -488,7 +542,9 @@ def counts(results):
         ``reproductions`` (how many), ``headlines`` (reproductions by headline, every key of
         :data:`~xnavlab.verdicts.HEADLINES`), ``rows`` (every row by verdict, as :meth:`Result.counts`),
         ``claims`` (rows that are claims of the paper), ``checks`` (rows that are checks of
-        ours) and ``errors`` (the IDs whose headline is `ERROR`, in order).
+        ours), ``distinct`` (the paper's distinct claims by verdict, :meth:`Result.claim_counts`:
+        a claim that takes several rows counts once), ``n_distinct`` (their number) and
+        ``errors`` (the IDs whose headline is `ERROR`, in order).
 
     Examples
     --------
@@ -499,13 +555,17 @@ def counts(results):
     """
     rows = dict.fromkeys(VERDICTS, 0)
     heads = dict.fromkeys(HEADLINES, 0)
+    distinct = dict.fromkeys(CLAIM_VERDICTS, 0)
     for res in results:
         heads[res.verdict] += 1
         for verdict, n in res.counts().items():
             rows[verdict] += n
+        for verdict, n in res.claim_counts().items():
+            distinct[verdict] += n
     return {"reproductions": len(results), "headlines": heads, "rows": rows,
             "claims": sum(rows[v] for v in CLAIM_VERDICTS),
             "checks": rows[CHECK] + rows[CHECK_FAILED],
+            "distinct": distinct, "n_distinct": sum(distinct.values()),
             "errors": [r.id for r in results if r.verdict == ERROR]}
 
 
@@ -516,16 +576,25 @@ def _plural(n, word):
 def headline(results):
     """The one sentence that counts the claims and the checks (the CLI's ``--all``, the dashboard).
 
+    It counts the papers' distinct claims (a claim that takes several rows counts once,
+    :meth:`Result.claim_verdicts`), then the rows that judge them when there are more.
+
     Examples
     --------
     >>> ok = Result("a", [check_rel("x", 1.0, 1.0, 0.1, why="w"), check_measure("y", 2, "shown")])
     >>> headline([ok])
     '1 of 1 paper claim reproduced (0 not reproduced, 0 undecided); 1 of 1 check holds'
+    >>> two = Result("b", part_of("z", check_rel("z1", 1.0, 1.0, 0.1, why="w"),
+    ...                           check_rel("z2", 1.0, 1.0, 0.1, why="w")))
+    >>> headline([ok, two])
+    '2 of 2 paper claims reproduced (0 not reproduced, 0 undecided; judged in 3 rows); 1 of 1 check holds'
     """
     n = counts(results)
+    d = n["distinct"]
+    rows = f"; judged in {n['claims']} rows" if n["claims"] != n["n_distinct"] else ""
+    claims = (f"{d[REPRODUCED]} of {_plural(n['n_distinct'], 'paper claim')} reproduced "
+              f"({d[NOT_REPRODUCED]} not reproduced, {d[UNDECIDED]} undecided{rows})")
     r = n["rows"]
-    claims = (f"{r[REPRODUCED]} of {_plural(n['claims'], 'paper claim')} reproduced "
-              f"({r[NOT_REPRODUCED]} not reproduced, {r[UNDECIDED]} undecided)")
     checks = f"{r[CHECK]} of {n['checks']} {'check holds' if n['checks'] == 1 else 'checks hold'}"
     text = f"{claims}; {checks}"
     return text + (f"; {ERROR}: {', '.join(n['errors'])}" if n["errors"] else "")
@@ -550,9 +619,9 @@ def summary_rows(results):
             chapter, title = rep.chapter, rep.title
         except ValueError:
             chapter, title = "", ""
-        claims = sum(n[v] for v in CLAIM_VERDICTS)
-        rows.append((res.id, res.verdict, f"{n[REPRODUCED]} of {claims}", n[NOT_REPRODUCED],
-                     n[UNDECIDED], f"{n[CHECK]} of {n[CHECK] + n[CHECK_FAILED]}", chapter, title))
+        k = res.claim_counts()
+        rows.append((res.id, res.verdict, f"{k[REPRODUCED]} of {sum(k.values())}", k[NOT_REPRODUCED],
+                     k[UNDECIDED], f"{n[CHECK]} of {n[CHECK] + n[CHECK_FAILED]}", chapter, title))
     return rows
 
 
@@ -595,11 +664,13 @@ def report_html(results, elapsed_s=None):
                 f"computed, {reused} read from the reproduction cache, computed earlier by the "
                 "same code on this machine)")
     n = counts(results)
-    claims = [n["rows"][v] if v in CLAIM_VERDICTS else "" for v in VERDICTS]
+    claims = [n["distinct"][v] if v in CLAIM_VERDICTS else "" for v in VERDICTS]
+    rows = [n["rows"][v] if v in CLAIM_VERDICTS else "" for v in VERDICTS]
     checks = [n["rows"][v] if v not in CLAIM_VERDICTS else "" for v in VERDICTS]
     parts = [f'<p class="xnav-headline"><strong>{html.escape(headline(results))}</strong>'
              f"{html.escape(when)}.</p>",
              html_table(COUNT_HEADER, [("claims of the papers", *claims),
+                                       ("rows judging them (a claim may take several)", *rows),
                                        ("checks of ours (not reproductions)", *checks)]),
              "<p><strong>Every reproduction</strong></p>",
              html_table(SUMMARY_HEADER, summary_rows(results)),

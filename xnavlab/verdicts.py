@@ -28,11 +28,43 @@ never counted as a reproduction.
 ``CHECK FAILED``
     A check of ours that does not hold: a defect, which fails the tests.
 
+A claim decided by a parameter the paper lost
+---------------------------------------------
+Some of the papers' numbers are set by a parameter the paper does not give (a fault's size
+or rate, a threshold, the direction of an error, a filter's tuning), which we had to choose.
+Where the measurement shows that the lost parameter moves our number further than our noise
+does, our choice decides the verdict, and one rule applies (:func:`check_lost`): the claim is
+judged over the lost parameter's plausible values, one lost setting varied at a time (each
+setting's range is our single-run range shifted by that setting's measured effect), and
+
+* REPRODUCED when the paper's number lies inside our range at every plausible value: the
+  tolerance spans the lost parameter, and says so;
+* UNDECIDED when some plausible value reaches it and others do not, or when it lies outside
+  what the values we ran reach by less than their own spread (a lost parameter we could not
+  vary, such as an orbit, may move it that far): the reading names the lost parameter, what
+  our values reach, and what would decide it (the paper's value of that parameter);
+* NOT REPRODUCED only when no plausible value reaches it, by more than the spread the lost
+  parameter itself causes.
+
+A claim whose number does not move with a lost parameter beyond our noise is judged as above,
+at our choice, with the choice stated in the note.
+
+One claim, several rows
+-----------------------
+A claim of the paper may take several rows (one figure's curves, one table's pulsars, a ranking
+and the paired orders it is made of). Rows marked as parts of one claim (:func:`part_of`, the
+row's ``claim``) are counted once: the claim is REPRODUCED when every part is, NOT REPRODUCED
+when a part is, else UNDECIDED. Counts of "paper claims" (:func:`~xnavlab.reproduce.headline`)
+count claims, not rows.
+
 A reproduction's headline (:attr:`~xnavlab.reproduce.Result.verdict`, :data:`HEADLINES`) follows its claims:
 ``REPRODUCED`` (every claim), ``PARTLY REPRODUCED`` (some claims reproduced, others not or
 undecided), ``NOT REPRODUCED`` (claims, none reproduced, at least one refuted), ``UNDECIDED``
 (every claim undecided), ``CHECK`` (no claim of the paper: only checks), or ``ERROR`` (it
-raised or a check failed). A result is :attr:`~xnavlab.reproduce.Result.ok` when it has no error
+raised or a check failed). A reproduction that names its main claim
+(:attr:`~xnavlab.reproduce.Result.main`) follows it first: when the main claim is not
+reproduced, the headline is that claim's verdict (NOT REPRODUCED or UNDECIDED), whatever its
+lesser claims say. A result is :attr:`~xnavlab.reproduce.Result.ok` when it has no error
 and every check
 holds: that, and the verdicts recorded in ``tests/test_verdicts.py``, is what the tests
 assert; a claim that is not reproduced is an honest result, not a failure. :func:`~xnavlab.reproduce.headline`
@@ -43,7 +75,7 @@ is the one sentence that counts the claims and the checks, printed by
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -69,6 +101,10 @@ __all__ = [
     "check_order",
     "check_sanity",
     "check_measure",
+    "check_lost",
+    "check_event",
+    "part_of",
+    "combine",
     "show",
 ]
 
@@ -116,6 +152,9 @@ class Check:
     reading : str
         What the numbers say beyond the verdict: where the paper's number falls among our runs,
         by how much ours differs, or how many runs would decide an undecided claim.
+    claim : str
+        The paper's claim this row is a part of, when one claim takes several rows
+        (:func:`part_of`); empty: the row is a claim (or a check) of its own.
     """
 
     name: str
@@ -124,6 +163,7 @@ class Check:
     tolerance: str
     verdict: str
     reading: str = ""
+    claim: str = ""
 
     def __post_init__(self):
         if self.verdict not in VERDICTS:
@@ -429,6 +469,154 @@ def check_measure(name, ours, what, paper="not given"):
     if not (isinstance(what, str) and what.strip()):
         raise ValueError("what must say, in words, what the measurement shows")
     return Check(name, paper, ours, what.strip(), CHECK, "")
+
+
+def combine(verdicts):
+    """The verdict of one claim from the verdicts of its rows (:func:`part_of`).
+
+    Examples
+    --------
+    >>> combine(["REPRODUCED", "UNDECIDED"]), combine(["REPRODUCED", "NOT REPRODUCED"])
+    ('UNDECIDED', 'NOT REPRODUCED')
+    """
+    found = set(verdicts)
+    if not found or not found <= set(CLAIM_VERDICTS):
+        raise ValueError(f"verdicts must be claim verdicts ({', '.join(CLAIM_VERDICTS)}); "
+                         f"got {sorted(found)}")
+    if found == {REPRODUCED}:
+        return REPRODUCED
+    return NOT_REPRODUCED if NOT_REPRODUCED in found else UNDECIDED
+
+
+def part_of(claim, *rows):
+    """The claim rows ``rows`` marked as parts of one claim of the paper, counted once.
+
+    Use it where one claim takes several rows: one figure's curves, one table's entries, a
+    ranking and the paired orders it is made of. Checks of ours among ``rows`` are returned
+    unchanged.
+
+    Examples
+    --------
+    >>> a = check_rel("PR1 (s)", 50.0, 50.0, 0.01, why="one sample")
+    >>> b = check_rel("PR2 (s)", 50.0, 60.0, 0.01, why="one sample")
+    >>> [r.claim for r in part_of("steps detected at the onset", a, b)]
+    ['steps detected at the onset', 'steps detected at the onset']
+    """
+    if not (isinstance(claim, str) and claim.strip()):
+        raise ValueError("claim must say, in words, the paper's claim the rows are parts of")
+    return [replace(r, claim=claim.strip()) if r.claimed else r for r in rows]
+
+
+def check_lost(row, lost, reach, decides, unit=""):
+    """Judge again a claim whose number a parameter the paper lost decides (the module's rule).
+
+    ``row`` is the claim as judged at our choice of the lost parameter (its name, the paper's
+    number and ours are kept). ``reach`` gives, for each plausible value of the lost parameter
+    that we ran (one lost setting varied at a time), the range our number takes there: the
+    95 % range of our single runs, shifted by that setting's measured effect.
+
+    * REPRODUCED: the paper's number is inside the range of every plausible value.
+    * UNDECIDED: it is inside some and not others, inside the span of all of them (between
+      two values run, the number moves with the parameter), or outside that span by less than
+      the span's own width (a lost parameter we could not vary may move it that far).
+    * NOT REPRODUCED: outside the span by more than its width.
+
+    Parameters
+    ----------
+    row : Check
+        The claim, judged at our choice (e.g. by :func:`check_draw`).
+    lost : str
+        The lost parameter(s), in words ("the ramp rate of the paper's eq. (39)").
+    reach : dict of str -> (float, float)
+        Plausible value (a label, e.g. ``"rate 0.15 deg/h/s"``) -> our number's range there.
+        At least two values, our own choice among them.
+    decides : str
+        What would decide the claim ("the paper's ramp rate").
+    unit : str, optional
+        The number's unit, for the reading.
+
+    Examples
+    --------
+    >>> runs = np.linspace(3.5, 4.5, 40)
+    >>> row = check_draw("delay (s)", 2.5, runs)
+    >>> c = check_lost(row, "the ramp rate", {"ours, 0.1": (3.5, 4.5), "0.15": (2.3, 3.1)},
+    ...                "the paper's ramp rate", unit="s")
+    >>> c.verdict
+    'UNDECIDED'
+    >>> check_lost(row, "the ramp rate", {"ours": (3.9, 4.3), "0.09": (4.0, 4.4)},
+    ...            "the paper's ramp rate").verdict
+    'NOT REPRODUCED'
+    """
+    if not isinstance(row, Check) or not row.claimed:
+        raise ValueError("row must be a claim row (a Check with a claim verdict)")
+    for label, text, what in (("lost", lost, "the lost parameter"),
+                              ("decides", decides, "what would decide the claim")):
+        if not (isinstance(text, str) and text.strip()):
+            raise ValueError(f"{label} must say, in words, {what}")
+    paper = _finite("paper", row.paper)
+    if not isinstance(reach, dict) or len(reach) < 2:
+        raise ValueError("reach must map at least two plausible values (labels) to our (lo, hi) there")
+    spans = {}
+    for label, pair in reach.items():
+        lo, hi = (_finite("reach", v) for v in pair)
+        spans[str(label)] = (min(lo, hi), max(lo, hi))
+    lo = min(v[0] for v in spans.values())
+    hi = max(v[1] for v in spans.values())
+    inside = [k for k, (a, b) in spans.items() if a <= paper <= b]
+    u = f" {unit}" if unit else ""
+    span = f"ours spans {lo:.4g}-{hi:.4g}{u} over {len(spans)} plausible values ({'; '.join(spans)})"
+    tolerance = (f"{lost.strip()} is lost and moves our number further than our noise: judged "
+                 "over its plausible values, one varied at a time")
+    if len(inside) == len(spans):
+        return replace(row, tolerance=tolerance + ": inside our range at every one",
+                       verdict=REPRODUCED, reading=f"{span}; the paper's number is inside each")
+    gap = lo - paper if paper < lo else paper - hi if paper > hi else 0.0
+    if inside or gap <= hi - lo:
+        where = (f"reached at {'; '.join(inside)}" if inside else
+                 "inside their span" if gap == 0.0 else
+                 f"{gap:.3g}{u} {'below' if paper < lo else 'above'} their span, less than its width")
+        return replace(row, tolerance=tolerance, verdict=UNDECIDED,
+                       reading=f"the lost {lost.strip()} decides it: {span}; the paper's "
+                               f"{paper:g}{u} is {where}; {decides.strip()} would decide it")
+    side = "below" if paper < lo else "above"
+    return replace(row, tolerance=tolerance, verdict=NOT_REPRODUCED,
+                   reading=f"no plausible value reaches it: {span}; the paper's {paper:g}{u} is "
+                           f"{gap:.3g}{u} {side} them, more than the {hi - lo:.3g}{u} the lost "
+                           "parameter moves it")
+
+
+def check_event(name, paper, hits, why):
+    """An outcome the paper reports from one run (it happened), judged as one draw from ours.
+
+    ``hits`` says, per single run of ours, whether the outcome happened (at least
+    :data:`MIN_RUNS` runs). As for a number (:func:`check_draw`), the paper's single run is an
+    ordinary draw when it falls inside the 95 % range of our single runs, that is when at
+    least 2.5 % of ours show the outcome: REPRODUCED; else NOT REPRODUCED. How often ours show
+    it (the reliability) is in the reading: that is our measurement, not the paper's claim.
+
+    Examples
+    --------
+    >>> c = check_event("identified within 5 %", "identified", [True] * 26 + [False] * 14,
+    ...                 why="5 % read as 'on them'")
+    >>> c.verdict, c.reading
+    ('REPRODUCED', "26 of our 40 single runs (65 %) do what the paper's one run did: an ordinary draw")
+    >>> check_event("identified within 5 %", "identified", [False] * 40, why="w").verdict
+    'NOT REPRODUCED'
+    """
+    if not (isinstance(why, str) and why.strip()):
+        raise ValueError("why must say, in words, what counts as the outcome")
+    hits = np.asarray(hits, dtype=bool).ravel()
+    if hits.size < MIN_RUNS:
+        raise ValueError(f"hits must hold at least {MIN_RUNS} single runs; got {hits.size}")
+    k, n = int(hits.sum()), hits.size
+    share = k / n
+    ok = share >= 0.025
+    reading = (f"{k} of our {n} single runs ({100 * share:.0f} %) do what the paper's one run did: "
+               + ("an ordinary draw" if ok else "the paper's run would be a rare draw among ours"
+                  if k else "none does"))
+    return _claim(name, paper, f"{k} of {n} runs", ok,
+                  f"the paper's single run as one draw: at least 2.5 % of our {n} single runs "
+                  f"show it ({why.strip()})", reading)
 
 
 def show(x):
