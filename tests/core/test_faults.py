@@ -7,7 +7,15 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from xnavlab.core.faults import KINDS, Fault, fault_mask, format_spec, inject, parse_spec
+from xnavlab.core.faults import (
+    KINDS,
+    Fault,
+    check_faults,
+    fault_mask,
+    format_spec,
+    inject,
+    parse_spec,
+)
 
 COMPS = {"uv": ["range", "ux", "uy", "uz"], "xnav": ["0", "1", "2", "3"], "cns": ["0", "1", "2"]}
 T = np.arange(0.0, 20.0)
@@ -130,6 +138,71 @@ def test_parse_spec_errors_name_the_bad_part(spec, match):
 def test_format_parse_round_trip(sensor, kind, mag, onset, dur):
     f = Fault(sensor, kind, float(f"{mag:g}"), float(f"{onset:g}"), float(f"{dur:g}"), 0)
     assert parse_spec(format_spec([f], COMPS), COMPS) == [f]
+
+
+FINITE = st.floats(allow_nan=False, allow_infinity=False)
+
+
+@given(st.sampled_from(sorted(COMPS)), st.sampled_from(KINDS), FINITE.filter(lambda m: m > 0),
+       st.booleans(), FINITE, st.one_of(st.floats(1e-300, 1e300), st.just(math.inf)),
+       st.one_of(st.none(), st.integers(0, 1)))
+def test_a_saved_spec_reads_back_as_the_same_faults_to_the_last_bit(sensor, kind, mag, neg, onset,
+                                                                    dur, comp):
+    """format_spec wrote %g (1234.5678 became 1234.57): a re-run from a saved spec injected
+    another fault. Every float now comes back bit for bit; %g text where it was exact."""
+    f = Fault(sensor, kind, -mag if neg and kind != "noise" else mag, onset, dur, comp)
+    text = format_spec([f, Fault("cns", "step", 1.0, onset, 1.0, 2)], COMPS)
+    back = parse_spec(text, COMPS)
+    assert back[0] == f and all(isinstance(v, float) for v in (back[0].magnitude, back[0].onset))
+    assert format_spec(back, COMPS) == text
+
+
+def test_format_spec_keeps_the_g_text_where_it_is_exact():
+    f = Fault("uv", "step", 1234.5678, 12345.67, 10.123456, 0)
+    assert format_spec([f], COMPS) == "uv.range:step:1234.5678@12345.67+10.123456"
+    assert format_spec([Fault("uv", "step", 5e3, 7e5, 3e3, 0)], COMPS) == "uv.range:step:5000@700000+3000"
+
+
+def test_a_fault_listed_twice_is_refused_with_both_items():
+    """Injected twice it doubled its size; scored twice it counted one event as two faults."""
+    with pytest.raises(ValueError, match=r"^fault spec lists uv.range:step:1000@1000\+10 twice "
+                                         r"\(items 0 and 2\)"):
+        parse_spec("uv.range:step:1e3@1000+10,uv:step:1e3@1000+10,uv.0:step:1e3@1000+10", COMPS)
+    f = Fault("uv", "step", 1.0, 1.0, 1.0)
+    for call in (lambda: inject(T, np.zeros(20), [f, f], "uv"),
+                 lambda: fault_mask(T, [f, f], "uv"), lambda: format_spec([f, f], COMPS)):
+        with pytest.raises(ValueError, match=r"^faults lists uv:step:1@1\+1 twice \(items 0 and 1\)"):
+            call()
+
+
+@pytest.mark.parametrize("faults, match", [
+    (Fault("uv", "step", 1.0, 1.0, 1.0), r"^faults must be a sequence of Fault, got one Fault"),
+    ("uv:step:1@1+1", r"^faults must be a sequence of Fault, got the string .*parse_spec"),
+    (["uv:step:1@1+1"], r"^faults\[0\] must be a Fault, got 'uv:step:1@1\+1' \(a spec"),
+    (5, r"^faults must be a sequence of Fault, got int 5"),
+    ({"uv": 1}, r"^faults must be a sequence of Fault, got dict"),
+])
+def test_a_schedule_that_is_not_a_list_of_faults_is_refused_by_name(faults, match):
+    for call in (lambda: check_faults("faults", faults), lambda: inject(T, np.zeros(20), faults, "uv"),
+                 lambda: fault_mask(T, faults, "uv"), lambda: format_spec(faults, COMPS)):
+        with pytest.raises(ValueError, match=match):
+            call()
+
+
+def test_format_spec_names_a_component_or_sensor_it_has_no_name_for():
+    with pytest.raises(ValueError, match=r"^faults\[0\]: component must be in \[0, 3\] for "
+                                         r"sensor 'uv', got 99"):
+        format_spec([Fault("uv", "step", 1.0, 10.0, 5.0, 99)], COMPS)
+    with pytest.raises(ValueError, match=r"^faults\[0\]: sensor 'gps' has no component names"):
+        format_spec([Fault("gps", "step", 1.0, 10.0, 5.0)], COMPS)
+    for bad in ("uv", ["uv"], {"uv": "range"}):
+        with pytest.raises(ValueError, match="^components must be a dict of sensor name"):
+            parse_spec("uv:step:1@1+1", bad)
+
+
+def test_an_empty_series_takes_a_schedule_and_stays_empty():
+    out = inject(np.zeros(0), np.zeros((0, 3)), [Fault("uv", "step", 1.0, 1.0, 1.0)], "uv")
+    assert out.shape == (0, 3)
 
 
 def test_sample_times_and_measurements_are_checked_before_injection():

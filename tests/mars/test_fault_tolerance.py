@@ -124,10 +124,19 @@ def test_fault_inside_the_training_span_is_refused(inputs):
 
 @pytest.mark.parametrize("kw,name", [(dict(detector="kalman"), "detector"),
                                      (dict(pfa=0.0), "pfa"), (dict(check_every=0), "check_every"),
-                                     (dict(readmit_samples={"uv": 0}), "readmit_samples")])
+                                     (dict(readmit_samples={"uv": 0}), "readmit_samples"),
+                                     (dict(readmit_samples=0), "^readmit_samples must be a dict"),
+                                     (dict(readmit_samples=[("uv", 4)]), "^readmit_samples must")])
 def test_bad_arguments_name_the_parameter(inputs, kw, name):
     with pytest.raises(ValueError, match=name):
         ft.run_fault_tolerant(faults=[], inputs=inputs, train_days=TRAIN, **kw)
+
+
+def test_inject_inputs_takes_a_list_of_faults_and_names_anything_else(inputs):
+    with pytest.raises(ValueError, match=r"^faults must be a sequence of Fault, got the string"):
+        ft.inject_inputs(inputs, "uv.range:step:1e3@1000+10")
+    with pytest.raises(ValueError, match=r"^faults must be a sequence of Fault, got one Fault"):
+        ft.inject_inputs(inputs, Fault("uv", "step", 1e3, 1000.0, 10.0))
 
 
 def test_unknown_sensor_in_faults_is_refused():

@@ -391,3 +391,35 @@ def test_the_shortest_run_is_one_measurement():
     assert scenarios.MarsScenario(days=3.0 / 86400.0).span == 3.0
     with pytest.raises(ValueError, match=r"^days must span .* \(500 s"):
         scenarios.MarsScenario(days=0.001, subsystems=("xnav",))
+
+
+@pytest.mark.parametrize("call, match", [
+    (lambda: scenarios.MarsScenario(state0=np.zeros((1, 6))),
+     r"^state0 must be a 1-D array \(shape \(6,\)\), got shape \(1, 6\)"),
+    (lambda: scenarios.MarsScenario(state0=np.zeros((2, 6))), r"^state0 must be a 1-D array"),
+    (lambda: scenarios.run({"days": 1}), r"^scenario must be a MarsScenario, got dict"),
+    (lambda: scenarios.prepare("paper"), r"^scenario must be a MarsScenario, got str"),
+    (lambda: scenarios.prepare(None, dayz=1), r"^unknown override dayz: not a field of MarsScenario"),
+    (lambda: scenarios.run(dayz=1), r"^unknown override dayz"),
+])
+def test_a_wrong_shape_type_or_field_is_one_value_error_naming_it(call, match):
+    """Review 35 E.19-E.21: TypeError and AttributeError from deep inside before."""
+    with pytest.raises(ValueError, match=match):
+        call()
+
+
+def test_save_npz_writes_the_file_it_is_given_or_refuses_by_name(tmp_path):
+    """Review 35 C.10: a folder got a sibling file (numpy adds .npz); a missing parent a raw
+    FileNotFoundError from zipfile."""
+    res = scenarios.run(scenarios.MarsScenario(days=0.01))
+    (tmp_path / "dir.npz").mkdir()
+    with pytest.raises(ValueError, match=r"^path .* is a folder, not a file"):
+        res.save_npz(tmp_path / "dir.npz")
+    with pytest.raises(ValueError, match=r"^path must name a file ending in \.npz, got"):
+        res.save_npz(tmp_path)
+    assert not (tmp_path.parent / f"{tmp_path.name}.npz").exists()
+    res.save_npz(tmp_path / "no" / "dir" / "run.npz")          # a missing parent is made
+    assert np.load(tmp_path / "no" / "dir" / "run.npz")["t"].shape == res.t.shape
+    (tmp_path / "file").write_text("")
+    with pytest.raises(ValueError, match=r"^path .*: a part of its folder is a file"):
+        res.save_npz(tmp_path / "file" / "run.npz")

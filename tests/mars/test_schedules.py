@@ -222,3 +222,37 @@ def test_a_runs_span_that_is_not_a_positive_number_is_refused(span):
         s.scoring_span(Fault("uv", "step", 1.0, 100.0, 50.0), span=span)
     with pytest.raises(ValueError, match="^span must"):
         s.score_faults([], {}, span=span)
+
+
+def test_a_fault_listed_twice_is_refused_with_both_items():
+    """Review 35 B.3: one event scored as two faults (faults: 2, detected: 2)."""
+    sc = scenarios.MarsScenario(days=0.2)
+    f = Fault("uv", "step", 1e3, 1000.0, 10.0, 0)
+    with pytest.raises(ValueError, match=r"^faults lists uv.range:step:1000@1000\+10 twice "
+                                         r"\(items 0 and 1\)"):
+        s.check_schedule([f, f], sc)
+    with pytest.raises(ValueError, match=r"twice \(items 0 and 1\)"):
+        s.parse_faults("uv.range:step:1e3@1000+10,uv.range:step:1e3@1000+10", sc)
+    with pytest.raises(ValueError, match=r"^faults lists .* twice"):
+        s.score_faults([f, f], {})
+
+
+@pytest.mark.parametrize("call, match", [
+    (lambda sc: s.check_schedule(Fault("uv", "step", 1.0, 1000.0, 10.0), sc),
+     r"^faults must be a sequence of Fault, got one Fault"),
+    (lambda sc: s.check_schedule(["uv.range:step:1@1000+10"], sc), r"^faults\[0\] must be a Fault"),
+    (lambda sc: s.check_schedule([], {"days": 1}), r"^scenario must be a MarsScenario, got dict"),
+    (lambda sc: s.check_schedule([], None), r"^scenario must be a MarsScenario"),
+    (lambda sc: s.components({"days": 1}), r"^scenario must be a MarsScenario, got dict"),
+    (lambda sc: s.parse_faults("paper", "days=1"), r"^scenario must be a MarsScenario, got str"),
+    (lambda sc: s.score_faults([Fault("uv", "step", 1.0, 1000.0, 10.0)], {"uv": [1001.0]}),
+     r"^events\['uv'\]\[0\] must be a detection Event"),
+    (lambda sc: s.score_faults([], [1001.0]), r"^events must be a dict of sensor"),
+    (lambda sc: s.score_faults([], {"uv": 1001.0}), r"^events\['uv'\] must be a list"),
+    (lambda sc: s.score_faults([], {}, [("uv", 1.0, None)]), r"^isolations\[0\] must be a dict"),
+    (lambda sc: s.score_faults("uv:step:1@1+1", {}), r"^faults must be a sequence of Fault, got the"),
+])
+def test_a_wrong_type_is_one_value_error_naming_the_parameter(call, match):
+    """Review 35 E.20, E.22, E.26: AttributeError and TypeError from deep inside before."""
+    with pytest.raises(ValueError, match=match):
+        call(scenarios.MarsScenario(days=0.2))

@@ -33,6 +33,10 @@ whose duration is ignored; ``math.inf`` is a permanent fault), and a ``magnitude
 ``onset`` or finite ``duration`` that is NaN or infinite. Whether a fault falls inside a
 run and acts on at least one sample is the run's check
 (:func:`xnavlab.mars.schedules.check_schedule` for the Mars run).
+
+A schedule (:func:`check_faults`) is a sequence of :class:`Fault`: one Fault alone, a spec
+string or anything else is refused by name, and so is a fault listed twice (it would be
+injected twice, doubling its size, and scored as two faults).
 """
 
 from __future__ import annotations
@@ -46,7 +50,7 @@ import numpy as np
 
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, make_rng
 
-__all__ = ["KINDS", "Fault", "inject", "fault_mask", "parse_spec", "format_spec"]
+__all__ = ["KINDS", "Fault", "check_faults", "inject", "fault_mask", "parse_spec", "format_spec"]
 
 #: The fault kinds :class:`Fault` accepts.
 KINDS = ("step", "ramp", "spike", "stuck", "noise")
@@ -133,6 +137,55 @@ def _check_finite(name, value, unit):
         raise ValueError(f"{name} must be a finite real number, {unit}, got {value!r}")
 
 
+def check_faults(name, faults, components=None):
+    """``faults`` as a list of :class:`Fault`, or one ``ValueError`` naming ``name``.
+
+    Parameters
+    ----------
+    name : str
+        The parameter's name, for the message.
+    faults : sequence of Fault
+        A schedule; no fault may be listed twice (it would be injected twice and scored as
+        two faults).
+    components : dict of str to sequence of str, optional
+        Component names per sensor, to name a repeated fault in the spec form.
+
+    Returns
+    -------
+    list of Fault
+
+    Examples
+    --------
+    >>> f = Fault("uv", "step", 5.0, 1.0, 2.0, 0)
+    >>> len(check_faults("faults", (f,)))
+    1
+    >>> check_faults("faults", [f, f], {"uv": ["range"]})
+    Traceback (most recent call last):
+    ...
+    ValueError: faults lists uv.range:step:5@1+2 twice (items 0 and 1): a fault is injected and scored once
+    """
+    want = f"{name} must be a sequence of Fault"
+    if isinstance(faults, Fault):
+        raise ValueError(f"{want}, got one Fault: give [fault]")
+    if isinstance(faults, str | bytes):
+        raise ValueError(f"{want}, got the string {faults!r:.80}: read a fault spec with "
+                         "parse_spec (xnavlab.mars.schedules.parse_faults for the Mars run)")
+    if isinstance(faults, dict) or not hasattr(faults, "__iter__"):
+        raise ValueError(f"{want}, got {type(faults).__name__} {faults!r:.80}")
+    items = list(faults)
+    seen = {}
+    for i, f in enumerate(items):
+        if not isinstance(f, Fault):
+            hint = " (a spec: read it with parse_spec)" if isinstance(f, str) else ""
+            raise ValueError(f"{name}[{i}] must be a Fault, got {f!r:.80}{hint}")
+        if f in seen:
+            named = components is not None and f.sensor in components
+            raise ValueError(f"{name} lists {_item(f, components if named else None)} twice "
+                             f"(items {seen[f]} and {i}): a fault is injected and scored once")
+        seen[f] = i
+    return items
+
+
 def fault_mask(t, faults, sensor):
     """Samples of ``t`` at which any fault of ``sensor`` acts.
 
@@ -142,6 +195,7 @@ def fault_mask(t, faults, sensor):
     [False, True, False]
     """
     t = check_finite_array("t", t)
+    faults = check_faults("faults", faults)
     mask = np.zeros(t.shape, dtype=bool)
     for f in faults:
         if f.sensor == sensor:
@@ -178,10 +232,11 @@ def inject(t, z, faults, sensor, rng=None):
     """
     t = check_finite_array("t", t)
     z = check_finite_array("z", z).copy()
-    if t.ndim != 1 or z.shape[0] != t.shape[0]:
+    if t.ndim != 1 or z.ndim == 0 or z.shape[0] != t.shape[0]:
         raise ValueError(f"t must have shape (n,) matching z's first axis; got {t.shape}, {z.shape}")
+    faults = check_faults("faults", faults)
     rng = make_rng(rng)
-    out = z.reshape(len(t), -1).copy()
+    out = z.reshape(len(t), int(np.prod(z.shape[1:]))).copy()  # no sample: nothing to inject
     for f in faults:
         if f.sensor != sensor:
             continue
@@ -248,6 +303,7 @@ def parse_spec(spec, components):
     """
     if not isinstance(spec, str) or not spec.strip():
         raise ValueError("fault spec must be a non-empty string")
+    _check_components(components)
     faults = []
     for item in spec.split(","):
         item = item.strip()
@@ -257,7 +313,16 @@ def parse_spec(spec, components):
                 f"bad fault item {item!r}: expected SENSOR[.COMPONENT]:KIND:MAGNITUDE@ONSET+DURATION"
             )
         faults.append(_fault_from_match(item, m, components))
-    return faults
+    return check_faults("fault spec", faults, components)
+
+
+def _check_components(components):
+    """Component names per sensor: a dict of str to a sequence of str."""
+    if not isinstance(components, dict) or not all(
+            isinstance(k, str) and not isinstance(v, str) and hasattr(v, "__len__")
+            for k, v in components.items()):
+        raise ValueError(f"components must be a dict of sensor name to its component names, "
+                         f"got {components!r:.80}")
 
 
 def _fault_from_match(item, m, components):
@@ -293,15 +358,42 @@ def _fault_from_match(item, m, components):
 
 
 def format_spec(faults, components):
-    """Inverse of :func:`parse_spec` (component names where known).
+    """Inverse of :func:`parse_spec` (component names where known): parsed back, the text gives
+    the same faults, every number to the last bit (``%g`` where that is exact, else ``repr``).
 
     Examples
     --------
     >>> format_spec([Fault("uv", "step", 5.0, 1.0, 2.0, 0)], {"uv": ["range"]})
     'uv.range:step:5@1+2'
     """
+    _check_components(components)
     items = []
-    for f in faults:
-        comp = "" if f.component is None else "." + list(components[f.sensor])[f.component]
-        items.append(f"{f.sensor}{comp}:{f.kind}:{f.magnitude:g}@{f.onset:g}+{f.duration:g}")
+    for i, f in enumerate(check_faults("faults", faults)):
+        if f.sensor not in components:
+            raise ValueError(f"faults[{i}]: sensor {f.sensor!r} has no component names here "
+                             f"(known: {', '.join(sorted(components))})")
+        n = len(components[f.sensor])
+        if f.component is not None and f.component >= n:
+            raise ValueError(f"faults[{i}]: component must be in [0, {n - 1}] for sensor "
+                             f"{f.sensor!r}, got {f.component}")
+        items.append(_item(f, components))
     return ",".join(items)
+
+
+def _number(x):
+    """A number as a spec writes it: ``%g`` when that reads back exactly, else the shortest text
+    that does (``repr``), so that :func:`parse_spec` gives the same fault back."""
+    text = f"{x:g}"
+    return text if float(text) == x else repr(float(x))
+
+
+def _item(f, components):
+    """One fault in the spec form; its component by name (``components``) or index (None)."""
+    if f.component is None:
+        comp = ""
+    elif components is None:
+        comp = f".{f.component}"
+    else:
+        comp = "." + list(components[f.sensor])[f.component]
+    return (f"{f.sensor}{comp}:{f.kind}:{_number(f.magnitude)}@{_number(f.onset)}"
+            f"+{_number(f.duration)}")

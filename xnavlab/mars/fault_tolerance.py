@@ -126,7 +126,7 @@ from xnavlab.core.detection import (
     events_from_alarms,
 )
 from xnavlab.core.distributions import chi2_isf, norm_isf
-from xnavlab.core.faults import Fault, format_spec, inject  # noqa: F401 - Fault: the doctest
+from xnavlab.core.faults import Fault, check_faults, format_spec, inject  # noqa: F401 - Fault: the doctest
 from xnavlab.core.validate import check_choice, check_int, check_real, make_rng
 from xnavlab.mars import innovations, scenarios, schedules, sensors, watch
 from xnavlab.mars.schedules import (  # noqa: F401 - also importable from here, as before
@@ -171,7 +171,7 @@ def inject_inputs(inputs, faults, rng=None):
     """
     t0 = float(inputs.times[0])
     rng = make_rng(rng)
-    faults = list(faults)
+    faults = check_faults("faults", faults)  # a spec string: read it with parse_faults first
     for f in faults:
         if f.sensor not in inputs.z:
             raise ValueError(f"faults: sensor {f.sensor!r} is not in this run "
@@ -424,7 +424,10 @@ def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=
                                 {}, time.perf_counter() - t_start)
     win = {"uv": 100, "cns": 100, "xnav": 4}
     if readmit_samples is not None:
-        for k, v in dict(readmit_samples).items():
+        if not isinstance(readmit_samples, dict):
+            raise ValueError(f"readmit_samples must be a dict of subsystem -> samples, e.g. "
+                             f"{{'uv': 100}}, got {readmit_samples!r:.80}")
+        for k, v in readmit_samples.items():
             check_choice("readmit_samples key", k, scenarios.SUBSYSTEMS)
             win[k] = check_int(f"readmit_samples[{k!r}]", v, 1)
     loop = _Loop(faulty, faults, detector, pfa, alpha, train_days, win, readmit_alpha, xnav_level,

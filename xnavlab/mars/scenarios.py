@@ -54,7 +54,7 @@ import math
 import sys
 import time
 from collections import OrderedDict
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field, fields, replace
 
 import numpy as np
 
@@ -62,12 +62,13 @@ from xnavlab.core import ephemeris
 from xnavlab.core.constants import DAY, GM_MARS, C
 from xnavlab.core.federated import MODES, FederatedFilter
 from xnavlab.core.filters import chi2_bounds
+from xnavlab.core.userfiles import output_path
 from xnavlab.core.validate import (
     check_choice,
-    check_finite_array,
     check_int,
     check_items,
     check_real,
+    check_vector,
     make_rng,
 )
 from xnavlab.mars import (
@@ -98,6 +99,7 @@ __all__ = [
     "default_settle_days",
     "Inputs",
     "MarsRun",
+    "check_scenario",
     "prepare",
     "run",
     "nees_monte_carlo",
@@ -109,6 +111,33 @@ _KIND = {"xnav": 0, "uv": 1, "cns": 2}
 
 #: Default white-acceleration noise PSD of the filters, m^2/s^3 (see :class:`MarsScenario`).
 DEFAULT_Q_ACC = 1.0e-11
+
+
+def check_scenario(name, value):
+    """``value`` if it is a :class:`MarsScenario`, ``MarsScenario()`` for None, else one
+    ValueError naming ``name`` (a dict of fields is not a scenario: ``MarsScenario(**fields)``).
+
+    Examples
+    --------
+    >>> check_scenario("scenario", None).days
+    30.0
+    >>> check_scenario("scenario", {"days": 1})
+    Traceback (most recent call last):
+    ...
+    ValueError: scenario must be a MarsScenario, got dict {'days': 1} (build one with MarsScenario(**fields))
+    """
+    if value is None:
+        return MarsScenario()
+    if not isinstance(value, MarsScenario):
+        hint = " (build one with MarsScenario(**fields))" if isinstance(value, dict) else ""
+        raise ValueError(f"{name} must be a MarsScenario, got {type(value).__name__} "
+                         f"{_short(value)}{hint}")
+    return value
+
+
+def _short(value):
+    text = repr(value)
+    return text if len(text) <= 80 else text[:77] + "..."
 
 
 def default_settle_days(days):
@@ -294,7 +323,7 @@ class MarsScenario:
         check_real("record_dt", self.record_dt, 0.1, 86400.0)
         check_int("seed", self.seed, 0, 2**63 - 1)
         check_real("t0", self.t0)
-        s0 = check_finite_array("state0", self.state0, shape=(6,))
+        s0 = check_vector("state0", self.state0, 6)
         object.__setattr__(self, "state0", tuple(float(v) for v in s0))
 
     @classmethod
@@ -459,8 +488,13 @@ def prepare(scenario=None, **overrides):
     >>> inp.times[:3] - inp.times[0], inp.z["uv"].shape
     (array([0., 3., 6.]), (288, 4))
     """
-    sc = scenario if scenario is not None else MarsScenario()
+    sc = check_scenario("scenario", scenario)
     if overrides:
+        unknown = sorted(set(overrides) - {f.name for f in fields(MarsScenario)})
+        if unknown:
+            raise ValueError(f"unknown override {', '.join(unknown)}: not a field of "
+                             f"MarsScenario (the fields: "
+                             f"{', '.join(f.name for f in fields(MarsScenario))})")
         sc = replace(sc, **overrides)
     rng = make_rng(sc.seed)
     span = sc.span
@@ -626,7 +660,15 @@ class MarsRun:
         return out
 
     def save_npz(self, path, **extra):
-        """Write the recorded time series (and ``extra`` named arrays) to ``path`` (npz)."""
+        """Write the recorded time series (and ``extra`` named arrays) to ``path`` (npz).
+
+        ``path`` names a file ending in ``.npz`` (numpy would append it to any other name and
+        write a sibling); a missing parent folder is made; a folder, a file on the way or an
+        unwritable folder is one ValueError naming the path, before anything is written.
+        """
+        if not str(path).endswith(".npz"):
+            raise ValueError(f"path must name a file ending in .npz, got {str(path)!r}")
+        path = output_path(path, "path")
         np.savez_compressed(
             path, t=self.t, x=self.x, P=self.P, truth=self.truth, x_local=self.x_local,
             P_local_diag=self.P_local_diag, position_error=self.position_error(),

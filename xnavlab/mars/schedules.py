@@ -38,7 +38,7 @@ import math
 import numpy as np
 
 from xnavlab.core.constants import DAY
-from xnavlab.core.faults import Fault, format_spec, parse_spec
+from xnavlab.core.faults import Fault, check_faults, format_spec, parse_spec
 from xnavlab.core.validate import check_real
 from xnavlab.mars import pulsar_specs, scenarios
 
@@ -95,7 +95,7 @@ def components(scenario=None):
     >>> components()["uv"]
     ('range', 'ux', 'uy', 'uz')
     """
-    sc = scenario if scenario is not None else scenarios.MarsScenario()
+    sc = scenarios.check_scenario("scenario", scenario)
     n_stars = len(sc.stars) if sc.stars else 3
     comps = {
         "xnav": pulsar_specs.fault_names(sc.pulsars),  # B1937, J0030, ... (any pulsar)
@@ -135,7 +135,7 @@ def paper_schedule(uv_step_sigma=5.0, uv_duration=5000.0, xnav_step_s=1.0e-5,
     >>> len(fs), fs[0].sensor, fs[0].magnitude
     (16, 'xnav', 1e-05)
     """
-    sc = scenario if scenario is not None else scenarios.MarsScenario()
+    sc = scenarios.check_scenario("scenario", scenario)
     uv_step_sigma = check_real("uv_step_sigma", uv_step_sigma, 0.0, 1000.0, lo_open=True)
     cns_step_sigma = check_real("cns_step_sigma", cns_step_sigma, 0.0, 1000.0, lo_open=True)
     for name, v in (("uv_duration", uv_duration), ("xnav_duration", xnav_duration),
@@ -170,7 +170,7 @@ def parse_faults(spec, scenario=None):
     >>> [f.component for f in parse_faults("uv.range:step:5000@700000+3000,xnav.1:ramp:2e-9@5e5+5000")]
     [0, 1]
     """
-    sc = scenario if scenario is not None else scenarios.MarsScenario()
+    sc = scenarios.check_scenario("scenario", scenario)
     if isinstance(spec, str) and spec.strip() == "paper":
         return paper_schedule(scenario=sc)
     if isinstance(spec, str) and "xnav" in sc.subsystems:
@@ -215,8 +215,12 @@ def check_schedule(faults, scenario, detector="combined", train_days=1.0, paper=
     ...     print(str(exc).split("; ")[1])
     run at least --days 27.84 (this run: 5 days)
     """
+    if scenario is None:
+        raise ValueError("scenario must be a MarsScenario (the run the faults are for), got None")
+    scenario = scenarios.check_scenario("scenario", scenario)
     span = float(scenario.span)
-    faults = list(faults)
+    comps = components(scenario)
+    faults = check_faults("faults", faults, comps)
     late = [f for f in faults if not 0.0 <= f.onset < span]
     if late and paper:
         last = max(f.onset for f in faults)
@@ -224,7 +228,6 @@ def check_schedule(faults, scenario, detector="combined", train_days=1.0, paper=
         raise ValueError(f"faults: the paper's schedule has onsets up to {last:.0f} s "
                          f"({last / DAY:.2f} days); run at least --days {math.ceil(need * 100) / 100:g} "
                          f"(this run: {span / DAY:g} days)")
-    comps = components(scenario)
     for f in late:
         if f.onset < 0.0:
             raise ValueError(f"faults: {format_spec([f], comps)} starts at {f.onset:.6g} s, before "
@@ -296,7 +299,7 @@ def sample_intervals(scenario=None):
     >>> sample_intervals()
     {'xnav': 500.0, 'uv': 3.0, 'cns': 3.0}
     """
-    sc = scenario if scenario is not None else scenarios.MarsScenario()
+    sc = scenarios.check_scenario("scenario", scenario)
     dts = {"xnav": sc.dt_xnav, "uv": sc.dt_uv, "cns": sc.dt_cns}
     return {s: float(dts[s]) for s in sc.subsystems}
 
@@ -424,8 +427,10 @@ def score_faults(faults, events, isolations=(), *, span=math.inf, dt=None):
     >>> out["faults"][0]["status"], out["faults"][0]["delay_s"], out["faults"][0]["out_at_onset"]
     ('detected', 0.0, True)
     """
-    faults = list(faults)
+    faults = check_faults("faults", faults)
     span = _span(span)
+    events = _check_events(events)
+    isolations = _check_isolations(isolations)
     for f in faults:
         if f.sensor not in LATE_WINDOW_S:
             raise ValueError(f"faults: sensor {f.sensor!r} has no late window "
@@ -465,6 +470,42 @@ def score_faults(faults, events, isolations=(), *, span=math.inf, dt=None):
                        else ("false alarm", None))
         out.append({"sensor": s, "onset": t, "match": role[j][0], "fault": role[j][1]})
     return {"faults": per, "alarms": out}
+
+
+def _check_events(events):
+    """A detector's events: a dict of sensor -> sequence of objects with an ``onset``, s."""
+    if not isinstance(events, dict):
+        raise ValueError(f"events must be a dict of sensor -> list of detection Events, got "
+                         f"{type(events).__name__} {_short(events)}")
+    for sensor, evs in events.items():
+        if isinstance(evs, str | dict) or not hasattr(evs, "__iter__"):
+            raise ValueError(f"events[{sensor!r}] must be a list of detection Events, got "
+                             f"{_short(evs)}")
+        for i, e in enumerate(evs):
+            onset = getattr(e, "onset", None)
+            if isinstance(onset, bool) or not isinstance(onset, int | float | np.integer
+                                                         | np.floating):
+                raise ValueError(f"events[{sensor!r}][{i}] must be a detection Event (with an "
+                                 f"onset, s: xnavlab.core.detection.Event), got {_short(e)}")
+    return events
+
+
+def _check_isolations(isolations):
+    """Isolation intervals: dicts with ``sensor``, ``out`` and ``back`` (s or None)."""
+    if isinstance(isolations, str | dict) or not hasattr(isolations, "__iter__"):
+        raise ValueError(f"isolations must be a list of dicts (sensor, out, back), got "
+                         f"{_short(isolations)}")
+    isolations = list(isolations)
+    for i, iv in enumerate(isolations):
+        if not isinstance(iv, dict) or not {"sensor", "out", "back"} <= set(iv):
+            raise ValueError(f"isolations[{i}] must be a dict with keys sensor, out and back, "
+                             f"got {_short(iv)}")
+    return isolations
+
+
+def _short(value):
+    text = repr(value)
+    return text if len(text) <= 80 else text[:77] + "..."
 
 
 def fault_detection_delays(faults, events, isolations=(), *, span=math.inf, dt=None):
