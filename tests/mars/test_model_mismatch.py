@@ -1,5 +1,6 @@
 """Matched vs mismatched: the three cases, their set-ups, the table's columns and its cache."""
 
+import numpy as np
 import pytest
 
 from xnavlab.mars import force_models, model_mismatch, scenarios
@@ -64,3 +65,18 @@ def test_each_local_filter_s_nis_is_judged_from_the_same_cached_runs(tmp_path, m
     assert rows[6]["subsystem"] == "xnav" and rows[6]["nis_verdict"] == "optimistic"
     assert len(list(tmp_path.glob("mismatch-runs-*.json"))) == 1      # the table's runs
     assert model_mismatch.subsystem_nis(days=0.05, seeds=(0, 1)) == rows
+
+def test_q_sweep_a_filter_without_process_noise_claims_more_than_it_has():
+    out = model_mismatch.q_sweep((0.0, 1e-9), days=0.3, cache=False)
+    (rms0, sigma0, _), (rms9, sigma9, _) = out["rms_sigma_nees"]
+    assert out["q"].tolist() == [0.0, 1e-9]
+    assert sigma0 < sigma9                 # more process noise, a larger claimed sigma
+    assert np.all(np.isfinite(out["rms_sigma_nees"])) and rms0 > 0 and rms9 > 0
+
+
+@pytest.mark.parametrize("bad", [dict(q_values=()), dict(q_values=(-1e-11,)),
+                                 dict(q_values=((1e-11,),)), dict(days=0.0)])
+def test_q_sweep_checks_its_arguments(bad):
+    with pytest.raises(ValueError, match="q_values|days"):
+        model_mismatch.q_sweep(**bad, cache=False)
+

@@ -19,8 +19,9 @@ with a random initial error drawn from N(0, P0) (so the NEES is a fair test):
 :func:`mismatch_table` returns one row per case (errors averaged over the seeds, the NEES
 judged against its chi-square band); :func:`mismatch_runs` the per-seed numbers behind it;
 :func:`subsystem_nis` the same runs seen by each local filter of the federated filter (its NIS,
-the test a local can make without the truth).
-Both are cached on disk (keyed by their arguments and the package's source), so a chapter
+the test a local can make without the truth); :func:`q_sweep` the matched set-up filtered with a
+range of process noises (what too little or too much ``q`` costs).
+All are cached on disk (keyed by their arguments and the package's source), so a chapter
 that calls them after ``python -m xnavlab warmup`` (or a first call) reads the numbers back.
 
 Examples
@@ -40,16 +41,19 @@ from dataclasses import replace
 import numpy as np
 
 from xnavlab.core.constants import DAY
-from xnavlab.core.diskcache import entry_path, store
+from xnavlab.core.diskcache import cached_arrays, entry_path, store
 from xnavlab.core.filters import chi2_bounds, consistency_verdict, judge_series
-from xnavlab.core.validate import check_int, check_real
+from xnavlab.core.validate import check_finite_array, check_int, check_real
 from xnavlab.mars import scenarios
 
 __all__ = ["CASES", "case_scenario", "mismatch_runs", "mismatch_table", "TABLE_COLUMNS",
-           "setup_note", "subsystem_nis"]
+           "setup_note", "subsystem_nis", "q_sweep", "SWEEP_Q_ACC"]
 
 #: The three cases, in the order of the table.
 CASES = ("matched", "mismatched, derived q", "mismatched, default q")
+
+#: The process noises :func:`q_sweep` tries by default, m^2/s^3 (the book's default 1e-11 among them).
+SWEEP_Q_ACC = (0.0, 1e-12, 1e-11, 1e-10, 1e-9)
 
 #: Columns of :func:`mismatch_table` for a chapter's table (``html_table(rows, TABLE_COLUMNS)``).
 TABLE_COLUMNS = ("case", "truth_model", "filter_model", "q_acc", "position_error_m",
@@ -274,3 +278,58 @@ def subsystem_nis(days=30.0, seeds=(0, 1, 2, 3, 4), settle_days=None, cache=True
                          "nis_verdict": consistency_verdict(nis, lo, hi) if count else "no updates",
                          "updates": count})
     return rows
+
+def q_sweep(q_values=SWEEP_Q_ACC, days=8.0, cache=True):
+    """The paper's navigation filtered with each process noise: error, claimed sigma, NEES.
+
+    One truth and one set of noisy measurements (:func:`xnavlab.mars.scenarios.prepare`, the
+    paper's set-up: truth and filter share the force model) are filtered once per ``q_acc``;
+    each run is judged over its second half, when the initial error has gone. A ``q`` too small
+    makes the filter claim more than it has (NEES above 6); a large one makes it trust its
+    dynamics little between measurements. The result is cached on disk (keyed by the
+    arguments and this code), as :func:`mismatch_table` is.
+
+    Parameters
+    ----------
+    q_values : sequence of float
+        White-acceleration PSDs to try, m^2/s^3, each >= 0.
+    days : float
+        Length of the run, days, > 0.
+    cache : bool
+        Read and write the on-disk cache.
+
+    Returns
+    -------
+    dict
+        ``"q"``: shape (n,), the PSDs, m^2/s^3; ``"rms_sigma_nees"``: shape (n, 3), per PSD the
+        RMS position error (m), the RMS of the filter's own 1-sigma position (m) and the mean
+        NEES of the six-dimensional state, all over the second half of the run.
+
+    Examples
+    --------
+    >>> out = q_sweep((0.0, 1e-11), days=0.05, cache=False)
+    >>> out["q"].shape, out["rms_sigma_nees"].shape
+    ((2,), (2, 3))
+    """
+    q = check_finite_array("q_values", q_values, shape=None)
+    if q.ndim != 1 or q.size == 0 or np.any(q < 0):
+        raise ValueError(f"q_values must be a non-empty sequence of PSDs >= 0, got {q_values!r}")
+    days = check_real("days", days, 0.0, lo_open=True)
+
+    def compute():
+        base = scenarios.prepare(days=days)                 # one truth, one set of noise
+        rows = []
+        for q_acc in q:
+            base.scenario = scenarios.MarsScenario(days=days, q_acc=float(q_acc))
+            res = scenarios.run(inputs=base)
+            late = res.t_days >= days / 2                   # the second half of the run
+            rows.append([res.metrics(days / 2)["position_error_m"],
+                         np.sqrt(np.mean(res.sigma_position()[late] ** 2)),
+                         res.nees()[late].mean()])
+        return {"q": q.copy(), "rms_sigma_nees": np.array(rows)}
+
+    if not cache:
+        return compute()
+    path = entry_path("q-sweep", (tuple(float(v) for v in q), days),
+                      modules=(__name__,))
+    return cached_arrays(path, compute)
