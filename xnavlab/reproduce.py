@@ -68,6 +68,8 @@ from xnavlab.verdicts import (  # noqa: F401 - re-exported: reproduce.check_rel 
     Check,
     check_abs,
     check_draw,
+    check_event,
+    check_lost,
     check_measure,
     check_order,
     check_range,

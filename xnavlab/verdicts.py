@@ -565,8 +565,8 @@ def check_lost(row, lost, reach, decides, unit=""):
     inside = [k for k, (a, b) in spans.items() if a <= paper <= b]
     u = f" {unit}" if unit else ""
     span = f"ours spans {lo:.4g}-{hi:.4g}{u} over {len(spans)} plausible values ({'; '.join(spans)})"
-    tolerance = (f"{lost.strip()} is lost and moves our number further than our noise: judged "
-                 "over its plausible values, one varied at a time")
+    tolerance = (f"the paper lost the {lost.strip()}, which moves our number further than our "
+                 "noise: judged over its plausible values, one varied at a time")
     if len(inside) == len(spans):
         return replace(row, tolerance=tolerance + ": inside our range at every one",
                        verdict=REPRODUCED, reading=f"{span}; the paper's number is inside each")
