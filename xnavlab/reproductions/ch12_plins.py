@@ -24,9 +24,11 @@ from xnavlab.plins.pseudolites import DEFAULT_SIGMA, SENSOR
 from xnavlab.reproduce import (
     Result,
     check_abs,
+    check_event,
     check_measure,
     check_range,
     check_true,
+    part_of,
     register,
     save_figure,
 )
@@ -38,6 +40,9 @@ __all__: list[str] = []  # registers reproductions; exports nothing
 #: the order of a pseudolite clock jump of one microsecond, c * 1 us = 300 m; PR4 is
 #: kept healthy to show isolation).
 STEP_SIZES_M = (300.0, -200.0, 450.0, 0.0)
+#: The claims of plins-step that take one row per faulty pseudorange (Figs. 2 and 3).
+STEP_CLAIMS = ("faulty pseudoranges detected at the onset (Fig. 2)",
+               "step sizes identified (Fig. 3)")
 #: Step onset, s (paper: "t > 50 s").
 STEP_ONSET = 50.0
 #: Ramp of the paper on pseudorange 1: slope (m/s), offset (m), onset (s).
@@ -118,6 +123,10 @@ def plins_step(out=None, seed=0, n_runs=40, sigma=DEFAULT_SIGMA, sizes=STEP_SIZE
                                   "identified", within, 0.95, 1.0,
                                   why="the paper's estimate settles on the injected size; 5 % "
                                       "read as 'on it', in at least 95 % of single runs"))
+    # one claim per figure: the faulty pseudoranges' rows are parts of it (counted once)
+    checks = [part_of(STEP_CLAIMS[0], c)[0] if c.name.endswith("detection time (s)") else
+              part_of(STEP_CLAIMS[1], c)[0] if " identified within 5 % of the step" in c.name else c
+              for c in checks]
     spread = {f"PR{j + 1}": float(np.std(mc[:, j, 0])) for j, f in enumerate(sizes) if f != 0.0}
     note = (
         _common_note(sigma)
@@ -180,10 +189,11 @@ def plins_ramp(out=None, seed=0, n_runs=40, sigma=DEFAULT_SIGMA, time_origin="ab
     within = np.all(np.abs(mc - [RAMP_A, RAMP_B]) <= 0.05 * np.abs([RAMP_A, RAMP_B]), axis=1)
     idn = d.identification.get(0)
     est = idn.final if idn is not None else np.full(2, math.nan)
-    checks.append(check_range(f"a and b both identified within 5 %, share of {n_runs} runs",
-                              "identified", float(np.mean(within)), 0.95, 1.0,
-                              why="the paper's single run settles on a and b; 5 % read as 'on "
-                                  "them', in at least 95 % of single runs"))
+    # the paper's one run settles on a and b: judged as one draw among our single runs (the
+    # registry's single-run rule); how often ours do it (the reliability) is our measurement
+    checks.append(check_event(f"a and b both identified within 5 %, share of {n_runs} runs",
+                              "identified", within,
+                              why="'settles on a and b' read as within 5 % of both, our reading"))
     for i, (name, truth) in enumerate((("slope a (m/s)", RAMP_A), ("offset b (m)", RAMP_B))):
         if not np.isfinite(mean[i]):
             checks.append(check_measure(f"{name}, mean of {n_runs} runs", "no run identified it",
@@ -195,9 +205,13 @@ def plins_ramp(out=None, seed=0, n_runs=40, sigma=DEFAULT_SIGMA, time_origin="ab
         checks.append(check_measure(f"{name}, seed {seed}",
                                     float(est[i]) if np.isfinite(est[i]) else "not identified",
                                     "the run the chapter plots", paper=truth))
-    note = (_common_note(sigma) + _RAMP_READINGS[time_origin] + " Detected "
-            + (f"{delay:g} s after the onset (the kink must build up). " if det is not None
-               else "never in the shown run. ")
+    note = (_common_note(sigma) + _RAMP_READINGS[time_origin] + " "
+            + ("Never detected in the shown run. " if det is None else
+               "Detected at the onset" + (f" (the {RAMP_B:g} m jump of this reading shows at once). "
+                                          if time_origin == "onset" else ". ") if delay == 0 else
+               f"Detected {delay:g} s after the onset"
+               + (" (a drift from zero: the kink must build up). " if time_origin == "absolute"
+                  else ". "))
             + _identification_text(n_runs, mean, std, within, sigma))
     result = Result(
         "plins-ramp", checks, note=note,
@@ -227,17 +241,20 @@ def _identification_text(n_runs, mean, std, within, sigma):
     """What the Monte Carlo of the ramp's identification shows, for the case measured."""
     found = np.isfinite(mean).all()
     if not found:
-        return (f"No run of {n_runs} identified the ramp at {sigma:g} m noise, so there is no "
-                "identification to judge.")
+        return (f"No run of {n_runs} identified the ramp at {sigma:g} m noise: the paper's one "
+                "run, which did, is not among ours at this reading of the noise (the row above).")
     unbiased = bool(np.all(np.abs(mean - [RAMP_A, RAMP_B]) <= 0.05 * np.abs([RAMP_A, RAMP_B])))
     text = (f"Over {n_runs} runs at {sigma:g} m noise the identified a and b average "
             f"{mean[0]:.2f} m/s and {mean[1]:.1f} m ("
             + ("within 5 % of the truth: unbiased" if unbiased else "more than 5 % off the truth")
             + f"), with a 1-sigma spread of {std[0] / RAMP_A:.1%} for a and "
             f"{std[1] / abs(RAMP_B):.1%} for b; a single run is within 5 % of both in "
-            f"{np.mean(within):.0%} of runs.")
+            f"{100 * np.mean(within):.0f} % of runs, so the paper's single run, which settles on "
+            "them, is " + ("an ordinary draw among ours." if np.mean(within) >= 0.025 else
+                           "a rare draw among ours."))
     if np.mean(within) < 0.95:
-        text += (" The reason is information, not tuning: a ramp that fills the window is "
+        text += (" That it fails in the other runs is our finding, not the paper's claim; the "
+                 "reason is information, not tuning: a ramp that fills the window is "
                  "absorbed by the INS velocity error along the line of sight (and the clock), "
                  "so only the s windows straddling the kink carry information about a.")
     return text
