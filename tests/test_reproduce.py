@@ -212,7 +212,8 @@ def test_report_html_is_safe_and_says_what_the_cli_says():
     assert reproduce.headline(results) in page
     count, summary, checks = _tables(page)
     assert count[0] == list(reproduce.COUNT_HEADER)
-    assert count[1][1:4] == ["2", "1", "1"] and count[2][4:] == ["1", "0"]
+    assert count[1][1:4] == ["2", "1", "1"] and count[3][4:] == ["1", "0"]
+    assert count[1][0] == "claims of the papers" and count[2][1:4] == ["2", "1", "1"]  # rows
     assert summary[0] == list(reproduce.SUMMARY_HEADER)
     assert checks[0] == list(reproduce.CHECK_HEADER)
     for table in (summary, checks):
