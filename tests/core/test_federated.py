@@ -190,3 +190,17 @@ def test_complex_or_non_flag_inputs_are_refused_by_name():
         ff.predict(lambda x: x, np.eye(2), np.eye(2) * (1 + 0j))
     with pytest.raises(ValueError, match=r"^n_local must be an integer in \[1, inf\), got 0$"):
         federated.FederatedFilter(np.zeros(2), np.eye(2), n_local=0)
+
+
+@pytest.mark.parametrize("names, match", [
+    (["a"], r"^names must hold 2 names, one for each local filter \(n_local\), got 1"),
+    ("ab", r"^names must be a list of names, got the string 'ab'"),
+    (["a", "a"], r"^names lists a twice \(items 0 and 1\)"),
+    (["a", 3], r"^names\[1\] must be a non-empty string, got 3"),
+])
+def test_names_are_one_distinct_string_per_local(names, match):
+    """Review 35 F.27: a short list raised zip()'s error, a string became its letters."""
+    with pytest.raises(ValueError, match=match):
+        federated.FederatedFilter(np.zeros(2), np.eye(2), n_local=2, names=names)
+    assert federated.FederatedFilter(np.zeros(2), np.eye(2), n_local=2, names=("uv", "cns")).names \
+        == ("uv", "cns")

@@ -259,3 +259,47 @@ def test_the_step_helpers_refuse_complex_and_nan_by_name(call, name, bad):
 def test_a_ukf_step_on_a_singular_covariance_names_it():
     with pytest.raises(ValueError, match=r"^P must be positive definite, but it is singular"):
         filters.sigma_points(np.zeros(2), np.diag([1.0, 0.0]), 0.0)
+
+
+I2 = np.eye(2)
+
+
+@pytest.mark.parametrize("call, match", [
+    (lambda: filters.joseph(I2, 0.5 * I2, I2, np.diag([1.0, -1.0])), r"^R must be positive definite"),
+    (lambda: filters.joseph(-I2, 0.5 * I2, I2, I2), r"^P must be positive semi-definite"),
+    (lambda: filters.ekf_update(np.zeros(2), I2, np.zeros(2), np.zeros(2), I2, I2,
+                                residual=lambda a, b: np.array([np.nan, 0.0])),
+     r"^residual\(z, h\(x\)\) must contain only finite numbers"),
+    (lambda: filters.ekf_update(np.zeros(2), I2, np.zeros(2), np.zeros(2), I2, I2,
+                                residual=lambda a, b: np.zeros(3)),
+     r"^residual\(z, h\(x\)\) must have shape \(2,\), got shape \(3,\)"),
+    (lambda: filters.ekf_update(np.zeros(2), I2, np.zeros(3), np.zeros(2), I2, I2),
+     r"^z must have length 2 \(the rows of H\), got length 3"),
+    (lambda: filters.ekf_update(np.zeros(2), I2, np.zeros(3), np.zeros(2), I2, np.eye(3)),
+     r"^H must have shape \(3, 2\)"),   # z and R agree: H is the odd one out
+    (lambda: filters.ekf_update(np.zeros(2), I2, np.zeros(0), np.zeros(2), I2, I2),
+     r"^z must hold at least one measurement component"),
+    (lambda: filters.ukf_update(np.zeros(2), I2, np.zeros(3), lambda s: s, I2),
+     r"^z must have length 2 \(the length of h\(x\)\), got length 3"),
+    (lambda: filters.ukf_update(np.zeros(2), I2, np.zeros(2), lambda s: s, np.eye(3)),
+     r"^R must be a square matrix of shape \(2, 2\)"),
+    (lambda: filters.nees(np.zeros(0), np.zeros((0, 0))), r"^err must hold at least one component"),
+    (lambda: filters.nis(np.zeros((5, 0)), np.zeros((5, 0, 0))), r"^nu must hold at least one"),
+    (lambda: filters.ekf_predict(np.zeros(0), np.zeros((0, 0)), np.zeros(0), np.zeros((0, 0)),
+                                 np.zeros((0, 0))), r"^x must hold at least one state component"),
+    (lambda: filters.EKF(np.zeros(0), np.zeros((0, 0))), r"^x0 must hold at least one state"),
+    (lambda: filters.unscented_transform(np.zeros((0, 2)), np.zeros(0), np.zeros(0)),
+     r"^Y must have shape \(2n\+1, m\) with m >= 1, got shape \(0, 2\)"),
+    (lambda: filters.unscented_transform(np.zeros((3, 0)), np.ones(3), np.ones(3)), r"^Y must have"),
+])
+def test_a_bad_matrix_or_length_is_named_for_what_it_is(call, match):
+    """Review 35 D.14, D.15, D.17, E.24, F.27: an indefinite R made a singular covariance; a
+    residual's NaN became the state; a wrong z blamed H (ekf) or R (ukf); empty states passed."""
+    with pytest.raises(ValueError, match=match):
+        call()
+
+
+def test_the_unchecked_path_is_unchanged():
+    up = filters.ekf_update(np.zeros(2), I2, np.ones(2), np.zeros(2), I2, I2, check=False)
+    assert np.array_equal(up.x, filters.ekf_update(np.zeros(2), I2, np.ones(2), np.zeros(2), I2,
+                                                   I2).x)

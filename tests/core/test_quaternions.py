@@ -137,7 +137,7 @@ def test_normalize_and_conjugate():
         (qt.kinematics_matrix, ([0.0, 0.0, 0.1], float("nan")), "dt"),
         (qt.quat_from_rotvec, ([0.0, 0.0],), "phi"),
         (qt.rotation_matrix, ([0.0, 0.0, 1.0],), "q"),
-        (qt.attitude_error, (qt.IDENTITY, [0.0, 0.0, 0.0, 0.0]), "q"),
+        (qt.attitude_error, (qt.IDENTITY, [0.0, 0.0, 0.0, 0.0]), "q_true"),
     ],
 )
 def test_bad_input_names_the_parameter(func, args, name):
@@ -150,3 +150,46 @@ def test_attitude_error_names_its_own_arguments():
         qt.attitude_error([1j, 0, 0, 1], [0, 0, 0, 1])
     with pytest.raises(ValueError, match="^q_true must contain only finite"):
         qt.attitude_error([0, 0, 0, 1], [np.nan, 0, 0, 1])
+
+
+@pytest.mark.parametrize("scale", [1e300, 1e-300, 1e150, 1e-160])
+def test_huge_and_tiny_quaternions_normalise_exactly(scale):
+    """Review 35 D.11: [1e300, 1e300, 0, 0] gave [0, 0, 0, 0] (the squares overflowed)."""
+    q = scale * np.array([1.0, 1.0, 0.0, 0.0])
+    np.testing.assert_allclose(qt.quat_normalize(q), [2**-0.5, 2**-0.5, 0.0, 0.0], rtol=1e-15)
+    np.testing.assert_allclose(qt.quat_to_rotvec(q), [np.pi / 2**0.5] * 2 + [0.0], rtol=1e-15)
+
+
+@given(st.lists(st.floats(-1e3, 1e3), min_size=4, max_size=4).filter(lambda v: any(v)))
+def test_normalise_is_numpy_s_own_division_in_the_usual_range(v):
+    q = np.array(v)
+    assert np.array_equal(qt.quat_normalize(q), q / np.linalg.norm(q, axis=-1, keepdims=True))
+
+
+def test_a_rotation_of_a_huge_vector_or_rate_is_finite_or_refused():
+    assert np.all(np.isfinite(qt.quat_from_rotvec([1e300, 0.0, 0.0])))
+    assert np.all(np.isfinite(qt.quat_propagate(qt.IDENTITY, 1e300 * np.ones(3), 1.0)))
+    with pytest.raises(ValueError, match="^w and dt must give a finite rotation angle"):
+        qt.quat_propagate(qt.IDENTITY, 1e308 * np.ones(3), 10.0)
+    with pytest.raises(ValueError, match="^phi must have a finite norm"):
+        qt.quat_from_rotvec([1.7e308, 1.7e308, 0.0])
+    with pytest.raises(ValueError, match="^p and q must have a finite product"):
+        qt.quat_product([1e200, 0, 0, 1e200], [1e200, 0, 0, 0])
+
+
+@pytest.mark.parametrize("q", [np.zeros(4), [0.0, 0.0, 0.0, 2.0], [1e200, 0.0, 0.0, 1e200],
+                               [0.0, 0.0, 0.0, 1.0 + 2e-6]])
+def test_rotation_matrix_refuses_a_quaternion_that_is_not_unit(q):
+    """It does not renormalise: zeros gave the zero matrix, [0, 0, 0, 2] gave 4 I."""
+    with pytest.raises(ValueError, match=r"^q must (be a unit quaternion|have a non-zero norm)"):
+        qt.rotation_matrix(q)
+    np.testing.assert_allclose(qt.rotation_matrix([0.0, 0.0, 0.0, 1.0 + 5e-7]), np.eye(3), atol=2e-6)
+
+
+@pytest.mark.parametrize("func", [qt.quat_product, qt.quat_propagate, qt.xi_matrix, qt.psi_matrix,
+                                  qt.quat_conjugate, qt.attitude_error])
+def test_a_zero_quaternion_is_no_attitude(func):
+    args = {qt.quat_product: (qt.IDENTITY, np.zeros(4)), qt.quat_propagate: (np.zeros(4), np.zeros(3), 1.0),
+            qt.attitude_error: (qt.IDENTITY, np.zeros(4))}.get(func, (np.zeros(4),))
+    with pytest.raises(ValueError, match=r"^q(_true)? must have a non-zero norm"):
+        func(*args)

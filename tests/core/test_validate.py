@@ -141,3 +141,18 @@ def test_an_integer_beyond_every_float_is_refused_in_one_short_line():
     # 10**400 raised OverflowError from float() (a traceback from `scenario --check`)
     with pytest.raises(ValueError, match=r"^days must be a real number in \(0, 365\], got 1000+\.\.\.$"):
         check_real("days", 10**400, 0.0, 365.0, lo_open=True)
+
+
+def test_a_nan_bound_or_tolerance_is_refused_not_a_pass():
+    """Review 35 D.18: check_real('a', 1.0, nan, 2) returned 1.0 (x < nan is False)."""
+    with pytest.raises(ValueError, match=r"^the range of a must have real bounds, got lo=nan"):
+        check_real("a", 1.0, math.nan, 2)
+    with pytest.raises(ValueError, match=r"^the range of n must have real bounds"):
+        check_int("n", 1, 0, math.nan)
+    from xnavlab.core.validate import check_covariance
+
+    for bad in (math.nan, -1.0):
+        with pytest.raises(ValueError, match=r"^rtol must be a real number in \[0, inf\)"):
+            check_covariance("P", np.eye(2), rtol=bad)
+        with pytest.raises(ValueError, match=r"^rtol must be a real number in \[0, inf\)"):
+            check_definite("P", np.eye(2), rtol=bad)

@@ -219,3 +219,24 @@ def test_direction_noise_and_xnav_model_refuse_complex_and_name_their_arguments(
     n, d = pulsars.directions()
     with pytest.raises(ValueError, match="^r_mars_ssb must contain only finite"):
         sensors.xnav_h(np.r_[4e6, 0, 0, 0, 0, 0], [np.nan, 0, 0], [1e8, 0, 0], n, d)
+
+
+def test_position_dop_refuses_an_indefinite_or_singular_r_and_keeps_unobservable_as_inf():
+    """Review 35 D.13: an indefinite R gave [inf, 1, 1] as if a direction were unobservable."""
+    H = np.hstack([np.eye(3), np.zeros((3, 3))])
+    with pytest.raises(ValueError, match=r"^R must be positive definite, but it is indefinite"):
+        sensors.position_dop(H, np.diag([1.0, -1.0, 1.0]))
+    with pytest.raises(ValueError, match=r"^R must be positive definite, but it is singular"):
+        sensors.position_dop(H, np.diag([1.0, 0.0, 1.0]))
+    with pytest.raises(ValueError, match=r"^R must be a square matrix of shape \(\.\.\., 3, 3\)"):
+        sensors.position_dop(H, np.eye(2))
+    with pytest.raises(ValueError, match=r"^H must have shape \(m, n\) with n >= 3"):
+        sensors.position_dop(np.eye(2), np.eye(2))
+    assert np.all(np.isinf(sensors.position_dop(np.zeros((2, 6)), np.eye(2))))   # unobservable
+
+
+def test_a_star_listed_twice_is_refused_as_by_the_scenario():
+    with pytest.raises(ValueError, match=r"^star_names lists Sirius twice \(items 0 and 1\)"):
+        sensors.CNSSensor(("Sirius", "Sirius", "Vega"))
+    with pytest.raises(ValueError, match=r"^star_names must be a list of stars, got the string"):
+        sensors.CNSSensor("Sirius")

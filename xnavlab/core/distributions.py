@@ -88,7 +88,9 @@ def chi2_cdf(x, dof):
     Parameters
     ----------
     x : float or array_like
-        Where to evaluate (any shape; NaN stays NaN).
+        Where to evaluate (any shape), real numbers in [-inf, inf] (``inf`` gives 1); NaN is
+        refused, as :func:`norm_cdf` refuses it (a NaN probability would pass any test
+        against it silently).
     dof : float
         Degrees of freedom, > 0.
 
@@ -102,8 +104,11 @@ def chi2_cdf(x, dof):
     array([0.  , 0.  , 0.95])
     """
     # P(chi2_k <= x) = P(k/2, x/2), the regularised lower incomplete gamma function; it is 0 at
-    # x = 0, so x <= 0 is clipped there (np.maximum keeps a NaN)
-    x = np.maximum(check_finite_array("x", x, finite=False), 0.0)
+    # x = 0, so x <= 0 is clipped there
+    x = check_finite_array("x", x, finite=False)
+    if np.any(np.isnan(x)):
+        raise ValueError("x must hold real numbers in [-inf, inf], got NaN")
+    x = np.maximum(x, 0.0)
     return np.asarray(_special().chdtr(_dof(dof), x))
 
 

@@ -61,6 +61,7 @@ from xnavlab.core.validate import (
     check_covariance,
     check_finite_array,
     check_int,
+    check_items,
     check_real,
     check_vector,
 )
@@ -168,6 +169,12 @@ def _flags(name, value, n):
     return arr.astype(bool)
 
 
+def _name(label, value):
+    if not isinstance(value, str) or not value:
+        raise ValueError(f"{label} must be a non-empty string, got {value!r:.80}")
+    return value
+
+
 class FederatedFilter:
     """Carlson's federated filter with switchable locals.
 
@@ -186,7 +193,7 @@ class FederatedFilter:
     kind : {"ekf", "ukf"}
         Local filter type.
     names : sequence of str, optional
-        Names of the subsystems (for messages).
+        Names of the subsystems (for messages): ``n_local`` non-empty strings, none twice.
 
     Attributes
     ----------
@@ -227,7 +234,14 @@ class FederatedFilter:
         if beta.shape != (n_local,) or np.any(beta <= 0):
             raise ValueError(f"beta must hold {n_local} positive information-sharing factors")
         self.beta = beta / beta.sum()
-        self.names = tuple(names) if names is not None else tuple(str(i) for i in range(n_local))
+        if names is None:
+            names = tuple(str(i) for i in range(n_local))
+        # a list (not a string split into letters), no name twice, one a local filter
+        names = check_items("names", names, "name", lambda label, v: _name(label, v))
+        if len(names) != n_local:
+            raise ValueError(f"names must hold {n_local} names, one for each local filter "
+                             f"(n_local), got {len(names)}")
+        self.names = names
         self.active = np.ones(n_local, dtype=bool)
         self.shares = share_factors(self.beta, self.active)
         cls = EKF if self.kind == "ekf" else UKF

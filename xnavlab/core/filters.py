@@ -135,15 +135,36 @@ def _call(f, x):
 
 def _checked_state(x, P):
     """``x`` (n,) and ``P`` (n, n) symmetric positive semi-definite, or ValueError."""
-    x = check_vector("x", x)
+    x = _nonempty("x", check_vector("x", x), "state")
     return x, check_covariance("P", P, x.size)
+
+
+def _odd_length(m_z, m_model, model, R):
+    """A measurement length the model (``H``'s rows, ``h(x)``) and ``R`` agree on but ``z``
+    does not: name ``z`` (the model or ``R`` is named by its own shape check when it is the
+    odd one out)."""
+    if m_z != m_model:
+        R = np.asarray(R)
+        m_r = R.shape[0] if R.ndim == 2 and R.shape[0] == R.shape[1] else (1 if R.size == 1
+                                                                             else None)
+        if m_r != m_z:
+            raise ValueError(f"z must have length {m_model} ({model}), got length {m_z}")
+
+
+def _nonempty(name, v, what):
+    """A vector with at least one entry (an empty state or measurement is no filter step)."""
+    if v.shape[-1:] == (0,):
+        raise ValueError(f"{name} must hold at least one {what} component, got shape {v.shape}")
+    return v
 
 
 def _checked_model(name, value, shape):
     """A model output (``f(x)``, ``h(x)``, ``F``, ``H``) finite and of ``shape``, or ValueError."""
     arr = check_finite_array(name, value)
-    if arr.shape != shape:
-        want = "(" + ", ".join(str(k) for k in shape) + ("," if len(shape) == 1 else "") + ")"
+    if arr.ndim != len(shape) or any(k is not None and k != a for k, a in zip(shape, arr.shape,
+                                                                           strict=True)):
+        want = "(" + ", ".join("m" if k is None else str(k) for k in shape) + \
+            ("," if len(shape) == 1 else "") + ")"
         raise ValueError(f"{name} must have shape {want}, got shape {arr.shape}")
     return arr
 
@@ -198,12 +219,16 @@ def ekf_predict(x, P, f, F, Q, check=True):
 def joseph(P, K, H, R):
     """Joseph-form covariance update ``(I - K H) P (I - K H)^T + K R K^T``.
 
+    ``P`` (n, n) must be symmetric positive semi-definite and ``R`` (m, m) positive definite
+    (ValueError naming it); ``K`` is (n, m) and ``H`` (m, n).
+
     Examples
     --------
     >>> joseph(np.eye(1) * 4.0, np.array([[0.8]]), np.eye(1), np.eye(1)).tolist()
     [[0.8]]
     """
-    P, R = _square("P", P), _square("R", R)
+    P = check_covariance("P", P)
+    R = check_covariance("R", R, definite=True)  # an indefinite R gave a singular "covariance"
     n, m = P.shape[0], R.shape[0]
     K = _checked_model("K", K, (n, m))
     H = _checked_model("H", H, (m, n))
@@ -260,9 +285,11 @@ def ekf_update(x, P, z, h, H, R, residual=None, check=True):
     if z is None:
         return Update(x, P, None, None, float("nan"))
     if check:
-        z = check_vector("z", z)
+        z = _nonempty("z", check_vector("z", z), "measurement")
         m = z.size
-        Hm = _checked_model("H", np.atleast_2d(_call(H, x)), (m, x.size))
+        Hm = _checked_model("H", np.atleast_2d(_call(H, x)), (None, x.size))
+        _odd_length(m, Hm.shape[0], "the rows of H", R)
+        Hm = _checked_model("H", Hm, (m, x.size))
         z_pred = _checked_model("h(x)", _call(h, x), (m,))
         R = check_covariance("R", np.atleast_2d(R), m, definite=True)
     else:
@@ -271,6 +298,8 @@ def ekf_update(x, P, z, h, H, R, residual=None, check=True):
         Hm = np.atleast_2d(np.asarray(_call(H, x), dtype=float))
         R = np.atleast_2d(np.asarray(R, dtype=float))
     nu = residual(z, z_pred) if residual is not None else z - z_pred
+    if check and residual is not None:
+        nu = _checked_model("residual(z, h(x))", nu, (z.size,))
     S = _sym(Hm @ P @ Hm.T + R)  # S = H P H^T + R
     PHt = P @ Hm.T
     K = np.linalg.solve(S, PHt.T).T  # K = P H^T S^-1
@@ -365,8 +394,8 @@ def unscented_transform(Y, Wm, Wc, noise=None, residual=None):
     ([0.0], [[4.0]])
     """
     Y = check_finite_array("Y", Y)
-    if Y.ndim != 2:
-        raise ValueError(f"Y must have shape (2n+1, m), got shape {Y.shape}")
+    if Y.ndim != 2 or Y.shape[0] % 2 != 1 or Y.shape[1] == 0:
+        raise ValueError(f"Y must have shape (2n+1, m) with m >= 1, got shape {Y.shape}")
     Wm = check_vector("Wm", Wm, Y.shape[0])
     Wc = check_vector("Wc", Wc, Y.shape[0])
     res = residual if residual is not None else (lambda a, b: a - b)
@@ -441,14 +470,16 @@ def ukf_update(x, P, z, h, R, alpha=1.0, beta=2.0, kappa=0.0, residual=None, che
     if z is None:
         return Update(x, P, None, None, float("nan"))
     if check:
-        z = check_vector("z", z)
-        R = check_covariance("R", np.atleast_2d(R), z.size, definite=True)
+        z = _nonempty("z", check_vector("z", z), "measurement")
     z = np.asarray(z, dtype=float)
     Wm, Wc, lam = ukf_weights(x.size, alpha, beta, kappa)
     X = sigma_points(x, P, lam)
     Z = np.array([np.atleast_1d(h(s)) for s in X])
     if check:
+        Z = _checked_model("h(x) of the sigma points", Z, (X.shape[0], None))
+        _odd_length(z.size, Z.shape[1], "the length of h(x)", R)
         Z = _checked_model("h(x) of the sigma points", Z, (X.shape[0], z.size))
+        R = check_covariance("R", np.atleast_2d(R), z.size, definite=True)
     z_pred, S = unscented_transform(Z, Wm, Wc, noise=np.atleast_2d(R), residual=residual)
     res = residual if residual is not None else (lambda a, b: a - b)
     Pxz = (Wc[:, None] * (X - x)).T @ res(Z, z_pred)
@@ -502,6 +533,9 @@ def _normalised_square(ename, err, pname, P):
     err = check_finite_array(ename, err)
     if err.ndim == 0:
         raise ValueError(f"{ename} must be a vector (shape (..., n)), got a scalar")
+    if err.shape[-1] == 0:  # an empty sum is 0, a "perfect" statistic of nothing
+        raise ValueError(f"{ename} must hold at least one component (shape (..., n), n >= 1), "
+                         f"got shape {err.shape}")
     P = check_definite(pname, P, err.shape[-1])
     try:
         np.broadcast_shapes(err.shape[:-1], P.shape[:-2])
@@ -620,7 +654,7 @@ class EKF:
     """
 
     def __init__(self, x0, P0):
-        self.x = check_vector("x0", x0).astype(float).copy()
+        self.x = _nonempty("x0", check_vector("x0", x0), "state").astype(float).copy()
         self.P = _sym(check_covariance("P0", P0, self.x.size))
         self.last = None
 

@@ -24,6 +24,7 @@ from xnavlab.core.validate import check_finite_array, check_real
 
 __all__ = [
     "IDENTITY",
+    "UNIT_TOL",
     "skew",
     "quat_normalize",
     "quat_conjugate",
@@ -42,9 +43,37 @@ __all__ = [
 #: The identity rotation, scalar last.
 IDENTITY = np.array([0.0, 0.0, 0.0, 1.0])
 
+#: How far from 1 the norm of a quaternion a function takes as a unit one may be
+#: (:func:`rotation_matrix`, :func:`attitude_error`): a float32 quaternion is within 1e-7.
+UNIT_TOL = 1e-6
 
-def _quat(name, q):
-    return check_finite_array(name, q, shape=(4,))
+
+def _quat(name, q, unit=False):
+    """A quaternion (an attitude): finite, shape (..., 4), never zero; ``unit``: of norm 1 to
+    :data:`UNIT_TOL` (a function that does not renormalise would scale its result by |q|^2)."""
+    q = check_finite_array(name, q, shape=(4,))
+    n = _norm(q)
+    if np.any(n == 0.0):
+        raise ValueError(f"{name} must have a non-zero norm, got a zero quaternion")
+    if unit and np.any(np.abs(n - 1.0) > UNIT_TOL):
+        worst = float(n.flat[int(np.argmax(np.abs(n - 1.0)))])
+        raise ValueError(f"{name} must be a unit quaternion (|{name}| = 1 to {UNIT_TOL:g}; "
+                         f"quat_normalize makes one), got |{name}| = {worst:.6g}")
+    return q
+
+
+def _norm(v):
+    """Euclidean norm over the last axis, exact where the squares over- or underflow (1e300,
+    1e-200): those rows are scaled by their largest entry first; the rest as numpy computes."""
+    with np.errstate(over="ignore", under="ignore"):
+        n = np.linalg.norm(v, axis=-1)
+    odd = ~(n > 1e-150) | ~np.isfinite(n)
+    if np.any(odd):
+        m = np.max(np.abs(v), axis=-1)
+        safe = np.where(odd & (m > 0.0), m, 1.0)
+        with np.errstate(over="ignore"):  # beyond the float range: inf, refused by the caller
+            n = np.where(odd, safe * np.linalg.norm(v / safe[..., None], axis=-1), n)
+    return n
 
 
 def _vec(name, v):
@@ -80,7 +109,11 @@ def _xi(q):
 
 
 def _phi(w, dt):
-    half = 0.5 * np.linalg.norm(w, axis=-1) * dt
+    with np.errstate(over="ignore"):
+        half = 0.5 * _norm(w) * dt
+    if not np.all(np.isfinite(half)):
+        raise ValueError(f"w and dt must give a finite rotation angle |w| dt, rad, got |w| = "
+                         f"{float(np.max(_norm(w))):.3g} rad/s over dt = {dt:g} s")
     c = np.cos(half)  # paper eq. (11)
     s_over = 0.5 * dt * np.sinc(half / np.pi)  # s / |w|, paper eq. (11)
     out = _omega(w * s_over[..., None])
@@ -114,7 +147,8 @@ def quat_normalize(q):
     Parameters
     ----------
     q : array_like, shape (..., 4)
-        Any quaternion with non-zero norm.
+        Any quaternion with non-zero norm (1e300 and 1e-300 entries too: the norm is
+        taken scaled where the squares would over- or underflow).
 
     Raises
     ------
@@ -127,10 +161,7 @@ def quat_normalize(q):
     array([0., 0., 0., 1.])
     """
     q = _quat("q", q)
-    n = np.linalg.norm(q, axis=-1, keepdims=True)
-    if np.any(n == 0.0):
-        raise ValueError("q must have a non-zero norm, got a zero quaternion")
-    return q / n
+    return q / _norm(q)[..., None]
 
 
 def quat_conjugate(q):
@@ -178,9 +209,14 @@ def quat_product(p, q):
     q = _quat("q", q)
     pv, ps = p[..., :3], p[..., 3:]
     qv, qs = q[..., :3], q[..., 3:]
-    vec = ps * qv + qs * pv - np.cross(pv, qv)
-    sca = ps * qs - np.sum(pv * qv, axis=-1, keepdims=True)
-    return np.concatenate([vec, sca], axis=-1)
+    with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused below
+        vec = ps * qv + qs * pv - np.cross(pv, qv)
+        sca = ps * qs - np.sum(pv * qv, axis=-1, keepdims=True)
+        out = np.concatenate([vec, sca], axis=-1)
+        if not np.all(np.isfinite(out)):
+            raise ValueError(f"p and q must have a finite product, got |p| |q| = "
+                             f"{float(np.max(_norm(p) * _norm(q))):.3g} (normalise them first)")
+    return out
 
 
 def rotation_matrix(q):
@@ -191,7 +227,8 @@ def rotation_matrix(q):
     Parameters
     ----------
     q : array_like, shape (..., 4)
-        Unit quaternion (not renormalised here).
+        Unit quaternion (not renormalised here: a norm further than :data:`UNIT_TOL` from
+        1, or zero, is refused).
 
     Returns
     -------
@@ -204,7 +241,7 @@ def rotation_matrix(q):
     >>> np.round(A @ np.array([1.0, 0.0, 0.0]), 12)
     array([ 0., -1.,  0.])
     """
-    q = _quat("q", q)
+    q = _quat("q", q, unit=True)
     rho, q4 = q[..., :3], q[..., 3]
     eye = np.eye(3)
     a = (q4**2 - np.sum(rho * rho, axis=-1))[..., None, None] * eye
@@ -348,7 +385,10 @@ def quat_from_rotvec(phi):
     array([1., 0., 0., 0.])
     """
     phi = _vec("phi", phi)
-    ang = np.linalg.norm(phi, axis=-1)
+    ang = _norm(phi)
+    if not np.all(np.isfinite(ang)):
+        raise ValueError("phi must have a finite norm (the rotation angle, rad), got one beyond "
+                         "the float range")
     vec = 0.5 * np.sinc(0.5 * ang / np.pi)[..., None] * phi  # sin(a/2)/a * phi
     return np.concatenate([vec, np.cos(0.5 * ang)[..., None]], axis=-1)
 

@@ -56,6 +56,7 @@ def check_real(name, value, lo=-math.inf, hi=math.inf, *, lo_open=False, hi_open
     An infinite bound is written open (``[0, inf)``: every finite number from 0) and no
     bounds at all as "a finite real number", never ``[-inf, inf]``.
     """
+    _check_bounds(name, lo, hi)
     want = f"a {'finite ' if lo == -math.inf and hi == math.inf else ''}real number" \
         + _range(lo, hi, lo_open, hi_open)
     if isinstance(value, bool) or not isinstance(value, Real | np.floating | np.integer):
@@ -86,6 +87,7 @@ def check_int(name, value, lo=-math.inf, hi=math.inf):
     ...
     ValueError: window must be an integer in [1, inf), got 0
     """
+    _check_bounds(name, lo, hi)
     want = "an integer" + _range(lo, hi, False, False, exact=True)
     if isinstance(value, bool) or not isinstance(value, Integral | np.integer):
         raise ValueError(f"{name} must be {want}, got {_shown(value)}")
@@ -208,6 +210,7 @@ def check_covariance(name, value, n=None, *, definite=False, rtol=1e-8):
     ...
     ValueError: P must be positive semi-definite, got smallest eigenvalue -1
     """
+    _check_rtol(rtol)
     arr = check_finite_array(name, value)
     size = arr.shape[0] if arr.ndim == 2 else None
     want = "(n, n)" if n is None else f"({n}, {n})"
@@ -258,6 +261,7 @@ def check_definite(name, value, n=None, *, rtol=1e-8):
     ...
     ValueError: P[1] must be positive definite, but it is singular (smallest eigenvalue 0, largest 2)
     """
+    _check_rtol(rtol)
     arr = check_finite_array(name, value)
     want = "(..., n, n)" if n is None else f"(..., {n}, {n})"
     if arr.ndim < 2 or arr.shape[-1] != arr.shape[-2] or (n is not None and arr.shape[-1] != n):
@@ -373,6 +377,17 @@ def make_rng(seed=None, name="rng"):
         raise ValueError(f"{name} must be a numpy Generator or an integer seed in "
                          f"[0, {2**63 - 1}], got {_shown(seed)}")
     return np.random.default_rng(int(seed))
+
+
+def _check_bounds(name, lo, hi):
+    """The range of a check: NaN bounds would let every value through (``x < nan`` is False)."""
+    if lo != lo or hi != hi:  # NaN (a comparison, cheap: the checks run in every call)
+        raise ValueError(f"the range of {name} must have real bounds, got lo={lo!r}, hi={hi!r}")
+
+
+def _check_rtol(rtol):
+    if not rtol >= 0.0:  # NaN or negative: a tolerance that passes or fails everything
+        raise ValueError(f"rtol must be a real number in [0, inf), got {rtol!r}")
 
 
 def _fmt(x):

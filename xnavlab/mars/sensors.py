@@ -56,7 +56,7 @@ import numpy as np
 
 from xnavlab.core import ephemeris
 from xnavlab.core.constants import C
-from xnavlab.core.validate import check_finite_array, check_real, make_rng
+from xnavlab.core.validate import check_definite, check_finite_array, check_items, check_real, make_rng
 from xnavlab.mars import pulsars, stars, toa
 
 __all__ = [
@@ -376,17 +376,23 @@ def position_dop(H, R):
 
     From the position columns ``Hr = H[:, :3]``: the information ``Hr^T R^-1 Hr`` has
     eigenvalues ``l_k``; the semi-axes are ``1/sqrt(l_k)``, largest first. A rank-2
-    information (a direction measurement alone) gives one infinite axis.
+    information (a direction measurement alone) gives one infinite axis, and an ``H``
+    without position columns three: an unobservable direction is a result, not an error.
+    ``R`` (m, m) must be positive definite (ValueError naming it: an indefinite or singular
+    ``R`` gave an infinite axis as if unobservable).
 
     Examples
     --------
     >>> position_dop(np.hstack([np.eye(3), np.zeros((3, 3))]), np.eye(3) * 4.0).tolist()
     [2.0, 2.0, 2.0]
     """
-    H = check_finite_array("H", H)
-    R = check_finite_array("R", R)
-    Hr = np.atleast_2d(H)[:, :3]
-    info = Hr.T @ np.linalg.solve(np.atleast_2d(R), Hr)
+    H = np.atleast_2d(check_finite_array("H", H))
+    if H.ndim != 2 or H.shape[1] < 3:
+        raise ValueError(f"H must have shape (m, n) with n >= 3 (position first), got shape "
+                         f"{H.shape}")
+    R = check_definite("R", np.atleast_2d(check_finite_array("R", R)), H.shape[0])
+    Hr = H[:, :3]
+    info = Hr.T @ np.linalg.solve(R, Hr)
     lam = np.linalg.eigvalsh(0.5 * (info + info.T))
     tol = lam.max() * 1e-10 if lam.max() > 0 else 0.0
     with np.errstate(divide="ignore"):
@@ -658,9 +664,11 @@ class CNSSensor:
     def __post_init__(self):
         if self.star_names is None:
             self.star_names = stars.pick_three(t=self.epoch)
+        # a list of at least one star, none twice (its information would count twice), as
+        # MarsScenario's stars
+        self.star_names = check_items("star_names", self.star_names, "star",
+                                      lambda _, s: stars.get(s).name)
         self.star_names = tuple(stars.get(s).name for s in self.star_names)
-        if len(self.star_names) < 1:
-            raise ValueError("star_names must name at least one star")
         self.sigma_star_arcsec = check_real("sigma_star_arcsec", self.sigma_star_arcsec, 0.0,
                                             3600.0, lo_open=True)
         self.sigma_horizon_deg = check_real("sigma_horizon_deg", self.sigma_horizon_deg, 0.0,
