@@ -116,6 +116,9 @@ def test_parse_spec_examples():
     ("uv.alt:step:1@0+1", "component 'alt' of uv"),
     ("uv:jump:1@0+1", "kind must be one of"),
     ("uv:step:big@0+1", "'big' is not a number"),
+    ("uv:step:1_0@0+1", r"'1_0' is not a number \(plain decimals"),   # as --days 1_0
+    ("uv:step:1@0x10+1", "'0x10' is not a number"),
+    ("uv:step:1@10+1_000", "'1_000' is not a number"),
     ("uv:step:1@0+-5", "duration"),
     ("uv:step:0@3600+3000", r"^bad fault item .*: magnitude of a step fault must be a nonzero"),
     ("uv:step:25000@3600+0", r"^bad fault item .*: duration of a step fault must be a real "

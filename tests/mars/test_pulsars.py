@@ -345,3 +345,18 @@ def test_a_pulsar_under_two_names_counts_once():
 def test_a_pulsar_with_a_complex_nan_or_out_of_range_property_is_refused(field, value):
     with pytest.raises(ValueError, match=f"^Pulsar {field} must be a"):
         dataclasses.replace(pulsars.get("B1937+21"), **{field: value})
+
+
+@pytest.mark.parametrize("counts, match", [
+    (np.zeros(10), r"^counts must hold a pulse \(bins not all equal\), got every bin 0"),
+    (np.full(10, 3.0), r"^counts must hold a pulse"),
+    (np.zeros(0), r"^counts must hold at least 2 phase bins, got 0"),
+    (np.r_[-1.0, np.ones(9)], r"^counts must be photon counts, >= 0, got -1 in bin 0"),
+])
+def test_a_profile_without_a_pulse_has_no_phase(counts, match):
+    """Review 35 D.16: zero counts gave 0.0 as a 'shift'; empty ones numpy's FFT error."""
+    tpl = pulsars.binned_template(counts.size, 0.05) if counts.size else np.zeros(0)
+    with pytest.raises(ValueError, match=match):
+        pulsars.estimate_phase_shift(counts, tpl)
+    with pytest.raises(ValueError, match=r"^template must hold a pulse"):
+        pulsars.estimate_phase_shift(np.arange(10.0), np.ones(10))

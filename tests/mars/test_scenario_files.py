@@ -201,3 +201,50 @@ def test_a_short_plain_run_is_not_refused_for_the_combined_detectors_arming_time
     with pytest.raises(ValueError, match=r"arm_s \(600 s, .*\) must be shorter than the run: "
                                          r"\[run\] days = 0.005 is 432 s"):
         sfm.loads('[run]\ndays = 0.005\n[detector]\nfaults = "uv.range:step:1e5@100+10"\n')
+
+
+@pytest.mark.parametrize("text, words", [
+    ("[xnav]\ndt_s = -1\n", "[xnav] dt_s must be a real number in [0.1, 86400], got -1"),
+    ('[xnav]\nnoise = "x"\n', "[xnav] noise must be one of 'paper', 'crlb', got 'x'"),
+    ('[uv]\nrange_model = "q"\n', "[uv] range_model must be one of"),
+    ('[xnav]\npulsars = ["B1937+21"]\nsigma_m = [1.0, 2.0]\n',
+     "[xnav] sigma_m must hold 1 value, one a pulsar, got 2"),
+    ("[xnav]\nsigma_m = [1.0, 2.0, -3, 4]\n", "[xnav] sigma_m[2] must be a real number"),
+    ('[run]\nsubsystems = ["uv"]\nbeta = [0.5, 0.5]\n', "[run] beta must hold 1 factor, one a "
+                                                         "subsystem, got 2"),
+])
+def test_a_bad_value_is_named_by_the_file_s_key_not_the_field(text, words):
+    """Review 35 F.27: '[xnav] dt_s: dt_xnav must be ...' and 'must hold 1 values'."""
+    with pytest.raises(ValueError) as info:
+        sfm.loads(text)
+    assert str(info.value) == f"scenario file: {words}" or words in str(info.value)
+    assert "dt_xnav" not in str(info.value) and "xnav_" not in str(info.value)
+
+
+def test_days_on_the_command_line_rechecks_the_file_s_settings_with_its_name(tmp_path, capsys):
+    """Review 35 F.27: --days 0.03 with settle_days = 0.04 in a file blamed settle_days
+    without the file and with another range than scenario --check."""
+    path = tmp_path / "s.toml"
+    path.write_text("[run]\nsettle_days = 0.04\n")
+    assert main(["run", "mars", "--scenario", str(path), "--days", "0.03"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == (f"xnavlab: error: scenario file {str(path)!r}: [run] settle_days must be a "
+                   f"real number in [0, 0.03), got 0.04 (with days = 0.03)")
+    path2 = tmp_path / "s2.toml"
+    path2.write_text("[run]\ndays = 0.03\nsettle_days = 0.04\n")
+    assert main(["scenario", "--check", str(path2)]) == 2
+    assert "[run] settle_days must be a real number in [0, 0.03), got 0.04" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("content, words", [
+    (b"\xff\xfeRAJ 1\n", "is not UTF-8 text (byte 0xff at position 0)"),
+    (b"PSR J0000\nRAJ foo\nDECJ 1\nF0 1\nPEPOCH 55000\n", "PINT cannot read the timing model"),
+])
+def test_a_par_file_that_cannot_be_read_is_named(tmp_path, content, words):
+    """Review 35 F.27: a raw codec error, or astropy's, without the .par's name."""
+    (tmp_path / "p.par").write_bytes(content)
+    (tmp_path / "s.toml").write_text('[xnav]\npulsars = ["p.par"]\n')
+    with pytest.raises(ValueError) as info:
+        sfm.load(tmp_path / "s.toml")
+    assert words in str(info.value) and str(tmp_path / "p.par") in str(info.value)
+    assert len(str(info.value).splitlines()) == 1

@@ -103,10 +103,15 @@ def _settings(args):
 
     sf = (scenario_files.load(args.scenario_file) if args.scenario_file is not None
           else scenario_files.loads(""))
-    sf = scenario_files.with_overrides(
-        sf, days=None if args.days is None else _days(args.days),
-        seed=None if args.seed is None else _seed(args.seed),
-        mode=None if args.mode is None else check_choice("mode", args.mode, MODES))
+    days = None if args.days is None else _days(args.days)
+    seed = None if args.seed is None else _seed(args.seed)
+    mode = None if args.mode is None else check_choice("mode", args.mode, MODES)
+    try:  # the file's settings checked again against the flags, the file named
+        sf = scenario_files.with_overrides(sf, days=days, seed=seed, mode=mode)
+    except ValueError as exc:
+        if args.scenario_file is None:
+            raise
+        raise ValueError(f"scenario file {args.scenario_file!r}: {exc}") from None
     run, det = dict(sf.run), dict(sf.detector)
     if args.backend is not None:
         run["backend"] = check_choice("backend", args.backend, ("numba", "numpy"))

@@ -274,6 +274,10 @@ _SPEC = re.compile(
 )
 
 
+# A number as a spec writes it: plain decimal text (what float() reads, without 1_0, blanks)
+_NUMBER = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?|[+-]?(inf|infinity|nan)", re.I | re.A)
+
+
 def parse_spec(spec, components):
     """Parse ``SENSOR[.COMPONENT]:KIND:MAGNITUDE@ONSET+DURATION[,...]`` into faults.
 
@@ -347,10 +351,10 @@ def _fault_from_match(item, m, components):
         raise ValueError(f"bad fault item {item!r}: kind must be one of {', '.join(KINDS)}")
     values = {}
     for key in ("mag", "onset", "dur"):
-        try:
-            values[key] = float(m[key])
-        except ValueError:
-            raise ValueError(f"bad fault item {item!r}: {m[key]!r} is not a number") from None
+        if not _NUMBER.fullmatch(m[key]):  # float() would also read 1_0 as 10, as no flag does
+            raise ValueError(f"bad fault item {item!r}: {m[key]!r} is not a number (plain "
+                             f"decimals: 25000, 1e-5, inf)")
+        values[key] = float(m[key])
     try:
         return Fault(sensor, m["kind"], values["mag"], values["onset"], values["dur"], index)
     except ValueError as exc:

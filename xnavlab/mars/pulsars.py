@@ -275,8 +275,15 @@ def from_par(path, distance=None, flux_ph_cm2_s=None, pulsed_fraction=None, duty
         raise ValueError("give duty_cycle or width_s, not both (the same pulse width)")
     try:
         par = pint_bridge.timing_parameters(path)
-    except ValueError:
-        raise
+    except UnicodeDecodeError as exc:  # a ValueError too: named with the file, as every file
+        raise ValueError(f"path: the timing model {str(path)!r} is not UTF-8 text (byte "
+                         f"{exc.object[exc.start]:#04x} at position {exc.start})") from None
+    except ValueError as exc:
+        if str(path) in str(exc) or Path(path).name in str(exc):
+            raise                          # ours, naming the file already
+        why = (str(exc).strip().splitlines() or [""])[0]   # astropy's/PINT's: no file named
+        raise ValueError(f"path: PINT cannot read the timing model {str(path)!r} ({why})") \
+            from None
     except Exception as exc:  # PINT's own errors on a malformed model: one line, named
         why = (str(exc).strip().splitlines() or [""])[0]
         raise ValueError(f"path: PINT cannot read the timing model {str(path)!r} "
@@ -688,9 +695,9 @@ def estimate_phase_shift(counts, template):
     Parameters
     ----------
     counts : array_like, shape (nbins,)
-        Folded profile.
+        Folded profile: photon counts, >= 0, ``nbins >= 2``, not all equal.
     template : array_like, shape (nbins,)
-        Noise-free profile with its peak at phase 0.
+        Noise-free profile with its peak at phase 0 (not flat).
 
     Returns
     -------
@@ -707,6 +714,15 @@ def estimate_phase_shift(counts, template):
     tpl = check_finite_array("template", template)
     if x.ndim != 1 or x.shape != tpl.shape:
         raise ValueError(f"counts and template must be 1-D of equal length; got {x.shape}, {tpl.shape}")
+    if x.size < 2:
+        raise ValueError(f"counts must hold at least 2 phase bins, got {x.size}")
+    if np.any(x < 0.0):
+        raise ValueError(f"counts must be photon counts, >= 0, got {float(x.min()):g} in bin "
+                         f"{int(np.argmin(x))}")
+    for name, v in (("counts", x), ("template", tpl)):  # a flat profile has no phase: 0.0 was
+        if np.ptp(v) == 0.0:                              # returned as if measured
+            raise ValueError(f"{name} must hold a pulse (bins not all equal), got every bin "
+                             f"{float(v[0]):g}: no phase shift can be estimated")
     n = x.size
     cross = np.fft.rfft(x - x.mean()) * np.conj(np.fft.rfft(tpl - tpl.mean()))
     k = np.arange(cross.size)

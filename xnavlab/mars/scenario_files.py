@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -83,8 +84,9 @@ _KEYS = {
     ("run", "seed"): ("seed", "seed of every noise draw, integer >= 0"),
     ("run", "mode"): ("mode", "federated mode: \"reset\" or \"no-reset\""),
     ("run", "subsystems"): ("subsystems", "any of \"xnav\", \"uv\", \"cns\""),
-    ("run", "beta"): ("beta", "information-sharing factors, one a subsystem, in (0, 1]; "
-                              "omit for equal shares"),
+    ("run", "beta"): ("beta", "information-sharing factors, one a subsystem, in (0, 1], "
+                              "normalised to sum 1 (only their ratios count); omit for equal "
+                              "shares"),
     ("run", "record_dt"): ("record_dt", "spacing of the recorded estimates, s, [0.1, 86400]"),
     ("run", "max_step"): ("max_step", "longest filter integration sub-step, s, [0.01, 3600]"),
     ("run", "backend"): ("run:backend", "\"numba\" (compiled) or \"numpy\" (the readable loop)"),
@@ -288,7 +290,7 @@ def loads(text, base=None):
                     sc.truth_model, sc.filter_model, state0=sc.state0, t0=sc.t0,
                     truth_ephem=sc.truth_ephem, filter_ephem=sc.filter_ephem))
     except (TypeError, ValueError) as exc:
-        raise ValueError(f"scenario file: {_where(exc)}{exc}") from None
+        raise ValueError(f"scenario file: {_where(exc)}") from None
     _check_run(run, sc)
     _check_detector(detector, sc)
     return ScenarioFile(sc, run, detector)
@@ -303,12 +305,15 @@ def _pulsars(value, base):
 
 
 def _where(exc):
-    """``[section] key: `` of the field a MarsScenario error names, if one does."""
-    name = str(exc).split(" ")[0].split("[")[0]
+    """A MarsScenario error in the file's words: the field it names (``dt_xnav``,
+    ``xnav_sigma_m[1]``) replaced by the file's ``[section] key`` (``[xnav] dt_s``,
+    ``[xnav] sigma_m[1]``), wherever the message uses it."""
+    text = str(exc)
+    name = text.split(" ")[0].split("[")[0]
     for (section, key), (where, _) in _KEYS.items():
         if where == name:
-            return f"[{section}] {key}: "
-    return ""
+            return re.sub(rf"\b{re.escape(name)}\b", f"[{section}] {key}", text)
+    return text
 
 
 def _check_run(run, sc):
@@ -403,6 +408,22 @@ def scenario_json(scenario):
 
 
 def with_overrides(sf, **fields):
-    """A :class:`ScenarioFile` with scenario fields replaced (the command line's overrides)."""
+    """A :class:`ScenarioFile` with scenario fields replaced (the command line's overrides).
+
+    The run's and the detector's settings are checked again against the new scenario, with
+    the ranges ``scenario --check`` gives (``[run] settle_days`` in ``[0, days)``), the
+    overrides named: ``--days 0.03`` with ``settle_days = 0.04`` in the file is refused as
+    ``[run] settle_days must be a real number in [0, 0.03), got 0.04 (with days = 0.03)``.
+    """
     fields = {k: v for k, v in fields.items() if v is not None}
-    return dataclasses.replace(sf, scenario=dataclasses.replace(sf.scenario, **fields))
+    out = dataclasses.replace(sf, scenario=dataclasses.replace(sf.scenario, **fields))
+    if fields:
+        run, det = dict(out.run), dict(out.detector)
+        try:
+            _check_run(run, out.scenario)
+            _check_detector(det, out.scenario)
+        except ValueError as exc:
+            given = ", ".join(f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {v}"
+                              for k, v in fields.items())
+            raise ValueError(f"{exc} (with {given})") from None
+    return out

@@ -212,7 +212,8 @@ class MarsScenario:
     subsystems : tuple of str
         Which subsystems run, any of ``("xnav", "uv", "cns")``.
     beta : tuple of float or None
-        Information-sharing factors (default equal).
+        Information-sharing factors, one a subsystem, each in (0, 1] (default equal); the run
+        normalises them to sum 1, so only their ratios count ((1, 1, 1) is the default).
     mode : {"reset", "no-reset"}
         Federated mode (:mod:`xnavlab.core.federated`).
     record_dt : float
@@ -305,7 +306,9 @@ class MarsScenario:
                         for i, s in enumerate(check_items("xnav_sigma_m", self.xnav_sigma_m,
                                                           "number", lambda _, v: object())))
             if len(sig) != len(self.pulsars):
-                raise ValueError(f"xnav_sigma_m must hold {len(self.pulsars)} values, one a pulsar")
+                n = len(self.pulsars)
+                raise ValueError(f"xnav_sigma_m must hold {n} value{'s' if n > 1 else ''}, one "
+                                 f"a pulsar, got {len(sig)}")
             object.__setattr__(self, "xnav_sigma_m", sig)
         check_choice("xnav_noise", self.xnav_noise, timing_bound.XNAV_NOISE)
         if self.stars is not None:
@@ -317,7 +320,8 @@ class MarsScenario:
                       for i, v in enumerate(check_items("beta", self.beta, "number",
                                                         lambda _, v: object())))
             if len(b) != len(subs):
-                raise ValueError(f"beta must hold {len(subs)} factors, one a subsystem")
+                raise ValueError(f"beta must hold {len(subs)} factor{'s' if len(subs) > 1 else ''}"
+                                 f", one a subsystem, got {len(b)}")
             object.__setattr__(self, "beta", b)
         check_choice("mode", self.mode, MODES)
         check_real("record_dt", self.record_dt, 0.1, 86400.0)
