@@ -85,6 +85,22 @@ def test_a_failed_compile_or_step_stops_the_warm_up(monkeypatch):
     assert started[0].returncode is not None  # the compile was stopped, not left running
 
 
+def test_the_steps_after_the_kernel_run_in_worker_processes(monkeypatch):
+    """After the kernel, the steps share the cores: each in a pool worker, a line as it ends."""
+    import os
+
+    monkeypatch.setattr(warmup, "_compile_beside", lambda: False)
+    monkeypatch.setattr(warmup, "STEPS", ((warmup.KERNEL_STEP, lambda: None),
+                                          ("a", os.getpid), ("b", os.getpid)))
+    stream = io.StringIO()
+    times = warmup.warm(stream, workers=2)
+    assert set(times) == {warmup.KERNEL_STEP, "a", "b"}
+    assert sorted(line.split(":")[1].strip() for line in stream.getvalue().splitlines()) == [
+        "a", "b", warmup.KERNEL_STEP]
+    with pytest.raises(ValueError, match="workers must be"):
+        warmup.warm(stream, workers=0)
+
+
 def test_the_warm_up_truths_are_on_the_chapters_grid():
     t = dynamics.MARS_T0 + np.arange(0.0, scenarios.MarsScenario().span + 1.0, 60.0)  # ch. 2
     assert dynamics.chapter_times().tobytes() == t.tobytes()

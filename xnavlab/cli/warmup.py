@@ -8,7 +8,8 @@ milliseconds. It also computes into the truth cache (``$XNAVLAB_CACHE``, default
 and the Mars reproductions use; the table of matched vs mismatched force models of chapters
 3, 5 and 6 (:func:`xnavlab.mars.model_mismatch.mismatch_table`, with the studies' rich truth
 before it); chapter 10's Monte Carlo reproductions and its table of the RKF's bound
-(:func:`xnavlab.robust.plots.bound_table`, minutes together). No chapter cell then waits
+(:func:`xnavlab.robust.plots.bound_table`) and chapter 5's ``mars-subsystems`` (minutes
+together, shared out over the cores once the kernel is compiled). No chapter cell then waits
 minutes, and two chapters executed side by side (``make book``, ``pytest -n 2``) do not
 wait for each other. (The headline campaign of chapters 6 and 8, 32 noise seeds of the 30-day
 run, is shipped with the package: :data:`xnavlab.mars.headline.RUNS_PATH`.)
@@ -27,6 +28,8 @@ first run waits for them either. The steps after it wait for it.
 
 from __future__ import annotations
 
+import concurrent.futures
+import multiprocessing
 import os
 import subprocess
 import sys
@@ -108,20 +111,31 @@ def _model_mismatch():
     model_mismatch.mismatch_table()  # the chapters' call (3, 5, 6): stored under $XNAVLAB_CACHE
 
 
-def _ephemeris_chapter():
-    from xnavlab import reproduce
+def _bound_table():
     from xnavlab.robust import plots
 
     plots.bound_table()  # chapter 10's call: stored under $XNAVLAB_CACHE
+
+
+def _ephemeris_reproductions():
+    from xnavlab import reproduce
+
     for rid in ("ukf-vs-ephemeris-error", "rkf-earth", "rkf-mars", "rkf-sweep", "rkf-residual-memory"):
         reproduce.run(rid)  # the registered Monte Carlo runs chapter 10 reads (reproduction cache)
+
+
+def _subsystems():
+    from xnavlab import reproduce
+
+    reproduce.run("mars-subsystems")  # chapter 5's 32 seeds x 4 configurations (reproduction cache)
 
 
 #: The label of the filter kernel's compile in :data:`STEPS`.
 KERNEL_STEP = "federated filter kernel"
 
-#: (label, function) pairs run in order by :func:`warm`; those before :data:`KERNEL_STEP`
-#: need no filter kernel (they may run while it compiles), those after it do.
+#: (label, function) pairs run by :func:`warm`; those before :data:`KERNEL_STEP` need no filter
+#: kernel (they run in order while it compiles), those after it do (they run on every core,
+#: the longest first: each is a module-level function a worker process can import).
 STEPS = (
     ("Mars truth, 30 days (truth cache)", _mars_truth),
     ("ephemeris-error propagator", _ephemeris_error),
@@ -130,28 +144,45 @@ STEPS = (
     ("the studies' rich truth, 30 days, and its q_acc (truth cache)", _study_truth),
     ("chapter 1's TOA accuracies and chapter 2's fold surveys (cache)", _timing_tables),
     (KERNEL_STEP, compile_kernel),
-    ("fault-tolerant runs", _mars_fault_tolerant),
+    ("chapter 10's Monte Carlo reproductions (reproduction cache)", _ephemeris_reproductions),
+    ("chapter 10's table of the RKF's bound (cache)", _bound_table),
+    ("chapter 5's subsystems alone and fused, 32 seeds (reproduction cache)", _subsystems),
     ("matched vs mismatched models, 30 days x 5 seeds x 3 cases (cache)", _model_mismatch),
-    ("chapter 10's bound table and its Monte Carlo reproductions (caches)", _ephemeris_chapter),
+    ("fault-tolerant runs", _mars_fault_tolerant),
 )
 
 
-def warm(stream=sys.stderr):
-    """Run every step of :data:`STEPS` in order, printing one line each with its time.
+def warm(stream=sys.stderr, workers=None):
+    """Run every step of :data:`STEPS`, printing one line each with its time.
 
     When the filter kernel is still to be compiled and the machine has two cores or more,
     its compile starts at once in a second process and the steps before :data:`KERNEL_STEP`
-    run beside it; its line then gives the compile's time from its start.
+    run beside it, in order; its line then gives the compile's time from its start. The steps
+    after it run in ``workers`` processes (default: one per core), each line printed as its
+    step ends; with one worker they run here, in order.
+
+    Parameters
+    ----------
+    stream : file
+        Where the lines go.
+    workers : int, optional
+        Processes for the steps after the kernel, 1 to 64 (default ``os.cpu_count()``).
 
     Returns
     -------
     dict
         Seconds per step label.
     """
+    from xnavlab.core.validate import check_int
+
+    workers = check_int("workers", (os.cpu_count() or 1) if workers is None else workers,
+                        1, 64)
+    labels = [label for label, _ in STEPS]
+    cut = labels.index(KERNEL_STEP) + 1 if KERNEL_STEP in labels else len(labels)
     child = _start_kernel_compile(stream) if _compile_beside() else None
     times = {}
     try:
-        for label, func in STEPS:
+        for label, func in STEPS[:cut]:
             t0 = time.perf_counter()
             if label == KERNEL_STEP and child is not None:
                 proc, t0 = child
@@ -167,7 +198,34 @@ def warm(stream=sys.stderr):
         if child is not None and child[0].poll() is None:  # a step before it failed
             child[0].kill()
             child[0].wait()
+    for label, seconds in _run_after(STEPS[cut:], workers):
+        times[label] = seconds
+        print(f"warmup: {label}: {seconds:.1f} s", file=stream, flush=True)
     return times
+
+
+def _timed(func):
+    """Seconds ``func()`` took (run in a worker process)."""
+    t0 = time.perf_counter()
+    func()
+    return time.perf_counter() - t0
+
+
+def _run_after(steps, workers):
+    """``(label, seconds)`` of each step as it ends: here in order with one worker (or one
+    step), else in a pool of fresh processes (``spawn``: no state shared with this one)."""
+    if workers == 1 or len(steps) < 2:
+        for label, func in steps:
+            yield label, _timed(func)
+        return
+    ctx = multiprocessing.get_context("spawn")
+    pool = concurrent.futures.ProcessPoolExecutor(min(workers, len(steps)), mp_context=ctx)
+    try:
+        futures = {pool.submit(_timed, func): label for label, func in steps}
+        for fut in concurrent.futures.as_completed(futures):
+            yield futures[fut], fut.result()
+    finally:  # a step that failed: the others are not waited for
+        pool.shutdown(wait=True, cancel_futures=True)
 
 
 def _compile_beside():
