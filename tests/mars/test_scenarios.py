@@ -423,3 +423,15 @@ def test_save_npz_writes_the_file_it_is_given_or_refuses_by_name(tmp_path):
     (tmp_path / "file").write_text("")
     with pytest.raises(ValueError, match=r"^path .*: a part of its folder is a file"):
         res.save_npz(tmp_path / "file" / "run.npz")
+
+
+def test_a_noise_model_beside_given_sigmas_is_refused_not_ignored():
+    """Review 35 B.6: xnav_noise = 'crlb' with xnav_sigma_m was accepted and unused."""
+    with pytest.raises(ValueError, match=r"^xnav_noise = 'crlb' computes the ranging noise that "
+                                         r"xnav_sigma_m gives"):
+        scenarios.MarsScenario(xnav_noise="crlb", xnav_sigma_m=(1.0, 2.0, 3.0, 4.0))
+    from xnavlab.mars import scenario_files
+
+    with pytest.raises(ValueError, match=r"^scenario file: \[xnav\] noise = 'crlb' computes .* "
+                                         r"\[xnav\] sigma_m gives"):
+        scenario_files.loads('[xnav]\nnoise = "crlb"\nsigma_m = [1.0, 2.0, 3.0, 4.0]\n')

@@ -311,8 +311,12 @@ def _where(exc):
     text = str(exc)
     name = text.split(" ")[0].split("[")[0]
     for (section, key), (where, _) in _KEYS.items():
+        # the field the message is about (its first word), and any other field with an
+        # internal name it mentions (xnav_sigma_m; not a plain word such as days)
         if where == name:
-            return re.sub(rf"\b{re.escape(name)}\b", f"[{section}] {key}", text)
+            text = f"[{section}] {key}" + text[len(name):]
+        elif "_" in where and ":" not in where and "." not in where:
+            text = re.sub(rf"(?<![\w\[])({re.escape(where)})\b", f"[{section}] {key}", text)
     return text
 
 

@@ -311,6 +311,9 @@ class MarsScenario:
                                  f"a pulsar, got {len(sig)}")
             object.__setattr__(self, "xnav_sigma_m", sig)
         check_choice("xnav_noise", self.xnav_noise, timing_bound.XNAV_NOISE)
+        if self.xnav_sigma_m is not None and self.xnav_noise != "paper":  # it would be unused
+            raise ValueError(f"xnav_noise = {self.xnav_noise!r} computes the ranging noise that "
+                             f"xnav_sigma_m gives: give one of them")
         if self.stars is not None:
             object.__setattr__(self, "stars", check_items("stars", self.stars, "star",
                                                           lambda _, s: stars.get(s).name))
