@@ -268,9 +268,13 @@ def mars_faults_wavelet(out=None, days=30.0, seed=0, hand_days=3.0):
         share = np.asarray(runs["wavelet_detected_fraction"])
         checks += [
             check_draw("fused position error with faults (m), RMS after day 1",
-                       PAPER_POSITION_ERROR_M, runs["wavelet_position_m"]),
+                       PAPER_POSITION_ERROR_M, runs["wavelet_position_m"],
+                       why="the fault sizes behind the paper's run are not given; ours are "
+                           "chosen (see the note)"),
             check_draw("fused velocity error with faults (m/s), RMS after day 1",
-                       PAPER_VELOCITY_ERROR_MPS, runs["wavelet_velocity_mps"]),
+                       PAPER_VELOCITY_ERROR_MPS, runs["wavelet_velocity_mps"],
+                       why="the fault sizes behind the paper's run are not given; ours are "
+                           "chosen (see the note)"),
             check_true("close to fault-free: faulty / fault-free error, 95th percentile",
                        f"close ({paper_ratio:.2f} in the paper)",
                        float(np.percentile(ratio, 95)), np.percentile(ratio, 95) <= paper_ratio,
@@ -278,7 +282,8 @@ def mars_faults_wavelet(out=None, days=30.0, seed=0, hand_days=3.0):
             check_true("every scheduled fault detected, share of our runs", "all detected",
                        float(np.mean(share == 1.0)), bool(np.all(share == 1.0)),
                        why="the paper shows every fault detected and isolated; detected means "
-                           "an alarm while the fault acts (an alarm after its end is late)"),
+                           "an alarm while the fault acts (an alarm after its end is late); "
+                           "the XNAV drifts' rate (2e-9 s/s) is ours"),
         ]
         # the campaign's first run, rerun with its faults scored one by one
         seed_first = spawn_seeds(HEADLINE_SEED, 1)[0] % 2**31
@@ -294,7 +299,7 @@ def mars_faults_wavelet(out=None, days=30.0, seed=0, hand_days=3.0):
         campaign = {"position_m": np.asarray(runs["wavelet_position_m"]),
                     "clean_position_m": np.asarray(runs["fused_position_m"]),
                     "combined_position_m": np.asarray(runs["faulty_position_m"]),
-                    "ratio": ratio, "detected_share": share}
+                    "ratio": ratio, "detected_share": share, "paper_ratio": paper_ratio}
     leaked = [e for e in exposure if e["out_share"] < 0.5]
     checks += [
         check_measure(f"fused position error with faults, seed {seed} (m)", pos,
@@ -322,9 +327,11 @@ def mars_faults_wavelet(out=None, days=30.0, seed=0, hand_days=3.0):
             f"{first['metrics_clean']['position_error_m']:.1f} m fault-free"))
     note = (
         "Wavelet detection (db3; UV range and CNS angles on the raw measurements, 5 levels, MAD "
-        "thresholds trained on day 1; XNAV on its normalised innovations, 3 levels), isolation "
-        "from the detected onset, rejoining when the detector is clear and the NIS of the last "
-        "measurements (100 UV/CNS, 4 XNAV) passes a 1 % chi-square test. A fault counts as "
+        "thresholds trained on day 1; XNAV on its normalised innovations, 3 levels). A "
+        "subsystem leaves the fusion at the epoch of a detected onset, whatever epoch that is, "
+        "and rejoins only when its detector is clear and the NIS of its last measurements "
+        "(100 UV/CNS, 4 XNAV) passes a 1 % chi-square test, checked every 300 s: it is never "
+        "fused while its detector flags. A fault counts as "
         "detected only by an alarm on its subsystem while it acts (an alarm after its end makes "
         f"it late). Seed {seed}: {pos:.2f} m and {vel:.5f} m/s against the paper's "
         f"{PAPER_POSITION_ERROR_M} m and {PAPER_VELOCITY_ERROR_MPS} m/s and our fault-free "
@@ -338,9 +345,14 @@ def mars_faults_wavelet(out=None, days=30.0, seed=0, hand_days=3.0):
         lo, med, hi = np.percentile(campaign["position_m"], [2.5, 50, 97.5])
         note += (
             f"Over the {campaign['position_m'].size} runs of the headline campaign the fused "
-            f"error is a median {med:.0f} m (95 % range {lo:.1f}-{hi:.0f} m) against "
+            f"error is a median {med:.1f} m (95 % range {lo:.1f}-{hi:.1f} m) against "
             f"{np.median(campaign['clean_position_m']):.1f} m fault-free; seed {seed} is below "
-            f"{np.sum(campaign['position_m'] > pos)} of them. "
+            f"{np.sum(campaign['position_m'] > pos)} of them. The faults cost each run "
+            f"{100 * (campaign['ratio'].min() - 1):+.1f} % to "
+            f"{100 * (campaign['ratio'].max() - 1):+.1f} % of its own fault-free error "
+            f"(median {100 * (np.median(campaign['ratio']) - 1):+.1f} %); the paper's run "
+            f"cost {100 * (campaign['paper_ratio'] - 1):.0f} % of its fault-free "
+            f"{headline.PAPER['fused_position_m']} m. "
             f"The campaign's first run ({first['metrics']['position_error_m']:.0f} m): "
             + (", ".join(f"{e['sensor']} {e['kind']} at {e['onset']:.0f} s "
                          f"(in the fusion {100 * (1 - e['out_share']):.0f} % of it)"
