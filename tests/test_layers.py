@@ -198,9 +198,6 @@ LONG_MODULES = {
     # jitted helpers call each other and share one cache; split across modules, a change in
     # one would not recompile the callers.
     "xnavlab.mars.kernels": 1200,
-    # The scenario: one dataclass that validates every field, the inputs it prepares, the run
-    # on both backends (numba kernel, readable numpy loop) and the records with their metrics.
-    "xnavlab.mars.scenarios": 940,
     # Four filters of Li et al. 2017 (UKF, ASUKF, TDUKF, RKF) that share the sigma-point core and
     # whose step functions are read side by side in chapter 10.
     "xnavlab.robust.filters": 950,

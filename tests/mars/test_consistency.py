@@ -20,9 +20,12 @@ check the verdicts, whose margins are many times the run-to-run scatter of the a
   smaller the NIS is inside its band.
 """
 
+import numpy as np
 import pytest
 
 from xnavlab.core.campaign import Campaign, run_campaign
+from xnavlab.core.filters import chi2_bounds
+from xnavlab.mars import consistency
 from xnavlab.mars.campaigns import consistency_run, summarise_consistency
 
 
@@ -68,3 +71,27 @@ def test_cns_nis_is_optimistic_by_the_horizon_sensors_curvature():
     assert nis["cns"]["verdict"] == "optimistic"
     _, nis = _table(100, subsystems=("cns",), sigma_horizon_deg=0.005)
     assert nis["cns"]["verdict"] == "inside"
+
+
+def test_nees_monte_carlo_inside_chi_square_bounds():
+    """100 runs of 0.1 day, random initial errors: the run-averaged NEES of the fused estimate.
+
+    Successive epochs of one run are strongly correlated, so the per-epoch average wanders
+    as a whole; its time average must lie inside the 95 % bounds and most epochs too.
+    """
+    mc = consistency.nees_monte_carlo(100, days=0.1, record_dt=300.0)
+    lo, hi = mc["bounds"]
+    nees = mc["nees"][1:]
+    assert lo <= nees.mean() <= hi
+    assert np.mean((nees >= lo) & (nees <= hi)) >= 0.7
+    # a federated local's innovation covariance uses P/beta: conservative, NIS below dof
+    assert mc["nis"]["xnav"] < mc["nis_dof"]["xnav"]
+
+
+@pytest.mark.parametrize("subsystem", ["xnav", "uv", "cns"])
+def test_nis_of_each_subsystem_alone_inside_chi_square_bounds(subsystem):
+    mc = consistency.nees_monte_carlo(20, days=0.1, record_dt=300.0, subsystems=(subsystem,))
+    lo, hi = mc["nis_bounds"][subsystem]
+    assert lo <= mc["nis"][subsystem] <= hi
+    lo_e, hi_e = chi2_bounds(6, 20)
+    assert lo_e <= mc["nees"][1:].mean() <= hi_e

@@ -4,7 +4,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
-from xnavlab.mars import photon_plots
+from xnavlab.mars import photon_plots, pulsars
 from xnavlab.mars.photon_fix import Fix
 
 
@@ -35,3 +35,15 @@ def test_plot_ambiguity_and_exposure():
          "formula_m": np.array([5e3, 2.5e3]), "months": np.array([1, 4]), "n_sets": np.array([40, 10])}
     fig = photon_plots.plot_exposure(s, paper_m=[109.0, 1866.0], total=(3000.0, 700.0, 900.0))
     assert fig.axes[0].get_yscale() == "log" and fig.axes[0].get_ylabel() == "fix standard deviation (m)"
+
+
+def test_plot_ranging_accuracy_bars_and_reference():
+    ref = {"B0531+21": 109.0, "B1937+21": 344.0, "B1957+20": 1866.0, "B1821-24": 325.0}
+    fig = photon_plots.plot_ranging_accuracy(area_m2=0.5, reference=ref)
+    ax = fig.axes[0]
+    heights = [b.get_height() for b in ax.patches]
+    assert heights == pytest.approx(
+        [pulsars.ranging_accuracy(n, area_m2=0.5) for n in pulsars.PAPER_PULSARS])
+    assert list(ax.lines[0].get_ydata()) == list(ref.values())
+    assert "A = 0.5 m$^2$" in ax.get_title()
+    assert not photon_plots.plot_ranging_accuracy(pulsar_names=["B0531+21"]).axes[0].lines

@@ -173,18 +173,6 @@ def test_xcorr_sigma_limits_and_binning():
         pulsars.xcorr_toa_sigma("B1937+21", nbins=4)
 
 
-def test_plot_ranging_accuracy_bars_and_reference():
-    ref = {"B0531+21": 109.0, "B1937+21": 344.0, "B1957+20": 1866.0, "B1821-24": 325.0}
-    fig = pulsars.plot_ranging_accuracy(area_m2=0.5, reference=ref)
-    ax = fig.axes[0]
-    heights = [b.get_height() for b in ax.patches]
-    assert heights == pytest.approx(
-        [pulsars.ranging_accuracy(n, area_m2=0.5) for n in pulsars.PAPER_PULSARS])
-    assert list(ax.lines[0].get_ydata()) == list(ref.values())
-    assert "A = 0.5 m$^2$" in ax.get_title()
-    assert not pulsars.plot_ranging_accuracy(pulsar_names=["B0531+21"]).axes[0].lines
-
-
 def test_phase_exposure_counts_the_partial_cycle():
     crab = dataclasses.replace(pulsars.get("B0531+21"), fdot=0.0)  # whole cycles exactly
     whole = pulsars.phase_exposure((0.0, 298.0 * crab.period), crab, nbins=64)
@@ -302,7 +290,7 @@ def test_from_par_ecliptic_b1855():
 
 def _entry_points():
     from xnavlab.line import track
-    from xnavlab.mars import sensors, timing_bound, timing_terms, toa
+    from xnavlab.mars import photon_plots, sensors, timing_bound, timing_terms, toa
     from xnavlab.robust import filters as rf
 
     x = np.r_[-3.4e6, -1.3e6, -2.6e6, 0.0, 0.0, 0.0]
@@ -315,7 +303,7 @@ def _entry_points():
         ("pulsar_names", lambda p: timing_terms.orbit_terms([5.0e8], x[None], p)),
         ("pulsar_names", lambda p: rf.simulate("mars", n_steps=3, pulsar_names=p, rng=0)),
         ("pulsar_names", lambda p: track.track(np.zeros((2, 2)), 10.0, np.zeros(2), np.eye(2), p)),
-        ("pulsar_names", lambda p: pulsars.plot_ranging_accuracy(pulsar_names=p)),
+        ("pulsar_names", lambda p: photon_plots.plot_ranging_accuracy(pulsar_names=p)),
     ]
 
 

@@ -1,10 +1,13 @@
-"""Figures of the one-dimensional fix from real photons (:mod:`xnavlab.mars.photon_fix`).
+"""Figures of pulsar photons: the paper's ranging accuracy and the fix from real photons.
 
 Pure functions that return a :class:`matplotlib.figure.Figure` (not registered with pyplot):
-:func:`plot_fix` (the slider of the page "Navigating with real photons": the fold and the
-likelihood for one injected offset), :func:`plot_recovery` (recovered against injected
-offsets), :func:`plot_ambiguity` (the cycle ambiguity) and :func:`plot_exposure` (the error
-bar against exposure). Distances in the figures are km, or m where the axis says so.
+:func:`plot_ranging_accuracy` (chapter 1's slider: the accuracy formula's bars for a detector
+area, an observation time and a background), and for the one-dimensional fix from real photons
+(:mod:`xnavlab.mars.photon_fix`) :func:`plot_fix` (the slider of the page "Navigating with
+real photons": the fold and the likelihood for one injected offset), :func:`plot_recovery`
+(recovered against injected offsets), :func:`plot_ambiguity` (the cycle ambiguity) and
+:func:`plot_exposure` (the error bar against exposure). Distances in the figures are km, or m
+where the axis says so.
 
 Examples
 --------
@@ -20,6 +23,7 @@ import functools
 import numpy as np
 
 from xnavlab.core.validate import check_finite_array, check_real
+from xnavlab.mars import pulsars
 from xnavlab.mars.photon_fix import (
     build_reference,
     cycle_length,
@@ -32,7 +36,7 @@ from xnavlab.mars.photon_fix import (
     template_density,
 )
 
-__all__ = ["plot_fix", "plot_recovery", "plot_ambiguity", "plot_exposure"]
+__all__ = ["plot_fix", "plot_recovery", "plot_ambiguity", "plot_exposure", "plot_ranging_accuracy"]
 
 
 @functools.cache
@@ -274,4 +278,50 @@ def plot_exposure(scaling, paper_m=None, total=None):
     top = ax.secondary_xaxis("top", functions=(lambda x: x / per_month, lambda m: m * per_month))
     top.set_xlabel("months of photons")
     ax.legend(fontsize=8, loc="lower left")
+    return fig
+
+
+def plot_ranging_accuracy(area_m2=1.0, t_obs=500.0, background_ph_cm2_s=0.005, reference=None,
+                          pulsar_names=pulsars.PAPER_PULSARS):
+    """Bar chart of the ranging accuracies of a pulsar set (:func:`xnavlab.mars.pulsars.ranging_accuracy`).
+
+    A pure function of its arguments, for the chapter's slider.
+
+    Parameters
+    ----------
+    area_m2, t_obs, background_ph_cm2_s : float
+        As :func:`xnavlab.mars.pulsars.ranging_accuracy` (m^2, s, ph/cm^2/s).
+    reference : dict of str to float, optional
+        Values to mark on the bars (m), e.g. the paper's at 1 m^2 and 500 s.
+    pulsar_names : sequence of str
+        The pulsars, one bar each (default the paper's four).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        One log-scale axes; not registered with pyplot.
+
+    Examples
+    --------
+    >>> fig = plot_ranging_accuracy(t_obs=2000.0)
+    >>> [round(b.get_height()) for b in fig.axes[0].patches]
+    [54, 172, 934, 163]
+    """
+    from matplotlib.figure import Figure
+
+    from xnavlab.core.plotting import sparse_log_minors
+
+    names = list(pulsars.check_names(pulsar_names, "pulsar_names"))
+    ours = [pulsars.ranging_accuracy(n, area_m2, t_obs, background_ph_cm2_s) for n in names]
+    fig = Figure(figsize=(6, 3.2), layout="constrained")
+    ax = fig.add_subplot()
+    ax.bar(names, ours, color="C0", label="xnavlab")
+    if reference:
+        ax.plot(names, [reference[n] for n in names], "k_", ms=30, mew=2,
+                label="paper (1 m$^2$, 500 s)")
+    title = (f"A = {area_m2:.3g} m$^2$, t = {t_obs:.4g} s, "
+             f"B = {background_ph_cm2_s:.3g} ph/cm$^2$/s")
+    ax.set(yscale="log", ylim=(1, 1e5), ylabel="ranging accuracy (m)", title=title)
+    ax.legend(fontsize=8)
+    sparse_log_minors(ax)
     return fig

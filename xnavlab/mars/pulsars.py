@@ -52,7 +52,6 @@ __all__ = [
     "ranging_accuracy",
     "monte_carlo_toa",
     "xcorr_toa_sigma",
-    "plot_ranging_accuracy",
 ]
 
 _SHEIKH = "Sheikh et al. 2006, Table 1"
@@ -863,49 +862,3 @@ def xcorr_toa_sigma(pulsar, area_m2=1.0, t_obs=500.0, background_ph_cm2_s=0.005,
     n_s, n_b = lam_s * t_obs, lam_b * t_obs
     var = (n_b * i1 + n_s * i2) / (n_s**2 * i1**2)  # eq. (ch1-xcorr-var), cycles^2
     return p.period * math.sqrt(var)
-
-
-def plot_ranging_accuracy(area_m2=1.0, t_obs=500.0, background_ph_cm2_s=0.005, reference=None,
-                          pulsar_names=PAPER_PULSARS):
-    """Bar chart of the ranging accuracies of a pulsar set (:func:`ranging_accuracy`).
-
-    A pure function of its arguments, for the chapter's slider.
-
-    Parameters
-    ----------
-    area_m2, t_obs, background_ph_cm2_s : float
-        As :func:`ranging_accuracy` (m^2, s, ph/cm^2/s).
-    reference : dict of str to float, optional
-        Values to mark on the bars (m), e.g. the paper's at 1 m^2 and 500 s.
-    pulsar_names : sequence of str
-        The pulsars, one bar each (default the paper's four).
-
-    Returns
-    -------
-    matplotlib.figure.Figure
-        One log-scale axes; not registered with pyplot.
-
-    Examples
-    --------
-    >>> fig = plot_ranging_accuracy(t_obs=2000.0)
-    >>> [round(b.get_height()) for b in fig.axes[0].patches]
-    [54, 172, 934, 163]
-    """
-    from matplotlib.figure import Figure
-
-    from xnavlab.core.plotting import sparse_log_minors
-
-    names = list(check_names(pulsar_names, "pulsar_names"))
-    ours = [ranging_accuracy(n, area_m2, t_obs, background_ph_cm2_s) for n in names]
-    fig = Figure(figsize=(6, 3.2), layout="constrained")
-    ax = fig.add_subplot()
-    ax.bar(names, ours, color="C0", label="xnavlab")
-    if reference:
-        ax.plot(names, [reference[n] for n in names], "k_", ms=30, mew=2,
-                label="paper (1 m$^2$, 500 s)")
-    title = (f"A = {area_m2:.3g} m$^2$, t = {t_obs:.4g} s, "
-             f"B = {background_ph_cm2_s:.3g} ph/cm$^2$/s")
-    ax.set(yscale="log", ylim=(1, 1e5), ylabel="ranging accuracy (m)", title=title)
-    ax.legend(fontsize=8)
-    sparse_log_minors(ax)
-    return fig

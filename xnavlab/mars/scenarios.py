@@ -61,7 +61,6 @@ import numpy as np
 from xnavlab.core import ephemeris
 from xnavlab.core.constants import DAY, GM_MARS, C
 from xnavlab.core.federated import MODES, FederatedFilter
-from xnavlab.core.filters import chi2_bounds
 from xnavlab.core.userfiles import output_path
 from xnavlab.core.validate import (
     check_choice,
@@ -102,7 +101,6 @@ __all__ = [
     "check_scenario",
     "prepare",
     "run",
-    "nees_monte_carlo",
 ]
 
 #: The three subsystems of the paper, in its numbering (1 XNAV, 2 UV, 3 CNS).
@@ -897,48 +895,3 @@ def _run_numba(inp, active, gate, beta, progress):
         bar.update(b - a)
     bar.close()
     return out
-
-
-# ------------------------------------------------------------------ consistency
-
-
-def nees_monte_carlo(n_runs=20, scenario=None, seed=0, **overrides):
-    """Average NEES of the fused estimate over ``n_runs`` runs with random initial errors.
-
-    Each run redraws the initial error from N(0, P0) and all measurement noise
-    (seeds ``seed, seed + 1, ...``); the truth is shared.
-
-    Returns
-    -------
-    dict
-        ``t`` (nr,), ``nees`` (nr,) run-averaged NEES, ``bounds`` (95 % two-sided for
-        the average of ``n_runs`` chi-square(6)), ``nis`` {subsystem: run- and
-        time-averaged NIS}, ``nis_dof`` {subsystem: its dof}, ``nis_bounds``.
-
-    Examples
-    --------
-    >>> mc = nees_monte_carlo(3, days=0.01)
-    >>> mc["nees"].shape == mc["t"].shape
-    True
-    """
-    sc = scenario if scenario is not None else MarsScenario()
-    sc = replace(sc, init_error="random", **overrides)
-    n_runs = check_int("n_runs", n_runs, 1, 10**5)
-    seed = check_int("seed", seed, 0, 2**62)
-    nees_sum, nis_sum, nis_cnt = None, {}, {}
-    for m in range(n_runs):
-        res = run(replace(sc, seed=seed + m))
-        e = res.nees()
-        nees_sum = e if nees_sum is None else nees_sum + e
-        for i, s in enumerate(sc.subsystems):
-            v = res.nis[:, i][res.flags[:, i] == 1]
-            nis_sum[s] = nis_sum.get(s, 0.0) + v.sum()
-            nis_cnt[s] = nis_cnt.get(s, 0) + v.size
-    dof = {"xnav": len(sc.pulsars), "uv": 3, "cns": len(sc.stars) if sc.stars else 3}
-    nis_avg = {s: nis_sum[s] / max(nis_cnt[s], 1) for s in sc.subsystems}
-    return {
-        "t": res.t, "nees": nees_sum / n_runs, "bounds": chi2_bounds(6, n_runs),
-        "nis": nis_avg, "nis_dof": {s: dof[s] for s in sc.subsystems},
-        "nis_count": nis_cnt,
-        "nis_bounds": {s: chi2_bounds(dof[s], nis_cnt[s]) for s in sc.subsystems},
-    }
