@@ -22,8 +22,17 @@ def test_reproduce_json(capsys):
     assert payload["ok"] is True and payload["verdict"] in reproduce.HEADLINES
     assert set(payload) >= {"id", "verdict", "ok", "counts", "rows", "note", "figures", "error"}
     assert {row["verdict"] for row in payload["rows"]} <= set(reproduce.VERDICTS)
-    assert {row["kind"] for row in payload["rows"]} == {"claim"}
-    assert {row["name"] for row in payload["rows"]} >= {"B0531+21 ranging (m)", "B1821-24 ranging (m)"}
+    claims = [row for row in payload["rows"] if row["kind"] == "claim"]
+    checks = [row for row in payload["rows"] if row["kind"] == "check"]
+    assert len(claims) + len(checks) == len(payload["rows"])
+    assert {row["name"] for row in claims} >= {"B0531+21 ranging (m)", "B1821-24 ranging (m)"}
+    # the four accuracies are parts of one claim of the paper (part_of), judged once
+    assert {row["verdict"] for row in claims} <= set(reproduce.CLAIM_VERDICTS)
+    assert {row["claim"] for row in claims} == set(payload["claims"]) and len(payload["claims"]) == 1
+    # the Cramer-Rao rows are checks of ours: marked as checks, a part of no claim
+    assert checks and {row["verdict"] for row in checks} <= {reproduce.CHECK, reproduce.CHECK_FAILED}
+    assert all(row["claim"] == "" and "Cramer-Rao" in row["name"] for row in checks)
+    assert payload["counts"][reproduce.CHECK] + payload["counts"][reproduce.CHECK_FAILED] == len(checks)
 
 
 def test_reproduce_out_writes_figure(tmp_path, capsys):
