@@ -124,6 +124,12 @@ def _ephemeris_reproductions():
         reproduce.run(rid)  # the registered Monte Carlo runs chapter 10 reads (reproduction cache)
 
 
+def _ekf_and_ukf():
+    from xnavlab.mars import linearisation
+
+    linearisation.ekf_and_ukf()  # chapter 5's EKF/UKF comparison, numpy loop (about 50 s, cache)
+
+
 def _subsystems():
     from xnavlab import reproduce
 
@@ -147,6 +153,7 @@ STEPS = (
     ("chapter 10's Monte Carlo reproductions (reproduction cache)", _ephemeris_reproductions),
     ("chapter 10's table of the RKF's bound (cache)", _bound_table),
     ("chapter 5's subsystems alone and fused, 32 seeds (reproduction cache)", _subsystems),
+    ("chapter 5's EKF and UKF on the same UV data, half an hour (cache)", _ekf_and_ukf),
     ("matched vs mismatched models, 30 days x 5 seeds x 3 cases (cache)", _model_mismatch),
     ("fault-tolerant runs", _mars_fault_tolerant),
 )
