@@ -248,3 +248,76 @@ def test_a_par_file_that_cannot_be_read_is_named(tmp_path, content, words):
         sfm.load(tmp_path / "s.toml")
     assert words in str(info.value) and str(tmp_path / "p.par") in str(info.value)
     assert len(str(info.value).splitlines()) == 1
+
+
+# ---- review 35 B.6: a key the other settings make inert is refused, not accepted and unused ----
+
+
+@pytest.mark.parametrize("text, words", [
+    ('[run]\nsubsystems = ["uv"]\n[xnav]\nsigma_m = [1.0, 1.0, 1.0, 1.0]\n',
+     "[xnav] sigma_m is set but [run] subsystems = ['uv'] runs no xnav: leave it out or add 'xnav'"),
+    ('[run]\nsubsystems = ["uv"]\n[xnav]\ndt_s = 100.0\n',
+     "[xnav] dt_s is set but [run] subsystems = ['uv'] runs no xnav"),
+    ('[run]\nsubsystems = ["uv"]\n[xnav]\npulsars = ["B1937+21"]\n',
+     "[xnav] pulsars is set but [run] subsystems = ['uv'] runs no xnav"),
+    ('[run]\nsubsystems = ["xnav", "uv"]\n[cns]\nstars = ["Sirius", "Vega", "Canopus"]\n',
+     "[cns] stars is set but [run] subsystems = ['xnav', 'uv'] runs no cns"),
+    ('[run]\nsubsystems = ["xnav", "cns"]\n[uv]\nsigma_range_m = 100.0\n',
+     "[uv] sigma_range_m is set but [run] subsystems = ['xnav', 'cns'] runs no uv"),
+    ('[run]\nsubsystems = ["xnav"]\n[uv]\nlimb = "oblate"\n',
+     "[uv] limb is set but [run] subsystems = ['xnav'] runs neither uv nor cns: leave it out or "
+     "add one of them"),
+    ('[xnav]\nsigma_m = [1.0, 1.0, 1.0, 1.0]\narea_m2 = 2.0\n',
+     "[xnav] area_m2 = 2.0 is unused: [xnav] sigma_m gives the ranging noise it would compute"),
+    ('[detector]\nname = "none"\npfa = 0.5\n',
+     "[detector] pfa is set but the run's detector is none ([detector] name = \"none\"): only "
+     "the wavelet detector uses it; leave it out or name that detector"),
+    ('[detector]\nname = "wavelet"\nalpha = 0.5\n',
+     "[detector] alpha is set but the run's detector is wavelet"),
+    ('[detector]\nfaults = "uv.range:step:1e3@1000+10"\npfa = 0.5\n',
+     "[detector] pfa is set but the run's detector is combined (no [detector] name and faults: "
+     "the combined detector)"),
+    ('[run]\ndays = 0.2\n[detector]\narm_s = 20000\n',
+     "[detector] arm_s is set but the run's detector is none (no [detector] name and no faults: "
+     "a plain run): only the combined detector uses it"),
+    ('[run]\ndays = 0.2\n[detector]\narm_s = 20000\nfaults = "uv.range:step:1e3@1000+10"\n',
+     "[detector] arm_s (20000 s, when the combined detector's tests start) must be shorter than "
+     "the run"),
+    ('[detector]\nname = "chi2"\ntrain_days = 0.5\n',
+     "[detector] train_days is set but the run's detector is chi2 ([detector] name = \"chi2\"): "
+     "only the wavelet or combined detectors use it; leave it out or name one of them"),
+])
+def test_a_key_made_inert_by_another_setting_is_refused_naming_both(text, words):
+    with pytest.raises(ValueError) as info:
+        sfm.loads(text)
+    msg = str(info.value)
+    assert words in msg and len(msg.splitlines()) == 1, msg
+
+
+@pytest.mark.parametrize("text", [
+    '[run]\nsubsystems = ["uv"]\n[xnav]\ndt_s = 500.0\nnoise = "paper"\n',   # at their defaults
+    '[detector]\nname = "none"\npfa = 1e-5\narm_s = 600.0\n',
+    '[detector]\nname = "wavelet"\npfa = 0.01\ntrain_days = 0.5\n',
+    '[detector]\nname = "combined"\narm_s = 100.0\nrate_per_day = 2.0\nadaptive = false\n',
+    '[truth_model]\nsrp = false\narea_m2 = 50.0\n',                # the dump writes every key
+])
+def test_a_key_at_its_default_or_used_by_the_run_is_accepted(text):
+    sf = sfm.loads(text)
+    assert sfm.loads(sfm.dump(sf.scenario, sf.run, sf.detector)).scenario == sf.scenario
+
+
+def test_a_dump_with_subsystems_edited_still_loads():
+    text = sfm.dump().replace('subsystems = ["xnav", "uv", "cns"]', 'subsystems = ["uv"]')
+    assert 'subsystems = ["uv"]' in text and sfm.loads(text).scenario.subsystems == ("uv",)
+
+
+def test_the_detector_flags_recheck_the_file_s_detector_keys(tmp_path, capsys):
+    path = tmp_path / "s.toml"
+    path.write_text('[run]\ndays = 0.05\n[detector]\nname = "wavelet"\npfa = 0.01\n')
+    assert main(["scenario", "--check", str(path)]) == 0
+    capsys.readouterr()
+    assert main(["run", "mars", "--scenario", str(path), "--detector", "chi2"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == (f"xnavlab: error: scenario file {str(path)!r}: [detector] pfa is set but the "
+                   f"run's detector is chi2 ([detector] name = \"chi2\"): only the wavelet "
+                   f"detector uses it; leave it out or name that detector (with --detector chi2)")

@@ -1,5 +1,6 @@
 """The Mars scenario: numba = numpy, filter consistency (NEES/NIS), the 30-day run, the CLI."""
 
+import dataclasses
 import json
 import subprocess
 import sys
@@ -402,11 +403,25 @@ def test_save_npz_writes_the_file_it_is_given_or_refuses_by_name(tmp_path):
 
 def test_a_noise_model_beside_given_sigmas_is_refused_not_ignored():
     """Review 35 B.6: xnav_noise = 'crlb' with xnav_sigma_m was accepted and unused."""
-    with pytest.raises(ValueError, match=r"^xnav_noise = 'crlb' computes the ranging noise that "
-                                         r"xnav_sigma_m gives"):
+    with pytest.raises(ValueError, match=r"^xnav_noise = 'crlb' is unused: xnav_sigma_m gives "
+                                         r"the ranging noise it would compute"):
         scenarios.MarsScenario(xnav_noise="crlb", xnav_sigma_m=(1.0, 2.0, 3.0, 4.0))
     from xnavlab.mars import scenario_files
 
-    with pytest.raises(ValueError, match=r"^scenario file: \[xnav\] noise = 'crlb' computes .* "
+    with pytest.raises(ValueError, match=r"^scenario file: \[xnav\] noise = 'crlb' is unused: "
                                          r"\[xnav\] sigma_m gives"):
         scenario_files.loads('[xnav]\nnoise = "crlb"\nsigma_m = [1.0, 2.0, 3.0, 4.0]\n')
+
+
+def test_xnav_and_cns_settings_without_their_subsystem_are_refused_not_ignored():
+    """Review 35 B.6: xnav_sigma_m with subsystems=("uv",) and stars without cns were accepted
+    and unused (every field: tests/mars/test_unused_inputs.py)."""
+    with pytest.raises(ValueError, match=r"^xnav_sigma_m is set but subsystems = \['uv'\] runs "
+                                         r"no xnav: leave it out or add 'xnav'$"):
+        scenarios.MarsScenario(subsystems=("uv",), xnav_sigma_m=(1.0,) * 4)
+    with pytest.raises(ValueError, match=r"^stars is set but subsystems = \['xnav', 'uv'\] runs "
+                                         r"no cns: leave it out or add 'cns'$"):
+        scenarios.MarsScenario(subsystems=("xnav", "uv"), stars=("Sirius", "Vega", "Canopus"))
+    # a default value is the same run as none: accepted (replace keeps working)
+    sc = dataclasses.replace(scenarios.MarsScenario(), subsystems=("uv",))
+    assert sc.subsystems == ("uv",) and sc.dt_xnav == 500.0

@@ -119,6 +119,14 @@ def _settings(args):
         det["faults"] = args.faults
     if args.detector is not None:
         det["name"] = args.detector
+    flags = [f"{flag} {value}" for flag, value in (("--faults", args.faults),
+                                                  ("--detector", args.detector)) if value is not None]
+    if flags and args.scenario_file is not None:  # the file's detector keys for the new detector
+        try:
+            scenario_files.check_detector(det)
+        except ValueError as exc:
+            raise ValueError(f"scenario file {args.scenario_file!r}: {exc} (with "
+                             f"{', '.join(flags)})") from None
     det["name"] = scenario_files.detector_name(det)  # combined with faults, else none
     return sf.scenario, run, det
 

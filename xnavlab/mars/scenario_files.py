@@ -10,7 +10,15 @@ defaults as :func:`~xnavlab.mars.scenarios.run` and
 :func:`~xnavlab.mars.fault_tolerance.run_fault_tolerant`.
 
 A key left out takes its default; an unknown section or key, or a value out of its
-range, is one ``ValueError`` naming ``[section] key`` and what is allowed.
+range, is one ``ValueError`` naming ``[section] key`` and what is allowed. So is a key that
+the other settings make inert, when it is set to other than its default: a subsystem's key
+while ``[run] subsystems`` leaves that subsystem out, ``[xnav] noise``, ``area_m2`` or
+``background`` beside ``[xnav] sigma_m`` (:mod:`xnavlab.mars.unused_inputs`), a
+``[detector]`` key the run's detector does not use (:func:`check_detector`: ``pfa`` with
+``name = "none"``, ``arm_s`` in a plain run). A key at its default is the same run as the key
+left out, and :func:`dump` writes every key, so those are accepted. For the same reason the
+force models' SRP keys (``area_m2``, ``mass_kg``, ``reflectivity``) are accepted with
+``srp = false``: the dump writes them for every model.
 
 The set-up (``[run] setup``): ``"paper"`` (the default, :class:`~xnavlab.mars.scenarios.MarsScenario`:
 truth and filter share the paper's force model, as in the book's reproductions) or ``"study"``
@@ -50,7 +58,8 @@ from xnavlab.core.validate import check_choice, check_real
 from xnavlab.mars import force_models, model_noise, pulsar_specs, scenarios
 
 __all__ = ["SECTIONS", "SETUPS", "RUN_DEFAULTS", "DETECTOR_DEFAULTS", "UNITS", "ScenarioFile",
-           "dump", "load", "loads", "with_overrides", "detector_name", "scenario_json"]
+           "DETECTOR_USES", "dump", "load", "loads", "with_overrides", "detector_name",
+           "check_detector", "scenario_json"]
 
 #: The set-ups a file's defaults come from (``[run] setup``).
 SETUPS = ("paper", "study")
@@ -63,6 +72,12 @@ RUN_DEFAULTS = {"setup": "paper", "backend": "numba", "local_filter": "ekf", "se
 DETECTOR_DEFAULTS = {"name": None, "faults": "", "pfa": 1e-5, "alpha": 1e-5,
                      "rate_per_day": 1.0, "train_days": None, "arm_s": 600.0,
                      "adaptive": True}
+
+#: ``[detector]`` key -> the detectors that use it; one set (not at its default) for another
+#: detector is refused (:func:`check_detector`).
+DETECTOR_USES = {"pfa": ("wavelet",), "alpha": ("chi2",), "rate_per_day": ("combined",),
+                 "train_days": ("wavelet", "combined"), "arm_s": ("combined",),
+                 "adaptive": ("combined",)}
 
 _BODIES = ", ".join(force_models.PLANETS)
 _MODEL_KEYS = {
@@ -204,6 +219,9 @@ def dump(scenario=None, run=None, detector=None):
     """The scenario file of ``scenario`` (default the paper's), one key a line with its unit.
 
     Keys whose value is ``None`` (computed) are written commented out with their meaning.
+    Every other key is written, at its value, even where another setting makes it inert
+    (``area_m2`` with ``srp = false``, ``pfa`` without a detector): :func:`loads` accepts a key
+    at its default with any other settings and refuses an inert one only when it is changed.
 
     Returns
     -------
@@ -312,11 +330,13 @@ def _where(exc):
     name = text.split(" ")[0].split("[")[0]
     for (section, key), (where, _) in _KEYS.items():
         # the field the message is about (its first word), and any other field with an
-        # internal name it mentions (xnav_sigma_m; not a plain word such as days)
+        # internal name it mentions (xnav_sigma_m; a plain word such as days or subsystems
+        # only where the message gives its value: "subsystems = ['uv']")
         if where == name:
             text = f"[{section}] {key}" + text[len(name):]
-        elif "_" in where and ":" not in where and "." not in where:
-            text = re.sub(rf"(?<![\w\[])({re.escape(where)})\b", f"[{section}] {key}", text)
+        elif ":" not in where and "." not in where:
+            after = r"\b" if "_" in where else r"(?= = )"
+            text = re.sub(rf"(?<![\w\[])({re.escape(where)}){after}", f"[{section}] {key}", text)
     return text
 
 
@@ -352,12 +372,13 @@ def _check_detector(det, sc):
         det["train_days"] = check_real("[detector] train_days", det["train_days"], 0.0, sc.days,
                                        lo_open=True, hi_open=True)
     det["arm_s"] = check_real("[detector] arm_s", det["arm_s"], 0.0, 1e8)
+    if not isinstance(det["adaptive"], bool):
+        raise ValueError(f"[detector] adaptive must be true or false, got {det['adaptive']!r}")
+    check_detector(det)  # a key the run's detector does not use: refused, with or without faults
     if detector_name(det) == "combined" and not det["arm_s"] < sc.span:  # names the run's days
         raise ValueError(f"[detector] arm_s ({det['arm_s']:g} s, when the combined detector's "
                          f"tests start) must be shorter than the run: [run] days = {sc.days:g} "
                          f"is {sc.span:g} s")
-    if not isinstance(det["adaptive"], bool):
-        raise ValueError(f"[detector] adaptive must be true or false, got {det['adaptive']!r}")
 
 
 def load(path):
@@ -386,6 +407,38 @@ def detector_name(detector):
     if detector["name"] is not None:
         return detector["name"]
     return "combined" if detector["faults"] else "none"
+
+
+def check_detector(detector):
+    """Refuse a ``[detector]`` key set (not at its default, :data:`DETECTOR_DEFAULTS`) that the
+    run's detector (:func:`detector_name`) does not use (:data:`DETECTOR_USES`).
+
+    A key at its default is the same run as the key left out (``scenario --dump`` writes every
+    key), so it is accepted with any detector. ``run mars`` checks again after ``--faults``
+    and ``--detector`` have replaced the file's.
+
+    Examples
+    --------
+    >>> check_detector({**DETECTOR_DEFAULTS, "name": "wavelet", "pfa": 0.01})
+    >>> check_detector({**DETECTOR_DEFAULTS, "name": "none", "pfa": 0.01})
+    Traceback (most recent call last):
+    ...
+    ValueError: [detector] pfa is set but the run's detector is none ([detector] name = "none"): \
+only the wavelet detector uses it; leave it out or name that detector
+    """
+    name = detector_name(detector)
+    if name != "none" and not any(name in users for users in DETECTOR_USES.values()):
+        return  # an unknown detector is named by its own check
+    for key, users in DETECTOR_USES.items():
+        if name in users or detector[key] == DETECTOR_DEFAULTS[key]:
+            continue
+        why = (f'[detector] name = "{name}"' if detector["name"] is not None else
+               "no [detector] name and no faults: a plain run" if name == "none" else
+               "no [detector] name and faults: the combined detector")
+        which = " or ".join(users)
+        raise ValueError(f"[detector] {key} is set but the run's detector is {name} ({why}): "
+                         f"only the {which} detector{'s use' if len(users) > 1 else ' uses'} it; "
+                         f"leave it out or name {'one of them' if len(users) > 1 else 'that detector'}")
 
 
 def scenario_json(scenario):

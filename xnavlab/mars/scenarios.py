@@ -83,6 +83,7 @@ from xnavlab.mars import (
     stars,
     timing_bound,
     toa,
+    unused_inputs,
 )
 from xnavlab.mars import kernel_inputs as ki
 from xnavlab.mars.time_update import Propagation, process_noise
@@ -208,7 +209,8 @@ class MarsScenario:
         filter's: no harmonics, no SRP). Default both the paper's: the paper's set-up
         (:attr:`paper_setup`); :meth:`study` gives the studies' set-up.
     subsystems : tuple of str
-        Which subsystems run, any of ``("xnav", "uv", "cns")``.
+        Which subsystems run, any of ``("xnav", "uv", "cns")``; a field set (not at its default)
+        for one that does not run is refused (:mod:`xnavlab.mars.unused_inputs`).
     beta : tuple of float or None
         Information-sharing factors, one a subsystem, each in (0, 1] (default equal); the run
         normalises them to sum 1, so only their ratios count ((1, 1, 1) is the default).
@@ -309,9 +311,6 @@ class MarsScenario:
                                  f"a pulsar, got {len(sig)}")
             object.__setattr__(self, "xnav_sigma_m", sig)
         check_choice("xnav_noise", self.xnav_noise, timing_bound.XNAV_NOISE)
-        if self.xnav_sigma_m is not None and self.xnav_noise != "paper":  # it would be unused
-            raise ValueError(f"xnav_noise = {self.xnav_noise!r} computes the ranging noise that "
-                             f"xnav_sigma_m gives: give one of them")
         if self.stars is not None:
             object.__setattr__(self, "stars", check_items("stars", self.stars, "star",
                                                           lambda _, s: stars.get(s).name))
@@ -330,6 +329,7 @@ class MarsScenario:
         check_real("t0", self.t0)
         s0 = check_vector("state0", self.state0, 6)
         object.__setattr__(self, "state0", tuple(float(v) for v in s0))
+        unused_inputs.check_fields(self)  # a field set but made inert by another is refused
 
     @classmethod
     def study(cls, **fields):
@@ -505,6 +505,7 @@ def prepare(scenario=None, **overrides):
     span = sc.span
     dts = {"xnav": sc.dt_xnav, "uv": sc.dt_uv, "cns": sc.dt_cns}
     offs = {dt: np.round(_epochs(span, dt), 6) for dt in {dts[s] for s in sc.subsystems}}
+    unused_inputs.warn_unmeasured(sc, {s: offs[dts[s]].size for s in sc.subsystems})
     grid = np.unique(np.concatenate([[0.0], *offs.values()]))
     times = sc.t0 + grid
     truth = _truth(times, sc)
@@ -630,6 +631,7 @@ class MarsRun:
             settle_days = default_settle_days(self.scenario.days)
         settle_days = check_real("settle_days", settle_days, 0.0, self.t_days[-1])
         m = self.t_days >= settle_days
+        unused_inputs.warn_few_records(int(m.sum()), settle_days, self.scenario.record_dt)
         pe, ve = self.position_error(), self.velocity_error()
         return {
             "position_error_m": float(np.sqrt(np.mean(pe[m] ** 2))),
