@@ -310,3 +310,19 @@ def test_list_with_out_makes_no_folder(tmp_path, capsys):
     assert main(["reproduce", "--list", "--out", str(tmp_path / "x")]) == 2
     assert "--list takes no --out" in capsys.readouterr().err
     assert not (tmp_path / "x").exists()
+
+
+@pytest.mark.parametrize("argv", [["--version"], ["--help"], ["reproduce", "--list"],
+                                  ["scenario", "--dump"], ["run", "mars", "--help"]])
+def test_a_standard_output_closed_early_ends_quietly(argv):
+    """`reproduce --list | head -1` ended in a BrokenPipeError traceback (review 35 follow-up):
+    the output closed before the command writes, and after its first line."""
+    for lines in (0, 1):
+        proc = subprocess.Popen([sys.executable, "-m", "xnavlab", *argv], stdout=subprocess.PIPE,
+                                stderr=subprocess.PIPE)
+        if lines:
+            assert proc.stdout.readline()
+        proc.stdout.close()
+        err = proc.stderr.read().decode()
+        proc.stderr.close()
+        assert proc.wait(timeout=120) in (0, 141) and err == "", err

@@ -29,13 +29,14 @@ from __future__ import annotations
 import argparse
 import importlib
 import math
+import os
 import re
 import sys
 import warnings
 
 from xnavlab import __version__
 
-__all__ = ["main", "UsageError", "Parser", "COMMANDS", "number"]
+__all__ = ["main", "UsageError", "Parser", "COMMANDS", "EXIT_PIPE", "number"]
 
 #: Command name -> module implementing it (``HELP``, ``configure``, ``execute``).
 COMMANDS = {
@@ -155,22 +156,58 @@ def build_parser():
     return parser
 
 
-def _warning_line(message, category, filename, lineno, file=None, line=None):
-    print(f"xnavlab: warning: {message}", file=sys.stderr)
+#: Exit code of a command whose standard output was closed early (``... | head -1``): 128 +
+#: SIGPIPE, what a shell reports for a command the signal ended.
+EXIT_PIPE = 141
+
+
+def _warning_printer():
+    """``warnings.showwarning`` of one command: each warning as one line, each text once (a
+    summary that computes a metric twice warns once)."""
+    shown = set()
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        text = f"xnavlab: warning: {message}"
+        if text not in shown:
+            shown.add(text)
+            print(text, file=sys.stderr)
+
+    return show
+
+
+def _stdout_closed():
+    """After a BrokenPipeError: point the standard output at the null device, so that the
+    interpreter's last flush finds no closed pipe (which would print a traceback at exit)."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):  # pragma: no cover - stdout without a file
+        pass
 
 
 def main(argv=None):
     """Entry point; returns the process exit code.
 
-    A :class:`xnavlab.core.userfiles.InputWarning` (part of a user's file left unused, e.g. a
-    corrupt line of a campaign store) is printed as one line, ``xnavlab: warning: ...``.
+    A :class:`xnavlab.core.userfiles.InputWarning` (about the user's input: part of a file
+    left unused, e.g. a corrupt line of a campaign store; a subsystem that gets no
+    measurement; an RMS of one record) is printed as one line, ``xnavlab: warning: ...``,
+    each text once, also under ``--quiet`` (which silences progress, not warnings about
+    inputs). A standard output closed early (``python -m xnavlab reproduce --list | head -1``)
+    ends every command quietly with :data:`EXIT_PIPE`, without a traceback.
     """
     from xnavlab.core.userfiles import InputWarning
 
-    with warnings.catch_warnings():
-        warnings.filterwarnings("always", category=InputWarning)
-        warnings.showwarning = _warning_line
-        return _main(argv)
+    try:
+        try:
+            with warnings.catch_warnings():
+                warnings.filterwarnings("always", category=InputWarning)
+                warnings.showwarning = _warning_printer()
+                return _main(argv)
+        finally:  # --help's SystemExit too: a closed pipe shows here when the output was buffered
+            sys.stdout.flush()
+    except BrokenPipeError:
+        _stdout_closed()
+        return EXIT_PIPE
 
 
 def _main(argv):
