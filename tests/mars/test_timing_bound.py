@@ -130,8 +130,10 @@ def test_the_scenario_draws_and_weighs_xnav_noise_at_the_bound():
     crlb = scenarios.MarsScenario(xnav_noise="crlb").sensors()["xnav"].sigma
     np.testing.assert_allclose(paper, tb.xnav_noise_sigma("paper"), rtol=1e-12)
     np.testing.assert_allclose(crlb, tb.xnav_noise_sigma("crlb"), rtol=1e-12)
-    given_sigma = scenarios.MarsScenario(xnav_noise="crlb", xnav_sigma_m=(1.0, 2.0, 3.0, 4.0))
+    given_sigma = scenarios.MarsScenario(xnav_sigma_m=(1.0, 2.0, 3.0, 4.0))
     np.testing.assert_allclose(given_sigma.sensors()["xnav"].sigma * C, [1.0, 2.0, 3.0, 4.0])
+    with pytest.raises(ValueError, match="xnav_noise"):  # given sigmas make the noise model unused
+        scenarios.MarsScenario(xnav_noise="crlb", xnav_sigma_m=(1.0, 2.0, 3.0, 4.0))
     with pytest.raises(ValueError, match="xnav_noise must be one of"):
         scenarios.MarsScenario(xnav_noise="exact")
     sf = scenario_files.loads('[xnav]\nnoise = "crlb"')
