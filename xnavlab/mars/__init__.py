@@ -20,7 +20,8 @@ module                 what it models
                        photons: the geocentre as the spacecraft (chapter 1, real photons)
 ``photon_error``       that fix's error bar against exposure and chapter 1's formula,
                        checked over random splits of the months
-``photon_plots``       the figures of the fix: slider, recovery, cycle ambiguity, exposure
+``photon_plots``       chapter 1's ranging-accuracy bars; the figures of the fix: slider,
+                       recovery, cycle ambiguity, exposure
 ``timing_terms``       what the paper's TOA equation leaves out: exact vs paper Shapiro,
                        the planets' Shapiro, the on-board clock against TDB (chapter 2)
 ``dynamics``           Mars-orbit dynamics, truth propagator, transition matrix (chapter 3)
@@ -32,6 +33,9 @@ module                 what it models
 ``optics``             the optical sensors as instruments: range from the apparent radius,
                        Mars's oblate limb, correlated horizon errors (chapters 4-6)
 ``scenarios``          the paper's 30-day scenario and the federated run (chapters 5-6)
+``unused_inputs``      scenario settings another setting makes unused, runs left empty
+``consistency``        run-averaged NEES and NIS against chi-square (chapters 5, 13)
+``linearisation``      the EKF against the UKF on one UV run: what linearising costs (ch. 5)
 ``time_update``        the filters' time update: RK4 with the paper's force model, the
                        transition matrix, the process noise (chapter 5)
 ``scenario_files``     every scenario setting in a TOML file, with units (``run mars

@@ -6,7 +6,9 @@ innovation squared (NIS) averages its measurement dimension. One run cannot show
 epochs are correlated); :func:`nees_monte_carlo` averages over independent runs with random
 initial errors and gives the two-sided 95 % chi-square bounds of those averages
 (Bar-Shalom, Li and Kirubarajan 2001, section 5.4). Chapter 5 judges each optical
-idealisation with it; ``tests/mars/test_consistency.py`` finds the cause of each departure.
+idealisation with it; chapter 13 shows why the federated XNAV filter is conservative (a local
+filter holds ``P / beta``), and ``tests/mars/test_consistency.py`` turns off the cause of each
+departure.
 """
 
 from __future__ import annotations
