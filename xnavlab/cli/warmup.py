@@ -29,6 +29,7 @@ first run waits for them either. The steps after it wait for it.
 from __future__ import annotations
 
 import concurrent.futures
+import functools
 import multiprocessing
 import os
 import subprocess
@@ -117,23 +118,22 @@ def _bound_table():
     plots.bound_table()  # chapter 10's call: stored under $XNAVLAB_CACHE
 
 
-def _ephemeris_reproductions():
+def _reproduction(rid):
     from xnavlab import reproduce
 
-    for rid in ("ukf-vs-ephemeris-error", "rkf-earth", "rkf-mars", "rkf-sweep", "rkf-residual-memory"):
-        reproduce.run(rid)  # the registered Monte Carlo runs chapter 10 reads (reproduction cache)
+    reproduce.run(rid)  # a registered Monte Carlo a chapter reads (reproduction cache)
+
+
+def _reproduction_step(chapter, rid):
+    """``(label, function)`` of the step computing the reproduction ``rid`` (a partial of a
+    module-level function: a pool worker can import it)."""
+    return (f"chapter {chapter}'s {rid} (reproduction cache)", functools.partial(_reproduction, rid))
 
 
 def _ekf_and_ukf():
     from xnavlab.mars import linearisation
 
     linearisation.ekf_and_ukf()  # chapter 5's EKF/UKF comparison, numpy loop (about 50 s, cache)
-
-
-def _subsystems():
-    from xnavlab import reproduce
-
-    reproduce.run("mars-subsystems")  # chapter 5's 32 seeds x 4 configurations (reproduction cache)
 
 
 #: The label of the filter kernel's compile in :data:`STEPS`.
@@ -150,9 +150,10 @@ STEPS = (
     ("the studies' rich truth, 30 days, and its q_acc (truth cache)", _study_truth),
     ("chapter 1's TOA accuracies and chapter 2's fold surveys (cache)", _timing_tables),
     (KERNEL_STEP, compile_kernel),
-    ("chapter 10's Monte Carlo reproductions (reproduction cache)", _ephemeris_reproductions),
+    *(_reproduction_step(10, rid) for rid in ("rkf-earth", "rkf-mars", "rkf-sweep",
+                                              "rkf-residual-memory", "ukf-vs-ephemeris-error")),
     ("chapter 10's table of the RKF's bound (cache)", _bound_table),
-    ("chapter 5's subsystems alone and fused, 32 seeds (reproduction cache)", _subsystems),
+    _reproduction_step(5, "mars-subsystems"),
     ("chapter 5's EKF and UKF on the same UV data, half an hour (cache)", _ekf_and_ukf),
     ("matched vs mismatched models, 30 days x 5 seeds x 3 cases (cache)", _model_mismatch),
     ("fault-tolerant runs", _mars_fault_tolerant),
