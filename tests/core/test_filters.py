@@ -265,7 +265,7 @@ I2 = np.eye(2)
 
 
 @pytest.mark.parametrize("call, match", [
-    (lambda: filters.joseph(I2, 0.5 * I2, I2, np.diag([1.0, -1.0])), r"^R must be positive definite"),
+    (lambda: filters.joseph(I2, 0.5 * I2, I2, np.diag([1.0, -1.0])), r"^R must be positive semi-definite"),
     (lambda: filters.joseph(-I2, 0.5 * I2, I2, I2), r"^P must be positive semi-definite"),
     (lambda: filters.ekf_update(np.zeros(2), I2, np.zeros(2), np.zeros(2), I2, I2,
                                 residual=lambda a, b: np.array([np.nan, 0.0])),

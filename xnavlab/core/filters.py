@@ -219,8 +219,9 @@ def ekf_predict(x, P, f, F, Q, check=True):
 def joseph(P, K, H, R):
     """Joseph-form covariance update ``(I - K H) P (I - K H)^T + K R K^T``.
 
-    ``P`` (n, n) must be symmetric positive semi-definite and ``R`` (m, m) positive definite
-    (ValueError naming it); ``K`` is (n, m) and ``H`` (m, n).
+    ``P`` (n, n) and ``R`` (m, m) must be symmetric positive semi-definite (ValueError naming
+    the one that is not); ``R = 0`` is allowed (a noise carried in an augmented state, as the
+    TDUKF's exact form does); ``K`` is (n, m) and ``H`` (m, n).
 
     Examples
     --------
@@ -228,7 +229,7 @@ def joseph(P, K, H, R):
     [[0.8]]
     """
     P = check_covariance("P", P)
-    R = check_covariance("R", R, definite=True)  # an indefinite R gave a singular "covariance"
+    R = check_covariance("R", R)  # an indefinite R gave a singular "covariance"
     n, m = P.shape[0], R.shape[0]
     K = _checked_model("K", K, (n, m))
     H = _checked_model("H", H, (m, n))
