@@ -88,12 +88,13 @@ book: $(WARM)
 book-clean:
 	rm -rf _build/html _build/.doctrees _build/jupyter_execute _build/.jupyter_cache _build/.jupyter_cache.xnavlab-sha256
 
-## make test: unit tests, doctests, every notebook executed by nbval; no number typed into the
+## make test: ruff over the tree; unit tests, doctests, every notebook executed by nbval; no number typed into the
 ## prose (tools/typed_numbers.py) and book/references.bib up to date (tools/merge_bib.py --check);
 ## then the book built from nothing (no execution cache), opened in headless Chromium and its
 ## pages checked as a reader sees them (tools/check_book.py); then every chapter run and its
 ## sliders moved in JupyterLab
 test: $(WARM)
+	$(BIN)/ruff check .
 	$(BIN)/python tools/typed_numbers.py
 	$(BIN)/python tools/eval_roles.py --check
 	$(BIN)/python tools/hidden_names.py
@@ -141,8 +142,9 @@ notebooks: $(WARM)
 bench: $(STAMP)
 	for f in benchmarks/bench_*.py; do $(BIN)/python $$f || exit 1; done
 
+## make lint: ruff over the whole tree, the chapters and tools included (make test runs it)
 lint: $(STAMP)
-	$(BIN)/ruff check xnavlab tests benchmarks
+	$(BIN)/ruff check .
 
 ## make lab: open the chapters in JupyterLab
 lab: $(STAMP)
