@@ -60,3 +60,16 @@ def test_a_consistency_campaign_too_short_for_its_nees_bins_is_refused_before_an
         with pytest.raises(ValueError, match=r"^days must be at least 0.000417 for the "
                                              r"consistency campaign: each of its 12 NEES bins"):
             make()
+
+
+def test_a_scenario_sets_every_field_but_those_the_consistency_campaign_sets():
+    from xnavlab.mars import scenarios
+
+    sc = scenarios.MarsScenario(sigma_range_m=100.0, mode="no-reset")
+    camp = mc.campaign("consistency", days=0.02, scenario=sc)
+    assert camp.params(0)["fields"] == {"sigma_range_m": 100.0, "mode": "no-reset"}
+    for bad in ({"seed": 3}, {"record_dt": 10.0}):
+        with pytest.raises(ValueError, match=f"scenario.{next(iter(bad))} is not used"):
+            mc.campaign("consistency", days=0.02, scenario=scenarios.MarsScenario(**bad))
+    with pytest.raises(ValueError, match="'seed' is not a field consistency_run takes"):
+        mc.consistency_run(seed=0, days=0.02, fields={"seed": 1})

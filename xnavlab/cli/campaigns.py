@@ -8,26 +8,30 @@ Usage::
     python -m xnavlab campaign roc --grid FILE --runs N --seed S --out DIR [...]
 
 ``NAME`` is one of :data:`xnavlab.mars.campaigns.CAMPAIGNS` (``consistency``, ``detectors``)
-(``consistency --scenario FILE`` takes the pulsars, force models, ``q_acc``, subsystems and
-horizon noise of a scenario file: a study's truth, or pulsars from timing models; its days and
-seed are ``--days`` and ``--seed``'s) or ``roc``: the receiver operating characteristic of a
-detector (:mod:`xnavlab.mars.roc`), its threshold swept over the values of a grid file (TOML
-or JSON, the format in
-:mod:`xnavlab.mars.roc`; without ``--grid``, :data:`xnavlab.mars.roc.DEFAULT_GRID`) on its
-faults (run ``i`` is fault ``i mod F``, every threshold on the same run). The run length is
-the grid's ``days`` (``--days`` is refused). Besides ``runs.jsonl`` and ``summary.json`` it
-writes ``DIR/roc.json`` (the grid, the curve per threshold: Pd with its Wilson 95 % interval,
-false alarms per day with its exact Poisson (Garwood) 95 % interval; and the same per fault)
-and ``DIR/roc.csv`` (the curve); ``--json`` prints the contents of ``roc.json`` with the counts
-(``computed``, ``reused``, ``failed``, ``wall_s``) instead of every run.
-The runs execute on a local process pool of ``K`` workers (default 2), on the Dask cluster
-whose scheduler is at ``--scheduler``, or on a Dask ``LocalCluster`` of ``K`` worker
-processes (``--local-cluster``); run ``i`` draws its seed from ``SeedSequence(S)`` by its
-index, so the records are the same on each. Every run is appended to ``DIR/runs.jsonl`` as it
-completes (the header in ``DIR/campaign.json``, so ``runs.jsonl`` holds records only and
-``pandas.read_json(DIR + "/runs.jsonl", lines=True)`` or
-:func:`xnavlab.core.campaign.load_runs` reads it); running the same command again reuses
-the finished runs and computes the missing ones (:mod:`xnavlab.core.campaign`). The summary
+(``consistency --scenario FILE`` takes every setting of a scenario file that a fault-free
+consistency run has: a study's truth, pulsars from timing models, the sensors' noise, mode,
+beta, initial error sigmas, orbit, backend and local filter; its ``[run] days`` and ``seed``
+are the campaign's days and seed, ``--days`` and ``--seed`` overriding them. A key the campaign
+does not use, set to other than its default, is refused in one line naming it: ``[run]
+record_dt`` and ``settle_days`` (the campaign records at min(60 s, span / 48) and averages from
+a quarter of the run) and every ``[detector]`` key (the runs are fault-free); ``[filter]
+init_error`` at its default is the campaign's random initial error) or ``roc``: the receiver
+operating characteristic of a detector (:mod:`xnavlab.mars.roc`), its threshold swept over the
+values of a grid file (TOML or JSON, the format in :mod:`xnavlab.mars.roc`; without ``--grid``,
+:data:`xnavlab.mars.roc.DEFAULT_GRID`) on its faults (run ``i`` is fault ``i mod F``, every
+threshold on the same run). The run length is the grid's ``days`` (``--days`` is refused).
+Besides ``runs.jsonl`` and ``summary.json`` it writes ``DIR/roc.json`` (the grid, the curve per
+threshold: Pd with its Wilson 95 % interval, false alarms per day with its exact Poisson
+(Garwood) 95 % interval; and the same per fault) and ``DIR/roc.csv`` (the curve); ``--json``
+prints the contents of ``roc.json`` with the counts (``computed``, ``reused``, ``failed``,
+``wall_s``) instead of every run. The runs execute on a local process pool of ``K`` workers
+(default 2), on the Dask cluster whose scheduler is at ``--scheduler``, or on a Dask
+``LocalCluster`` of ``K`` worker processes (``--local-cluster``); run ``i`` draws its seed from
+``SeedSequence(S)`` by its index, so the records are the same on each. Every run is appended to
+``DIR/runs.jsonl`` as it completes (the header in ``DIR/campaign.json``, so ``runs.jsonl``
+holds records only and ``pandas.read_json(DIR + "/runs.jsonl", lines=True)`` or
+:func:`xnavlab.core.campaign.load_runs` reads it); running the same command again reuses the
+finished runs and computes the missing ones (:mod:`xnavlab.core.campaign`). The summary
 (everything but the runs) is written to ``DIR/summary.json``. A progress bar on stderr shows
 the runs done, failed and the rate (none with ``--json`` or ``--quiet``).
 
@@ -91,10 +95,12 @@ def configure(parser):
                         help="roc only: the threshold and fault grid, TOML or JSON (keys "
                              "detector, thresholds, days, faults: see xnavlab.mars.roc); "
                              "default xnavlab.mars.roc.DEFAULT_GRID")
-    parser.add_argument("--seed", default="0", help="the campaign's seed (default 0)")
+    parser.add_argument("--seed", default=None,
+                        help="the campaign's seed (default 0, or the --scenario file's)")
     parser.add_argument("--scenario", metavar="FILE", dest="scenario_file", default=None,
-                        help="consistency only: take the pulsars, force models, q_acc, "
-                             "subsystems and horizon noise of this scenario file")
+                        help="consistency only: take every setting of this scenario file a "
+                             "fault-free run has (--days and --seed override its days and "
+                             "seed); a key the campaign does not use is refused")
     parser.add_argument("--out", required=True, metavar="DIR",
                         help="campaign directory: runs.jsonl is appended there and reused")
     parser.add_argument("--workers", default=None,
@@ -127,16 +133,22 @@ def execute(args):
         raise UsageError("--scenario is an option of campaign consistency only")
     if args.name == "roc":
         return _execute_roc(args)
+    file_days = file_seed = scenario = None
+    options = {}
+    if args.scenario_file is not None:
+        scenario, options, file_days, file_seed = _consistency_file(args.scenario_file)
+    if args.seed is None and file_seed is not None:
+        args.seed = str(file_seed)
     runs, seed, where = _common(args)
     lo, hi = DAYS[args.name]  # the campaign's own range, checked again (with more) below
-    days = _number("days", "1" if args.days is None else args.days, float, lo, hi,
-                   lo_open=args.name == "consistency")
-    scenario = None
-    if args.scenario_file is not None:
-        from xnavlab.mars import scenario_files
+    days = (file_days if args.days is None and file_days is not None else
+            _number("days", "1" if args.days is None else args.days, float, lo, hi,
+                    lo_open=args.name == "consistency"))
+    if scenario is not None:
+        import dataclasses
 
-        scenario = scenario_files.load(args.scenario_file).scenario
-    camp = campaign(args.name, days=days, scenario=scenario)
+        scenario = dataclasses.replace(scenario, days=days, seed=0)
+    camp = campaign(args.name, days=days, scenario=scenario, **options)
     if args.name == "detectors":
         from xnavlab.mars.campaigns import detector_cells
 
@@ -166,6 +178,46 @@ def execute(args):
     return 1 if res.failed else 0
 
 
+def _consistency_file(path):
+    """``campaign consistency --scenario FILE``: (scenario, run options, the file's days or
+    None, its seed or None); a key the campaign does not use, set apart from its default, is
+    one line naming it."""
+    from pathlib import Path
+
+    from xnavlab.core.userfiles import parse_toml, read_text
+    from xnavlab.mars import scenario_files
+    from xnavlab.mars.campaigns import DAYS
+
+    sf = scenario_files.load(path)
+    try:
+        given = parse_toml(read_text(Path(path), "scenario file"), "scenario file")
+    except ValueError:  # load read it: not reached
+        given = {}
+    run, det = given.get("run", {}), given.get("detector", {})
+    unused = {("run", "record_dt"): (sf.scenario.record_dt != 60.0,
+                                     "its runs record at min(60 s, span / 48)"),
+              ("run", "settle_days"): (sf.run["settle_days"] is not None,
+                                       "its RMS errors are from a quarter of the run on")}
+    for key in det:
+        value, default = sf.detector[key], scenario_files.DETECTOR_DEFAULTS[key]
+        at_default = value == default or (key == "name" and value == "none")
+        unused[("detector", key)] = (not at_default, "its runs are fault-free")
+    for (section, key), (refuse, why) in unused.items():
+        if refuse:
+            raise UsageError(f"scenario file {str(path)!r}: [{section}] {key} is not used by "
+                             f"campaign consistency ({why}); remove it")
+    days = None
+    if "days" in run:
+        days = sf.scenario.days
+        lo, hi = DAYS["consistency"]
+        if not lo < days <= hi:
+            raise UsageError(f"scenario file {str(path)!r}: [run] days must be in ({lo:g}, "
+                             f"{hi:g}] for campaign consistency (or give --days), got {days:g}")
+    seed = sf.scenario.seed if "seed" in run else None
+    options = {"backend": sf.run["backend"], "local_filter": sf.run["local_filter"]}
+    return sf.scenario, options, days, seed
+
+
 def _common(args):
     """The options every campaign shares: runs, seed and where to run (engine, workers,
     scheduler, timeout)."""
@@ -173,7 +225,7 @@ def _common(args):
         raise UsageError("--timeout is the wait for a Dask cluster: it goes with --scheduler "
                          "or --local-cluster (local workers need none)")
     runs = _number("runs", args.runs, int, 1, 10**7)
-    seed = _number("seed", args.seed, int, 0, 2**63 - 1)
+    seed = _number("seed", "0" if args.seed is None else args.seed, int, 0, 2**63 - 1)
     output_path(args.out, "--out", folder=True)  # made and writable before any run
     timeout = (None if args.timeout is None  # None: run_campaign's own default
                else _number("timeout", args.timeout, float, 0.0, 3600.0, lo_open=True))

@@ -32,6 +32,7 @@ Examples
 
 from __future__ import annotations
 
+import dataclasses
 from itertools import product
 
 import numpy as np
@@ -39,7 +40,7 @@ import numpy as np
 from xnavlab.core.campaign import Campaign
 from xnavlab.core.filters import chi2_bounds, consistency_verdict
 from xnavlab.core.validate import check_choice, check_int, check_real
-from xnavlab.mars import pulsar_specs, pulsars, scenarios, trials
+from xnavlab.mars import pulsar_specs, pulsars, scenario_files, scenarios, trials
 
 __all__ = ["CAMPAIGNS", "NEES_BINS", "DAYS", "campaign", "consistency_run", "detectors_run",
            "summarise_consistency", "summarise_detectors", "detector_cells"]
@@ -56,7 +57,7 @@ DAYS = {"consistency": (0.0, 30.0), "detectors": (0.5, 5.0)}
 def consistency_run(*, seed, days=1.0, q_acc=scenarios.DEFAULT_Q_ACC,
                     subsystems=scenarios.SUBSYSTEMS, sigma_horizon_deg=0.05,
                     pulsars=pulsars.PAPER_PULSARS, truth_model="paper",
-                    filter_model="paper"):
+                    filter_model="paper", fields=None, backend="numba", local_filter="ekf"):
     """One fault-free Mars run with a random initial error: NEES, NIS and errors.
 
     Parameters
@@ -75,6 +76,12 @@ def consistency_run(*, seed, days=1.0, q_acc=scenarios.DEFAULT_Q_ACC,
         The XNAV pulsars: names, ``.par`` paths or tables (:mod:`xnavlab.mars.pulsar_specs`).
     truth_model, filter_model : str or dict
         Force models (:func:`xnavlab.mars.force_models.model`; default the paper's set-up).
+    fields : dict, optional
+        Further :class:`~xnavlab.mars.scenarios.MarsScenario` fields, JSON-ready (a scenario
+        file's UV noise, mode, beta, initial error sigmas, orbit, ...); not ``days``,
+        ``seed``, ``init_error`` or ``record_dt``, which the campaign sets.
+    backend, local_filter : str
+        Of :func:`xnavlab.mars.scenarios.run` (``"numba"``/``"numpy"``, ``"ekf"``/``"ukf"``).
 
     Returns
     -------
@@ -96,11 +103,12 @@ def consistency_run(*, seed, days=1.0, q_acc=scenarios.DEFAULT_Q_ACC,
     seed = check_int("seed", seed, 0, 2**63 - 1)
     span = days * 86400.0
     record_dt = min(60.0, span / (4 * NEES_BINS))       # at least four records a bin
+    fields = _check_fields(fields)
     sc = scenarios.MarsScenario(days=days, seed=seed, init_error="random", record_dt=record_dt,
                                 q_acc=q_acc, subsystems=tuple(subsystems),
                                 sigma_horizon_deg=sigma_horizon_deg, pulsars=pulsars,
-                                truth_model=truth_model, filter_model=filter_model)
-    res = scenarios.run(sc)
+                                truth_model=truth_model, filter_model=filter_model, **fields)
+    res = scenarios.run(sc, backend=backend, local_filter=local_filter)
     e = res.nees()                                       # e^T P^-1 e, fused estimate
     frac = np.clip((res.t - res.t[0]) / span, 0.0, 1.0 - 1e-12)
     k = (frac * NEES_BINS).astype(int)
@@ -254,7 +262,28 @@ def _consistency_days(days, subsystems):
     return days
 
 
-def _consistency(days, scenario=None):
+#: MarsScenario fields a consistency campaign sets itself (a scenario's own are not used).
+_SET_BY_CAMPAIGN = ("days", "seed", "init_error", "record_dt")
+#: Fields consistency_run takes by name (the rest go in its ``fields``).
+_NAMED = ("q_acc", "subsystems", "sigma_horizon_deg", "pulsars", "truth_model", "filter_model")
+
+
+def _check_fields(fields):
+    """``fields`` of :func:`consistency_run`: a dict of MarsScenario fields it does not set."""
+    if fields is None:
+        return {}
+    if not isinstance(fields, dict):
+        raise ValueError(f"fields must be a dict of MarsScenario fields, got {fields!r}")
+    known = [f.name for f in dataclasses.fields(scenarios.MarsScenario)
+             if f.name not in _SET_BY_CAMPAIGN + _NAMED]
+    for k in fields:
+        if k not in known:
+            raise ValueError(f"fields: {k!r} is not a field consistency_run takes there "
+                             f"(the fields: {', '.join(known)})")
+    return {k: tuple(v) if isinstance(v, list) else v for k, v in fields.items()}
+
+
+def _consistency(days, scenario=None, backend="numba", local_filter="ekf"):
     days = _consistency_days(days, scenarios.SUBSYSTEMS if scenario is None
                              else scenario.subsystems)
     if scenario is None:
@@ -262,11 +291,30 @@ def _consistency(days, scenario=None):
                         manifest={"days": days, "q_acc": scenarios.DEFAULT_Q_ACC,
                                   "nees_bins": NEES_BINS},
                         summarise=summarise_consistency)
+    default = scenarios.MarsScenario()
+    for name in ("seed", "record_dt"):  # set by the campaign: a scenario's own is refused
+        if getattr(scenario, name) != getattr(default, name):
+            raise ValueError(f"scenario.{name} is not used by campaign consistency (the runs' "
+                             f"seeds come from the campaign's seed; they record at min(60 s, "
+                             f"span / {4 * NEES_BINS})), got {getattr(scenario, name)!r}")
+    if scenario.days not in (default.days, days):
+        raise ValueError(f"scenario.days ({scenario.days:g}) differs from days ({days:g}): "
+                         f"the campaign runs days")
     base = {"q_acc": scenario.q_acc, "subsystems": list(scenario.subsystems),
             "sigma_horizon_deg": scenario.sigma_horizon_deg,
             "pulsars": [pulsar_specs.to_json(p) for p in scenario.pulsars],
             "truth_model": scenario.truth_model.as_dict(),
             "filter_model": scenario.filter_model.as_dict()}
+    # every other field the scenario sets apart from the default (the manifest stays that of
+    # the named fields when there are none)
+    mine, dflt = scenario_files.scenario_json(scenario), scenario_files.scenario_json(default)
+    fields = {k: v for k, v in mine.items()
+              if k not in _SET_BY_CAMPAIGN + _NAMED and v != dflt[k]}
+    if fields:
+        base["fields"] = fields
+    for k, v, d in (("backend", backend, "numba"), ("local_filter", local_filter, "ekf")):
+        if v != d:
+            base[k] = v
     return Campaign("consistency", consistency_run, lambda i: {"days": days, **base},
                     manifest={"days": days, **base, "nees_bins": NEES_BINS},
                     summarise=summarise_consistency)
@@ -296,12 +344,16 @@ CAMPAIGNS = {
 }
 
 
-def campaign(name, *, days=1.0, scenario=None):
+def campaign(name, *, days=1.0, scenario=None, backend="numba", local_filter="ekf"):
     """The :class:`~xnavlab.core.campaign.Campaign` called ``name`` with runs of ``days`` days.
 
     ``scenario`` (``consistency`` only): a :class:`~xnavlab.mars.scenarios.MarsScenario` whose
-    pulsars, force models, ``q_acc``, subsystems and horizon noise the runs take (``campaign
-    consistency --scenario FILE``); default the paper's.
+    fields the runs take (``campaign consistency --scenario FILE``), except those the campaign
+    sets: ``days`` (the argument; the scenario's must be it or the default), ``seed`` (each
+    run's comes from the campaign's seed), ``init_error`` (random) and ``record_dt`` (min(60 s,
+    span / 48)); a seed or record_dt other than the default is refused, naming it. Default the
+    paper's scenario. ``backend`` and ``local_filter`` (``consistency`` only) are
+    :func:`xnavlab.mars.scenarios.run`'s.
 
     Raises
     ------
@@ -318,5 +370,10 @@ def campaign(name, *, days=1.0, scenario=None):
         if name != "consistency":
             raise ValueError(f"scenario goes with campaign consistency; campaign {name} runs "
                              f"the paper's scenario")
-        return _consistency(days, scenario)
+        return _consistency(days, scenario, backend, local_filter)
+    if (backend, local_filter) != ("numba", "ekf"):
+        if name != "consistency":
+            raise ValueError(f"backend and local_filter go with campaign consistency; campaign "
+                             f"{name} runs its own")
+        return _consistency(days, scenarios.MarsScenario(), backend, local_filter)
     return CAMPAIGNS[name][0](days)
