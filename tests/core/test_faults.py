@@ -1,6 +1,7 @@
 """Fault injection and the command-line fault spec."""
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -154,7 +155,8 @@ def test_a_saved_spec_reads_back_as_the_same_faults_to_the_last_bit(sensor, kind
     """format_spec wrote %g (1234.5678 became 1234.57): a re-run from a saved spec injected
     another fault. Every float now comes back bit for bit; %g text where it was exact."""
     f = Fault(sensor, kind, -mag if neg and kind != "noise" else mag, onset, dur, comp)
-    text = format_spec([f, Fault("cns", "step", 1.0, onset, 1.0, 2)], COMPS)
+    other = "uv" if sensor == "cns" else "cns"  # a second item, on another sensor
+    text = format_spec([f, Fault(other, "step", 1.0, onset, 1.0, 2)], COMPS)
     back = parse_spec(text, COMPS)
     assert back[0] == f and all(isinstance(v, float) for v in (back[0].magnitude, back[0].onset))
     assert format_spec(back, COMPS) == text
@@ -216,3 +218,20 @@ def test_sample_times_and_measurements_are_checked_before_injection():
         fault_mask([0.0, np.nan], [f], "uv")
     with pytest.raises(ValueError, match="^t must hold real numbers"):
         f.active([1j])
+
+
+@pytest.mark.parametrize("spec, items", [
+    ("uv.range:step:1e3@1000+10,uv:step:1e3@1000+10", "0 (uv.range:step:1000@1000+10) and 1 "
+                                                      "(uv:step:1000@1000+10)"),
+    ("uv.range:step:1e3@1000+100,uv.range:step:2e3@1050+100", "0 (uv.range:step:1000@1000+100) "
+                                                              "and 1 (uv.range:step:2000@1050+100)"),
+    ("xnav.1:noise:1@0+10,uv:spike:1@5+0,xnav:spike:1@9+0", "0 (xnav.1:noise:1@0+10) and 2 "
+                                                            "(xnav:spike:1@9+0)")])
+def test_two_faults_on_one_component_at_one_time_are_refused_naming_both(spec, items):
+    """uv.range and uv (every component) at one time were injected twice, one alarm scored as
+    two detections; the parsed faults are compared, not the strings."""
+    with pytest.raises(ValueError, match=re.escape(f"fault spec items {items} act on the same "
+                                                   "component at the same time")):
+        parse_spec(spec, COMPS)
+    ok = "uv.range:step:1e3@1000+10,uv.ux:step:1e3@1000+10,uv.range:step:1e3@1010+10"
+    assert len(parse_spec(ok, COMPS)) == 3  # another component, or the next window: fine

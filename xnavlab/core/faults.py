@@ -36,7 +36,10 @@ run and acts on at least one sample is the run's check
 
 A schedule (:func:`check_faults`) is a sequence of :class:`Fault`: one Fault alone, a spec
 string or anything else is refused by name, and so is a fault listed twice (it would be
-injected twice, doubling its size, and scored as two faults).
+injected twice, doubling its size, and scored as two faults), and so are two faults acting on
+one component of one sensor at one time (the same fault written two ways, ``uv.range`` and
+``uv`` for every component, or overlapping windows: compared as parsed faults, a window
+``[onset, end)``, a spike's the instant ``onset``).
 """
 
 from __future__ import annotations
@@ -183,7 +186,44 @@ def check_faults(name, faults, components=None):
             raise ValueError(f"{name} lists {_item(f, components if named else None)} twice "
                              f"(items {seen[f]} and {i}): a fault is injected and scored once")
         seen[f] = i
+    _check_overlaps(name, items, components)
     return items
+
+
+def _overlap(a, b):
+    """Whether faults ``a`` and ``b`` act on one component of one sensor at one time: a
+    component of ``None`` is every component; a window is ``[onset, end)``, a spike's the
+    instant ``onset`` (it acts on the first sample from then on)."""
+    if a.sensor != b.sensor or None not in (a.component, b.component) and \
+            a.component != b.component:
+        return False
+    if a.kind == "spike" and b.kind == "spike":
+        return a.onset == b.onset
+    if a.kind == "spike":
+        return b.onset <= a.onset < b.end
+    if b.kind == "spike":
+        return a.onset <= b.onset < a.end
+    return a.onset < b.end and b.onset < a.end
+
+
+def _check_overlaps(name, items, components):
+    """One ValueError naming two faults that act on one component at one time (the same fault
+    written two ways, ``uv.range`` and ``uv.0``, or ``uv`` beside ``uv.range``, or two
+    overlapping windows): injected, they add up; scored, they are two faults for one event."""
+    by_sensor = {}
+    for i, f in enumerate(items):
+        by_sensor.setdefault(f.sensor, []).append(i)
+    for idx in by_sensor.values():
+        for n, i in enumerate(idx):
+            for j in idx[n + 1:]:
+                if _overlap(items[i], items[j]):
+                    named = components if components is not None and \
+                        items[i].sensor in components else None
+                    raise ValueError(
+                        f"{name} items {i} ({_item(items[i], named)}) and {j} "
+                        f"({_item(items[j], named)}) act on the same component at the same "
+                        f"time: a sensor component takes one fault at a time (give their sum "
+                        f"as one fault, or windows apart)")
 
 
 def fault_mask(t, faults, sensor):
