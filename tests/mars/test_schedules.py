@@ -97,7 +97,7 @@ def test_check_schedule_refuses_a_fault_that_acts_on_no_sample():
         s.check_schedule([Fault("xnav", "step", 1e-5, 61100.0, 300.0)], sc)
     assert s.check_schedule([Fault("xnav", "step", 1e-5, 61000.0, 300.0)], sc)   # on a sample
     assert s.check_schedule([Fault("xnav", "spike", 1e-5, 61100.0, 0.0)], sc)    # its next one
-    with pytest.raises(ValueError, match="comes after the run's last xnav sample"):
+    with pytest.raises(ValueError, match="comes after the last xnav sample before the run.s end"):
         s.check_schedule([Fault("xnav", "spike", 1e-5, 86300.0, 0.0)], sc)
 
 
@@ -256,3 +256,15 @@ def test_a_wrong_type_is_one_value_error_naming_the_parameter(call, match):
     """Review 35 E.20, E.22, E.26: AttributeError and TypeError from deep inside before."""
     with pytest.raises(ValueError, match=match):
         call(scenarios.MarsScenario(days=0.2))
+
+
+def test_a_fault_on_the_samples_at_the_runs_end_only_is_refused():
+    """The UV sample at the end (2592 s of a 0.03-day run) existed, so the check took a fault
+    at 2591 s; the score cuts a fault at the end, [2591, 2592), and always read it missed."""
+    sc = scenarios.MarsScenario(days=0.03)
+    for spec in ("uv.range:step:1e3@2591+10", "uv.range:spike:1e3@2590+0"):
+        with pytest.raises(ValueError, match=r"acts on no sample: it comes after the last uv "
+                                             r"sample before the run's end \(2589 s"):
+            s.check_schedule(s.parse_faults(spec, sc), sc)
+    f, = s.check_schedule(s.parse_faults("uv.range:step:1e3@2589+10", sc), sc)
+    assert s.scoring_span(f, span=sc.span) == (2589.0, 2592.0)  # holds the 2589-s sample

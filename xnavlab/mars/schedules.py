@@ -191,7 +191,11 @@ def check_schedule(faults, scenario, detector="combined", train_days=1.0, paper=
     fault-free training span (``train_days``), and with the ``"combined"`` detector any
     fault from :data:`EARLIEST_ONSET_S` (600 s) on is taken (its innovation tests watch
     while the wavelets train). A fault may end
-    after the run (it is then cut at the end, which is a use).
+    after the run (it is then cut at the end, which is a use). The check and the score agree
+    on the end: a sample counts when it lies before the run's end, ``t < span``, as in
+    :func:`scoring_span` (``[onset, min(end, span))``), so a fault that would act only on a
+    sample at the end itself (``t = span``) is refused here rather than always scored
+    missed.
 
     Parameters
     ----------
@@ -243,12 +247,15 @@ def check_schedule(faults, scenario, detector="combined", train_days=1.0, paper=
             continue                     # inject_inputs names a sensor the run lacks
         dt = dts[f.sensor]
         first = _first_sample(f.onset, dt)
-        last = dt * math.floor(span / dt + 1e-9)
+        last = dt * math.floor(span / dt + 1e-9)  # the last sample, at or before the end
+        if last >= span * (1.0 - 1e-12):          # one at the end: scored times are < span
+            last -= dt
         if first > last or (f.kind != "spike" and first >= f.end):
             why = (f"lasts {f.duration:.6g} s between two {f.sensor} samples (one every "
                    f"{dt:g} s): make it last at least {dt:g} s or move it onto a sample"
-                   if first <= last else f"comes after the run's last {f.sensor} sample "
-                   f"({last:.0f} s)")
+                   if first <= last else f"comes after the last {f.sensor} sample before "
+                   f"the run's end ({last:.0f} s; the sample at the end, {span:.0f} s, is not "
+                   f"scored: scoring_span cuts a fault at the end)")
             raise ValueError(f"faults: {format_spec([f], comps)} acts on no sample: it {why}")
     if detector == "wavelet":
         for f in faults:
