@@ -107,3 +107,15 @@ def test_track_names_its_own_exposure_and_pulsars():
         track.track(np.zeros((2, 2)), 10.0 + 1j, np.zeros(2), np.eye(2))
     with pytest.raises(ValueError, match="^dv must be a real number"):
         track.run_line(dv=float("nan"))
+
+
+@pytest.mark.parametrize("directions, sigmas, match", [
+    (((1.0, 0.0), (1.0, 0.0)), (1.0, 1.0), r"directions must span the plane \(2 dimensions\), got rank 1"),
+    (((1.0, 0.0), (0.0, 1.0)), (1.0, 0.0), r"sigmas must be real numbers in \(0, inf\)"),
+    (((1.0, 0.0), (0.0, 1.0)), (1.0,), r"sigmas must"),
+    ((1.0, 0.0), (1.0,), r"directions must have shape \(n, d\)")])
+def test_snapshot_covariance_refuses_directions_that_do_not_span_and_bad_sigmas(directions, sigmas,
+                                                                               match):
+    """Two pulsars in one direction gave a raw LinAlgError (Singular matrix)."""
+    with pytest.raises(ValueError, match=match):
+        track.snapshot_covariance(directions, sigmas)

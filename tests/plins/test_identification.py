@@ -74,3 +74,14 @@ def test_random_walk_kalman_filter():
         P.kf_identify(np.ones((5, 1)), np.ones((4, 1, 1)), 1.0, 0.0)
     with pytest.raises(ValueError, match="P0"):
         P.FaultIdentifier([0.0], np.eye(2), [[0.0]])
+
+
+def test_the_random_walk_filter_refuses_an_indefinite_R_or_Q():
+    """rw_update with R = -1 returned an indefinite P; rw_predict with Q = -I returned P = 0."""
+    with pytest.raises(ValueError, match="R must be positive semi-definite, got smallest eigenvalue -1"):
+        P.rw_update(np.zeros(2), np.eye(2), np.zeros(1), np.ones((1, 2)), -np.eye(1))
+    with pytest.raises(ValueError, match="Q must be positive semi-definite, got smallest eigenvalue -1"):
+        P.rw_predict(np.zeros(2), np.eye(2), -np.eye(2))
+    with pytest.raises(ValueError, match="Q must be positive semi-definite"):
+        P.kf_identify(np.ones((3, 1)), np.ones((3, 1, 1)), 1.0, -np.eye(1))
+    assert P.rw_predict(np.zeros(2), np.eye(2), np.zeros((2, 2)))[1].tolist() == np.eye(2).tolist()

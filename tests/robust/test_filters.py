@@ -325,3 +325,11 @@ def test_compare_filters_refuses_bad_lists_by_their_own_names(kw, words):
 def test_a_complex_differenced_measurement_is_named_dy():
     with pytest.raises(ValueError, match="^dy must hold real numbers"):
         rb.tdukf_update(np.zeros(12), np.eye(12), np.zeros(3) + 1j, np.eye(3), np.eye(3))
+
+
+def test_rkf_gain_refuses_an_indefinite_bias_bound_or_R():
+    """A negative BB (a bound on B B^T) returned a gain."""
+    with pytest.raises(ValueError, match="BB must be positive semi-definite, got smallest eigenvalue -1"):
+        rb.rkf_gain(np.eye(6, 1), np.eye(1), np.eye(1), -np.eye(1), 0.1)
+    with pytest.raises(ValueError, match="R must be positive semi-definite"):
+        rb.rkf_gain(np.eye(6, 1), np.eye(1), -np.eye(1), np.zeros((1, 1)), 0.1)

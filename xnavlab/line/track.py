@@ -143,13 +143,34 @@ def track(truth, exposure, x0, P0, pulsar_names=("B0531+21",), directions=((1.0,
 def snapshot_covariance(directions, sigmas):
     """Position covariance from one range per pulsar, ``(H^T R^-1 H)^-1``, shape (d, d), m^2.
 
+    ``directions``: shape (n, d), one direction a pulsar, spanning the d-dimensional space
+    (two pulsars along one line leave a direction unobserved: a ValueError, not a singular
+    inverse); ``sigmas``: shape (n,), their range sigmas, m, > 0.
+
     Examples
     --------
     >>> snapshot_covariance([[1.0, 0.0], [0.0, 1.0]], [3.0, 4.0]).tolist()
     [[9.0, 0.0], [0.0, 16.0]]
+    >>> snapshot_covariance([[1.0, 0.0], [1.0, 0.0]], [1.0, 1.0])
+    Traceback (most recent call last):
+    ...
+    ValueError: directions must span the plane (2 dimensions), got rank 1: a direction no pulsar \
+observes has no finite covariance
     """
     H = check_finite_array("directions", directions)
-    w = 1.0 / check_finite_array("sigmas", sigmas) ** 2
+    if H.ndim != 2 or H.shape[0] < 1 or H.shape[1] < 1:
+        raise ValueError(f"directions must have shape (n, d), n, d >= 1, got shape {H.shape}")
+    sigmas = check_finite_array("sigmas", sigmas, shape=(H.shape[0],))
+    if sigmas.ndim != 1 or not np.all(sigmas > 0.0):
+        raise ValueError(f"sigmas must be real numbers in (0, inf), m, one a direction (shape "
+                         f"({H.shape[0]},)), got {sigmas.tolist()!r:.80}")
+    d = H.shape[1]
+    rank = int(np.linalg.matrix_rank(H))
+    if rank < d:
+        space = {1: "the line", 2: "the plane", 3: "space"}.get(d, f"R^{d}")
+        raise ValueError(f"directions must span {space} ({d} dimensions), got rank {rank}: a "
+                         f"direction no pulsar observes has no finite covariance")
+    w = 1.0 / sigmas**2
     return np.linalg.inv(H.T @ (w[:, None] * H))  # (H^T R^-1 H)^-1
 
 

@@ -594,8 +594,8 @@ def rkf_gain(Pxz, Pzz, R, BB, eps):
     eps = check_real("eps", eps, 0.0, lo_open=True)
     Pxz = check_finite_array("Pxz", Pxz)
     Pzz = check_finite_array("Pzz", Pzz)
-    R = check_finite_array("R", R)
-    BB = check_finite_array("BB", BB)
+    R = validate.check_covariance("R", R)
+    BB = validate.check_covariance("BB", BB)  # a bound on B B^T: a negative one shrank W
     W = (R + (1.0 + eps) * BB) / (1.0 + 1.0 / eps)  # (R + (1+eps) B B^T) / (1 + 1/eps)
     return np.linalg.solve(symmetrize(Pzz + W), Pxz.T).T  # K = Sigma H^T [H Sigma H^T + W]^-1
 

@@ -24,7 +24,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from xnavlab.core import faults as _faults
-from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real
+from xnavlab.core.validate import (
+    check_choice,
+    check_covariance,
+    check_finite_array,
+    check_int,
+    check_real,
+)
 from xnavlab.plins import pseudolites as _pl
 
 __all__ = [
@@ -179,6 +185,7 @@ def rw_predict(theta, P, Q):
     Q = check_finite_array("Q", Q)
     if P.shape != (len(theta), len(theta)) or Q.shape != P.shape:
         raise ValueError("P and Q must have shape (p, p) with p = len(theta)")
+    check_covariance("Q", Q, len(theta))  # a negative Q would shrink P below its truth
     return theta.copy(), P + Q  # P = P + Q, eq. (28)
 
 
@@ -216,6 +223,7 @@ def rw_update(theta, P, r, G, R):
     p, q = len(theta), len(r)
     if P.shape != (p, p) or G.shape != (q, p) or R.shape != (q, q):
         raise ValueError("shapes must be theta (p,), P (p, p), r (q,), G (q, p), R (q, q)")
+    check_covariance("R", R, q)  # an indefinite R gave an indefinite "covariance" P
     return _rw_update(theta, P, r, G, R)
 
 
@@ -303,11 +311,11 @@ def kf_identify(r, G, R, Q, theta0=None, P0=None):
     if np.ndim(R) == 0:
         R = check_real("R", R, 0.0, lo_open=True) * np.eye(q)
     else:
-        R = check_finite_array("R", R, shape=(q, q))
+        R = check_covariance("R", check_finite_array("R", R, shape=(q, q)), q)
     if np.ndim(Q) == 0:
         Q = check_real("Q", Q, 0.0) * np.eye(p)
     else:
-        Q = check_finite_array("Q", Q, shape=(p, p))
+        Q = check_covariance("Q", check_finite_array("Q", Q, shape=(p, p)), p)
     theta = np.zeros(p) if theta0 is None else check_finite_array("theta0", theta0, shape=(p,))
     P = 1e8 * np.eye(p) if P0 is None else check_finite_array("P0", P0, shape=(p, p))
     ths = np.empty((K, p))
