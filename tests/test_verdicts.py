@@ -212,6 +212,25 @@ def test_a_claim_a_lost_parameter_decides_is_judged_over_its_plausible_values():
     assert far.verdict == "NOT REPRODUCED" and "no plausible value reaches it" in far.reading
     with pytest.raises(ValueError, match="at least two plausible values"):
         verdicts.check_lost(row, "ramp rate", {"ours": (3.5, 4.5)}, "x")
+    with pytest.raises(ValueError, match="exactly one label starting with 'ours'"):
+        verdicts.check_lost(row, "ramp rate", {"a": (3.5, 4.5), "b": (3.6, 4.6)}, "x")
+
+
+def test_the_lost_parameter_margin_is_its_own_spread_not_our_noise():
+    row = verdicts.check_draw("delay (s)", 2.5, np.linspace(3.0, 4.0, 40))
+    # a parameter that barely moves our number: 0.1 s against our 1-s range
+    small = {"ours": (3.0, 4.0), "b": (3.1, 4.1)}
+    c = verdicts.check_lost(row, "ramp rate", small, "x", unit="s")
+    # 0.5 s below the span is less than the union's width (1.1 s) but more than its spread (0.1 s)
+    assert c.verdict == "NOT REPRODUCED" and "more than the 0.1 s" in c.reading
+    assert "less than our noise (0.1 s, against our range of 1 s)" in c.tolerance
+    big = {"ours": (3.0, 4.0), "b": (3.8, 4.8)}
+    c = verdicts.check_lost(row, "ramp rate", big, "x", unit="s")
+    assert c.verdict == "UNDECIDED" and "less than the 0.8 s the lost parameter" in c.reading
+    near = verdicts.check_lost(verdicts.check_draw("d", 2.5, np.linspace(2.7, 3.7, 40)),
+                               "ramp rate", {"ours": (2.7, 3.7), "b": (3.5, 4.5)}, "x", unit="s")
+    assert near.verdict == "UNDECIDED" and "no plausible value reaching it" in near.reading
+    assert "further than our noise" not in near.tolerance
 
 
 def test_a_single_run_outcome_is_one_draw_and_the_headline_counts_claims():

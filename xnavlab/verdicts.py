@@ -39,12 +39,16 @@ setting's range is our single-run range shifted by that setting's measured effec
 
 * REPRODUCED when the paper's number lies inside our range at every plausible value: the
   tolerance spans the lost parameter, and says so;
-* UNDECIDED when some plausible value reaches it and others do not, or when it lies outside
-  what the values we ran reach by less than their own spread (a lost parameter we could not
-  vary, such as an orbit, may move it that far): the reading names the lost parameter, what
-  our values reach, and what would decide it (the paper's value of that parameter);
-* NOT REPRODUCED only when no plausible value reaches it, by more than the spread the lost
-  parameter itself causes.
+* UNDECIDED when some plausible value reaches it and others do not, or when no plausible value
+  reaches it but it lies outside what they reach by no more than the lost parameter's own
+  spread (the largest minus the smallest of its shifts of our range, our noise not included:
+  a value we did not run, or a lost parameter we could not vary, such as an orbit, may move it
+  that far): the reading names the lost parameter, what our values reach, and what would
+  decide it (the paper's value of that parameter);
+* NOT REPRODUCED only when no plausible value reaches it, by more than that spread.
+
+The row's tolerance says, from the numbers, whether the lost parameter moves ours further than
+our noise (its spread against the width of our own range) or less.
 
 A claim whose number does not move with a lost parameter beyond our noise is judged as above,
 at our choice, with the choice stated in the note.
@@ -517,9 +521,14 @@ def check_lost(row, lost, reach, decides, unit=""):
 
     * REPRODUCED: the paper's number is inside the range of every plausible value.
     * UNDECIDED: it is inside some and not others, inside the span of all of them (between
-      two values run, the number moves with the parameter), or outside that span by less than
-      the span's own width (a lost parameter we could not vary may move it that far).
-    * NOT REPRODUCED: outside the span by more than its width.
+      two values run, the number moves with the parameter), or outside that span by no more
+      than the lost parameter's own spread (the largest minus the smallest of its shifts of
+      our range, our noise not included: a value we did not run, or a lost parameter we could
+      not vary, may move it that far).
+    * NOT REPRODUCED: outside the span by more than that spread.
+
+    The tolerance says whether the lost parameter moves our number further than our noise (its
+    spread against the width of our own range, the label naming our choice) or less.
 
     Parameters
     ----------
@@ -529,7 +538,7 @@ def check_lost(row, lost, reach, decides, unit=""):
         The lost parameter(s), in words ("the ramp rate of the paper's eq. (39)").
     reach : dict of str -> (float, float)
         Plausible value (a label, e.g. ``"rate 0.15 deg/h/s"``) -> our number's range there.
-        At least two values, our own choice among them.
+        At least two values; exactly one label, our own choice, starts with ``"ours"``.
     decides : str
         What would decide the claim ("the paper's ramp rate").
     unit : str, optional
@@ -539,11 +548,14 @@ def check_lost(row, lost, reach, decides, unit=""):
     --------
     >>> runs = np.linspace(3.5, 4.5, 40)
     >>> row = check_draw("delay (s)", 2.5, runs)
-    >>> c = check_lost(row, "the ramp rate", {"ours, 0.1": (3.5, 4.5), "0.15": (2.3, 3.1)},
+    >>> c = check_lost(row, "ramp rate", {"ours, 0.1": (3.5, 4.5), "0.15": (2.3, 3.1)},
     ...                "the paper's ramp rate", unit="s")
     >>> c.verdict
     'UNDECIDED'
-    >>> check_lost(row, "the ramp rate", {"ours": (3.9, 4.3), "0.09": (4.0, 4.4)},
+    >>> c.tolerance.split(":")[0]  # doctest: +NORMALIZE_WHITESPACE
+    'the paper lost the ramp rate, which moves our number further than our noise
+     (1.3 s, against our range of 1 s)'
+    >>> check_lost(row, "ramp rate", {"ours": (3.9, 4.3), "0.09": (4.0, 4.4)},
     ...            "the paper's ramp rate").verdict
     'NOT REPRODUCED'
     """
@@ -560,29 +572,41 @@ def check_lost(row, lost, reach, decides, unit=""):
     for label, pair in reach.items():
         lo, hi = (_finite("reach", v) for v in pair)
         spans[str(label)] = (min(lo, hi), max(lo, hi))
+    ours = [k for k in spans if k.lower().startswith("ours")]
+    if len(ours) != 1:
+        raise ValueError("reach must name our own choice: exactly one label starting with 'ours'; "
+                         f"got {list(spans)}")
     lo = min(v[0] for v in spans.values())
     hi = max(v[1] for v in spans.values())
+    # the lost parameter's own spread: its shifts of our range (the centres'), our noise not in it
+    centres = [0.5 * (a + b) for a, b in spans.values()]
+    spread = max(centres) - min(centres)
+    noise = spans[ours[0]][1] - spans[ours[0]][0]
     inside = [k for k, (a, b) in spans.items() if a <= paper <= b]
     u = f" {unit}" if unit else ""
     span = f"ours spans {lo:.4g}-{hi:.4g}{u} over {len(spans)} plausible values ({'; '.join(spans)})"
-    tolerance = (f"the paper lost the {lost.strip()}, which moves our number further than our "
-                 "noise: judged over its plausible values, one varied at a time")
+    moves = (f"further than our noise ({spread:.3g}{u}, against our range of {noise:.3g}{u})"
+             if spread > noise else
+             f"less than our noise ({spread:.3g}{u}, against our range of {noise:.3g}{u})")
+    tolerance = (f"the paper lost the {lost.strip()}, which moves our number {moves}: judged over "
+                 "its plausible values, one varied at a time")
     if len(inside) == len(spans):
         return replace(row, tolerance=tolerance + ": inside our range at every one",
                        verdict=REPRODUCED, reading=f"{span}; the paper's number is inside each")
     gap = lo - paper if paper < lo else paper - hi if paper > hi else 0.0
-    if inside or gap <= hi - lo:
+    if inside or gap <= spread:
         where = (f"reached at {'; '.join(inside)}" if inside else
                  "inside their span" if gap == 0.0 else
-                 f"{gap:.3g}{u} {'below' if paper < lo else 'above'} their span, less than its width")
+                 f"{gap:.3g}{u} {'below' if paper < lo else 'above'} their span, no plausible value "
+                 f"reaching it, but less than the {spread:.3g}{u} the lost parameter itself moves it")
         return replace(row, tolerance=tolerance, verdict=UNDECIDED,
                        reading=f"the lost {lost.strip()} decides it: {span}; the paper's "
                                f"{paper:g}{u} is {where}; {decides.strip()} would decide it")
     side = "below" if paper < lo else "above"
     return replace(row, tolerance=tolerance, verdict=NOT_REPRODUCED,
                    reading=f"no plausible value reaches it: {span}; the paper's {paper:g}{u} is "
-                           f"{gap:.3g}{u} {side} them, more than the {hi - lo:.3g}{u} the lost "
-                           "parameter moves it")
+                           f"{gap:.3g}{u} {side} them, more than the {spread:.3g}{u} the lost "
+                           "parameter itself moves it")
 
 
 def check_event(name, paper, hits, why):
