@@ -118,3 +118,11 @@ def test_a_flag_is_refused_in_the_users_own_words(flags, words, capsys):
     assert main(["run", "mars", *flags]) == 2
     err = capsys.readouterr().err.strip()
     assert words in err and len(err.splitlines()) == 1
+
+
+@pytest.mark.parametrize("spec", ["", "  "])
+def test_an_empty_faults_flag_is_refused(capsys, spec):
+    """--faults "$SPEC" with an empty variable was a plain run without a word."""
+    assert main(["run", "mars", "--days", "0.02", "--faults", spec]) == 2
+    err = capsys.readouterr().err
+    assert "--faults is empty" in err and len(err.splitlines()) == 1

@@ -333,3 +333,15 @@ def test_rkf_gain_refuses_an_indefinite_bias_bound_or_R():
         rb.rkf_gain(np.eye(6, 1), np.eye(1), np.eye(1), -np.eye(1), 0.1)
     with pytest.raises(ValueError, match="R must be positive semi-definite"):
         rb.rkf_gain(np.eye(6, 1), np.eye(1), -np.eye(1), np.zeros((1, 1)), 0.1)
+
+
+@pytest.mark.parametrize("name, kw, user", [
+    ("ukf", {"eps": 0.1}, "rkf"), ("ukf", {"lam": 0.5}, "rkf"), ("asukf", {"rkf_bias": "oracle"}, "rkf"),
+    ("ukf", {"td_carry_noise": True}, "tdukf"), ("rkf", {"q_b": 2.0}, "asukf")])
+def test_run_filter_refuses_a_setting_of_another_filter(name, kw, user):
+    """run_filter("ukf", sc, eps=0.1) returned a normal run: eps was silently unused."""
+    sc = rb.simulate(n_steps=5)
+    key = next(iter(kw))
+    with pytest.raises(ValueError, match=f"^{key} is a setting of the {user} filter, not used by {name}"):
+        rb.run_filter(name, sc, **kw)
+    assert rb.run_filter(user, sc, **kw).x.shape == (5, 6)  # its own filter takes it

@@ -116,6 +116,9 @@ def _settings(args):
     if args.backend is not None:
         run["backend"] = check_choice("backend", args.backend, ("numba", "numpy"))
     if args.faults is not None:
+        if not args.faults.strip():  # an empty shell variable: "--faults $SPEC"
+            raise UsageError("--faults is empty: give a fault spec or 'paper', or leave the "
+                             "flag out for a fault-free run")
         det["faults"] = args.faults
     if args.detector is not None:
         det["name"] = args.detector

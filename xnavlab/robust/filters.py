@@ -688,6 +688,23 @@ def _rkf_update(x, P, y, R, H, BB, eps):
 RKF_BIAS = ("residual", "oracle", "prior")
 
 
+#: run_filter setting -> (the filters that use it, its default); set apart from its default
+#: for another filter it is refused.
+_SETTINGS = {"eps": (("rkf",), None), "lam": (("rkf",), 0.02), "rkf_bias": (("rkf",), "residual"),
+             "oracle_error": (("rkf",), None), "bias_max": (("rkf",), None),
+             "td_carry_noise": (("tdukf",), False), "q_b": (("asukf",), 1.0),
+             "sigma_b0": (("asukf",), 3000.0)}
+
+
+def _same(value, default):
+    """``value == default`` for a scalar setting (an array or other type is not the default)."""
+    try:
+        return type(value) is not bool and type(default) is not bool and value == default \
+            or value is default
+    except (TypeError, ValueError):
+        return False
+
+
 def run_filter(name, scenario, eps=None, sigma_r0=1000.0, sigma_v0=1.0, q_r=0.0, q_v=1e-4,
                q_b=1.0, sigma_b0=3000.0, rkf_bias="residual", oracle_error=None, lam=0.02,
                td_carry_noise=False, rng=None, bias_max=None):
@@ -739,8 +756,21 @@ def run_filter(name, scenario, eps=None, sigma_r0=1000.0, sigma_v0=1.0, q_r=0.0,
     >>> sc = simulate("earth", n_steps=10, rng=0)
     >>> [run_filter(f, sc).x.shape for f in FILTERS]
     [(10, 6), (10, 6), (10, 6), (10, 6)]
+    >>> run_filter("ukf", sc, lam=0.5)
+    Traceback (most recent call last):
+    ...
+    ValueError: lam is a setting of the rkf filter, not used by ukf, got lam = 0.5; leave it out
     """
     check_choice("name", name, FILTERS)
+    given = {"eps": eps, "lam": lam, "rkf_bias": rkf_bias, "oracle_error": oracle_error,
+             "bias_max": bias_max, "td_carry_noise": td_carry_noise, "q_b": q_b,
+             "sigma_b0": sigma_b0}
+    for key, value in given.items():  # a setting of another filter: refused, not ignored
+        users, default = _SETTINGS[key]
+        if name not in users and (value is not default if default is None
+                                  else not _same(value, default)):
+            raise ValueError(f"{key} is a setting of the {'/'.join(users)} filter, not used by "
+                             f"{name}, got {key} = {value!r:.60}; leave it out")
     if not isinstance(scenario, Scenario):
         raise ValueError(f"scenario must be a Scenario from simulate(), got {type(scenario).__name__}")
     eps = EPSILON[scenario.body] if eps is None else check_real("eps", eps, 0.0, lo_open=True)
@@ -941,8 +971,9 @@ def _seed_runs(body, filters, scenario_kwargs, window, run_kwargs, seed):
     sc = simulate(body, rng=g, **scenario_kwargs)
     init = int(g.integers(2**31))
     out, err = {}, {}
-    for f in filters:
-        run = run_filter(f, sc, rng=init, **run_kwargs)
+    for f in filters:  # each filter takes the settings it uses (eps: the RKF's, ...)
+        kw = {k: v for k, v in run_kwargs.items() if k not in _SETTINGS or f in _SETTINGS[k][0]}
+        run = run_filter(f, sc, rng=init, **kw)
         out[f] = rmse(run, sc, *window)
         err[f] = run.error
     return out, err, sc.t - (sc.t[0] - sc.dt)
