@@ -95,3 +95,10 @@ def test_nis_of_each_subsystem_alone_inside_chi_square_bounds(subsystem):
     assert lo <= mc["nis"][subsystem] <= hi
     lo_e, hi_e = chi2_bounds(6, 20)
     assert lo_e <= mc["nees"][1:].mean() <= hi_e
+
+
+def test_an_unknown_override_is_named_with_the_fields():
+    """nees_monte_carlo(dayz=...) raised the constructor's raw TypeError."""
+    with pytest.raises(ValueError, match=r"^unknown override dayz: not a field of MarsScenario "
+                                         r"\(the fields: days, "):
+        consistency.nees_monte_carlo(n_runs=2, dayz=0.01)

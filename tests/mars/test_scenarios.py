@@ -425,3 +425,10 @@ def test_xnav_and_cns_settings_without_their_subsystem_are_refused_not_ignored()
     # a default value is the same run as none: accepted (replace keeps working)
     sc = dataclasses.replace(scenarios.MarsScenario(), subsystems=("uv",))
     assert sc.subsystems == ("uv",) and sc.dt_xnav == 500.0
+
+
+def test_study_names_an_unknown_field():
+    """MarsScenario.study(dayz=1) raised the constructor's raw TypeError."""
+    with pytest.raises(ValueError, match=r"^unknown override dayz: not a field of MarsScenario "
+                                         r"\(the fields: days, "):
+        scenarios.MarsScenario.study(dayz=1)

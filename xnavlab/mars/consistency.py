@@ -17,7 +17,7 @@ from dataclasses import replace
 
 from xnavlab.core.filters import chi2_bounds
 from xnavlab.core.validate import check_int
-from xnavlab.mars.scenarios import MarsScenario, run
+from xnavlab.mars.scenarios import MarsScenario, check_overrides, run
 
 __all__ = ["nees_monte_carlo"]
 
@@ -51,7 +51,7 @@ def nees_monte_carlo(n_runs=20, scenario=None, seed=0, **overrides):
     True
     """
     sc = scenario if scenario is not None else MarsScenario()
-    sc = replace(sc, init_error="random", **overrides)
+    sc = replace(sc, init_error="random", **check_overrides(overrides))
     n_runs = check_int("n_runs", n_runs, 1, 10**5)
     seed = check_int("seed", seed, 0, 2**62)
     nees_sum, nis_sum, nis_cnt = None, {}, {}

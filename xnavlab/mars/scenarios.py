@@ -62,14 +62,7 @@ from xnavlab.core import ephemeris
 from xnavlab.core.constants import DAY, GM_MARS, C
 from xnavlab.core.federated import MODES, FederatedFilter
 from xnavlab.core.userfiles import output_path
-from xnavlab.core.validate import (
-    check_choice,
-    check_int,
-    check_items,
-    check_real,
-    check_vector,
-    make_rng,
-)
+from xnavlab.core.validate import check_choice, check_int, check_items, check_real, check_vector, make_rng
 from xnavlab.mars import (
     compile_notice,
     dynamics,
@@ -88,21 +81,9 @@ from xnavlab.mars import (
 from xnavlab.mars import kernel_inputs as ki
 from xnavlab.mars.time_update import Propagation, process_noise
 
-__all__ = [
-    "alloc_records",
-    "run_options",
-    "filter_state",
-    "run_kernel",
-    "SUBSYSTEMS",
-    "DEFAULT_Q_ACC",
-    "MarsScenario",
-    "default_settle_days",
-    "Inputs",
-    "MarsRun",
-    "check_scenario",
-    "prepare",
-    "run",
-]
+__all__ = ["alloc_records", "run_options", "filter_state", "run_kernel", "SUBSYSTEMS",
+           "DEFAULT_Q_ACC", "MarsScenario", "default_settle_days", "Inputs", "MarsRun",
+           "check_scenario", "check_overrides", "prepare", "run"]
 
 #: The three subsystems of the paper, in its numbering (1 XNAV, 2 UV, 3 CNS).
 SUBSYSTEMS = ("xnav", "uv", "cns")
@@ -110,6 +91,22 @@ _KIND = {"xnav": 0, "uv": 1, "cns": 2}
 
 #: Default white-acceleration noise PSD of the filters, m^2/s^3 (see :class:`MarsScenario`).
 DEFAULT_Q_ACC = 1.0e-11
+
+
+def check_overrides(overrides):
+    """``overrides`` (a dict of :class:`MarsScenario` fields), or one ValueError naming each
+    unknown name and the fields (not a raw TypeError from the constructor).
+
+    >>> check_overrides({"dayz": 1})  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ValueError: unknown override dayz: not a field of MarsScenario (the fields: days, dt_xnav, ...)
+    """
+    names = [f.name for f in fields(MarsScenario)]
+    unknown = sorted(set(overrides) - set(names))
+    if unknown:
+        raise ValueError(f"unknown override {', '.join(unknown)}: not a field of MarsScenario "
+                         f"(the fields: {', '.join(names)})")
+    return overrides
 
 
 def check_scenario(name, value):
@@ -335,7 +332,7 @@ class MarsScenario:
     def study(cls, **fields):
         """The studies' set-up: rich truth, the paper's filter, ``q_acc`` from their difference
         (:func:`xnavlab.mars.model_noise.study_fields`); ``fields`` replace any of them."""
-        return cls(**model_noise.study_fields(lambda kw: cls(**kw), fields))
+        return cls(**model_noise.study_fields(lambda kw: cls(**kw), check_overrides(fields)))
 
     @property
     def paper_setup(self):
@@ -495,12 +492,7 @@ def prepare(scenario=None, **overrides):
     """
     sc = check_scenario("scenario", scenario)
     if overrides:
-        unknown = sorted(set(overrides) - {f.name for f in fields(MarsScenario)})
-        if unknown:
-            raise ValueError(f"unknown override {', '.join(unknown)}: not a field of "
-                             f"MarsScenario (the fields: "
-                             f"{', '.join(f.name for f in fields(MarsScenario))})")
-        sc = replace(sc, **overrides)
+        sc = replace(sc, **check_overrides(overrides))
     rng = make_rng(sc.seed)
     span = sc.span
     dts = {"xnav": sc.dt_xnav, "uv": sc.dt_uv, "cns": sc.dt_cns}
