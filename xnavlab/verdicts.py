@@ -585,7 +585,9 @@ def check_lost(row, lost, reach, decides, unit=""):
     inside = [k for k, (a, b) in spans.items() if a <= paper <= b]
     u = f" {unit}" if unit else ""
     span = f"ours spans {lo:.4g}-{hi:.4g}{u} over {len(spans)} plausible values ({'; '.join(spans)})"
-    moves = (f"further than our noise ({spread:.3g}{u}, against our range of {noise:.3g}{u})"
+    moves = (f"by {spread:.3g}{u} (our number is one value at each, its noise not in the ranges)"
+             if noise == 0 and all(a == b for a, b in spans.values()) else
+             f"further than our noise ({spread:.3g}{u}, against our range of {noise:.3g}{u})"
              if spread > noise else
              f"less than our noise ({spread:.3g}{u}, against our range of {noise:.3g}{u})")
     tolerance = (f"the paper lost the {lost.strip()}, which moves our number {moves}: judged over "

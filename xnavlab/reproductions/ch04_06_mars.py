@@ -38,6 +38,7 @@ from xnavlab.reproduce import (
     Check,
     Result,
     check_draw,
+    check_lost,
     check_measure,
     check_order,
     check_sanity,
@@ -49,7 +50,31 @@ from xnavlab.reproduce import figure as _figure
 
 __all__ = ["PAPER_POSITION_ERROR_M", "PAPER_VELOCITY_ERROR_MPS", "PAPER_SENSORS",
            "OPTICS_CASES", "mars_sensors", "mars_subsystems", "mars_optics", "mars_nofault",
-           "mars_xnav_crlb", "SUBSYSTEMS_CLAIM", "SUBSYSTEM_SEEDS"]
+           "mars_xnav_crlb", "SUBSYSTEMS_CLAIM", "SUBSYSTEM_SEEDS", "LOST_Q_ACC", "q_shifts"]
+
+#: The process noises the paper's fault-free numbers are judged over, m^2/s^3 (ours 1e-11 among
+#: them): chapter 5's sweep without q = 0 (there the filter stops listening, mean NEES ~1.7e3).
+LOST_Q_ACC = (1e-12, 1e-11, 1e-10, 1e-9)
+#: Seeds each process noise is run with, paired with ours (q = 1e-11) on the same seeds.
+_Q_SEEDS = (0, 1, 2, 3)
+
+
+def q_shifts(q_values=LOST_Q_ACC, seeds=_Q_SEEDS, days=30.0, settle_days=1.0):
+    """How far the process noise moves the fault-free fused errors (paired, 30 days).
+
+    Returns
+    -------
+    dict
+        q (m^2/s^3) -> (mean paired change of the position RMS, m; of the velocity RMS, m/s)
+        against q = 1e-11 on the same seeds.
+    """
+    def one(q):
+        return np.array([[m["position_error_m"], m["velocity_error_mps"]] for m in (
+            scenarios.run(scenarios.MarsScenario(days=days, seed=s, q_acc=q)).metrics(
+                settle_days=settle_days) for s in seeds)])
+    ours = one(1e-11)
+    return {float(q): tuple(float(x) for x in np.mean(one(q) - ours, axis=0)) if q != 1e-11
+            else (0.0, 0.0) for q in q_values}
 
 #: Paper section 4.1: sensor accuracies (1 sigma).
 PAPER_SENSORS = {
@@ -332,12 +357,20 @@ def mars_nofault(out=None, days=30.0, seed=0, settle_days=1.0, mode="reset"):
         from xnavlab.mars import headline
 
         runs = headline.headline_numbers(n_seeds=32)["runs"]
-        checks += [
-            check_draw("fused position error (m), RMS after day 1", PAPER_POSITION_ERROR_M,
-                       runs["fused_position_m"]),
-            check_draw("fused velocity error (m/s), RMS after day 1", PAPER_VELOCITY_ERROR_MPS,
-                       runs["fused_velocity_mps"]),
-        ]
+        # q is lost (the paper gives none) and moves both numbers beyond our noise; the NEES
+        # does not narrow it: every q of LOST_Q_ACC keeps the matched filter cautious (chapter 5)
+        shifts = q_shifts()
+        for i, (name, paper, key, unit) in enumerate((
+                ("fused position error (m), RMS after day 1", PAPER_POSITION_ERROR_M,
+                 "fused_position_m", "m"),
+                ("fused velocity error (m/s), RMS after day 1", PAPER_VELOCITY_ERROR_MPS,
+                 "fused_velocity_mps", "m/s"))):
+            lo, hi = np.percentile(runs[key], [2.5, 97.5])
+            reach = {("ours, " if q == 1e-11 else "") + f"q {q:g}": (lo + d[i], hi + d[i])
+                     for q, d in shifts.items()}
+            checks.append(check_lost(check_draw(name, paper, runs[key]),
+                                     "process noise q (the paper gives none)", reach,
+                                     "the paper's process noise", unit=unit))
     checks += [
         check_measure(f"fused position error of the plotted run, seed {seed} (m)", pos,
                       "one single run, the one whose curves the chapter plots",
@@ -359,7 +392,14 @@ def mars_nofault(out=None, days=30.0, seed=0, settle_days=1.0, mode="reset"):
         "equal sharing factors, fused every epoch. The paper gives no process noise: we use white "
         f"acceleration noise q = {sc.q_acc:g} m^2/s^3 (1e-7 m/s^2 over ~1000 s); the result moves "
         "from about 20 m (q = 1e-12) to 52 m (q = 1e-9), which with the undefined metric is the "
-        "main reason for any gap. Both errors keep the paper's ratio: the velocity error is the "
+        "main reason for any gap. Both numbers are therefore judged over q's plausible values "
+        "(xnavlab.verdicts.check_lost): 1e-12 to 1e-9 m^2/s^3, an unmodelled acceleration of "
+        "about 3e-8 to 1e-6 m/s^2 over 1000 s; each value's range is our 32-run range shifted by "
+        "its mean paired change on seeds 0-3. The filter's consistency does not narrow it: over "
+        "chapter 5's 8-day sweep every q of it keeps the matched filter cautious (mean NEES 1.2 "
+        "to 2.0 against the 6 of a consistent filter, none inside the band), and q = 0 stops "
+        "listening (mean NEES about 1.7e3); a consistent q lies between the two (not run). "
+        "Both errors keep the paper's ratio: the velocity error is the "
         "position error times the orbital mean motion (7.6e-4 rad/s), the signature of errors "
         "that ride along the orbit."
     )
