@@ -171,7 +171,7 @@ def warm(stream=sys.stderr, workers=None):
 
     Parameters
     ----------
-    stream : file
+    stream : file-like
         Where the lines go.
     workers : int, optional
         Processes for the steps after the kernel, 1 to 64 (default ``os.cpu_count()``).
