@@ -225,13 +225,20 @@ def test_sample_times_and_measurements_are_checked_before_injection():
                                                       "(uv:step:1000@1000+10)"),
     ("uv.range:step:1e3@1000+100,uv.range:step:2e3@1050+100", "0 (uv.range:step:1000@1000+100) "
                                                               "and 1 (uv.range:step:2000@1050+100)"),
-    ("xnav.1:noise:1@0+10,uv:spike:1@5+0,xnav:spike:1@9+0", "0 (xnav.1:noise:1@0+10) and 2 "
-                                                            "(xnav:spike:1@9+0)")])
+    ("xnav.1:spike:1@9+0,uv:spike:1@5+0,xnav:spike:1@9+0", "0 (xnav.1:spike:1@9+0) and 2 "
+                                                           "(xnav:spike:1@9+0)")])
 def test_two_faults_on_one_component_at_one_time_are_refused_naming_both(spec, items):
     """uv.range and uv (every component) at one time were injected twice, one alarm scored as
-    two detections; the parsed faults are compared, not the strings."""
+    two detections; the parsed faults of one kind are compared, not the strings (a ramp beside
+    a step, the affine fault a t + b, combines: below)."""
     with pytest.raises(ValueError, match=re.escape(f"fault spec items {items} act on the same "
                                                    "component at the same time")):
         parse_spec(spec, COMPS)
     ok = "uv.range:step:1e3@1000+10,uv.ux:step:1e3@1000+10,uv.range:step:1e3@1010+10"
     assert len(parse_spec(ok, COMPS)) == 3  # another component, or the next window: fine
+
+
+def test_faults_of_different_kinds_on_one_component_combine():
+    """The pseudolite chapter's ramp counted from its onset: a step of b and a ramp of a."""
+    faults = parse_spec("uv.range:ramp:10@30+100,uv.range:step:-300@30+100", COMPS)
+    assert [f.kind for f in faults] == ["ramp", "step"]

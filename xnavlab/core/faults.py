@@ -191,10 +191,12 @@ def check_faults(name, faults, components=None):
 
 
 def _overlap(a, b):
-    """Whether faults ``a`` and ``b`` act on one component of one sensor at one time: a
-    component of ``None`` is every component; a window is ``[onset, end)``, a spike's the
-    instant ``onset`` (it acts on the first sample from then on)."""
-    if a.sensor != b.sensor or None not in (a.component, b.component) and \
+    """Whether faults ``a`` and ``b`` of one kind act on one component of one sensor at one
+    time: a component of ``None`` is every component; a window is ``[onset, end)``, a spike's
+    the instant ``onset`` (it acts on the first sample from then on). Faults of different kinds
+    on one component combine (a ramp beside a step is the affine fault ``a t + b`` of the
+    pseudolite chapter) and are not an overlap."""
+    if a.kind != b.kind or a.sensor != b.sensor or None not in (a.component, b.component) and \
             a.component != b.component:
         return False
     if a.kind == "spike" and b.kind == "spike":
@@ -207,9 +209,10 @@ def _overlap(a, b):
 
 
 def _check_overlaps(name, items, components):
-    """One ValueError naming two faults that act on one component at one time (the same fault
-    written two ways, ``uv.range`` and ``uv.0``, or ``uv`` beside ``uv.range``, or two
-    overlapping windows): injected, they add up; scored, they are two faults for one event."""
+    """One ValueError naming two faults of one kind that act on one component at one time (the
+    same fault written two ways, ``uv.range`` and ``uv.0``, or ``uv`` beside ``uv.range``, or two
+    overlapping windows): injected, they add up; scored, they are two faults for one event.
+    Faults of different kinds on one component combine (:func:`_overlap`)."""
     by_sensor = {}
     for i, f in enumerate(items):
         by_sensor.setdefault(f.sensor, []).append(i)
