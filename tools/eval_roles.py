@@ -41,16 +41,14 @@ no file, saved ``user_expressions``. Exit status: 0 fine, 1 a problem, 2 a bad a
 
 from __future__ import annotations
 
-import argparse
 import re
 import sys
-from pathlib import Path
 
 import nbformat
+from chapter_files import chosen, notebook_parser
 
 from xnavlab.core.prose import EVAL_NAME, eval_expressions
 
-ROOT = Path(__file__).resolve().parents[1]
 IMPORT_OLD = "from myst_nb import glue"
 IMPORT_NEW = "from xnavlab.core.prose import glue, glued  # noqa: F401 (glued: read by the {eval} roles)"
 
@@ -202,22 +200,14 @@ def check(path, notes=None):
     return problems
 
 
-def chapters():
-    """Every chapter notebook, ``book/NN_*.ipynb``."""
-    return sorted((ROOT / "book").glob("[0-9][0-9]_*.ipynb"))
-
-
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("notebooks", nargs="*", type=Path,
-                    help="chapters to convert or check (default: every book/NN_*.ipynb)")
+    ap = notebook_parser(__doc__.splitlines()[0],
+                         "chapters to convert or check (default: every book/NN_*.ipynb)")
     ap.add_argument("--check", action="store_true",
                     help="change nothing; exit 1 when a chapter is not converted")
     args = ap.parse_args(argv)
-    paths = args.notebooks or chapters()
-    missing = [p for p in paths if not p.is_file() or p.suffix != ".ipynb"]
-    if missing:
-        print(f"eval_roles: not a notebook: {', '.join(map(str, missing))}", file=sys.stderr)
+    paths = chosen("eval_roles", args.notebooks)
+    if paths is None:
         return 2
     if args.check:
         notes = []

@@ -39,7 +39,6 @@ Examples
 
 from __future__ import annotations
 
-import argparse
 import ast
 import builtins
 import json
@@ -48,7 +47,7 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+from chapter_files import ROOT, chosen, notebook_parser
 
 #: cell tags that keep a cell's source off the built page
 HIDDEN_TAGS = frozenset({"remove-cell", "remove-input"})
@@ -273,20 +272,11 @@ def _shown(path):
         return str(path)
 
 
-def chapters():
-    """Every chapter notebook, ``book/NN_*.ipynb``."""
-    return sorted((ROOT / "book").glob("[0-9][0-9]_*.ipynb"))
-
-
 def main(argv=None):
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("notebooks", nargs="*", type=Path,
-                    help="notebooks to check (default: every book/NN_*.ipynb)")
+    ap = notebook_parser(__doc__.splitlines()[0], "notebooks to check (default: every book/NN_*.ipynb)")
     args = ap.parse_args(argv)
-    paths = args.notebooks or chapters()
-    missing = [p for p in paths if not p.is_file() or p.suffix != ".ipynb"]
-    if missing:
-        print(f"hidden_names: not a notebook: {', '.join(map(str, missing))}", file=sys.stderr)
+    paths = chosen("hidden_names", args.notebooks)
+    if paths is None:
         return 2
     findings = []
     for path in paths:
