@@ -472,7 +472,7 @@ def check_measure(name, ours, what, paper="not given"):
     """
     if not (isinstance(what, str) and what.strip()):
         raise ValueError("what must say, in words, what the measurement shows")
-    return Check(name, paper, ours, what.strip(), CHECK, "")
+    return check_sanity(name, paper, ours, True, what)
 
 
 def combine(verdicts):
@@ -511,7 +511,7 @@ def part_of(claim, *rows):
     return [replace(r, claim=claim.strip()) if r.claimed else r for r in rows]
 
 
-def check_lost(row, lost, reach, decides, unit=""):
+def check_lost(row, lost, reach, decides, unit="", held=""):
     """Judge again a claim whose number a parameter the paper lost decides (the module's rule).
 
     ``row`` is the claim as judged at our choice of the lost parameter (its name, the paper's
@@ -543,6 +543,10 @@ def check_lost(row, lost, reach, decides, unit=""):
         What would decide the claim ("the paper's ramp rate").
     unit : str, optional
         The number's unit, for the reading.
+    held : str, optional
+        Another lost parameter held at our choice, with the written reason it is not varied
+        (another of the paper's numbers places it, or it moves ours less than our noise);
+        shown in the tolerance.
 
     Examples
     --------
@@ -592,6 +596,10 @@ def check_lost(row, lost, reach, decides, unit=""):
              f"less than our noise ({spread:.3g}{u}, against our range of {noise:.3g}{u})")
     tolerance = (f"the paper lost the {lost.strip()}, which moves our number {moves}: judged over "
                  "its plausible values, one varied at a time")
+    if isinstance(held, str) and held.strip():
+        tolerance += f" ({held.strip()})"
+    elif held:
+        raise ValueError(f"held must be words (what is held and why); got {held!r}")
     if len(inside) == len(spans):
         return replace(row, tolerance=tolerance + ": inside our range at every one",
                        verdict=REPRODUCED, reading=f"{span}; the paper's number is inside each")
@@ -620,6 +628,11 @@ def check_event(name, paper, hits, why):
     least 2.5 % of ours show the outcome: REPRODUCED; else NOT REPRODUCED. How often ours show
     it (the reliability) is in the reading: that is our measurement, not the paper's claim.
 
+    With at most 40 runs one run that shows it is already 2.5 % (1 of 40), so the claim fails
+    only when none does; a run that shows it but too rarely (a rare draw) needs more runs, at
+    least 41 (1 of 41 is 2.4 %). That is the two-sided 95 % range of :func:`check_draw` applied
+    to a yes/no outcome, not a looser rule.
+
     Examples
     --------
     >>> c = check_event("identified within 5 %", "identified", [True] * 26 + [False] * 14,
@@ -628,6 +641,9 @@ def check_event(name, paper, hits, why):
     ('REPRODUCED', "26 of our 40 single runs (65 %) do what the paper's one run did: an ordinary draw")
     >>> check_event("identified within 5 %", "identified", [False] * 40, why="w").verdict
     'NOT REPRODUCED'
+    >>> rare = check_event("identified within 5 %", "identified", [True] + [False] * 49, why="w")
+    >>> rare.verdict, rare.reading.split(": ")[-1]
+    ('NOT REPRODUCED', "the paper's run would be a rare draw among ours")
     """
     if not (isinstance(why, str) and why.strip()):
         raise ValueError("why must say, in words, what counts as the outcome")
