@@ -11,9 +11,17 @@ import pytest
 from matplotlib.figure import Figure
 
 from xnavlab.core import widgets
+from xnavlab.core._ahead import distance
 from xnavlab.core.widgets import explore
 
 CALLS = []
+
+
+@pytest.fixture(autouse=True)
+def no_worker_unless_asked(monkeypatch):
+    """Tests that fake a kernel would get the ahead worker by default: off unless a test
+    asks for it with ``explore(..., ahead=True)`` (its calls are then counted in CALLS)."""
+    monkeypatch.setenv(widgets.AHEAD_ENV, "0")
 
 
 def wave(omega=1.0, phase=0.0, style="-", title=""):
@@ -419,3 +427,90 @@ def test_the_shared_renderer_keeps_no_figure_alive():
     del fig
     gc.collect()
     assert ref() is None
+
+
+# -- frames computed ahead -------------------------------------------------------------------
+def counted_titled(calls):
+    def plot(n=1, style="a"):
+        calls.append((n, style))
+        return titled("x" * n + style)
+    return plot
+
+
+def test_the_worker_draws_every_position_and_a_move_onto_one_is_a_lookup():
+    calls = []
+    ex = explore(counted_titled(calls), n=[1, 2, 3, 4], style=["a", "b"], ahead=True,
+                 initial={"n": 2, "style": "a"})
+    w = ex.widget()
+    assert ex._worker.idle(timeout=120)  # nothing left to draw: the thread has ended
+    assert sorted(calls) == sorted({(n, s) for n in [1, 2, 3, 4] for s in "ab"})
+    drawn = len(calls)
+    slider, menu = [c for c in w.children if "xnav-control" in c._dom_classes]
+    slider.value = 4
+    menu.value = "b"
+    assert len(calls) == drawn and ex.last_error is None  # no call: served from the cache
+    w.close()
+
+
+def test_the_worker_draws_the_positions_one_control_away_first_nearest_first():
+    calls = []
+    ex = explore(counted_titled(calls), n=[1, 2, 3, 4, 5], style=["a", "b", "c"], ahead=True,
+                 initial={"n": 3, "style": "b"})
+    w = ex.widget()
+    assert ex._worker.idle(timeout=120)
+    order = [(n - 1, "abc".index(s)) for n, s in calls[1:]]  # after the opening frame
+    keys = [distance((2, 1), p) for p in order]
+    assert keys == sorted(keys)
+    assert keys[:4] == [(1, 1)] * 4 and keys[4:6] == [(1, 2)] * 2
+    w.close()
+
+
+def test_closing_the_widget_stops_the_worker():
+    calls = []
+    ex = explore(counted_titled(calls), n=list(range(1, 60)), ahead=True)
+    w = ex.widget()
+    w.close()
+    assert ex._worker.stopped and ex._worker.idle(timeout=60)
+    n = len(calls)
+    assert n < 59  # stopped long before the end (at most its current frame after close)
+
+
+def test_frames_drawn_ahead_are_the_frames_drawn_at_a_move():
+    seen = {}
+    for ahead in (False, True):
+        ex = explore(titled, title=["a", "a longer title", "b"], ahead=ahead)
+        w = ex.widget()
+        if ahead:
+            assert ex._worker.idle(timeout=120)
+        control = [c for c in w.children if "xnav-control" in c._dom_classes][0]
+        for title in ("b", "a"):
+            control.value = title
+            seen.setdefault(title, []).append(ex._last_png)
+        w.close()
+    for title, (moved, ahead) in seen.items():
+        assert np.array_equal(png_pixels(moved), png_pixels(ahead)), title
+
+
+def test_the_worker_leaves_the_scrubber_as_it_was(monkeypatch):
+    monkeypatch.setattr(widgets, "_in_kernel", lambda: True)
+    monkeypatch.setenv(widgets.FRAMES_ENV, "1")
+    pages = []
+    for ahead in (False, True):
+        ex = explore(titled, title=["a", "a longer title", "b", "c"], ahead=ahead)
+        ex.widget()
+        if ahead:
+            assert ex._worker.idle(timeout=120) and ex._worker.computed == 3
+        pages.append(ex._repr_mimebundle_()["text/html"])
+        ex.close()
+    assert pages[0] == pages[1]
+
+
+def test_the_worker_is_off_by_default_outside_a_kernel_and_for_pyplot_figures():
+    ex = explore(wave, omega=[1.0, 2.0])
+    ex.widget()
+    assert ex._worker is None and not widgets.ahead_default()
+    ex.close()
+    ex = explore(pyplot_wave, omega=[1.0, 2.0, 3.0], ahead=True)
+    ex.widget()
+    assert ex._worker is None  # pyplot's state is not safe in a second thread
+    ex.close()

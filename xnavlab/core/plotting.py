@@ -17,7 +17,7 @@ from collections.abc import Mapping
 from xnavlab.core.validate import check_int
 
 __all__ = ["figure", "sparse_log_minors", "LOG_MINOR_SUBS", "markdown_table", "html_table",
-           "SafeHTML", "format_cell"]
+           "SafeHTML", "format_cell", "in_place", "updater", "UPDATE_ATTR"]
 
 #: Where :func:`sparse_log_minors` puts the minor ticks of a log axis: at 2 and 5 of each decade.
 LOG_MINOR_SUBS = (2.0, 5.0)
@@ -43,6 +43,61 @@ def figure(*args, figsize=(6.0, 3.5), **kwargs):
 
     fig = Figure(figsize=figsize)
     return fig, fig.subplots(*args, **kwargs)
+
+
+#: The attribute of a figure that holds its in-place update (:func:`in_place`).
+UPDATE_ATTR = "xnav_update"
+
+
+def in_place(fig, update):
+    """Give ``fig`` an in-place update, the way a slider shows other values without a new figure.
+
+    ``update(**values)`` takes the keyword arguments of the plotting function that built
+    ``fig`` and changes ``fig`` (its artists' data, texts, limits; artists may be replaced)
+    into what that function draws for ``values``: the same pixels in the same layout. It
+    checks its values before it changes anything (a ``ValueError`` leaves the figure as it
+    was) and returns ``None``, or ``False`` when these values need a new figure.
+    :func:`xnavlab.core.widgets.explore` updates a figure that has one instead of calling the
+    function again. Write the plotting function as ``build`` (the parts every frame shares),
+    then ``update(**values)``, then ``return in_place(fig, update)``: a frame drawn from
+    nothing and a frame updated in place then run the same code.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+    update : callable
+        ``update(**values) -> None | False``.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        ``fig``, with attribute :data:`UPDATE_ATTR` set to ``update``.
+
+    Examples
+    --------
+    >>> fig, ax = figure()
+    >>> line, = ax.plot([0.0, 1.0], [0.0, 1.0])
+    >>> def update(slope=1.0):
+    ...     line.set_ydata([0.0, slope])
+    >>> fig = in_place(fig, update)
+    >>> updater(fig)(slope=2.0)
+    >>> [float(y) for y in line.get_ydata()]
+    [0.0, 2.0]
+    """
+    setattr(fig, UPDATE_ATTR, update)
+    return fig
+
+
+def updater(fig):
+    """The in-place update :func:`in_place` gave ``fig``, or ``None``.
+
+    Examples
+    --------
+    >>> fig, ax = figure()
+    >>> updater(fig) is None
+    True
+    """
+    return getattr(fig, UPDATE_ATTR, None)
 
 
 def sparse_log_minors(*axes):

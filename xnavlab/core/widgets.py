@@ -41,6 +41,21 @@ CSS classes for the JupyterLab browser test (``tests/lab/``): ``xnav-explore`` (
 widget), ``xnav-control`` (every control; ``xnav-main`` marks the control of ``main``),
 ``xnav-status`` (the status line) and ``xnav-output`` (the figure), with ``xnav-error`` on an
 error line.
+
+Two things make a move quick. **Frames computed ahead:** once the opening frame is drawn, a
+background thread draws the live widget's other positions, those one control away first and
+the nearest steps first (around wherever the reader moved last), and keeps their PNGs (the
+:data:`LIVE_MEMO_FRAMES` nearest); a move onto one of them is a lookup, a move elsewhere draws
+at once as before, and a move onto the position the thread is drawing waits for it. The
+thread never draws the reader's figure, draws nothing while a foreground frame or a cell
+runs, stops when the widget is closed and is a daemon; ``explore(..., ahead=False)`` or
+:data:`AHEAD_ENV` turns it off (:func:`ahead_default`; the plumbing, and what it relies on
+in matplotlib's thread safety, is in ``xnavlab/core/_ahead.py``). **Figures updated in
+place:** a plotting function may return its figure with an update
+(:func:`xnavlab.core.plotting.in_place`); the live widget then keeps that figure and, at a
+move, updates its artists and draws it again instead of building a new one (a test holds
+each such frame to the pixels of the frame drawn from nothing). Neither changes the HTML
+scrubber, whose frames are drawn from nothing as before.
 """
 
 from __future__ import annotations
@@ -51,24 +66,32 @@ import html as _html
 import io
 import json
 import os
+import weakref
 from collections.abc import Callable
 from numbers import Number
 
 import numpy as np
 
+from xnavlab.core._ahead import RENDER_LOCK, AheadWorker, Failed, FrameCache, foreground
+from xnavlab.core.plotting import updater
 from xnavlab.core.validate import check_choice, check_int
 
-__all__ = ["explore", "Explorer", "SteadyLayout", "error_line", "live_png", "BUSY",
-           "LIVE_MEMO_FRAMES", "FRAMES_ENV", "MAX_MISFITS"]
+__all__ = ["explore", "Explorer", "SteadyLayout", "error_line", "live_png", "ahead_default",
+           "BUSY", "LIVE_MEMO_FRAMES", "FRAMES_ENV", "AHEAD_ENV", "MAX_MISFITS"]
 
 _MIME_WIDGET = "application/vnd.jupyter.widget-view+json"
 
-#: Positions whose PNG the live widget keeps, to show them again without a redraw.
-LIVE_MEMO_FRAMES = 64
+#: Positions whose PNG the live widget keeps (drawn at a move or ahead), to show them again
+#: without a redraw: those nearest the current position.
+LIVE_MEMO_FRAMES = 128
 
 #: The environment variable that makes a kernel draw the HTML scrubber's frames (``"1"``):
 #: set where a page is executed for the HTML book.
 FRAMES_ENV = "XNAVLAB_SCRUBBER_FRAMES"
+
+#: The environment variable that switches the frames computed ahead off (``"0"``) in every
+#: live widget of a kernel, whatever :func:`explore`'s ``ahead`` default.
+AHEAD_ENV = "XNAVLAB_AHEAD"
 
 #: Text of the live widget's status line while a redraw runs.
 BUSY = "computing\u2026"
@@ -135,9 +158,13 @@ class Explorer:
     layout : SteadyLayout
         The axes layout of the opening figure, shared by the live widget's redraws and the
         scrubber's frames (the axes stay put from frame to frame).
+    ahead : bool or None
+        Whether the live widget computes the other positions in the background once it has
+        drawn its opening frame (``None``: when :func:`ahead_default` says so, checked when
+        the widget is built).
     """
 
-    def __init__(self, plot, grids, fixed, main, initial, max_frames, dpi):
+    def __init__(self, plot, grids, fixed, main, initial, max_frames, dpi, ahead=None):
         self.plot = plot
         self.grids = grids
         self.fixed = fixed
@@ -155,8 +182,15 @@ class Explorer:
         self._start = self.frame_values.index(grid[k0])
         self._frames = None
         self._widget = None
-        self._seen = {}  # the live widget's PNG of each position drawn, most recent last
+        # the live widget's frames by position (PNG bytes, or the error line of one that
+        # raised), drawn at a move or ahead by the worker
+        self._cache = FrameCache([len(g) for g in grids.values()], LIVE_MEMO_FRAMES)
+        self.ahead = ahead
+        self._worker = None  # the AheadWorker, once the widget is built (ahead on)
+        self._live = {"fig": None}  # the foreground's figure kept for in-place updates
+        self._behind = {"fig": None}  # the worker's own
         self._last_png = None  # the live widget's latest figure (its opening one at first)
+        self._pyplot = False  # plot's last new figure was registered with pyplot
         self.status = None
         self.last_error = None
         self.layout = SteadyLayout()
@@ -194,7 +228,8 @@ class Explorer:
             order = [self._start] + [k for k in range(len(out)) if k != self._start]
             for k in order:
                 fig = self.figure(**{self.main: self.frame_values[k]})
-                out[k] = self.layout.png(fig, dpi=self.dpi)
+                with RENDER_LOCK:  # a live widget's worker may be drawing
+                    out[k] = self.layout.png(fig, dpi=self.dpi)
                 plt.close(fig)
             self._frames = out
         return self._frames
@@ -227,8 +262,10 @@ class Explorer:
         """The live ``ipywidgets.interactive`` (built once), ``continuous_update=False``.
 
         Below the controls sits the status line (attribute ``status``, ``computing…`` during a
-        redraw), then the figure. ``plot`` being pure, a position drawn before is shown again
-        from its kept PNG (the last :data:`LIVE_MEMO_FRAMES` positions), without calling it.
+        redraw), then the figure. ``plot`` being pure, a position drawn before (or ahead, see
+        the module) is shown again from its kept PNG (the :data:`LIVE_MEMO_FRAMES` positions
+        nearest the current one), without calling it; a figure with an in-place update
+        (:func:`xnavlab.core.plotting.in_place`) is updated rather than built again.
         An exception raised by ``plot`` (or ``plot`` not returning a
         Figure) shows :func:`error_line` in place of the figure and is kept in
         attribute ``last_error``; the widget stays usable.
@@ -237,7 +274,6 @@ class Explorer:
             import html
 
             import ipywidgets as w
-            import matplotlib.pyplot as plt
             from IPython.display import Image, display
 
             controls = {name: _control(w, name, grid, self.initial[name])
@@ -256,43 +292,107 @@ class Explorer:
             self.status = status
 
             def show(**values):
-                key = _memo_key(values)
-                if key in self._seen:  # a position drawn before: its PNG again, no redraw
-                    self._seen[key] = self._seen.pop(key)  # most recently used last
-                    self._last_png = self._seen[key]
-                    self.last_error = None
-                    display(Image(data=self._seen[key], format="png"))
-                    return
-                status.value = _BUSY_HTML  # sent to the browser at once (iopub thread)
-                try:
-                    fig = self.figure(**values)
-                except Exception as exc:  # one line for the reader, not a traceback wall
-                    self.last_error = error_line(exc)
-                    display({"text/plain": self.last_error,
+                pos = self._position(values)
+                entry = self._cache.get(pos)  # drawn before, or ahead (waits if in flight)
+                if entry is None:
+                    status.value = _BUSY_HTML  # sent to the browser at once (iopub thread)
+                    try:
+                        with foreground():  # the worker starts nothing new meanwhile
+                            entry = self._draw(values, self._live)
+                    finally:
+                        status.value = ""
+                    self._cache.put(pos, entry)
+                self._cache.move(pos)
+                if self._worker is not None:
+                    self._worker.kick()  # the positions near this one, next
+                if isinstance(entry, Failed):  # one line for the reader, not a traceback wall
+                    self.last_error = entry.line
+                    display({"text/plain": entry.line,
                              "text/html": '<pre class="xnav-error" style="color:#b00020;'
-                                          f'white-space:pre-wrap">{html.escape(self.last_error)}'
+                                          f'white-space:pre-wrap">{html.escape(entry.line)}'
                                           "</pre>"}, raw=True)
                     return
-                finally:
-                    status.value = ""
                 self.last_error = None
-                # one PNG at the figure's own size and dpi (display(fig) would draw it twice
-                # for a tight bounding box: up to a third of a redraw)
-                png = live_png(fig, self.layout)  # the opening figure's layout, kept
-                plt.close(fig)  # shown once, not again by the inline backend
-                self._last_png = png
-                if key is not None:
-                    self._seen[key] = png
-                    while len(self._seen) > LIVE_MEMO_FRAMES:
-                        self._seen.pop(next(iter(self._seen)))
-                display(Image(data=png, format="png"))
+                self._last_png = entry
+                display(Image(data=entry, format="png"))
 
-            widget = w.interactive(show, **controls, **fixed)
+            widget = _interactive_class(w)(show, **controls, **fixed)
+            widget.on_close = self._stop
             widget.add_class("xnav-explore")
             widget.out.add_class("xnav-output")
             widget.children = (*widget.children[:-1], status, widget.out)
+            if self._use_ahead():
+                self._worker = AheadWorker(self._cache, self._ahead_frame)
+                self._worker.kick()  # after the opening frame (drawn by the line above)
             self._widget = widget
         return self._widget
+
+    def close(self):
+        """Close the live widget: its worker stops after its current frame, figures go."""
+        if self._widget is not None:
+            self._widget.close()  # calls _stop
+        self._stop()
+
+    def _stop(self):
+        if self._worker is not None:
+            self._worker.stop()
+        self._live["fig"] = self._behind["fig"] = None
+
+    # -- frames of the live widget ----------------------------------------------------------
+    def _position(self, values):
+        """The grid indices of a widget position (its controls' values)."""
+        return tuple(_index(grid, values[name], name) for name, grid in self.grids.items())
+
+    def _draw(self, values, holder):
+        """The live widget's frame at ``values``: PNG bytes, or :class:`Failed` if ``plot``
+        raised. ``holder["fig"]`` is the figure kept for in-place updates (see the module)."""
+        import matplotlib.pyplot as plt
+
+        fig = holder["fig"]
+        try:
+            kwargs = {**self.fixed, **self.initial, **values}
+            update = updater(fig) if fig is not None else None
+            if update is None or update(**kwargs) is False:  # a new figure, from nothing
+                fig = holder["fig"] = None
+                fig = self.figure(**values)
+                self._pyplot = fig.canvas.manager is not None  # (the render drops the manager)
+                if updater(fig) is not None and not self._pyplot:
+                    holder["fig"] = fig  # updated in place from now on
+        except Exception as exc:
+            holder["fig"] = None  # an update may have stopped half-way: start again
+            return Failed(error_line(exc))
+        # one PNG at the figure's own size and dpi (display(fig) would draw it twice for a
+        # tight bounding box: up to a third of a redraw), in the opening figure's layout
+        with RENDER_LOCK:
+            png = live_png(fig, self.layout)
+        if self._pyplot:
+            plt.close(fig)  # shown once, not again by the inline backend
+        return png
+
+    def _ahead_frame(self, pos):
+        """The worker's frame at grid indices ``pos`` (its own figure, never the reader's)."""
+        values = {name: grid[i] for (name, grid), i in zip(self.grids.items(), pos, strict=True)}
+        fig = self._behind["fig"]
+        try:
+            kwargs = {**self.fixed, **self.initial, **values}
+            update = updater(fig) if fig is not None else None
+            if update is None or update(**kwargs) is False:
+                fig = self._behind["fig"] = None
+                fig = self.figure(**values)
+                if updater(fig) is not None:
+                    self._behind["fig"] = fig
+        except Exception as exc:
+            self._behind["fig"] = None
+            return Failed(error_line(exc))
+        AheadWorker.render_turn()  # the reader's frame first
+        with RENDER_LOCK:
+            return live_png(fig, self.layout)
+
+    def _use_ahead(self):
+        """Whether the worker runs: ``ahead`` if given, else :func:`ahead_default`; never
+        for figures registered with pyplot (not safe in a second thread)."""
+        on = ahead_default() if self.ahead is None else bool(self.ahead)
+        return on and self._last_png is not None and not self._pyplot
 
     def still_html(self):
         """The HTML of a kernel that is not building the book: the live widget's opening
@@ -367,6 +467,7 @@ class SteadyLayout:
         self._boxes = None
         self._texts = None
         self._engine = None  # the layout engine of the figure prepared last
+        self._engines = weakref.WeakKeyDictionary()  # of every figure prepared, still alive
         self._trusted = True  # the laid-out frame drew clear (see png): its layout may be kept
         #: Frames the kept layout did not fit; at :data:`MAX_MISFITS` no layout is kept.
         self.misfits = 0
@@ -387,7 +488,9 @@ class SteadyLayout:
 
         engine = fig.get_layout_engine()
         if engine is None or isinstance(engine, PlaceHolderLayoutEngine):
-            return "fixed"
+            engine = self._engines.get(fig)  # a figure prepared before, updated in place
+            if engine is None:
+                return "fixed"
         shape = _figure_shape(fig)
         if shape == self._shape and self._trusted:
             for ax, (original, active) in zip(fig.axes, self._boxes, strict=True):
@@ -399,6 +502,7 @@ class SteadyLayout:
                 getattr(fig, name).set_position(xy)
             how = "kept layout"
         else:
+            fig.set_layout_engine(engine)
             fig.draw_without_rendering()  # the engine lays the figure out
             self._shape = shape
             self._boxes = [(ax.get_position(original=True).frozen(),
@@ -407,6 +511,7 @@ class SteadyLayout:
                            if getattr(fig, name, None) is not None}
             how = "laid out"
         self._engine = engine  # for a frame the kept layout does not fit
+        self._engines[fig] = engine
         fig.set_layout_engine("none")
         return how
 
@@ -458,7 +563,16 @@ def _png_checked(fig, dpi, compress_level, check=True):
     looked at (``clear`` is ``None``)."""
     canvas = _recording_canvas_class()(fig)
     buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=dpi, pil_kwargs={"compress_level": compress_level})
+    if _one_draw(fig, dpi):
+        # what savefig does, less its first, non-rendering draw (the layout engine is off
+        # here): a third less time for the live widget's frames
+        from matplotlib.image import imsave
+
+        canvas.draw()
+        imsave(buf, canvas.buffer_rgba(), format="png", origin="upper", dpi=fig.dpi,
+               pil_kwargs={"compress_level": compress_level})
+    else:
+        fig.savefig(buf, format="png", dpi=dpi, pil_kwargs={"compress_level": compress_level})
     if not check:
         canvas.renderer.texts = []
         return buf.getvalue(), None
@@ -480,6 +594,21 @@ def _png_checked(fig, dpi, compress_level, check=True):
         if any(frame.bounds != own and box.overlaps(frame) for frame in frames):
             return buf.getvalue(), False
     return buf.getvalue(), True
+
+
+def _one_draw(fig, dpi):
+    """Whether one canvas draw gives savefig's pixels for ``fig`` at ``dpi``: its own dpi, an
+    inert layout engine, and the default savefig settings (no colours, box or dpi of their
+    own)."""
+    import matplotlib as mpl
+    from matplotlib.layout_engine import PlaceHolderLayoutEngine
+
+    engine = fig.get_layout_engine()
+    rc = mpl.rcParams
+    return ((dpi is None or dpi == fig.dpi) and rc["savefig.dpi"] == "figure"
+            and (engine is None or isinstance(engine, PlaceHolderLayoutEngine))
+            and rc["savefig.facecolor"] == "auto" and rc["savefig.edgecolor"] == "auto"
+            and not rc["savefig.transparent"] and rc["savefig.bbox"] is None)
 
 
 # Agg renderers shared by the frames of every slider, by (width px, height px, dpi): matplotlib
@@ -594,7 +723,8 @@ def error_line(exc):
     return text
 
 
-def explore(plot: Callable, *, main=None, initial=None, max_frames=12, dpi=80, **params):
+def explore(plot: Callable, *, main=None, initial=None, max_frames=12, dpi=80, ahead=None,
+            **params):
     """Explore a pure plotting function over parameter grids, live in Jupyter and in HTML.
 
     Parameters
@@ -613,6 +743,10 @@ def explore(plot: Callable, *, main=None, initial=None, max_frames=12, dpi=80, *
         ``main`` and always including its initial value. Default 12.
     dpi : int, optional
         Resolution of the frames (30 to 300). Default 80.
+    ahead : bool, optional
+        Whether the live widget computes its other positions in the background after its
+        opening frame (see the module); default :func:`ahead_default` (on in a reader's
+        kernel). The HTML scrubber is the same either way.
     **params
         ``name=grid`` (a list, tuple, range or 1-D array of values: a control) or
         ``name=value`` (passed unchanged). At least one grid is required.
@@ -679,17 +813,40 @@ def explore(plot: Callable, *, main=None, initial=None, max_frames=12, dpi=80, *
             start[name] = grid[idx[(len(idx) - 1) // 2]]
         else:
             start[name] = grid[(len(grid) - 1) // 2]
-    return Explorer(plot, grids, fixed, main, start, max_frames, dpi)
+    return Explorer(plot, grids, fixed, main, start, max_frames, dpi, ahead)
 
 
-def _memo_key(values):
-    """A hashable key of a widget position (``None`` when a value is not hashable)."""
-    key = tuple(sorted(values.items()))
-    try:
-        hash(key)
-    except TypeError:
-        return None
-    return key
+def ahead_default():
+    """Whether a live widget computes its frames ahead when :func:`explore` is not told.
+
+    On inside a Jupyter kernel, except where a page is executed for the HTML book
+    (:data:`FRAMES_ENV` is ``"1"``: nobody moves a slider there) and where
+    :data:`AHEAD_ENV` is ``"0"``; off outside a kernel (scripts, tests). In a kernel the
+    worker waits for the kernel to be idle a second after a cell, so a "Run All" (and
+    nbval, whose cells follow each other at once) runs without it.
+
+    Examples
+    --------
+    >>> ahead_default()  # not in a kernel
+    False
+    """
+    return (_in_kernel() and os.environ.get(FRAMES_ENV) != "1"
+            and os.environ.get(AHEAD_ENV, "1") != "0")
+
+
+@functools.cache
+def _interactive_class(w):
+    """``ipywidgets.interactive`` whose ``close`` also stops its slider's worker."""
+
+    class Interactive(w.interactive):
+        on_close = None  # set to the Explorer's _stop
+
+        def close(self):
+            if self.on_close is not None:
+                self.on_close()
+            super().close()
+
+    return Interactive
 
 
 def _index(grid, value, name="value"):
