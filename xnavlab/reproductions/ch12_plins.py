@@ -118,11 +118,17 @@ def plins_step(out=None, seed=0, n_runs=40, sigma=DEFAULT_SIGMA, sizes=STEP_SIZE
     for j, f in enumerate(sizes):
         if f == 0.0:
             continue
-        within = float(np.mean(np.abs(mc[:, j, 0] - f) <= 0.05 * abs(f)))
-        checks.append(check_range(f"PR{j + 1} identified within 5 % of the step, share of {n_runs} runs",
-                                  "identified", within, 0.95, 1.0,
-                                  why="the paper's estimate settles on the injected size; 5 % "
-                                      "read as 'on it', in at least 95 % of single runs"))
+        hits = np.abs(mc[:, j, 0] - f) <= 0.05 * abs(f)
+        # the paper's one run settles on the size: judged as one draw among our single runs
+        # (the registry's single-run rule, as for plins-ramp); the reliability is ours
+        checks.append(check_event(f"PR{j + 1} identified within 5 % of the step, share of {n_runs} runs",
+                                  "identified", hits,
+                                  why="'settles on the injected size' read as within 5 %, our "
+                                      "reading"))
+        checks.append(check_measure(f"PR{j + 1} reliability: share of runs identified within 5 %",
+                                    f"{int(hits.sum())} of {n_runs} ({100 * float(np.mean(hits)):.0f} %)",
+                                    "our finding, beside the 95 % a reliable identification would "
+                                    "show; not the paper's claim (the paper shows one run)"))
     # one claim per figure: the faulty pseudoranges' rows are parts of it (counted once)
     checks = [part_of(STEP_CLAIMS[0], c)[0] if c.name.endswith("detection time (s)") else
               part_of(STEP_CLAIMS[1], c)[0] if " identified within 5 % of the step" in c.name else c
