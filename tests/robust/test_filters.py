@@ -1,6 +1,6 @@
 """The four filters of Li et al. 2017 (xnavlab.robust.filters): the simulated measurements, the
-UKF, ASUKF, TDUKF and RKF steps and their invariants, the RKF's bound, the filter runs and their
-comparison."""
+UKF, ASUKF, TDUKF and RKF steps and their invariants, the RKF's bound, and the filter runs, one
+at a time and in a batch."""
 
 import math
 
@@ -234,32 +234,6 @@ def test_rkf_prior_bound_option(mars_sc):
             rb.run_filter("rkf", mars_sc, rkf_bias="prior", bias_max=bad)
 
 
-def test_rmse_and_improvement(mars_sc):
-    run = rb.run_filter("ukf", mars_sc, rng=1)
-    tau = mars_sc.t - mars_sc.t[0] + mars_sc.dt
-    want = math.sqrt(np.mean(run.error[(tau >= 5000) & (tau <= 20000)] ** 2))
-    assert abs(rb.rmse(run, mars_sc, 5000.0, 20000.0) - want) < 1e-9
-    with pytest.raises(ValueError, match="no epochs"):
-        rb.rmse(run, mars_sc, 1e7, 2e7)
-    with pytest.raises(ValueError, match="t_to"):
-        rb.rmse(run, mars_sc, 10.0, 5.0)
-    assert rb.improvement(10.0, 40.0) == 75.0
-    with pytest.raises(ValueError, match="rmse_ukf"):
-        rb.improvement(1.0, 0.0)
-
-
-def test_compare_filters():
-    out = rb.compare_filters("mars", error="growing", size=5000.0, n_steps=100, window=(2e4, 5e4),
-                             seeds=(0, 1))
-    assert set(out["rmse"]) == set(rb.FILTERS)
-    assert len(out["rmse_runs"]["ukf"]) == 2
-    assert out["rmse"]["ukf"] > 2 * max(out["rmse"][f] for f in ("asukf", "tdukf", "rkf"))
-    with pytest.raises(ValueError, match="filters"):
-        rb.compare_filters("mars", filters=("kf",))
-    with pytest.raises(ValueError, match="seeds"):
-        rb.compare_filters("mars", seeds=())
-
-
 def test_growing_error_scenarios():
     g = rb.simulate("earth", n_steps=10, error="growing", size=1000.0, profile="quadratic", rng=0)
     np.testing.assert_allclose(np.linalg.norm(g.dr_e, axis=1), 1000.0 * (np.arange(1, 11) / 10) ** 2)
@@ -298,30 +272,6 @@ def test_white_tdukf_differs_from_the_exact_form(mars_sc):
         assert _is_psd(P)
 
 
-def test_compare_filters_gives_the_same_numbers_on_two_processes():
-    kw = dict(seeds=(0, 1, 2), n_steps=60, window=(5e3, 2.5e4), error="growing", size=2000.0)
-    a = rb.compare_filters("mars", **kw)
-    b = rb.compare_filters("mars", max_workers=2, **kw)
-    assert a["rmse_runs"] == b["rmse_runs"]
-    for f in rb.FILTERS:
-        np.testing.assert_array_equal(a["error"][f], b["error"][f])
-    with pytest.raises(ValueError, match="max_workers"):
-        rb.compare_filters("mars", max_workers=0, **kw)
-
-
-@pytest.mark.parametrize(("kw", "words"), [
-    (dict(filters="ukf"), r"^filters must be a list of filters, got the string 'ukf'"),  # was 'u'
-    (dict(seeds=(0, 0)), r"^seeds lists 0 twice"),
-    (dict(seeds=(1.5,)), r"^seeds\[0\] must be an integer"),
-    (dict(window=(1j, 2e3)), r"^window\[0\] must be a real number"),          # was 't_from'
-    (dict(window=(3e3, 1e3)), r"^window must be \(t_from, t_to\)"),
-    (dict(window=5.0), r"^window must be a list of times"),
-])
-def test_compare_filters_refuses_bad_lists_by_their_own_names(kw, words):
-    with pytest.raises(ValueError, match=words):
-        rb.compare_filters("mars", **{"filters": ("ukf",), **kw}, n_steps=10)
-
-
 def test_a_complex_differenced_measurement_is_named_dy():
     with pytest.raises(ValueError, match="^dy must hold real numbers"):
         rb.tdukf_update(np.zeros(12), np.eye(12), np.zeros(3) + 1j, np.eye(3), np.eye(3))
@@ -345,3 +295,53 @@ def test_run_filter_refuses_a_setting_of_another_filter(name, kw, user):
     with pytest.raises(ValueError, match=f"^{key} is a setting of the {user} filter, not used by {name}"):
         rb.run_filter(name, sc, **kw)
     assert rb.run_filter(user, sc, **kw).x.shape == (5, 6)  # its own filter takes it
+
+
+@pytest.mark.parametrize("name, kw", [
+    ("ukf", {}), ("asukf", {}), ("tdukf", {}), ("tdukf", {"td_carry_noise": True}), ("rkf", {}),
+    ("rkf", {"rkf_bias": "oracle"}), ("rkf", {"rkf_bias": "prior", "bias_max": 4e3})])
+def test_run_filters_steps_a_batch_as_each_run_alone(name, kw):
+    """The batch over seeds (what compare_filters runs) gives every run the numbers of run_filter:
+    each run's products are its own (equal here to far below the tolerance)."""
+    scs = [rb.simulate("mars", n_steps=40, error="growing", size=3000.0, rng=s) for s in (0, 1, 2)]
+    runs = rb.run_filters(name, scs, (10, 11, 12), **kw)
+    for j, (sc, run) in enumerate(zip(scs, runs, strict=True)):
+        alone = rb.run_filter(name, sc, rng=10 + j, **kw)
+        np.testing.assert_allclose(run.x, alone.x, rtol=1e-9, atol=1e-9)
+        np.testing.assert_allclose(run.P, alone.P, rtol=1e-9, atol=1e-12)
+        for key, series in alone.extra.items():
+            np.testing.assert_allclose(run.extra[key], series, rtol=1e-9, atol=1e-9)
+
+
+def test_run_filters_refuses_scenarios_of_different_settings():
+    a = rb.simulate("mars", n_steps=5, rng=0)
+    with pytest.raises(ValueError, match="scenarios must share"):
+        rb.run_filters("ukf", [a, rb.simulate("mars", n_steps=6, rng=0)])
+    with pytest.raises(ValueError, match="rngs must hold one entry per scenario"):
+        rb.run_filters("ukf", [a, a], rngs=(1,))
+    with pytest.raises(ValueError, match="scenario must be a Scenario"):
+        rb.run_filters("ukf", [])
+
+
+def test_propagating_states_together_changes_no_state():
+    """The compiled RK4 holds states component by component: a state's result does not depend on
+    the others propagated with it (nor on their number)."""
+    from xnavlab.robust._propagation import propagate_unchecked
+
+    x0 = ee.orbit("earth").state0 + np.random.default_rng(0).normal(size=(7, 6)) * np.r_[[1e4] * 3, [1.0] * 3]
+    together = propagate_unchecked(x0.reshape(1, 7, 6), 500.0, ee.PLANETS["earth"])[0]
+    for row, x in zip(together, x0, strict=True):
+        np.testing.assert_allclose(row, ee.propagate(x, 500.0, "earth", substep=20.0), rtol=1e-12)
+
+
+@pytest.mark.parametrize("kw, words", [
+    (dict(error="constant", profile="sqrt"), r"^profile shapes a growing error only \(error='growing'\), "
+                                             r"got error = 'constant'; leave profile out"),
+    (dict(error="none", growth_time=10.0), r"^growth_time shapes a growing error only"),
+    (dict(error="constant", profile="cubic"), r"^profile must be one of"),
+    (dict(error="growing", profile=lambda s: s + 1.0), r"^profile must be a vectorised callable"),
+])
+def test_simulate_checks_the_profile_always_and_refuses_growth_settings_of_another_error(kw, words):
+    """profile="cubic" passed unchecked with a constant error, and profile/growth_time were ignored."""
+    with pytest.raises(ValueError, match=words):
+        rb.simulate("mars", n_steps=3, size=10.0, **kw)

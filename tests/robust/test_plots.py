@@ -20,14 +20,14 @@ def test_filter_comparison_gives_compare_filters_numbers_and_keeps_them():
     """The slider's cached runs equal one compare_filters call, also after an eps move."""
     import numpy as np
 
-    from xnavlab.robust import filters
+    from xnavlab.robust import comparison, filters
     from xnavlab.robust import plots as rplots
 
     key = "B0531+21, B1821-24, B1957+20"
     rplots.filter_comparison(700.0, 30.0, key)           # RKF at another eps, kept first
     out = rplots.filter_comparison(700.0, 300.0, key)
-    ref = filters.compare_filters("mars", error="growing", size=700.0, eps=300.0,
-                                  pulsar_names=rplots.PULSAR_SETS[key], seeds=(0,))
+    ref = comparison.compare_filters("mars", error="growing", size=700.0, eps=300.0,
+                                     pulsar_names=rplots.PULSAR_SETS[key], seeds=(0,))
     assert out["rmse"] == ref["rmse"]
     assert np.array_equal(out["tau"], ref["tau"])
     for f in filters.FILTERS:

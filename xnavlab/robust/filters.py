@@ -65,15 +65,15 @@ Examples
 from __future__ import annotations
 
 import functools
-from concurrent.futures import ProcessPoolExecutor
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from xnavlab.core import validate
-from xnavlab.core.filters import joseph, sigma_points, symmetrize, ukf_weights, unscented_transform
+from xnavlab.core.filters import ukf_weights
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
 from xnavlab.robust import ephemeris_error as ee
+from xnavlab.robust._batch import first, mv, sigma_points, sym, tr, unscented
 from xnavlab.robust._propagation import propagate_unchecked
 
 __all__ = [
@@ -92,11 +92,9 @@ __all__ = [
     "rkf_bias_bound",
     "rkf_update",
     "RKF_BIAS",
+    "SETTINGS",
     "run_filter",
-    "rmse",
-    "improvement",
-    "WINDOWS",
-    "compare_filters",
+    "run_filters",
 ]
 
 #: Ephemeris-error models accepted by :func:`simulate`.
@@ -105,9 +103,6 @@ ERRORS = ("de405", "de405-drift", "constant", "slow", "growing", "none")
 FILTERS = ("ukf", "asukf", "tdukf", "rkf")
 #: The paper's epsilon: 1000 for the Earth orbit, 100 for Mars.
 EPSILON = {"earth": 1000.0, "mars": 100.0}
-#: The paper's stable intervals for the RMSE, s after the start, and the run lengths (steps of 500 s).
-WINDOWS = {"earth": (1e5, 6e5), "mars": (5e4, 2.5e5)}
-_N_STEPS = {"earth": 1200, "mars": 500}
 
 
 @dataclass
@@ -200,11 +195,12 @@ def simulate(body="earth", n_steps=1200, dt=500.0, error="de405", size=0.0, puls
         Direction of an injected error (ICRF); ``"de405"``: that of the real DE421 - DE405
         error at ``t0``. Default ``(1, 1, 1) / sqrt(3)``.
     growth_time : float, optional
-        ``"growing"``: time after ``t0`` at which the error reaches ``size``, s. Default:
-        the run's length ``n_steps * dt`` (with the default lengths of
-        :func:`compare_filters`, the end of the paper's RMSE window).
+        ``"growing"`` only: time after ``t0`` at which the error reaches ``size``, s, in
+        (0, 1e9]. Default: the run's length ``n_steps * dt`` (with the default lengths of
+        :func:`~xnavlab.robust.comparison.compare_filters`, the end of the paper's RMSE window).
     profile : {"linear", "quadratic", "sqrt"} or callable
-        ``"growing"``: time profile (:func:`xnavlab.robust.ephemeris_error.growth_profile`).
+        ``"growing"`` only (another error refuses any but ``"linear"``): time profile
+        (:func:`xnavlab.robust.ephemeris_error.growth_profile`).
     rng : numpy.random.Generator or int, optional
 
     Returns
@@ -225,9 +221,13 @@ def simulate(body="earth", n_steps=1200, dt=500.0, error="de405", size=0.0, puls
     dt = check_real("dt", dt, 1.0, 1e5)
     check_choice("error", error, ERRORS)
     size = check_real("size", size, 0.0, 1e8)
-    if growth_time is None:
-        growth_time = n_steps * dt
-    growth_time = check_real("growth_time", growth_time, 0.0, 1e9, lo_open=True)
+    ee.growth_profile(np.array([0.0, 1.0]), profile)  # names the profile's choices (or a bad callable)
+    if error != "growing" and (growth_time is not None or not _same(profile, "linear")):
+        shaped = "growth_time" if growth_time is not None else "profile"
+        raise ValueError(f"{shaped} shapes a growing error only (error='growing'), got error = {error!r}; "
+                         f"leave {shaped} out")
+    growth_time = check_real("growth_time", n_steps * dt if growth_time is None else growth_time, 0.0, 1e9,
+                             lo_open=True)
     rng = make_rng(rng)
     from xnavlab.mars import pulsars
 
@@ -248,11 +248,7 @@ def simulate(body="earth", n_steps=1200, dt=500.0, error="de405", size=0.0, puls
         check_choice("direction", direction, ("de405",))
         direction = ee.ephemeris_error(body, orb.t0)
     t = orb.t0 + dt * np.arange(1, n_steps + 1)
-    x = np.empty((n_steps, 6))
-    s = orb.state0
-    for k in range(n_steps):
-        s = ee.propagate(s, dt, body, substep=10.0)
-        x[k] = s
+    x = _truth(body, tuple(float(v) for v in orb.state0), n_steps, dt).copy()
     if error == "de405":
         dr = ee.ephemeris_error(body, t)
     elif error == "de405-drift":
@@ -267,6 +263,18 @@ def simulate(body="earth", n_steps=1200, dt=500.0, error="de405", size=0.0, puls
     return Scenario(body, t, dt, x, y, n, np.diag(sigma**2), dr)
 
 
+@functools.lru_cache(maxsize=16)
+def _truth(body, state0, n_steps, dt):
+    """True states after each of ``n_steps`` steps from ``state0`` (kept: a study's seeds share them)."""
+    x = np.empty((n_steps, 6))
+    s = np.asarray(state0)
+    for k in range(n_steps):
+        s = propagate_unchecked(s, dt, ee.PLANETS[body], substep=10.0)
+        x[k] = s
+    x.flags.writeable = False
+    return x
+
+
 @functools.lru_cache(maxsize=32)
 def _weights(m):
     Wm, Wc, lam = ukf_weights(m)
@@ -275,13 +283,15 @@ def _weights(m):
     return Wm, Wc, lam
 
 
+# The steps below work on a batch of runs: x (r, m), P (r, m, m), y (r, k) (xnavlab.robust._batch);
+# the public step functions are one run of them (r = 1), run_filters all the seeds of a study at once.
 def _predict(x, P, dt, body, Q, n_dyn=6):
-    Wm, Wc, lam = _weights(x.size)
+    Wm, Wc, lam = _weights(x.shape[-1])
     X = sigma_points(x, P, lam)
     Y = X.copy()
     # x_k|k-1 = f(x_k-1), per sigma point
-    Y[:, :n_dyn] = propagate_unchecked(X[:, :n_dyn], dt, ee.PLANETS[body])
-    return unscented_transform(Y, Wm, Wc, noise=Q)  # P- = sum Wc (Y - x-)(Y - x-)^T + Q
+    Y[..., :n_dyn] = propagate_unchecked(X[..., :n_dyn], dt, ee.PLANETS[body])
+    return unscented(Y, Wm, Wc, Q)
 
 
 def predict(x, P, dt, body, Q, n_dyn=6):
@@ -320,7 +330,7 @@ def predict(x, P, dt, body, Q, n_dyn=6):
         raise ValueError(f"x must be 1-D with at least {n_dyn} entries and P, Q of shape ({m}, {m})")
     check_choice("body", body, tuple(ee.PLANETS))
     dt = check_real("dt", dt, -1e6, 1e6)
-    return _predict(x, P, dt, body, Q, n_dyn)
+    return first(_predict(x[None], P[None], dt, body, Q, n_dyn))
 
 
 def _measure(x, P, H):
@@ -330,15 +340,15 @@ def _measure(x, P, H):
     reproduce the mean and covariance), so they are computed in closed form.
     """
     PHt = P @ H.T
-    return H @ x, symmetrize(H @ PHt), PHt
+    return mv(H, x), sym(H @ PHt), PHt
 
 
 def _update_linear(x, P, y, R, H):
     z_pred, Pzz, Pxz = _measure(x, P, H)
     S = Pzz + R  # S = H P H^T + R
-    K = np.linalg.solve(S, Pxz.T).T  # K = Pxz S^-1
+    K = tr(np.linalg.solve(S, tr(Pxz)))  # K = Pxz S^-1
     nu = y - z_pred
-    return x + K @ nu, symmetrize(P - K @ S @ K.T), nu  # P+ = P- - K S K^T
+    return x + mv(K, nu), sym(P - K @ S @ tr(K)), nu  # P+ = P- - K S K^T
 
 
 def _check_update(x, P, y, R, n, yname="y"):
@@ -386,7 +396,7 @@ def ukf_update(x, P, y, R, n):
         raise ValueError(f"x must have 6 entries [r, v], got {x.size}")
     H = np.zeros((n.shape[0], 6))
     H[:, :3] = n  # h(x) = N r
-    return _update_linear(x, P, y, R, H)
+    return first(_update_linear(x[None], P[None], y[None], R, H))
 
 
 def asukf_update(x, P, y, R, n):
@@ -412,7 +422,7 @@ def asukf_update(x, P, y, R, n):
     k = n.shape[0]
     if x.size != 6 + k:
         raise ValueError(f"x must have 6 + {k} entries (state and bias), got {x.size}")
-    return _update_linear(x, P, y, R, _asukf_h(n))
+    return first(_update_linear(x[None], P[None], y[None], R, _asukf_h(n)))
 
 
 def _asukf_h(n):
@@ -461,19 +471,18 @@ def tdukf_predict(x, P, dt, body, Q):
         raise ValueError(f"x must be 1-D with at least 6 entries and P of shape ({m}, {m})")
     check_choice("body", body, tuple(ee.PLANETS))
     dt = check_real("dt", dt, -1e6, 1e6)
-    return _tdukf_predict(x, P, dt, body, Q)
+    return first(_tdukf_predict(x[None], P[None], dt, body, Q))
 
 
 def _tdukf_predict(x, P, dt, body, Q):
-    m = x.size
+    m = x.shape[-1]
     Wm, Wc, lam = _weights(m)
     X = sigma_points(x, P, lam)
-    fx = propagate_unchecked(X[:, :6], dt, ee.PLANETS[body])
-    Y = np.hstack([fx, X[:, :6], X[:, 6:]])  # [f(x_k), x_k, v_k]
+    fx = propagate_unchecked(X[..., :6], dt, ee.PLANETS[body])
+    Y = np.concatenate([fx, X[..., :6], X[..., 6:]], axis=-1)  # [f(x_k), x_k, v_k]
     noise = np.zeros((m + 6, m + 6))
     noise[:6, :6] = Q
-    xo, Po = unscented_transform(Y, Wm, Wc, noise=noise)  # P- = sum Wc (Y - x-)(Y - x-)^T + Q
-    return xo, symmetrize(Po)
+    return unscented(Y, Wm, Wc, noise)  # P- = sum Wc (Y - x-)(Y - x-)^T + Q
 
 
 def tdukf_update(x, P, dy, R, n, carry_noise=False):
@@ -533,37 +542,43 @@ def tdukf_update(x, P, dy, R, n, carry_noise=False):
     """
     x, P, dy, R, n = _check_update(x, P, dy, R, n, "dy")
     k = n.shape[0]
+    if x.size != 12 + (k if carry_noise else 0):
+        raise ValueError(f"x must have 12{f' + {k}' if carry_noise else ''} entries when carry_noise "
+                         f"is {bool(carry_noise)}, got {x.size}")
+    return first(_tdukf_update(x[None], P[None], dy[None], R, n, carry_noise))
+
+
+def _tdukf_update(x, P, dy, R, n, carry_noise):
+    k = n.shape[0]
     if not carry_noise:
-        if x.size != 12:
-            raise ValueError(f"x must have 12 entries when carry_noise is False, got {x.size}")
         H = np.zeros((k, 12))
         H[:, :3] = n
         H[:, 6:9] = -n  # dy = N r_k+1 - N r_k + (v_k+1 - v_k)
         xo, Po, nu = _joseph_update(x, P, dy, H, 2.0 * R)  # white: cov(v_k+1 - v_k) = 2 R
-        return xo[:6], Po[:6, :6], nu
-    if x.size != 12 + k:
-        raise ValueError(f"x must have 12 + {k} entries when carry_noise is True, got {x.size}")
-    xa = np.concatenate([x, np.zeros(k)])
-    Pa = np.zeros((x.size + k, x.size + k))
-    Pa[: x.size, : x.size] = P
-    Pa[x.size:, x.size:] = R  # v_k+1 ~ N(0, R)
-    H = np.zeros((k, xa.size))
+        return xo[:, :6], Po[:, :6, :6], nu
+    r, m = x.shape
+    xa = np.concatenate([x, np.zeros((r, k))], axis=1)
+    Pa = np.zeros((r, m + k, m + k))
+    Pa[:, :m, :m] = P
+    Pa[:, m:, m:] = R  # v_k+1 ~ N(0, R)
+    H = np.zeros((k, m + k))
     H[:, :3] = n
     H[:, 6:9] = -n
     H[:, 12:12 + k] = -np.eye(k)
     H[:, 12 + k:] = np.eye(k)  # dy = N r_k+1 - N r_k - v_k + v_k+1
     xa, Pa, nu = _joseph_update(xa, Pa, dy, H, np.zeros((k, k)))
     keep = np.r_[0:6, 12 + k: 12 + 2 * k]
-    return xa[keep], Pa[np.ix_(keep, keep)], nu
+    return xa[:, keep], Pa[:, keep][:, :, keep], nu
 
 
 def _joseph_update(x, P, y, H, Rd):
     """Kalman update in Joseph form; symmetric and PSD for any gain."""
     PHt = P @ H.T
-    S = symmetrize(H @ PHt + Rd)  # S = H P H^T + R_d
-    K = np.linalg.solve(S, PHt.T).T  # K = P H^T S^-1
-    nu = y - H @ x
-    return x + K @ nu, joseph(P, K, H, Rd), nu  # P+ = (I - K H) P (I - K H)^T + K R_d K^T
+    S = sym(H @ PHt + Rd)  # S = H P H^T + R_d
+    K = tr(np.linalg.solve(S, tr(PHt)))  # K = P H^T S^-1
+    nu = y - mv(H, x)
+    A = np.eye(P.shape[-1]) - K @ H
+    return x + mv(K, nu), sym(A @ P @ tr(A) + K @ Rd @ tr(K)), nu  # P+ = (I-KH) P (I-KH)^T + K R_d K^T
 
 
 def rkf_gain(Pxz, Pzz, R, BB, eps):
@@ -597,7 +612,7 @@ def rkf_gain(Pxz, Pzz, R, BB, eps):
     R = validate.check_covariance("R", R)
     BB = validate.check_covariance("BB", BB)  # a bound on B B^T: a negative one shrank W
     W = (R + (1.0 + eps) * BB) / (1.0 + 1.0 / eps)  # (R + (1+eps) B B^T) / (1 + 1/eps)
-    return np.linalg.solve(symmetrize(Pzz + W), Pxz.T).T  # K = Sigma H^T [H Sigma H^T + W]^-1
+    return tr(np.linalg.solve(sym(Pzz + W), tr(Pxz)))  # K = Sigma H^T [H Sigma H^T + W]^-1
 
 
 def rkf_bias_bound(m, S, lam):
@@ -625,9 +640,15 @@ def rkf_bias_bound(m, S, lam):
     m = check_finite_array("m", m)
     S = check_finite_array("S", S)
     lam = check_real("lam", lam, 0.0, 1.0, lo_open=True)
-    A = symmetrize(np.outer(m, m) - lam / (2.0 - lam) * S)
+    if m.ndim != 1 or S.shape != (m.size, m.size):
+        raise ValueError(f"m must have shape (k,) and S (k, k), got {m.shape} and {S.shape}")
+    return _bias_bound(m, S, lam)
+
+
+def _bias_bound(m, S, lam):
+    A = sym(m[..., :, None] * m[..., None, :] - lam / (2.0 - lam) * S)  # m m^T - lam/(2-lam) S
     w, V = np.linalg.eigh(A)
-    return symmetrize((V * np.clip(w, 0.0, None)) @ V.T)
+    return sym((V * np.clip(w, 0.0, None)[..., None, :]) @ tr(V))  # its positive part
 
 
 def rkf_update(x, P, y, R, n, BB, eps):
@@ -671,17 +692,17 @@ def rkf_update(x, P, y, R, n, BB, eps):
         raise ValueError(f"x must have 6 entries [r, v], got {x.size}")
     H = np.zeros((k, 6))
     H[:, :3] = n
-    return _rkf_update(x, P, y, R, H, BB, eps)
+    return first(_rkf_update(x[None], P[None], y[None], R, H, BB, eps))
 
 
 def _rkf_update(x, P, y, R, H, BB, eps):
     z_pred, Pzz, Pxz = _measure(x, P, H)
     nu = y - z_pred
     W = (R + (1.0 + eps) * BB) / (1.0 + 1.0 / eps)  # (R + (1+eps) B B^T) / (1 + 1/eps)
-    K = np.linalg.solve(symmetrize(Pzz + W), Pxz.T).T  # K = Sigma H^T [H Sigma H^T + W]^-1
+    K = tr(np.linalg.solve(sym(Pzz + W), tr(Pxz)))  # K = Sigma H^T [H Sigma H^T + W]^-1
     # Sigma+ = (1 + 1/eps) (Sigma- - K H Sigma-); with the UT, H Sigma- = Pxz^T
-    Sig = (1.0 + 1.0 / eps) * (P - K @ Pxz.T)
-    return x + K @ nu, symmetrize(Sig), nu
+    Sig = (1.0 + 1.0 / eps) * (P - K @ tr(Pxz))
+    return x + mv(K, nu), sym(Sig), nu
 
 
 #: Where the RKF's bound on ``B B^T`` comes from (:func:`run_filter`).
@@ -690,7 +711,7 @@ RKF_BIAS = ("residual", "oracle", "prior")
 
 #: run_filter setting -> (the filters that use it, its default); set apart from its default
 #: for another filter it is refused.
-_SETTINGS = {"eps": (("rkf",), None), "lam": (("rkf",), 0.02), "rkf_bias": (("rkf",), "residual"),
+SETTINGS = {"eps": (("rkf",), None), "lam": (("rkf",), 0.02), "rkf_bias": (("rkf",), "residual"),
              "oracle_error": (("rkf",), None), "bias_max": (("rkf",), None),
              "td_carry_noise": (("tdukf",), False), "q_b": (("asukf",), 1.0),
              "sigma_b0": (("asukf",), 3000.0)}
@@ -761,19 +782,62 @@ def run_filter(name, scenario, eps=None, sigma_r0=1000.0, sigma_v0=1.0, q_r=0.0,
     ...
     ValueError: lam is a setting of the rkf filter, not used by ukf, got lam = 0.5; leave it out
     """
+    settings = {k: v for k, v in locals().items() if k not in ("name", "scenario", "rng")}
+    return run_filters(name, [scenario], [rng], **settings)[0]
+
+
+def run_filters(name, scenarios, rngs=None, eps=None, sigma_r0=1000.0, sigma_v0=1.0, q_r=0.0, q_v=1e-4,
+                q_b=1.0, sigma_b0=3000.0, rkf_bias="residual", oracle_error=None, lam=0.02,
+                td_carry_noise=False, bias_max=None):
+    """Run one filter over several scenarios at once (a batch: one step of every run per step).
+
+    Each run is :func:`run_filter` of its scenario and its ``rng``, to the last bit (each run's
+    products are its own); stepping the runs together makes one array operation of what were
+    as many small ones, which is what cost the time.
+
+    Parameters
+    ----------
+    name : {"ukf", "asukf", "tdukf", "rkf"}
+    scenarios : sequence of Scenario
+        Draws of one :func:`simulate` setting (the same body, epochs, pulsars and noise
+        covariance; the measurements, truth and ephemeris error may differ).
+    rngs : sequence of (numpy.random.Generator or int), optional
+        One per scenario: draws its initial error.
+    eps, sigma_r0, sigma_v0, q_r, q_v, q_b, sigma_b0, rkf_bias, oracle_error, lam, td_carry_noise, bias_max
+        As for :func:`run_filter`, the same for every run.
+
+    Returns
+    -------
+    list of FilterRun
+        One per scenario, in their order.
+
+    Examples
+    --------
+    >>> scs = [simulate("mars", n_steps=10, rng=s) for s in (0, 1)]
+    >>> runs = run_filters("rkf", scs, (5, 6))
+    >>> bool(np.allclose(runs[1].x, run_filter("rkf", scs[1], rng=6).x, rtol=1e-12, atol=1e-6))
+    True
+    """
     check_choice("name", name, FILTERS)
-    given = {"eps": eps, "lam": lam, "rkf_bias": rkf_bias, "oracle_error": oracle_error,
-             "bias_max": bias_max, "td_carry_noise": td_carry_noise, "q_b": q_b,
-             "sigma_b0": sigma_b0}
+    given = {key: value for key, value in locals().items() if key in SETTINGS}
     for key, value in given.items():  # a setting of another filter: refused, not ignored
-        users, default = _SETTINGS[key]
+        users, default = SETTINGS[key]
         if name not in users and (value is not default if default is None
                                   else not _same(value, default)):
             raise ValueError(f"{key} is a setting of the {'/'.join(users)} filter, not used by "
                              f"{name}, got {key} = {value!r:.60}; leave it out")
-    if not isinstance(scenario, Scenario):
-        raise ValueError(f"scenario must be a Scenario from simulate(), got {type(scenario).__name__}")
-    eps = EPSILON[scenario.body] if eps is None else check_real("eps", eps, 0.0, lo_open=True)
+    scenarios = list(scenarios)
+    for s in scenarios or [None]:
+        if not isinstance(s, Scenario):
+            raise ValueError(f"scenario must be a Scenario from simulate(), got {type(s).__name__}")
+    sc = scenarios[0]
+    if any(s.body != sc.body or s.dt != sc.dt or not np.array_equal(s.t, sc.t)
+           or not np.array_equal(s.n, sc.n) or not np.array_equal(s.R, sc.R) for s in scenarios):
+        raise ValueError("scenarios must share the body, dt, epochs, pulsars and R (draws of one setting)")
+    rngs = [None] * len(scenarios) if rngs is None else list(rngs)
+    if len(rngs) != len(scenarios):
+        raise ValueError(f"rngs must hold one entry per scenario ({len(scenarios)}), got {len(rngs)}")
+    eps = EPSILON[sc.body] if eps is None else check_real("eps", eps, 0.0, lo_open=True)
     sigma_r0 = check_real("sigma_r0", sigma_r0, 0.0, 1e8, lo_open=True)
     sigma_v0 = check_real("sigma_v0", sigma_v0, 0.0, 1e5, lo_open=True)
     q_r = check_real("q_r", q_r, 0.0, 1e6)
@@ -782,198 +846,79 @@ def run_filter(name, scenario, eps=None, sigma_r0=1000.0, sigma_v0=1.0, q_r=0.0,
     sigma_b0 = check_real("sigma_b0", sigma_b0, 0.0, 1e8, lo_open=True)
     check_choice("rkf_bias", rkf_bias, RKF_BIAS)
     lam = check_real("lam", lam, 0.0, 1.0, lo_open=True)
-    sc = scenario
-    N = sc.t.size
+    r, N = len(scenarios), sc.t.size
     if oracle_error is None:
-        oracle_error = sc.dr_e
-    oracle_error = check_finite_array("oracle_error", oracle_error)
-    if oracle_error.shape not in ((3,), (N, 3)):
-        raise ValueError(f"oracle_error must have shape (3,) or ({N}, 3), got {oracle_error.shape}")
-    oracle_error = np.broadcast_to(oracle_error, (N, 3))
+        oracle = np.stack([s.dr_e for s in scenarios])
+    else:
+        oracle_error = check_finite_array("oracle_error", oracle_error)
+        if oracle_error.shape not in ((3,), (N, 3)):
+            raise ValueError(f"oracle_error must have shape (3,) or ({N}, 3), got {oracle_error.shape}")
+        oracle = np.broadcast_to(oracle_error, (r, N, 3))
     if rkf_bias == "prior":
         bias_max = check_finite_array("bias_max", bias_max)
         if bias_max.shape not in ((), (N,)) or np.any(bias_max < 0):
             raise ValueError(f"bias_max must be >= 0 m, a scalar or one per epoch ({N},)")
         bias_max = np.broadcast_to(bias_max, (N,))
-    rng = make_rng(rng)
     body, dt, n, R = sc.body, sc.dt, sc.n, sc.R
     k = n.shape[0]
     sd0 = np.r_[np.full(3, sigma_r0), np.full(3, sigma_v0)]
-    x0_true = ee.propagate(sc.x_true[0], -dt, body, substep=10.0)
-    x = x0_true + rng.normal(size=6) * sd0
-    P = np.diag(sd0**2)
+    x = np.array([ee.propagate(s.x_true[0], -dt, body, substep=10.0) + make_rng(g).normal(size=6) * sd0
+                  for s, g in zip(scenarios, rngs, strict=True)])  # x0 = true x0 + initial error
+    P = np.repeat(np.diag(sd0**2)[None], r, axis=0)
     Q = np.diag(np.r_[np.full(3, max(q_r, 1e-6) ** 2), np.full(3, max(q_v, 1e-9) ** 2)])
-    xs, Ps = np.empty((N, 6)), np.empty((N, 6, 6))
+    y = np.stack([s.y for s in scenarios], axis=1)  # (N, r, k)
+    xs, Ps = np.empty((N, r, 6)), np.empty((N, r, 6, 6))
     extra = {}
     if name == "asukf":
-        x = np.r_[x, np.zeros(k)]
-        P = np.diag(np.r_[sd0**2, np.full(k, sigma_b0**2)])
+        x = np.concatenate([x, np.zeros((r, k))], axis=1)
+        P = np.repeat(np.diag(np.r_[sd0**2, np.full(k, sigma_b0**2)])[None], r, axis=0)
         Qa = np.zeros((6 + k, 6 + k))
         Qa[:6, :6] = Q
         Qa[6:, 6:] = np.eye(k) * q_b**2  # b_k+1 = b_k + w_b
-        extra["bias"] = np.empty((N, k))
+        extra["bias"] = np.empty((N, r, k))
     elif name == "tdukf":
         kv = k if td_carry_noise else 0
-        x = np.r_[x, np.zeros(kv)]
-        P = np.zeros((6 + kv, 6 + kv))
-        P[:6, :6] = np.diag(sd0**2)
-        P[6:, 6:] = R[:kv, :kv]  # the noise of the first measurement
+        x = np.concatenate([x, np.zeros((r, kv))], axis=1)
+        P = np.zeros((r, 6 + kv, 6 + kv))
+        P[:, :6, :6] = np.diag(sd0**2)
+        P[:, 6:, 6:] = R[:kv, :kv]  # the noise of the first measurement
     elif name == "rkf":
-        m = np.zeros(k)
-        BB = np.zeros((k, k))  # no residual seen yet: B B^T >= 0
-        extra["bias_bound"] = np.empty(N)
+        m = np.zeros((r, k))
+        BB = np.zeros((r, k, k))  # no residual seen yet: B B^T >= 0
+        extra["bias_bound"] = np.empty((N, r))
     H = np.zeros((k, 6))
     H[:, :3] = n
     Ha = _asukf_h(n)
     for i in range(N):
         if name == "ukf":
             x, P = _predict(x, P, dt, body, Q)
-            x, P, _ = _update_linear(x, P, sc.y[i], R, H)
+            x, P, _ = _update_linear(x, P, y[i], R, H)
         elif name == "asukf":
             x, P = _predict(x, P, dt, body, Qa)
-            x, P, _ = _update_linear(x, P, sc.y[i], R, Ha)
-            extra["bias"][i] = x[6:]
+            x, P, _ = _update_linear(x, P, y[i], R, Ha)
+            extra["bias"][i] = x[:, 6:]
         elif name == "tdukf":
             x, P = _tdukf_predict(x, P, dt, body, Q)
             if i == 0:  # no previous measurement: keep [x_1, v_1] with v_1 ~ N(0, R)
-                x = np.r_[x[:6], np.zeros(kv)]
-                P = np.block([[P[:6, :6], np.zeros((6, kv))], [np.zeros((kv, 6)), R[:kv, :kv]]])
+                x = np.concatenate([x[:, :6], np.zeros((r, kv))], axis=1)
+                P0, P = P, np.zeros((r, 6 + kv, 6 + kv))
+                P[:, :6, :6], P[:, 6:, 6:] = P0[:, :6, :6], R[:kv, :kv]
             else:
-                x, P, _ = tdukf_update(x, P, sc.y[i] - sc.y[i - 1], R, n, td_carry_noise)
+                x, P, _ = _tdukf_update(x, P, y[i] - y[i - 1], R, n, td_carry_noise)
         else:
             x, P = _predict(x, P, dt, body, Q)
             if rkf_bias == "oracle":
-                b = n @ oracle_error[i]  # B = N dr_E (paper eq. (17)), the true bias
-                BB = np.outer(b, b)
+                b = mv(n, oracle[:, i])  # B = N dr_E (paper eq. (17)), the true bias
+                BB = b[:, :, None] * b[:, None, :]
             elif rkf_bias == "prior":  # B B^T = N dr dr^T N^T <= |dr|^2 N N^T <= d_max^2 N N^T
-                BB = bias_max[i] ** 2 * (n @ n.T)
-            S = symmetrize(H @ P @ H.T) + R  # innovation covariance without the bias
-            extra["bias_bound"][i] = float(np.sqrt(np.trace(BB)))
-            x, P, nu = _rkf_update(x, P, sc.y[i], R, H, BB, eps)
+                BB = np.broadcast_to(bias_max[i] ** 2 * (n @ n.T), (r, k, k))
+            S = sym(H @ P @ H.T) + R  # innovation covariance without the bias
+            extra["bias_bound"][i] = np.sqrt(np.trace(BB, axis1=1, axis2=2))
+            x, P, nu = _rkf_update(x, P, y[i], R, H, BB, eps)
             if rkf_bias == "residual":  # paper eqs. (23)-(26), re-derived: bound for the next epoch
                 m = (1.0 - lam) * m + lam * nu  # m_k = (1 - lam) m_k-1 + lam nu_k
-                BB = rkf_bias_bound(m, S, lam)  # B B^T >= [m m^T - lam/(2-lam) S]_+
-        xs[i], Ps[i] = x[:6], P[:6, :6]
-    err = np.linalg.norm(xs[:, :3] - sc.x_true[:, :3], axis=1)
-    return FilterRun(name, xs, Ps, err, extra)
-
-
-def rmse(run, scenario, t_from, t_to):
-    """Position RMSE over ``t_from <= t - t0 <= t_to`` (s since the start), m (paper eq. (27)).
-
-    Parameters
-    ----------
-    run : FilterRun
-    scenario : Scenario
-    t_from, t_to : float
-        Interval, s after the initial epoch (paper: Earth 1e5-6e5, Mars 5e4-2.5e5).
-
-    Examples
-    --------
-    >>> sc = simulate("earth", n_steps=10, rng=0)
-    >>> rmse(run_filter("ukf", sc), sc, 0.0, 5000.0) > 0
-    True
-    """
-    t_from = check_real("t_from", t_from, 0.0)
-    t_to = check_real("t_to", t_to, t_from)
-    tau = scenario.t - (scenario.t[0] - scenario.dt)
-    sel = (tau >= t_from) & (tau <= t_to)
-    if not np.any(sel):
-        raise ValueError(f"no epochs in [{t_from:g}, {t_to:g}] s; the run covers (0, {tau[-1]:g}] s")
-    return float(np.sqrt(np.mean(run.error[sel] ** 2)))  # RMSE = sqrt(mean |dr_k|^2)
-
-
-def improvement(rmse_filter, rmse_ukf):
-    """Improvement over the UKF, percent: ``100 (1 - RMSE / RMSE_UKF)``.
-
-    Examples
-    --------
-    >>> improvement(25.0, 100.0)
-    75.0
-    """
-    rmse_filter = check_real("rmse_filter", rmse_filter, 0.0)
-    rmse_ukf = check_real("rmse_ukf", rmse_ukf, 0.0, lo_open=True)
-    return 100.0 * (1.0 - rmse_filter / rmse_ukf)
-
-
-def compare_filters(body="earth", filters=FILTERS, error="de405", size=0.0, eps=None, seeds=(0,),
-                    pulsar_names=None, n_steps=None, window=None, direction=None, profile="linear",
-                    growth_time=None, max_workers=1, **filter_kwargs):
-    """Monte Carlo comparison of the filters: mean RMSE over seeds and improvement over the UKF.
-
-    Each seed draws one scenario (measurement noise) and one initial error shared by
-    all filters.
-
-    Parameters
-    ----------
-    body : {"earth", "mars"}
-    filters : sequence of str
-        Subset of :data:`FILTERS`; the improvement needs ``"ukf"`` among them.
-    error, size, pulsar_names, direction, profile, growth_time : see :func:`simulate`
-        (``growth_time`` defaults to the run's length, the end of the RMSE window).
-    eps : float, optional
-        RKF scalar (default :data:`EPSILON`).
-    seeds : sequence of int
-        One run per seed.
-    n_steps : int, optional
-        Steps of 500 s (default: enough for the paper's window, 1200 Earth, 500 Mars).
-    window : (float, float), optional
-        RMSE interval, s after the start (default :data:`WINDOWS`).
-    max_workers : int
-        Processes the seeds are spread over (1: in this process); the results do not depend
-        on it.
-    **filter_kwargs
-        Passed to :func:`run_filter`.
-
-    Returns
-    -------
-    dict
-        ``rmse`` ({filter: mean RMSE, m}), ``rmse_runs`` ({filter: list}),
-        ``improvement`` ({filter: percent}, filters other than the UKF), ``tau`` (n,) s
-        since the start and ``error`` ({filter: (n,) position error of the first seed, m}).
-
-    Examples
-    --------
-    >>> out = compare_filters("mars", ("ukf", "rkf"), n_steps=40, window=(5e3, 2e4))
-    >>> sorted(out["rmse"]), "rkf" in out["improvement"]
-    (['rkf', 'ukf'], True)
-    """
-    check_choice("body", body, tuple(ee.PLANETS))
-    filters = validate.check_items("filters", filters, "filter",
-                                   lambda lab, f: check_choice(lab, f, FILTERS))
-    seeds = validate.check_items("seeds", seeds, "seed", lambda lab, s: check_int(lab, s, 0, 2**63))
-    max_workers = check_int("max_workers", max_workers, 1, 64)
-    n_steps = _N_STEPS[body] if n_steps is None else n_steps
-    window = WINDOWS[body] if window is None else validate.check_items(
-        "window", window, "time", lambda lab, v: (lab, check_real(lab, v, 0.0)), 2)
-    if len(window) != 2 or not window[0] < window[1]:
-        raise ValueError(f"window must be (t_from, t_to), 0 <= t_from < t_to, s, got {window!r}")
-    one = functools.partial(_seed_runs, body, filters, dict(
-        n_steps=n_steps, error=error, size=size, pulsar_names=pulsar_names, direction=direction,
-        growth_time=growth_time, profile=profile), window, dict(filter_kwargs, eps=eps))
-    if max_workers > 1 and len(seeds) > 1:
-        with ProcessPoolExecutor(max_workers=min(max_workers, len(seeds))) as pool:
-            results = list(pool.map(one, seeds))
-    else:
-        results = [one(s) for s in seeds]
-    runs = {f: [r[0][f] for r in results] for f in filters}
-    mean = {f: float(np.mean(v)) for f, v in runs.items()}
-    imp = {}
-    if "ukf" in mean:
-        imp = {f: improvement(mean[f], mean["ukf"]) for f in filters if f != "ukf"}
-    return {"rmse": mean, "rmse_runs": runs, "improvement": imp, "tau": results[-1][2],
-            "error": results[0][1]}
-
-
-def _seed_runs(body, filters, scenario_kwargs, window, run_kwargs, seed):
-    """One seed of :func:`compare_filters`: ({filter: RMSE}, {filter: error (n,)}, tau (n,))."""
-    g = make_rng(seed, "seed")
-    sc = simulate(body, rng=g, **scenario_kwargs)
-    init = int(g.integers(2**31))
-    out, err = {}, {}
-    for f in filters:  # each filter takes the settings it uses (eps: the RKF's, ...)
-        kw = {k: v for k, v in run_kwargs.items() if k not in _SETTINGS or f in _SETTINGS[k][0]}
-        run = run_filter(f, sc, rng=init, **kw)
-        out[f] = rmse(run, sc, *window)
-        err[f] = run.error
-    return out, err, sc.t - (sc.t[0] - sc.dt)
+                BB = _bias_bound(m, S, lam)  # B B^T >= [m m^T - lam/(2-lam) S]_+
+        xs[i], Ps[i] = x[:, :6], P[:, :6, :6]
+    err = np.linalg.norm(xs[..., :3] - np.stack([s.x_true[:, :3] for s in scenarios], axis=1), axis=2)
+    return [FilterRun(name, xs[:, j].copy(), Ps[:, j].copy(), err[:, j].copy(),
+                      {key: v[:, j].copy() for key, v in extra.items()}) for j in range(r)]

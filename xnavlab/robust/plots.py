@@ -17,7 +17,7 @@ import numpy as np
 from xnavlab.core.diskcache import cached_arrays, entry_path
 from xnavlab.core.plotting import html_table, sparse_log_minors
 from xnavlab.core.validate import check_choice, check_int, check_real, make_rng
-from xnavlab.robust import coverage, filters
+from xnavlab.robust import comparison, coverage, filters
 
 __all__ = ["FILTER_NAMES", "PULSAR_SETS", "plot_filter_comparison", "filter_comparison",
            "BOUND_CASES", "BOUND_STATS", "BOUND_SOURCE_NAMES", "bound_table", "bound_table_html"]
@@ -66,7 +66,7 @@ def plot_filter_comparison(size=5000.0, eps=100.0, pulsar_set="paper: B0531+21, 
     ax1, ax2 = fig.subplots(1, 2, width_ratios=[3, 1])
     for f, err in out["error"].items():
         ax1.semilogy(out["tau"], err, lw=1, label=FILTER_NAMES[f])
-    ax1.axvspan(*filters.WINDOWS["mars"], color="0.92", zorder=0)
+    ax1.axvspan(*comparison.WINDOWS["mars"], color="0.92", zorder=0)
     ax1.set(xlabel="time (s)", ylabel="position error (m)",
             title=f"Mars, ephemeris error {size:.0f} m, eps = {eps:g}")
     ax1.legend(ncol=4, fontsize=8)
@@ -79,7 +79,7 @@ def plot_filter_comparison(size=5000.0, eps=100.0, pulsar_set="paper: B0531+21, 
 def filter_comparison(size=5000.0, eps=100.0, pulsar_set="paper: B0531+21, B1821-24, B1937+21"):
     """The numbers of :func:`plot_filter_comparison`, with every filter's run kept in memory.
 
-    The same numbers as :func:`xnavlab.robust.filters.compare_filters` ``("mars",
+    The same numbers as :func:`xnavlab.robust.comparison.compare_filters` ``("mars",
     error="growing", size=size, eps=eps, pulsar_names=PULSAR_SETS[pulsar_set], seeds=(0,))``
     (seed 0 draws the scenario, then the initial error that all four filters share), but
     each filter's run is cached on its own arguments: ``eps`` enters only the RKF, so the
@@ -97,7 +97,7 @@ def filter_comparison(size=5000.0, eps=100.0, pulsar_set="paper: B0531+21, B1821
     Returns
     -------
     dict
-        ``rmse`` ({filter: RMSE over :data:`~xnavlab.robust.filters.WINDOWS` ``["mars"]``,
+        ``rmse`` ({filter: RMSE over :data:`~xnavlab.robust.comparison.WINDOWS` ``["mars"]``,
         m}), ``tau`` ((500,) s since the start) and ``error`` ({filter: (500,) position
         error, m}), in the order of :data:`~xnavlab.robust.filters.FILTERS`. The arrays are
         shared with the cache: read them, do not write to them.
@@ -137,7 +137,7 @@ def _filter_run(name, size, eps, pulsar_set):
     run = filters.run_filter(name, sc, rng=init, eps=eps)
     err = run.error
     err.flags.writeable = False
-    return filters.rmse(run, sc, *filters.WINDOWS["mars"]), err
+    return comparison.rmse(run, sc, *comparison.WINDOWS["mars"]), err
 
 
 #: The cases of chapter 10's bound table (:func:`bound_table`), both on the Mars orbit of 500

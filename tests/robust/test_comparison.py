@@ -1,0 +1,75 @@
+"""The filters compared over seeds (xnavlab.robust.comparison): the RMSE and the improvement, the
+study's runs (one batch, or groups of seeds on several processes: the same numbers), and its
+refusals."""
+
+import math
+
+import numpy as np
+import pytest
+
+from xnavlab import robust as rb
+from xnavlab.core.validate import make_rng
+
+
+def test_rmse_and_improvement():
+    mars_sc = rb.simulate("mars", n_steps=60, rng=3)
+    run = rb.run_filter("ukf", mars_sc, rng=1)
+    tau = mars_sc.t - mars_sc.t[0] + mars_sc.dt
+    want = math.sqrt(np.mean(run.error[(tau >= 5000) & (tau <= 20000)] ** 2))
+    assert abs(rb.rmse(run, mars_sc, 5000.0, 20000.0) - want) < 1e-9
+    with pytest.raises(ValueError, match="no epochs"):
+        rb.rmse(run, mars_sc, 1e7, 2e7)
+    with pytest.raises(ValueError, match="t_to"):
+        rb.rmse(run, mars_sc, 10.0, 5.0)
+    assert rb.improvement(10.0, 40.0) == 75.0
+    with pytest.raises(ValueError, match="rmse_ukf"):
+        rb.improvement(1.0, 0.0)
+
+
+def test_compare_filters():
+    out = rb.compare_filters("mars", error="growing", size=5000.0, n_steps=100, window=(2e4, 5e4),
+                             seeds=(0, 1))
+    assert set(out["rmse"]) == set(rb.FILTERS)
+    assert len(out["rmse_runs"]["ukf"]) == 2
+    assert out["rmse"]["ukf"] > 2 * max(out["rmse"][f] for f in ("asukf", "tdukf", "rkf"))
+    with pytest.raises(ValueError, match="filters"):
+        rb.compare_filters("mars", filters=("kf",))
+    with pytest.raises(ValueError, match="seeds"):
+        rb.compare_filters("mars", seeds=())
+
+
+def test_compare_filters_gives_the_same_numbers_on_two_processes():
+    kw = dict(seeds=(0, 1, 2), n_steps=60, window=(5e3, 2.5e4), error="growing", size=2000.0)
+    a = rb.compare_filters("mars", **kw)
+    b = rb.compare_filters("mars", max_workers=2, **kw)
+    assert a["rmse_runs"] == b["rmse_runs"]
+    for f in rb.FILTERS:
+        np.testing.assert_array_equal(a["error"][f], b["error"][f])
+    with pytest.raises(ValueError, match="max_workers"):
+        rb.compare_filters("mars", max_workers=0, **kw)
+
+
+@pytest.mark.parametrize(("kw", "words"), [
+    (dict(filters="ukf"), r"^filters must be a list of filters, got the string 'ukf'"),  # was 'u'
+    (dict(seeds=(0, 0)), r"^seeds lists 0 twice"),
+    (dict(seeds=(1.5,)), r"^seeds\[0\] must be an integer"),
+    (dict(window=(1j, 2e3)), r"^window\[0\] must be a real number"),          # was 't_from'
+    (dict(window=(3e3, 1e3)), r"^window must be \(t_from, t_to\)"),
+    (dict(window=5.0), r"^window must be a list of times"),
+])
+def test_compare_filters_refuses_bad_lists_by_their_own_names(kw, words):
+    with pytest.raises(ValueError, match=words):
+        rb.compare_filters("mars", **{"filters": ("ukf",), **kw}, n_steps=10)
+
+
+def test_compare_filters_gives_each_seed_the_numbers_of_its_own_runs():
+    """The batch over seeds is run_filter of each seed's own draws (its scenario, then its initial error)."""
+    kw = dict(error="growing", size=3000.0, n_steps=80)
+    out = rb.compare_filters("mars", seeds=(4, 7), window=(1e4, 4e4), **kw)
+    for j, seed in enumerate((4, 7)):
+        g = make_rng(seed, "seed")
+        sc = rb.simulate("mars", rng=g, **kw)
+        init = int(g.integers(2**31))
+        for f in rb.FILTERS:
+            alone = rb.rmse(rb.run_filter(f, sc, rng=init), sc, 1e4, 4e4)
+            assert out["rmse_runs"][f][j] == pytest.approx(alone, rel=1e-9)

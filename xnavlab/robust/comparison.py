@@ -1,0 +1,160 @@
+"""The filters of Li et al. 2017 compared over seeds: a Monte Carlo study (chapter 10's tables).
+
+Each seed draws one scenario (its measurement noise) and one initial error that all the
+filters share; every filter then runs over all the seeds at once
+(:func:`xnavlab.robust.filters.run_filters`), and its RMSE over the paper's window is
+averaged. The filters themselves are in :mod:`xnavlab.robust.filters`.
+
+Examples
+--------
+>>> out = compare_filters("mars", ("ukf", "tdukf"), n_steps=40, window=(5e3, 2e4), seeds=(0, 1))
+>>> len(out["rmse_runs"]["tdukf"]), "tdukf" in out["improvement"]
+(2, True)
+"""
+
+from __future__ import annotations
+
+import functools
+from concurrent.futures import ProcessPoolExecutor
+
+import numpy as np
+
+from xnavlab.core import validate
+from xnavlab.core.validate import check_choice, check_int, check_real, make_rng
+from xnavlab.robust import ephemeris_error as ee
+from xnavlab.robust.filters import FILTERS, SETTINGS, run_filters, simulate
+
+__all__ = ["WINDOWS", "N_STEPS", "rmse", "improvement", "compare_filters"]
+
+#: The paper's stable intervals for the RMSE, s after the start.
+WINDOWS = {"earth": (1e5, 6e5), "mars": (5e4, 2.5e5)}
+#: Run lengths of :func:`compare_filters`, steps of 500 s: enough for :data:`WINDOWS`.
+N_STEPS = {"earth": 1200, "mars": 500}
+
+
+
+def rmse(run, scenario, t_from, t_to):
+    """Position RMSE over ``t_from <= t - t0 <= t_to`` (s since the start), m (paper eq. (27)).
+
+    Parameters
+    ----------
+    run : FilterRun
+    scenario : Scenario
+    t_from, t_to : float
+        Interval, s after the initial epoch (paper: Earth 1e5-6e5, Mars 5e4-2.5e5).
+
+    Examples
+    --------
+    >>> sc = simulate("earth", n_steps=10, rng=0)
+    >>> rmse(run_filters("ukf", [sc])[0], sc, 0.0, 5000.0) > 0
+    True
+    """
+    t_from = check_real("t_from", t_from, 0.0)
+    t_to = check_real("t_to", t_to, t_from)
+    tau = scenario.t - (scenario.t[0] - scenario.dt)
+    sel = (tau >= t_from) & (tau <= t_to)
+    if not np.any(sel):
+        raise ValueError(f"no epochs in [{t_from:g}, {t_to:g}] s; the run covers (0, {tau[-1]:g}] s")
+    return float(np.sqrt(np.mean(run.error[sel] ** 2)))  # RMSE = sqrt(mean |dr_k|^2)
+
+
+def improvement(rmse_filter, rmse_ukf):
+    """Improvement over the UKF, percent: ``100 (1 - RMSE / RMSE_UKF)``.
+
+    Examples
+    --------
+    >>> improvement(25.0, 100.0)
+    75.0
+    """
+    rmse_filter = check_real("rmse_filter", rmse_filter, 0.0)
+    rmse_ukf = check_real("rmse_ukf", rmse_ukf, 0.0, lo_open=True)
+    return 100.0 * (1.0 - rmse_filter / rmse_ukf)
+
+
+def compare_filters(body="earth", filters=FILTERS, error="de405", size=0.0, eps=None, seeds=(0,),
+                    pulsar_names=None, n_steps=None, window=None, direction=None, profile="linear",
+                    growth_time=None, max_workers=1, **filter_kwargs):
+    """Monte Carlo comparison of the filters: mean RMSE over seeds and improvement over the UKF.
+
+    Each seed draws one scenario (measurement noise) and one initial error shared by
+    all filters.
+
+    Parameters
+    ----------
+    body : {"earth", "mars"}
+    filters : sequence of str
+        Subset of :data:`~xnavlab.robust.filters.FILTERS`; the improvement needs ``"ukf"``
+        among them.
+    error, size, pulsar_names, direction, profile, growth_time : see :func:`~xnavlab.robust.filters.simulate`
+        (``growth_time`` defaults to the run's length, the end of the RMSE window).
+    eps : float, optional
+        RKF scalar (default :data:`~xnavlab.robust.filters.EPSILON`).
+    seeds : sequence of int
+        One run per seed.
+    n_steps : int, optional
+        Steps of 500 s (default :data:`N_STEPS`, enough for the paper's window).
+    window : (float, float), optional
+        RMSE interval, s after the start (default :data:`WINDOWS`).
+    max_workers : int
+        Processes the seeds are spread over, in contiguous groups (1: in this process); the
+        results do not depend on it.
+    **filter_kwargs
+        Passed to :func:`~xnavlab.robust.filters.run_filters`, each to the filters that use it.
+
+    Returns
+    -------
+    dict
+        ``rmse`` ({filter: mean RMSE, m}), ``rmse_runs`` ({filter: list}),
+        ``improvement`` ({filter: percent}, filters other than the UKF), ``tau`` (n,) s
+        since the start and ``error`` ({filter: (n,) position error of the first seed, m}).
+
+    Examples
+    --------
+    >>> out = compare_filters("mars", ("ukf", "rkf"), n_steps=40, window=(5e3, 2e4))
+    >>> sorted(out["rmse"]), "rkf" in out["improvement"]
+    (['rkf', 'ukf'], True)
+    """
+    check_choice("body", body, tuple(ee.PLANETS))
+    filters = validate.check_items("filters", filters, "filter",
+                                   lambda lab, f: check_choice(lab, f, FILTERS))
+    seeds = validate.check_items("seeds", seeds, "seed", lambda lab, s: check_int(lab, s, 0, 2**63))
+    max_workers = check_int("max_workers", max_workers, 1, 64)
+    n_steps = N_STEPS[body] if n_steps is None else n_steps
+    window = WINDOWS[body] if window is None else validate.check_items(
+        "window", window, "time", lambda lab, v: (lab, check_real(lab, v, 0.0)), 2)
+    if len(window) != 2 or not window[0] < window[1]:
+        raise ValueError(f"window must be (t_from, t_to), 0 <= t_from < t_to, s, got {window!r}")
+    one = functools.partial(_group_runs, body, filters, dict(
+        n_steps=n_steps, error=error, size=size, pulsar_names=pulsar_names, direction=direction,
+        growth_time=growth_time, profile=profile), window, dict(filter_kwargs, eps=eps))
+    workers = min(max_workers, len(seeds))
+    if workers > 1:
+        groups = [list(g) for g in np.array_split(np.asarray(seeds, dtype=object), workers)]
+        with ProcessPoolExecutor(max_workers=workers) as pool:
+            results = [r for part in pool.map(one, groups) for r in part]
+    else:
+        results = one(seeds)
+    runs = {f: [r[0][f] for r in results] for f in filters}
+    mean = {f: float(np.mean(v)) for f, v in runs.items()}
+    imp = {}
+    if "ukf" in mean:
+        imp = {f: improvement(mean[f], mean["ukf"]) for f in filters if f != "ukf"}
+    return {"rmse": mean, "rmse_runs": runs, "improvement": imp, "tau": results[-1][2],
+            "error": results[0][1]}
+
+
+def _group_runs(body, filters, scenario_kwargs, window, run_kwargs, seeds):
+    """Seeds of :func:`compare_filters`, each filter run over them at once: per seed
+    ({filter: RMSE}, {filter: error (n,)}, tau (n,))."""
+    scenarios, inits = [], []
+    for seed in seeds:
+        g = make_rng(seed, "seed")
+        scenarios.append(simulate(body, rng=g, **scenario_kwargs))
+        inits.append(int(g.integers(2**31)))
+    out, err = [{} for _ in seeds], [{} for _ in seeds]
+    for f in filters:  # each filter takes the settings it uses (eps: the RKF's, ...)
+        kw = {k: v for k, v in run_kwargs.items() if k not in SETTINGS or f in SETTINGS[k][0]}
+        for j, (run, sc) in enumerate(zip(run_filters(f, scenarios, inits, **kw), scenarios, strict=True)):
+            out[j][f] = rmse(run, sc, *window)
+            err[j][f] = run.error
+    return [(o, e, sc.t - (sc.t[0] - sc.dt)) for o, e, sc in zip(out, err, scenarios, strict=True)]
