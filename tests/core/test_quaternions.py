@@ -166,9 +166,16 @@ def test_normalise_is_numpy_s_own_division_in_the_usual_range(v):
     assert np.array_equal(qt.quat_normalize(q), q / np.linalg.norm(q, axis=-1, keepdims=True))
 
 
-def test_a_rotation_of_a_huge_vector_or_rate_is_finite_or_refused():
-    assert np.all(np.isfinite(qt.quat_from_rotvec([1e300, 0.0, 0.0])))
-    assert np.all(np.isfinite(qt.quat_propagate(qt.IDENTITY, 1e300 * np.ones(3), 1.0)))
+def test_a_rotation_of_a_huge_vector_or_rate_is_refused():
+    """Review 35b N20: an angle of 1e300 rad gave a finite but arbitrary quaternion."""
+    with pytest.raises(ValueError, match=r"^\|phi\| must be a rotation angle of at most 1e\+06 rad"):
+        qt.quat_from_rotvec([1e300, 0.0, 0.0])
+    with pytest.raises(ValueError, match=r"^\|w\| dt must be a rotation angle of at most 1e\+06"):
+        qt.quat_propagate(qt.IDENTITY, 1e300 * np.ones(3), 1.0)
+    with pytest.raises(ValueError, match=r"^\|w\| dt must be a rotation angle"):
+        qt.kinematics_matrix([2e6, 0.0, 0.0], 1.0)
+    big = qt.quat_from_rotvec([qt.MAX_ANGLE, 0.0, 0.0])  # the bound itself is taken
+    assert np.linalg.norm(big) == pytest.approx(1.0)
     with pytest.raises(ValueError, match="^w and dt must give a finite rotation angle"):
         qt.quat_propagate(qt.IDENTITY, 1e308 * np.ones(3), 10.0)
     with pytest.raises(ValueError, match="^phi must have a finite norm"):
@@ -193,3 +200,16 @@ def test_a_zero_quaternion_is_no_attitude(func):
             qt.attitude_error: (qt.IDENTITY, np.zeros(4))}.get(func, (np.zeros(4),))
     with pytest.raises(ValueError, match=r"^q(_true)? must have a non-zero norm"):
         func(*args)
+
+
+@pytest.mark.parametrize(("func", "args", "names"), [
+    (qt.quat_product, (np.tile(qt.IDENTITY, (3, 1)), np.tile(qt.IDENTITY, (2, 1))), "p and q"),
+    (qt.quat_propagate, (np.tile(qt.IDENTITY, (3, 1)), np.zeros((2, 3)), 1.0), "q and w"),
+    (qt.attitude_error, (np.tile(qt.IDENTITY, (3, 1)), np.tile(qt.IDENTITY, (2, 1))),
+     "q_est and q_true"),
+])
+def test_batches_that_do_not_broadcast_name_both_arguments(func, args, names):
+    """Review 35b N18: numpy's 'operands could not be broadcast' named no parameter."""
+    with pytest.raises(ValueError, match=rf"^{names} must have batch shapes that broadcast"):
+        func(*args)
+    assert qt.quat_product(np.tile(qt.IDENTITY, (3, 1)), qt.IDENTITY).shape == (3, 4)

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from xnavlab.core.validate import (
+    check_bool,
     check_choice,
     check_definite,
     check_finite_array,
@@ -156,3 +157,20 @@ def test_a_nan_bound_or_tolerance_is_refused_not_a_pass():
             check_covariance("P", np.eye(2), rtol=bad)
         with pytest.raises(ValueError, match=r"^rtol must be a real number in \[0, inf\)"):
             check_definite("P", np.eye(2), rtol=bad)
+
+
+def test_crossed_bounds_are_refused_not_reported_as_a_range():
+    """Review 35b N17: check_real('a', 1.0, 2.0, 0.0) accepted, then said 'in [2, 0]'."""
+    with pytest.raises(ValueError, match=r"^the range of a must have lo <= hi, got lo=2 > hi=0"):
+        check_real("a", 1.0, 2.0, 0.0)
+    with pytest.raises(ValueError, match=r"^the range of n must have lo <= hi"):
+        check_int("n", 1, 3, 1)
+    assert check_real("a", 1.0, 1.0, 1.0) == 1.0  # a one-point range is a range
+
+
+@pytest.mark.parametrize("bad", ["no", "False", "", 0, 1, 1.0, None, [True], np.array([True])])
+def test_check_bool_takes_only_real_bools(bad):
+    """Review 35b N19: a truthy string ('no') was read as True."""
+    with pytest.raises(ValueError, match=r"^flag must be True or False, got "):
+        check_bool("flag", bad)
+    assert check_bool("flag", True) is True and check_bool("flag", np.False_) is False

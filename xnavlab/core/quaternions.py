@@ -13,7 +13,13 @@ of Shuster (1993), Lefferts, Markley & Shuster (1982) and Crassidis & Junkins (2
 
 Every function accepts leading batch dimensions (``(..., 4)``, ``(..., 3)``), so a
 bank of filters or a whole Monte Carlo batch is processed in one call. Angles and
-rates are SI (rad, rad/s, s).
+rates are SI (rad, rad/s, s). Two arguments of one call (``p`` and ``q``; ``q`` and ``w``)
+must have batch shapes that broadcast, else one ValueError names both.
+
+A rotation angle (``|phi|``, ``|w| dt``) is at most :data:`MAX_ANGLE` (1e6 rad): a float
+holds an angle only to ``|angle| 2^-52``, so a larger one keeps ever fewer digits of its
+position on the circle (1.2e-10 rad at 1e6 rad, 0.1 rad at 1e15 rad, none from about
+3e16 rad), and the quaternion of it would be finite but arbitrary.
 """
 
 from __future__ import annotations
@@ -25,6 +31,7 @@ from xnavlab.core.validate import check_finite_array, check_real
 __all__ = [
     "IDENTITY",
     "UNIT_TOL",
+    "MAX_ANGLE",
     "skew",
     "quat_normalize",
     "quat_conjugate",
@@ -46,6 +53,14 @@ IDENTITY = np.array([0.0, 0.0, 0.0, 1.0])
 #: How far from 1 the norm of a quaternion a function takes as a unit one may be
 #: (:func:`rotation_matrix`, :func:`attitude_error`): a float32 quaternion is within 1e-7.
 UNIT_TOL = 1e-6
+
+#: The largest rotation angle a function takes, rad (:func:`quat_from_rotvec`'s ``|phi|``,
+#: :func:`quat_propagate`'s and :func:`kinematics_matrix`'s ``|w| dt``): about 160,000 turns,
+#: where a float still places the angle on the circle to 1.2e-10 rad (its spacing there),
+#: far finer than any attitude sensor. Beyond it the digits left mod 2 pi thin out (0.1 rad
+#: at 1e15 rad, none from about 3e16 rad): the result would be finite but arbitrary, so such
+#: an angle is refused rather than wrapped.
+MAX_ANGLE = 1e6
 
 
 def _quat(name, q, unit=False):
@@ -78,6 +93,26 @@ def _norm(v):
 
 def _vec(name, v):
     return check_finite_array(name, v, shape=(3,))
+
+
+def _batch(a_name, a, b_name, b):
+    """The batch shape of two arguments (all axes but the last), refused when they do not
+    broadcast: numpy's own message names no parameter."""
+    try:
+        return np.broadcast_shapes(a.shape[:-1], b.shape[:-1])
+    except ValueError:
+        raise ValueError(f"{a_name} and {b_name} must have batch shapes that broadcast (all "
+                         f"axes but the last), got {a_name} of shape {a.shape} and {b_name} of "
+                         f"shape {b.shape}") from None
+
+
+def _check_angle(name, angle, unit=""):
+    """A rotation angle (rad) of at most :data:`MAX_ANGLE`, else one ValueError naming it."""
+    worst = float(np.max(angle, initial=0.0))
+    if not worst <= MAX_ANGLE:
+        raise ValueError(f"{name} must be a rotation angle of at most {MAX_ANGLE:g} rad (a "
+                         f"float holds a larger one with few or no digits mod 2 pi), got "
+                         f"{worst:.3g} rad{unit}")
 
 
 def _skew(v):
@@ -114,6 +149,8 @@ def _phi(w, dt):
     if not np.all(np.isfinite(half)):
         raise ValueError(f"w and dt must give a finite rotation angle |w| dt, rad, got |w| = "
                          f"{float(np.max(_norm(w))):.3g} rad/s over dt = {dt:g} s")
+    _check_angle("|w| dt", 2.0 * half, f" (|w| = {float(np.max(_norm(w), initial=0.0)):.3g} "
+                 f"rad/s over dt = {dt:g} s)")
     c = np.cos(half)  # paper eq. (11)
     s_over = 0.5 * dt * np.sinc(half / np.pi)  # s / |w|, paper eq. (11)
     out = _omega(w * s_over[..., None])
@@ -207,6 +244,7 @@ def quat_product(p, q):
     """
     p = _quat("p", p)
     q = _quat("q", q)
+    _batch("p", p, "q", q)
     pv, ps = p[..., :3], p[..., 3:]
     qv, qs = q[..., :3], q[..., 3:]
     with np.errstate(over="ignore", invalid="ignore"):  # an overflow is refused below
@@ -320,7 +358,7 @@ def kinematics_matrix(w, dt):
     w : array_like, shape (..., 3)
         Body angular rate held constant over the step, rad/s.
     dt : float
-        Step, s, >= 0.
+        Step, s, >= 0; the angle |w| dt at most :data:`MAX_ANGLE`.
 
     Returns
     -------
@@ -349,7 +387,7 @@ def quat_propagate(q, w, dt):
     w : array_like, shape (..., 3)
         Body angular rate over the step, rad/s.
     dt : float
-        Step, s, >= 0.
+        Step, s, >= 0; the angle |w| dt at most :data:`MAX_ANGLE`.
 
     Returns
     -------
@@ -362,6 +400,7 @@ def quat_propagate(q, w, dt):
     True
     """
     q = _quat("q", q)
+    _batch("q", q, "w", _vec("w", w))
     phi = kinematics_matrix(w, dt)
     return np.einsum("...ij,...j->...i", phi, q)  # paper eq. (12)
 
@@ -374,6 +413,7 @@ def quat_from_rotvec(phi):
     Parameters
     ----------
     phi : array_like, shape (..., 3)
+        Rotation vector, rad; its norm at most :data:`MAX_ANGLE`.
 
     Returns
     -------
@@ -389,6 +429,7 @@ def quat_from_rotvec(phi):
     if not np.all(np.isfinite(ang)):
         raise ValueError("phi must have a finite norm (the rotation angle, rad), got one beyond "
                          "the float range")
+    _check_angle("|phi|", ang)
     vec = 0.5 * np.sinc(0.5 * ang / np.pi)[..., None] * phi  # sin(a/2)/a * phi
     return np.concatenate([vec, np.cos(0.5 * ang)[..., None]], axis=-1)
 
@@ -442,4 +483,5 @@ def attitude_error(q_est, q_true):
     True
     """
     q_est, q_true = _quat("q_est", q_est), _quat("q_true", q_true)
+    _batch("q_est", q_est, "q_true", q_true)
     return quat_to_rotvec(quat_product(q_est, quat_conjugate(q_true)))

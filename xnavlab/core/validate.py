@@ -17,6 +17,7 @@ __all__ = [
     "shown",
     "check_real",
     "check_int",
+    "check_bool",
     "check_finite_array",
     "check_choice",
     "check_vector",
@@ -148,6 +149,27 @@ def check_finite_array(name, value, shape=None, dtype=float, finite=True):
     if finite and not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} must contain only finite numbers (no NaN or inf)")
     return arr
+
+
+def check_bool(name, value):
+    """Return ``bool(value)`` if it is ``True`` or ``False`` (a Python or numpy bool), else raise.
+
+    A string is not read as a truth value (``"no"`` is a non-empty string, so Python's
+    ``bool("no")`` is True), nor is a number (``0``/``1`` may be a count or an index typed in
+    the wrong place): only a real bool says yes or no.
+
+    Examples
+    --------
+    >>> check_bool("cache", np.True_)
+    True
+    >>> check_bool("cache", "no")
+    Traceback (most recent call last):
+    ...
+    ValueError: cache must be True or False, got 'no'
+    """
+    if not isinstance(value, bool | np.bool_):
+        raise ValueError(f"{name} must be True or False, got {shown(value)}")
+    return bool(value)
 
 
 def check_choice(name, value, choices):
@@ -381,9 +403,13 @@ def make_rng(seed=None, name="rng"):
 
 
 def _check_bounds(name, lo, hi):
-    """The range of a check: NaN bounds would let every value through (``x < nan`` is False)."""
+    """The range of a check: NaN bounds would let every value through (``x < nan`` is False),
+    and crossed bounds (``lo > hi``) would refuse every value with a range such as ``[2, 0]``."""
     if lo != lo or hi != hi:  # NaN (a comparison, cheap: the checks run in every call)
         raise ValueError(f"the range of {name} must have real bounds, got lo={lo!r}, hi={hi!r}")
+    if lo > hi:
+        raise ValueError(f"the range of {name} must have lo <= hi, got lo={_fmt(lo)} > "
+                         f"hi={_fmt(hi)} (an empty range)")
 
 
 def _check_rtol(rtol):
