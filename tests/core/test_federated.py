@@ -204,3 +204,22 @@ def test_names_are_one_distinct_string_per_local(names, match):
         federated.FederatedFilter(np.zeros(2), np.eye(2), n_local=2, names=names)
     assert federated.FederatedFilter(np.zeros(2), np.eye(2), n_local=2, names=("uv", "cns")).names \
         == ("uv", "cns")
+
+
+def test_every_local_out_coasts_by_design_while_the_function_fuse_refuses_no_local():
+    """Review 35b N14: set_active([False, False]) is the documented coasting state of a run
+    that isolates every subsystem (the master predicts alone); the function fuse has no master
+    and refuses it."""
+    ff = federated.FederatedFilter(np.zeros(2), np.eye(2), n_local=2)
+    ff.set_active([False, False])
+    x, P = ff.fuse()
+    assert np.array_equal(x, np.zeros(2)) and np.array_equal(P, np.eye(2))
+    with pytest.raises(ValueError, match="^use must select at least one local estimate"):
+        federated.fuse([np.zeros(2)] * 2, [np.eye(2)] * 2, use=[False, False])
+
+
+@pytest.mark.parametrize("bad", ["no", 0, None])
+def test_fuse_check_is_a_real_bool(bad):
+    """Review 35b N19: a truthy string was read as True."""
+    with pytest.raises(ValueError, match="^check must be True or False"):
+        federated.fuse([np.zeros(1)], [np.eye(1)], check=bad)

@@ -57,6 +57,7 @@ import numpy as np
 
 from xnavlab.core.filters import EKF, UKF, Update, ekf_update, symmetrize, ukf_update
 from xnavlab.core.validate import (
+    check_bool,
     check_choice,
     check_covariance,
     check_finite_array,
@@ -97,7 +98,9 @@ def fuse(xs, Ps, use=None, check=True):
     Raises
     ------
     ValueError
-        If no local is used, or (``check=True``) an estimate or covariance is not valid.
+        If no local is used (this function has no master estimate to fall back on; a
+        :class:`FederatedFilter` with every local switched out coasts on its master instead),
+        or (``check=True``) an estimate or covariance is not valid.
 
     Examples
     --------
@@ -105,7 +108,7 @@ def fuse(xs, Ps, use=None, check=True):
     >>> x.tolist(), P.tolist()
     ([1.0, 1.0], [[1.0, 0.0], [0.0, 1.0]])
     """
-    if check:  # before any cast: a complex entry is refused, not cut to its real part
+    if check_bool("check", check):  # before any cast: a complex entry is refused, not cut
         xs = [check_finite_array(f"xs[{i}]", x) for i, x in enumerate(xs)]
         Ps = [check_finite_array(f"Ps[{i}]", P) for i, P in enumerate(Ps)]
     xs = [np.asarray(x, dtype=float) for x in xs]
@@ -340,7 +343,11 @@ class FederatedFilter:
     def set_active(self, active):
         """Set which locals are connected (array of bool); call between epochs.
 
-        In reset mode the master is re-split among the connected locals.
+        In reset mode the master is re-split among the connected locals. Every local may be
+        switched out (a fault-tolerant run that isolates every subsystem): the master then
+        coasts on its own time updates, and :meth:`fuse` returns it unchanged, by design
+        (the module docstring), unlike the function :func:`fuse`, which has no master and
+        refuses ``use`` with no local.
         """
         self.active = _flags("active", active, len(self.locals))
         if self.mode == "reset":
