@@ -53,7 +53,8 @@ the kernels and one that loaded them from numba's cache gave different last digi
 RMS 26.412803132646456 m against 26.41280310716354 m); without it both give the same bits
 (26.412803121293372 m) at the same cost (1.23 s against 1.24 s). The arguments come in the named
 tuples of :mod:`xnavlab.mars.kernel_inputs` (why named tuples: there), the scratch arrays
-in four private ones that :func:`run_epochs` allocates once per call.
+in private ones that :func:`run_epochs` allocates once per call; every helper reads them by
+field name (numba resolves a field at compile time) and takes a few of them.
 """
 
 from __future__ import annotations
@@ -101,12 +102,17 @@ _LAYOUT = (
 )
 if sorted(kernel_inputs.layout()) != sorted(_LAYOUT):
     raise ImportError("xnavlab.mars.kernel_inputs changed its fields: update kernels._LAYOUT")
-#: The scratch arrays :func:`run_epochs` allocates (their shapes there): of :func:`_predict`,
-#: of the measurement updates, of the fusions, of the watch.
+#: The scratch arrays :func:`run_epochs` allocates (their shapes there): of :func:`_predict`;
+#: a measurement's innovation, Jacobian and noise (``A``: the CNS noise's scratch); of the
+#: measurement updates; of the fusions; of the watch. :data:`_Args` and :data:`_Scratch` hold
+#: the inputs and the scratch for the loop.
 _Prop = namedtuple("_Prop", "Phi Ph T xc s0 i0 s1 i1 s2 i2")
-_Upd = namedtuple("_Upd", "PHt S L y K W A nu H R")
-_Fus = namedtuple("_Fus", "d Y yv Ci Cf dx xp Pp x2 P2 J bv G use inv_sh")
-_Wat = namedtuple("_Wat", "xw nu2 H2 R2 alarmed zw med cnt")
+_Meas = namedtuple("_Meas", "nu H R A")
+_Upd = namedtuple("_Upd", "PHt S L y K W T")
+_Fus = namedtuple("_Fus", "d Y yv Ci Cf xp Pp J bv G use inv_sh")
+_Wat = namedtuple("_Wat", "alarmed zw med cnt")
+_Args = namedtuple("_Args", "st pr pl se rec ws")
+_Scratch = namedtuple("_Scratch", "sp me mw up fu wt")
 
 
 # ----------------------------------------------------------------------- dynamics
@@ -248,16 +254,19 @@ def _matmul6(A, B, out):
 
 
 @njit(**_HELPER)
-def _predict(x, P, t, dt, inv_scale, pr, x_out, P_out, sc):
-    """EKF time update over dt in n = ceil(dt / max_step) equal sub-steps.
+def _predict(x, P, t, dt, inv_scale, pr, sc):
+    """EKF time update of ``x`` (6,) and ``P`` (6, 6) from t over dt, in place, in
+    n = ceil(dt / max_step) equal sub-steps.
 
     Each sub-step: one RK4 step of the state and the fourth-order transition matrix at
     its start; ``Phi = Phi_n ... Phi_1``; ``P = Phi P Phi^T + Q(dt) * inv_scale``. The model
     ``pr`` (:class:`~xnavlab.mars.kernel_inputs.Propagation`: ``q``, ``max_step``, forces);
-    scratch ``sc`` (:data:`_Prop`).
+    scratch ``sc`` (:data:`_Prop`). (In place: the first step reads all of ``x`` before it
+    writes, and ``P`` is read only into ``T = Phi P``.)
     """
     q, max_step, gm_mars = pr.q, pr.max_step, pr.gm_mars
     Phi, Ph, T, xc = sc.Phi, sc.Ph, sc.T, sc.xc
+    x_out, P_out = x, P
     nsub = int(math.ceil(dt / max_step - 1e-9))
     if nsub < 1:
         nsub = 1
@@ -361,12 +370,15 @@ def _inverse_from_cholesky(L, out):
 
 
 @njit(**_INLINE)
-def _h_xnav(xs, i_, rm_x, rs_x, jm, n_, dist, sig, z, nu, H, R):
-    """Paper eq. (1) delays, eq. (4) rows (position columns) and the diagonal R, for the
-    spacecraft at rm + r; ``nu = z - h(x)``."""
-    R0 = rm_x[jm, 0] + xs[i_, 0]
-    R1 = rm_x[jm, 1] + xs[i_, 1]
-    R2 = rm_x[jm, 2] + xs[i_, 2]
+def _h_xnav(x, jm, se, me):
+    """Paper eq. (1) delays, eq. (4) rows (position columns) and the diagonal R of XNAV
+    measurement ``jm`` of ``se``, for the spacecraft at rm + r; ``nu = z - h(x)`` (into
+    ``me``, a :data:`_Meas`)."""
+    rm_x, rs_x, n_, dist, sig, z = se.rm_x, se.rs_x, se.n_x, se.d_x, se.sig_x, se.z_x
+    nu, H, R = me.nu, me.H, me.R
+    R0 = rm_x[jm, 0] + x[0]
+    R1 = rm_x[jm, 1] + x[1]
+    R2 = rm_x[jm, 2] + x[2]
     Rn = math.sqrt(R0 * R0 + R1 * R1 + R2 * R2)
     b0, b1, b2 = -rs_x[jm, 0], -rs_x[jm, 1], -rs_x[jm, 2]
     bn = math.sqrt(b0 * b0 + b1 * b1 + b2 * b2)
@@ -390,21 +402,24 @@ def _h_xnav(xs, i_, rm_x, rs_x, jm, n_, dist, sig, z, nu, H, R):
 
 
 @njit(**_INLINE)
-def _h_uv(xs, i_, z, jm, sig_r, sig_u, nu, H, R):
-    """Paper eq. (5): ``[|r|, -r/|r|]``, its Jacobian and R; ``nu = z - h(x)``."""
-    x0, x1, x2 = xs[i_, 0], xs[i_, 1], xs[i_, 2]
+def _h_uv(x, jm, se, me):
+    """Paper eq. (5): ``[|r|, -r/|r|]``, its Jacobian and R of UV measurement ``jm``;
+    ``nu = z - h(x)`` (into ``me``)."""
+    z, sig_r, sig_u = se.z_u, se.sig_r, se.sig_u
+    nu, H, R = me.nu, me.H, me.R
+    x0, x1, x2 = x[0], x[1], x[2]
     rn = math.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
     inv = 1.0 / rn
-    x = (x0, x1, x2)
+    r = (x0, x1, x2)
     nu[0] = z[jm, 0] - rn
     for j in range(3):
-        e = x[j] * inv
+        e = r[j] * inv
         nu[1 + j] = z[jm, 1 + j] + e
         H[0, j] = e
     for i in range(3):
         for j in range(3):
             # d(-r/|r|)/dr = -(I - r r^T/|r|^2)/|r|
-            H[1 + i, j] = -((1.0 if i == j else 0.0) - x[i] * x[j] * inv * inv) * inv
+            H[1 + i, j] = -((1.0 if i == j else 0.0) - r[i] * r[j] * inv * inv) * inv
     for i in range(4):
         for j in range(4):
             R[i, j] = 0.0
@@ -414,11 +429,13 @@ def _h_uv(xs, i_, z, jm, sig_r, sig_u, nu, H, R):
 
 
 @njit(**_INLINE)
-def _h_cns(xs, i_, z, jm, star, sig_s, sig_h, nu, H, R, A):
-    """Paper eq. (6) angles, Jacobian rows a_j/|r| and the correlated R (scratch A);
-    ``nu = z - h(x)``."""
+def _h_cns(x, jm, se, me):
+    """Paper eq. (6) angles, Jacobian rows a_j/|r| and the correlated R (scratch ``me.A``) of
+    CNS measurement ``jm``; ``nu = z - h(x)`` (into ``me``)."""
+    z, star, sig_s, sig_h = se.z_c, se.stars_c, se.sig_s, se.sig_h
+    nu, H, R, A = me.nu, me.H, me.R, me.A
     k = star.shape[0]
-    x0, x1, x2 = xs[i_, 0], xs[i_, 1], xs[i_, 2]
+    x0, x1, x2 = x[0], x[1], x[2]
     rn = math.sqrt(x0 * x0 + x1 * x1 + x2 * x2)
     inv = 1.0 / rn
     u0 = -x0 * inv
@@ -450,17 +467,17 @@ def _h_cns(xs, i_, z, jm, star, sig_s, sig_h, nu, H, R, A):
 
 
 @njit(**_INLINE)
-def _measure(kind, xs, i_, jm, se, nu, H, R, A):
+def _measure(kind, x, jm, se, me):
     """Innovation, Jacobian (position columns) and R of subsystem ``kind``'s measurement
-    ``jm`` of ``se`` (:class:`~xnavlab.mars.kernel_inputs.Sensors`) for the state in row
-    ``i_`` of ``xs``; returns the measurement size m."""
+    ``jm`` of ``se`` (:class:`~xnavlab.mars.kernel_inputs.Sensors`) for the state ``x``
+    (6,), into ``me`` (:data:`_Meas`); returns the measurement size m."""
     if kind == KIND_UV:
-        _h_uv(xs, i_, se.z_u, jm, se.sig_r, se.sig_u, nu, H, R)
+        _h_uv(x, jm, se, me)
         return 4
     if kind == KIND_CNS:
-        _h_cns(xs, i_, se.z_c, jm, se.stars_c, se.sig_s, se.sig_h, nu, H, R, A)
+        _h_cns(x, jm, se, me)
         return se.stars_c.shape[0]
-    _h_xnav(xs, i_, se.rm_x, se.rs_x, jm, se.n_x, se.d_x, se.sig_x, se.z_x, nu, H, R)
+    _h_xnav(x, jm, se, me)
     return se.n_x.shape[0]
 
 
@@ -468,9 +485,10 @@ def _measure(kind, xs, i_, jm, se, nu, H, R, A):
 
 
 @njit(**_INLINE)
-def _innovation_cov(P, inv_s, H, R, m, PHt, S):
-    """``PHt = P H^T * inv_s`` (6, m) and the lower triangle of ``S = H PHt + R``
-    (H has zero velocity columns: only ``H[:, :3]`` is used)."""
+def _innovation_cov(P, inv_s, me, m, up):
+    """``up.PHt = P H^T * inv_s`` (6, m) and the lower triangle of ``up.S = H PHt + R``
+    (H, R of ``me``; H has zero velocity columns: only ``H[:, :3]`` is used)."""
+    H, R, PHt, S = me.H, me.R, up.PHt, up.S
     for i in range(6):
         for j in range(m):
             PHt[i, j] = (P[i, 0] * H[j, 0] + P[i, 1] * H[j, 1] + P[i, 2] * H[j, 2]) * inv_s
@@ -480,8 +498,10 @@ def _innovation_cov(P, inv_s, H, R, m, PHt, S):
 
 
 @njit(**_INLINE)
-def _nis(nu, m, L, y):
-    """NIS ``nu^T S^-1 nu = |L^-1 nu|^2`` (L from :func:`_cholesky` of S; scratch y)."""
+def _nis(me, m, up):
+    """NIS ``nu^T S^-1 nu = |L^-1 nu|^2`` (``up.L`` from :func:`_cholesky` of S; scratch
+    ``up.y``)."""
+    nu, L, y = me.nu, up.L, up.y
     for i in range(m):
         y[i] = nu[i]
     _forward(L, m, y)
@@ -492,18 +512,22 @@ def _nis(nu, m, L, y):
 
 
 @njit(**_INLINE)
-def _update(xs, Ps, i_, nu, H, R, m, gate, do_update, PHt, S, L, y, K, W, T):
-    """Joseph-form EKF update of local ``i_`` in place; returns the NIS (NaN if S is not PD).
+def _update(st, i_, me, m, gate, do_update, up):
+    """Joseph-form EKF update of local ``i_`` of ``st`` in place with the measurement ``me``
+    (:data:`_Meas`, size m; scratch ``up``, :data:`_Upd`); returns the NIS (NaN if S is not PD).
 
     The update is applied only when ``do_update`` and NIS <= gate. The three sensors'
     Jacobians have zero velocity columns (paper eqs. (4)-(6)), so only ``H[:, :3]``
     is used, and ``A = I - K H`` has identity velocity columns: the Joseph product
     ``A P A^T`` is formed as ``T = P - K (P H^T)^T``, ``T A^T = T - (T H^T) K^T``.
     """
-    _innovation_cov(Ps[i_], 1.0, H, R, m, PHt, S)  # S = H P H^T + R
+    xs, Ps = st.xs, st.Ps
+    nu, H, R = me.nu, me.H, me.R
+    PHt, L, y, K, W, T = up.PHt, up.L, up.y, up.K, up.W, up.T
+    _innovation_cov(Ps[i_], 1.0, me, m, up)  # S = H P H^T + R
     nis = np.nan
-    if _cholesky(S, m, L):
-        nis = _nis(nu, m, L, y)
+    if _cholesky(up.S, m, L):
+        nis = _nis(me, m, up)
         if do_update and nis <= gate:
             # K = P H^T S^-1, row by row: S k_i = (P H^T)_i
             for i in range(6):
@@ -543,24 +567,26 @@ def _update(xs, Ps, i_, nu, H, R, m, gate, do_update, PHt, S, L, y, K, W, T):
 
 
 @njit(**_INLINE)
-def _update_sized(xs, Ps, i_, nu, H, R, m, gate, do_update, PHt, S, L, y, K, W, T):
+def _update_sized(st, i_, me, m, gate, do_update, up):
     """:func:`_update` compiled for the common sizes m = 3 and 4 (unrolled) and any other."""
     if m == 4:
-        return _update(xs, Ps, i_, nu, H, R, 4, gate, do_update, PHt, S, L, y, K, W, T)
+        return _update(st, i_, me, 4, gate, do_update, up)
     if m == 3:
-        return _update(xs, Ps, i_, nu, H, R, 3, gate, do_update, PHt, S, L, y, K, W, T)
-    return _update_any(xs, Ps, i_, nu, H, R, m, gate, do_update, PHt, S, L, y, K, W, T)
+        return _update(st, i_, me, 3, gate, do_update, up)
+    return _update_any(st, i_, me, m, gate, do_update, up)
 
 
 @njit(**_HELPER)
-def _update_any(xs, Ps, i_, nu, H, R, m, gate, do_update, PHt, S, L, y, K, W, T):
+def _update_any(st, i_, me, m, gate, do_update, up):
     """:func:`_update` for any m (not inlined: compiled once, kept out of the loop's code)."""
-    return _update(xs, Ps, i_, nu, H, R, m, gate, do_update, PHt, S, L, y, K, W, T)
+    return _update(st, i_, me, m, gate, do_update, up)
 
 
 @njit(**_INLINE)
-def _gain_information(H, R, nu, m, L, y, J, b):
-    """``J += H^T R^-1 H`` (3 x 3, lower triangle) and ``b += H^T R^-1 nu`` (3,)."""
+def _gain_information(me, m, up, fu):
+    """``fu.J += H^T R^-1 H`` (3 x 3, lower triangle) and ``fu.bv += H^T R^-1 nu`` (3,) of the
+    measurement ``me`` (scratch ``up.L``, ``up.y``)."""
+    nu, H, R, L, y, J, b = me.nu, me.H, me.R, up.L, up.y, fu.J, fu.bv
     _cholesky(R, m, L)  # R is positive definite by construction
     # with R = L L^T: H^T R^-1 H = (L^-1 H)^T (L^-1 H), H^T R^-1 nu = (L^-1 H)^T (L^-1 nu)
     for j in range(m):
@@ -585,46 +611,50 @@ def _gain_information(H, R, nu, m, L, y, J, b):
 
 
 @njit(**_INLINE)
-def _update_sized_info(P, inv_s, nu, H, R, m, gate, do_update, PHt, S, L, y, J, b):
-    """NIS of a local that starts from ``(x, P / s)`` and, when ``do_update`` and NIS <=
-    gate, its information ``H^T R^-1 H``, ``H^T R^-1 nu`` added to J and b (reset mode)."""
-    _innovation_cov(P, inv_s, H, R, m, PHt, S)  # S = H P H^T / s + R
+def _update_sized_info(fu, i_, me, m, gate, do_update, up):
+    """NIS of local ``i_`` when it starts from the master's prediction ``(fu.xp, fu.Pp /
+    s_i)`` and, when ``do_update`` and NIS <= gate, its information ``H^T R^-1 H``,
+    ``H^T R^-1 nu`` added to ``fu.J`` and ``fu.bv`` (reset mode)."""
+    _innovation_cov(fu.Pp, fu.inv_sh[i_], me, m, up)  # S = H P H^T / s + R
     nis = np.nan
-    if _cholesky(S, m, L):
-        nis = _nis(nu, m, L, y)
+    if _cholesky(up.S, m, up.L):
+        nis = _nis(me, m, up)
         if do_update and nis <= gate:
-            _gain_information(H, R, nu, m, L, y, J, b)
+            _gain_information(me, m, up, fu)
     return nis
 
 
 @njit(**_INLINE)
-def _info_sized(P, inv_s, nu, H, R, m, gate, do_update, PHt, S, L, y, J, b):
+def _info_sized(fu, i_, me, m, gate, do_update, up):
     """:func:`_update_sized_info` compiled for m = 3, 4 (unrolled) and any other."""
     if m == 4:
-        return _update_sized_info(P, inv_s, nu, H, R, 4, gate, do_update, PHt, S, L, y, J, b)
+        return _update_sized_info(fu, i_, me, 4, gate, do_update, up)
     if m == 3:
-        return _update_sized_info(P, inv_s, nu, H, R, 3, gate, do_update, PHt, S, L, y, J, b)
-    return _info_any(P, inv_s, nu, H, R, m, gate, do_update, PHt, S, L, y, J, b)
+        return _update_sized_info(fu, i_, me, 3, gate, do_update, up)
+    return _info_any(fu, i_, me, m, gate, do_update, up)
 
 
 @njit(**_HELPER)
-def _info_any(P, inv_s, nu, H, R, m, gate, do_update, PHt, S, L, y, J, b):
+def _info_any(fu, i_, me, m, gate, do_update, up):
     """:func:`_update_sized_info` for any m (not inlined)."""
-    return _update_sized_info(P, inv_s, nu, H, R, m, gate, do_update, PHt, S, L, y, J, b)
+    return _update_sized_info(fu, i_, me, m, gate, do_update, up)
 
 
 # ----------------------------------------------------------------------------- fusion
 
 
 @njit(**_HELPER)
-def _fuse(xs, Ps, use, x_out, P_out, d, Y, yv, C, Cf, dx):
-    """Information-form fusion of the local estimates with use[i] True.
+def _fuse(st, fu):
+    """Information-form fusion of the local estimates ``st.xs``, ``st.Ps`` with ``fu.use[i]``
+    True into the master ``st.xm``, ``st.Pm`` (scratch ``fu``, :data:`_Fus`).
 
     P_f = (sum P_i^-1)^-1, x_f = P_f sum P_i^-1 x_i, computed on Jacobi-scaled
     covariances and on deviations from the first used estimate (for precision), as
     :func:`xnavlab.core.federated.fuse`. Returns False if no estimate is used or a
     matrix is not positive definite.
     """
+    xs, Ps, x_out, P_out = st.xs, st.Ps, st.xm, st.Pm
+    use, d, Y, yv, C, Cf = fu.use, fu.d, fu.Y, fu.yv, fu.Ci, fu.Cf
     ns = xs.shape[0]
     ref = -1
     for i in range(ns - 1, -1, -1):
@@ -675,13 +705,17 @@ def _fuse(xs, Ps, use, x_out, P_out, d, Y, yv, C, Cf, dx):
 
 
 @njit(**_HELPER)
-def _fuse_information(x, P, ssum, J, b, x_out, P_out, Pt, G):
+def _fuse_information(st, fu, ssum):
     """Reset-mode fusion from the information the locals gained (module docstring):
     ``P_f^-1 = ssum P^-1 + J`` and ``x_f = x + P_f b``, by the matrix inversion lemma
     ``P_f = P~ - P~[:, :3] J (I + P~_rr J)^-1 P~[:3, :]``, ``P~ = P / ssum``.
 
-    J (3, 3) lower triangle, b (3,); scratch Pt (6, 6), G (3, 3).
+    ``x``, ``P`` the master's prediction ``fu.xp``, ``fu.Pp``; ``J = fu.J`` (3, 3) lower
+    triangle, ``b = fu.bv`` (3,); into ``st.xm``, ``st.Pm``; scratch ``fu.Ci`` (6, 6),
+    ``fu.G`` (3, 3).
     """
+    x, P, J, b, x_out, P_out = fu.xp, fu.Pp, fu.J, fu.bv, st.xm, st.Pm
+    Pt, G = fu.Ci, fu.G
     for a in range(3):
         for c in range(a + 1, 3):
             J[a, c] = J[c, a]
@@ -748,10 +782,11 @@ def _fuse_information(x, P, ssum, J, b, x_out, P_out, Pt, G):
 
 
 @njit(**_INLINE)
-def _whiten_uv(x, P, z, jm, sig_r, sig_u, y):
-    """UV innovation at the state ``x`` (6,) with covariance ``P``, whitened per component:
-    the range and the direction's two tangent axes, each ``nu / sqrt(g P g^T + sigma^2)``
-    (the unit vector's radial part carries no information)."""
+def _whiten_uv(x, P, jm, se, y):
+    """UV measurement ``jm``'s innovation at the state ``x`` (6,) with covariance ``P``,
+    whitened per component into ``y``: the range and the direction's two tangent axes, each
+    ``nu / sqrt(g P g^T + sigma^2)`` (the unit vector's radial part carries no information)."""
+    z, sig_r, sig_u = se.z_u, se.sig_r, se.sig_u
     rn = math.sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2])
     u0, u1, u2 = -x[0] / rn, -x[1] / rn, -x[2] / rn
     p00, p01, p02, p11, p12, p22 = P[0, 0], P[0, 1], P[0, 2], P[1, 1], P[1, 2], P[2, 2]
@@ -774,29 +809,44 @@ def _whiten_uv(x, P, z, jm, sig_r, sig_u, y):
 
 
 @njit(**_INLINE)
-def _whiten_at(P, H, R, nu, m, PHt, S, L, y):
-    """``y = L^-1 nu`` with ``L L^T = H P H^T + R``; False if S is not positive definite."""
-    _innovation_cov(P, 1.0, H, R, m, PHt, S)                   # S = H P H^T + R
-    ok = _cholesky(S, m, L)
+def _whiten_at(P, me, m, up):
+    """``up.y = L^-1 nu`` with ``L L^T = H P H^T + R`` (``me``'s nu, H, R); False if S is
+    not positive definite."""
+    _innovation_cov(P, 1.0, me, m, up)                         # S = H P H^T + R
+    ok = _cholesky(up.S, m, up.L)
+    y, nu = up.y, me.nu
     for i in range(m):
         y[i] = nu[i]
-    _forward(L, m, y)
+    _forward(up.L, m, y)
     return ok
 
 
 @njit(**_INLINE)
-def _watch_monitor(i, y, z, m, connected, ws, ys, jm, med, cnt):
+def _whiten(kind, jm, me, m, fu, se, up):
+    """Subsystem ``kind``'s measurement ``jm`` (``me``: its innovation, Jacobian and R at the
+    master's prediction ``fu.xp``, ``fu.Pp``), whitened into ``up.y``; returns its size (UV:
+    3, the range and two tangent axes)."""
+    if kind == KIND_UV:
+        _whiten_uv(fu.xp, fu.Pp, jm, se, up.y)
+        return 3
+    _whiten_at(fu.Pp, me, m, up)
+    return m
+
+
+@njit(**_INLINE)
+def _watch_monitor(i, jm, m, connected, y, ys, ws, wt):
     """The innovation parts of the combined detector on one whitened innovation ``y`` (m,)
     of subsystem ``i`` (:class:`xnavlab.core.detection.InnovationMonitor`, one sample), its
     state in ``ws`` (:class:`~xnavlab.mars.kernel_inputs.WatchState`).
 
-    Writes ``y`` to ``ys[jm]`` and ``z = y / s`` (the adaptive scale) to ``z``; if
+    Writes ``y`` to ``ys[jm]`` and ``z = y / s`` (the adaptive scale) to ``wt.zw``; if
     ``connected`` (and armed): the chi-square ``q = sum z^2``, the CUSUMs
     ``S+ = max(0, S+ + z - k)``, ``S- = max(0, S- - z - k)``, ``V = max(0, V + z^2 - k_v)``;
     on an alarm the CUSUMs restart, ``alarm[i]`` gets the part and its ratio and True is
     returned; a healthy sample goes into the scale's window, and the scale is recomputed on
     the monitor's grid of samples fed (:func:`_rescale`)."""
     wf, wi, wS, wsc, ring, alarm = ws.wf, ws.wi, ws.wS, ws.wsc, ws.ring, ws.alarm
+    z = wt.zw
     q = 0.0
     for c in range(m):
         ys[jm, c] = y[c]
@@ -837,18 +887,19 @@ def _watch_monitor(i, y, z, m, connected, ws, ys, jm, med, cnt):
     wi[i, WI_NFED] += 1
     if wi[i, WI_NFED] >= wi[i, WI_NEXT]:
         if wi[i, WI_ADAPT]:
-            _rescale(i, m, wf, wi, ring, wsc, med, cnt)
+            _rescale(i, m, ws, wt)
         nxt = wi[i, WI_NEXT]                 # 100, 200, 400, ... then every scale_every
         wi[i, WI_NEXT] = min(2 * nxt, nxt + wi[i, WI_EVERY])
     return False
 
 
 @njit(**_HELPER)
-def _rescale(i, m, wf, wi, ring, wsc, med, cnt):
-    """The adaptive scale from the MAD window, as
+def _rescale(i, m, ws, wt):
+    """The adaptive scale ``ws.wsc[i]`` from the MAD window ``ws.ring[i]``, as
     :meth:`xnavlab.core.detection.InnovationMonitor.scale_from`:
-    ``s^2 = (n0 + n MAD^2) / (n0 + n)``, ``MAD = median|y| / 0.6745`` (scratch ``med``,
-    ``cnt``)."""
+    ``s^2 = (n0 + n MAD^2) / (n0 + n)``, ``MAD = median|y| / 0.6745`` (scratch ``wt.med``,
+    ``wt.cnt``)."""
+    wf, wi, ring, wsc, med, cnt = ws.wf, ws.wi, ws.ring, ws.wsc, wt.med, wt.cnt
     n = wi[i, WI_NRING]
     n0 = wf[i, WF_PRIOR]
     for c in range(m):
@@ -914,10 +965,11 @@ def _radix_select(f, n, k, cnt):
 
 
 @njit(**_HELPER)
-def _quiet(i, wf, wi, wsc, ys):
+def _quiet(i, ws, ys):
     """Whether subsystem ``i``, out, may rejoin (a superset of the loop's own test, which
-    decides): its last ``W`` scaled innovations since the isolation give a NIS sum below the
-    threshold and no component sum beyond ``zq sqrt(W)``."""
+    decides): its last ``W`` scaled innovations since the isolation (in ``ys``) give a NIS
+    sum below the threshold and no component sum beyond ``zq sqrt(W)``."""
+    wf, wi, wsc = ws.wf, ws.wi, ws.wsc
     w = wi[i, WI_RWIN]
     if wi[i, WI_NOUT] < w:
         return False
@@ -936,11 +988,12 @@ def _quiet(i, wf, wi, wsc, ys):
 
 
 @njit(**_HELPER)
-def _watch_wavelet(i, z, m, wi, xbuf, xG, xthr, alarm):
+def _watch_wavelet(i, z, m, ws):
     """The XNAV innovation wavelet on one scaled innovation ``z`` (m,) (newest first in
-    ``xbuf``; :class:`xnavlab.mars.innovations.XnavInnovationWavelet`): True when a level's
-    ``|d_j| > k sigma_j`` for some pulsar; ``alarm[i, 2:]`` get ``level * m + pulsar`` and the
-    ratio."""
+    ``ws.xbuf``; :class:`xnavlab.mars.innovations.XnavInnovationWavelet`): True when a level's
+    ``|d_j| > k sigma_j`` for some pulsar; ``ws.alarm[i, 2:]`` get ``level * m + pulsar`` and
+    the ratio."""
+    wi, xbuf, xG, xthr, alarm = ws.wi, ws.xbuf, ws.xG, ws.xthr, ws.alarm
     nw = xG.shape[1]
     for r in range(nw - 1, 0, -1):
         for c in range(m):
@@ -980,27 +1033,21 @@ def _ys(kind, ws):
 
 
 @njit(**_INLINE)
-def _watch(kind, i, jm, connected, x, P, nu, H, R, m, se, ws, up, wt):
-    """Whiten subsystem ``i``'s measurement ``jm`` against the master's prediction ``x``,
-    ``P`` (``nu``, ``H``, ``R`` its innovation there) and feed the combined detector's parts
-    (judged only if ``connected``, and armed). Returns True on an alarm.
+def _watch(kind, i, jm, connected, m, y, ws, wt):
+    """Feed subsystem ``i``'s measurement ``jm``, whitened against the master's prediction
+    (``y`` (m,), :func:`_whiten`), to the combined detector's parts (judged only if
+    ``connected``, and armed). Returns True on an alarm.
 
-    ``se`` the :class:`~xnavlab.mars.kernel_inputs.Sensors`, ``ws`` the detector's
-    :class:`~xnavlab.mars.kernel_inputs.WatchState`; scratch ``up`` (:data:`_Upd`: PHt, S, L,
-    y) and ``wt`` (:data:`_Wat`: zw, med, cnt).
+    ``ws`` the detector's :class:`~xnavlab.mars.kernel_inputs.WatchState`; scratch ``wt``
+    (:data:`_Wat`).
     """
-    wi, y = ws.wi, up.y
-    if kind == KIND_UV:
-        _whiten_uv(x, P, se.z_u, jm, se.sig_r, se.sig_u, y)
-        m = 3
-    else:
-        _whiten_at(P, H, R, nu, m, up.PHt, up.S, up.L, y)
+    wi = ws.wi
     wi[i, WI_LAST] = jm
     if wi[i, WI_OUT]:
         wi[i, WI_NOUT] += 1
-    hit = _watch_monitor(i, y, wt.zw, m, connected, ws, _ys(kind, ws), jm, wt.med, wt.cnt)
+    hit = _watch_monitor(i, jm, m, connected, y, _ys(kind, ws), ws, wt)
     if connected and kind == KIND_XNAV and ws.xG.shape[0] > 0:
-        hit = _watch_wavelet(i, wt.zw, m, wi, ws.xbuf, ws.xG, ws.xthr, ws.alarm) or hit
+        hit = _watch_wavelet(i, wt.zw, m, ws) or hit
     return hit
 
 
@@ -1050,29 +1097,28 @@ def run_epochs(k0, k1, st, pr, pl, se, rec, ws):
     e = np.empty     # (s*, i*: the third bodies' positions and indirect terms at t, t + h/2, t + h)
     sp = _Prop(e((6, 6)), e((6, 6)), e((6, 6)), e(6),
                e((nb, 3)), e((nb, 3)), e((nb, 3)), e((nb, 3)), e((nb, 3)), e((nb, 3)))
-    up = _Upd(e((6, mm)), e((mm, mm)), e((mm, mm)), e(mm), e((6, mm)), e((6, mm)), e((mm, 3)),
-              e(mm), np.zeros((mm, 6)), np.zeros((mm, mm)))
-    fu = _Fus(e(6), e((6, 6)), e(6), e((6, 6)), e((6, 6)), e(6),          # the fusion's
-              e(6), e((6, 6)), e(6), e((6, 6)),                            # xp, Pp; x2, P2
+    A = e((mm, 3))                  # (the two measurement scratches share the CNS noise's)
+    me = _Meas(e(mm), np.zeros((mm, 6)), np.zeros((mm, mm)), A)   # at the local's state
+    mw = _Meas(e(mm), np.zeros((mm, 6)), np.zeros((mm, mm)), A)   # at the master's (watch)
+    up = _Upd(e((6, mm)), e((mm, mm)), e((mm, mm)), e(mm), e((6, mm)), e((6, mm)), e((6, 6)))
+    fu = _Fus(e(6), e((6, 6)), e(6), e((6, 6)), e((6, 6)),                # the fusion's
+              e(6), e((6, 6)),                                             # xp, Pp
               np.zeros((3, 3)), np.zeros(3), e((3, 3)),                    # J, bv, G
               np.zeros(ns, dtype=np.bool_), e(ns))                         # use, 1 / shares
-    wt = _Wat(e((1, 6)), e(mm), np.zeros((mm, 6)), np.zeros((mm, mm)),    # xw, nu2, H2, R2
-              np.zeros(ns, dtype=np.bool_), e(mm), e(ws.ring.shape[2]), e(8192, dtype=np.int64))
-    return _run(k0, k1, st, pr, pl, se, rec, ws, sp, up, fu, wt)
+    wt = _Wat(np.zeros(ns, dtype=np.bool_), e(mm), e(ws.ring.shape[2]), e(8192, dtype=np.int64))
+    return _run(k0, k1, _Args(st, pr, pl, se, rec, ws), _Scratch(sp, me, mw, up, fu, wt))
 
 
 @njit(**_HELPER)
-def _run(k0, k1, st, pr, pl, se, rec, ws, sp, up, fu, wt):
-    """The epoch loop of :func:`run_epochs` (its arguments, then the scratch allocated there:
-    :data:`_Prop`, :data:`_Upd`, :data:`_Fus`, :data:`_Wat`)."""
-    xs, Ps, shares, xm, Pm = st
-    times, kinds, meas_idx, active, beta, reset, gate = pl
-    rec_pos, rec_x, rec_P, rec_xl, rec_Pl, nis_out, flag_out = rec
+def _run(k0, k1, args, sc):
+    """The epoch loop of :func:`run_epochs` (``args`` its arguments, a :data:`_Args`; ``sc``
+    the scratch allocated there, a :data:`_Scratch`)."""
+    st, pr, pl, se, rec, ws = args.st, args.pr, args.pl, args.se, args.rec, args.ws
+    sp, me, mw, up, fu, wt = sc.sp, sc.me, sc.mw, sc.up, sc.fu, sc.wt
+    xs, Ps, shares, xm, Pm = st.xs, st.Ps, st.shares, st.xm, st.Pm
+    times, kinds, active, reset, gate = pl.times, pl.kinds, pl.active, pl.reset, pl.gate
     wf, wi = ws.wf, ws.wi
-    PHt, S, L, yy, K, W, A, nu, H, R = up
-    d, Y, yv, Ci, Cf, dx, xp, Pp, x2, P2, J, bv, G, use, inv_sh = fu
-    xw, nu2, H2, R2, alarmed = wt.xw, wt.nu2, wt.H2, wt.R2, wt.alarmed
-    T = sp.T
+    xp, Pp, use, inv_sh = fu.xp, fu.Pp, fu.use, fu.inv_sh
     ns = xs.shape[0]
     for i in range(ns):
         inv_sh[i] = 1.0 / shares[i]
@@ -1082,8 +1128,12 @@ def _run(k0, k1, st, pr, pl, se, rec, ws, sp, up, fu, wt):
             tp = times[k - 1]
             dt = times[k] - tp
             # master time update (full Q): xp, Pp
-            _predict(xm, Pm, tp, dt, 1.0, pr, xp, Pp, sp)
-            full = not reset or rec_pos[k] >= 0  # run the locals in full (else: information)
+            for a in range(6):
+                xp[a] = xm[a]
+                for b in range(6):
+                    Pp[a, b] = Pm[a, b]
+            _predict(xp, Pp, tp, dt, 1.0, pr, sp)
+            full = not reset or rec.pos[k] >= 0  # run the locals in full (else: information)
             if reset:
                 # after a reset every local equals the master scaled by 1/share, and the time
                 # update commutes with that scaling: P_i- = (Phi P_f Phi^T + Q) / share_i
@@ -1096,50 +1146,44 @@ def _run(k0, k1, st, pr, pl, se, rec, ws, sp, up, fu, wt):
                                 Ps[i, a, b] = Pp[a, b] * inv_sh[i]
             else:
                 for i in range(ns):
-                    for a in range(6):
-                        x2[a] = xs[i, a]
-                        for b in range(6):
-                            P2[a, b] = Ps[i, a, b]
-                    _predict(x2, P2, tp, dt, inv_sh[i], pr, xs[i], Ps[i], sp)
+                    _predict(xs[i], Ps[i], tp, dt, inv_sh[i], pr, sp)
             # measurement updates
             for a in range(3):
-                bv[a] = 0.0
+                fu.bv[a] = 0.0
                 for b in range(3):
-                    J[a, b] = 0.0
+                    fu.J[a, b] = 0.0
             for i in range(ns):
-                j = meas_idx[k, i]
+                j = pl.meas_idx[k, i]
                 if j < 0:
-                    flag_out[k, i] = NO_MEAS
+                    rec.flags[k, i] = NO_MEAS
                     continue
                 act = active[k, i]
-                m = _measure(kinds[i], xs, i, j, se, nu, H, R, A)
-                alarmed[i] = False
+                m = _measure(kinds[i], xs[i], j, se, me)
+                wt.alarmed[i] = False
                 if wi[i, WI_ON] != 0:
-                    if not reset:   # (in reset mode the local's prediction is the master's)
-                        for a in range(6):
-                            xw[0, a] = xp[a]
-                        _measure(kinds[i], xw, 0, j, se, nu2, H2, R2, A)
-                    wnu, wH, wR = (nu, H, R) if reset else (nu2, H2, R2)
+                    wm = me         # (in reset mode the local's prediction is the master's)
+                    if not reset:
+                        wm = mw
+                        _measure(kinds[i], xp, j, se, mw)
                     armed = act and times[k] >= wf[i, WF_TARM]    # connected and armed
-                    if _watch(kinds[i], i, j, armed, xp, Pp, wnu, wH, wR, m, se, ws, up, wt):
+                    mz = _whiten(kinds[i], j, wm, m, fu, se, up)
+                    if _watch(kinds[i], i, j, armed, mz, up.y, ws, wt):
                         act = False     # an alarm: this measurement stays out, and so does i
-                        alarmed[i] = True
+                        wt.alarmed[i] = True
                         stop = True
                 if full:
-                    nis = _update_sized(xs, Ps, i, nu, H, R, m, gate[i], act, PHt, S, L, yy, K,
-                                        W, T)
+                    nis = _update_sized(st, i, me, m, gate[i], act, up)
                 else:
-                    nis = _info_sized(Pp, inv_sh[i], nu, H, R, m, gate[i], act, PHt, S, L, yy,
-                                      J, bv)
-                nis_out[k, i] = nis
+                    nis = _info_sized(fu, i, me, m, gate[i], act, up)
+                rec.nis[k, i] = nis
                 if not act:
-                    flag_out[k, i] = ISOLATED
+                    rec.flags[k, i] = ISOLATED
                 elif nis > gate[i]:
-                    flag_out[k, i] = REJECTED
+                    rec.flags[k, i] = REJECTED
                 elif math.isnan(nis):
                     return -2
                 else:
-                    flag_out[k, i] = UPDATED
+                    rec.flags[k, i] = UPDATED
             # master fusion of the connected locals
             any_used = False
             ssum = 0.0
@@ -1154,28 +1198,28 @@ def _run(k0, k1, st, pr, pl, se, rec, ws, sp, up, fu, wt):
                     for b in range(6):
                         Pm[a, b] = Pp[a, b]
             elif full:
-                if not _fuse(xs, Ps, use, xm, Pm, d, Y, yv, Ci, Cf, dx):
+                if not _fuse(st, fu):
                     return -2
-            elif not _fuse_information(xp, Pp, ssum, J, bv, xm, Pm, Ci, G):
+            elif not _fuse_information(st, fu, ssum):
                 return -2
         if stop and k + 1 < times.shape[0]:
             for i in range(ns):
-                if alarmed[i]:
+                if wt.alarmed[i]:
                     active[k + 1, i] = False     # switched out from the next epoch
         for i in range(ns):      # the re-admission grid: stop where the loop may readmit
             if wi[i, WI_OUT] and (k + 1) % wi[i, WI_CHECK] == 0 and \
-                    _quiet(i, wf, wi, ws.wsc, _ys(kinds[i], ws)):
+                    _quiet(i, ws, _ys(kinds[i], ws)):
                 stop = True
-        r = rec_pos[k]
+        r = rec.pos[k]
         if r >= 0:
             for a in range(6):
-                rec_x[r, a] = xm[a]
+                rec.x[r, a] = xm[a]
                 for b in range(6):
-                    rec_P[r, a, b] = Pm[a, b]
+                    rec.P[r, a, b] = Pm[a, b]
             for i in range(ns):
                 for a in range(6):
-                    rec_xl[r, i, a] = xs[i, a]
-                    rec_Pl[r, i, a] = Ps[i, a, a]
+                    rec.xl[r, i, a] = xs[i, a]
+                    rec.Pl[r, i, a] = Ps[i, a, a]
         # reset: share the master among the locals connected at the next epoch (the locals
         # themselves are rebuilt from the master by the next time update; written at the end)
         if reset:
@@ -1183,9 +1227,9 @@ def _run(k0, k1, st, pr, pl, se, rec, ws, sp, up, fu, wt):
             tot = 0.0
             for i in range(ns):
                 if active[kn, i]:
-                    tot += beta[i]
+                    tot += pl.beta[i]
             for i in range(ns):
-                shares[i] = beta[i] / tot if active[kn, i] else 1.0
+                shares[i] = pl.beta[i] / tot if active[kn, i] else 1.0
                 inv_sh[i] = 1.0 / shares[i]
             if k == k1 - 1 or stop:
                 for i in range(ns):
