@@ -11,8 +11,29 @@ def test_mean_interval_is_the_student_t_interval_of_the_mean():
     r = headline.mean_interval(v)
     assert r["lo"] < r["mean"] < r["hi"] and r["n"] == 32
     assert r["hi"] - r["lo"] == pytest.approx(2 * 2.0395 * v.std(ddof=1) / np.sqrt(32), rel=1e-3)
-    with pytest.raises(ValueError, match="at least two finite numbers"):
+    with pytest.raises(ValueError, match="at least two numbers"):
         headline.mean_interval([1.0])
+
+
+@pytest.mark.parametrize(("bad", "message"), [
+    (np.array([1 + 1j, 2, 3]), "^values must hold real numbers, got complex values"),
+    ([1.0, np.nan, 3.0], r"^values must contain only finite numbers \(no NaN or inf\)"),
+    (["a", "b"], "^values must be an array of finite numbers"),
+    ([[1.0, 2.0], [3.0, 4.0]], r"^values must be a 1-D array \(shape \(n,\)\), got shape \(2, 2\)"),
+])
+def test_mean_interval_names_what_is_wrong_with_values(bad, message):
+    """Review 35b N13: an imaginary part dropped, 'got 3' for a NaN, numpy's own messages."""
+    with pytest.raises(ValueError, match=message):
+        headline.mean_interval(bad)
+
+
+@pytest.mark.parametrize("flag", ["faults", "cache", "progress", "shipped"])
+def test_a_flag_is_a_real_bool_not_a_truthy_string(flag):
+    """Review 35b N19: headline_run(faults="no") ran with faults."""
+    with pytest.raises(ValueError, match=f"^{flag} must be True or False, got 'no'"):
+        headline.headline_numbers(n_seeds=2, days=0.01, **{"faults": False, flag: "no"})
+    with pytest.raises(ValueError, match="^faults must be True or False, got 'no'"):
+        headline.headline_run(seed=0, days=0.01, faults="no")
 
 
 def test_headline_runs_are_stored_and_reused(tmp_path, monkeypatch):

@@ -44,7 +44,7 @@ from xnavlab.core.campaign import Campaign, run_campaign
 from xnavlab.core.diskcache import cache_dir, code_digest
 from xnavlab.core.distributions import t_ppf
 from xnavlab.core.userfiles import load_table
-from xnavlab.core.validate import check_int, check_real
+from xnavlab.core.validate import check_bool, check_int, check_real, check_vector
 
 __all__ = ["PAPER", "SHIPPED", "RUNS_PATH", "headline_run", "headline_numbers",
            "headline_records", "load_shipped", "mean_interval", "numbers_of"]
@@ -82,6 +82,7 @@ def headline_run(*, seed, days=30.0, faults=True):
 
     days = check_real("days", days, 0.0, 30.0, lo_open=True)
     seed = check_int("seed", seed, 0, 2**63 - 1)
+    faults = check_bool("faults", faults)
     sc = scenarios.MarsScenario(days=days, seed=seed % 2**31)
     inputs = scenarios.prepare(sc)
     clean = scenarios.run(inputs=inputs)
@@ -125,15 +126,23 @@ def _paper_detectors(inputs, clean):
 def mean_interval(values, level=0.95):
     """Mean, ``level`` interval of the mean (Student t) and standard deviation of ``values``.
 
+    ``values``: a 1-D array of at least two finite real numbers (a NaN, a complex number, text
+    or a table is refused by name, not cast).
+
     Examples
     --------
     >>> r = mean_interval([1.0, 2.0, 3.0])
     >>> r["mean"], round(r["lo"], 3), round(r["hi"], 3)
     (2.0, -0.484, 4.484)
+    >>> mean_interval([1.0])
+    Traceback (most recent call last):
+    ...
+    ValueError: values must hold at least two numbers (shape (n,), n >= 2), got 1
     """
-    v = np.asarray(values, dtype=float)
-    if v.ndim != 1 or v.size < 2 or not np.all(np.isfinite(v)):
-        raise ValueError(f"values must hold at least two finite numbers, got {v.size}")
+    v = check_vector("values", values)
+    if v.size < 2:
+        raise ValueError(f"values must hold at least two numbers (shape (n,), n >= 2), got "
+                         f"{v.size}")
     level = check_real("level", level, 0.0, 1.0, lo_open=True, hi_open=True)
     sd = float(v.std(ddof=1))
     half = t_ppf(0.5 + level / 2, v.size - 1) * sd / math.sqrt(v.size)
@@ -234,6 +243,8 @@ def headline_numbers(n_seeds=32, days=30.0, faults=True, seed=2016, cache=True, 
     """
     n_seeds = check_int("n_seeds", n_seeds, 2, 10_000)
     days = check_real("days", days, 0.0, 30.0, lo_open=True)
+    faults, cache, progress, shipped = (check_bool(n, v) for n, v in (
+        ("faults", faults), ("cache", cache), ("progress", progress), ("shipped", shipped)))
     if faults and days < 30.0:
         raise ValueError(f"faults needs days = 30 (the paper's schedule runs to 27.84 days), "
                          f"got {days:g}")
@@ -257,8 +268,8 @@ def headline_records(n_seeds=32, days=30.0, faults=True, seed=2016, out=None, wo
                      progress=False):
     """The campaign's successful runs, computed (or resumed from the store ``out``).
 
-    Parameters are :func:`headline_numbers`' (checked there); ``out`` is the campaign's
-    directory (None: in memory).
+    Parameters are :func:`headline_numbers`'; ``out`` is the campaign's directory (None: in
+    memory).
 
     Returns
     -------
@@ -266,6 +277,7 @@ def headline_records(n_seeds=32, days=30.0, faults=True, seed=2016, out=None, wo
         ``{"index", "seed", "metrics"}`` per successful run, in index order: the records
         :data:`RUNS_PATH` ships.
     """
+    faults, progress = check_bool("faults", faults), check_bool("progress", progress)
     camp = Campaign("headline", headline_run, lambda i: {"days": days, "faults": bool(faults)},
                     manifest={"days": days, "faults": bool(faults), "code": _code_key()})
     with _exclusive(out):
