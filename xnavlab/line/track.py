@@ -6,7 +6,8 @@ white with spectral density ``accel_sigma**2``, drives it. Each epoch every puls
 range ``n_i . r`` (:func:`xnavlab.line.measure.fold_range`); the steps are the core's
 (:func:`xnavlab.core.filters.ekf_predict`, :func:`~xnavlab.core.filters.ekf_update`), which
 for this linear model are the Kalman filter itself. :func:`run_line` flies chapter 0's
-spacecraft on the line to the Crab and :func:`plot_tracking` draws it for the chapter's slider.
+spacecraft on the line to the Crab and :func:`plot_tracking` draws it for the chapter's slider
+(with an in-place update, :func:`xnavlab.core.plotting.in_place`).
 
 Units: m, s. Arrays: ``truth`` (n + 1, 2 d), directions (m, d) unit vectors.
 
@@ -26,6 +27,7 @@ import numpy as np
 
 from xnavlab.core.constants import AU
 from xnavlab.core.filters import ekf_predict, ekf_update
+from xnavlab.core.plotting import in_place
 from xnavlab.core.validate import check_covariance, check_finite_array, check_int, check_real, make_rng
 from xnavlab.line.measure import fold_range, range_sigma
 from xnavlab.mars import pulsars
@@ -217,19 +219,35 @@ def plot_tracking(exposure_s=10.0, accel_sigma=0.0, span_s=2000.0, dv=1.0, seed=
     """
     from matplotlib.figure import Figure
 
-    truth, run = run_line(exposure_s, accel_sigma, span_s, dv, seed)
-    n = len(truth) - 1
-    t, err, sd = exposure_s * np.arange(n + 1), run.x - truth, np.sqrt(run.P[:, [0, 1], [0, 1]])
     fig = Figure(figsize=(7, 4.2), layout="constrained")
     ax1, ax2 = fig.subplots(2, 1, sharex=True)
-    ax1.plot(t[1:], run.z[:, 0] - truth[1:, 0], ".", color="0.6", ms=3, label="one TOA's range")
-    for ax, i in ((ax1, 0), (ax2, 1)):
-        ax.fill_between(t, -sd[:, i], sd[:, i], color="C0", alpha=0.2, label="filter's 1 sigma")
-        ax.plot(t, err[:, i], color="C0", label="filter")
-    top = 4 * sd[n // 10:, 0].max()
-    ax1.set(ylabel="position error (m)", ylim=(-top, top))
+    toas, = ax1.plot([], [], ".", color="0.6", ms=3, label="one TOA's range")
+    bands, lines = [], []
+    for ax in (ax1, ax2):
+        bands.append(ax.fill_between([0.0, 1.0], -1.0, 1.0, color="C0", alpha=0.2,
+                                     label="filter's 1 sigma"))
+        lines.append(ax.plot([], [], color="C0", label="filter")[0])
+    ax1.set(ylabel="position error (m)")
     ax2.set(xlabel="time (s)", ylabel="velocity error (m/s)")
     ax1.legend(fontsize=8, loc="lower left", bbox_to_anchor=(0.0, 1.0), ncols=3, frameon=False)
-    fig.suptitle(f"exposure {exposure_s:g} s: {n} TOAs, final 1 sigma {sd[-1, 0]:.0f} m", x=0.99,
-                 ha="right", fontsize=10)
-    return fig
+
+    def update(exposure_s=10.0, accel_sigma=0.0, span_s=2000.0, dv=1.0, seed=0):
+        truth, run = run_line(exposure_s, accel_sigma, span_s, dv, seed)
+        n = len(truth) - 1
+        t, err = exposure_s * np.arange(n + 1), run.x - truth
+        sd = np.sqrt(run.P[:, [0, 1], [0, 1]])
+        toas.set_data(t[1:], run.z[:, 0] - truth[1:, 0])
+        for i, (band, line) in enumerate(zip(bands, lines, strict=True)):
+            band.set_data(t, -sd[:, i], sd[:, i])
+            line.set_data(t, err[:, i])
+        for ax in (ax1, ax2):
+            ax.relim()
+        top = 4 * sd[n // 10:, 0].max()
+        ax1.set_ylim(-top, top)
+        ax2.autoscale_view()
+        ax1.autoscale_view(scaley=False)
+        fig.suptitle(f"exposure {exposure_s:g} s: {n} TOAs, final 1 sigma {sd[-1, 0]:.0f} m",
+                     x=0.99, ha="right", fontsize=10)
+
+    update(exposure_s, accel_sigma, span_s, dv, seed)
+    return in_place(fig, update)

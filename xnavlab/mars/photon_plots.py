@@ -7,7 +7,9 @@ area, an observation time and a background), and for the one-dimensional fix fro
 real photons": the fold and the likelihood for one injected offset), :func:`plot_recovery`
 (recovered against injected offsets), :func:`plot_ambiguity` (the cycle ambiguity) and
 :func:`plot_exposure` (the error bar against exposure). Distances in the figures are km, or m
-where the axis says so.
+where the axis says so. The two sliders' figures carry an in-place update
+(:func:`xnavlab.core.plotting.in_place`): the live slider changes their artists instead of
+building a new figure.
 
 Examples
 --------
@@ -22,6 +24,7 @@ import functools
 
 import numpy as np
 
+from xnavlab.core.plotting import in_place
 from xnavlab.core.validate import check_finite_array, check_real
 from xnavlab.mars import pulsars
 from xnavlab.mars.photon_fix import (
@@ -46,8 +49,20 @@ def _default():
     return photons, build_reference(photons)
 
 
-def _fold_axes(ax, photons, reference, phases, estimate_m, nbins=64):
+def _fold_axes(ax, nbins=64):
+    """The fold panel's artists; :func:`_fold_update` gives them a fix's data."""
+    counts = ax.step((np.arange(nbins) + 0.5) / nbins, np.zeros(nbins), where="mid", color="0.45",
+                     lw=0.9, label="navigation photons, weighted")[0]
+    expected = ax.plot([], [], color="C1", lw=1.2, label="template at the fix")[0]
+    ax.set(xlabel="phase at the assumed position (cycles)", ylabel="weighted photons per bin",
+           xlim=(0.0, 1.0))
+    return counts, expected
+
+
+def _fold_update(ax, artists, photons, reference, phases, estimate_m):
     """The navigation photons' weighted fold against the template moved by the estimate."""
+    counts_line, expected_line = artists
+    nbins = len(counts_line.get_xdata())
     phi = reference.corrected(photons, phases)
     w = photons.weights
     counts = np.histogram(phi, nbins, (0.0, 1.0), weights=w)[0]
@@ -55,11 +70,10 @@ def _fold_axes(ax, photons, reference, phases, estimate_m, nbins=64):
     shift = estimate_m / cycle_length(photons)  # cycles
     dens = template_density(reference.coeffs, x - shift)
     expected = (np.sum(w**2) * dens + np.sum(w * (1.0 - w))) / nbins  # weighted photons per bin
-    ax.step((np.arange(nbins) + 0.5) / nbins, counts, where="mid", color="0.45", lw=0.9,
-            label="navigation photons, weighted")
-    ax.plot(x, expected, color="C1", lw=1.2, label="template at the fix")
-    ax.set(xlabel="phase at the assumed position (cycles)", ylabel="weighted photons per bin",
-           xlim=(0.0, 1.0))
+    counts_line.set_ydata(counts)
+    expected_line.set_data(x, expected)
+    ax.relim()
+    ax.autoscale_view()
 
 
 def plot_fix(offset_km=100.0, across_km=0.0):
@@ -91,42 +105,61 @@ def plot_fix(offset_km=100.0, across_km=0.0):
     """
     from matplotlib.figure import Figure
 
-    offset_km = check_real("offset_km", offset_km, -1e5, 1e5)
-    across_km = check_real("across_km", across_km, -1e5, 1e5)
+    check_real("offset_km", offset_km, -1e5, 1e5)
+    check_real("across_km", across_km, -1e5, 1e5)
     photons, ref = _default()
-    dr = offset_vector(photons, offset_km * 1e3, across_km * 1e3)
-    f = fix(photons, dr, ref)
     nav = photons.subset(~ref.in_reference)
-    phases = displaced_phases(nav, dr)
-    cycle_km = f.cycle_m / 1e3
     fig = Figure(figsize=(11, 3.4), layout="constrained")
     ax1, ax2, ax3 = fig.subplots(1, 3, width_ratios=(1.0, 1.2, 0.8))
-    _fold_axes(ax1, nav, ref, phases, f.along_m)
+    fold = _fold_axes(ax1)
     ax1.legend(fontsize=7, loc="upper left")
-    offsets, scan = likelihood_scan(nav, ref, phases, bins=4096)
-    tiled = np.concatenate([offsets + k * f.cycle_m for k in (-2, -1, 0, 1)]) / 1e3
-    ax2.plot(tiled, np.tile(scan - scan.max(), 4), color="C0", lw=0.8)
-    for k in range(-3, 4):  # the truth and its aliases, c P apart
-        x = f.truth_along_m / 1e3 + k * cycle_km
-        if abs(x) <= 1.5 * cycle_km:
-            ax2.axvline(x, color="k", lw=0.8, ls="-" if k == 0 else ":",
-                        label="injected" if k == 0 else None)
-    ax2.plot([], [], "k:", lw=0.8, label="injected + k c P")
-    ax2.axvline(f.along_m / 1e3, color="C1", lw=1.2, ls="--", label="fix")
-    ax2.set(xlabel="offset along the line (km)", ylabel="log-likelihood - max",
-            xlim=(-1.5 * cycle_km, 1.5 * cycle_km))
-    ax2.legend(fontsize=7, loc="lower left")
-    near = f.along_m + np.linspace(-4.0, 4.0, 81) * f.sigma_m
-    like = log_likelihood(nav, ref, near, phases)
-    ax3.plot(near / 1e3, like - like.max(), color="C0", lw=1.0)
-    ax3.axvspan((f.along_m - 2 * f.sigma_m) / 1e3, (f.along_m + 2 * f.sigma_m) / 1e3, color="C1",
-                alpha=0.15, label="fix, 2 sigma")
-    ax3.axvline(f.wrapped_truth_m / 1e3, color="k", lw=0.8, label="injected (one cycle)")
+    scan_line, = ax2.plot([], [], color="C0", lw=0.8)
+    ax2.set(xlabel="offset along the line (km)", ylabel="log-likelihood - max")
+    marks = []  # the truth, its aliases and the fix: their number changes with the offset
+    near_line, = ax3.plot([], [], color="C0", lw=1.0)
+    band = ax3.axvspan(0.0, 1.0, color="C1", alpha=0.15, label="fix, 2 sigma")
+    truth_line = ax3.axvline(0.0, color="k", lw=0.8, label="injected (one cycle)")
     ax3.set(xlabel="offset along the line (km)", ylabel="log-likelihood - max")
     ax3.legend(fontsize=7, loc="lower center")
-    fig.suptitle(f"injected {offset_km:,.0f} km along, {across_km:,.0f} km across: fix "
-                 f"{f.along_m / 1e3:,.1f} ± {2 * f.sigma_m / 1e3:.1f} km (2 sigma)", fontsize=10)
-    return fig
+
+    def update(offset_km=100.0, across_km=0.0):
+        offset_km = check_real("offset_km", offset_km, -1e5, 1e5)
+        across_km = check_real("across_km", across_km, -1e5, 1e5)
+        dr = offset_vector(photons, offset_km * 1e3, across_km * 1e3)
+        f = fix(photons, dr, ref)
+        phases = displaced_phases(nav, dr)
+        cycle_km = f.cycle_m / 1e3
+        offsets, scan = likelihood_scan(nav, ref, phases, bins=4096)
+        near = f.along_m + np.linspace(-4.0, 4.0, 81) * f.sigma_m
+        like = log_likelihood(nav, ref, near, phases)
+        _fold_update(ax1, fold, nav, ref, phases, f.along_m)
+        tiled = np.concatenate([offsets + k * f.cycle_m for k in (-2, -1, 0, 1)]) / 1e3
+        scan_line.set_data(tiled, np.tile(scan - scan.max(), 4))
+        while marks:
+            marks.pop().remove()
+        for k in range(-3, 4):  # the truth and its aliases, c P apart
+            x = f.truth_along_m / 1e3 + k * cycle_km
+            if abs(x) <= 1.5 * cycle_km:
+                marks.append(ax2.axvline(x, color="k", lw=0.8, ls="-" if k == 0 else ":",
+                                         label="injected" if k == 0 else None))
+        marks.append(ax2.plot([], [], "k:", lw=0.8, label="injected + k c P")[0])
+        marks.append(ax2.axvline(f.along_m / 1e3, color="C1", lw=1.2, ls="--", label="fix"))
+        ax2.set_xlim(-1.5 * cycle_km, 1.5 * cycle_km)
+        ax2.relim()
+        ax2.autoscale_view()
+        ax2.legend(fontsize=7, loc="lower left")  # its entries follow the marks drawn
+        near_line.set_data(near / 1e3, like - like.max())
+        band.set_x((f.along_m - 2 * f.sigma_m) / 1e3)
+        band.set_width(4 * f.sigma_m / 1e3)
+        truth_line.set_xdata([f.wrapped_truth_m / 1e3] * 2)
+        ax3.relim()
+        ax3.autoscale_view()
+        fig.suptitle(f"injected {offset_km:,.0f} km along, {across_km:,.0f} km across: fix "
+                     f"{f.along_m / 1e3:,.1f} ± {2 * f.sigma_m / 1e3:.1f} km (2 sigma)",
+                     fontsize=10)
+
+    update(offset_km, across_km)
+    return in_place(fig, update)
 
 
 def plot_recovery(injected_m, fixes, across=None):
@@ -312,16 +345,26 @@ def plot_ranging_accuracy(area_m2=1.0, t_obs=500.0, background_ph_cm2_s=0.005, r
     from xnavlab.core.plotting import sparse_log_minors
 
     names = list(pulsars.check_names(pulsar_names, "pulsar_names"))
-    ours = [pulsars.ranging_accuracy(n, area_m2, t_obs, background_ph_cm2_s) for n in names]
+    built = (reference, pulsar_names)
     fig = Figure(figsize=(6, 3.2), layout="constrained")
     ax = fig.add_subplot()
-    ax.bar(names, ours, color="C0", label="xnavlab")
+    bars = ax.bar(names, [1.0] * len(names), color="C0", label="xnavlab")
     if reference:
         ax.plot(names, [reference[n] for n in names], "k_", ms=30, mew=2,
                 label="paper (1 m$^2$, 500 s)")
-    title = (f"A = {area_m2:.3g} m$^2$, t = {t_obs:.4g} s, "
-             f"B = {background_ph_cm2_s:.3g} ph/cm$^2$/s")
-    ax.set(yscale="log", ylim=(1, 1e5), ylabel="ranging accuracy (m)", title=title)
+    ax.set(yscale="log", ylim=(1, 1e5), ylabel="ranging accuracy (m)")
     ax.legend(fontsize=8)
     sparse_log_minors(ax)
-    return fig
+
+    def update(area_m2=1.0, t_obs=500.0, background_ph_cm2_s=0.005, reference=None,
+               pulsar_names=pulsars.PAPER_PULSARS):
+        if (reference, pulsar_names) != built:
+            return False  # other bars or marks: a new figure
+        ours = [pulsars.ranging_accuracy(n, area_m2, t_obs, background_ph_cm2_s) for n in names]
+        for bar, height in zip(bars, ours, strict=True):
+            bar.set_height(height)
+        ax.set_title(f"A = {area_m2:.3g} m$^2$, t = {t_obs:.4g} s, "
+                     f"B = {background_ph_cm2_s:.3g} ph/cm$^2$/s")
+
+    update(area_m2, t_obs, background_ph_cm2_s, reference, pulsar_names)
+    return in_place(fig, update)

@@ -4,7 +4,10 @@ Figs. 3-5 layouts and the detector table of chapter 9.
 Each function is pure in its arguments (the scenario is seeded). The figure functions return a
 :class:`matplotlib.figure.Figure` that is not registered with pyplot, so a chapter can call one
 from :func:`xnavlab.core.widgets.explore` and also leave a static figure for the HTML book;
-:func:`detector_table_markdown` returns Markdown text.
+:func:`detector_table_markdown` returns Markdown text. The sliders' figures
+(:func:`plot_subsystem`, :func:`plot_sharing`, :func:`plot_fault_response`,
+:func:`plot_shapiro_angle`) carry an in-place update (:func:`xnavlab.core.plotting.in_place`):
+the live slider changes their artists instead of building a new figure.
 
 Examples
 --------
@@ -22,7 +25,7 @@ import numpy as np
 
 from xnavlab.core.constants import DAY
 from xnavlab.core.faults import Fault
-from xnavlab.core.plotting import sparse_log_minors
+from xnavlab.core.plotting import in_place, sparse_log_minors
 from xnavlab.core.validate import check_choice, check_real
 from xnavlab.mars import fault_tolerance, scenarios
 
@@ -62,30 +65,38 @@ def plot_subsystem(subsystem="uv", noise_scale=1.0, interval_s=3, days=0.25):
     """
     from matplotlib.figure import Figure
 
-    check_choice("subsystem", subsystem, scenarios.SUBSYSTEMS)
-    noise_scale = check_real("noise_scale", noise_scale, 0.0, lo_open=True)
-    interval_s = check_real("interval_s", interval_s, 0.0, lo_open=True)
-    kw = {"days": days, "subsystems": (subsystem,), "record_dt": 30.0}
-    if subsystem == "uv":
-        kw.update(sigma_range_m=5000.0 * noise_scale, sigma_dir_deg=0.1 * noise_scale,
-                  dt_uv=interval_s)
-    elif subsystem == "cns":
-        kw.update(sigma_horizon_deg=0.05 * noise_scale, sigma_star_arcsec=3.0 * noise_scale,
-                  dt_cns=interval_s)
-    else:
-        kw.update(xnav_sigma_m=tuple(np.array([109.0, 344.0, 1866.0, 325.0]) * noise_scale),
-                  dt_xnav=max(interval_s, 30.0))
-    res = scenarios.run(**kw)
-    hours = res.t_days * 24
     fig = Figure(figsize=(7, 3), layout="constrained")
     ax = fig.add_subplot()
-    ax.fill_between(hours, 0, 3 * res.sigma_position(), color="C0", alpha=0.15,
-                    label="the filter's 3 sigma")
-    ax.plot(hours, res.position_error(), color="C0", label="|position error|")
-    ax.set(xlabel="time (h)", ylabel="|position error| (m)", yscale="log", ylim=(10, 3e4),
-           title=f"{subsystem}: noise x {noise_scale:.2g}, every {kw['dt_' + subsystem]:g} s")
+    band = ax.fill_between([0.0, 1.0], 0, [1.0, 1.0], color="C0", alpha=0.15,
+                           label="the filter's 3 sigma")
+    line, = ax.plot([], [], color="C0", label="|position error|")
+    ax.set(xlabel="time (h)", ylabel="|position error| (m)", yscale="log", ylim=(10, 3e4))
     fig.legend(fontsize=8, ncol=2, loc="outside lower center")  # off the shaded band
-    return fig
+
+    def update(subsystem="uv", noise_scale=1.0, interval_s=3, days=0.25):
+        check_choice("subsystem", subsystem, scenarios.SUBSYSTEMS)
+        noise_scale = check_real("noise_scale", noise_scale, 0.0, lo_open=True)
+        interval_s = check_real("interval_s", interval_s, 0.0, lo_open=True)
+        kw = {"days": days, "subsystems": (subsystem,), "record_dt": 30.0}
+        if subsystem == "uv":
+            kw.update(sigma_range_m=5000.0 * noise_scale, sigma_dir_deg=0.1 * noise_scale,
+                      dt_uv=interval_s)
+        elif subsystem == "cns":
+            kw.update(sigma_horizon_deg=0.05 * noise_scale, sigma_star_arcsec=3.0 * noise_scale,
+                      dt_cns=interval_s)
+        else:
+            kw.update(xnav_sigma_m=tuple(np.array([109.0, 344.0, 1866.0, 325.0]) * noise_scale),
+                      dt_xnav=max(interval_s, 30.0))
+        res = scenarios.run(**kw)
+        hours = res.t_days * 24
+        band.set_data(hours, 0, 3 * res.sigma_position())
+        line.set_data(hours, res.position_error())
+        ax.relim()
+        ax.autoscale_view()
+        ax.set_title(f"{subsystem}: noise x {noise_scale:.2g}, every {kw['dt_' + subsystem]:g} s")
+
+    update(subsystem, noise_scale, interval_s, days)
+    return in_place(fig, update)
 
 
 def plot_sharing(beta_xnav=1 / 3, mode="reset", days=0.5):
@@ -117,21 +128,29 @@ def plot_sharing(beta_xnav=1 / 3, mode="reset", days=0.5):
     """
     from matplotlib.figure import Figure
 
-    beta_xnav = check_real("beta_xnav", beta_xnav, 0.0, 1.0, lo_open=True, hi_open=True)
-    check_choice("mode", mode, scenarios.MODES)
-    rest = (1.0 - beta_xnav) / 2
-    res = scenarios.run(days=days, record_dt=60.0, mode=mode, beta=(beta_xnav, rest, rest))
-    settle = days / 2
-    hours = res.t_days * 24
     fig = Figure(figsize=(7, 3), layout="constrained")
     ax = fig.add_subplot()
-    ax.semilogy(hours, res.position_error(), label="|position error|")
-    ax.semilogy(hours, res.sigma_position(), "--", label="the filter's 1 sigma")
-    ax.set(xlabel="time (h)", ylabel="position (m)", ylim=(10, 2e4),
-           title=f"{mode}, beta = ({beta_xnav:.2f}, {rest:.2f}, {rest:.2f}): "
-                 f"{res.metrics(settle)['position_error_m']:.0f} m after {settle * 24:g} h")
+    error, = ax.semilogy([], [], label="|position error|")
+    sigma, = ax.semilogy([], [], "--", label="the filter's 1 sigma")
+    ax.set(xlabel="time (h)", ylabel="position (m)", ylim=(10, 2e4))
     fig.legend(fontsize=8, ncol=2, loc="outside lower center")  # off the curves
-    return fig
+
+    def update(beta_xnav=1 / 3, mode="reset", days=0.5):
+        beta_xnav = check_real("beta_xnav", beta_xnav, 0.0, 1.0, lo_open=True, hi_open=True)
+        check_choice("mode", mode, scenarios.MODES)
+        rest = (1.0 - beta_xnav) / 2
+        res = scenarios.run(days=days, record_dt=60.0, mode=mode, beta=(beta_xnav, rest, rest))
+        settle = days / 2
+        hours = res.t_days * 24
+        error.set_data(hours, res.position_error())
+        sigma.set_data(hours, res.sigma_position())
+        ax.relim()
+        ax.autoscale_view()
+        ax.set_title(f"{mode}, beta = ({beta_xnav:.2f}, {rest:.2f}, {rest:.2f}): "
+                     f"{res.metrics(settle)['position_error_m']:.0f} m after {settle * 24:g} h")
+
+    update(beta_xnav, mode, days)
+    return in_place(fig, update)
 
 
 def plot_runs(runs, band_days=None):
@@ -215,43 +234,58 @@ def plot_fault_response(size_sigma=5.0, sensor="uv", kind="step", duration=4000.
     -------
     matplotlib.figure.Figure
     """
-    size_sigma = check_real("size_sigma", size_sigma, 0.0, 1000.0, lo_open=True)
-    check_choice("kind", kind, ("step", "ramp", "spike"))
-    days = check_real("days", days, 0.5, 5.0)
-    duration = check_real("duration", duration, 0.0, 0.3 * days * DAY, lo_open=True)
-    sig = fault_tolerance.sensor_sigma(sensor)
-    onset = round(0.6 * days * DAY, 0) + 1.0
-    mag = size_sigma * sig / (duration if kind == "ramp" else 1.0)
-    comp = 0 if sensor == "uv" else None
-    fault = Fault(sensor, kind, mag, onset, duration, comp)
-    inp = _fault_free_inputs(float(days), int(seed))   # the same for every slider position
     from matplotlib.figure import Figure
 
     # fixed margins, not the constrained layout: the live slider redraws this at every move
     fig = Figure(figsize=(8.5, 3.4))
     fig.subplots_adjust(left=0.08, right=0.99, bottom=0.14, top=0.91)
     ax = fig.add_subplot()
-    settle = 0.4 * days
-    text = []
-    for det in fault_tolerance.DETECTORS:
-        r = fault_tolerance.run_fault_tolerant(faults=[fault], detector=det, inputs=inp, train_days=settle)
-        rms = r.run.metrics(settle)["position_error_m"]
-        ax.semilogy(r.run.t_days * 24, r.run.position_error(), lw=0.7, label=f"{det}: {rms:.0f} m")
-        d = r.delays()[0]
-        if det != "none":      # the scoring rule: schedules.score_faults
-            text.append(f"{det} delay {d['delay']:.0f} s" if d["status"] == "detected" else
-                        f"{det} late" if d["status"] == "late" else f"{det} missed")
-            band = fault_tolerance.DETECTORS.index(det) - 1          # one band of isolation per detector
-            for iv in r.isolation_intervals():
-                back = iv["back"] if iv["back"] is not None else days * DAY
-                ax.axvspan(iv["out"] / 3600, back / 3600, ymin=0.05 * band,
-                           ymax=0.05 * (band + 1), color=f"C{band + 1}", alpha=0.8)
-    ax.axvspan(onset / 3600, (onset + duration) / 3600, color="0.85", zorder=0)
-    ax.set(xlim=(settle * 24, days * 24), ylim=(5, 2e4), xlabel="time (h)",
-           ylabel="|position error| (m)",
-           title=f"{sensor} {kind} of {size_sigma:g} sigma: " + ", ".join(text))
-    ax.legend(fontsize=8, loc="upper left", title="detector: RMS after 40 %", title_fontsize=8)
-    return fig
+    lines = [ax.semilogy([], [], lw=0.7, label=det)[0] for det in fault_tolerance.DETECTORS]
+    ax.set(ylim=(5, 2e4), xlabel="time (h)", ylabel="|position error| (m)")
+    legend = ax.legend(fontsize=8, loc="upper left", title="detector: RMS after 40 %",
+                       title_fontsize=8)
+    spans = []  # the isolation bands and the fault's span, drawn again at each update
+
+    def update(size_sigma=5.0, sensor="uv", kind="step", duration=4000.0, days=1.0, seed=0):
+        size_sigma = check_real("size_sigma", size_sigma, 0.0, 1000.0, lo_open=True)
+        check_choice("kind", kind, ("step", "ramp", "spike"))
+        days = check_real("days", days, 0.5, 5.0)
+        duration = check_real("duration", duration, 0.0, 0.3 * days * DAY, lo_open=True)
+        sig = fault_tolerance.sensor_sigma(sensor)
+        onset = round(0.6 * days * DAY, 0) + 1.0
+        mag = size_sigma * sig / (duration if kind == "ramp" else 1.0)
+        comp = 0 if sensor == "uv" else None
+        fault = Fault(sensor, kind, mag, onset, duration, comp)
+        inp = _fault_free_inputs(float(days), int(seed))   # the same for every slider position
+        settle = 0.4 * days
+        runs = [fault_tolerance.run_fault_tolerant(faults=[fault], detector=det, inputs=inp,
+                                                   train_days=settle)
+                for det in fault_tolerance.DETECTORS]
+        while spans:
+            spans.pop().remove()
+        text = []
+        for det, r, line, label in zip(fault_tolerance.DETECTORS, runs, lines, legend.texts,
+                                       strict=True):
+            rms = r.run.metrics(settle)["position_error_m"]
+            line.set_data(r.run.t_days * 24, r.run.position_error())
+            line.set_label(f"{det}: {rms:.0f} m")
+            label.set_text(line.get_label())
+            d = r.delays()[0]
+            if det != "none":      # the scoring rule: schedules.score_faults
+                text.append(f"{det} delay {d['delay']:.0f} s" if d["status"] == "detected" else
+                            f"{det} late" if d["status"] == "late" else f"{det} missed")
+                band = fault_tolerance.DETECTORS.index(det) - 1  # one band of isolation per detector
+                for iv in r.isolation_intervals():
+                    back = iv["back"] if iv["back"] is not None else days * DAY
+                    spans.append(ax.axvspan(iv["out"] / 3600, back / 3600, ymin=0.05 * band,
+                                            ymax=0.05 * (band + 1), color=f"C{band + 1}",
+                                            alpha=0.8))
+        spans.append(ax.axvspan(onset / 3600, (onset + duration) / 3600, color="0.85", zorder=0))
+        ax.set(xlim=(settle * 24, days * 24),
+               title=f"{sensor} {kind} of {size_sigma:g} sigma: " + ", ".join(text))
+
+    update(size_sigma, sensor, kind, duration, days, seed)
+    return in_place(fig, update)
 
 
 @functools.lru_cache(maxsize=4)
@@ -488,10 +522,10 @@ def plot_shapiro_angle(angle_deg=2.0, t=None):
     from xnavlab.core.constants import C
     from xnavlab.mars import dynamics, pulsars, toa
 
-    angle_deg = check_real("angle_deg", angle_deg, 0.0, 180.0, lo_open=True)
-    t = dynamics.MARS_T0 if t is None else check_real("t", t)
-    r_mars, v_mars = (np.asarray(a, dtype=float).reshape(3) for a in ephemeris.state("mars", t))
-    r_sun = np.asarray(ephemeris.position("sun", t), dtype=float).reshape(3)
+    check_real("angle_deg", angle_deg, 0.0, 180.0, lo_open=True)
+    t0 = dynamics.MARS_T0 if t is None else check_real("t", t)
+    r_mars, v_mars = (np.asarray(a, dtype=float).reshape(3) for a in ephemeris.state("mars", t0))
+    r_sun = np.asarray(ephemeris.position("sun", t0), dtype=float).reshape(3)
     to_sun = r_sun - r_mars
     dist = np.linalg.norm(to_sun)
     u = to_sun / dist                                  # Mars -> Sun
@@ -502,40 +536,58 @@ def plot_shapiro_angle(angle_deg=2.0, t=None):
         th = np.radians(np.atleast_1d(theta_deg))
         return np.cos(th)[:, None] * u + np.sin(th)[:, None] * e
 
-    grid = np.unique(np.concatenate([np.geomspace(0.05, 180.0, 400), [angle_deg]]))
-    exact = toa.shapiro(r_mars, directions(grid), r_sun) * 1e6         # us
-    paper = toa.shapiro_paper(r_mars, directions(grid), r_sun) * 1e6
-    diff = np.abs(paper - exact)
-    at = float(np.interp(angle_deg, grid, diff))
-    ex_at, pa_at = (float(np.interp(angle_deg, grid, v)) for v in (exact, paper))
+    base = np.geomspace(0.05, 180.0, 400)
     disc_deg = math.degrees(math.asin(_R_SUN / dist))  # the Sun's angular radius from Mars
 
     fig = Figure(figsize=(10, 3.4), layout="constrained")
     ax1, ax2 = fig.subplots(1, 2)
+    marks = []
     for ax in (ax1, ax2):
-        ax.axvspan(grid[0], disc_deg, color="0.85", lw=0)
-        ax.axvline(angle_deg, color="k", lw=0.8, ls=":")
-        ax.set(xscale="log", xlabel="Sun-pulsar angle seen from Mars (deg)", xlim=(grid[0], 180.0))
-    ax1.plot(grid, exact, label="exact (toa.shapiro)")
-    ax1.plot(grid, paper, "--", label="paper eq. (1) (toa.shapiro_paper)")
-    ax1.plot([angle_deg] * 2, [ex_at, pa_at], "ko", ms=4)
+        ax.axvspan(base[0], disc_deg, color="0.85", lw=0)
+        marks.append(ax.axvline(1.0, color="k", lw=0.8, ls=":"))
+        ax.set(xscale="log", xlabel="Sun-pulsar angle seen from Mars (deg)", xlim=(base[0], 180.0))
+    exact_line, = ax1.plot([], [], label="exact (toa.shapiro)")
+    paper_line, = ax1.plot([], [], "--", label="paper eq. (1) (toa.shapiro_paper)")
+    pair, = ax1.plot([], [], "ko", ms=4)
     ax1.set(ylabel="Shapiro delay (us)")
     ax1.set_title("the Sun's Shapiro delay, referred to the SSB", fontsize=10)
     ax1.legend(fontsize=8)
-    ax2.loglog(grid, diff, color="C3", label="|paper - exact|")
+    diff_line, = ax2.loglog([], [], color="C3", label="|paper - exact|")
     for k, name in enumerate(pulsars.PAPER_PULSARS):
         ax2.axhline(pulsars.toa_sigma(name) * 1e6, color=f"C{k}", lw=0.8, ls="--",
                     label=f"TOA noise {name}")
-    ax2.plot(angle_deg, at, "ko", ms=5)
-    at_m = C * at * 1e-6
+    dot, = ax2.plot([], [], "ko", ms=5)
     ax2.set(ylabel="us", ylim=(1e-4, 1e3))
-    ax2.set_title(f"{angle_deg:g} deg from the Sun: paper - exact = {at:.3g} us = "
-                  + (f"{at_m:,.0f}" if at_m >= 100 else f"{at_m:.2g}") + " m", fontsize=10)
     sec = ax2.secondary_yaxis("right", functions=(lambda us: us * 1e-6 * C, lambda m: m / C * 1e6))
     sec.set_ylabel("m")
     ax2.legend(fontsize=7, loc="lower left")
     sparse_log_minors(ax1, ax2)  # three log axes over 4-7 decades: half the render
-    return fig
+
+    def update(angle_deg=2.0, t=None):
+        angle_deg = check_real("angle_deg", angle_deg, 0.0, 180.0, lo_open=True)
+        if (dynamics.MARS_T0 if t is None else check_real("t", t)) != t0:
+            return False  # another epoch: another geometry, a new figure
+        grid = np.unique(np.concatenate([base, [angle_deg]]))
+        exact = toa.shapiro(r_mars, directions(grid), r_sun) * 1e6         # us
+        paper = toa.shapiro_paper(r_mars, directions(grid), r_sun) * 1e6
+        diff = np.abs(paper - exact)
+        at = float(np.interp(angle_deg, grid, diff))
+        ex_at, pa_at = (float(np.interp(angle_deg, grid, v)) for v in (exact, paper))
+        for mark in marks:
+            mark.set_xdata([angle_deg, angle_deg])
+        exact_line.set_data(grid, exact)
+        paper_line.set_data(grid, paper)
+        pair.set_data([angle_deg] * 2, [ex_at, pa_at])
+        diff_line.set_data(grid, diff)
+        dot.set_data([angle_deg], [at])
+        ax1.relim()
+        ax1.autoscale_view()
+        at_m = C * at * 1e-6
+        ax2.set_title(f"{angle_deg:g} deg from the Sun: paper - exact = {at:.3g} us = "
+                      + (f"{at_m:,.0f}" if at_m >= 100 else f"{at_m:.2g}") + " m", fontsize=10)
+
+    update(angle_deg, t)
+    return in_place(fig, update)
 
 
 #: Line colours of the cases of :func:`plot_consistency` (green and red mark the band's shares).
