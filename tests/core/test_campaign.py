@@ -546,3 +546,45 @@ def test_a_campaign_out_that_cannot_be_written_is_refused_before_any_run(tmp_pat
     assert main(["campaign", "consistency", "--runs=1", "--days=1e-5",
                  f"--out={tmp_path / 'c'}"]) == 2                       # was a failed run, exit 1
     assert "days must be at least 0.000417" in capsys.readouterr().err
+
+
+# ---- review 35b: two records of one run that disagree; what differs; flags ----
+
+def test_two_ok_records_of_one_run_that_disagree_are_reported_by_line(tmp_path):
+    """Review 35b N16: load_runs kept the first of two conflicting records in silence."""
+    cp.run_campaign(sq_campaign(), 2, seed=1, out=tmp_path, engine="serial")
+    path = tmp_path / cp.STORE_FILE
+    lines = path.read_text().splitlines()
+    other = {**json.loads(lines[0]), "metrics": {"y": -1.0, "seed_mod": 0}}
+    path.write_text("\n".join([*lines, json.dumps(other), lines[0]]) + "\n")  # lines 3 and 4
+    with pytest.warns(UserWarning, match=r"run 0 has two 'ok' records that disagree \(lines 1 "
+                                         r"and 3 differ in metrics\); the first counts") as rec:
+        df = cp.load_runs(tmp_path)
+    assert len(rec) == 1  # line 4 repeats line 1 exactly: one result, no word
+    assert list(df["index"]) == [0, 1] and df["metrics.y"][0] == json.loads(lines[0])["metrics"]["y"]
+    with pytest.warns(UserWarning, match=r"lines 1 and 3 differ in metrics"):
+        r = cp.run_campaign(sq_campaign(), 2, seed=1, out=tmp_path, engine="serial")
+    assert (r.computed, r.reused) == (0, 2)
+
+
+def test_resuming_another_campaign_names_only_the_keys_that_differ(tmp_path):
+    """Review 35b N22: the refusal printed both ~400-character headers."""
+    cp.run_campaign(sq_campaign(), 2, seed=1, out=tmp_path, engine="serial")
+    other = cp.Campaign("sq", square, lambda i: {"x": float(i)}, manifest={"v": 2})
+    with pytest.raises(ValueError, match=r"another campaign's records: parameters\.v 1 \(asked 2\); "
+                                         r"choose another --out$"):
+        cp.run_campaign(other, 2, seed=1, out=tmp_path, engine="serial")
+    assert cp.differences({"a": {"b": 1}}, {"a": {"b": 1, "c": "x"}}) == "a.c missing (asked 'x')"
+
+
+@pytest.mark.parametrize(("call", "name"), [
+    (lambda d: cp.load_runs(d, final="no"), "final"),
+    (lambda d: cp.run_campaign(sq_campaign(), 1, out=d, engine="serial", progress="no"), "progress"),
+    (lambda d: cp.run_campaign(sq_campaign(), 1, out=d, engine="serial", retry_failed=1),
+     "retry_failed"),
+])
+def test_a_flag_is_a_real_bool(tmp_path, call, name):
+    """Review 35b N19: load_runs(d, final="no") kept only the final records."""
+    cp.run_campaign(sq_campaign(), 1, out=tmp_path, engine="serial")
+    with pytest.raises(ValueError, match=f"^{name} must be True or False"):
+        call(tmp_path)

@@ -39,3 +39,16 @@ def test_bad_lines_are_one_warning_naming_the_file_and_the_first_ten():
     with pytest.warns(InputWarning, match=r"^runs.jsonl: 12 lines not read .* again: line 1 "
                                           r"\(not JSON\).*line 10 \(not JSON\); and 2 more$"):
         cr.report_bad_lines(bad, "runs.jsonl", "their runs are computed again")
+
+
+def test_two_ok_records_of_one_run_that_disagree_are_one_warning_with_their_lines():
+    """Review 35b N16: a failed attempt before an ok one, or an exact repeat, is no conflict."""
+    failed = {**RECORD, "status": "failed", "metrics": None, "error": "boom"}
+    other = {**RECORD, "seed": 8, "metrics": {"rmse": 2.0}}
+    records, _, numbers = cr.parse_records([json.dumps(r) for r in (failed, RECORD, RECORD, other)],
+                                           numbers=True)
+    assert numbers == [1, 2, 3, 4]
+    with pytest.warns(InputWarning, match=r"^f: run 0 has two 'ok' records that disagree \(lines "
+                                          r"2 and 4 differ in seed, metrics\); the first counts$"):
+        cr.report_disagreements(records, numbers, "f")
+    cr.report_disagreements(records[:3], numbers[:3], "f")  # no warning (filterwarnings=error)

@@ -85,11 +85,12 @@ from xnavlab.core.campaign_records import (
     json_or_none,
     parse_records,
     report_bad_lines,
+    report_disagreements,
     why_not_a_record,
 )
 from xnavlab.core.montecarlo import seeds as spawn_seeds
 from xnavlab.core.userfiles import InputWarning, read_text
-from xnavlab.core.validate import check_choice, check_int, check_real
+from xnavlab.core.validate import check_bool, check_choice, check_int, check_real, shown
 
 __all__ = [
     "ENGINES",
@@ -102,6 +103,7 @@ __all__ = [
     "CampaignResult",
     "Store",
     "json_ready",
+    "differences",
     "execute",
     "public_record",
     "run_campaign",
@@ -198,6 +200,29 @@ def json_ready(value):
     if isinstance(value, list | tuple | np.ndarray):
         return [json_ready(v) for v in (value.tolist() if isinstance(value, np.ndarray) else value)]
     raise ValueError(f"metrics must hold JSON-ready values, got {type(value).__name__}")
+
+
+def differences(stored, asked, prefix=""):
+    """The keys in which two tables differ, nested keys dotted, each with both values (cut to
+    80 characters): a refusal names what differs instead of printing both tables.
+
+    Examples
+    --------
+    >>> differences({"seed": 1, "parameters": {"days": 1.0, "mode": "reset"}},
+    ...             {"seed": 1, "parameters": {"days": 2.0, "mode": "reset"}})
+    'parameters.days 1.0 (asked 2.0)'
+    """
+    out, none = [], object()
+    for k in sorted(set(stored) | set(asked), key=str):
+        a, b = stored.get(k, none), asked.get(k, none)
+        if a == b:
+            continue
+        if isinstance(a, dict) and isinstance(b, dict):
+            out.append(differences(a, b, f"{prefix}{k}."))
+        else:
+            a, b = ("missing" if v is none else shown(v) for v in (a, b))
+            out.append(f"{prefix}{k} {a} (asked {b})")
+    return "; ".join(out)
 
 
 def execute(trial, seed, params):
@@ -349,11 +374,8 @@ class Store:
             raise ValueError(f"out {self.path.parent} is not an xnavlab campaign store; choose "
                              f"another --out")
         if head != self.header:
-            diff = [f"{k} {head.get(k)!r} (asked {self.header.get(k)!r})"
-                    for k in sorted(set(head) | set(self.header))
-                    if head.get(k) != self.header.get(k)]
             raise ValueError(f"out {self.path.parent} holds another campaign's records: "
-                             f"{'; '.join(diff)}; choose another --out")
+                             f"{differences(head, self.header)}; choose another --out")
 
     def _parse(self, lines, skipped=0):
         if lines[-1] != "" and why_not_a_record(json_or_none(lines[-1])):
@@ -367,9 +389,10 @@ class Store:
         elif lines[-1] != "":
             self._fh.write("\n")  # a whole record that lost only its newline
             self._fh.flush()
-        records, bad = parse_records(lines, skipped)
+        records, bad, numbers = parse_records(lines, skipped, numbers=True)
         if bad:
             report_bad_lines(bad, self.path, "their runs are computed again")
+        report_disagreements(records, numbers, self.path)
         return records
 
     def _write(self, obj):
@@ -677,6 +700,8 @@ def run_campaign(campaign, runs, *, seed=0, out=None, engine="local", workers=2,
     workers = check_int("workers", workers, 1, 256)
     timeout = check_real("timeout", timeout, 0.0, 3600.0, lo_open=True)
     retries = check_int("retries", retries, 0, 10)
+    progress, retry_failed = check_bool("progress", progress), check_bool("retry_failed",
+                                                                          retry_failed)
     if engine == "dask" and not scheduler:
         raise ValueError("engine 'dask' needs a scheduler address, e.g. tcp://HOST:8786")
     if engine != "dask" and scheduler:
@@ -695,9 +720,11 @@ def run_campaign(campaign, runs, *, seed=0, out=None, engine="local", workers=2,
             for i, rec in store.final().items():
                 if i >= runs:
                     continue
-                if rec["seed"] != run_seeds[i] or rec["parameters"] != params[i]:
-                    raise ValueError(f"out {out}: stored run {i} has other parameters or seed "
-                                     f"than this campaign's; choose another --out")
+                stored = {"seed": rec["seed"], "parameters": rec["parameters"]}
+                asked = {"seed": run_seeds[i], "parameters": params[i]}
+                if stored != asked:
+                    raise ValueError(f"out {out}: stored run {i} is another campaign's: "
+                                     f"{differences(stored, asked)}; choose another --out")
                 if rec["status"] == "ok" or not retry_failed:
                     final[i] = rec
         reused = len(final)
@@ -817,7 +844,9 @@ def load_runs(directory, final=True):
     skipped = 0
     if isinstance(first, dict) and first.get("format") == LEGACY_FORMAT:
         header, lines, skipped = first, lines[1:], 1
-    recs, bad = parse_records(lines, skipped)
+    final = check_bool("final", final)
+    recs, bad, numbers = parse_records(lines, skipped, numbers=True)
+    report_disagreements(recs, numbers, path)
     if bad:
         torn = lines[-1] != "" and bad[-1][0] == len(lines) + skipped
         report_bad_lines(bad, path, "left out of the table" + (

@@ -12,7 +12,8 @@ import warnings
 
 from xnavlab.core.userfiles import InputWarning
 
-__all__ = ["PUBLIC_KEYS", "json_or_none", "why_not_a_record", "parse_records", "report_bad_lines"]
+__all__ = ["PUBLIC_KEYS", "json_or_none", "why_not_a_record", "parse_records", "report_bad_lines",
+           "report_disagreements"]
 
 #: Keys of a record that make up a run's result (the rest is bookkeeping).
 PUBLIC_KEYS = ("index", "seed", "parameters", "metrics", "status", "error")
@@ -59,7 +60,7 @@ def why_not_a_record(rec):
     return None
 
 
-def parse_records(lines, first=0):
+def parse_records(lines, first=0, numbers=False):
     """The campaign records among the lines of ``runs.jsonl``, and the lines that are not.
 
     Parameters
@@ -68,6 +69,8 @@ def parse_records(lines, first=0):
         The file's lines (blank ones are skipped).
     first : int
         Lines before ``lines[0]`` in the file (for the line numbers).
+    numbers : bool
+        Also return the line number of each record (for :func:`report_disagreements`).
 
     Returns
     -------
@@ -75,6 +78,8 @@ def parse_records(lines, first=0):
     bad : list of (int, str)
         ``(line number, why)`` of every line that is not a record: not JSON (a line torn by a
         kill), not an object, a key missing, or a key of the wrong kind.
+    lines : list of int
+        With ``numbers=True`` only: the line number of each record.
 
     Examples
     --------
@@ -83,7 +88,7 @@ def parse_records(lines, first=0):
     >>> len(recs), bad
     (1, [(2, 'not JSON'), (3, "status 'done' is neither 'ok' nor 'failed'")])
     """
-    records, bad = [], []
+    records, bad, where = [], [], []
     for n, line in enumerate(lines, first + 1):
         if not line.strip():
             continue
@@ -91,9 +96,10 @@ def parse_records(lines, first=0):
         why = why_not_a_record(rec)
         if why is None:
             records.append(rec)
+            where.append(n)
         else:
             bad.append((n, why))
-    return records, bad
+    return (records, bad, where) if numbers else (records, bad)
 
 
 def report_bad_lines(bad, path, then):
@@ -102,3 +108,50 @@ def report_bad_lines(bad, path, then):
     more = f"; and {len(bad) - 10} more" if len(bad) > 10 else ""
     warnings.warn(f"{path}: {len(bad)} line{'s' if len(bad) > 1 else ''} not read as campaign "
                   f"records, {then}: {shown}{more}", InputWarning, stacklevel=3)
+
+
+def report_disagreements(records, numbers, path):
+    """One warning naming every run with two ``ok`` records that disagree, by line number.
+
+    A store holds one ``ok`` record per run (a run that succeeded is not run again), so two
+    are a store written twice or edited by hand; the first counts (as a resumed campaign and
+    :func:`xnavlab.core.campaign.load_runs` take it), and the warning says which keys differ.
+    Two equal ``ok`` records are one result and pass in silence.
+
+    Parameters
+    ----------
+    records : list of dict
+        The records in file order (:func:`parse_records`).
+    numbers : list of int
+        Their line numbers.
+    path : str or Path
+        The file, for the message.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> ok = {"index": 0, "seed": 1, "parameters": {}, "metrics": {"a": 1.0}, "status": "ok",
+    ...       "error": None}
+    >>> with warnings.catch_warnings(record=True) as w:
+    ...     warnings.simplefilter("always")
+    ...     report_disagreements([ok, {**ok, "metrics": {"a": 2.0}}], [1, 3], "runs.jsonl")
+    >>> str(w[0].message)
+    "runs.jsonl: run 0 has two 'ok' records that disagree (lines 1 and 3 differ in metrics); the first counts"
+    """
+    first, found = {}, []
+    for rec, n in zip(records, numbers, strict=True):
+        if rec["status"] != "ok":
+            continue
+        i = rec["index"]
+        if i not in first:
+            first[i] = (rec, n)
+            continue
+        keep, m = first[i]
+        diff = [k for k in PUBLIC_KEYS if keep[k] != rec[k]]
+        if diff:
+            found.append(f"run {i} has two 'ok' records that disagree (lines {m} and {n} "
+                         f"differ in {', '.join(diff)})")
+    if found:
+        more = f"; and {len(found) - 10} more" if len(found) > 10 else ""
+        warnings.warn(f"{path}: {'; '.join(found[:10])}{more}; the first counts", InputWarning,
+                      stacklevel=3)
