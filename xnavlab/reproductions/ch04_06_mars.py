@@ -371,7 +371,9 @@ def mars_nofault(out=None, days=30.0, seed=0, settle_days=1.0, mode="reset"):
             q_reach[name] = reach
             checks.append(check_lost(check_draw(name, paper, runs[key]),
                                      "process noise q (the paper gives none)", reach,
-                                     "the paper's process noise", unit=unit))
+                                     "the paper's process noise (the filter's consistency does "
+                                     "not narrow it: every plausible q keeps chapter 5's NEES "
+                                     "below its band, cautious, and q = 0 diverges)", unit=unit))
     checks += [
         check_measure(f"fused position error of the plotted run, seed {seed} (m)", pos,
                       "one single run, the one whose curves the chapter plots",
