@@ -73,3 +73,22 @@ def test_compare_filters_gives_each_seed_the_numbers_of_its_own_runs():
         for f in rb.FILTERS:
             alone = rb.rmse(rb.run_filter(f, sc, rng=init), sc, 1e4, 4e4)
             assert out["rmse_runs"][f][j] == pytest.approx(alone, rel=1e-9)
+
+
+def test_compare_settings_gives_each_setting_the_numbers_of_its_own_study():
+    """Every setting's seeds run in one batch per filter, with the numbers compare_filters gives it."""
+    kw = dict(error="growing", size=2000.0, n_steps=60, window=(5e3, 2.5e4))
+    settings = {"lam 0.2": ({}, {"lam": 0.2}, ("rkf",)),
+                "q x10": ({}, {"q_v": 1e-3}, ("ukf", "tdukf")),
+                "z": ({"direction": (0.0, 0.0, 1.0)}, {}, rb.FILTERS)}
+    out = rb.compare_settings("mars", settings, seeds=(0, 2), **kw)
+    for label, (scenario, filter_kw, filters) in settings.items():
+        alone = rb.compare_filters("mars", filters, seeds=(0, 2), **kw, **scenario, **filter_kw)
+        assert sorted(out[label]) == sorted(filters)
+        for f in filters:
+            np.testing.assert_allclose(out[label][f], alone["rmse_runs"][f], rtol=1e-9)
+
+
+def test_compare_settings_refuses_a_setting_that_cannot_vary_by_run():
+    with pytest.raises(ValueError, match=r"^settings\['b'\] sets rkf_bias; only sigma_r0"):
+        rb.compare_settings("mars", {"b": ({}, {"rkf_bias": "oracle"}, ("rkf",))}, n_steps=10)

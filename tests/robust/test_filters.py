@@ -345,3 +345,15 @@ def test_simulate_checks_the_profile_always_and_refuses_growth_settings_of_anoth
     """profile="cubic" passed unchecked with a constant error, and profile/growth_time were ignored."""
     with pytest.raises(ValueError, match=words):
         rb.simulate("mars", n_steps=3, size=10.0, **kw)
+
+
+def test_run_filters_takes_a_setting_per_run():
+    """A study of a setting (lam, the process noise, the initial error) runs as one batch."""
+    scs = [rb.simulate("mars", n_steps=30, error="growing", size=2000.0, rng=s) for s in (0, 1)]
+    runs = rb.run_filters("rkf", scs, (3, 4), lam=(0.02, 0.5), q_v=(1e-4, 1e-3), sigma_r0=(1e3, 1e4))
+    alone = rb.run_filter("rkf", scs[1], rng=4, lam=0.5, q_v=1e-3, sigma_r0=1e4)
+    np.testing.assert_allclose(runs[1].x, alone.x, rtol=1e-9, atol=1e-9)
+    with pytest.raises(ValueError, match=r"^lam must be one value or one per scenario \(2\), got 3"):
+        rb.run_filters("rkf", scs, (3, 4), lam=(0.1, 0.2, 0.3))
+    with pytest.raises(ValueError, match="q_b"):
+        rb.run_filters("asukf", scs, (3, 4), q_b=(1.0, -1.0))

@@ -1,5 +1,6 @@
 """The ephemeris-error system as a whole (chapter 10): its reproductions run and their checks hold,
-the Earth ranking is judged pair by pair, and the memory sweep pairs its seeds. Each module's own tests are
+the Earth ranking is judged pair by pair, the memory sweep pairs its seeds, and the paper's
+numbers are judged over the settings it lost. Each module's own tests are
 in the test module of its name."""
 
 import numpy as np
@@ -36,3 +37,33 @@ def test_rkf_memory_sweep_checks_its_input_and_pairs_the_seeds():
     for bad in ((1.5,), (0.0,), ()):
         with pytest.raises(ValueError, match="lams"):
             ch10.rkf_memory_sweep(bad, seeds=(0,), body="mars", size=10.0)
+
+
+def test_rkf_sweep_judges_the_largest_size_over_the_lost_settings_of_rkf_mars():
+    """The sweep's 5e4-m point is rkf-mars's run (same seeds, same lost settings), and its curves are
+    judged there over those settings, not at our tuning alone (review 34b)."""
+    sweep, mars = reproduce.run("rkf-sweep"), reproduce.run("rkf-mars")
+    for f in rb.FILTERS:
+        assert sweep.data["rmse"][f][-1] == pytest.approx(mars.data["rmse"][f], rel=1e-12)
+    assert sweep.data["lost"] == mars.data["lost"]
+    small = [c for c in sweep.checks if "stays small at the largest error" in c.name]
+    assert len(small) == 3 and all("judged over its plausible values" in c.tolerance for c in small)
+    joined = {c.claim for c in small if not c.name.startswith("ASUKF")}
+    assert joined == {"TDUKF and RKF stay small at the largest error"}
+    best = sweep.check("RKF best of the three at every size")
+    assert "at every lost setting run" in best.tolerance
+    assert best.ours.endswith("of 6 pairs")  # 3 non-zero sizes x 2 competitors: size 0 is left out
+
+
+def test_rkf_improvements_are_judged_over_the_process_noise_and_initial_error_too():
+    mars = reproduce.run("rkf-mars")
+    lost = mars.data["lost"]["shift"]["tdukf"]
+    assert {"process noise 1e-05 m/s", "process noise 0.001 m/s", "initial error 0.1 km, 0.1 m/s",
+            "initial error 10 km, 10 m/s"} <= set(lost)
+    row = mars.check("TDUKF improvement over UKF (%)")
+    assert "process noise, initial error" in row.tolerance and "the orbit, lost too, is held" in row.tolerance
+
+
+def test_rkf_residual_memory_rows_are_checks_without_a_paper_value():
+    res = reproduce.run("rkf-residual-memory")
+    assert all(not c.claimed and c.paper == "not given" for c in res.checks)

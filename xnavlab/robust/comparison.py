@@ -15,6 +15,7 @@ Examples
 from __future__ import annotations
 
 import functools
+import inspect
 from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
@@ -24,12 +25,14 @@ from xnavlab.core.validate import check_choice, check_int, check_real, make_rng
 from xnavlab.robust import ephemeris_error as ee
 from xnavlab.robust.filters import FILTERS, SETTINGS, run_filters, simulate
 
-__all__ = ["WINDOWS", "N_STEPS", "rmse", "improvement", "compare_filters"]
+__all__ = ["WINDOWS", "N_STEPS", "PER_RUN", "rmse", "improvement", "compare_filters", "compare_settings"]
 
 #: The paper's stable intervals for the RMSE, s after the start.
 WINDOWS = {"earth": (1e5, 6e5), "mars": (5e4, 2.5e5)}
 #: Run lengths of :func:`compare_filters`, steps of 500 s: enough for :data:`WINDOWS`.
 N_STEPS = {"earth": 1200, "mars": 500}
+#: The filter settings :func:`compare_settings` may vary (numbers run_filters takes one per run).
+PER_RUN = ("sigma_r0", "sigma_v0", "q_r", "q_v", "q_b", "sigma_b0", "lam")
 
 
 
@@ -143,14 +146,20 @@ def compare_filters(body="earth", filters=FILTERS, error="de405", size=0.0, eps=
             "error": results[0][1]}
 
 
-def _group_runs(body, filters, scenario_kwargs, window, run_kwargs, seeds):
-    """Seeds of :func:`compare_filters`, each filter run over them at once: per seed
-    ({filter: RMSE}, {filter: error (n,)}, tau (n,))."""
+def _draws(body, scenario_kwargs, seeds):
+    """Each seed's scenario and the seed of its initial error (shared by the filters)."""
     scenarios, inits = [], []
     for seed in seeds:
         g = make_rng(seed, "seed")
         scenarios.append(simulate(body, rng=g, **scenario_kwargs))
         inits.append(int(g.integers(2**31)))
+    return scenarios, inits
+
+
+def _group_runs(body, filters, scenario_kwargs, window, run_kwargs, seeds):
+    """Seeds of :func:`compare_filters`, each filter run over them at once: per seed
+    ({filter: RMSE}, {filter: error (n,)}, tau (n,))."""
+    scenarios, inits = _draws(body, scenario_kwargs, seeds)
     out, err = [{} for _ in seeds], [{} for _ in seeds]
     for f in filters:  # each filter takes the settings it uses (eps: the RKF's, ...)
         kw = {k: v for k, v in run_kwargs.items() if k not in SETTINGS or f in SETTINGS[k][0]}
@@ -158,3 +167,66 @@ def _group_runs(body, filters, scenario_kwargs, window, run_kwargs, seeds):
             out[j][f] = rmse(run, sc, *window)
             err[j][f] = run.error
     return [(o, e, sc.t - (sc.t[0] - sc.dt)) for o, e, sc in zip(out, err, scenarios, strict=True)]
+
+
+def compare_settings(body, settings, seeds=(0,), n_steps=None, window=None, **scenario_kwargs):
+    """Several settings of a study over the same seeds, each filter's runs of all of them as one batch.
+
+    A setting's RMSEs are those :func:`compare_filters` gives for it (the same draws and
+    arithmetic, to the last bit); running every setting's seeds together costs about what one
+    setting did.
+
+    Parameters
+    ----------
+    body : {"earth", "mars"}
+    settings : dict of str -> (dict, dict, sequence of str)
+        Label -> (its :func:`~xnavlab.robust.filters.simulate` arguments, on top of
+        ``scenario_kwargs``; its filter settings, names of :data:`PER_RUN`; the filters it runs).
+    seeds : sequence of int
+    n_steps, window
+        As for :func:`compare_filters`.
+    **scenario_kwargs
+        :func:`~xnavlab.robust.filters.simulate` arguments shared by the settings.
+
+    Returns
+    -------
+    dict
+        Label -> {filter: list of RMSE, one per seed, m}.
+
+    Examples
+    --------
+    >>> out = compare_settings("mars", {"lam 0.5": ({}, {"lam": 0.5}, ("rkf",)),
+    ...                                 "z": ({"direction": (0, 0, 1)}, {}, ("ukf", "rkf"))},
+    ...                        seeds=(0, 1), n_steps=40, window=(5e3, 2e4), error="growing", size=1e3)
+    >>> sorted(out["z"]), len(out["lam 0.5"]["rkf"])
+    (['rkf', 'ukf'], 2)
+    """
+    check_choice("body", body, tuple(ee.PLANETS))
+    seeds = validate.check_items("seeds", seeds, "seed", lambda lab, s: check_int(lab, s, 0, 2**63))
+    window = WINDOWS[body] if window is None else window
+    steps = N_STEPS[body] if n_steps is None else n_steps
+    defaults = inspect.signature(run_filters).parameters
+    drawn, per_filter = {}, {f: [] for f in FILTERS}
+    for label, (scenario, kw, filters) in settings.items():
+        bad = [k for k in kw if k not in PER_RUN]
+        if bad:
+            raise ValueError(f"settings[{label!r}] sets {bad[0]}; only {', '.join(PER_RUN)} vary by setting")
+        key = repr(sorted(scenario.items()))
+        if key not in drawn:  # settings of the filters only share the draws
+            drawn[key] = _draws(body, {**scenario_kwargs, "n_steps": steps, **scenario}, seeds)
+        for f in filters:
+            check_choice("filter", f, FILTERS)
+            per_filter[f].append((label, *drawn[key], kw))
+    out = {label: {} for label in settings}
+    for f, items in per_filter.items():  # one batch per filter: every setting's seeds
+        if not items:
+            continue
+        scenarios = [sc for item in items for sc in item[1]]
+        inits = [i for item in items for i in item[2]]
+        kw = {name: [item[3].get(name, defaults[name].default) for item in items for _ in seeds]
+              for name in {k for item in items for k in item[3]}}  # one value per run
+        runs = run_filters(f, scenarios, inits, **kw)
+        for j, item in enumerate(items):
+            part = range(j * len(seeds), (j + 1) * len(seeds))
+            out[item[0]][f] = [rmse(runs[i], scenarios[i], *window) for i in part]
+    return out

@@ -480,8 +480,8 @@ def _tdukf_predict(x, P, dt, body, Q):
     X = sigma_points(x, P, lam)
     fx = propagate_unchecked(X[..., :6], dt, ee.PLANETS[body])
     Y = np.concatenate([fx, X[..., :6], X[..., 6:]], axis=-1)  # [f(x_k), x_k, v_k]
-    noise = np.zeros((m + 6, m + 6))
-    noise[:6, :6] = Q
+    noise = np.zeros(Q.shape[:-2] + (m + 6, m + 6))
+    noise[..., :6, :6] = Q
     return unscented(Y, Wm, Wc, noise)  # P- = sum Wc (Y - x-)(Y - x-)^T + Q
 
 
@@ -646,7 +646,8 @@ def rkf_bias_bound(m, S, lam):
 
 
 def _bias_bound(m, S, lam):
-    A = sym(m[..., :, None] * m[..., None, :] - lam / (2.0 - lam) * S)  # m m^T - lam/(2-lam) S
+    c = np.asarray(lam / (2.0 - lam))[..., None, None]  # one lam, or one per run
+    A = sym(m[..., :, None] * m[..., None, :] - c * S)  # m m^T - lam/(2-lam) S
     w, V = np.linalg.eigh(A)
     return sym((V * np.clip(w, 0.0, None)[..., None, :]) @ tr(V))  # its positive part
 
@@ -715,6 +716,20 @@ SETTINGS = {"eps": (("rkf",), None), "lam": (("rkf",), 0.02), "rkf_bias": (("rkf
              "oracle_error": (("rkf",), None), "bias_max": (("rkf",), None),
              "td_carry_noise": (("tdukf",), False), "q_b": (("asukf",), 1.0),
              "sigma_b0": (("asukf",), 3000.0)}
+
+
+def _per_run(label, value, r, hi, lo_open=False):
+    """A setting given once or once per run -> (r,) floats in [0, hi] (or (0, hi]), each checked."""
+    given = np.atleast_1d(np.asarray(value, dtype=object))
+    vals = [check_real(label, v, 0.0, hi, lo_open=lo_open) for v in given]
+    if len(vals) not in (1, r):
+        raise ValueError(f"{label} must be one value or one per scenario ({r}), got {len(vals)}")
+    return np.array(vals * (r // len(vals)))
+
+
+def _diag(v):
+    """Diagonal matrices of the rows of ``v`` (r, m) -> (r, m, m)."""
+    return np.eye(v.shape[-1]) * v[:, None, :]
 
 
 def _same(value, default):
@@ -803,7 +818,10 @@ def run_filters(name, scenarios, rngs=None, eps=None, sigma_r0=1000.0, sigma_v0=
         covariance; the measurements, truth and ephemeris error may differ).
     rngs : sequence of (numpy.random.Generator or int), optional
         One per scenario: draws its initial error.
-    eps, sigma_r0, sigma_v0, q_r, q_v, q_b, sigma_b0, rkf_bias, oracle_error, lam, td_carry_noise, bias_max
+    sigma_r0, sigma_v0, q_r, q_v, q_b, sigma_b0, lam : float or sequence of float
+        As for :func:`run_filter`: one value for every run, or one per scenario (a study of
+        the settings runs as one batch too).
+    eps, rkf_bias, oracle_error, td_carry_noise, bias_max
         As for :func:`run_filter`, the same for every run.
 
     Returns
@@ -816,6 +834,9 @@ def run_filters(name, scenarios, rngs=None, eps=None, sigma_r0=1000.0, sigma_v0=
     >>> scs = [simulate("mars", n_steps=10, rng=s) for s in (0, 1)]
     >>> runs = run_filters("rkf", scs, (5, 6))
     >>> bool(np.allclose(runs[1].x, run_filter("rkf", scs[1], rng=6).x, rtol=1e-12, atol=1e-6))
+    True
+    >>> two = run_filters("rkf", scs, (5, 6), lam=(0.02, 0.5))
+    >>> bool(np.allclose(two[1].x, run_filter("rkf", scs[1], rng=6, lam=0.5).x, rtol=1e-12, atol=1e-6))
     True
     """
     check_choice("name", name, FILTERS)
@@ -837,16 +858,14 @@ def run_filters(name, scenarios, rngs=None, eps=None, sigma_r0=1000.0, sigma_v0=
     rngs = [None] * len(scenarios) if rngs is None else list(rngs)
     if len(rngs) != len(scenarios):
         raise ValueError(f"rngs must hold one entry per scenario ({len(scenarios)}), got {len(rngs)}")
-    eps = EPSILON[sc.body] if eps is None else check_real("eps", eps, 0.0, lo_open=True)
-    sigma_r0 = check_real("sigma_r0", sigma_r0, 0.0, 1e8, lo_open=True)
-    sigma_v0 = check_real("sigma_v0", sigma_v0, 0.0, 1e5, lo_open=True)
-    q_r = check_real("q_r", q_r, 0.0, 1e6)
-    q_v = check_real("q_v", q_v, 0.0, 1e3)
-    q_b = check_real("q_b", q_b, 0.0, 1e6)
-    sigma_b0 = check_real("sigma_b0", sigma_b0, 0.0, 1e8, lo_open=True)
-    check_choice("rkf_bias", rkf_bias, RKF_BIAS)
-    lam = check_real("lam", lam, 0.0, 1.0, lo_open=True)
     r, N = len(scenarios), sc.t.size
+    eps = EPSILON[sc.body] if eps is None else check_real("eps", eps, 0.0, lo_open=True)
+    sigma_r0 = _per_run("sigma_r0", sigma_r0, r, 1e8, lo_open=True)
+    sigma_v0 = _per_run("sigma_v0", sigma_v0, r, 1e5, lo_open=True)
+    q_r, q_v, q_b = _per_run("q_r", q_r, r, 1e6), _per_run("q_v", q_v, r, 1e3), _per_run("q_b", q_b, r, 1e6)
+    sigma_b0 = _per_run("sigma_b0", sigma_b0, r, 1e8, lo_open=True)
+    check_choice("rkf_bias", rkf_bias, RKF_BIAS)
+    lam = _per_run("lam", lam, r, 1.0, lo_open=True)
     if oracle_error is None:
         oracle = np.stack([s.dr_e for s in scenarios])
     else:
@@ -861,26 +880,26 @@ def run_filters(name, scenarios, rngs=None, eps=None, sigma_r0=1000.0, sigma_v0=
         bias_max = np.broadcast_to(bias_max, (N,))
     body, dt, n, R = sc.body, sc.dt, sc.n, sc.R
     k = n.shape[0]
-    sd0 = np.r_[np.full(3, sigma_r0), np.full(3, sigma_v0)]
-    x = np.array([ee.propagate(s.x_true[0], -dt, body, substep=10.0) + make_rng(g).normal(size=6) * sd0
-                  for s, g in zip(scenarios, rngs, strict=True)])  # x0 = true x0 + initial error
-    P = np.repeat(np.diag(sd0**2)[None], r, axis=0)
-    Q = np.diag(np.r_[np.full(3, max(q_r, 1e-6) ** 2), np.full(3, max(q_v, 1e-9) ** 2)])
+    sd0 = np.column_stack([sigma_r0] * 3 + [sigma_v0] * 3)  # (r, 6)
+    x = np.array([ee.propagate(s.x_true[0], -dt, body, substep=10.0) + make_rng(g).normal(size=6) * sd
+                  for s, g, sd in zip(scenarios, rngs, sd0, strict=True)])  # x0 = true x0 + initial error
+    P = _diag(sd0**2)
+    Q = _diag(np.column_stack([np.maximum(q_r, 1e-6) ** 2] * 3 + [np.maximum(q_v, 1e-9) ** 2] * 3))
     y = np.stack([s.y for s in scenarios], axis=1)  # (N, r, k)
     xs, Ps = np.empty((N, r, 6)), np.empty((N, r, 6, 6))
     extra = {}
     if name == "asukf":
         x = np.concatenate([x, np.zeros((r, k))], axis=1)
-        P = np.repeat(np.diag(np.r_[sd0**2, np.full(k, sigma_b0**2)])[None], r, axis=0)
-        Qa = np.zeros((6 + k, 6 + k))
-        Qa[:6, :6] = Q
-        Qa[6:, 6:] = np.eye(k) * q_b**2  # b_k+1 = b_k + w_b
+        P = _diag(np.column_stack([sd0**2] + [sigma_b0**2] * k))
+        Qa = np.zeros((r, 6 + k, 6 + k))
+        Qa[:, :6, :6] = Q
+        Qa[:, 6:, 6:] = np.eye(k) * (q_b**2)[:, None, None]  # b_k+1 = b_k + w_b
         extra["bias"] = np.empty((N, r, k))
     elif name == "tdukf":
         kv = k if td_carry_noise else 0
         x = np.concatenate([x, np.zeros((r, kv))], axis=1)
         P = np.zeros((r, 6 + kv, 6 + kv))
-        P[:, :6, :6] = np.diag(sd0**2)
+        P[:, :6, :6] = _diag(sd0**2)
         P[:, 6:, 6:] = R[:kv, :kv]  # the noise of the first measurement
     elif name == "rkf":
         m = np.zeros((r, k))
@@ -916,7 +935,7 @@ def run_filters(name, scenarios, rngs=None, eps=None, sigma_r0=1000.0, sigma_v0=
             extra["bias_bound"][i] = np.sqrt(np.trace(BB, axis1=1, axis2=2))
             x, P, nu = _rkf_update(x, P, y[i], R, H, BB, eps)
             if rkf_bias == "residual":  # paper eqs. (23)-(26), re-derived: bound for the next epoch
-                m = (1.0 - lam) * m + lam * nu  # m_k = (1 - lam) m_k-1 + lam nu_k
+                m = (1.0 - lam[:, None]) * m + lam[:, None] * nu  # m_k = (1 - lam) m_k-1 + lam nu_k
                 BB = _bias_bound(m, S, lam)  # B B^T >= [m m^T - lam/(2-lam) S]_+
         xs[i], Ps[i] = x[:, :6], P[:, :6, :6]
     err = np.linalg.norm(xs[..., :3] - np.stack([s.x_true[:, :3] for s in scenarios], axis=1), axis=2)
