@@ -514,3 +514,104 @@ def test_the_worker_is_off_by_default_outside_a_kernel_and_for_pyplot_figures():
     ex.widget()
     assert ex._worker is None  # pyplot's state is not safe in a second thread
     ex.close()
+
+
+# -- figures updated in place ----------------------------------------------------------------
+def in_place_sliders():
+    """Every slider whose plotting function has an in-place update, as its chapter calls it
+    (each control's grid cut to a few values; shorter runs where a fixed argument allows)."""
+    from xnavlab.line import track
+    from xnavlab.mars import photon_plots, plots
+    from xnavlab.mars.pulsars import PAPER_RANGING_M
+
+    return [
+        pytest.param(track.plot_tracking, dict(exposure_s=[10.0, 20.0, 1000.0],
+                                               accel_sigma=[0.0, 0.03]), id="plot_tracking"),
+        pytest.param(photon_plots.plot_ranging_accuracy,
+                     dict(area_m2=[0.01, 1.0, 10.0], t_obs=[10.0, 500.0, 1e5],
+                          background_ph_cm2_s=[0.0, 0.005, 0.05], reference=PAPER_RANGING_M),
+                     id="plot_ranging_accuracy"),
+        pytest.param(photon_plots.plot_fix, dict(offset_km=[0.0, 100.0, 1458.6, 2000.0]),
+                     id="plot_fix"),
+        pytest.param(plots.plot_shapiro_angle, dict(angle_deg=[0.1, 1.0, 90.0]),
+                     id="plot_shapiro_angle"),
+        pytest.param(plots.plot_subsystem, dict(noise_scale=[0.1, 1.0, 10.0],
+                                                subsystem=["uv", "cns", "xnav"],
+                                                interval_s=[3, 30, 60], days=0.05),
+                     id="plot_subsystem"),
+        pytest.param(plots.plot_sharing, dict(beta_xnav=[0.05, 1 / 3, 0.9],
+                                              mode=["reset", "no-reset"], days=0.05),
+                     id="plot_sharing"),
+        pytest.param(plots.plot_fault_response, dict(size_sigma=[1.0, 5.0, 20.0],
+                                                     sensor=["uv", "cns", "xnav"],
+                                                     kind=["step", "ramp", "spike"], days=0.5),
+                     id="plot_fault_response"),
+    ]
+
+
+@pytest.mark.parametrize(("plot", "params"), in_place_sliders())
+def test_a_frame_updated_in_place_has_the_pixels_of_the_frame_drawn_from_nothing(plot, params):
+    """Exactly (no tolerance): both frames run the plotting function's one update code, in the
+    slider's one kept layout, on the same Agg renderer."""
+    from xnavlab.core.plotting import updater
+
+    calls = []
+
+    def counted(**values):
+        calls.append(values)
+        return plot(**values)
+
+    ex = explore(counted, ahead=False, **params)
+    w = ex.widget()
+    assert updater(ex._live["fig"]) is not None  # the widget keeps the figure to update it
+    controls = [c for c in w.children if "xnav-control" in c._dom_classes]
+    for control in controls:
+        for value in (control.options[0][1], control.options[-1][1]):
+            ex._cache.frames.clear()  # drawn, not looked up
+            control.value = value
+            assert ex.last_error is None and len(calls) == 1  # updated, plot not called
+            values = {c.description: c.value for c in controls}
+            fresh = widgets.live_png(ex.figure(**values), ex.layout)
+            calls.pop()
+            assert np.array_equal(png_pixels(ex._last_png), png_pixels(fresh)), values
+    w.close()
+
+
+def updatable(calls):
+    """A constrained figure whose update refuses n > 2 (a new figure) and raises at n = 0."""
+    from xnavlab.core.plotting import in_place
+
+    def plot(n=1):
+        calls.append(n)
+        fig = titled()
+        line = fig.axes[0].lines[0]
+
+        def update(n=1):
+            if n == 0:
+                raise ValueError("n must be in [1, 3], got 0")
+            if n > 2:
+                return False
+            line.set_ydata([0.0, 1e3 * n])
+            fig.axes[0].set_title(str(n))
+
+        update(n)
+        return in_place(fig, update)
+    return plot
+
+
+def test_the_widget_updates_a_figure_in_place_and_falls_back_to_a_new_one():
+    calls = []
+    ex = explore(updatable(calls), n=[0, 1, 2, 3], initial={"n": 1}, ahead=False)
+    w = ex.widget()
+    slider = [c for c in w.children if "xnav-control" in c._dom_classes][0]
+    slider.value = 2
+    assert calls == [1] and ex.layout.last == "kept layout"  # updated, drawn in the kept layout
+    slider.value = 3
+    assert calls == [1, 3]  # update returned False: a new figure
+    slider.value = 0
+    assert ex.last_error == "error: ValueError: n must be in [1, 3], got 0"
+    assert ex._live["fig"] is None  # a failed update: the next move starts from nothing
+    ex._cache.frames.clear()
+    slider.value = 2
+    assert calls == [1, 3, 2] and ex.last_error is None
+    w.close()
