@@ -129,7 +129,11 @@ REFUSALS = {
         ["run", "mars", "--days", "5", "--faults", "paper"], 2, "--days 27.84"),
     "--faults and --detector run with backend numba and the EKF only": (
         ["run", "mars", "--days", "0.01", "--backend", "numpy", "--detector", "chi2"], 2,
-        "backend numba and the EKF only"),
+        "--detector: a fault-tolerant run needs backend numba and the EKF, got --backend numpy"),
+    "a scenario file with faults or a detector and another backend or local_filter is refused "
+    "by --check": (
+        ["scenario", "--check", "{tmp}/numpy_chi2.toml"], 2,
+        '[detector] name = "chi2" (a fault-tolerant run) runs with [run] backend = "numba"'),
     "--grid FILE roc only": (
         ["campaign", "consistency", "--runs", "1", "--out", "{tmp}", "--grid", "g.toml"], 2,
         "--grid is an option of campaign roc only"),
@@ -173,6 +177,7 @@ def test_every_refusal_clause_of_the_fault_help_has_a_case():
 def test_each_refusal_the_help_states_happens(statement, tmp_path, capsys):
     argv, code, words = REFUSALS[statement]
     (tmp_path / "x.toml").write_text("")
+    (tmp_path / "numpy_chi2.toml").write_text('[run]\nbackend = "numpy"\n[detector]\nname = "chi2"\n')
     argv = [a.replace("{tmp}", str(tmp_path)) for a in argv]
     assert main(argv) == code
     err = capsys.readouterr().err.strip()

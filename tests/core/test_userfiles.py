@@ -75,3 +75,12 @@ def test_a_table_row_without_its_keys_or_with_nan_is_refused_by_row():
 def test_a_shipped_csv_row_that_is_not_whole_is_refused_with_its_line(text, words):
     with pytest.raises(ValueError, match=words):
         userfiles.csv_rows(text, "table", ("b",))
+
+
+@pytest.mark.parametrize(("name", "body"), [("a.toml", b"days = 2\n"), ("a.json", b'{"days": 2}')])
+def test_a_byte_order_mark_is_accepted_and_left_out(tmp_path, name, body):
+    """Review 35b N21: a UTF-8 file with a BOM was 'not valid TOML (line 1, column 1)'."""
+    path = tmp_path / name
+    path.write_bytes(b"\xef\xbb\xbf" + body)
+    assert userfiles.load_table(path) == {"days": 2}
+    assert userfiles.read_text(path) == body.decode()

@@ -321,3 +321,52 @@ def test_the_detector_flags_recheck_the_file_s_detector_keys(tmp_path, capsys):
     assert err == (f"xnavlab: error: scenario file {str(path)!r}: [detector] pfa is set but the "
                    f"run's detector is chi2 ([detector] name = \"chi2\"): only the wavelet "
                    f"detector uses it; leave it out or name that detector (with --detector chi2)")
+
+
+# ---- review 35b: what run refuses, --check refuses, in the file's words ----
+
+@pytest.mark.parametrize("text, words", [
+    ('[run]\nlocal_filter = "ukf"\nbackend = "numpy"\n[detector]\n'
+     'faults = "uv.range:step:1e3@1000+10"\n',
+     '[detector] faults (a fault-tolerant run) runs with [run] backend = "numba" and '
+     'local_filter = "ekf" only, got backend = "numpy" and local_filter = "ukf"'),
+    ('[run]\nbackend = "numpy"\n[detector]\nname = "wavelet"\n',
+     '[detector] name = "wavelet" (a fault-tolerant run) runs with'),
+    ("[orbit]\nt0 = -1e12\n", "[orbit] t0 must be in [-3.15814e+09, 6.31148e+09] s TDB past "
+                              "J2000 (the run, t0 to t0 + days, in DE421), got -1e+12"),
+    ('[run]\ndays = 30\n[orbit]\nt0 = 6.313e9\nfilter_ephem = "de405"\n', "in DE405 and DE421"),
+])
+def test_check_refuses_what_run_would_refuse(tmp_path, capsys, text, words):
+    """Review 35b N5/N6: faults with the numpy backend or the UKF, and t0 outside DE421, passed
+    scenario --check; run then blamed flags never given or an internal 't'."""
+    path = tmp_path / "s.toml"
+    path.write_text(text)
+    assert main(["scenario", "--check", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert words in err and str(path) in err and len(err.splitlines()) == 1, err
+    sfm.loads("[run]\nbackend = \"numpy\"\n")  # no faults, no detector: a plain numpy run
+
+
+def test_flags_that_move_the_run_past_the_ephemeris_name_the_file_s_key(tmp_path, capsys):
+    path = tmp_path / "s.toml"
+    path.write_text("[run]\ndays = 0.01\n[orbit]\nt0 = 6.3e9\n")
+    assert main(["run", "mars", "--scenario", str(path), "--days", "365"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"xnavlab: error: scenario file {str(path)!r}: [orbit] t0 must be in "
+                          "[-3.15814e+09, 6.28253e+09]") and err.endswith("(with days = 365)"), err
+
+
+def test_a_flag_that_makes_the_run_fault_tolerant_names_the_file_s_backend(tmp_path, capsys):
+    path = tmp_path / "s.toml"
+    path.write_text('[run]\nbackend = "numpy"\n')
+    assert main(["run", "mars", "--scenario", str(path), "--faults", "uv.range:step:1e3@1000+10"]) == 2
+    assert capsys.readouterr().err.strip() == (
+        'xnavlab: error: --faults: a fault-tolerant run needs backend numba and the EKF, got '
+        '[run] backend = "numpy" in the scenario file')
+
+
+def test_a_file_with_a_byte_order_mark_is_read(tmp_path):
+    """Review 35b N21: 'is not valid TOML: Invalid statement (at line 1, column 1)'."""
+    path = tmp_path / "bom.toml"
+    path.write_bytes(b"\xef\xbb\xbf[uv]\nsigma_range_m = 2500.0\n")
+    assert sfm.load(path).scenario.sigma_range_m == 2500.0

@@ -432,3 +432,13 @@ def test_study_names_an_unknown_field():
     with pytest.raises(ValueError, match=r"^unknown override dayz: not a field of MarsScenario "
                                          r"\(the fields: days, "):
         scenarios.MarsScenario.study(dayz=1)
+
+
+def test_a_run_outside_the_ephemeris_is_refused_naming_t0():
+    """Review 35b N6: t0 = -1e12 was built, and the run then named an internal 't'."""
+    with pytest.raises(ValueError, match=r"^t0 must be in \[-3\.15814e\+09, 6\.31148e\+09\] s TDB "
+                                         r"past J2000 \(the run, t0 to t0 \+ days, in DE421\), "
+                                         r"got -1e\+12$"):
+        scenarios.MarsScenario(t0=-1e12)
+    with pytest.raises(ValueError, match=r"^t0 must be in .*, got 6\.31407e\+09$"):
+        scenarios.MarsScenario(t0=6.3140685e9, days=0.01)  # the start inside, the end past it

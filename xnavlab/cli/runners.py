@@ -54,7 +54,8 @@ while it acts, [onset, end), or when that sensor was out of the fusion from befo
 onset to the end (delay 0); an alarm up to 2000 s after the end (XNAV 18000 s) makes it
 "late", never detected; an alarm that no fault explains is a false alarm (a late one is not).
 A pulsar from a scenario file's timing model is named the same way (xnav.J0030 or its
-index). --faults and --detector run with backend numba and the EKF only.
+index). --faults and --detector run with backend numba and the EKF only (a scenario file
+with faults or a detector and another backend or local_filter is refused by --check).
 example: --faults uv.range:step:25000@200000+3000,xnav.B1937+21:ramp:2e-9@300000+5000
 """
 
@@ -134,6 +135,21 @@ def _settings(args):
     return sf.scenario, run, det
 
 
+def _check_fault_backend(args, opts, det):
+    """Faults or a detector need the compiled EKF: refused in the words of what the user gave
+    (a scenario file alone is refused when it is read; here one side came from a flag)."""
+    bad = [f"--backend {args.backend}" if args.backend is not None else
+           f'[run] backend = "{opts["backend"]}" in the scenario file'] \
+        if opts["backend"] != "numba" else []
+    if opts["local_filter"] != "ekf":
+        bad.append(f'[run] local_filter = "{opts["local_filter"]}" in the scenario file')
+    if bad:
+        why = [f for f in ("--faults", "--detector") if getattr(args, f[2:]) is not None] \
+            or [f"[detector] {'faults' if det['faults'] else 'name'} in the scenario file"]
+        raise ValueError(f"{' and '.join(why)}: a fault-tolerant run needs backend numba and the "
+                         f"EKF, got {' and '.join(bad)}")
+
+
 def execute_mars(args):
     """Run ``run mars``; returns the exit code."""
     sc, opts, det = _settings(args)
@@ -145,8 +161,7 @@ def execute_mars(args):
         from xnavlab.mars import fault_tolerance  # only a fault-tolerant run needs it
 
         check_choice("detector", detector, fault_tolerance.DETECTORS)
-        if opts["backend"] != "numba" or opts["local_filter"] != "ekf":
-            raise ValueError("--faults and --detector run with backend numba and the EKF only")
+        _check_fault_backend(args, opts, det)
         out_dir(args.out)
         if faults:
             fault_tolerance.parse_faults(faults, sc)  # a bad spec is named before any run

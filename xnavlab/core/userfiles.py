@@ -29,6 +29,10 @@ class InputWarning(UserWarning):
 def read_text(path, what="file"):
     """The text of the UTF-8 file at ``path``; anything else is one ValueError naming it.
 
+    A byte-order mark at the start (which some Windows editors write) is accepted and left
+    out of the text (``utf-8-sig``): it would otherwise be the first character of the first
+    key, a TOML or JSON syntax error at line 1, column 1.
+
     Parameters
     ----------
     path : str or pathlib.Path
@@ -49,6 +53,10 @@ def read_text(path, what="file"):
     ... except ValueError as exc:
     ...     print(str(exc).split(": byte")[0].endswith("latin1.toml' is not UTF-8 text"))
     True
+    >>> bom = Path(tempfile.mkdtemp()) / "bom.toml"
+    >>> _ = bom.write_bytes("\\ufeffdays = 2".encode())
+    >>> read_text(bom)
+    'days = 2'
     """
     if not str(path).strip():
         raise ValueError(f"{what} must name a file, got {str(path)!r}")
@@ -56,7 +64,7 @@ def read_text(path, what="file"):
     if path.is_dir():
         raise ValueError(f"{what} {str(path)!r} is a folder, not a file")
     try:
-        return path.read_text(encoding="utf-8")
+        return path.read_text(encoding="utf-8-sig")  # a BOM is no part of the text
     except UnicodeDecodeError as exc:
         raise ValueError(f"{what} {str(path)!r} is not UTF-8 text: byte {exc.start} "
                          f"({exc.reason})") from None

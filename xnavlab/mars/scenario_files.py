@@ -59,7 +59,7 @@ from xnavlab.mars import force_models, model_noise, pulsar_specs, scenarios
 
 __all__ = ["SECTIONS", "SETUPS", "RUN_DEFAULTS", "DETECTOR_DEFAULTS", "UNITS", "ScenarioFile",
            "DETECTOR_USES", "dump", "load", "loads", "with_overrides", "detector_name",
-           "check_detector", "scenario_json"]
+           "check_detector", "check_fault_backend", "scenario_json"]
 
 #: The set-ups a file's defaults come from (``[run] setup``).
 SETUPS = ("paper", "study")
@@ -311,6 +311,7 @@ def loads(text, base=None):
         raise ValueError(f"scenario file: {_where(exc)}") from None
     _check_run(run, sc)
     _check_detector(detector, sc)
+    check_fault_backend(run, detector)
     return ScenarioFile(sc, run, detector)
 
 
@@ -441,6 +442,34 @@ only the wavelet detector uses it; leave it out or name that detector
                          f"leave it out or name {'one of them' if len(users) > 1 else 'that detector'}")
 
 
+def check_fault_backend(run, detector):
+    """Refuse faults or a detector with another backend or local filter than the compiled EKF.
+
+    The fault-tolerant loop (:func:`xnavlab.mars.fault_tolerance.run_fault_tolerant`) is the
+    compiled kernel's, with EKF locals: ``scenario --check`` refuses in the file's words what
+    ``run mars`` could not run.
+
+    Examples
+    --------
+    >>> check_fault_backend({"backend": "numpy", "local_filter": "ekf"},
+    ...                     {**DETECTOR_DEFAULTS, "faults": "uv.range:step:1e3@1000+10"})
+    Traceback (most recent call last):
+    ...
+    ValueError: [detector] faults (a fault-tolerant run) runs with [run] backend = "numba" and \
+local_filter = "ekf" only, got backend = "numpy"
+    """
+    name = detector_name(detector)
+    if name == "none" and not str(detector["faults"]).strip():
+        return
+    bad = [f'{k} = "{run[k]}"' for k, ok in (("backend", "numba"), ("local_filter", "ekf"))
+           if run[k] != ok]
+    if bad:
+        why = "[detector] faults" if str(detector["faults"]).strip() else \
+            f'[detector] name = "{name}"'
+        raise ValueError(f"{why} (a fault-tolerant run) runs with [run] backend = \"numba\" and "
+                         f"local_filter = \"ekf\" only, got {' and '.join(bad)}")
+
+
 def scenario_json(scenario):
     """The fields of a :class:`~xnavlab.mars.scenarios.MarsScenario` as JSON-ready values
     (force models as dicts, pulsars as :func:`xnavlab.mars.pulsar_specs.to_json`).
@@ -473,14 +502,17 @@ def with_overrides(sf, **fields):
     ``[run] settle_days must be a real number in [0, 0.03), got 0.04 (with days = 0.03)``.
     """
     fields = {k: v for k, v in fields.items() if v is not None}
-    out = dataclasses.replace(sf, scenario=dataclasses.replace(sf.scenario, **fields))
+    given = ", ".join(f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {v}"
+                      for k, v in fields.items())
+    try:  # a field the overrides make bad (t0 past the ephemeris with more days): the file's words
+        out = dataclasses.replace(sf, scenario=dataclasses.replace(sf.scenario, **fields))
+    except ValueError as exc:
+        raise ValueError(f"{_where(exc)} (with {given})") from None
     if fields:
         run, det = dict(out.run), dict(out.detector)
         try:
             _check_run(run, out.scenario)
             _check_detector(det, out.scenario)
         except ValueError as exc:
-            given = ", ".join(f"{k} = {v:g}" if isinstance(v, float) else f"{k} = {v}"
-                              for k, v in fields.items())
             raise ValueError(f"{exc} (with {given})") from None
     return out

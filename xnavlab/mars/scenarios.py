@@ -222,7 +222,8 @@ class MarsScenario:
     seed : int
         Seed of the single generator that draws every noise sample.
     t0 : float
-        Start epoch, s TDB past J2000 (:data:`xnavlab.mars.dynamics.MARS_T0`).
+        Start epoch, s TDB past J2000 (:data:`xnavlab.mars.dynamics.MARS_T0`); the run, ``t0`` to
+        ``t0 + days``, must lie in the coverage of both ephemerides.
     state0 : tuple of float
         True initial state, Mars-centred J2000, m and m/s (the paper's).
 
@@ -327,7 +328,11 @@ class MarsScenario:
         check_choice("mode", self.mode, MODES)
         check_real("record_dt", self.record_dt, 0.1, 86400.0)
         check_int("seed", self.seed, 0, 2**63 - 1)
-        check_real("t0", self.t0)
+        e = sorted({self.truth_ephem, self.filter_ephem})  # the run, t0 to t0 + span, on them
+        lo, hi = (f(c[j] for c in map(ephemeris.coverage, e)) for j, f in ((0, max), (1, min)))
+        if not lo <= check_real("t0", self.t0) <= hi - self.span:
+            raise ValueError(f"t0 must be in [{lo:.6g}, {hi - self.span:.6g}] s TDB past J2000 (the run, "
+                             f"t0 to t0 + days, in {' and '.join(e.upper() for e in e)}), got {self.t0:.6g}")
         s0 = check_vector("state0", self.state0, 6)
         object.__setattr__(self, "state0", tuple(float(v) for v in s0))
         unused_inputs.check_fields(self)  # a field set but made inert by another is refused
