@@ -913,8 +913,10 @@ def rkf_sweep(out=None, sizes=(0.0, 1000.0, 1e4, 5e4), body="mars", seeds=tuple(
         "robust to) and, at the largest, over the same lost settings. The Mars orbit is used because "
         "its runs are 2.4 times shorter; at 5e4 m they are the runs of rkf-mars."
     )
+    reach = {f: _lost_reach(_improvement_runs(cmps[sizes[big]], f), lost, f)  # % at each lost setting
+             for f in ("asukf", "tdukf", "rkf")}
     res = Result("rkf-sweep", checks, note, {"sizes": np.array(sizes), "rmse": table, "body": body,
-                                              "lost": lost})
+                                              "lost": lost, "improvement_reach": reach})
     if out is not None:
         fig, ax = _figure(figsize=(5, 3.5))
         for f in robust.FILTERS:
