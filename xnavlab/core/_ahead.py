@@ -152,6 +152,7 @@ class FrameCache:
         self.capacity = capacity
         self.frames = {}
         self.current = None
+        self.heading = None  # (control, moved up) of the last move of one control
         self.in_flight = None  # the position the worker is drawing
         self.cond = threading.Condition()
 
@@ -172,8 +173,25 @@ class FrameCache:
             self.cond.notify_all()
 
     def move(self, pos):
+        """The reader is at ``pos`` now (after a move of one control, its direction kept)."""
         with self.cond:
+            if self.current is not None and pos != self.current:
+                moved = [k for k, (a, b) in enumerate(zip(self.current, pos, strict=True))
+                         if a != b]
+                k = moved[0]
+                self.heading = (k, pos[k] > self.current[k]) if len(moved) == 1 else None
             self.current = pos
+
+    def order(self, pos):
+        """Sort key of a position to draw: :func:`distance` from ``current``, then (among
+        equals) the control moved last before others, in the direction it moved: a reader
+        sweeping a slider goes on."""
+        here = self.current
+        near = distance(here, pos)
+        if self.heading is None or near[0] != 1:
+            return (*near, 1, 1)
+        k, up = self.heading
+        return (*near, pos[k] == here[k], (pos[k] > here[k]) != up)
 
     def positions(self):
         """Every position of the grids (or those one control away from ``current`` when
@@ -196,7 +214,7 @@ class FrameCache:
             todo = [p for p in self.positions() if p not in self.frames]
             if not todo:
                 return None
-            pos = min(todo, key=lambda p: distance(here, p))
+            pos = min(todo, key=self.order)
             if len(self.frames) >= self.capacity:
                 farthest = max(distance(here, p) for p in self.frames)
                 if distance(here, pos) >= farthest:

@@ -43,8 +43,9 @@ widget), ``xnav-control`` (every control; ``xnav-main`` marks the control of ``m
 error line.
 
 Two things make a move quick. **Frames computed ahead:** once the opening frame is drawn, a
-background thread draws the live widget's other positions, those one control away first and
-the nearest steps first (around wherever the reader moved last), and keeps their PNGs (the
+background thread draws the live widget's other positions, those one control away first, the
+nearest steps first, among equals onward along the control moved last (around wherever the
+reader moved last), and keeps their PNGs (the
 :data:`LIVE_MEMO_FRAMES` nearest); a move onto one of them is a lookup, a move elsewhere draws
 at once as before, and a move onto the position the thread is drawing waits for it. The
 thread never draws the reader's figure, draws nothing while a foreground frame or a cell
