@@ -5,6 +5,8 @@ the filter's ephemeris removed, ``y = z - N r_E_hat = N r + N dr_E + v`` (m), so
 ephemeris error appears as the bias ``B = N dr_E`` (paper eq. (17)). All four filters
 share the unscented prediction of the planet-centred two-body + J2 dynamics
 (:func:`predict`, the scaled unscented transform of :mod:`xnavlab.core.filters`).
+:func:`run_filter` runs one filter over one scenario; :func:`run_filters` steps many runs at
+once (the seeds of a study), each giving the numbers of its own run to the last bit.
 
 UKF
     The baseline: ignores the bias.
