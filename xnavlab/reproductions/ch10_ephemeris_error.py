@@ -664,7 +664,7 @@ def rkf_earth(out=None, seeds=tuple(range(32)), constant_seeds=(0, 1, 2, 3), pro
 RKF_LAMBDAS = (0.01, 0.02, 0.05, 1.0)
 
 
-def rkf_memory_sweep(lams=RKF_LAMBDAS, seeds=tuple(range(32)), body="earth", size=None, max_workers=1):
+def rkf_memory_sweep(lams=RKF_LAMBDAS, seeds=tuple(range(32)), body="earth", size=None):
     """RKF against the white TDUKF for each weight ``lam`` of the residual average.
 
     Parameters
@@ -676,8 +676,6 @@ def rkf_memory_sweep(lams=RKF_LAMBDAS, seeds=tuple(range(32)), body="earth", siz
     size : float, optional
         Final size of the growing error, m (default: the real Earth error, or the paper's
         5e4 m on Mars).
-    max_workers : int
-        Processes for the seeds (:func:`xnavlab.robust.compare_filters`).
 
     Returns
     -------
@@ -697,27 +695,26 @@ def rkf_memory_sweep(lams=RKF_LAMBDAS, seeds=tuple(range(32)), body="earth", siz
     if size is None:
         size = earth_error_size() if body == "earth" else PAPER_MARS_ERROR_M
     seeds = tuple(seeds)
-    base = robust.compare_filters(body, ("ukf", "tdukf"), error="growing", size=float(size), seeds=seeds,
-                                  max_workers=max_workers)
-    td = np.asarray(base["rmse_runs"]["tdukf"])
+    settings = {"ours": ({}, {}, ("ukf", "tdukf"))}
+    settings.update({f"lam {i}": ({}, {"lam": lam}, ("rkf",)) for i, lam in enumerate(lams)})
+    got = robust.compare_settings(body, settings, seeds, error="growing", size=float(size))  # one batch each
+    td = np.asarray(got["ours"]["tdukf"])
     rkf, diff, se = [], [], []
-    for lam in lams:
-        r = robust.compare_filters(body, ("rkf",), error="growing", size=float(size), seeds=seeds, lam=lam,
-                                   max_workers=max_workers)
-        runs = np.asarray(r["rmse_runs"]["rkf"])
+    for i in range(len(lams)):
+        runs = np.asarray(got[f"lam {i}"]["rkf"])
         d, s = paired_difference({"rmse_runs": {"a": runs, "b": td}}, "a", "b")
         rkf.append(runs.mean())
         diff.append(d)
         se.append(s)
     return {"lams": np.array(lams), "rkf": np.array(rkf), "diff": np.array(diff), "se": np.array(se),
-            "tdukf": float(td.mean()), "ukf": base["rmse"]["ukf"], "size": float(size)}
+            "tdukf": float(td.mean()), "ukf": float(np.mean(got["ours"]["ukf"])), "size": float(size)}
 
 
 @register("rkf-residual-memory", title="The RKF's residual average: its memory against the TDUKF (Earth)",
           source=f"{_SOURCE}, eqs. (8)-(26) (lost) and Table 2", chapter=_CHAPTER)
-def rkf_residual_memory(out=None, lams=RKF_LAMBDAS, seeds=tuple(range(16)), max_workers=1):
+def rkf_residual_memory(out=None, lams=RKF_LAMBDAS, seeds=tuple(range(16))):
     """Does any memory of the residual bias bound put the RKF ahead of the TDUKF (paper: yes)?"""
-    sw = rkf_memory_sweep(lams, seeds, max_workers=max_workers)
+    sw = rkf_memory_sweep(lams, seeds)
     lams = sw["lams"]
     best = int(np.argmin(sw["diff"]))
     one = np.flatnonzero(lams == 1.0)
