@@ -228,6 +228,8 @@ def walk(ex, main_only, ahead, think_s):
             in_place = updater(live._live["fig"]) is not None
             computed = live._worker.computed if live._worker is not None else 0
             live.close()
+            if live._worker is not None:
+                live._worker.idle(timeout=120)  # its last frame done before the next reference
     return {"opening_s": opening, "moves": moves, "in_place": in_place,
             "computed_ahead": computed}
 

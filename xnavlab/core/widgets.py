@@ -344,11 +344,10 @@ class Explorer:
         """The grid indices of a widget position (its controls' values)."""
         return tuple(_index(grid, values[name], name) for name, grid in self.grids.items())
 
-    def _draw(self, values, holder):
+    def _draw(self, values, holder, turn=None):
         """The live widget's frame at ``values``: PNG bytes, or :class:`Failed` if ``plot``
-        raised. ``holder["fig"]`` is the figure kept for in-place updates (see the module)."""
-        import matplotlib.pyplot as plt
-
+        raised. ``holder["fig"]`` is the figure kept for in-place updates (the reader's, or
+        the worker's own); ``turn()`` is waited for before the Agg draw."""
         fig = holder["fig"]
         try:
             kwargs = {**self.fixed, **self.initial, **values}
@@ -362,32 +361,23 @@ class Explorer:
         except Exception as exc:
             holder["fig"] = None  # an update may have stopped half-way: start again
             return Failed(error_line(exc))
+        if turn is not None:
+            turn()
         # one PNG at the figure's own size and dpi (display(fig) would draw it twice for a
         # tight bounding box: up to a third of a redraw), in the opening figure's layout
         with RENDER_LOCK:
             png = live_png(fig, self.layout)
         if self._pyplot:
+            import matplotlib.pyplot as plt
+
             plt.close(fig)  # shown once, not again by the inline backend
         return png
 
     def _ahead_frame(self, pos):
-        """The worker's frame at grid indices ``pos`` (its own figure, never the reader's)."""
+        """The worker's frame at grid indices ``pos`` (its own figure, never the reader's;
+        drawn once no frame of the reader's is being drawn)."""
         values = {name: grid[i] for (name, grid), i in zip(self.grids.items(), pos, strict=True)}
-        fig = self._behind["fig"]
-        try:
-            kwargs = {**self.fixed, **self.initial, **values}
-            update = updater(fig) if fig is not None else None
-            if update is None or update(**kwargs) is False:
-                fig = self._behind["fig"] = None
-                fig = self.figure(**values)
-                if updater(fig) is not None:
-                    self._behind["fig"] = fig
-        except Exception as exc:
-            self._behind["fig"] = None
-            return Failed(error_line(exc))
-        AheadWorker.render_turn()  # the reader's frame first
-        with RENDER_LOCK:
-            return live_png(fig, self.layout)
+        return self._draw(values, self._behind, turn=AheadWorker.render_turn)
 
     def _use_ahead(self):
         """Whether the worker runs: ``ahead`` if given, else :func:`ahead_default`; never
