@@ -10,6 +10,7 @@ from hypothesis import strategies as st
 
 from xnavlab.core.faults import (
     KINDS,
+    MAX_SIZE,
     Fault,
     check_faults,
     fault_mask,
@@ -147,7 +148,8 @@ def test_format_parse_round_trip(sensor, kind, mag, onset, dur):
 FINITE = st.floats(allow_nan=False, allow_infinity=False)
 
 
-@given(st.sampled_from(sorted(COMPS)), st.sampled_from(KINDS), FINITE.filter(lambda m: m > 0),
+@given(st.sampled_from(sorted(COMPS)), st.sampled_from(KINDS),
+       st.floats(0.0, MAX_SIZE, exclude_min=True),
        st.booleans(), FINITE, st.one_of(st.floats(1e-300, 1e300), st.just(math.inf)),
        st.one_of(st.none(), st.integers(0, 1)))
 def test_a_saved_spec_reads_back_as_the_same_faults_to_the_last_bit(sensor, kind, mag, neg, onset,
@@ -242,3 +244,23 @@ def test_faults_of_different_kinds_on_one_component_combine():
     """The pseudolite chapter's ramp counted from its onset: a step of b and a ramp of a."""
     faults = parse_spec("uv.range:ramp:10@30+100,uv.range:step:-300@30+100", COMPS)
     assert [f.kind for f in faults] == ["ramp", "step"]
+
+
+@pytest.mark.parametrize("kind", ["step", "ramp", "spike", "noise"])
+def test_a_fault_beyond_max_size_is_refused_naming_its_magnitude(kind):
+    """Review 35b N7: a ramp of 1e308 per s overflowed into 'x must contain only finite numbers'
+    after a numpy overflow warning; every kind is bounded by MAX_SIZE."""
+    with pytest.raises(ValueError, match=rf"^magnitude of a {kind} fault must be at most 1e\+15"):
+        Fault("uv", kind, -1e308 if kind != "noise" else 1e308, 0.0, 10.0)
+    assert Fault("uv", kind, MAX_SIZE, 0.0, 10.0).magnitude == MAX_SIZE
+    with pytest.raises(ValueError, match=r"^bad fault item 'uv.range:ramp:1e308@1000\+10': magnitude"):
+        parse_spec("uv.range:ramp:1e308@1000+10", COMPS)
+
+
+def test_a_ramp_that_grows_beyond_max_size_is_refused_by_inject_naming_it():
+    t = np.array([0.0, 10.0, 2e3])
+    ok = Fault("uv", "ramp", 1e12, 0.0)
+    assert np.isfinite(inject(t[:2], np.zeros(2), [ok], "uv")).all()
+    with pytest.raises(ValueError, match=r"^faults\[1\]: a ramp of 1e\+12 per s from 0 s reaches "
+                                         r"2e\+15 by t = 2000 s, beyond MAX_SIZE = 1e\+15"):
+        inject(t, np.zeros(3), [Fault("cns", "step", 1.0, 0.0), ok], "uv")

@@ -268,3 +268,14 @@ def test_a_fault_on_the_samples_at_the_runs_end_only_is_refused():
             s.check_schedule(s.parse_faults(spec, sc), sc)
     f, = s.check_schedule(s.parse_faults("uv.range:step:1e3@2589+10", sc), sc)
     assert s.scoring_span(f, span=sc.span) == (2589.0, 2592.0)  # holds the 2589-s sample
+
+
+def test_a_ramp_that_would_grow_beyond_max_size_in_the_run_is_refused_before_it():
+    """Review 35b N7: the size a ramp reaches by the run's end (or its own end) is bounded, with
+    the largest rate this run takes; one that ends early may be steeper."""
+    sc = scenarios.MarsScenario(days=0.03)
+    with pytest.raises(ValueError, match=r"^faults: uv.range:ramp:1e\+12@1000\+inf reaches 1\.59e\+15 "
+                                         r"by 2592 s, beyond 1e\+15 .*a rate of at most 6\.28e\+11 "
+                                         r"per s over this run$"):
+        s.check_schedule(s.parse_faults("uv.range:ramp:1e12@1000+inf", sc), sc)
+    assert len(s.check_schedule(s.parse_faults("uv.range:ramp:1e12@1000+900", sc), sc)) == 1

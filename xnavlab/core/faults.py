@@ -30,7 +30,9 @@ parameter and its range, because a run with it would score a fault that never ac
 missed: a zero ``magnitude`` (step, ramp, spike; a noise sigma must be > 0; a stuck
 output's magnitude is ignored), a zero or negative ``duration`` (every kind but the spike,
 whose duration is ignored; ``math.inf`` is a permanent fault), and a ``magnitude``,
-``onset`` or finite ``duration`` that is NaN or infinite. Whether a fault falls inside a
+``onset`` or finite ``duration`` that is NaN or infinite, and a fault larger than
+:data:`MAX_SIZE` (1e15 in the measurement's SI unit: a ``magnitude``, or what a ramp reaches
+on the samples it acts on, :func:`inject`). Whether a fault falls inside a
 run and acts on at least one sample is the run's check
 (:func:`xnavlab.mars.schedules.check_schedule` for the Mars run).
 
@@ -53,10 +55,18 @@ import numpy as np
 
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, make_rng
 
-__all__ = ["KINDS", "Fault", "check_faults", "inject", "fault_mask", "parse_spec", "format_spec"]
+__all__ = ["KINDS", "MAX_SIZE", "Fault", "check_faults", "inject", "fault_mask", "parse_spec", "format_spec"]
 
 #: The fault kinds :class:`Fault` accepts.
 KINDS = ("step", "ramp", "spike", "stuck", "noise")
+
+#: The largest size of a fault, in the measurement's SI unit: its ``magnitude`` (a ramp's rate
+#: per second, a noise sigma) and what a ramp reaches while it acts. Far above any physical
+#: fault in the package's units (1e15 m is 6700 au; 1e15 s of XNAV delay 30 million years;
+#: an angle or a unit-vector component is meaningless beyond a few units), and far below
+#: where the arithmetic fails (a ramp of 1e308 per s overflows; an undetected Mars fault of
+#: 1e22 m still runs, one of 1e30 leaves the filter's covariance indefinite).
+MAX_SIZE = 1e15
 
 
 @dataclass(frozen=True)
@@ -97,6 +107,10 @@ class Fault:
             raise ValueError(f"sensor must be a non-empty string, got {self.sensor!r}")
         check_choice("kind", self.kind, KINDS)
         _check_finite("magnitude", self.magnitude, "the measurement's SI unit")
+        if abs(self.magnitude) > MAX_SIZE:
+            raise ValueError(f"magnitude of a {self.kind} fault must be at most {MAX_SIZE:g} in size "
+                             f"(the measurement's SI unit{', per s' if self.kind == 'ramp' else ''}; "
+                             f"beyond any physical fault), got {self.magnitude!r}")
         if self.kind == "noise" and not self.magnitude > 0.0:
             raise ValueError(f"magnitude of a noise fault (the extra noise's standard deviation) "
                              f"must be a real number in (0, inf), got {self.magnitude!r}")
@@ -290,6 +304,11 @@ def inject(t, z, faults, sensor, rng=None):
         if f.kind in ("step", "spike"):
             out[np.ix_(mask, cols)] += f.magnitude
         elif f.kind == "ramp":
+            reach = abs(f.magnitude) * float(t[mask].max() - f.onset)
+            if reach > MAX_SIZE:
+                raise ValueError(f"faults[{faults.index(f)}]: a ramp of {f.magnitude:g} per s from "
+                                 f"{f.onset:g} s reaches {reach:.3g} by t = {t[mask].max():g} s, "
+                                 f"beyond MAX_SIZE = {MAX_SIZE:g} (the measurement's SI unit)")
             out[np.ix_(mask, cols)] += f.magnitude * (t[mask] - f.onset)[:, None]
         elif f.kind == "noise":
             out[np.ix_(mask, cols)] += rng.normal(0.0, f.magnitude, (mask.sum(), len(cols)))

@@ -38,7 +38,7 @@ import math
 import numpy as np
 
 from xnavlab.core.constants import DAY
-from xnavlab.core.faults import Fault, check_faults, format_spec, parse_spec
+from xnavlab.core.faults import MAX_SIZE, Fault, check_faults, format_spec, parse_spec
 from xnavlab.core.validate import check_real, shown
 from xnavlab.mars import pulsar_specs, scenarios
 
@@ -241,6 +241,13 @@ def check_schedule(faults, scenario, detector="combined", train_days=1.0, paper=
         raise ValueError(f"faults: {format_spec([f], comps)} starts at {f.onset:.6g} s, outside this "
                          f"run [0, {span:.0f}) s ({span / DAY:g} days): move its onset into the "
                          f"run{longer}")
+    for f in faults:  # a ramp's size by the run's end, refused before any run (not an overflow)
+        acts = min(f.end, span) - f.onset
+        if f.kind == "ramp" and abs(f.magnitude) * acts > MAX_SIZE:
+            raise ValueError(f"faults: {format_spec([f], comps)} reaches {abs(f.magnitude) * acts:.3g} "
+                             f"by {f.onset + acts:.0f} s, beyond {MAX_SIZE:g} in the measurement's SI "
+                             f"unit (xnavlab.core.faults.MAX_SIZE): a rate of at most "
+                             f"{MAX_SIZE / acts:.3g} per s over this run")
     dts = sample_intervals(scenario)
     for f in faults:
         if f.sensor not in dts:
