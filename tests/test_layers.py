@@ -192,12 +192,21 @@ def test_every_module_declares_all():
     assert not missing, missing
 
 
-#: Modules allowed over MAX_LINES, each with the reason (CONTRIBUTING.md repeats them).
+#: Modules with a limit of their own (over or under MAX_LINES), each with the reason
+#: (CONTRIBUTING.md repeats the long ones).
 LONG_MODULES = {
-    # One numba compilation unit (the filter loop and the combined detector inside it): the
-    # jitted helpers call each other and share one cache; split across modules, a change in
-    # one would not recompile the callers.
-    "xnavlab.mars.kernels": 1200,
+    # The compiled filter, one step of the filter per module, each read in one sitting (a
+    # few hundred lines: its docstring, the equations and the loops that implement them).
+    # They share one numba cache keyed by all their sources (kernel_compile), so a change in
+    # one recompiles its callers. Limits chosen before the split, not after:
+    "xnavlab.mars.kernels": 350,               # the epoch loop and the map of the modules
+    "xnavlab.mars.kernel_compile": 150,        # compile options and the cache's key: a page
+    "xnavlab.mars.kernel_linalg": 150,         # five small routines (Cholesky, solves, 6 x 6)
+    "xnavlab.mars.kernel_propagation": 250,    # the time update: forces, RK4, Phi, Q
+    "xnavlab.mars.kernel_measurements": 350,   # paper eqs. (1)-(6) and the two updates
+    "xnavlab.mars.kernel_fusion": 250,         # the two fusions and why they agree
+    "xnavlab.mars.kernel_watch": 350,          # the combined detector inside the loop
+    "xnavlab.mars.kernel_inputs": 450,         # the containers, each field documented
     # Four filters of Li et al. 2017 (UKF, ASUKF, TDUKF, RKF) that share the sigma-point core and
     # whose step functions are read side by side in chapter 10. (980 since run_filter refuses
     # another filter's settings; compare_filters, a study over the filters, should move out.)

@@ -4,8 +4,12 @@ The kernel takes its arrays and settings in six named tuples instead of 54 posit
 arguments: :class:`FilterState` (the estimates, updated in place), :class:`Propagation` (the
 time update's model), :class:`Plan` (epochs, subsystems, modes), :class:`Sensors` (measurements
 and noise), :class:`Records` (the outputs) and :class:`WatchState` (the combined detector's
-state, :class:`xnavlab.mars.watch.Watch`). The arrays inside are shared, not copied: what the
-kernel writes into them is seen by the caller.
+state, :class:`xnavlab.mars.watch.Watch`, its columns :data:`WF_KMEAN` ... and :data:`WI_ON`
+...). The arrays inside are shared, not copied: what the kernel writes into them is seen by
+the caller. Inside, the kernel keeps its working arrays in five more, which
+:func:`~xnavlab.mars.kernels.run_epochs` allocates once per call and every helper reads by
+field name: :class:`PredictScratch`, :class:`Measurement`, :class:`UpdateScratch`,
+:class:`FusionScratch` and :class:`WatchScratch`.
 
 Why named tuples
 ----------------
@@ -26,10 +30,9 @@ such types is slow, so nothing may ask for ``run_epochs.signatures`` at every ca
 positional arguments and that question asked each time; load 3), which matters to the
 chi-square detector's 8675 calls in the 30-day run.
 
-A change of a container's fields must come with a change of :mod:`xnavlab.mars.kernels`
-(its ``_LAYOUT`` check fails at import until then): numba keys its on-disk cache by that
-file's source and the fields' types, not their names, so a reordering here alone would load
-machine code that reads the wrong fields.
+numba keys its on-disk cache by the fields' types, not their names: a reordering here alone
+would load machine code that reads the wrong fields, were the kernels' cache not keyed by this
+file's source too (:mod:`xnavlab.mars.kernel_compile`).
 
 Examples
 --------
@@ -46,7 +49,40 @@ from typing import NamedTuple
 
 import numpy as np
 
-__all__ = ["FilterState", "Propagation", "Plan", "Sensors", "Records", "WatchState", "layout"]
+__all__ = ["FilterState", "Propagation", "Plan", "Sensors", "Records", "WatchState", "layout",
+           "PredictScratch", "Measurement", "UpdateScratch", "FusionScratch", "WatchScratch",
+           "WF_KMEAN", "WF_KVAR", "WF_CHI2", "WF_HMEAN", "WF_HVAR", "WF_TARM", "WF_PRIOR",
+           "WF_MAD", "WF_RTHR", "WF_ZQ", "WI_ON", "WI_M", "WI_W", "WI_NRING", "WI_POS",
+           "WI_NFED", "WI_NEXT", "WI_XCOUNT", "WI_EVERY", "WI_ADAPT", "WI_OUT", "WI_NOUT",
+           "WI_LAST", "WI_RWIN", "WI_CHECK"]
+
+# The columns of WatchState.wf (ns, 10), the detector's float parameters
+WF_KMEAN = 0   #: Column of ``WatchState.wf``: the mean CUSUMs' reference k.
+WF_KVAR = 1    #: Column of ``WatchState.wf``: the variance CUSUM's reference k_v.
+WF_CHI2 = 2    #: Column of ``WatchState.wf``: the chi-square threshold.
+WF_HMEAN = 3   #: Column of ``WatchState.wf``: the mean CUSUMs' threshold.
+WF_HVAR = 4    #: Column of ``WatchState.wf``: the variance CUSUM's threshold.
+WF_TARM = 5    #: Column of ``WatchState.wf``: the arming time, s TDB past J2000.
+WF_PRIOR = 6   #: Column of ``WatchState.wf``: the adaptive scale's prior weight n0.
+WF_MAD = 7     #: Column of ``WatchState.wf``: the MAD factor (0.6745).
+WF_RTHR = 8    #: Column of ``WatchState.wf``: the re-admission test's NIS-sum threshold.
+WF_ZQ = 9      #: Column of ``WatchState.wf``: the re-admission test's normal quantile.
+# The columns of WatchState.wi (ns, 15), the detector's integer state
+WI_ON = 0      #: Column of ``WatchState.wi``: the subsystem is watched (1) or not (0).
+WI_M = 1       #: Column of ``WatchState.wi``: its measurement's components m.
+WI_W = 2       #: Column of ``WatchState.wi``: the MAD window's length.
+WI_NRING = 3   #: Column of ``WatchState.wi``: the window's fill.
+WI_POS = 4     #: Column of ``WatchState.wi``: the window's next row.
+WI_NFED = 5    #: Column of ``WatchState.wi``: samples fed.
+WI_NEXT = 6    #: Column of ``WatchState.wi``: samples fed at the next scale update.
+WI_XCOUNT = 7  #: Column of ``WatchState.wi``: samples in the XNAV wavelet's window.
+WI_EVERY = 8   #: Column of ``WatchState.wi``: the scale's update period, samples.
+WI_ADAPT = 9   #: Column of ``WatchState.wi``: the scale is adaptive (1) or fixed (0).
+WI_OUT = 10    #: Column of ``WatchState.wi``: the subsystem is switched out (1).
+WI_NOUT = 11   #: Column of ``WatchState.wi``: its measurements since it was switched out.
+WI_LAST = 12   #: Column of ``WatchState.wi``: its last measurement's row.
+WI_RWIN = 13   #: Column of ``WatchState.wi``: the re-admission test's window, samples.
+WI_CHECK = 14  #: Column of ``WatchState.wi``: the re-admission grid's period, epochs.
 
 
 class FilterState(NamedTuple):
@@ -204,9 +240,9 @@ class WatchState(NamedTuple):
     Attributes
     ----------
     wf : ndarray, shape (ns, 10)
-        Float parameters, columns ``WF_*`` of :mod:`xnavlab.mars.kernels`.
+        Float parameters, columns :data:`WF_KMEAN` to :data:`WF_ZQ`.
     wi : ndarray of int64, shape (ns, 15)
-        Integer state, columns ``WI_*`` of :mod:`xnavlab.mars.kernels` (``wi[i, WI_ON]``:
+        Integer state, columns :data:`WI_ON` to :data:`WI_CHECK` (``wi[i, WI_ON]``:
         subsystem i is watched).
     wS : ndarray, shape (ns, 12)
         CUSUMs: ``S+`` of the m components, then ``S-``, then ``V`` (3 m columns used).
@@ -238,6 +274,140 @@ class WatchState(NamedTuple):
     xG: np.ndarray
     xthr: np.ndarray
     alarm: np.ndarray
+
+
+class PredictScratch(NamedTuple):
+    """The time update's working arrays (:func:`xnavlab.mars.kernel_propagation.predict`).
+
+    Attributes
+    ----------
+    Phi, Ph, T : ndarray, shape (6, 6)
+        The transition matrix, one sub-step's, and a product.
+    xc : ndarray, shape (6,)
+        The state at a sub-step's start.
+    s0, i0, s1, i1, s2, i2 : ndarray, shape (nb, 3)
+        The third bodies' positions (m) and indirect accelerations (m/s^2) at t, t + h/2 and
+        t + h of an RK4 step.
+    """
+
+    Phi: np.ndarray
+    Ph: np.ndarray
+    T: np.ndarray
+    xc: np.ndarray
+    s0: np.ndarray
+    i0: np.ndarray
+    s1: np.ndarray
+    i1: np.ndarray
+    s2: np.ndarray
+    i2: np.ndarray
+
+
+class Measurement(NamedTuple):
+    """One measurement at a predicted state (:func:`xnavlab.mars.kernel_measurements.measure`),
+    of size m <= mm (the first m rows are used).
+
+    Attributes
+    ----------
+    nu : ndarray, shape (mm,)
+        The innovation ``z - h(x)`` (s, m or rad, as the sensor measures).
+    H : ndarray, shape (mm, 6)
+        The Jacobian's position columns in ``H[:, :3]``; ``H[:, 3:]`` is scratch (the
+        velocity columns are zero for all three sensors).
+    R : ndarray, shape (mm, mm)
+        The measurement noise covariance.
+    A : ndarray, shape (mm, 3)
+        Scratch of the CNS noise (the unit tangents of the star-to-Mars angles).
+    """
+
+    nu: np.ndarray
+    H: np.ndarray
+    R: np.ndarray
+    A: np.ndarray
+
+
+class UpdateScratch(NamedTuple):
+    """The measurement updates' working arrays (:mod:`xnavlab.mars.kernel_measurements`).
+
+    Attributes
+    ----------
+    PHt : ndarray, shape (6, mm)
+        ``P H^T``.
+    S, L : ndarray, shape (mm, mm)
+        The innovation covariance (lower triangle) and its Cholesky factor.
+    y : ndarray, shape (mm,)
+        A vector (a whitened innovation, a row of the gain).
+    K, W : ndarray, shape (6, mm)
+        The gain and ``K R - T H^T``.
+    T : ndarray, shape (6, 6)
+        ``(I - K H) P``.
+    """
+
+    PHt: np.ndarray
+    S: np.ndarray
+    L: np.ndarray
+    y: np.ndarray
+    K: np.ndarray
+    W: np.ndarray
+    T: np.ndarray
+
+
+class FusionScratch(NamedTuple):
+    """The master's prediction, the information the locals gained and the fusions' working
+    arrays (:mod:`xnavlab.mars.kernel_fusion`).
+
+    Attributes
+    ----------
+    d : ndarray, shape (6,)
+        Jacobi scaling ``1 / sqrt(P_ii)`` of the first fused estimate.
+    Y, Ci, Cf : ndarray, shape (6, 6)
+        Sum of the scaled information matrices; a scaled covariance and its inverse.
+    yv : ndarray, shape (6,)
+        Sum of the scaled information vectors.
+    xp, Pp : ndarray, shape (6,), (6, 6)
+        The master's prediction (m, m/s).
+    J, G : ndarray, shape (3, 3)
+        The gained information ``sum H^T R^-1 H`` (lower triangle) and ``J (I + P J)^-1``.
+    bv : ndarray, shape (3,)
+        ``sum H^T R^-1 nu``.
+    use : ndarray of bool, shape (ns,)
+        The locals fused at this epoch.
+    inv_sh : ndarray, shape (ns,)
+        ``1 / share`` of each local.
+    """
+
+    d: np.ndarray
+    Y: np.ndarray
+    yv: np.ndarray
+    Ci: np.ndarray
+    Cf: np.ndarray
+    xp: np.ndarray
+    Pp: np.ndarray
+    J: np.ndarray
+    bv: np.ndarray
+    G: np.ndarray
+    use: np.ndarray
+    inv_sh: np.ndarray
+
+
+class WatchScratch(NamedTuple):
+    """The combined detector's working arrays (:mod:`xnavlab.mars.kernel_watch`).
+
+    Attributes
+    ----------
+    alarmed : ndarray of bool, shape (ns,)
+        The subsystems that alarmed at this epoch.
+    zw : ndarray, shape (mm,)
+        A whitened innovation over its adaptive scale.
+    med : ndarray, shape (W,)
+        The medians' working copy of a window.
+    cnt : ndarray of int64, shape (8192,)
+        The radix selection's histogram.
+    """
+
+    alarmed: np.ndarray
+    zw: np.ndarray
+    med: np.ndarray
+    cnt: np.ndarray
 
 
 def layout():
