@@ -1,6 +1,7 @@
 """The attitude simulation (xnavlab.attitude.simulation): configuration checks and fault-free runs."""
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -57,3 +58,32 @@ def test_simulate_arguments():
         att.simulate(config={"dt": 0.1})
     run = att.simulate(Fault("gyro", "noise", 1e-3, 45.0), duration=60.0, dos=False)
     assert run.truth == "unknown" and run.dos is None
+
+
+@pytest.mark.parametrize(("fault", "words"), [
+    (att.make_fault("gyro_x", "step", 1.0, onset=1e9), r"faults\[0\] \(gyro step, component 0\) "
+                                                       r"starts at 1e\+09 s, outside this run"),
+    (att.make_fault("gyro_x", "step", 1.0, onset=-1.0), r"starts at -1 s, outside this run: an "
+                                                        r"onset is s since the start, in \[0, 60\)"),
+    (att.make_fault("gyro_y", "step", 1.0, onset=45.01, duration=0.05), "acts on no sample"),
+    (Fault("uv", "step", 1.0, 45.0), r"sensor must be one of 'gyro', 'star_tracker'"),
+    (att.make_fault("gyro_z", "step", 1e8), r"reaches 1e\+08 rad/s, .* at most 1e\+06 rad/s"),
+    (att.make_fault("gyro_z", "ramp", 1e6), r"ramp, component 2\) reaches 1e\+07 rad/s"),
+])
+def test_a_fault_the_run_would_not_use_is_refused_naming_it(fault, words):
+    """Review 35b N15: an onset outside the run was accepted and never acted; a gyro rate so
+    large that a step turns by more than quaternions.MAX_ANGLE named only '|w| dt'."""
+    with pytest.raises(ValueError, match=r"^faults\[0\] \(") as info:
+        att.simulate([fault], duration=60.0, dos=False)
+    assert re.search(words, str(info.value)), str(info.value)
+
+
+def test_one_fault_alone_is_a_run_of_that_fault_and_a_list_is_checked_as_core_does():
+    """Review 35b N26: simulate(fault) is this function's common call (chapter 11), kept;
+    a sequence goes through core.faults.check_faults (a repeat, a string are refused)."""
+    f = att.make_fault("gyro_x", "step", 1e-3, onset=45.0)
+    assert att.simulation.check_faults_in_run(f, att.SimConfig()) == (f,)
+    with pytest.raises(ValueError, match=r"^faults lists .* twice \(items 0 and 1\)"):
+        att.simulate([f, f], duration=60.0)
+    with pytest.raises(ValueError, match=r"^faults must be a sequence of Fault, got the string"):
+        att.simulate("gyro_x:step:1@45+inf", duration=60.0)

@@ -90,3 +90,25 @@ def test_first_alarm_refuses_a_nan_or_complex_arming_time():
     for after in (float("nan"), 1j, "0"):
         with pytest.raises(ValueError, match="^after must be a real number"):
             P.first_alarm([0.0, 1.0], [5.0, 5.0], 1.0, after=after)
+
+
+@pytest.mark.parametrize(("sizes", "kwargs", "words"), [
+    ([], {}, r"^sizes must be a list of at least one fault size \(shape \(n,\), n >= 1\), got "
+             r"shape \(0,\)"),
+    ([[1.0, 2.0]], {}, r"^sizes must be a list of at least one fault size"),
+    ([100.0, 0.0], {}, r"^sizes\[1\] must be a nonzero fault size"),
+    ([100.0], {"with_chi2": False}, r"^compare_detectors got with_chi2=False: set by "
+                                    r"compare_detectors itself"),
+    ([100.0], {"sigmaa": 1.0}, r"^compare_detectors got sigmaa=1.0: not a setting of "
+                               r"diagnose_flight \(it passes on .*sigma"),
+])
+def test_compare_detectors_refuses_an_empty_table_and_settings_it_would_not_use(sizes, kwargs,
+                                                                               words):
+    """Review 35b N23: an empty list of sizes returned [] (a table with no rows)."""
+    with pytest.raises(ValueError, match=words):
+        P.compare_detectors("step", sizes, n_runs=1, **kwargs)
+
+
+def test_diagnose_flight_with_chi2_is_a_real_bool():
+    with pytest.raises(ValueError, match="^with_chi2 must be True or False, got 'no'"):
+        P.diagnose_flight([], with_chi2="no")

@@ -21,7 +21,7 @@ from xnavlab.attitude.simulation import (
     simulate_sensors,
 )
 from xnavlab.core.plotting import markdown_table
-from xnavlab.core.validate import check_choice, check_int, check_real, make_rng
+from xnavlab.core.validate import check_choice, check_int, check_items, check_real, make_rng
 
 __all__ = [
     "isolation_monte_carlo",
@@ -82,11 +82,14 @@ def isolation_monte_carlo(
     [('SOS', 1.0), ('DOS', 1.0)]
     """
     n_runs = check_int("n_runs", n_runs, 1)
-    for loc in locations:
-        check_choice("locations", loc, LOCATIONS)
-    for kind in kinds:
-        check_choice("kinds", kind, ("step", "ramp"))
-    sizes = [check_real("sizes", s, 0.0, lo_open=True) for s in sizes]
+    # lists of at least one item, none twice (a string is not split into letters): an empty
+    # one would leave only the fault-free rows, a repeat would run its cases twice
+    locations = check_items("locations", locations, "location",
+                            lambda label, v: check_choice(label, v, LOCATIONS))
+    kinds = check_items("kinds", kinds, "kind",
+                        lambda label, v: check_choice(label, v, ("step", "ramp")))
+    sizes = [check_real(label, s, 0.0, lo_open=True) for label, s in
+             ((f"sizes[{i}]", s) for i, s in enumerate(check_items("sizes", sizes, "size")))]
     onset = check_real("onset", onset, 0.0, lo_open=True)
     if config is None:
         config = SimConfig(duration=onset + 30.0)

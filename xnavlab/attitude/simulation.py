@@ -49,9 +49,9 @@ from xnavlab.attitude.sensors import (
 )
 from xnavlab.attitude.sos import gyro_parity, sos_residuals
 from xnavlab.core.distributions import chi2_isf
-from xnavlab.core.faults import Fault
-from xnavlab.core.quaternions import attitude_error, quat_normalize
-from xnavlab.core.validate import check_finite_array, check_int, check_real, make_rng
+from xnavlab.core.faults import Fault, check_faults
+from xnavlab.core.quaternions import MAX_ANGLE, attitude_error, quat_normalize
+from xnavlab.core.validate import check_bool, check_finite_array, check_int, check_real, make_rng
 
 __all__ = [
     "SimConfig",
@@ -60,6 +60,8 @@ __all__ = [
     "simulate_sensors",
     "diagnose_batch",
     "make_config",
+    "SENSORS",
+    "check_faults_in_run",
 ]
 
 
@@ -157,8 +159,7 @@ class SimConfig:
                 "qdiff_window_s must leave an estimate inside t_cal: need "
                 f"max(w, t_cal[0] + w/2) < t_cal[1], got w = {w}, t_cal = {tuple(cal)}"
             )
-        if not isinstance(self.dos, bool):
-            raise ValueError(f"dos must be True or False, got {self.dos!r}")
+        object.__setattr__(self, "dos", check_bool("dos", self.dos))
 
     @property
     def n(self):
@@ -246,7 +247,12 @@ def simulate(faults=(), config=None, *, rng=None, **changes):
     Parameters
     ----------
     faults : Fault or sequence of Fault
-        From :func:`~.sensors.make_fault` (sensors ``"gyro"`` and ``"star_tracker"``).
+        From :func:`~.sensors.make_fault` (sensors ``"gyro"`` and ``"star_tracker"``). One Fault
+        alone is taken as ``[fault]`` here (a run of one fault is this function's common call;
+        :func:`xnavlab.core.faults.inject`, a building block, asks for the list). A fault is
+        refused (:func:`check_faults_in_run`) when it is of another sensor, starts outside
+        ``[0, duration)`` or acts on no sample, or (a gyro fault) turns the attitude by more
+        than ``MAX_ANGLE / 10`` in one step.
     config : SimConfig, optional
         Settings (default :class:`SimConfig`).
     rng : numpy.random.Generator or int, optional
@@ -266,7 +272,7 @@ def simulate(faults=(), config=None, *, rng=None, **changes):
     ('gyro_x', 'gyro_x')
     """
     cfg = make_config(config, **changes)
-    faults = _faults(faults)
+    faults = check_faults_in_run(faults, cfg)
     rng = make_rng(rng)
     (t, w, q), wg, qs = simulate_sensors(cfg, faults, rng)
     res = diagnose_batch(wg[None], qs[None], cfg)
@@ -332,13 +338,61 @@ def _config_arg(config):
     return config
 
 
-def _faults(faults):
-    if isinstance(faults, Fault):
-        faults = (faults,)
-    faults = tuple(faults)
-    for f in faults:
-        if not isinstance(f, Fault):
-            raise ValueError(f"faults must be Fault objects, got {type(f).__name__}")
+#: The sensors of an attitude run (a fault of another sensor would be injected nowhere).
+SENSORS = ("gyro", "star_tracker")
+
+
+def check_faults_in_run(faults, config):
+    """The faults of a run as a tuple, each one the run uses, else one ValueError naming it.
+
+    One Fault alone is taken as ``(fault,)``; a sequence is checked by
+    :func:`xnavlab.core.faults.check_faults` (a spec string, a repeat or two overlapping faults
+    on one component are refused). Then each fault must be of a sensor of the run
+    (:data:`SENSORS`), start inside it (``0 <= onset < duration``), act on at least one sample
+    (a step between two samples ``dt`` apart acts on none) and, on the gyros, stay below
+    ``MAX_ANGLE / (10 dt)`` rad/s (a ramp: what it reaches in the run): a larger rate turns the
+    attitude in one step by an angle a float cannot place on the circle
+    (:data:`xnavlab.core.quaternions.MAX_ANGLE`).
+
+    Parameters
+    ----------
+    faults : Fault or sequence of Fault
+    config : SimConfig
+
+    Returns
+    -------
+    tuple of Fault
+
+    Examples
+    --------
+    >>> from xnavlab.attitude.sensors import make_fault
+    >>> check_faults_in_run(make_fault("gyro_x", "step", 1e-4, onset=1e9), SimConfig())
+    Traceback (most recent call last):
+    ...
+    ValueError: faults[0] (gyro step, component 0) starts at 1e+09 s, outside this run: an onset \
+is s since the start, in [0, 100)
+    """
+    cfg = _config_arg(config)
+    faults = (faults,) if isinstance(faults, Fault) else tuple(check_faults("faults", faults))
+    t = np.arange(cfg.n) * cfg.dt
+    for i, f in enumerate(faults):
+        what = f"faults[{i}] ({f.sensor} {f.kind}" + (
+            f", component {f.component})" if f.component is not None else ")")
+        if f.sensor not in SENSORS:
+            raise ValueError(f"{what}: sensor must be one of {', '.join(map(repr, SENSORS))} "
+                             f"(make_fault builds them), got {f.sensor!r}")
+        if not 0.0 <= f.onset < cfg.duration:
+            raise ValueError(f"{what} starts at {f.onset:g} s, outside this run: an onset is s "
+                             f"since the start, in [0, {cfg.duration:g})")
+        acts = f.active(t)
+        if not acts.any():
+            raise ValueError(f"{what} acts on no sample: it lasts {f.duration:g} s from "
+                             f"{f.onset:g} s between two samples ({cfg.dt:g} s apart)")
+        size = abs(f.magnitude) * (t[acts][-1] - f.onset if f.kind == "ramp" else 1.0)
+        if f.sensor == "gyro" and size * cfg.dt > 0.1 * MAX_ANGLE:
+            raise ValueError(f"{what} reaches {size:.3g} rad/s, which turns the attitude by "
+                             f"{size * cfg.dt:.3g} rad in one step of {cfg.dt:g} s: at most "
+                             f"{0.1 * MAX_ANGLE / cfg.dt:.3g} rad/s (0.1 MAX_ANGLE per step)")
     return faults
 
 
@@ -391,7 +445,7 @@ def simulate_sensors(config, faults=(), rng=None, truth=None):
     ((501,), (501, 4), (501, 4))
     """
     cfg = _config_arg(config)
-    faults = _faults(faults)
+    faults = check_faults_in_run(faults, cfg)
     rng = make_rng(rng)
     t, w, q = truth if truth is not None else truth_motion(
         cfg.n, cfg.dt, q0=cfg.q0, omega_orbit_deg_s=cfg.omega_orbit_deg_s,

@@ -12,6 +12,7 @@ chapter's "Beyond the paper" (a Kalman filter with a residual chi-square test), 
 
 from __future__ import annotations
 
+import inspect
 import math
 from dataclasses import dataclass
 
@@ -19,7 +20,14 @@ import numpy as np
 
 from xnavlab.core import faults as _faults
 from xnavlab.core.distributions import chi2_isf
-from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
+from xnavlab.core.validate import (
+    check_bool,
+    check_choice,
+    check_finite_array,
+    check_int,
+    check_real,
+    make_rng,
+)
 from xnavlab.plins import ins as _ins
 from xnavlab.plins import pseudolites as _pl
 from xnavlab.plins.parity.fuzzy import local_models, memberships, operating_points, premises
@@ -398,6 +406,7 @@ def diagnose_flight(faults=(), *, model="step", s=11, threshold=None, sigma=_pl.
     (50.0, None, 300)
     """
     check_choice("model", model, ("step", "ramp"))
+    with_chi2 = check_bool("with_chi2", with_chi2)
     s = check_int("s", s, 2, 60)
     sigma = check_real("sigma", sigma, 0.0, lo_open=True)
     leak_tol = check_real("leak_tol", leak_tol, 0.0, lo_open=True)
@@ -435,7 +444,7 @@ def diagnose_flight(faults=(), *, model="step", s=11, threshold=None, sigma=_pl.
         onsets.append(onset)
         ident[j] = identify_fault(traj.t, data.z[:, j], W[:, j], onset, model, sigma,
                                   time_origin, q_rw, sensor=j)
-    chi = chi2_monitor(data, trans, sites, p_fa=p_fa) if with_chi2 else None
+    chi = chi2_monitor(data, trans, sites, p_fa=p_fa) if with_chi2 else None  # checked above
     return Diagnosis(
         t=traj.t.copy(), z=data.z, fault=data.fault, t_res=t_res, residual=r, statistic=stat,
         threshold=thr, detection=detection, onset=onsets, identification=ident, s=s,
@@ -483,6 +492,20 @@ def compare_detectors(kind, sizes, *, onset=None, sensor=0, n_runs=5, seed=0, **
     """
     check_choice("kind", kind, ("step", "ramp"))
     sizes = np.atleast_1d(check_finite_array("sizes", sizes))
+    if sizes.ndim != 1 or not sizes.size:  # an empty table would come back without a word
+        raise ValueError(f"sizes must be a list of at least one fault size (shape (n,), n >= 1), "
+                         f"got shape {sizes.shape}")
+    for i, size in enumerate(sizes):
+        if size == 0.0 or abs(size) > _faults.MAX_SIZE:
+            raise ValueError(f"sizes[{i}] must be a nonzero fault size of at most "
+                             f"{_faults.MAX_SIZE:g} m (or m/s), got {size:g}")
+    takes = set(inspect.signature(diagnose_flight).parameters) - {"faults", "seed", "with_chi2"}
+    for key in kwargs:
+        if key not in takes:
+            why = ("set by compare_detectors itself" if key in ("faults", "seed", "with_chi2")
+                   else "not a setting of diagnose_flight")
+            raise ValueError(f"compare_detectors got {key}={kwargs[key]!r:.60}: {why} (it passes "
+                             f"on {', '.join(sorted(takes))})")
     onset = (50.0 if kind == "step" else 30.0) if onset is None else check_real("onset", onset)
     sensor = check_int("sensor", sensor, 0)
     n_runs = check_int("n_runs", n_runs, 1, 1000)
