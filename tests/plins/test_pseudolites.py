@@ -166,3 +166,17 @@ def test_simulate_pseudoranges_bad_input():
         pl.simulate_pseudoranges(tr, x, sigma=-1.0)
     with pytest.raises(ValueError, match="component"):
         pl.simulate_pseudoranges(tr, x, faults=[Fault(pl.SENSOR, "step", 1.0, 0.0, component=7)])
+
+
+@pytest.mark.parametrize(("fault", "words"), [
+    (Fault("pseudorange", "step", 100.0, 1e9, component=0), r"starts outside this flight"),
+    (Fault("pseudorange", "step", 100.0, -5.0, component=0), r"starts outside this flight"),
+    (Fault("uv", "step", 100.0, 5.0, component=0), r"sensor must be 'pseudorange'"),
+    (Fault("pseudorange", "step", 100.0, 5.2, 0.5, component=0), r"acts on no sample"),
+])
+def test_a_fault_the_flight_would_not_use_is_refused_naming_it(fault, words):
+    """Review 35b N15's class in the pseudolite chapter: inject dropped these in silence."""
+    tr = ins.paper_trajectory(duration=20.0)
+    x = ins.simulate_errors(tr, rng=0)
+    with pytest.raises(ValueError, match=rf"^faults\[0\] \(.*{words}"):
+        pl.simulate_pseudoranges(tr, x, faults=[fault])

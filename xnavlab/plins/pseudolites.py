@@ -427,6 +427,23 @@ class PseudorangeData:
     r_ins: np.ndarray
 
 
+def _check_flight_faults(faults, t):
+    """The faults as a list, each one the flight uses (its sensor, an onset inside the flight,
+    a sample it acts on), else one ValueError naming it: inject would drop it in silence."""
+    faults = _faults.check_faults("faults", faults)
+    for i, f in enumerate(faults):
+        where = f"faults[{i}] ({f.sensor} {f.kind} from {f.onset:g} s)"
+        if f.sensor != SENSOR:
+            raise ValueError(f"{where}: sensor must be {SENSOR!r} (the pseudoranges are the "
+                             f"flight's only measurements), got {f.sensor!r}")
+        if not t[0] <= f.onset <= t[-1]:
+            raise ValueError(f"{where} starts outside this flight, [{t[0]:g}, {t[-1]:g}] s")
+        if not f.active(t).any():
+            raise ValueError(f"{where} acts on no sample: it lasts {f.duration:g} s between two "
+                             f"samples")
+    return faults
+
+
 def simulate_pseudoranges(traj, x_err, sites=None, sigma=DEFAULT_SIGMA, faults=(), rng=None):
     """Measured and INS-predicted pseudoranges along a flight, with faults.
 
@@ -450,7 +467,8 @@ def simulate_pseudoranges(traj, x_err, sites=None, sigma=DEFAULT_SIGMA, faults=(
         1-sigma white pseudorange noise, m, >= 0.
     faults : sequence of xnavlab.core.faults.Fault
         Faults of sensor ``"pseudorange"`` (component = pseudolite index, 0-based),
-        applied with :func:`xnavlab.core.faults.inject`.
+        applied with :func:`xnavlab.core.faults.inject`; a fault of another sensor, one that
+        starts outside the flight or acts on no sample is refused, naming it.
     rng : numpy.random.Generator or int, optional
         Seed of the noise (``None`` is seed 0).
 
@@ -483,7 +501,7 @@ def simulate_pseudoranges(traj, x_err, sites=None, sigma=DEFAULT_SIGMA, faults=(
     rho_ins = pseudoranges(r_ins, sites)
     noise = sigma * rng.standard_normal(rho_true.shape)
     clean = rho_true + x_err[:, 9:10] + noise  # eq. (2) without the fault
-    rho = _faults.inject(traj.t, clean, list(faults), SENSOR, rng=rng)
+    rho = _faults.inject(traj.t, clean, _check_flight_faults(faults, traj.t), SENSOR, rng=rng)
     return PseudorangeData(
         t=traj.t.copy(), rho_true=rho_true, rho=rho, rho_ins=rho_ins,
         z=rho - rho_ins,  # eq. (5)
