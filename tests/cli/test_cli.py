@@ -326,3 +326,16 @@ def test_a_standard_output_closed_early_ends_quietly(argv):
         err = proc.stderr.read().decode()
         proc.stderr.close()
         assert proc.wait(timeout=120) in (0, 141) and err == "", err
+
+
+@pytest.mark.parametrize(("argv", "line"), [
+    (["run", "--days", "0.02"], "run needs its scenario before the options (choose from 'mars'): "
+                                "write 'run mars --days 0.02'"),
+    (["run", "--days", "0.02", "mars"], "run needs its scenario before the options (choose from "
+                                        "'mars'): write 'run mars --days 0.02'"),
+    (["run", "venus"], "argument scenario: invalid choice: 'venus' (choose from 'mars')"),
+])
+def test_an_option_before_its_sub_command_says_the_order(argv, line, capsys):
+    """Review 35b N24: 'run --days 0.02' said "argument scenario: invalid choice: '0.02'"."""
+    assert main(argv) == 2
+    assert capsys.readouterr().err.strip() == f"xnavlab: error: {line}"

@@ -99,7 +99,23 @@ class Parser(argparse.ArgumentParser):
         self.register("action", "store", _StoreOnce)
         self.register("action", "store_true", _StoreTrueOnce)
 
+    def parse_known_args(self, args=None, namespace=None):
+        self.argv = list(sys.argv[1:] if args is None else args)  # for error's hint
+        return super().parse_known_args(args, namespace)
+
     def error(self, message):
+        """One line; an option written before the sub-command it belongs to (``run --days 0.02``,
+        which argparse reports as ``invalid choice: '0.02'``) is named with the order to use."""
+        bad = re.fullmatch(r"argument (\w+): invalid choice: '(.*)' \(choose from (.*)\)", message)
+        argv = getattr(self, "argv", [])
+        cmd = self.prog.removeprefix("python -m xnavlab").strip()
+        if bad and cmd and bad[2] in argv and any(a.startswith("-") for a in
+                                                  argv[:argv.index(bad[2])]):
+            choices = [c.strip().strip("'") for c in bad[3].split(",")]
+            given = [a for a in argv if a in choices]
+            rest = [a for a in argv if a not in given[:1]]
+            raise UsageError(f"{cmd} needs its {bad[1]} before the options (choose from "
+                             f"{bad[3]}): write '{' '.join([cmd, (given or choices)[0], *rest])}'")
         raise UsageError(message)
 
 
