@@ -142,3 +142,8 @@ def test_a_broken_shipped_table_is_one_line_naming_it(tmp_path, edit, message):
     path.write_text(json.dumps(data))
     with pytest.raises(ValueError, match=message):
         headline.load_shipped(path)
+
+
+def test_numbers_of_names_the_quantity_that_is_not_numbers():
+    with pytest.raises(ValueError, match=r"^runs' b: values must contain only finite numbers"):
+        headline.numbers_of([{"a": 1.0, "b": np.nan}, {"a": 2.0, "b": 1.0}])

@@ -288,8 +288,15 @@ def headline_records(n_seeds=32, days=30.0, faults=True, seed=2016, out=None, wo
 
 
 def numbers_of(runs):
-    """Each quantity's :func:`mean_interval` over the runs' metrics (a list of dicts)."""
-    return {k: mean_interval([r[k] for r in runs]) for k in sorted(runs[0])}
+    """Each quantity's :func:`mean_interval` over the runs' metrics (a list of dicts); a
+    quantity that is not two finite numbers or more is named in the message."""
+    out = {}
+    for k in sorted(runs[0]):
+        try:
+            out[k] = mean_interval([r[k] for r in runs])
+        except ValueError as exc:
+            raise ValueError(f"runs' {k}: {exc}") from None
+    return out
 
 
 def _numbers(runs, days, seed, directory, source):
