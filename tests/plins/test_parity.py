@@ -15,8 +15,9 @@ def test_reproductions_pass(rid):
 
 
 def test_reproduction_figures(tmp_path):
-    res = reproduce.run("plins-step", out=tmp_path, n_runs=2)
-    res2 = reproduce.run("plins-ramp", out=tmp_path)  # its verdict needs >= 32 runs
+    # both judge single runs with check_event, which needs >= 32 of them
+    res = reproduce.run("plins-step", out=tmp_path, n_runs=32)
+    res2 = reproduce.run("plins-ramp", out=tmp_path)
     names = sorted(p.name for p in tmp_path.glob("*.png"))
     assert names == ["plins-fig2.png", "plins-fig3.png", "plins-fig4.png"]
     assert len(res.figures) == 2 and len(res2.figures) == 1
