@@ -38,19 +38,21 @@ from xnavlab.reproduce import (
 )
 from xnavlab.reproduce import figure as _figure
 from xnavlab.robust import ephemeris_error as ee
+from xnavlab.robust.sensitivity import (
+    earth_error_size,
+    sensitivity_directions,
+    steepest_direction,
+    ukf_sensitivity,
+    ukf_sensitivity_by_direction,
+)
 
 __all__ = [
     "PAPER_IMPROVEMENT",
     "PAPER_SENSITIVITY",
     "PAPER_MARS_ERROR_M",
-    "ukf_sensitivity",
-    "ukf_sensitivity_by_direction",
-    "sensitivity_directions",
-    "earth_error_size",
     "paired_difference",
     "RKF_LAMBDAS",
     "rkf_memory_sweep",
-    "steepest_direction",
     "lost_settings",
     "LOST_LAMBDAS",
     "LOST_Q_B",
@@ -152,160 +154,6 @@ def _epoch_text(t0):
 
     when = datetime(2000, 1, 1, 12) + timedelta(seconds=float(t0))
     return when.strftime("%Y-%m-%d %H:%M")
-
-
-def ukf_sensitivity(sizes=(0.0, 250.0, 500.0, 750.0, 1000.0), body="earth", seeds=(0,), direction=None):
-    """UKF RMSE against an injected constant ephemeris error (Fig. 4).
-
-    Parameters
-    ----------
-    sizes : sequence of float
-        Error sizes, m.
-    body : {"earth", "mars"}
-    seeds : sequence of int
-    direction : array_like, shape (3,), optional
-        Direction of the error (default ``(1, 1, 1) / sqrt(3)``).
-
-    Returns
-    -------
-    sizes : ndarray, shape (m,)
-    rmse : ndarray, shape (m,)
-        Mean RMSE over the seeds over the paper's window, m.
-
-    Examples
-    --------
-    >>> sizes, r = ukf_sensitivity((0.0, 1000.0))
-    >>> bool(r[1] - r[0] > 500.0)
-    True
-    """
-    sizes = np.asarray(sizes, dtype=float)
-    out = [robust.compare_filters(body, ("ukf",), error="constant", size=float(s), seeds=seeds,
-                                  direction=direction)["rmse"]["ukf"] for s in sizes]
-    return sizes, np.array(out)
-
-
-def sensitivity_directions(body="earth"):
-    """Named directions of an ephemeris error for :func:`ukf_sensitivity_by_direction`.
-
-    The three pulsar directions, the orbit normal at the start, the real DE421 - DE405
-    error at 1997-01-01, and ``(1, 1, 1) / sqrt(3)`` (the injected error's default).
-
-    Returns
-    -------
-    dict
-        Name -> unit vector, shape (3,), ICRF.
-
-    Examples
-    --------
-    >>> sorted(sensitivity_directions())[:2]
-    ['(1,1,1)', 'B0531+21']
-    """
-    d = {name: n for name, n in zip(ee.PULSARS, ee.directions(), strict=True)}
-    s0 = ee.orbit(body).state0
-    h = np.cross(s0[:3], s0[3:])
-    d["orbit normal"] = h / np.linalg.norm(h)
-    dr = ee.ephemeris_error(body, ee.EPOCH_1997)
-    d["DE421-DE405"] = dr / np.linalg.norm(dr)
-    d["(1,1,1)"] = np.ones(3) / np.sqrt(3.0)
-    return d
-
-
-def ukf_sensitivity_by_direction(directions=None, size=1000.0, body="earth", seeds=(0,)):
-    """UKF error per metre of constant ephemeris error, for each error direction.
-
-    The slope ``(RMSE(size) - RMSE(0)) / size`` over the paper's window, with the same
-    seeds for both runs.
-
-    Parameters
-    ----------
-    directions : dict of name -> array_like (3,), optional
-        Default :func:`sensitivity_directions`.
-    size : float
-        Error size, m.
-    body : {"earth", "mars"}
-    seeds : sequence of int
-
-    Returns
-    -------
-    dict
-        Name -> slope, m per m.
-
-    Examples
-    --------
-    >>> s = ukf_sensitivity_by_direction({"z": [0.0, 0.0, 1.0]}, body="mars")
-    >>> list(s)
-    ['z']
-    """
-    directions = sensitivity_directions(body) if directions is None else directions
-    base = robust.compare_filters(body, ("ukf",), error="none", seeds=seeds)["rmse"]["ukf"]
-    out = {}
-    for name, u in directions.items():
-        r = robust.compare_filters(body, ("ukf",), error="constant", size=float(size), seeds=seeds,
-                                   direction=u)["rmse"]["ukf"]
-        out[name] = (r - base) / size  # Fig. 4's slope along this direction
-    return out
-
-
-def steepest_direction(slopes, directions, base, size):
-    """The error direction of the steepest UKF slope, from the slopes along known directions.
-
-    With a constant error ``size * u``, the UKF error is a linear response to it plus the
-    noise, so its mean square is a quadratic form in ``u``:
-    ``RMSE(u)^2 = size^2 u^T A u + base^2`` (``base`` the RMSE without the error). Six
-    directions or more determine ``A`` (least squares); its largest eigenvalue gives the
-    steepest direction over the whole sphere and its predicted slope.
-
-    Parameters
-    ----------
-    slopes : dict of name -> float
-        Measured slope along each direction, m per m (:func:`ukf_sensitivity_by_direction`).
-    directions : dict of name -> array_like (3,)
-        The unit vectors (at least six of the names in ``slopes``, not all in one plane).
-    base : float
-        UKF RMSE without an ephemeris error, m.
-    size : float
-        The error size the slopes were measured at, m.
-
-    Returns
-    -------
-    u : ndarray, shape (3,)
-        Unit vector of the steepest direction.
-    slope : float
-        Its predicted slope, m per m.
-
-    Examples
-    --------
-    >>> A = np.diag([0.25, 1.0, 2.25])
-    >>> dirs = {str(i): v / np.linalg.norm(v) for i, v in enumerate(np.array(
-    ...     [[1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 0], [1, 0, 1], [0, 1, 1.0]]))}
-    >>> sl = {k: (np.sqrt(1e6 * v @ A @ v + 50.0 ** 2) - 50.0) / 1e3 for k, v in dirs.items()}
-    >>> u, top = steepest_direction(sl, dirs, 50.0, 1e3)
-    >>> np.round(np.abs(u), 3).tolist(), round(top, 2)
-    ([0.0, 0.0, 1.0], 1.45)
-    """
-    names = [k for k in slopes if k in directions]
-    if len(names) < 6:
-        raise ValueError(f"slopes must cover at least 6 of the directions; got {len(names)}")
-    U = np.array([np.asarray(directions[k], dtype=float) for k in names])
-    rr = np.array([base + slopes[k] * size for k in names])
-    rows = np.column_stack([U[:, 0] ** 2, U[:, 1] ** 2, U[:, 2] ** 2,
-                            2 * U[:, 0] * U[:, 1], 2 * U[:, 0] * U[:, 2], 2 * U[:, 1] * U[:, 2]])
-    a = np.linalg.lstsq(rows, (rr ** 2 - base ** 2) / size ** 2, rcond=None)[0]
-    A = np.array([[a[0], a[3], a[4]], [a[3], a[1], a[5]], [a[4], a[5], a[2]]])
-    w, V = np.linalg.eigh(A)
-    top = max(float(w[-1]), 0.0)
-    return V[:, -1], float((np.sqrt(size ** 2 * top + base ** 2) - base) / size)
-
-
-def earth_error_size(t0=ee.EPOCH_1997):
-    """Size of the real DE421 - DE405 Earth error at ``t0``, m (the Earth runs' final size).
-
-    Examples
-    --------
-    >>> round(earth_error_size())
-    1492
-    """
-    return float(np.linalg.norm(ee.ephemeris_error("earth", t0)))
 
 
 def paired_difference(cmp, a, b):

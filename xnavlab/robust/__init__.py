@@ -7,6 +7,8 @@ module                   what it models
                          XNAV measurements that see the error (chapter 10)
 ``filters``              UKF, ASUKF, TDUKF and the robust Kalman filter (RKF)
 ``comparison``           the filters compared over seeds (mean RMSE, improvement over the UKF)
+``sensitivity``          the UKF's error against a constant ephemeris error, by its size and
+                         direction (Fig. 4)
 ``coverage``             whether the RKF's ``Sigma`` bounds its error: coverage of the
                          3-sigma ellipse, NEES, over seeds; the prior bound on ``B B^T``
 ``plots``                the figure behind chapter 10's slider, and its table of the RKF's

@@ -1,0 +1,41 @@
+"""xnavlab.robust.sensitivity: the UKF's error against a constant ephemeris error, by direction."""
+
+import numpy as np
+import pytest
+
+from xnavlab.robust import sensitivity
+
+
+def _slopes(A, base, size, dirs):
+    # RMSE(u)^2 = size^2 u^T A u + base^2, the quadratic form steepest_direction fits
+    return {k: (np.sqrt(size ** 2 * v @ A @ v + base ** 2) - base) / size for k, v in dirs.items()}
+
+
+def _dirs():
+    rows = np.array([[1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 0], [1, 0, 1], [0, 1, 1.0]])
+    return {str(i): v / np.linalg.norm(v) for i, v in enumerate(rows)}
+
+
+def test_the_steepest_direction_of_a_known_form_is_its_top_eigenvector():
+    rng = np.random.default_rng(3)
+    Q, _ = np.linalg.qr(rng.normal(size=(3, 3)))
+    A = Q @ np.diag([0.1, 0.7, 2.0]) @ Q.T
+    u, top = sensitivity.steepest_direction(_slopes(A, 40.0, 1e3, _dirs()), _dirs(), 40.0, 1e3)
+    assert abs(abs(u @ Q[:, 2]) - 1.0) < 1e-9
+    assert top == pytest.approx((np.sqrt(1e6 * 2.0 + 1600.0) - 40.0) / 1e3, rel=1e-9)
+
+
+def test_fewer_than_six_directions_are_refused():
+    dirs = dict(list(_dirs().items())[:5])
+    with pytest.raises(ValueError, match="at least 6"):
+        sensitivity.steepest_direction(_slopes(np.eye(3), 40.0, 1e3, dirs), dirs, 40.0, 1e3)
+
+
+def test_the_named_directions_are_unit_vectors():
+    d = sensitivity.sensitivity_directions("mars")
+    assert {"orbit normal", "DE421-DE405", "(1,1,1)"} <= set(d)
+    assert all(abs(np.linalg.norm(v) - 1.0) < 1e-12 for v in d.values())
+
+
+def test_the_earth_error_is_the_real_ephemeris_difference():
+    assert 1.0e3 < sensitivity.earth_error_size() < 2.0e3
