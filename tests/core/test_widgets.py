@@ -615,3 +615,34 @@ def test_the_widget_updates_a_figure_in_place_and_falls_back_to_a_new_one():
     slider.value = 2
     assert calls == [1, 3, 2] and ex.last_error is None
     w.close()
+
+
+def test_in_a_kernel_the_worker_waits_for_the_cells_and_a_second_after(monkeypatch):
+    """A "Run All" (or nbval) never runs beside it: it computes once the kernel is idle."""
+    import time
+
+    import IPython
+
+    from xnavlab.core import _ahead
+
+    hooks = {}
+
+    class Events:
+        def register(self, name, callback):
+            hooks[name] = callback
+
+    class Shell:
+        events = Events()
+
+    monkeypatch.setattr(_ahead, "_GATE", _ahead._Gate())
+    monkeypatch.setattr(IPython, "get_ipython", lambda: Shell())
+    calls = []
+    ex = explore(counted_titled(calls), n=[1, 2, 3], ahead=True)
+    ex.widget()  # built in the explore cell, which is still running
+    time.sleep(0.3)
+    assert calls == [(2, "a")] and set(hooks) == {"pre_run_cell", "post_run_cell"}
+    hooks["post_run_cell"]()
+    t0 = time.monotonic()
+    assert ex._worker.idle(timeout=120) and sorted(n for n, _ in calls) == [1, 2, 3]
+    assert time.monotonic() - t0 >= _ahead.IDLE_S * 0.9
+    ex.close()
