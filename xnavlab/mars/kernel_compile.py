@@ -89,7 +89,7 @@ class SourcesCache(FunctionCache):
 
     Parameters
     ----------
-    py_func : function
+    py_func : callable
         The Python function the dispatcher compiles.
     """
 

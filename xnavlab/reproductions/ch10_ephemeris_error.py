@@ -232,9 +232,10 @@ def lost_settings(body, size, cmp, seeds=_LOST_SEEDS, profile="linear"):
 
     One lost setting varied at a time from ours, each run on ``seeds`` (a subset of the seeds
     of ``cmp``) and compared with ours on the same seeds. For all four filters: the direction
-    of the ephemeris error (every direction of :func:`sensitivity_directions` but ours), the
-    process noise (:data:`LOST_Q_V`) and the initial error (:data:`LOST_INITIAL`); the RKF's
-    residual-average weight (:data:`LOST_LAMBDAS`) and the ASUKF's bias random walk
+    of the ephemeris error (every direction of
+    :func:`~xnavlab.robust.sensitivity.sensitivity_directions` but ours), the process noise
+    (:data:`LOST_Q_V`) and the initial error (:data:`LOST_INITIAL`); the RKF's residual-average
+    weight (:data:`LOST_LAMBDAS`) and the ASUKF's bias random walk
     (:data:`LOST_Q_B`). The orbit and the pulsar table, lost too, are not varied (ours are the
     main paper's Mars state or representative Earth elements, and three catalogue pulsars).
     All the settings run as one batch per filter (:func:`xnavlab.robust.compare_settings`).
