@@ -72,8 +72,10 @@ FAILS = HEAD + """
 explore(curve, a=[1.0, 2.0, 3.0])
 """
 
+# ahead=False: every move draws its frame, so the status line's "computing" is checked on each
+# (with frames computed ahead a move onto a finished frame is a lookup and says nothing)
 OK = HEAD + """
-explore(curve, a=[1.0, 2.0, 3.0], kind=["sin", "cos"])
+explore(curve, a=[1.0, 2.0, 3.0], kind=["sin", "cos"], ahead=False)
 """
 
 
