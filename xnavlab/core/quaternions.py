@@ -358,7 +358,7 @@ def kinematics_matrix(w, dt):
     w : array_like, shape (..., 3)
         Body angular rate held constant over the step, rad/s.
     dt : float
-        Step, s, >= 0; the angle |w| dt at most :data:`MAX_ANGLE`.
+        Step, s, >= 0; the angle ``|w| dt`` at most :data:`MAX_ANGLE`.
 
     Returns
     -------
@@ -387,7 +387,7 @@ def quat_propagate(q, w, dt):
     w : array_like, shape (..., 3)
         Body angular rate over the step, rad/s.
     dt : float
-        Step, s, >= 0; the angle |w| dt at most :data:`MAX_ANGLE`.
+        Step, s, >= 0; the angle ``|w| dt`` at most :data:`MAX_ANGLE`.
 
     Returns
     -------
