@@ -4,7 +4,7 @@ Run: ``.venv/bin/python benchmarks/bench_campaign.py [--runs 1000] [--reference 
 Prints
 
 - where the time of one run goes, measured in this process over ``--sample`` runs of the
-  ``consistency`` campaign's trial (:func:`xnavlab.mars.campaigns.consistency_run`, one day):
+  ``consistency`` campaign's trial (:func:`xnavlab.mars.studies.campaigns.consistency_run`, one day):
   the truth trajectory (loaded once per worker from the disk cache, then kept in memory),
   the measurement simulation (``scenarios.prepare`` with the truth in memory), the compiled
   filter (``scenarios.run``) and the NEES/NIS reduction;
@@ -30,7 +30,9 @@ import time
 import numpy as np
 
 from xnavlab.core.campaign import run_campaign
-from xnavlab.mars import campaigns, dynamics, scenarios
+from xnavlab.mars.models import dynamics
+from xnavlab.mars.navigation import scenarios
+from xnavlab.mars.studies import campaigns
 
 
 def split(sample):

@@ -2,7 +2,7 @@
 
 Run: ``.venv/bin/python benchmarks/bench_detectors.py`` (prints; about 10 min on 2 cores) or
 ``.venv/bin/python benchmarks/bench_detectors.py --write`` (also rewrites the shipped table
-``xnavlab/data/detector_table.json`` that chapter 9 loads and ``tests/mars/test_trials.py`` checks
+``xnavlab/data/detector_table.json`` that chapter 9 loads and ``tests/mars/studies/test_trials.py`` checks
 against freshly computed cells). ``--trials N`` sets the trials per cell (default 20).
 
 1. Sequential test chosen by measurement: on unit white innovations with a drift reaching
@@ -10,15 +10,15 @@ against freshly computed cells). ``--trials N`` sets the trials per cell (defaul
    mean CUSUM of :class:`xnavlab.core.detection.CombinedDesign` against a windowed chi-square
    of the NIS (windows of 100 and 4 samples) at the same false-alarm rate (the CUSUM share of
    the budget, 0.5 a day).
-2. The table: :func:`xnavlab.mars.trials.detector_trials` (the three detectors on one seed)
+2. The table: :func:`xnavlab.mars.studies.trials.detector_trials` (the three detectors on one seed)
    for every fault class, size and sensor, one-day runs, aggregated by
-   :func:`~xnavlab.mars.trials.detector_table`; cells where the combined detector is worse than
+   :func:`~xnavlab.mars.studies.trials.detector_table`; cells where the combined detector is worse than
    the better of the other two beyond Monte Carlo error are listed
-   (:func:`~xnavlab.mars.trials.marked_cells`).
+   (:func:`~xnavlab.mars.studies.trials.marked_cells`).
 3. The XNAV cells at the edge of what the detector must find (a drift reaching 5 sigma in 6000 s, a
    noise increase to 3 and 4 times nominal for 3000 s, one sample per 500 s), with many trials
    of the combined detector (``--edge-trials``, default 96): the fraction found within 4000 s
-   of the onset with its Wilson interval, against :func:`xnavlab.mars.trials.detection_limit`,
+   of the onset with its Wilson interval, against :func:`xnavlab.mars.studies.trials.detection_limit`,
    the Neyman-Pearson bound of any detector at the design false-alarm rate; and, on one
    component at 500 s, the CUSUM against the drift-matched GLR (:func:`glr_comparison`).
 """
@@ -33,7 +33,7 @@ from scipy import stats
 
 from xnavlab.core import montecarlo
 from xnavlab.core.detection import CombinedDesign, InnovationMonitor, drift_glr
-from xnavlab.mars import trials
+from xnavlab.mars.studies import trials
 
 
 def _cusum_delay(y, design):
@@ -132,7 +132,7 @@ def run_table(n_trials=20, seed=0, days=1.0, max_workers=2):
     return records, trials.detector_table(records)
 
 
-#: Tasks re-run by tests/mars/test_trials.py (their records are stored with the table).
+#: Tasks re-run by tests/mars/studies/test_trials.py (their records are stored with the table).
 CHECK_CELLS = (("step", "uv", 1), ("ramp", "cns", 1), ("noise", "xnav", 2))
 
 

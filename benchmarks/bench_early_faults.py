@@ -2,17 +2,17 @@
 
 Run: ``.venv/bin/python benchmarks/bench_early_faults.py [--seeds N] [--write]``. For each of
 ``N`` noise seeds (default 16), each sensor (UV, CNS, XNAV) and each onset of
-:data:`xnavlab.mars.trials.EARLY_ONSETS_S` (1 h, 6 h, 20 h), a one-day run with a 6-sigma
-step of 4000 s under the combined detector (:func:`xnavlab.mars.trials.early_fault_trial`);
+:data:`xnavlab.mars.studies.trials.EARLY_ONSETS_S` (1 h, 6 h, 20 h), a one-day run with a 6-sigma
+step of 4000 s under the combined detector (:func:`xnavlab.mars.studies.trials.early_fault_trial`);
 the UV and CNS wavelets train on the first 12 hours, so at 1 h and 6 h only the innovation
 tests watch. Prints, per sensor and onset, the fraction found (detected, scored by
-:func:`xnavlab.mars.schedules.score_faults`: an alarm while the fault acts, or its subsystem
+:func:`xnavlab.mars.faults.schedules.score_faults`: an alarm while the fault acts, or its subsystem
 already out of the fusion from before the onset to the end, after a false alarm: ``out``),
 the faults whose first alarm came after their end (``late``, not found), the median and
 largest detection delay of those found by an alarm and the largest ratio of the
 fused RMS to the same seed's fault-free run (targets: delay <= 1500 s, ratio <= 1.5).
 ``--write`` stores the table in ``xnavlab/data/early_faults.json`` (chapter 9 shows it), with
-the first seed's records (``checks``) for ``tests/mars/test_trials.py`` to recompute.
+the first seed's records (``checks``) for ``tests/mars/studies/test_trials.py`` to recompute.
 Seeds run on a local process pool of two workers.
 """
 
@@ -23,7 +23,7 @@ from concurrent.futures import ProcessPoolExecutor
 
 import numpy as np
 
-from xnavlab.mars import trials
+from xnavlab.mars.studies import trials
 
 
 def _one(seed):

@@ -8,7 +8,7 @@ import numpy as np
 from _timing import best_of
 
 from xnavlab.core import ephemeris
-from xnavlab.mars.dynamics import MARS_T0
+from xnavlab.mars.models.dynamics import MARS_T0
 
 
 def main(n=2000):

@@ -12,7 +12,7 @@ Run: ``.venv/bin/python benchmarks/bench_fault_tolerance.py``. Prints
   fusion after its fault ended (re-admission), paper schedule;
 - the combined detector on 30 fault-free days: false alarms (isolations) per subsystem
   against the design rate (1 per subsystem per day) and its Poisson 95 % interval;
-- a batch of 100 one-day runs (``xnavlab.mars.trials.mars_trial``: one UV step each, wavelet
+- a batch of 100 one-day runs (``xnavlab.mars.studies.trials.mars_trial``: one UV step each, wavelet
   detector) on a local process pool of two workers (target: a few minutes, <= 180 s).
 """
 
@@ -23,7 +23,9 @@ from _timing import best_of
 from scipy import stats
 
 from xnavlab.core import montecarlo
-from xnavlab.mars import fault_tolerance, scenarios, trials
+from xnavlab.mars.faults import fault_tolerance
+from xnavlab.mars.navigation import scenarios
+from xnavlab.mars.studies import trials
 
 #: Runs of each timed case; the best is taken (the shared 2-core machine varies by 20 %).
 REPEAT = 4

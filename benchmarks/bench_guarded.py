@@ -5,7 +5,7 @@ Run: ``.venv/bin/python benchmarks/bench_guarded.py [--calls N]``. Times the cor
 :func:`xnavlab.core.federated.fuse` on the Mars run's sizes (state of 6, a measurement of 4 as
 XNAV's four pulsars, three locals fused), each the best of 5 repeats of ``N`` calls (default
 2000), and prints the time per call with and without the checks, their ratio and the checks'
-cost per call. The compiled Mars loop (:mod:`xnavlab.mars.kernels`) does not call these steps,
+cost per call. The compiled Mars loop (:mod:`xnavlab.mars.kernel.kernels`) does not call these steps,
 so its speed does not depend on them; the guard matters for code that calls the steps in a
 Python loop.
 """

@@ -3,13 +3,13 @@
 Run: ``.venv/bin/python benchmarks/bench_headline.py`` (computes the campaign, prints each
 quantity's mean and 95 % interval beside the shipped one, and the wall time) or
 ``.venv/bin/python benchmarks/bench_headline.py --write`` (also rewrites the shipped runs
-``xnavlab/data/headline_runs.json`` that :func:`xnavlab.mars.headline.headline_numbers` reads).
+``xnavlab/data/headline_runs.json`` that :func:`xnavlab.mars.navigation.headline.headline_numbers` reads).
 ``--store DIR`` keeps the campaign's runs there so that an interrupted run resumes.
 
 Each seed runs the fault-free scenario, the paper's fault schedule under the combined detector,
 with no detector and with the paper's wavelet detector: four 30-day runs. The campaign is
 shipped because it takes minutes (four on two quiet cores), not a chapter's seconds;
-``tests/mars/test_headline.py`` recomputes its first run from its seed, so a change of the code
+``tests/mars/navigation/test_headline.py`` recomputes its first run from its seed, so a change of the code
 that moves it fails there until this script writes the table again.
 """
 
@@ -21,7 +21,7 @@ from pathlib import Path
 
 from _timing import machine_line, table, write_json
 
-from xnavlab.mars import headline
+from xnavlab.mars.navigation import headline
 
 
 def main():

@@ -29,7 +29,7 @@ import time
 import numpy as np
 from _timing import best_of
 
-from xnavlab.mars import scenarios
+from xnavlab.mars.navigation import scenarios
 
 CLI = [sys.executable, "-m", "xnavlab", "run", "mars", "--json"]
 

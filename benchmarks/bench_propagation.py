@@ -2,7 +2,7 @@
 
 Run: ``.venv/bin/python benchmarks/bench_propagation.py``. Prints the wall time of the
 30-day truth run (DOP853, rtol 1e-13, output every 3 s: 864,001 states) and the
-speed-up of the compiled RHS over :func:`xnavlab.mars.dynamics.acceleration` on a one-day
+speed-up of the compiled RHS over :func:`xnavlab.mars.models.dynamics.acceleration` on a one-day
 span, both measured in this process.
 """
 
@@ -12,8 +12,8 @@ import numpy as np
 from _timing import best_of
 from scipy.integrate import solve_ivp
 
-from xnavlab.mars import dynamics
-from xnavlab.mars.dynamics import MARS_STATE0, MARS_T0
+from xnavlab.mars.models import dynamics
+from xnavlab.mars.models.dynamics import MARS_STATE0, MARS_T0
 
 
 def _numpy_run(t_end, table):

@@ -3,7 +3,7 @@
 Run: ``.venv/bin/python benchmarks/bench_roc.py`` (prints the curves and the wall time) or
 ``.venv/bin/python benchmarks/bench_roc.py --write`` (also rewrites the shipped curves
 ``xnavlab/data/roc_curves.json`` that chapter 9 loads). ``--runs-per-fault N`` (default 24)
-sets the trials of each fault of :data:`xnavlab.mars.roc.DEFAULT_GRID`; ``--store DIR`` keeps
+sets the trials of each fault of :data:`xnavlab.mars.studies.roc.DEFAULT_GRID`; ``--store DIR`` keeps
 the two campaigns' runs there so that an interrupted run resumes.
 
 The combined detector is swept on its design rate (``rate_per_day``, the grid's thresholds),
@@ -13,8 +13,8 @@ line does one detector: ``python -m xnavlab campaign roc --grid FILE --runs N --
 The precomputed curves are shipped because the combined detector's CUSUM design takes a few
 seconds per threshold and the curves need hundreds of runs: minutes, not a chapter's seconds.
 Each detector's first :data:`CHECK_RUNS` runs (one per fault of the grid) are stored beside its
-curve (``checks``: index, seed, parameters, metrics), for ``tests/mars/test_roc.py`` to
-recompute. Detected, late and false alarms: :func:`xnavlab.mars.schedules.score_faults`.
+curve (``checks``: index, seed, parameters, metrics), for ``tests/mars/studies/test_roc.py`` to
+recompute. Detected, late and false alarms: :func:`xnavlab.mars.faults.schedules.score_faults`.
 Measured (2026-11-27, two workers on the shared 2-core machine under a load of 7): the
 combined curve 163 s, the chi-square curve 98 s, 123 s of CPU in all.
 """
@@ -27,7 +27,7 @@ from pathlib import Path
 from _timing import machine_line, table, write_json
 
 from xnavlab.core.campaign import run_campaign
-from xnavlab.mars import roc
+from xnavlab.mars.studies import roc
 
 #: The chi-square detector's thresholds: false-alarm probability per measurement.
 CHI2_THRESHOLDS = [1e-9, 1e-7, 1e-5, 1e-4, 1e-3]

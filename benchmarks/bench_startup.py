@@ -18,7 +18,7 @@ average before and after (the machine may be shared: the numbers are what it gav
     inputs; the filter), beside the bare interpreter (``python -c pass``) and
     ``python -m xnavlab --version``, best of ``--runs`` each.
 (d) ``python -X importtime``: the 10 slowest imports by cumulative time (and by their own
-    time) of ``import xnavlab.mars.scenarios`` and of the command line's path
+    time) of ``import xnavlab.mars.navigation.scenarios`` and of the command line's path
     (``python -m xnavlab run mars --days 30 --json``), each one process.
 
 ``--numba-cache-dir DIR`` compiles into ``DIR`` (which must be empty or absent, so that (a)
@@ -154,7 +154,7 @@ def main():
 
         bare = min(timed(["-c", "pass"], env)[0] for _ in range(args.runs))
         version = min(timed(["-m", "xnavlab", "--version"], env)[0] for _ in range(args.runs))
-        scen = min(timed(["-c", "import xnavlab.mars.scenarios"], env)[0]
+        scen = min(timed(["-c", "import xnavlab.mars.navigation.scenarios"], env)[0]
                    for _ in range(args.runs))
         runs = []
         for _ in range(args.runs):
@@ -169,7 +169,7 @@ def main():
         rows = [
             ["python -c pass (interpreter alone)", f"{bare:.2f}"],
             ["python -m xnavlab --version", f"{version:.2f}"],
-            ["python -c 'import xnavlab.mars.scenarios'", f"{scen:.2f}"],
+            ["python -c 'import xnavlab.mars.navigation.scenarios'", f"{scen:.2f}"],
             ["run mars --days 30: whole process", f"{best['wall_s']:.2f}"],
             ["  before the run (interpreter, imports, parser)",
              f"{best['wall_s'] - best['run_time_s']:.2f}"],
@@ -182,7 +182,7 @@ def main():
         print(f"target <= {TARGET_RUN_S:.0f} s wall: {verdict(best['wall_s'] <= TARGET_RUN_S)}")
 
         print("\n(d) imports")
-        out["imports"] = [importtime(["-c", "import xnavlab.mars.scenarios"], env),
+        out["imports"] = [importtime(["-c", "import xnavlab.mars.navigation.scenarios"], env),
                           importtime(RUN_MARS, env)]
         for imp in out["imports"]:
             print_imports(imp)

@@ -1,4 +1,5 @@
-"""The deprecated flat module names of release 0.1 (``xnavlab.compat.RENAMED``).
+"""The deprecated module names (``xnavlab.compat.RENAMED``): release 0.1's flat names and the
+Mars system's flat names from before its subpackages (``xnavlab.mars.<module>``).
 
 Each old name must still import, warn with a ``DeprecationWarning`` that names the new
 module, and give back the new module itself (the same object, so state and ``isinstance``
@@ -6,14 +7,18 @@ checks are shared), whether it is imported by name or taken from the package.
 """
 
 import importlib
+import re
 import subprocess
 import sys
 import warnings
+from pathlib import Path
 
 import pytest
 
 import xnavlab
-from xnavlab.compat import RENAMED
+from xnavlab.compat import MARS_SUBPACKAGES, RENAMED
+
+ROOT = Path(__file__).resolve().parents[1]
 
 ALIASES = sorted(RENAMED.items())
 
@@ -38,7 +43,21 @@ def forget(monkeypatch, old):
 def test_every_alias_points_into_the_package():
     for old, new in ALIASES:
         assert old.startswith("xnavlab.") and new.startswith("xnavlab.") and old != new
-        assert old.count(".") == 1, f"{old}: the 0.1 names were flat"
+        if old.startswith("xnavlab.mars."):
+            sub, module = new.split(".")[2:]
+            assert old == f"xnavlab.mars.{module}" and module in MARS_SUBPACKAGES[sub], old
+        else:
+            assert old.count(".") == 1, f"{old}: the 0.1 names were flat"
+
+
+def test_every_mars_module_has_its_old_flat_name():
+    """Each module of the six subpackages, and only those, has an alias ``xnavlab.mars.<module>``."""
+    files = {(p.parent.name, p.stem) for p in (ROOT / "xnavlab" / "mars").glob("*/*.py")
+             if p.name != "__init__.py"}
+    listed = {(sub, m) for sub, modules in MARS_SUBPACKAGES.items() for m in modules}
+    assert files == listed
+    assert {old for old in RENAMED if old.startswith("xnavlab.mars.")} == {
+        f"xnavlab.mars.{m}" for _, m in listed}
 
 
 @pytest.mark.parametrize(("old", "new"), ALIASES, ids=[old for old, _ in ALIASES])
@@ -53,10 +72,10 @@ def test_import_by_old_name_warns_and_forwards(monkeypatch, old, new):
 @pytest.mark.parametrize(("old", "new"), ALIASES, ids=[old for old, _ in ALIASES])
 def test_from_package_import_warns_and_forwards(monkeypatch, old, new):
     forget(monkeypatch, old)
-    leaf = old.rpartition(".")[2]
+    parent, _, leaf = old.rpartition(".")
     with pytest.warns(DeprecationWarning, match=rf"import {new}\b"):
         namespace = {}
-        exec(f"from xnavlab import {leaf}", namespace)
+        exec(f"from {parent} import {leaf}", namespace)
     assert namespace[leaf] is importlib.import_module(new)
 
 
@@ -109,3 +128,25 @@ def test_a_test_leaves_an_alias_as_it_found_it():
         assert old in sys.modules
     assert (sys.modules.get(old), vars(sys.modules[parent]).get(leaf)) == before
     assert (old in sys.modules) == (before[0] is not None)
+
+
+#: An old Mars path, dotted (``xnavlab.mars.scenarios``) or as a file (``mars/scenarios.py``,
+#: ``mars/test_scenarios.py``).
+OLD_MARS_PATH = re.compile(r"xnavlab\.mars\.(?:{0})\b|\bmars/(?:test_)?(?:{0})\.py\b".format(
+    "|".join(m for modules in MARS_SUBPACKAGES.values() for m in modules)))
+
+
+def test_the_old_mars_paths_are_used_nowhere():
+    """Only the aliases know the old paths: the package, the book, the tests (but this one),
+    the benchmarks and the tools import and name the subpackages' paths."""
+    paths = [p for top in ("xnavlab", "book", "tests", "benchmarks", "tools")
+             for p in (ROOT / top).rglob("*")
+             if p.suffix in {".py", ".ipynb", ".md", ".bib", ".csv", ".toml", ".yml", ".txt"}
+             and not {"__pycache__", "_build", ".ipynb_checkpoints"} & set(p.parts)]
+    paths += [ROOT / name for name in ("README.md", "CONTRIBUTING.md", "Makefile")]
+    assert len(paths) > 200
+    this = Path(__file__).resolve()
+    bad = [f"{p.relative_to(ROOT)}:{n}: {m.group(0)}" for p in paths if p.resolve() != this
+           for n, line in enumerate(p.read_text(encoding="utf-8", errors="replace").splitlines(), 1)
+           for m in OLD_MARS_PATH.finditer(line)]
+    assert not bad, "\n".join(bad)

@@ -154,7 +154,7 @@ def test_path_rule(path, ok):
 
 
 @pytest.mark.parametrize(("name", "ok"), [
-    ("xnavlab.mars.toa", True), ("xnavlab.core.detection.mallat", True),
+    ("xnavlab.mars.timing.toa", True), ("xnavlab.core.detection.mallat", True),
     ("xnavlab.reproduce.run", True), ("xnavlab.__version__", True),
     ("xnavlab.toa", True),  # a deprecated alias (it is not imported to check it)
     ("xnavlab.mars.nothing", False), ("xnavlab.reproduce.no_such_function", False),

@@ -1,7 +1,7 @@
 """Every function of the package takes at most 20 parameters.
 
 A longer signature is a call whose arguments are matched by position alone; the kernels group
-theirs into named containers (:mod:`xnavlab.mars.kernel_inputs`) instead.
+theirs into named containers (:mod:`xnavlab.mars.kernel.kernel_inputs`) instead.
 """
 
 import ast

@@ -1,7 +1,8 @@
 """The tests tree mirrors the package: every module with logic has a test module of its name.
 
 ``xnavlab/<sub>/<module>.py`` (or ``xnavlab/<sub>/<package>/<module>.py``) is tested by
-``tests/<sub>/test_<module>.py``; a package's ``__init__.py`` that defines functions or classes
+``tests/<sub>/test_<module>.py`` (``tests/<sub>/<package>/test_<module>.py`` for the
+subpackages in :data:`NESTED`); a package's ``__init__.py`` that defines functions or classes
 by ``tests/<sub>/test_<package>.py``; a top-level ``xnavlab/<module>.py`` by
 ``tests/test_<module>.py``. A module has logic when it defines a function or a class at its top
 level; re-export-only ``__init__.py`` files and pure data modules have none. A ``_private``
@@ -24,8 +25,13 @@ EXEMPT = {
     # The numba kernel is checked against the readable numpy loop of the same scenario.
     "cli/campaigns.py": "tested by the CLI section of tests/core/test_campaign.py",
     # PINT as a witness: its tests need PINT's shipped data and run with ``-m witness``.
-    "mars/pint_bridge.py": "tested by tests/witness/test_pint.py",
+    "mars/timing/pint_bridge.py": "tested by tests/witness/test_pint.py",
 }
+
+
+#: Subpackages whose own subpackages have test folders of their own:
+#: ``xnavlab/mars/timing/toa.py`` is tested by ``tests/mars/timing/test_toa.py``.
+NESTED = {"mars"}
 
 
 def has_logic(path):
@@ -39,6 +45,8 @@ def mirror_of(path):
     stem = rel.parent.name if rel.name == "__init__.py" else rel.stem
     if len(rel.parts) == 1:
         return TESTS / f"test_{stem}.py"
+    if rel.parts[0] in NESTED and len(rel.parts) > 2:
+        return TESTS.joinpath(*rel.parts[:2]) / f"test_{stem}.py"
     return TESTS / rel.parts[0] / f"test_{stem}.py"
 
 
@@ -59,7 +67,7 @@ def modules_with_logic():
 
 def test_the_walk_sees_the_package():
     names = {p.relative_to(PACKAGE).as_posix() for p in modules_with_logic()}
-    assert {"core/filters.py", "mars/toa.py", "plins/parity/space.py", "cli/__init__.py"} <= names
+    assert {"core/filters.py", "mars/timing/toa.py", "plins/parity/space.py", "cli/__init__.py"} <= names
     assert "core/constants.py" not in names  # pure data
     assert "attitude/__init__.py" not in names  # re-exports only
 

@@ -16,7 +16,7 @@ in this list; ``tests/test_layers.py`` checks it):
    chapter) behind the registry :mod:`xnavlab.reproduce`;
 4. :mod:`xnavlab.cli`: the command line, ``python -m xnavlab``.
 
-Submodules are imported on demand: ``from xnavlab.mars import toa``.
+Submodules are imported on demand: ``from xnavlab.mars.timing import toa``.
 
 The four source papers go by their author and year everywhere (docstrings, the book, the
 registry's ``source`` strings); the book's Sources page (``book/sources.md``) gives their

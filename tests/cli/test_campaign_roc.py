@@ -5,7 +5,7 @@ import json
 import pytest
 
 from xnavlab.cli import main
-from xnavlab.mars import roc
+from xnavlab.mars.studies import roc
 
 GRID = ('detector = "chi2"\nthresholds = [1e-7, 1e-3]\ndays = 0.5\n\n'
         '[[faults]]\nfault_class = "step"\nsensor = "uv"\nsize = 8.0\n')
@@ -39,7 +39,7 @@ def test_roc_writes_the_curve_and_resumes(tmp_path, grid_file, capsys):
 
 
 def _the_pandas_recipe_of_the_roc_docs_reads_the_runs(directory, curve):
-    # xnavlab.mars.roc's module docstring, as a reader would paste it: one row a (run, threshold)
+    # xnavlab.mars.studies.roc's module docstring, as a reader would paste it: one row a (run, threshold)
     import pandas as pd
 
     from xnavlab.core.campaign import load_runs

@@ -6,7 +6,9 @@ import json
 import pytest
 
 from xnavlab.cli import main
-from xnavlab.mars import campaigns, pint_bridge, scenarios
+from xnavlab.mars.navigation import scenarios
+from xnavlab.mars.studies import campaigns
+from xnavlab.mars.timing import pint_bridge
 
 
 def test_a_consistency_campaign_takes_a_scenario_files_pulsars_and_models(tmp_path, capsys):

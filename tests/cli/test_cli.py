@@ -232,7 +232,8 @@ SPEC_PART = st.one_of(ODD, st.sampled_from(["uv", "xnav", "cns", "uv.range", "xn
 @given(st.lists(st.tuples(SPEC_PART, SPEC_PART, SPEC_PART, SPEC_PART, SPEC_PART), min_size=1,
                 max_size=2), st.sampled_from([":@+", "::+", ":", ""]))
 def test_a_fault_spec_is_used_or_refused_in_one_line_before_any_run(items, seps):
-    from xnavlab.mars import fault_tolerance, scenarios
+    from xnavlab.mars.faults import fault_tolerance
+    from xnavlab.mars.navigation import scenarios
 
     a, b, c = (seps + ":@+")[:3]
     spec = ",".join(f"{s}{a}{k}:{m}{b}{o}{c}{d}" for s, k, m, o, d in items)

@@ -2,10 +2,10 @@
 
 Every default of the command line is the Python API's: each option of ``run mars`` defaults to
 ``None`` (the scenario file's default, which is the API's), and the settings it then gives are
-compared with the signatures of :func:`xnavlab.mars.scenarios.run`,
-:meth:`~xnavlab.mars.scenarios.MarsRun.summary` and
-:func:`xnavlab.mars.fault_tolerance.run_fault_tolerant` and the fields of
-:class:`~xnavlab.mars.scenarios.MarsScenario`; every "(default X)" in a ``--help`` is the API's
+compared with the signatures of :func:`xnavlab.mars.navigation.scenarios.run`,
+:meth:`~xnavlab.mars.navigation.scenarios.MarsRun.summary` and
+:func:`xnavlab.mars.faults.fault_tolerance.run_fault_tolerant` and the fields of
+:class:`~xnavlab.mars.navigation.scenarios.MarsScenario`; every "(default X)" in a ``--help`` is the API's
 X; and every statement of a ``--help`` about what is refused is run here (refused with one line
 and exit code 2, or, where the help says a case is taken, taken).
 """
@@ -19,9 +19,10 @@ import pytest
 
 from xnavlab.cli import build_parser, main, runners
 from xnavlab.core import campaign as core_campaign
-from xnavlab.mars import campaigns as mars_campaigns
-from xnavlab.mars import fault_tolerance, scenarios
-from xnavlab.mars import scenario_files as sfm
+from xnavlab.mars.faults import fault_tolerance
+from xnavlab.mars.navigation import scenario_files as sfm
+from xnavlab.mars.navigation import scenarios
+from xnavlab.mars.studies import campaigns as mars_campaigns
 
 
 def _parser(*names):

@@ -68,7 +68,7 @@ def test_a_fault_that_would_inject_nothing_exits_2_with_one_line(spec, words, ca
 
 
 def test_help_states_the_refusals_and_the_scoring_rule(capsys):
-    from xnavlab.mars import schedules
+    from xnavlab.mars.faults import schedules
 
     with pytest.raises(SystemExit):
         main(["run", "mars", "--help"])
@@ -96,7 +96,7 @@ def test_an_alarm_after_the_fault_ended_is_scored_late_in_the_json(capsys):
 
 def test_an_out_that_cannot_be_written_is_refused_before_the_run(tmp_path, monkeypatch, capsys):
     # issue 35: --out under a file, or in /proc, ended in a traceback after the run (result lost)
-    from xnavlab.mars import scenarios
+    from xnavlab.mars.navigation import scenarios
 
     monkeypatch.setattr(scenarios, "run", lambda *a, **k: pytest.fail("the run started"))
     (tmp_path / "f").write_text("")

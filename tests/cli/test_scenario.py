@@ -6,7 +6,7 @@ import json
 import pytest
 
 from xnavlab.cli import main
-from xnavlab.mars import scenario_files
+from xnavlab.mars.navigation import scenario_files
 
 
 def test_dump_to_stdout_is_the_default_scenario_file(capsys):

@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 from xnavlab.cli import main, warmup
-from xnavlab.mars import dynamics, scenarios
+from xnavlab.mars.models import dynamics
+from xnavlab.mars.navigation import scenarios
 
 
 def test_every_step_has_a_label_and_a_function():

@@ -18,7 +18,7 @@ from xnavlab.cli import main
 from xnavlab.core import campaign as cp
 from xnavlab.core import campaign_records
 from xnavlab.core.montecarlo import seeds
-from xnavlab.mars.campaigns import campaign
+from xnavlab.mars.studies.campaigns import campaign
 
 PY = sys.executable
 DASK = str(Path(sys.executable).with_name("dask"))

@@ -92,7 +92,7 @@ def test_every_cache_entry_is_keyed_by_the_code_that_computes_it():
     from pathlib import Path
 
     root = Path(diskcache.__file__).resolve().parents[1]
-    own_key = {"xnavlab/core/diskcache.py", "xnavlab/reproduce.py", "xnavlab/mars/headline.py"}
+    own_key = {"xnavlab/core/diskcache.py", "xnavlab/reproduce.py", "xnavlab/mars/navigation/headline.py"}
     offenders = []
     for path in sorted(root.rglob("*.py")):
         rel = path.relative_to(root.parent).as_posix()

@@ -85,9 +85,9 @@ def imported_after(modules, watched):
 def test_the_detectors_and_chapters_modules_do_not_import_scipy_stats():
     # scipy.stats costs about a second to import; these modules are what a chapter, the CLI's
     # run and a campaign worker import (the distributions above replace it)
-    modules = ("xnavlab.mars.plots", "xnavlab.mars.trials", "xnavlab.mars.roc",
+    modules = ("xnavlab.mars.navigation.plots", "xnavlab.mars.studies.trials", "xnavlab.mars.studies.roc",
                "xnavlab.core.detection", "xnavlab.core.montecarlo", "xnavlab.plins",
-               "xnavlab.attitude", "xnavlab.robust", "xnavlab.mars.headline", "xnavlab.cli")
+               "xnavlab.attitude", "xnavlab.robust", "xnavlab.mars.navigation.headline", "xnavlab.cli")
     assert imported_after(modules, ("scipy.stats", "scipy.optimize")) == "[]"
 
 
@@ -96,7 +96,8 @@ def test_the_mars_run_and_the_detectors_import_no_scipy_special():
     # modules do not import it, beyond what PyWavelets (the wavelet detector's) loads itself.
     # PyWavelets 1.8, the last release for Python 3.10, imports scipy.fft and so scipy.special
     # when it is imported; 1.9 (Python 3.11 on) does not: "[]" there.
-    modules = ("xnavlab.mars.scenarios", "xnavlab.core.detection", "xnavlab.mars.fault_tolerance")
+    modules = ("xnavlab.mars.navigation.scenarios", "xnavlab.core.detection",
+               "xnavlab.mars.faults.fault_tolerance")
     pywavelets_own = imported_after(("pywt",), ("scipy.special",))
     assert imported_after(modules, ("scipy.special",)) == pywavelets_own
 

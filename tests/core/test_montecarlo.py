@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from xnavlab.core import montecarlo as mc
-from xnavlab.mars import trials
+from xnavlab.mars.studies import trials
 
 
 def test_seeds_are_reproducible_and_distinct():

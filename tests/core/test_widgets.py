@@ -521,8 +521,9 @@ def in_place_sliders():
     """Every slider whose plotting function has an in-place update, as its chapter calls it
     (each control's grid cut to a few values; shorter runs where a fixed argument allows)."""
     from xnavlab.line import track
-    from xnavlab.mars import photon_plots, plots
-    from xnavlab.mars.pulsars import PAPER_RANGING_M
+    from xnavlab.mars.navigation import plots
+    from xnavlab.mars.timing import photon_plots
+    from xnavlab.mars.timing.pulsars import PAPER_RANGING_M
 
     return [
         pytest.param(track.plot_tracking, dict(exposure_s=[10.0, 20.0, 1000.0],

@@ -9,7 +9,7 @@ from hypothesis import strategies as st
 
 from xnavlab.core.constants import AU, C
 from xnavlab.line import measure
-from xnavlab.mars import pulsars
+from xnavlab.mars.timing import pulsars
 
 
 @pytest.mark.parametrize("name", ["B0531+21", "B1937+21"])

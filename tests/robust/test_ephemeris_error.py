@@ -10,7 +10,7 @@ from hypothesis import strategies as st
 from xnavlab import reproduce
 from xnavlab.core import ephemeris
 from xnavlab.core.constants import GM_EARTH, GM_MARS, J2_EARTH, J2_EARTH_RADIUS
-from xnavlab.mars import pulsars
+from xnavlab.mars.timing import pulsars
 from xnavlab.robust import ephemeris_error as ee
 
 
@@ -163,8 +163,8 @@ def test_ephemeris_error_reproduction_passes():
 
 
 def test_compiled_model_matches_the_dynamics_module():
-    # the batched RK4 model here and xnavlab.mars.dynamics must describe the same Mars physics
-    from xnavlab.mars import dynamics
+    # the batched RK4 model here and xnavlab.mars.models.dynamics must describe the same Mars physics
+    from xnavlab.mars.models import dynamics
 
     r = dynamics.MARS_STATE0[:3]
     expected = dynamics.point_mass(r) + dynamics.j2_acceleration(r)

@@ -1,7 +1,7 @@
 """The ``witness`` marker: tests that set our numbers beside PINT's and stingray's.
 
 Run them alone with ``pytest -m witness tests/witness``; they run offline (PINT through
-:func:`xnavlab.mars.pint_bridge.offline`) and take about half a minute together.
+:func:`xnavlab.mars.timing.pint_bridge.offline`) and take about half a minute together.
 """
 
 

@@ -1,7 +1,7 @@
 """The time-transfer terms against PINT, for a spacecraft around Mars.
 
 PINT evaluates its delays at the spacecraft positions we give it (its ``spacecraft``
-observatory, :func:`xnavlab.mars.pint_bridge.pint_delays`), for the paper's four pulsars
+observatory, :func:`xnavlab.mars.timing.pint_bridge.pint_delays`), for the paper's four pulsars
 at several epochs and positions around Mars. Each tolerance states the agreement measured
 when it was set; the bounds keep a margin of ten or more above it.
 """
@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 from xnavlab.core import ephemeris
-from xnavlab.mars import dynamics, pint_bridge, pulsars, toa
+from xnavlab.mars.models import dynamics
+from xnavlab.mars.timing import pint_bridge, pulsars, toa
 
 pytestmark = pytest.mark.witness
 

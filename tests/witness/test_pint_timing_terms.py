@@ -1,4 +1,4 @@
-"""The omitted terms of chapter 2 against PINT (xnavlab.mars.timing_terms.pint_witness).
+"""The omitted terms of chapter 2 against PINT (xnavlab.mars.timing.timing_terms.pint_witness).
 
 Twelve points of the paper's orbit and twelve of a Mars year; PINT evaluates its delays at
 the same spacecraft positions. Each tolerance states the agreement measured when it was set.
@@ -9,8 +9,9 @@ import pytest
 
 from xnavlab.core import ephemeris
 from xnavlab.core.constants import DAY
-from xnavlab.mars import dynamics, pulsars
-from xnavlab.mars import timing_terms as tt
+from xnavlab.mars.models import dynamics
+from xnavlab.mars.timing import pulsars
+from xnavlab.mars.timing import timing_terms as tt
 
 pytestmark = pytest.mark.witness
 

@@ -1,4 +1,4 @@
-"""The data sets shipped in PINT's wheel, read offline through :mod:`xnavlab.mars.pint_bridge`.
+"""The data sets shipped in PINT's wheel, read offline through :mod:`xnavlab.mars.timing.pint_bridge`.
 
 The first call of each reader runs PINT (about 5-10 s) and stores the result on disk; these
 tests check what the chapters rely on.
@@ -7,7 +7,7 @@ tests check what the chapters rely on.
 import numpy as np
 import pytest
 
-from xnavlab.mars import pint_bridge, pulsars
+from xnavlab.mars.timing import pint_bridge, pulsars
 
 pytestmark = pytest.mark.witness
 

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from stingray.pulse.pulsar import fftfit, fold_events
 
-from xnavlab.mars import pulsars
+from xnavlab.mars.timing import pulsars
 
 pytestmark = pytest.mark.witness
 

@@ -7,7 +7,7 @@ Usage::
         [--timeout SECONDS] [--json] [--quiet]
     python -m xnavlab campaign roc --grid FILE --runs N --seed S --out DIR [...]
 
-``NAME`` is one of :data:`xnavlab.mars.campaigns.CAMPAIGNS` (``consistency``, ``detectors``)
+``NAME`` is one of :data:`xnavlab.mars.studies.campaigns.CAMPAIGNS` (``consistency``, ``detectors``)
 (``consistency --scenario FILE`` takes every setting of a scenario file that a fault-free
 consistency run has: a study's truth, pulsars from timing models, the sensors' noise, mode,
 beta, initial error sigmas, orbit, backend and local filter; its ``[run] days`` and ``seed``
@@ -16,9 +16,9 @@ does not use, set to other than its default, is refused in one line naming it: `
 record_dt`` and ``settle_days`` (the campaign records at min(60 s, span / 48) and averages from
 a quarter of the run) and every ``[detector]`` key (the runs are fault-free); ``[filter]
 init_error`` at its default is the campaign's random initial error) or ``roc``: the receiver
-operating characteristic of a detector (:mod:`xnavlab.mars.roc`), its threshold swept over the
-values of a grid file (TOML or JSON, the format in :mod:`xnavlab.mars.roc`; without ``--grid``,
-:data:`xnavlab.mars.roc.DEFAULT_GRID`) on its faults (run ``i`` is fault ``i mod F``, every
+operating characteristic of a detector (:mod:`xnavlab.mars.studies.roc`), its threshold swept over the
+values of a grid file (TOML or JSON, the format in :mod:`xnavlab.mars.studies.roc`; without ``--grid``,
+:data:`xnavlab.mars.studies.roc.DEFAULT_GRID`) on its faults (run ``i`` is fault ``i mod F``, every
 threshold on the same run). The run length is the grid's ``days`` (``--days`` is refused).
 Besides ``runs.jsonl`` and ``summary.json`` it writes ``DIR/roc.json`` (the grid, the curve per
 threshold: Pd with its Wilson 95 % interval, false alarms per day with its exact Poisson
@@ -78,7 +78,7 @@ def _number(name, text, kind, lo, hi, lo_open=False):
 
 def configure(parser):
     """Options of ``campaign``."""
-    # the names are listed, not imported: the parser stays light (xnavlab.mars.campaigns)
+    # the names are listed, not imported: the parser stays light (xnavlab.mars.studies.campaigns)
     parser.add_argument("name", metavar="NAME",
                         help="the campaign: consistency (NEES/NIS of the fault-free Mars run), "
                              "detectors (chapter 9's fault class x detector table) or roc "
@@ -93,8 +93,8 @@ def configure(parser):
                              "and refuses --days")
     parser.add_argument("--grid", metavar="FILE", default=None,
                         help="roc only: the threshold and fault grid, TOML or JSON (keys "
-                             "detector, thresholds, days, faults: see xnavlab.mars.roc); "
-                             "default xnavlab.mars.roc.DEFAULT_GRID")
+                             "detector, thresholds, days, faults: see xnavlab.mars.studies.roc); "
+                             "default xnavlab.mars.studies.roc.DEFAULT_GRID")
     parser.add_argument("--seed", default=None,
                         help="the campaign's seed (default 0, or the --scenario file's)")
     parser.add_argument("--scenario", metavar="FILE", dest="scenario_file", default=None,
@@ -122,7 +122,7 @@ def configure(parser):
 def execute(args):
     """Run ``campaign``; returns the exit code."""
     from xnavlab.core.campaign import SUMMARY_FILE
-    from xnavlab.mars.campaigns import CAMPAIGNS, DAYS, campaign
+    from xnavlab.mars.studies.campaigns import CAMPAIGNS, DAYS, campaign
 
     if args.name not in CAMPAIGNS and args.name != "roc":
         raise UsageError(f"campaign must be one of {', '.join(CAMPAIGNS)}, roc, "
@@ -150,7 +150,7 @@ def execute(args):
         scenario = dataclasses.replace(scenario, days=days, seed=0)
     camp = campaign(args.name, days=days, scenario=scenario, **options)
     if args.name == "detectors":
-        from xnavlab.mars.campaigns import detector_cells
+        from xnavlab.mars.studies.campaigns import detector_cells
 
         cells = len(detector_cells())
         if runs % cells:
@@ -185,8 +185,8 @@ def _consistency_file(path):
     from pathlib import Path
 
     from xnavlab.core.userfiles import parse_toml, read_text
-    from xnavlab.mars import scenario_files
-    from xnavlab.mars.campaigns import DAYS
+    from xnavlab.mars.navigation import scenario_files
+    from xnavlab.mars.studies.campaigns import DAYS
 
     sf = scenario_files.load(path)
     try:
@@ -262,8 +262,8 @@ def _write_summary(out, payload):
 
 
 def _execute_roc(args):
-    """``campaign roc``: the curve of a grid's thresholds and faults (:mod:`xnavlab.mars.roc`)."""
-    from xnavlab.mars import roc
+    """``campaign roc``: the curve of a grid's thresholds and faults (:mod:`xnavlab.mars.studies.roc`)."""
+    from xnavlab.mars.studies import roc
 
     if args.days is not None:
         raise UsageError("campaign roc takes its run length from the grid file's days, "

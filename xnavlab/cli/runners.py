@@ -100,7 +100,7 @@ def configure_mars(parser):
 
 def _settings(args):
     """The scenario file (or the defaults) with the flags given on the command line applied."""
-    from xnavlab.mars import scenario_files  # imported here: the parser stays light
+    from xnavlab.mars.navigation import scenario_files  # imported here: the parser stays light
 
     sf = (scenario_files.load(args.scenario_file) if args.scenario_file is not None
           else scenario_files.loads(""))
@@ -153,12 +153,12 @@ def _check_fault_backend(args, opts, det):
 def execute_mars(args):
     """Run ``run mars``; returns the exit code."""
     sc, opts, det = _settings(args)
-    from xnavlab.mars.scenarios import run  # imported here: the parser stays light
+    from xnavlab.mars.navigation.scenarios import run  # imported here: the parser stays light
 
     t_start = time.perf_counter()
     detector, faults = det["name"], det["faults"]
     if faults or detector != "none":
-        from xnavlab.mars import fault_tolerance  # only a fault-tolerant run needs it
+        from xnavlab.mars.faults import fault_tolerance  # only a fault-tolerant run needs it
 
         check_choice("detector", detector, fault_tolerance.DETECTORS)
         _check_fault_backend(args, opts, det)

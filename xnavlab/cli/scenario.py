@@ -5,9 +5,10 @@ Usage::
     python -m xnavlab scenario --dump [--setup study] [--out FILE]   # every key with its unit
     python -m xnavlab scenario --check FILE   # read it; print the settings it gives, with units
 
-A written file read back gives the same settings (:mod:`xnavlab.mars.scenario_files`).
+A written file read back gives the same settings (:mod:`xnavlab.mars.navigation.scenario_files`).
 ``--setup paper`` (the default) writes the paper's set-up (truth and filter share the
-paper's force model), ``--setup study`` the studies' (:meth:`xnavlab.mars.scenarios.MarsScenario.study`).
+paper's force model), ``--setup study`` the studies'
+(:meth:`xnavlab.mars.navigation.scenarios.MarsScenario.study`).
 Exit codes: 0 done; 2 a bad file or command line (one line on stderr).
 """
 
@@ -38,11 +39,11 @@ def configure(parser):
 
 def execute(args):
     """Run ``scenario``; returns the exit code."""
-    from xnavlab.mars import scenario_files
+    from xnavlab.mars.navigation import scenario_files
 
     if args.dump:
         from xnavlab.core.validate import check_choice
-        from xnavlab.mars import scenarios
+        from xnavlab.mars.navigation import scenarios
 
         setup = check_choice("setup", "paper" if args.setup is None else args.setup,
                              scenario_files.SETUPS)

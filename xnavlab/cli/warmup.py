@@ -6,13 +6,13 @@
 milliseconds. It also computes into the truth cache (``$XNAVLAB_CACHE``, default
 ``~/.cache/xnavlab``): the paper's 30-day Mars truth trajectory, which chapters 5, 6 and 8
 and the Mars reproductions use; the table of matched vs mismatched force models of chapters
-3, 5 and 6 (:func:`xnavlab.mars.model_mismatch.mismatch_table`, with the studies' rich truth
+3, 5 and 6 (:func:`xnavlab.mars.navigation.model_mismatch.mismatch_table`, with the studies' rich truth
 before it); chapter 10's Monte Carlo reproductions and its table of the RKF's bound
 (:func:`xnavlab.robust.plots.bound_table`) and chapter 5's ``mars-subsystems`` (minutes
 together, shared out over the cores once the kernel is compiled). No chapter cell then waits
 minutes, and two chapters executed side by side (``make book``, ``pytest -n 2``) do not
 wait for each other. (The headline campaign of chapters 6 and 8, 32 noise seeds of the 30-day
-run, is shipped with the package: :data:`xnavlab.mars.headline.RUNS_PATH`.)
+run, is shipped with the package: :data:`xnavlab.mars.navigation.headline.RUNS_PATH`.)
 
 Each step runs a tiny case through the same public functions the chapters call, so the
 kernels are compiled for exactly the argument types the chapters pass. Running it again
@@ -43,7 +43,7 @@ HELP = "compile and cache the numba kernels and the 30-day Mars truth (make setu
 
 
 def _mars_truth():
-    from xnavlab.mars import scenarios
+    from xnavlab.mars.navigation import scenarios
 
     scenarios.prepare(scenarios.MarsScenario())  # the paper's 30 days: truth cached on disk
 
@@ -54,26 +54,27 @@ def compile_kernel():
     The step :data:`KERNEL_STEP` of :func:`warm`, which runs it in a second process
     (``python -c "from xnavlab.cli import warmup; warmup.compile_kernel()"``).
     """
-    from xnavlab.mars import scenarios
+    from xnavlab.mars.navigation import scenarios
 
     scenarios.run(scenarios.MarsScenario(days=0.02, record_dt=60.0))
 
 
 def _force_models():
-    from xnavlab.mars import dynamics
+    from xnavlab.mars.models import dynamics
 
     dynamics.chapter_truths()  # the keys plot_model_difference and chapters 2 and 3 use
 
 
 def _pint_witnesses():
-    from xnavlab.mars import pint_bridge
+    from xnavlab.mars.timing import pint_bridge
 
     pint_bridge.fermi_photon_phases()  # chapter 1's calls: stored under $XNAVLAB_CACHE
     pint_bridge.nanograv_residuals()
 
 
 def _mars_fault_tolerant():
-    from xnavlab.mars import fault_tolerance, scenarios
+    from xnavlab.mars.faults import fault_tolerance
+    from xnavlab.mars.navigation import scenarios
 
     sc = scenarios.MarsScenario(days=0.05, record_dt=60.0)
     for detector in fault_tolerance.DETECTORS:
@@ -91,7 +92,7 @@ def _ephemeris_error():
 
 
 def _study_truth():
-    from xnavlab.mars.scenarios import MarsScenario, prepare
+    from xnavlab.mars.navigation.scenarios import MarsScenario, prepare
 
     # the rich truth (MRO95A 8x8, planets, SRP) on the runs' 30-day grid, and the first day's
     # truth behind its derived q_acc (MarsScenario.study)
@@ -99,7 +100,7 @@ def _study_truth():
 
 
 def _timing_tables():
-    from xnavlab.mars import fold_toa, timing_bound
+    from xnavlab.mars.timing import fold_toa, timing_bound
 
     timing_bound.accuracy_table(cache=True)  # chapter 1's call: 2000 ML, 300 cross-correlation folds
     fold_toa.window_survey(cache=True)  # chapter 2's two surveys of the fold over one orbit
@@ -107,7 +108,7 @@ def _timing_tables():
 
 
 def _model_mismatch():
-    from xnavlab.mars import model_mismatch
+    from xnavlab.mars.navigation import model_mismatch
 
     model_mismatch.mismatch_table()  # the chapters' call (3, 5, 6): stored under $XNAVLAB_CACHE
 
@@ -131,7 +132,7 @@ def _reproduction_step(chapter, rid):
 
 
 def _ekf_and_ukf():
-    from xnavlab.mars import linearisation
+    from xnavlab.mars.navigation import linearisation
 
     linearisation.ekf_and_ukf()  # chapter 5's EKF/UKF comparison, numpy loop (about 50 s, cache)
 
@@ -240,7 +241,7 @@ def _compile_beside():
     """Whether to compile the kernel in a second process: needed, and a second core."""
     if (os.cpu_count() or 1) < 2 or KERNEL_STEP not in dict(STEPS):
         return False
-    from xnavlab.mars import compile_notice
+    from xnavlab.mars.kernel import compile_notice
 
     return not compile_notice.is_compiled()
 

@@ -166,7 +166,8 @@ def source_digest(root, skip=()):
 
 
 def _module_file(root, name):
-    """The source file of module ``name`` (``xnavlab.mars.toa``) under the package's ``root``, or None."""
+    """The source file of module ``name`` (``xnavlab.mars.timing.toa``) under the package's ``root``, or
+    None."""
     parts = name.split(".")[1:]
     base = root.joinpath(*parts) if parts else root
     for candidate in (base.with_suffix(".py"), base / "__init__.py"):
@@ -215,7 +216,7 @@ def code_digest(modules, root=None):
     Parameters
     ----------
     modules : tuple of str
-        Dotted module names of the package (``("xnavlab.mars.headline",)``).
+        Dotted module names of the package (``("xnavlab.mars.navigation.headline",)``).
     root : str or pathlib.Path, optional
         The package's directory (default: this package's, ``xnavlab/``).
 

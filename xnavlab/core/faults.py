@@ -34,7 +34,7 @@ whose duration is ignored; ``math.inf`` is a permanent fault), and a ``magnitude
 :data:`MAX_SIZE` (1e15 in the measurement's SI unit: a ``magnitude``, or what a ramp reaches
 on the samples it acts on, :func:`inject`). Whether a fault falls inside a
 run and acts on at least one sample is the run's check
-(:func:`xnavlab.mars.schedules.check_schedule` for the Mars run).
+(:func:`xnavlab.mars.faults.schedules.check_schedule` for the Mars run).
 
 A schedule (:func:`check_faults`) is a sequence of :class:`Fault`: one Fault alone, a spec
 string or anything else is refused by name, and so is a fault listed twice (it would be
@@ -186,7 +186,7 @@ def check_faults(name, faults, components=None):
         raise ValueError(f"{want}, got one Fault: give [fault]")
     if isinstance(faults, str | bytes):
         raise ValueError(f"{want}, got the string {faults!r:.80}: read a fault spec with "
-                         "parse_spec (xnavlab.mars.schedules.parse_faults for the Mars run)")
+                         "parse_spec (xnavlab.mars.faults.schedules.parse_faults for the Mars run)")
     if isinstance(faults, dict) or not hasattr(faults, "__iter__"):
         raise ValueError(f"{want}, got {type(faults).__name__} {faults!r:.80}")
     items = list(faults)

@@ -13,7 +13,7 @@ Two kinds of trial, each a pure function of its parameters and one seed:
     detected, the delay, the false alarms before it and the largest ratio (statistic /
     threshold) inside and outside the fault (for ROC curves).
 
-(The Mars-run trials live with the Mars system: :mod:`xnavlab.mars.trials`.)
+(The Mars-run trials live with the Mars system: :mod:`xnavlab.mars.studies.trials`.)
 
 :func:`run_tasks` maps a trial over a list of parameter dicts with any
 :class:`concurrent.futures.Executor` (default: a local ``ProcessPoolExecutor`` with two
@@ -108,7 +108,7 @@ def signal_trial(kind, size_sigma, *, seed=0, n=4000, train=1500, duration=300, 
 
     Notes
     -----
-    The rule is the book's one scoring rule (:func:`xnavlab.mars.schedules.score_faults`) on a
+    The rule is the book's one scoring rule (:func:`xnavlab.mars.faults.schedules.score_faults`) on a
     single series: a fault counts as detected only by an alarm while it acts; an alarm after
     its end comes after the whole fault reached the filter, and is counted apart.
     """

@@ -1,6 +1,7 @@
 """The files a user hands to the package: read and parsed, or refused with one line.
 
-A scenario file (:mod:`xnavlab.mars.scenario_files`), a fault grid (:mod:`xnavlab.mars.roc`) or
+A scenario file (:mod:`xnavlab.mars.navigation.scenario_files`), a fault grid
+(:mod:`xnavlab.mars.studies.roc`) or
 any other input file is read here, so that every reader refuses the same things the same way:
 a missing or unreadable file, a folder where a file belongs, text that is not UTF-8, and a
 syntax error each give one :class:`ValueError` that names the file and what is wrong with it,

@@ -13,7 +13,7 @@ module                 what it models
 =====================  ===================================================================
 
 It imports the core and the book's pulsar catalogue and photon model,
-:mod:`xnavlab.mars.pulsars` (the same pulsars, photons and TOA estimator as chapter 1).
+:mod:`xnavlab.mars.timing.pulsars` (the same pulsars, photons and TOA estimator as chapter 1).
 """
 
 __all__: list[str] = []

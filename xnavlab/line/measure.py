@@ -4,15 +4,15 @@ A spacecraft at distance ``x`` from the SSB along the unit vector ``n`` to a pul
 each pulse ``x / c`` before the SSB does (chapter 2's sign: the delay
 ``Delta t = t_SSB - t_SC = n . R / c = x / c``). Folding the photons of one window gives the
 pulse profile displaced by ``-Delta t`` modulo the period ``P``; the cross-correlation with
-the template (:func:`xnavlab.mars.pulsars.estimate_phase_shift`) measures that displacement,
+the template (:func:`xnavlab.mars.timing.pulsars.estimate_phase_shift`) measures that displacement,
 so a window measures ``x`` modulo the pulse "wavelength" ``c P``. The cycle is taken from a
 prediction ``x_ref`` (the filter's), which must be known to better than ``c P / 2``.
 
-The folded counts are drawn bin by bin (:func:`xnavlab.mars.pulsars.simulate_folded`: Poisson
+The folded counts are drawn bin by bin (:func:`xnavlab.mars.timing.pulsars.simulate_folded`: Poisson
 counts per phase bin, the distribution of a folded Poisson photon stream), with the delay held
 at its value in the middle of the window: folding with the predicted motion removes the rest.
 
-Units: m, s. Pulsars by name from :data:`xnavlab.mars.pulsars.CATALOGUE`.
+Units: m, s. Pulsars by name from :data:`xnavlab.mars.timing.pulsars.CATALOGUE`.
 
 Examples
 --------
@@ -29,7 +29,7 @@ import math
 
 from xnavlab.core.constants import C
 from xnavlab.core.validate import check_real, make_rng
-from xnavlab.mars import pulsars
+from xnavlab.mars.timing import pulsars
 
 __all__ = ["nbins_for", "wavelength", "fold_range", "range_sigma"]
 
@@ -65,7 +65,7 @@ def fold_range(x, x_ref, pulsar="B0531+21", exposure=10.0, rng=None, area_m2=1.0
         True distance of the spacecraft from the SSB along ``n`` (mid-window), m.
     x_ref : float
         Predicted distance, m; the cycle nearest it is chosen (error below ``c P / 2``).
-    pulsar : str or xnavlab.mars.pulsars.Pulsar
+    pulsar : str or xnavlab.mars.timing.pulsars.Pulsar
         Default the Crab, B0531+21.
     exposure : float
         Window length, s, in (0, 1e5].
@@ -98,7 +98,7 @@ def range_sigma(pulsar="B0531+21", exposure=10.0, area_m2=1.0):
     """Standard deviation of :func:`fold_range`, m: ``c`` times the estimator's TOA sigma.
 
     The first-order sigma of the cross-correlation estimator on the fold's bins
-    (:func:`xnavlab.mars.pulsars.xcorr_toa_sigma`, chapter 1); it falls as
+    (:func:`xnavlab.mars.timing.pulsars.xcorr_toa_sigma`, chapter 1); it falls as
     ``exposure ** -0.5``.
 
     Examples

@@ -30,7 +30,7 @@ from xnavlab.core.filters import ekf_predict, ekf_update
 from xnavlab.core.plotting import in_place
 from xnavlab.core.validate import check_covariance, check_finite_array, check_int, check_real, make_rng
 from xnavlab.line.measure import fold_range, range_sigma
-from xnavlab.mars import pulsars
+from xnavlab.mars.timing import pulsars
 
 __all__ = ["X0", "V0", "cv_model", "simulate", "Track", "track", "snapshot_covariance", "run_line",
            "plot_tracking"]

@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from xnavlab.mars import pulsars, timing_bound
-from xnavlab.mars.pulsars import PAPER_RANGING_M  # the paper's values, with the pulsars
+from xnavlab.mars.timing import pulsars, timing_bound
+from xnavlab.mars.timing.pulsars import PAPER_RANGING_M  # the paper's values, with the pulsars
 from xnavlab.reproduce import Result, check_measure, check_rel, figure, part_of, register, save_figure
 
 __all__ = ["RANGING_CLAIM"]  # registers reproductions
@@ -54,7 +54,7 @@ def xnav_ranging(out=None, area_m2=1.0, t_obs=500.0, background_ph_cm2_s=0.005):
             "ranging accuracy = c sigma_TOA. The paper does not print its formula; this standard "
             "one gives all four values to within 0.5 %. The formula is a heuristic: the Poisson "
             "Cramer-Rao bound of the TOA with the same rates, a Gaussian pulse of the catalogue "
-            "width and the same background (xnavlab.mars.timing_bound, Golshan & Sheikh 2007) is "
+            "width and the same background (xnavlab.mars.timing.timing_bound, Golshan & Sheikh 2007) is "
             + ", ".join(f"{n} {bound[n]:.0f} m" for n in PAPER_RANGING_M)
             + "; a maximum-likelihood TOA on simulated photons reaches it (chapter 1)."
         ),
@@ -81,7 +81,7 @@ def _figure(ours, out):
 def _thirty_days(step=60.0):
     import numpy as np
 
-    from xnavlab.mars import dynamics
+    from xnavlab.mars.models import dynamics
 
     t = dynamics.MARS_T0 + np.arange(0.0, 30 * 86400.0 + step / 2, step)
     return t, dynamics.truth(t)
@@ -102,7 +102,7 @@ def toa_terms(out=None):
 
     from xnavlab.core import ephemeris
     from xnavlab.core.constants import C
-    from xnavlab.mars import toa
+    from xnavlab.mars.timing import toa
     from xnavlab.reproduce import check_sanity
 
     t, x = _thirty_days()
@@ -138,7 +138,7 @@ def toa_terms(out=None):
     note = ("Eq. (1) of Fan et al. (2016) has no tabulated magnitudes; these are the orders of "
             "magnitude chapter 2 relies on, over the 30-day truth orbit from 2016-01-01 TDB, DE421. "
             "Shapiro term in the paper's form (ln|(n.R + |R|)/(n.b + |b|) + 1|, as the Mars scenario "
-            "uses); the exact form (xnavlab.mars.toa.shapiro) differs from it by 0.9-5.1 ns here, "
+            "uses); the exact form (xnavlab.mars.timing.toa.shapiro) differs from it by 0.9-5.1 ns here, "
             "which changes none of these checks.")
     return Result("toa-terms", checks, note,
                   data={"t": t, "at_sc": at_sc, "at_mars": at_mars, "parallax_m": parallax_m,
@@ -157,7 +157,7 @@ def mars_orbit(out=None):
 
     from xnavlab.core import ephemeris
     from xnavlab.core.constants import GM_MARS, GM_SUN, R_MARS
-    from xnavlab.mars import dynamics
+    from xnavlab.mars.models import dynamics
     from xnavlab.reproduce import check_sanity
 
     paper = np.array([-3437565.6220408, -1322042.9896803, -2631212.18533248,

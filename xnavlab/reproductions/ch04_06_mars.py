@@ -3,7 +3,7 @@
 IDs: ``mars-sensors`` (section 4.1: the sensor accuracies, chapter 4, with the sizes of the
 idealisations the paper's sensor models make), ``mars-subsystems`` (sections 0 and 3: each
 subsystem alone and the fused result, chapter 5), ``mars-optics`` (chapter 5: the fused filter
-with the optical sensors as instruments, :mod:`xnavlab.mars.optics`, beside the paper's
+with the optical sensors as instruments, :mod:`xnavlab.mars.models.optics`, beside the paper's
 idealised ones), ``mars-nofault`` (Fig. 2, chapter 6) and ``mars-xnav-crlb`` (chapter 6: the
 fused accuracy with XNAV noise at the Cramer-Rao bound beside the paper's ranging accuracies).
 ``mars-optics`` and ``mars-xnav-crlb`` judge no claim of the paper: they measure what the
@@ -16,12 +16,12 @@ reset mode, no faults and no detector. The paper reports a position error of
 formed.
 
 Our metric: the RMS over time of the norm of the fused position (velocity) error,
-from day 1 to day 30 (:meth:`xnavlab.mars.scenarios.MarsRun.metrics`). The RMS of the norm
+from day 1 to day 30 (:meth:`xnavlab.mars.navigation.scenarios.MarsRun.metrics`). The RMS of the norm
 summarises a curve like Fig. 2 in one number, weighs every axis and epoch equally and
 leaves out the 5-km initial transient, which has died out well before day 1.
 Acceptance: the paper's numbers come from one run, so each is judged as one draw from our
 single runs over 32 noise seeds (:func:`xnavlab.verdicts.check_draw`, the runs of
-:func:`xnavlab.mars.headline.headline_numbers`): reproduced when it falls inside their 95 %
+:func:`xnavlab.mars.navigation.headline.headline_numbers`): reproduced when it falls inside their 95 %
 range. The paper gives neither its process noise nor its metric; ours are stated in the note.
 """
 
@@ -33,7 +33,9 @@ import numpy as np
 
 from xnavlab.core.constants import DAY, C
 from xnavlab.core.filters import chi2_bounds, judge_series
-from xnavlab.mars import dynamics, optics, pulsars, scenarios, sensors, stars
+from xnavlab.mars.models import dynamics, optics, sensors, stars
+from xnavlab.mars.navigation import scenarios
+from xnavlab.mars.timing import pulsars
 from xnavlab.reproduce import (
     Check,
     Result,
@@ -94,7 +96,7 @@ PAPER_POSITION_ERROR_M = 28.835
 PAPER_VELOCITY_ERROR_MPS = 0.02149
 
 #: The optical sensors of ``mars-optics``: the paper's idealised ones, each instrument option of
-#: :mod:`xnavlab.mars.optics` alone, and all three (``MarsScenario`` fields).
+#: :mod:`xnavlab.mars.models.optics` alone, and all three (``MarsScenario`` fields).
 OPTICS_CASES = {
     "paper": {},
     "radius range": {"uv_range_model": "radius"},
@@ -160,7 +162,7 @@ def mars_sensors(out=None, n=40_000, seed=0):
         "the shared horizon error, which the filter's R accounts for. XNAV accuracies come from "
         "the Sheikh et al. (2006) formula of chapter 1 (500 s, 1 m^2, 0.005 ph/cm^2/s). "
         "The rows after the pulsars measure what the paper's idealised optical sensors leave out "
-        "(xnavlab.mars.optics, xnavlab.mars.stars.starlight_geometry; the paper gives no such "
+        "(xnavlab.mars.models.optics, xnavlab.mars.models.stars.starlight_geometry; the paper gives no such "
         "numbers): the range from Mars's apparent radius, the oblate limb fitted by a sphere and "
         "the stars hidden behind Mars, over the paper's 30-day orbit."
     )
@@ -292,12 +294,12 @@ def _fused_runs(days, seeds, settle_days, **fields):
 
 
 @register("mars-optics", title="the fused filter with the optical sensors as instruments (30 days)",
-          source="Fan et al. 2016, section 4.1 (the idealised sensors); xnavlab.mars.optics",
+          source="Fan et al. 2016, section 4.1 (the idealised sensors); xnavlab.mars.models.optics",
           chapter="05_ekf_ukf")
 def mars_optics(out=None, days=30.0, seeds=(0, 1), settle_days=1.0):
     """The paper's 30-day fused run with each optical instrument model, and all three.
 
-    The truth's measurements come from the instrument (:mod:`xnavlab.mars.optics`); the
+    The truth's measurements come from the instrument (:mod:`xnavlab.mars.models.optics`); the
     filter keeps the paper's white-noise ``R``. Per case of :data:`OPTICS_CASES`: the fused
     position error (RMS after ``settle_days``, mean over ``seeds``) and the fused NEES judged
     against the chi-square band of an average of ``len(seeds)`` runs.
@@ -325,7 +327,7 @@ def mars_optics(out=None, days=30.0, seeds=(0, 1), settle_days=1.0):
     paper, every = data["cases"]["paper"], data["cases"]["all three"]
     note = (
         f"The paper's {days:g}-day scenario (section 4.1) with the optical measurements made as "
-        "instruments make them (xnavlab.mars.optics) while every filter keeps the paper's "
+        "instruments make them (xnavlab.mars.models.optics) while every filter keeps the paper's "
         "white-noise R: the UV range from Mars's apparent radius (noise rho cot(alpha) "
         "sigma_alpha, the paper's 5 km on the orbit's mean), the limb of an oblate Mars fitted "
         "by a sphere (a range and direction bias that follows the geometry), and horizon errors "
@@ -354,7 +356,7 @@ def mars_nofault(out=None, days=30.0, seed=0, settle_days=1.0, mode="reset"):
     checks, q_reach = [], {}
     if (days, settle_days, mode) == (30.0, 1.0, "reset"):
         # the paper's numbers are single runs: judged among ours over 32 seeds
-        from xnavlab.mars import headline
+        from xnavlab.mars.navigation import headline
 
         runs = headline.headline_numbers(n_seeds=32)["runs"]
         # q is lost (the paper gives none) and moves both numbers beyond our noise; the NEES
@@ -391,7 +393,7 @@ def mars_nofault(out=None, days=30.0, seed=0, settle_days=1.0, mode="reset"):
         "Set-up as section 4.1 (initial state, 5000 m and 1 m/s initial error per axis, the four "
         "pulsars at 109/344/1866/325 m every 500 s, UV 0.1 deg and 5000 m every 3 s, CNS 3 arcsec "
         "and 0.05 deg every 3 s, 30 days, Mars + Sun + Jupiter); epoch 2016-01-01 TDB; three "
-        "Hipparcos stars picked by xnavlab.mars.stars.pick_three; federated filter in reset mode with "
+        "Hipparcos stars picked by xnavlab.mars.models.stars.pick_three; federated filter in reset mode with "
         "equal sharing factors, fused every epoch. The paper gives no process noise: we use white "
         f"acceleration noise q = {sc.q_acc:g} m^2/s^3 (1e-7 m/s^2 over ~1000 s); the result moves "
         "from about 20 m (q = 1e-12) to 52 m (q = 1e-9), which with the undefined metric is the "
@@ -431,16 +433,16 @@ def mars_nofault(out=None, days=30.0, seed=0, settle_days=1.0, mode="reset"):
 
 
 @register("mars-xnav-crlb", title="the fused accuracy with XNAV noise at the Cramer-Rao bound",
-          source="Fan et al. 2016, section 4.1 (the ranging accuracies); xnavlab.mars.timing_bound",
+          source="Fan et al. 2016, section 4.1 (the ranging accuracies); xnavlab.mars.timing.timing_bound",
           chapter="06_federated")
 def mars_xnav_crlb(out=None, days=30.0, seeds=tuple(range(8)), settle_days=1.0):
     """The paper's fault-free run with XNAV noise at the Cramer-Rao bound, seed by seed.
 
     The same seeds (the same noise draws, scaled) with the paper's ranging accuracies
     (``xnav_noise="paper"``) and with the bound of the same photon rates, profile and
-    background (``xnav_noise="crlb"``, :func:`xnavlab.mars.timing_bound.xnav_noise_sigma`).
+    background (``xnav_noise="crlb"``, :func:`xnavlab.mars.timing.timing_bound.xnav_noise_sigma`).
     """
-    from xnavlab.mars.headline import mean_interval
+    from xnavlab.mars.navigation.headline import mean_interval
 
     seeds = tuple(seeds)
     runs = {kind: _fused_runs(days, seeds, settle_days, xnav_noise=kind)

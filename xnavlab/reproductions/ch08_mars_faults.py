@@ -5,7 +5,7 @@ wavelet detection, isolation and rejoining) and ``wavelet-details`` (Fig. 5: db3
 detail signals of the faulty UV range). All chapter 8.
 
 The paper gives the fault instants only; the magnitudes and durations are ours
-(:func:`xnavlab.mars.schedules.paper_schedule`: UV range steps of 5 sigma, XNAV delay steps
+(:func:`xnavlab.mars.faults.schedules.paper_schedule`: UV range steps of 5 sigma, XNAV delay steps
 of 1e-5 s (3 km) and ramps of 2e-9 s/s, horizon-sensor steps of 8 sigma, 5000 s each). The
 metric is the one of ``mars-nofault``: RMS of the fused error norm from day 1 to day 30; the
 maximum is taken over the same span.
@@ -28,8 +28,9 @@ import numpy as np
 
 from xnavlab.core import detection
 from xnavlab.core.faults import Fault, inject
-from xnavlab.mars import fault_tolerance, scenarios, schedules
-from xnavlab.mars.plots import plot_details, plot_error_curves
+from xnavlab.mars.faults import fault_tolerance, schedules
+from xnavlab.mars.navigation import scenarios
+from xnavlab.mars.navigation.plots import plot_details, plot_error_curves
 from xnavlab.reproduce import (
     Result,
     check_draw,
@@ -72,13 +73,13 @@ HAND_SCHEDULE = (
 )
 
 
-#: The seed of the headline campaign (:func:`xnavlab.mars.headline.headline_numbers`): its run
+#: The seed of the headline campaign (:func:`xnavlab.mars.navigation.headline.headline_numbers`): its run
 #: ``i`` uses child ``i`` of ``SeedSequence(HEADLINE_SEED)`` as its noise seed.
 HEADLINE_SEED = 2016
 
 
 #: The lost fault sizes, one varied at a time: label -> (keyword of
-#: :func:`~xnavlab.mars.schedules.paper_schedule`, factor on our value). The plausible range is
+#: :func:`~xnavlab.mars.faults.schedules.paper_schedule`, factor on our value). The plausible range is
 #: half to twice each of our magnitudes: at half our UV step (2.5 sigma) our detector already
 #: misses or is late on some UV steps, while the paper finds every fault instant (its Fig. 5
 #: and text), so smaller steps are not the paper's; the paper bounds them from above nowhere,
@@ -94,7 +95,7 @@ LOST_SIZES = {
 #: The headline campaign's first runs on which each lost size is run (paired with them).
 LOST_RUNS = 2
 
-#: Our magnitudes (:func:`~xnavlab.mars.schedules.paper_schedule`'s defaults).
+#: Our magnitudes (:func:`~xnavlab.mars.faults.schedules.paper_schedule`'s defaults).
 _OURS = {"uv_step_sigma": 5.0, "xnav_step_s": 1.0e-5, "xnav_ramp": 2.0e-9, "cns_step_sigma": 8.0}
 
 
@@ -243,7 +244,7 @@ def fault_exposure(ftr, n_grid=500):
     Parameters
     ----------
     ftr : FaultTolerantRun
-        A run with faults (:func:`xnavlab.mars.fault_tolerance.run_fault_tolerant`).
+        A run with faults (:func:`xnavlab.mars.faults.fault_tolerance.run_fault_tolerant`).
     n_grid : int
         Points of each fault's span at which its subsystem's state is sampled.
 
@@ -251,7 +252,7 @@ def fault_exposure(ftr, n_grid=500):
     -------
     list of dict
         Per fault, in schedule order: ``sensor``, ``kind``, ``onset``, ``end`` (s since the
-        start), ``status`` and ``delay_s`` (:func:`xnavlab.mars.schedules.score_faults`;
+        start), ``status`` and ``delay_s`` (:func:`xnavlab.mars.faults.schedules.score_faults`;
         ``delay_s`` None unless detected), ``late_s`` (None unless late), ``out_share`` (the
         share of ``[onset, end)`` during which its subsystem was out of the fusion: 1 when none
         of the fault reached the filter, 0 when all of it did) and ``back_s`` (s after the onset
@@ -331,7 +332,7 @@ def mars_faults_ekf(out=None, days=30.0, seed=0):
     checks = []
     if (days, seed) == (30.0, 0):
         # the paper's Fig. 3 is one run: judged among our single runs over 32 seeds
-        from xnavlab.mars import headline
+        from xnavlab.mars.navigation import headline
 
         runs = headline.headline_numbers(n_seeds=32)["runs"]
         ekf, clean = np.asarray(runs["ekf_max_position_m"]), np.asarray(runs["clean_max_position_m"])
@@ -436,7 +437,7 @@ def mars_faults_wavelet(out=None, days=30.0, seed=0, hand_days=3.0):
     if (days, seed) == (30.0, 0):
         # the paper's Fig. 4 is one run: its numbers judged among our single runs over 32 seeds
         from xnavlab.core.montecarlo import seeds as spawn_seeds
-        from xnavlab.mars import headline
+        from xnavlab.mars.navigation import headline
 
         runs = headline.headline_numbers(n_seeds=32, seed=HEADLINE_SEED)["runs"]
         paper_ratio = PAPER_POSITION_ERROR_M / headline.PAPER["fused_position_m"]

@@ -17,8 +17,8 @@ module                   what it models
 
 The public names of ``filters`` and ``comparison`` are re-exported here (``from xnavlab import robust``).
 This system uses two pieces of the Mars system, because the book's story needs them: the
-pulsar catalogue (:mod:`xnavlab.mars.pulsars`: the same four pulsars are observed) and the
-Mars initial state and pole (:mod:`xnavlab.mars.dynamics`: the Mars case flies the main
+pulsar catalogue (:mod:`xnavlab.mars.timing.pulsars`: the same four pulsars are observed) and the
+Mars initial state and pole (:mod:`xnavlab.mars.models.dynamics`: the Mars case flies the main
 paper's orbit).
 """
 

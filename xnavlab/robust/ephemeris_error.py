@@ -61,8 +61,8 @@ from xnavlab.core.constants import (
     R_EARTH,  # noqa: F401 - used by the doctest of acceleration
 )
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real
-from xnavlab.mars import pulsars
-from xnavlab.mars.dynamics import MARS_POLE, MARS_STATE0
+from xnavlab.mars.models.dynamics import MARS_POLE, MARS_STATE0
+from xnavlab.mars.timing import pulsars
 from xnavlab.robust._propagation import derivatives, propagate_unchecked
 
 __all__ = [
@@ -515,7 +515,7 @@ def orbit(body="earth", t0=EPOCH_1997, elements=None):
     the sources at hand, so we use representative Block I elements: a = 26,560 km,
     e = 0.01, i = 63 deg (period 11.97 h). Mars: the orbit of Wei et al. (2013) could
     not be recovered either; we use the Mars orbit of the main paper
-    (:data:`xnavlab.mars.dynamics.MARS_STATE0`: a = 4196 km, e = 0.09, i = 75 deg,
+    (:data:`xnavlab.mars.models.dynamics.MARS_STATE0`: a = 4196 km, e = 0.09, i = 75 deg,
     period 2.29 h) so that the book has one Mars orbit.
 
     Parameters
@@ -548,4 +548,4 @@ def orbit(body="earth", t0=EPOCH_1997, elements=None):
         return Orbit(body, elements_to_state(*EARTH_ELEMENTS, gm), t0, "OPS_5111 (representative)",
                      "representative GPS Block I elements (OPS 5111 = NAVSTAR 1)")
     return Orbit(body, MARS_STATE0.copy(), t0, "Mars orbiter",
-                 "Fan et al. 2016 initial state (xnavlab.mars.dynamics.MARS_STATE0)")
+                 "Fan et al. 2016 initial state (xnavlab.mars.models.dynamics.MARS_STATE0)")

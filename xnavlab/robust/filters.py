@@ -231,7 +231,7 @@ def simulate(body="earth", n_steps=1200, dt=500.0, error="de405", size=0.0, puls
     growth_time = check_real("growth_time", n_steps * dt if growth_time is None else growth_time, 0.0, 1e9,
                              lo_open=True)
     rng = make_rng(rng)
-    from xnavlab.mars import pulsars
+    from xnavlab.mars.timing import pulsars
 
     names = ee.PULSARS if pulsar_names is None else pulsars.check_names(pulsar_names, "pulsar_names")
     if sigma_m is None:

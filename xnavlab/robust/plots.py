@@ -26,7 +26,7 @@ __all__ = ["FILTER_NAMES", "PULSAR_SETS", "plot_filter_comparison", "filter_comp
 FILTER_NAMES = {"ukf": "UKF", "asukf": "ASUKF", "tdukf": "TDUKF", "rkf": "RKF"}
 
 #: Pulsar sets of the chapter's dropdown: the paper's three and the alternatives from the
-#: four pulsars of :mod:`xnavlab.mars.pulsars`.
+#: four pulsars of :mod:`xnavlab.mars.timing.pulsars`.
 PULSAR_SETS = {
     "paper: B0531+21, B1821-24, B1937+21": ("B0531+21", "B1821-24", "B1937+21"),
     "B0531+21, B1821-24, B1957+20": ("B0531+21", "B1821-24", "B1957+20"),

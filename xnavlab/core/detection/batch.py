@@ -8,7 +8,7 @@ same thing in time blocks (:meth:`~BlockWavelet.advance`), the same bits as one 
 block restarts the filters a warm-up before it (the details' span, 155 samples for db3 at five
 levels, plus the variance window's), from the series' first sample. A navigation loop can so
 take the onsets of the first days and start filtering while the rest is computed in another
-thread (:mod:`xnavlab.mars.fault_tolerance`).
+thread (:mod:`xnavlab.mars.faults.fault_tolerance`).
 """
 
 from __future__ import annotations

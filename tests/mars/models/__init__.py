@@ -1,0 +1,1 @@
+"""Tests of xnavlab.mars.models, one test module per module of the subpackage."""

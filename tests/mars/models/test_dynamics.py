@@ -1,0 +1,214 @@
+"""Dynamics: accelerations, third-body table, compiled RHS vs numpy, propagator accuracy, STM."""
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+from xnavlab.core import ephemeris
+from xnavlab.core.constants import DAY, GM_MARS, GM_SUN, J2_MARS, J2_MARS_RADIUS
+from xnavlab.mars.models import dynamics
+
+T0, X0 = dynamics.MARS_T0, dynamics.MARS_STATE0
+
+
+@pytest.fixture(scope="module")
+def table():
+    return dynamics.ThirdBodyTable(T0, T0 + 2 * DAY)
+
+
+def test_table_interpolation_matches_ephemeris(table):
+    t = T0 + 12345.6
+    want = ephemeris.position("sun", t) - ephemeris.position("mars", t)
+    assert np.linalg.norm(table.positions(t)[0] - want) < 1e-2  # metres, at 2e11 m
+    with pytest.raises(ValueError, match="table's span"):
+        table.positions(T0 - 1.0)
+
+
+def test_third_body_indirect_term_is_tidal():
+    # at the centre the perturbation vanishes; along the Sun line it pulls outward (tidal)
+    s = np.array([[2.2e11, 0.0, 0.0]])
+    assert np.allclose(dynamics.third_body(np.zeros(3), s, [GM_SUN]), 0.0)
+    a = dynamics.third_body(np.array([4e6, 0, 0]), s, [GM_SUN])
+    tidal = 2 * GM_SUN * 4e6 / 2.2e11**3
+    assert abs(a[0] - tidal) / tidal < 1e-3
+
+
+def test_compiled_rhs_matches_numpy_model(table):
+    for j2 in (False, True):
+        x = X0 + np.array([1e3, -2e3, 5e2, 0.1, 0.2, -0.3])
+        t = T0 + 5000.0
+        want = dynamics.acceleration(t, x[:3], table, j2=j2)
+        got = dynamics._rhs(t, x, GM_MARS, table.t_start, table.step, table.pos, table.vel,
+                            table.gm, J2_MARS if j2 else 0.0, J2_MARS_RADIUS, dynamics.MARS_POLE)
+        np.testing.assert_allclose(got[3:], want, rtol=1e-13)
+        np.testing.assert_array_equal(got[:3], x[3:])
+
+
+def test_perturbation_sizes():
+    r = X0[:3]
+    tab = dynamics.ThirdBodyTable(T0, T0 + 3600.0, ("sun",))
+    central = np.linalg.norm(dynamics.point_mass(r))
+    sun = np.linalg.norm(dynamics.third_body(r, tab.positions(T0), tab.gm))
+    j2 = np.linalg.norm(dynamics.j2_acceleration(r))
+    assert 1e-9 < sun / central < 1e-6
+    assert 1e-4 < j2 / central < 1e-2
+
+
+def test_two_body_conserves_energy():
+    t = T0 + np.linspace(0, DAY, 50)
+    x = dynamics.propagate(t, third_bodies=())
+    energy = 0.5 * np.sum(x[:, 3:] ** 2, axis=1) - GM_MARS / np.linalg.norm(x[:, :3], axis=1)
+    assert np.ptp(energy) / abs(energy[0]) < 1e-11
+
+
+def test_thirty_days_within_a_metre_of_a_tighter_run():
+    t = T0 + np.array([0.0, 30 * DAY])
+    default = dynamics.propagate(t)
+    tighter = dynamics.propagate(t, rtol=3e-14, atol=1e-10)
+    assert np.linalg.norm(default[-1, :3] - tighter[-1, :3]) < 1.0
+
+
+def test_truth_cache_round_trip(tmp_path, monkeypatch):
+    monkeypatch.setenv("XNAVLAB_CACHE", str(tmp_path))
+    t = T0 + np.arange(0.0, 600.0, 60.0)
+    a = dynamics.truth(t)
+    assert list(tmp_path.glob("truth-*.npy"))
+    b = dynamics.truth(t)
+    np.testing.assert_array_equal(a, b)
+    np.testing.assert_allclose(a, dynamics.propagate(t), rtol=0, atol=1e-6)
+
+
+def test_a_changed_dynamics_code_computes_the_truth_again(tmp_path, monkeypatch):
+    from xnavlab.core import diskcache
+
+    monkeypatch.setenv("XNAVLAB_CACHE", str(tmp_path))
+    t = T0 + np.arange(0.0, 180.0, 60.0)
+    calls = []
+    real = dynamics.propagate
+    monkeypatch.setattr(dynamics, "propagate", lambda *a, **k: calls.append(1) or real(*a, **k))
+    dynamics.truth(t)
+    dynamics.truth(t)
+    assert len(calls) == 1                                   # the second read the file
+    monkeypatch.setattr(diskcache, "code_digest", lambda modules, root=None: "edited dynamics")
+    dynamics.truth(t)
+    assert len(calls) == 2 and len(list(tmp_path.glob("truth-*.npy"))) == 2
+
+
+@given(st.floats(1.0, 10.0))  # filter steps are 3 s; longer steps are subdivided
+def test_stm_matches_finite_differences(dt):
+    r = X0[:3]
+    Phi = dynamics.transition_matrix(r, dt)
+
+    def step(x):
+        return dynamics.propagate(np.array([T0 + dt]), x, T0, third_bodies=())[-1]
+
+    eps = np.array([100.0, 100.0, 100.0, 0.1, 0.1, 0.1])
+    fd = np.empty((6, 6))
+    for i in range(6):
+        e = np.zeros(6)
+        e[i] = eps[i]
+        fd[:, i] = (step(X0 + e) - step(X0 - e)) / (2 * eps[i])
+    # G is held constant over the step: the error grows like dG/dt dt^3
+    np.testing.assert_allclose(Phi, fd, atol=1e-6)
+
+
+def test_gravity_gradient_matches_finite_differences():
+    r = X0[:3]
+    G = dynamics.gravity_gradient(r)
+    h = 1.0
+    fd = np.column_stack([
+        (dynamics.point_mass(r + h * e) - dynamics.point_mass(r - h * e)) / (2 * h) for e in np.eye(3)
+    ])
+    np.testing.assert_allclose(G, fd, rtol=1e-6)
+
+
+def test_bad_inputs():
+    with pytest.raises(ValueError, match="t_eval must be a non-empty increasing"):
+        dynamics.propagate(np.array([T0 + 10.0, T0]))
+    with pytest.raises(ValueError, match="outside Mars"):
+        dynamics.propagate(np.array([T0]), np.array([1e3, 0, 0, 0, 0, 0]))
+    with pytest.raises(ValueError, match="third body must be one of"):
+        dynamics.ThirdBodyTable(T0, T0 + 10.0, ("saturn",))
+    with pytest.raises(ValueError, match="rtol"):
+        dynamics.propagate(np.array([T0 + 1.0]), rtol=1e-16)
+    with pytest.raises(ValueError, match="state0"):
+        dynamics.propagate(np.array([T0 + 1.0]), np.zeros(5))
+
+
+def test_orbital_elements_of_a_circular_equatorial_orbit():
+    r = 4.0e6
+    v = np.sqrt(GM_MARS / r)
+    el = dynamics.orbital_elements([r, 0, 0, 0, v, 0], pole=np.array([0.0, 0.0, 1.0]))
+    assert abs(el.a - r) < 1e-6 * r and el.e < 1e-12
+    assert el.inclination < 1e-12 and el.inclination_pole < 1e-12
+    assert abs(el.period - 2 * np.pi * np.sqrt(r**3 / GM_MARS)) < 1e-6
+
+
+def test_orbital_elements_are_conserved_by_two_body_motion():
+    t = T0 + np.array([0.0, 3000.0])
+    x = dynamics.propagate(t, third_bodies=())
+    a, b = dynamics.orbital_elements(x[0]), dynamics.orbital_elements(x[1])
+    np.testing.assert_allclose(a[:4], b[:4], rtol=1e-9, atol=1e-12)
+
+
+def test_orbital_elements_rejects_unbound_states():
+    with pytest.raises(ValueError, match="bound orbit"):
+        dynamics.orbital_elements([4e6, 0, 0, 0, 1e4, 0])
+
+
+def test_model_difference_components_add_up():
+    t = dynamics.MARS_T0 + np.arange(0.0, 86400.0 + 1.0, 600.0)
+    d = dynamics.model_difference(t, third_bodies=("jupiter",))
+    assert d["norm"][0] == 0.0 and d["norm"].max() > 0.0
+    comp = np.sqrt(d["radial"] ** 2 + d["along"] ** 2 + d["cross"] ** 2)
+    np.testing.assert_allclose(comp, d["norm"], rtol=1e-9, atol=1e-9)
+    same = dynamics.model_difference(t)
+    assert np.all(same["norm"] == 0.0)
+
+
+def test_plot_model_difference_shows_the_sun_effect():
+    fig = dynamics.plot_model_difference(sun=False, days_shown=30)
+    norm = fig.axes[0].lines[0].get_ydata()
+    assert norm.size == 30 * 1440 + 1
+    assert 100.0 < norm.max() < 1000.0  # leaving the Sun out: a few hundred metres in 30 days
+    assert [ln.get_label() for ln in fig.axes[1].lines] == ["radial", "along-track", "cross-track"]
+    assert "Mars + Jupiter" in fig._suptitle.get_text()
+    with pytest.raises(ValueError, match="days_shown"):
+        dynamics.plot_model_difference(days_shown=31)
+
+
+def test_j2_uses_the_mgs95j_reference_radius():
+    """J2 acceleration against the MGS95J formula with R = 3396.0 km (not the IAU 3396.19 km)."""
+    mu, j2, radius = 4.28283758e13, 1.95545e-3, 3396.0e3  # MGS95J field, typed independently
+    pole = dynamics.MARS_POLE
+    for r in (X0[:3], np.array([3.8e6, -1.2e6, 2.5e6]), 4.1e6 * pole + np.array([1e5, 0.0, 0.0])):
+        rn = np.linalg.norm(r)
+        z = r @ pole
+        # gradient of U2 = -mu J2 R^2 / (2 r^3) (3 (z/r)^2 - 1), written out term by term
+        want = (-1.5 * mu * j2 * radius**2 / rn**5) * ((1.0 - 5.0 * z**2 / rn**2) * r + 2.0 * z * pole)
+        got = dynamics.j2_acceleration(r)
+        assert np.linalg.norm(got - want) <= 1e-6 * np.linalg.norm(want)
+        total = dynamics.acceleration(T0, r, None, j2=True) - dynamics.point_mass(r)
+        assert np.linalg.norm(total - want) <= 1e-6 * np.linalg.norm(want)
+    old = (-1.5 * mu * j2 * 3396.19e3**2 / np.linalg.norm(X0[:3]) ** 5)  # IAU radius: 1.1e-4 too strong
+    assert abs(old / (-1.5 * mu * j2 * radius**2 / np.linalg.norm(X0[:3]) ** 5) - 1.0) > 1e-4
+
+
+@pytest.mark.parametrize(("call", "name"), [
+    (lambda b: dynamics.point_mass(np.array([4e6, 0.0, b])), "r"),
+    (lambda b: dynamics.acceleration(dynamics.MARS_T0, np.array([4e6, 0.0, b])), "r"),
+    (lambda b: dynamics.gravity_gradient(np.array([4e6, 0.0, b])), "r"),
+    (lambda b: dynamics.transition_matrix(np.array([4e6, 0.0, 0.0]), b), "dt"),
+    (lambda b: dynamics.j2_acceleration(np.array([4e6, 0.0, 0.0]), pole=np.array([0, 0, b])), "pole"),
+    (lambda b: dynamics.third_body(np.zeros(3), np.array([[1e11, 0, 0]]), np.array([b])), "gm"),
+])
+@pytest.mark.parametrize("bad", [complex(1, 1), np.nan])
+def test_the_force_model_refuses_complex_and_nan_by_name(call, name, bad):
+    with pytest.raises(ValueError, match=f"^{name} must"):
+        call(bad)
+
+
+def test_the_centre_itself_is_refused_not_turned_into_nan():
+    with pytest.raises(ValueError, match=r"^r must not be the centre"):
+        dynamics.point_mass(np.zeros(3))

@@ -1,0 +1,46 @@
+"""Process noise from the model difference: the unmodelled acceleration, its size and time
+scale, q = sigma_a^2 T, and the studies' fields."""
+
+import numpy as np
+import pytest
+
+from xnavlab.mars.models import dynamics
+from xnavlab.mars.models import force_models as fm
+from xnavlab.mars.models import model_noise as mn
+from xnavlab.mars.navigation.scenarios import MarsScenario
+
+
+def test_the_unmodelled_acceleration_and_the_derived_q():
+    t = dynamics.MARS_T0 + np.arange(0.0, 3601.0, 60.0)
+    x = fm.truth(t, force_model="study")
+    da = mn.unmodelled_acceleration(t, x, "study", "paper")
+    assert 1e-3 < np.sqrt(np.mean(np.sum(da**2, axis=1))) < 1e-2  # J2 dominates: mm/s^2
+    assert not mn.unmodelled_acceleration(t, x, "paper", "paper").any()
+    srp_only = fm.ForceModel(srp=True)
+    d2 = mn.unmodelled_acceleration(t, x, srp_only, "paper")
+    assert 0.0 < np.linalg.norm(d2, axis=1).max() < 1e-7
+    q = mn.derived_q_acc(days=0.1, dt=60.0)
+    st_ = mn.unmodelled_statistics(days=0.1, dt=60.0)
+    assert q == pytest.approx(st_["sigma_axis_mps2"] ** 2 * st_["correlation_time_s"])
+    assert 0.0 < st_["correlation_time_s"] < 3 * 3600  # under an orbit and a half
+    assert mn.derived_q_acc(horizon=3.0, days=0.1, dt=60.0) == pytest.approx(
+        st_["sigma_axis_mps2"] ** 2 * 3.0)
+    with pytest.raises(ValueError, match="beyond the filter's range"):
+        mn.derived_q_acc(horizon=1e6, days=0.1, dt=60.0)
+    with pytest.raises(ValueError, match="horizon"):
+        mn.derived_q_acc(horizon="orbit", days=0.1, dt=60.0)
+
+
+def test_shapes_are_checked():
+    with pytest.raises(ValueError, match="states must have shape"):
+        mn.unmodelled_acceleration([dynamics.MARS_T0], np.zeros((1, 4)))
+
+
+def test_study_fields_fill_only_what_is_not_given():
+    f = mn.study_fields(lambda kw: MarsScenario(**kw), {"days": 1.0})
+    assert f["truth_model"] == fm.STUDY and f["filter_model"] == fm.PAPER
+    assert f["q_acc"] == pytest.approx(mn.derived_q_acc(), rel=1e-12)
+    g = mn.study_fields(lambda kw: MarsScenario(**kw), {"truth_model": "paper"})
+    assert g["q_acc"] == 0.0
+    sc = MarsScenario.study(days=1.0)
+    assert not sc.paper_setup and sc.q_acc == f["q_acc"]

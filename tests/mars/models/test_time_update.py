@@ -1,0 +1,57 @@
+"""The filters' time update (xnavlab.mars.models.time_update): RK4 against the truth propagator, the
+transition matrix against finite differences, the process noise's structure, one memoised step."""
+
+import numpy as np
+import pytest
+
+from xnavlab.mars.models import dynamics, time_update
+
+
+@pytest.fixture(scope="module")
+def table():
+    return dynamics.ThirdBodyTable(dynamics.MARS_T0, dynamics.MARS_T0 + 2000.0)
+
+
+def test_propagation_follows_the_truth_and_its_transition_matrix_the_finite_differences(table):
+    x0, t0 = dynamics.MARS_STATE0, dynamics.MARS_T0
+    x1, Phi = time_update.filter_propagate(x0, t0, 500.0, table)
+    truth = dynamics.propagate([t0 + 500.0])[0]
+    assert np.abs(x1 - truth)[:3].max() < 1e-3
+    h = np.array([1.0, 1.0, 1.0, 1e-3, 1e-3, 1e-3])           # m, m/s
+    numeric = np.column_stack([
+        (time_update.filter_propagate(x0 + h[i] * e, t0, 500.0, table)[0]
+         - time_update.filter_propagate(x0 - h[i] * e, t0, 500.0, table)[0]) / (2 * h[i])
+        for i, e in enumerate(np.eye(6))])
+    # point-mass gradient held over each 10-s sub-step: 1e-4 of the largest entry (505 s)
+    assert np.abs(Phi - numeric).max() < 1e-3 * np.abs(numeric).max()
+
+
+def test_process_noise_is_the_white_acceleration_form():
+    Q = time_update.process_noise(10.0, 2.0)
+    assert np.allclose(Q, Q.T) and np.all(np.linalg.eigvalsh(Q) >= 0.0)
+    assert Q[0, 0] == pytest.approx(2.0 * 1000.0 / 3.0) and Q[0, 3] == pytest.approx(100.0)
+    assert Q[3, 3] == pytest.approx(20.0) and Q[0, 1] == 0.0
+
+
+def test_one_memoised_step_integrates_once(table, monkeypatch):
+    calls = []
+    real = time_update.filter_propagate
+    monkeypatch.setattr(time_update, "filter_propagate",
+                        lambda *a, **k: calls.append(1) or real(*a, **k))
+    prop = time_update.Propagation(dynamics.MARS_T0, 60.0, table, 10.0)
+    x = dynamics.MARS_STATE0
+    prop.f(x), prop.F(x), prop.f(x)
+    assert len(calls) == 1
+
+
+def test_the_time_update_refuses_complex_and_nan_by_name():
+    tab = dynamics.ThirdBodyTable(dynamics.MARS_T0, dynamics.MARS_T0 + 600.0)
+    x = dynamics.MARS_STATE0.astype(complex)
+    with pytest.raises(ValueError, match="^x must hold real numbers"):
+        time_update.filter_propagate(x, dynamics.MARS_T0, 60.0, tab)
+    with pytest.raises(ValueError, match="^max_step must be a real number"):
+        time_update.filter_propagate(dynamics.MARS_STATE0, dynamics.MARS_T0, 60.0, tab, np.nan)
+    with pytest.raises(ValueError, match="^q must be a real number"):
+        time_update.process_noise(1.0, 1j)
+    with pytest.raises(ValueError, match="^dt must be a real number"):
+        time_update.Propagation(dynamics.MARS_T0, np.nan, tab, 10.0)

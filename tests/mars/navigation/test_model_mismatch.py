@@ -1,0 +1,83 @@
+"""Matched vs mismatched: the three cases, their set-ups, the table's columns and its cache."""
+
+import numpy as np
+import pytest
+
+from xnavlab.mars.models import force_models
+from xnavlab.mars.navigation import model_mismatch, scenarios
+
+
+def test_the_cases_and_their_setups():
+    m = model_mismatch.case_scenario("matched", days=1.0, seed=3)
+    d = model_mismatch.case_scenario("mismatched, derived q", days=1.0)
+    p = model_mismatch.case_scenario("mismatched, default q", days=1.0)
+    assert m.paper_setup and m.init_error == "random" and m.seed == 3
+    assert d.truth_model == force_models.STUDY and d.filter_model == force_models.PAPER
+    assert d.q_acc > 1e-6 and p.q_acc == scenarios.DEFAULT_Q_ACC and not p.paper_setup
+    with pytest.raises(ValueError, match="case must be one of"):
+        model_mismatch.case_scenario("both")
+
+
+def test_a_short_table_has_every_column_and_reads_back_from_its_cache(tmp_path, monkeypatch):
+    monkeypatch.setenv("XNAVLAB_CACHE", str(tmp_path))
+    rows = model_mismatch.mismatch_table(days=0.05, seeds=(0, 1))
+    assert [r["case"] for r in rows] == list(model_mismatch.CASES)
+    for r in rows:
+        assert set(model_mismatch.TABLE_COLUMNS) <= set(r) and r["seeds"] == 2
+        assert r["nees_lo"] < r["nees_hi"] and 0.0 <= r["nees_inside"] <= 1.0
+    assert rows[0]["paper_setup"] and not rows[1]["paper_setup"]
+    assert rows[2]["position_error_m"] > rows[1]["position_error_m"]  # no q for the difference
+    assert list(tmp_path.glob("mismatch-runs-*.json"))
+    assert model_mismatch.mismatch_table(days=0.05, seeds=(0, 1)) == rows
+
+
+@pytest.mark.parametrize(("kw", "words"), [
+    ({"seeds": ()}, "non-empty list of distinct integers"),
+    ({"seeds": (1, 1)}, "distinct"),
+    ({"seeds": 3}, "seeds must be a list"),
+    ({"days": 0.0}, "days must be a real number in (0, 365]"),
+    ({"days": 1.0, "settle_days": 1.0}, "settle_days must be a real number in [0, 1)"),
+])
+def test_bad_arguments_are_refused(kw, words):
+    with pytest.raises(ValueError) as exc:
+        model_mismatch.mismatch_runs(cache=False, **kw)
+    assert words in str(exc.value)
+
+
+def test_the_setup_note_says_which_set_up_a_run_has():
+    assert model_mismatch.setup_note(scenarios.MarsScenario()).startswith("Paper set-up:")
+    note = model_mismatch.setup_note(model_mismatch.case_scenario("mismatched, derived q", 1.0))
+    assert note.startswith("Study set-up: the truth flies Mars MRO95A 8x8") and "q_acc 0.00513" in note
+
+
+def test_each_local_filter_s_nis_is_judged_from_the_same_cached_runs(tmp_path, monkeypatch):
+    monkeypatch.setenv("XNAVLAB_CACHE", str(tmp_path))
+    rows = model_mismatch.subsystem_nis(days=0.05, seeds=(0, 1))
+    assert [(r["case"], r["subsystem"]) for r in rows] == [
+        (c, s) for c in model_mismatch.CASES for s in ("xnav", "uv", "cns")]
+    for r in rows:
+        assert r["updates"] > 0 and r["nis_lo"] < r["dof"] < r["nis_hi"]
+        assert r["nis_ratio"] == pytest.approx(r["nis"] / r["dof"])
+        assert r["nis_verdict"] in ("inside", "conservative", "optimistic")
+    assert {r["dof"] for r in rows if r["subsystem"] != "xnav"} == {3}
+    ratio = {(r["case"], r["subsystem"]): r["nis_ratio"] for r in rows}
+    for s in ("xnav", "uv", "cns"):          # the unallowed-for force model: every local sees it
+        assert ratio["mismatched, default q", s] > ratio["matched", s]
+    assert rows[6]["subsystem"] == "xnav" and rows[6]["nis_verdict"] == "optimistic"
+    assert len(list(tmp_path.glob("mismatch-runs-*.json"))) == 1      # the table's runs
+    assert model_mismatch.subsystem_nis(days=0.05, seeds=(0, 1)) == rows
+
+def test_q_sweep_a_filter_without_process_noise_claims_more_than_it_has():
+    out = model_mismatch.q_sweep((0.0, 1e-9), days=0.3, cache=False)
+    (rms0, sigma0, _), (rms9, sigma9, _) = out["rms_sigma_nees"]
+    assert out["q"].tolist() == [0.0, 1e-9]
+    assert sigma0 < sigma9                 # more process noise, a larger claimed sigma
+    assert np.all(np.isfinite(out["rms_sigma_nees"])) and rms0 > 0 and rms9 > 0
+
+
+@pytest.mark.parametrize("bad", [dict(q_values=()), dict(q_values=(-1e-11,)),
+                                 dict(q_values=((1e-11,),)), dict(days=0.0)])
+def test_q_sweep_checks_its_arguments(bad):
+    with pytest.raises(ValueError, match="q_values|days"):
+        model_mismatch.q_sweep(**bad, cache=False)
+

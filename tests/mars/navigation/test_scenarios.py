@@ -1,0 +1,447 @@
+"""The Mars scenario: numba = numpy, filter consistency (NEES/NIS), the 30-day run, the CLI."""
+
+import dataclasses
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from xnavlab import reproduce
+from xnavlab.cli import main
+from xnavlab.mars.models import series
+from xnavlab.mars.navigation import plots as mars_plots
+from xnavlab.mars.navigation import scenarios
+
+SHORT = dict(days=0.02, record_dt=3.0)   # 576 epochs, three XNAV updates
+
+
+def _rel(a, b):
+    """Largest difference relative to the size of the state (position and velocity apart)."""
+    pos = np.abs(a[:, :3] - b[:, :3]).max() / np.abs(b[:, :3]).max()
+    vel = np.abs(a[:, 3:] - b[:, 3:]).max() / np.abs(b[:, 3:]).max()
+    return max(pos, vel)
+
+
+# record_dt = 3 s records every epoch: the kernel runs the locals in full at every epoch;
+# 60 s (as the 30-day run): in reset mode it fuses through the information identity at 19
+# epochs of 20 (xnavlab.mars.kernel.kernels), so both forms are compared with the numpy loop.
+@pytest.mark.parametrize("record_dt", [3.0, 60.0])
+@pytest.mark.parametrize("mode", ["reset", "no-reset"])
+def test_numba_and_numpy_give_the_same_estimates(mode, record_dt):
+    inp = scenarios.prepare(mode=mode, **(SHORT | {"record_dt": record_dt}))
+    a = scenarios.run(inputs=inp, backend="numba")
+    b = scenarios.run(inputs=inp, backend="numpy")
+    assert _rel(a.x, b.x) < 1e-9
+    assert _rel(a.x_local.reshape(-1, 6), b.x_local.reshape(-1, 6)) < 1e-9
+    np.testing.assert_allclose(a.P, b.P, rtol=1e-6, atol=1e-9 * np.abs(b.P).max())
+    np.testing.assert_allclose(a.P_local_diag, b.P_local_diag, rtol=1e-6)
+    np.testing.assert_allclose(a.nis, b.nis, rtol=1e-6, equal_nan=True)
+    assert np.array_equal(a.flags, b.flags)
+
+
+@pytest.mark.parametrize("record_dt", [3.0, 60.0])
+def test_numba_and_numpy_agree_with_switching_and_gating(record_dt):
+    inp = scenarios.prepare(**(SHORT | {"record_dt": record_dt}))
+    active = np.ones((inp.n, 3), dtype=bool)
+    active[100:300, 1] = False          # UV switched out, then back in
+    active[250:400, 0] = False          # XNAV out across its 1000-s update
+    active[450:460] = False             # everything out: the master coasts
+    gate = [np.inf, np.inf, 4.0]        # CNS rejects innovations with NIS > 4
+    a = scenarios.run(inputs=inp, backend="numba", active=active, gate=gate)
+    b = scenarios.run(inputs=inp, backend="numpy", active=active, gate=gate)
+    assert _rel(a.x, b.x) < 1e-9
+    np.testing.assert_allclose(a.nis, b.nis, rtol=1e-6, equal_nan=True)
+    assert np.array_equal(a.flags, b.flags)
+    assert not (a.flags[100:300, 1] == 1).any() and (a.flags[100:300, 1] == 3).sum() > 190
+    assert (a.flags[:, 2] == 2).any()
+
+
+@pytest.mark.parametrize("record_dt", [3.0, 60.0])
+def test_numba_and_numpy_agree_for_other_measurement_sizes(record_dt):
+    """Two stars and three pulsars: the kernel's code for any measurement size."""
+    inp = scenarios.prepare(days=0.02, record_dt=record_dt, stars=("Sirius", "Vega"),
+                            pulsars=("B0531+21", "B1937+21", "B1821-24"))
+    a = scenarios.run(inputs=inp, backend="numba")
+    b = scenarios.run(inputs=inp, backend="numpy")
+    assert _rel(a.x, b.x) < 1e-9
+    np.testing.assert_allclose(a.nis, b.nis, rtol=1e-6, equal_nan=True)
+    assert np.array_equal(a.flags, b.flags)
+
+
+def test_kernel_in_chunks_equals_one_call():
+    """The fault-tolerant runs call the kernel epoch range by epoch range on one state."""
+    inp = scenarios.prepare(days=0.02, record_dt=60.0)
+    whole = scenarios.run(inputs=inp)
+    active, gate, beta = scenarios.run_options(inp, None, None)
+    out = scenarios.alloc_records(inp)
+    rec_pos = np.full(inp.n, -1, dtype=np.int64)
+    rec_pos[inp.record] = np.arange(inp.record.size)
+    state = scenarios.filter_state(inp, beta)
+    records = (out["x"], out["P"], out["xl"], out["Pl"])
+    for a, b in [(0, 1), (1, 137), (137, 138), (138, 400), (400, inp.n)]:
+        scenarios.run_kernel(inp, state, a, b, active, beta, gate, rec_pos, records,
+                             out["nis"], out["flags"])
+    assert _rel(out["x"], whole.x) < 1e-12
+    np.testing.assert_allclose(out["nis"], whole.nis, rtol=1e-9, equal_nan=True)
+
+
+def test_compiled_measurement_series_equal_the_sensor_models():
+    rng = np.random.default_rng(7)
+    r = rng.normal(size=(500, 3)) * 4e6
+    r[0] = [0.0, 0.0, 4e6]                       # along z: the other tangent basis
+    r[1] = [1e-3, 0.0, -4e6]
+    states = np.hstack([r, rng.normal(size=(500, 3))])
+    sc = scenarios.MarsScenario()
+    sens = sc.sensors()
+    uv, cns = sens["uv"], sens["cns"]
+    w_uv, w_cns = rng.standard_normal((500, 3)), rng.standard_normal((500, 2 + 2 * cns.dim))
+    z_uv = series.simulate_uv(states, w_uv, uv.sigma_range, uv.sigma_dir, np.empty((500, 4)))
+    z_cns = series.simulate_cns(states, w_cns, cns.star_dirs, cns.sigma_star,
+                                 cns.sigma_horizon, np.empty((500, cns.dim)))
+    # same operations; the sine, cosine and arctangent may differ in the last bit
+    np.testing.assert_allclose(z_uv, uv.simulate(states, noise=w_uv), rtol=1e-13, atol=1e-15)
+    np.testing.assert_allclose(z_cns, cns.simulate(states, noise=w_cns), rtol=0, atol=1e-14)
+
+
+def test_prepare_draws_the_series_as_one_draw(monkeypatch):
+    """Chunked draws give the noise of one ``standard_normal((n, k))`` call, in order."""
+    monkeypatch.setattr(scenarios, "_CHUNK", 100)      # several chunks on a short run
+    inp = scenarios.prepare(days=0.02, seed=5)
+    sens = inp.sensors
+    rng = np.random.default_rng(5)
+    k = {s: np.searchsorted(inp.times, inp.t_meas[s]) for s in scenarios.SUBSYSTEMS}
+    rng.standard_normal((k["xnav"].size, sens["xnav"].dim))  # the XNAV draws come first
+    w_uv = rng.standard_normal((k["uv"].size, 3))
+    w_cns = rng.standard_normal((k["cns"].size, 2 + 2 * sens["cns"].dim))
+    np.testing.assert_allclose(inp.z["uv"], sens["uv"].simulate(inp.truth[k["uv"]], noise=w_uv),
+                               rtol=1e-13)
+    np.testing.assert_allclose(inp.z["cns"],
+                               sens["cns"].simulate(inp.truth[k["cns"]], noise=w_cns), atol=1e-14)
+
+
+def test_import_is_light():
+    """Importing the package, the Mars scenario and the CLI compiles nothing, loads no ephemeris."""
+    code = ("import sys, xnavlab, xnavlab.cli, xnavlab.cli.runners\n"
+            "assert 'numba' not in sys.modules, 'import xnavlab pulls numba'\n"
+            "from xnavlab.mars.kernel import kernels\n"
+            "from xnavlab.mars.models import series\n"
+            "from xnavlab.mars.navigation import scenarios\n"
+            "assert not kernels.run_epochs.signatures and not series.simulate_uv.signatures\n"
+            "assert 'jplephem' not in sys.modules and 'scipy.stats' not in sys.modules\n")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                          check=False)
+    assert proc.returncode == 0, proc.stderr
+
+
+def test_switching_out_costs_accuracy_but_stays_consistent():
+    inp = scenarios.prepare(days=0.2, record_dt=60.0)
+    full = scenarios.run(inputs=inp)
+    active = np.ones((inp.n, 3), dtype=bool)
+    active[:, 1:] = False                                    # XNAV alone
+    xnav = scenarios.run(inputs=inp, active=active)
+    assert xnav.metrics(0.1)["position_error_m"] > full.metrics(0.1)["position_error_m"]
+    eig = np.linalg.eigvalsh(xnav.P)
+    assert np.all(eig[:, 0] > 1e-12 * eig[:, -1])  # PD far above rounding
+
+
+def test_prepare_is_reproducible_and_seeded():
+    a = scenarios.prepare(days=0.01, seed=3)
+    b = scenarios.prepare(days=0.01, seed=3)
+    c = scenarios.prepare(days=0.01, seed=4)
+    for s in ("xnav", "uv", "cns"):
+        assert np.array_equal(a.z[s], b.z[s])
+        assert not np.array_equal(a.z[s], c.z[s])
+    assert a.times[0] == scenarios.MarsScenario().t0
+    assert np.allclose(a.x0 - a.truth[0], [5000, 5000, 5000, 1, 1, 1])
+
+
+def test_grid_holds_every_sensor_epoch():
+    inp = scenarios.prepare(days=0.02)
+    off = inp.times - inp.times[0]
+    assert set(np.arange(3.0, 1728.1, 3.0)) <= set(np.round(off, 6))
+    assert set(np.round(inp.t_meas["xnav"] - inp.times[0], 6)) == {500.0, 1000.0, 1500.0}
+    assert np.all(np.diff(inp.times) > 0)
+
+
+def test_thirty_day_reproduction_runs_and_covariance_stays_spd():
+    res = reproduce.run("mars-nofault")
+    res.assert_ok()
+    assert res.ours["covariance SPD over the run (smallest eigenvalue)"] > 0
+    assert res.check("fused position error (m), RMS after day 1").claimed
+    assert res.data["position_error"].size == 43201
+
+
+def test_scenario_validation():
+    with pytest.raises(ValueError, match=r"days must be a real number in \(0, 365\]"):
+        scenarios.MarsScenario(days=0)
+    with pytest.raises(ValueError, match="subsystem"):
+        scenarios.MarsScenario(subsystems=("gps",))
+    with pytest.raises(ValueError, match="xnav_sigma_m must hold 4"):
+        scenarios.MarsScenario(xnav_sigma_m=(100.0,))
+    inp = scenarios.prepare(days=0.01)
+    with pytest.raises(ValueError, match="active must have shape"):
+        scenarios.run(inputs=inp, active=np.ones((3, 3), bool))
+    with pytest.raises(ValueError, match="backend"):
+        scenarios.run(inputs=inp, backend="fortran")
+
+
+def test_filter_ephemeris_may_differ_from_truth():
+    same = scenarios.run(days=0.1)
+    other = scenarios.run(days=0.1, filter_ephem="de405")
+    assert np.all(np.isfinite(other.x))
+    assert not np.array_equal(same.x, other.x)
+
+
+def test_cli_json_and_out(tmp_path, capsys):
+    assert main(["run", "mars", "--days", "0.05", "--seed", "2", "--json",
+                 "--out", str(tmp_path)]) == 0
+    payload = json.loads(capsys.readouterr().out)
+    assert {"position_error_m", "velocity_error_mps", "run_time_s"} <= set(payload)
+    assert payload["seed"] == 2
+    data = np.load(tmp_path / "mars_run.npz")
+    assert data["x"].shape[1] == 6 and data["position_error"].size == data["t"].size
+    assert json.loads((tmp_path / "mars_summary.json").read_text())["days"] == 0.05
+
+
+@pytest.mark.parametrize("argv,word", [
+    (["--days", "-1"], "days"), (["--days", "abc"], "days"), (["--seed", "x"], "seed"),
+    (["--seed", "-3"], "seed"), (["--mode", "sometimes"], "mode"), (["--bogus"], "bogus"),
+])
+def test_cli_bad_values_one_line_exit_2(argv, word, capsys):
+    assert main(["run", "mars", *argv]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and word in err
+
+
+def test_cli_module_entry_point():
+    proc = subprocess.run([sys.executable, "-m", "xnavlab", "run", "mars", "--days", "-1"],
+                          capture_output=True, text=True, check=False)
+    assert proc.returncode == 2
+    assert proc.stderr.strip().startswith("xnavlab: error: days")
+
+
+def test_plot_subsystem_is_the_single_subsystem_run():
+    fig = mars_plots.plot_subsystem("uv", 2.0, 6, days=0.05)
+    band, line = fig.axes[0].collections[0], fig.axes[0].lines[0]
+    res = scenarios.run(days=0.05, subsystems=("uv",), record_dt=30.0, sigma_range_m=1e4,
+                        sigma_dir_deg=0.2, dt_uv=6.0)
+    np.testing.assert_allclose(line.get_ydata(), res.position_error())
+    assert fig.axes[0].get_title() == "uv: noise x 2, every 6 s"
+    assert band.get_paths()  # the 3-sigma band is drawn
+    # XNAV never updates faster than every 30 s
+    assert mars_plots.plot_subsystem("xnav", 1.0, 3, days=0.02).axes[0].get_title().endswith("30 s")
+    with pytest.raises(ValueError, match="subsystem"):
+        mars_plots.plot_subsystem("gps")
+    with pytest.raises(ValueError, match="noise_scale"):
+        mars_plots.plot_subsystem("uv", 0.0)
+
+
+def test_plot_sharing_reset_mode_ignores_the_shares():
+    def error(beta, mode):
+        return mars_plots.plot_sharing(beta, mode, days=0.05).axes[0].lines[0].get_ydata()
+
+    np.testing.assert_allclose(error(0.2, "reset"), error(0.8, "reset"), rtol=1e-3)
+    assert not np.allclose(error(0.2, "no-reset"), error(0.8, "no-reset"), rtol=1e-3)
+    with pytest.raises(ValueError, match="beta_xnav"):
+        mars_plots.plot_sharing(1.0)
+    with pytest.raises(ValueError, match="mode"):
+        mars_plots.plot_sharing(0.5, "sometimes")
+
+
+# ------------------------------------------- faults on the command line (run mars --faults)
+
+
+def test_cli_faults_json_lists_faults_and_detections(capsys):
+    spec = "uv.range:step:40000@50000+3000,xnav.1:ramp:2e-9@60000+5000"
+    assert main(["run", "mars", "--days", "1", "--faults", spec, "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["detector"] == "combined"
+    assert [f["spec"] for f in out["faults"]] == ["uv.range:step:40000@50000+3000",
+                                                  "xnav.B1937:ramp:2e-09@60000+5000"]
+    assert all(set(d) == {"sensor", "detected_onset", "detected_end", "detector"}
+               for d in out["detections"])
+    uv = [d for d in out["detections"] if d["sensor"] == "uv"]
+    assert 50000.0 <= uv[0]["detected_onset"] < 50300.0
+    assert {"position_error_m", "velocity_error_mps"} <= set(out)
+
+
+def test_cli_faults_paper_needs_the_days_of_its_last_onset(capsys):
+    """A schedule whose faults lie after the run's end is refused, never cut in silence."""
+    assert main(["run", "mars", "--days", "7", "--faults", "paper", "--json"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "run at least --days 27.84 (this run: 7 days)" in err
+    assert main(["run", "mars", "--days", "2", "--faults", "xnav:step:1e-5@500000+5000"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "outside this run [0, 172800) s" in err and "--days 5.85" in err
+
+
+def test_cli_faults_of_the_paper_with_chi2(capsys):
+    from xnavlab.core.faults import format_spec
+    from xnavlab.mars.faults.fault_tolerance import components, paper_schedule
+
+    first_two = format_spec(paper_schedule()[:2], components())
+    assert main(["run", "mars", "--days", "7", "--faults", first_two, "--detector", "chi2",
+                 "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["detector"] == "chi2"
+    assert [f["onset"] for f in out["faults"]] == [500000.0, 600000.0]
+    sensors = {d["sensor"] for d in out["detections"] if d["detected_onset"] >= 500000.0}
+    assert {"xnav", "cns"} <= sensors
+
+
+@pytest.mark.parametrize("spec,part", [
+    ("uv.range:step:5000@700000", "uv.range:step:5000@700000"),
+    ("uv.range:step:5000@1+2,foo:step:1@1+1", "foo"),
+    ("uv.range:jump:5000@1+2", "kind"),
+    ("cns.angle9:step:1@1+2", "angle9"),
+])
+def test_cli_malformed_fault_spec_is_one_line_exit_2(spec, part, capsys):
+    assert main(["run", "mars", "--days", "0.01", "--faults", spec]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and part in err
+
+
+def test_cli_bad_detector_is_one_line_exit_2(capsys):
+    assert main(["run", "mars", "--days", "0.01", "--detector", "median"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "detector" in err
+
+
+def test_cli_out_that_is_a_file_is_one_line_exit_2(tmp_path, capsys):
+    path = tmp_path / "taken"
+    path.write_text("")
+    assert main(["run", "mars", "--days", "0.05", "--out", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "out must be a directory" in err
+
+
+def test_fault_spec_takes_full_pulsar_names_and_help_lists_the_grammar(capsys):
+    from xnavlab.cli.runners import FAULT_HELP
+    from xnavlab.mars.faults.fault_tolerance import parse_faults
+
+    full, = parse_faults("xnav.B1937+21:step:1e-5@200000+5000")
+    short, = parse_faults("xnav.B1937:step:1e-5@200000+5000")
+    assert full == short and full.component == 1 and full.duration == 5000.0
+    for word in ("xnav", "uv", "cns", "range", "angle0", "B1937+21", "step", "ramp", "spike",
+                 "stuck", "noise", "rad", "example:"):
+        assert word in FAULT_HELP
+    with pytest.raises(SystemExit):
+        main(["run", "mars", "--help"])
+    assert "fault spec:" in capsys.readouterr().out
+
+
+def test_python_and_cli_summaries_of_the_same_run_are_equal(capsys):
+    """One source of defaults: the API's summary() settles as the command line does."""
+    from xnavlab.mars.navigation.scenarios import MarsScenario, default_settle_days, run
+
+    res = run(MarsScenario(days=0.2, seed=3))
+    api = res.summary()
+    assert main(["run", "mars", "--days", "0.2", "--seed", "3", "--json"]) == 0
+    cli = json.loads(capsys.readouterr().out)
+    assert api["settle_days"] == cli["settle_days"] == default_settle_days(0.2) == 0.1
+    for key in ("position_error_m", "velocity_error_mps", "position_error_max_m", "epochs"):
+        assert api[key] == cli[key], key
+
+
+# ---- issue 35: lists and lengths refused by the user's own parameter name ---------------------
+
+@pytest.mark.parametrize(("field", "value", "words"), [
+    ("days", 1e-5, r"^days must span at least one measurement interval \(3 s"),   # was settle_days
+    ("subsystems", "xnav", r"^subsystems must be a list of subsystems, got the string 'xnav'"),
+    ("subsystems", ("uv", "uv"), r"^subsystems lists uv twice"),
+    ("subsystems", (), r"^subsystems must name at least one subsystem"),
+    ("stars", "Vega", r"^stars must be a list of stars, got the string 'Vega'"),
+    ("stars", ("Vega", "Sirius", "Vega"), r"^stars lists Vega twice \(items 0 and 2\)"),
+    ("stars", (), r"^stars must name at least one star"),
+    ("beta", 0.5, r"^beta must be a list of numbers, got 0.5"),
+    ("beta", (0.5, "a", 0.2), r"^beta\[1\] must be a real number in \(0, 1\]"),
+    ("xnav_sigma_m", 100.0, r"^xnav_sigma_m must be a list of numbers"),
+    ("pulsars", ["B1937+21", "B1937+21"], r"^pulsars lists B1937\+21 twice"),
+])
+def test_a_bad_list_or_too_short_a_run_is_one_line_naming_the_field(field, value, words):
+    with pytest.raises(ValueError, match=words) as err:
+        scenarios.MarsScenario(**{field: value})
+    assert "\n" not in str(err.value)
+
+
+def test_the_shortest_run_is_one_measurement():
+    assert scenarios.MarsScenario(days=3.0 / 86400.0).span == 3.0
+    with pytest.raises(ValueError, match=r"^days must span .* \(500 s"):
+        scenarios.MarsScenario(days=0.001, subsystems=("xnav",))
+
+
+@pytest.mark.parametrize("call, match", [
+    (lambda: scenarios.MarsScenario(state0=np.zeros((1, 6))),
+     r"^state0 must be a 1-D array \(shape \(6,\)\), got shape \(1, 6\)"),
+    (lambda: scenarios.MarsScenario(state0=np.zeros((2, 6))), r"^state0 must be a 1-D array"),
+    (lambda: scenarios.run({"days": 1}), r"^scenario must be a MarsScenario, got dict"),
+    (lambda: scenarios.prepare("paper"), r"^scenario must be a MarsScenario, got str"),
+    (lambda: scenarios.prepare(None, dayz=1), r"^unknown override dayz: not a field of MarsScenario"),
+    (lambda: scenarios.run(dayz=1), r"^unknown override dayz"),
+])
+def test_a_wrong_shape_type_or_field_is_one_value_error_naming_it(call, match):
+    """Review 35 E.19-E.21: TypeError and AttributeError from deep inside before."""
+    with pytest.raises(ValueError, match=match):
+        call()
+
+
+def test_save_npz_writes_the_file_it_is_given_or_refuses_by_name(tmp_path):
+    """Review 35 C.10: a folder got a sibling file (numpy adds .npz); a missing parent a raw
+    FileNotFoundError from zipfile."""
+    res = scenarios.run(scenarios.MarsScenario(days=0.01))
+    (tmp_path / "dir.npz").mkdir()
+    with pytest.raises(ValueError, match=r"^path .* is a folder, not a file"):
+        res.save_npz(tmp_path / "dir.npz")
+    with pytest.raises(ValueError, match=r"^path must name a file ending in \.npz, got"):
+        res.save_npz(tmp_path)
+    assert not (tmp_path.parent / f"{tmp_path.name}.npz").exists()
+    res.save_npz(tmp_path / "no" / "dir" / "run.npz")          # a missing parent is made
+    assert np.load(tmp_path / "no" / "dir" / "run.npz")["t"].shape == res.t.shape
+    (tmp_path / "file").write_text("")
+    with pytest.raises(ValueError, match=r"^path .*: a part of its folder is a file"):
+        res.save_npz(tmp_path / "file" / "run.npz")
+
+
+def test_a_noise_model_beside_given_sigmas_is_refused_not_ignored():
+    """Review 35 B.6: xnav_noise = 'crlb' with xnav_sigma_m was accepted and unused."""
+    with pytest.raises(ValueError, match=r"^xnav_noise = 'crlb' is unused: xnav_sigma_m gives "
+                                         r"the ranging noise it would compute"):
+        scenarios.MarsScenario(xnav_noise="crlb", xnav_sigma_m=(1.0, 2.0, 3.0, 4.0))
+    from xnavlab.mars.navigation import scenario_files
+
+    with pytest.raises(ValueError, match=r"^scenario file: \[xnav\] noise = 'crlb' is unused: "
+                                         r"\[xnav\] sigma_m gives"):
+        scenario_files.loads('[xnav]\nnoise = "crlb"\nsigma_m = [1.0, 2.0, 3.0, 4.0]\n')
+
+
+def test_xnav_and_cns_settings_without_their_subsystem_are_refused_not_ignored():
+    """Review 35 B.6: xnav_sigma_m with subsystems=("uv",) and stars without cns were accepted
+    and unused (every field: tests/mars/navigation/test_unused_inputs.py)."""
+    with pytest.raises(ValueError, match=r"^xnav_sigma_m is set but subsystems = \['uv'\] runs "
+                                         r"no xnav: leave it out or add 'xnav'$"):
+        scenarios.MarsScenario(subsystems=("uv",), xnav_sigma_m=(1.0,) * 4)
+    with pytest.raises(ValueError, match=r"^stars is set but subsystems = \['xnav', 'uv'\] runs "
+                                         r"no cns: leave it out or add 'cns'$"):
+        scenarios.MarsScenario(subsystems=("xnav", "uv"), stars=("Sirius", "Vega", "Canopus"))
+    # a default value is the same run as none: accepted (replace keeps working)
+    sc = dataclasses.replace(scenarios.MarsScenario(), subsystems=("uv",))
+    assert sc.subsystems == ("uv",) and sc.dt_xnav == 500.0
+
+
+def test_study_names_an_unknown_field():
+    """MarsScenario.study(dayz=1) raised the constructor's raw TypeError."""
+    with pytest.raises(ValueError, match=r"^unknown override dayz: not a field of MarsScenario "
+                                         r"\(the fields: days, "):
+        scenarios.MarsScenario.study(dayz=1)
+
+
+def test_a_run_outside_the_ephemeris_is_refused_naming_t0():
+    """Review 35b N6: t0 = -1e12 was built, and the run then named an internal 't'."""
+    with pytest.raises(ValueError, match=r"^t0 must be in \[-3\.15814e\+09, 6\.31148e\+09\] s TDB "
+                                         r"past J2000 \(the run, t0 to t0 \+ days, in DE421\), "
+                                         r"got -1e\+12$"):
+        scenarios.MarsScenario(t0=-1e12)
+    with pytest.raises(ValueError, match=r"^t0 must be in .*, got 6\.31407e\+09$"):
+        scenarios.MarsScenario(t0=6.3140685e9, days=0.01)  # the start inside, the end past it

@@ -1,0 +1,75 @@
+"""The Mars system's campaign registry (xnavlab.mars.studies.campaigns): the named campaigns, their
+parameters per run, their allowed lengths and the detector cells. The physics of the consistency
+campaign (NEES, NIS against their bands) is tested in tests/mars/navigation/test_consistency.py."""
+
+import pytest
+
+from xnavlab.mars.studies import campaigns as mc
+from xnavlab.mars.studies import trials
+
+
+def test_detector_cells_cover_every_class_sensor_and_size_once():
+    cells = mc.detector_cells()
+    assert len(cells) == len(set(cells)) == sum(
+        len(trials.SIZES[f]) for f in trials.FAULT_CLASSES) * len(trials.SENSORS)
+    assert mc.detector_cells(("step",), ("uv",)) == [("step", "uv", i)
+                                                      for i in range(len(trials.SIZES["step"]))]
+    with pytest.raises(ValueError, match="fault_class"):
+        mc.detector_cells(("wobble",))
+    with pytest.raises(ValueError, match="sensor"):
+        mc.detector_cells(sensors=("gps",))
+
+
+def test_detectors_campaign_cycles_through_the_cells():
+    c = mc.campaign("detectors", days=2.0)
+    cells = mc.detector_cells()
+    for i in (0, 7, len(cells), len(cells) + 7):
+        f, s, k = cells[i % len(cells)]
+        assert c.params(i) == {"fault_class": f, "sensor": s, "size_index": k, "days": 2.0}
+    assert c.manifest["detectors"] == list(trials.DETECTORS)
+
+
+def test_consistency_campaign_passes_its_days_to_every_run():
+    c = mc.campaign("consistency", days=0.5)
+    assert c.params(0) == c.params(99) == {"days": 0.5}
+    assert c.manifest["nees_bins"] == mc.NEES_BINS
+
+
+@pytest.mark.parametrize(("name", "days"), [("consistency", 0.0), ("consistency", 31.0),
+                                            ("detectors", 0.25), ("detectors", 6.0)])
+def test_a_campaign_refuses_days_outside_its_range(name, days):
+    with pytest.raises(ValueError, match="^days"):
+        mc.campaign(name, days=days)
+
+
+def test_an_unknown_campaign_is_refused_by_name():
+    with pytest.raises(ValueError, match="^campaign"):
+        mc.campaign("everything")
+    assert set(mc.CAMPAIGNS) == set(mc.DAYS)
+
+
+def test_summarise_detectors_skips_failed_runs():
+    failed = {"status": "error", "parameters": {}, "metrics": {}}
+    assert mc.summarise_detectors([failed]) == []
+
+
+def test_a_consistency_campaign_too_short_for_its_nees_bins_is_refused_before_any_run():
+    # issue 35: 1e-5 days failed inside every run (a record_dt below its range, or an empty bin)
+    for make in (lambda: mc.campaign("consistency", days=1e-5),
+                 lambda: mc.consistency_run(seed=0, days=1e-4)):
+        with pytest.raises(ValueError, match=r"^days must be at least 0.000417 for the "
+                                             r"consistency campaign: each of its 12 NEES bins"):
+            make()
+
+
+def test_a_scenario_sets_every_field_but_those_the_consistency_campaign_sets():
+    from xnavlab.mars.navigation import scenarios
+
+    sc = scenarios.MarsScenario(sigma_range_m=100.0, mode="no-reset")
+    camp = mc.campaign("consistency", days=0.02, scenario=sc)
+    assert camp.params(0)["fields"] == {"sigma_range_m": 100.0, "mode": "no-reset"}
+    for bad in ({"seed": 3}, {"record_dt": 10.0}):
+        with pytest.raises(ValueError, match=f"scenario.{next(iter(bad))} is not used"):
+            mc.campaign("consistency", days=0.02, scenario=scenarios.MarsScenario(**bad))
+    with pytest.raises(ValueError, match="'seed' is not a field consistency_run takes"):
+        mc.consistency_run(seed=0, days=0.02, fields={"seed": 1})

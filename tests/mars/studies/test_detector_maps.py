@@ -1,0 +1,84 @@
+"""The heat maps and false-alarm strips of the detector table (xnavlab.mars.studies.detector_maps)."""
+
+import matplotlib
+import numpy as np
+import pytest
+
+from xnavlab.mars.studies import detector_maps as dm
+from xnavlab.mars.studies import trials
+
+matplotlib.use("Agg")
+
+
+def _rows():
+    rows = []
+    for fc, sizes in (("step", (3.0, 5.0)), ("noise", (2.0,))):
+        for size in sizes:
+            for k, s in enumerate(dm.SENSORS):
+                for d, base in (("wavelet", 0.1), ("combined", 0.5)):
+                    rows.append({"fault_class": fc, "size": size, "sensor": s, "detector": d,
+                                 "pd": base + 0.1 * k, "late": k, "rms_ratio": 1.0 + k,
+                                 "false_alarms_per_day": base * 2})
+    return rows
+
+
+def test_cell_grid_places_each_row():
+    labels, v = dm.cell_grid(_rows(), "pd", "combined")
+    assert labels == ["step 3 σ", "step 5 σ", "noise ×2"]
+    np.testing.assert_allclose(v, [[0.5, 0.6, 0.7]] * 3)
+    _, late = dm.cell_grid(_rows(), "late", "wavelet")
+    assert late[:, 2].tolist() == [2.0, 2.0, 2.0]
+
+
+def test_cell_grid_missing_value_is_nan_and_unknown_detector_refused():
+    rows = _rows()
+    rows[0]["pd"] = None
+    _, v = dm.cell_grid(rows, "pd", rows[0]["detector"])
+    assert np.isnan(v[0, 0]) and np.isfinite(v[0, 1])
+    with pytest.raises(ValueError, match="detector"):
+        dm.cell_grid(rows, "pd", "oracle")
+
+
+def test_shipped_table_fills_every_cell():
+    table = trials.load_detector_table()
+    n_cells = sum(len(v) for v in trials.SIZES.values())
+    for det in trials.DETECTORS:
+        labels, v = dm.cell_grid(table["rows"], "pd", det)
+        assert len(labels) == n_cells and np.all(np.isfinite(v))
+
+
+def test_maps_write_every_value_and_late_count():
+    fig = dm.plot_cell_maps({"rows": _rows()}, detectors=("wavelet", "combined"))
+    texts = [t.get_text() for t in fig.axes[0].texts]
+    assert len(texts) == 9 and "0.30  (2 late)" in texts and "0.10" in texts
+    assert [t.get_text() for t in fig.axes[0].get_yticklabels()] == ["step 3 σ", "step 5 σ",
+                                                                    "noise ×2"]
+    assert fig.axes[-1].get_ylabel() == "probability of detection"
+
+
+def test_maps_log_scale_and_bad_key():
+    fig = dm.plot_cell_maps({"rows": _rows()}, "rms_ratio", ("combined",), log=True)
+    assert fig.axes[0].images[0].norm.__class__.__name__ == "LogNorm"
+    with pytest.raises(ValueError, match="key"):
+        dm.plot_cell_maps({"rows": _rows()}, "colour")
+
+
+def test_false_alarm_strips_draw_design_and_mean():
+    fig = dm.plot_false_alarms({"rows": _rows(), "trials": 16}, {"combined": 3.0},
+                               detectors=("wavelet", "combined"))
+    ax = fig.axes[0]
+    ys = {tuple(line.get_ydata()) for line in ax.get_lines() if len(line.get_ydata()) == 2}
+    assert (3.0, 3.0) in ys and (1.0, 1.0) in ys and (0.2, 0.2) in ys
+    assert [t.get_text() for t in ax.get_legend().get_texts()][0] == "a cell (16 one-day runs)"
+
+
+def test_signal_pd_one_panel_per_kind_with_late_dashed():
+    rows = [{"kind": k, "size_sigma": s, "wavelet_pd": 0.5, "wavelet_late": 0.25,
+             "chi2_pd": 1.0, "chi2_late": 0.0} for k in ("step", "ramp") for s in (2.0, 8.0)]
+    fig = dm.plot_signal_pd(rows)
+    assert [ax.get_title() for ax in fig.axes] == ["step", "ramp"]
+    lines = fig.axes[1].get_lines()
+    assert [tuple(ln.get_ydata()) for ln in lines] == [(0.5, 0.5), (0.25, 0.25), (1.0, 1.0),
+                                                       (0.0, 0.0)]
+    assert lines[1].get_linestyle() == "--"
+    assert [t.get_text() for t in fig.legends[0].get_texts()][1] == "wavelet: late"

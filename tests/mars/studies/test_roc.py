@@ -1,0 +1,198 @@
+"""The ROC campaign (xnavlab.mars.studies.roc): the grid's validation, one run, the curve's statistics."""
+
+import json
+
+import matplotlib.pyplot as plt
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from scipy import stats
+
+from xnavlab.core.campaign import run_campaign
+from xnavlab.mars.studies import roc
+
+FAULT = {"fault_class": "step", "sensor": "uv", "size": 8.0}
+GRID = {"detector": "chi2", "thresholds": [1e-3, 1e-7], "days": 0.5, "faults": [FAULT]}
+
+
+def test_check_grid_sorts_thresholds_and_fills_defaults():
+    g = roc.check_grid({"thresholds": [3, 0.1], "faults": [FAULT]})
+    assert g["detector"] == "combined" and g["threshold_name"] == "rate_per_day"
+    assert g["thresholds"] == [0.1, 3.0] and g["days"] == 0.5
+    assert roc.check_grid(g) == g                      # idempotent (the manifest re-checks it)
+
+
+@pytest.mark.parametrize("change, words", [
+    ({"detector": "cusum"}, "detector must be one of"),
+    ({"thresholds": []}, "thresholds must be a list of 1 to 20"),
+    ({"thresholds": 0.1}, "thresholds must be a list"),
+    ({"thresholds": [1e-3, 1.0]}, "thresholds[1] (alpha) must be a real number in (0, 1)"),
+    ({"thresholds": [1e-3, "x"]}, "thresholds[1] (alpha)"),
+    ({"thresholds": [1e-3, 1e-3]}, "thresholds must be distinct"),
+    ({"detector": "combined", "thresholds": [200.0]},
+     "thresholds[0] (rate_per_day) must be a real number in (0, 100]"),
+    ({"days": 0.1}, "days must be a real number in [0.5, 5]"),
+    ({"faults": []}, "faults must be a list of 1 to 50"),
+    ({"faults": ["step"]}, "faults[0] must be a table"),
+    ({"faults": [{**FAULT, "onset": 3}]}, "faults[0]: unknown key 'onset'"),
+    ({"faults": [{"fault_class": "step", "sensor": "uv"}]}, "faults[0]: missing key 'size'"),
+    ({"faults": [{**FAULT, "fault_class": "jump"}]}, "faults[0].fault_class must be one of"),
+    ({"faults": [{**FAULT, "sensor": "gps"}]}, "faults[0].sensor must be one of"),
+    ({"faults": [{**FAULT, "size": -1.0}]}, "faults[0].size must be a real number in (0, 100000]"),
+    ({"faults": [FAULT, {"fault_class": "noise", "sensor": "uv", "size": 1.0}]},
+     "faults[1].size must be a real number in (1, 100000]"),
+    ({"pfa": 0.1}, "grid: unknown key 'pfa'"),
+])
+def test_bad_grid_field_is_one_line_naming_it(change, words):
+    with pytest.raises(ValueError) as err:
+        roc.check_grid({**GRID, **change})
+    msg = str(err.value)
+    assert words in msg and "\n" not in msg
+
+
+def test_missing_grid_keys_are_named():
+    with pytest.raises(ValueError, match="missing key 'faults'"):
+        roc.check_grid({"thresholds": [1.0]})
+
+
+def test_load_grid_reads_toml_and_json_alike(tmp_path):
+    (tmp_path / "g.toml").write_text(
+        'detector = "chi2"\nthresholds = [1e-3, 1e-7]\ndays = 0.5\n\n'
+        '[[faults]]\nfault_class = "step"\nsensor = "uv"\nsize = 8.0\n')
+    (tmp_path / "g.json").write_text(json.dumps(GRID))
+    assert roc.load_grid(tmp_path / "g.toml") == roc.load_grid(tmp_path / "g.json")
+
+
+@pytest.mark.parametrize("name, text, words", [
+    ("g.yaml", "", "must end in .toml or .json"),
+    ("g.toml", "thresholds = [", "is not valid TOML"),
+    ("g.json", "{", "is not valid JSON"),
+    ("g.json", json.dumps({**GRID, "days": 9}), "days must be a real number in [0.5, 5]"),
+])
+def test_load_grid_bad_file_is_one_line(tmp_path, name, text, words):
+    path = tmp_path / name
+    path.write_text(text)
+    with pytest.raises(ValueError) as err:
+        roc.load_grid(path)
+    assert words in str(err.value) and "\n" not in str(err.value)
+
+
+def test_load_grid_missing_file(tmp_path):
+    with pytest.raises(ValueError, match="cannot be read"):
+        roc.load_grid(tmp_path / "none.toml")
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.integers(0, 500))
+def test_poisson_interval_is_garwoods_exact_limits(k):
+    """At the limits the Poisson tail probabilities are 2.5 % each (0 events: lower limit 0)."""
+    lo, hi = roc.poisson_interval(k)
+    assert lo <= k <= hi
+    assert stats.poisson.cdf(k, hi) == pytest.approx(0.025, rel=1e-6)
+    if k:
+        assert stats.poisson.sf(k - 1, lo) == pytest.approx(0.025, rel=1e-6)
+    else:
+        assert lo == 0.0
+
+
+def test_roc_run_same_seed_same_record_and_a_large_step_is_found():
+    camp = roc.campaign(GRID)
+    a = roc.roc_run(**camp.params(0), seed=11)
+    assert a == roc.roc_run(**camp.params(0), seed=11)
+    assert [r["threshold"] for r in a["per_threshold"]] == [1e-7, 1e-3]
+    assert all(r["detected"] for r in a["per_threshold"])       # an 8-sigma range step
+    assert a["armed_days"] == pytest.approx(0.3)
+    assert 0.55 * 43200 <= a["onset_s"] <= 0.70 * 43200 + 3
+
+
+def _record(fc, detected, false_alarms, status="ok"):
+    per = [{"threshold": t, "detected": d, "delay_s": 10.0 if d else None,
+            "out_at_onset": False, "late": not d, "false_alarms": f}
+           for t, d, f in zip((0.1, 1.0), detected, false_alarms, strict=True)]
+    return {"status": status, "parameters": {"fault_class": fc, "sensor": "uv", "size": 3.0},
+            "metrics": {"onset_s": 1.0, "armed_days": 0.5, "per_threshold": per}}
+
+
+def test_roc_curve_pools_runs_per_threshold_with_intervals():
+    runs = [_record("step", (False, True), (0, 2)), _record("ramp", (True, True), (1, 3)),
+            _record("step", (True, True), (0, 0), status="failed")]
+    c0, c1 = roc.roc_curve(runs)
+    assert (c0["threshold"], c0["trials"], c0["detected"], c0["pd"]) == (0.1, 2, 1, 0.5)
+    assert (c0["late"], c1["late"]) == (1, 0)                  # counted apart, not in pd
+    assert c1["false_alarms"] == 5 and c1["armed_days"] == 1.0
+    assert c1["false_alarms_per_day"] == 5.0
+    for row in (c0, c1):
+        assert row["pd_lo"] <= row["pd"] <= row["pd_hi"]
+        lo, hi = roc.poisson_interval(row["false_alarms"])
+        assert row["false_alarms_per_day_hi"] == pytest.approx(hi / row["armed_days"])
+        assert row["false_alarms_per_day_lo"] == pytest.approx(lo / row["armed_days"])
+    by = roc.roc_curve(runs, by_fault=True)
+    assert [(r["fault_class"], r["threshold"], r["pd"]) for r in by] == [
+        ("ramp", 0.1, 1.0), ("ramp", 1.0, 1.0), ("step", 0.1, 0.0), ("step", 1.0, 1.0)]
+    assert roc.curve_csv(roc.roc_curve(runs)).splitlines()[0] == ",".join(roc.CURVE_COLUMNS)
+
+
+def test_campaign_resumes_and_writes_the_curve(tmp_path):
+    grid = {**GRID, "faults": [FAULT, {"fault_class": "spike", "sensor": "cns", "size": 12.0}]}
+    first = run_campaign(roc.campaign(grid), 2, seed=4, out=tmp_path, engine="serial")
+    again = run_campaign(roc.campaign(grid), 2, seed=4, out=tmp_path, engine="serial")
+    assert (first.computed, again.reused, again.computed) == (2, 2, 0)
+    assert again.runs() == first.runs()
+    data = roc.write_curve(tmp_path, grid, again.runs(), 4)
+    assert json.loads((tmp_path / "roc.json").read_text()) == data
+    assert len((tmp_path / "roc.csv").read_text().splitlines()) == 3       # header + 2
+    assert [r["trials"] for r in data["curve"]] == [2, 2]
+    with pytest.raises(ValueError, match="another"):
+        run_campaign(roc.campaign({**grid, "thresholds": [1e-5]}), 2, seed=4, out=tmp_path,
+                     engine="serial")
+
+
+def test_shipped_curves_are_consistent():
+    data = roc.load_curves()
+    assert set(data["curves"]) == {"combined", "chi2"}
+    for det, cur in data["curves"].items():
+        grid = roc.check_grid(cur["grid"])
+        assert grid["detector"] == det
+        assert [r["threshold"] for r in cur["curve"]] == grid["thresholds"]
+        for r in cur["curve"]:
+            assert r["pd_lo"] <= r["pd"] <= r["pd_hi"]
+            assert r["detected"] + r["late"] <= r["trials"]
+            assert (r["false_alarms_per_day_lo"] <= r["false_alarms_per_day"]
+                    <= r["false_alarms_per_day_hi"])
+            assert r["trials"] == cur["runs"]
+
+
+@pytest.mark.parametrize(("detector", "threshold"), [("combined", 1.0), ("chi2", 1e-5)])
+def test_shipped_curve_runs_recompute(detector, threshold):
+    """The stored first run of each curve (the grid's first fault), at one threshold,
+    recomputed from its seed by the code here: the same decisions (detected, late, out at
+    onset, false alarms), the delay to 30 s."""
+    chk = roc.load_curves()["curves"][detector]["checks"][0]
+    fresh, = roc.roc_run(**{**chk["parameters"], "thresholds": [threshold]},
+                         seed=chk["seed"])["per_threshold"]
+    old = next(r for r in chk["metrics"]["per_threshold"] if r["threshold"] == threshold)
+    for key in ("detected", "late", "out_at_onset", "false_alarms"):
+        assert fresh[key] == old[key], (key, old, fresh)
+    if old["detected"]:
+        assert abs(fresh["delay_s"] - old["delay_s"]) <= 30.0
+
+
+def test_plot_roc_draws_one_curve_per_detector():
+    data = roc.load_curves()
+    fig = roc.plot_roc({d: c["curve"] for d, c in data["curves"].items()})
+    ax = fig.axes[0]
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == list(data["curves"])
+    assert ax.get_xscale() == "symlog"
+    plt.close(fig)
+
+
+def test_corrupt_shipped_curves_are_refused_with_the_row(tmp_path):
+    data = roc.load_curves()
+    data["curves"]["chi2"]["curve"][1]["pd"] = float("nan")    # json.dumps writes NaN
+    path = tmp_path / "curves.json"
+    path.write_text(json.dumps(data))
+    with pytest.raises(ValueError, match=r"curves.json', chi2: row 1 has NaN in pd"):
+        roc.load_curves(path)
+    path.write_text('{"curves": []}')
+    with pytest.raises(ValueError, match="must hold a table 'curves'"):
+        roc.load_curves(path)

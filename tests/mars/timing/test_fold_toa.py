@@ -1,0 +1,159 @@
+"""The TOA of a fold: photon-level simulation against the fold's expected error and its model."""
+
+import math
+
+import numpy as np
+import pytest
+
+from xnavlab.core.constants import C
+from xnavlab.mars.models import dynamics
+from xnavlab.mars.timing import fold_toa as ft
+from xnavlab.mars.timing import timing_bound
+
+T0, X0 = dynamics.MARS_T0, dynamics.MARS_STATE0
+#: A large a-priori error (5 km, 10 m/s on each axis), so that the end tag's error (km) stands
+#: far above the noise of 20 folds.
+BIG = (5000.0, 5000.0, 5000.0, 10.0, 10.0, 10.0)
+
+
+@pytest.fixture(scope="module")
+def big_window():
+    return ft.fold_window("B1821-24", T0, X0, error=BIG, phase0=0.7)
+
+
+def _photon_errors(window, n, **kw):
+    return np.array([ft.fold_toa(window, ft.simulate_window_photons(window, rng=i), **kw).error
+                     for i in range(n)])
+
+
+def test_a_perfect_apriori_gives_the_true_delay_from_photons():
+    w = ft.fold_window("B1821-24", T0 + 3000.0, dynamics.truth([T0 + 3000.0])[0], phase0=0.2)
+    assert abs(w.delay_change()) > 10 * w.pulsar.period    # raw photons would show no pulse
+    err = _photon_errors(w, 20, search=0.1)
+    crlb = timing_bound.toa_crlb("B1821-24")
+    assert abs(err.mean()) < 3.0 * crlb / math.sqrt(20)
+    assert 0.5 < err.std() / crlb < 1.5    # 20 folds: +-3 sigma of the scatter's estimate
+    e = ft.expected_error(w)
+    assert abs(e.bias) * C < 1e-3 and e.coherence == pytest.approx(1.0, abs=1e-12)
+    assert e.sigma == pytest.approx(timing_bound.toa_crlb("B1821-24", nbins=555), rel=1e-6)
+
+
+@pytest.mark.parametrize("tag", ["mid", "end"])
+def test_the_fold_toa_from_photons_matches_its_expected_error(big_window, tag):
+    expected = ft.expected_error(big_window, "apriori", tag)
+    err = _photon_errors(big_window, 20, tag=tag, search=0.1)
+    assert abs(err.mean() - expected.bias) < 3.0 * expected.sigma / math.sqrt(20)
+    if tag == "end":   # a-priori velocity error over half the window: km, far above the noise
+        assert abs(expected.bias) > 20.0 * expected.sigma / math.sqrt(20)
+
+
+def test_the_expected_error_is_the_first_order_bracket(big_window):
+    # the fold's ML peak and the mean of e differ by ~2 m where e moves by 9 km in the window
+    # (a 10 m/s error smears the pulse by half its width); against 3.4 km at the end tag
+    for tag in ("start", "mid", "end", -100.0):
+        bias = ft.expected_error(big_window, "apriori", tag).bias
+        first = ft.first_order_error(big_window, "apriori", tag)
+        assert abs(bias - first) * C < 3.0
+
+
+def test_the_mid_tag_error_is_second_order_and_linear_in_the_apriori_error():
+    errors = [np.array(ft.PAPER_ERROR0) * s for s in (1.0, 0.5)]
+    mid = [ft.first_order_error(ft.fold_window("B1937+21", T0, X0, error=e)) for e in errors]
+    end = [ft.first_order_error(ft.fold_window("B1937+21", T0, X0, error=e), tag="end")
+           for e in errors]
+    assert mid[1] == pytest.approx(mid[0] / 2.0, rel=1e-2)
+    assert abs(mid[0]) < abs(end[0]) / 5.0
+    # the mid tag's bracket is (n . delta_a) T^2 / 24c: the gravity gradient times ~8.7 km
+    # gives a few mm/s^2 along the line of sight, some tens of metres
+    assert 10.0 < abs(mid[0]) * C < 100.0
+
+
+def test_without_per_photon_correction_the_pulse_is_lost():
+    w = ft.fold_window("B1821-24", T0, X0, phase0=0.4)
+    assert ft.expected_error(w, "constant").coherence < 0.05
+    assert ft.expected_error(w, "constant").bias is None
+    err = _photon_errors(w, 8, correction="constant")
+    # photons folded with one delay: the estimates scatter over the period, not the bound
+    assert err.std() > 50.0 * timing_bound.toa_crlb("B1821-24")
+
+
+def test_holding_the_spacecraft_still_biases_the_crab_by_kilometres():
+    # Mars's motion per photon but the spacecraft at its tag position: the Crab's pulse
+    # survives (coherence ~1) but its peak moves to where the orbit's delay is stationary
+    area = 0.05   # 390,000 photons a fold instead of 7.7 million: the bias stays, the test is fast
+    w = ft.fold_window("B0531+21", T0, X0, error=ft.PAPER_ERROR0, phase0=0.3)
+    e = ft.expected_error(w, "mars", "mid", area_m2=area)
+    assert e.coherence > 0.95 and abs(e.bias) * C > 5000.0
+    err = np.array([ft.fold_toa(w, ft.simulate_window_photons(w, area, rng=i), "mars",
+                                area_m2=area).error for i in range(5)])
+    assert abs(err.mean() - e.bias) < 3.0 * e.sigma / math.sqrt(5)
+
+
+def test_the_survey_decides_the_instantaneous_model_with_a_mid_tag_is_adequate():
+    settled = ft.window_survey(error=ft.SETTLED_ERROR, n_windows=3, spacing=2750.0)
+    initial = ft.window_survey(error=ft.PAPER_ERROR0, n_windows=3, spacing=2750.0)
+    for s, i in zip(settled, initial, strict=True):
+        assert 20.0 < s["delay_change_ms"] < 45.0 and s["orbit_change_ms"] < 5.0
+        assert s["apriori_mid_m"] < 1.0 and s["apriori_end_m"] < 10.0      # settled: < 1 m
+        assert i["apriori_mid_m"] < i["crlb_m"] and i["apriori_end_m"] > 5.0 * i["apriori_mid_m"]
+        assert i["constant_coherence"] < 0.05
+        assert s["apriori_sigma_ratio"] < 1.01
+    assert [r["mars_mid_m"] is None for r in settled] == [False, True, True, True]
+    assert "coherence" in ft.survey_html(settled)
+
+
+def test_tags_and_inputs_are_checked(big_window):
+    assert ft.tag_offset("start", 500.0) == -250.0
+    with pytest.raises(ValueError, match="tag must be one of"):
+        ft.tag_offset("middle", 500.0)
+    with pytest.raises(ValueError, match="tag must be a real number"):
+        ft.tag_offset(300.0, 500.0)
+    with pytest.raises(ValueError, match="u must hold photon offsets"):
+        ft.fold_toa(big_window, np.array([0.0, 260.0]))
+    with pytest.raises(ValueError, match="correction must be one of"):
+        big_window.processing_delay("exact")
+    with pytest.raises(ValueError, match="error must"):
+        ft.fold_window("B1821-24", T0, X0, error=(1.0, 2.0))
+
+
+def test_the_fold_shows_the_pulse_only_after_the_per_photon_time_transfer(big_window):
+    u = ft.simulate_window_photons(big_window, rng=3)
+    folds = {c: ft.fold_photons(big_window, u, c, nbins=128) for c in ft.CORRECTIONS}
+    for counts in folds.values():
+        assert counts.shape == (128,) and counts.sum() == pytest.approx(u.size, rel=0.01)
+    contrast = {c: f.max() / np.median(f) for c, f in folds.items()}
+    assert contrast["apriori"] > 2.0 and max(contrast["mars"], contrast["constant"]) < 1.5
+    # fold_toa measures the pulse of the same fold
+    r = ft.fold_toa(big_window, u, nbins=128)
+    assert abs(r.offset / big_window.pulsar.period) < 0.05
+    with pytest.raises(ValueError, match="u must hold photon offsets"):
+        ft.fold_photons(big_window, np.array([0.0, 260.0]))
+
+
+def test_the_survey_is_cached_by_its_arguments(monkeypatch, tmp_path):
+    monkeypatch.setenv("XNAVLAB_CACHE", str(tmp_path))
+    args = dict(pulsar_names=["B0531+21"], n_windows=1)
+    first = ft.window_survey(**args, cache=True)
+    assert first == ft.window_survey(**args)
+    assert len(list(tmp_path.glob("fold-survey-*.json"))) == 1
+    other = ft.window_survey(**args, error=ft.SETTLED_ERROR, cache=True)  # another key
+    assert other != first and len(list(tmp_path.glob("fold-survey-*.json"))) == 2
+    monkeypatch.setattr(ft, "expected_error", lambda *a, **k: None)  # would fail if called
+    assert ft.window_survey(**args, cache=True) == first
+
+
+def test_the_survey_figure_groups_the_tags_per_pulsar():
+    rows = [{"pulsar": n, "crlb_m": 100.0 * k, "apriori_mid_m": 10.0 * k,
+             "apriori_end_m": 50.0 * k} for k, n in enumerate(("B0531+21", "B1937+21"), 1)]
+    fig = ft.plot_survey({"initial": rows, "settled": rows})
+    ax = fig.axes[0]
+    assert [t.get_text() for t in ax.get_xticklabels()] == ["B0531+21", "B1937+21"]
+    labels = ax.get_legend_handles_labels()[1]
+    assert labels == ["Cramer-Rao bound of one TOA", "initial, mid-window tag", "initial, end tag",
+                      "settled, mid-window tag", "settled, end tag"]
+    heights = sorted(p.get_height() for p in ax.patches)
+    assert heights == sorted([10.0, 20.0, 50.0, 100.0] * 2)
+    with pytest.raises(ValueError, match="same pulsars"):
+        ft.plot_survey({"a": rows, "b": rows[:1]})
+    with pytest.raises(ValueError, match="at least one survey"):
+        ft.plot_survey({})

@@ -1,0 +1,51 @@
+"""The photon fix's error bar: against exposure, against chapter 1's formula, over random splits."""
+
+import numpy as np
+import pytest
+
+from xnavlab.mars.timing import photon_error, photon_fix
+
+
+@pytest.fixture(scope="module")
+def photons():
+    return photon_fix.fermi_photons()
+
+
+@pytest.fixture(scope="module")
+def reference(photons):
+    return photon_fix.build_reference(photons)
+
+
+def test_formula_falls_as_one_over_root_n(photons):
+    one = photon_error.snr_range_sigma(1000.0, 700.0, photons)
+    assert photon_error.snr_range_sigma(4000.0, 2800.0, photons) == pytest.approx(one / 2, rel=1e-12)
+    # more of the photons from the pulsar: a smaller sigma
+    assert photon_error.snr_range_sigma(1000.0, 900.0, photons) < one
+    with pytest.raises(ValueError, match="weight_sum"):
+        photon_error.snr_range_sigma(100.0, 200.0, photons)
+
+
+def test_exposure_scaling_sets_and_ratios(photons, reference):
+    out = photon_error.exposure_scaling(photons, reference, months=(2, 6, 40))
+    assert out["months"].tolist() == [2, 6]                   # 40 months make one set: left out
+    assert out["n_sets"].tolist() == [21, 7]
+    assert np.all(np.diff(out["n_photons"]) > 0) and np.all(np.diff(out["stated_m"]) < 0)
+    # the stated sigma falls as one over the square root of the photons, like the formula
+    slope = np.diff(np.log(out["stated_m"])) / np.diff(np.log(out["n_photons"]))
+    assert abs(slope[0] + 0.5) < 0.15
+    ratio = out["stated_m"] / out["formula_m"]
+    assert np.all((ratio > 0.6) & (ratio < 1.2))
+    # measured scatter and stated sigma agree within the scatter's own uncertainty (x 3)
+    rel = out["measured_m"] / out["stated_m"] - 1.0
+    assert np.all(np.abs(rel) < 3 * out["measured_unc"])
+    assert len(out["estimates_m"][0]) == 21
+
+
+def test_split_pulls_shapes(photons):
+    out = photon_error.split_pulls(photons, seeds=range(3))
+    assert out["pulls"].shape == (3,)
+    assert np.allclose(out["pulls"], out["along_m"] / out["sigma_m"])
+    assert np.all(out["sigma_photons_m"] < out["sigma_m"])
+    assert np.all(np.abs(out["pulls"]) < 5.0)
+    with pytest.raises(ValueError, match="seeds"):
+        photon_error.split_pulls(photons, seeds=[1])

@@ -1,0 +1,49 @@
+"""Figures of the photon fix: each a pure function returning an unregistered Figure."""
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+
+from xnavlab.mars.timing import photon_plots, pulsars
+from xnavlab.mars.timing.photon_fix import Fix
+
+
+def test_plot_fix_draws_the_fold_and_the_likelihood():
+    before = plt.get_fignums()
+    fig = photon_plots.plot_fix(100.0)
+    assert len(fig.axes) == 3 and plt.get_fignums() == before
+    assert fig.get_suptitle().startswith("injected 100 km along")
+    assert fig.axes[1].get_xlabel() == "offset along the line (km)"
+
+
+def test_plot_recovery_with_an_across_point():
+    fx = Fix(1.0e4 + 300.0, 800.0, 600.0, 500.0, 20.0, 1.0e4, 1.4586e6, 3000, 2000.0)
+    zero = Fix(250.0, 800.0, 600.0, 500.0, 20.0, 0.0, 1.4586e6, 3000, 2000.0)
+    fig = photon_plots.plot_recovery([0.0, 1.0e4], [zero, fx], across=(5e5, zero))
+    labels = [t.get_text() for t in fig.axes[1].get_xticklabels()]
+    assert labels == ["0 along", "10 along", "500 across"]
+    with pytest.raises(ValueError, match="same length"):
+        photon_plots.plot_recovery([0.0], [zero, fx])
+
+
+def test_plot_ambiguity_and_exposure():
+    x = np.linspace(-3e6, 3e6, 13)
+    fig = photon_plots.plot_ambiguity(x, (x + 7.3e5) % 1.46e6 - 7.3e5, 1.46e6)
+    assert fig.axes[0].get_xlabel() == "injected offset along the line (km)"
+    s = {"n_photons": np.array([100.0, 400.0]), "measured_m": np.array([4e3, 2.1e3]),
+         "measured_unc": np.array([0.2, 0.3]), "stated_m": np.array([4e3, 2e3]),
+         "formula_m": np.array([5e3, 2.5e3]), "months": np.array([1, 4]), "n_sets": np.array([40, 10])}
+    fig = photon_plots.plot_exposure(s, paper_m=[109.0, 1866.0], total=(3000.0, 700.0, 900.0))
+    assert fig.axes[0].get_yscale() == "log" and fig.axes[0].get_ylabel() == "fix standard deviation (m)"
+
+
+def test_plot_ranging_accuracy_bars_and_reference():
+    ref = {"B0531+21": 109.0, "B1937+21": 344.0, "B1957+20": 1866.0, "B1821-24": 325.0}
+    fig = photon_plots.plot_ranging_accuracy(area_m2=0.5, reference=ref)
+    ax = fig.axes[0]
+    heights = [b.get_height() for b in ax.patches]
+    assert heights == pytest.approx(
+        [pulsars.ranging_accuracy(n, area_m2=0.5) for n in pulsars.PAPER_PULSARS])
+    assert list(ax.lines[0].get_ydata()) == list(ref.values())
+    assert "A = 0.5 m$^2$" in ax.get_title()
+    assert not photon_plots.plot_ranging_accuracy(pulsar_names=["B0531+21"]).axes[0].lines

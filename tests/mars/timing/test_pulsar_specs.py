@@ -1,0 +1,108 @@
+"""A scenario's pulsars: names, timing models (PINT's example .par files) and tables; the lists
+refused (string, empty, wrong item, repeated); written back as they read."""
+
+import json
+
+import numpy as np
+import pytest
+
+from xnavlab.mars.navigation import scenarios
+from xnavlab.mars.timing import pint_bridge, pulsar_specs, pulsars
+
+J1614 = "J1614-2230_NANOGrav_12yv3.wb.gls.par"  # parallax, not in the X-ray table
+J0030 = "PSRJ0030+0451_psrcat.par"             # in the table, no parallax
+ENTRY = {"name": "X1", "ra_deg": 10.0, "dec_deg": 5.0, "distance_m": 3e19, "period_s": 0.005,
+         "fdot_hz_s": 0.0, "flux_ph_cm2_s": 1e-5, "pulsed_fraction": 0.5, "width_s": 5e-4}
+
+
+@pytest.fixture(scope="module")
+def par():
+    return {name: str(pint_bridge.examples_path(name)) for name in (J1614, J0030)}
+
+
+def test_a_par_without_x_ray_properties_is_refused_naming_what_is_missing(par):
+    with pytest.raises(ValueError) as exc:
+        pulsar_specs.check_list(["B0531+21", par[J1614]])
+    msg = str(exc.value)
+    assert "J1614-2230" in msg and "has no flux_ph_cm2_s, pulsed_fraction, width_s" in msg
+    assert len(msg.splitlines()) == 1
+
+
+def test_a_par_with_the_missing_properties_given_is_a_pulsar(par):
+    spec = {"par": par[J1614], "flux_ph_cm2_s": 1e-5, "pulsed_fraction": 0.5, "width_s": 1e-4}
+    p = pulsar_specs.resolve(spec)
+    assert p.name == "J1614-2230" and p.flux == pytest.approx(0.1) and p.width == 1e-4
+    assert "argument" in p.sources["flux"] and "timing model" in p.sources["ra_deg"]
+
+
+def test_a_tabled_par_takes_the_tables_x_ray_side(par):
+    with pytest.raises(ValueError, match="distance must be given"):
+        pulsar_specs.resolve(par[J0030])          # this file's parallax is commented out
+    p = pulsar_specs.resolve({"par": par[J0030], "distance_m": 1.0e19})
+    assert (p.pulsed_fraction, p.width) == (0.10, 2.4e-4) and p.flux == pytest.approx(0.196)
+    assert "Sheikh" in p.sources["flux"]
+
+
+def test_relative_par_paths_read_from_the_base_folder(par, tmp_path):
+    from pathlib import Path
+
+    src = Path(par[J1614])
+    (tmp_path / "m.par").write_text(src.read_text())
+    got = pulsar_specs.check_list([{"par": "m.par", "flux_ph_cm2_s": 1e-5,
+                                    "pulsed_fraction": 0.5, "width_s": 1e-4}], base=tmp_path)
+    assert got[0].name == "J1614-2230"
+    with pytest.raises(ValueError, match="no such timing model"):
+        pulsar_specs.check_list(["nowhere.par"], base=tmp_path)
+
+
+@pytest.mark.parametrize(("specs", "words"), [
+    ("B0531+21", "must be a list of pulsars, got the string 'B0531+21'"),
+    ([], "must name at least one pulsar, got an empty list"),
+    (None, "must be a list of pulsars, got None"),
+    ({"par": "x.par"}, "must be a list of pulsars"),
+    ([3], "pulsars[0] must be a catalogue name, the path of a .par file or a table, got 3"),
+    (["B0531+21", "B1937+21", "B0531+21"], "lists B0531+21 twice (items 0 and 2)"),
+    (["B"], "unknown pulsar 'B'"),
+    (["J0437-4715"], "is in the X-ray table but needs its timing model"),
+    ([{**ENTRY, "extra": 1}], "pulsar table has no key 'extra'"),
+    ([{k: v for k, v in ENTRY.items() if k != "width_s"}], "needs width_s"),
+    ([{**ENTRY, "dec_deg": 95.0}], "dec_deg must be a real number in [-90, 90]"),
+    ([ENTRY, {**ENTRY, "name": "X2"}], "lists X2 twice (items 0 and 1)"),  # same direction
+])
+def test_bad_pulsar_lists_are_one_line_each(specs, words):
+    with pytest.raises(ValueError) as exc:
+        pulsar_specs.check_list(specs)
+    assert words in str(exc.value) and len(str(exc.value).splitlines()) == 1
+
+
+def test_items_write_back_as_they_read():
+    p = pulsar_specs.resolve(ENTRY)
+    for spec in ("B1957+20", p, pulsars.get("B1821-24")):
+        back = pulsar_specs.resolve(json.loads(json.dumps(pulsar_specs.to_json(spec))))
+        assert back == pulsar_specs.resolve(spec)
+    assert pulsar_specs.to_toml(p).startswith('{name = "X1", ra_deg = 10.0')
+
+
+def test_fault_names_stay_short_unless_they_collide():
+    a = {**ENTRY, "name": "J1000+10"}
+    b = {**ENTRY, "name": "J1000-20", "ra_deg": 50.0}
+    assert pulsar_specs.fault_names(["B0531+21", a, b]) == ("B0531", "J1000+10", "J1000-20")
+    assert pulsar_specs.names(["B0531+21", a]) == ("B0531+21", "J1000+10")
+
+
+def test_a_scenario_with_a_timing_model_pulsar_runs(par):
+    spec = {"par": par[J1614], "flux_ph_cm2_s": 1e-5, "pulsed_fraction": 0.5, "width_s": 1e-4}
+    sc = scenarios.MarsScenario(days=0.02, pulsars=("B0531+21", spec))
+    assert isinstance(sc.pulsars[1], pulsars.Pulsar)
+    res = scenarios.run(sc)
+    assert np.isfinite(res.metrics()["position_error_m"])
+    assert res.nis.shape[1] == 3
+
+
+def test_a_malformed_timing_model_is_one_line_naming_it(tmp_path):
+    bad = tmp_path / "bad.par"
+    bad.write_text("PSR J0000\nGARBAGE x\n")
+    with pytest.raises(ValueError) as exc:
+        pulsar_specs.check_list([str(bad)])
+    assert "PINT cannot read the timing model" in str(exc.value) and str(bad) in str(exc.value)
+    assert len(str(exc.value).splitlines()) == 1

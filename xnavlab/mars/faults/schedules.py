@@ -1,0 +1,669 @@
+"""Fault schedules: the paper's, the command line's, which faults a run can use, and the score.
+
+A fault is a :class:`xnavlab.core.faults.Fault` with times in seconds since the start of
+the run. :func:`paper_schedule` is the main paper's (Fan et al. 2016, section 4.1) with our
+magnitudes and durations; :func:`parse_faults` reads the command line's spec;
+:func:`check_schedule` refuses a fault the run cannot use; :func:`score_faults` is the
+scoring rule, and :func:`score`, :func:`fault_detection_delays` and :func:`trial_outcome`
+apply it to a run. The fault-tolerant loop itself is :mod:`xnavlab.mars.faults.fault_tolerance`,
+which re-exports the schedules' names.
+
+Scoring (:func:`score_faults`)
+    The one place every Pd, delay and false-alarm rate of the book comes from. An *alarm* is a
+    detector event raised on a sensor (a subsystem: UV, CNS, XNAV), at the
+    event's onset. A fault acts on ``[onset, end)`` (a spike: on its one sample).
+
+    * DETECTED: an alarm on its sensor is raised while it acts (delay: the first one's,
+      from the onset), or its subsystem was already out of the fusion before the onset and
+      stays out to the end (*out at onset*, delay 0; out at the onset but back in before the
+      end is not credited).
+    * LATE: not detected, and an alarm on its sensor is raised within
+      :data:`LATE_WINDOW_S` after the end. Reported in its own field (``late_s``, the
+      trials' ``late``), never as a detection: the whole fault went into the filter first.
+    * MISSED: neither.
+    * A FALSE ALARM is an alarm that no fault explains: not raised while a fault of its
+      sensor acts nor within :data:`LATE_WINDOW_S` after one's end. Late alarms and a
+      detected fault's end alarms are therefore not false alarms; the false-alarm rate is
+      the one a detector's design rate promises.
+
+    The only window is :data:`LATE_WINDOW_S` (XNAV 18000 s, UV and CNS 2000 s), which
+    decides whether an alarm after a fault's end is put down to it (late, or an end alarm)
+    or is a false alarm, and bounds the "inside the faults" window of the fused error.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from xnavlab.core.constants import DAY
+from xnavlab.core.faults import MAX_SIZE, Fault, check_faults, format_spec, parse_spec
+from xnavlab.core.validate import check_real, shown
+from xnavlab.mars.navigation import scenarios
+from xnavlab.mars.timing import pulsar_specs
+
+__all__ = [
+    "PAPER_ONSETS",
+    "MIN_FAULT_TAIL_S",
+    "MAX_DAYS",
+    "EARLIEST_ONSET_S",
+    "LATE_WINDOW_S",
+    "STATUSES",
+    "MATCHES",
+    "components",
+    "sample_intervals",
+    "paper_schedule",
+    "parse_faults",
+    "check_schedule",
+    "scoring_span",
+    "score_faults",
+    "fault_detection_delays",
+    "score",
+    "trial_outcome",
+]
+
+#: The paper's fault instants, s after the start (Fan et al. 2016, section 4.1).
+PAPER_ONSETS = {
+    "uv": (700000.0, 1200000.0, 1700000.0, 2200000.0, 2300000.0, 2400000.0),
+    "xnav": (500000.0, 1000000.0, 1500000.0, 2000000.0, 2310000.0),
+    "cns": (600000.0, 900000.0, 1500000.0, 2100000.0, 2400000.0),
+}
+
+#: The earliest fault onset the combined detector takes, s: the filter has settled by then
+#: (fused position error 8.7 km at the start, 0.8 km after 5 minutes). Its innovation tests
+#: watch from ``arm_s`` (by default this same 600 s) and the UV/CNS wavelets from the end of
+#: their training (their MAD-based training is robust to a fault inside it), so a fault
+#: between 600 s and the end of the training span is found by the innovation tests.
+EARLIEST_ONSET_S = 600.0
+
+#: The longest run of the command line, days (``run mars --days``).
+MAX_DAYS = 365.0
+
+#: Seconds a fault's onset must leave before the run's end for the message of
+#: :func:`check_schedule` to suggest a long enough run (one XNAV integration).
+MIN_FAULT_TAIL_S = 5000.0
+
+
+def components(scenario=None):
+    """Measurement component names per sensor, for :func:`xnavlab.core.faults.parse_spec`.
+
+    ``xnav``: the pulsars as ``B0531``, ``B1937``, ... (or an index ``0..3``);
+    ``uv``: ``range``, ``ux``, ``uy``, ``uz``; ``cns``: ``angle0``, ``angle1``, ``angle2``.
+
+    Examples
+    --------
+    >>> components()["uv"]
+    ('range', 'ux', 'uy', 'uz')
+    """
+    sc = scenarios.check_scenario("scenario", scenario)
+    n_stars = len(sc.stars) if sc.stars else 3
+    comps = {
+        "xnav": pulsar_specs.fault_names(sc.pulsars),  # B1937, J0030, ... (any pulsar)
+        "uv": ("range", "ux", "uy", "uz"),
+        "cns": tuple(f"angle{i}" for i in range(n_stars)),
+    }
+    return {s: comps[s] for s in sc.subsystems}
+
+
+def paper_schedule(uv_step_sigma=5.0, uv_duration=5000.0, xnav_step_s=1.0e-5,
+                   xnav_ramp=2.0e-9, xnav_duration=5000.0, cns_step_sigma=8.0,
+                   cns_duration=5000.0, scenario=None):
+    """The paper's fault instants with our magnitudes and durations (module notes).
+
+    Parameters
+    ----------
+    uv_step_sigma : float
+        UV range step, in units of the range noise (5000 m), in (0, 1000].
+    uv_duration, xnav_duration, cns_duration : float
+        Fault durations, s, in (0, 1e5] (the paper's onsets are 1e5 s apart at the closest).
+    xnav_step_s : float
+        XNAV delay step, s, on every pulsar (1e-5 s = 3 km), nonzero, in [-1, 1].
+    xnav_ramp : float
+        XNAV delay drift, s/s, on pulsar 1 (2e-9 s/s = 0.6 m/s), nonzero, in [-1e-3, 1e-3].
+    cns_step_sigma : float
+        Horizon-sensor step on every starlight angle, in units of its noise (0.05 deg).
+    scenario : MarsScenario, optional
+        Supplies the noise levels.
+
+    Returns
+    -------
+    list of Fault
+
+    Examples
+    --------
+    >>> fs = paper_schedule()
+    >>> len(fs), fs[0].sensor, fs[0].magnitude
+    (16, 'xnav', 1e-05)
+    """
+    sc = scenarios.check_scenario("scenario", scenario)
+    uv_step_sigma = check_real("uv_step_sigma", uv_step_sigma, 0.0, 1000.0, lo_open=True)
+    cns_step_sigma = check_real("cns_step_sigma", cns_step_sigma, 0.0, 1000.0, lo_open=True)
+    for name, v in (("uv_duration", uv_duration), ("xnav_duration", xnav_duration),
+                    ("cns_duration", cns_duration)):
+        check_real(name, v, 0.0, 1e5, lo_open=True)
+    xnav_step_s = check_real("xnav_step_s", xnav_step_s, -1.0, 1.0)
+    xnav_ramp = check_real("xnav_ramp", xnav_ramp, -1e-3, 1e-3)
+    for name, v, lim in (("xnav_step_s", xnav_step_s, "1"), ("xnav_ramp", xnav_ramp, "0.001")):
+        if v == 0.0:
+            raise ValueError(f"{name} must be a nonzero real number in [-{lim}, {lim}], got 0.0 "
+                             "(a zero-size fault injects nothing)")
+    faults = []
+    for i, t in enumerate(PAPER_ONSETS["xnav"]):
+        if i % 2 == 0:
+            faults.append(Fault("xnav", "step", xnav_step_s, t, xnav_duration))
+        else:
+            faults.append(Fault("xnav", "ramp", xnav_ramp, t, xnav_duration, component=1))
+    sig_h = math.radians(sc.sigma_horizon_deg)
+    for t in PAPER_ONSETS["uv"]:
+        faults.append(Fault("uv", "step", uv_step_sigma * sc.sigma_range_m, t, uv_duration,
+                            component=0))
+    for t in PAPER_ONSETS["cns"]:
+        faults.append(Fault("cns", "step", cns_step_sigma * sig_h, t, cns_duration))
+    return sorted(faults, key=lambda f: f.onset)
+
+
+def parse_faults(spec, scenario=None):
+    """``"paper"`` -> :func:`paper_schedule`; otherwise :func:`xnavlab.core.faults.parse_spec`.
+
+    Examples
+    --------
+    >>> [f.component for f in parse_faults("uv.range:step:5000@700000+3000,xnav.1:ramp:2e-9@5e5+5000")]
+    [0, 1]
+    """
+    sc = scenarios.check_scenario("scenario", scenario)
+    if isinstance(spec, str) and spec.strip() == "paper":
+        return paper_schedule(scenario=sc)
+    if isinstance(spec, str) and "xnav" in sc.subsystems:
+        # a pulsar may be named in full (xnav.B1937+21): its '+' is not the duration's
+        for name, short in zip(pulsar_specs.names(sc.pulsars), components(sc)["xnav"],
+                               strict=True):
+            spec = spec.replace(f"xnav.{name}:", f"xnav.{short}:")
+    return parse_spec(spec, components(sc))
+
+
+def check_schedule(faults, scenario, detector="combined", train_days=1.0, paper=False):
+    """Refuse a fault the run cannot use: one ``ValueError`` naming the fault, the span and the fix.
+
+    A fault is used when its onset lies inside the run, ``[0, span)`` s since the start,
+    and it acts on at least one sample of its sensor (a step of 300 s between two XNAV
+    samples 500 s apart would be injected as nothing and scored as missed);
+    with the paper's ``"wavelet"`` detector a UV or CNS fault must start after the wavelets'
+    fault-free training span (``train_days``), and with the ``"combined"`` detector any
+    fault from :data:`EARLIEST_ONSET_S` (600 s) on is taken (its innovation tests watch
+    while the wavelets train). A fault may end
+    after the run (it is then cut at the end, which is a use). The check and the score agree
+    on the end: a sample counts when it lies before the run's end, ``t < span``, as in
+    :func:`scoring_span` (``[onset, min(end, span))``), so a fault that would act only on a
+    sample at the end itself (``t = span``) is refused here rather than always scored
+    missed.
+
+    Parameters
+    ----------
+    faults : sequence of Fault
+        The schedule, times s since the start.
+    scenario : MarsScenario
+        The run (its ``span``, s).
+    detector : str
+        One of :data:`~xnavlab.mars.faults.fault_tolerance.DETECTORS`.
+    train_days : float
+        Training span of the UV/CNS wavelets, days.
+    paper : bool
+        The schedule is the paper's (the message then says how many days it needs).
+
+    Examples
+    --------
+    >>> sc = scenarios.MarsScenario(days=5)
+    >>> try:
+    ...     check_schedule(paper_schedule(), sc, paper=True)
+    ... except ValueError as exc:
+    ...     print(str(exc).split("; ")[1])
+    run at least --days 27.84 (this run: 5 days)
+    """
+    if scenario is None:
+        raise ValueError("scenario must be a MarsScenario (the run the faults are for), got None")
+    scenario = scenarios.check_scenario("scenario", scenario)
+    span = float(scenario.span)
+    comps = components(scenario)
+    faults = check_faults("faults", faults, comps)
+    late = [f for f in faults if not 0.0 <= f.onset < span]
+    if late and paper:
+        last = max(f.onset for f in faults)
+        need = (last + MIN_FAULT_TAIL_S) / DAY
+        raise ValueError(f"faults: the paper's schedule has onsets up to {last:.0f} s "
+                         f"({last / DAY:.2f} days); run at least --days {math.ceil(need * 100) / 100:g} "
+                         f"(this run: {span / DAY:g} days)")
+    for f in late:
+        if f.onset < 0.0:
+            raise ValueError(f"faults: {format_spec([f], comps)} starts at {f.onset:.6g} s, before "
+                             f"the run's start: an onset is s since the start, in [0, {span:.0f})")
+        need = math.ceil((f.onset + MIN_FAULT_TAIL_S) / DAY * 100) / 100
+        longer = f" or run at least --days {need:g}" if need <= MAX_DAYS else ""
+        raise ValueError(f"faults: {format_spec([f], comps)} starts at {f.onset:.6g} s, outside this "
+                         f"run [0, {span:.0f}) s ({span / DAY:g} days): move its onset into the "
+                         f"run{longer}")
+    for f in faults:  # a ramp's size by the run's end, refused before any run (not an overflow)
+        acts = min(f.end, span) - f.onset
+        if f.kind == "ramp" and abs(f.magnitude) * acts > MAX_SIZE:
+            raise ValueError(f"faults: {format_spec([f], comps)} reaches {abs(f.magnitude) * acts:.3g} "
+                             f"by {f.onset + acts:.0f} s, beyond {MAX_SIZE:g} in the measurement's SI "
+                             f"unit (xnavlab.core.faults.MAX_SIZE): a rate of at most "
+                             f"{MAX_SIZE / acts:.3g} per s over this run")
+    dts = sample_intervals(scenario)
+    for f in faults:
+        if f.sensor not in dts:
+            continue                     # inject_inputs names a sensor the run lacks
+        dt = dts[f.sensor]
+        first = _first_sample(f.onset, dt)
+        last = dt * math.floor(span / dt + 1e-9)  # the last sample, at or before the end
+        if last >= span * (1.0 - 1e-12):          # one at the end: scored times are < span
+            last -= dt
+        if first > last or (f.kind != "spike" and first >= f.end):
+            why = (f"lasts {f.duration:.6g} s between two {f.sensor} samples (one every "
+                   f"{dt:g} s): make it last at least {dt:g} s or move it onto a sample"
+                   if first <= last else f"comes after the last {f.sensor} sample before "
+                   f"the run's end ({last:.0f} s; the sample at the end, {span:.0f} s, is not "
+                   f"scored: scoring_span cuts a fault at the end)")
+            raise ValueError(f"faults: {format_spec([f], comps)} acts on no sample: it {why}")
+    if detector == "wavelet":
+        for f in faults:
+            if f.sensor in ("uv", "cns") and f.onset < train_days * DAY:
+                raise ValueError(
+                    f"faults: {format_spec([f], comps)} starts at {f.onset:.6g} s, inside the "
+                    f"{train_days * DAY:.0f}-s span on which the {f.sensor} wavelet detector trains "
+                    f"(it must be fault-free); move its onset to {train_days * DAY:.0f} s or later, "
+                    f"or use detector combined")
+    if detector == "combined":
+        for f in faults:
+            if f.onset < EARLIEST_ONSET_S:
+                raise ValueError(
+                    f"faults: {format_spec([f], comps)} starts at {f.onset:.6g} s, before the "
+                    f"filter has settled ({EARLIEST_ONSET_S:.0f} s: its start-up error, kilometres, "
+                    f"hides a fault from any detector); move its onset to "
+                    f"{EARLIEST_ONSET_S:.0f} s or later")
+    return faults
+
+
+#: How long after a fault's end an alarm on its sensor is still put down to the fault, s
+#: (module notes, "Scoring"): as the fault's LATE alarm when nothing found it while it
+#: acted, as its END ALARM when something did; a later alarm is a false alarm. It bounds
+#: the detectors' answer to a fault's end. XNAV: 18000 s, the window of its three-level
+#: db3 innovation wavelet (36 samples of 500 s), which an end jump leaves after that long
+#: by construction. UV and CNS: 2000 s, measured over the 2160 faulty runs of the shipped
+#: detector table: alarms on the faulty sensor come at 10 to 1900 times the sensor's alarm
+#: rate before the onset in the first 500 s after the end (the raw wavelets' five-level
+#: window is 156 samples, 468 s), at 3.3 times it for CNS in 1000-1500 s (the innovation
+#: tests after re-admission), and at 0.2-1.6 times it from 2000 s on; XNAV's last excess
+#: was at 6000-8000 s (the wavelet's late answer). An alarm that noise raises at the background rate
+#: (UV 5e-6/s, CNS 7e-6/s, XNAV 3e-6/s) falls in one window with probability 1-6 %. The
+#: same span after each fault is the "inside the faults" window of the fused error in
+#: :func:`score`.
+LATE_WINDOW_S = {"xnav": 18000.0, "uv": 2000.0, "cns": 2000.0}
+
+#: The scored outcome of a fault (:func:`score_faults`).
+STATUSES = ("detected", "late", "missed")
+#: What an alarm is to the faults (:func:`score_faults`).
+MATCHES = ("detection", "late", "during fault", "after end", "false alarm")
+
+
+def sample_intervals(scenario=None):
+    """Sampling interval of each subsystem, s (its samples fall at ``k dt``, ``k >= 1``).
+
+    Examples
+    --------
+    >>> sample_intervals()
+    {'xnav': 500.0, 'uv': 3.0, 'cns': 3.0}
+    """
+    sc = scenarios.check_scenario("scenario", scenario)
+    dts = {"xnav": sc.dt_xnav, "uv": sc.dt_uv, "cns": sc.dt_cns}
+    return {s: float(dts[s]) for s in sc.subsystems}
+
+
+def _first_sample(onset, dt):
+    """The first sample time at or after ``onset`` on the grid ``k dt``, ``k >= 1``."""
+    return dt * max(1.0, math.ceil(onset / dt - 1e-9))
+
+
+def scoring_span(fault, dt=None, span=math.inf):
+    """The alarm times that detect ``fault``: ``(onset, stop)``, the half-open ``[onset, stop)``, s.
+
+    ``stop`` is the fault's end, ``onset + duration`` (it acts on the samples in ``[onset,
+    end)``, :meth:`xnavlab.core.faults.Fault.active`), cut at the run's end ``span``. A spike
+    acts on one sample, the first at or after its onset (its duration is ignored): ``stop``
+    is half a sampling interval after that sample, so that only an alarm raised on the
+    spiked sample itself detects it (a later one comes after the spike went into the filter).
+
+    Parameters
+    ----------
+    fault : Fault
+        Times s since the start.
+    dt : dict of str to float, optional
+        Sampling interval per sensor, s (:func:`sample_intervals`); needed for a spike.
+    span : float
+        The run's length, s.
+
+    Returns
+    -------
+    tuple of float
+
+    Examples
+    --------
+    >>> scoring_span(Fault("xnav", "spike", 1e-5, 61001.0, 0.0), dt={"xnav": 500.0})
+    (61001.0, 61750.0)
+    >>> scoring_span(Fault("uv", "step", 1.0, 100.0, 50.0))
+    (100.0, 150.0)
+    """
+    span = _span(span)
+    if fault.kind == "spike":
+        if dt is None or fault.sensor not in dt:
+            raise ValueError(f"dt must give the sampling interval of sensor {fault.sensor!r} "
+                             "to score a spike (one sample)")
+        step = check_real(f"dt[{fault.sensor!r}]", dt[fault.sensor], 0.0, lo_open=True)
+        return fault.onset, min(_first_sample(fault.onset, step) + 0.5 * step, span)
+    return fault.onset, min(fault.end, span)
+
+
+def _span(span):
+    """A run's span, s: a real number > 0 (inf: no end)."""
+    if isinstance(span, bool) or not isinstance(span, int | float | np.integer | np.floating) \
+            or not span > 0:
+        raise ValueError(f"span must be a real number in (0, inf], s, got {span!r}")
+    return float(span)
+
+
+def score_faults(faults, events, isolations=(), *, span=math.inf, dt=None):
+    """The scoring rule: every fault detected, late or missed; every alarm matched or false.
+
+    This is the one place the book's detection numbers are decided (Pd, delays, false
+    alarms per day: :func:`score`, the trials of :mod:`xnavlab.mars.studies.trials`, the ROC
+    curves of :mod:`xnavlab.mars.studies.roc`). An *alarm* is a detector event's onset, the time
+    it was raised (every detector here is causal); it belongs to a *sensor*, i.e. a
+    subsystem, not to a measurement component: a subsystem is isolated as a whole, and the
+    combined detector's whitened innovations mix the components of correlated sensors.
+
+    A fault acts on the alarm times ``[onset, stop)`` of :func:`scoring_span` (its end, cut
+    at the run's end; a spike: its one sample).
+
+    DETECTED (``delay_s`` from the onset)
+        an alarm on its sensor is raised in ``[onset, stop)``: the delay is the first one's;
+        or *out at onset*: its subsystem was already switched out of the fusion before the
+        onset (an earlier alarm) and stays out until ``stop`` or later, so that none of the
+        fault reached the filter: delay 0, ``out_at_onset`` True. Out at the onset but back
+        in before the end does not count (the rest of the fault went into the filter): the
+        fault is then detected only by an alarm raised while it acts.
+    LATE (``late_s`` after ``stop``)
+        not detected, and an alarm on its sensor is raised in ``[stop, stop +
+        LATE_WINDOW_S)`` (:data:`LATE_WINDOW_S`). Never a detection: the whole fault went
+        into the filter first.
+    MISSED
+        neither.
+
+    Every alarm gets one ``match`` (:data:`MATCHES`), the first that applies:
+    ``"detection"`` (the alarm that detected a fault), ``"late"`` (the first alarm after the
+    end of a fault that nothing detected, within :data:`LATE_WINDOW_S`), ``"during fault"``
+    (any other alarm raised while a fault of its sensor acts), ``"after end"`` (any other
+    alarm within :data:`LATE_WINDOW_S` after a fault's end: a detected step's end event),
+    ``"false alarm"`` (the rest). Late alarms are counted apart and are *not* false alarms:
+    the false-alarm count is the alarms that no fault explains, the quantity a detector's
+    design rate promises; what a late alarm costs shows as the fault's LATE status and as
+    the time its subsystem stays out after the end (:func:`score`, ``out_after_end_s``).
+
+    Parameters
+    ----------
+    faults : sequence of Fault
+        Times s since the start.
+    events : dict of str to list of xnavlab.core.detection.Event
+        The detector's events per sensor, same time base.
+    isolations : sequence of dict, optional
+        The run's isolation intervals (``sensor``, ``out``, ``back``: s, ``back`` None when
+        still out at the end;
+        :meth:`~xnavlab.mars.faults.fault_tolerance.FaultTolerantRun.isolation_intervals`).
+    span : float
+        The run's length, s (a fault that outlasts it is scored up to it).
+    dt : dict of str to float, optional
+        Sampling interval per sensor (needed to score a spike; :func:`sample_intervals`).
+
+    Returns
+    -------
+    dict
+        ``faults``: per fault ``sensor``, ``kind``, ``onset``, ``end`` (``stop``), ``status``,
+        ``detected``, ``delay_s`` (None unless detected), ``detected_onset`` (the detecting
+        alarm, the onset when out at onset, None), ``out_at_onset``, ``late_s`` (None unless
+        late); ``alarms``: per event, in order of onset, ``sensor``, ``onset``, ``match``,
+        ``fault`` (index into ``faults`` or None).
+
+    Examples
+    --------
+    >>> from xnavlab.core.detection import Event
+    >>> f = Fault("xnav", "step", 3e-6, onset=61000.0, duration=8000.0)
+    >>> late = score_faults([f], {"xnav": [Event(69500.0, 69500.0, 70000.0, 2.0, "cusum")]})
+    >>> late["faults"][0]["status"], late["faults"][0]["late_s"], late["alarms"][0]["match"]
+    ('late', 500.0, 'late')
+    >>> out = score_faults([f], {}, [{"sensor": "xnav", "out": 60000.0, "back": 71000.0}])
+    >>> out["faults"][0]["status"], out["faults"][0]["delay_s"], out["faults"][0]["out_at_onset"]
+    ('detected', 0.0, True)
+    """
+    faults = check_faults("faults", faults)
+    span = _span(span)
+    events = _check_events(events)
+    isolations = _check_isolations(isolations)
+    for f in faults:
+        if f.sensor not in LATE_WINDOW_S:
+            raise ValueError(f"faults: sensor {f.sensor!r} has no late window "
+                             f"(known: {', '.join(LATE_WINDOW_S)})")
+    stops = [scoring_span(f, dt, span)[1] for f in faults]
+    alarms = sorted(((e.onset, s) for s, evs in events.items() for e in evs), key=lambda a: a[0])
+    role = {}                            # alarm index -> (match, fault index): its main role
+    per = []
+    for k, (f, stop) in enumerate(zip(faults, stops, strict=True)):
+        on = [j for j, (_, s) in enumerate(alarms) if s == f.sensor]
+        inside = [j for j in on if f.onset <= alarms[j][0] < stop]
+        after = [j for j in on if stop <= alarms[j][0] < stop + LATE_WINDOW_S[f.sensor]]
+        covered = any(iv["sensor"] == f.sensor and iv["out"] < f.onset
+                      and (iv["back"] is None or iv["back"] >= stop) for iv in isolations)
+        rec = {"sensor": f.sensor, "kind": f.kind, "onset": f.onset, "end": stop,
+               "status": "missed", "detected": False, "delay_s": None, "detected_onset": None,
+               "out_at_onset": covered, "late_s": None}
+        if covered:
+            rec.update(status="detected", detected=True, delay_s=0.0, detected_onset=f.onset)
+        elif inside:
+            t = alarms[inside[0]][0]
+            rec.update(status="detected", detected=True, delay_s=t - f.onset, detected_onset=t)
+            if role.get(inside[0], ("",))[0] != "detection":    # a detection outranks
+                role[inside[0]] = ("detection", k)                # another fault's late
+        elif after:
+            rec.update(status="late", late_s=alarms[after[0]][0] - stop)
+            if role.get(after[0], ("",))[0] != "detection":
+                role[after[0]] = ("late", k)
+        per.append(rec)
+    out = []
+    for j, (t, s) in enumerate(alarms):
+        if j not in role:
+            mine = [k for k, f in enumerate(faults)
+                    if f.sensor == s and f.onset <= t < stops[k] + LATE_WINDOW_S[s]]
+            during = [k for k in mine if t < stops[k]]
+            role[j] = (("during fault", during[0]) if during else ("after end", mine[0]) if mine
+                       else ("false alarm", None))
+        out.append({"sensor": s, "onset": t, "match": role[j][0], "fault": role[j][1]})
+    return {"faults": per, "alarms": out}
+
+
+def _check_events(events):
+    """A detector's events: a dict of sensor -> sequence of objects with an ``onset``, s."""
+    if not isinstance(events, dict):
+        raise ValueError(f"events must be a dict of sensor -> list of detection Events, got "
+                         f"{type(events).__name__} {shown(events)}")
+    for sensor, evs in events.items():
+        if isinstance(evs, str | dict) or not hasattr(evs, "__iter__"):
+            raise ValueError(f"events[{sensor!r}] must be a list of detection Events, got "
+                             f"{shown(evs)}")
+        for i, e in enumerate(evs):
+            onset = getattr(e, "onset", None)
+            if isinstance(onset, bool) or not isinstance(onset, int | float | np.integer
+                                                         | np.floating):
+                raise ValueError(f"events[{sensor!r}][{i}] must be a detection Event (with an "
+                                 f"onset, s: xnavlab.core.detection.Event), got {shown(e)}")
+    return events
+
+
+def _check_isolations(isolations):
+    """Isolation intervals: dicts with ``sensor``, ``out`` and ``back`` (s or None)."""
+    if isinstance(isolations, str | dict) or not hasattr(isolations, "__iter__"):
+        raise ValueError(f"isolations must be a list of dicts (sensor, out, back), got "
+                         f"{shown(isolations)}")
+    isolations = list(isolations)
+    for i, iv in enumerate(isolations):
+        if not isinstance(iv, dict) or not {"sensor", "out", "back"} <= set(iv):
+            raise ValueError(f"isolations[{i}] must be a dict with keys sensor, out and back, "
+                             f"got {shown(iv)}")
+    return isolations
+
+
+
+def fault_detection_delays(faults, events, isolations=(), *, span=math.inf, dt=None):
+    """For each fault, the delay from its onset to its detection (:func:`score_faults`).
+
+    Parameters
+    ----------
+    faults, events, isolations, span, dt
+        As :func:`score_faults`.
+
+    Returns
+    -------
+    list of dict
+        ``sensor``, ``kind``, ``onset``, ``delay`` (s; ``inf`` unless detected: an alarm
+        raised after the fault's end is LATE, not a detection), ``detected_onset`` (``inf``
+        unless detected), ``status`` (``"detected"``, ``"late"`` or ``"missed"``),
+        ``late_s`` (s after the end; None unless late), ``out_at_onset``.
+
+    Examples
+    --------
+    >>> f = Fault("uv", "step", 1.0, onset=10.0, duration=5.0)
+    >>> from xnavlab.core.detection import Event
+    >>> fault_detection_delays([f], {"uv": [Event(12.0, 13.0, 20.0, 2.0, "level 1")]})[0]["delay"]
+    2.0
+    >>> fault_detection_delays([f], {"uv": [Event(16.0, 16.0, 20.0, 2.0, "level 1")]})[0]["status"]
+    'late'
+    """
+    res = score_faults(faults, events, isolations, span=span, dt=dt)["faults"]
+    return [{"sensor": r["sensor"], "kind": r["kind"], "onset": r["onset"],
+             "delay": r["delay_s"] if r["detected"] else math.inf,
+             "detected_onset": r["detected_onset"] if r["detected"] else math.inf,
+             "status": r["status"], "late_s": r["late_s"], "out_at_onset": r["out_at_onset"]}
+            for r in res]
+
+
+# ----------------------------------------------------------------------------- the run
+
+
+def _out_after(sensor, stop, isolations, span):
+    """Seconds ``sensor`` was out after ``stop`` in isolations opened before ``stop`` plus its
+    late window (the one over the end, and those of its late or end alarms)."""
+    total = 0.0
+    for iv in isolations:
+        back = span if iv["back"] is None else min(iv["back"], span)
+        if iv["sensor"] == sensor and iv["out"] < stop + LATE_WINDOW_S[sensor] and back > stop:
+            total += back - max(stop, iv["out"])
+    return total
+
+
+def score(ft, settle_days=None):
+    """Score a fault-tolerant run against its injected faults (the rule: :func:`score_faults`).
+
+    Parameters
+    ----------
+    ft : FaultTolerantRun
+        The run (:func:`xnavlab.mars.faults.fault_tolerance.run_fault_tolerant`).
+    settle_days : float, optional
+        Start of the RMS windows, days (default that of the run's metrics).
+
+    Returns
+    -------
+    dict
+        ``faults`` (list of dicts: ``spec``, ``sensor``, ``kind``, ``onset``, ``end`` (the
+        end of its scoring span, s), ``status`` (``"detected"``, ``"late"``, ``"missed"``),
+        ``detected``, ``delay_s`` (None unless detected), ``out_at_onset`` (detected at delay
+        0 because its subsystem was out of the fusion from before the onset to the end),
+        ``late_s`` (s after the end of a LATE fault's first alarm, else None),
+        ``out_after_end_s`` (time its subsystem was out after the end in isolations opened
+        before ``end + LATE_WINDOW_S``; None when the fault outlasts the run),
+        ``still_out_at_end``),
+        ``detections`` (every alarm: the detection's dict plus ``match`` (:data:`MATCHES`),
+        ``fault`` (the spec it is put down to, or None) and ``false_alarm``),
+        ``counts`` (per subsystem: ``faults``, ``detected``, ``late``, ``missed``, ``alarms``,
+        ``false_alarms``), ``fused_error`` (``inside_faults_m`` over ``[onset, end +
+        LATE_WINDOW_S)`` of every fault, ``outside_faults_m``, ``settle_days``; None where a
+        window is empty).
+    """
+    sc = ft.run.scenario
+    comps = components(sc)
+    span = float(sc.span)
+    t_rec = ft.run.t - ft.run.times[0]   # records (the error series)
+    isol = ft.isolation_intervals()
+    core = score_faults(ft.faults, ft.events, isol, span=span, dt=sample_intervals(sc))
+    specs = [format_spec([f], comps) for f in ft.faults]
+    faults = []
+    for f, r, spec in zip(ft.faults, core["faults"], specs, strict=True):
+        i = sc.subsystems.index(f.sensor)
+        ends = r["end"] < span
+        faults.append({"spec": spec, **{k: r[k] for k in ("sensor", "kind", "onset", "end", "status",
+                                                          "detected", "delay_s", "out_at_onset",
+                                                          "late_s")},
+                       "out_after_end_s": _out_after(f.sensor, r["end"], isol, span) if ends else None,
+                       "still_out_at_end": bool(ends and ft.isolated[-1, i])})
+    detections = []
+    for det, a in zip(ft.detections, core["alarms"], strict=True):
+        detections.append({**det, "match": a["match"],
+                           "fault": None if a["fault"] is None else specs[a["fault"]],
+                           "false_alarm": a["match"] == "false alarm"})
+    counts = {}
+    for s in sc.subsystems:
+        fs = [f for f in faults if f["sensor"] == s]
+        ds = [d for d in detections if d["sensor"] == s]
+        counts[s] = {"faults": len(fs), **{k: sum(f["status"] == k for f in fs) for k in STATUSES},
+                     "alarms": len(ds), "false_alarms": sum(d["false_alarm"] for d in ds)}
+    settle = ft.run.metrics(settle_days)["settle_days"]
+    pe = ft.run.position_error()
+    inside = np.zeros(t_rec.size, dtype=bool)
+    for f, r in zip(ft.faults, core["faults"], strict=True):
+        inside |= (t_rec >= f.onset) & (t_rec < r["end"] + LATE_WINDOW_S[f.sensor])
+    keep = ft.run.t_days >= settle
+
+    def rms(mask):
+        return float(np.sqrt(np.mean(pe[mask] ** 2))) if mask.any() else None
+
+    return {"faults": faults, "detections": detections, "counts": counts,
+            "fused_error": {"inside_faults_m": rms(keep & inside),
+                            "outside_faults_m": rms(keep & ~inside), "settle_days": settle}}
+
+
+def trial_outcome(ft, armed_from_s=0.0):
+    """The Monte Carlo record of a run with one fault (:func:`score`): what the trials of
+    :mod:`xnavlab.mars.studies.trials` and :mod:`xnavlab.mars.studies.roc` store.
+
+    Parameters
+    ----------
+    ft : FaultTolerantRun
+        A run with exactly one fault.
+    armed_from_s : float
+        False alarms are counted from this time on, s since the start (the detectors'
+        training span), >= 0.
+
+    Returns
+    -------
+    dict
+        ``detected``, ``delay_s`` (None unless detected), ``out_at_onset``, ``late`` (bool),
+        ``late_s`` (s after the end, None unless late), ``false_alarms`` (alarms no fault
+        explains raised from ``armed_from_s`` on; late alarms are not among them),
+        ``time_out_s`` (``out_after_end_s``, 0 when the fault outlasts the run).
+    """
+    armed_from_s = check_real("armed_from_s", armed_from_s, 0.0)
+    if len(ft.faults) != 1:
+        raise ValueError(f"ft must hold exactly one fault, got {len(ft.faults)}")
+    sc = score(ft)
+    f = sc["faults"][0]
+    fa = sum(d["false_alarm"] and d["detected_onset"] >= armed_from_s for d in sc["detections"])
+    return {"detected": bool(f["detected"]), "delay_s": f["delay_s"],
+            "out_at_onset": bool(f["out_at_onset"]), "late": f["status"] == "late",
+            "late_s": f["late_s"], "false_alarms": int(fa),
+            "time_out_s": float(f["out_after_end_s"] or 0.0)}

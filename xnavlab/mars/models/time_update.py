@@ -1,0 +1,142 @@
+"""The filters' time update of the Mars scenario: the state propagated with the paper's force model.
+
+Fan et al. 2016 give the filters' dynamics (Mars central gravity, the Sun and Jupiter as third
+bodies, in the Mars-centred J2000 frame) but no process noise. Here: the RK4 propagation of the
+state (:func:`filter_step`, :func:`filter_propagate`, which also returns the transition matrix
+the EKF needs), the white-acceleration process noise (:func:`process_noise`), and
+:class:`Propagation`, one memoised time update for the filters of
+:mod:`xnavlab.mars.navigation.scenarios`. Chapter 5 shows one predict step with them.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from xnavlab.core.validate import check_finite_array, check_real
+from xnavlab.mars.models import dynamics
+
+__all__ = ["process_noise", "filter_step", "filter_propagate", "Propagation"]
+
+
+def process_noise(dt, q):
+    """White-acceleration process noise over ``dt``: ``q [[dt^3/3 I, dt^2/2 I], [dt^2/2 I, dt I]]``.
+
+    Examples
+    --------
+    >>> process_noise(2.0, 3.0)[[0, 0, 3], [0, 3, 3]].tolist()
+    [8.0, 6.0, 6.0]
+    """
+    dt, q = check_real("dt", dt, 0.0), check_real("q", q, 0.0)
+    Q = np.zeros((6, 6))
+    I3 = np.eye(3)
+    Q[:3, :3] = q * dt**3 / 3.0 * I3
+    Q[:3, 3:] = Q[3:, :3] = q * dt**2 / 2.0 * I3
+    Q[3:, 3:] = q * dt * I3
+    return Q
+
+
+def filter_step(x, t, dt, table):
+    """The filters' state propagation: one classical RK4 step of the paper's force model.
+
+    Parameters
+    ----------
+    x : ndarray, shape (6,)
+        State at ``t``.
+    t, dt : float
+        Epoch and step, s.
+    table : ThirdBodyTable
+        Third bodies (filter ephemeris).
+
+    Examples
+    --------
+    >>> tab = dynamics.ThirdBodyTable(dynamics.MARS_T0, dynamics.MARS_T0 + 100.0)
+    >>> x1 = filter_step(dynamics.MARS_STATE0, dynamics.MARS_T0, 3.0, tab)
+    >>> truth = dynamics.propagate([dynamics.MARS_T0 + 3.0])[0]
+    >>> bool(np.abs(x1 - truth)[:3].max() < 1e-6)
+    True
+    """
+    x = check_finite_array("x", x, shape=(6,))
+    t, dt = check_real("t", t), check_real("dt", dt)
+
+    def f(tt, y):
+        return np.concatenate([y[3:], dynamics.acceleration(tt, y[:3], table)])
+
+    k1 = f(t, x)
+    k2 = f(t + dt / 2, x + dt / 2 * k1)
+    k3 = f(t + dt / 2, x + dt / 2 * k2)
+    k4 = f(t + dt, x + dt * k3)
+    return x + dt / 6.0 * (k1 + 2 * k2 + 2 * k3 + k4)
+
+
+def filter_propagate(x, t, dt, table, max_step=10.0):
+    """The filters' time update of the state: ``ceil(dt / max_step)`` RK4 sub-steps.
+
+    Returns the propagated state and the transition matrix ``Phi_n ... Phi_1``
+    (:func:`xnavlab.mars.models.dynamics.transition_matrix` at the start of each sub-step).
+
+    Returns
+    -------
+    x : ndarray, shape (6,)
+    Phi : ndarray, shape (6, 6)
+
+    Examples
+    --------
+    >>> tab = dynamics.ThirdBodyTable(dynamics.MARS_T0, dynamics.MARS_T0 + 600.0)
+    >>> x, Phi = filter_propagate(dynamics.MARS_STATE0, dynamics.MARS_T0, 500.0, tab)
+    >>> truth = dynamics.propagate([dynamics.MARS_T0 + 500.0])[0]
+    >>> bool(np.abs(x - truth)[:3].max() < 1e-3)
+    True
+    """
+    x = check_finite_array("x", x, shape=(6,))
+    t, dt = check_real("t", t), check_real("dt", dt, 0.0)
+    max_step = check_real("max_step", max_step, 0.0, lo_open=True)
+    n = max(1, math.ceil(dt / max_step - 1e-9))
+    h = dt / n
+    Phi = np.eye(6)
+    for i in range(n):
+        Phi = dynamics.transition_matrix(x[:3], h) @ Phi
+        x = filter_step(x, t + i * h, h, table)
+    return x, Phi
+
+
+class Propagation:
+    """One time update of the filters, memoised: ``f(x)`` and ``F(x)`` integrate once.
+
+    Parameters
+    ----------
+    t, dt : float
+        Epoch and step, s.
+    table : ThirdBodyTable
+        Third bodies (filter ephemeris).
+    max_step : float
+        Largest RK4 sub-step, s.
+
+    Examples
+    --------
+    >>> tab = dynamics.ThirdBodyTable(dynamics.MARS_T0, dynamics.MARS_T0 + 600.0)
+    >>> prop = Propagation(dynamics.MARS_T0, 60.0, tab, 10.0)
+    >>> x1 = prop.f(dynamics.MARS_STATE0)
+    >>> bool(np.array_equal(prop.F(dynamics.MARS_STATE0) @ np.eye(6), prop.F(dynamics.MARS_STATE0)))
+    True
+    """
+
+    def __init__(self, t, dt, table, max_step):
+        t, dt = check_real("t", t), check_real("dt", dt, 0.0)
+        max_step = check_real("max_step", max_step, 0.0, lo_open=True)
+        self.args = (t, dt, table, max_step)
+        self.key, self.val = None, None
+
+    def _get(self, x):
+        x = check_finite_array("x", x, shape=(6,))
+        key = x.tobytes()
+        if key != self.key:
+            self.key, self.val = key, filter_propagate(x, *self.args)
+        return self.val
+
+    def f(self, x):
+        return self._get(x)[0]
+
+    def F(self, x):
+        return self._get(x)[1]

@@ -1,0 +1,160 @@
+"""Inputs a Mars run would leave unused or empty: refused, or warned about, in one line.
+
+A setting that another setting makes inert is refused by :func:`check_fields` (called by
+:class:`~xnavlab.mars.navigation.scenarios.MarsScenario` itself): a field of :data:`SUBSYSTEM_FIELDS`
+set for a subsystem that is not in ``subsystems`` (``xnav_sigma_m`` without ``"xnav"``,
+``stars`` without ``"cns"``), and a field of :data:`NOISE_FIELDS` beside ``xnav_sigma_m``,
+which gives the ranging noise they would compute.
+
+"Set" means *different from the field's default* (the dataclass default, which is also the
+value a scenario file's left-out key takes). A value equal to the default is the same run as
+leaving it out, so nothing the user asked for is dropped; and a file written by
+``scenario --dump`` (every key at its default) still loads when its ``subsystems`` is edited.
+The price: a key typed at its default value for a subsystem that does not run is accepted.
+
+Inputs that leave part of the run empty are warned about with
+:class:`~xnavlab.core.userfiles.InputWarning` (the command line prints it as one line, also under
+``--quiet``): :func:`warn_unmeasured`, a subsystem in ``subsystems`` that gets no
+measurement in the whole run; :func:`warn_few_records`, an RMS taken over fewer than 2 records.
+
+Examples
+--------
+>>> from xnavlab.mars.navigation.scenarios import MarsScenario
+>>> MarsScenario(subsystems=("uv",), stars=("Sirius", "Vega", "Canopus"))
+Traceback (most recent call last):
+...
+ValueError: stars is set but subsystems = ['uv'] runs no cns: leave it out or add 'cns'
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import warnings
+
+from xnavlab.core.userfiles import InputWarning
+
+__all__ = ["SUBSYSTEM_FIELDS", "NOISE_FIELDS", "check_fields", "warn_unmeasured",
+           "warn_few_records"]
+
+#: Subsystem -> the MarsScenario fields only it uses (``limb`` shapes both the UV sensor and
+#: the CNS horizon sensor, so it is used while either runs).
+SUBSYSTEM_FIELDS = {
+    "xnav": ("dt_xnav", "pulsars", "xnav_sigma_m", "xnav_noise", "area_m2", "background"),
+    "uv": ("dt_uv", "sigma_range_m", "sigma_dir_deg", "uv_range_model", "limb"),
+    "cns": ("dt_cns", "sigma_star_arcsec", "sigma_horizon_deg", "horizon_tau_s", "stars",
+            "limb"),
+}
+
+#: The fields that compute the XNAV ranging noise; unused when ``xnav_sigma_m`` gives it.
+NOISE_FIELDS = ("xnav_noise", "area_m2", "background")
+
+
+def _defaults(obj):
+    out = {}
+    for f in dataclasses.fields(obj):
+        if f.default is not dataclasses.MISSING:
+            out[f.name] = f.default
+        elif f.default_factory is not dataclasses.MISSING:
+            out[f.name] = f.default_factory()
+    return out
+
+
+def check_fields(scenario):
+    """Refuse a field of ``scenario`` that is set (not at its default) but unused.
+
+    Parameters
+    ----------
+    scenario : MarsScenario
+        Checked after its own fields are (values normalised: pulsar and star names).
+
+    Raises
+    ------
+    ValueError
+        One line naming the field and the setting that makes it inert (``subsystems`` or
+        ``xnav_sigma_m``), and what to do.
+
+    Examples
+    --------
+    >>> from xnavlab.mars.navigation.scenarios import MarsScenario
+    >>> MarsScenario(subsystems=("uv",), xnav_sigma_m=(1.0,) * 4)
+    Traceback (most recent call last):
+    ...
+    ValueError: xnav_sigma_m is set but subsystems = ['uv'] runs no xnav: leave it out or add 'xnav'
+    >>> MarsScenario(subsystems=("uv",), dt_xnav=500.0).subsystems   # the default: no change
+    ('uv',)
+    """
+    default = _defaults(scenario)
+    on = scenario.subsystems
+    for f in dataclasses.fields(scenario):
+        owners = [s for s, names in SUBSYSTEM_FIELDS.items() if f.name in names]
+        if not owners or any(s in on for s in owners) or getattr(scenario, f.name) == \
+                default[f.name]:
+            continue
+        runs = f"no {owners[0]}" if len(owners) == 1 else f"neither {' nor '.join(owners)}"
+        add = f"'{owners[0]}'" if len(owners) == 1 else "one of them"
+        raise ValueError(f"{f.name} is set but subsystems = {list(on)!r} runs {runs}: leave it "
+                         f"out or add {add}")
+    if scenario.xnav_sigma_m is None:
+        return
+    for name in NOISE_FIELDS:
+        value = getattr(scenario, name)
+        if value != default[name]:
+            raise ValueError(f"{name} = {value!r} is unused: xnav_sigma_m gives the ranging "
+                             f"noise it would compute; give one of them")
+
+
+def warn_unmeasured(scenario, counts):
+    """Warn (:class:`~xnavlab.core.userfiles.InputWarning`) for each subsystem that gets no
+    measurement in the run.
+
+    Parameters
+    ----------
+    scenario : MarsScenario
+    counts : dict
+        Subsystem -> number of its measurements in the run.
+
+    Examples
+    --------
+    >>> import warnings
+    >>> from xnavlab.mars.navigation.scenarios import MarsScenario
+    >>> with warnings.catch_warnings(record=True) as w:
+    ...     warnings.simplefilter("always")
+    ...     warn_unmeasured(MarsScenario(days=0.005), {"xnav": 0, "uv": 144, "cns": 144})
+    >>> print(w[0].message)
+    xnav gets no measurement in 0.005 days (its first comes at 500 s): run longer or drop it \
+from subsystems
+    """
+    for s in scenario.subsystems:
+        if counts[s] == 0:
+            dt = getattr(scenario, f"dt_{s}")
+            warnings.warn(f"{s} gets no measurement in {scenario.days:g} days (its first comes "
+                          f"at {dt:g} s): run longer or drop it from subsystems", InputWarning,
+                          stacklevel=3)
+
+
+def warn_few_records(n, settle_days, record_dt):
+    """Warn (:class:`~xnavlab.core.userfiles.InputWarning`) when the error RMS of a run is taken
+    over fewer than 2 records (``n``): it is then one sample, not a statistic.
+
+    Parameters
+    ----------
+    n : int
+        Records in the RMS window.
+    settle_days, record_dt : float
+        Start of the window, days, and the spacing of the records, s (named in the message).
+
+    Examples
+    --------
+    >>> import warnings
+    >>> with warnings.catch_warnings(record=True) as w:
+    ...     warnings.simplefilter("always")
+    ...     warn_few_records(1, 0.025, 86400.0)
+    >>> print(w[0].message)
+    position_error_m and velocity_error_mps are the RMS of 1 record (from settle_days = 0.025 \
+with record_dt = 86400 s): lower record_dt or settle_days, or run longer
+    """
+    if n < 2:
+        warnings.warn(f"position_error_m and velocity_error_mps are the RMS of {n} record"
+                      f"{'' if n == 1 else 's'} (from settle_days = {settle_days:g} with "
+                      f"record_dt = {record_dt:g} s): lower record_dt or settle_days, or run "
+                      f"longer", InputWarning, stacklevel=3)
