@@ -29,11 +29,13 @@ from pathlib import Path
 from _timing import ROOT
 
 RUNS = r"""
-import hashlib, json, sys, time
+import hashlib, json, sys, time, warnings
+warnings.simplefilter("ignore", DeprecationWarning)
 import numpy as np
 import importlib
-def module(name):  # a tree before or after mars's subpackages (issue 37)
-    for sub in ("navigation.", "faults.", ""):
+def module(name):  # a tree before or after mars's subpackages (issue 37): its own path first
+    # (a path the tree lacks must not be asked first: the editable install would answer it)
+    for sub in ("", "navigation.", "faults."):
         try:
             return importlib.import_module("xnavlab.mars." + sub + name)
         except ImportError:
