@@ -32,7 +32,7 @@ def test_a_change_of_any_byte_of_any_source_changes_the_digest(tmp_path):
 
 def test_every_module_that_compiles_with_jit_is_a_source():
     package = kc._PACKAGE
-    users = {str(p.relative_to(package)) for p in (package / "mars").glob("*.py")
+    users = {p.relative_to(package).as_posix() for p in (package / "mars").rglob("*.py")
              if "kernel_compile import" in p.read_text()}
     assert users and users <= set(kc.SOURCES)
 
