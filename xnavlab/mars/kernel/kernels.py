@@ -10,16 +10,16 @@ The modules of the kernel
 -------------------------
 One step of the filter per module, each read in one sitting:
 
-=========================================  ==================================================
-:mod:`xnavlab.mars.kernel.kernel_inputs`          the arguments and the scratch, as named tuples
-:mod:`xnavlab.mars.kernel.kernel_compile`         how they are compiled and cached (no fast-math)
-:mod:`xnavlab.mars.kernel.kernel_linalg`          Cholesky, its solves, a 6 x 6 product
-:mod:`xnavlab.mars.kernel.kernel_propagation`     the time update (forces, RK4, Phi, Q)
-:mod:`xnavlab.mars.kernel.kernel_measurements`    the sensors (paper eqs. (1)-(6)), the local updates
-:mod:`xnavlab.mars.kernel.kernel_fusion`          the master's fusion, in two forms that agree
-:mod:`xnavlab.mars.kernel.kernel_watch`           the combined detector inside the loop
-this module                                the loop: predict, measure, watch, update, fuse
-=========================================  ==================================================
+==============================================  ===================================================
+:mod:`xnavlab.mars.kernel.kernel_inputs`        the arguments and the scratch, as named tuples
+:mod:`xnavlab.mars.kernel.kernel_compile`       how they are compiled and cached (no fast-math)
+:mod:`xnavlab.mars.kernel.kernel_linalg`        Cholesky, its solves, a 6 x 6 product
+:mod:`xnavlab.mars.kernel.kernel_propagation`   the time update (forces, RK4, Phi, Q)
+:mod:`xnavlab.mars.kernel.kernel_measurements`  the sensors (paper eqs. (1)-(6)), the local updates
+:mod:`xnavlab.mars.kernel.kernel_fusion`        the master's fusion, in two forms that agree
+:mod:`xnavlab.mars.kernel.kernel_watch`         the combined detector inside the loop
+this module                                     the loop: predict, measure, watch, update, fuse
+==============================================  ===================================================
 
 At every epoch :func:`run_epochs` predicts the master (and, in no-reset mode, each local),
 takes each local's measurement (and, for a watched subsystem, feeds its innovation against
