@@ -36,6 +36,7 @@ from __future__ import annotations
 
 import contextlib
 import math
+from importlib import resources
 from pathlib import Path
 
 import numpy as np
@@ -58,7 +59,7 @@ PAPER = {"fused_position_m": 28.835, "fused_velocity_mps": 0.02149,
 SHIPPED = {"n_seeds": 32, "days": 30.0, "faults": True, "seed": 2016}
 
 #: The shipped runs of :data:`SHIPPED` (``python benchmarks/bench_headline.py --write``).
-RUNS_PATH = Path(__file__).resolve().parents[2] / "data" / "headline_runs.json"
+RUNS_PATH = Path(str(resources.files("xnavlab").joinpath("data/headline_runs.json")))
 
 
 def headline_run(*, seed, days=30.0, faults=True):

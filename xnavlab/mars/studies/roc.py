@@ -85,6 +85,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+from importlib import resources
 from pathlib import Path
 
 import numpy as np
@@ -126,7 +127,7 @@ CURVE_COLUMNS = ("threshold", "trials", "detected", "pd", "pd_lo", "pd_hi", "lat
                  "armed_days", "false_alarms_per_day", "false_alarms_per_day_lo",
                  "false_alarms_per_day_hi", "delay_median_s")
 #: The shipped curves (``python benchmarks/bench_roc.py --write``).
-CURVES_PATH = Path(__file__).resolve().parents[2] / "data" / "roc_curves.json"
+CURVES_PATH = Path(str(resources.files("xnavlab").joinpath("data/roc_curves.json")))
 
 _GRID_KEYS = ("detector", "thresholds", "days", "faults")
 _FAULT_KEYS = ("fault_class", "sensor", "size")

@@ -40,6 +40,7 @@ from __future__ import annotations
 import math
 import time
 from collections import OrderedDict
+from importlib import resources
 from pathlib import Path
 
 import numpy as np
@@ -272,7 +273,7 @@ def detector_trials(fault_class, sensor, size_index, *, seed, days=1.0):
 
 
 #: The shipped Monte Carlo table (``python benchmarks/bench_detectors.py --write``).
-TABLE_PATH = Path(__file__).resolve().parents[2] / "data" / "detector_table.json"
+TABLE_PATH = Path(str(resources.files("xnavlab").joinpath("data/detector_table.json")))
 
 
 def load_detector_table(path=None):
@@ -325,7 +326,7 @@ def early_fault_trial(*, seed, onsets=EARLY_ONSETS_S, size_sigma=6.0, duration=4
 
 
 #: The shipped early-fault table (``python benchmarks/bench_early_faults.py --write``).
-EARLY_PATH = Path(__file__).resolve().parents[2] / "data" / "early_faults.json"
+EARLY_PATH = Path(str(resources.files("xnavlab").joinpath("data/early_faults.json")))
 
 
 def load_early_faults(path=None):
