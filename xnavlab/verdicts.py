@@ -32,10 +32,10 @@ A claim decided by a parameter the paper lost
 ---------------------------------------------
 Some of the papers' numbers are set by a parameter the paper does not give (a fault's size
 or rate, a threshold, the direction of an error, a filter's tuning), which we had to choose.
-Where the measurement shows that the lost parameter moves our number further than our noise
-does, our choice decides the verdict, and one rule applies (:func:`check_lost`): the claim is
-judged over the lost parameter's plausible values, one lost setting varied at a time (each
-setting's range is our single-run range shifted by that setting's measured effect), and
+Where we ran the lost parameter's plausible values, one rule applies, whatever its effect
+against our noise (:func:`check_lost`): the claim is judged over those values, one lost
+setting varied at a time (each setting's range is our single-run range shifted by that
+setting's measured effect), and
 
 * REPRODUCED when the paper's number lies inside our range at every plausible value: the
   tolerance spans the lost parameter, and says so;
@@ -48,10 +48,8 @@ setting's range is our single-run range shifted by that setting's measured effec
 * NOT REPRODUCED only when no plausible value reaches it, by more than that spread.
 
 The row's tolerance says, from the numbers, whether the lost parameter moves ours further than
-our noise (its spread against the width of our own range) or less.
-
-A claim whose number does not move with a lost parameter beyond our noise is judged as above,
-at our choice, with the choice stated in the note.
+our noise (its spread against the width of our own range) or less; the rule is the same either
+way.
 
 One claim, several rows
 -----------------------

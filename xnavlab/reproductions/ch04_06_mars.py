@@ -92,6 +92,9 @@ PAPER_SENSORS = {
 
 #: Paper section 4.2, Fig. 2: fault-free position error, m.
 PAPER_POSITION_ERROR_M = 28.835
+# What a mean of a few seeds shows in the paper column: the paper's 28.835 m is one run,
+# judged among 32 of ours in mars-nofault, not set beside a mean
+PAPER_ONE_RUN = "one run: judged in mars-nofault"
 #: Paper section 4.2, Fig. 2: fault-free velocity error, m/s.
 PAPER_VELOCITY_ERROR_MPS = 0.02149
 
@@ -318,7 +321,7 @@ def mars_optics(out=None, days=30.0, seeds=(0, 1), settle_days=1.0):
         checks += [
             check_measure(f"{case}: fused position error, RMS after day {settle_days:g} (m)",
                           d["position_mean_m"], f"mean of seeds {seeds}: {per_seed} m",
-                          paper=PAPER_POSITION_ERROR_M if case == "paper" else "not given"),
+                          paper=PAPER_ONE_RUN if case == "paper" else "not given"),
             check_measure(f"{case}: fused NEES, mean after day {settle_days:g}", d["nees_avg"],
                           f"6 states; the run-averaged NEES is {judged['verdict']} against the "
                           f"95 % band [{lo:.2f}, {hi:.2f}] of {len(seeds)} runs at "
@@ -458,7 +461,7 @@ def mars_xnav_crlb(out=None, days=30.0, seeds=tuple(range(8)), settle_days=1.0):
         check_measure(f"fused position error, paper's ranging accuracies, mean of {len(seeds)} "
                       f"seeds (m)", mean["paper"],
                       "XNAV sigma " + ", ".join(f"{v:.0f}" for v in sig["paper"]) + " m ("
-                      + ", ".join(pulsar_list) + ")", paper=PAPER_POSITION_ERROR_M),
+                      + ", ".join(pulsar_list) + ")", paper=PAPER_ONE_RUN),
         check_measure(f"fused position error, XNAV at the Cramer-Rao bound, mean of {len(seeds)} "
                       f"seeds (m)", mean["crlb"],
                       "XNAV sigma " + ", ".join(f"{v:.0f}" for v in sig["crlb"]) + " m",
