@@ -37,3 +37,36 @@ def test_an_empty_or_repeated_list_is_refused_not_a_table_without_its_rows(kw, w
     """Review 35b N23's class: an empty list left only the fault-free rows, without a word."""
     with pytest.raises(ValueError, match=words):
         att.isolation_monte_carlo(1, **kw)
+
+
+def test_seeded_outcomes_run_k_is_simulate_with_seed_k():
+    """Each run of the batch is the single run of its seed (the chapter plots seed 0)."""
+    fault = att.make_fault("gyro_skew", "ramp", 0.1 * att.DEG_PER_H)
+    out = att.seeded_outcomes(fault, [3, 0], duration=60.0)
+    for k, seed in enumerate((3, 0)):
+        run = att.simulate(fault, rng=seed, duration=60.0)
+        assert out["sos_verdict"][k] == run.sos.verdict == "gyro_skew"
+        assert out["qd_verdict"][k] == run.qd.verdict
+        assert out["dos_verdict"][k] == run.dos.verdict
+        assert out["sos_delay_s"][k] == pytest.approx(run.sos.detect_time - run.onset)
+        after = run.t >= run.onset
+        assert out["crossed"][k].tolist() == run.sos.flags[after].any(axis=0).tolist()
+        assert out["false_alarm"][k] == run.sos.flags[~after].any()
+    assert out["seeds"].tolist() == [3, 0] and out["onset"] == 50.0
+    assert out["first_flag_s"][:, :3].tolist() == [[float("inf")] * 3] * 2   # r4 alone crosses
+    assert 0.0 < out["first_flag_s"][0, 3] <= out["sos_delay_s"][0]
+
+
+@pytest.mark.parametrize(("args", "words"), [
+    ((), r"^faults must hold at least one fault"),
+    ((att.make_fault("gyro_x", "step", 1e-4),), None),
+])
+def test_seeded_outcomes_refuses_no_fault_and_bad_seeds(args, words):
+    if words is not None:
+        with pytest.raises(ValueError, match=words):
+            att.seeded_outcomes(list(args), [0])
+        return
+    with pytest.raises(ValueError, match=r"^seeds must name at least one seed"):
+        att.seeded_outcomes(args[0], [])
+    with pytest.raises(ValueError, match=r"^seeds lists 1 twice"):
+        att.seeded_outcomes(args[0], [1, 1])

@@ -25,7 +25,7 @@ module                 what it models
 ``simulation``         :class:`~.simulation.SimConfig`, :func:`~.simulation.simulate` (one run)
                        and the batched building blocks
 ``monitors``           SOS and DOS on board, one sample at a time, and their timing
-``montecarlo``         isolation statistics over fault location, kind and size
+``montecarlo``         isolation statistics over fault location, kind and size; per-seed outcomes
 ``plots``              the chapter's figures
 =====================  ===================================================================
 
@@ -53,7 +53,7 @@ from xnavlab.attitude.differentiation import qdiff_fault_estimates, quaternion_r
 from xnavlab.attitude.dos import DOS_GROUPS, dos_rate_matrices, dos_residuals
 from xnavlab.attitude.ekf import AttitudeEKF, ekf_init, ekf_predict, ekf_update
 from xnavlab.attitude.monitors import DOSMonitor, SOSMonitor, time_sos_dos
-from xnavlab.attitude.montecarlo import isolation_monte_carlo, isolation_table
+from xnavlab.attitude.montecarlo import isolation_monte_carlo, isolation_table, seeded_outcomes
 from xnavlab.attitude.motion import DEFAULT_Q0, truth_motion, truth_rate
 from xnavlab.attitude.plots import LOCATION_NAMES, location_name, plot_fault_case, plot_residuals
 from xnavlab.attitude.sensors import (
@@ -124,6 +124,7 @@ __all__ = [
     # montecarlo
     "isolation_monte_carlo",
     "isolation_table",
+    "seeded_outcomes",
     # plots
     "LOCATION_NAMES",
     "location_name",

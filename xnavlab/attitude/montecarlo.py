@@ -3,7 +3,10 @@
 :func:`isolation_monte_carlo` simulates every case's seeded runs in one vectorised batch
 (:func:`xnavlab.attitude.simulation.diagnose_batch`) and counts correct isolations, missed
 detections, false alarms and delays; :func:`isolation_table` prints the rows as a
-Markdown table, SOS and DOS side by side.
+Markdown table, SOS and DOS side by side. :func:`seeded_outcomes` keeps every run's outcome
+instead of the rates: the runs of one fault, seed by seed, each equal to
+:func:`~xnavlab.attitude.simulation.simulate` with that seed (the chapter's plotted run among
+them), for judging a paper's single run as one draw among ours.
 """
 
 from __future__ import annotations
@@ -16,6 +19,7 @@ from xnavlab.attitude.motion import truth_motion
 from xnavlab.attitude.sensors import DEFAULT_MAGNITUDES, DEG_PER_H, LOCATIONS, make_fault
 from xnavlab.attitude.simulation import (
     SimConfig,
+    check_faults_in_run,
     diagnose_batch,
     make_config,
     simulate_sensors,
@@ -26,6 +30,7 @@ from xnavlab.core.validate import check_choice, check_int, check_items, check_re
 __all__ = [
     "isolation_monte_carlo",
     "isolation_table",
+    "seeded_outcomes",
 ]
 
 
@@ -140,6 +145,82 @@ def isolation_monte_carlo(
                 "false_alarm": float(fa.mean()), "delay_s": delay,
             })
     return rows
+
+
+def seeded_outcomes(faults, seeds, config=None, **changes):
+    """Every run's outcome for one set of faults, one run per seed, in one vectorised batch.
+
+    Run ``k`` draws its noise from ``seeds[k]`` exactly as
+    :func:`~xnavlab.attitude.simulation.simulate` does with ``rng=seeds[k]``, so the outcome
+    of seed 0 is the run a chapter plots; the batch then goes through
+    :func:`~xnavlab.attitude.simulation.diagnose_batch` once.
+
+    Parameters
+    ----------
+    faults : Fault or sequence of Fault
+        From :func:`~xnavlab.attitude.sensors.make_fault`, at least one (an onset is needed).
+    seeds : sequence of int
+        One seed per run, at least one, none twice.
+    config : SimConfig, optional
+        Settings (default :class:`~xnavlab.attitude.simulation.SimConfig`).
+    **changes
+        Overrides of ``config`` fields, e.g. ``duration=60.0``.
+
+    Returns
+    -------
+    dict
+        ``seeds`` (B,) int; ``onset`` (float, s); ``crossed`` (B, 4) bool, the SOS residuals
+        r1-r4 flagged at any time from the onset to the end; ``first_flag_s`` (B, 4), the delay
+        from the onset to each SOS residual's first flag, s (``inf`` if never);
+        ``sos_delay_s`` (B,), the SOS detection delay, s (``inf`` if never; negative for an
+        alarm before the onset); ``false_alarm`` (B,) bool, any SOS flag before the onset;
+        ``sos_verdict``, ``dos_verdict`` (``"-"`` without DOS) and ``qd_verdict`` (ref. [22])
+        (B,) str.
+
+    Examples
+    --------
+    >>> from xnavlab.attitude.sensors import make_fault
+    >>> out = seeded_outcomes(make_fault("gyro_x", "step", 36 * DEG_PER_H), [0, 1],
+    ...                       duration=60.0)
+    >>> out["sos_verdict"].tolist(), out["crossed"].tolist()[0]
+    (['gyro_x', 'gyro_x'], [True, False, False, True])
+    """
+    cfg = make_config(config, **changes)
+    faults = check_faults_in_run(faults, cfg)
+    if not faults:
+        raise ValueError("faults must hold at least one fault (the outcomes are after its onset)")
+    seeds = check_items("seeds", seeds, "seed", lambda label, v: check_int(label, v, 0))
+    onset = min(f.onset for f in faults)
+    truth = truth_motion(
+        cfg.n, cfg.dt, q0=cfg.q0, omega_orbit_deg_s=cfg.omega_orbit_deg_s,
+        wobble_deg_s=cfg.wobble_deg_s, wobble_period=cfg.wobble_period,
+    )
+    wgs, qss = [], []
+    for seed in seeds:
+        _, wg, qs = simulate_sensors(cfg, faults, make_rng(seed), truth)
+        wgs.append(wg)
+        qss.append(qs)
+    res = diagnose_batch(np.stack(wgs), np.stack(qss), cfg)
+    t = res["t"]
+    flags = res["sos"].flags                                    # (B, n, 4)
+    after = t >= onset
+    first = np.full(flags.shape[::2], math.inf)                 # (B, 4)
+    hit = flags[:, after].any(axis=1)
+    k_first = np.argmax(flags[:, after], axis=1)                # first flagged sample after onset
+    first[hit] = t[after][k_first[hit]] - onset
+    dos = res["dos"]
+    return {
+        "seeds": np.array(seeds, dtype=int),
+        "onset": onset,
+        "crossed": hit,
+        "first_flag_s": first,
+        "sos_delay_s": np.asarray(res["sos"].detect_time, dtype=float) - onset,
+        "false_alarm": flags[:, ~after].any(axis=(1, 2)),
+        "sos_verdict": np.asarray(res["sos"].verdict, dtype=str),
+        "dos_verdict": (np.asarray(dos.verdict, dtype=str) if dos is not None
+                        else np.full(len(seeds), "-")),
+        "qd_verdict": np.asarray(res["qd"].verdict, dtype=str),
+    }
 
 
 def _size_label(loc, kind, size):
