@@ -19,7 +19,7 @@ export PYDEVD_DISABLE_FILE_VALIDATION := 1
 # 4.5 s of each pytest collection (18 s instead of 13.5 s) and 0.1 s of each kernel's imports
 unexport PYTHONDONTWRITEBYTECODE
 
-.PHONY: book book-clean test unit notebooks bench lint lab clean setup warmup browser-test lab-test portability \
+.PHONY: book book-clean test unit notebooks bench benchmarks-page lint lab clean setup warmup browser-test lab-test portability \
         check-book typed-numbers pythons
 
 # The supported Pythons: requires-python of pyproject.toml (">=3.10,<3.14", a lower and an
@@ -139,8 +139,14 @@ unit: $(WARM)
 notebooks: $(WARM)
 	$(BIN)/python -m pytest $(XDIST) --nbval-lax --nbval-cell-timeout=300 -p no:cacheprovider book
 
+## make bench: every benchmark (bench_against.py needs --base REV: run it by hand), then the page
 bench: $(STAMP)
-	for f in benchmarks/bench_*.py; do $(BIN)/python $$f || exit 1; done
+	for f in benchmarks/bench_*.py; do [ $$f = benchmarks/bench_against.py ] || $(BIN)/python $$f || exit 1; done
+	$(MAKE) benchmarks-page
+
+## make benchmarks-page: benchmarks/README.md rendered from benchmarks/results/*.json
+benchmarks-page:
+	$(BIN)/python benchmarks/report.py
 
 ## make lint: ruff over the whole tree, the chapters and tools included (make test runs it)
 lint: $(STAMP)

@@ -1,13 +1,23 @@
-"""Small helpers shared by the benchmark scripts (not a test): timing, statistics, tables."""
+"""Small helpers shared by the benchmark scripts (not a test): timing, statistics, tables.
 
+A script records what it measured with :class:`Record`: its tables go to
+``benchmarks/results/<name>.json`` with the date, the machine, the CPU reference and the load
+before and after the run, and ``benchmarks/report.py`` renders every such file into
+``benchmarks/README.md``.
+"""
+
+import datetime
 import json
 import os
+import platform
+import shlex
 import statistics
 import sys
 import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent  # the repository
+RESULTS = ROOT / "benchmarks" / "results"  # one JSON file per benchmark, rendered by report.py
 
 
 def best_of(func, repeat=5):
@@ -112,3 +122,93 @@ def chapters(selected=None):
             raise SystemExit(f"no chapter numbered {', '.join(sorted(missing))} in book/")
         paths = [p for p in paths if p.name[:2] in want]
     return paths
+
+
+def machine():
+    """The machine a benchmark runs on: CPU model, cores, system, Python, numpy and its BLAS."""
+    cpu = platform.processor() or platform.machine()
+    try:
+        for text in Path("/proc/cpuinfo").read_text().splitlines():
+            if text.startswith("model name"):
+                cpu = text.split(":", 1)[1].strip()
+                break
+    except OSError:  # pragma: no cover - not on every platform
+        pass
+    out = {"cpu": cpu, "cores": os.cpu_count(), "system": f"{platform.system()} {platform.machine()}",
+           "python": platform.python_version()}
+    try:
+        import numpy as np
+        out["numpy"] = np.__version__
+        blas = np.show_config(mode="dicts")["Build Dependencies"]["blas"]
+        out["blas"] = f"{blas.get('name', '?')} {blas.get('version', '')}".strip()
+    except Exception:  # noqa: BLE001 - numpy missing or too old to say: the line omits it
+        pass
+    return out
+
+
+def _state():
+    """The CPU reference (ms) and the 1-minute load average, now."""
+    try:
+        load = round(os.getloadavg()[0], 2)
+    except OSError:  # pragma: no cover - not on every platform
+        load = None
+    return round(cpu_ms(), 1), load
+
+
+class Record:
+    """What one benchmark run measured, written to ``benchmarks/results/<name>.json``.
+
+    Created at the start of the run (it takes the date, the CPU reference and the load
+    then); :meth:`table` and :meth:`line` print as before and keep the rows; :meth:`write`
+    takes the CPU reference and the load again and writes the file. Cells are kept as the
+    strings printed, so the page shows exactly what the run printed.
+    """
+
+    def __init__(self, name, title, about=""):
+        self.name, self.title, self.about = name, title, about
+        self.script = Path(sys.argv[0]).name
+        self.command = " ".join(["python", f"benchmarks/{self.script}",
+                                 *map(shlex.quote, sys.argv[1:])])
+        self.date = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d")
+        self.cpu_before, self.load_before = _state()
+        self.tables, self.notes = [], []
+        print(machine_line(), flush=True)
+
+    def table(self, header, rows, title="", stream=sys.stdout):
+        """Print ``rows`` under ``header`` (as :func:`table`) and keep them under ``title``."""
+        table(header, rows, stream=stream)
+        self.tables.append({"title": title, "columns": [str(c) for c in header],
+                            "rows": [[str(c) for c in r] for r in rows]})
+
+    def line(self, what, measured, target="", result=""):
+        """Print one measured quantity and keep it as a row of the run's first table."""
+        print(f"{what:52s}: {measured}" + (f"   (target {target}) {result}" if target else ""),
+              flush=True)
+        if not self.tables or self.tables[0].get("lines") is None:
+            self.tables.insert(0, {"title": "", "columns": ["what", "measured", "target",
+                                                            "verdict"], "rows": [], "lines": True})
+        self.tables[0]["rows"].append([str(what), str(measured), str(target), str(result)])
+
+    def note(self, text):
+        """Keep a sentence shown under the tables (a caveat the run found)."""
+        print(text)
+        self.notes.append(str(text))
+
+    def data(self):
+        """The record as the JSON-ready dict :meth:`write` writes."""
+        cpu_after, load_after = _state()
+        tables = [{k: v for k, v in t.items() if k != "lines"} for t in self.tables]
+        return {"name": self.name, "title": self.title, "about": self.about,
+                "script": self.script, "command": self.command, "date": self.date,
+                "machine": machine(), "cpu_reference_ms": [self.cpu_before, cpu_after],
+                "load_1min": [self.load_before, load_after], "tables": tables,
+                "notes": self.notes}
+
+    def write(self, path=None):
+        """Write the record to ``path`` (default ``benchmarks/results/<name>.json``)."""
+        data = self.data()
+        print(machine_line())
+        path = Path(path) if path else RESULTS / f"{self.name}.json"
+        path.parent.mkdir(parents=True, exist_ok=True)
+        write_json(path, data)
+        return path

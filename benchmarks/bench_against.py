@@ -26,7 +26,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from _timing import ROOT
+from _timing import ROOT, Record
 
 RUNS = r"""
 import hashlib, json, sys, time, warnings
@@ -87,6 +87,9 @@ def main(argv=None):
     args = parser.parse_args(argv)
     if args.rounds < 1:
         parser.error(f"--rounds must be at least 1, got {args.rounds}")
+    rec = Record("against", f"The Mars filter against commit {args.base}",
+                 f"CPU seconds, best over {args.rounds} alternating rounds, each tree with its own "
+                 "numba cache; the outputs compared bit for bit.")
     with tempfile.TemporaryDirectory(prefix="xnav-bench-against-") as tmp:
         base = Path(tmp) / "base"
         subprocess.run(["git", "worktree", "add", "--detach", str(base), args.base], cwd=ROOT,
@@ -108,13 +111,15 @@ def main(argv=None):
         finally:
             subprocess.run(["git", "worktree", "remove", "--force", str(base)], cwd=ROOT,
                            check=False, capture_output=True)
-    print(f"\n{'run':28s} {'base CPU s':>10s} {'this CPU s':>10s} {'ratio':>6s}  outputs")
+    rows = []
     for key, row in best.items():
         (b, db), (t, dt) = row["base"], row["this"]
-        same = "identical" if db == dt else "DIFFERENT"
-        print(f"{key:28s} {b:10.3f} {t:10.3f} {t / b:6.3f}  {same}")
+        rows.append([key, f"{b:.3f}", f"{t:.3f}", f"{t / b:.3f}", "identical" if db == dt else "DIFFERENT"])
     b, t = compile_cpu["base"], compile_cpu["this"]
-    print(f"{'kernel compile (once)':28s} {b:10.1f} {t:10.1f} {t / b:6.3f}")
+    rows.append(["kernel compile, once, into an empty cache", f"{b:.1f}", f"{t:.1f}", f"{t / b:.3f}", ""])
+    print()
+    rec.table(["run", "base (CPU s)", "this tree (CPU s)", "this / base", "outputs"], rows)
+    rec.write()
     return 0
 
 

@@ -23,11 +23,11 @@ wall time is extrapolated from the measured rate (and said so).
 """
 
 import argparse
-import os
 import tempfile
 import time
 
 import numpy as np
+from _timing import Record
 
 from xnavlab.core.campaign import run_campaign
 from xnavlab.mars.models import dynamics
@@ -80,30 +80,33 @@ def main():
     ap.add_argument("--dask", type=int, default=200, help="runs on a 2-process LocalCluster")
     ap.add_argument("--sample", type=int, default=10, help="runs timed in this process")
     args = ap.parse_args()
-    print(f"load average before: {os.getloadavg()[0]:.2f} on {os.cpu_count()} CPUs")
+    rec = Record("campaign", "Monte Carlo campaigns: one-day fault-free runs on local workers",
+                 "The `consistency` campaign's trial: where one run's time goes (in this "
+                 "process), then runs on a local pool of 1 and of 2 workers as `python -m "
+                 "xnavlab campaign consistency` runs them, and on a Dask `LocalCluster` of 2.")
     t_truth, prep, filt, red, total = split(args.sample)
-    print(f"one run, in this process (median of {args.sample}): {total * 1e3:6.1f} ms = "
-          f"measurements {prep * 1e3:.1f} ms + filter {filt * 1e3:.1f} ms + NEES/NIS "
-          f"{red * 1e3:.1f} ms; truth {t_truth * 1e3:.1f} ms once per worker (disk cache), "
-          f"then in memory")
+    rec.line(f"one run, in this process (median of {args.sample})",
+             f"{total * 1e3:.1f} ms = measurements {prep * 1e3:.1f} ms + filter {filt * 1e3:.1f} ms "
+             f"+ NEES/NIS {red * 1e3:.1f} ms; truth {t_truth * 1e3:.1f} ms once per worker")
     w1, r1, b1 = campaign_rate(args.reference, "local", 1)
-    print(f"{args.reference} runs, local pool of 1 worker : {w1:7.1f} s, {r1:6.2f} runs/s "
-          f"(in trials {b1 / args.reference * 1e3:.0f} ms/run, overhead "
-          f"{(w1 - b1) / args.reference * 1e3:.0f} ms/run)")
+    rec.line(f"{args.reference} runs, local pool of 1 worker",
+             f"{w1:.1f} s, {r1:.2f} runs/s (in trials {b1 / args.reference * 1e3:.0f} ms/run, "
+             f"overhead {(w1 - b1) / args.reference * 1e3:.0f} ms/run)")
     w2, r2, b2 = campaign_rate(args.runs, "local", 2)
     est = w2 if args.runs == 1000 else 1000 / r2
     tag = "measured" if args.runs == 1000 else f"extrapolated from {args.runs} runs"
-    print(f"{args.runs} runs, local pool of 2 workers: {w2:7.1f} s, {r2:6.2f} runs/s "
-          f"(in trials {b2 / args.runs * 1e3:.0f} ms/run, overhead "
-          f"{(2 * w2 - b2) / args.runs * 1e3:.0f} ms/run of worker time)")
-    print(f"1000 one-day runs on 2 workers: {est:.1f} s ({tag}); target <= 180 s "
-          f"{'OK' if est <= 180 else 'MISSED'}; speed-up 1 -> 2 workers {r2 / r1:.2f}x")
+    rec.line(f"{args.runs} runs, local pool of 2 workers",
+             f"{w2:.1f} s, {r2:.2f} runs/s (in trials {b2 / args.runs * 1e3:.0f} ms/run, overhead "
+             f"{(2 * w2 - b2) / args.runs * 1e3:.0f} ms/run of worker time)")
+    rec.line("1000 one-day runs on 2 workers",
+             f"{est:.1f} s ({tag}); speed-up 1 -> 2 workers {r2 / r1:.2f}x", "180 s",
+             "met" if est <= 180 else "missed")
     if args.dask:
         wd, rd, bd = campaign_rate(args.dask, "local-cluster", 2)
-        print(f"{args.dask} runs, Dask LocalCluster of 2   : {wd:7.1f} s, {rd:6.2f} runs/s "
-              f"(cluster start included; overhead {(2 * wd - bd) / args.dask * 1e3:.0f} "
-              f"ms/run of worker time)")
-    print(f"load average after: {os.getloadavg()[0]:.2f}")
+        rec.line(f"{args.dask} runs, Dask LocalCluster of 2",
+                 f"{wd:.1f} s, {rd:.2f} runs/s (cluster start included; overhead "
+                 f"{(2 * wd - bd) / args.dask * 1e3:.0f} ms/run of worker time)")
+    rec.write()
 
 
 if __name__ == "__main__":

@@ -17,7 +17,7 @@ import os
 import time
 
 import numpy as np
-from _timing import machine_line, table
+from _timing import Record
 
 RKF_IDS = ("rkf-earth", "rkf-mars", "rkf-residual-memory", "rkf-sweep")
 
@@ -28,7 +28,7 @@ def _cpu():
     return t.user + t.system + t.children_user + t.children_system
 
 
-def time_reproductions(ids):
+def time_reproductions(rec, ids):
     """Wall and CPU time of each reproduction computed afresh (its result is stored in the cache)."""
     from xnavlab import reproduce
 
@@ -38,10 +38,11 @@ def time_reproductions(ids):
         res = reproduce.run(rid, fresh=True)
         rows.append([rid, f"{time.perf_counter() - t0:.1f}", f"{_cpu() - c0:.1f}", res.verdict])
         print(f"  {rid}: {rows[-1][1]} s wall, {rows[-1][2]} s CPU", flush=True)
-    table(["reproduction", "wall time (s)", "CPU time (s)", "headline"], rows)
+    rec.table(["reproduction", "wall time (s)", "CPU time (s)", "headline"], rows,
+              "Reproductions computed afresh")
 
 
-def time_filters(seeds=tuple(range(8)), body="mars"):
+def time_filters(rec, seeds=tuple(range(8)), body="mars"):
     """compare_filters (one batch) against run_filter seed by seed, and their largest difference."""
     from xnavlab import robust
     from xnavlab.core.validate import make_rng
@@ -62,10 +63,11 @@ def time_filters(seeds=tuple(range(8)), body="mars"):
     one = time.perf_counter() - t0
     rel = max(float(np.max(np.abs(np.subtract(out["rmse_runs"][f], single[f])) / np.abs(single[f])))
               for f in robust.FILTERS)
-    table(["four filters, " + f"{len(seeds)} seeds, {body}", "wall time (s)"],
-          [["run_filter, one seed at a time", f"{one:.2f}"], ["compare_filters, one batch", f"{batched:.2f}"],
-           ["speed-up", f"{one / batched:.1f}x"]])
-    print(f"largest relative difference of the RMSEs: {rel:.1e}")
+    rec.table(["four filters, " + f"{len(seeds)} seeds, {body}", "wall time (s)"],
+              [["run_filter, one seed at a time", f"{one:.2f}"],
+               ["compare_filters, one batch", f"{batched:.2f}"], ["speed-up", f"{one / batched:.1f}x"]],
+              "The filters seed by seed against one batch")
+    rec.note(f"Largest relative difference of the RMSEs, batch against seed by seed: {rel:.1e}.")
 
 
 def main():
@@ -73,12 +75,15 @@ def main():
     p.add_argument("--part", choices=("repro", "filters", "both"), default="both")
     p.add_argument("--ids", nargs="*", default=list(RKF_IDS))
     args = p.parse_args()
-    print(machine_line(), flush=True)
+    rec = Record("robust", "The ephemeris-error filters (chapter 10)",
+                 "The four filters over 8 seeds one at a time against one batch "
+                 "(`xnavlab.robust.compare_filters`), and the rkf reproductions computed afresh "
+                 "(wall and CPU time: the CPU time follows the load much less).")
     if args.part in ("filters", "both"):
-        time_filters()
+        time_filters(rec)
     if args.part in ("repro", "both"):
-        time_reproductions(args.ids)
-    print(machine_line())
+        time_reproductions(rec, args.ids)
+    rec.write()
 
 
 if __name__ == "__main__":
