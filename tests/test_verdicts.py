@@ -33,7 +33,7 @@ EXPECTED = {
     'attitude-xgyro-step': ('REPRODUCED', {
         'residuals over threshold': 'REPRODUCED',
         'SOS verdict': 'REPRODUCED',
-        'r1 delay (s)': 'REPRODUCED',
+        'r1 flagged within 5 s of the onset': 'REPRODUCED',
     }),
     'ephemeris-error': ('PARTLY REPRODUCED', {
         'earth: error grows over the year (mean of the last 30 days, m)': 'REPRODUCED',
