@@ -56,3 +56,30 @@ def test_plot_detection_bad_input(kwargs, name):
         D.plot_detection(res, x[:-1])
     with pytest.raises(ValueError, match=r"\bresult\b"):
         D.plot_detection(None, x)
+
+
+def test_plot_step_detector_is_the_fault_detection_figure_of_its_range_series():
+    """The slider's function draws plot_fault_detection's figure of the series it describes."""
+    t = DT * np.arange(6000)
+    clean = _range_like(t) + np.random.default_rng(5).normal(0.0, SIGMA, t.size)
+    step = Fault("uv", "step", 8 * SIGMA, onset=9000.0, duration=3000.0)
+    ours = D.plot_step_detector(size_sigma=8.0, levels=3, log10_pfa=-4, n=6000, onset_s=9000.0,
+                                train=2000, zoom_h=(2.0, 3.5))
+    theirs = D.plot_fault_detection(t, clean, [step], level=3, pfa=1e-4, train=2000,
+                                    zoom_h=(2.0, 3.5), title="8 sigma step, 3 levels")
+    assert ours.get_suptitle() == theirs.get_suptitle()
+    for a, b in zip(ours.axes, theirs.axes, strict=True):
+        assert a.get_xlim() == b.get_xlim()
+        for la, lb in zip(a.lines, b.lines, strict=True):
+            np.testing.assert_array_equal(la.get_ydata(), lb.get_ydata())
+
+
+@pytest.mark.parametrize(("kwargs", "name"), [
+    ({"levels": 0}, "levels"),
+    ({"log10_pfa": 0.0}, "log10_pfa"),
+    ({"sigma_m": -1.0}, "sigma_m"),
+    ({"n": 100}, "n"),
+])
+def test_plot_step_detector_bad_input(kwargs, name):
+    with pytest.raises(ValueError, match=name):
+        D.plot_step_detector(**kwargs)

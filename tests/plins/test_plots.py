@@ -22,3 +22,33 @@ def test_plot_diagnosis_keeps_its_legend_off_the_residuals():
     legend = ax.get_legend().get_window_extent()
     assert legend.y1 <= ax.get_window_extent().y0          # wholly below the axes
     assert [t.get_text() for t in ax.get_legend().get_texts()] == ["PR1", "PR2", "PR3", "PR4", "$r_t$"]
+
+
+def test_plot_step_diagnosis_is_plot_diagnosis_of_the_step_with_its_alarm_in_the_title():
+    """The slider's function: one step on a pseudorange, the flight diagnosed, not in pyplot."""
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    before = plt.get_fignums()
+    fig = P.plot_step_diagnosis(step_m=30.0, s=11, threshold_m=14.0, component=1)
+    assert plt.get_fignums() == before  # a Figure of its own: the live slider's worker may draw it
+    d = P.diagnose_flight([Fault(pl.SENSOR, "step", 30.0, 50.0, component=1)], s=11,
+                          threshold=14.0)
+    ref = P.plot_diagnosis(d)
+    assert fig.axes[0].get_title() == f"30 m step on PR2: alarm at {d.detection[1]:g} s"
+    for a, b in zip(fig.axes, ref.axes, strict=True):
+        for la, lb in zip(a.lines, b.lines, strict=True):
+            np.testing.assert_array_equal(la.get_ydata(), lb.get_ydata())
+    plt.close(ref)
+    assert P.plot_step_diagnosis(step_m=5.0, threshold_m=40.0).axes[0].get_title() == (
+        "5 m step on PR1: no alarm")
+
+
+@pytest.mark.parametrize(("kwargs", "name"), [
+    ({"threshold_m": 0.0}, "threshold_m"),
+    ({"component": 4}, "component"),
+    ({"s": 1}, "s"),
+])
+def test_plot_step_diagnosis_bad_input(kwargs, name):
+    with pytest.raises(ValueError, match=name):
+        P.plot_step_diagnosis(**kwargs)

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -10,11 +11,12 @@ import numpy as np
 from xnavlab.core.detection.batch import wavelet_detect
 from xnavlab.core.detection.online import Detection
 from xnavlab.core.faults import Fault, inject
-from xnavlab.core.validate import check_finite_array, check_real
+from xnavlab.core.validate import check_finite_array, check_int, check_real
 
 __all__ = [
     "plot_detection",
     "plot_fault_detection",
+    "plot_step_detector",
 ]
 
 # --------------------------------------------------------------------------------------------
@@ -152,3 +154,80 @@ def plot_fault_detection(t, clean, faults, *, sensor="uv", title="", zoom_h=None
         summary = f"k = {res.data['k']:.2f}: no fault, {int(res.alarm.sum())} false-alarm samples"
     return plot_detection(res, x, [f for f in faults if f.sensor == sensor],
                           title=f"{title}, {summary}" if title else summary, zoom_h=zoom_h)
+
+
+@functools.lru_cache(maxsize=4)
+def _range_series(n, dt_s, mean_m, swing_m, period_s, sigma_m, seed):
+    """``(t, clean)``: the range-like series of :func:`plot_step_detector` (kept read-only)."""
+    t = dt_s * np.arange(n)
+    truth = mean_m - swing_m * np.cos(2.0 * np.pi * t / period_s)
+    clean = truth + np.random.default_rng(seed).normal(0.0, sigma_m, n)
+    t.flags.writeable = clean.flags.writeable = False
+    return t, clean
+
+
+def plot_step_detector(size_sigma=6.0, levels=5, log10_pfa=-5, *, sigma_m=5000.0, dt_s=3.0,
+                       n=12_000, mean_m=4.19e6, swing_m=3.8e5, period_s=8280.0, seed=5,
+                       onset_s=18_000.0, duration_s=3000.0, train=3000, zoom_h=(4.5, 6.5)):
+    """A step fault in a noisy orbital range series, and what the wavelet detector flags.
+
+    The series is a range to a planet's centre along an elliptical orbit,
+    ``mean_m - swing_m cos(2 pi t / period_s)``, plus white noise of ``sigma_m``, sampled every
+    ``dt_s`` (``n`` samples, noise seeded by ``seed``; made once per set of these values).
+    A step of ``size_sigma`` noise standard deviations starts at ``onset_s`` and lasts
+    ``duration_s``; :func:`plot_fault_detection` runs
+    :func:`~.batch.wavelet_detect` with ``levels`` decomposition levels, the false-alarm
+    probability ``10 ** log10_pfa`` and ``train`` training samples, and plots the result.
+    The wavelet chapter's slider calls it (a pure function of its arguments).
+
+    Parameters
+    ----------
+    size_sigma : float
+        Step size in noise standard deviations (dimensionless), finite.
+    levels : int
+        Decomposition levels of the detector, 1..12.
+    log10_pfa : float
+        Base-10 logarithm of the per-sample false-alarm probability, in [-12, 0).
+    sigma_m, dt_s : float
+        Noise standard deviation, m (> 0), and sample interval, s (> 0).
+    n : int
+        Number of samples, >= 2 * ``train``.
+    mean_m, swing_m, period_s : float
+        Mean range (m), its orbital swing (m) and the orbit's period (s, > 0).
+    seed : int
+        Seed of the noise.
+    onset_s, duration_s : float
+        Start and length of the step, s.
+    train : int
+        Fault-free training samples of the detector's threshold.
+    zoom_h : (float, float), optional
+        Time window shown, hours (``None``: the whole series).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        As :func:`plot_detection`, titled with the step size, the levels and what the
+        detector did (:func:`plot_fault_detection`); not registered with pyplot.
+
+    Examples
+    --------
+    >>> fig = plot_step_detector(size_sigma=10.0, levels=2, n=6000, onset_s=9000.0,
+    ...                          train=2000, zoom_h=None)
+    >>> title = fig.get_suptitle()
+    >>> title.split(",")[:2], "onset detected after" in title
+    (['10 sigma step', ' 2 levels'], True)
+    """
+    size_sigma = check_real("size_sigma", size_sigma)
+    levels = check_int("levels", levels, 1, 12)
+    log10_pfa = check_real("log10_pfa", log10_pfa, -12.0, 0.0, hi_open=True)
+    sigma_m = check_real("sigma_m", sigma_m, 0.0, lo_open=True)
+    dt_s = check_real("dt_s", dt_s, 0.0, lo_open=True)
+    period_s = check_real("period_s", period_s, 0.0, lo_open=True)
+    train = check_int("train", train, 1)
+    n = check_int("n", n, 2 * train)
+    t, clean = _range_series(n, dt_s, check_real("mean_m", mean_m), check_real("swing_m", swing_m),
+                             period_s, sigma_m, int(seed))
+    fault = Fault("uv", "step", size_sigma * sigma_m, onset=onset_s, duration=duration_s)
+    return plot_fault_detection(t, clean, [fault], level=levels, pfa=10.0 ** log10_pfa,
+                                train=train, zoom_h=zoom_h,
+                                title=f"{size_sigma:g} sigma step, {levels} levels")

@@ -62,7 +62,7 @@ from xnavlab.plins.parity.identification import (
     rw_predict,
     rw_update,
 )
-from xnavlab.plins.parity.plots import plot_diagnosis
+from xnavlab.plins.parity.plots import plot_diagnosis, plot_step_diagnosis
 from xnavlab.plins.parity.space import (
     TYPICAL_STATE_STD,
     Identifiability,
@@ -114,4 +114,5 @@ __all__ = [
     "compare_detectors",
     # plots
     "plot_diagnosis",
+    "plot_step_diagnosis",
 ]

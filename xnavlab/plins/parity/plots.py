@@ -5,10 +5,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from xnavlab.plins.parity.diagnosis import Diagnosis
+from xnavlab.core.faults import Fault
+from xnavlab.core.validate import check_int, check_real
+from xnavlab.plins.parity.diagnosis import Diagnosis, diagnose_flight
+from xnavlab.plins.pseudolites import SENSOR
 
 __all__ = [
     "plot_diagnosis",
+    "plot_step_diagnosis",
 ]
 
 
@@ -67,4 +71,54 @@ def plot_diagnosis(diag, axes=None):
     ax1.set_ylabel("estimate (m, m/s)")
     if diag.identification:
         ax1.legend(fontsize=8)
+    return fig
+
+
+def plot_step_diagnosis(step_m=30.0, s=11, threshold_m=14.0, *, component=0, onset_s=50.0):
+    """Diagnose the flight with one pseudorange step and plot it: the chapter's slider.
+
+    Runs :func:`~.diagnosis.diagnose_flight` with a step of ``step_m`` on pseudorange
+    ``component`` from ``onset_s`` on, the window ``s`` and the threshold ``threshold_m``, and
+    draws :func:`plot_diagnosis` in a new figure (not registered with pyplot, so a live
+    slider may draw it in a second thread), titled with the step and the first alarm of the
+    faulty pseudorange. A pure function of its arguments.
+
+    Parameters
+    ----------
+    step_m : float
+        Step size, m (finite).
+    s : int
+        Window length minus one (samples); :func:`~.diagnosis.diagnose_flight` checks it.
+    threshold_m : float
+        Threshold ``r_t`` of the residual norms, m (> 0).
+    component : int
+        The faulty pseudorange, 0-based (0..3).
+    onset_s : float
+        Onset of the step, s.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        As :func:`plot_diagnosis`; the left panel's title says
+        ``"<step> m step on PR<k>: alarm at <t> s"`` or ``"...: no alarm"``.
+
+    Examples
+    --------
+    >>> fig = plot_step_diagnosis(step_m=300.0, threshold_m=14.0)
+    >>> fig.axes[0].get_title()
+    '300 m step on PR1: alarm at 50 s'
+    """
+    step_m = check_real("step_m", step_m)
+    threshold_m = check_real("threshold_m", threshold_m, 0.0, lo_open=True)
+    component = check_int("component", component, 0, 3)
+    onset_s = check_real("onset_s", onset_s)
+    d = diagnose_flight([Fault(SENSOR, "step", step_m, onset_s, component=component)],
+                        s=s, threshold=threshold_m)
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(10, 3.6), layout="constrained")
+    plot_diagnosis(d, axes=fig.subplots(1, 2))
+    alarm = d.detection[component]
+    fig.axes[0].set_title(f"{step_m:g} m step on PR{component + 1}: "
+                          + (f"alarm at {alarm:g} s" if alarm is not None else "no alarm"))
     return fig
