@@ -520,6 +520,7 @@ def test_the_worker_is_off_by_default_outside_a_kernel_and_for_pyplot_figures():
 def in_place_sliders():
     """Every slider whose plotting function has an in-place update, as its chapter calls it
     (each control's grid cut to a few values; shorter runs where a fixed argument allows)."""
+    from xnavlab.core import detection, montecarlo
     from xnavlab.line import track
     from xnavlab.mars.navigation import plots
     from xnavlab.mars.timing import photon_plots
@@ -547,6 +548,12 @@ def in_place_sliders():
                                                      sensor=["uv", "cns", "xnav"],
                                                      kind=["step", "ramp", "spike"], days=0.5),
                      id="plot_fault_response"),
+        pytest.param(detection.plot_combined_parts,
+                     dict(drift_sigma_per_hour=[0.5, 2.0, 64.0], noise_ratio=[1.0, 3.0],
+                          step_sigma=[0.0, 4.0]), id="plot_combined_parts"),
+        pytest.param(montecarlo.plot_pd, dict(kind=["step", "ramp", "spike", "noise"],
+                                              noise_scale=[1.0, 1.3], trials=2),
+                     id="plot_pd"),
     ]
 
 

@@ -323,26 +323,62 @@ def plot_pd(kind="step", noise_scale=1.0, trials=30, seed=0, sizes=(1.0, 2.0, 3.
     Returns
     -------
     matplotlib.figure.Figure
+        It carries an in-place update (:func:`xnavlab.core.plotting.in_place`) for the same
+        ``sizes``: a live slider sets its data, limits and title.
+
+    Examples
+    --------
+    >>> fig = plot_pd(kind="step", trials=2, sizes=(4.0, 8.0))
+    >>> [ax.get_xlabel() for ax in fig.axes]
+    ['fault size (sigma)', 'fault size (sigma)']
+    >>> fig = plot_pd(kind="spike", trials=1, sizes=(1.0,))   # nothing detected
+    >>> fig.axes[1].get_ylim()
+    (1.0, 10000.0)
     """
     from matplotlib.figure import Figure
 
-    check_choice("kind", kind, KINDS)
-    trials = check_int("trials", trials, 1, 1000)
-    rows = detection_table((kind,), sizes, trials=trials, seed=seed, noise_scale=noise_scale,
-                           max_workers=1)
+    from xnavlab.core.plotting import in_place
+
+    built = tuple(sizes)
+    # the layout every frame shares; update() sets the curves, the delay axis and the title
     fig = Figure(figsize=(8.5, 3.2), layout="constrained")
     ax1, ax2 = fig.subplots(1, 2)
+    pd_lines, delay_lines = {}, {}
     for d in DETECTORS:
-        ax1.plot(sizes, [r[f"{d}_pd"] for r in rows], "o-", label=d)
-        ax2.semilogy(sizes, [r[f"{d}_delay_s"] for r in rows], "o-", label=d)
-    far = {d: np.mean([r[f"{d}_far"] for r in rows]) for d in DETECTORS}
+        pd_lines[d], = ax1.plot(built, np.zeros(len(built)), "o-", label=d)
+        delay_lines[d], = ax2.semilogy(built, np.ones(len(built)), "o-", label=d)
     ax1.set(xlabel="fault size (sigma)", ylabel="probability of detection", ylim=(-0.05, 1.05))
     ax2.set(xlabel="fault size (sigma)", ylabel="median delay (s)")
     ax1.legend(fontsize=8)
-    fig.suptitle(f"{kind}, true/modelled noise {noise_scale:g}, {trials} trials per size; "
-                 f"false alarms per sample: wavelet {far['wavelet']:.1e}, chi2 {far['chi2']:.1e}",
-                 fontsize=9)
-    return fig
+    title = fig.suptitle("", fontsize=9)
+
+    def update(kind="step", noise_scale=1.0, trials=30, seed=0,
+               sizes=(1.0, 2.0, 3.0, 4.0, 6.0, 8.0)):
+        check_choice("kind", kind, KINDS)
+        trials = check_int("trials", trials, 1, 1000)
+        if tuple(sizes) != built:
+            return False  # other sizes: a new figure
+        rows = detection_table((kind,), sizes, trials=trials, seed=seed,
+                               noise_scale=noise_scale, max_workers=1)
+        for d in DETECTORS:
+            pd_lines[d].set_ydata([r[f"{d}_pd"] for r in rows])
+            delay_lines[d].set_ydata([r[f"{d}_delay_s"] for r in rows])
+        delays = np.array([r[f"{d}_delay_s"] for r in rows for d in DETECTORS])
+        ax2.set_autoscaley_on(True)
+        ax2.relim()
+        if np.any(np.isfinite(delays) & (delays > 0.0)):
+            ax2.autoscale_view()
+        else:  # nothing detected: no delay to scale the log axis to
+            ax2.autoscale_view(scaley=False)
+            ax2.set_ylim(1.0, 1e4)
+        far = {d: np.mean([r[f"{d}_far"] for r in rows]) for d in DETECTORS}
+        title.set_text(f"{kind}, true/modelled noise {noise_scale:g}, {trials} trials per size; "
+                       f"false alarms per sample: wavelet {far['wavelet']:.1e}, "
+                       f"chi2 {far['chi2']:.1e}")
+        return None
+
+    update(kind, noise_scale, trials, seed, sizes)
+    return in_place(fig, update)
 
 
 def wilson_interval(k, n, level=0.95):

@@ -694,42 +694,70 @@ def plot_combined_parts(drift_sigma_per_hour=3.0, step_sigma=0.0, noise_ratio=1.
     Returns
     -------
     matplotlib.figure.Figure
+        Top, the innovations; bottom, each part's statistic over its threshold, its first
+        alarm after the onset dashed. It carries an in-place update
+        (:func:`xnavlab.core.plotting.in_place`): a live slider sets its data and texts.
+
+    Examples
+    --------
+    >>> fig = plot_combined_parts(drift_sigma_per_hour=8.0)
+    >>> fig.axes[0].get_title().split(":")[0]
+    'drift 8 sigma/h, step 0, noise x1'
     """
-    drift = check_real("drift_sigma_per_hour", drift_sigma_per_hour, 0.0, 100.0)
-    step = check_real("step_sigma", step_sigma, 0.0, 100.0)
-    noise_ratio = check_real("noise_ratio", noise_ratio, 1.0, 10.0)
-    model_noise = check_real("model_noise", model_noise, 0.5, 3.0)
-    seed = check_int("seed", seed, 0)
     from matplotlib.figure import Figure
 
-    rng = np.random.default_rng(seed)
+    from xnavlab.core.plotting import in_place
+
     n = 14400
     t = 3.0 * np.arange(n)
     t0 = 14400.0
     on = t >= t0
-    y = rng.normal(0.0, model_noise, n)
-    y[on] = y[on] * noise_ratio + step + drift * (t[on] - t0) / 3600.0
-    res = combined_detect(t, y, train=4000)
+    h = t / 3600.0
+    colours = {"wavelet": "C0", "chi2": "C1", "cusum": "C2", "variance": "C3"}
+    # the layout every frame shares; update() sets the data, the alarm lines and the title
     fig = Figure(figsize=(8.5, 4.2), layout="constrained")
     ax, bx = fig.subplots(2, 1, sharex=True, height_ratios=(1, 1.3))
-    h = t / 3600.0
-    ax.plot(h, y, lw=0.3, color="0.4")
+    series, = ax.plot(h, np.zeros(n), lw=0.3, color="0.4")
     ax.axvline(t0 / 3600.0, color="k", lw=0.8, ls=":")
     ax.set(ylabel="innovation (sigma)")
-    colours = {"wavelet": "C0", "chi2": "C1", "cusum": "C2", "variance": "C3"}
-    text = []
+    curves, firsts = {}, {}
     for p in PARTS:
-        bx.semilogy(h, np.maximum(res.data["ratio"][p], 1e-3), lw=0.7, color=colours[p], label=p)
-        f = min((tt for tt in t[res.data["parts"][p]] if tt >= t0), default=math.inf)
-        if math.isfinite(f):
-            bx.axvline(f / 3600.0, color=colours[p], lw=1.0, ls="--")
-            text.append(f"{p} {f - t0:.0f} s")
-        else:
-            text.append(f"{p} -")
+        curves[p], = bx.semilogy(h, np.ones(n), lw=0.7, color=colours[p], label=p)
+        # the part's first alarm after the onset (hidden when it has none)
+        firsts[p] = bx.axvline(t0 / 3600.0, color=colours[p], lw=1.0, ls="--", visible=False)
     bx.axhline(1.0, color="k", lw=0.8)
     bx.axvline(t0 / 3600.0, color="k", lw=0.8, ls=":")
     bx.set(ylim=(1e-2, 1e2), xlabel="time (h)", ylabel="statistic / threshold")
     bx.legend(fontsize=8, ncol=4, loc="upper left")
-    ax.set_title(f"drift {drift:g} sigma/h, step {step:g}, noise x{noise_ratio:g}: first alarm "
-                 "after onset: " + ", ".join(text), fontsize=9)
-    return fig
+    title = ax.set_title("", fontsize=9)
+
+    def update(drift_sigma_per_hour=3.0, step_sigma=0.0, noise_ratio=1.0, model_noise=1.0,
+               seed=0):
+        drift = check_real("drift_sigma_per_hour", drift_sigma_per_hour, 0.0, 100.0)
+        step = check_real("step_sigma", step_sigma, 0.0, 100.0)
+        ratio = check_real("noise_ratio", noise_ratio, 1.0, 10.0)
+        noise = check_real("model_noise", model_noise, 0.5, 3.0)
+        rng = np.random.default_rng(check_int("seed", seed, 0))
+        y = rng.normal(0.0, noise, n)
+        y[on] = y[on] * ratio + step + drift * (t[on] - t0) / 3600.0
+        res = combined_detect(t, y, train=4000)
+        series.set_ydata(y)
+        text = []
+        for p in PARTS:
+            curves[p].set_ydata(np.maximum(res.data["ratio"][p], 1e-3))
+            f = min((tt for tt in t[res.data["parts"][p]] if tt >= t0), default=math.inf)
+            firsts[p].set_visible(math.isfinite(f))
+            if math.isfinite(f):
+                firsts[p].set_xdata([f / 3600.0, f / 3600.0])
+                text.append(f"{p} {f - t0:.0f} s")
+            else:
+                firsts[p].set_xdata([t0 / 3600.0, t0 / 3600.0])
+                text.append(f"{p} -")
+        for a in (ax, bx):
+            a.relim()
+            a.autoscale_view()
+        title.set_text(f"drift {drift:g} sigma/h, step {step:g}, noise x{ratio:g}: first alarm "
+                       "after onset: " + ", ".join(text))
+
+    update(drift_sigma_per_hour, step_sigma, noise_ratio, model_noise, seed)
+    return in_place(fig, update)
