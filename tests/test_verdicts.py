@@ -75,10 +75,10 @@ EXPECTED = {
     }),
     'mars-xnav-crlb': ('CHECK', {
     }),
-    'plins-ramp': ('REPRODUCED', {
-        'PR1 detection delay (s)': 'REPRODUCED',
+    'plins-ramp': ('PARTLY REPRODUCED', {
+        'PR1 detected within 5 s of the onset': 'UNDECIDED',
         'PR2-PR4 alarms': 'REPRODUCED',
-        'a and b both identified within 5 %, share of 40 runs': 'REPRODUCED',
+        'a and b both identified within 5 %, share of 40 runs': 'UNDECIDED',
     }),
     'plins-step': ('REPRODUCED', {
         'PR1 detection time (s)': 'REPRODUCED',
