@@ -520,11 +520,13 @@ def test_the_worker_is_off_by_default_outside_a_kernel_and_for_pyplot_figures():
 def in_place_sliders():
     """Every slider whose plotting function has an in-place update, as its chapter calls it
     (each control's grid cut to a few values; shorter runs where a fixed argument allows)."""
+    from xnavlab import attitude as att
     from xnavlab.core import detection, montecarlo
     from xnavlab.line import track
     from xnavlab.mars.navigation import plots
     from xnavlab.mars.timing import photon_plots
     from xnavlab.mars.timing.pulsars import PAPER_RANGING_M
+    from xnavlab.robust import plots as rplots
 
     return [
         pytest.param(track.plot_tracking, dict(exposure_s=[10.0, 20.0, 1000.0],
@@ -554,6 +556,13 @@ def in_place_sliders():
         pytest.param(montecarlo.plot_pd, dict(kind=["step", "ramp", "spike", "noise"],
                                               noise_scale=[1.0, 1.3], trials=2),
                      id="plot_pd"),
+        pytest.param(rplots.plot_filter_comparison,
+                     dict(size=[100.0, 5000.0], eps=[10.0, 100.0],
+                          pulsar_set=list(rplots.PULSAR_SETS)), id="plot_filter_comparison"),
+        pytest.param(att.plot_fault_case,
+                     dict(size=[0.1, 10.0, 100.0], location=list(att.LOCATIONS),
+                          kind=["step", "ramp"], n_sigma=[2.0, 5.0, 10.0]),
+                     id="plot_fault_case"),
     ]
 
 

@@ -64,6 +64,19 @@ def plot_residuals(run, method="sos", axes=None):
     """
     import matplotlib.pyplot as plt
 
+    t, r, J, d, names = _residual_parts(run, method)
+    m = r.shape[1]
+    if axes is None:
+        fig, axes = plt.subplots(m, 1, sharex=True, figsize=(7, 1.5 * m + 1), squeeze=False)
+        axes = axes[:, 0]
+    fig = axes[0].figure
+    _residual_axes(axes[:m], run, method)(run)
+    axes[m - 1].set_xlabel("t (s)")
+    return fig
+
+
+def _residual_parts(run, method):
+    """``(t, r, J, d, names)`` of one method's residuals (checked)."""
     check_choice("method", method, ("sos", "dos", "qdiff"))
     if not isinstance(run, AttitudeRun):
         raise ValueError(f"run must be an AttitudeRun, got {type(run).__name__}")
@@ -78,32 +91,54 @@ def plot_residuals(run, method="sos", axes=None):
     else:
         t, r, J, d = run.t_qd, np.abs(run.qd_f), run.qd_J, run.qd
         names = ["$|f_x|$", "$|f_y|$", "$|f_z|$"]
-    m = r.shape[1]
-    if axes is None:
-        fig, axes = plt.subplots(m, 1, sharex=True, figsize=(7, 1.5 * m + 1), squeeze=False)
-        axes = axes[:, 0]
-    fig = axes[0].figure
-    for i, ax in enumerate(axes[:m]):
-        ax.plot(t, r[:, i] / DEG_PER_H, lw=0.8)
-        ax.axhline(J[i] / DEG_PER_H, color="C3", ls="--", lw=0.8)
-        ax.axvspan(t[0], run.config.t_cal[1], color="0.9", lw=0)
-        if math.isfinite(run.onset):
-            ax.axvline(run.onset, color="k", ls=":", lw=0.8)
-        top = max(4.0 * J[i], float(np.max(r[t >= run.config.t_cal[1], i], initial=0.0)) * 1.1)
-        ax.set_ylim(0.0, top / DEG_PER_H)
+    return t, r, J, d, names
+
+
+def _run_timing(run, method):
+    """What the residual panels of ``run`` share with another run's: times, calibration, onset."""
+    t = _residual_parts(run, method)[0]
+    return t, run.config.t_cal[1], run.onset
+
+
+def _residual_axes(axes, run, method):
+    """Draw the parts of the residual panels that ``run``'s timing fixes; return
+    ``set_run(run)``, which draws a run of that timing (``False``, changing nothing, for a
+    run of another timing)."""
+    t, t_cal_end, onset = _run_timing(run, method)
+    names = _residual_parts(run, method)[4]
+    curves, limits = [], []
+    for i, ax in enumerate(axes):
+        curves.append(ax.plot(t, np.zeros(t.size), lw=0.8)[0])
+        limits.append(ax.axhline(0.0, color="C3", ls="--", lw=0.8))
+        ax.axvspan(t[0], t_cal_end, color="0.9", lw=0)
+        if math.isfinite(onset):
+            ax.axvline(onset, color="k", ls=":", lw=0.8)
         ax.set_ylabel(names[i] + "\n deg/h", fontsize=8)
-    verdict = d.verdict
-    det = float(d.detect_time)
-    if not math.isfinite(det):
-        when = "no detection"
-    elif math.isfinite(run.onset):
-        when = f"detected {det - run.onset:+.1f} s after onset"
-    else:
-        when = f"detected at {det:.1f} s"
-    axes[0].set_title(f"{method.upper()}: verdict {location_name(verdict)} ({when}); "
-                      f"truth {location_name(run.truth)}", fontsize=9)
-    axes[m - 1].set_xlabel("t (s)")
-    return fig
+    title = axes[0].set_title("", fontsize=9)
+
+    def set_run(run):
+        t_new, cal_new, onset_new = _run_timing(run, method)
+        if not (np.array_equal(t_new, t) and cal_new == t_cal_end
+                and (onset_new == onset or not (math.isfinite(onset) or math.isfinite(onset_new)))):
+            return False
+        _, r, J, d, _ = _residual_parts(run, method)
+        for i, ax in enumerate(axes):
+            curves[i].set_ydata(r[:, i] / DEG_PER_H)
+            limits[i].set_ydata([J[i] / DEG_PER_H] * 2)
+            top = max(4.0 * J[i], float(np.max(r[t >= t_cal_end, i], initial=0.0)) * 1.1)
+            ax.set_ylim(0.0, top / DEG_PER_H)
+        det = float(d.detect_time)
+        if not math.isfinite(det):
+            when = "no detection"
+        elif math.isfinite(run.onset):
+            when = f"detected {det - run.onset:+.1f} s after onset"
+        else:
+            when = f"detected at {det:.1f} s"
+        title.set_text(f"{method.upper()}: verdict {location_name(d.verdict)} ({when}); "
+                       f"truth {location_name(run.truth)}")
+        return None
+
+    return set_run
 
 
 def plot_fault_case(location="gyro_x", kind="ramp", size=10.0, n_sigma=5.0, *, rng=None):
@@ -127,7 +162,8 @@ def plot_fault_case(location="gyro_x", kind="ramp", size=10.0, n_sigma=5.0, *, r
     -------
     matplotlib.figure.Figure
         Four rows (the residuals), SOS left and DOS right, as :func:`plot_residuals`; not
-        registered with pyplot.
+        registered with pyplot. It carries an in-place update
+        (:func:`xnavlab.core.plotting.in_place`) that a live slider calls.
 
     Examples
     --------
@@ -135,19 +171,36 @@ def plot_fault_case(location="gyro_x", kind="ramp", size=10.0, n_sigma=5.0, *, r
     >>> len(fig.axes), fig.axes[0].get_title()[:23]
     (8, 'SOS: verdict x gyro (de')
     """
-    check_choice("location", location, LOCATIONS)
-    check_choice("kind", kind, ("step", "ramp"))
-    size = check_real("size", size, 0.0, lo_open=True)
-    sensor = "star_tracker" if location == "star_tracker" else "gyro"
-    run = simulate(make_fault(location, kind, size * DEFAULT_MAGNITUDES[(sensor, kind)]),
-                   n_sigma=n_sigma, rng=rng)
+    run = _fault_run(location, kind, size, n_sigma, rng)
     from matplotlib.figure import Figure
+
+    from xnavlab.core.plotting import in_place
 
     # fixed margins, not the constrained layout: half the drawing time of these eight panels
     # (0.16 s of 0.32 s), which the chapter's live slider pays at every redraw
     fig = Figure(figsize=(12, 6.5))
     fig.subplots_adjust(left=0.07, right=0.99, bottom=0.08, top=0.95, wspace=0.2, hspace=0.22)
     axes = fig.subplots(4, 2, sharex=True)
-    plot_residuals(run, "sos", axes=axes[:, 0])
-    plot_residuals(run, "dos", axes=axes[:, 1])
-    return fig
+    panels = [_residual_axes(axes[:, k], run, method) for k, method in enumerate(("sos", "dos"))]
+    axes[3, 0].set_xlabel("t (s)")
+    axes[3, 1].set_xlabel("t (s)")
+
+    def update(location="gyro_x", kind="ramp", size=10.0, n_sigma=5.0, *, rng=None):
+        run = _fault_run(location, kind, size, n_sigma, rng)
+        if panels[0](run) is False:  # other times or onset (SOS and DOS share them)
+            return False  # a new figure
+        panels[1](run)
+        return None
+
+    update(location, kind, size, n_sigma, rng=rng)
+    return in_place(fig, update)
+
+
+def _fault_run(location, kind, size, n_sigma, rng):
+    """The run of :func:`plot_fault_case` (checked arguments)."""
+    check_choice("location", location, LOCATIONS)
+    check_choice("kind", kind, ("step", "ramp"))
+    size = check_real("size", size, 0.0, lo_open=True)
+    sensor = "star_tracker" if location == "star_tracker" else "gyro"
+    return simulate(make_fault(location, kind, size * DEFAULT_MAGNITUDES[(sensor, kind)]),
+                    n_sigma=n_sigma, rng=rng)

@@ -55,25 +55,44 @@ def plot_filter_comparison(size=5000.0, eps=100.0, pulsar_set="paper: B0531+21, 
     -------
     matplotlib.figure.Figure
         Left: each filter's position error (m) against time, the RMSE window shaded; right:
-        the RMSE over the window (m). Not registered with pyplot.
+        the RMSE over the window (m). Not registered with pyplot; it carries an in-place
+        update (:func:`xnavlab.core.plotting.in_place`) that a live slider calls.
     """
     from matplotlib.figure import Figure
 
-    out = filter_comparison(size, eps, pulsar_set)
-    # fixed margins, not the constrained layout: the live slider redraws this at every move
+    from xnavlab.core.plotting import in_place
+
+    # fixed margins, not the constrained layout: the live slider redraws this at every move;
+    # the layout every frame shares, update() sets the curves, bars, limits and title
     fig = Figure(figsize=(11, 3.4))
     fig.subplots_adjust(left=0.07, right=0.99, bottom=0.14, top=0.91, wspace=0.25)
     ax1, ax2 = fig.subplots(1, 2, width_ratios=[3, 1])
-    for f, err in out["error"].items():
-        ax1.semilogy(out["tau"], err, lw=1, label=FILTER_NAMES[f])
+    tau = np.arange(1.0, 501.0)  # placeholders until update()
+    curves = {f: ax1.semilogy(tau, np.ones(tau.size), lw=1, label=name)[0]
+              for f, name in FILTER_NAMES.items()}
     ax1.axvspan(*comparison.WINDOWS["mars"], color="0.92", zorder=0)
-    ax1.set(xlabel="time (s)", ylabel="position error (m)",
-            title=f"Mars, ephemeris error {size:.0f} m, eps = {eps:g}")
+    ax1.set(xlabel="time (s)", ylabel="position error (m)")
     ax1.legend(ncol=4, fontsize=8)
-    ax2.bar([FILTER_NAMES[f] for f in out["rmse"]], list(out["rmse"].values()))
+    bars = dict(zip(FILTER_NAMES, ax2.bar(list(FILTER_NAMES.values()),
+                                          np.ones(len(FILTER_NAMES))), strict=True))
     ax2.set(yscale="log", ylabel="RMSE (m)", title="RMSE 5e4-2.5e5 s")
     sparse_log_minors(ax1, ax2)
-    return fig
+
+    def update(size=5000.0, eps=100.0, pulsar_set="paper: B0531+21, B1821-24, B1937+21"):
+        out = filter_comparison(size, eps, pulsar_set)
+        if list(out["error"]) != list(curves):
+            return False  # other filters: a new figure
+        for f, err in out["error"].items():
+            curves[f].set_data(out["tau"], err)
+            bars[f].set_height(out["rmse"][f])
+        for ax in (ax1, ax2):
+            ax.relim()
+            ax.autoscale_view()
+        ax1.set_title(f"Mars, ephemeris error {float(size):.0f} m, eps = {float(eps):g}")
+        return None
+
+    update(size, eps, pulsar_set)
+    return in_place(fig, update)
 
 
 def filter_comparison(size=5000.0, eps=100.0, pulsar_set="paper: B0531+21, B1821-24, B1937+21"):
