@@ -179,7 +179,7 @@ def xgyro_step(out=None, magnitude_deg_per_h=36.0, seed=0, n_runs=RUNS):
         f"{n_runs} of ours (seeds {seed}-{seed + n_runs - 1}), in which r1 flags after "
         f"{_spread(r1_runs)} s. " + _COMMON
     )
-    result = Result("attitude-xgyro-step", checks, note=note, data={"run": run})
+    result = Result("attitude-xgyro-step", checks, note=note, data={"run": run, "outcomes": mc})
     if out is not None:
         result.figures.append(_figure(run, out, "attitude-xgyro-step"))
     return result
@@ -252,7 +252,7 @@ def skew_ramp(out=None, rate_deg_per_h_per_s=0.1, seed=0, n_runs=RUNS):
         f"and the verdict are judged among {n_runs} runs of 100 s (seeds {seed}-"
         f"{seed + n_runs - 1}, the plotted run first). " + _COMMON
     )
-    result = Result("attitude-skew-ramp", checks, note=note, data={"run": run})
+    result = Result("attitude-skew-ramp", checks, note=note, data={"run": run, "outcomes": mc})
     if out is not None:
         result.figures.append(_figure(run, out, "attitude-skew-ramp"))
     return result
@@ -300,7 +300,7 @@ def star_tracker(out=None, ramp_per_s=5e-5, seed=0, n_runs=RUNS):
         f"the verdict is judged among {n_runs} runs (seeds {seed}-{seed + n_runs - 1}), in "
         f"which SOS detects after {_spread(mc['sos_delay_s'])} s. " + _COMMON
     )
-    result = Result("attitude-star-tracker", checks, note=note, data={"run": run})
+    result = Result("attitude-star-tracker", checks, note=note, data={"run": run, "outcomes": mc})
     if out is not None:
         result.figures.append(_figure(run, out, "attitude-star-tracker"))
     return result
@@ -344,7 +344,7 @@ def qdiff(out=None, ramp_per_s=5e-5, seed=0, window_s=10.0, n_runs=RUNS):
         f"blames the gyros in {int(blames.sum())}. The paper shows only the three orthogonal "
         "gyros, as we do."
     )
-    result = Result("attitude-qdiff", checks, note=note, data={"run": run})
+    result = Result("attitude-qdiff", checks, note=note, data={"run": run, "outcomes": mc})
     if out is not None:
         result.figures.append(_figure(run, out, "attitude-qdiff", "qdiff"))
     return result
