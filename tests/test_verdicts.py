@@ -100,7 +100,7 @@ EXPECTED = {
     }),
     'rkf-mars': ('NOT REPRODUCED', {
         'ASUKF improvement over UKF (%)': 'UNDECIDED',
-        'TDUKF improvement over UKF (%)': 'NOT REPRODUCED',
+        'TDUKF improvement over UKF (%)': 'UNDECIDED',
         'RKF improvement over UKF (%)': 'UNDECIDED',
         'RKF better than TDUKF (paired RMSE difference)': 'NOT REPRODUCED',
         'TDUKF better than ASUKF (paired RMSE difference)': 'REPRODUCED',
