@@ -129,11 +129,20 @@ def test_study_truth_leaves_the_papers_orbit_by_kilometres_in_an_hour():
     ({"area_m2": 0.0}, "area_m2 must be a real number in (0, 1000]"),
     ({"mass_kg": float("nan")}, "mass_kg"),
     ({"reflectivity": 2.5}, "reflectivity must be a real number in [1, 2]"),
+    ({"mass_kg": 5.0}, "mass_kg = 5 is unused: srp is false"),                 # review 35b N25
+    ({"srp": False, "area_m2": 50.0}, "area_m2 = 50 is unused: srp is false"),
+    ({"reflectivity": 2.0}, "leave reflectivity at its default 1.3"),
 ])
 def test_a_bad_force_model_is_refused_naming_the_field(kw, words):
     with pytest.raises(ValueError) as exc:
         fm.ForceModel(**kw)
     assert words in str(exc.value)
+
+
+def test_srp_settings_are_taken_with_srp_or_at_their_defaults():
+    assert fm.ForceModel(srp=True, area_m2=50.0, mass_kg=5.0, reflectivity=2.0).area_m2 == 50.0
+    assert fm.ForceModel(srp=False, area_m2=10.0, mass_kg=1000.0, reflectivity=1.3) == fm.PAPER
+    assert fm.model({**fm.STUDY.as_dict(), "srp": False}).area_m2 == fm.STUDY.area_m2
 
 
 def test_model_names_and_tables():

@@ -286,6 +286,10 @@ def test_a_par_file_that_cannot_be_read_is_named(tmp_path, content, words):
     ('[detector]\nname = "chi2"\ntrain_days = 0.5\n',
      "[detector] train_days is set but the run's detector is chi2 ([detector] name = \"chi2\"): "
      "only the wavelet or combined detectors use it; leave it out or name one of them"),
+    ('[truth_model]\nsrp = false\narea_m2 = 50.0\n',
+     "[truth_model] area_m2 = 50 is unused: srp is false (no solar radiation pressure)"),
+    ('[filter_model]\nreflectivity = 2.0\n',
+     "[filter_model] reflectivity = 2 is unused: srp is false"),
 ])
 def test_a_key_made_inert_by_another_setting_is_refused_naming_both(text, words):
     with pytest.raises(ValueError) as info:
@@ -299,7 +303,7 @@ def test_a_key_made_inert_by_another_setting_is_refused_naming_both(text, words)
     '[detector]\nname = "none"\npfa = 1e-5\narm_s = 600.0\n',
     '[detector]\nname = "wavelet"\npfa = 0.01\ntrain_days = 0.5\n',
     '[detector]\nname = "combined"\narm_s = 100.0\nrate_per_day = 2.0\nadaptive = false\n',
-    '[truth_model]\nsrp = false\narea_m2 = 50.0\n',                # the dump writes every key
+    '[truth_model]\nsrp = false\narea_m2 = 10.0\n',                # the dump writes every key
 ])
 def test_a_key_at_its_default_or_used_by_the_run_is_accepted(text):
     sf = sfm.loads(text)

@@ -47,6 +47,7 @@ True
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 from dataclasses import dataclass
@@ -110,6 +111,9 @@ SOLAR_PRESSURE_1AU = 1367.0 / C
 _HEADER = {"mercury": "GM1", "venus": "GM2", "earthmoon": "GMB", "saturn": "GM6"}
 
 
+_SRP_FIELDS = ("area_m2", "mass_kg", "reflectivity")
+
+
 @dataclass(frozen=True)
 class ForceModel:
     """The terms of one force model about Mars (module notes).
@@ -125,7 +129,8 @@ class ForceModel:
         Solar radiation pressure (cannonball, Mars's cylindrical shadow).
     area_m2, mass_kg, reflectivity : float
         SRP cross-section, m^2, in (0, 1000]; mass, kg, in (0, 1e5]; radiation-pressure
-        coefficient C_R, in [1, 2].
+        coefficient C_R, in [1, 2]. With ``srp`` false they are unused, so each must stay at
+        its default (a setting away from it is refused, not dropped).
 
     Examples
     --------
@@ -138,6 +143,11 @@ class ForceModel:
     ...
     ValueError: third_bodies must be distinct names from ('sun', 'mercury', 'venus', \
 'earthmoon', 'jupiter', 'saturn'), got ('sun', 'pluto')
+    >>> ForceModel(mass_kg=500.0)
+    Traceback (most recent call last):
+    ...
+    ValueError: mass_kg = 500 is unused: srp is false (no solar radiation pressure); set srp \
+true, or leave mass_kg at its default 1000
     """
 
     gravity_degree: int = 0
@@ -171,6 +181,12 @@ class ForceModel:
                            check_real("mass_kg", self.mass_kg, 0.0, 1e5, lo_open=True))
         object.__setattr__(self, "reflectivity",
                            check_real("reflectivity", self.reflectivity, 1.0, 2.0))
+        if not self.srp:  # SRP settings away from their defaults would go unused
+            for f in (f for f in dataclasses.fields(self) if f.name in _SRP_FIELDS):
+                if getattr(self, f.name) != f.default:
+                    raise ValueError(f"{f.name} = {getattr(self, f.name):g} is unused: srp is "
+                                     f"false (no solar radiation pressure); set srp true, or "
+                                     f"leave {f.name} at its default {f.default:g}")
 
     @property
     def is_paper(self):

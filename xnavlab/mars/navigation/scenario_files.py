@@ -15,10 +15,10 @@ the other settings make inert, when it is set to other than its default: a subsy
 while ``[run] subsystems`` leaves that subsystem out, ``[xnav] noise``, ``area_m2`` or
 ``background`` beside ``[xnav] sigma_m`` (:mod:`xnavlab.mars.navigation.unused_inputs`), a
 ``[detector]`` key the run's detector does not use (:func:`check_detector`: ``pfa`` with
-``name = "none"``, ``arm_s`` in a plain run). A key at its default is the same run as the key
-left out, and :func:`dump` writes every key, so those are accepted. For the same reason the
-force models' SRP keys (``area_m2``, ``mass_kg``, ``reflectivity``) are accepted with
-``srp = false``: the dump writes them for every model.
+``name = "none"``, ``arm_s`` in a plain run), and a force model's SRP key (``area_m2``,
+``mass_kg``, ``reflectivity``) with ``srp = false``
+(:class:`~xnavlab.mars.models.force_models.ForceModel`). A key at its default is the same run
+as the key left out, and :func:`dump` writes every key, so those are accepted.
 
 The set-up (``[run] setup``): ``"paper"`` (the default,
 :class:`~xnavlab.mars.navigation.scenarios.MarsScenario`:
