@@ -212,3 +212,12 @@ def test_the_force_model_refuses_complex_and_nan_by_name(call, name, bad):
 def test_the_centre_itself_is_refused_not_turned_into_nan():
     with pytest.raises(ValueError, match=r"^r must not be the centre"):
         dynamics.point_mass(np.zeros(3))
+
+
+def test_an_orbit_that_falls_into_mars_is_refused_naming_state0_and_the_time():
+    # review 35d D2: a radial fall from 4000 km ended in scipy's "Required step size is less
+    # than spacing between numbers" (a traceback from the CLI)
+    with pytest.raises(ValueError, match=r"state0: the orbit reaches Mars's surface .* at t0 \+ "
+                                         r"654\.\d+ s, before the end of the propagation"):
+        dynamics.propagate(dynamics.MARS_T0 + np.array([0.0, 8640.0]),
+                           state0=np.array([4e6, 0.0, 0.0, 0.0, 0.0, 0.0]))

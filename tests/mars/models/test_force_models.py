@@ -178,3 +178,9 @@ def test_tables_and_accelerations_refuse_complex_and_reversed_times():
         fm.Tables("paper", 1j, dynamics.MARS_T0)
     with pytest.raises(ValueError, match="^r must hold real numbers"):
         fm.acceleration(dynamics.MARS_T0, dynamics.MARS_STATE0[:3] + 0j)
+
+
+def test_an_orbit_that_falls_into_mars_is_refused_naming_state0():
+    with pytest.raises(ValueError, match="state0: the orbit reaches Mars's surface"):
+        fm.propagate(dynamics.MARS_T0 + np.array([0.0, 8640.0]),
+                     state0=np.array([4e6, 0.0, 0.0, 0.0, 0.0, 0.0]), force_model="paper")
