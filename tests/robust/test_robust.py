@@ -9,6 +9,7 @@ import pytest
 from xnavlab import reproduce
 from xnavlab import robust as rb
 from xnavlab.reproductions import ch10_ephemeris_error as ch10
+from xnavlab.robust import ephemeris_error as ee
 
 
 @pytest.mark.parametrize("rid", ["ukf-vs-ephemeris-error", "rkf-mars", "rkf-sweep", "rkf-residual-memory"])
@@ -60,8 +61,16 @@ def test_rkf_improvements_are_judged_over_the_process_noise_and_initial_error_to
     lost = mars.data["lost"]["shift"]["tdukf"]
     assert {"process noise 1e-05 m/s", "process noise 0.001 m/s", "initial error 0.1 km, 0.1 m/s",
             "initial error 10 km, 10 m/s"} <= set(lost)
+    assert {"orbit a 10,000 km", "orbit a 20,000 km"} <= set(lost)     # the orbit's size too
     row = mars.check("TDUKF improvement over UKF (%)")
-    assert "process noise, initial error" in row.tolerance and "the orbit, lost too, is held" in row.tolerance
+    assert "process noise, initial error" in row.tolerance and "is varied by its size" in row.tolerance
+
+
+def test_orbit_elements_invert_elements_to_state():
+    gm = ee.PLANETS["mars"][0]
+    el = ch10.orbit_elements(ee.orbit("mars").state0, gm)
+    assert el[0] == pytest.approx(4.196e6, rel=1e-3) and el[2] == pytest.approx(75.0)
+    np.testing.assert_allclose(ee.elements_to_state(*el, gm), ee.orbit("mars").state0, atol=1e-6)
 
 
 def test_rkf_residual_memory_rows_are_checks_without_a_paper_value():
