@@ -526,6 +526,7 @@ def in_place_sliders():
     from xnavlab.mars.navigation import plots
     from xnavlab.mars.timing import photon_plots
     from xnavlab.mars.timing.pulsars import PAPER_RANGING_M
+    from xnavlab.plins import parity
     from xnavlab.robust import plots as rplots
 
     return [
@@ -563,6 +564,11 @@ def in_place_sliders():
                      dict(size=[0.1, 10.0, 100.0], location=list(att.LOCATIONS),
                           kind=["step", "ramp"], n_sigma=[2.0, 5.0, 10.0]),
                      id="plot_fault_case"),
+        pytest.param(parity.plot_step_diagnosis,
+                     dict(step_m=[5.0, 30.0, 300.0], s=[4, 11, 29], threshold_m=[5.0, 14.0, 40.0]),
+                     id="plot_step_diagnosis"),
+        pytest.param(montecarlo.plot_pd_error, dict(runs=[10, 300, 3000], pd=[0.5, 0.99]),
+                     id="plot_pd_error"),
     ]
 
 

@@ -457,7 +457,8 @@ def plot_pd_error(runs=100, pd=0.9, campaigns=400, seed=0):
     Returns
     -------
     matplotlib.figure.Figure
-        Two axes; not registered with pyplot.
+        Two axes; not registered with pyplot. It carries an in-place update
+        (:func:`xnavlab.core.plotting.in_place`) that a live slider calls.
 
     Examples
     --------
@@ -467,30 +468,50 @@ def plot_pd_error(runs=100, pd=0.9, campaigns=400, seed=0):
     """
     from matplotlib.figure import Figure
 
-    runs = check_int("runs", runs, 1, 10**6)
-    pd = check_real("pd", pd, 0.0, 1.0, lo_open=True, hi_open=True)
-    campaigns = check_int("campaigns", campaigns, 10, 10**5)
-    rng = np.random.default_rng(check_int("seed", seed, 0))
-    k = rng.binomial(runs, pd, size=campaigns)
-    est = k / runs
-    half = 1.96 * math.sqrt(pd * (1.0 - pd) / runs)      # normal approximation, 95 %
-    cover = np.mean([lo <= pd <= hi for lo, hi in (wilson_interval(int(x), runs) for x in k)])
+    from xnavlab.core.plotting import in_place
+
+    # the layout every frame shares; update() draws the histogram and sets the rest
     fig = Figure(figsize=(8.5, 3.2), layout="constrained")
     ax1, ax2 = fig.subplots(1, 2)
-    edges = (np.arange(runs + 2) - 0.5) / runs if runs <= 200 else np.linspace(0, 1, 101)
-    ax1.hist(est, bins=edges, color="C0", alpha=0.7)
-    ax1.axvline(pd, color="k", lw=1.0, label=f"true Pd {pd:g}")
-    for sgn in (-1, 1):
-        ax1.axvline(pd + sgn * half, color="C3", ls="--", lw=1.0,
-                    label="+/- 1.96 sqrt(Pd(1-Pd)/N)" if sgn < 0 else None)
-    ax1.set(xlabel="estimated Pd (k / N)", ylabel="campaigns", xlim=(-0.02, 1.02),
-            title=f"{campaigns} campaigns of N = {runs} runs")
-    ax1.legend(fontsize=7, loc="upper left")
+    truth = ax1.axvline(0.5, color="k", lw=1.0, label="true Pd")
+    bounds = [ax1.axvline(0.5, color="C3", ls="--", lw=1.0,
+                          label="+/- 1.96 sqrt(Pd(1-Pd)/N)" if sgn < 0 else None)
+              for sgn in (-1, 1)]
+    ax1.set(xlabel="estimated Pd (k / N)", ylabel="campaigns", xlim=(-0.02, 1.02))
+    legend = ax1.legend(fontsize=7, loc="upper left")
     n_grid = np.unique(np.geomspace(1, 10**4, 60).astype(int))
-    ax2.loglog(n_grid, 1.96 * np.sqrt(pd * (1.0 - pd) / n_grid), color="C3")
-    ax2.plot([runs], [half], "o", color="C0")
-    ax2.set(xlabel="runs N", ylabel="95 % half-width of the Pd estimate",
-            title=f"Wilson intervals holding the true Pd: {cover:.0%}")
+    law, = ax2.loglog(n_grid, np.ones(n_grid.size), color="C3")
+    point, = ax2.plot([1.0], [1.0], "o", color="C0")
+    ax2.set(xlabel="runs N", ylabel="95 % half-width of the Pd estimate")
     ax2.grid(True, which="both", lw=0.3)
     sparse_log_minors(ax2)
-    return fig
+    bars = []
+
+    def update(runs=100, pd=0.9, campaigns=400, seed=0):
+        runs = check_int("runs", runs, 1, 10**6)
+        pd = check_real("pd", pd, 0.0, 1.0, lo_open=True, hi_open=True)
+        campaigns = check_int("campaigns", campaigns, 10, 10**5)
+        rng = np.random.default_rng(check_int("seed", seed, 0))
+        k = rng.binomial(runs, pd, size=campaigns)
+        est = k / runs
+        half = 1.96 * math.sqrt(pd * (1.0 - pd) / runs)      # normal approximation, 95 %
+        cover = np.mean([lo <= pd <= hi for lo, hi in (wilson_interval(int(x), runs) for x in k)])
+        for bar in bars:
+            bar.remove()
+        edges = (np.arange(runs + 2) - 0.5) / runs if runs <= 200 else np.linspace(0, 1, 101)
+        bars[:] = ax1.hist(est, bins=edges, color="C0", alpha=0.7)[2]
+        truth.set_xdata([pd, pd])
+        legend.get_texts()[0].set_text(f"true Pd {pd:g}")
+        for sgn, line in zip((-1, 1), bounds, strict=True):
+            line.set_xdata([pd + sgn * half] * 2)
+        ax1.set_title(f"{campaigns} campaigns of N = {runs} runs")
+        law.set_ydata(1.96 * np.sqrt(pd * (1.0 - pd) / n_grid))
+        point.set_data([runs], [half])
+        ax2.set_title(f"Wilson intervals holding the true Pd: {cover:.0%}")
+        for ax in (ax1, ax2):
+            ax.relim()
+            ax.autoscale_view()
+        return None
+
+    update(runs, pd, campaigns, seed)
+    return in_place(fig, update)

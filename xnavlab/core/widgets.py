@@ -493,6 +493,8 @@ class SteadyLayout:
                 getattr(fig, name).set_position(xy)
             how = "kept layout"
         else:
+            if fig in self._engines:  # laid out before (a kept layout, or updated in place):
+                _subplot_positions(fig)  # its engine starts where a new figure's starts
             fig.set_layout_engine(engine)
             fig.draw_without_rendering()  # the engine lays the figure out
             self._shape = shape
@@ -532,6 +534,21 @@ class SteadyLayout:
 
 
 _SUP_TEXTS = ("_suptitle", "_supxlabel", "_supylabel")
+
+
+def _subplot_positions(fig):
+    """Put every subplot of ``fig`` back where its gridspec puts it before any layout.
+
+    A layout engine's result depends on the positions it starts from (the constrained layout
+    measures the tick labels of the axes as they are), so a figure laid out again must start
+    where a figure made from nothing starts to come out the same.
+    """
+    for ax in fig.axes:
+        spec = ax.get_subplotspec()
+        if spec is not None:
+            in_layout = ax.get_in_layout()  # set_position takes the axes out of layout
+            ax.set_position(spec.get_position(fig), which="both")
+            ax.set_in_layout(in_layout)
 
 #: Frames a kept layout may fail to fit before a slider lays out every frame by its own
 #: engine: a figure whose labels change size from frame to frame would otherwise pay a

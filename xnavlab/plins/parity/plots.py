@@ -100,7 +100,8 @@ def plot_step_diagnosis(step_m=30.0, s=11, threshold_m=14.0, *, component=0, ons
     -------
     matplotlib.figure.Figure
         As :func:`plot_diagnosis`; the left panel's title says
-        ``"<step> m step on PR<k>: alarm at <t> s"`` or ``"...: no alarm"``.
+        ``"<step> m step on PR<k>: alarm at <t> s"`` or ``"...: no alarm"``. It carries an
+        in-place update (:func:`xnavlab.core.plotting.in_place`) that a live slider calls.
 
     Examples
     --------
@@ -108,17 +109,56 @@ def plot_step_diagnosis(step_m=30.0, s=11, threshold_m=14.0, *, component=0, ons
     >>> fig.axes[0].get_title()
     '300 m step on PR1: alarm at 50 s'
     """
-    step_m = check_real("step_m", step_m)
-    threshold_m = check_real("threshold_m", threshold_m, 0.0, lo_open=True)
-    component = check_int("component", component, 0, 3)
-    onset_s = check_real("onset_s", onset_s)
-    d = diagnose_flight([Fault(SENSOR, "step", step_m, onset_s, component=component)],
-                        s=s, threshold=threshold_m)
     from matplotlib.figure import Figure
 
+    from xnavlab.core.plotting import in_place
+
+    def diagnose(step_m, s, threshold_m, component, onset_s):
+        step_m = check_real("step_m", step_m)
+        threshold_m = check_real("threshold_m", threshold_m, 0.0, lo_open=True)
+        component = check_int("component", component, 0, 3)
+        onset_s = check_real("onset_s", onset_s)
+        d = diagnose_flight([Fault(SENSOR, "step", step_m, onset_s, component=component)],
+                            s=s, threshold=threshold_m)
+        alarm = d.detection[component]
+        return d, (f"{step_m:g} m step on PR{component + 1}: "
+                   + (f"alarm at {alarm:g} s" if alarm is not None else "no alarm"))
+
+    d, title = diagnose(step_m, s, threshold_m, component, onset_s)
     fig = Figure(figsize=(10, 3.6), layout="constrained")
-    plot_diagnosis(d, axes=fig.subplots(1, 2))
-    alarm = d.detection[component]
-    fig.axes[0].set_title(f"{step_m:g} m step on PR{component + 1}: "
-                          + (f"alarm at {alarm:g} s" if alarm is not None else "no alarm"))
-    return fig
+    ax0, ax1 = fig.subplots(1, 2)
+    plot_diagnosis(d, axes=(ax0, ax1))
+    ax0.set_title(title)
+    m = d.statistic.shape[1]
+    built = d.fault.shape
+
+    def update(step_m=30.0, s=11, threshold_m=14.0, *, component=0, onset_s=50.0):
+        d, title = diagnose(step_m, s, threshold_m, component, onset_s)
+        if d.fault.shape != built:
+            return False  # another flight: a new figure
+        # left: the residual norms and the threshold (the artists plot_diagnosis drew)
+        for j, line in enumerate(ax0.lines[:m]):
+            line.set_data(d.t_res, np.maximum(d.statistic[:, j], 1e-3))
+        ax0.lines[m].set_ydata([d.threshold, d.threshold])
+        ax0.set_title(title)
+        # right: drawn again as plot_diagnosis draws it (its colours, its order)
+        for line in list(ax1.lines):
+            line.remove()
+        if ax1.get_legend() is not None:
+            ax1.get_legend().remove()
+        k = 0
+        for j, idn in d.identification.items():
+            for i, name in enumerate(idn.names):
+                ax1.plot(idn.t, idn.theta[:, i], color=f"C{k % 10}", label=f"PR{j + 1} {name}")
+                k += 1
+        for j in range(d.fault.shape[1]):
+            if np.any(d.fault[:, j]):
+                ax1.plot(d.t, d.fault[:, j], color="0.5", lw=0.8, ls=":")
+        if d.identification:
+            ax1.legend(fontsize=8)
+        for ax in (ax0, ax1):
+            ax.relim()
+            ax.autoscale_view()
+        return None
+
+    return in_place(fig, update)
