@@ -340,3 +340,13 @@ def test_an_option_before_its_sub_command_says_the_order(argv, line, capsys):
     """Review 35b N24: 'run --days 0.02' said "argument scenario: invalid choice: '0.02'"."""
     assert main(argv) == 2
     assert capsys.readouterr().err.strip() == f"xnavlab: error: {line}"
+
+
+def test_a_filter_the_kernel_cannot_carry_ends_in_one_line_not_a_traceback(tmp_path, capsys):
+    # review 35d D44: the kernel's stop was a 26-line traceback
+    path = tmp_path / "tiny.toml"
+    path.write_text('[run]\nsubsystems = ["uv"]\n[uv]\nsigma_range_m = 1e-6\n'
+                    'sigma_dir_deg = 1e-9\n')
+    assert main(["run", "mars", "--scenario", str(path), "--days", "0.05", "--json"]) == 1
+    err = capsys.readouterr().err
+    assert err.startswith("xnavlab: error: the compiled filter stopped") and err.count("\n") == 1

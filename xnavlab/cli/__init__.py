@@ -238,3 +238,10 @@ def _main(argv):
     except (UsageError, ValueError) as exc:
         print(f"xnavlab: error: {exc}", file=sys.stderr)
         return 2
+    except RuntimeError as exc:  # the compiled filter's stop on a covariance, in one line
+        from xnavlab.mars.navigation.scenarios import FilterDivergence
+
+        if not isinstance(exc, FilterDivergence):
+            raise
+        print(f"xnavlab: error: {exc}", file=sys.stderr)
+        return 1

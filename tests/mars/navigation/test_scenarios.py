@@ -445,3 +445,13 @@ def test_a_run_outside_the_ephemeris_is_refused_naming_t0():
         scenarios.MarsScenario(t0=-1e12)
     with pytest.raises(ValueError, match=r"^t0 must be in .*, got 6\.31407e\+09$"):
         scenarios.MarsScenario(t0=6.3140685e9, days=0.01)  # the start inside, the end past it
+
+
+def test_a_filter_the_kernel_cannot_carry_stops_with_one_clear_error():
+    # review 35d D44: a UV noise of 1e-6 m against a 5-km initial error
+    sc = scenarios.MarsScenario(days=0.05, subsystems=("uv",), sigma_range_m=1e-6,
+                                sigma_dir_deg=1e-9)
+    with pytest.raises(scenarios.FilterDivergence, match=r"the compiled filter stopped: a "
+                       r"covariance lost positive definiteness near epoch \d+ .*raise the "
+                       r"smallest noise setting, or run the numpy backend"):
+        scenarios.run(sc)
