@@ -303,3 +303,17 @@ def test_the_unchecked_path_is_unchanged():
     up = filters.ekf_update(np.zeros(2), I2, np.ones(2), np.zeros(2), I2, I2, check=False)
     assert np.array_equal(up.x, filters.ekf_update(np.zeros(2), I2, np.ones(2), np.zeros(2), I2,
                                                    I2).x)
+
+
+@pytest.mark.parametrize("call", [
+    lambda c: filters.ekf_predict(np.zeros(2), np.eye(2), np.zeros(2), np.eye(2), np.eye(2), check=c),
+    lambda c: filters.ekf_update(np.zeros(2), np.eye(2), np.ones(2), np.zeros(2), np.eye(2),
+                                 np.eye(2), check=c),
+    lambda c: filters.ukf_predict(np.zeros(2), np.eye(2), lambda s: s, np.eye(2), check=c),
+    lambda c: filters.ukf_update(np.zeros(2), np.eye(2), np.ones(2), lambda s: s, np.eye(2),
+                                 check=c),
+])
+@pytest.mark.parametrize("bad", ["no", 0])
+def test_check_must_be_a_bool(call, bad):  # review 35d D29: check=0 skipped the checks
+    with pytest.raises(ValueError, match="check must be True or False"):
+        call(bad)

@@ -70,3 +70,9 @@ def test_planets_shapiro_on_the_paper_orbit():
     np.testing.assert_allclose(total, sum(planets[p] for p in pint_bridge.PLANETS), rtol=1e-15)
     # measured 16.9-24.4 ns (referred to 1 au, PINT's convention; Jupiter 9.5-17.7 ns)
     assert np.all((total > 5e-9) & (total < 1e-7))
+
+
+def test_planets_must_be_a_bool():  # review 35d D21
+    r = np.array([1.5e11, 1e10, 1e9])
+    with pytest.raises(ValueError, match="planets must be True or False, got .no."):
+        pint_bridge.pint_delays(r, dynamics.MARS_T0, N[:1], planets="no")

@@ -51,6 +51,7 @@ import numpy as np
 
 from xnavlab.core.distributions import chi2_ppf
 from xnavlab.core.validate import (
+    check_bool,
     check_covariance,
     check_definite,
     check_finite_array,
@@ -202,6 +203,7 @@ def ekf_predict(x, P, f, F, Q, check=True):
     ...
     ValueError: P must be positive semi-definite, got smallest eigenvalue -1
     """
+    check = check_bool("check", check)
     if check:
         x, P = _checked_state(x, P)
         Q = check_covariance("Q", Q, x.size)
@@ -278,6 +280,7 @@ def ekf_update(x, P, z, h, H, R, residual=None, check=True):
     ...
     ValueError: z must contain only finite numbers (no NaN or inf)
     """
+    check = check_bool("check", check)
     if check:
         x, P = _checked_state(x, P)
     else:
@@ -429,6 +432,7 @@ def ukf_predict(x, P, f, Q, alpha=1.0, beta=2.0, kappa=0.0, check=True):
     >>> np.round(P, 12).tolist()
     [[4.0, 0.0], [0.0, 4.0]]
     """
+    check = check_bool("check", check)
     if check:
         x, P = _checked_state(x, P)
         Q = check_covariance("Q", Q, x.size)
@@ -463,6 +467,7 @@ def ukf_update(x, P, z, h, R, alpha=1.0, beta=2.0, kappa=0.0, residual=None, che
     >>> round(float(up.x[0]), 6), round(float(up.P[0, 0]), 6)
     (0.5, 0.5)
     """
+    check = check_bool("check", check)
     if check:
         x, P = _checked_state(x, P)
     else:

@@ -471,3 +471,8 @@ def test_a_run_too_short_for_the_detector_names_days_not_an_internal_setting(day
     # for settings the user never gave
     with pytest.raises(ValueError, match=words):
         ft.run_fault_tolerant(scenarios.MarsScenario(days=days), [], "combined", **kw)
+
+
+def test_adaptive_must_be_a_bool():  # review 35d D36
+    with pytest.raises(ValueError, match="adaptive must be True or False, got .no."):
+        ft.run_fault_tolerant(scenarios.MarsScenario(days=0.02), adaptive="no")

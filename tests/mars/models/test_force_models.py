@@ -184,3 +184,8 @@ def test_an_orbit_that_falls_into_mars_is_refused_naming_state0():
     with pytest.raises(ValueError, match="state0: the orbit reaches Mars's surface"):
         fm.propagate(dynamics.MARS_T0 + np.array([0.0, 8640.0]),
                      state0=np.array([4e6, 0.0, 0.0, 0.0, 0.0, 0.0]), force_model="paper")
+
+
+def test_truth_cache_must_be_a_bool():  # review 35d D43
+    with pytest.raises(ValueError, match="cache must be True or False"):
+        fm.truth(dynamics.MARS_T0 + np.array([0.0, 10.0]), cache="no")

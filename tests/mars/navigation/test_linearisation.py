@@ -30,3 +30,8 @@ def test_both_filters_see_one_truth_and_agree_and_are_read_back_from_disk(tmp_pa
 def test_bad_arguments_are_refused(kw, words):
     with pytest.raises(ValueError, match=words):
         linearisation.ekf_and_ukf(cache=False, **kw)
+
+
+def test_cache_must_be_a_bool():  # review 35b N19 / 35d D8: "no" is a truthy string
+    with pytest.raises(ValueError, match="cache must be True or False, got .no."):
+        linearisation.ekf_and_ukf(days=0.01, cache="no")

@@ -81,3 +81,14 @@ def test_q_sweep_checks_its_arguments(bad):
     with pytest.raises(ValueError, match="q_values|days"):
         model_mismatch.q_sweep(**bad, cache=False)
 
+
+
+@pytest.mark.parametrize("call", [
+    lambda: model_mismatch.mismatch_runs(days=0.01, seeds=[0], cache="no"),
+    lambda: model_mismatch.mismatch_table(days=0.01, seeds=[0], cache=1),
+    lambda: model_mismatch.subsystem_nis(days=0.01, seeds=[0], cache="no"),
+    lambda: model_mismatch.q_sweep(q_values=[0.0], days=0.01, cache="no"),
+])
+def test_cache_must_be_a_bool(call):  # review 35d D9
+    with pytest.raises(ValueError, match="cache must be True or False"):
+        call()

@@ -157,3 +157,8 @@ def test_the_survey_figure_groups_the_tags_per_pulsar():
         ft.plot_survey({"a": rows, "b": rows[:1]})
     with pytest.raises(ValueError, match="at least one survey"):
         ft.plot_survey({})
+
+
+def test_window_survey_cache_must_be_a_bool():  # review 35d D15
+    with pytest.raises(ValueError, match="cache must be True or False, got .no."):
+        ft.window_survey(pulsar_names=["B1937+21"], n_windows=1, cache="no")

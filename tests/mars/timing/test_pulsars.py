@@ -349,3 +349,8 @@ def test_a_profile_without_a_pulse_has_no_phase(counts, match):
         pulsars.estimate_phase_shift(counts, tpl)
     with pytest.raises(ValueError, match=r"^template must hold a pulse"):
         pulsars.estimate_phase_shift(np.arange(10.0), np.ones(10))
+
+
+def test_fold_exposure_must_be_a_bool():  # review 35d D21
+    with pytest.raises(ValueError, match="exposure must be True or False, got .no."):
+        pulsars.fold([0.1, 0.2], "B0531+21", nbins=8, exposure="no")

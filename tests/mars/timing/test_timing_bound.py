@@ -175,3 +175,10 @@ def test_the_figure_shows_each_accuracy_over_the_bound():
     np.testing.assert_allclose(paper.get_ydata(), [344.0 / 454.2])  # only the row that has it
     with pytest.raises(ValueError, match="rows must hold"):
         tb.plot_accuracy([])
+
+
+def test_flags_must_be_bools():  # review 35d D21: "no" was read as True
+    with pytest.raises(ValueError, match="photons must be True or False, got .no."):
+        tb.monte_carlo_ml_toa("B1937+21", n_trials=2, photons="no")
+    with pytest.raises(ValueError, match="cache must be True or False"):
+        tb.accuracy_table(["B1937+21"], n_trials=2, xcorr_trials=0, cache="no")

@@ -127,7 +127,7 @@ from xnavlab.core.detection import (
 )
 from xnavlab.core.distributions import chi2_isf, norm_isf
 from xnavlab.core.faults import Fault, check_faults, format_spec, inject  # noqa: F401 - Fault: the doctest
-from xnavlab.core.validate import check_choice, check_int, check_real, make_rng
+from xnavlab.core.validate import check_bool, check_choice, check_int, check_real, make_rng
 from xnavlab.mars.faults import innovations, schedules, watch
 from xnavlab.mars.faults.schedules import (  # noqa: F401 - also importable from here, as before
     EARLIEST_ONSET_S,
@@ -384,6 +384,7 @@ def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=
     -------
     FaultTolerantRun
     """
+    adaptive = check_bool("adaptive", adaptive)
     check_choice("detector", detector, DETECTORS)
     pfa = check_real("pfa", pfa, 0.0, 1.0, lo_open=True, hi_open=True)
     alpha = check_real("alpha", alpha, 0.0, 1.0, lo_open=True, hi_open=True)

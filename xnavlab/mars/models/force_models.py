@@ -60,7 +60,7 @@ from xnavlab.core import ephemeris
 from xnavlab.core.constants import AU, DAY, GM_JUPITER, GM_MARS, GM_SUN, R_MARS, C
 from xnavlab.core.diskcache import entry_path, load_array, store
 from xnavlab.core.userfiles import csv_rows
-from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real
+from xnavlab.core.validate import check_bool, check_choice, check_finite_array, check_int, check_real
 from xnavlab.mars.models import dynamics
 
 __all__ = [
@@ -811,6 +811,7 @@ def truth(t_eval, state0=dynamics.MARS_STATE0, t0=dynamics.MARS_T0, force_model=
     >>> bool(np.array_equal(truth(t, cache=False), dynamics.truth(t, cache=False)))
     True
     """
+    cache = check_bool("cache", cache)
     fm = model(force_model)
     t_eval = check_finite_array("t_eval", t_eval)
     state0 = check_finite_array("state0", state0, shape=(6,))

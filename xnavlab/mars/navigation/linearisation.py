@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from xnavlab.core.diskcache import cached_arrays, entry_path
-from xnavlab.core.validate import check_real
+from xnavlab.core.validate import check_bool, check_real
 from xnavlab.mars.navigation import scenarios
 
 __all__ = ["ekf_and_ukf"]
@@ -60,6 +60,7 @@ def ekf_and_ukf(days=0.02, record_dt=30.0, cache=True):
     >>> bool(np.all(gap <= 0.01 * err))        # the two agree to 1 % of the error
     True
     """
+    cache = check_bool("cache", cache)
     days = check_real("days", days, 0.0, 30.0, lo_open=True)
     record_dt = check_real("record_dt", record_dt, 0.1, 86400.0)
 

@@ -43,7 +43,7 @@ import numpy as np
 from xnavlab.core.constants import DAY
 from xnavlab.core.diskcache import cached_arrays, entry_path, store
 from xnavlab.core.filters import chi2_bounds, consistency_verdict, judge_series
-from xnavlab.core.validate import check_finite_array, check_int, check_real
+from xnavlab.core.validate import check_bool, check_finite_array, check_int, check_real
 from xnavlab.mars.navigation import scenarios
 
 __all__ = ["CASES", "case_scenario", "mismatch_runs", "mismatch_table", "TABLE_COLUMNS",
@@ -155,6 +155,7 @@ def mismatch_runs(days=30.0, seeds=(0, 1, 2, 3, 4), settle_days=None, cache=True
         per subsystem, the sum and the number of the NIS of its accepted updates after
         ``settle_days``, ``nis_dof`` each subsystem's NIS degrees of freedom.
     """
+    cache = check_bool("cache", cache)
     days, seeds, settle_days = _check(days, seeds, settle_days)
 
     def compute():
@@ -209,6 +210,7 @@ def mismatch_table(days=30.0, seeds=(0, 1, 2, 3, 4), settle_days=None, cache=Tru
         whose run-averaged NEES is inside it and ``nees_verdict`` the word of
         :func:`xnavlab.core.filters.judge_series` (``inside``, ``conservative``, ``optimistic``).
     """
+    cache = check_bool("cache", cache)
     days, seeds, settle_days = _check(days, seeds, settle_days)
     data = mismatch_runs(days, seeds, settle_days, cache)
     lo, hi = chi2_bounds(6, len(seeds))
@@ -262,6 +264,7 @@ def subsystem_nis(days=30.0, seeds=(0, 1, 2, 3, 4), settle_days=None, cache=True
     >>> [(r["case"], r["subsystem"]) for r in rows][:3]
     [('matched', 'xnav'), ('matched', 'uv'), ('matched', 'cns')]
     """
+    cache = check_bool("cache", cache)
     days, seeds, settle_days = _check(days, seeds, settle_days)
     data = mismatch_runs(days, seeds, settle_days, cache)
     rows = []
@@ -311,6 +314,7 @@ def q_sweep(q_values=SWEEP_Q_ACC, days=8.0, cache=True):
     >>> out["q"].shape, out["rms_sigma_nees"].shape
     ((2,), (2, 3))
     """
+    cache = check_bool("cache", cache)
     q = check_finite_array("q_values", q_values, shape=None)
     if q.ndim != 1 or q.size == 0 or np.any(q < 0):
         raise ValueError(f"q_values must be a non-empty sequence of PSDs >= 0, got {q_values!r}")

@@ -63,7 +63,14 @@ import numpy as np
 from xnavlab.core import ephemeris
 from xnavlab.core.constants import C
 from xnavlab.core.diskcache import entry_path, store
-from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
+from xnavlab.core.validate import (
+    check_bool,
+    check_choice,
+    check_finite_array,
+    check_int,
+    check_real,
+    make_rng,
+)
 from xnavlab.mars.models import dynamics
 from xnavlab.mars.timing import pulsars, timing_bound, toa
 
@@ -615,6 +622,7 @@ def window_survey(pulsar_names=pulsars.PAPER_PULSARS, error=PAPER_ERROR0, n_wind
     >>> round(rows[0]["apriori_mid_m"], 1), round(rows[0]["apriori_end_m"], 1)
     (46.6, 716.0)
     """
+    cache = check_bool("cache", cache)
     n_windows = check_int("n_windows", n_windows, 1, 10**4)
     spacing = check_real("spacing", spacing, 1.0, 86400.0)
     err = check_finite_array("error", error, shape=(6,))

@@ -67,7 +67,7 @@ import numpy as np
 
 from xnavlab.core.constants import DAY, KPC
 from xnavlab.core.diskcache import cached_arrays, entry_path
-from xnavlab.core.validate import check_choice, check_finite_array, check_int
+from xnavlab.core.validate import check_bool, check_choice, check_finite_array, check_int
 
 __all__ = [
     "EPHEMERIS",
@@ -305,6 +305,7 @@ def pint_delays(r_sc_ssb, t, n, distance=None, planets=False):
     >>> bool(np.abs(out["roemer"] - n @ r / 299792458.0).max() < 1e-11)   # n . R / c
     True
     """
+    planets = check_bool("planets", planets)
     r = check_finite_array("r_sc_ssb", r_sc_ssb, shape=(3,))
     single = r.ndim == 1
     r = np.atleast_2d(r)

@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from xnavlab.core.constants import KPC, C
-from xnavlab.core.validate import check_finite_array, check_int, check_items, check_real, make_rng
+from xnavlab.core.validate import check_bool, check_finite_array, check_int, check_items, check_real, make_rng
 from xnavlab.mars.timing import xray_pulsars
 
 __all__ = [
@@ -620,6 +620,7 @@ def fold(t, pulsar, nbins=256, t0=0.0, span=None, exposure=True):
     >>> fold(t, crab, nbins=8, span=(0.0, 2.5 * crab.period)).round(6).tolist()
     [2.5, 2.5, 2.5, 2.5, 2.5, 2.5, 2.5, 2.5]
     """
+    exposure = check_bool("exposure", exposure)
     p = get(pulsar)
     nbins = check_int("nbins", nbins, 8, 2**20)
     t = check_finite_array("t", t)

@@ -58,7 +58,14 @@ import numpy as np
 from xnavlab.core.constants import C
 from xnavlab.core.diskcache import entry_path, store
 from xnavlab.core.distributions import chi2_ppf
-from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
+from xnavlab.core.validate import (
+    check_bool,
+    check_choice,
+    check_finite_array,
+    check_int,
+    check_real,
+    make_rng,
+)
 from xnavlab.mars.timing import pulsars
 
 __all__ = [
@@ -458,6 +465,7 @@ def monte_carlo_ml_toa(pulsar, n_trials=400, area_m2=1.0, t_obs=500.0,
     >>> bool(0.7 < np.std(err) / toa_crlb("B1821-24") < 1.3)
     True
     """
+    photons = check_bool("photons", photons)
     p = pulsars.get(pulsar)
     n_trials = check_int("n_trials", n_trials, 2, 10**6)
     t_obs = check_real("t_obs", t_obs, 0.0, 1e7, lo_open=True)
@@ -540,6 +548,7 @@ def accuracy_table(pulsar_names=pulsars.PAPER_PULSARS, n_trials=2000, rng=0, are
     >>> rows[0]["paper_m"], round(rows[0]["formula_m"]), round(rows[0]["crlb_m"])
     (325.0, 326, 381)
     """
+    cache = check_bool("cache", cache)
     n_trials = check_int("n_trials", n_trials, 2, 10**6)
     xcorr_trials = check_int("xcorr_trials", xcorr_trials, 0, 10**6)
     if xcorr_trials == 1:
