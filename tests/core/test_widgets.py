@@ -524,7 +524,7 @@ def in_place_sliders():
     from xnavlab.core import detection, montecarlo
     from xnavlab.line import track
     from xnavlab.mars.navigation import plots
-    from xnavlab.mars.timing import photon_plots
+    from xnavlab.mars.timing import photon_plots, toa
     from xnavlab.mars.timing.pulsars import PAPER_RANGING_M
     from xnavlab.plins import parity
     from xnavlab.robust import plots as rplots
@@ -569,6 +569,9 @@ def in_place_sliders():
                      id="plot_step_diagnosis"),
         pytest.param(montecarlo.plot_pd_error, dict(runs=[10, 300, 3000], pd=[0.5, 0.99]),
                      id="plot_pd_error"),
+        pytest.param(toa.plot_orbit_terms, dict(day=[0, 13, 29], pulsar=["B0531+21", "B1937+21"],
+                                                shapiro=list(toa.SHAPIRO_FORMS)),
+                     id="plot_orbit_terms"),
     ]
 
 

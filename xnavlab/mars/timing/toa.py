@@ -584,7 +584,9 @@ def plot_orbit_terms(pulsar="B0531+21", day=0, shapiro="exact"):
     Returns
     -------
     matplotlib.figure.Figure
-        Three axes: Roemer (km), parallax (cm), Shapiro (cm); not registered with pyplot.
+        Three axes: Roemer (km), parallax (cm), Shapiro (cm); not registered with pyplot. It
+        carries an in-place update (:func:`xnavlab.core.plotting.in_place`) that a live
+        slider calls.
 
     Examples
     --------
@@ -594,27 +596,40 @@ def plot_orbit_terms(pulsar="B0531+21", day=0, shapiro="exact"):
     """
     from matplotlib.figure import Figure
 
+    from xnavlab.core.plotting import in_place
     from xnavlab.mars.models import dynamics
 
-    check_choice("pulsar", pulsar, pulsars.PAPER_PULSARS)
-    day = check_int("day", day, 0, 29)
-    check_choice("shapiro", shapiro, SHAPIRO_FORMS)
-    t = dynamics.MARS_T0 + np.arange(0.0, 30 * 86400.0 + 1.0, 60.0)  # the chapter's grid
-    i = slice(day * 1440, (day + 1) * 1440 + 1)  # one day of 60-s samples
-    x = dynamics.truth(t)[i]
-    t = t[i]
-    r_mars = ephemeris.position("mars", t)
-    r_sun = ephemeris.position("sun", t)
-    n_p, d_p = pulsars.directions([pulsar])
-    at_sc = terms(r_mars + x[:, :3], n_p, d_p, r_sun, shapiro=shapiro)
-    at_mars = terms(r_mars, n_p, d_p, r_sun, shapiro=shapiro)
-    hours = (t - t[0]) / 3600.0
+    hours = np.arange(1441) / 60.0  # one day of 60-s samples, h
+    # the layout every frame shares; update() sets the curves, limits and texts
     fig = Figure(figsize=(12, 3.4), layout="constrained")
     axes = fig.subplots(1, 3)
     units = {"roemer": (1e-3, "km"), "parallax": (1e2, "cm"), "shapiro": (1e2, "cm")}
-    for ax, (key, (scale, unit)) in zip(axes, units.items(), strict=True):
-        ax.plot(hours, C * (at_sc[key] - at_mars[key])[:, 0] * scale)
-        ax.set(title=f"{key} $\\times c$, spacecraft - Mars ({unit})",
-               xlabel=f"hours into day {day}")
-    fig.suptitle(pulsar)
-    return fig
+    curves = {}
+    for ax, (key, (_, unit)) in zip(axes, units.items(), strict=True):
+        curves[key], = ax.plot(hours, np.zeros(hours.size))
+        ax.set(title=f"{key} $\\times c$, spacecraft - Mars ({unit})")
+    title = fig.suptitle("")
+
+    def update(pulsar="B0531+21", day=0, shapiro="exact"):
+        check_choice("pulsar", pulsar, pulsars.PAPER_PULSARS)
+        day = check_int("day", day, 0, 29)
+        check_choice("shapiro", shapiro, SHAPIRO_FORMS)
+        t = dynamics.MARS_T0 + np.arange(0.0, 30 * 86400.0 + 1.0, 60.0)  # the chapter's grid
+        i = slice(day * 1440, (day + 1) * 1440 + 1)  # one day of 60-s samples
+        x = dynamics.truth(t)[i]
+        t = t[i]
+        r_mars = ephemeris.position("mars", t)
+        r_sun = ephemeris.position("sun", t)
+        n_p, d_p = pulsars.directions([pulsar])
+        at_sc = terms(r_mars + x[:, :3], n_p, d_p, r_sun, shapiro=shapiro)
+        at_mars = terms(r_mars, n_p, d_p, r_sun, shapiro=shapiro)
+        for ax, (key, (scale, _)) in zip(axes, units.items(), strict=True):
+            curves[key].set_ydata(C * (at_sc[key] - at_mars[key])[:, 0] * scale)
+            ax.set_xlabel(f"hours into day {day}")
+            ax.relim()
+            ax.autoscale_view()
+        title.set_text(pulsar)
+        return None
+
+    update(pulsar, day, shapiro)
+    return in_place(fig, update)
