@@ -128,7 +128,7 @@ def test_bad_inputs():
         dynamics.propagate(np.array([T0 + 10.0, T0]))
     with pytest.raises(ValueError, match="outside Mars"):
         dynamics.propagate(np.array([T0]), np.array([1e3, 0, 0, 0, 0, 0]))
-    with pytest.raises(ValueError, match="third body must be one of"):
+    with pytest.raises(ValueError, match=r"bodies\[0\] must be one of"):
         dynamics.ThirdBodyTable(T0, T0 + 10.0, ("saturn",))
     with pytest.raises(ValueError, match="rtol"):
         dynamics.propagate(np.array([T0 + 1.0]), rtol=1e-16)
@@ -221,3 +221,40 @@ def test_an_orbit_that_falls_into_mars_is_refused_naming_state0_and_the_time():
                                          r"654\.\d+ s, before the end of the propagation"):
         dynamics.propagate(dynamics.MARS_T0 + np.array([0.0, 8640.0]),
                            state0=np.array([4e6, 0.0, 0.0, 0.0, 0.0, 0.0]))
+
+
+@pytest.mark.parametrize(("bodies", "words"), [
+    ("sun", "third_bodies must be a list of perturbers, got the string 'sun'"),
+    (("sun", "sun"), "third_bodies lists sun twice (items 0 and 1)"),
+    (("sun", "pluto"), "third_bodies[1] must be one of 'sun', 'jupiter', got 'pluto'"),
+])
+def test_third_bodies_are_a_list_of_distinct_names(bodies, words):
+    # review 35d D40: a string was split into letters ('s'), and ("sun", "sun") pulled twice
+    t = dynamics.MARS_T0 + np.array([0.0, 10.0])
+    for call in (lambda: dynamics.propagate(t, third_bodies=bodies),
+                 lambda: dynamics.truth(t, third_bodies=bodies, cache=False)):
+        with pytest.raises(ValueError) as info:
+            call()
+        assert words in str(info.value)
+
+
+@pytest.mark.parametrize("call", [
+    lambda: dynamics.acceleration(dynamics.MARS_T0, dynamics.MARS_STATE0[:3], j2="no"),
+    lambda: dynamics.propagate(dynamics.MARS_T0 + np.array([0.0, 10.0]), j2="no"),
+    lambda: dynamics.truth(dynamics.MARS_T0 + np.array([0.0, 10.0]), cache="no"),
+])
+def test_flags_must_be_bools(call):  # review 35d D43: "no" switched J2 on
+    with pytest.raises(ValueError, match="must be True or False, got 'no'"):
+        call()
+
+
+@pytest.mark.parametrize("pole", [np.zeros(3), np.array([0.0, 0.0, 5.0])])
+def test_the_pole_must_be_a_unit_vector(pole):  # review 35d D41
+    with pytest.raises(ValueError, match="pole must be a unit vector"):
+        dynamics.j2_acceleration(dynamics.MARS_STATE0[:3], pole=pole)
+
+
+@pytest.mark.parametrize("state", [np.zeros(6), np.array([4e6, 0.0, 0.0, 1e3, 0.0, 0.0])])
+def test_elements_of_a_state_without_a_plane_are_refused(state):  # review 35d D42
+    with pytest.raises(ValueError, match="state must have a position off the centre"):
+        dynamics.orbital_elements(state)

@@ -34,7 +34,14 @@ import numpy as np
 from xnavlab.core import ephemeris
 from xnavlab.core.constants import GM_JUPITER, GM_MARS, GM_SUN, J2_MARS, J2_MARS_RADIUS, R_MARS
 from xnavlab.core.diskcache import entry_path, load_array, store
-from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real
+from xnavlab.core.validate import (
+    check_bool,
+    check_choice,
+    check_finite_array,
+    check_int,
+    check_items,
+    check_real,
+)
 
 __all__ = [
     "MARS_T0",
@@ -117,7 +124,8 @@ class ThirdBodyTable:
         self.step = check_real("step", self.step, 1.0, 86400.0)
         known = tuple(GM_BODIES) if self.gm is None else tuple(
             b for b in ephemeris.BODIES if b != self.center)
-        self.bodies = tuple(check_choice("third body", b, known) for b in self.bodies)
+        self.bodies = check_items("bodies", self.bodies, "perturber", min_len=0,
+                                  each=lambda label, b: check_choice(label, b, known))
         if self.gm is None:
             gm = [GM_BODIES[b] for b in self.bodies]
         else:
@@ -162,6 +170,22 @@ def _position(name, r):
     if np.any(np.all(r == 0.0, axis=-1)):
         raise ValueError(f"{name} must not be the centre (0, 0, 0): the field is singular there")
     return r
+
+
+def _third_bodies(third_bodies):
+    """The perturbers as a tuple: a list of names of :data:`GM_BODIES`, none twice (a string
+    is not split into letters; a body listed twice would pull twice)."""
+    return check_items("third_bodies", third_bodies, "perturber", min_len=0,
+                       each=lambda label, b: check_choice(label, b, tuple(GM_BODIES)))
+
+
+def _pole(pole):
+    """A unit vector (3,): a pole of another length would scale the J2 term, not orient it."""
+    pole = check_finite_array("pole", pole, shape=(3,))
+    if pole.ndim != 1 or not abs(float(np.linalg.norm(pole)) - 1.0) <= 1e-9:
+        raise ValueError(f"pole must be a unit vector (shape (3,), norm 1), got norm "
+                         f"{float(np.linalg.norm(pole)):.6g}")
+    return pole
 
 
 def point_mass(r, gm=GM_MARS):
@@ -222,7 +246,7 @@ def j2_acceleration(r, j2=J2_MARS, radius=J2_MARS_RADIUS, gm=GM_MARS, pole=MARS_
     True
     """
     r = _position("r", r)
-    pole = check_finite_array("pole", pole, shape=(3,))
+    pole = _pole(pole)
     j2, radius, gm = (check_real(n, v) for n, v in (("j2", j2), ("radius", radius), ("gm", gm)))
     rn2 = float(r @ r)
     z = float(r @ pole)
@@ -251,6 +275,7 @@ def acceleration(t, r, table=None, j2=False):
     True
     """
     r = _position("r", r)
+    j2 = check_bool("j2", j2)
     a = point_mass(r)
     if table is not None and table.bodies:
         a = a + third_body(r, table.positions(t), table.gm)
@@ -322,6 +347,8 @@ def propagate(t_eval, state0=MARS_STATE0, t0=MARS_T0, third_bodies=("sun", "jupi
         raise ValueError(f"state0 position must lie outside Mars (|r| > {R_MARS:g} m)")
     rtol = check_real("rtol", rtol, 2.3e-14, 1e-3)
     atol = check_real("atol", atol, 1e-12, 1e3, lo_open=True)
+    third_bodies = _third_bodies(third_bodies)
+    j2 = check_bool("j2", j2)
     if table is None and third_bodies:
         table = ThirdBodyTable(t0, float(t_eval[-1]), tuple(third_bodies), "mars", ephem)
 
@@ -366,7 +393,8 @@ def truth(t_eval, state0=MARS_STATE0, t0=MARS_T0, third_bodies=("sun", "jupiter"
     """
     t_eval = check_finite_array("t_eval", t_eval)
     state0 = check_finite_array("state0", state0, shape=(6,))
-    bodies = tuple(third_bodies)
+    bodies = _third_bodies(third_bodies)
+    j2, cache = check_bool("j2", j2), check_bool("cache", cache)
     if not cache:
         return propagate(t_eval, state0, t0, bodies, j2, ephem)
     path = entry_path("truth", (float(t0), bodies, bool(j2), ephem), (t_eval, state0),
@@ -518,7 +546,11 @@ def orbital_elements(state, gm=GM_MARS, pole=MARS_POLE):
     """
     state = check_finite_array("state", state, shape=(6,))
     gm = check_real("gm", gm, 0.0, lo_open=True)
+    pole = _pole(pole)
     r, v = state[:3], state[3:]
+    if not np.linalg.norm(np.cross(r, v)) > 0.0:  # the centre, or a radial fall: no plane
+        raise ValueError("state must have a position off the centre and a velocity not along "
+                         "it (an orbit has a plane), got angular momentum 0")
     rn, vn = float(np.linalg.norm(r)), float(np.linalg.norm(v))
     energy = 0.5 * vn**2 - gm / rn
     if energy >= 0.0:
@@ -612,7 +644,7 @@ def model_difference(t_eval, third_bodies=("sun", "jupiter"), j2=False):
     0.0
     """
     ref = truth(t_eval)
-    other = truth(t_eval, third_bodies=tuple(third_bodies), j2=bool(j2))
+    other = truth(t_eval, third_bodies=third_bodies, j2=j2)
     diff = other[:, :3] - ref[:, :3]
     radial = ref[:, :3] / np.linalg.norm(ref[:, :3], axis=1, keepdims=True)
     cross = np.cross(ref[:, :3], ref[:, 3:])
