@@ -572,6 +572,9 @@ def in_place_sliders():
         pytest.param(toa.plot_orbit_terms, dict(day=[0, 13, 29], pulsar=["B0531+21", "B1937+21"],
                                                 shapiro=list(toa.SHAPIRO_FORMS)),
                      id="plot_orbit_terms"),
+        pytest.param(detection.plot_step_detector, dict(size_sigma=[1.0, 6.0, 20.0], levels=[1, 5],
+                                                        log10_pfa=[-8, -5, -1]),
+                     id="plot_step_detector"),
     ]
 
 

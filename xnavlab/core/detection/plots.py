@@ -140,6 +140,14 @@ def plot_fault_detection(t, clean, faults, *, sensor="uv", title="", zoom_h=None
     >>> fig.get_suptitle().split(":")[0]
     '10 sigma, k = 4.79'
     """
+    res, x, title = _fault_detection(t, clean, faults, sensor, title, detect)
+    return plot_detection(res, x, [f for f in faults if f.sensor == sensor], title=title,
+                          zoom_h=zoom_h)
+
+
+def _fault_detection(t, clean, faults, sensor, title, detect):
+    """``(result, x, title)`` of :func:`plot_fault_detection`: the detector run on the
+    series with the faults injected, and the figure's title."""
     t = check_finite_array("t", t)
     x = inject(t, clean, faults, sensor)
     res = wavelet_detect(t, x, **detect)
@@ -152,8 +160,7 @@ def plot_fault_detection(t, clean, faults, *, sensor="uv", title="", zoom_h=None
         summary = f"k = {res.data['k']:.2f}: {found}, {false} false-alarm samples before it"
     else:
         summary = f"k = {res.data['k']:.2f}: no fault, {int(res.alarm.sum())} false-alarm samples"
-    return plot_detection(res, x, [f for f in faults if f.sensor == sensor],
-                          title=f"{title}, {summary}" if title else summary, zoom_h=zoom_h)
+    return res, x, f"{title}, {summary}" if title else summary
 
 
 @functools.lru_cache(maxsize=4)
@@ -217,17 +224,50 @@ def plot_step_detector(size_sigma=6.0, levels=5, log10_pfa=-5, *, sigma_m=5000.0
     >>> title.split(",")[:2], "onset detected after" in title
     (['10 sigma step', ' 2 levels'], True)
     """
-    size_sigma = check_real("size_sigma", size_sigma)
-    levels = check_int("levels", levels, 1, 12)
-    log10_pfa = check_real("log10_pfa", log10_pfa, -12.0, 0.0, hi_open=True)
-    sigma_m = check_real("sigma_m", sigma_m, 0.0, lo_open=True)
-    dt_s = check_real("dt_s", dt_s, 0.0, lo_open=True)
-    period_s = check_real("period_s", period_s, 0.0, lo_open=True)
-    train = check_int("train", train, 1)
-    n = check_int("n", n, 2 * train)
-    t, clean = _range_series(n, dt_s, check_real("mean_m", mean_m), check_real("swing_m", swing_m),
-                             period_s, sigma_m, int(seed))
-    fault = Fault("uv", "step", size_sigma * sigma_m, onset=onset_s, duration=duration_s)
-    return plot_fault_detection(t, clean, [fault], level=levels, pfa=10.0 ** log10_pfa,
-                                train=train, zoom_h=zoom_h,
-                                title=f"{size_sigma:g} sigma step, {levels} levels")
+    from xnavlab.core.plotting import in_place
+
+    def run(size_sigma, levels, log10_pfa, sigma_m, dt_s, n, mean_m, swing_m, period_s, seed,
+            onset_s, duration_s, train):
+        size_sigma = check_real("size_sigma", size_sigma)
+        levels = check_int("levels", levels, 1, 12)
+        log10_pfa = check_real("log10_pfa", log10_pfa, -12.0, 0.0, hi_open=True)
+        sigma_m = check_real("sigma_m", sigma_m, 0.0, lo_open=True)
+        dt_s = check_real("dt_s", dt_s, 0.0, lo_open=True)
+        period_s = check_real("period_s", period_s, 0.0, lo_open=True)
+        train = check_int("train", train, 1)
+        n = check_int("n", n, 2 * train)
+        t, clean = _range_series(n, dt_s, check_real("mean_m", mean_m),
+                                 check_real("swing_m", swing_m), period_s, sigma_m, int(seed))
+        fault = Fault("uv", "step", size_sigma * sigma_m, onset=onset_s, duration=duration_s)
+        return (*_fault_detection(t, clean, [fault], "uv",
+                                  f"{size_sigma:g} sigma step, {levels} levels",
+                                  {"level": levels, "pfa": 10.0 ** log10_pfa, "train": train}),
+                fault)
+
+    built = (n, dt_s, onset_s, duration_s, zoom_h)
+    res, x, title, fault = run(size_sigma, levels, log10_pfa, sigma_m, dt_s, n, mean_m, swing_m,
+                               period_s, seed, onset_s, duration_s, train)
+    fig = plot_detection(res, x, [fault], title=title, zoom_h=zoom_h)
+    ax1, ax2 = fig.axes
+
+    def update(size_sigma=6.0, levels=5, log10_pfa=-5, *, sigma_m=5000.0, dt_s=3.0, n=12_000,
+               mean_m=4.19e6, swing_m=3.8e5, period_s=8280.0, seed=5, onset_s=18_000.0,
+               duration_s=3000.0, train=3000, zoom_h=(4.5, 6.5)):
+        if (n, dt_s, onset_s, duration_s, zoom_h) != built:
+            return False  # another time axis or fault window: a new figure
+        res, x, title, _ = run(size_sigma, levels, log10_pfa, sigma_m, dt_s, n, mean_m, swing_m,
+                               period_s, seed, onset_s, duration_s, train)
+        # the artists plot_detection drew: the series, the ratio, the flagged band
+        ax1.lines[0].set_ydata(x / 1e3)
+        ax2.lines[0].set_ydata(np.maximum(res.ratio, 1e-3))
+        band = ax2.collections[0]
+        band.remove()
+        th = np.asarray(res.t, dtype=float) / 3600.0
+        ax2.fill_between(th, 1e-3, 1e3, where=res.faulty, color="C3", alpha=0.2,
+                         label="flagged")
+        ax1.relim()
+        ax1.autoscale_view()
+        fig.suptitle(title)
+        return None
+
+    return in_place(fig, update)
