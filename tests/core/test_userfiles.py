@@ -84,3 +84,11 @@ def test_a_byte_order_mark_is_accepted_and_left_out(tmp_path, name, body):
     path.write_bytes(b"\xef\xbb\xbf" + body)
     assert userfiles.load_table(path) == {"days": 2}
     assert userfiles.read_text(path) == body.decode()
+
+
+def test_a_json_table_with_a_key_twice_is_refused_naming_it(tmp_path):
+    # review 35d D6: json kept the last "detector" without a word; TOML refuses it
+    path = tmp_path / "grid.json"
+    path.write_text('{"days": 1, "faults": [{"size": 3.0, "size": 9.0}]}')
+    with pytest.raises(ValueError, match=r"grid file '.*grid.json' gives the key 'size' twice"):
+        userfiles.load_table(path, "grid file")

@@ -99,6 +99,19 @@ def parse_toml(text, what="TOML text"):
         raise ValueError(f"{what} is not valid TOML: {str(exc).splitlines()[0]}") from None
 
 
+class _RepeatedKey(Exception):
+    """A JSON object that gives one key twice (json keeps the last; TOML refuses it)."""
+
+
+def _unique_keys(pairs):
+    table = {}
+    for key, value in pairs:
+        if key in table:
+            raise _RepeatedKey(key)
+        table[key] = value
+    return table
+
+
 def load_table(path, what="file", suffixes=(".toml", ".json")):
     """The table (dict) in a ``.toml`` or ``.json`` file; anything else is one ValueError.
 
@@ -132,7 +145,10 @@ def load_table(path, what="file", suffixes=(".toml", ".json")):
         table = parse_toml(text, name)
     else:
         try:
-            table = json.loads(text)
+            table = json.loads(text, object_pairs_hook=_unique_keys)
+        except _RepeatedKey as exc:
+            raise ValueError(f"{name} gives the key {exc.args[0]!r} twice (JSON would keep the "
+                             f"last without a word): give it once") from None
         except ValueError as exc:
             raise ValueError(f"{name} is not valid JSON: {str(exc).splitlines()[0]}") from None
     if not isinstance(table, dict):

@@ -196,3 +196,52 @@ def test_corrupt_shipped_curves_are_refused_with_the_row(tmp_path):
     path.write_text('{"curves": []}')
     with pytest.raises(ValueError, match="must hold a table 'curves'"):
         roc.load_curves(path)
+
+
+def _grid_record(index, detector="combined", days=0.5):
+    rec = _record("step", (True, False), (0, 1))
+    rec["index"] = index
+    rec["parameters"].update(detector=detector, days=days, thresholds=[0.1, 1.0])
+    return rec
+
+
+@pytest.mark.parametrize(("runs", "words"), [
+    ([], "runs must hold at least one run record, got an empty list"),
+    ({"status": "ok"}, "runs must be a list of run records"),
+    ("abc", "runs must be a list of run records"),
+    ([_grid_record(0), _grid_record(0)], "runs lists run index 0 twice (runs[0] and runs[1])"),
+    ([_grid_record(0), _grid_record(1, detector="chi2")], "runs[1] is a run of another grid"),
+    ([_grid_record(0), _grid_record(1, days=2.0)], "runs[1] is a run of another grid"),
+    ([{**_grid_record(0), "metrics": {"per_threshold": []}}], "runs[0] must be an ok record of a "
+                                                              "ROC campaign run, but it has no "
+                                                              "'armed_days'"),
+    ([{**_grid_record(0), "metrics": {"armed_days": 0.0, "per_threshold": []}}],
+     "runs[0] metrics.armed_days must be a real number in (0, inf)"),
+    ([{**_grid_record(0), "metrics": {"armed_days": 0.5, "per_threshold": [
+        {"threshold": 0.1, "detected": True, "late": False, "delay_s": 1.0, "false_alarms": -3}]}}],
+     "runs[0] metrics.per_threshold[0].false_alarms must be an integer in [0, inf)"),
+])
+def test_roc_curve_refuses_runs_it_cannot_pool(runs, words):
+    # review 35d D26: these gave [], TypeError, KeyError, ZeroDivisionError, a negative rate,
+    # a pooled curve of two grids, or a message naming poisson_interval's k
+    with pytest.raises(ValueError) as info:
+        roc.roc_curve(runs)
+    assert words in str(info.value)
+
+
+def test_a_grid_fault_twice_is_refused_and_a_json_key_twice_too(tmp_path):  # review 35d D6/D7
+    fault = {"fault_class": "step", "sensor": "uv", "size": 3.0}
+    with pytest.raises(ValueError, match=r"faults lists \('step', 'uv', 3.0\) twice"):
+        roc.check_grid({"thresholds": [1.0], "faults": [fault, dict(fault)]})
+    path = tmp_path / "grid.json"
+    path.write_text('{"detector": "chi2", "thresholds": [0.001], "faults": [{"fault_class": '
+                    '"step", "sensor": "uv", "size": 3.0}], "detector": "combined"}')
+    with pytest.raises(ValueError, match="gives the key 'detector' twice"):
+        roc.load_grid(path)
+
+
+def test_write_curve_makes_its_folder(tmp_path):  # review 35d D27: a FileNotFoundError
+    out = tmp_path / "a" / "b"
+    roc.write_curve(out, {"thresholds": [0.1, 1.0], "faults": [
+        {"fault_class": "step", "sensor": "uv", "size": 3.0}]}, [_grid_record(0)], 0)
+    assert (out / "roc.json").is_file() and (out / "roc.csv").is_file()

@@ -94,8 +94,8 @@ from xnavlab.core import montecarlo
 from xnavlab.core.campaign import Campaign
 from xnavlab.core.constants import DAY
 from xnavlab.core.distributions import chi2_ppf
-from xnavlab.core.userfiles import check_rows, load_table
-from xnavlab.core.validate import check_choice, check_int, check_real
+from xnavlab.core.userfiles import check_rows, load_table, output_path
+from xnavlab.core.validate import check_bool, check_choice, check_int, check_items, check_real, shown
 from xnavlab.mars.faults import fault_tolerance, schedules
 from xnavlab.mars.navigation import scenarios
 from xnavlab.mars.studies import trials
@@ -200,8 +200,10 @@ def check_grid(grid):
     faults = grid["faults"]
     if not isinstance(faults, list) or not 1 <= len(faults) <= 50:
         raise ValueError(f"faults must be a list of 1 to 50 fault tables, got {faults!r}")
+    faults = [_check_fault(i, f) for i, f in enumerate(faults)]
+    check_items("faults", faults, "fault", each=lambda label, f: tuple(f.values()))  # none twice
     return {"detector": det, "threshold_name": name, "thresholds": values, "days": days,
-            "faults": [_check_fault(i, f) for i, f in enumerate(faults)]}
+            "faults": faults}
 
 
 def load_grid(path):
@@ -300,6 +302,48 @@ def _row(threshold, cells):
             "delay_median_s": float(np.median(delays)) if delays else None}
 
 
+def _ok_runs(runs):
+    """The ok records of ``runs``, checked: one grid's runs, each once, with their metrics."""
+    if isinstance(runs, dict | str | bytes) or not hasattr(runs, "__iter__"):
+        raise ValueError(f"runs must be a list of run records (dicts), got {shown(runs)}")
+    runs = list(runs)
+    if not runs:
+        raise ValueError("runs must hold at least one run record, got an empty list")
+    ok, grid, seen = [], None, {}
+    for i, r in enumerate(runs):
+        name = f"runs[{i}]"
+        if not isinstance(r, dict) or "status" not in r:
+            raise ValueError(f"{name} must be a run record (a dict with status, parameters and "
+                             f"metrics), got {shown(r)}")
+        if r["status"] != "ok":
+            continue
+        try:
+            p, m = r["parameters"], r["metrics"]
+            setup = (p.get("detector"), p.get("days"), tuple(p.get("thresholds", ())))
+            _ = (p["fault_class"], p["sensor"], p["size"])
+            cells = list(m["per_threshold"])
+            check_real(f"{name} metrics.armed_days", m["armed_days"], 0.0, lo_open=True)
+            for j, c in enumerate(cells):
+                check_int(f"{name} metrics.per_threshold[{j}].false_alarms", c["false_alarms"], 0)
+                _ = (c["threshold"], c["detected"], c["late"], c["delay_s"])
+        except (KeyError, TypeError) as exc:
+            raise ValueError(f"{name} must be an ok record of a ROC campaign run, but it has no "
+                             f"{exc}") from None
+        if grid is None:
+            grid = (i, setup)
+        elif setup != grid[1]:
+            raise ValueError(f"{name} is a run of another grid (detector, days, thresholds "
+                             f"{setup}) than runs[{grid[0]}] ({grid[1]}): a curve pools one "
+                             f"grid's runs")
+        if r.get("index") is not None:
+            first = seen.setdefault(repr(r["index"]), i)
+            if first != i:
+                raise ValueError(f"runs lists run index {r['index']!r} twice (runs[{first}] and "
+                                 f"{name}): each run counts once")
+        ok.append(r)
+    return ok
+
+
 def roc_curve(runs, by_fault=False):
     """The curve of a ROC campaign's runs: one row per threshold (:data:`CURVE_COLUMNS`).
 
@@ -307,7 +351,8 @@ def roc_curve(runs, by_fault=False):
     ----------
     runs : list of dict
         Run records (:func:`xnavlab.core.campaign.public_record`) of :func:`campaign`; failed
-        runs are skipped.
+        runs are skipped. An empty list, records of two grids, an index twice or a record
+        without its metrics is one ValueError naming the record.
     by_fault : bool
         One row per (fault, threshold) instead, with the fault's ``fault_class``, ``sensor``
         and ``size`` in front.
@@ -319,10 +364,9 @@ def roc_curve(runs, by_fault=False):
         not in ``pd``), ``false_alarms_per_day`` with its exact Poisson (Garwood) 95 %
         interval, the median delay of the detected faults, s.
     """
+    by_fault = check_bool("by_fault", by_fault)
     groups = {}
-    for r in runs:
-        if r["status"] != "ok":
-            continue
+    for r in _ok_runs(runs):
         p = r["parameters"]
         fkey = (p["fault_class"], p["sensor"], p["size"]) if by_fault else ()
         for c in r["metrics"]["per_threshold"]:
@@ -388,7 +432,7 @@ def write_curve(directory, grid, runs, seed):
             "intervals": {"pd": "Wilson score, 95 %",
                           "false_alarms_per_day": "exact Poisson (Garwood), 95 %"},
             "curve": roc_curve(runs), "by_fault": roc_curve(runs, by_fault=True)}
-    directory = Path(directory)
+    directory = output_path(directory, "directory", folder=True)
     (directory / "roc.json").write_text(json.dumps(data, indent=1, allow_nan=False) + "\n")
     (directory / "roc.csv").write_text(curve_csv(data["curve"]))
     return data
