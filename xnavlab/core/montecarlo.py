@@ -369,8 +369,8 @@ def plot_pd(kind="step", noise_scale=1.0, trials=30, seed=0, sizes=(1.0, 2.0, 3.
         if np.any(np.isfinite(delays) & (delays > 0.0)):
             ax2.autoscale_view()
         else:  # nothing detected: no delay to scale the log axis to
+            ax2.set_ylim(1.0, 1e4)  # (before any autoscaling of it, which would warn)
             ax2.autoscale_view(scaley=False)
-            ax2.set_ylim(1.0, 1e4)
         far = {d: np.mean([r[f"{d}_far"] for r in rows]) for d in DETECTORS}
         title.set_text(f"{kind}, true/modelled noise {noise_scale:g}, {trials} trials per size; "
                        f"false alarms per sample: wavelet {far['wavelet']:.1e}, "
