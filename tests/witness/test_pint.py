@@ -76,3 +76,27 @@ def test_planets_must_be_a_bool():  # review 35d D21
     r = np.array([1.5e11, 1e10, 1e9])
     with pytest.raises(ValueError, match="planets must be True or False, got .no."):
         pint_bridge.pint_delays(r, dynamics.MARS_T0, N[:1], planets="no")
+
+
+@pytest.mark.parametrize(("content", "words"), [
+    (b"PSR J0000\xff\n", "is not UTF-8 text (byte 0xff at position 9)"),
+    (b"", "PINT cannot read the timing model"),
+    (b"hello world\nF0 abc\n", "PINT cannot read the timing model"),
+])
+def test_timing_parameters_names_the_file_it_cannot_read(tmp_path, content, words):
+    # review 35d D19: a raw codec error, PINT's AssertionError, a message without the file
+    path = tmp_path / "bad.par"
+    path.write_bytes(content)
+    with pytest.raises(ValueError) as info:
+        pint_bridge.timing_parameters(path)
+    assert words in str(info.value) and str(path) in str(info.value)
+    with pytest.raises(ValueError, match="a str or Path"):
+        pint_bridge.timing_parameters(5)
+
+
+def test_pint_delays_names_t_and_n_in_its_own_words():  # review 35d D20
+    r = np.array([1.5e11, 1e10, 1e9])
+    with pytest.raises(ValueError, match=r"t must lie in \[.*the coverage of DE421"):
+        pint_bridge.pint_delays(r, -1e12, N[:1])
+    with pytest.raises(ValueError, match=r"n must hold unit vectors, but n\[0\] has norm 5"):
+        pint_bridge.pint_delays(r, dynamics.MARS_T0, 5 * N[:1])

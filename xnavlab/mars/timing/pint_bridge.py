@@ -59,15 +59,17 @@ import functools
 import hashlib
 import importlib.metadata
 import importlib.resources
+import os
 import sys
 import warnings
 from pathlib import Path
 
 import numpy as np
 
+from xnavlab.core import ephemeris
 from xnavlab.core.constants import DAY, KPC
 from xnavlab.core.diskcache import cached_arrays, entry_path
-from xnavlab.core.validate import check_bool, check_choice, check_finite_array, check_int
+from xnavlab.core.validate import check_bool, check_choice, check_finite_array, check_int, shown
 
 __all__ = [
     "EPHEMERIS",
@@ -318,9 +320,18 @@ def pint_delays(r_sc_ssb, t, n, distance=None, planets=False):
     t = check_finite_array("t", t)
     if t.ndim > 1 or (t.ndim == 1 and t.size != r.shape[0]):
         raise ValueError(f"t must be a scalar or have shape ({r.shape[0]},), got {t.shape}")
+    lo, hi = ephemeris.coverage(EPHEMERIS)
+    if t.size and (t.min() < lo or t.max() > hi):  # PINT's words name no parameter
+        raise ValueError(f"t must lie in [{lo:.6g}, {hi:.6g}] s TDB past J2000, the coverage of "
+                         f"{EPHEMERIS.upper()} (PINT's ephemeris here); got [{t.min():.6g}, "
+                         f"{t.max():.6g}]")
     n = check_finite_array("n", n, shape=(3,))
-    if n.ndim != 2 or np.any(np.abs(np.linalg.norm(n, axis=1) - 1.0) > 1e-9):
+    if n.ndim != 2:
         raise ValueError(f"n must hold unit vectors with shape (k, 3), got shape {n.shape}")
+    norms = np.linalg.norm(n, axis=1)
+    if np.any(np.abs(norms - 1.0) > 1e-9):
+        k = int(np.argmax(np.abs(norms - 1.0)))
+        raise ValueError(f"n must hold unit vectors, but n[{k}] has norm {norms[k]:.6g}")
     if distance is not None:
         distance = check_finite_array("distance", distance)
         if distance.shape != (n.shape[0],) or np.any(distance <= 0):
@@ -750,6 +761,8 @@ def timing_parameters(path):
     >>> par["name"], par["frame"], round(par["f0"], 6), par["px_mas"]
     ('B1855+09', 'ecliptic', 186.494081, 0.2929)
     """
+    if not isinstance(path, str | os.PathLike):
+        raise ValueError(f"path must name an existing .par file (a str or Path), got {shown(path)}")
     path = Path(path)
     if not path.is_file():
         raise ValueError(f"path must name an existing .par file, got {str(path)!r}")
@@ -757,9 +770,18 @@ def timing_parameters(path):
     import astropy.units as u
     from pint.models import get_model
 
-    with _quiet():
-        model = get_model(str(path))
-        icrs = model.coords_as_ICRS()
+    try:
+        with _quiet():
+            model = get_model(str(path))
+            icrs = model.coords_as_ICRS()
+    except UnicodeDecodeError as exc:  # the file named, as every file's error
+        raise ValueError(f"path: the timing model {str(path)!r} is not UTF-8 text (byte "
+                         f"{exc.object[exc.start]:#04x} at position {exc.start})") from None
+    except Exception as exc:  # astropy's or PINT's own errors on a malformed model: one line
+        why = (str(exc).strip().splitlines() or [""])[0]
+        kind = "" if isinstance(exc, ValueError) else f"{type(exc).__name__}: "
+        raise ValueError(f"path: PINT cannot read the timing model {str(path)!r} ({kind}{why})") \
+            from None
     frame = "equatorial" if "AstrometryEquatorial" in model.components else "ecliptic"
 
     def mjd(name):
