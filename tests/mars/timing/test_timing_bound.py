@@ -182,3 +182,13 @@ def test_flags_must_be_bools():  # review 35d D21: "no" was read as True
         tb.monte_carlo_ml_toa("B1937+21", n_trials=2, photons="no")
     with pytest.raises(ValueError, match="cache must be True or False"):
         tb.accuracy_table(["B1937+21"], n_trials=2, xcorr_trials=0, cache="no")
+
+
+def test_a_flat_template_and_an_empty_fold_are_refused():
+    # review 35d D17/D18: a ZeroDivisionError, and a shift of 0.0 from no photon
+    with pytest.raises(ValueError, match="template must vary over the cycle"):
+        tb.toa_crlb("B1937+21", template=np.ones(64))
+    with pytest.raises(ValueError, match="counts must hold at least one photon"):
+        tb.ml_phase_shift(np.zeros(64), 0.1, 1.0, 1.0)
+    with pytest.raises(ValueError, match=r"counts\[1\] must hold at least one photon"):
+        tb.ml_phase_shift(np.vstack([np.ones(64), np.zeros(64)]), 0.1, 1.0, 1.0)

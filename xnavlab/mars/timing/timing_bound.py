@@ -231,6 +231,9 @@ def toa_crlb(pulsar, area_m2=1.0, t_obs=500.0, background_ph_cm2_s=0.005, nbins=
         k = np.fft.fftfreq(h.size, 1.0 / h.size)
         dh = np.fft.ifft(2j * np.pi * k * np.fft.fft(h)).real  # h' by FFT, per cycle^2
         j = fisher_information(ls, lb, p.frequency, h, dh)
+        if not j > 0.0:
+            raise ValueError("template must vary over the cycle: a flat profile carries no "
+                             "timing information (the bound would be infinite)")
     elif nbins is None:
         x = np.arange(_grid(p.duty_cycle)) / _grid(p.duty_cycle)
         j = fisher_information(ls, lb, p.frequency, pulsars.profile(x, p.duty_cycle),
@@ -386,6 +389,10 @@ def ml_phase_shift(counts, duty, pulsed, unpulsed, search=0.5, max_iter=30):
     max_iter = check_int("max_iter", max_iter, 1, 1000)
     duty = _sigma(duty) * _FWHM
     n2 = n.reshape(-1, n.shape[-1])
+    if not np.all(n2.sum(axis=1) > 0.0):
+        k = int(np.argmin(n2.sum(axis=1) > 0.0))
+        raise ValueError(f"counts{'' if n.ndim == 1 else f'[{k}]'} must hold at least one "
+                         f"photon: an empty fold has no phase")
     nb = n2.shape[1]
     log_mu0 = np.log(_bins(nb, duty, pulsed, unpulsed, 0.0)[0])
     grid = np.fft.irfft(np.fft.rfft(n2) * np.conj(np.fft.rfft(log_mu0)), nb)  # l(j / N)
