@@ -317,3 +317,15 @@ def test_the_unchecked_path_is_unchanged():
 def test_check_must_be_a_bool(call, bad):  # review 35d D29: check=0 skipped the checks
     with pytest.raises(ValueError, match="check must be True or False"):
         call(bad)
+
+
+def test_unscented_transform_refuses_weights_and_noise_that_make_no_mean_or_covariance():
+    # review 35d D28: noise = -I gave a covariance of -I; Wm summing to 5 a wrong mean
+    Y = np.ones((5, 2))
+    Wm, Wc, _ = filters.ukf_weights(2)
+    with pytest.raises(ValueError, match="Wm must sum to 1 .* got sum 5"):
+        filters.unscented_transform(Y, np.ones(5), Wc)
+    with pytest.raises(ValueError, match="noise must be positive semi-definite"):
+        filters.unscented_transform(Y, Wm, Wc, noise=-np.eye(2))
+    mean, cov = filters.unscented_transform(Y, Wm, Wc, noise=np.eye(2))
+    assert mean.tolist() == [1.0, 1.0] and cov.tolist() == [[1.0, 0.0], [0.0, 1.0]]

@@ -396,7 +396,22 @@ def unscented_transform(Y, Wm, Wc, noise=None, residual=None):
     >>> m, S = unscented_transform(np.array([[0.0], [2.0], [-2.0]]), Wm, Wc)
     >>> m.tolist(), S.tolist()
     ([0.0], [[4.0]])
+
+    Weights ``Wm`` that do not sum to 1 (the mean's weights) and a ``noise`` that is no
+    covariance (indefinite, asymmetric) are refused: the result would be no mean or no
+    covariance.
     """
+    mean, cov = _transform(Y, Wm, Wc, noise, residual)
+    total = float(np.sum(Wm))
+    if not abs(total - 1.0) <= 1e-8 * max(1.0, float(np.sum(np.abs(Wm)))):
+        raise ValueError(f"Wm must sum to 1 (the weights of a mean), got sum {total:.6g}")
+    if noise is not None:
+        check_covariance("noise", noise, cov.shape[0])
+    return mean, cov
+
+
+def _transform(Y, Wm, Wc, noise=None, residual=None):
+    """:func:`unscented_transform` for the UKF's own calls (its noise already checked)."""
     Y = check_finite_array("Y", Y)
     if Y.ndim != 2 or Y.shape[0] % 2 != 1 or Y.shape[1] == 0:
         raise ValueError(f"Y must have shape (2n+1, m) with m >= 1, got shape {Y.shape}")
@@ -442,7 +457,7 @@ def ukf_predict(x, P, f, Q, alpha=1.0, beta=2.0, kappa=0.0, check=True):
     Y = np.array([f(s) for s in X])
     if check:
         Y = _checked_model("f(x) of the sigma points", Y, X.shape)
-    return unscented_transform(Y, Wm, Wc, noise=np.asarray(Q, dtype=float))
+    return _transform(Y, Wm, Wc, noise=np.asarray(Q, dtype=float))
 
 
 def ukf_update(x, P, z, h, R, alpha=1.0, beta=2.0, kappa=0.0, residual=None, check=True):
@@ -486,7 +501,7 @@ def ukf_update(x, P, z, h, R, alpha=1.0, beta=2.0, kappa=0.0, residual=None, che
         _odd_length(z.size, Z.shape[1], "the length of h(x)", R)
         Z = _checked_model("h(x) of the sigma points", Z, (X.shape[0], z.size))
         R = check_covariance("R", np.atleast_2d(R), z.size, definite=True)
-    z_pred, S = unscented_transform(Z, Wm, Wc, noise=np.atleast_2d(R), residual=residual)
+    z_pred, S = _transform(Z, Wm, Wc, noise=np.atleast_2d(R), residual=residual)
     res = residual if residual is not None else (lambda a, b: a - b)
     Pxz = (Wc[:, None] * (X - x)).T @ res(Z, z_pred)
     K = np.linalg.solve(S, Pxz.T).T  # K = Pxz S^-1
