@@ -187,3 +187,26 @@ def test_the_monitor_refuses_complex_innovations_by_name():
         mon.process(np.arange(3.0), np.ones((3, 3)))
     with pytest.raises(ValueError, match="^healthy must contain only finite"):
         mon.scale_from(np.full((4, 2), np.nan))
+
+
+def _series(n=500):
+    return 86.4 * np.arange(n), np.random.default_rng(0).normal(size=(n, 3))
+
+
+def test_combined_detect_names_its_own_bad_inputs():
+    # review 35d D30/D31: times out of order blamed samples_per_day (or divided by zero);
+    # a rate beside a design went unused
+    t, y = _series()
+    with pytest.raises(ValueError, match=r"t must be strictly increasing .* t\[1\] = 43027.2 follows"):
+        combined_detect(t[::-1], y)
+    with pytest.raises(ValueError, match=r"t must be strictly increasing .* t\[1\] = 0 follows"):
+        combined_detect(np.zeros(500), y)
+    with pytest.raises(ValueError, match="rate_per_day = 5.0 is unused with a design"):
+        combined_detect(t, y, design=CombinedDesign(1000.0, 3), rate_per_day=5.0)
+
+
+def test_design_shares_and_monitor_flags_are_checked():  # review 35d D32/D33
+    with pytest.raises(ValueError, match="shares must be a dict of part -> share"):
+        CombinedDesign(100, 3, shares=(-1, 1, 1))
+    with pytest.raises(ValueError, match="adaptive must be True or False, got 'no'"):
+        InnovationMonitor(CombinedDesign(100, 3), adaptive="no")

@@ -73,7 +73,14 @@ from xnavlab.core.detection.online import (
     events_from_alarms,
 )
 from xnavlab.core.distributions import chi2_cdf, chi2_isf
-from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real
+from xnavlab.core.validate import (
+    check_bool,
+    check_choice,
+    check_finite_array,
+    check_int,
+    check_real,
+    shown,
+)
 
 __all__ = [
     "SHARES",
@@ -284,6 +291,9 @@ class CombinedDesign:
         self.samples_per_day = check_real("samples_per_day", samples_per_day, 1.0, 1e8)
         self.m = check_int("m", m, 1, 100)
         self.rate_per_day = check_real("rate_per_day", rate_per_day, 0.0, 100.0, lo_open=True)
+        if shares is not None and not isinstance(shares, dict):
+            raise ValueError(f"shares must be a dict of part -> share (parts {PARTS}), got "
+                             f"{shown(shares)}")
         shares = dict(SHARES if shares is None else shares)
         for key, v in shares.items():
             check_choice("shares key", key, PARTS)
@@ -356,7 +366,7 @@ class InnovationMonitor(TrackedDetector):
         self.design = design
         self.m = design.m
         n_day = design.samples_per_day
-        self.adaptive = bool(adaptive)
+        self.adaptive = check_bool("adaptive", adaptive)
         self.scale_samples = check_int("scale_samples", max(2000, round(n_day))
                                        if scale_samples is None else scale_samples, 10)
         self.scale_every = check_int("scale_every", max(20, round(n_day / 2))
@@ -644,9 +654,16 @@ def combined_detect(t, y, *, x=None, design=None, rate_per_day=1.0, adaptive=Tru
         y = y[:, None]
     if t.ndim != 1 or y.ndim != 2 or y.shape[0] != t.size or t.size < 400:
         raise ValueError(f"y must have shape (N, m) with N = len(t) >= 400, got {y.shape}")
+    if not np.all(np.diff(t) > 0.0):  # else a sampling rate from the median step, misnamed
+        k = int(np.argmin(np.diff(t) > 0.0))
+        raise ValueError(f"t must be strictly increasing (sample times, s), but t[{k + 1}] = "
+                         f"{t[k + 1]:g} follows t[{k}] = {t[k]:g}")
     dt = float(np.median(np.diff(t)))
     if design is None:
         design = CombinedDesign(86400.0 / dt, y.shape[1], rate_per_day)
+    elif rate_per_day != 1.0:  # a rate beside a design would go unused
+        raise ValueError(f"rate_per_day = {shown(rate_per_day)} is unused with a design (its own "
+                         f"rate is {design.rate_per_day:g}): give one of them")
     x = y[:, 0] if x is None else check_finite_array("x", x, shape=(t.size,))
     wkw = dict(wavelet_kw or {})
     wav = wavelet_detect(t, x, pfa=design.pfa_wavelet, train=train, **wkw)
