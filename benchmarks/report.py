@@ -4,7 +4,8 @@ Every ``benchmarks/results/<name>.json`` (written by a benchmark through ``_timi
 or transcribed from an earlier run's printed output, which the file then says) becomes one
 section of the page, between the lines ``<!-- begin generated: <name> -->`` and
 ``<!-- end generated: <name> -->``: a heading, one line with the date, the command, the
-machine, the CPU reference and the load, then the tables. The rest of the page is written
+machine, the CPU reference and the load (the lower and the higher of their values before and
+after the run), then the tables. The rest of the page is written
 by hand. A result without its marked section, or a marked section without its result, is an
 error: the markers are placed by hand where the result belongs in the page's story.
 
@@ -47,12 +48,13 @@ def machine_text(m):
 
 def dated_line(data):
     """The section's one line: when, how, on what, at which CPU reference and load."""
-    how = f"by `{data['command']}`" if data.get("command") else ""
+    how = [f"by `{data['command']}`"] if data.get("command") else []
     if data.get("source"):
-        how += (" (" if how else "") + f"transcribed from {data['source']}" + (")" if how else "")
-    return (f"Measured {data['date']} {how}; machine: {machine_text(data.get('machine', {}))}; "
-            f"CPU reference `sum(range(10**6))` {_span(data.get('cpu_reference_ms', []), ' ms')}, "
-            f"load (1 min) {_span(data.get('load_1min', []))}, before and after the run.")
+        how.append(f"transcribed from {data['source']}")
+    return (f"Measured {data['date']} {', '.join(how)}; machine: "
+            f"{machine_text(data.get('machine', {}))}; CPU reference `sum(range(10**6))` "
+            f"{_span(data.get('cpu_reference_ms', []), ' ms')}, load (1 min) "
+            f"{_span(data.get('load_1min', []))}.")
 
 
 def _cell(text):
