@@ -476,3 +476,17 @@ def test_a_run_too_short_for_the_detector_names_days_not_an_internal_setting(day
 def test_adaptive_must_be_a_bool():  # review 35d D36
     with pytest.raises(ValueError, match="adaptive must be True or False, got .no."):
         ft.run_fault_tolerant(scenarios.MarsScenario(days=0.02), adaptive="no")
+
+
+@pytest.mark.parametrize(("detector", "kw", "words"), [
+    ("chi2", {"pfa": 0.5}, "pfa = 0.5 is unused with detector 'chi2': only the wavelet detector"),
+    ("wavelet", {"alpha": 0.5}, "alpha = 0.5 is unused with detector 'wavelet'"),
+    ("chi2", {"arm_s": 100.0}, "arm_s = 100.0 is unused with detector 'chi2'"),
+    ("chi2", {"adaptive": False}, "adaptive = False is unused with detector 'chi2'"),
+    ("none", {"rate_per_day": 5.0}, "rate_per_day = 5.0 is unused with detector 'none'"),
+])
+def test_a_setting_of_another_detector_is_refused(detector, kw, words):
+    # review 35d D36: these ran without a word (a scenario file refuses them)
+    with pytest.raises(ValueError) as info:
+        ft.run_fault_tolerant(scenarios.MarsScenario(days=0.02), [], detector, **kw)
+    assert words in str(info.value)

@@ -279,3 +279,16 @@ def test_a_ramp_that_would_grow_beyond_max_size_in_the_run_is_refused_before_it(
                                          r"per s over this run$"):
         s.check_schedule(s.parse_faults("uv.range:ramp:1e12@1000+inf", sc), sc)
     assert len(s.check_schedule(s.parse_faults("uv.range:ramp:1e12@1000+900", sc), sc)) == 1
+
+
+@pytest.mark.parametrize(("kw", "words"), [
+    ({"detector": "Combined"}, "detector must be one of 'none', 'wavelet', 'chi2', 'combined'"),
+    ({"train_days": -1.0}, "train_days must be a real number in (0, inf)"),
+    ({"train_days": math.nan}, "train_days must be a real number in (0, inf)"),
+    ({"paper": "no"}, "paper must be True or False"),
+])
+def test_check_schedule_checks_its_own_arguments(kw, words):  # review 35d D34: accepted
+    sc = scenarios.MarsScenario(days=0.05)
+    with pytest.raises(ValueError) as info:
+        s.check_schedule([Fault("uv", "step", 1.0, 1000.0, 10.0, component=0)], sc, **kw)
+    assert words in str(info.value)

@@ -324,6 +324,13 @@ def _check_training(inputs, train_days, given):
                          f"{n} samples to train on; it needs at least 356: {fix}")
 
 
+#: Setting -> (the detectors that use it, its default): another detector with a setting away
+#: from its default is refused (the scenario file's rule, ``DETECTOR_USES``).
+_DETECTOR_SETTINGS = {"pfa": (("wavelet",), 1e-5), "alpha": (("chi2",), 1e-5),
+                      "rate_per_day": (("combined",), 1.0), "adaptive": (("combined",), True),
+                      "arm_s": (("combined",), 600.0)}
+
+
 def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=None,
                        pfa=1e-5, alpha=1e-5, train_days=None, readmit_samples=None,
                        readmit_alpha=0.01, readmit="quiet", xnav_level=3, xnav_holdoff=12, check_every=100,
@@ -366,6 +373,8 @@ def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=
         (0, 100] (:class:`~xnavlab.core.detection.CombinedDesign`).
     adaptive : bool
         ``"combined"``: adaptive noise scale of the innovation tests (default True).
+        ``pfa``, ``alpha``, ``rate_per_day``, ``adaptive`` and ``arm_s`` away from their
+        defaults with a detector that does not use them are refused, not dropped.
     arm_s : float
         ``"combined"``: seconds after the start before the innovation tests (and the XNAV
         innovation wavelet) see any innovation, in [0, days). Default 600 s
@@ -399,6 +408,13 @@ def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=
                          "'clear' is the NIS window test)")
     rate_per_day = check_real("rate_per_day", rate_per_day, 0.0, 100.0, lo_open=True)
     arm_s = check_real("arm_s", arm_s, 0.0)
+    settings = {"pfa": pfa, "alpha": alpha, "rate_per_day": rate_per_day, "adaptive": adaptive,
+                "arm_s": arm_s}
+    for key, value in settings.items():  # a setting of another detector would go unused
+        if value != _DETECTOR_SETTINGS[key][1] and detector not in _DETECTOR_SETTINGS[key][0]:
+            raise ValueError(f"{key} = {value!r} is unused with detector {detector!r}: only the "
+                             f"{' and '.join(_DETECTOR_SETTINGS[key][0])} detector uses it; leave "
+                             f"it at its default or name that detector")
     if inputs is None:
         inputs = scenarios.prepare(scenario, **overrides)
     elif scenario is not None or overrides:

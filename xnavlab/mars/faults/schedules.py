@@ -39,7 +39,7 @@ import numpy as np
 
 from xnavlab.core.constants import DAY
 from xnavlab.core.faults import MAX_SIZE, Fault, check_faults, format_spec, parse_spec
-from xnavlab.core.validate import check_real, shown
+from xnavlab.core.validate import check_bool, check_choice, check_real, shown
 from xnavlab.mars.navigation import scenarios
 from xnavlab.mars.timing import pulsar_specs
 
@@ -223,6 +223,9 @@ def check_schedule(faults, scenario, detector="combined", train_days=1.0, paper=
     if scenario is None:
         raise ValueError("scenario must be a MarsScenario (the run the faults are for), got None")
     scenario = scenarios.check_scenario("scenario", scenario)
+    check_choice("detector", detector, ("none", "wavelet", "chi2", "combined"))
+    train_days = check_real("train_days", train_days, 0.0, lo_open=True)
+    paper = check_bool("paper", paper)
     span = float(scenario.span)
     comps = components(scenario)
     faults = check_faults("faults", faults, comps)
