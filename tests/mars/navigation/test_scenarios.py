@@ -455,3 +455,9 @@ def test_a_filter_the_kernel_cannot_carry_stops_with_one_clear_error():
                        r"covariance lost positive definiteness near epoch \d+ .*raise the "
                        r"smallest noise setting, or run the numpy backend"):
         scenarios.run(sc)
+
+
+def test_a_state0_inside_mars_is_refused_by_the_scenario_itself():
+    # review 35d D3: scenario --check passed it; only the run refused it, without the file's key
+    with pytest.raises(ValueError, match=r"state0 position must lie outside Mars .* got \|r\| = 1 m"):
+        scenarios.MarsScenario(state0=(1.0, 0.0, 0.0, 0.0, 0.0, 0.0))

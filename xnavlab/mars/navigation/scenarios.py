@@ -59,7 +59,7 @@ from dataclasses import dataclass, field, fields, replace
 import numpy as np
 
 from xnavlab.core import ephemeris
-from xnavlab.core.constants import DAY, GM_MARS, C
+from xnavlab.core.constants import DAY, GM_MARS, R_MARS, C
 from xnavlab.core.federated import MODES, FederatedFilter
 from xnavlab.core.userfiles import output_path
 from xnavlab.core.validate import (
@@ -331,6 +331,9 @@ class MarsScenario:
             raise ValueError(f"t0 must be in [{lo:.6g}, {hi - self.span:.6g}] s TDB past J2000 (the run, "
                              f"t0 to t0 + days, in {' and '.join(e.upper() for e in e)}), got {self.t0:.6g}")
         s0 = check_vector("state0", self.state0, 6)
+        if not np.linalg.norm(s0[:3]) > R_MARS:  # refused here, so scenario --check says so
+            raise ValueError(f"state0 position must lie outside Mars (|r| > {R_MARS:g} m), got "
+                             f"|r| = {np.linalg.norm(s0[:3]):.6g} m")
         object.__setattr__(self, "state0", tuple(float(v) for v in s0))
         unused_inputs.check_fields(self)  # a field set but made inert by another is refused
 
