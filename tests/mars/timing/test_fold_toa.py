@@ -162,3 +162,11 @@ def test_the_survey_figure_groups_the_tags_per_pulsar():
 def test_window_survey_cache_must_be_a_bool():  # review 35d D15
     with pytest.raises(ValueError, match="cache must be True or False, got .no."):
         ft.window_survey(pulsar_names=["B1937+21"], n_windows=1, cache="no")
+
+
+def test_fold_window_names_its_own_inputs():  # review 35d D13/D14: scipy's y0, the ephemeris' t
+    s0 = dynamics.MARS_STATE0
+    with pytest.raises(ValueError, match=r"state_true must be a 1-D array \(shape \(6,\)\)"):
+        ft.fold_window("B1937+21", dynamics.MARS_T0, s0[None])
+    with pytest.raises(ValueError, match=r"t_start must lie in \[.*\(the window in DE421\)"):
+        ft.fold_window("B1937+21", -1e12, s0)

@@ -69,6 +69,7 @@ from xnavlab.core.validate import (
     check_finite_array,
     check_int,
     check_real,
+    check_vector,
     make_rng,
 )
 from xnavlab.mars.models import dynamics
@@ -247,9 +248,13 @@ def fold_window(pulsar, t_start, state_true, error=None, duration=500.0, ephem="
     t_start = check_real("t_start", t_start)
     duration = check_real("duration", duration, 1.0, 86400.0)
     step = check_real("step", step, 0.01, 60.0)
-    state_true = check_finite_array("state_true", state_true, shape=(6,))
-    err = np.zeros(6) if error is None else check_finite_array("error", error, shape=(6,))
+    state_true = check_vector("state_true", state_true, 6)
+    err = np.zeros(6) if error is None else check_vector("error", error, 6)
     phase0 = check_real("phase0", phase0)
+    lo, hi = ephemeris.coverage(ephem)
+    if not (lo <= t_start and t_start + duration <= hi):  # else the ephemeris names its t
+        raise ValueError(f"t_start must lie in [{lo:.6g}, {hi - duration:.6g}] s TDB past J2000 "
+                         f"(the window in {ephem.upper()}), got {t_start:.6g}")
     n = max(4, math.ceil(duration / step))
     rel = np.linspace(0.0, duration, n + 1)  # from t_start
     t = t_start + rel
