@@ -73,11 +73,12 @@ Q_RUN = (3e-12, 5e-12, 1e-11, 2e-11)
 Q_CLEAN_SEEDS = (0, 1, 2, 3)
 #: Our process noise, m^2/s^3.
 _Q_OURS = 1e-11
-#: The package modules whose code the cached runs of this module depend on (their cache key; the
-#: runs' own recipe is keyed by its arguments and ``_RECIPE``, to be raised when it changes).
-_RUN_MODULES = ("xnavlab.core.detection", "xnavlab.core.faults", "xnavlab.mars.faults.fault_tolerance",
+#: The code the cached runs of this module depend on (their cache key, with everything these
+#: modules import): this module, whose functions are the runs' recipe, and the modules it runs.
+#: No hand-raised version number: an edit of any of them computes the runs again.
+_RUN_MODULES = ("xnavlab.reproductions.ch08_mars_faults", "xnavlab.core.detection",
+                "xnavlab.core.faults", "xnavlab.mars.faults.fault_tolerance",
                 "xnavlab.mars.faults.schedules", "xnavlab.mars.navigation.scenarios")
-_RECIPE = 1
 
 #: A schedule with onsets the paper does not use (s since the start), for a 3-day check.
 HAND_SCHEDULE = (
@@ -256,7 +257,7 @@ def q_runs(q_values=Q_RUN, clean_seeds=Q_CLEAN_SEEDS, n_runs=LOST_RUNS):
                 "joint": joint, "none": none}
 
     path = entry_path("ch08-q-runs", (q_values, tuple(int(s) for s in clean_seeds), n_runs,
-                                      JOINT_SIZES, _RECIPE), modules=_RUN_MODULES)
+                                      JOINT_SIZES), modules=_RUN_MODULES)
     return cached_arrays(path, compute)
 
 
@@ -942,7 +943,7 @@ def detail_runs(seeds=DETAIL_SEEDS, days=30.0, pfa=1e-5, train_days=1.0):
         return {"min_peak": peak, "delays_s": delay, "wall_s": time.perf_counter() - start}
 
     got = cached_arrays(entry_path("ch08-detail-runs", (seeds, float(days), float(pfa),
-                                                         float(train_days), _RECIPE),
+                                                         float(train_days)),
                                    modules=_RUN_MODULES), compute)
     return {"seeds": seeds, "min_peak": [float(x) for x in got["min_peak"]],
             "delays_s": [[float(x) for x in row] for row in got["delays_s"]],
