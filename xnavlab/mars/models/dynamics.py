@@ -53,6 +53,8 @@ __all__ = [
     "third_body",
     "j2_acceleration",
     "acceleration",
+    "IMPACT_EVENTS",
+    "check_impact",
     "propagate",
     "truth",
     "chapter_times",
@@ -291,11 +293,37 @@ def _surface(t, x):
 
 _surface.terminal = True
 _surface.direction = -1
-_IMPACT = (_surface,)
+#: The events ``solve_ivp`` watches in every propagation of this package: the orbit reaching
+#: Mars's surface (a terminal event, crossing inwards), read by :func:`check_impact`.
+IMPACT_EVENTS = (_surface,)
 
 
-def _check_impact(sol, t0, t_end):
-    """One error for an orbit that falls into Mars, or that the integrator cannot follow."""
+def check_impact(sol, t0, t_end):
+    """Refuse, in one line, a propagation that fell into Mars or that the integrator lost.
+
+    Parameters
+    ----------
+    sol : scipy.integrate OdeResult
+        The result of ``solve_ivp(..., events=IMPACT_EVENTS)``.
+    t0, t_end : float
+        The propagation's start and end, s (TDB seconds, as ``solve_ivp`` was given them).
+
+    Raises
+    ------
+    ValueError
+        Naming ``state0`` and the time of impact after ``t0``, when the orbit reached Mars's
+        surface (radius ``R_MARS``, 3,396.19 km) before ``t_end``.
+
+    Examples
+    --------
+    >>> from scipy.integrate import solve_ivp
+    >>> fall = solve_ivp(lambda t, x: [x[3], x[4], x[5], 0.0, 0.0, 0.0], (0.0, 10.0),
+    ...                  [R_MARS + 5.0, 0.0, 0.0, -1.0, 0.0, 0.0], events=IMPACT_EVENTS)
+    >>> check_impact(fall, 0.0, 10.0)
+    Traceback (most recent call last):
+    ...
+    ValueError: state0: the orbit reaches Mars's surface (|r| = 3.39619e+06 m) at t0 + 5 s, ...
+    """
     if sol.status == 1:
         t_hit = float(sol.t_events[0][0])
         raise ValueError(f"state0: the orbit reaches Mars's surface (|r| = {R_MARS:g} m) at t0 + "
@@ -367,8 +395,8 @@ def propagate(t_eval, state0=MARS_STATE0, t0=MARS_T0, third_bodies=("sun", "jupi
     from scipy.integrate import solve_ivp  # imported here: only a cache miss needs it
 
     sol = solve_ivp(rhs, (t0, t_end), state0, method="DOP853", dense_output=True,
-                    rtol=rtol, atol=atol, events=_IMPACT)
-    _check_impact(sol, t0, t_end)
+                    rtol=rtol, atol=atol, events=IMPACT_EVENTS)
+    check_impact(sol, t0, t_end)
     return sol.sol(t_eval).T
 
 

@@ -716,27 +716,6 @@ def accelerations(t, r, force_model=PAPER, ephem="de421", tables=None):
     return _accel_many(t, np.ascontiguousarray(r), *tables.args)
 
 
-def _surface(t, x):
-    """The impact event of a propagation: |r|^2 - R_MARS^2, zero at Mars's surface."""
-    return x[0] * x[0] + x[1] * x[1] + x[2] * x[2] - R_MARS * R_MARS
-
-
-_surface.terminal = True
-_surface.direction = -1
-_IMPACT = (_surface,)
-
-
-def _check_impact(sol, t0, t_end):
-    """One error for an orbit that falls into Mars, or that the integrator cannot follow."""
-    if sol.status == 1:
-        t_hit = float(sol.t_events[0][0])
-        raise ValueError(f"state0: the orbit reaches Mars's surface (|r| = {R_MARS:g} m) at t0 + "
-                         f"{t_hit - t0:.6g} s, before the end of the propagation (t0 + "
-                         f"{t_end - t0:.6g} s): give a state0 whose orbit stays above Mars")
-    if not sol.success:  # pragma: no cover
-        raise RuntimeError(f"propagation failed: {sol.message}")
-
-
 def propagate(t_eval, state0=dynamics.MARS_STATE0, t0=dynamics.MARS_T0, force_model=STUDY,
               ephem="de421", rtol=1e-13, atol=1e-9):
     """Integrate a model with ``solve_ivp`` (DOP853), as :func:`xnavlab.mars.models.dynamics.propagate`.
@@ -785,8 +764,8 @@ def propagate(t_eval, state0=dynamics.MARS_STATE0, t0=dynamics.MARS_T0, force_mo
     from scipy.integrate import solve_ivp  # imported here: only a cache miss needs it
 
     sol = solve_ivp(rhs, (t0, t_end), state0, method="DOP853", dense_output=True,
-                    rtol=rtol, atol=atol, events=_IMPACT)
-    _check_impact(sol, t0, t_end)
+                    rtol=rtol, atol=atol, events=dynamics.IMPACT_EVENTS)
+    dynamics.check_impact(sol, t0, t_end)
     return sol.sol(t_eval).T
 
 
