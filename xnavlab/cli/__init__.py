@@ -239,7 +239,7 @@ def _main(argv):
         print(f"xnavlab: error: {exc}", file=sys.stderr)
         return 2
     except RuntimeError as exc:  # the compiled filter's stop on a covariance, in one line
-        from xnavlab.mars.navigation.scenarios import FilterDivergence
+        from xnavlab.mars.kernel.kernels import FilterDivergence
 
         if not isinstance(exc, FilterDivergence):
             raise

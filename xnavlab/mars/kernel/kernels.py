@@ -46,7 +46,7 @@ from xnavlab.mars.kernel.kernel_measurements import measure, update, update_info
 from xnavlab.mars.kernel.kernel_propagation import predict
 from xnavlab.mars.kernel.kernel_watch import quiet, watch, whiten
 
-__all__ = ["run_epochs", "KIND_XNAV", "KIND_UV", "KIND_CNS"]
+__all__ = ["run_epochs", "FilterDivergence", "KIND_XNAV", "KIND_UV", "KIND_CNS"]
 
 #: Subsystem code of the XNAV filter in the kernels' integer arrays.
 KIND_XNAV = km.KIND_XNAV
@@ -69,6 +69,15 @@ ISOLATED = 3  # subsystem switched out: time update only
 #: The loop's arguments and its scratch (:mod:`xnavlab.mars.kernel.kernel_inputs` holds their types).
 _Args = namedtuple("_Args", "st pr pl se rec ws")
 _Scratch = namedtuple("_Scratch", "sp me mw up fu wt")
+
+
+class FilterDivergence(RuntimeError):
+    """The compiled filter stopped: a covariance lost positive definiteness.
+
+    :func:`run_epochs` returns -2; the scenario raises this with the settings to change.
+    Settings that double precision cannot carry (a measurement noise many orders below the
+    state's uncertainty) or a diverging filter; the command line reports it in one line.
+    """
 
 
 @jit(cache=True, nogil=True)

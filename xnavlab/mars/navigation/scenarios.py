@@ -80,15 +80,8 @@ from xnavlab.mars.timing import pulsar_specs, pulsars, timing_bound, toa
 
 __all__ = ["alloc_records", "run_options", "filter_state", "run_kernel", "SUBSYSTEMS",
            "DEFAULT_Q_ACC", "MarsScenario", "default_settle_days", "Inputs", "MarsRun",
-           "check_scenario", "check_overrides", "prepare", "run", "FilterDivergence"]
+           "check_scenario", "check_overrides", "prepare", "run"]
 
-
-class FilterDivergence(RuntimeError):
-    """The compiled filter stopped: a covariance lost positive definiteness.
-
-    Settings that double precision cannot carry (a measurement noise many orders below the
-    state's uncertainty) or a diverging filter; the command line reports it in one line.
-    """
 
 #: The three subsystems of the paper, in its numbering (1 XNAV, 2 UV, 3 CNS).
 SUBSYSTEMS = ("xnav", "uv", "cns")
@@ -871,7 +864,7 @@ def run_kernel(inp, state, a, b, active, beta, gate, rec_pos, records, nis, flag
         ki.Records(rec_pos, *records, nis, flags),
         _no_watch(len(sc.subsystems)) if watch is None else watch)
     if stop == -2:
-        raise FilterDivergence(
+        raise kernels.FilterDivergence(
             f"the compiled filter stopped: a covariance lost positive definiteness near epoch "
             f"{b} (t = {inp.times[min(b, inp.n - 1)]:.0f} s): a measurement noise many orders "
             f"below the state's uncertainty (pos_err0_m = {sc.pos_err0_m:g} m) is beyond double "
