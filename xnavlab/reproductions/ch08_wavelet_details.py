@@ -58,6 +58,10 @@ def _uv_details(inp, faults, pfa, train_days):
 def detail_runs(seeds=DETAIL_SEEDS, days=30.0, pfa=1e-5, train_days=1.0):
     """Fig. 5's two outcomes in each of our single runs: one per seed of the Mars scenario.
 
+    Each seed's UV range is that of the full scenario's inputs with the same seed (drawn
+    after the XNAV delays, before the CNS angles, which are not drawn here). Cached on disk,
+    keyed by the code.
+
     Parameters
     ----------
     seeds : tuple of int
@@ -65,15 +69,11 @@ def detail_runs(seeds=DETAIL_SEEDS, days=30.0, pfa=1e-5, train_days=1.0):
     days, pfa, train_days : float
         As :func:`wavelet_details`.
 
-    Each seed's UV range is that of the full scenario's inputs with the same seed (drawn
-    after the XNAV delays, before the CNS angles, which are not drawn here). Cached on disk,
-    keyed by the code.
-
     Returns
     -------
     dict
         ``seeds``; per seed: ``min_peak`` (smallest over the six UV onsets of the largest
-        detail |D_j| within 300 s of the onset over the detector's threshold) and
+        detail ``|D_j|`` within 300 s of the onset over the detector's threshold) and
         ``delays_s`` (list of six onset delays of the online detector, s; inf if none);
         ``wall_s``, the run time when computed (s).
 
