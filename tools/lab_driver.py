@@ -838,10 +838,13 @@ def check_notebook(lab, path, screenshot=None, max_redraw_s=MAX_REDRAW_S):
     try:
         page.evaluate(_OPEN % {"path": json.dumps(path)}, timeout=120)
         t_start = time.monotonic()
-        page.evaluate(_RUN_ALL)
+        # A busy browser (2 cores, a chapter's outputs arriving) can take a minute to answer
+        # one poll: RUN_TIMEOUT_S judges the run, these 120 s only a browser that is gone
+        # (Python 3.13 under load 8-10 once failed chapter 9 on a 60-s poll).
+        page.evaluate(_RUN_ALL, timeout=120)
         deadline = t_start + RUN_TIMEOUT_S
         while True:
-            st = page.evaluate(_RUN_STATE)
+            st = page.evaluate(_RUN_STATE, timeout=120)
             if st["run"] and st["status"] == "idle":
                 break
             if time.monotonic() > deadline:
