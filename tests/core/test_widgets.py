@@ -523,6 +523,7 @@ def in_place_sliders():
     from xnavlab import attitude as att
     from xnavlab.core import detection, montecarlo
     from xnavlab.line import track
+    from xnavlab.mars.models import dynamics, sensors
     from xnavlab.mars.navigation import plots
     from xnavlab.mars.timing import photon_plots, toa
     from xnavlab.mars.timing.pulsars import PAPER_RANGING_M
@@ -575,6 +576,12 @@ def in_place_sliders():
         pytest.param(detection.plot_step_detector, dict(size_sigma=[1.0, 6.0, 20.0], levels=[1, 5],
                                                         log10_pfa=[-8, -5, -1]),
                      id="plot_step_detector"),
+        pytest.param(dynamics.plot_model_difference,
+                     dict(days_shown=[1, 7, 30], sun=[True, False], jupiter=[True, False],
+                          j2=[False, True]), id="plot_model_difference"),
+        pytest.param(sensors.plot_optical_geometry,
+                     dict(sigma_dir_deg=[0.01, 0.1, 1.0], sigma_horizon_deg=[0.005, 0.05, 0.3],
+                          vmag_max=[0.5, 1.0, 2.0]), id="plot_optical_geometry"),
     ]
 
 

@@ -178,6 +178,20 @@ def test_plot_model_difference_shows_the_sun_effect():
         dynamics.plot_model_difference(days_shown=31)
 
 
+def test_plot_model_difference_updates_in_place_and_a_refused_update_changes_nothing():
+    from xnavlab.core.plotting import updater
+
+    fig = dynamics.plot_model_difference(sun=False, days_shown=2)
+    updater(fig)(sun=True, jupiter=True, j2=True, days_shown=3)
+    assert fig.axes[0].lines[0].get_xdata()[-1] == 3.0
+    assert "Mars + Sun + Jupiter + J2" in fig._suptitle.get_text()
+    before = fig.axes[0].lines[0].get_ydata().copy(), fig._suptitle.get_text()
+    with pytest.raises(ValueError, match="days_shown"):
+        updater(fig)(days_shown=0)
+    assert np.array_equal(fig.axes[0].lines[0].get_ydata(), before[0])
+    assert fig._suptitle.get_text() == before[1]
+
+
 def test_j2_uses_the_mgs95j_reference_radius():
     """J2 acceleration against the MGS95J formula with R = 3396.0 km (not the IAU 3396.19 km)."""
     mu, j2, radius = 4.28283758e13, 1.95545e-3, 3396.0e3  # MGS95J field, typed independently

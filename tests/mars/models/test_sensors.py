@@ -212,6 +212,21 @@ def test_plot_optical_geometry_keeps_its_legend_off_the_curves_and_labels_plain_
     assert labels and not any("times" in t or "^" in t for t in labels)   # no 6 x 10^0
 
 
+def test_plot_optical_geometry_updates_in_place_and_a_refused_update_changes_nothing():
+    from xnavlab.core.plotting import updater
+
+    fig = sensors.plot_optical_geometry(0.1, 0.05, 1.0)
+    updater(fig)(0.2, 0.1, 1.0)
+    fresh = sensors.plot_optical_geometry(0.2, 0.1, 1.0)
+    for a, b in zip(fig.axes[0].lines, fresh.axes[0].lines, strict=True):
+        np.testing.assert_array_equal(a.get_ydata(), b.get_ydata())
+    before = [ln.get_ydata().copy() for ln in fig.axes[0].lines]
+    with pytest.raises(ValueError, match="sigma_dir_deg"):
+        updater(fig)(sigma_dir_deg=-1.0)
+    for a, b in zip(fig.axes[0].lines, before, strict=True):
+        np.testing.assert_array_equal(a.get_ydata(), b)
+
+
 def test_direction_noise_and_xnav_model_refuse_complex_and_name_their_arguments():
     with pytest.raises(ValueError, match="^u must hold real numbers"):
         sensors.perturb_direction(np.array([0, 0, 1 + 0j]), 1e-3, np.zeros(2))

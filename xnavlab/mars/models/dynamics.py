@@ -699,7 +699,8 @@ def plot_model_difference(sun=True, jupiter=True, j2=False, days_shown=30):
     -------
     matplotlib.figure.Figure
         Two axes: the norm of the difference and its radial, along- and cross-track
-        components (m); not registered with pyplot.
+        components (m); not registered with pyplot. It carries an in-place update
+        (:func:`xnavlab.core.plotting.in_place`) that a live slider calls.
 
     Examples
     --------
@@ -709,20 +710,36 @@ def plot_model_difference(sun=True, jupiter=True, j2=False, days_shown=30):
     """
     from matplotlib.figure import Figure
 
-    days_shown = check_int("days_shown", days_shown, 1, 30)
-    bodies = _bodies(sun, jupiter)
-    t = chapter_times()  # the chapters' grid (cached truths)
-    shown = slice(0, days_shown * 1440 + 1)
-    d = {k: v[shown] for k, v in model_difference(t, bodies, j2).items()}
-    days = (t[shown] - t[0]) / 86400.0
+    from xnavlab.core.plotting import in_place
+
+    # the layout every frame shares; update() sets the curves, limits and title
     fig = Figure(figsize=(11, 3.4), layout="constrained")
     ax1, ax2 = fig.subplots(1, 2)
-    ax1.plot(days, d["norm"], lw=0.5)
+    norm, = ax1.plot([0.0, 1.0], [0.0, 0.0], lw=0.5)
     ax1.set(xlabel="days", ylabel="m", title="|r - r_paper|")
-    for key, name in (("radial", "radial"), ("along", "along-track"), ("cross", "cross-track")):
-        ax2.plot(days, d[key], lw=0.4, label=name)
+    parts = {key: ax2.plot([0.0, 1.0], [0.0, 0.0], lw=0.4, label=name)[0]
+             for key, name in (("radial", "radial"), ("along", "along-track"),
+                               ("cross", "cross-track"))}
     ax2.set(xlabel="days", ylabel="m", title="r - r_paper, components")
     ax2.legend(fontsize=8)
-    label = " + ".join(["Mars"] + [b.capitalize() for b in bodies] + (["J2"] if j2 else []))
-    fig.suptitle(f"{label}: max difference {d['norm'].max():.4g} m")
-    return fig
+    title = fig.suptitle("")
+
+    def update(sun=True, jupiter=True, j2=False, days_shown=30):
+        days_shown = check_int("days_shown", days_shown, 1, 30)
+        bodies = _bodies(sun, jupiter)
+        t = chapter_times()  # the chapters' grid (cached truths)
+        shown = slice(0, days_shown * 1440 + 1)
+        d = {k: v[shown] for k, v in model_difference(t, bodies, j2).items()}
+        days = (t[shown] - t[0]) / 86400.0
+        norm.set_data(days, d["norm"])
+        for key, line in parts.items():
+            line.set_data(days, d[key])
+        for ax in (ax1, ax2):
+            ax.relim()
+            ax.autoscale_view()
+        label = " + ".join(["Mars"] + [b.capitalize() for b in bodies] + (["J2"] if j2 else []))
+        title.set_text(f"{label}: max difference {d['norm'].max():.4g} m")
+        return None
+
+    update(sun, jupiter, j2, days_shown)
+    return in_place(fig, update)

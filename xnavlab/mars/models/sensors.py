@@ -456,7 +456,8 @@ def plot_optical_geometry(sigma_dir_deg=0.1, sigma_horizon_deg=0.05, vmag_max=1.
     -------
     matplotlib.figure.Figure
         One log-scale axes: the largest finite and the smallest semi-axis (km) of the UV,
-        CNS and combined ellipsoids; not registered with pyplot.
+        CNS and combined ellipsoids; not registered with pyplot. It carries an in-place
+        update (:func:`xnavlab.core.plotting.in_place`) that a live slider calls.
 
     Examples
     --------
@@ -467,32 +468,46 @@ def plot_optical_geometry(sigma_dir_deg=0.1, sigma_horizon_deg=0.05, vmag_max=1.
     from matplotlib.figure import Figure
     from matplotlib.ticker import FuncFormatter
 
-    from xnavlab.core.plotting import sparse_log_minors
+    from xnavlab.core.plotting import in_place, sparse_log_minors
     from xnavlab.mars.models import dynamics
 
     t0 = dynamics.MARS_T0
-    names = stars.pick_three(vmag_max=vmag_max, t=t0)
-    uv = UVSensor(sigma_dir_deg=sigma_dir_deg)
-    cns = CNSSensor(names, sigma_horizon_deg=sigma_horizon_deg, epoch=t0)
     t = t0 + np.arange(0.0, 8252.0 + 60.0, 60.0)  # one revolution (chapter 3), cached truth
-    x = dynamics.truth(t)[::4]
-    rows = [optical_semi_axes(xi, uv, cns) for xi in x]
     hours = (t[::4] - t0) / 3600.0
+    # the layout every frame shares; update() sets the curves, limits and title
     fig = Figure(figsize=(8, 3.4), layout="constrained")
     ax = fig.add_subplot()
+    curves = {}
     for k, color in (("UV", "C0"), ("CNS", "C1"), ("UV + CNS", "C2")):
-        a = np.array([r[k] for r in rows])
-        finite = np.where(np.isfinite(a), a, np.nan)
-        ax.plot(hours, finite[:, 0] / 1e3, color=color, label=f"{k}: largest finite axis")
-        ax.plot(hours, finite[:, -1] / 1e3, color=color, ls=":", label=f"{k}: smallest axis")
-    ax.set(xlabel="time (h)", ylabel="semi-axis (km)", yscale="log",
-           title=f"stars {', '.join(names)}")
+        curves[k] = (ax.plot(hours, np.ones(hours.size), color=color,
+                             label=f"{k}: largest finite axis")[0],
+                     ax.plot(hours, np.ones(hours.size), color=color, ls=":",
+                             label=f"{k}: smallest axis")[0])
+    ax.set(xlabel="time (h)", ylabel="semi-axis (km)", yscale="log")
     sparse_log_minors(ax)  # 2 and 5 of each decade, labelled as plain numbers
     plain = FuncFormatter(lambda v, _: f"{v:g}")
     ax.yaxis.set_major_formatter(plain)
     ax.yaxis.set_minor_formatter(plain)
     fig.legend(fontsize=7, ncol=3, loc="outside lower center")  # off the curves
-    return fig
+
+    def update(sigma_dir_deg=0.1, sigma_horizon_deg=0.05, vmag_max=1.0):
+        names = stars.pick_three(vmag_max=vmag_max, t=t0)
+        uv = UVSensor(sigma_dir_deg=sigma_dir_deg)
+        cns = CNSSensor(names, sigma_horizon_deg=sigma_horizon_deg, epoch=t0)
+        x = dynamics.truth(t)[::4]
+        rows = [optical_semi_axes(xi, uv, cns) for xi in x]
+        for k, (largest, smallest) in curves.items():
+            a = np.array([r[k] for r in rows])
+            finite = np.where(np.isfinite(a), a, np.nan)
+            largest.set_ydata(finite[:, 0] / 1e3)
+            smallest.set_ydata(finite[:, -1] / 1e3)
+        ax.set_title(f"stars {', '.join(names)}")
+        ax.relim()
+        ax.autoscale_view()
+        return None
+
+    update(sigma_dir_deg, sigma_horizon_deg, vmag_max)
+    return in_place(fig, update)
 
 
 # --------------------------------------------------------------------------- classes
