@@ -64,6 +64,7 @@ def test_relative_par_paths_read_from_the_base_folder(par, tmp_path):
     (["B0531+21", "B1937+21", "B0531+21"], "lists B0531+21 twice (items 0 and 2)"),
     (["B"], "unknown pulsar 'B'"),
     (["J0437-4715"], "is in the X-ray table but needs its timing model"),
+    (["B0531+21", "b1937+21"], "unknown pulsar 'b1937+21': the catalogue names it 'B1937+21'"),
     ([{**ENTRY, "extra": 1}], "pulsar table has no key 'extra'"),
     ([{k: v for k, v in ENTRY.items() if k != "width_s"}], "needs width_s"),
     ([{**ENTRY, "dec_deg": 95.0}], "dec_deg must be a real number in [-90, 90]"),

@@ -187,12 +187,19 @@ def get(name):
     ------
     ValueError
         For an unknown name, listing the known ones, or a ``.par`` that :func:`from_par`
-        refuses.
+        refuses. A catalogue pulsar spelt another way (another case, spaces, a ``PSR``
+        prefix or its J2000 alias) is refused naming the catalogue's spelling, not
+        taken: the name is an identifier in records, caches, dumps and the fault grammar,
+        which all use the one spelling.
 
     Examples
     --------
     >>> get("B1937+21").period
     0.00156
+    >>> get("b1937+21")
+    Traceback (most recent call last):
+    ...
+    ValueError: unknown pulsar 'b1937+21': the catalogue names it 'B1937+21' (write that)
     """
     if isinstance(name, Pulsar):
         return name
@@ -204,8 +211,12 @@ def get(name):
             raise ValueError(f"pulsar {name!r}: no such timing model (.par) file") from None
         return _par_pulsar(str(path.resolve()), stamp)
     if name not in CATALOGUE:
+        row = xray_pulsars.lookup(name) if isinstance(name, str) else None
+        if row is not None and row["name"] in CATALOGUE:  # another case, a space or an alias
+            raise ValueError(f"unknown pulsar {name!r}: the catalogue names it "
+                             f"{row['name']!r} (write that)")
         hint = (f" ({name} is in the X-ray table but needs its timing model: give the path of "
-                f"its .par file)" if isinstance(name, str) and xray_pulsars.lookup(name) else "")
+                f"its .par file)" if row is not None else "")
         raise ValueError(f"unknown pulsar {name!r}{hint}; known pulsars: {', '.join(CATALOGUE)}, "
                          f"or the path of a timing model (.par)")
     return CATALOGUE[name]
