@@ -245,6 +245,45 @@ def test_a_parameter_held_says_why_in_the_tolerance():
         verdicts.check_lost(row, "ramp rate", reach, "x", held=3)
 
 
+def test_an_outcome_a_lost_parameter_decides_is_judged_over_its_plausible_values():
+    def judge(ours, other, **kw):
+        return verdicts.check_event_lost("detected within 5 s", "detected",
+                                         {"10 m": other, "ours, 2 m": ours}, why="within 5 s",
+                                         lost="reading of its noise",
+                                         decides="the paper's noise", **kw)
+    yes, no = [True] * 40, [False] * 40
+    every = judge(yes, [True] + [False] * 39)          # 1 of 40 is already an ordinary draw
+    assert every.verdict == "REPRODUCED" and every.ours == "40 of 40 runs at 2 m; 1 of 40 runs at 10 m"
+    assert "an ordinary draw at every plausible value" in every.reading
+    assert "the paper lost the reading of its noise: judged at each" in every.tolerance
+    some = judge(yes, no, held="the time origin held: its own a t0 + b = 0")
+    assert some.verdict == "UNDECIDED"
+    assert some.reading.startswith("the lost reading of its noise decides it: an ordinary draw "
+                                   "at ours, 2 m, not at 10 m")
+    assert some.reading.endswith("the paper's noise would decide it")
+    assert some.tolerance.endswith("(the time origin held: its own a t0 + b = 0)")
+    none = judge(no, no)
+    assert none.verdict == "NOT REPRODUCED" and "not an ordinary draw at any" in none.reading
+    # at none, but short of 2.5 % by less than the parameter moves our share: check_lost's margin
+    near = verdicts.check_event_lost("e", "yes", {"ours": [True] + [False] * 49, "b": [False] * 50},
+                                     why="w", lost="noise", decides="x")
+    assert near.verdict == "UNDECIDED" and "0.5 % short of 2.5 %, less than the 2 %" in near.reading
+    assert verdicts.check_event_lost is reproduce.check_event_lost
+
+
+@pytest.mark.parametrize("hits, match", [
+    ({"ours": [True] * 40}, "at least two plausible values"),
+    ({"a": [True] * 40, "b": [True] * 40}, "exactly one label starting with 'ours'"),
+    ({"ours": [True] * 40, "b": [True] * 31}, "at least 32 single runs; got 31"),
+])
+def test_an_outcome_over_a_lost_parameter_refuses_what_it_cannot_judge(hits, match):
+    with pytest.raises(ValueError, match=match):
+        verdicts.check_event_lost("e", "yes", hits, why="w", lost="noise", decides="x")
+    with pytest.raises(ValueError, match="lost must say, in words"):
+        verdicts.check_event_lost("e", "yes", {"ours": [True] * 40, "b": [True] * 40}, why="w",
+                                  lost=" ", decides="x")
+
+
 def test_the_paper_fault_free_numbers_place_the_process_noise_interval_of_chapter_8():
     # ch08_mars_faults.Q_HELD: q is varied in chapter 8 only over the interval in which the
     # paper's fault-free 28.835 m and 0.02149 m/s lie inside our range; of mars-nofault's decade

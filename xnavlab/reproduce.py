@@ -69,6 +69,7 @@ from xnavlab.verdicts import (  # noqa: F401 - re-exported: reproduce.check_rel 
     check_abs,
     check_draw,
     check_event,
+    check_event_lost,
     check_lost,
     check_measure,
     check_order,

@@ -49,7 +49,10 @@ setting's measured effect), and
 
 The row's tolerance says, from the numbers, whether the lost parameter moves ours further than
 our noise (its spread against the width of our own range) or less; the rule is the same either
-way.
+way. An outcome the paper shows from one run (yes or no, :func:`check_event`) is judged over a
+lost parameter's values by the same rule (:func:`check_event_lost`): REPRODUCED when it is an
+ordinary draw at every value, UNDECIDED at some, NOT REPRODUCED at none (the margin is the
+spread of our share over the values).
 
 One claim, several rows
 -----------------------
@@ -105,6 +108,7 @@ __all__ = [
     "check_measure",
     "check_lost",
     "check_event",
+    "check_event_lost",
     "part_of",
     "combine",
     "show",
@@ -657,6 +661,106 @@ def check_event(name, paper, hits, why):
     return _claim(name, paper, f"{k} of {n} runs", ok,
                   f"the paper's single run as one draw: at least 2.5 % of our {n} single runs "
                   f"show it ({why.strip()})", reading)
+
+
+def check_event_lost(name, paper, hits, why, lost, decides, held=""):
+    """An outcome of the paper's one run, judged over the values of a parameter it lost.
+
+    :func:`check_lost`'s rule (the module's) for a yes/no outcome (:func:`check_event`):
+    ``hits`` gives, for each plausible value of the lost parameter that we ran, whether the
+    outcome happened in each of our single runs there, and each value is judged by
+    :func:`check_event` (an ordinary draw when at least 2.5 % of our runs show it).
+
+    * REPRODUCED: an ordinary draw at every plausible value.
+    * UNDECIDED: at some and not at others; or at none, but short of 2.5 % by no more than
+      the lost parameter's own spread (the largest minus the smallest of our shares over its
+      values: a value we did not run may move the share that far).
+    * NOT REPRODUCED: at none, short of 2.5 % by more than that spread (with 40 runs or
+      fewer: no run shows it at any value).
+
+    Parameters
+    ----------
+    name : str
+        The outcome, as the row names it.
+    paper : str
+        The paper's outcome, in words ("detected").
+    hits : dict of str -> array_like of bool, shape (n,)
+        Plausible value (a label, e.g. ``"ours, 2 m"``) -> per single run of ours there,
+        whether the outcome happened (``n >= MIN_RUNS``). At least two values; exactly one
+        label, our own choice, starts with ``"ours"``.
+    why : str
+        What counts as the outcome (as for :func:`check_event`).
+    lost : str
+        The lost parameter, in words ("reading of its noise").
+    decides : str
+        What would decide the claim ("the paper's pseudorange noise").
+    held : str, optional
+        Another lost parameter held at our choice, with the written reason it is not varied;
+        shown in the tolerance.
+
+    Returns
+    -------
+    Check
+        The claim row: the paper's outcome, our counts at each value (``"k of n runs at
+        <value>"``, our own choice first), the tolerance and the verdict.
+
+    Examples
+    --------
+    >>> hits = {"ours, 2 m": [True] * 40, "10 m": [False] * 40}
+    >>> c = check_event_lost("detected within 5 s", "detected", hits, why="within 5 s",
+    ...                      lost="noise", decides="the paper's noise")
+    >>> c.verdict, c.ours
+    ('UNDECIDED', '40 of 40 runs at 2 m; 0 of 40 runs at 10 m')
+    >>> check_event_lost("detected within 5 s", "detected", {"ours": [True] * 40, "b": [True] * 40},
+    ...                  why="within 5 s", lost="noise", decides="x").verdict
+    'REPRODUCED'
+    >>> check_event_lost("detected within 5 s", "detected", {"ours": [False] * 40, "b": [False] * 40},
+    ...                  why="within 5 s", lost="noise", decides="x").verdict
+    'NOT REPRODUCED'
+    """
+    for label, text, what in (("lost", lost, "the lost parameter"),
+                              ("decides", decides, "what would decide the claim")):
+        if not (isinstance(text, str) and text.strip()):
+            raise ValueError(f"{label} must say, in words, {what}")
+    if not isinstance(held, str):
+        raise ValueError(f"held must be words (what is held and why); got {held!r}")
+    if not isinstance(hits, dict) or len(hits) < 2:
+        raise ValueError("hits must map at least two plausible values (labels) to our runs there")
+    runs = {str(k): np.asarray(h, dtype=bool).ravel() for k, h in hits.items()}
+    ours = [k for k in runs if k.lower().startswith("ours")]
+    if len(ours) != 1:
+        raise ValueError("hits must name our own choice: exactly one label starting with 'ours'; "
+                         f"got {list(runs)}")
+    runs = {ours[0]: runs[ours[0]], **runs}            # our own choice first
+    rows = {k: check_event(name, paper, h, why=why) for k, h in runs.items()}
+    shares = [float(h.mean()) for h in runs.values()]
+
+    def at(label):
+        return (label[4:].lstrip(", ") or "ours") if label.lower().startswith("ours") else label
+
+    counts = "; ".join(f"{r.ours} at {at(k)}" for k, r in rows.items())
+    tolerance = (f"{rows[ours[0]].tolerance}; the paper lost the {lost.strip()}: judged at each "
+                 f"of its plausible values ({'; '.join(rows)})")
+    if held.strip():
+        tolerance += f" ({held.strip()})"
+    shown = [k for k, r in rows.items() if r.verdict == REPRODUCED]
+    first = rows[ours[0]]
+    if len(shown) == len(rows):
+        return replace(first, ours=counts, tolerance=tolerance,
+                       reading=f"an ordinary draw at every plausible value ({counts})")
+    # the lost parameter's own spread: its shifts of our share (check_lost's margin)
+    spread = max(shares) - min(shares)
+    gap = 0.025 - max(shares)
+    if shown or gap <= spread:
+        where = (f"an ordinary draw at {'; '.join(shown)}, not at "
+                 f"{'; '.join(k for k in rows if k not in shown)}" if shown else
+                 f"an ordinary draw at none, but {100 * gap:.2g} % short of 2.5 %, less than the "
+                 f"{100 * spread:.2g} % the lost parameter itself moves the share")
+        return replace(first, ours=counts, tolerance=tolerance, verdict=UNDECIDED,
+                       reading=f"the lost {lost.strip()} decides it: {where} ({counts}); "
+                               f"{decides.strip()} would decide it")
+    return replace(first, ours=counts, tolerance=tolerance, verdict=NOT_REPRODUCED,
+                   reading=f"not an ordinary draw at any plausible value ({counts})")
 
 
 def show(x):

@@ -15,13 +15,13 @@ Each figure is one run of the paper's: its outcomes and times are judged among `
 single runs of ours (seeds ``seed`` on; the plotted run, ``seed``, is kept beside them as a
 measurement). The paper's noise, "PL positioning accuracy 10 m", has two readings
 (:data:`NOISE_READINGS`), and no other number of the paper places it: every claim is judged at
-both, as a lost parameter (:func:`xnavlab.verdicts.check_lost`'s rule).
+both, as a lost parameter (:func:`xnavlab.verdicts.check_lost`'s rule; for an outcome,
+:func:`xnavlab.verdicts.check_event_lost`).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import replace
 
 import numpy as np
 
@@ -29,12 +29,9 @@ from xnavlab.core.faults import Fault
 from xnavlab.plins.parity import diagnose_flight
 from xnavlab.plins.pseudolites import DEFAULT_SIGMA, SENSOR
 from xnavlab.reproduce import (
-    NOT_REPRODUCED,
-    REPRODUCED,
-    UNDECIDED,
     Result,
     check_draw,
-    check_event,
+    check_event_lost,
     check_lost,
     check_measure,
     part_of,
@@ -43,7 +40,7 @@ from xnavlab.reproduce import (
 )
 from xnavlab.reproduce import figure as _figure
 
-__all__ = ["NOISE_READINGS", "NOISE_NOT_HELD", "readings"]
+__all__ = ["NOISE_READINGS", "readings"]
 
 #: Step sizes on pseudoranges 1-4, m (our choice, the paper does not print them: of
 #: the order of a pseudolite clock jump of one microsecond, c * 1 us = 300 m; PR4 is
@@ -62,14 +59,8 @@ RAMP_DETECTED = f"PR1 detected within {RAMP_WINDOW_S:g} s of the onset"
 #: The two readings of the paper's "PL positioning accuracy 10 m", as pseudorange noise (m):
 #: a position-fix accuracy over the PDOP (ours, the default) or 10 m on each pseudorange.
 NOISE_READINGS = {DEFAULT_SIGMA: "a fix accuracy over the PDOP", 10.0: "on each pseudorange"}
-#: Why the reading of the paper's noise is judged, not held at ours (written into the rows).
-NOISE_NOT_HELD = (
-    "the paper's 'PL positioning accuracy 10 m' reads as a position-fix accuracy (pseudorange "
-    "noise 10 m / PDOP, about 2 m over our PDOP of 3.3-9.2) or as 10 m on each pseudorange; "
-    "no other number of the paper places it (the PDOP is ours: its pseudolite sites are lost), "
-    "so it is not held at our 2 m: the claim is judged at both readings"
-)
-#: The lost parameter, as check_lost names it.
+#: The lost parameter, as check_lost and check_event_lost name it (in every judged row's
+#: tolerance: why the reading is judged at both values, not held at ours).
 NOISE_LOST = ("reading of its noise ('PL positioning accuracy 10 m': a fix accuracy, 2 m per "
               "pseudorange over our PDOP, or 10 m per pseudorange; no other of its numbers "
               "places it)")
@@ -110,27 +101,11 @@ def _short(label):
 
 def _over_readings(name, paper, hits, why, held=""):
     """An outcome of the paper's one run (``hits``: reading -> per run, ours first), judged at
-    every reading of the paper's noise by check_lost's rule: REPRODUCED when it is an ordinary
-    draw (check_event) at every reading, UNDECIDED at some, NOT REPRODUCED at none. ``held``:
-    another reading held at ours, with the reason (added to the tolerance)."""
-    rows = {label: check_event(name, paper, h, why=why) for label, h in hits.items()}
-    first = next(iter(rows.values()))
-    shown = [label for label, r in rows.items() if r.verdict == REPRODUCED]
-    counts = "; ".join(f"{r.ours} at {_short(label)}" for label, r in rows.items())
-    tolerance = f"{first.tolerance}, at each reading of the paper's noise ({NOISE_NOT_HELD})"
-    if held:
-        tolerance += f"; {held}"
-    if len(shown) == len(rows):
-        return replace(first, ours=counts, tolerance=tolerance,
-                       reading=f"an ordinary draw at every reading ({counts})")
-    if shown:
-        return replace(first, ours=counts, tolerance=tolerance, verdict=UNDECIDED,
-                       reading=f"the reading of the paper's noise decides it: an ordinary draw at "
-                               f"{'; '.join(shown)}, not at "
-                               f"{'; '.join(k for k in rows if k not in shown)} ({counts}); the "
-                               "paper's pseudorange noise would decide it")
-    return replace(first, ours=counts, tolerance=tolerance, verdict=NOT_REPRODUCED,
-                   reading=f"not an ordinary draw at any reading ({counts})")
+    every reading of the paper's noise: :func:`xnavlab.verdicts.check_event_lost`."""
+    return check_event_lost(name, paper, {("ours, " if k.startswith("ours") else "") + _short(k): h
+                                          for k, h in hits.items()},
+                            why=why, lost=NOISE_LOST, decides="the paper's pseudorange noise",
+                            held=held)
 
 
 def _time_over_readings(name, paper, times, unit="s"):
