@@ -12,6 +12,7 @@ from matplotlib.figure import Figure
 
 from xnavlab.core import widgets
 from xnavlab.core._ahead import distance
+from xnavlab.core._frames import FRAME_CACHE_ENV, DiskFrames
 from xnavlab.core.widgets import explore
 
 CALLS = []
@@ -20,8 +21,10 @@ CALLS = []
 @pytest.fixture(autouse=True)
 def no_worker_unless_asked(monkeypatch):
     """Tests that fake a kernel would get the ahead worker by default: off unless a test
-    asks for it with ``explore(..., ahead=True)`` (its calls are then counted in CALLS)."""
+    asks for it with ``explore(..., ahead=True)`` (its calls are then counted in CALLS).
+    The frames on disk are off too, unless a test turns them on (with its own cache)."""
     monkeypatch.setenv(widgets.AHEAD_ENV, "0")
+    monkeypatch.setenv(FRAME_CACHE_ENV, "0")
 
 
 def wave(omega=1.0, phase=0.0, style="-", title=""):
@@ -682,3 +685,111 @@ def test_in_a_kernel_the_worker_waits_for_the_cells_and_a_second_after(monkeypat
     assert ex._worker.idle(timeout=120) and sorted(n for n, _ in calls) == [1, 2, 3]
     assert time.monotonic() - t0 >= _ahead.IDLE_S * 0.9
     ex.close()
+
+
+# -- frames kept on disk ---------------------------------------------------------------------
+def test_a_reopened_slider_looks_its_frames_up_on_disk_and_they_are_the_frames_drawn_fresh(
+        monkeypatch, tmp_path):
+    """A move drawn in one widget is written to disk; the same slider opened again (a new
+    Explorer: a re-run chapter) finds it there (its figure is not updated) with the pixels of
+    the frame drawn from nothing."""
+    import functools
+
+    from xnavlab.core import montecarlo
+
+    monkeypatch.setenv("XNAVLAB_CACHE", str(tmp_path))
+    monkeypatch.setenv(FRAME_CACHE_ENV, "1")
+    plot = functools.wraps(montecarlo.plot_pd_error)(lambda **v: montecarlo.plot_pd_error(**v))
+    grids = dict(runs=[10, 100, 1000], pd=[0.5, 0.9], campaigns=100)
+    first = explore(plot, ahead=False, **grids)
+    w = first.widget()
+    [runs, _] = [c for c in w.children if "xnav-control" in c._dom_classes]
+    runs.value = 10
+    drawn = first._last_png
+    w.close()
+    frames = list((tmp_path / "frames").glob("*.png"))
+    assert len(frames) == 1  # the move's frame (the opening frame lays the layout out: not kept)
+    again = explore(plot, ahead=False, **grids)
+    w = again.widget()
+    [runs, _] = [c for c in w.children if "xnav-control" in c._dom_classes]
+    runs.value = 10
+    assert again._last_png == drawn  # looked up:
+    assert again._live["fig"].axes[0].get_title() == "100 campaigns of N = 100 runs"  # not drawn
+    fresh = widgets.live_png(again.figure(runs=10), again.layout)
+    assert np.array_equal(png_pixels(again._last_png), png_pixels(fresh))
+    monkeypatch.setenv(FRAME_CACHE_ENV, "0")  # off: drawn again, the same frame
+    again._cache.frames.clear()
+    runs.value = 100
+    runs.value = 10
+    assert again._live["fig"].axes[0].get_title() == "100 campaigns of N = 10 runs"
+    assert again._last_png == drawn
+    w.close()
+
+
+def test_the_key_of_a_frame_on_disk_changes_with_the_code_and_the_arguments(tmp_path,
+                                                                          monkeypatch):
+    """An edit of the plotting function's module, or of a module it imports, gives a new key;
+    an edit elsewhere in the package does not; so do other arguments and another layout."""
+    from xnavlab.core.diskcache import code_digest
+
+    monkeypatch.setenv("XNAVLAB_CACHE", str(tmp_path / "cache"))
+    monkeypatch.setenv(FRAME_CACHE_ENV, "1")
+    root = tmp_path / "xnavlab"
+    root.mkdir()
+    (root / "__init__.py").write_text("")
+    (root / "demo.py").write_text("from xnavlab import helper\n\ndef plot(n=1):\n    pass\n")
+    (root / "helper.py").write_text("K = 1\n")
+    (root / "other.py").write_text("J = 1\n")
+
+    def plot(n=1):
+        pass
+    plot.__module__, plot.__qualname__ = "xnavlab.demo", "plot"
+
+    def key(kwargs=None, state="kept"):
+        code_digest.cache_clear()  # one process sees one code; this test edits it
+        return DiskFrames(plot, root).path({"n": 1, "s": "a"} if kwargs is None else kwargs,
+                                           state)
+
+    base = key()
+    assert base is not None and base == key() and base.parent == tmp_path / "cache" / "frames"
+    (root / "other.py").write_text("J = 2\n")
+    assert key() == base  # not imported by the plotting function's module
+    (root / "helper.py").write_text("K = 2\n")
+    helper_edit = key()
+    assert helper_edit != base
+    (root / "demo.py").write_text("from xnavlab import helper\n\ndef plot(n=1):\n    1\n")
+    assert key() not in (base, helper_edit)
+    assert len({key(), key({"n": 2, "s": "a"}), key({"n": 1.0, "s": "a"}), key(state="other"),
+                key({"n": np.int64(2), "s": "a"})}) == 4  # np.int64(2) is the key of 2
+    assert key({"n": 1, "s": object()}) is None  # no exact key: not kept on disk
+    assert key(state=None) is None  # no kept layout yet
+    monkeypatch.setenv(FRAME_CACHE_ENV, "0")
+    assert key() is None
+    monkeypatch.setenv(FRAME_CACHE_ENV, "1")
+    assert DiskFrames(lambda n=1: None).path({"n": 1}, "kept") is None  # not the package's
+
+
+def test_frames_written_at_once_by_many_threads_are_read_back_whole(tmp_path):
+    """Each writer writes a temporary file of its own and renames it: a reader sees one
+    writer's whole frame, never a mixture, and no temporary file is left."""
+    import threading
+
+    path = tmp_path / "frames" / "f.png"
+    pngs = [b"\x89PNG\r\n\x1a\n" + bytes([k]) * (50_000 + 1000 * k) + b"IEND\xaeB`\x82"
+            for k in range(8)]
+    seen = []
+
+    def write(png):
+        for _ in range(20):
+            assert DiskFrames.store(path, png)
+            seen.append(DiskFrames.load(path))
+
+    threads = [threading.Thread(target=write, args=(png,)) for png in pngs]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert all(png in pngs for png in seen) and DiskFrames.load(path) in pngs
+    assert [p.name for p in path.parent.iterdir()] == ["f.png"]
+    path.write_bytes(pngs[0][:-3])  # cut short (not by a store): drawn again, not served
+    assert DiskFrames.load(path) is None

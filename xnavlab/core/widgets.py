@@ -42,21 +42,24 @@ widget), ``xnav-control`` (every control; ``xnav-main`` marks the control of ``m
 ``xnav-status`` (the status line) and ``xnav-output`` (the figure), with ``xnav-error`` on an
 error line.
 
-Two things make a move quick. **Frames computed ahead:** once the opening frame is drawn, a
-background thread draws the live widget's other positions, those one control away first, the
-nearest steps first, among equals onward along the control moved last (around wherever the
-reader moved last), and keeps their PNGs (the
-:data:`LIVE_MEMO_FRAMES` nearest); a move onto one of them is a lookup, a move elsewhere draws
-at once as before, and a move onto the position the thread is drawing waits for it. The
-thread never draws the reader's figure, draws nothing while a foreground frame or a cell
-runs, stops when the widget is closed and is a daemon; ``explore(..., ahead=False)`` or
-:data:`AHEAD_ENV` turns it off (:func:`ahead_default`; the plumbing, and what it relies on
-in matplotlib's thread safety, is in ``xnavlab/core/_ahead.py``). **Figures updated in
-place:** a plotting function may return its figure with an update
-(:func:`xnavlab.core.plotting.in_place`); the live widget then keeps that figure and, at a
-move, updates its artists and draws it again instead of building a new one (a test holds
-each such frame to the pixels of the frame drawn from nothing). Neither changes the HTML
-scrubber, whose frames are drawn from nothing as before.
+Three things make a move quick. **Frames computed ahead:** once the opening frame is drawn, a
+background thread draws the live widget's other positions (one control away first, nearest
+steps first, among equals onward along the control moved last) and keeps their PNGs (the
+:data:`LIVE_MEMO_FRAMES` nearest): a move onto one is a lookup, a move elsewhere draws at once,
+a move onto the position being drawn waits for it. The thread never draws the reader's figure,
+waits while a foreground frame or a cell runs, stops with the widget and is a daemon;
+``explore(..., ahead=False)`` or :data:`AHEAD_ENV` turns it off (:func:`ahead_default`; the
+plumbing, and what it relies on in matplotlib's thread safety: ``xnavlab/core/_ahead.py``).
+**Frames kept on disk:** every frame drawn in the kept layout, at a move or ahead, is also
+written under ``$XNAVLAB_CACHE/frames/``, keyed by the plotting function's code (its module and
+all the package modules it imports), its arguments, the kept layout and matplotlib's settings
+and version: a slider opened again (the chapter re-run, another kernel) looks its frames up
+there, and an edit of the code draws them again (``xnavlab/core/_frames.py``; the environment
+variable ``XNAVLAB_FRAME_CACHE=0`` turns it off). **Figures updated in place:** a plotting
+function may return its figure with an update (:func:`xnavlab.core.plotting.in_place`); the
+live widget then keeps that figure and, at a move, updates its artists and draws it again
+(a test holds each such frame to the pixels of the frame drawn from nothing). None of these
+changes the HTML scrubber, whose frames are drawn from nothing as before.
 """
 
 from __future__ import annotations
@@ -74,6 +77,8 @@ from numbers import Number
 import numpy as np
 
 from xnavlab.core._ahead import RENDER_LOCK, AheadWorker, Failed, FrameCache, foreground
+from xnavlab.core._frames import DiskFrames
+from xnavlab.core._render import recording_canvas_class
 from xnavlab.core.plotting import updater
 from xnavlab.core.validate import check_choice, check_int
 
@@ -188,6 +193,7 @@ class Explorer:
         self._cache = FrameCache([len(g) for g in grids.values()], LIVE_MEMO_FRAMES)
         self.ahead = ahead
         self._worker = None  # the AheadWorker, once the widget is built (ahead on)
+        self._disk = DiskFrames(plot)  # its frames drawn in the kept layout, on disk
         self._live = {"fig": None}  # the foreground's figure kept for in-place updates
         self._behind = {"fig": None}  # the worker's own
         self._last_png = None  # the live widget's latest figure (its opening one at first)
@@ -349,8 +355,14 @@ class Explorer:
         raised. ``holder["fig"]`` is the figure kept for in-place updates (the reader's, or
         the worker's own); ``turn()`` is waited for before the Agg draw."""
         fig = holder["fig"]
+        kwargs = {**self.fixed, **self.initial, **values}
+        with RENDER_LOCK:
+            state = self.layout.state()
+        path = self._disk.path(kwargs, state)  # drawn before, in this layout, by this code
+        png = self._disk.load(path)
+        if png is not None:
+            return png
         try:
-            kwargs = {**self.fixed, **self.initial, **values}
             update = updater(fig) if fig is not None else None
             if update is None or update(**kwargs) is False:  # a new figure, from nothing
                 fig = holder["fig"] = None
@@ -366,7 +378,11 @@ class Explorer:
         # one PNG at the figure's own size and dpi (display(fig) would draw it twice for a
         # tight bounding box: up to a third of a redraw), in the opening figure's layout
         with RENDER_LOCK:
+            kept = self.layout.state() == state
             png = live_png(fig, self.layout)
+            kept = kept and self.layout.last == "kept layout"  # a pure function of the key
+        if kept:
+            self._disk.store(path, png)
         if self._pyplot:
             import matplotlib.pyplot as plt
 
@@ -508,6 +524,14 @@ class SteadyLayout:
         fig.set_layout_engine("none")
         return how
 
+    def state(self):
+        """The kept layout a later frame is drawn in, as text (``None`` before the first frame
+        and once no layout is kept): part of the key of a frame kept on disk."""
+        if self._shape is None or not self._trusted:
+            return None
+        boxes = [b.bounds for pair in self._boxes for b in pair]
+        return repr((self._shape, boxes, sorted(self._texts.items())))
+
     def png(self, fig, dpi=None, compress_level=6):
         """PNG bytes of ``fig`` (at ``dpi``, default its own), laid out by :meth:`prepare`.
 
@@ -569,7 +593,7 @@ def _png_checked(fig, dpi, compress_level, check=True):
     sticks out of the figure by more than a pixel or overlaps the frame of an axes it does
     not belong to (axes sharing a frame, like twins, count as one). ``check=False``: not
     looked at (``clear`` is ``None``)."""
-    canvas = _recording_canvas_class()(fig)
+    canvas = recording_canvas_class()(fig)
     buf = io.BytesIO()
     if _one_draw(fig, dpi):
         # what savefig does, less its first, non-rendering draw (the layout engine is off
@@ -617,54 +641,6 @@ def _one_draw(fig, dpi):
             and (engine is None or isinstance(engine, PlaceHolderLayoutEngine))
             and rc["savefig.facecolor"] == "auto" and rc["savefig.edgecolor"] == "auto"
             and not rc["savefig.transparent"] and rc["savefig.bbox"] is None)
-
-
-# Agg renderers shared by the frames of every slider, by (width px, height px, dpi): matplotlib
-# keeps the text metrics it measures (and its parsed math) per renderer, so a frame drawn on
-# a renderer used before measures only its new texts (0.33 -> 0.28 s for chapter 1's figure).
-# A renderer is cleared at each draw; frames are drawn one at a time, in the kernel's thread.
-_RENDERERS = {}
-_MAX_RENDERERS = 4
-
-
-def _shared_renderer(cls, key):
-    """The renderer of size ``key`` (made on first use; the least recently used dropped)."""
-    renderer = _RENDERERS.pop(key, None) or cls(*key)
-    _RENDERERS[key] = renderer  # most recently used last
-    while len(_RENDERERS) > _MAX_RENDERERS:
-        _RENDERERS.pop(next(iter(_RENDERERS)))
-    return renderer
-
-
-@functools.cache
-def _recording_canvas_class():
-    """An Agg canvas whose renderer keeps every Text it draws (attribute ``texts``)."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg, RendererAgg
-
-    class TextRecorder(RendererAgg):
-        def __init__(self, width, height, dpi):
-            super().__init__(width, height, dpi)
-            self.texts = []
-
-        def clear(self):
-            super().clear()
-            self.texts = []
-
-        def draw_text(self, gc, x, y, s, prop, angle, ismath=False, mtext=None):
-            if mtext is not None:
-                self.texts.append(mtext)
-            return super().draw_text(gc, x, y, s, prop, angle, ismath=ismath, mtext=mtext)
-
-    class RecordingCanvas(FigureCanvasAgg):
-        def get_renderer(self):
-            w, h = self.get_width_height(physical=True)
-            key = w, h, self.figure.dpi
-            if self._lastKey != key:
-                self.renderer = _shared_renderer(TextRecorder, key)
-                self._lastKey = key
-            return self.renderer
-
-    return RecordingCanvas
 
 
 def live_png(fig, layout=None):
