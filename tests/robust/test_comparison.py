@@ -92,3 +92,14 @@ def test_compare_settings_gives_each_setting_the_numbers_of_its_own_study():
 def test_compare_settings_refuses_a_setting_that_cannot_vary_by_run():
     with pytest.raises(ValueError, match=r"^settings\['b'\] sets rkf_bias; only sigma_r0"):
         rb.compare_settings("mars", {"b": ({}, {"rkf_bias": "oracle"}, ("rkf",))}, n_steps=10)
+
+
+@pytest.mark.parametrize(("filters", "words"), [
+    (("rkf", "kalman"), "settings['b'] filters[1] must be one of"),
+    ("rkf", "settings['b'] filters must be a list of filters, got the string 'rkf'"),  # was 'r'
+    (("rkf", "rkf"), "settings['b'] filters lists rkf twice (items 0 and 1)"),
+])
+def test_compare_settings_names_each_filter_of_a_setting(filters, words):  # review 35d D11's class
+    with pytest.raises(ValueError) as exc:
+        rb.compare_settings("mars", {"b": ({}, {}, filters)}, n_steps=10)
+    assert str(exc.value).startswith(words), str(exc.value)

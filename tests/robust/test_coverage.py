@@ -120,3 +120,14 @@ def test_a_singular_bound_is_named_not_a_raw_linalg_error():
     run.P[-1, :3, :3] = 0.0
     with pytest.raises(ValueError, match=r"^run.P\[\d+\] must be positive definite, but it is singular"):
         cv.bound_coverage(run, sc)
+
+
+@pytest.mark.parametrize(("sources", "words"), [
+    (("prior", "kalman"), "sources[1] must be one of"),
+    ("prior", "sources must be a list of sources, got the string 'prior'"),
+    (("prior", "prior"), "sources lists prior twice (items 0 and 1)"),
+])
+def test_compare_bounds_names_each_source_under_its_list(sources, words):  # review 35d D11's class
+    with pytest.raises(ValueError) as exc:
+        cv.compare_bounds((0,), sources, n_steps=20)
+    assert str(exc.value).startswith(words), str(exc.value)

@@ -214,8 +214,8 @@ def compare_settings(body, settings, seeds=(0,), n_steps=None, window=None, **sc
         key = repr(sorted(scenario.items()))
         if key not in drawn:  # settings of the filters only share the draws
             drawn[key] = _draws(body, {**scenario_kwargs, "n_steps": steps, **scenario}, seeds)
-        for f in filters:
-            check_choice("filter", f, FILTERS)
+        for f in validate.check_items(f"settings[{label!r}] filters", filters, "filter",
+                                      lambda lab, f: check_choice(lab, f, FILTERS)):
             per_filter[f].append((label, *drawn[key], kw))
     out = {label: {} for label in settings}
     for f, items in per_filter.items():  # one batch per filter: every setting's seeds

@@ -240,8 +240,9 @@ def compare_bounds(seeds=(0, 1, 2, 3), sources=BOUND_SOURCES, **scenario):
     ['residual', 'prior']
     """
     rows = []
+    sources = check_items("sources", sources, "source",
+                          lambda label, s: check_choice(label, s, BOUND_SOURCES))
     for src in sources:
-        check_choice("sources", src, BOUND_SOURCES)
         if src == "ukf":
             kw = {k: v for k, v in scenario.items() if k not in ("bias_max", "eps", "lam")}
             out = coverage_over_seeds("ukf", seeds, **kw)

@@ -2,6 +2,8 @@
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from xnavlab.mars.models import force_models
 from xnavlab.mars.navigation import model_mismatch, scenarios
@@ -32,9 +34,11 @@ def test_a_short_table_has_every_column_and_reads_back_from_its_cache(tmp_path, 
 
 
 @pytest.mark.parametrize(("kw", "words"), [
-    ({"seeds": ()}, "non-empty list of distinct integers"),
-    ({"seeds": (1, 1)}, "distinct"),
+    ({"seeds": ()}, "seeds must name at least one seed, got an empty list"),
+    ({"seeds": (1, 1)}, "seeds lists 1 twice (items 0 and 1)"),
     ({"seeds": 3}, "seeds must be a list"),
+    ({"seeds": [0, -1]}, "seeds[1] must be an integer in [0, 9223372036854775807], got -1"),  # D11
+    ({"seeds": [0.5]}, "seeds[0] must be an integer in"),
     ({"days": 0.0}, "days must be a real number in (0, 365]"),
     ({"days": 1.0, "settle_days": 1.0}, "settle_days must be a real number in [0, 1)"),
 ])
@@ -92,3 +96,38 @@ def test_q_sweep_checks_its_arguments(bad):
 def test_cache_must_be_a_bool(call):  # review 35d D9
     with pytest.raises(ValueError, match="cache must be True or False"):
         call()
+
+
+@pytest.mark.parametrize(("kw", "words"), [
+    ({"q_values": [0.0, 0.0]}, "q_values lists 0.0 twice (items 0 and 1)"),  # review 35d D10
+    ({"q_values": [1e-11, 0.0, 1e-11]}, "q_values lists 1e-11 twice (items 0 and 2)"),
+    ({"days": 400.0}, "days must be a real number in (0, 365], got 400.0"),  # was (0, inf)
+])
+def test_q_sweep_refuses_a_repeated_psd_and_names_the_real_range_of_days(kw, words):
+    with pytest.raises(ValueError) as exc:
+        model_mismatch.q_sweep(**{"q_values": [0.0], "days": 0.01, **kw}, cache=False)
+    assert str(exc.value) == words
+
+
+@given(st.lists(st.integers(-2**64, 2**64), min_size=1, max_size=4))
+def test_seeds_are_refused_under_their_own_name_with_the_scenario_range(seeds):
+    bad = [i for i, s in enumerate(seeds) if not 0 <= s <= 2**63 - 1]
+    again = [i for i, s in enumerate(seeds) if s in seeds[:i]]
+    if not bad and not again:
+        return  # a good list: running it is the other tests' business
+    with pytest.raises(ValueError) as exc:
+        model_mismatch.mismatch_runs(days=0.01, seeds=seeds, cache=False)
+    words = str(exc.value)
+    if bad and (not again or bad[0] < again[0]):  # items are checked in order
+        assert words == (f"seeds[{bad[0]}] must be an integer in [0, 9223372036854775807], "
+                         f"got {seeds[bad[0]]}")
+    else:
+        assert words.startswith(f"seeds lists {seeds[again[0]]} twice (items ")
+
+
+@pytest.mark.parametrize("bad", [{}, None, "paper", force_models.PAPER])
+def test_setup_note_refuses_what_is_not_a_scenario(bad):  # review 35d D12: AttributeError
+    with pytest.raises(ValueError) as exc:
+        model_mismatch.setup_note(bad)
+    assert str(exc.value).startswith("scenario must be a MarsScenario, got ")
+    assert len(str(exc.value).splitlines()) == 1

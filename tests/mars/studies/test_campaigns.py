@@ -73,3 +73,15 @@ def test_a_scenario_sets_every_field_but_those_the_consistency_campaign_sets():
             mc.campaign("consistency", days=0.02, scenario=scenarios.MarsScenario(**bad))
     with pytest.raises(ValueError, match="'seed' is not a field consistency_run takes"):
         mc.consistency_run(seed=0, days=0.02, fields={"seed": 1})
+
+
+@pytest.mark.parametrize(("kw", "words"), [
+    ({"fault_classes": ("step", "wobble")}, "fault_classes[1] must be one of"),
+    ({"sensors": ("uv", "gps")}, "sensors[1] must be one of"),
+    ({"sensors": "uv"}, "sensors must be a list of sensors, got the string 'uv'"),  # was 'u'
+    ({"fault_classes": ("step", "step")}, "fault_classes lists step twice (items 0 and 1)"),
+])
+def test_detector_cells_name_each_item_under_its_list(kw, words):  # review 35d D11's class
+    with pytest.raises(ValueError) as exc:
+        mc.detector_cells(**kw)
+    assert str(exc.value).startswith(words), str(exc.value)

@@ -49,3 +49,15 @@ def test_split_pulls_shapes(photons):
     assert np.all(np.abs(out["pulls"]) < 5.0)
     with pytest.raises(ValueError, match="seeds"):
         photon_error.split_pulls(photons, seeds=[1])
+
+
+@pytest.mark.parametrize(("months", "words"), [
+    ((2, 0), "months[1] must be an integer in [1, "),
+    ((2, 2), "months lists 2 twice (items 0 and 1)"),
+    (6, "months must be a list of set lengths, got 6"),
+])
+def test_exposure_scaling_names_each_length_under_its_list(photons, reference, months, words):
+    # review 35d D11's class: the message said months for one item; a repeat ran twice
+    with pytest.raises(ValueError) as exc:
+        photon_error.exposure_scaling(photons, reference, months=months)
+    assert str(exc.value).startswith(words), str(exc.value)

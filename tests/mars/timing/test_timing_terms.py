@@ -218,3 +218,14 @@ def test_summary_rows_and_plot_terms(day_orbit):
     assert by_term["clock: mean rate"][7] == "-" and by_term["clock: mean rate"][5].startswith("not in PINT")
     fig = tt.plot_terms(t, orbit, year, year["t"][:2], witness)
     assert len(fig.axes) == 2 and len(fig.legends) == 1
+
+
+@pytest.mark.parametrize(("terms", "words"), [
+    (("planets", "gravity"), "terms[1] must be one of"),
+    ("planets", "terms must be a list of terms, got the string 'planets'"),
+    (("planets", "planets"), "terms lists planets twice (items 0 and 1)"),
+])
+def test_navigation_effect_names_each_term_under_its_list(terms, words):  # review 35d D11's class
+    with pytest.raises(ValueError) as exc:
+        tt.navigation_effect(terms, days=0.5)
+    assert str(exc.value).startswith(words), str(exc.value)

@@ -43,7 +43,14 @@ import numpy as np
 from xnavlab.core.constants import DAY
 from xnavlab.core.diskcache import cached_arrays, entry_path, store
 from xnavlab.core.filters import chi2_bounds, consistency_verdict, judge_series
-from xnavlab.core.validate import check_bool, check_finite_array, check_int, check_real
+from xnavlab.core.validate import (
+    check_bool,
+    check_finite_array,
+    check_int,
+    check_items,
+    check_real,
+    shown,
+)
 from xnavlab.mars.navigation import scenarios
 
 __all__ = ["CASES", "case_scenario", "mismatch_runs", "mismatch_table", "TABLE_COLUMNS",
@@ -85,12 +92,17 @@ def case_scenario(case, days=30.0, seed=0):
 def setup_note(scenario):
     """One sentence that says which set-up a run has, for a chapter or a reproduction's note.
 
+    ``scenario`` must be a :class:`~xnavlab.mars.navigation.scenarios.MarsScenario`; anything
+    else is refused with a one-line ``ValueError`` naming it.
+
     Examples
     --------
     >>> setup_note(scenarios.MarsScenario())
     "Paper set-up: truth and filter share the paper's force model (Mars point mass + Sun, \
 Jupiter); q_acc 1e-11 m^2/s^3."
     """
+    if not isinstance(scenario, scenarios.MarsScenario):
+        raise ValueError(f"scenario must be a MarsScenario, got {shown(scenario)}")
     sc = scenario
     if sc.paper_setup:
         return (f"Paper set-up: truth and filter share the paper's force model "
@@ -119,11 +131,9 @@ def _cached(path, compute, cache):
 
 def _check(days, seeds, settle_days):
     days = check_real("days", days, 0.0, 365.0, lo_open=True)
-    if isinstance(seeds, int | str) or not hasattr(seeds, "__iter__"):
-        raise ValueError(f"seeds must be a list of distinct integers >= 0, got {seeds!r}")
-    seeds = tuple(check_int("seed", s, 0, 2**62) for s in seeds)
-    if not seeds or len(set(seeds)) != len(seeds):
-        raise ValueError(f"seeds must be a non-empty list of distinct integers, got {seeds!r}")
+    # each seed is a run's MarsScenario seed: its range, under the list's own name (seeds[i])
+    seeds = tuple(int(s) for s in check_items(
+        "seeds", seeds, "seed", each=lambda label, s: check_int(label, s, 0, 2**63 - 1)))
     if settle_days is None:
         settle_days = scenarios.default_settle_days(days)
     settle_days = check_real("settle_days", settle_days, 0.0, days, hi_open=True)
@@ -138,7 +148,8 @@ def mismatch_runs(days=30.0, seeds=(0, 1, 2, 3, 4), settle_days=None, cache=True
     days : float
         Run length, days, in (0, 365].
     seeds : sequence of int
-        Distinct seeds (initial error and noise of each run).
+        Distinct seeds (initial error and noise of each run), each in [0, 2**63 - 1]; a
+        repeated seed is refused (its run would count twice).
     settle_days : float, optional
         Start of the RMS and NEES window, days, in [0, days); default
         :func:`~xnavlab.mars.navigation.scenarios.default_settle_days`.
@@ -295,9 +306,10 @@ def q_sweep(q_values=SWEEP_Q_ACC, days=8.0, cache=True):
     Parameters
     ----------
     q_values : sequence of float
-        White-acceleration PSDs to try, m^2/s^3, each >= 0.
+        White-acceleration PSDs to try, m^2/s^3, each >= 0 and none twice (a repeat would be
+        run and returned twice).
     days : float
-        Length of the run, days, > 0.
+        Length of the run, days, in (0, 365].
     cache : bool
         Read and write the on-disk cache.
 
@@ -318,7 +330,8 @@ def q_sweep(q_values=SWEEP_Q_ACC, days=8.0, cache=True):
     q = check_finite_array("q_values", q_values, shape=None)
     if q.ndim != 1 or q.size == 0 or np.any(q < 0):
         raise ValueError(f"q_values must be a non-empty sequence of PSDs >= 0, got {q_values!r}")
-    days = check_real("days", days, 0.0, lo_open=True)
+    check_items("q_values", q.tolist(), "PSD")  # one row per PSD: a repeat is refused
+    days = check_real("days", days, 0.0, 365.0, lo_open=True)  # the scenario's range
 
     def compute():
         base = scenarios.prepare(days=days)                 # one truth, one set of noise

@@ -39,7 +39,7 @@ import numpy as np
 
 from xnavlab.core.campaign import Campaign
 from xnavlab.core.filters import chi2_bounds, consistency_verdict
-from xnavlab.core.validate import check_choice, check_int, check_real
+from xnavlab.core.validate import check_choice, check_int, check_items, check_real
 from xnavlab.mars.navigation import scenario_files, scenarios
 from xnavlab.mars.studies import trials
 from xnavlab.mars.timing import pulsar_specs, pulsars
@@ -200,10 +200,11 @@ def detector_cells(fault_classes=trials.FAULT_CLASSES, sensors=trials.SENSORS):
     >>> len(detector_cells()), detector_cells()[:2]
     (45, [('step', 'uv', 0), ('step', 'uv', 1)])
     """
-    for f in fault_classes:
-        check_choice("fault_class", f, trials.FAULT_CLASSES)
-    for s in sensors:
-        check_choice("sensor", s, trials.SENSORS)
+    # each item under its list's name (fault_classes[1]); a string or a repeat is refused
+    fault_classes = check_items("fault_classes", fault_classes, "fault class",
+                                lambda label, f: check_choice(label, f, trials.FAULT_CLASSES))
+    sensors = check_items("sensors", sensors, "sensor",
+                          lambda label, s: check_choice(label, s, trials.SENSORS))
     return [(f, s, i) for f, s in product(fault_classes, sensors)
             for i in range(len(trials.SIZES[f]))]
 

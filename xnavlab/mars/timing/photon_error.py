@@ -28,7 +28,7 @@ import math
 import numpy as np
 
 from xnavlab.core.constants import C
-from xnavlab.core.validate import check_int, check_real
+from xnavlab.core.validate import check_int, check_items, check_real
 from xnavlab.mars.timing import pulsars
 from xnavlab.mars.timing.photon_fix import build_reference, estimate_offset, fix, split_months
 
@@ -119,8 +119,9 @@ def exposure_scaling(photons, reference, months=(1, 2, 3, 4, 6, 8), min_sets=4):
     nav = photons.subset(~reference.in_reference)
     nav_months = np.unique(nav.month)
     rows = []
-    for m in months:
-        m = check_int("months", m, 1, nav_months.size)
+    for m in check_items("months", months, "set length",  # months[i], a repeat refused
+                         lambda label, m: check_int(label, m, 1, nav_months.size)):
+        m = int(m)
         n_sets = nav_months.size // m
         if n_sets < min_sets:
             continue

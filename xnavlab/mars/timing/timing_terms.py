@@ -37,7 +37,7 @@ import numpy as np
 from xnavlab.core import ephemeris
 from xnavlab.core.constants import DAY, GM_SUN, C
 from xnavlab.core.diskcache import cached_arrays, entry_path
-from xnavlab.core.validate import check_choice, check_finite_array, check_real
+from xnavlab.core.validate import check_choice, check_finite_array, check_items, check_real
 from xnavlab.mars.models import dynamics
 from xnavlab.mars.navigation import scenarios
 from xnavlab.mars.timing import pulsars, toa
@@ -556,8 +556,7 @@ def navigation_effect(terms=TERMS, days=30.0, subsystems=("xnav",), seed=0):
     >>> sorted(out, key=str), bool(out["planets"]["position_error_m"] > 0)
     ([None, 'planets'], True)
     """
-    for term in terms:
-        check_choice("terms", term, TERMS)
+    terms = check_items("terms", terms, "term", lambda label, t: check_choice(label, t, TERMS))
     inp, table = _inputs_and_terms(days, subsystems, seed)
     z0 = inp.z["xnav"]
     out = {}
