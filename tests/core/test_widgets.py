@@ -726,6 +726,31 @@ def test_a_reopened_slider_looks_its_frames_up_on_disk_and_they_are_the_frames_d
     w.close()
 
 
+def test_a_slider_with_fixed_margins_keeps_its_frames_on_disk_too(monkeypatch, tmp_path):
+    """A figure without a layout engine is drawn as it is: its frames are keyed as "fixed"."""
+    monkeypatch.setenv("XNAVLAB_CACHE", str(tmp_path))
+    monkeypatch.setenv(FRAME_CACHE_ENV, "1")
+    calls = []
+
+    def plot(n=1):
+        calls.append(n)
+        fig = Figure(figsize=(3, 2))
+        fig.add_subplot().plot([0.0, 1.0], [0.0, n])
+        return fig
+    # keyed as the package's (its code: that module's)
+    plot.__module__, plot.__qualname__ = "xnavlab.core.plotting", "fixed_demo"
+    pngs = []
+    for _ in range(2):  # a first session, then the slider opened again
+        ex = explore(plot, n=[1, 2, 3], initial={"n": 1}, ahead=False)
+        w = ex.widget()
+        assert ex.layout.state() == "fixed"
+        [slider] = [c for c in w.children if "xnav-control" in c._dom_classes]
+        slider.value = 3
+        pngs.append(ex._last_png)
+        w.close()
+    assert calls == [1, 3, 1] and pngs[0] == pngs[1]  # the second move: read from disk
+
+
 def test_the_key_of_a_frame_on_disk_changes_with_the_code_and_the_arguments(tmp_path,
                                                                           monkeypatch):
     """An edit of the plotting function's module, or of a module it imports, gives a new key;

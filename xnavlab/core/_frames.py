@@ -18,8 +18,9 @@ file read. The key covers everything the frame's pixels depend on:
   setting (``rcParams``, the backend aside), and the versions of matplotlib, numpy and
   Pillow.
 
-Only frames drawn in the kept layout are written (the opening frame lays the layout out, and
-a frame laid out again changes it: neither is a pure function of its key). A write goes to a
+Only frames drawn in the kept layout, or with fixed margins, are written (the opening frame
+lays the layout out, and a frame laid out again changes it: neither is a pure function of its
+key). A write goes to a
 temporary file of its own process and thread and is renamed into place (``os.replace``), so a
 reader never sees half a frame and concurrent writers of one frame both succeed; a frame that
 cannot be read back whole is drawn again. The directory is kept under
@@ -30,6 +31,7 @@ set to ``"0"`` turns the disk off (the in-memory frames remain).
 from __future__ import annotations
 
 import contextlib
+import functools
 import hashlib
 import os
 import threading
@@ -78,6 +80,20 @@ def _key_of(value, h):
         h.update(a.tobytes())
     else:
         raise _Unkeyable(type(value).__name__)
+
+
+@functools.cache
+def _versions():
+    """The versions of the distributions that draw the frames, as text (once per process)."""
+    import importlib.metadata
+
+    out = []
+    for dist in ("matplotlib", "numpy", "pillow"):
+        try:
+            out.append(f"{dist}={importlib.metadata.version(dist)}")
+        except importlib.metadata.PackageNotFoundError:
+            out.append(f"{dist}=none")
+    return ",".join(out)
 
 
 def _rc_text():
@@ -129,20 +145,19 @@ class DiskFrames:
                 name = getattr(self.plot, "__qualname__", "")
                 package = Path(self.root).name if self.root is not None else "xnavlab"
                 if module.startswith(package + ".") and name and "<" not in name:
-                    import importlib.metadata
-
                     try:
                         digest = code_digest((module,), self.root)
                     except (ValueError, OSError):  # not a module of the package's tree
                         return None
-                    versions = []
-                    for dist in ("matplotlib", "numpy", "pillow"):
-                        try:
-                            versions.append(f"{dist}={importlib.metadata.version(dist)}")
-                        except importlib.metadata.PackageNotFoundError:
-                            versions.append(f"{dist}=none")
-                    self._static = f"{module}:{name}:{digest}:{','.join(versions)}"
+                    self._static = f"{module}:{name}:{digest}:{_versions()}"
             return self._static or None
+
+    def warm(self):
+        """Hash the code of the key in a daemon thread (a fraction of a second, once per
+        process and module), so that the reader's first move does not; ``None``."""
+        if os.environ.get(FRAME_CACHE_ENV, "1") != "0" and self._static is None:
+            threading.Thread(target=self._static_key, name="xnavlab-frames-key",
+                             daemon=True).start()
 
     def path(self, kwargs, layout_state):
         """The file of the frame drawn for ``kwargs`` in the kept layout ``layout_state``, or

@@ -50,7 +50,7 @@ a move onto the position being drawn waits for it. The thread never draws the re
 waits while a foreground frame or a cell runs, stops with the widget and is a daemon;
 ``explore(..., ahead=False)`` or :data:`AHEAD_ENV` turns it off (:func:`ahead_default`; the
 plumbing, and what it relies on in matplotlib's thread safety: ``xnavlab/core/_ahead.py``).
-**Frames kept on disk:** every frame drawn in the kept layout, at a move or ahead, is also
+**Frames kept on disk:** every frame drawn in the kept layout (or with fixed margins) is also
 written under ``$XNAVLAB_CACHE/frames/``, keyed by the plotting function's code (its module and
 all the package modules it imports), its arguments, the kept layout and matplotlib's settings
 and version: a slider opened again (the chapter re-run, another kernel) looks its frames up
@@ -328,6 +328,7 @@ class Explorer:
             widget.add_class("xnav-explore")
             widget.out.add_class("xnav-output")
             widget.children = (*widget.children[:-1], status, widget.out)
+            self._disk.warm()  # the key's code hashed before the first move
             if self._use_ahead():
                 self._worker = AheadWorker(self._cache, self._ahead_frame)
                 self._worker.kick()  # after the opening frame (drawn by the line above)
@@ -380,7 +381,7 @@ class Explorer:
         with RENDER_LOCK:
             kept = self.layout.state() == state
             png = live_png(fig, self.layout)
-            kept = kept and self.layout.last == "kept layout"  # a pure function of the key
+            kept = kept and self.layout.last in ("kept layout", "fixed")  # given by the key
         if kept:
             self._disk.store(path, png)
         if self._pyplot:
@@ -525,10 +526,11 @@ class SteadyLayout:
         return how
 
     def state(self):
-        """The kept layout a later frame is drawn in, as text (``None`` before the first frame
-        and once no layout is kept): part of the key of a frame kept on disk."""
+        """The kept layout a later frame is drawn in, as text (``"fixed"`` while every frame had
+        fixed margins; ``None`` before the first frame and once no layout is kept): part of the
+        key of a frame kept on disk."""
         if self._shape is None or not self._trusted:
-            return None
+            return "fixed" if self._shape is None and self.last == "fixed" else None
         boxes = [b.bounds for pair in self._boxes for b in pair]
         return repr((self._shape, boxes, sorted(self._texts.items())))
 
