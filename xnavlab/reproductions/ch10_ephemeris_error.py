@@ -59,6 +59,7 @@ __all__ = [
     "LOST_Q_V",
     "LOST_INITIAL",
     "LOST_MARS_A",
+    "LOST_EARTH_ORIENTATION",
     "orbit_elements",
     "RANKING_CLAIM",
 ]
@@ -237,6 +238,12 @@ _LOST_SEEDS = (0, 1)
 #: recoverable), m; ours is the main paper's Mars state (a = 4196 km), whose eccentricity,
 #: inclination and orientation every one keeps.
 LOST_MARS_A = (1.0e7, 2.0e7)
+#: Orientations of the Earth orbit run as the paper's lost one: (node, true anomaly at the epoch),
+#: deg (ours 0, 0). The paper names the satellite, OPS 5111 (NAVSTAR 1, GPS Block I), whose class
+#: places the size (a = 26,560 km, the 12-h GPS orbit) and the inclination (63 deg), and a
+#: near-circular orbit (ours e = 0.01): those are held; its table of elements is lost, and
+#: nothing places the orbit's orientation to the pulsars and the error, which is varied.
+LOST_EARTH_ORIENTATION = ((120.0, 0.0), (240.0, 0.0), (0.0, 90.0))
 
 
 def orbit_elements(state, gm):
@@ -286,8 +293,10 @@ def lost_settings(body, size, cmp, seeds=_LOST_SEEDS, profile="linear"):
     (:data:`LOST_Q_V`) and the initial error (:data:`LOST_INITIAL`); the RKF's residual-average
     weight (:data:`LOST_LAMBDAS`) and the ASUKF's bias random walk
     (:data:`LOST_Q_B`); on Mars, the size of the orbit (:data:`LOST_MARS_A`, the other
-    elements ours). The Earth orbit and the pulsar table, lost too, are not varied (ours are
-    representative Earth elements and three catalogue pulsars).
+    elements ours); on Earth, the orbit's orientation (:data:`LOST_EARTH_ORIENTATION`: its node
+    and its anomaly at the epoch; the size, inclination and eccentricity are placed by the
+    paper's satellite and held). The pulsar table, lost too, is not varied (three catalogue
+    pulsars whose ranging accuracies give the paper's R).
     All the settings run as one batch per filter (:func:`xnavlab.robust.compare_settings`).
 
     Parameters
@@ -323,6 +332,10 @@ def lost_settings(body, size, cmp, seeds=_LOST_SEEDS, profile="linear"):
         el = orbit_elements(ee.orbit("mars").state0, ee.PLANETS["mars"][0])
         settings.update({f"orbit a {a / 1e3:,.0f} km": ({"elements": (a, *el[1:])}, {}, every)
                          for a in LOST_MARS_A})
+    else:
+        a, e, i, _, argp, _ = ee.EARTH_ELEMENTS
+        settings.update({_orientation_label(node, nu): ({"elements": (a, e, i, node, argp, nu)}, {}, every)
+                         for node, nu in LOST_EARTH_ORIENTATION})
     got = robust.compare_settings(body, settings, seeds, error="growing", size=float(size), profile=profile)
     shift = {f: {} for f in ours}
     order = {"tdukf": {}, "asukf": {}}
@@ -337,10 +350,17 @@ def lost_settings(body, size, cmp, seeds=_LOST_SEEDS, profile="linear"):
     return {"shift": shift, "rkf_minus_tdukf": order["tdukf"], "rkf_minus_asukf": order["asukf"]}
 
 
+def _orientation_label(node, nu):
+    """A lost Earth-orbit orientation's label: ``"orbit node 120 deg, anomaly 0 deg"``."""
+    return f"orbit node {node:g} deg, anomaly {nu:g} deg"
+
+
 #: The lost settings held at ours (not varied), with the reason, per orbit.
 _HELD = {
-    "earth": "the orbit, lost too, is held at ours, representative OPS_5111 elements: the paper's "
-             "were not recoverable",
+    "earth": "the orbit's elements, lost too, are varied by its orientation to the pulsars and "
+             "the error, node and anomaly at the epoch; its size, a = 26,560 km, its inclination, "
+             "63 deg, and its near-circular shape, e 0.01, are held: the paper names the "
+             "satellite, OPS 5111, a GPS Block I, whose 12-h, 63-deg orbit places them",
     "mars": "the orbit, lost too (Wei et al.'s elements were not recoverable), is varied by its "
             "size, which sets the dynamics the filters average over; its shape and orientation "
             "are held at the main paper's Mars state (e 0.09, i 75 deg)",
@@ -352,9 +372,9 @@ def _lost_what(f, body):
     """For an improvement of filter ``f``: the lost settings it is judged over (words), what
     would decide it, and the lost settings held at ours with their reason (:func:`check_lost`)."""
     what = "error direction, process noise, initial error" + (
-        ", size of the orbit" if body == "mars" else "") + (
+        ", size of the orbit" if body == "mars" else ", orientation of the orbit") + (
         "" if f == "tdukf" else f" and {_NAMES[f]} tuning")
-    decides = f"the paper's {what}" + ("" if body == "mars" else " and its orbit")
+    decides = f"the paper's {what}"
     return what, decides, _HELD[body] + _PULSARS_HELD
 
 
@@ -500,12 +520,15 @@ def _draw_text(rows, body="earth"):
             "error (100 m and 10 km against our 1 km); the ASUKF's bias random walk; the RKF's "
             "residual-average weight lam"
             + ("; the size of the orbit, a = " + " and ".join(f"{a / 1e3:,.0f}" for a in LOST_MARS_A)
-               + " km against our 4,196 km, its other elements ours" if body == "mars" else "")
+               + " km against our 4,196 km, its other elements ours" if body == "mars" else
+               "; the orientation of the orbit, node and anomaly at the epoch "
+               + ", ".join(f"{n:g}/{v:g}" for n, v in LOST_EARTH_ORIENTATION)
+               + " deg against our 0/0 deg, its size, inclination and shape held as the paper's "
+                 "satellite, OPS 5111, a GPS Block I, places them")
             + ") move an improvement further than the noise does, so each "
             f"improvement is judged over them, one varied at a time ({len(_LOST_SEEDS)} seeds each, "
             f"paired with ours): {verdicts}. "
-            + ("The orbit, lost too, is ours and not varied; the " if body != "mars" else "The ")
-            + "pulsars are the three whose ranging accuracies give the paper's R. ")
+            + "The pulsars are the three whose ranging accuracies give the paper's R. ")
 
 
 def _pair_text(cmp, a, b):
