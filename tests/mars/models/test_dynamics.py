@@ -6,7 +6,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 from xnavlab.core import ephemeris
-from xnavlab.core.constants import DAY, GM_MARS, GM_SUN, J2_MARS, J2_MARS_RADIUS
+from xnavlab.core.constants import DAY, GM_MARS, GM_SUN, J2_MARS, J2_MARS_RADIUS, R_MARS
 from xnavlab.mars.models import dynamics
 
 T0, X0 = dynamics.MARS_T0, dynamics.MARS_STATE0
@@ -272,3 +272,36 @@ def test_the_pole_must_be_a_unit_vector(pole):  # review 35d D41
 def test_elements_of_a_state_without_a_plane_are_refused(state):  # review 35d D42
     with pytest.raises(ValueError, match="state must have a position off the centre"):
         dynamics.orbital_elements(state)
+
+
+def test_check_state0_bounds_the_speed_by_a_craft_bound_to_the_sun():
+    # review 35d D5: a state0 at 3 c was accepted and propagated
+    assert dynamics.V_INF_MAX == 65.0e3
+    fast = np.array([4e6, 0.0, 0.0, 9e8, 0.0, 0.0])
+    for call in (lambda: dynamics.propagate(np.array([T0 + 1.0]), fast),
+                 lambda: dynamics.truth(np.array([T0 + 1.0]), fast, cache=False),
+                 lambda: dynamics.check_state0(fast)):
+        with pytest.raises(ValueError, match=r"^state0 speed must be below 65164.5 m/s at "
+                                             r"\|r\| = 4e\+06 m .* got 9e\+08 m/s$"):
+            call()
+    with pytest.raises(ValueError, match=r"^x speed must be below"):
+        dynamics.check_state0(fast, "x")
+    with pytest.raises(ValueError, match=r"state0 position must lie outside Mars .* got \|r\| = 0 m"):
+        dynamics.check_state0(np.zeros(6))
+    with pytest.raises(ValueError, match="state0 must"):
+        dynamics.check_state0([4e6, 0.0, 0.0, np.nan, 0.0, 0.0])
+
+
+@given(st.floats(1.0001, 1e4), st.floats(0.0, 2.0), st.floats(-1.0, 1.0))
+def test_check_state0_refuses_exactly_the_speeds_at_or_above_the_bound(r_over, frac, cos):
+    r = R_MARS * r_over
+    v_max = float(np.sqrt(dynamics.V_INF_MAX**2 + 2.0 * GM_MARS / r))
+    v = frac * v_max
+    s = np.sqrt(1.0 - cos**2)
+    state = np.array([r, 0.0, 0.0, v * cos, v * s, 0.0])
+    speed = float(np.linalg.norm(state[3:]))
+    if speed < v_max:
+        assert np.array_equal(dynamics.check_state0(state), state)
+    else:
+        with pytest.raises(ValueError, match="state0 speed must be below"):
+            dynamics.check_state0(state)

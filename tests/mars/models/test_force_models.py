@@ -189,3 +189,13 @@ def test_an_orbit_that_falls_into_mars_is_refused_naming_state0():
 def test_truth_cache_must_be_a_bool():  # review 35d D43
     with pytest.raises(ValueError, match="cache must be True or False"):
         fm.truth(dynamics.MARS_T0 + np.array([0.0, 10.0]), cache="no")
+
+
+def test_a_state0_faster_than_any_craft_bound_to_the_sun_is_refused():  # review 35d D5
+    fast = np.array([4e6, 0.0, 0.0, 9e8, 0.0, 0.0])
+    for call in (lambda: fm.propagate(dynamics.MARS_T0 + np.array([0.0, 60.0]), fast),
+                 lambda: fm.truth(dynamics.MARS_T0 + np.array([0.0, 60.0]), fast, cache=False)):
+        with pytest.raises(ValueError, match=r"^state0 speed must be below 65164.5 m/s"):
+            call()
+    with pytest.raises(ValueError, match=r"state0 must be a 1-D array \(shape \(6,\)\), got shape"):
+        fm.propagate(dynamics.MARS_T0 + np.array([0.0, 60.0]), np.tile(dynamics.MARS_STATE0, (2, 1)))

@@ -82,6 +82,8 @@ def test_flags_override_the_file(tmp_path, capsys):
     ("[xnav]\npulsars = \"B0531+21\"\n", "[xnav] pulsars must be a list of pulsars, got the string"),
     ("[xnav]\npulsars = [\"B0531+21\", \"B0531+21\"]\n", "lists B0531+21 twice"),
     ("[xnav]\npulsars = [\"B\"]\n", "unknown pulsar 'B'"),
+    ("[xnav]\npulsars = [\"b1937+21\"]\n", "the catalogue names it 'B1937+21'"),  # review 35d D4
+    ("[orbit]\nstate0 = [4e6, 0, 0, 9e8, 0, 0]\n", "[orbit] state0 speed must be below 65164.5 m/s"),
 ])
 def test_a_bad_field_is_one_line_naming_it(tmp_path, capsys, text, words):
     code, err = _run(capsys, tmp_path, text)

@@ -462,3 +462,10 @@ def test_a_state0_inside_mars_is_refused_by_the_scenario_itself():
     # review 35d D3: scenario --check passed it; only the run refused it, without the file's key
     with pytest.raises(ValueError, match=r"state0 position must lie outside Mars .* got \|r\| = 1 m"):
         scenarios.MarsScenario(state0=(1.0, 0.0, 0.0, 0.0, 0.0, 0.0))
+
+
+def test_a_state0_faster_than_any_craft_bound_to_the_sun_is_refused():
+    # review 35d D5: 3 c was accepted and run
+    with pytest.raises(ValueError, match=r"state0 speed must be below 65164.5 m/s at \|r\| = "
+                                         r"4e\+06 m .* got 9e\+08 m/s"):
+        scenarios.MarsScenario(state0=(4e6, 0.0, 0.0, 9e8, 0.0, 0.0))

@@ -41,6 +41,7 @@ from xnavlab.core.validate import (
     check_int,
     check_items,
     check_real,
+    check_vector,
 )
 
 __all__ = [
@@ -55,6 +56,8 @@ __all__ = [
     "acceleration",
     "IMPACT_EVENTS",
     "check_impact",
+    "V_INF_MAX",
+    "check_state0",
     "propagate",
     "truth",
     "chapter_times",
@@ -333,6 +336,56 @@ def check_impact(sol, t0, t_end):
         raise RuntimeError(f"propagation failed: {sol.message}")
 
 
+#: Speed relative to Mars far from it, m/s, above which no craft bound to the Sun passes Mars:
+#: the Sun's escape speed at Mars's perihelion (1.381 au, 35.8 km/s) plus Mars's speed there
+#: (26.5 km/s) is 62.3 km/s, rounded up. :func:`check_state0` adds Mars's pull.
+V_INF_MAX = 65.0e3
+
+
+def check_state0(state0, name="state0"):
+    """A Mars-centred state checked for physics: finite, above Mars, slower than any craft
+    bound to the Sun.
+
+    Parameters
+    ----------
+    state0 : array_like, shape (6,)
+        Position and velocity, Mars-centred J2000, m and m/s.
+    name : str
+        The parameter's name in messages.
+
+    Returns
+    -------
+    ndarray, shape (6,)
+
+    Raises
+    ------
+    ValueError
+        For a state not finite, complex or of another shape, a position inside Mars (``|r| <= R_MARS``) or a
+        speed of ``sqrt(V_INF_MAX**2 + 2 GM_MARS / |r|)`` or more (65.2 km/s at the surface:
+        :data:`V_INF_MAX` plus the speed gained falling from far away to ``|r|``), each
+        naming ``name``, its range and the value.
+
+    Examples
+    --------
+    >>> check_state0(MARS_STATE0).shape
+    (6,)
+    >>> check_state0([4e6, 0.0, 0.0, 9e8, 0.0, 0.0])
+    Traceback (most recent call last):
+    ...
+    ValueError: state0 speed must be below 65164.5 m/s at |r| = 4e+06 m (no craft bound to ...
+    """
+    x = check_vector(name, state0, 6)  # not check_finite_array: its shape is a trailing one
+    r, v = float(np.linalg.norm(x[:3])), float(np.linalg.norm(x[3:]))
+    if not r > R_MARS:
+        raise ValueError(f"{name} position must lie outside Mars (|r| > {R_MARS:g} m), got "
+                         f"|r| = {r:.6g} m")
+    v_max = math.sqrt(V_INF_MAX**2 + 2.0 * GM_MARS / r)  # eq: vis-viva, v^2 = v_inf^2 + 2 mu / r
+    if not v < v_max:
+        raise ValueError(f"{name} speed must be below {v_max:.6g} m/s at |r| = {r:.6g} m (no "
+                         f"craft bound to the Sun passes Mars faster), got {v:.6g} m/s")
+    return x
+
+
 def propagate(t_eval, state0=MARS_STATE0, t0=MARS_T0, third_bodies=("sun", "jupiter"),
               j2=False, ephem="de421", rtol=1e-13, atol=1e-9, table=None):
     """Truth trajectory: integrate the model with ``solve_ivp`` (DOP853).
@@ -342,7 +395,8 @@ def propagate(t_eval, state0=MARS_STATE0, t0=MARS_T0, third_bodies=("sun", "jupi
     t_eval : array_like, shape (n,)
         Output epochs, s TDB past J2000, increasing, all ``>= t0``.
     state0 : array_like, shape (6,)
-        State at ``t0``, m and m/s (default: the paper's).
+        State at ``t0``, m and m/s (default: the paper's); refused by :func:`check_state0`
+        inside Mars or faster than any craft bound to the Sun.
     t0 : float
         Initial epoch (default :data:`MARS_T0`).
     third_bodies : sequence of str
@@ -367,12 +421,10 @@ def propagate(t_eval, state0=MARS_STATE0, t0=MARS_T0, third_bodies=("sun", "jupi
     True
     """
     t_eval = check_finite_array("t_eval", t_eval)
-    state0 = check_finite_array("state0", state0, shape=(6,))
+    state0 = check_state0(state0)
     t0 = check_real("t0", t0)
     if t_eval.ndim != 1 or t_eval.size == 0 or np.any(np.diff(t_eval) < 0) or t_eval[0] < t0:
         raise ValueError("t_eval must be a non-empty increasing 1-D array with t_eval[0] >= t0")
-    if np.linalg.norm(state0[:3]) <= R_MARS:
-        raise ValueError(f"state0 position must lie outside Mars (|r| > {R_MARS:g} m)")
     rtol = check_real("rtol", rtol, 2.3e-14, 1e-3)
     atol = check_real("atol", atol, 1e-12, 1e3, lo_open=True)
     third_bodies = _third_bodies(third_bodies)
@@ -420,7 +472,7 @@ def truth(t_eval, state0=MARS_STATE0, t0=MARS_T0, third_bodies=("sun", "jupiter"
     (2, 6)
     """
     t_eval = check_finite_array("t_eval", t_eval)
-    state0 = check_finite_array("state0", state0, shape=(6,))
+    state0 = check_state0(state0)
     bodies = _third_bodies(third_bodies)
     j2, cache = check_bool("j2", j2), check_bool("cache", cache)
     if not cache:

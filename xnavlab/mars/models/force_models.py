@@ -745,12 +745,10 @@ def propagate(t_eval, state0=dynamics.MARS_STATE0, t0=dynamics.MARS_T0, force_mo
     """
     fm = model(force_model)
     t_eval = check_finite_array("t_eval", t_eval)
-    state0 = check_finite_array("state0", state0, shape=(6,))
+    state0 = dynamics.check_state0(state0)  # above Mars, slower than a craft bound to the Sun
     t0 = check_real("t0", t0)
     if t_eval.ndim != 1 or t_eval.size == 0 or np.any(np.diff(t_eval) < 0) or t_eval[0] < t0:
         raise ValueError("t_eval must be a non-empty increasing 1-D array with t_eval[0] >= t0")
-    if np.linalg.norm(state0[:3]) <= R_MARS:
-        raise ValueError(f"state0 position must lie outside Mars (|r| > {R_MARS:g} m)")
     rtol = check_real("rtol", rtol, 2.3e-14, 1e-3)
     atol = check_real("atol", atol, 1e-12, 1e3, lo_open=True)
     t_end = float(t_eval[-1])
@@ -793,7 +791,7 @@ def truth(t_eval, state0=dynamics.MARS_STATE0, t0=dynamics.MARS_T0, force_model=
     cache = check_bool("cache", cache)
     fm = model(force_model)
     t_eval = check_finite_array("t_eval", t_eval)
-    state0 = check_finite_array("state0", state0, shape=(6,))
+    state0 = dynamics.check_state0(state0)
     check_choice("ephem", ephem, ephemeris.EPHEMERIDES)
     if fm.gravity_degree == 0 and not fm.srp and set(fm.third_bodies) <= {"sun", "jupiter"}:
         bodies = tuple(b for b in ("sun", "jupiter") if b in fm.third_bodies)

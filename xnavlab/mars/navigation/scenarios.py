@@ -59,7 +59,7 @@ from dataclasses import dataclass, field, fields, replace
 import numpy as np
 
 from xnavlab.core import ephemeris
-from xnavlab.core.constants import DAY, GM_MARS, R_MARS, C
+from xnavlab.core.constants import DAY, GM_MARS, C
 from xnavlab.core.federated import MODES, FederatedFilter
 from xnavlab.core.userfiles import output_path
 from xnavlab.core.validate import (
@@ -67,7 +67,6 @@ from xnavlab.core.validate import (
     check_int,
     check_items,
     check_real,
-    check_vector,
     make_rng,
     shown,
 )
@@ -215,7 +214,8 @@ class MarsScenario:
         Start epoch, s TDB past J2000 (:data:`xnavlab.mars.models.dynamics.MARS_T0`); the run, ``t0`` to
         ``t0 + days``, must lie in the coverage of both ephemerides.
     state0 : tuple of float
-        True initial state, Mars-centred J2000, m and m/s (the paper's).
+        True initial state, Mars-centred J2000, m and m/s (the paper's); above Mars and
+        slower than any craft bound to the Sun (:func:`~xnavlab.mars.models.dynamics.check_state0`).
 
     Examples
     --------
@@ -323,10 +323,7 @@ class MarsScenario:
         if not lo <= check_real("t0", self.t0) <= hi - self.span:
             raise ValueError(f"t0 must be in [{lo:.6g}, {hi - self.span:.6g}] s TDB past J2000 (the run, "
                              f"t0 to t0 + days, in {' and '.join(e.upper() for e in e)}), got {self.t0:.6g}")
-        s0 = check_vector("state0", self.state0, 6)
-        if not np.linalg.norm(s0[:3]) > R_MARS:  # refused here, so scenario --check says so
-            raise ValueError(f"state0 position must lie outside Mars (|r| > {R_MARS:g} m), got "
-                             f"|r| = {np.linalg.norm(s0[:3]):.6g} m")
+        s0 = dynamics.check_state0(self.state0)  # here, so scenario --check says so
         object.__setattr__(self, "state0", tuple(float(v) for v in s0))
         unused_inputs.check_fields(self)  # a field set but made inert by another is refused
 
