@@ -170,3 +170,34 @@ def test_fold_window_names_its_own_inputs():  # review 35d D13/D14: scipy's y0, 
         ft.fold_window("B1937+21", dynamics.MARS_T0, s0[None])
     with pytest.raises(ValueError, match=r"t_start must lie in \[.*\(the window in DE421\)"):
         ft.fold_window("B1937+21", -1e12, s0)
+
+
+def test_fold_window_refuses_a_state_faster_than_any_craft_bound_to_the_sun():  # review 35d D5
+    fast = np.array([4e6, 0.0, 0.0, 9e8, 0.0, 0.0])
+    with pytest.raises(ValueError, match=r"^state_true speed must be below 65164.5 m/s"):
+        ft.fold_window("B1937+21", dynamics.MARS_T0, fast)
+
+
+@pytest.mark.parametrize("bad", [{}, None, "abc", 3.0])
+def test_every_function_of_a_window_refuses_what_is_no_window(bad):
+    # review 35d D16: first_order_error({}) gave an AttributeError
+    u = np.zeros(3)
+    for call in (lambda: ft.first_order_error(bad), lambda: ft.expected_error(bad),
+                 lambda: ft.simulate_window_photons(bad, rng=0), lambda: ft.fold_photons(bad, u),
+                 lambda: ft.fold_toa(bad, u)):
+        with pytest.raises(ValueError, match=r"^window must be a FoldWindow \(from fold_window\), "
+                                             r"got "):
+            call()
+
+
+@pytest.mark.parametrize(("rows", "words"), [
+    ("abc", "rows must be a list of window_survey rows (dicts), got 'abc'"),  # D16: TypeError
+    ({"pulsar": "B0531+21"}, "rows must be a list of window_survey rows"),
+    (5, "rows must be a list of window_survey rows (dicts), got 5"),
+    ([{"pulsar": "B0531+21"}], "rows[0] must be a window_survey row (a dict with pulsar, crlb_m"),
+    ([None], "rows[0] must be a window_survey row"),
+])
+def test_survey_html_refuses_what_is_no_list_of_rows(rows, words):
+    with pytest.raises(ValueError) as exc:
+        ft.survey_html(rows)
+    assert str(exc.value).startswith(words) and len(str(exc.value).splitlines()) == 1

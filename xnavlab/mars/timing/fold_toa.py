@@ -71,6 +71,7 @@ from xnavlab.core.validate import (
     check_real,
     check_vector,
     make_rng,
+    shown,
 )
 from xnavlab.mars.models import dynamics
 from xnavlab.mars.timing import pulsars, timing_bound, toa
@@ -222,7 +223,8 @@ def fold_window(pulsar, t_start, state_true, error=None, duration=500.0, ephem="
     t_start : float
         Window start, s TDB past J2000.
     state_true : array_like, shape (6,)
-        True state at ``t_start``, Mars-centred J2000, m and m/s.
+        True state at ``t_start``, Mars-centred J2000, m and m/s (above Mars and slower than
+        any craft bound to the Sun: :func:`xnavlab.mars.models.dynamics.check_state0`).
     error : array_like, shape (6,), optional
         A-priori minus true state at ``t_start`` (default none: a perfect a-priori).
     duration : float
@@ -248,7 +250,7 @@ def fold_window(pulsar, t_start, state_true, error=None, duration=500.0, ephem="
     t_start = check_real("t_start", t_start)
     duration = check_real("duration", duration, 1.0, 86400.0)
     step = check_real("step", step, 0.01, 60.0)
-    state_true = check_vector("state_true", state_true, 6)
+    state_true = dynamics.check_state0(state_true, "state_true")  # above Mars, a physical speed
     err = np.zeros(6) if error is None else check_vector("error", error, 6)
     phase0 = check_real("phase0", phase0)
     lo, hi = ephemeris.coverage(ephem)
@@ -271,6 +273,13 @@ def fold_window(pulsar, t_start, state_true, error=None, duration=500.0, ephem="
                       r_mars, r_sun, d0, phase0)
 
 
+def _check_window(window):
+    """``window`` if it is a :class:`FoldWindow`, else one ValueError naming it."""
+    if not isinstance(window, FoldWindow):
+        raise ValueError(f"window must be a FoldWindow (from fold_window), got {shown(window)}")
+    return window
+
+
 def tag_offset(tag, duration):
     """Offset of a time tag from the window's mid-time, s: ``"start"``, ``"mid"``, ``"end"`` or s.
 
@@ -291,7 +300,8 @@ def first_order_error(window, correction="apriori", tag="mid"):
 
     For ``"apriori"`` this is ``e_bar - e(t_tag)`` of the module notes: what the instantaneous
     model ``z = h(x(t_tag))`` leaves out. (The fold's own estimate weighs the window uniformly,
-    as the photons arrive.)
+    as the photons arrive.) A ``window`` that is no :class:`FoldWindow` is refused (one
+    ``ValueError``), here and in every function that takes one.
 
     Examples
     --------
@@ -299,7 +309,7 @@ def first_order_error(window, correction="apriori", tag="mid"):
     >>> [round(first_order_error(w, tag=t) * C, 1) for t in TAGS]       # m
     [-116.4, -35.2, 257.1]
     """
-    eps = window.error(correction, tag)
+    eps = _check_window(window).error(correction, tag)
     mean = float(np.sum((eps[1:] + eps[:-1]) / 2.0 * np.diff(window.u)) / window.duration)
     return mean - float(_spline(window.u, eps)(tag_offset(tag, window.duration)))
 
@@ -360,7 +370,7 @@ def expected_error(window, correction="apriori", tag="mid", area_m2=1.0,
     >>> expected_error(w, "constant").bias is None          # the pulse is smeared away
     True
     """
-    p = window.pulsar
+    p = _check_window(window).pulsar
     nbins = timing_bound.default_nbins(p) if nbins is None else check_int("nbins", nbins, 8, 2**20)
     ls, lb = pulsars.photon_rates(p, area_m2, background_ph_cm2_s)
     T, f = window.duration, p.frequency
@@ -428,7 +438,7 @@ def simulate_window_photons(window, area_m2=1.0, background_ph_cm2_s=0.005, rng=
     >>> bool(900 < u.size < 1150), bool(u.min() >= -10.0 and u.max() < 10.0)
     (True, True)
     """
-    p, T = window.pulsar, window.duration
+    p, T = _check_window(window).pulsar, window.duration
     d = window.true_delay()
     margin = float(np.max(np.abs(d))) + 1.0
     length = T + 2.0 * margin
@@ -496,7 +506,7 @@ def fold_photons(window, u, correction="apriori", tag="mid", nbins=None):
     >>> [bool(f.max() > 2 * np.median(f)) for f in folds]      # the pulse stands out, or not
     [True, False, False]
     """
-    p, T = window.pulsar, window.duration
+    p, T = _check_window(window).pulsar, window.duration
     u = check_finite_array("u", u)
     if u.ndim != 1 or u.size < 2 or u.min() < -T / 2.0 or u.max() >= T / 2.0:
         raise ValueError(f"u must hold photon offsets within [-{T / 2:g}, {T / 2:g}) s")
@@ -545,7 +555,7 @@ def fold_toa(window, u, correction="apriori", tag="mid", area_m2=1.0,
     >>> bool(abs(r.error) < 4 * timing_bound.toa_crlb("B1821-24"))
     True
     """
-    p, T = window.pulsar, window.duration
+    p, T = _check_window(window).pulsar, window.duration
     counts = fold_photons(window, u, correction, tag, nbins)
     proc = _spline(window.u, window.processing_delay(correction, tag))
     ls, lb = pulsars.photon_rates(p, area_m2, background_ph_cm2_s)
@@ -634,7 +644,7 @@ def window_survey(pulsar_names=pulsars.PAPER_PULSARS, error=PAPER_ERROR0, n_wind
     pulsar_names = pulsars.check_names(pulsar_names, "pulsar_names")
     if cache:
         names = tuple(pulsars.get(n).name for n in pulsar_names)
-        x0 = check_finite_array("state0", state0, shape=(6,))
+        x0 = dynamics.check_state0(state0)
         parts = (names, n_windows, spacing, float(duration), float(t0), float(area_m2),
                  float(background_ph_cm2_s))
         path = entry_path("fold-survey", parts, (err, x0), (__name__,), suffix=".json")
@@ -683,6 +693,9 @@ def window_survey(pulsar_names=pulsars.PAPER_PULSARS, error=PAPER_ERROR0, n_wind
 def survey_html(rows, digits=4):
     """:func:`window_survey`'s rows as the book's HTML table (every cell escaped).
 
+    ``rows`` must be a list of dicts holding every key of :data:`SURVEY_COLUMNS`; a string, a
+    dict or a row without a key is refused in one ``ValueError`` naming it.
+
     Examples
     --------
     >>> "coherence" in survey_html(window_survey(["B0531+21"], n_windows=1))
@@ -690,6 +703,14 @@ def survey_html(rows, digits=4):
     """
     from xnavlab.core.plotting import html_table
 
+    if isinstance(rows, str | bytes | dict) or not hasattr(rows, "__iter__"):
+        raise ValueError(f"rows must be a list of window_survey rows (dicts), got {shown(rows)}")
+    rows = list(rows)
+    for i, r in enumerate(rows):
+        missing = [k for k in SURVEY_COLUMNS if not isinstance(r, dict) or k not in r]
+        if missing:
+            raise ValueError(f"rows[{i}] must be a window_survey row (a dict with "
+                             f"{', '.join(SURVEY_COLUMNS)}), got {shown(r)}")
     return html_table(list(SURVEY_COLUMNS.values()),
                       [[r[k] for k in SURVEY_COLUMNS] for r in rows], digits=digits)
 
