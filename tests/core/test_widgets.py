@@ -751,6 +751,32 @@ def test_a_slider_with_fixed_margins_keeps_its_frames_on_disk_too(monkeypatch, t
     assert calls == [1, 3, 1] and pngs[0] == pngs[1]  # the second move: read from disk
 
 
+def test_a_frame_the_kept_layout_does_not_fit_is_kept_on_disk_as_laid_out(monkeypatch,
+                                                                            tmp_path):
+    """Laid out again by its own engine, from nothing: a pure function of its key too."""
+    monkeypatch.setenv("XNAVLAB_CACHE", str(tmp_path))
+    monkeypatch.setenv(FRAME_CACHE_ENV, "1")
+    calls = []
+
+    def plot(size=10):
+        calls.append(size)
+        fig = Figure(figsize=(4, 2.5), layout="constrained")
+        fig.add_subplot().set_ylabel("y", fontsize=size)
+        return fig
+    plot.__module__, plot.__qualname__ = "xnavlab.core.plotting", "labelled_demo"
+    pngs = []
+    for _ in range(2):
+        ex = explore(plot, size=[10, 40], initial={"size": 10}, ahead=False)
+        w = ex.widget()
+        [slider] = [c for c in w.children if "xnav-control" in c._dom_classes]
+        slider.value = 40
+        pngs.append(ex._last_png)
+        w.close()
+    assert calls == [10, 40, 10] and ex.layout.last == "laid out"  # the opening frame's
+    fresh = widgets.live_png(plot(40), widgets.SteadyLayout())
+    assert pngs[0] == pngs[1] and np.array_equal(png_pixels(pngs[1]), png_pixels(fresh))
+
+
 def test_the_key_of_a_frame_on_disk_changes_with_the_code_and_the_arguments(tmp_path,
                                                                           monkeypatch):
     """An edit of the plotting function's module, or of a module it imports, gives a new key;

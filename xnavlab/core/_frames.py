@@ -18,9 +18,12 @@ file read. The key covers everything the frame's pixels depend on:
   setting (``rcParams``, the backend aside), and the versions of matplotlib, numpy and
   Pillow.
 
-Only frames drawn in the kept layout, or with fixed margins, are written (the opening frame
-lays the layout out, and a frame laid out again changes it: neither is a pure function of its
-key). A write goes to a
+Only frames drawn after the opening one are written: the opening frame lays the slider's
+layout out (it is drawn at every opening); a later frame is drawn in that kept layout, which
+the key names, or with fixed margins, or (one the kept layout does not fit) laid out by its own
+layout engine from nothing: in each case a pure function of its key. (A frame found on disk
+leaves the kept layout as it is, where drawing it might have laid it out anew: the frames after
+it are then drawn, and keyed, in the layout they find.) A write goes to a
 temporary file of its own process and thread and is renamed into place (``os.replace``), so a
 reader never sees half a frame and concurrent writers of one frame both succeed; a frame that
 cannot be read back whole is drawn again. The directory is kept under

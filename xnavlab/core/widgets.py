@@ -50,10 +50,10 @@ a move onto the position being drawn waits for it. The thread never draws the re
 waits while a foreground frame or a cell runs, stops with the widget and is a daemon;
 ``explore(..., ahead=False)`` or :data:`AHEAD_ENV` turns it off (:func:`ahead_default`; the
 plumbing, and what it relies on in matplotlib's thread safety: ``xnavlab/core/_ahead.py``).
-**Frames kept on disk:** every frame drawn in the kept layout (or with fixed margins) is also
-written under ``$XNAVLAB_CACHE/frames/``, keyed by the plotting function's code (its module and
-all the package modules it imports), its arguments, the kept layout and matplotlib's settings
-and version: a slider opened again (the chapter re-run, another kernel) looks its frames up
+**Frames kept on disk:** every frame drawn after the opening one is also written under
+``$XNAVLAB_CACHE/frames/``, keyed by the plotting function's code (its module and all the
+package modules it imports), its arguments, the kept layout and matplotlib's settings and
+version: a slider opened again (the chapter re-run, another kernel) looks its frames up
 there, and an edit of the code draws them again (``xnavlab/core/_frames.py``; the environment
 variable ``XNAVLAB_FRAME_CACHE=0`` turns it off). **Figures updated in place:** a plotting
 function may return its figure with an update (:func:`xnavlab.core.plotting.in_place`); the
@@ -379,9 +379,8 @@ class Explorer:
         # one PNG at the figure's own size and dpi (display(fig) would draw it twice for a
         # tight bounding box: up to a third of a redraw), in the opening figure's layout
         with RENDER_LOCK:
-            kept = self.layout.state() == state
+            kept = self.layout.state() == state  # the layout the key names (none: not kept)
             png = live_png(fig, self.layout)
-            kept = kept and self.layout.last in ("kept layout", "fixed")  # given by the key
         if kept:
             self._disk.store(path, png)
         if self._pyplot:
