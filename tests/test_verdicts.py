@@ -236,6 +236,18 @@ def test_the_lost_parameter_margin_is_its_own_spread_not_our_noise():
     assert "further than our noise" not in near.tolerance
 
 
+def test_a_range_of_zero_width_is_named_for_what_it_is():
+    # our runs all alike (plins' detection at the onset): the ranges hold our noise, of zero width
+    same = verdicts.check_draw("detection time (s)", 50.0, np.full(40, 50.0))
+    c = verdicts.check_lost(same, "noise", {"ours, 2 m": (50.0, 50.0), "10 m": (50.0, 50.0)}, "x")
+    assert c.verdict == "REPRODUCED" and "our single runs all give the same number" in c.tolerance
+    assert "its noise not in the ranges" not in c.tolerance
+    # one number per value (a slope from two seeds): the ranges hold no noise, and it says so
+    one = verdicts.check_true("slope", 1.5, 1.05, False, why="w")
+    c = verdicts.check_lost(one, "direction", {"ours": (1.05, 1.05), "b": (1.4, 1.4)}, "x")
+    assert "our number is one value at each, its noise not in the ranges" in c.tolerance
+
+
 def test_a_parameter_held_says_why_in_the_tolerance():
     row = verdicts.check_draw("delay (s)", 2.5, np.linspace(3.5, 4.5, 40))
     reach = {"ours": (3.5, 4.5), "faster": (2.3, 3.1)}

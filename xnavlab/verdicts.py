@@ -322,6 +322,11 @@ def check_true(name, paper, ours, condition, why, reading=""):
     return _claim(name, paper, ours, bool(condition), why.strip(), reading)
 
 
+#: How a :func:`check_draw` row's tolerance begins (:func:`check_lost` reads it: its ranges are
+#: then our single runs' 95 % ranges, not one number per value).
+_DRAWN = "inside the 95 % range of our "
+
+
 def _ordinal(p):
     n = int(round(p))
     suffix = "th" if 10 <= n % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(n % 10, "th")
@@ -370,7 +375,7 @@ def check_draw(name, paper, runs, why="", slack=0.0, unit=""):
     if slack < 0 or not math.isfinite(slack):
         raise ValueError(f"slack must be finite and >= 0; got {slack!r}")
     lo, hi = np.percentile(runs, [2.5, 97.5])
-    criterion = f"inside the 95 % range of our {runs.size} single runs"
+    criterion = f"{_DRAWN}{runs.size} single runs"
     if slack > 0:
         criterion = _why(f"{criterion}, widened by {slack:g} {unit}".rstrip(), why)
     elif why:
@@ -591,7 +596,10 @@ def check_lost(row, lost, reach, decides, unit="", held=""):
     inside = [k for k, (a, b) in spans.items() if a <= paper <= b]
     u = f" {unit}" if unit else ""
     span = f"ours spans {lo:.4g}-{hi:.4g}{u} over {len(spans)} plausible values ({'; '.join(spans)})"
-    moves = (f"by {spread:.3g}{u} (our number is one value at each, its noise not in the ranges)"
+    drawn = row.tolerance.startswith(_DRAWN)   # the ranges are our single runs' 95 % ranges
+    moves = (f"by {spread:.3g}{u} (" + ("our single runs all give the same number: a range of zero "
+                                        "width at each)" if drawn else
+                                        "our number is one value at each, its noise not in the ranges)")
              if noise == 0 and all(a == b for a, b in spans.values()) else
              f"further than our noise ({spread:.3g}{u}, against our range of {noise:.3g}{u})"
              if spread > noise else
