@@ -375,3 +375,32 @@ def test_any_other_case_of_a_catalogue_name_names_the_catalogue_spelling(name, f
     with pytest.raises(ValueError) as err:
         pulsars.get(spelt)
     assert str(err.value).endswith(f"the catalogue names it {name!r} (write that)")
+
+
+@pytest.mark.parametrize("t", [[1e300, 1e300 + 1.0], [1e15, 1e15 + 1.0], [0.0, 1e12]])
+def test_fold_refuses_times_whose_bin_float64_cannot_tell(t):
+    # review 35d D22: 1e300 gave numpy's warnings and "'list' argument must have no negative
+    # elements"; 1e15 folded silently into noise (phase_exposure gave -45056 per bin)
+    with pytest.raises(ValueError, match=r"^t must lie within about 5.89e\+10 s of t0 \(phases "
+                                         r"below 1.76e\+12 cycles, .* of 256 bins\), got phases"):
+        pulsars.fold(t, "B0531+21", nbins=256, exposure=False)
+    with pytest.raises(ValueError, match=r"^span must lie within about"):
+        pulsars.phase_exposure((t[0], 2.0 * t[1] + 1.0), "B0531+21", nbins=256)
+
+
+@given(st.floats(-1e11, 1e11), st.sampled_from([8, 256, 2**20]))
+def test_fold_takes_exactly_the_times_whose_phase_float64_places_in_a_bin(t, nbins):
+    crab = pulsars.get("B0531+21")
+    ph = abs(float(pulsars.phase(t, [crab.frequency, crab.fdot])))
+    if ph <= 0.1 * 2.0**52 / nbins:
+        assert pulsars.fold([t], crab, nbins=nbins, exposure=False).sum() == 1
+    else:
+        with pytest.raises(ValueError, match="^t must lie within about"):
+            pulsars.fold([t], crab, nbins=nbins, exposure=False)
+
+
+@pytest.mark.parametrize("bad", [np.array([1.0]), ["B0531+21"], 5, None, {"name": "B0531+21"}])
+def test_a_pulsar_that_is_no_name_or_pulsar_is_one_line(bad):  # review 35d D22: unhashable type
+    with pytest.raises(ValueError, match=r"^a pulsar must be a catalogue name, the path of a "
+                                         r"timing model \(.par\) or a Pulsar, got "):
+        pulsars.fold([0.0, 1.0], bad)

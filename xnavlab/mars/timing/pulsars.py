@@ -26,7 +26,15 @@ from pathlib import Path
 import numpy as np
 
 from xnavlab.core.constants import KPC, C
-from xnavlab.core.validate import check_bool, check_finite_array, check_int, check_items, check_real, make_rng
+from xnavlab.core.validate import (
+    check_bool,
+    check_finite_array,
+    check_int,
+    check_items,
+    check_real,
+    make_rng,
+    shown,
+)
 from xnavlab.mars.timing import xray_pulsars
 
 __all__ = [
@@ -186,11 +194,11 @@ def get(name):
     Raises
     ------
     ValueError
-        For an unknown name, listing the known ones, or a ``.par`` that :func:`from_par`
-        refuses. A catalogue pulsar spelt another way (another case, spaces, a ``PSR``
-        prefix or its J2000 alias) is refused naming the catalogue's spelling, not
-        taken: the name is an identifier in records, caches, dumps and the fault grammar,
-        which all use the one spelling.
+        For an unknown name, listing the known ones, what is no string or Pulsar, or a
+        ``.par`` that :func:`from_par` refuses. A catalogue pulsar spelt another way
+        (another case, spaces, a ``PSR`` prefix or its J2000 alias) is refused naming the
+        catalogue's spelling, not taken: the name is an identifier in records, caches,
+        dumps and the fault grammar, which all use the one spelling.
 
     Examples
     --------
@@ -203,6 +211,9 @@ def get(name):
     """
     if isinstance(name, Pulsar):
         return name
+    if not isinstance(name, str):  # an array or a list is no name (it raised unhashable type)
+        raise ValueError(f"a pulsar must be a catalogue name, the path of a timing model (.par) "
+                         f"or a Pulsar, got {shown(name)}")
     if isinstance(name, str) and name.strip().lower().endswith(".par"):
         path = Path(name).expanduser()
         try:
@@ -536,6 +547,24 @@ def simulate_photons(pulsar, t_obs, area_m2=1.0, background_ph_cm2_s=0.005, rng=
     return np.sort(np.concatenate([t_s, t_b]))
 
 
+def _binned_phase(name, t, p, nbins, t0):
+    """``Phi(t)`` of ``p`` (cycles, unwrapped), refused where float64 cannot place it in a bin.
+
+    Float64's spacing at ``|Phi|`` cycles is ``|Phi| 2^-52``; beyond ``0.1 2^52 / nbins``
+    cycles it exceeds a tenth of a bin, so the phase's fraction (which bin) is noise: one
+    ValueError naming ``name``, the limit and how far from ``t0`` it lies.
+    """
+    with np.errstate(over="ignore", invalid="ignore"):  # overflow is refused just below
+        ph = phase(t, [p.frequency, p.fdot], t0=t0)
+    limit = 0.1 * 2.0**52 / nbins  # eq: cycles at which float64's spacing is 0.1 / nbins
+    worst = float(np.max(np.abs(ph), initial=0.0)) if np.all(np.isfinite(ph)) else math.inf
+    if not worst <= limit:
+        raise ValueError(f"{name} must lie within about {limit / p.frequency:.3g} s of t0 "
+                         f"(phases below {limit:.3g} cycles, which float64 places to a tenth of "
+                         f"one of {nbins} bins), got phases up to {worst:.3g} cycles")
+    return ph
+
+
 def phase_exposure(span, pulsar, nbins=256, t0=0.0):
     """Exposure of each phase bin over an observation, cycles; shape (nbins,).
 
@@ -555,7 +584,9 @@ def phase_exposure(span, pulsar, nbins=256, t0=0.0):
     nbins : int
         Number of phase bins.
     t0 : float
-        Epoch at which the phase is zero, s.
+        Epoch at which the phase is zero, s. The span's phases must stay below
+        ``0.1 2^52 / nbins`` cycles (float64 then places them to a tenth of a bin); beyond,
+        refused.
 
     Returns
     -------
@@ -574,7 +605,7 @@ def phase_exposure(span, pulsar, nbins=256, t0=0.0):
     span = check_finite_array("span", span)
     if span.shape != (2,) or not span[1] > span[0]:
         raise ValueError(f"span must be (t_start, t_stop) with t_stop > t_start, got {span.tolist()}")
-    ends = phase(span, [p.frequency, p.fdot], t0=t0)
+    ends = _binned_phase("span", span, p, nbins, t0)
     lo = np.arange(nbins) / nbins
 
     def swept(ph):  # phase swept through each bin from phase 0 up to ph (cycles)
@@ -605,7 +636,9 @@ def fold(t, pulsar, nbins=256, t0=0.0, span=None, exposure=True):
     nbins : int
         Number of phase bins.
     t0 : float
-        Epoch at which the phase is zero, s.
+        Epoch at which the phase is zero, s. Photons whose phase exceeds ``0.1 2^52 / nbins``
+        cycles (about 3e9 s from ``t0`` for B1937+21, 642 Hz, in 256 bins) are refused:
+        float64 no longer tells their bin.
     span : (float, float), optional
         Start and end of the observation, s, which must hold every photon (for
         :func:`simulate_photons`, ``(0, t_obs)``). By default the first and last photon:
@@ -637,7 +670,7 @@ def fold(t, pulsar, nbins=256, t0=0.0, span=None, exposure=True):
     t = check_finite_array("t", t)
     if t.ndim != 1:
         raise ValueError(f"t must be 1-D, got shape {t.shape}")
-    ph = phase(t, [p.frequency, p.fdot], t0=t0) % 1.0
+    ph = _binned_phase("t", t, p, nbins, t0) % 1.0  # a bin float64 can tell (else refused)
     idx = np.minimum((ph * nbins).astype(np.int64), nbins - 1)
     counts = np.bincount(idx, minlength=nbins)
     if not exposure:
