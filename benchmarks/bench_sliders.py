@@ -1,7 +1,7 @@
 """What a reader waits for at a slider: every ``explore`` frame of every chapter, timed.
 
 Run: ``.venv/bin/python benchmarks/bench_sliders.py [--chapters 08 09] [--main-only]
-[--revisit] [--think S] [--ipympl] [--json FILE]``.
+[--revisit] [--think S] [--ipympl] [--json FILE] [--result FILE]``.
 
 For each chapter ``book/NN_*.ipynb`` the code cells up to its last ``explore(`` call are
 executed in this process (magic lines dropped, output silenced, Agg backend), with
@@ -22,7 +22,10 @@ first. Three ways of drawing them are timed:
   controls is two moves); each move timed from setting the control until the widget has shown
   the frame: an in-place update where the plotting function offers one
   (:func:`xnavlab.core.plotting.in_place`), a new figure where not, the kept PNG of a
-  position seen before;
+  position seen before. Its frames are also written to disk (a reader's first session), into
+  a frames directory of this run's own (``xnavlab/core/_frames.py``), empty at the start;
+- **reopened**: the same walk in a new widget of the same slider (``ahead=False``: a chapter
+  run again), whose moves find their frames on disk: a file read;
 - **ahead**: the same walk with the frames computed ahead (``ahead=True``), the reader
   pausing ``--think`` seconds (default 2) after the opening frame and after every move (the
   worker runs meanwhile, in this process, as in a kernel). A move is counted as it is
@@ -39,6 +42,11 @@ average is printed with every number and stored in the JSON. ``--ipympl`` also t
 sliders with an in-place update, what ipympl's canvas does at a move in the kernel (its Agg
 draw, then the PNG of the difference it sends), against the widget's PNG frame (skipped when
 ipympl is not importable; it is not in ``environment.txt``).
+
+The summary table is recorded with :class:`_timing.Record` in ``benchmarks/results/sliders.json``
+(``--result`` writes it elsewhere, e.g. for a run of a few chapters), which
+``benchmarks/report.py`` renders into ``benchmarks/README.md``; ``--json`` also writes every
+frame's time.
 """
 
 import argparse
@@ -47,17 +55,19 @@ import io
 import json
 import os
 import re
+import shutil
 import statistics
 import time
+from pathlib import Path
 
 os.environ.setdefault("MPLBACKEND", "Agg")
 
 from _timing import (  # noqa: E402
+    Record,
     chapters,
     cpu_ms,
     loadavg,
     machine_line,
-    table,
     verdict,
     write_json,
 )
@@ -67,6 +77,18 @@ TARGET_MEDIAN_REF = 10
 TARGET_WORST_REF = 20
 THINK_S = 2.0
 _MAGIC = re.compile(r"^\s*[%!]")
+ABOUT = (
+    "Per slider, every position one control away from the opening one, walked one control at "
+    "a time (seconds per move, median / worst). \"fn\" and \"render\": a frame drawn from "
+    "nothing, its function and its render; \"nothing\": their sum; \"in place\": the live "
+    "widget with `ahead=False` (each move timed from setting the control to the frame shown; "
+    "its frames written to disk as in a reader's first session); \"reopened\": the same walk "
+    "in a new widget of the same slider, its frames read from disk; \"ahead\": the widget "
+    "with the frames computed ahead and a reader who pauses before each move, every move "
+    "counted as experienced (\"hits\": moves onto a frame waiting in memory). \"refs\": "
+    "seconds over the slider's CPU reference (the mean of its value before and after the "
+    "slider). The verdict is the ahead walk's, against issue 38's targets in CPU references "
+    f"(median {TARGET_MEDIAN_REF}, worst {TARGET_WORST_REF}).")
 
 
 def explore_cells(nb):
@@ -192,21 +214,32 @@ def bench_explorer(ex, main_only, revisit):
     return res
 
 
-def walk(ex, main_only, ahead, think_s):
+def walk(ex, main_only, ahead, think_s, disk=False):
     """The live widget moved along :func:`frames_of`'s positions, one control at a time.
 
     Returns the opening time and one row per move: the wall time from setting the control to
     the frame shown, and whether the frame was waiting in the widget's cache (drawn ahead,
-    or seen before).
+    or seen before) or, with ``disk``, on disk (the frames directory of this run).
     """
+    from xnavlab.core._frames import FRAME_CACHE_ENV
     from xnavlab.core.plotting import updater
 
+    os.environ[FRAME_CACHE_ENV] = "1" if disk else "0"
     positions = frames_of(ex, main_only)
     live = ex.remake(ahead)
+    on_disk = {"n": 0}
+    load = live._disk.load
+
+    def counted_load(path):
+        png = load(path)
+        on_disk["n"] += png is not None
+        return png
+    live._disk.load = counted_load
     with contextlib.redirect_stdout(io.StringIO()):  # the widget's display, outside a kernel
         t0 = time.perf_counter()
         w = live.widget()
         opening = time.perf_counter() - t0
+        live._disk.path({}, "")  # the key's code hashed (in the background) before a reader moves
         controls = {c.description: c for c in w.children if "xnav-control" in c._dom_classes}
         moves = []
         try:
@@ -219,10 +252,12 @@ def walk(ex, main_only, ahead, think_s):
                     cached = live._cache.get(live._position({**{n: c.value for n, c in
                                                                 controls.items()},
                                                              name: value}), wait=False)
+                    found = on_disk["n"]
                     t0 = time.perf_counter()
                     control.value = value
                     moves.append({"values": {n: repr(c.value) for n, c in controls.items()},
-                                  "s": time.perf_counter() - t0, "hit": cached is not None,
+                                  "s": time.perf_counter() - t0,
+                                  "hit": cached is not None or on_disk["n"] > found,
                                   "error": live.last_error})
         finally:
             in_place = updater(live._live["fig"]) is not None
@@ -292,7 +327,18 @@ def main():
     parser.add_argument("--ipympl", action="store_true",
                         help="also time ipympl's draw at a move (sliders updated in place)")
     parser.add_argument("--json", metavar="FILE", help="also write the results as JSON")
+    parser.add_argument("--result", metavar="FILE",
+                        help="where the recorded summary goes (default "
+                             "benchmarks/results/sliders.json)")
     args = parser.parse_args()
+
+    import tempfile
+
+    import xnavlab.core._frames as frames
+
+    frames_dir = Path(tempfile.mkdtemp(prefix="bench-sliders-"))  # this run's frames on disk
+    frames.cache_dir = lambda: frames_dir
+    rec = Record("sliders", "Sliders: a move, in CPU references (issue 38)", ABOUT)
 
     before = machine_line()
     print(f"machine: {before}")
@@ -305,11 +351,13 @@ def main():
         for ex in explorers:
             ref0 = cpu_ms()
             res = bench_explorer(ex, args.main_only, args.revisit)
-            res["in_place"] = walk(ex, args.main_only, False, 0.0)
+            res["in_place"] = walk(ex, args.main_only, False, 0.0, disk=True)
+            res["reopened"] = walk(ex, args.main_only, False, 0.0, disk=True)
             res["ahead"] = walk(ex, args.main_only, True, args.think)
             ref_ms = (ref0 + cpu_ms()) / 2
             med, worst, hits = summary(res["ahead"]["moves"])
             in_med, in_worst, in_hits = summary(res["in_place"]["moves"])
+            re_med, re_worst, re_hits = summary(res["reopened"]["moves"])
             res.update(chapter=path.name, setup_s=setup, load_before=load0,
                        load_after=loadavg(), cpu_reference_ms=ref_ms, think_s=args.think,
                        median_ref=med / ref_ms * 1e3, worst_ref=worst / ref_ms * 1e3,
@@ -325,7 +373,8 @@ def main():
                   f"set-up {setup:.1f} s, CPU reference {ref_ms:.0f} ms; from nothing median "
                   f"{res['total_median_s']:.3f} s (function {res['function_median_s']:.3f}, "
                   f"render {res['render_median_s']:.3f}), worst move {res['move_worst_s']:.3f} s;"
-                  f" in place {in_med:.3f} / {in_worst:.3f} s; ahead {med:.3f} / {worst:.3f} s, "
+                  f" in place {in_med:.3f} / {in_worst:.3f} s; reopened {re_med:.3f} / "
+                  f"{re_worst:.3f} s ({re_hits} from disk); ahead {med:.3f} / {worst:.3f} s, "
                   f"{hits} of {n_moves} moves from the cache (load {load0} -> "
                   f"{res['load_after']})"
                   + (f"; {len(res['errors'])} frames raised, e.g. {res['errors'][0]['error']}"
@@ -338,6 +387,7 @@ def main():
                          f"{res['in_place_median_ref']:.1f} / {res['in_place_worst_ref']:.1f}",
                          f"{med:.3f} / {worst:.3f}",
                          f"{hits}/{n_moves}",
+                         f"{re_med:.3f} / {re_worst:.3f}", f"{re_hits}/{n_moves}",
                          f"{res['median_ref']:.1f} / {res['worst_ref']:.1f}"]
                         + ([f"{res['revisit_median_s']:.3f}"] if args.revisit else [])
                         + [verdict(res["ok"]), res["load_after"].split(",")[0]])
@@ -351,13 +401,14 @@ def main():
                                "target_median_ref": TARGET_MEDIAN_REF,
                                "target_worst_ref": TARGET_WORST_REF, "sliders": results})
     print()
-    table(["ch", "function", "moves", "in place", "ref ms", "fn med", "render med",
-           "nothing med/worst", "in place med/worst", "in place refs", "ahead med/worst", "hits",
-           "ahead refs med/worst"]
-          + (["revisit med"] if args.revisit else []) + ["verdict", "load 1m"], rows)
+    rec.table(["ch", "function", "moves", "in place", "ref ms", "fn med", "render med",
+               "nothing med/worst", "in place med/worst", "in place refs", "ahead med/worst",
+               "hits", "reopened med/worst", "from disk", "ahead refs med/worst"]
+              + (["revisit med"] if args.revisit else []) + ["verdict", "load 1m"], rows)
     if extra:
         print()
-        table(["ch", "function", "PNG frame s", "ipympl draw s", "PNG kB", "ipympl kB"], extra)
+        rec.table(["ch", "function", "PNG frame s", "ipympl draw s", "PNG kB", "ipympl kB"],
+                  extra, "ipympl's draw at a move against the widget's PNG frame")
     after = machine_line()
     print(f"\nseconds per move (median / worst); refs = seconds / CPU reference; the verdict is "
           f"the ahead walk's\nmachine: {after}")
@@ -366,8 +417,10 @@ def main():
                            "target_worst_ref": TARGET_WORST_REF, "sliders": results})
     errors = sum(len(r["errors"]) for r in results)
     if errors:
-        print(f"{errors} frames raised in their plotting function (shown as an error line by "
-              "the widget; listed in the JSON)")
+        rec.note(f"{errors} frames raised in their plotting function (shown as an error line "
+                 "by the widget; listed in the `--json` file).")
+    rec.write(args.result)
+    shutil.rmtree(frames_dir, ignore_errors=True)
 
 
 if __name__ == "__main__":

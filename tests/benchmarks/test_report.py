@@ -23,8 +23,6 @@ NO_RESULT = {
     "bench_early_faults.py": "computes xnavlab/data/early_faults.json",
     "bench_headline.py": "computes xnavlab/data/headline_runs.json",
     "bench_roc.py": "computes xnavlab/data/roc_curves.json",
-    # its 2026-11-28 table is transcribed into results/sliders.json until it writes it
-    "bench_sliders.py": "not yet through _timing.Record",
 }
 
 
