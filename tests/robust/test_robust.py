@@ -83,6 +83,21 @@ def test_rkf_earth_varies_the_orbits_orientation_and_holds_what_its_satellite_pl
     assert (a, i) == (26_560e3, 63.0) and e <= 0.02
 
 
+@pytest.mark.parametrize("rid", ["rkf-earth", "rkf-mars"])
+def test_the_note_says_what_the_rows_measured_of_the_lost_settings(rid):
+    """Whether the lost settings move an improvement further than our noise or less is each row's
+    measurement: the note follows them (it said 'further' of rkf-earth's TDUKF, whose row says
+    less; review 34d)."""
+    res = reproduce.run(rid)
+    rows = [res.check(f"{f} improvement over UKF (%)") for f in ("ASUKF", "TDUKF", "RKF")]
+    less = [r.name.split(" improvement")[0] for r in rows if "less than our noise" in r.tolerance]
+    if less:
+        assert "by less" in res.note and all(f"the {n}'s" in res.note for n in less)
+        assert "move each improvement further than our noise does" not in res.note
+    else:
+        assert "move each improvement further than our noise does" in res.note
+
+
 def test_orbit_elements_invert_elements_to_state():
     gm = ee.PLANETS["mars"][0]
     el = ch10.orbit_elements(ee.orbit("mars").state0, gm)

@@ -514,6 +514,13 @@ def _asukf_last_text(cmp):
 def _draw_text(rows, body="earth"):
     """How the paper's single-run improvements are judged, and the verdict of each."""
     verdicts = ", ".join(f"{c.name.split(' improvement')[0]} {c.verdict}" for c in rows)
+    # what each row's tolerance measured: the lost settings move it further than our noise, or less
+    by = {k: [f"the {c.name.split(' improvement')[0]}'s" for c in rows
+              if f"moves our number {k} than our noise" in c.tolerance] for k in ("further", "less")}
+    moves = ("move each improvement further than our noise does" if not by["less"] else
+             "move each improvement, by less than our noise does" if not by["further"] else
+             f"move {' and '.join(by['further'])} improvement further than our noise does, and "
+             f"{' and '.join(by['less'])} by less")
     return ("Settings the paper does not give (the direction of the error, which sets the UKF "
             "error every improvement is divided by, see ukf-vs-ephemeris-error; the process noise "
             f"({', '.join(f'{q:g}' for q in LOST_Q_V)} m/s per step against our 1e-4) and the initial "
@@ -525,8 +532,8 @@ def _draw_text(rows, body="earth"):
                + ", ".join(f"{n:g}/{v:g}" for n, v in LOST_EARTH_ORIENTATION)
                + " deg against our 0/0 deg, its size, inclination and shape held as the paper's "
                  "satellite, OPS 5111, a GPS Block I, places them")
-            + ") move an improvement further than the noise does, so each "
-            f"improvement is judged over them, one varied at a time ({len(_LOST_SEEDS)} seeds each, "
+            + f") {moves}; each improvement is judged over them (the rule is the same either way), "
+            f"one varied at a time ({len(_LOST_SEEDS)} seeds each, "
             f"paired with ours): {verdicts}. "
             + "The pulsars are the three whose ranging accuracies give the paper's R. ")
 
