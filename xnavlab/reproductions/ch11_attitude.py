@@ -2,9 +2,10 @@
 
 Source: Li, Niu, Shao & Shen, "Fault diagnosis for satellite attitude system by simplified
 filter scheme", Journal of Astronautics 40(7), 2019, cited as Li, Niu et al. 2019 (our copy
-lost most equations, the fault definitions (38)-(40) and the thresholds). Figures 3-6 and
-the 4x cost claim are judged qualitatively: which residuals cross, the isolation
-verdict, the detection delay of the skew ramp, and the cost ratio. Each figure is one run of
+lost most equations, the fault definitions (38)-(40) and the thresholds). Figures 3-6 are
+judged qualitatively: which residuals cross, the isolation verdict, the detection delay of the
+skew ramp; the 4x cost, an operation count that holds by construction of the schemes, is a
+check of ours (the number of filters), shown beside the measured time. Each figure is one run of
 the paper's; an outcome it shows is judged as one draw among :data:`RUNS` of ours
 (:func:`xnavlab.verdicts.check_event`, the runs from
 :func:`xnavlab.attitude.seeded_outcomes <xnavlab.attitude.montecarlo.seeded_outcomes>`),
@@ -29,7 +30,6 @@ from xnavlab.reproduce import (
     check_lost,
     check_measure,
     check_sanity,
-    check_true,
     figure,
     register,
     save_figure,
@@ -364,10 +364,15 @@ def cost(out=None, n_steps=400, repeats=3, seed=0):
     n_dos, n_sos = len(att.DOSMonitor(q0).filters), len(att.SOSMonitor(q0).filters)
     ratio = n_dos / n_sos
     checks = [
-        check_true("DOS/SOS Kalman filters run per sample", PAPER["cost_ratio"], ratio,
-                   ratio == PAPER["cost_ratio"],
-                   why="the paper's 4x is an operation count: one filter of the same size per "
-                       "gyro group against one filter; the residual r4 adds a few operations"),
+        # the paper's 4x holds by construction of the schemes it describes (four filters of the
+        # same size against one): a count of our code cannot contradict it, so it is a check of
+        # our reconstruction, not a reproduced claim (review 34d)
+        check_sanity("DOS/SOS Kalman filters run per sample", PAPER["cost_ratio"], ratio,
+                     ratio == PAPER["cost_ratio"],
+                     "the paper's 4x is an operation count, one filter of the same size per gyro "
+                     "group against one filter (r4 adds a few operations); it holds by "
+                     "construction of the two schemes as the paper describes them, so our count "
+                     "checks the reconstruction and cannot test the paper's claim"),
         check_measure("DOS/SOS time per sample, measured", round(r["ratio"], 2),
                       "a timing of this process on this machine: it moves with the load and "
                       "the per-call overhead of Python, so it decides nothing",
@@ -377,8 +382,10 @@ def cost(out=None, n_steps=400, repeats=3, seed=0):
         f"SOS {r['sos_us']:.0f} µs, DOS {r['dos_us']:.0f} µs per sample (best of {repeats} "
         f"runs of {n_steps} samples, time.perf_counter, same process and data): a ratio of "
         f"{r['ratio']:.2f}. The paper's 4x is an operation count (four filters against one, r4 "
-        "costing 3 multiplications, 4 additions and 1 absolute value), and so is the claim "
-        f"judged here: DOS runs {n_dos} filters of the same size where SOS runs {n_sos}. In "
+        f"costing 3 multiplications, 4 additions and 1 absolute value): DOS runs {n_dos} "
+        f"filters of the same size where SOS runs {n_sos}. That holds by construction of the "
+        "two schemes as the paper describes them, so it is shown as a check of our "
+        "reconstruction, not as a reproduced claim; the measured ratio moves with the load. In "
         "Python the per-call overhead is the same for every filter, so the measured ratio "
         "tracks the number of filters. Use benchmarks/bench_attitude.py for a longer run."
     )
