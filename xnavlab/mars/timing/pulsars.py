@@ -25,16 +25,9 @@ from pathlib import Path
 
 import numpy as np
 
+from xnavlab.core import validate
 from xnavlab.core.constants import KPC, C
-from xnavlab.core.validate import (
-    check_bool,
-    check_finite_array,
-    check_int,
-    check_items,
-    check_real,
-    make_rng,
-    shown,
-)
+from xnavlab.core.validate import check_bool, check_finite_array, check_int, check_items, check_real, make_rng
 from xnavlab.mars.timing import xray_pulsars
 
 __all__ = [
@@ -213,7 +206,7 @@ def get(name):
         return name
     if not isinstance(name, str):  # an array or a list is no name (it raised unhashable type)
         raise ValueError(f"a pulsar must be a catalogue name, the path of a timing model (.par) "
-                         f"or a Pulsar, got {shown(name)}")
+                         f"or a Pulsar, got {validate.shown(name)}")
     if isinstance(name, str) and name.strip().lower().endswith(".par"):
         path = Path(name).expanduser()
         try:
@@ -548,12 +541,8 @@ def simulate_photons(pulsar, t_obs, area_m2=1.0, background_ph_cm2_s=0.005, rng=
 
 
 def _binned_phase(name, t, p, nbins, t0):
-    """``Phi(t)`` of ``p`` (cycles, unwrapped), refused where float64 cannot place it in a bin.
-
-    Float64's spacing at ``|Phi|`` cycles is ``|Phi| 2^-52``; beyond ``0.1 2^52 / nbins``
-    cycles it exceeds a tenth of a bin, so the phase's fraction (which bin) is noise: one
-    ValueError naming ``name``, the limit and how far from ``t0`` it lies.
-    """
+    """``Phi(t)`` of ``p`` (cycles), refused (naming ``name``) beyond ``0.1 2^52 / nbins`` cycles,
+    where float64's spacing, ``|Phi| 2^-52``, exceeds a tenth of a bin: which bin is noise."""
     with np.errstate(over="ignore", invalid="ignore"):  # overflow is refused just below
         ph = phase(t, [p.frequency, p.fdot], t0=t0)
     limit = 0.1 * 2.0**52 / nbins  # eq: cycles at which float64's spacing is 0.1 / nbins
