@@ -138,3 +138,44 @@ def test_eval_expressions_finds_roles_in_prose_and_directives_not_in_code():
     assert eval_expressions(cell) == ['glued["a:.0f"]', 'glued["b"]', 'glued["c:.1f"]',
                                       'glued["e"]', 'glued["f"]', 'glued["g"]']
     assert eval_expressions("No roles, `code`, {glue:text}`ch07_x:.1f`.") == []
+
+
+@pytest.mark.parametrize("value", [float("nan"), float("inf"), -float("inf"), np.float64(np.nan),
+                                   complex(1.0, float("nan"))])
+@pytest.mark.parametrize("spec", ["", ".1f", "g", ".0%"])
+def test_a_non_finite_number_never_reaches_the_prose(value, spec):
+    # review 35d D23: glued["ch01_x:.1f"] gave the text "nan"; glue keeps the value, the entry
+    # refuses it, naming itself
+    table = Glued()
+    table.glue("ch99_x", value)
+    key = f"ch99_x:{spec}" if spec else "ch99_x"
+    with pytest.raises(ValueError) as exc:
+        table[key]
+    words = str(exc.value)
+    assert words.startswith(f"glued[{key!r}]: the non-finite value ") and len(words.splitlines()) == 1
+    assert "would reach the prose" in words
+
+
+@given(st.floats(allow_nan=False, allow_infinity=False, width=64).filter(lambda x: x != int(x)),
+       st.sampled_from(["d", ",d", "x", "b"]))
+def test_an_integer_spec_never_truncates_a_float(x, spec):
+    # review 35d D24: format_value(1.5, "d") gave "1"
+    with pytest.raises(ValueError, match=rf"^spec '{spec}' would truncate the value "):
+        format_value(x, spec)
+
+
+def test_a_whole_float_takes_an_integer_spec():
+    assert format_value(3.0, "d") == "3" and format_value(np.float64(12000.0), ",d") == "12,000"
+
+
+@pytest.mark.parametrize("display", ["no", 1, None])
+def test_display_must_be_a_bool(display):  # review 35d D25: "no" displayed
+    with pytest.raises(ValueError, match="display must be True or False"):
+        Glued().glue("ch99_y", 1.0, display=display)
+
+
+@pytest.mark.parametrize("markdown", [None, b"{eval}`glued[\"a\"]`", ["text"], 3])
+def test_eval_expressions_refuses_what_is_no_str(markdown):  # review 35d D25: TypeError
+    with pytest.raises(ValueError, match=r"^markdown must be a str \(a markdown cell's source\), "
+                                         r"got "):
+        eval_expressions(markdown)

@@ -36,8 +36,12 @@ what the tools share about the role (:data:`EVAL_ROLE`, :data:`EVAL_NAME`,
 
 from __future__ import annotations
 
+import math
+import numbers
 import re
 from collections.abc import Mapping
+
+from xnavlab.core.validate import check_bool
 
 __all__ = [
     "Text",
@@ -99,6 +103,10 @@ def format_value(value, spec=""):
     ``d``, ``o``, ``x`` or ``X`` formats ``int(value)``, one ending in ``s`` formats
     ``str(value)``. A NumPy scalar is formatted as the Python number it holds.
 
+    Refused, so that no wrong number reaches the reader: a non-finite number (NaN or an
+    infinity, shown as ``nan``/``inf``, with any spec) and a number that is not a whole one
+    with an integer spec (``int()`` would truncate 1.5 to ``1``).
+
     Parameters
     ----------
     value : object
@@ -114,7 +122,8 @@ def format_value(value, spec=""):
     Raises
     ------
     ValueError
-        When the spec does not apply to the value (``spec`` is named).
+        When the spec does not apply to the value, the value is not finite, or an integer
+        spec would truncate it (``spec`` and the value are named).
 
     Examples
     --------
@@ -122,14 +131,25 @@ def format_value(value, spec=""):
     (4190, 156, 25%)
     >>> format_value("REPRODUCED")
     REPRODUCED
+    >>> format_value(1.5, "d")
+    Traceback (most recent call last):
+    ...
+    ValueError: spec 'd' would truncate the value 1.5 to 1 (use a float spec such as '.0f', or round it first)
     """
     if not isinstance(spec, str):
         raise ValueError(f"spec must be a format specification string, got {spec!r}")
     if hasattr(value, "item") and getattr(value, "shape", None) == ():
         value = value.item()  # a NumPy scalar: the Python number it holds
+    if isinstance(value, numbers.Number) and not isinstance(value, numbers.Integral) and not (
+            math.isfinite(abs(value))):  # NaN and the infinities, real or complex
+        raise ValueError(f"the non-finite value {value!r} would reach the prose (spec {spec!r}): "
+                         f"glue a finite number, or text that says why there is none")
     if spec == "":
         return Text(str(value))
     kind = spec[-1]
+    if kind in "bcdoxX" and isinstance(value, numbers.Real) and int(value) != value:
+        raise ValueError(f"spec {spec!r} would truncate the value {value!r} to {int(value)} "
+                         f"(use a float spec such as '.0f', or round it first)")
     try:
         if kind == "s":
             value = str(value)
@@ -175,10 +195,14 @@ class Glued(Mapping):
         value : object
             The value; the prose formats it (a float, an int, a string ...).
         display : bool
-            Also show the value as the cell's output (IPython's ``display``).
+            Also show the value as the cell's output (IPython's ``display``); True or False.
+
+        A non-finite number may be glued (a chapter's code may keep one), but no entry shows
+        it: ``glued["name:spec"]`` refuses it, naming the entry (:func:`format_value`).
         """
         if not isinstance(name, str) or not _NAME.fullmatch(name):
             raise ValueError(f"name must be an identifier such as 'ch07_sigma_m', got {name!r}")
+        display = check_bool("display", display)
         self._values[name] = value
         if display:
             from IPython.display import display as show
@@ -199,7 +223,11 @@ class Glued(Mapping):
         if not isinstance(key, str):
             raise KeyError(f"an entry is 'name' or 'name:spec', got {key!r}")
         name, _, spec = key.partition(":")
-        return format_value(self._values[self._name(name)], spec)
+        value = self._values[self._name(name)]
+        try:
+            return format_value(value, spec)
+        except ValueError as exc:  # named by the entry the prose asked for
+            raise ValueError(f"glued[{key!r}]: {exc}") from None
 
     def __iter__(self):
         return iter(self._values)
@@ -227,7 +255,12 @@ def eval_expressions(markdown):
     --------
     >>> eval_expressions('A {eval}`glued["a:.1f"]`, `{eval}` and {eval}`glued["a:.1f"]`.')
     ['glued["a:.1f"]']
+
+    ``markdown`` must be a ``str`` (a cell's source joined); anything else is one ValueError.
     """
+    if not isinstance(markdown, str):
+        raise ValueError(f"markdown must be a str (a markdown cell's source), got "
+                         f"{type(markdown).__name__}")
     text = _FENCE_LINE.sub("", _FENCE.sub("", markdown))
     found, pos = [], 0
     while (m := _TICKS.search(text, pos)) is not None:
