@@ -329,3 +329,29 @@ def test_unscented_transform_refuses_weights_and_noise_that_make_no_mean_or_cova
         filters.unscented_transform(Y, Wm, Wc, noise=-np.eye(2))
     mean, cov = filters.unscented_transform(Y, Wm, Wc, noise=np.eye(2))
     assert mean.tolist() == [1.0, 1.0] and cov.tolist() == [[1.0, 0.0], [0.0, 1.0]]
+
+
+@pytest.mark.parametrize(("call", "words"), [
+    (lambda: filters.judge_series([-1.0, 1.0], 1.0, 2.0),
+     "values[0] must be a NEES or NIS value in [0, inf), got -1"),  # review 35d D29: judged
+    (lambda: filters.judge_series([1.5, 1.5, -0.5], 1.0, 2.0),
+     "values[2] must be a NEES or NIS value in [0, inf), got -0.5"),
+    (lambda: filters.consistency_verdict(-1.0, 1.0, 2.0), "value must be a real number in [0, inf)"),
+    (lambda: filters.consistency_verdict(1.0, -1.0, 2.0), "lo must be a real number in [0, inf)"),
+    (lambda: filters.judge_series([1.0], -2.0, -1.0), "lo must be a real number in [0, inf)"),
+])
+def test_a_negative_nees_or_nis_or_band_is_refused(call, words):
+    with pytest.raises(ValueError) as exc:
+        call()
+    assert str(exc.value).startswith(words), str(exc.value)
+
+
+@given(st.lists(st.floats(-10.0, 10.0), min_size=1, max_size=20))
+def test_judge_series_judges_exactly_the_series_of_values_at_or_above_zero(values):
+    if min(values) >= 0.0:
+        out = filters.judge_series(values, 1.0, 2.0)
+        assert out["inside"] + out["below"] + out["above"] == pytest.approx(1.0)
+    else:
+        first = next(i for i, v in enumerate(values) if v < 0)
+        with pytest.raises(ValueError, match=rf"^values\[{first}\] must be a NEES or NIS value"):
+            filters.judge_series(values, 1.0, 2.0)

@@ -602,13 +602,16 @@ def consistency_verdict(value, lo, hi):
     ``"optimistic"`` above it (the covariance is smaller than the errors: the dangerous
     side, where a filter ignores measurements it needs).
 
+    ``value``, ``lo`` and ``hi`` are NEES/NIS values and chi-square quantiles, so each must be
+    a real number >= 0 (a negative one is refused, not judged "conservative").
+
     Examples
     --------
     >>> lo, hi = chi2_bounds(6, 400)
     >>> consistency_verdict(4.99, lo, hi), consistency_verdict(6.0, lo, hi)
     ('conservative', 'inside')
     """
-    value, lo, hi = (check_real(n, v) for n, v in (("value", value), ("lo", lo), ("hi", hi)))
+    value, lo, hi = (check_real(n, v, 0.0) for n, v in (("value", value), ("lo", lo), ("hi", hi)))
     if lo > hi:
         raise ValueError(f"lo must not exceed hi, got [{lo:g}, {hi:g}]")
     return "inside" if lo <= value <= hi else ("conservative" if value < lo else "optimistic")
@@ -620,7 +623,8 @@ def judge_series(values, lo, hi, inside_min=0.9):
     Each epoch's value falls inside the 95 % band with probability 0.95 when the filter is
     consistent; the series is ``"inside"`` when at least ``inside_min`` of its epochs are,
     and otherwise ``"conservative"`` or ``"optimistic"`` after the side that holds more of
-    the others (:func:`consistency_verdict`'s words).
+    the others (:func:`consistency_verdict`'s words). Every value must be finite and >= 0
+    (a NEES or NIS is a quadratic form); a negative one is refused, naming ``values[i]``.
 
     Returns
     -------
@@ -635,6 +639,9 @@ def judge_series(values, lo, hi, inside_min=0.9):
     v = check_finite_array("values", values).ravel()
     if v.size == 0:
         raise ValueError("values must hold at least one number")
+    if np.any(v < 0):
+        i = int(np.argmax(v < 0))
+        raise ValueError(f"values[{i}] must be a NEES or NIS value in [0, inf), got {v[i]:g}")
     consistency_verdict(float(v[0]), lo, hi)  # checks lo, hi
     inside_min = check_real("inside_min", inside_min, 0.0, 1.0)
     below, above = float(np.mean(v < lo)), float(np.mean(v > hi))
