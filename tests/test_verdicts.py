@@ -208,6 +208,8 @@ def test_a_claim_a_lost_parameter_decides_is_judged_over_its_plausible_values():
     assert some.verdict == "UNDECIDED" and some.ours == row.ours
     assert "the lost ramp rate decides it" in some.reading
     assert "the paper's ramp rate would decide it" in some.reading
+    # the single-run rule's percentile among our runs at our choice stays in the row (acceptance)
+    assert some.reading.startswith("at our choice, the paper's number is below all of our 40 runs")
     every = verdicts.check_lost(row, "ramp rate", {"ours": (2.0, 4.5), "faster": (1.5, 3.1)}, "x")
     assert every.verdict == "REPRODUCED"
     far = verdicts.check_lost(row, "ramp rate", {"ours": (9.0, 9.5), "b": (9.2, 9.8)}, "x")

@@ -535,7 +535,9 @@ def check_lost(row, lost, reach, decides, unit="", held=""):
     * NOT REPRODUCED: outside the span by more than that spread.
 
     The tolerance says whether the lost parameter moves our number further than our noise (its
-    spread against the width of our own range, the label naming our choice) or less.
+    spread against the width of our own range, the label naming our choice) or less. A row
+    judged among our single runs (:func:`check_draw`) keeps its reading first: where the paper's
+    number falls among them at our choice (its percentile).
 
     Parameters
     ----------
@@ -610,9 +612,11 @@ def check_lost(row, lost, reach, decides, unit="", held=""):
         tolerance += f" ({held.strip()})"
     elif held:
         raise ValueError(f"held must be words (what is held and why); got {held!r}")
+    # a single-run number keeps where it falls among our runs at our choice (its percentile)
+    first = f"at our choice, {row.reading}; " if drawn and row.reading else ""
     if len(inside) == len(spans):
         return replace(row, tolerance=tolerance + ": inside our range at every one",
-                       verdict=REPRODUCED, reading=f"{span}; the paper's number is inside each")
+                       verdict=REPRODUCED, reading=f"{first}{span}; the paper's number is inside each")
     gap = lo - paper if paper < lo else paper - hi if paper > hi else 0.0
     if inside or gap <= spread:
         where = (f"reached at {'; '.join(inside)}" if inside else
@@ -620,11 +624,11 @@ def check_lost(row, lost, reach, decides, unit="", held=""):
                  f"{gap:.3g}{u} {'below' if paper < lo else 'above'} their span, no plausible value "
                  f"reaching it, but less than the {spread:.3g}{u} the lost parameter itself moves it")
         return replace(row, tolerance=tolerance, verdict=UNDECIDED,
-                       reading=f"the lost {lost.strip()} decides it: {span}; the paper's "
+                       reading=f"{first}the lost {lost.strip()} decides it: {span}; the paper's "
                                f"{paper:g}{u} is {where}; {decides.strip()} would decide it")
     side = "below" if paper < lo else "above"
     return replace(row, tolerance=tolerance, verdict=NOT_REPRODUCED,
-                   reading=f"no plausible value reaches it: {span}; the paper's {paper:g}{u} is "
+                   reading=f"{first}no plausible value reaches it: {span}; the paper's {paper:g}{u} is "
                            f"{gap:.3g}{u} {side} them, more than the {spread:.3g}{u} the lost "
                            "parameter itself moves it")
 

@@ -62,7 +62,7 @@ NOISE_READINGS = {DEFAULT_SIGMA: "a fix accuracy over the PDOP", 10.0: "on each 
 #: The lost parameter, as check_lost and check_event_lost name it (in every judged row's
 #: tolerance: why the reading is judged at both values, not held at ours).
 NOISE_LOST = ("reading of its noise ('PL positioning accuracy 10 m': a fix accuracy, 2 m per "
-              "pseudorange over our PDOP, or 10 m per pseudorange; no other of its numbers "
+              "pseudorange over our PDOP, or 10 m per pseudorange; no other number of the paper "
               "places it)")
 
 
