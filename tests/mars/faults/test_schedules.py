@@ -292,3 +292,43 @@ def test_check_schedule_checks_its_own_arguments(kw, words):  # review 35d D34: 
     with pytest.raises(ValueError) as info:
         s.check_schedule([Fault("uv", "step", 1.0, 1000.0, 10.0, component=0)], sc, **kw)
     assert words in str(info.value)
+
+
+@pytest.mark.parametrize(("kw", "words"), [
+    ({"dt": 0}, "dt must be a dict of sensor -> sampling interval, s, got 0"),  # review 35d D35
+    ({"dt": {"uv": math.nan}}, "dt['uv'] must be a real number in (0, inf), got nan"),
+    ({"dt": {"uv": 0.0}}, "dt['uv'] must be a real number in (0, inf), got 0.0"),
+    ({"dt": {"xnav": -1.0}}, "dt['xnav'] must be a real number in (0, inf), got -1.0"),
+    ({"span": 10.0}, "span must end after the fault's onset (100 s): a fault that starts at or "
+                     "after the run's end is not in it, got 10"),  # was the window (100, 10)
+    ({"span": 100.0}, "span must end after the fault's onset (100 s)"),
+])
+def test_scoring_span_checks_dt_whenever_given_and_refuses_an_inverted_window(kw, words):
+    with pytest.raises(ValueError) as exc:
+        s.scoring_span(Fault("uv", "step", 1.0, 100.0, 50.0), **kw)
+    assert str(exc.value).startswith(words), str(exc.value)
+    if "span" in kw:  # score_faults scores through it: the fault after the end is refused too
+        with pytest.raises(ValueError, match="^span must end after the fault's onset"):
+            s.score_faults([Fault("uv", "step", 1.0, 100.0, 50.0)], {}, **kw)
+
+
+@pytest.mark.parametrize("bad", [None, "uv.range:step:1@100+50", {"sensor": "uv"}])
+def test_scoring_span_refuses_what_is_no_fault(bad):  # review 35d D37's class
+    with pytest.raises(ValueError, match=r"^fault must be a Fault, got "):
+        s.scoring_span(bad)
+
+
+def test_an_event_with_a_non_finite_onset_is_refused():
+    with pytest.raises(ValueError, match=r"^events\['uv'\]\[0\] must be a detection Event"):
+        s.score_faults([], {"uv": [Event(math.nan, 1.0, 2.0, 1.0, "x")]})
+
+
+@given(st.floats(0.0, 1e6), st.floats(1.0, 1e5), st.floats(1e-3, 2e6))
+def test_a_scoring_window_is_never_inverted(onset, duration, span):
+    f = Fault("uv", "step", 1.0, onset, duration)
+    if span > onset:
+        lo, hi = s.scoring_span(f, span=span)
+        assert lo == onset < hi <= span
+    else:
+        with pytest.raises(ValueError, match="^span must end after the fault's onset"):
+            s.scoring_span(f, span=span)

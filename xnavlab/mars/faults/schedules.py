@@ -341,13 +341,16 @@ def scoring_span(fault, dt=None, span=math.inf):
     fault : Fault
         Times s since the start.
     dt : dict of str to float, optional
-        Sampling interval per sensor, s (:func:`sample_intervals`); needed for a spike.
+        Sampling interval per sensor, s (:func:`sample_intervals`); read for a spike only,
+        but checked whenever given: a dict whose every value is a real number in (0, inf).
     span : float
-        The run's length, s.
+        The run's length, s, in (0, inf]; it must end after the fault's onset (else the
+        window would be inverted, ``stop < onset``, and match alarms before the fault).
 
     Returns
     -------
     tuple of float
+        ``onset < stop``.
 
     Examples
     --------
@@ -356,12 +359,22 @@ def scoring_span(fault, dt=None, span=math.inf):
     >>> scoring_span(Fault("uv", "step", 1.0, 100.0, 50.0))
     (100.0, 150.0)
     """
+    if not isinstance(fault, Fault):
+        raise ValueError(f"fault must be a Fault, got {shown(fault)}")
     span = _span(span)
+    if dt is not None:
+        if not isinstance(dt, dict):
+            raise ValueError(f"dt must be a dict of sensor -> sampling interval, s, got {shown(dt)}")
+        for sensor, step in dt.items():
+            check_real(f"dt[{sensor!r}]", step, 0.0, lo_open=True, hi_open=True)
+    if not span > fault.onset:
+        raise ValueError(f"span must end after the fault's onset ({fault.onset:.6g} s): a fault "
+                         f"that starts at or after the run's end is not in it, got {span:.6g}")
     if fault.kind == "spike":
         if dt is None or fault.sensor not in dt:
             raise ValueError(f"dt must give the sampling interval of sensor {fault.sensor!r} "
                              "to score a spike (one sample)")
-        step = check_real(f"dt[{fault.sensor!r}]", dt[fault.sensor], 0.0, lo_open=True)
+        step = float(dt[fault.sensor])
         return fault.onset, min(_first_sample(fault.onset, step) + 0.5 * step, span)
     return fault.onset, min(fault.end, span)
 
@@ -503,7 +516,7 @@ def _check_events(events):
         for i, e in enumerate(evs):
             onset = getattr(e, "onset", None)
             if isinstance(onset, bool) or not isinstance(onset, int | float | np.integer
-                                                         | np.floating):
+                                                         | np.floating) or not math.isfinite(onset):
                 raise ValueError(f"events[{sensor!r}][{i}] must be a detection Event (with an "
                                  f"onset, s: xnavlab.core.detection.Event), got {shown(e)}")
     return events
