@@ -210,3 +210,36 @@ def test_design_shares_and_monitor_flags_are_checked():  # review 35d D32/D33
         CombinedDesign(100, 3, shares=(-1, 1, 1))
     with pytest.raises(ValueError, match="adaptive must be True or False, got 'no'"):
         InnovationMonitor(CombinedDesign(100, 3), adaptive="no")
+
+
+
+@pytest.mark.parametrize("m", [1, 3])
+def test_the_recorded_ratios_are_the_array_forms_bit_for_bit(m, monkeypatch):
+    """process(record=...) runs the compiled segment (_scan_rows); with the array form
+    (_segment) in its place the run gives the same bits: ratios, first alarm, CUSUMs, scale."""
+    from xnavlab.core.detection import combined
+
+    rng = np.random.default_rng(7)
+    t = 3.0 * np.arange(6000)
+    y = rng.normal(0.0, 1.0, (6000, m))
+    y[3000:] += (8.0 * (t[3000:] - t[3000]) / 3600.0)[:, None]  # a drift: alarms at most samples
+    design = combined.CombinedDesign(86400.0 / 3.0, m, 1.0)
+
+    def run(stop):
+        mon, rec = combined.InnovationMonitor(design), {}
+        first = mon.process(t, y, stop=stop, record=rec)
+        return first, rec["ratio"].tobytes(), mon.S.tobytes(), mon.scale.tobytes()
+
+    compiled = [run(stop) for stop in (False, True)]
+
+    def array_form(self, y, rows):
+        ratio, S = self._segment(y)
+        rows[:] = ratio
+        rmax = ratio.max(axis=1)
+        hit = np.flatnonzero(rmax > 1.0)
+        a = int(hit[0]) if hit.size else -1
+        return a, rmax, (ratio[a] if hit.size else None), S[-1]
+
+    monkeypatch.setattr(combined.InnovationMonitor, "_scan_rows", array_form)
+    assert [run(stop) for stop in (False, True)] == compiled
+    assert compiled[0][0] == compiled[1][0] >= 3000

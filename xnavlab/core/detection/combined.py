@@ -248,6 +248,44 @@ def _scan(y, scale, S0, k_mean, k_var, chi2_thr, h_mean, h_var, rmax, hit_ratio,
     return -1
 
 
+@njit(cache=True)
+def _scan_rows(y, scale, S0, k_mean, k_var, chi2_thr, h_mean, h_var, rows, rmax, S_end):
+    """Compiled form of :meth:`InnovationMonitor._segment` over the whole segment, with every
+    sample's ratios: the operations of :func:`_scan`, in its order (so the same bits), not
+    stopped at an alarm. Fills ``rows`` (N, 1 + 3m) with each sample's statistics over their
+    thresholds, ``rmax`` (N,) with each sample's largest and ``S_end`` (3m,) with the last
+    sample's CUSUMs. Returns the index of the first sample whose largest ratio exceeds 1, or -1.
+    """
+    n, m = y.shape
+    D = np.zeros(3 * m)
+    M = np.empty(3 * m)
+    z = np.empty(m)
+    first = -1
+    for i in range(n):
+        q = 0.0
+        for c in range(m):
+            z[c] = y[i, c] / scale[c]
+            q += z[c] * z[c]                                   # chapter 9 eq. (ch9-chi2)
+        for c in range(m):
+            D[c] += z[c] - k_mean                              # S+ increments
+            D[m + c] += -z[c] - k_mean                         # S- increments
+            D[2 * m + c] += z[c] * z[c] - k_var                # variance increments
+        best = q / chi2_thr
+        rows[i, 0] = best
+        for j in range(3 * m):
+            M[j] = D[j] if i == 0 else min(M[j], D[j])
+            S = D[j] - min(-S0[j], M[j])                       # S_n = D_n - min(-S_0, min D_j)
+            r = S / (h_mean if j < 2 * m else h_var)
+            rows[i, 1 + j] = r
+            S_end[j] = S
+            if r > best:
+                best = r
+        rmax[i] = best
+        if first < 0 and best > 1.0:
+            first = i
+    return first
+
+
 class CombinedDesign:
     """The combined detector's thresholds for one subsystem, from its false-alarm budget.
 
@@ -483,6 +521,15 @@ class InnovationMonitor(TrackedDetector):
                   d.h_mean, d.h_var, rmax, row, S_end)
         return a, rmax[:a + 1] if a >= 0 else rmax, row, S_end
 
+    def _scan_rows(self, y, rows):
+        """:func:`_scan_rows` of a segment, its ratios written into ``rows``: (alarm index or
+        -1, rmax, the alarm's ratios or None, final S)."""
+        d, n = self.design, y.shape[0]
+        rmax, S_end = np.empty(n), np.empty(3 * self.m)
+        a = _scan_rows(np.ascontiguousarray(y), self.scale, self.S, d.k_mean, d.k_var,
+                       d.chi2_threshold, d.h_mean, d.h_var, rows, rmax, S_end)
+        return a, rmax, (rows[a] if a >= 0 else None), S_end
+
     def process(self, t, y, *, stop=True, record=None):
         """Feed whitened innovations ``y`` (N, m) at times ``t`` (N,) s, in order.
 
@@ -514,13 +561,8 @@ class InnovationMonitor(TrackedDetector):
             j = min(n, i + max(1, self._next_update - self._n_fed), i + seg)
             if ratios is None:
                 a_rel, rmax, hit_row, S_end = self._scan(y[i:j])
-            else:
-                ratio, S = self._segment(y[i:j])
-                ratios[i:j] = ratio
-                rmax = ratio.max(axis=1)
-                hit = np.flatnonzero(rmax > 1.0)
-                a_rel = int(hit[0]) if hit.size else -1
-                hit_row, S_end = (ratio[a_rel] if hit.size else None), S[-1]
+            else:  # every sample's ratios: the compiled form of _segment (the same bits)
+                a_rel, rmax, hit_row, S_end = self._scan_rows(y[i:j], ratios[i:j])
             if a_rel >= 0:
                 a = i + a_rel
                 seg = slice(i, a)          # the healthy samples before the alarm
