@@ -305,3 +305,11 @@ def test_check_state0_refuses_exactly_the_speeds_at_or_above_the_bound(r_over, f
     else:
         with pytest.raises(ValueError, match="state0 speed must be below"):
             dynamics.check_state0(state)
+
+
+@pytest.mark.parametrize("s_off", [0.0, 1e-120])
+def test_third_body_at_the_spacecraft_is_refused_not_nan(s_off):  # review 35d D42: NaN warnings
+    r = dynamics.MARS_STATE0[:3]
+    s = np.stack([np.array([1.5e11, 0.0, 0.0]), r + s_off])
+    with pytest.raises(ValueError, match=r"^s\[1\] must differ from r: a body at the spacecraft's"):
+        dynamics.third_body(r, s, np.array([GM_SUN, 1e10]))

@@ -13,6 +13,9 @@ from xnavlab.core.constants import AU, GM_MARS, R_MARS
 from xnavlab.mars.models import dynamics
 from xnavlab.mars.models import force_models as fm
 
+R0 = dynamics.MARS_STATE0[:3]
+SUN = np.array([1.5 * AU, 0.0, 0.0])  # the Sun, Mars-centred, m
+
 
 def _potential(rb, nmax):
     """MRO95A's potential of degrees 2..nmax, written from the spherical-harmonic series with
@@ -199,3 +202,35 @@ def test_a_state0_faster_than_any_craft_bound_to_the_sun_is_refused():  # review
             call()
     with pytest.raises(ValueError, match=r"state0 must be a 1-D array \(shape \(6,\)\), got shape"):
         fm.propagate(dynamics.MARS_T0 + np.array([0.0, 60.0]), np.tile(dynamics.MARS_STATE0, (2, 1)))
+
+
+@pytest.mark.parametrize(("call", "words"), [  # review 35d D42: ZeroDivisionError or NaN
+    (lambda: fm.acceleration(dynamics.MARS_T0, np.zeros(3)), "r must lie outside Mars"),
+    (lambda: fm.harmonic_acceleration(dynamics.MARS_T0, np.zeros(3)), "r must lie outside Mars"),
+    (lambda: fm.harmonic_acceleration(dynamics.MARS_T0, [1e-200, 0.0, 0.0]), "r must lie outside"),
+    (lambda: fm.accelerations([dynamics.MARS_T0] * 2,
+                              np.stack([dynamics.MARS_STATE0[:3], [3e6, 0.0, 0.0]])),
+     "r[1] must lie outside Mars (|r| > 3.39619e+06 m), where the gravity models hold, got |r| = "
+     "3e+06 m"),
+    (lambda: fm.srp_acceleration(R0, R0), "|s| must exceed the Sun's radius (6.957e+08 m)"),
+    (lambda: fm.srp_acceleration(R0, np.zeros(3)), "|s| must exceed the Sun's radius"),
+    (lambda: fm.srp_acceleration(SUN, SUN), "|r - s| must exceed the Sun's radius"),
+    (lambda: fm.srp_acceleration(R0, SUN, area_m2=0.0), "area_m2 must be a real number in (0, 1000]"),
+    (lambda: fm.srp_acceleration(R0, SUN, mass_kg=0.0), "mass_kg must be a real number in (0, 100000]"),
+    (lambda: fm.srp_acceleration(R0, SUN, reflectivity=math.nan), "reflectivity must be a real"),
+])
+def test_a_force_at_a_singular_point_or_with_no_area_or_mass_is_one_line(call, words):
+    with pytest.raises(ValueError) as exc:
+        call()
+    assert str(exc.value).startswith(words) and len(str(exc.value).splitlines()) == 1
+
+
+@settings(max_examples=30, deadline=None)
+@given(st.floats(0.0, 3 * R_MARS), st.floats(-1.0, 1.0), st.floats(0.0, 2 * math.pi))
+def test_the_gravity_models_take_exactly_the_positions_outside_mars(rn, z, lon):
+    r = rn * np.array([math.sqrt(1 - z * z) * math.cos(lon), math.sqrt(1 - z * z) * math.sin(lon), z])
+    if np.linalg.norm(r) > R_MARS:
+        assert np.all(np.isfinite(fm.harmonic_acceleration(dynamics.MARS_T0, r, 4)))
+    else:
+        with pytest.raises(ValueError, match="^r must lie outside Mars"):
+            fm.harmonic_acceleration(dynamics.MARS_T0, r, 4)

@@ -216,7 +216,8 @@ def third_body(r, s, gm):
     r : array_like, shape (3,)
         Spacecraft position relative to the centre, m.
     s : array_like, shape (k, 3)
-        Third-body positions relative to the centre, m.
+        Third-body positions relative to the centre, m: none at the centre or at ``r``
+        (refused: the pull is singular there).
     gm : array_like, shape (k,)
         Their GM, m^3/s^2.
 
@@ -232,6 +233,10 @@ def third_body(r, s, gm):
         raise ValueError(f"gm must hold one GM per body of s ({s.shape[0]}), got {gm.size}")
     d = s - r
     dn3 = np.linalg.norm(d, axis=-1) ** 3
+    if not np.all(dn3 > 0.0):  # a body at the spacecraft (or 1e-103 m from it): singular
+        k = int(np.argmin(dn3 > 0.0))
+        raise ValueError(f"s[{k}] must differ from r: a body at the spacecraft's position pulls "
+                         f"without bound (|s - r| = {np.linalg.norm(d[k]):.3g} m)")
     sn3 = np.linalg.norm(s, axis=-1) ** 3
     # a_k = mu_k [ (s - r)/|s - r|^3 - s/|s|^3 ]
     return np.sum(gm[:, None] * (d / dn3[:, None] - s / sn3[:, None]), axis=0)

@@ -60,7 +60,14 @@ from xnavlab.core import ephemeris
 from xnavlab.core.constants import AU, DAY, GM_JUPITER, GM_MARS, GM_SUN, R_MARS, C
 from xnavlab.core.diskcache import entry_path, load_array, store
 from xnavlab.core.userfiles import csv_rows
-from xnavlab.core.validate import check_bool, check_choice, check_finite_array, check_int, check_real
+from xnavlab.core.validate import (
+    check_bool,
+    check_choice,
+    check_finite_array,
+    check_int,
+    check_real,
+    check_vector,
+)
 from xnavlab.mars.models import dynamics
 
 __all__ = [
@@ -426,6 +433,21 @@ def _harmonics(rb, nmax, Cu, Su, gm, radius):  # pragma: no cover - compiled
     return out
 
 
+_R_SUN = 6.957e8  # m, the nominal solar radius (IAU 2015 Resolution B3)
+
+
+def _outside_mars(name, r):
+    """Positions (3,) or (n, 3), m, each outside Mars, where the gravity models hold (the
+    harmonic series diverges inside its reference sphere; at the centre the field is singular)."""
+    rn = np.linalg.norm(r, axis=-1).reshape(-1)
+    if not np.all(rn > R_MARS):
+        i = int(np.argmin(rn > R_MARS))
+        label = name if r.ndim == 1 else f"{name}[{i}]"
+        raise ValueError(f"{label} must lie outside Mars (|r| > {R_MARS:g} m), where the gravity "
+                         f"models hold, got |r| = {rn[i]:.6g} m")
+    return r
+
+
 def harmonic_acceleration(t, r, degree=MAX_DEGREE):
     """Acceleration of MRO95A's degrees 2 to ``degree`` at ``r`` (J2000, Mars-centred), m/s^2.
 
@@ -436,7 +458,7 @@ def harmonic_acceleration(t, r, degree=MAX_DEGREE):
     t : float
         Epoch, s TDB past J2000 (Mars's rotation).
     r : array_like, shape (3,)
-        Position, m, J2000 axes.
+        Position, m, J2000 axes; outside Mars (``|r| > R_MARS``), else refused.
     degree : int
         2 to :data:`MAX_DEGREE`.
 
@@ -452,7 +474,7 @@ def harmonic_acceleration(t, r, degree=MAX_DEGREE):
     0.09
     """
     degree = check_int("degree", degree, 2, MAX_DEGREE)
-    r = check_finite_array("r", r, shape=(3,))
+    r = _outside_mars("r", check_vector("r", r, 3))
     M = mars_fixed_matrix(t)
     Cu, Su = gravity_coefficients()
     return M.T @ _harmonics(M @ r, degree, Cu, Su, GM_MARS, GRAVITY_RADIUS)
@@ -467,11 +489,13 @@ def srp_acceleration(r, s, area_m2=10.0, mass_kg=1000.0, reflectivity=1.3):
     Parameters
     ----------
     r : array_like, shape (3,)
-        Spacecraft, Mars-centred, m.
+        Spacecraft, Mars-centred, m; outside the Sun (``|r - s|`` above its radius, 695,700
+        km), else refused.
     s : array_like, shape (3,)
-        Sun, Mars-centred, m.
+        Sun, Mars-centred, m; ``|s|`` above the Sun's radius (the Sun does not hold Mars).
     area_m2, mass_kg, reflectivity : float
-        Cross-section, mass and C_R (:class:`ForceModel`).
+        Cross-section in (0, 1000] m^2, mass in (0, 1e5] kg and C_R in [1, 2], as
+        :class:`ForceModel` (an area or a mass of 0 is refused, not a zero or an infinity).
 
     Examples
     --------
@@ -482,9 +506,16 @@ def srp_acceleration(r, s, area_m2=10.0, mass_kg=1000.0, reflectivity=1.3):
     >>> srp_acceleration(np.array([-4e6, 0.0, 0.0]), s).tolist()   # in Mars's shadow
     [0.0, 0.0, 0.0]
     """
-    r = check_finite_array("r", r, shape=(3,))
-    s = check_finite_array("s", s, shape=(3,))
-    return _srp(r, s, SOLAR_PRESSURE_1AU * reflectivity * area_m2 / mass_kg, R_MARS)
+    r, s = check_vector("r", r, 3), check_vector("s", s, 3)
+    for label, d in (("|s|", s), ("|r - s|", r - s)):  # _srp divides by both
+        if not float(np.linalg.norm(d)) > _R_SUN:
+            raise ValueError(f"{label} must exceed the Sun's radius ({_R_SUN:g} m): r is the "
+                             f"spacecraft and s the Sun, both Mars-centred; got "
+                             f"{float(np.linalg.norm(d)):.6g} m")
+    area = check_real("area_m2", area_m2, 0.0, 1000.0, lo_open=True)
+    mass = check_real("mass_kg", mass_kg, 0.0, 1e5, lo_open=True)
+    cr = check_real("reflectivity", reflectivity, 1.0, 2.0)
+    return _srp(r, s, SOLAR_PRESSURE_1AU * cr * area / mass, R_MARS)
 
 
 @numba.njit(cache=True)
@@ -669,7 +700,7 @@ def acceleration(t, r, force_model=PAPER, ephem="de421"):
     t : float
         Epoch, s TDB past J2000.
     r : array_like, shape (3,)
-        Mars-centred position, J2000 axes, m.
+        Mars-centred position, J2000 axes, m; outside Mars (``|r| > R_MARS``), else refused.
     force_model : ForceModel or str
         The model (:func:`model`).
     ephem : {"de421", "de405"}
@@ -682,8 +713,8 @@ def acceleration(t, r, force_model=PAPER, ephem="de421"):
     True
     """
     t = check_real("t", t)
-    return accelerations(np.array([t]), check_finite_array("r", r, shape=(3,)).reshape(1, 3),
-                         force_model, ephem)[0]
+    r = _outside_mars("r", check_vector("r", r, 3))
+    return accelerations(np.array([t]), r.reshape(1, 3), force_model, ephem)[0]
 
 
 def accelerations(t, r, force_model=PAPER, ephem="de421", tables=None):
@@ -694,7 +725,7 @@ def accelerations(t, r, force_model=PAPER, ephem="de421", tables=None):
     t : array_like, shape (n,)
         Epochs, s TDB past J2000.
     r : array_like, shape (n, 3)
-        Mars-centred positions, m.
+        Mars-centred positions, m, each outside Mars (``|r| > R_MARS``), else refused.
     force_model : ForceModel or str
     ephem : {"de421", "de405"}
     tables : Tables, optional
@@ -711,6 +742,7 @@ def accelerations(t, r, force_model=PAPER, ephem="de421", tables=None):
     if t.ndim != 1 or r.shape != (t.size, 3) or t.size == 0:
         raise ValueError(f"t must have shape (n,) and r shape (n, 3) with n >= 1, got "
                          f"{t.shape} and {r.shape}")
+    _outside_mars("r", r)
     if tables is None:
         tables = Tables(force_model, float(t.min()), float(t.max()), ephem)
     return _accel_many(t, np.ascontiguousarray(r), *tables.args)
