@@ -490,3 +490,21 @@ def test_a_setting_of_another_detector_is_refused(detector, kw, words):
     with pytest.raises(ValueError) as info:
         ft.run_fault_tolerant(scenarios.MarsScenario(days=0.02), [], detector, **kw)
     assert words in str(info.value)
+
+
+@pytest.mark.parametrize(("events", "words"), [
+    ("abc", "events must be a list of detection Events"),  # review 35d D37: AttributeError
+    ([("uv", math.nan)], "events[0] must be a detection Event"),
+    (None, "events must be a list of detection Events"),
+])
+def test_merge_events_refuses_what_is_no_list_of_events(events, words):
+    with pytest.raises(ValueError) as exc:
+        ft.merge_events(events)
+    assert str(exc.value).startswith(words) and len(str(exc.value).splitlines()) == 1
+
+
+@pytest.mark.parametrize("bad", [None, {}, "inputs"])
+def test_inject_inputs_refuses_what_is_no_inputs(bad):  # review 35d D37: AttributeError
+    with pytest.raises(ValueError, match=r"^inputs must be a scenarios.Inputs \(scenarios.prepare\), "
+                                         r"got "):
+        ft.inject_inputs(bad, [Fault("uv", "step", 1e3, 1000.0, 10.0)])

@@ -332,3 +332,31 @@ def test_a_scoring_window_is_never_inverted(onset, duration, span):
     else:
         with pytest.raises(ValueError, match="^span must end after the fault's onset"):
             s.scoring_span(f, span=span)
+
+
+@pytest.mark.parametrize(("events", "words"), [
+    ("abc", "events must be a list of detection Events (xnavlab.core.detection.Event), got 'abc'"),
+    ({"uv": []}, "events must be a list of detection Events"),
+    (5, "events must be a list of detection Events"),
+    ([("uv", math.nan)], "events[0] must be a detection Event (xnavlab.core.detection.Event) with "
+                         "finite onset and end, got ('uv', nan)"),
+    ([Event(1.0, 2.0, 3.0, 1.0, "a"), Event(math.nan, 1.0, 2.0, 1.0, "a")], "events[1] must be"),
+    ([Event(1.0, 2.0, math.nan, 1.0, "a")], "events[0] must be"),
+])
+def test_check_event_list_refuses_what_is_no_list_of_events(events, words):
+    with pytest.raises(ValueError) as exc:
+        s.check_event_list("events", events)
+    assert str(exc.value).startswith(words), str(exc.value)
+
+
+def test_check_event_list_takes_an_event_still_flagging_at_the_end():
+    e = Event(1.0, 2.0, math.inf, 1.0, "a")
+    assert s.check_event_list("events", (e,)) == [e]
+
+
+@pytest.mark.parametrize("bad", [{}, "abc", None])
+def test_score_and_trial_outcome_refuse_what_is_no_run(bad):  # review 35d D37's class
+    for call in (lambda: s.score(bad), lambda: s.trial_outcome(bad)):
+        with pytest.raises(ValueError, match=r"^ft must be a FaultTolerantRun \(the result of "
+                                             r"run_fault_tolerant\), got "):
+            call()

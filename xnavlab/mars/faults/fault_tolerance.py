@@ -170,8 +170,10 @@ def inject_inputs(inputs, faults, rng=None):
     """A copy of a run's :class:`~xnavlab.mars.navigation.scenarios.Inputs` with the faults in its
     measurements.
 
-    Fault times are seconds since the start (``inputs.times[0]``).
+    Fault times are seconds since the start (``inputs.times[0]``). ``inputs`` must be an Inputs.
     """
+    if not isinstance(inputs, scenarios.Inputs):  # (None gave an AttributeError)
+        raise ValueError(f"inputs must be a scenarios.Inputs (scenarios.prepare), got {inputs!r:.80}")
     t0 = float(inputs.times[0])
     rng = make_rng(rng)
     faults = check_faults("faults", faults)  # a spec string: read it with parse_faults first
@@ -192,8 +194,8 @@ def merge_events(events):
     >>> [(e.onset, e.end, e.cleared, e.test) for e in ev]
     [(1.0, 6.0, 9.0, 'b')]
     """
-    out = []
-    for e in sorted(events, key=lambda e: e.onset):
+    out = []  # events: refused unless a list of Events with finite times
+    for e in sorted(schedules.check_event_list("events", events), key=lambda e: e.onset):
         if out and e.onset <= out[-1].cleared:
             p = out[-1]
             best = e if e.peak > p.peak else p

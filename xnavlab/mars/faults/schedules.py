@@ -58,6 +58,7 @@ __all__ = [
     "check_schedule",
     "scoring_span",
     "score_faults",
+    "check_event_list",
     "fault_detection_delays",
     "score",
     "trial_outcome",
@@ -504,6 +505,36 @@ def score_faults(faults, events, isolations=(), *, span=math.inf, dt=None):
     return {"faults": per, "alarms": out}
 
 
+def check_event_list(name, events):
+    """``events`` as a list of :class:`~xnavlab.core.detection.Event` with a finite onset and end
+    (``cleared`` may be inf), else one ValueError naming ``name`` (a string, a dict or a number
+    is no list; ``name[i]`` an item).
+
+    Examples
+    --------
+    >>> from xnavlab.core.detection import Event
+    >>> check_event_list("events", (Event(1.0, 2.0, 3.0, 4.0, "a"),))[0].onset
+    1.0
+    >>> check_event_list("events", "abc")
+    Traceback (most recent call last):
+    ...
+    ValueError: events must be a list of detection Events (xnavlab.core.detection.Event), got 'abc'
+    """
+    from xnavlab.core.detection import Event
+
+    what = "detection Event (xnavlab.core.detection.Event)"
+    if isinstance(events, str | bytes | dict) or not hasattr(events, "__iter__"):
+        raise ValueError(f"{name} must be a list of {what.replace('Event ', 'Events ')}, "
+                         f"got {shown(events)}")
+    events = list(events)
+    real = int | float | np.integer | np.floating
+    for i, e in enumerate(events):  # cleared may be inf (still flagging at the end), not NaN
+        if not isinstance(e, Event) or not all(isinstance(v, real) for v in (e.onset, e.end, e.cleared)) \
+                or not (math.isfinite(e.onset) and math.isfinite(e.end) and not math.isnan(e.cleared)):
+            raise ValueError(f"{name}[{i}] must be a {what} with finite onset and end, got {shown(e)}")
+    return events
+
+
 def _check_events(events):
     """A detector's events: a dict of sensor -> sequence of objects with an ``onset``, s."""
     if not isinstance(events, dict):
@@ -611,7 +642,7 @@ def score(ft, settle_days=None):
         LATE_WINDOW_S)`` of every fault, ``outside_faults_m``, ``settle_days``; None where a
         window is empty).
     """
-    sc = ft.run.scenario
+    sc = _check_run(ft, "run", "faults", "events", "isolation_intervals").run.scenario
     comps = components(sc)
     span = float(sc.span)
     t_rec = ft.run.t - ft.run.times[0]   # records (the error series)
@@ -653,6 +684,14 @@ def score(ft, settle_days=None):
                             "outside_faults_m": rms(keep & ~inside), "settle_days": settle}}
 
 
+def _check_run(ft, *needs):
+    """``ft`` if it has what a FaultTolerantRun has (``needs``), else one ValueError naming it."""
+    if not all(hasattr(ft, a) for a in needs):
+        raise ValueError(f"ft must be a FaultTolerantRun (the result of run_fault_tolerant), got "
+                         f"{shown(ft)}")
+    return ft
+
+
 def trial_outcome(ft, armed_from_s=0.0):
     """The Monte Carlo record of a run with one fault (:func:`score`): what the trials of
     :mod:`xnavlab.mars.studies.trials` and :mod:`xnavlab.mars.studies.roc` store.
@@ -674,7 +713,7 @@ def trial_outcome(ft, armed_from_s=0.0):
         ``time_out_s`` (``out_after_end_s``, 0 when the fault outlasts the run).
     """
     armed_from_s = check_real("armed_from_s", armed_from_s, 0.0)
-    if len(ft.faults) != 1:
+    if len(_check_run(ft, "faults").faults) != 1:
         raise ValueError(f"ft must hold exactly one fault, got {len(ft.faults)}")
     sc = score(ft)
     f = sc["faults"][0]
