@@ -98,6 +98,15 @@ def test_the_note_says_what_the_rows_measured_of_the_lost_settings(rid):
         assert "move each improvement further than our noise does" in res.note
 
 
+def test_the_slope_is_judged_over_the_directions_run_and_says_what_it_holds():
+    """ukf-vs-ephemeris-error runs error directions only: its lost parameter says so, and the
+    orbit's orientation and pulsar table are held with the reason its verdict stands (34d S3)."""
+    row = reproduce.run("ukf-vs-ephemeris-error").check("UKF error per metre of ephemeris error")
+    assert row.tolerance.startswith("the paper lost the error direction, which moves")
+    assert "orbit's orientation and the pulsar table (Table 4), lost too, are held" in row.tolerance
+    assert ("cannot decide" in row.tolerance) == (row.verdict == "UNDECIDED")
+
+
 def test_orbit_elements_invert_elements_to_state():
     gm = ee.PLANETS["mars"][0]
     el = ch10.orbit_elements(ee.orbit("mars").state0, gm)
