@@ -92,3 +92,15 @@ def test_a_json_table_with_a_key_twice_is_refused_naming_it(tmp_path):
     path.write_text('{"days": 1, "faults": [{"size": 3.0, "size": 9.0}]}')
     with pytest.raises(ValueError, match=r"grid file '.*grid.json' gives the key 'size' twice"):
         userfiles.load_table(path, "grid file")
+
+
+@pytest.mark.parametrize("bad", [{}, None, 5, b"a.json", ["a.json"]])
+def test_a_path_that_is_no_path_is_one_line_naming_what(bad):
+    # review 35d D37's class (wrong-type objects): Path({}) raised a TypeError in every loader
+    for call in (lambda: userfiles.as_path(bad, "grid file"),
+                 lambda: userfiles.read_text(bad, "grid file"),
+                 lambda: userfiles.load_table(bad, "grid file"),
+                 lambda: userfiles.output_path(bad, "grid file")):
+        with pytest.raises(ValueError, match=r"^grid file must be a path \(a str or pathlib.Path\), "
+                                             r"got "):
+            call()

@@ -18,13 +18,32 @@ import json
 import os
 from pathlib import Path
 
-__all__ = ["InputWarning", "read_text", "parse_toml", "load_table", "check_rows", "csv_rows",
-           "output_path"]
+__all__ = ["InputWarning", "as_path", "read_text", "parse_toml", "load_table", "check_rows",
+           "csv_rows", "output_path"]
 
 
 class InputWarning(UserWarning):
     """Part of a user's file was not used (a corrupt line of a campaign store, say): the
     warning names the file and the line. The command line prints it as one line."""
+
+
+def as_path(path, what="file"):
+    """``path`` (a str or an os.PathLike) as a :class:`pathlib.Path`; anything else (a dict, a
+    number, None, bytes) is one ValueError naming ``what``, not ``Path``'s TypeError.
+
+    Examples
+    --------
+    >>> as_path("runs/a.json").name
+    'a.json'
+    >>> as_path({}, "grid file")
+    Traceback (most recent call last):
+    ...
+    ValueError: grid file must be a path (a str or pathlib.Path), got dict {}
+    """
+    if not isinstance(path, str | os.PathLike) or isinstance(path, bytes):
+        raise ValueError(f"{what} must be a path (a str or pathlib.Path), got "
+                         f"{type(path).__name__} {repr(path)[:60]}")
+    return Path(path)
 
 
 def read_text(path, what="file"):
@@ -59,7 +78,7 @@ def read_text(path, what="file"):
     >>> read_text(bom)
     'days = 2'
     """
-    if not str(path).strip():
+    if not str(as_path(path, what)).strip():
         raise ValueError(f"{what} must name a file, got {str(path)!r}")
     path = Path(path)
     if path.is_dir():
@@ -135,7 +154,7 @@ def load_table(path, what="file", suffixes=(".toml", ".json")):
     >>> load_table(grid, "grid file")
     {'days': 1}
     """
-    path = Path(path)
+    path = as_path(path, what)
     suffix = path.suffix.lower()
     if suffix not in suffixes:
         raise ValueError(f"{what} {str(path)!r} must end in {' or '.join(suffixes)}")
@@ -252,7 +271,7 @@ def output_path(path, what="output", folder=False):
     >>> out.parent.is_dir()
     True
     """
-    if not str(path).strip():
+    if not str(as_path(path, what)).strip():
         raise ValueError(f"{what} must name a {'folder' if folder else 'file'}, got {str(path)!r}")
     path = Path(path)
     target = path if folder else path.parent

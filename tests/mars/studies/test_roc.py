@@ -245,3 +245,11 @@ def test_write_curve_makes_its_folder(tmp_path):  # review 35d D27: a FileNotFou
     roc.write_curve(out, {"thresholds": [0.1, 1.0], "faults": [
         {"fault_class": "step", "sensor": "uv", "size": 3.0}]}, [_grid_record(0)], 0)
     assert (out / "roc.json").is_file() and (out / "roc.csv").is_file()
+
+
+@pytest.mark.parametrize("bad", [{}, 5])
+def test_loaders_refuse_a_path_that_is_no_path(bad):  # review 35d D37's class: TypeError
+    with pytest.raises(ValueError, match=r"^grid file must be a path"):
+        roc.load_grid(bad)
+    with pytest.raises(ValueError, match=r"^ROC curves must be a path"):
+        roc.load_curves(bad)

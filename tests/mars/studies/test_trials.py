@@ -107,3 +107,11 @@ def test_a_corrupt_detector_table_is_refused_with_its_file_and_row(tmp_path, tex
     assert "table.json" in str(err.value)
     with pytest.raises(ValueError, match="table.json"):
         trials.load_early_faults(path)
+
+
+@pytest.mark.parametrize("bad", [{}, 5])
+def test_table_loaders_refuse_a_path_that_is_no_path(bad):  # review 35d D37's class: TypeError
+    with pytest.raises(ValueError, match=r"^detector table must be a path"):
+        trials.load_detector_table(bad)
+    with pytest.raises(ValueError, match=r"^early-fault table must be a path"):
+        trials.load_early_faults(bad)

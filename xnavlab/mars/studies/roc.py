@@ -94,7 +94,7 @@ from xnavlab.core import montecarlo
 from xnavlab.core.campaign import Campaign
 from xnavlab.core.constants import DAY
 from xnavlab.core.distributions import chi2_ppf
-from xnavlab.core.userfiles import check_rows, load_table, output_path
+from xnavlab.core.userfiles import as_path, check_rows, load_table, output_path
 from xnavlab.core.validate import check_bool, check_choice, check_int, check_items, check_real, shown
 from xnavlab.mars.faults import fault_tolerance, schedules
 from xnavlab.mars.navigation import scenarios
@@ -214,7 +214,7 @@ def load_grid(path):
     ValueError
         An unreadable file, a syntax error or a bad field: one line naming the file.
     """
-    path = Path(path)
+    path = as_path(path, "grid file")
     grid = load_table(path, "grid file")
     try:
         return check_grid(grid)
@@ -441,7 +441,7 @@ def write_curve(directory, grid, runs, seed):
 def load_curves(path=None):
     """The shipped curves: ``{"curves": {detector: roc.json dict}, "command": str}``; a file
     that is not such a table (a curve's row without its keys or with NaN) is one ValueError."""
-    path = Path(CURVES_PATH if path is None else path)
+    path = as_path(CURVES_PATH if path is None else path, "ROC curves")
     data = load_table(path, "ROC curves", (".json",))
     curves = data.get("curves")
     if not isinstance(curves, dict) or not curves:

@@ -50,7 +50,7 @@ from xnavlab.core.constants import DAY
 from xnavlab.core.detection import limits
 from xnavlab.core.distributions import chi2_ppf
 from xnavlab.core.faults import Fault
-from xnavlab.core.userfiles import check_rows, load_table
+from xnavlab.core.userfiles import as_path, check_rows, load_table
 from xnavlab.core.validate import check_choice, check_int, check_real
 from xnavlab.mars.faults import fault_tolerance, schedules
 from xnavlab.mars.navigation import scenarios
@@ -280,7 +280,7 @@ def load_detector_table(path=None):
     """The shipped detector table: a dict with ``rows`` (:func:`detector_table`), ``marked``
     (:func:`marked_cells`), ``trials``, ``seed``, ``days`` and ``command``. A file that is not
     such a table (unreadable, not JSON, a row without its keys or with NaN) is one ValueError."""
-    path = Path(TABLE_PATH if path is None else path)
+    path = as_path(TABLE_PATH if path is None else path, "detector table")
     what = f"detector table {str(path)!r}"
     table = load_table(path, "detector table", (".json",))
     check_rows(table.get("rows"), ("fault_class", "sensor", "size", "detector", "trials", "pd",
@@ -336,7 +336,7 @@ def load_early_faults(path=None):
     latter), ``late`` (first alarm after the end: not found), ``delay_median_s`` and
     ``delay_max_s`` (of the faults found by an alarm), ``rms_ratio_max``), ``seeds``,
     ``command``. A file that is not such a table is one ValueError."""
-    path = Path(EARLY_PATH if path is None else path)
+    path = as_path(EARLY_PATH if path is None else path, "early-fault table")
     table = load_table(path, "early-fault table", (".json",))
     check_rows(table.get("rows"), ("sensor", "onset_s", "trials", "found", "late",
                                    "delay_median_s", "rms_ratio_max"),
