@@ -13,6 +13,7 @@ from xnavlab.core.validate import (
     check_int,
     check_items,
     check_real,
+    check_records,
     make_rng,
 )
 
@@ -174,3 +175,21 @@ def test_check_bool_takes_only_real_bools(bad):
     with pytest.raises(ValueError, match=r"^flag must be True or False, got "):
         check_bool("flag", bad)
     assert check_bool("flag", True) is True and check_bool("flag", np.False_) is False
+
+
+@pytest.mark.parametrize(("value", "words"), [
+    ("abc", "rows must be a list of records (dicts), got 'abc'"),
+    ({"pd": 1}, "rows must be a list of records (dicts), got {'pd': 1}"),
+    (None, "rows must be a list of records (dicts), got None"),
+    ([{"pd": 1}, 3], "rows[1] must be a record (a dict with pd), got 3"),
+    ([{"size": 1}], "rows[0] must be a record (a dict with pd), got {'size': 1}"),
+])
+def test_check_records_refuses_what_is_no_list_of_records(value, words):
+    with pytest.raises(ValueError) as exc:
+        check_records("rows", value, ("pd",))
+    assert str(exc.value) == words
+
+
+def test_check_records_takes_any_list_of_dicts_and_the_empty_one():
+    assert check_records("rows", ({"pd": 1},), ("pd",)) == [{"pd": 1}]
+    assert check_records("rows", [], ("pd",)) == []

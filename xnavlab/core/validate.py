@@ -24,6 +24,7 @@ __all__ = [
     "check_covariance",
     "check_definite",
     "check_items",
+    "check_records",
     "make_rng",
 ]
 
@@ -378,6 +379,31 @@ def check_items(name, value, what="item", each=None, min_len=1):
         if first != i:
             raise ValueError(f"{name} lists {key} twice (items {first} and {i})")
     return items
+
+
+def check_records(name, value, keys=(), what="record"):
+    """``value`` as a list of dicts (records, rows) that each hold ``keys``, else one ValueError
+    naming ``name`` (a string, a dict or a number is no list) or ``name[i]`` and what it lacks.
+
+    An empty list is returned as is (what it means is the caller's).
+
+    Examples
+    --------
+    >>> check_records("rows", ({"pd": 0.5},), ("pd",))
+    [{'pd': 0.5}]
+    >>> check_records("rows", [{"pd": 0.5}, {"size": 2}], ("pd",), "detector row")
+    Traceback (most recent call last):
+    ...
+    ValueError: rows[1] must be a detector row (a dict with pd), got {'size': 2}
+    """
+    if isinstance(value, str | bytes | dict) or not hasattr(value, "__iter__"):
+        raise ValueError(f"{name} must be a list of {what}s (dicts), got {shown(value)}")
+    value = list(value)
+    for i, row in enumerate(value):
+        if not isinstance(row, dict) or any(k not in row for k in keys):
+            with_keys = f" with {', '.join(keys)}" if keys else ""
+            raise ValueError(f"{name}[{i}] must be a {what} (a dict{with_keys}), got {shown(row)}")
+    return value
 
 
 def make_rng(seed=None, name="rng"):

@@ -85,3 +85,10 @@ def test_detector_cells_name_each_item_under_its_list(kw, words):  # review 35d 
     with pytest.raises(ValueError) as exc:
         mc.detector_cells(**kw)
     assert str(exc.value).startswith(words), str(exc.value)
+
+
+@pytest.mark.parametrize("bad", ["abc", None, [{"metrics": {}}]])
+def test_summaries_refuse_what_is_no_list_of_records(bad):  # review 35d D37's class: TypeError
+    for call in (mc.summarise_consistency, mc.summarise_detectors):
+        with pytest.raises(ValueError, match=r"^runs(\[0\])? must be a (list of )?campaign record"):
+            call(bad)

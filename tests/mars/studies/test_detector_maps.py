@@ -82,3 +82,9 @@ def test_signal_pd_one_panel_per_kind_with_late_dashed():
                                                        (0.0, 0.0)]
     assert lines[1].get_linestyle() == "--"
     assert [t.get_text() for t in fig.legends[0].get_texts()][1] == "wavelet: late"
+
+
+@pytest.mark.parametrize("bad", ["abc", None, [{"detector": "chi2"}]])
+def test_cell_grid_refuses_what_is_no_list_of_rows(bad):  # review 35d D37's class: TypeError
+    with pytest.raises(ValueError, match=r"^rows(\[0\])? must be a (list of )?detector_table row"):
+        dm.cell_grid(bad, "pd", "chi2")

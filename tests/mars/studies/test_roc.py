@@ -253,3 +253,9 @@ def test_loaders_refuse_a_path_that_is_no_path(bad):  # review 35d D37's class: 
         roc.load_grid(bad)
     with pytest.raises(ValueError, match=r"^ROC curves must be a path"):
         roc.load_curves(bad)
+
+
+@pytest.mark.parametrize("bad", ["abc", None, [3]])
+def test_curve_csv_refuses_what_is_no_list_of_rows(bad):  # review 35d D37's class: AttributeError
+    with pytest.raises(ValueError, match=r"^rows(\[0\])? must be a (list of )?curve row"):
+        roc.curve_csv(bad)

@@ -115,3 +115,11 @@ def test_table_loaders_refuse_a_path_that_is_no_path(bad):  # review 35d D37's c
         trials.load_detector_table(bad)
     with pytest.raises(ValueError, match=r"^early-fault table must be a path"):
         trials.load_early_faults(bad)
+
+
+@pytest.mark.parametrize("bad", ["abc", None, [{"sensor": "uv"}]])
+def test_tables_refuse_what_is_no_list_of_rows(bad):  # review 35d D37's class: TypeError
+    with pytest.raises(ValueError, match=r"^records(\[0\])? must be a (list of )?trial record"):
+        trials.detector_table(bad)
+    with pytest.raises(ValueError, match=r"^rows(\[0\])? must be a (list of )?detector_table row"):
+        trials.marked_cells(bad)

@@ -192,3 +192,9 @@ def test_a_flat_template_and_an_empty_fold_are_refused():
         tb.ml_phase_shift(np.zeros(64), 0.1, 1.0, 1.0)
     with pytest.raises(ValueError, match=r"counts\[1\] must hold at least one photon"):
         tb.ml_phase_shift(np.vstack([np.ones(64), np.zeros(64)]), 0.1, 1.0, 1.0)
+
+
+@pytest.mark.parametrize("bad", ["abc", None, [{"pulsar": "B0531+21"}]])
+def test_accuracy_html_refuses_what_is_no_list_of_rows(bad):  # review 35d D37's class: TypeError
+    with pytest.raises(ValueError, match=r"^rows(\[0\])? must be a (list of )?accuracy_table row"):
+        tb.accuracy_html(bad)

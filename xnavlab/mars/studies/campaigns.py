@@ -39,7 +39,7 @@ import numpy as np
 
 from xnavlab.core.campaign import Campaign
 from xnavlab.core.filters import chi2_bounds, consistency_verdict
-from xnavlab.core.validate import check_choice, check_int, check_items, check_real
+from xnavlab.core.validate import check_choice, check_int, check_items, check_real, check_records
 from xnavlab.mars.navigation import scenario_files, scenarios
 from xnavlab.mars.studies import trials
 from xnavlab.mars.timing import pulsar_specs, pulsars
@@ -135,6 +135,9 @@ def consistency_run(*, seed, days=1.0, q_acc=scenarios.DEFAULT_Q_ACC,
 def summarise_consistency(runs):
     """The consistency table: run-averaged NEES per time bin and NIS per subsystem, with bounds.
 
+    ``runs`` must be a list of campaign records (dicts with ``status``); anything else is
+    one ValueError naming ``runs`` or ``runs[i]``.
+
     A bin's NEES is the average of ``n`` runs' time averages of chi-square(6) values. Each
     time average has at most the variance of one value, so the 95 % bounds of the average
     of ``n`` independent chi-square(6) values (``chi2_bounds(6, n)``) are conservative. The
@@ -162,6 +165,7 @@ def summarise_consistency(runs):
     >>> rows[0]["quantity"], rows[0]["runs"], rows[-1]["quantity"]
     ('NEES', 2, 'position RMS (m)')
     """
+    runs = check_records("runs", runs, ("status",), "campaign record")  # a string: one line
     ok = [r["metrics"] for r in runs if r["status"] == "ok"]
     if not ok:
         return []
@@ -233,13 +237,16 @@ def detectors_run(fault_class, sensor, size_index, *, seed, days=1.0,
 def summarise_detectors(runs):
     """:func:`xnavlab.mars.studies.trials.detector_table` of the ok runs (one record per detector).
 
+    ``runs`` must be a list of campaign records (dicts with ``status``); anything else is
+    one ValueError naming ``runs`` or ``runs[i]``.
+
     Examples
     --------
     >>> summarise_detectors([])
     []
     """
     recs = []
-    for r in runs:
+    for r in check_records("runs", runs, ("status",), "campaign record"):
         if r["status"] != "ok":
             continue
         p = r["parameters"]

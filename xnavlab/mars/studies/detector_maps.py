@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from xnavlab.core.validate import check_choice
+from xnavlab.core.validate import check_choice, check_records
 
 __all__ = ["SENSORS", "cell_label", "cell_grid", "plot_cell_maps", "plot_false_alarms",
            "plot_signal_pd"]
@@ -66,6 +66,9 @@ def cell_label(fault_class, size):
 def cell_grid(rows, key, detector):
     """One quantity of one detector over the table's cells.
 
+    ``rows`` must be a list of detector-table rows; anything else is one ValueError naming
+    ``rows`` or ``rows[i]``.
+
     Parameters
     ----------
     rows : sequence of dict
@@ -82,6 +85,8 @@ def cell_grid(rows, key, detector):
     values : ndarray, shape (len(labels), 3)
         Columns :data:`SENSORS`; NaN where the table has no value (e.g. no delay).
     """
+    rows = check_records("rows", rows, ("fault_class", "size", "sensor", "detector"),
+                         "detector_table row")
     mine = [r for r in rows if r["detector"] == detector]
     if not mine:
         raise ValueError(f"detector must be one of the table's detectors, got {detector!r}")

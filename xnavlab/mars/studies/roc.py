@@ -95,7 +95,15 @@ from xnavlab.core.campaign import Campaign
 from xnavlab.core.constants import DAY
 from xnavlab.core.distributions import chi2_ppf
 from xnavlab.core.userfiles import as_path, check_rows, load_table, output_path
-from xnavlab.core.validate import check_bool, check_choice, check_int, check_items, check_real, shown
+from xnavlab.core.validate import (
+    check_bool,
+    check_choice,
+    check_int,
+    check_items,
+    check_real,
+    check_records,
+    shown,
+)
 from xnavlab.mars.faults import fault_tolerance, schedules
 from xnavlab.mars.navigation import scenarios
 from xnavlab.mars.studies import trials
@@ -410,11 +418,15 @@ def campaign(grid):
 def curve_csv(rows):
     """The curve as CSV text (header :data:`CURVE_COLUMNS`, or every key of a by-fault row).
 
+    ``rows`` must be a list of dicts; anything else is one ValueError naming ``rows`` or
+    ``rows[i]``.
+
     Examples
     --------
     >>> curve_csv([])
     ''
     """
+    rows = check_records("rows", rows, (), "curve row")
     if not rows:
         return ""
     out = io.StringIO()

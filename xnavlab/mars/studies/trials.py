@@ -51,7 +51,7 @@ from xnavlab.core.detection import limits
 from xnavlab.core.distributions import chi2_ppf
 from xnavlab.core.faults import Fault
 from xnavlab.core.userfiles import as_path, check_rows, load_table
-from xnavlab.core.validate import check_choice, check_int, check_real
+from xnavlab.core.validate import check_choice, check_int, check_real, check_records
 from xnavlab.mars.faults import fault_tolerance, schedules
 from xnavlab.mars.navigation import scenarios
 
@@ -359,8 +359,16 @@ def _finite(v):
     return None if v is None or not math.isfinite(v) else float(v)
 
 
+#: What :func:`detector_table` reads of each trial record.
+_RECORD_KEYS = ("fault_class", "sensor", "size_index", "size", "detector", "detected", "delay_s",
+                "false_alarms", "armed_days", "fused_rms_ratio", "late", "time_out_s")
+
+
 def detector_table(records):
     """Aggregate :func:`detector_trial` records per (class, sensor, size, detector).
+
+    ``records`` must be a list of trial records (dicts with the keys read here); anything
+    else is one ValueError naming ``records`` or ``records[i]``.
 
     Returns
     -------
@@ -384,7 +392,7 @@ def detector_table(records):
     (1.0, 10.5, 20)
     """
     cells = OrderedDict()
-    for r in records:
+    for r in check_records("records", records, _RECORD_KEYS, "trial record"):
         key = (r["fault_class"], r["sensor"], r["size_index"], r["detector"])
         cells.setdefault(key, []).append(r)
     rows = []
@@ -426,6 +434,9 @@ def marked_cells(rows):
     Monte Carlo error: its Pd interval lies below the best Pd's interval, or the lower end of
     its median-delay interval lies above the upper end of the best median delay's interval.
 
+    ``rows`` must be a list of :func:`detector_table` rows; anything else is one ValueError
+    naming ``rows`` or ``rows[i]``.
+
     Returns
     -------
     list of dict
@@ -438,7 +449,8 @@ def marked_cells(rows):
     []
     """
     by = {}
-    for r in rows:
+    for r in check_records("rows", rows, ("fault_class", "sensor", "size_index", "detector"),
+                           "detector_table row"):
         by.setdefault((r["fault_class"], r["sensor"], r["size_index"]), {})[r["detector"]] = r
     out = []
     for key, d in by.items():

@@ -64,6 +64,7 @@ from xnavlab.core.validate import (
     check_finite_array,
     check_int,
     check_real,
+    check_records,
     make_rng,
 )
 from xnavlab.mars.timing import pulsars
@@ -600,6 +601,9 @@ def accuracy_table(pulsar_names=pulsars.PAPER_PULSARS, n_trials=2000, rng=0, are
 def accuracy_html(rows, digits=4):
     """:func:`accuracy_table`'s rows as the book's HTML table (every cell escaped).
 
+    ``rows`` must be a list of :func:`accuracy_table` rows; anything else is one ValueError
+    naming ``rows`` or ``rows[i]``.
+
     Examples
     --------
     >>> rows = accuracy_table(["B0531+21"], n_trials=10, xcorr_trials=0)
@@ -608,6 +612,7 @@ def accuracy_html(rows, digits=4):
     """
     from xnavlab.core.plotting import html_table
 
+    rows = check_records("rows", rows, tuple(ACCURACY_COLUMNS), "accuracy_table row")
     return html_table(list(ACCURACY_COLUMNS.values()),
                       [[r[k] for k in ACCURACY_COLUMNS] for r in rows], digits=digits)
 
