@@ -100,3 +100,9 @@ def test_pint_delays_names_t_and_n_in_its_own_words():  # review 35d D20
         pint_bridge.pint_delays(r, -1e12, N[:1])
     with pytest.raises(ValueError, match=r"n must hold unit vectors, but n\[0\] has norm 5"):
         pint_bridge.pint_delays(r, dynamics.MARS_T0, 5 * N[:1])
+
+
+@pytest.mark.parametrize("bad", [{}, None, 3, ""])
+def test_examples_path_refuses_what_is_no_file_name(bad):  # review 35d D37's class: TypeError
+    with pytest.raises(ValueError, match=r"^name must be a file name in PINT's examples, got "):
+        pint_bridge.examples_path(bad)

@@ -106,3 +106,14 @@ def test_pick_three_is_kept_per_arguments_and_checks_them():
     assert stars.pick_three(avoid=sun, avoid_deg=30.0) is first  # the kept tuple
     with pytest.raises(ValueError, match="t"):
         stars.pick_three(t=float("nan"))
+
+
+@pytest.mark.parametrize(("value", "words"), [
+    ("Sirius", "stars must be a list of stars, got the string 'Sirius'"),  # was split: 'S'
+    (None, "stars must be a list of stars, got None"),
+    (["Vega", "vega"], "stars lists Vega twice (items 0 and 1)"),
+])
+def test_directions_refuses_what_is_no_list_of_distinct_stars(value, words):
+    with pytest.raises(ValueError) as exc:
+        stars.directions(value)
+    assert str(exc.value).startswith(words), str(exc.value)

@@ -376,3 +376,9 @@ def test_a_file_with_a_byte_order_mark_is_read(tmp_path):
     path = tmp_path / "bom.toml"
     path.write_bytes(b"\xef\xbb\xbf[uv]\nsigma_range_m = 2500.0\n")
     assert sfm.load(path).scenario.sigma_range_m == 2500.0
+
+
+@pytest.mark.parametrize("bad", [{}, "abc", 3])
+def test_scenario_json_refuses_what_is_no_scenario(bad):  # review 35d D37's class: TypeError
+    with pytest.raises(ValueError, match=r"^scenario must be a MarsScenario, got "):
+        sfm.scenario_json(bad)

@@ -107,3 +107,10 @@ def test_a_malformed_timing_model_is_one_line_naming_it(tmp_path):
         pulsar_specs.check_list([str(bad)])
     assert "PINT cannot read the timing model" in str(exc.value) and str(bad) in str(exc.value)
     assert len(str(exc.value).splitlines()) == 1
+
+
+@pytest.mark.parametrize("bad", [None, "B0531+21", ["B0531+21", "B0531+21"]])
+def test_names_and_fault_names_check_their_list(bad):  # review 35d D37's class: TypeError
+    for call in (pulsar_specs.names, pulsar_specs.fault_names):
+        with pytest.raises(ValueError, match="^pulsars "):
+            call(bad)

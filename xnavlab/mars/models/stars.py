@@ -33,7 +33,7 @@ from importlib import resources
 import numpy as np
 
 from xnavlab.core.userfiles import csv_rows
-from xnavlab.core.validate import check_finite_array, check_int, check_real
+from xnavlab.core.validate import check_finite_array, check_int, check_items, check_real
 
 __all__ = [
     "HIPPARCOS_EPOCH",
@@ -168,11 +168,15 @@ def direction(star, t=0.0):
 def directions(stars, t=0.0):
     """Unit vectors to several stars, shape (k, 3).
 
+    ``stars`` is a list (a string is not split into its letters, None is no list), each star
+    once (``"Vega"`` and ``"vega"`` are the same star): else one ValueError naming ``stars``.
+
     Examples
     --------
     >>> directions(["Sirius", "Vega", "Canopus"]).shape
     (3, 3)
     """
+    stars = check_items("stars", stars, "star", each=lambda label, s: get(s).name)
     return np.array([direction(s, t) for s in stars])
 
 

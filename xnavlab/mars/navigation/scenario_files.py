@@ -475,7 +475,8 @@ local_filter = "ekf" only, got backend = "numpy"
 
 def scenario_json(scenario):
     """The fields of a :class:`~xnavlab.mars.navigation.scenarios.MarsScenario` as JSON-ready values
-    (force models as dicts, pulsars as :func:`xnavlab.mars.timing.pulsar_specs.to_json`).
+    (force models as dicts, pulsars as :func:`xnavlab.mars.timing.pulsar_specs.to_json`). None is
+    the default scenario; anything else that is no MarsScenario is one ValueError.
 
     Examples
     --------
@@ -483,6 +484,7 @@ def scenario_json(scenario):
     >>> d["truth_model"]["gravity_degree"], d["pulsars"][0]
     (0, 'B0531+21')
     """
+    scenario = scenarios.check_scenario("scenario", scenario)  # not dataclasses' TypeError
     out = {}
     for f in dataclasses.fields(scenario):
         v = getattr(scenario, f.name)

@@ -126,7 +126,8 @@ def ephemeris_path():
 def examples_path(name):
     """Path of a file in PINT's ``pint/data/examples`` (the ``.par``, ``.tim`` and photon files).
 
-    Found without importing PINT (which takes seconds).
+    Found without importing PINT (which takes seconds). A ``name`` that is no non-empty string
+    is one ValueError; a file PINT does not ship, a FileNotFoundError naming it.
 
     Examples
     --------
@@ -135,6 +136,8 @@ def examples_path(name):
     """
     import importlib.util
 
+    if not isinstance(name, str) or not name.strip():  # (a dict gave Path's TypeError)
+        raise ValueError(f"name must be a file name in PINT's examples, got {name!r:.80}")
     spec = importlib.util.find_spec("pint")
     if spec is None or not spec.submodule_search_locations:
         raise FileNotFoundError("PINT (the pint-pulsar package) is not installed")

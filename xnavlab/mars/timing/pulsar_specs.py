@@ -190,14 +190,15 @@ def check_list(specs, base=None, name="pulsars"):
 
 
 def names(specs):
-    """The pulsars' names, in order.
+    """The pulsars' names, in order; ``specs`` checked as :func:`check_list` does (None, a
+    string or a repeat is one ValueError).
 
     Examples
     --------
     >>> names(["B0531+21"])
     ('B0531+21',)
     """
-    return tuple(resolve(s).name for s in specs)
+    return tuple(resolve(s).name for s in check_list(specs))
 
 
 def fault_names(specs):
