@@ -78,7 +78,8 @@ def read_text(path, what="file"):
     >>> read_text(bom)
     'days = 2'
     """
-    if not str(as_path(path, what)).strip():
+    as_path(path, what)  # a dict, a number or None: one line naming what
+    if not str(path).strip():
         raise ValueError(f"{what} must name a file, got {str(path)!r}")
     path = Path(path)
     if path.is_dir():
@@ -271,7 +272,8 @@ def output_path(path, what="output", folder=False):
     >>> out.parent.is_dir()
     True
     """
-    if not str(as_path(path, what)).strip():
+    as_path(path, what)  # a dict, a number or None: one line naming what
+    if not str(path).strip():
         raise ValueError(f"{what} must name a {'folder' if folder else 'file'}, got {str(path)!r}")
     path = Path(path)
     target = path if folder else path.parent
