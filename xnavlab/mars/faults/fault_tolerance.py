@@ -186,7 +186,8 @@ def inject_inputs(inputs, faults, rng=None):
 
 
 def merge_events(events):
-    """Merge overlapping events (onset..cleared) of several detectors of one sensor.
+    """Merge overlapping events (onset..cleared) of several detectors of one sensor; ``events``
+    must be a list of Events (:func:`~xnavlab.mars.faults.schedules.check_event_list`).
 
     Examples
     --------
