@@ -313,3 +313,11 @@ def test_third_body_at_the_spacecraft_is_refused_not_nan(s_off):  # review 35d D
     s = np.stack([np.array([1.5e11, 0.0, 0.0]), r + s_off])
     with pytest.raises(ValueError, match=r"^s\[1\] must differ from r: a body at the spacecraft's"):
         dynamics.third_body(r, s, np.array([GM_SUN, 1e10]))
+
+
+@pytest.mark.parametrize("r", [[1e-200, 0.0, 0.0], [0.0, 5e-61, 0.0]])
+def test_a_position_at_the_centre_to_float64_is_refused(r):  # review 35d D42's class: 1/0, NaN
+    for call in (dynamics.point_mass, dynamics.j2_acceleration, dynamics.gravity_gradient):
+        with pytest.raises(ValueError, match=r"^r must not be the centre \(0, 0, 0\) or within "
+                                             r"1e-60 m of it"):
+            call(np.array(r))

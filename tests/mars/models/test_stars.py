@@ -117,3 +117,8 @@ def test_directions_refuses_what_is_no_list_of_distinct_stars(value, words):
     with pytest.raises(ValueError) as exc:
         stars.directions(value)
     assert str(exc.value).startswith(words), str(exc.value)
+
+
+def test_radec_refuses_the_zero_vector():  # review 35d D42's class: NaN and a warning
+    with pytest.raises(ValueError, match=r"^u must be a direction \(a non-zero vector\)"):
+        stars.radec(np.zeros(3))

@@ -170,10 +170,12 @@ class ThirdBodyTable:
 
 
 def _position(name, r):
-    """A finite position (..., 3), m, off the centre (the field is singular there)."""
+    """A finite position (..., 3), m, off the centre (the field is singular there; within 1e-60 m
+    of it the 1/|r|^5 of J2 is a division by zero in float64)."""
     r = check_finite_array(name, r, shape=(3,))
-    if np.any(np.all(r == 0.0, axis=-1)):
-        raise ValueError(f"{name} must not be the centre (0, 0, 0): the field is singular there")
+    if np.any(np.linalg.norm(r, axis=-1) < 1e-60):
+        raise ValueError(f"{name} must not be the centre (0, 0, 0) or within 1e-60 m of it: the "
+                         f"field is singular there")
     return r
 
 

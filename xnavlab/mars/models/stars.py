@@ -181,7 +181,8 @@ def directions(stars, t=0.0):
 
 
 def radec(u):
-    """Right ascension and declination (deg) of a unit vector, RA in [0, 360).
+    """Right ascension and declination (deg) of a unit vector, RA in [0, 360); a zero vector
+    is refused.
 
     Examples
     --------
@@ -189,6 +190,8 @@ def radec(u):
     (90.0, 0.0)
     """
     u = check_finite_array("u", u, shape=(3,))
+    if not np.linalg.norm(u) > 0.0:  # (a NaN declination and a warning before)
+        raise ValueError("u must be a direction (a non-zero vector), got (0, 0, 0)")
     ra = math.degrees(math.atan2(u[1], u[0])) % 360.0
     dec = math.degrees(math.asin(max(-1.0, min(1.0, u[2] / np.linalg.norm(u)))))
     return ra, dec
