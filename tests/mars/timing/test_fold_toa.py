@@ -201,3 +201,12 @@ def test_survey_html_refuses_what_is_no_list_of_rows(rows, words):
     with pytest.raises(ValueError) as exc:
         ft.survey_html(rows)
     assert str(exc.value).startswith(words) and len(str(exc.value).splitlines()) == 1
+
+
+def test_an_a_priori_inside_mars_or_too_fast_names_the_users_inputs():  # review 35d D5's class
+    with pytest.raises(ValueError, match=r"^state_true \+ error speed must be below"):
+        ft.fold_window("B1937+21", dynamics.MARS_T0, dynamics.MARS_STATE0,
+                       error=[0.0, 0.0, 0.0, 1e8, 0.0, 0.0])
+    with pytest.raises(ValueError, match=r"^state_true \+ error position must lie outside Mars"):
+        ft.fold_window("B1937+21", dynamics.MARS_T0, dynamics.MARS_STATE0,
+                       error=np.concatenate([-dynamics.MARS_STATE0[:3], np.zeros(3)]))

@@ -252,6 +252,7 @@ def fold_window(pulsar, t_start, state_true, error=None, duration=500.0, ephem="
     step = check_real("step", step, 0.01, 60.0)
     state_true = dynamics.check_state0(state_true, "state_true")  # above Mars, a physical speed
     err = np.zeros(6) if error is None else check_vector("error", error, 6)
+    dynamics.check_state0(state_true + err, "state_true + error")  # the a-priori: named as given
     phase0 = check_real("phase0", phase0)
     lo, hi = ephemeris.coverage(ephem)
     if not (lo <= t_start and t_start + duration <= hi):  # else the ephemeris names its t
