@@ -123,3 +123,10 @@ def test_tables_refuse_what_is_no_list_of_rows(bad):  # review 35d D37's class: 
         trials.detector_table(bad)
     with pytest.raises(ValueError, match=r"^rows(\[0\])? must be a (list of )?detector_table row"):
         trials.marked_cells(bad)
+
+
+@pytest.mark.parametrize("seed", [1.5, -1, "3", None])
+def test_early_fault_trial_refuses_a_seed_that_is_no_integer_in_range(seed):
+    # review 35d D24's class: int() truncated 1.5 to 1 and wrapped -1 silently
+    with pytest.raises(ValueError, match=r"^seed must be an integer in \[0, 9223372036854775807\]"):
+        trials.early_fault_trial(seed=seed)
