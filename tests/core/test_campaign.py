@@ -588,3 +588,9 @@ def test_a_flag_is_a_real_bool(tmp_path, call, name):
     cp.run_campaign(sq_campaign(), 1, out=tmp_path, engine="serial")
     with pytest.raises(ValueError, match=f"^{name} must be True or False"):
         call(tmp_path)
+
+
+@pytest.mark.parametrize("bad", [{}, None, 3])
+def test_load_runs_refuses_a_folder_that_is_no_path(bad):  # review 35d D37's class: TypeError
+    with pytest.raises(ValueError, match=r"^campaign folder must be a path \(a str or pathlib.Path\)"):
+        cp.load_runs(bad)

@@ -104,3 +104,11 @@ def test_a_path_that_is_no_path_is_one_line_naming_what(bad):
         with pytest.raises(ValueError, match=r"^grid file must be a path \(a str or pathlib.Path\), "
                                              r"got "):
             call()
+
+
+@pytest.mark.parametrize("bad", [{}, None, b"days = 1"])
+def test_text_readers_refuse_what_is_no_text(bad):  # review 35d D37's class: AttributeError
+    with pytest.raises(ValueError, match=r"^scenario file must be text \(a str\), got "):
+        userfiles.parse_toml(bad, "scenario file")
+    with pytest.raises(ValueError, match=r"^table must be text \(a str\), got "):
+        userfiles.csv_rows(bad, "table")

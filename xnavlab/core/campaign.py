@@ -89,7 +89,7 @@ from xnavlab.core.campaign_records import (
     why_not_a_record,
 )
 from xnavlab.core.montecarlo import seeds as spawn_seeds
-from xnavlab.core.userfiles import InputWarning, read_text
+from xnavlab.core.userfiles import InputWarning, as_path, read_text
 from xnavlab.core.validate import check_bool, check_choice, check_int, check_real, shown
 
 __all__ = [
@@ -830,7 +830,7 @@ def load_runs(directory, final=True):
         import pandas as pd
     except ImportError:
         raise ValueError("load_runs needs pandas (pip install pandas)") from None
-    directory = Path(directory)
+    directory = as_path(directory, "campaign folder")  # a dict or None: one line
     path, head = directory / STORE_FILE, directory / HEADER_FILE
     if not path.exists():
         raise ValueError(f"directory {str(directory)!r} holds no campaign ({STORE_FILE} missing)")

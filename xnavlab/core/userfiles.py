@@ -106,6 +106,8 @@ def parse_toml(text, what="TOML text"):
     ...     print(str(exc).split(":")[0])
     scenario file 'x.toml' is not valid TOML
     """
+    if not isinstance(text, str):  # (a dict or None: an AttributeError)
+        raise ValueError(f"{what} must be text (a str), got {type(text).__name__}")
     try:
         import tomllib
     except ModuleNotFoundError:  # Python 3.10
@@ -221,6 +223,8 @@ def csv_rows(text, what, numbers=()):
     """
     import math
 
+    if not isinstance(text, str):  # (a dict or None: an AttributeError)
+        raise ValueError(f"{what} must be text (a str), got {type(text).__name__}")
     lines = [(n, ln) for n, ln in enumerate(text.splitlines(), 1)
              if ln.strip() and not ln.startswith("#")]
     if not lines:
