@@ -18,15 +18,15 @@ file read. The key covers everything the frame's pixels depend on:
   setting (``rcParams``, the backend aside), and the versions of matplotlib, numpy and
   Pillow.
 
-Only frames drawn after the opening one are written: the opening frame lays the slider's
-layout out (it is drawn at every opening); a later frame is drawn in that kept layout, which
-the key names, or with fixed margins, or (one the kept layout does not fit) laid out by its own
-layout engine from nothing: in each case a pure function of its key. (A frame found on disk
-leaves the kept layout as it is, where drawing it might have laid it out anew: the frames after
-it are then drawn, and keyed, in the layout they find.) A write goes to a
-temporary file of its own process and thread and is renamed into place (``os.replace``), so a
-reader never sees half a frame and concurrent writers of one frame both succeed; a frame that
-cannot be read back whole is drawn again. The directory is kept under
+Only frames that leave the slider's layout as they found it are written: those drawn in the
+kept layout (:meth:`~xnavlab.core.widgets.SteadyLayout.state`, which the key names) or with
+fixed margins, each a pure function of its key. The opening frame lays the layout out and is
+drawn at every opening; a frame the kept layout does not fit is laid out anew and changes the
+kept layout for the frames after it, so it is drawn again in a slider opened again (found on
+disk, it would leave the layout as it was, and the frames after it would miss their keys).
+A write goes to a temporary file of its own process and thread and is renamed into place
+(``os.replace``), so a reader never sees half a frame and concurrent writers of one frame both
+succeed; a frame that cannot be read back whole is drawn again. The directory is kept under
 :data:`FRAME_CACHE_BYTES`: past it, the frames used least recently go. :data:`FRAME_CACHE_ENV`
 set to ``"0"`` turns the disk off (the in-memory frames remain).
 """

@@ -50,7 +50,7 @@ a move onto the position being drawn waits for it. The thread never draws the re
 waits while a foreground frame or a cell runs, stops with the widget and is a daemon;
 ``explore(..., ahead=False)`` or :data:`AHEAD_ENV` turns it off (:func:`ahead_default`; the
 plumbing, and what it relies on in matplotlib's thread safety: ``xnavlab/core/_ahead.py``).
-**Frames kept on disk:** every frame drawn after the opening one is also written under
+**Frames kept on disk:** every frame drawn in the kept layout is also written under
 ``$XNAVLAB_CACHE/frames/``, keyed by the plotting function's code (its module and all the
 package modules it imports), its arguments, the kept layout and matplotlib's settings and
 version: a slider opened again (the chapter re-run, another kernel) looks its frames up
@@ -381,6 +381,7 @@ class Explorer:
         with RENDER_LOCK:
             kept = self.layout.state() == state  # the layout the key names (none: not kept)
             png = live_png(fig, self.layout)
+            kept = kept and self.layout.state() == state  # and left as it was (see _frames)
         if kept:
             self._disk.store(path, png)
         if self._pyplot:
