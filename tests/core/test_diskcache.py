@@ -113,3 +113,14 @@ def test_an_entry_moves_with_its_arguments_code_and_versions(monkeypatch):
     assert diskcache.entry_path("demo", (1,), [np.arange(2.0)], ("xnavlab.core.constants",)) != base
     with pytest.raises(ValueError, match="modules must name the modules"):
         diskcache.entry_path("demo", (1,))
+
+
+def test_a_writer_that_fails_leaves_no_temporary_file(tmp_path):
+    # found by the review 35d phase-3 probe: store("abc", None) left abc.<pid>.tmp behind
+    def broken(f):
+        f.write(b"half")
+        raise RuntimeError("writer failed")
+
+    with pytest.raises(RuntimeError, match="writer failed"):
+        diskcache.store(tmp_path / "entry.bin", broken)
+    assert list(tmp_path.iterdir()) == []

@@ -102,7 +102,8 @@ def store(path, write):
     -------
     bool
         True when stored; False where the cache cannot be written (a read-only home): the
-        caller keeps its result, uncached, and no temporary file is left.
+        caller keeps its result, uncached, and no temporary file is left. An exception of
+        ``write`` is raised again, also without a temporary file left.
 
     Examples
     --------
@@ -122,6 +123,10 @@ def store(path, write):
         with contextlib.suppress(OSError):
             tmp.unlink(missing_ok=True)
         return False
+    except BaseException:  # a writer that fails (or Ctrl-C) leaves no temporary file either
+        with contextlib.suppress(OSError):
+            tmp.unlink(missing_ok=True)
+        raise
     return True
 
 
