@@ -53,6 +53,9 @@ STEP_CLAIMS = ("faulty pseudoranges detected at the onset (Fig. 2)",
 STEP_ONSET = 50.0
 #: Ramp of the paper on pseudorange 1: slope (m/s), offset (m), onset (s).
 RAMP_A, RAMP_B, RAMP_ONSET = 10.0, -300.0, 30.0
+#: "Identified" read as within this fraction of the true size (our reading: the paper says
+#: the faults are identified accurately and gives no number).
+IDENTIFIED_TOL = 0.05
 #: The ramp's claim: detected, read as within ``RAMP_WINDOW_S`` of its onset.
 RAMP_WINDOW_S = 5.0
 RAMP_DETECTED = f"PR1 detected within {RAMP_WINDOW_S:g} s of the onset"
@@ -197,7 +200,7 @@ def plins_step(out=None, seed=0, n_runs=40, sigma=DEFAULT_SIGMA, sizes=STEP_SIZE
     for j, f in enumerate(sizes):
         if f == 0.0:
             continue
-        hits = {k: np.abs(p[:, j, 0] - f) <= 0.05 * abs(f) for k, (p, _) in runs.items()}
+        hits = {k: np.abs(p[:, j, 0] - f) <= IDENTIFIED_TOL * abs(f) for k, (p, _) in runs.items()}
         ours = next(iter(hits.values()))
         # the paper's one run settles on the size: judged as one draw among our single runs
         # (the registry's single-run rule), at both readings of its noise; the reliability is ours
@@ -297,7 +300,7 @@ def plins_ramp(out=None, seed=0, n_runs=40, sigma=DEFAULT_SIGMA, time_origin="ab
     params = {k: p[:, 0, :] for k, (p, _) in runs.items()}
     mc = next(iter(params.values()))
     mean, std = mc.mean(axis=0), mc.std(axis=0)
-    hits = {k: np.all(np.abs(p - [RAMP_A, RAMP_B]) <= 0.05 * np.abs([RAMP_A, RAMP_B]), axis=1)
+    hits = {k: np.all(np.abs(p - [RAMP_A, RAMP_B]) <= IDENTIFIED_TOL * np.abs([RAMP_A, RAMP_B]), axis=1)
             for k, p in params.items()}
     within = next(iter(hits.values()))
     idn = d.identification.get(0)
@@ -370,7 +373,7 @@ def _identification_text(n_runs, mean, std, within, sigma):
     if not found:
         return (f"No run of {n_runs} identified the ramp at {sigma:g} m noise: the paper's one "
                 "run, which did, is not among ours at this reading of the noise (the row above).")
-    unbiased = bool(np.all(np.abs(mean - [RAMP_A, RAMP_B]) <= 0.05 * np.abs([RAMP_A, RAMP_B])))
+    unbiased = bool(np.all(np.abs(mean - [RAMP_A, RAMP_B]) <= IDENTIFIED_TOL * np.abs([RAMP_A, RAMP_B])))
     text = (f"Over {n_runs} runs at {sigma:g} m noise the identified a and b average "
             f"{mean[0]:.2f} m/s and {mean[1]:.1f} m ("
             + ("within 5 % of the truth: unbiased" if unbiased else "more than 5 % off the truth")
@@ -417,7 +420,7 @@ def _other_readings_text(runs, sizes, model):
         faulty = [j for j, f in enumerate(sizes) if f != 0.0]
         detected = np.isfinite(t[:, faulty]).all(axis=1).sum()
         if model == "ramp":
-            ok = np.all(np.abs(p[:, 0] - [RAMP_A, RAMP_B]) <= 0.05 * np.abs([RAMP_A, RAMP_B]),
+            ok = np.all(np.abs(p[:, 0] - [RAMP_A, RAMP_B]) <= IDENTIFIED_TOL * np.abs([RAMP_A, RAMP_B]),
                         axis=1).sum()
             parts.append(f"at {label} the ramp is detected in {detected} of {n} runs and a and "
                          f"b are identified within 5 % in {ok}")
