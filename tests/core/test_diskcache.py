@@ -87,12 +87,14 @@ def test_code_digest_refuses_what_is_not_a_module_of_the_package(tmp_path):
 
 def test_every_cache_entry_is_keyed_by_the_code_that_computes_it():
     """A module that stores a result names its entry with entry_path (its code in the key); only
-    the reproduction cache and the headline campaign key by code_digest themselves."""
+    the reproduction cache, the headline campaign and the sliders' frames (keyed by the plotting
+    function's module, its arguments and the layout) key by code_digest themselves."""
     import ast
     from pathlib import Path
 
     root = Path(diskcache.__file__).resolve().parents[1]
-    own_key = {"xnavlab/core/diskcache.py", "xnavlab/reproduce.py", "xnavlab/mars/navigation/headline.py"}
+    own_key = {"xnavlab/core/diskcache.py", "xnavlab/reproduce.py", "xnavlab/mars/navigation/headline.py",
+               "xnavlab/core/_frames.py"}
     offenders = []
     for path in sorted(root.rglob("*.py")):
         rel = path.relative_to(root.parent).as_posix()
