@@ -83,3 +83,12 @@ def test_sparse_log_minors_reach_log_axes_and_secondary_axes_only():
         assert inside == [s * 10.0**k for k in range(3) for s in LOG_MINOR_SUBS]
     ticks = [v for v in log.yaxis.get_minorticklocs() if 1e-4 < v < 1e3]
     assert len(ticks) == 2 * 7
+
+
+@pytest.mark.parametrize("bad", [float("nan"), float("inf"), float("-inf")])
+def test_a_table_refuses_a_non_finite_cell_naming_its_row_and_column(bad):
+    for table in (lambda rows: html_table(["a", "b"], rows),
+                  lambda rows: markdown_table(rows, ["a", "b"])):
+        with pytest.raises(ValueError, match=r"rows\[1\]\['b'\] is .*inf|rows\[1\]\['b'\] is nan"):
+            table([[1, 2.0], [3, bad]])
+    assert "-" in html_table(["a"], [[None]])   # a missing value is None

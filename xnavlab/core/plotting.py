@@ -12,7 +12,10 @@ absolute value): in a Markdown table the escaped ``\\|`` reaches the math as ``\
 from __future__ import annotations
 
 import html
+import math
 from collections.abc import Mapping
+
+import numpy as np
 
 from xnavlab.core.validate import check_int
 
@@ -157,7 +160,7 @@ def format_cell(v, digits=4):
 
 
 def _check_rows(rows, cols):
-    for r in rows:
+    for i, r in enumerate(rows):
         if isinstance(r, Mapping):
             missing = [c for c in cols if c not in r]
             if missing:
@@ -166,6 +169,11 @@ def _check_rows(rows, cols):
         elif len(r) != len(cols):
             raise ValueError(f"rows: every row must have {len(cols)} cells (one per column); "
                              f"got {len(r)}")
+        for c, v in zip(cols, _cells(r, cols), strict=True):
+            # a table the reader sees shows no "nan": a missing value is None, printed "-"
+            if isinstance(v, (float, np.floating)) and not math.isfinite(v):
+                raise ValueError(f"rows[{i}][{c!r}] is {v}: a table cell must be finite "
+                                 "(give None for a missing value, shown as -)")
 
 
 def _cells(row, cols):
@@ -192,7 +200,8 @@ def markdown_table(rows, cols, digits=4):
     cols : sequence of str
         Column names, in order (also the header).
     digits : int
-        Significant digits of floats, 1..17; ``None`` prints as ``-``.
+        Significant digits of floats, 1..17; ``None`` prints as ``-``. A NaN or infinite
+        cell is refused (``ValueError`` naming its row and column).
 
     Returns
     -------
