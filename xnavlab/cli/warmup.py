@@ -113,6 +113,19 @@ def _model_mismatch():
     model_mismatch.mismatch_table()  # the chapters' call (3, 5, 6): stored under $XNAVLAB_CACHE
 
 
+def _combined_detector():
+    import numpy as np
+
+    from xnavlab.core.detection import combined
+
+    # compiles the detector's two numba scans (numba's disk cache): chapter 9's first run and
+    # its slider's first move would otherwise pay about 8 s for them
+    t = 3.0 * np.arange(3000)
+    y = np.random.default_rng(0).normal(0.0, 1.0, (3000, 1))
+    combined.combined_detect(t, y, train=1000)   # _scan_rows (ratios recorded)
+    combined.InnovationMonitor(combined.CombinedDesign(28800.0, 1)).process(t, y)   # _scan
+
+
 def _bound_table():
     from xnavlab.robust import plots
 
@@ -150,6 +163,7 @@ STEPS = (
     ("PINT's photon phases and residuals (chapter 1's cache)", _pint_witnesses),
     ("the studies' rich truth, 30 days, and its q_acc (truth cache)", _study_truth),
     ("chapter 1's TOA accuracies and chapter 2's fold surveys (cache)", _timing_tables),
+    ("chapter 9's combined detector (numba compile)", _combined_detector),
     (KERNEL_STEP, compile_kernel),
     *(_reproduction_step(10, rid) for rid in ("rkf-earth", "rkf-mars", "rkf-sweep",
                                               "rkf-residual-memory", "ukf-vs-ephemeris-error")),
