@@ -207,61 +207,25 @@ def cusum_threshold(arl, k, dof=0):
 
 
 @njit(cache=True)
-def _scan(y, scale, S0, k_mean, k_var, chi2_thr, h_mean, h_var, rmax, hit_ratio, S_end):
-    """Compiled form of :meth:`InnovationMonitor._segment` up to the first alarm.
+def _scan(y, scale, S0, k_mean, k_var, chi2_thr, h_mean, h_var, rows, rmax, S_end, stop):
+    """Compiled form of :meth:`InnovationMonitor._segment`.
 
     The same operations in the same order as the array form (so the same bits): ``z = y / s``,
     ``q = sum z^2``, running sums ``D`` of ``[z - k, -z - k, z^2 - k_v]``, their running minima
-    ``M``, ``S = D - min(-S_0, M)`` (Lindley), every statistic over its threshold. Fills
-    ``rmax`` (N,) with each sample's largest ratio, up to and including the first sample whose
-    largest ratio exceeds 1; then ``hit_ratio`` (1 + 3m,) holds that sample's ratios. Without
-    an alarm ``S_end`` (3m,) holds the final CUSUMs. Returns the alarm's index or -1.
+    ``M``, ``S = D - min(-S_0, M)`` (Lindley), every statistic over its threshold. ``rows`` is
+    (N, 1 + 3m) to keep every sample's ratios, or (1, 1 + 3m) to keep only the latest (then,
+    after an alarm with ``stop``, the alarm's). Fills ``rmax`` (N,) with each sample's largest
+    ratio and ``S_end`` (3m,) with the CUSUMs of the last sample scanned. With ``stop`` the scan
+    ends at the first sample whose largest ratio exceeds 1. Returns that sample's index or -1.
     """
     n, m = y.shape
-    D = np.zeros(3 * m)
-    M = np.empty(3 * m)
-    z = np.empty(m)
-    row = np.empty(1 + 3 * m)
-    for i in range(n):
-        q = 0.0
-        for c in range(m):
-            z[c] = y[i, c] / scale[c]
-            q += z[c] * z[c]                                   # chapter 9 eq. (ch9-chi2)
-        for c in range(m):
-            D[c] += z[c] - k_mean                              # S+ increments
-            D[m + c] += -z[c] - k_mean                         # S- increments
-            D[2 * m + c] += z[c] * z[c] - k_var                # variance increments
-        best = q / chi2_thr
-        row[0] = best
-        for j in range(3 * m):
-            M[j] = D[j] if i == 0 else min(M[j], D[j])
-            S = D[j] - min(-S0[j], M[j])                       # S_n = D_n - min(-S_0, min D_j)
-            r = S / (h_mean if j < 2 * m else h_var)
-            row[1 + j] = r
-            S_end[j] = S
-            if r > best:
-                best = r
-        rmax[i] = best
-        if best > 1.0:
-            hit_ratio[:] = row
-            return i
-    return -1
-
-
-@njit(cache=True)
-def _scan_rows(y, scale, S0, k_mean, k_var, chi2_thr, h_mean, h_var, rows, rmax, S_end):
-    """Compiled form of :meth:`InnovationMonitor._segment` over the whole segment, with every
-    sample's ratios: the operations of :func:`_scan`, in its order (so the same bits), not
-    stopped at an alarm. Fills ``rows`` (N, 1 + 3m) with each sample's statistics over their
-    thresholds, ``rmax`` (N,) with each sample's largest and ``S_end`` (3m,) with the last
-    sample's CUSUMs. Returns the index of the first sample whose largest ratio exceeds 1, or -1.
-    """
-    n, m = y.shape
+    keep = rows.shape[0] == n
     D = np.zeros(3 * m)
     M = np.empty(3 * m)
     z = np.empty(m)
     first = -1
     for i in range(n):
+        ri = i if keep else 0
         q = 0.0
         for c in range(m):
             z[c] = y[i, c] / scale[c]
@@ -271,18 +235,20 @@ def _scan_rows(y, scale, S0, k_mean, k_var, chi2_thr, h_mean, h_var, rows, rmax,
             D[m + c] += -z[c] - k_mean                         # S- increments
             D[2 * m + c] += z[c] * z[c] - k_var                # variance increments
         best = q / chi2_thr
-        rows[i, 0] = best
+        rows[ri, 0] = best
         for j in range(3 * m):
             M[j] = D[j] if i == 0 else min(M[j], D[j])
             S = D[j] - min(-S0[j], M[j])                       # S_n = D_n - min(-S_0, min D_j)
             r = S / (h_mean if j < 2 * m else h_var)
-            rows[i, 1 + j] = r
+            rows[ri, 1 + j] = r
             S_end[j] = S
             if r > best:
                 best = r
         rmax[i] = best
         if first < 0 and best > 1.0:
             first = i
+            if stop:
+                return i
     return first
 
 
@@ -514,20 +480,21 @@ class InnovationMonitor(TrackedDetector):
         return ratio, S
 
     def _scan(self, y):
-        """:func:`_scan` of a segment: (alarm index or -1, rmax up to it, its ratios, final S)."""
+        """:func:`_scan` of a segment up to its first alarm: (alarm index or -1, rmax up to it,
+        its ratios, final S)."""
         d, n = self.design, y.shape[0]
-        rmax, row, S_end = np.empty(n), np.empty(1 + 3 * self.m), np.empty(3 * self.m)
+        rmax, row, S_end = np.empty(n), np.empty((1, 1 + 3 * self.m)), np.empty(3 * self.m)
         a = _scan(np.ascontiguousarray(y), self.scale, self.S, d.k_mean, d.k_var, d.chi2_threshold,
-                  d.h_mean, d.h_var, rmax, row, S_end)
-        return a, rmax[:a + 1] if a >= 0 else rmax, row, S_end
+                  d.h_mean, d.h_var, row, rmax, S_end, True)
+        return a, rmax[:a + 1] if a >= 0 else rmax, row[0], S_end
 
     def _scan_rows(self, y, rows):
-        """:func:`_scan_rows` of a segment, its ratios written into ``rows``: (alarm index or
+        """:func:`_scan` of a whole segment, its ratios written into ``rows``: (alarm index or
         -1, rmax, the alarm's ratios or None, final S)."""
         d, n = self.design, y.shape[0]
         rmax, S_end = np.empty(n), np.empty(3 * self.m)
-        a = _scan_rows(np.ascontiguousarray(y), self.scale, self.S, d.k_mean, d.k_var,
-                       d.chi2_threshold, d.h_mean, d.h_var, rows, rmax, S_end)
+        a = _scan(np.ascontiguousarray(y), self.scale, self.S, d.k_mean, d.k_var,
+                  d.chi2_threshold, d.h_mean, d.h_var, rows, rmax, S_end, False)
         return a, rmax, (rows[a] if a >= 0 else None), S_end
 
     def process(self, t, y, *, stop=True, record=None):
