@@ -156,11 +156,16 @@ class DiskFrames:
             return self._static or None
 
     def warm(self):
-        """Hash the code of the key in a daemon thread (a fraction of a second, once per
-        process and module), so that the reader's first move does not; ``None``."""
+        """Hash the code of the key now (a fraction of a second, once per process and
+        module), so that the reader's first move does not; ``None``.
+
+        In the calling thread, never a second one: hashing the code parses it with ``ast``,
+        and CPython 3.11's AST constructor is not thread-safe (a parse beside the kernel's
+        own, or beside a cell's, raised "SystemError: AST constructor recursion depth
+        mismatch" in chapter 9 under nbval).
+        """
         if os.environ.get(FRAME_CACHE_ENV, "1") != "0" and self._static is None:
-            threading.Thread(target=self._static_key, name="xnavlab-frames-key",
-                             daemon=True).start()
+            self._static_key()
 
     def path(self, kwargs, layout_state):
         """The file of the frame drawn for ``kwargs`` in the kept layout ``layout_state``, or
