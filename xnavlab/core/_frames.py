@@ -42,7 +42,7 @@ from pathlib import Path
 
 import numpy as np
 
-from xnavlab.core.diskcache import cache_dir, code_digest
+from xnavlab.core.diskcache import cache_dir, code_digest, store
 
 __all__ = ["DiskFrames", "FRAME_CACHE_ENV", "FRAME_CACHE_BYTES", "FRAMES_SUBDIR", "prune"]
 
@@ -209,14 +209,7 @@ class DiskFrames:
         if path is None:
             return False
         path = Path(path)
-        tmp = path.with_name(f".{path.stem}.{os.getpid()}.{threading.get_ident()}.tmp")
-        try:
-            path.parent.mkdir(parents=True, exist_ok=True)
-            tmp.write_bytes(png)
-            os.replace(tmp, path)
-        except OSError:
-            with contextlib.suppress(OSError):
-                tmp.unlink(missing_ok=True)
+        if not store(path, lambda f: f.write(png)):   # diskcache's atomic write
             return False
         _writes["n"] += 1
         if _writes["n"] % _PRUNE_EVERY == 0:

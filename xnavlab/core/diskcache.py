@@ -18,6 +18,7 @@ import contextlib
 import functools
 import hashlib
 import os
+import threading
 import zipfile
 from pathlib import Path
 
@@ -113,7 +114,8 @@ def store(path, write):
     (True, b'42')
     """
     path = Path(path)
-    tmp = path.with_suffix(f".{os.getpid()}.tmp{path.suffix}")
+    # one temporary name per process and thread: two writers of one entry never share it
+    tmp = path.with_suffix(f".{os.getpid()}.{threading.get_ident()}.tmp")
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         with open(tmp, "wb") as f:
