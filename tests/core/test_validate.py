@@ -14,6 +14,7 @@ from xnavlab.core.validate import (
     check_items,
     check_real,
     check_records,
+    check_seeds,
     make_rng,
 )
 
@@ -193,3 +194,18 @@ def test_check_records_refuses_what_is_no_list_of_records(value, words):
 def test_check_records_takes_any_list_of_dicts_and_the_empty_one():
     assert check_records("rows", ({"pd": 1},), ("pd",)) == [{"pd": 1}]
     assert check_records("rows", [], ("pd",)) == []
+
+
+def test_check_seeds_gives_distinct_int_seeds_or_names_the_one_at_fault():
+    assert check_seeds("seeds", np.arange(3)) == (0, 1, 2)
+    assert all(type(s) is int for s in check_seeds("seeds", np.arange(2)))
+    for bad, message in (([], r"^seeds must name at least one seed, got an empty list$"),
+                         ("12", r"^seeds must be a list of seeds, got the string '12'"),
+                         ([0, 0], r"^seeds lists 0 twice \(items 0 and 1\)$"),
+                         ([0, -1], r"^seeds\[1\] must be an integer in \[0, 9223372036854775807\]"),
+                         ([2**63], r"^seeds\[0\] must be an integer in"),
+                         ([1.0], r"^seeds\[0\] must be an integer"),
+                         ([True], r"^seeds\[0\] must be an integer")):
+        with pytest.raises(ValueError, match=message):
+            check_seeds("seeds", bad)
+    assert check_seeds("s", [5], min_len=1) == (5,)

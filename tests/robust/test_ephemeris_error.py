@@ -96,8 +96,11 @@ def test_pulsar_direction_matches_catalogue():
         ee.pulsar_direction(0.0, 0.0, "weird")
     with pytest.raises(ValueError, match="dec_deg"):
         ee.pulsar_direction(0.0, 91.0)
-    with pytest.raises(ValueError, match="names"):
-        ee.directions(())
+    for names, message in (((), r"^names must name at least one pulsar"),
+                           ("B0531+21", r"^names must be a list of pulsars, got the string"),
+                           (("B0531+21", "B0531+21"), r"^names lists B0531\+21 twice")):
+        with pytest.raises(ValueError, match=message):
+            ee.directions(names)
 
 
 def test_sigma_matches_ranging_accuracy():

@@ -57,9 +57,14 @@ def test_bound_table_gives_compare_bounds_numbers_and_stores_them(tmp_path, monk
     assert len(list(tmp_path.glob("bound-table-*.npz"))) == 1
     monkeypatch.setattr(coverage, "compare_bounds", None)   # a cache hit computes nothing
     assert rplots.bound_table(**kw) == table
-    for bad, name in (({"seeds": ()}, "seeds"), ({"sources": ("kalman",)}, "sources"),
-                      ({"n_steps": 1}, "n_steps")):
-        with pytest.raises(ValueError, match=name):
+    for bad, message in (({"seeds": ()}, r"^seeds must name at least one seed"),
+                         ({"seeds": (0, 0.5)}, r"^seeds\[1\] must be an integer"),
+                         ({"seeds": "0"}, r"^seeds must be a list of seeds, got the string '0'"),
+                         ({"sources": ("prior", "kalman")}, r"^sources\[1\] must be one of"),
+                         ({"sources": "prior"}, r"^sources must be a list of sources, got the string"),
+                         ({"sources": ("prior", "prior")}, r"^sources lists prior twice"),
+                         ({"n_steps": 1}, r"^n_steps")):
+        with pytest.raises(ValueError, match=message):
             rplots.bound_table(**{**kw, **bad}, cache=False)
 
 

@@ -25,7 +25,7 @@ from xnavlab.attitude.simulation import (
     simulate_sensors,
 )
 from xnavlab.core.plotting import markdown_table
-from xnavlab.core.validate import check_choice, check_int, check_items, check_real, make_rng
+from xnavlab.core.validate import check_choice, check_int, check_items, check_real, check_seeds, make_rng
 
 __all__ = [
     "isolation_monte_carlo",
@@ -189,7 +189,7 @@ def seeded_outcomes(faults, seeds, config=None, **changes):
     faults = check_faults_in_run(faults, cfg)
     if not faults:
         raise ValueError("faults must hold at least one fault (the outcomes are after its onset)")
-    seeds = check_items("seeds", seeds, "seed", lambda label, v: check_int(label, v, 0))
+    seeds = check_seeds("seeds", seeds)
     onset = min(f.onset for f in faults)
     truth = truth_motion(
         cfg.n, cfg.dt, q0=cfg.q0, omega_orbit_deg_s=cfg.omega_orbit_deg_s,

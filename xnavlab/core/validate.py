@@ -25,8 +25,13 @@ __all__ = [
     "check_definite",
     "check_items",
     "check_records",
+    "check_seeds",
     "make_rng",
+    "SEED_MAX",
 ]
+
+#: The largest seed a run takes: seeds are stored as int64 in the records and caches.
+SEED_MAX = 2**63 - 1
 
 
 def check_real(name, value, lo=-math.inf, hi=math.inf, *, lo_open=False, hi_open=False):
@@ -406,6 +411,27 @@ def check_records(name, value, keys=(), what="record"):
     return value
 
 
+def check_seeds(name, value, min_len=1):
+    """Return ``value`` as a tuple of distinct integer seeds in ``[0, SEED_MAX]``, else one
+    ValueError naming ``name`` (or ``name[i]`` for the item at fault).
+
+    A seed given twice would count one run twice in a Monte Carlo mean; a string, an empty
+    list or a float seed is refused (:func:`check_items`, :func:`check_int`).
+
+    Examples
+    --------
+    >>> check_seeds("seeds", range(3))
+    (0, 1, 2)
+    >>> check_seeds("seeds", [0, 1.5])
+    Traceback (most recent call last):
+    ...
+    ValueError: seeds[1] must be an integer in [0, 9223372036854775807], got 1.5
+    """
+    items = check_items(name, value, "seed", lambda label, s: check_int(label, s, 0, SEED_MAX),
+                        min_len)
+    return tuple(int(s) for s in items)
+
+
 def make_rng(seed=None, name="rng"):
     """Return a :class:`numpy.random.Generator` from a seed or an existing generator.
 
@@ -422,9 +448,9 @@ def make_rng(seed=None, name="rng"):
         return seed
     if seed is None:
         seed = 0
-    if isinstance(seed, bool) or not isinstance(seed, Integral | np.integer) or not 0 <= seed < 2**63:
+    if isinstance(seed, bool) or not isinstance(seed, Integral | np.integer) or not 0 <= seed <= SEED_MAX:
         raise ValueError(f"{name} must be a numpy Generator or an integer seed in "
-                         f"[0, {2**63 - 1}], got {shown(seed)}")
+                         f"[0, {SEED_MAX}], got {shown(seed)}")
     return np.random.default_rng(int(seed))
 
 

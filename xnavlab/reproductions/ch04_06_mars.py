@@ -33,6 +33,7 @@ import numpy as np
 
 from xnavlab.core.constants import DAY, C
 from xnavlab.core.filters import chi2_bounds, judge_series
+from xnavlab.core.validate import check_seeds
 from xnavlab.mars.models import dynamics, optics, sensors, stars
 from xnavlab.mars.navigation import scenarios
 from xnavlab.mars.timing import pulsars
@@ -315,7 +316,7 @@ def mars_optics(out=None, days=30.0, seeds=(0, 1), settle_days=1.0):
     position error (RMS after ``settle_days``, mean over ``seeds``) and the fused NEES judged
     against the chi-square band of an average of ``len(seeds)`` runs.
     """
-    seeds = tuple(seeds)
+    seeds = check_seeds("seeds", seeds)
     lo, hi = chi2_bounds(6, len(seeds))
     checks, data = [], {"cases": {}, "nees_band": (lo, hi), "seeds": seeds}
     for case, fields in OPTICS_CASES.items():
@@ -455,7 +456,7 @@ def mars_xnav_crlb(out=None, days=30.0, seeds=tuple(range(8)), settle_days=1.0):
     """
     from xnavlab.mars.navigation.headline import mean_interval
 
-    seeds = tuple(seeds)
+    seeds = check_seeds("seeds", seeds)
     runs = {kind: _fused_runs(days, seeds, settle_days, xnav_noise=kind)
             for kind in ("paper", "crlb")}
     for r in runs.values():

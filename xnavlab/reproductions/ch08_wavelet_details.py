@@ -19,6 +19,7 @@ import numpy as np
 
 from xnavlab.core import detection
 from xnavlab.core.faults import inject
+from xnavlab.core.validate import check_seeds
 from xnavlab.mars.faults import fault_tolerance, schedules
 from xnavlab.mars.navigation import scenarios
 from xnavlab.mars.navigation.plots import plot_details
@@ -89,7 +90,7 @@ def detail_runs(seeds=DETAIL_SEEDS, days=30.0, pfa=1e-5, train_days=1.0):
     from xnavlab.core.diskcache import cached_arrays, entry_path
 
     faults = [f for f in fault_tolerance.paper_schedule() if f.sensor == "uv"]
-    seeds = tuple(int(s) for s in seeds)
+    seeds = check_seeds("seeds", seeds)
 
     def compute():
         start = time.perf_counter()

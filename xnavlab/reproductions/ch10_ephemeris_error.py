@@ -20,7 +20,7 @@ import numpy as np
 from xnavlab import robust
 from xnavlab.core import ephemeris
 from xnavlab.core.constants import DAY
-from xnavlab.core.validate import check_real
+from xnavlab.core.validate import check_real, check_seeds
 from xnavlab.reproduce import (
     NOT_REPRODUCED,
     REPRODUCED,
@@ -318,7 +318,7 @@ def lost_settings(body, size, cmp, seeds=_LOST_SEEDS, profile="linear"):
         points}}), ``rkf_minus_tdukf`` and ``rkf_minus_asukf`` ({setting: mean paired RMSE
         difference, m}).
     """
-    seeds = tuple(seeds)
+    seeds = check_seeds("seeds", seeds)
     k = len(seeds)
     mine = {f: np.asarray(cmp["rmse_runs"][f])[:k] for f in robust.FILTERS}
     ours = {f: _improvement_runs(cmp, f)[:k] for f in ("asukf", "tdukf", "rkf")}
@@ -649,7 +649,7 @@ def rkf_memory_sweep(lams=RKF_LAMBDAS, seeds=tuple(range(32)), body="earth", siz
         raise ValueError("lams must list at least one weight in (0, 1]")
     if size is None:
         size = earth_error_size() if body == "earth" else PAPER_MARS_ERROR_M
-    seeds = tuple(seeds)
+    seeds = check_seeds("seeds", seeds)
     settings = {"ours": ({}, {}, ("ukf", "tdukf"))}
     settings.update({f"lam {i}": ({}, {"lam": lam}, ("rkf",)) for i, lam in enumerate(lams)})
     got = robust.compare_settings(body, settings, seeds, error="growing", size=float(size))  # one batch each
@@ -830,7 +830,7 @@ def rkf_sweep(out=None, sizes=(0.0, 1000.0, 1e4, 5e4), body="mars", seeds=tuple(
     (:func:`lost_settings`: at the default 5e4 m on Mars, the runs of ``rkf-mars``), and the
     RKF's order at every non-zero size (32 seeds each: at least 32 single runs)."""
     sizes = tuple(float(s) for s in sizes)
-    seeds = tuple(seeds)
+    seeds = check_seeds("seeds", seeds)
     table = {f: [] for f in robust.FILTERS}
     cmps = {}
     for s in sizes:

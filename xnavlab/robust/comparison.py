@@ -120,7 +120,7 @@ def compare_filters(body="earth", filters=FILTERS, error="de405", size=0.0, eps=
     check_choice("body", body, tuple(ee.PLANETS))
     filters = validate.check_items("filters", filters, "filter",
                                    lambda lab, f: check_choice(lab, f, FILTERS))
-    seeds = validate.check_items("seeds", seeds, "seed", lambda lab, s: check_int(lab, s, 0, 2**63))
+    seeds = validate.check_seeds("seeds", seeds)
     max_workers = check_int("max_workers", max_workers, 1, 64)
     n_steps = N_STEPS[body] if n_steps is None else n_steps
     window = WINDOWS[body] if window is None else validate.check_items(
@@ -202,7 +202,7 @@ def compare_settings(body, settings, seeds=(0,), n_steps=None, window=None, **sc
     (['rkf', 'ukf'], 2)
     """
     check_choice("body", body, tuple(ee.PLANETS))
-    seeds = validate.check_items("seeds", seeds, "seed", lambda lab, s: check_int(lab, s, 0, 2**63))
+    seeds = validate.check_seeds("seeds", seeds)
     window = WINDOWS[body] if window is None else window
     steps = N_STEPS[body] if n_steps is None else n_steps
     defaults = inspect.signature(run_filters).parameters

@@ -45,7 +45,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from xnavlab.core.validate import check_choice, check_definite, check_int, check_items, check_real
+from xnavlab.core.validate import (
+    check_choice,
+    check_definite,
+    check_int,
+    check_items,
+    check_real,
+    check_seeds,
+)
 from xnavlab.robust import ephemeris_error as ee
 from xnavlab.robust import filters
 
@@ -187,7 +194,7 @@ def coverage_over_seeds(name="rkf", seeds=(0, 1, 2, 3), body="mars", error="grow
     """
     check_choice("name", name, filters.FILTERS)
     check_choice("rkf_bias", rkf_bias, filters.RKF_BIAS)
-    seeds = check_items("seeds", seeds, "seed", lambda lab, s: check_int(lab, s, 0, 2**63 - 1))
+    seeds = check_seeds("seeds", seeds)
     n_steps = check_int("n_steps", n_steps, 2, 10**6)
     k = check_real("k", k, 0.0, lo_open=True)
     per, ratios, nees, sq, sig = [], [], [], [], []

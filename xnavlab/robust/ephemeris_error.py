@@ -60,7 +60,7 @@ from xnavlab.core.constants import (
     J2_MARS_RADIUS,
     R_EARTH,  # noqa: F401 - used by the doctest of acceleration
 )
-from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real
+from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_items, check_real
 from xnavlab.mars.models.dynamics import MARS_POLE, MARS_STATE0
 from xnavlab.mars.timing import pulsars
 from xnavlab.robust._propagation import derivatives, propagate_unchecked
@@ -337,9 +337,7 @@ def directions(names=PULSARS, order="standard"):
     >>> directions().shape
     (3, 3)
     """
-    names = tuple(names)
-    if not names:
-        raise ValueError("names must list at least one pulsar")
+    names = check_items("names", names, "pulsar")
     rows = []
     for name in names:
         p = pulsars.get(name)

@@ -16,7 +16,7 @@ import numpy as np
 
 from xnavlab.core.diskcache import cached_arrays, entry_path
 from xnavlab.core.plotting import html_table, sparse_log_minors
-from xnavlab.core.validate import check_choice, check_int, check_real, make_rng
+from xnavlab.core.validate import check_choice, check_int, check_items, check_real, check_seeds, make_rng
 from xnavlab.robust import comparison, coverage, filters
 
 __all__ = ["FILTER_NAMES", "PULSAR_SETS", "plot_filter_comparison", "filter_comparison",
@@ -210,12 +210,9 @@ def bound_table(seeds=tuple(range(8)), sources=coverage.BOUND_SOURCES, n_steps=5
     >>> [row["source"] for row in t["real DE421 - DE405 error"]]
     ['prior']
     """
-    seeds = tuple(int(v) for v in seeds)
-    if not seeds:
-        raise ValueError("seeds must list at least one seed")
-    sources = tuple(sources)
-    for src in sources:
-        check_choice("sources", src, coverage.BOUND_SOURCES)
+    seeds = check_seeds("seeds", seeds)
+    sources = check_items("sources", sources, "source",
+                          lambda label, src: check_choice(label, src, coverage.BOUND_SOURCES))
     n_steps = check_int("n_steps", n_steps, 2, 10**6)
 
     def compute():

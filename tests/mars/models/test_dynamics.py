@@ -292,7 +292,18 @@ def test_check_state0_bounds_the_speed_by_a_craft_bound_to_the_sun():
         dynamics.check_state0([4e6, 0.0, 0.0, np.nan, 0.0, 0.0])
 
 
-@given(st.floats(1.0001, 1e4), st.floats(0.0, 2.0), st.floats(-1.0, 1.0))
+def test_check_state0_refuses_a_position_outside_the_hill_sphere():
+    # (GM_MARS / 3 GM_SUN)^(1/3) at 1.381 au: 9.8e8 m (Murray & Dermott eq. 3.75)
+    assert 9.7e8 < dynamics.R_HILL < 9.9e8
+    inside = np.array([0.99 * dynamics.R_HILL, 0.0, 0.0, 0.0, 1e3, 0.0])
+    assert np.array_equal(dynamics.check_state0(inside), inside)
+    for r in (dynamics.R_HILL, 1e300):
+        with pytest.raises(ValueError, match=r"^state0 position must lie inside Mars's Hill sphere "
+                                             r"\(\|r\| < 9.8\d*e\+08 m; .*got \|r\| = "):
+            dynamics.check_state0([r, 0.0, 0.0, 0.0, 1e3, 0.0])
+
+
+@given(st.floats(1.0001, 280.0), st.floats(0.0, 2.0), st.floats(-1.0, 1.0))  # inside R_HILL
 def test_check_state0_refuses_exactly_the_speeds_at_or_above_the_bound(r_over, frac, cos):
     r = R_MARS * r_over
     v_max = float(np.sqrt(dynamics.V_INF_MAX**2 + 2.0 * GM_MARS / r))

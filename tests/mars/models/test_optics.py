@@ -200,3 +200,16 @@ def test_scenario_options_keep_the_papers_defaults_and_draw_the_same_noise():
                          ({"horizon_tau_s": -1.0}, "horizon_tau_s")):
         with pytest.raises(ValueError, match=name):
             scenarios.MarsScenario(**kwargs)
+
+
+def test_the_series_models_refuse_a_scenario_or_sensor_of_another_kind():
+    sc = scenarios.MarsScenario()
+    sensors = sc.sensors()
+    for call, message in (
+            (lambda: optics.is_paper({"limb": "sphere"}), r"^scenario must be a MarsScenario"),
+            (lambda: optics.uv_series_model(None, sensors["uv"]), r"^scenario must be a MarsScenario"),
+            (lambda: optics.uv_series_model(sc, sensors["cns"]), r"^uv must be a UVSensor"),
+            (lambda: optics.cns_series_model(sc, sensors["uv"]), r"^cns must be a CNSSensor"),
+            (lambda: optics.cns_series_model("paper", sensors["cns"]), r"^scenario must be a MarsScenario")):
+        with pytest.raises(ValueError, match=message):
+            call()

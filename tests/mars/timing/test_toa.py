@@ -258,8 +258,12 @@ def test_gradient_fd_matches_gradient_and_its_small_part():
     assert np.abs(fd - g).max() / np.abs(g).max() < 1e-6
     small = toa.gradient_fd(R, n, dist, sun, which=("parallax", "shapiro"))
     assert np.abs(small - (g - n / C)).max() < 1e-3 * np.abs(g - n / C).max()
-    with pytest.raises(ValueError, match="which"):
-        toa.gradient_fd(R, n, dist, sun, which=("nope",))
+    for which, message in ((("nope",), r"^which\[0\] must be one of 'roemer'"),
+                           ("roemer", r"^which must be a list of terms, got the string 'roemer'"),
+                           ((), r"^which must name at least one term"),
+                           (("roemer", "roemer"), r"^which lists roemer twice")):
+        with pytest.raises(ValueError, match=message):
+            toa.gradient_fd(R, n, dist, sun, which=which)
     with pytest.raises(ValueError, match="step"):
         toa.gradient_fd(R, n, dist, sun, step=0.0)
 

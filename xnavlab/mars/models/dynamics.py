@@ -32,7 +32,7 @@ import numba
 import numpy as np
 
 from xnavlab.core import ephemeris
-from xnavlab.core.constants import GM_JUPITER, GM_MARS, GM_SUN, J2_MARS, J2_MARS_RADIUS, R_MARS
+from xnavlab.core.constants import AU, GM_JUPITER, GM_MARS, GM_SUN, J2_MARS, J2_MARS_RADIUS, R_MARS
 from xnavlab.core.diskcache import entry_path, load_array, store
 from xnavlab.core.validate import (
     check_bool,
@@ -57,6 +57,7 @@ __all__ = [
     "IMPACT_EVENTS",
     "check_impact",
     "V_INF_MAX",
+    "R_HILL",
     "check_state0",
     "propagate",
     "truth",
@@ -348,10 +349,16 @@ def check_impact(sol, t0, t_end):
 #: (26.5 km/s) is 62.3 km/s, rounded up. :func:`check_state0` adds Mars's pull.
 V_INF_MAX = 65.0e3
 
+#: Mars's Hill radius at its perihelion, m: ``a (GM_MARS / (3 GM_SUN))^(1/3)`` with
+#: a = 1.381 au (Hill 1878; Murray & Dermott 1999, eq. 3.75), 9.8e5 km. Farther out the Sun,
+#: not Mars, holds a craft, so a Mars-centred state there is no Mars orbit: :func:`check_state0`
+#: refuses it.
+R_HILL = 1.381 * AU * (GM_MARS / (3.0 * GM_SUN)) ** (1.0 / 3.0)
+
 
 def check_state0(state0, name="state0"):
-    """A Mars-centred state checked for physics: finite, above Mars, slower than any craft
-    bound to the Sun.
+    """A Mars-centred state checked for physics: finite, above Mars, inside its Hill sphere,
+    slower than any craft bound to the Sun.
 
     Parameters
     ----------
@@ -367,7 +374,8 @@ def check_state0(state0, name="state0"):
     Raises
     ------
     ValueError
-        For a state not finite, complex or of another shape, a position inside Mars (``|r| <= R_MARS``) or a
+        For a state not finite, complex or of another shape, a position inside Mars (``|r| <= R_MARS``)
+        or outside its Hill sphere (``|r| >= R_HILL``), or a
         speed of ``sqrt(V_INF_MAX**2 + 2 GM_MARS / |r|)`` or more (65.2 km/s at the surface:
         :data:`V_INF_MAX` plus the speed gained falling from far away to ``|r|``), each
         naming ``name``, its range and the value.
@@ -382,10 +390,13 @@ def check_state0(state0, name="state0"):
     ValueError: state0 speed must be below 65164.5 m/s at |r| = 4e+06 m (no craft bound to ...
     """
     x = check_vector(name, state0, 6)  # not check_finite_array: its shape is a trailing one
-    r, v = float(np.linalg.norm(x[:3])), float(np.linalg.norm(x[3:]))
+    r, v = math.hypot(*x[:3]), math.hypot(*x[3:])  # hypot: no overflow for a huge component
     if not r > R_MARS:
         raise ValueError(f"{name} position must lie outside Mars (|r| > {R_MARS:g} m), got "
                          f"|r| = {r:.6g} m")
+    if not r < R_HILL:
+        raise ValueError(f"{name} position must lie inside Mars's Hill sphere (|r| < {R_HILL:.4g} m; "
+                         f"farther out the Sun, not Mars, holds the craft), got |r| = {r:.6g} m")
     v_max = math.sqrt(V_INF_MAX**2 + 2.0 * GM_MARS / r)  # eq: vis-viva, v^2 = v_inf^2 + 2 mu / r
     if not v < v_max:
         raise ValueError(f"{name} speed must be below {v_max:.6g} m/s at |r| = {r:.6g} m (no "

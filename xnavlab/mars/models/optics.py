@@ -53,7 +53,7 @@ import math
 import numpy as np
 
 from xnavlab.core.constants import GM_MARS, R_MARS
-from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real
+from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, shown
 from xnavlab.mars.models import series
 from xnavlab.mars.models.dynamics import MARS_POLE, MARS_STATE0
 from xnavlab.mars.models.sensors import perturb_direction
@@ -353,8 +353,15 @@ def is_paper(scenario):
     >>> is_paper(MarsScenario()), is_paper(MarsScenario(limb="oblate"))
     (True, False)
     """
+    _check_fields("scenario", scenario, "MarsScenario", ("uv_range_model", "limb", "horizon_tau_s"))
     return (scenario.uv_range_model == "constant" and scenario.limb == "sphere"
             and scenario.horizon_tau_s == 0.0)
+
+
+def _check_fields(name, value, kind, fields):
+    """Refuse, in one line naming ``name``, a value without the fields of ``kind``."""
+    if not all(hasattr(value, f) for f in fields):
+        raise ValueError(f"{name} must be a {kind} (fields {', '.join(fields)}), got {shown(value)}")
 
 
 def _centre(states, limb, pole):
@@ -476,6 +483,8 @@ def uv_series_model(scenario, uv):
     >>> uv_series_model(sc, sc.sensors()["uv"])[0] is series.simulate_uv
     True
     """
+    _check_fields("scenario", scenario, "MarsScenario", ("uv_range_model", "limb"))
+    _check_fields("uv", uv, "UVSensor", ("sigma_range", "sigma_dir"))
     if scenario.uv_range_model == "constant" and scenario.limb == "sphere":
         return series.simulate_uv, (uv.sigma_range, uv.sigma_dir)
     return UVInstrument(uv.sigma_range, uv.sigma_dir, scenario.uv_range_model, scenario.limb), ()
@@ -491,6 +500,8 @@ def cns_series_model(scenario, cns):
     >>> type(cns_series_model(sc, sc.sensors()["cns"])[0]).__name__
     'CNSInstrument'
     """
+    _check_fields("scenario", scenario, "MarsScenario", ("limb", "horizon_tau_s", "dt_cns"))
+    _check_fields("cns", cns, "CNSSensor", ("star_dirs", "sigma_star", "sigma_horizon"))
     if scenario.limb == "sphere" and scenario.horizon_tau_s == 0.0:
         return series.simulate_cns, (cns.star_dirs, cns.sigma_star, cns.sigma_horizon)
     return CNSInstrument(cns.star_dirs, cns.sigma_star, cns.sigma_horizon, scenario.dt_cns,

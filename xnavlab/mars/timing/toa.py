@@ -55,7 +55,7 @@ import numpy as np
 
 from xnavlab.core import ephemeris
 from xnavlab.core.constants import AU, GM_SUN, C
-from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real
+from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_items, check_real
 from xnavlab.mars.timing import pulsars
 
 __all__ = [
@@ -549,11 +549,8 @@ def gradient_fd(r_ssb, n, distance, r_sun_ssb, step=1.0e3, which=("roemer", "par
     """
     r_ssb = check_finite_array("r_ssb", r_ssb, shape=(3,))
     step = check_real("step", step, 0.0, lo_open=True)
-    which = tuple(which)
-    if not which:
-        raise ValueError("which must name at least one of roemer, parallax, shapiro")
-    for name in which:
-        check_choice("which", name, ("roemer", "parallax", "shapiro"))
+    which = check_items("which", which, "term",
+                        lambda label, name: check_choice(label, name, ("roemer", "parallax", "shapiro")))
 
     check_choice("shapiro", shapiro, SHAPIRO_FORMS)
 
