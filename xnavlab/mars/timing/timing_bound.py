@@ -364,7 +364,8 @@ def ml_phase_shift(counts, duty, pulsed, unpulsed, search=0.5, max_iter=30):
     search : float
         Half-width of the window of offsets searched, cycles, in [0, 0.5] (0.5: the whole
         cycle, the unrestricted ML): the a-priori knowledge of the offset. The refinement
-        may leave the window by less than a bin.
+        may leave the window by at most a bin (a fold whose likelihood peaks farther out
+        gives the window's edge plus a bin).
     max_iter : int
         Most Newton steps.
 
@@ -410,6 +411,9 @@ def ml_phase_shift(counts, duty, pulsed, unpulsed, search=0.5, max_iter=30):
         info = np.sum(d1**2 / m, axis=1)  # expected information
         step = np.where(curv < 0, -g / np.where(curv < 0, curv, -1.0), g / info)
         step = np.clip(step, -1.0 / nb, 1.0 / nb)  # at most a bin a step
+        if search < 0.5:  # and never farther than a bin out of the a-priori window
+            edge = search + 1.0 / nb
+            step = np.clip(step, -edge - tau[live], edge - tau[live])
         todo = np.arange(live.size)  # halve the steps that lower l
         while todo.size:
             i = live[todo]
