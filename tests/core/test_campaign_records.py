@@ -52,3 +52,12 @@ def test_two_ok_records_of_one_run_that_disagree_are_one_warning_with_their_line
                                           r"2 and 4 differ in seed, metrics\); the first counts$"):
         cr.report_disagreements(records, numbers, "f")
     cr.report_disagreements(records[:3], numbers[:3], "f")  # no warning (filterwarnings=error)
+
+
+def test_a_record_whose_seed_no_run_can_draw_from_is_no_record():
+    """Review 35e: seed -1 and 2^70 were read as records (and shown in load_runs's table)."""
+    lines = [json.dumps({**RECORD, "seed": s}) for s in (-1, 2**70, 0, 2**63 - 1)]
+    records, bad = cr.parse_records(lines)
+    assert [r["seed"] for r in records] == [0, 2**63 - 1]
+    assert bad == [(1, "seed -1 is not in [0, 9223372036854775807]"),
+                   (2, f"seed {2**70} is not in [0, 9223372036854775807]")]

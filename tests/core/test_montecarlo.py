@@ -110,3 +110,9 @@ def test_markdown_table_formats_and_checks_columns():
 def test_detection_table_refuses_bad_lists_before_any_trial(kw, words):
     with pytest.raises(ValueError, match=words):
         mc.detection_table(**kw, trials=1)
+
+
+def test_signal_trial_refuses_a_seed_above_the_records_range():
+    """Review 35e: 2^63 was taken (check_int without its upper end)."""
+    with pytest.raises(ValueError, match=r"^seed must be an integer in \[0, 9223372036854775807\]"):
+        mc.signal_trial("step", 3.0, seed=2**63)

@@ -14,8 +14,10 @@ from xnavlab.core.validate import (
     check_items,
     check_real,
     check_records,
+    check_seed,
     check_seeds,
     make_rng,
+    seed_after,
 )
 
 
@@ -209,3 +211,15 @@ def test_check_seeds_gives_distinct_int_seeds_or_names_the_one_at_fault():
         with pytest.raises(ValueError, match=message):
             check_seeds("seeds", bad)
     assert check_seeds("s", [5], min_len=1) == (5,)
+
+
+def test_check_seed_and_seed_after_stay_in_the_range_every_record_stores():
+    """Review 35e: a seed above 2^63 - 1 passed several checks, and a derived seed + 1 of the
+    last seed was refused under the name rng."""
+    assert check_seed("seed", np.int64(5)) == 5
+    for bad in (-1, 2**63, 1.0, True, "3"):
+        with pytest.raises(ValueError, match=r"^seed must be an integer in \[0, 9223372036854775807\]"):
+            check_seed("seed", bad)
+    assert seed_after(0) == 1 and seed_after(2**63 - 1) == 0 and seed_after(2**63 - 2, 2) == 0
+    with pytest.raises(ValueError, match=r"^seed must be an integer in"):
+        seed_after(2**63)

@@ -119,3 +119,11 @@ def test_snapshot_covariance_refuses_directions_that_do_not_span_and_bad_sigmas(
     """Two pulsars in one direction gave a raw LinAlgError (Singular matrix)."""
     with pytest.raises(ValueError, match=match):
         track.snapshot_covariance(directions, sigmas)
+
+
+def test_run_line_names_its_seed_and_takes_the_last_one():
+    """Review 35e: seed -1 was refused as 'rng', and the last seed failed on its seed + 1."""
+    with pytest.raises(ValueError, match=r"^seed must be an integer in \[0, 9223372036854775807\]"):
+        track.run_line(seed=-1)
+    truth, run = track.run_line(exposure_s=500.0, seed=2**63 - 1)
+    assert np.all(np.isfinite(run.x))

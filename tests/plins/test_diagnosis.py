@@ -112,3 +112,11 @@ def test_compare_detectors_refuses_an_empty_table_and_settings_it_would_not_use(
 def test_diagnose_flight_with_chi2_is_a_real_bool():
     with pytest.raises(ValueError, match="^with_chi2 must be True or False, got 'no'"):
         P.diagnose_flight([], with_chi2="no")
+
+
+def test_compare_detectors_takes_a_first_seed_whose_runs_stay_in_range():
+    """Review 35e: seed 2^63 - 1 with two runs failed in its second run with the seed + 1
+    it was never given; the range now says how far the first seed may go."""
+    with pytest.raises(ValueError, match=r"^seed must be an integer in \[0, 9223372036854775806\], "
+                                         r"got 9223372036854775807$"):
+        P.compare_detectors("step", [1.0], n_runs=2, seed=2**63 - 1)

@@ -11,6 +11,7 @@ import json
 import warnings
 
 from xnavlab.core.userfiles import InputWarning
+from xnavlab.core.validate import SEED_MAX
 
 __all__ = ["PUBLIC_KEYS", "json_or_none", "why_not_a_record", "parse_records", "report_bad_lines",
            "report_disagreements"]
@@ -52,6 +53,8 @@ def why_not_a_record(rec):
         return f"index {rec['index']!r} is not an integer >= 0"
     if isinstance(rec["seed"], bool) or not isinstance(rec["seed"], int):
         return f"seed {rec['seed']!r} is not an integer"
+    if not 0 <= rec["seed"] <= SEED_MAX:  # no run draws from a seed out of range
+        return f"seed {rec['seed']} is not in [0, {SEED_MAX}]"
     if rec["status"] not in ("ok", "failed"):
         return f"status {rec['status']!r} is neither 'ok' nor 'failed'"
     for key in ("parameters", "metrics"):

@@ -43,7 +43,7 @@ from xnavlab.core.detection import chi2_detect, wavelet_detect
 from xnavlab.core.distributions import norm_isf
 from xnavlab.core.faults import Fault, inject
 from xnavlab.core.plotting import sparse_log_minors
-from xnavlab.core.validate import check_choice, check_int, check_items, check_real
+from xnavlab.core.validate import check_choice, check_int, check_items, check_real, check_seed
 
 __all__ = ["KINDS", "DETECTORS", "signal_trial", "run_tasks", "seeds",
            "detection_table", "roc_curve", "summarise", "plot_roc", "plot_pd",
@@ -119,7 +119,7 @@ def signal_trial(kind, size_sigma, *, seed=0, n=4000, train=1500, duration=300, 
     n = check_int("n", n, train + 2 * duration + 400)
     noise_scale = check_real("noise_scale", noise_scale, 0.0, 100.0, lo_open=True)
     window = 200 if window is None else check_int("window", window, 0)
-    rng = np.random.default_rng(check_int("seed", seed, 0))
+    rng = np.random.default_rng(check_seed("seed", seed))
     t = _DT * np.arange(n)
     lo = train + duration + 200
     k_on = int(rng.integers(lo, n - duration - window)) if n - duration - window > lo else lo
@@ -491,7 +491,7 @@ def plot_pd_error(runs=100, pd=0.9, campaigns=400, seed=0):
         runs = check_int("runs", runs, 1, 10**6)
         pd = check_real("pd", pd, 0.0, 1.0, lo_open=True, hi_open=True)
         campaigns = check_int("campaigns", campaigns, 10, 10**5)
-        rng = np.random.default_rng(check_int("seed", seed, 0))
+        rng = np.random.default_rng(check_seed("seed", seed))
         k = rng.binomial(runs, pd, size=campaigns)
         est = k / runs
         half = 1.96 * math.sqrt(pd * (1.0 - pd) / runs)      # normal approximation, 95 %

@@ -26,6 +26,8 @@ __all__ = [
     "check_items",
     "check_records",
     "check_seeds",
+    "check_seed",
+    "seed_after",
     "make_rng",
     "SEED_MAX",
 ]
@@ -430,6 +432,37 @@ def check_seeds(name, value, min_len=1):
     items = check_items(name, value, "seed", lambda label, s: check_int(label, s, 0, SEED_MAX),
                         min_len)
     return tuple(int(s) for s in items)
+
+
+def check_seed(name, value):
+    """Return ``value`` as an integer seed in ``[0, SEED_MAX]``, else one ValueError naming
+    ``name`` (a seed above the range cannot be stored in a record or a cache, nor passed on).
+
+    Examples
+    --------
+    >>> check_seed("seed", 7)
+    7
+    >>> check_seed("seed", 2**63)
+    Traceback (most recent call last):
+    ...
+    ValueError: seed must be an integer in [0, 9223372036854775807], got 9223372036854775808
+    """
+    return check_int(name, value, 0, SEED_MAX)
+
+
+def seed_after(seed, k=1):
+    """The seed ``k`` places after ``seed``, wrapping past :data:`SEED_MAX` to 0.
+
+    The seed of a second stream derived from a checked seed (a fault injection beside a
+    run's noise): ``seed + k`` for every seed but the last ``k`` of the range, which would
+    otherwise be refused under a name the caller never gave.
+
+    Examples
+    --------
+    >>> seed_after(3), seed_after(SEED_MAX)
+    (4, 0)
+    """
+    return (check_seed("seed", seed) + check_int("k", k, 0, SEED_MAX)) % (SEED_MAX + 1)
 
 
 def make_rng(seed=None, name="rng"):

@@ -28,7 +28,15 @@ import numpy as np
 from xnavlab.core.constants import AU
 from xnavlab.core.filters import ekf_predict, ekf_update
 from xnavlab.core.plotting import in_place
-from xnavlab.core.validate import check_covariance, check_finite_array, check_int, check_real, make_rng
+from xnavlab.core.validate import (
+    check_covariance,
+    check_finite_array,
+    check_int,
+    check_real,
+    check_seed,
+    make_rng,
+    seed_after,
+)
 from xnavlab.line.measure import fold_range, range_sigma
 from xnavlab.mars.timing import pulsars
 
@@ -199,9 +207,10 @@ def run_line(exposure_s=10.0, accel_sigma=0.0, span_s=2000.0, dv=1.0, seed=0):
     exposure_s = check_real("exposure_s", exposure_s, 0.1, 1e4)
     n = max(1, round(check_real("span_s", span_s, 1.0, 1e5) / exposure_s))
     dv = check_real("dv", dv, -1e5, 1e5)
+    seed = check_seed("seed", seed)
     truth = simulate(np.array([X0, V0 + dv]), exposure_s, n, accel_sigma, seed)
     run = track(truth, exposure_s, np.array([X0 + 2e3, V0]), np.diag([3e3**2, 2.0**2]),
-                accel_sigma=accel_sigma, rng=seed + 1)
+                accel_sigma=accel_sigma, rng=seed_after(seed))
     return truth, run
 
 

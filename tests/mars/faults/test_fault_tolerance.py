@@ -508,3 +508,10 @@ def test_inject_inputs_refuses_what_is_no_inputs(bad):  # review 35d D37: Attrib
     with pytest.raises(ValueError, match=r"^inputs must be a scenarios.Inputs \(scenarios.prepare\), "
                                          r"got "):
         ft.inject_inputs(bad, [Fault("uv", "step", 1e3, 1000.0, 10.0)])
+
+
+def test_the_last_seed_runs_with_a_detector():
+    """Review 35e: run mars --seed 9223372036854775807 --detector chi2 stopped on 'rng must be
+    ... got 9223372036854775808' (the fault noise's seed + 1): it wraps to 0 now."""
+    res = ft.run_fault_tolerant(None, [], "chi2", days=0.05, seed=2**63 - 1)
+    assert res.run.scenario.seed == 2**63 - 1

@@ -259,3 +259,9 @@ def test_loaders_refuse_a_path_that_is_no_path(bad):  # review 35d D37's class: 
 def test_curve_csv_refuses_what_is_no_list_of_rows(bad):  # review 35d D37's class: AttributeError
     with pytest.raises(ValueError, match=r"^rows(\[0\])? must be a (list of )?curve row"):
         roc.curve_csv(bad)
+
+
+def test_roc_run_refuses_a_seed_above_the_records_range():
+    """Review 35e: 2^63 was taken (check_int without its upper end)."""
+    with pytest.raises(ValueError, match=r"^seed must be an integer in \[0, 9223372036854775807\]"):
+        roc.roc_run("step", "uv", 2.0, "combined", [1.0], seed=2**63)

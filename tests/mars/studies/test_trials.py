@@ -130,3 +130,13 @@ def test_early_fault_trial_refuses_a_seed_that_is_no_integer_in_range(seed):
     # review 35d D24's class: int() truncated 1.5 to 1 and wrapped -1 silently
     with pytest.raises(ValueError, match=r"^seed must be an integer in \[0, 9223372036854775807\]"):
         trials.early_fault_trial(seed=seed)
+
+
+@pytest.mark.parametrize("trial", [lambda s: trials.mars_trial(seed=s),
+                                   lambda s: trials.detector_trial("step", "uv", 0, "combined",
+                                                                   seed=s)])
+def test_mars_and_detector_trials_refuse_a_seed_above_the_records_range(trial):
+    """Review 35e: 2^63 was taken (check_int without its upper end), no record can store it."""
+    with pytest.raises(ValueError, match=r"^seed must be an integer in \[0, 9223372036854775807\], "
+                                         r"got 9223372036854775808$"):
+        trial(2**63)

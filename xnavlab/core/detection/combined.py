@@ -79,6 +79,7 @@ from xnavlab.core.validate import (
     check_finite_array,
     check_int,
     check_real,
+    check_seed,
     shown,
 )
 
@@ -763,7 +764,7 @@ def plot_combined_parts(drift_sigma_per_hour=3.0, step_sigma=0.0, noise_ratio=1.
         step = check_real("step_sigma", step_sigma, 0.0, 100.0)
         ratio = check_real("noise_ratio", noise_ratio, 1.0, 10.0)
         noise = check_real("model_noise", model_noise, 0.5, 3.0)
-        rng = np.random.default_rng(check_int("seed", seed, 0))
+        rng = np.random.default_rng(check_seed("seed", seed))
         y = rng.normal(0.0, noise, n)
         y[on] = y[on] * ratio + step + drift * (t[on] - t0) / 3600.0
         res = combined_detect(t, y, train=4000)

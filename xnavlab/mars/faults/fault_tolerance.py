@@ -127,7 +127,7 @@ from xnavlab.core.detection import (
 )
 from xnavlab.core.distributions import chi2_isf, norm_isf
 from xnavlab.core.faults import Fault, check_faults, format_spec, inject  # noqa: F401 - Fault: the doctest
-from xnavlab.core.validate import check_bool, check_choice, check_int, check_real, make_rng
+from xnavlab.core.validate import check_bool, check_choice, check_int, check_real, make_rng, seed_after
 from xnavlab.mars.faults import innovations, schedules, watch
 from xnavlab.mars.faults.schedules import (  # noqa: F401 - also importable from here, as before
     EARLIEST_ONSET_S,
@@ -438,7 +438,7 @@ def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=
     if isinstance(faults, str):
         faults = parse_faults(faults, sc)
     faults = check_schedule(faults, sc, detector, train_days, paper=paper)
-    rng = make_rng(sc.seed + 1 if rng is None else rng)
+    rng = make_rng(seed_after(sc.seed) if rng is None else rng)
     t_start = time.perf_counter()
     faulty = inject_inputs(inputs, faults, rng)
     if detector == "none":

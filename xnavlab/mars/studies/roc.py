@@ -102,6 +102,7 @@ from xnavlab.core.validate import (
     check_items,
     check_real,
     check_records,
+    check_seed,
     shown,
 )
 from xnavlab.mars.faults import fault_tolerance, schedules
@@ -255,7 +256,7 @@ def roc_run(fault_class, sensor, size, detector, thresholds, *, seed, days=0.5):
         explains, after the training span): :func:`xnavlab.mars.faults.schedules.trial_outcome`).
     """
     check_choice("detector", detector, tuple(THRESHOLDS))
-    seed = check_int("seed", seed, 0)
+    seed = check_seed("seed", seed)
     days = check_real("days", days, 0.5, 5.0)
     rng = np.random.default_rng(seed)
     run_seed, noise_seed = (int(v) for v in rng.integers(0, 2**62, size=2))

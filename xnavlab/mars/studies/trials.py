@@ -51,7 +51,7 @@ from xnavlab.core.detection import limits
 from xnavlab.core.distributions import chi2_ppf
 from xnavlab.core.faults import Fault
 from xnavlab.core.userfiles import as_path, check_rows, load_table
-from xnavlab.core.validate import check_choice, check_int, check_real, check_records
+from xnavlab.core.validate import check_choice, check_int, check_real, check_records, check_seed
 from xnavlab.mars.faults import fault_tolerance, schedules
 from xnavlab.mars.navigation import scenarios
 
@@ -91,7 +91,7 @@ def mars_trial(size_sigma=5.0, detector="wavelet", *, seed=0, days=1.0, duration
     size_sigma = check_real("size_sigma", size_sigma, 0.0, 1000.0)
     check_choice("detector", detector, fault_tolerance.DETECTORS)
     days = check_real("days", days, 0.5, 30.0)
-    seed = check_int("seed", seed, 0)
+    seed = check_seed("seed", seed)
     rng = np.random.default_rng(seed)
     onset = float(np.round(rng.uniform(0.6, 0.8) * days * 86400.0))
     fault = Fault("uv", "step", size_sigma * 5000.0, onset, duration, component=0)
@@ -244,7 +244,7 @@ def detector_trial(fault_class, sensor, size_index, detector, *, seed, days=1.0)
     check_choice("sensor", sensor, SENSORS)
     size_index = check_int("size_index", size_index, 0, 2)
     check_choice("detector", detector, DETECTORS)
-    seed = check_int("seed", seed, 0)
+    seed = check_seed("seed", seed)
     days = check_real("days", days, 0.5, 5.0)
     rng = np.random.default_rng(seed)
     run_seed = int(rng.integers(0, 2**62))

@@ -21,6 +21,7 @@ import numpy as np
 from xnavlab.core import faults as _faults
 from xnavlab.core.distributions import chi2_isf
 from xnavlab.core.validate import (
+    SEED_MAX,
     check_bool,
     check_choice,
     check_finite_array,
@@ -471,7 +472,8 @@ def compare_detectors(kind, sizes, *, onset=None, sensor=0, n_runs=5, seed=0, **
     n_runs : int
         Runs per size, in [1, 1000].
     seed : int
-        First seed.
+        First seed, in ``[0, SEED_MAX - n_runs + 1]`` (the runs take ``seed`` to
+        ``seed + n_runs - 1``).
     **kwargs
         Passed to :func:`diagnose_flight` (``sigma``, ``s``, ``threshold``, ``p_fa``...).
 
@@ -509,7 +511,7 @@ def compare_detectors(kind, sizes, *, onset=None, sensor=0, n_runs=5, seed=0, **
     onset = (50.0 if kind == "step" else 30.0) if onset is None else check_real("onset", onset)
     sensor = check_int("sensor", sensor, 0)
     n_runs = check_int("n_runs", n_runs, 1, 1000)
-    seed = check_int("seed", seed, 0)
+    seed = check_int("seed", seed, 0, SEED_MAX - (n_runs - 1))  # its runs take seed + i
     rows = []
     for size in sizes:
         fault = _faults.Fault(_pl.SENSOR, kind, float(size), onset, component=sensor)
