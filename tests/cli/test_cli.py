@@ -350,3 +350,24 @@ def test_a_filter_the_kernel_cannot_carry_ends_in_one_line_not_a_traceback(tmp_p
     assert main(["run", "mars", "--scenario", str(path), "--days", "0.05", "--json"]) == 1
     err = capsys.readouterr().err
     assert err.startswith("xnavlab: error: the compiled filter stopped") and err.count("\n") == 1
+
+
+@pytest.mark.parametrize("argv,line", [
+    (["scenario", "--check", ""], "scenario file must name a file, got ''"),
+    (["reproduce", ""], "unknown reproduction id ''"),
+    (["reproduce", "--all", ""], "--all takes no ID (got '')"),
+    (["reproduce", "--list", ""], "--list takes no ID ('')"),
+    (["campaign", "roc", "--runs", "1", "--grid", ""], "grid file must name a file, got ''"),
+    (["campaign", "consistency", "--runs", "1", "--scheduler", " "], "--scheduler is empty"),
+    (["campaign", "consistency", "--runs", "1", "--workers", ""],
+     "workers must be an integer in [1, 256], got ''"),
+])
+def test_an_empty_value_is_a_value_not_a_flag_left_out(argv, line, tmp_path, capsys):
+    """Review 35e: an empty shell variable ("--scheduler $ADDR") ran the campaign on local
+    workers, --workers "" took 2, --check "" and an empty ID said the flag was missing, and
+    --grid "" was named '.'."""
+    out = tmp_path / "out"
+    assert main([*argv, "--out", str(out)] if argv[0] == "campaign" else argv) == 2
+    lines = capsys.readouterr().err.splitlines()
+    assert len(lines) == 1 and line in lines[0], lines
+    assert not out.exists()  # refused before any folder is made

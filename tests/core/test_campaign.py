@@ -594,3 +594,9 @@ def test_a_flag_is_a_real_bool(tmp_path, call, name):
 def test_load_runs_refuses_a_folder_that_is_no_path(bad):  # review 35d D37's class: TypeError
     with pytest.raises(ValueError, match=r"^campaign folder must be a path \(a str or pathlib.Path\)"):
         cp.load_runs(bad)
+
+
+def test_load_runs_refuses_an_empty_folder_name():
+    """Review 35e: load_runs("") read the current folder ('directory '.' holds no campaign')."""
+    with pytest.raises(ValueError, match=r"^campaign folder must name a folder, got ''$"):
+        cp.load_runs("")

@@ -112,3 +112,13 @@ def test_text_readers_refuse_what_is_no_text(bad):  # review 35d D37's class: At
         userfiles.parse_toml(bad, "scenario file")
     with pytest.raises(ValueError, match=r"^table must be text \(a str\), got "):
         userfiles.csv_rows(bad, "table")
+
+
+@pytest.mark.parametrize("blank", ["", "  "])
+def test_an_empty_name_is_refused_not_read_as_the_current_folder(blank):
+    """Review 35e: Path("") is '.', so a grid file "" was refused as '.' and load_runs("")
+    looked for a campaign in the current folder."""
+    with pytest.raises(ValueError, match=r"^grid file must name a file, got '\s*'$"):
+        userfiles.load_table(blank, "grid file")
+    with pytest.raises(ValueError, match=r"^runs must name a folder, got '\s*'$"):
+        userfiles.as_path(blank, "runs", "folder")

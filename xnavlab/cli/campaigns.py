@@ -221,19 +221,23 @@ def _consistency_file(path):
 def _common(args):
     """The options every campaign shares: runs, seed and where to run (engine, workers,
     scheduler, timeout)."""
+    if args.scheduler is not None and not args.scheduler.strip():  # an empty "$SCHEDULER"
+        raise UsageError("--scheduler is empty: give the scheduler's address (tcp://HOST:8786), "
+                         "or leave the flag out to run on local workers")
     if args.timeout is not None and not (args.scheduler or args.local_cluster):
         raise UsageError("--timeout is the wait for a Dask cluster: it goes with --scheduler "
                          "or --local-cluster (local workers need none)")
     runs = _number("runs", args.runs, int, 1, 10**7)
     seed = _number("seed", "0" if args.seed is None else args.seed, int, 0, 2**63 - 1)
-    output_path(args.out, "--out", folder=True)  # made and writable before any run
     timeout = (None if args.timeout is None  # None: run_campaign's own default
                else _number("timeout", args.timeout, float, 0.0, 3600.0, lo_open=True))
     if args.workers is not None and args.scheduler:
         raise UsageError("--workers sets local processes; the cluster at --scheduler has its own")
-    workers = _number("workers", args.workers or "2", int, 1, 256)
+    workers = _number("workers", "2" if args.workers is None else args.workers, int, 1, 256)
     if not args.local_cluster and not args.scheduler:
         workers = check_int("workers", workers, 1, os.cpu_count() or 1)
+    output_path(args.out, "--out", folder=True)  # made and writable before any run, once the
+    # flags are checked (a bad flag leaves no folder behind)
     engine = "dask" if args.scheduler else ("local-cluster" if args.local_cluster else "local")
     where = {"engine": engine, "workers": workers, "scheduler": args.scheduler}
     return runs, seed, where if timeout is None else {**where, "timeout": timeout}

@@ -50,7 +50,7 @@ def execute(args):
         return 0
     if args.all:
         return _reproduce_all(args)
-    if not args.id:
+    if args.id is None:  # an empty ID is an unknown one, not a missing one
         raise UsageError("reproduce needs an ID, --list or --all")
     result = reproduce.run(args.id, out=args.out, fresh=args.fresh)
     if args.json:
@@ -66,12 +66,12 @@ def execute(args):
 def _refuse_unused(args):
     """Every option given is used, or the command line is refused in one line."""
     if args.list:
-        unused = ([f"ID ({args.id!r})"] if args.id else []) + [
+        unused = ([f"ID ({args.id!r})"] if args.id is not None else []) + [
             flag for flag, given in (("--json", args.json), ("--out", args.out is not None),
                                      ("--fresh", args.fresh), ("--quiet", args.quiet)) if given]
         if unused:
             raise UsageError(f"--list takes no {', '.join(unused)}: it prints the registered IDs")
-    elif args.all and args.id:
+    elif args.all and args.id is not None:
         raise UsageError(f"--all takes no ID (got {args.id!r}): it runs every reproduction; "
                          f"give the ID alone to run one")
     elif args.quiet and not args.all:

@@ -60,7 +60,7 @@ def execute(args):
         else:
             print(text, end="")
         return 0
-    if args.check:
+    if args.check is not None:  # --check "" is a file name too, refused when read
         if args.out is not None or args.setup is not None:
             raise UsageError(f"{'--out' if args.out is not None else '--setup'} goes with --dump")
         sf = scenario_files.load(args.check)

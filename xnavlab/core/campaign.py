@@ -830,7 +830,7 @@ def load_runs(directory, final=True):
         import pandas as pd
     except ImportError:
         raise ValueError("load_runs needs pandas (pip install pandas)") from None
-    directory = as_path(directory, "campaign folder")  # a dict or None: one line
+    directory = as_path(directory, "campaign folder", "folder")  # a dict, None or "": one line
     path, head = directory / STORE_FILE, directory / HEADER_FILE
     if not path.exists():
         raise ValueError(f"directory {str(directory)!r} holds no campaign ({STORE_FILE} missing)")

@@ -27,9 +27,13 @@ class InputWarning(UserWarning):
     warning names the file and the line. The command line prints it as one line."""
 
 
-def as_path(path, what="file"):
+def as_path(path, what="file", kind="file"):
     """``path`` (a str or an os.PathLike) as a :class:`pathlib.Path`; anything else (a dict, a
     number, None, bytes) is one ValueError naming ``what``, not ``Path``'s TypeError.
+
+    An empty or blank name is refused too (``Path("")`` is the current folder: an empty shell
+    variable would read or write there without a word); ``kind`` (``"file"`` or ``"folder"``)
+    words that message.
 
     Examples
     --------
@@ -39,10 +43,16 @@ def as_path(path, what="file"):
     Traceback (most recent call last):
     ...
     ValueError: grid file must be a path (a str or pathlib.Path), got dict {}
+    >>> as_path("", "campaign folder", "folder")
+    Traceback (most recent call last):
+    ...
+    ValueError: campaign folder must name a folder, got ''
     """
     if not isinstance(path, str | os.PathLike) or isinstance(path, bytes):
         raise ValueError(f"{what} must be a path (a str or pathlib.Path), got "
                          f"{type(path).__name__} {repr(path)[:60]}")
+    if not str(os.fspath(path)).strip():
+        raise ValueError(f"{what} must name a {kind}, got {str(os.fspath(path))!r}")
     return Path(path)
 
 
@@ -78,9 +88,7 @@ def read_text(path, what="file"):
     >>> read_text(bom)
     'days = 2'
     """
-    as_path(path, what)  # a dict, a number or None: one line naming what
-    if not str(path).strip():
-        raise ValueError(f"{what} must name a file, got {str(path)!r}")
+    as_path(path, what)  # a dict, a number, None or "": one line naming what
     path = Path(path)
     if path.is_dir():
         raise ValueError(f"{what} {str(path)!r} is a folder, not a file")
@@ -276,9 +284,7 @@ def output_path(path, what="output", folder=False):
     >>> out.parent.is_dir()
     True
     """
-    as_path(path, what)  # a dict, a number or None: one line naming what
-    if not str(path).strip():
-        raise ValueError(f"{what} must name a {'folder' if folder else 'file'}, got {str(path)!r}")
+    as_path(path, what, "folder" if folder else "file")  # a dict, None or "": one line
     path = Path(path)
     target = path if folder else path.parent
     if folder and path.exists() and not path.is_dir():
