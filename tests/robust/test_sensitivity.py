@@ -1,5 +1,7 @@
 """xnavlab.robust.sensitivity: the UKF's error against a constant ephemeris error, by direction."""
 
+import math
+
 import numpy as np
 import pytest
 
@@ -39,3 +41,29 @@ def test_the_named_directions_are_unit_vectors():
 
 def test_the_earth_error_is_the_real_ephemeris_difference():
     assert 1.0e3 < sensitivity.earth_error_size() < 2.0e3
+
+
+@pytest.mark.parametrize(("change", "words"), [
+    ({"base": "1"}, r"^base must be a real number in \[0, 1e\+12\], got '1'$"),
+    ({"base": None}, r"^base must be a real number"),
+    ({"base": 1 + 1j}, r"^base must be a real number"),
+    ({"size": 0.0}, r"^size must be a real number in \(0, 1e\+12\], got 0.0$"),
+    ({"size": math.inf}, r"^size must be a real number in \(0, 1e\+12\], got inf$"),
+    ({"slopes": [1.0] * 6}, r"^slopes must be a dict of direction name -> value, got \[1.0"),
+    ({"slopes": {**{k: 0.5 for k in _dirs()}, "x": 0.5}}, r"^slopes\['x'\] has no direction"),
+    ({"slopes": {**{k: 0.5 for k in _dirs()}, "0": math.nan}}, r"^slopes\['0'\] must be a real"),
+    ({"slopes": {**{k: 0.5 for k in _dirs()}, "0": -1.0}},
+     r"^slopes\['0'\] must be a real number in \[-0.04, 1e\+06\], got -1.0$"),
+    ({"directions": {**_dirs(), "0": [2.0, 0.0, 0.0]}},
+     r"^directions\['0'\] must be a unit vector, got norm 2$"),
+    ({"directions": {**_dirs(), "0": [1.0, 0.0]}}, r"^directions\['0'\] must be a 1-D array"),
+    ({"directions": {str(i): [np.cos(a), np.sin(a), 0.0] for i, a in enumerate(np.linspace(0, 3, 6))}},
+     r"^directions must determine the quadratic form"),
+])
+def test_steepest_direction_refuses_what_would_give_a_wrong_direction(change, words):
+    """Review 35e: base '1' or None was a TypeError, size 0 or inf a NaN direction, a slope
+    without its direction was dropped, a non-unit or coplanar set fitted a wrong form."""
+    args = {"slopes": {k: 0.5 for k in _dirs()}, "directions": _dirs(), "base": 40.0, "size": 1e3}
+    args.update(change)
+    with pytest.raises(ValueError, match=words):
+        sensitivity.steepest_direction(**args)

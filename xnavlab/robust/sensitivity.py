@@ -16,8 +16,11 @@ Examples
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 
+from xnavlab.core.validate import check_real, check_vector, shown
 from xnavlab.robust import ephemeris_error as ee
 from xnavlab.robust.comparison import compare_filters
 
@@ -154,18 +157,41 @@ def steepest_direction(slopes, directions, base, size):
     >>> np.round(np.abs(u), 3).tolist(), round(top, 2)
     ([0.0, 0.0, 1.0], 1.45)
     """
-    names = [k for k in slopes if k in directions]
-    if len(names) < 6:
-        raise ValueError(f"slopes must cover at least 6 of the directions; got {len(names)}")
-    U = np.array([np.asarray(directions[k], dtype=float) for k in names])
-    rr = np.array([base + slopes[k] * size for k in names])
+    U, rr, base, size = _slope_inputs(slopes, directions, base, size)
     rows = np.column_stack([U[:, 0] ** 2, U[:, 1] ** 2, U[:, 2] ** 2,
                             2 * U[:, 0] * U[:, 1], 2 * U[:, 0] * U[:, 2], 2 * U[:, 1] * U[:, 2]])
+    if np.linalg.matrix_rank(rows) < 6:  # lstsq would return one of many forms in silence
+        raise ValueError("directions must determine the quadratic form: these lie on one cone "
+                         "or plane (give six or more in general position)")
     a = np.linalg.lstsq(rows, (rr ** 2 - base ** 2) / size ** 2, rcond=None)[0]
     A = np.array([[a[0], a[3], a[4]], [a[3], a[1], a[5]], [a[4], a[5], a[2]]])
     w, V = np.linalg.eigh(A)
     top = max(float(w[-1]), 0.0)
     return V[:, -1], float((np.sqrt(size ** 2 * top + base ** 2) - base) / size)
+
+
+def _slope_inputs(slopes, directions, base, size):
+    """:func:`steepest_direction`'s inputs checked: the unit vectors, the RMSEs along them,
+    ``base`` and ``size``; one ValueError naming the input at fault."""
+    for name, value in (("slopes", slopes), ("directions", directions)):
+        if not isinstance(value, Mapping):
+            raise ValueError(f"{name} must be a dict of direction name -> value, got {shown(value)}")
+    for k in slopes:  # a slope without its direction would be dropped in silence
+        if k not in directions:
+            raise ValueError(f"slopes[{k!r}] has no direction: directions gives "
+                             f"{', '.join(map(repr, directions))}")
+    if len(slopes) < 6:
+        raise ValueError(f"slopes must cover at least 6 of the directions; got {len(slopes)}")
+    base = check_real("base", base, 0.0, 1e12)
+    size = check_real("size", size, 0.0, 1e12, lo_open=True)
+    U = np.array([check_vector(f"directions[{k!r}]", directions[k], 3) for k in slopes])
+    for k, u in zip(slopes, U, strict=True):
+        if abs(float(np.linalg.norm(u)) - 1.0) > 1e-6:
+            raise ValueError(f"directions[{k!r}] must be a unit vector, got norm "
+                             f"{float(np.linalg.norm(u)):.6g}")
+    rr = np.array([base + check_real(f"slopes[{k!r}]", slopes[k], -base / size, 1e6) * size
+                   for k in slopes])  # an RMSE >= 0 along each direction
+    return U, rr, base, size
 
 
 def earth_error_size(t0=ee.EPOCH_1997):
