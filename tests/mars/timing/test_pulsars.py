@@ -404,3 +404,13 @@ def test_a_pulsar_that_is_no_name_or_pulsar_is_one_line(bad):  # review 35d D22:
     with pytest.raises(ValueError, match=r"^a pulsar must be a catalogue name, the path of a "
                                          r"timing model \(.par\) or a Pulsar, got "):
         pulsars.fold([0.0, 1.0], bad)
+
+
+@pytest.mark.parametrize("duty", ["0.1", [0.1, 0.2], 0.0, 0.6, math.nan, 1 + 1j])
+def test_from_par_checks_the_duty_cycle_before_it_scales_the_period(duty):
+    """Review 35e: duty_cycle='0.1' or a list was a TypeError from 'duty_cycle * period'."""
+    from xnavlab.mars.timing import pint_bridge
+
+    path = pint_bridge.examples_path("B1855+09_NANOGrav_9yv1.gls.par")
+    with pytest.raises(ValueError, match=r"^duty_cycle must be a real number in \(0, 0.5\], got "):
+        pulsars.from_par(path, flux_ph_cm2_s=1e-5, pulsed_fraction=0.5, duty_cycle=duty)

@@ -287,6 +287,8 @@ def from_par(path, distance=None, flux_ph_cm2_s=None, pulsed_fraction=None, duty
 
     if duty_cycle is not None and width_s is not None:
         raise ValueError("give duty_cycle or width_s, not both (the same pulse width)")
+    if duty_cycle is not None:  # checked before it scales the period (a str would repeat)
+        duty_cycle = check_real("duty_cycle", duty_cycle, 0.0, 0.5, lo_open=True)
     try:
         par = pint_bridge.timing_parameters(path)
     except UnicodeDecodeError as exc:  # a ValueError too: named with the file, as every file
@@ -318,7 +320,7 @@ def from_par(path, distance=None, flux_ph_cm2_s=None, pulsed_fraction=None, duty
     flux = check_real("flux_ph_cm2_s", vals["flux_ph_cm2_s"], 0.0, 1e3, lo_open=True)
     pf = check_real("pulsed_fraction", vals["pulsed_fraction"], 0.0, 1.0, lo_open=True)
     if duty_cycle is not None:
-        duty = check_real("duty_cycle", duty_cycle, 0.0, 0.5, lo_open=True)
+        duty = duty_cycle
     else:
         width = check_real("width_s", vals["width_s"], 0.0, 0.5 * period, lo_open=True)
         duty = width / period
