@@ -39,3 +39,14 @@ def test_qdiff_fault_estimates_and_decision():
         att.qdiff_fault_estimates(w[:, :2], q, 0.1, 5.0)
     with pytest.raises(ValueError, match="same number of samples"):
         att.qdiff_fault_estimates(w[:-1], q, 0.1, 5.0)
+
+
+def test_a_window_beyond_a_day_is_refused_not_an_overflow():
+    """Review 35e: window_s=1e308 was 'OverflowError: cannot convert float infinity to integer'."""
+    t, w, q = att.truth_motion(201, 0.1, wobble_deg_s=0.0)
+    for call in (lambda: att.quaternion_rate(q, 0.1, 1e308),
+                 lambda: att.qdiff_fault_estimates(w, q, 0.1, 1e308)):
+        with pytest.raises(ValueError, match=r"^window_s must be a real number in \[0.2, 86400\]"):
+            call()
+    with pytest.raises(ValueError, match=r"^dt must be a real number in \(0, 10\], got 1e\+308$"):
+        att.quaternion_rate(q, 1e308)

@@ -121,3 +121,27 @@ def test_a_complex_sample_or_initial_attitude_is_refused_by_name():
         f.update(np.array([0.0, 0.0, 0.0, 1.0]) + 0j)
     with pytest.raises(ValueError, match="^q0 must hold real numbers"):
         att.AttitudeEKF([0.0, 0.0, 1j, 1.0], 0.1, 1e-6, 1e-4, 1e-7, 1e-6)
+
+
+@pytest.mark.parametrize(("call", "words"), [
+    (lambda: att.ekf_init(att.DEFAULT_Q0, attitude_sigma=1e308, drift_sigma=1e-4),
+     r"^attitude_sigma must be a real number in \(0, 3.14159\], got 1e\+308$"),
+    (lambda: att.ekf_init(att.DEFAULT_Q0, attitude_sigma=1e-4, drift_sigma=1e308),
+     r"^drift_sigma must be a real number in \(0, 1\], got 1e\+308$"),
+    (lambda: att.ekf_predict(*att.ekf_init(att.DEFAULT_Q0, attitude_sigma=1e-4, drift_sigma=1e-4),
+                             [0.0, 0.0, 0.0], 1e308, 1e-12, 0.0),
+     r"^dt must be a real number in \(0, 10\], got 1e\+308$"),
+    (lambda: att.ekf_predict(*att.ekf_init(att.DEFAULT_Q0, attitude_sigma=1e-4, drift_sigma=1e-4),
+                             [0.0, 0.0, 0.0], 0.1, 1e300, 0.0),
+     r"^gyro_cov must be a real number in \[0, 1\], got 1e\+300$"),
+    (lambda: att.AttitudeEKF(att.DEFAULT_Q0, 0.1, 1e308, 1e-4, 0.0, 1e-4),
+     r"^gyro_noise must be a real number in \[0, 1\], got 1e\+308$"),
+    (lambda: att.AttitudeEKF(att.DEFAULT_Q0, 0.1, 0.0, 1e308, 0.0, 1e-4),
+     r"^star_noise must be a real number in \(0, 3.14159\], got 1e\+308$"),
+    (lambda: att.AttitudeEKF(att.DEFAULT_Q0, 0.1, 0.0, 1e-4, 1e308, 1e-4),
+     r"^drift_walk must be a real number in \[0, 1\], got 1e\+308$"),
+])
+def test_a_setting_whose_square_overflows_is_refused_with_its_range(call, words):
+    """Review 35e: 1e308 was an OverflowError or an overflow warning and an inf covariance."""
+    with pytest.raises(ValueError, match=words):
+        call()

@@ -34,3 +34,11 @@ def test_time_sos_dos_reports_both():
     assert r["sos_us"] > 0 and r["dos_us"] > 0
     with pytest.raises(ValueError, match="^n_steps"):
         att.time_sos_dos(n_steps=1)
+
+
+def test_time_sos_dos_refuses_counts_that_would_not_end():
+    """Review 35e: repeats=10**30 ran without end."""
+    with pytest.raises(ValueError, match=r"^repeats must be an integer in \[1, 10000\]"):
+        att.time_sos_dos(n_steps=20, repeats=10**30)
+    with pytest.raises(ValueError, match=r"^n_steps must be an integer in \[10, 1000000\]"):
+        att.time_sos_dos(n_steps=10**30)

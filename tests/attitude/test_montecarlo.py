@@ -70,3 +70,9 @@ def test_seeded_outcomes_refuses_no_fault_and_bad_seeds(args, words):
         att.seeded_outcomes(args[0], [])
     with pytest.raises(ValueError, match=r"^seeds lists 1 twice"):
         att.seeded_outcomes(args[0], [1, 1])
+
+
+def test_isolation_monte_carlo_refuses_a_count_that_would_not_end():
+    """Review 35e: n_runs=10**30 ran without end."""
+    with pytest.raises(ValueError, match=r"^n_runs must be an integer in \[1, 1000000\]"):
+        att.isolation_monte_carlo(10**30, locations=["gyro_x"], kinds=["step"], sizes=[1.0])

@@ -72,3 +72,12 @@ def test_make_fault():
         att.make_fault("gyro_w", "step", 1.0)
     with pytest.raises(ValueError, match="^kind"):
         att.make_fault("gyro_x", "jump", 1.0)
+
+
+def test_sensor_noise_beyond_its_range_is_refused():
+    """Review 35e: the noise had no upper end (1e308 deg/h overflowed to inf samples)."""
+    t = np.arange(3.0)
+    with pytest.raises(ValueError, match=r"^noise_deg_per_h must be a real number in \[0, 100000\]"):
+        att.gyro_measurements(t, np.zeros((3, 3)), noise_deg_per_h=1e308)
+    with pytest.raises(ValueError, match=r"^noise_deg must be a real number in \[0, 180\]"):
+        att.star_tracker_measurements(t, np.tile(att.DEFAULT_Q0, (3, 1)), noise_deg=1e308)

@@ -87,3 +87,19 @@ def test_one_fault_alone_is_a_run_of_that_fault_and_a_list_is_checked_as_core_do
         att.simulate([f, f], duration=60.0)
     with pytest.raises(ValueError, match=r"^faults must be a sequence of Fault, got the string"):
         att.simulate("gyro_x:step:1@45+inf", duration=60.0)
+
+
+@pytest.mark.parametrize(("change", "words"), [
+    ({"duration": 1e308}, r"^duration must be a real number in \(0, 86400\], got 1e\+308$"),
+    ({"gyro_noise_deg_per_h": 1e308}, r"^gyro_noise_deg_per_h must be a real number in \(0, 100000\]"),
+    ({"drifts_deg_per_h": (1e308, 0.0, 0.0, 0.0)}, r"^drifts_deg_per_h must lie in \[-100000, 100000\]"),
+    ({"drift_walk_deg_per_h_sqrt_s": 1e308}, r"^drift_walk_deg_per_h_sqrt_s must be a real number in"),
+    ({"drift_sigma0_deg_per_h": 1e308}, r"^drift_sigma0_deg_per_h must be a real number in"),
+    ({"n_sigma": 1e308}, r"^n_sigma must be a real number in \(0, 100\]"),
+    ({"persist": 10**30}, r"^persist must be an integer in \[1, 1000000\]"),
+    ({"confirm_s": 1e308}, r"^confirm_s must be a real number in \[0, 86400\]"),
+])
+def test_a_run_setting_beyond_its_range_is_refused_not_an_overflow(change, words):
+    """Review 35e: duration=1e308 was 'OverflowError: cannot convert float infinity to integer'."""
+    with pytest.raises(ValueError, match=words):
+        att.SimConfig(**change)

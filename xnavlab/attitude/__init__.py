@@ -51,7 +51,7 @@ from xnavlab.attitude.diagnosis import (
 )
 from xnavlab.attitude.differentiation import qdiff_fault_estimates, quaternion_rate
 from xnavlab.attitude.dos import DOS_GROUPS, dos_rate_matrices, dos_residuals
-from xnavlab.attitude.ekf import AttitudeEKF, ekf_init, ekf_predict, ekf_update
+from xnavlab.attitude.ekf import MAX_RATE, AttitudeEKF, ekf_init, ekf_predict, ekf_update
 from xnavlab.attitude.monitors import DOSMonitor, SOSMonitor, time_sos_dos
 from xnavlab.attitude.montecarlo import isolation_monte_carlo, isolation_table, seeded_outcomes
 from xnavlab.attitude.motion import DEFAULT_Q0, truth_motion, truth_rate
@@ -60,6 +60,7 @@ from xnavlab.attitude.sensors import (
     DEFAULT_MAGNITUDES,
     DEG_PER_H,
     LOCATIONS,
+    MAX_DEG_PER_H,
     PAPER_DRIFTS_DEG_PER_H,
     PAPER_GYRO_NOISE_DEG_PER_H,
     PAPER_STAR_NOISE_DEG,
@@ -79,6 +80,7 @@ __all__ = [
     "truth_motion",
     # sensors
     "DEG_PER_H",
+    "MAX_DEG_PER_H",
     "PAPER_DRIFTS_DEG_PER_H",
     "PAPER_GYRO_NOISE_DEG_PER_H",
     "PAPER_STAR_NOISE_DEG",
@@ -90,6 +92,7 @@ __all__ = [
     "star_tracker_measurements",
     "make_fault",
     # ekf
+    "MAX_RATE",
     "ekf_init",
     "ekf_predict",
     "ekf_update",

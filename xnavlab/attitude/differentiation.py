@@ -23,8 +23,8 @@ __all__ = [
 
 
 def _window(dt, window_s):
-    dt = check_real("dt", dt, 0.0, lo_open=True)
-    window_s = check_real("window_s", window_s, 2.0 * dt)
+    dt = check_real("dt", dt, 0.0, 10.0, lo_open=True)
+    window_s = check_real("window_s", window_s, 2.0 * dt, 86400.0)
     return dt, int(round(window_s / dt))
 
 

@@ -17,6 +17,8 @@ Quaternions scalar last; rates rad/s; covariances in (rad/s)^2 or quaternion uni
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from xnavlab.attitude._checks import check_sample
@@ -25,11 +27,16 @@ from xnavlab.core.quaternions import quat_normalize
 from xnavlab.core.validate import check_finite_array, check_real
 
 __all__ = [
+    "MAX_RATE",
     "ekf_init",
     "ekf_predict",
     "ekf_update",
     "AttitudeEKF",
 ]
+
+#: The largest rate-like setting of the filter, rad/s (a drift's uncertainty, the gyro noise,
+#: the drift random walk); a larger one would overflow the squares in the covariances.
+MAX_RATE = 1.0
 
 
 def ekf_init(q_meas, *, attitude_sigma, drift_sigma):
@@ -40,10 +47,11 @@ def ekf_init(q_meas, *, attitude_sigma, drift_sigma):
     q_meas : array_like, shape (..., 4)
         First star-tracker quaternion; normalised.
     attitude_sigma : float
-        1-sigma attitude uncertainty, rad, > 0; the quaternion block of ``P0`` is
+        1-sigma attitude uncertainty, rad, in (0, pi]; the quaternion block of ``P0`` is
         ``(attitude_sigma/2)^2 I4``.
     drift_sigma : float or array_like, shape (..., 3, 3)
-        1-sigma drift uncertainty, rad/s (a scalar gives ``drift_sigma^2 I3``), or the
+        1-sigma drift uncertainty, rad/s, in (0, :data:`MAX_RATE`] (a scalar gives
+        ``drift_sigma^2 I3``), or the
         full drift covariance block, (rad/s)^2.
 
     Returns
@@ -59,9 +67,9 @@ def ekf_init(q_meas, *, attitude_sigma, drift_sigma):
     ((7,), (7, 7))
     """
     q = quat_normalize(check_finite_array("q_meas", q_meas, shape=(4,)))
-    sa = check_real("attitude_sigma", attitude_sigma, 0.0, lo_open=True)
+    sa = check_real("attitude_sigma", attitude_sigma, 0.0, math.pi, lo_open=True)
     if np.ndim(drift_sigma) == 0:
-        sd = check_real("drift_sigma", drift_sigma, 0.0, lo_open=True)
+        sd = check_real("drift_sigma", drift_sigma, 0.0, MAX_RATE, lo_open=True)
         Pd = sd**2 * np.eye(3)
     else:
         Pd = check_finite_array("drift_sigma", drift_sigma, shape=(3, 3))
@@ -90,7 +98,7 @@ def ekf_predict(x, P, omega_g, dt, gyro_cov, drift_cov):
     omega_g : array_like, shape (..., 3)
         The gyro rates driving the filter, rad/s (the orthogonal triad for SOS).
     dt : float
-        Sample interval, s, > 0.
+        Sample interval, s, in (0, 10].
     gyro_cov : float or array_like, shape (..., 3, 3)
         Covariance of the gyro noise per sample, (rad/s)^2 (scalar: times I3).
     drift_cov : float or array_like, shape (..., 3, 3)
@@ -111,7 +119,7 @@ def ekf_predict(x, P, omega_g, dt, gyro_cov, drift_cov):
     """
     x, P = _state(x, P)
     w = check_finite_array("omega_g", omega_g, shape=(3,))
-    dt = check_real("dt", dt, 0.0, lo_open=True)
+    dt = check_real("dt", dt, 0.0, 10.0, lo_open=True)
     gyro_cov, drift_cov = _cov3("gyro_cov", gyro_cov), _cov3("drift_cov", drift_cov)
     return ekf_predict_unchecked(x, P, w, dt, gyro_cov, drift_cov)
 
@@ -167,7 +175,7 @@ def _state(x, P):
 
 def _cov3(name, c, n=3):
     if np.ndim(c) == 0:
-        return check_real(name, c, 0.0) * np.eye(n)
+        return check_real(name, c, 0.0, MAX_RATE**2) * np.eye(n)
     return check_finite_array(name, c, shape=(n, n))
 
 
@@ -179,13 +187,13 @@ class AttitudeEKF:
     q0 : array_like, shape (4,)
         Initial attitude (usually the first star-tracker quaternion).
     dt : float
-        Sample interval, s.
+        Sample interval, s, in (0, 10].
     gyro_noise : float
-        Gyro noise, 1 sigma per sample, rad/s.
+        Gyro noise, 1 sigma per sample, rad/s, in [0, :data:`MAX_RATE`].
     star_noise : float
-        Star-tracker noise per axis, 1 sigma, rad; ``R = (star_noise/2)^2 I4``.
+        Star-tracker noise per axis, 1 sigma, rad, in (0, pi]; ``R = (star_noise/2)^2 I4``.
     drift_walk : float
-        Drift random walk, rad/s per sqrt(s), >= 0.
+        Drift random walk, rad/s per sqrt(s), in [0, :data:`MAX_RATE`].
     drift_sigma : float
         Initial drift uncertainty, rad/s.
 
@@ -200,10 +208,10 @@ class AttitudeEKF:
     """
 
     def __init__(self, q0, dt, gyro_noise, star_noise, drift_walk, drift_sigma):
-        self.dt = check_real("dt", dt, 0.0, lo_open=True)
-        sg = check_real("gyro_noise", gyro_noise, 0.0)
-        ss = check_real("star_noise", star_noise, 0.0, lo_open=True)
-        dw = check_real("drift_walk", drift_walk, 0.0)
+        self.dt = check_real("dt", dt, 0.0, 10.0, lo_open=True)
+        sg = check_real("gyro_noise", gyro_noise, 0.0, MAX_RATE)
+        ss = check_real("star_noise", star_noise, 0.0, math.pi, lo_open=True)
+        dw = check_real("drift_walk", drift_walk, 0.0, MAX_RATE)
         self.gyro_cov = sg**2 * np.eye(3)
         self.drift_cov = dw**2 * self.dt * np.eye(3)
         self.R = (0.5 * ss) ** 2 * np.eye(4)

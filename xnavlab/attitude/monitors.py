@@ -168,8 +168,8 @@ def time_sos_dos(n_steps=500, repeats=3, config=None, rng=None):
     >>> r["ratio"] > 1.0
     True
     """
-    n_steps = check_int("n_steps", n_steps, 10)
-    repeats = check_int("repeats", repeats, 1)
+    n_steps = check_int("n_steps", n_steps, 10, 10**6)
+    repeats = check_int("repeats", repeats, 1, 10**4)
     cfg = make_config(config)
     if cfg.n < n_steps:
         cfg = dataclasses.replace(cfg, duration=n_steps * cfg.dt)

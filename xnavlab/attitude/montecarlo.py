@@ -86,7 +86,7 @@ def isolation_monte_carlo(
     >>> [(r["method"], r["correct"]) for r in rows if r["location"] == "gyro_x"]
     [('SOS', 1.0), ('DOS', 1.0)]
     """
-    n_runs = check_int("n_runs", n_runs, 1)
+    n_runs = check_int("n_runs", n_runs, 1, 10**6)
     # lists of at least one item, none twice (a string is not split into letters): an empty
     # one would leave only the fault-free rows, a repeat would run its cases twice
     locations = check_items("locations", locations, "location",

@@ -35,6 +35,7 @@ from xnavlab.core.validate import (
 
 __all__ = [
     "DEG_PER_H",
+    "MAX_DEG_PER_H",
     "PAPER_DRIFTS_DEG_PER_H",
     "PAPER_GYRO_NOISE_DEG_PER_H",
     "PAPER_STAR_NOISE_DEG",
@@ -49,6 +50,10 @@ __all__ = [
 
 #: rad/s in one deg/h.
 DEG_PER_H = math.pi / 180.0 / 3600.0
+
+#: The largest gyro drift, noise or drift uncertainty a setting takes, deg/h (about 28 deg/s,
+#: far beyond any gyro; a larger one would overflow the squares of the filters' covariances).
+MAX_DEG_PER_H = 1e5
 
 #: Constant drifts of gyros x, y, z and the skewed gyro, deg/h (paper section 4).
 PAPER_DRIFTS_DEG_PER_H = (50.0, 40.0, -50.0, 45.0)
@@ -158,7 +163,7 @@ def gyro_measurements(
     if t.ndim != 1 or w.shape != (t.size, 3):
         raise ValueError(f"w must have shape (n, 3) with n = len(t) = {t.size}, got {w.shape}")
     b = check_finite_array("drifts_deg_per_h", drifts_deg_per_h, shape=(4,)) * DEG_PER_H
-    sigma = check_real("noise_deg_per_h", noise_deg_per_h, 0.0) * DEG_PER_H
+    sigma = check_real("noise_deg_per_h", noise_deg_per_h, 0.0, MAX_DEG_PER_H) * DEG_PER_H
     rng = make_rng(rng)
     H = gyro_matrix(skew_axis)
     z = w @ H.T + b + rng.normal(0.0, 1.0, (t.size, 4)) * sigma  # paper eq. (2)
@@ -204,7 +209,7 @@ def star_tracker_measurements(t, q, *, noise_deg=PAPER_STAR_NOISE_DEG, faults=()
     q = check_finite_array("q", q, shape=(4,))
     if t.ndim != 1 or q.shape != (t.size, 4):
         raise ValueError(f"q must have shape (n, 4) with n = len(t) = {t.size}, got {q.shape}")
-    sigma = math.radians(check_real("noise_deg", noise_deg, 0.0))
+    sigma = math.radians(check_real("noise_deg", noise_deg, 0.0, 180.0))
     rng = make_rng(rng)
     qv = quat_from_rotvec(rng.normal(0.0, 1.0, (t.size, 3)) * sigma)
     qs = quat_product(q, qv)  # paper eq. (17), q_f = identity

@@ -39,6 +39,7 @@ from xnavlab.attitude.motion import DEFAULT_Q0, truth_motion
 from xnavlab.attitude.sensors import (
     DEG_PER_H,
     LOCATIONS,
+    MAX_DEG_PER_H,
     PAPER_DRIFTS_DEG_PER_H,
     PAPER_GYRO_NOISE_DEG_PER_H,
     PAPER_STAR_NOISE_DEG,
@@ -134,25 +135,31 @@ class SimConfig:
     dos: bool = True
 
     def __post_init__(self):
-        check_real("duration", self.duration, 0.0, lo_open=True)
+        check_real("duration", self.duration, 0.0, 86400.0, lo_open=True)
         check_real("dt", self.dt, 0.0, 10.0, lo_open=True)
         if self.duration < 2 * self.dt:
             raise ValueError(f"duration must be >= 2 dt = {2 * self.dt}, got {self.duration}")
-        check_finite_array("drifts_deg_per_h", self.drifts_deg_per_h, shape=(4,))
-        check_real("gyro_noise_deg_per_h", self.gyro_noise_deg_per_h, 0.0, lo_open=True)
+        drifts = check_finite_array("drifts_deg_per_h", self.drifts_deg_per_h, shape=(4,))
+        if np.any(np.abs(drifts) > MAX_DEG_PER_H):
+            raise ValueError(f"drifts_deg_per_h must lie in [-{MAX_DEG_PER_H:g}, "
+                             f"{MAX_DEG_PER_H:g}] deg/h, got {drifts.tolist()}")
+        check_real("gyro_noise_deg_per_h", self.gyro_noise_deg_per_h, 0.0, MAX_DEG_PER_H,
+                   lo_open=True)
         check_real("star_noise_deg", self.star_noise_deg, 0.0, 1.0, lo_open=True)
         gyro_matrix(self.skew_axis)
         quat_normalize(self.q0)
-        check_real("drift_walk_deg_per_h_sqrt_s", self.drift_walk_deg_per_h_sqrt_s, 0.0)
-        check_real("drift_sigma0_deg_per_h", self.drift_sigma0_deg_per_h, 0.0, lo_open=True)
-        check_real("n_sigma", self.n_sigma, 0.0, lo_open=True)
+        check_real("drift_walk_deg_per_h_sqrt_s", self.drift_walk_deg_per_h_sqrt_s, 0.0,
+                   MAX_DEG_PER_H)
+        check_real("drift_sigma0_deg_per_h", self.drift_sigma0_deg_per_h, 0.0, MAX_DEG_PER_H,
+                   lo_open=True)
+        check_real("n_sigma", self.n_sigma, 0.0, 100.0, lo_open=True)
         cal = check_finite_array("t_cal", self.t_cal, shape=(2,))
         if cal.ndim != 1 or not (0.0 <= cal[0] < cal[1] <= self.duration):
             raise ValueError(f"t_cal must satisfy 0 <= t_cal[0] < t_cal[1] <= duration, got {cal}")
         if cal[1] - cal[0] < 2 * self.dt:
             raise ValueError("t_cal must span at least two samples")
-        check_int("persist", self.persist, 1)
-        check_real("confirm_s", self.confirm_s, 0.0)
+        check_int("persist", self.persist, 1, 10**6)
+        check_real("confirm_s", self.confirm_s, 0.0, 86400.0)
         w = check_real("qdiff_window_s", self.qdiff_window_s, 2 * self.dt)
         if max(w, cal[0] + 0.5 * w) >= cal[1]:
             raise ValueError(
