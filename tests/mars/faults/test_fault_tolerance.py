@@ -8,6 +8,7 @@ from hypothesis import given
 from hypothesis import strategies as st
 from scipy import stats
 
+from xnavlab.core.detection import Event
 from xnavlab.core.faults import Fault
 from xnavlab.mars.faults import fault_tolerance as ft
 from xnavlab.mars.navigation import plots as mars_plots
@@ -496,6 +497,8 @@ def test_a_setting_of_another_detector_is_refused(detector, kw, words):
     ("abc", "events must be a list of detection Events"),  # review 35d D37: AttributeError
     ([("uv", math.nan)], "events[0] must be a detection Event"),
     (None, "events must be a list of detection Events"),
+    ([Event(1.0, 2.0, 5.0, None, "a")], "events[0] must be a detection Event"),  # review 35e
+    ([Event(1.0, 2.0, 5.0, math.nan, "a")], "events[0] must be a detection Event"),
 ])
 def test_merge_events_refuses_what_is_no_list_of_events(events, words):
     with pytest.raises(ValueError) as exc:

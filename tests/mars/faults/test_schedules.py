@@ -339,9 +339,14 @@ def test_a_scoring_window_is_never_inverted(onset, duration, span):
     ({"uv": []}, "events must be a list of detection Events"),
     (5, "events must be a list of detection Events"),
     ([("uv", math.nan)], "events[0] must be a detection Event (xnavlab.core.detection.Event) with "
-                         "finite onset and end, got ('uv', nan)"),
+                         "finite onset and end and a real peak, got ('uv', nan)"),
     ([Event(1.0, 2.0, 3.0, 1.0, "a"), Event(math.nan, 1.0, 2.0, 1.0, "a")], "events[1] must be"),
     ([Event(1.0, 2.0, math.nan, 1.0, "a")], "events[0] must be"),
+    # review 35e: the peak went unchecked (merge_events compares it: '1' was a TypeError, NaN
+    # lost every comparison), and a bool passed for a time
+    ([Event(1.0, 2.0, 3.0, "1", "a")], "events[0] must be"),
+    ([Event(1.0, 2.0, 3.0, math.nan, "a")], "events[0] must be"),
+    ([Event(True, 2.0, 3.0, 1.0, "a")], "events[0] must be"),
 ])
 def test_check_event_list_refuses_what_is_no_list_of_events(events, words):
     with pytest.raises(ValueError) as exc:

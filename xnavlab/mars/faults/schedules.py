@@ -507,8 +507,8 @@ def score_faults(faults, events, isolations=(), *, span=math.inf, dt=None):
 
 def check_event_list(name, events):
     """``events`` as a list of :class:`~xnavlab.core.detection.Event` with a finite onset and end
-    (``cleared`` may be inf), else one ValueError naming ``name`` (a string, a dict or a number
-    is no list; ``name[i]`` an item).
+    and a real peak (``cleared`` and ``peak`` may be inf, not NaN), else one ValueError naming
+    ``name`` (a string, a dict or a number is no list; ``name[i]`` an item).
 
     Examples
     --------
@@ -529,9 +529,12 @@ def check_event_list(name, events):
     events = list(events)
     real = int | float | np.integer | np.floating
     for i, e in enumerate(events):  # cleared may be inf (still flagging at the end), not NaN
-        if not isinstance(e, Event) or not all(isinstance(v, real) for v in (e.onset, e.end, e.cleared)) \
-                or not (math.isfinite(e.onset) and math.isfinite(e.end) and not math.isnan(e.cleared)):
-            raise ValueError(f"{name}[{i}] must be a {what} with finite onset and end, got {shown(e)}")
+        times = (e.onset, e.end, e.cleared, e.peak) if isinstance(e, Event) else ()
+        if not times or not all(isinstance(v, real) and not isinstance(v, bool) for v in times) \
+                or not (math.isfinite(e.onset) and math.isfinite(e.end) and not math.isnan(e.cleared)
+                        and not math.isnan(e.peak)):
+            raise ValueError(f"{name}[{i}] must be a {what} with finite onset and end and a "
+                             f"real peak, got {shown(e)}")
     return events
 
 
