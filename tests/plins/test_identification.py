@@ -85,3 +85,15 @@ def test_the_random_walk_filter_refuses_an_indefinite_R_or_Q():
     with pytest.raises(ValueError, match="Q must be positive semi-definite"):
         P.kf_identify(np.ones((3, 1)), np.ones((3, 1, 1)), 1.0, -np.eye(1))
     assert P.rw_predict(np.zeros(2), np.eye(2), np.zeros((2, 2)))[1].tolist() == np.eye(2).tolist()
+
+
+def test_identify_fault_refuses_a_noise_beyond_its_range():
+    """Review 35e: sigma=1e308 was 'OverflowError: (34, 'Numerical result out of range')'."""
+    V = P.parity_basis([[1.0, 1.0], [0.0, 1.0]], [1.0, 0.0], 3)
+    t = np.arange(30.0)
+    z = np.where(t >= 10.0, 50.0, 0.0)
+    W = np.broadcast_to(V, (30, 4, 2))
+    with pytest.raises(ValueError, match=r"^sigma must be a real number in \(0, 1e\+06\], got 1e\+308$"):
+        P.identify_fault(t, z, W, 10.0, sigma=1e308)
+    with pytest.raises(ValueError, match=r"^q_rw must be a real number in \[0, 1e\+06\]"):
+        P.identify_fault(t, z, W, 10.0, q_rw=1e308)

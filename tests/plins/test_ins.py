@@ -231,3 +231,10 @@ def test_simulation_bad_input():
         ins.simulate_errors(tr, transitions=(np.zeros((2, 10, 10)), np.zeros((2, 10, 10))))
     with pytest.raises(ValueError, match="seed"):
         ins.simulate_errors(tr, rng=-1)
+
+
+@pytest.mark.parametrize("key", ["gyro_arw_deg_rth", "accel_vrw_mps_rth", "pl_rw_m_rts"])
+def test_imu_noise_beyond_its_range_is_refused_not_an_overflow(key):
+    """Review 35e: 1e308 was 'OverflowError: (34, 'Numerical result out of range')'."""
+    with pytest.raises(ValueError, match=rf"^{key} must be a real number in \[0, 10000\], got 1e\+308$"):
+        ins.imu_noise_psd(**{key: 1e308})

@@ -180,3 +180,13 @@ def test_a_fault_the_flight_would_not_use_is_refused_naming_it(fault, words):
     x = ins.simulate_errors(tr, rng=0)
     with pytest.raises(ValueError, match=rf"^faults\[0\] \(.*{words}"):
         pl.simulate_pseudoranges(tr, x, faults=[fault])
+
+
+def test_a_height_beyond_a_million_km_is_refused_not_an_overflow():
+    """Review 35e: h=1e308 gave an overflow warning and an inf geometry (measurement_matrix, pdop)."""
+    for call in (lambda: pl.geodetic_to_ecef(0.0, 0.0, 1e308),
+                 lambda: pl.measurement_matrix(0.68, 2.02, 1e308, pl.sites_ecef()),
+                 lambda: pl.pdop(0.68, 2.02, 1e308, pl.sites_ecef())):
+        with pytest.raises(ValueError, match=r"^h must be in \(-3\.18907e\+06, 1e\+09\] m$"):
+            call()
+    assert np.all(np.isfinite(pl.geodetic_to_ecef(0.0, 0.0, pl.MAX_HEIGHT)))

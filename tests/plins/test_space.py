@@ -139,3 +139,11 @@ def test_residual_threshold_is_sigma_times_the_chi_quantile_and_checks_its_input
         args = {"sigma": 1.0, "q": 3, "p_fa": 1e-3, **kw}
         with pytest.raises(ValueError, match=name):
             P.residual_threshold(**args)
+
+
+def test_residual_threshold_refuses_a_noise_or_dimension_beyond_its_range():
+    """Review 35e: sigma=1e308 gave an inf threshold."""
+    with pytest.raises(ValueError, match=r"^sigma must be a real number in \(0, 1e\+06\], got 1e\+308$"):
+        P.residual_threshold(1e308, 1)
+    with pytest.raises(ValueError, match=r"^q must be an integer in \[1, 1000\]"):
+        P.residual_threshold(1.0, 10**30)

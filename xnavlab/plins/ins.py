@@ -363,11 +363,11 @@ def imu_noise_psd(gyro_arw_deg_rth=0.1, accel_vrw_mps_rth=0.1, pl_rw_m_rts=0.0):
     Parameters
     ----------
     gyro_arw_deg_rth : float
-        Gyro angle random walk, deg/sqrt(h), >= 0.
+        Gyro angle random walk, deg/sqrt(h), in [0, 1e4].
     accel_vrw_mps_rth : float
-        Accelerometer velocity random walk, (m/s)/sqrt(h), >= 0.
+        Accelerometer velocity random walk, (m/s)/sqrt(h), in [0, 1e4].
     pl_rw_m_rts : float
-        Random walk of the pseudolite equivalent error, m/sqrt(s), >= 0.
+        Random walk of the pseudolite equivalent error, m/sqrt(s), in [0, 1e4].
 
     Returns
     -------
@@ -380,9 +380,9 @@ def imu_noise_psd(gyro_arw_deg_rth=0.1, accel_vrw_mps_rth=0.1, pl_rw_m_rts=0.0):
     >>> bool(np.isclose(q[0], math.radians(1.0) ** 2)), float(q[3])
     (True, 1.0)
     """
-    arw = math.radians(check_real("gyro_arw_deg_rth", gyro_arw_deg_rth, 0.0)) / 60.0  # rad/sqrt(s)
-    vrw = check_real("accel_vrw_mps_rth", accel_vrw_mps_rth, 0.0) / 60.0  # (m/s)/sqrt(s)
-    plw = check_real("pl_rw_m_rts", pl_rw_m_rts, 0.0)
+    arw = math.radians(check_real("gyro_arw_deg_rth", gyro_arw_deg_rth, 0.0, 1e4)) / 60.0  # rad/sqrt(s)
+    vrw = check_real("accel_vrw_mps_rth", accel_vrw_mps_rth, 0.0, 1e4) / 60.0  # (m/s)/sqrt(s)
+    plw = check_real("pl_rw_m_rts", pl_rw_m_rts, 0.0, 1e4)
     return np.array([arw**2] * 3 + [vrw**2] * 3 + [plw**2])
 
 

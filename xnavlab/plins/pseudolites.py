@@ -50,6 +50,7 @@ from xnavlab.plins.ins import N_STATES, WGS84_A, WGS84_E2, Trajectory, earth_rad
 __all__ = [
     "DEFAULT_SITES_DEG",
     "DEFAULT_SIGMA",
+    "MAX_HEIGHT",
     "SENSOR",
     "geodetic_to_ecef",
     "ecef_to_geodetic",
@@ -78,6 +79,10 @@ DEFAULT_SITES_DEG = np.array([
 #: Default 1-sigma pseudorange noise, m (see :func:`simulate_pseudoranges`).
 DEFAULT_SIGMA = 2.0
 
+#: The greatest height a point takes, m (a million km, beyond the Moon: a pseudolite's user is
+#: near the ground, and far larger heights overflow the squares of the geometry).
+MAX_HEIGHT = 1e9
+
 #: Sensor name of the pseudoranges for :mod:`xnavlab.core.faults`.
 SENSOR = "pseudorange"
 
@@ -88,8 +93,8 @@ def _geo_arrays(lat, lon, h):
     h = check_finite_array("h", h)
     if np.any(np.abs(lat) > math.pi / 2):
         raise ValueError("lat must be in [-pi/2, pi/2] rad")
-    if np.any(h <= -WGS84_A / 2):
-        raise ValueError(f"h must be > {-WGS84_A / 2:g} m")
+    if np.any(h <= -WGS84_A / 2) or np.any(h > MAX_HEIGHT):  # far out, squares overflow
+        raise ValueError(f"h must be in ({-WGS84_A / 2:g}, {MAX_HEIGHT:g}] m")
     try:
         return np.broadcast_arrays(lat, lon, h)
     except ValueError:
@@ -107,7 +112,7 @@ def geodetic_to_ecef(lat, lon, h):
     lat, lon : float or array_like
         Geodetic latitude in [-pi/2, pi/2] and longitude, rad.
     h : float or array_like
-        Height above the ellipsoid, m.
+        Height above the ellipsoid, m, in (-a/2, :data:`MAX_HEIGHT`].
 
     Returns
     -------

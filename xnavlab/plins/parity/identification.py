@@ -390,11 +390,11 @@ def identify_fault(t, z_j, W_j, onset, model="step", sigma=_pl.DEFAULT_SIGMA,
     model : {"bias", "step", "ramp"}
         Fault model.
     sigma : float
-        Pseudorange noise, m, > 0.
+        Pseudorange noise, m, in (0, 1e6].
     time_origin : {"absolute", "onset"}
         For ``"ramp"`` (:func:`fault_signature`).
     q_rw : float
-        Random-walk variance per step of each parameter (eq. 28), >= 0.
+        Random-walk variance per step of each parameter (eq. 28), in [0, 1e6].
     sensor : int
         Sensor index, recorded in the result.
 
@@ -418,8 +418,8 @@ def identify_fault(t, z_j, W_j, onset, model="step", sigma=_pl.DEFAULT_SIGMA,
         raise ValueError("t and z_j must have shape (n,) and W_j shape (n, s+1, q)")
     onset = check_real("onset", onset)
     check_choice("model", model, MODELS)
-    sigma = check_real("sigma", sigma, 0.0, lo_open=True)
-    q_rw = check_real("q_rw", q_rw, 0.0)
+    sigma = check_real("sigma", sigma, 0.0, 1e6, lo_open=True)  # as residual_threshold's
+    q_rw = check_real("q_rw", q_rw, 0.0, 1e6)
     s = W_j.shape[1] - 1
     ks = np.arange(s, len(t))
     if model != "bias":

@@ -349,9 +349,9 @@ def residual_threshold(sigma, q, p_fa=1e-6):
     Parameters
     ----------
     sigma : float
-        Pseudorange noise, m, > 0.
+        Pseudorange noise, m, in (0, 1e6].
     q : int
-        Parity-space dimension, >= 1.
+        Parity-space dimension, in [1, 1000].
     p_fa : float
         False-alarm probability per window and sensor, in (0, 0.5).
 
@@ -365,7 +365,7 @@ def residual_threshold(sigma, q, p_fa=1e-6):
     >>> round(residual_threshold(1.0, 1, p_fa=0.05), 3)
     1.96
     """
-    sigma = check_real("sigma", sigma, 0.0, lo_open=True)
-    q = check_int("q", q, 1)
+    sigma = check_real("sigma", sigma, 0.0, 1e6, lo_open=True)
+    q = check_int("q", q, 1, 1000)
     p_fa = check_real("p_fa", p_fa, 0.0, 0.5, lo_open=True, hi_open=True)
     return sigma * math.sqrt(chi2_isf(p_fa, q))
