@@ -213,3 +213,9 @@ def test_the_series_models_refuse_a_scenario_or_sensor_of_another_kind():
             (lambda: optics.cns_series_model("paper", sensors["cns"]), r"^scenario must be a MarsScenario")):
         with pytest.raises(ValueError, match=message):
             call()
+
+
+def test_radius_range_sigma_refuses_an_angle_noise_beyond_pi():
+    """Review 35e: sigma_alpha=1e308 overflowed to an inf range noise."""
+    with pytest.raises(ValueError, match=r"^sigma_alpha must be a real number in \[0, 3.14159\]"):
+        optics.radius_range_sigma(2.0 * optics.R_MARS, 1e308)

@@ -256,3 +256,9 @@ def test_a_star_listed_twice_is_refused_as_by_the_scenario():
         sensors.CNSSensor(("Sirius", "Sirius", "Vega"))
     with pytest.raises(ValueError, match=r"^star_names must be a list of stars, got the string"):
         sensors.CNSSensor("Sirius")
+
+
+def test_uv_R_refuses_a_range_noise_beyond_the_sensors_range():
+    """Review 35e: sigma_range=1e308 was 'OverflowError: (34, 'Numerical result out of range')'."""
+    with pytest.raises(ValueError, match=r"^sigma_range must be a real number in \(0, 1e\+07\], got 1e"):
+        sensors.uv_R(1e308, 0.5)

@@ -55,3 +55,22 @@ def test_the_time_update_refuses_complex_and_nan_by_name():
         time_update.process_noise(1.0, 1j)
     with pytest.raises(ValueError, match="^dt must be a real number"):
         time_update.Propagation(dynamics.MARS_T0, np.nan, tab, 10.0)
+
+
+def test_a_step_or_noise_beyond_its_range_is_refused_not_an_overflow_or_an_endless_loop():
+    """Review 35e: filter_step(dt=1e308) and process_noise(1e308, q) overflowed to inf, and
+    filter_propagate(dt=1e308) or max_step=1e-300 looped without end."""
+    tab = dynamics.ThirdBodyTable(dynamics.MARS_T0, dynamics.MARS_T0 + 600.0)
+    x0, t0 = dynamics.MARS_STATE0, dynamics.MARS_T0
+    with pytest.raises(ValueError, match=r"^dt must be a real number in \[-86400, 86400\], got 1e\+308$"):
+        time_update.filter_step(x0, t0, 1e308, tab)
+    with pytest.raises(ValueError, match=r"^dt must be a real number in \[0, 1e\+06\], got 1e\+308$"):
+        time_update.process_noise(1e308, 1.0)
+    with pytest.raises(ValueError, match=r"^q must be a real number in \[0, 1e\+06\], got 1e\+308$"):
+        time_update.process_noise(1.0, 1e308)
+    with pytest.raises(ValueError, match=r"^dt / max_step must be at most 1e6 sub-steps, got dt = 1e\+308 s"):
+        time_update.filter_propagate(x0, t0, 1e308, tab)
+    with pytest.raises(ValueError, match=r"^dt / max_step must be at most 1e6 sub-steps"):
+        time_update.filter_propagate(x0, t0, 500.0, tab, max_step=1e-300)
+    with pytest.raises(ValueError, match=r"^max_step must be a real number in \(0, 86400\]"):
+        time_update.filter_propagate(x0, t0, 500.0, tab, max_step=1e308)

@@ -140,7 +140,7 @@ def radius_range_sigma(rho, sigma_alpha, radius=R_MARS):
     rho : float or array_like
         Range, m.
     sigma_alpha : float
-        Noise of the apparent radius, rad.
+        Noise of the apparent radius, rad, in [0, pi].
     radius : float
         Sphere radius, m.
 
@@ -149,7 +149,7 @@ def radius_range_sigma(rho, sigma_alpha, radius=R_MARS):
     >>> round(float(radius_range_sigma(2.0 * R_MARS, 1e-3) / R_MARS), 6)   # 2 R cot 30 deg 1e-3
     0.003464
     """
-    sigma_alpha = check_real("sigma_alpha", sigma_alpha, 0.0)
+    sigma_alpha = check_real("sigma_alpha", sigma_alpha, 0.0, math.pi)
     alpha = apparent_radius(rho, radius)
     rho = np.asarray(rho, dtype=float)
     return rho / np.tan(alpha) * sigma_alpha  # sigma_rho = rho cot(alpha) sigma_alpha

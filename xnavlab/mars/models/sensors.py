@@ -280,12 +280,14 @@ def uv_jacobian(x):
 def uv_R(sigma_range=5000.0, sigma_dir=_UV_DIR):
     """UV noise covariance ``diag(sigma_range^2, sigma_dir^2 I3)``, shape (4, 4).
 
+    ``sigma_range`` in m, in (0, 1e7] (as :class:`UVSensor`'s); ``sigma_dir`` in (0, pi].
+
     Examples
     --------
     >>> np.diag(uv_R(10.0, 0.5)).tolist()
     [100.0, 0.25, 0.25, 0.25]
     """
-    sigma_range = check_real("sigma_range", sigma_range, 0.0, lo_open=True)
+    sigma_range = check_real("sigma_range", sigma_range, 0.0, 1e7, lo_open=True)
     sigma_dir = check_real("sigma_dir", sigma_dir, 0.0, math.pi, lo_open=True)
     return np.diag([sigma_range**2, sigma_dir**2, sigma_dir**2, sigma_dir**2])
 

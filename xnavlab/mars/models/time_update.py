@@ -23,12 +23,15 @@ __all__ = ["process_noise", "filter_step", "filter_propagate", "Propagation"]
 def process_noise(dt, q):
     """White-acceleration process noise over ``dt``: ``q [[dt^3/3 I, dt^2/2 I], [dt^2/2 I, dt I]]``.
 
+    ``dt`` in s and ``q`` in m^2/s^3, each in [0, 1e6] (beyond, ``dt^3`` and the products
+    overflow).
+
     Examples
     --------
     >>> process_noise(2.0, 3.0)[[0, 0, 3], [0, 3, 3]].tolist()
     [8.0, 6.0, 6.0]
     """
-    dt, q = check_real("dt", dt, 0.0), check_real("q", q, 0.0)
+    dt, q = check_real("dt", dt, 0.0, 1e6), check_real("q", q, 0.0, 1e6)
     Q = np.zeros((6, 6))
     I3 = np.eye(3)
     Q[:3, :3] = q * dt**3 / 3.0 * I3
@@ -45,7 +48,7 @@ def filter_step(x, t, dt, table):
     x : ndarray, shape (6,)
         State at ``t``.
     t, dt : float
-        Epoch and step, s.
+        Epoch and step, s; ``dt`` in [-86400, 86400] (one day either way).
     table : ThirdBodyTable
         Third bodies (filter ephemeris).
 
@@ -58,7 +61,7 @@ def filter_step(x, t, dt, table):
     True
     """
     x = check_finite_array("x", x, shape=(6,))
-    t, dt = check_real("t", t), check_real("dt", dt)
+    t, dt = check_real("t", t), check_real("dt", dt, -86400.0, 86400.0)
 
     def f(tt, y):
         return np.concatenate([y[3:], dynamics.acceleration(tt, y[:3], table)])
@@ -75,6 +78,8 @@ def filter_propagate(x, t, dt, table, max_step=10.0):
 
     Returns the propagated state and the transition matrix ``Phi_n ... Phi_1``
     (:func:`xnavlab.mars.models.dynamics.transition_matrix` at the start of each sub-step).
+    ``max_step`` (s) is in (0, 86400], and at most 1e6 sub-steps are taken (a ``dt`` or a
+    ``max_step`` that asks for more is refused, not run without end).
 
     Returns
     -------
@@ -91,7 +96,10 @@ def filter_propagate(x, t, dt, table, max_step=10.0):
     """
     x = check_finite_array("x", x, shape=(6,))
     t, dt = check_real("t", t), check_real("dt", dt, 0.0)
-    max_step = check_real("max_step", max_step, 0.0, lo_open=True)
+    max_step = check_real("max_step", max_step, 0.0, 86400.0, lo_open=True)
+    if dt / max_step > 1e6:
+        raise ValueError(f"dt / max_step must be at most 1e6 sub-steps, got dt = {dt:g} s and "
+                         f"max_step = {max_step:g} s ({dt / max_step:.3g})")
     n = max(1, math.ceil(dt / max_step - 1e-9))
     h = dt / n
     Phi = np.eye(6)
