@@ -86,3 +86,9 @@ def test_time_conversions_refuse_complex_nan_and_text(bad):
         ephemeris.jd_from_t(bad)
     with pytest.raises(ValueError, match="^jd must"):
         ephemeris.t_from_jd(bad)
+
+
+def test_t_from_jd_refuses_a_date_whose_seconds_overflow():
+    """Review 35e: jd=1e308 gave inf seconds with an overflow warning."""
+    with pytest.raises(ValueError, match=r"^jd must lie in \[-1e\+15, 1e\+15\] days, got 1e\+308$"):
+        ephemeris.t_from_jd([2457388.5, 1e308])

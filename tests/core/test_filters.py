@@ -355,3 +355,22 @@ def test_judge_series_judges_exactly_the_series_of_values_at_or_above_zero(value
         first = next(i for i, v in enumerate(values) if v < 0)
         with pytest.raises(ValueError, match=rf"^values\[{first}\] must be a NEES or NIS value"):
             filters.judge_series(values, 1.0, 2.0)
+
+
+def test_sigma_points_refuse_a_spread_that_overflows():
+    """Review 35e: lam=1e308 gave inf sigma points with an overflow warning."""
+    with pytest.raises(ValueError, match=r"^lam must be a real number in \(-1, 1e\+06\], got 1e\+308$"):
+        filters.sigma_points(np.zeros(1), np.eye(1) * 4.0, 1e308)
+
+
+@pytest.mark.parametrize(("kw", "words"), [
+    ({"alpha": 1e-200}, r"^alpha and kappa must keep n \+ lambda = alpha\^2 \(n \+ kappa\) >= 1e-150"),
+    ({"alpha": 1e-80}, r"^alpha and kappa must keep n \+ lambda"),
+    ({"kappa": 1e308}, r"^kappa must be a real number in \(-3, 100000\], got 1e\+308$"),
+    ({"beta": 1e308}, r"^beta must be a real number in \[-1000, 1000\], got 1e\+308$"),
+])
+def test_ukf_weights_refuse_settings_whose_weights_are_not_finite(kw, words):
+    """Review 35e: alpha=1e-200 was a ZeroDivisionError; kappa=1e308 reached sigma_points and
+    was refused there as lam, a parameter never given; beta=1e308 gave an inf weight."""
+    with pytest.raises(ValueError, match=words):
+        filters.ukf_weights(3, **kw)

@@ -116,3 +116,16 @@ def test_signal_trial_refuses_a_seed_above_the_records_range():
     """Review 35e: 2^63 was taken (check_int without its upper end)."""
     with pytest.raises(ValueError, match=r"^seed must be an integer in \[0, 9223372036854775807\]"):
         mc.signal_trial("step", 3.0, seed=2**63)
+
+
+def test_counts_beyond_their_range_are_refused_not_an_overflow_or_an_endless_run():
+    """Review 35e: seeds(0, 10**30) was an OverflowError, detection_table(trials=10**30) ran
+    without end, signal_trial(n=10**12) would allocate terabytes."""
+    with pytest.raises(ValueError, match=r"^n must be an integer in \[0, 10000000\], got 10{30}$"):
+        mc.seeds(0, 10**30)
+    with pytest.raises(ValueError, match=r"^trials must be an integer in \[1, 1000000\]"):
+        mc.detection_table(("step",), (10.0,), trials=10**30, max_workers=1)
+    with pytest.raises(ValueError, match=r"^n must be an integer in \[2500, 10000000\], got 10{12}$"):
+        mc.signal_trial("step", 3.0, n=10**12)
+    with pytest.raises(ValueError, match=r"^duration must be an integer in \[1, 1000000\]"):
+        mc.signal_trial("step", 3.0, duration=10**30)

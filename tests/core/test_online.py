@@ -141,3 +141,11 @@ def test_events_refuse_complex_or_nan_times_ratios_and_flags():
         D.events_from_alarms(np.arange(3.0), np.zeros(3, bool), [0.0, np.nan, 0.0], 1)
     with pytest.raises(ValueError, match="^t0 must be a real number"):
         D.Detection(np.zeros(0), *[np.zeros(0)] * 4, []).first_onset_after(math.nan)
+
+
+def test_a_holdoff_beyond_its_range_is_refused_not_an_overflow():
+    """Review 35e: holdoff=10**30 was 'OverflowError: Python int too large to convert to C long'."""
+    a = np.zeros(10, bool)
+    a[[2, 3]] = True
+    with pytest.raises(ValueError, match=r"^holdoff must be an integer in \[1, 1000000000\]"):
+        D.events_from_alarms(np.arange(10.0), a, a * 2.0, holdoff=10**30)

@@ -34,7 +34,7 @@ import functools
 import numpy as np
 
 from xnavlab.core.constants import DAY, J2000_JD
-from xnavlab.core.validate import check_choice, check_finite_array
+from xnavlab.core.validate import check_choice, check_finite_array, shown
 
 __all__ = ["EPHEMERIDES", "BODIES", "state", "position", "coverage", "jd_from_t", "t_from_jd"]
 
@@ -88,8 +88,14 @@ def t_from_jd(jd):
     --------
     >>> t_from_jd(2457388.5)   # 2016-01-01 00:00 TDB
     504878400.0
+
+    ``jd`` in [-1e15, 1e15] days (far beyond any ephemeris; the seconds stay finite).
     """
-    return (check_finite_array("jd", jd) - J2000_JD) * DAY
+    jd = check_finite_array("jd", jd)
+    if np.any(np.abs(jd) > 1e15):
+        worst = jd.ravel()[np.argmax(np.abs(jd))]
+        raise ValueError(f"jd must lie in [-1e+15, 1e+15] days, got {shown(worst)}")
+    return (jd - J2000_JD) * DAY
 
 
 def _raw(body, days, ephem):

@@ -329,9 +329,10 @@ def ukf_weights(n, alpha=1.0, beta=2.0, kappa=0.0):
         Spread of the sigma points (``0 < alpha <= 1``; 1e-3 is Wan and van der Merwe's
         small-spread choice, 1 keeps all weights positive when ``kappa = 0``).
     beta : float
-        Prior-knowledge term (2 is optimal for Gaussians).
+        Prior-knowledge term (2 is optimal for Gaussians), in [-1e3, 1e3].
     kappa : float
-        Secondary scaling; ``n + kappa > 0`` is required.
+        Secondary scaling, in (-n, 1e5]; ``alpha^2 (n + kappa) >= 1e-150`` is required (the
+        weights are ``1 / (n + lambda)``).
 
     Returns
     -------
@@ -346,11 +347,14 @@ def ukf_weights(n, alpha=1.0, beta=2.0, kappa=0.0):
     >>> Wm.tolist(), lam
     ([0.0, 0.25, 0.25, 0.25, 0.25], 0.0)
     """
-    n = check_int("n", n, 1)
+    n = check_int("n", n, 1, 10**4)
     alpha = check_real("alpha", alpha, 0.0, 1.0, lo_open=True)
-    beta = check_real("beta", beta)
-    kappa = check_real("kappa", kappa, -n, lo_open=True)
+    beta = check_real("beta", beta, -1e3, 1e3)
+    kappa = check_real("kappa", kappa, -n, 1e5, lo_open=True)
     lam = alpha**2 * (n + kappa) - n
+    if not alpha**2 * (n + kappa) >= 1e-150:  # the weights 1 / (n + lam) would be inf
+        raise ValueError(f"alpha and kappa must keep n + lambda = alpha^2 (n + kappa) >= 1e-150 "
+                         f"(finite weights), got alpha = {alpha:g}, kappa = {kappa:g}")
     Wm = np.full(2 * n + 1, 1.0 / (2.0 * (n + lam)))
     Wc = Wm.copy()
     Wm[0] = lam / (n + lam)
@@ -375,7 +379,7 @@ def sigma_points(x, P, lam):
     x = check_vector("x", x)
     n = x.size
     P = _square("P", P, n)
-    lam = check_real("lam", lam, -n, lo_open=True)
+    lam = check_real("lam", lam, -n, 1e6, lo_open=True)  # (n + lam) P stays finite
     try:
         L = np.linalg.cholesky((n + lam) * _sym(P))
     except np.linalg.LinAlgError:  # name what is wrong with P: indefinite or singular

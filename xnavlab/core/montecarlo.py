@@ -66,7 +66,7 @@ def seeds(seed, n):
     (True, 3)
     """
     seed = check_int("seed", seed, 0, 2**63 - 1)
-    n = check_int("n", n, 0)
+    n = check_int("n", n, 0, 10**7)  # as a campaign's runs
     return [int(s.generate_state(1, np.uint64)[0] >> np.uint64(1))
             for s in np.random.SeedSequence(seed).spawn(n)]
 
@@ -83,11 +83,11 @@ def signal_trial(kind, size_sigma, *, seed=0, n=4000, train=1500, duration=300, 
     seed : int
         Seed of this trial's generator.
     n : int
-        Samples (3 s apart), >= train + 2 duration + 400.
+        Samples (3 s apart), in [train + 2 duration + 400, 1e7].
     train : int
-        Fault-free samples the wavelet trains on (>= 356); both detectors decide after it.
+        Fault-free samples the wavelet trains on, in [356, 1e6]; both detectors decide after it.
     duration : int
-        Fault length, samples (>= 1).
+        Fault length, samples, in [1, 1e6].
     noise_scale : float
         True noise / modelled noise, in (0, 100].
     pfa : float
@@ -114,11 +114,11 @@ def signal_trial(kind, size_sigma, *, seed=0, n=4000, train=1500, duration=300, 
     """
     check_choice("kind", kind, KINDS)
     size_sigma = check_real("size_sigma", size_sigma, 0.0, 1000.0)
-    train = check_int("train", train, 356)
-    duration = check_int("duration", duration, 1)
-    n = check_int("n", n, train + 2 * duration + 400)
+    train = check_int("train", train, 356, 10**6)
+    duration = check_int("duration", duration, 1, 10**6)
+    n = check_int("n", n, train + 2 * duration + 400, 10**7)
     noise_scale = check_real("noise_scale", noise_scale, 0.0, 100.0, lo_open=True)
-    window = 200 if window is None else check_int("window", window, 0)
+    window = 200 if window is None else check_int("window", window, 0, 10**7)
     rng = np.random.default_rng(check_seed("seed", seed))
     t = _DT * np.arange(n)
     lo = train + duration + 200
@@ -205,7 +205,7 @@ def run_tasks(func, params, *, seed=0, executor=None, max_workers=2, chunksize=1
                              f"{type(executor).__name__}")
         return list(executor.map(_call, args))
     max_workers = check_int("max_workers", max_workers, 1, os.cpu_count() or 1)
-    chunksize = check_int("chunksize", chunksize, 1)
+    chunksize = check_int("chunksize", chunksize, 1, 10**7)
     if max_workers == 1:
         return [_call(a) for a in args]
     with ProcessPoolExecutor(max_workers=max_workers) as pool:
@@ -255,7 +255,7 @@ def detection_table(kinds=KINDS, sizes=(2.0, 4.0, 8.0), *, trials=20, seed=0, no
     >>> rows[1]["wavelet_pd"], rows[1]["wavelet_late"]        # a spike: flagged after its sample
     (0.0, 1.0)
     """
-    trials = check_int("trials", trials, 1)
+    trials = check_int("trials", trials, 1, 10**6)
     sizes = [check_real(f"sizes[{i}]", s, 0.0) for i, s in enumerate(check_items("sizes", sizes, "size"))]
     kinds = check_items("kinds", kinds, "kind")
     cells = [(k, float(s)) for k in kinds for s in sizes]

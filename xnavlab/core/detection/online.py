@@ -394,7 +394,7 @@ class Detection:
 
 
 def _check_holdoff(holdoff):
-    return check_int("holdoff", holdoff, 1)
+    return check_int("holdoff", holdoff, 1, 10**9)  # samples; an int64 beyond overflows
 
 
 def events_from_alarms(t, alarm, ratio, holdoff, tests=None):
@@ -490,7 +490,7 @@ def alarm_clusters(alarm, gap=1):
     alarm = np.asarray(alarm, dtype=bool)
     if alarm.ndim != 1:
         raise ValueError(f"alarm must be 1-D, got shape {alarm.shape}")
-    gap = check_int("gap", gap, 1)
+    gap = check_int("gap", gap, 1, 10**9)
     idx = np.flatnonzero(alarm)
     if idx.size == 0:
         return np.zeros(0, int), np.zeros(0, int), np.zeros(0, int)
