@@ -69,6 +69,10 @@ def test_relative_par_paths_read_from_the_base_folder(par, tmp_path):
     ([{k: v for k, v in ENTRY.items() if k != "width_s"}], "needs width_s"),
     ([{**ENTRY, "dec_deg": 95.0}], "dec_deg must be a real number in [-90, 90]"),
     ([ENTRY, {**ENTRY, "name": "X2"}], "lists X2 twice (items 0 and 1)"),  # same direction
+    # review 35e: a number or a list for par was read as the file name '5' or "['a.par']"
+    ([{"par": 5}], "pulsar table's par must be the path of a .par file (a string), got 5"),
+    ([{"par": ["a.par"]}], "par must be the path of a .par file (a string), got ['a.par']"),
+    ([{"par": " "}], "par must be the path of a .par file (a string), got ' '"),
 ])
 def test_bad_pulsar_lists_are_one_line_each(specs, words):
     with pytest.raises(ValueError) as exc:

@@ -48,7 +48,7 @@ from pathlib import Path
 import numpy as np
 
 from xnavlab.core.constants import KPC
-from xnavlab.core.validate import check_real
+from xnavlab.core.validate import check_real, shown
 from xnavlab.mars.timing import pulsars
 
 __all__ = ["PAR_KEYS", "ENTRY_KEYS", "resolve", "check_list", "names", "fault_names", "to_json",
@@ -69,7 +69,10 @@ def _from_table(spec, base):
         if bad:
             raise ValueError(f"pulsar table with a par has no key {bad[0]!r} "
                              f"(keys: {', '.join(PAR_KEYS)})")
-        path = Path(str(spec["par"])).expanduser()
+        if not isinstance(spec["par"], str | Path) or not str(spec["par"]).strip():
+            raise ValueError(f"pulsar table's par must be the path of a .par file (a string), "
+                             f"got {shown(spec['par'])}")  # a number is no file name
+        path = Path(spec["par"]).expanduser()
         if base is not None and not path.is_absolute():
             path = Path(base) / path
         if not path.is_file():
