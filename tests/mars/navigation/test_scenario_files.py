@@ -382,3 +382,10 @@ def test_a_file_with_a_byte_order_mark_is_read(tmp_path):
 def test_scenario_json_refuses_what_is_no_scenario(bad):  # review 35d D37's class: TypeError
     with pytest.raises(ValueError, match=r"^scenario must be a MarsScenario, got "):
         sfm.scenario_json(bad)
+
+
+def test_the_dump_says_how_many_stars_a_file_takes():
+    """Review 35e: the dump said 'the three stars' while one star (one angle) is taken."""
+    assert sfm.loads("[cns]\nstars = [\"Vega\"]\n").scenario.stars == ("Vega",)
+    line = next(ln for ln in sfm.dump().splitlines() if ln.startswith("# stars"))
+    assert "one or more (none twice)" in line and "the three stars" not in line

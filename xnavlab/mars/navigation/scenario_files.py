@@ -151,7 +151,8 @@ _KEYS = {
     ("cns", "sigma_horizon_deg"): ("sigma_horizon_deg", "horizon-sensor noise, deg"),
     ("cns", "horizon_tau_s"): ("horizon_tau_s", "correlation time of the horizon errors, s; 0 "
                                                 "for white (the paper's)"),
-    ("cns", "stars"): ("stars", "the three stars, by name; omit to pick them from the catalogue"),
+    ("cns", "stars"): ("stars", "the CNS stars by name, one or more (none twice); omit for the "
+                                "three the catalogue picks"),
     ("detector", "name"): ("detector:name", "\"none\", \"wavelet\", \"chi2\" or \"combined\"; "
                                             "omit for combined with faults, else none"),
     ("detector", "faults"): ("detector:faults", "fault spec (run mars --help) or \"paper\"; "

@@ -178,7 +178,8 @@ class MarsScenario:
         radius), limb ``"sphere"`` (paper) or ``"oblate"``, horizon errors white (``0``,
         paper) or Gauss-Markov with this correlation time, s.
     stars : tuple of str or None
-        The three CNS stars; ``None`` applies :func:`xnavlab.mars.models.stars.pick_three`.
+        The CNS stars, one or more (none twice; one angle each); ``None`` applies
+        :func:`xnavlab.mars.models.stars.pick_three`.
     pos_err0_m, vel_err0_mps : float
         Initial error per axis (paper: 5000 m and 1 m/s); also the initial 1-sigma.
     init_error : {"fixed", "random"}
