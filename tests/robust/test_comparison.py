@@ -103,3 +103,16 @@ def test_compare_settings_names_each_filter_of_a_setting(filters, words):  # rev
     with pytest.raises(ValueError) as exc:
         rb.compare_settings("mars", {"b": ({}, {}, filters)}, n_steps=10)
     assert str(exc.value).startswith(words), str(exc.value)
+
+
+@pytest.mark.parametrize(("kw", "words"), [
+    ({"foo": 1}, r"^compare_filters got foo=1: not a filter setting \(they are "),
+    ({"eps": 0.1}, r"^eps is a setting of the rkf filter, which filters = \['ukf'\] does not run"),
+    ({"lam": 0.5}, r"^lam is a setting of the rkf filter"),
+    ({"q_b": 2.0}, r"^q_b is a setting of the asukf filter"),
+])
+def test_compare_filters_refuses_a_setting_no_filter_of_the_run_uses(kw, words):
+    """Review 35e: an unknown key was a TypeError of run_filters; eps or lam with no RKF in
+    filters were dropped in silence."""
+    with pytest.raises(ValueError, match=words):
+        rb.compare_filters("mars", ("ukf",), n_steps=40, window=(5e3, 2e4), **kw)

@@ -131,3 +131,14 @@ def test_compare_bounds_names_each_source_under_its_list(sources, words):  # rev
     with pytest.raises(ValueError) as exc:
         cv.compare_bounds((0,), sources, n_steps=20)
     assert str(exc.value).startswith(words), str(exc.value)
+
+
+def test_coverage_refuses_a_bias_bound_it_would_not_use_and_sizes_only_injected_errors():
+    """Review 35e: bias_max was dropped unless name='rkf' and rkf_bias='prior'; size's default
+    (5e4 m) was dropped in silence with the real error."""
+    with pytest.raises(ValueError, match=r"^bias_max goes with name='rkf' and rkf_bias='prior'"):
+        cv.coverage_over_seeds("rkf", seeds=(0,), n_steps=60, bias_max=100.0)
+    out = cv.coverage_over_seeds("ukf", seeds=(0,), n_steps=60, error="de405")
+    assert 0.0 <= out["coverage"] <= 1.0
+    rows = cv.compare_bounds((0,), ("residual", "prior"), n_steps=60, bias_max=6e4)
+    assert [r["source"] for r in rows] == ["residual", "prior"]

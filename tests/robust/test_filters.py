@@ -357,3 +357,29 @@ def test_run_filters_takes_a_setting_per_run():
         rb.run_filters("rkf", scs, (3, 4), lam=(0.1, 0.2, 0.3))
     with pytest.raises(ValueError, match="q_b"):
         rb.run_filters("asukf", scs, (3, 4), q_b=(1.0, -1.0))
+
+
+@pytest.mark.parametrize(("kw", "words"), [
+    ({"size": 100.0}, r"^size shapes an injected error \(error='constant', 'slow' or 'growing'\), "
+                      r"got error = 'de405'; leave size out$"),
+    ({"direction": [1.0, 0.0, 0.0], "error": "none"}, r"^direction shapes an injected error"),
+])
+def test_simulate_refuses_a_size_or_direction_the_real_error_would_not_use(kw, words):
+    """Review 35e: compare_filters(size=100) with the default error='de405' ran the real error
+    and dropped the 100 m without a word."""
+    with pytest.raises(ValueError, match=words):
+        rb.simulate("mars", n_steps=5, rng=1, **kw)
+
+
+@pytest.mark.parametrize(("kw", "words"), [
+    ({"td_carry_noise": "yes"}, r"^td_carry_noise must be True or False, got 'yes'$"),
+    ({"bias_max": math.nan}, r"^bias_max goes with rkf_bias='prior', got rkf_bias='residual'"),
+    ({"oracle_error": [1.0, 2.0, 3.0]}, r"^oracle_error goes with rkf_bias='oracle'"),
+])
+def test_run_filter_refuses_a_setting_its_bias_rule_would_not_use(kw, words):
+    """Review 35e: td_carry_noise='yes' ran as True; bias_max (even NaN) and oracle_error were
+    dropped in silence unless their bias rule was chosen."""
+    sc = rb.simulate("mars", n_steps=5, rng=1)
+    name = "tdukf" if "td_carry_noise" in kw else "rkf"
+    with pytest.raises(ValueError, match=words):
+        rb.run_filter(name, sc, **kw)

@@ -127,6 +127,7 @@ def compare_filters(body="earth", filters=FILTERS, error="de405", size=0.0, eps=
         "window", window, "time", lambda lab, v: (lab, check_real(lab, v, 0.0)), 2)
     if len(window) != 2 or not window[0] < window[1]:
         raise ValueError(f"window must be (t_from, t_to), 0 <= t_from < t_to, s, got {window!r}")
+    _check_filter_kwargs(filters, dict(filter_kwargs, eps=eps))
     one = functools.partial(_group_runs, body, filters, dict(
         n_steps=n_steps, error=error, size=size, pulsar_names=pulsar_names, direction=direction,
         growth_time=growth_time, profile=profile), window, dict(filter_kwargs, eps=eps))
@@ -144,6 +145,31 @@ def compare_filters(body="earth", filters=FILTERS, error="de405", size=0.0, eps=
         imp = {f: improvement(mean[f], mean["ukf"]) for f in filters if f != "ukf"}
     return {"rmse": mean, "rmse_runs": runs, "improvement": imp, "tau": results[-1][2],
             "error": results[0][1]}
+
+
+def _check_filter_kwargs(filters, kwargs):
+    """Every filter setting is one :func:`run_filters` takes and one of ``filters`` uses: else one
+    ValueError (an unknown key was a TypeError of run_filters; a setting of a filter not run
+    was dropped in silence)."""
+    takes = set(inspect.signature(run_filters).parameters) - {"name", "scenarios", "rngs"}
+    for key, value in kwargs.items():
+        if key not in takes:
+            raise ValueError(f"compare_filters got {key}={value!r:.60}: not a filter setting "
+                             f"(they are {', '.join(sorted(takes))})")
+        users, default = SETTINGS.get(key, (filters, None))
+        if not _is_default(value, default) and not set(users) & set(filters):
+            raise ValueError(f"{key} is a setting of the {'/'.join(users)} filter, which filters "
+                             f"= {list(filters)} does not run; leave {key} out or run it")
+
+
+def _is_default(value, default):
+    """``value`` is a setting's default (a bool is no number, an array no scalar)."""
+    if value is default:
+        return True
+    try:
+        return default is not None and type(value) is not bool and bool(value == default)
+    except (TypeError, ValueError):
+        return False
 
 
 def _draws(body, scenario_kwargs, seeds):

@@ -154,7 +154,7 @@ def prior_bias_max(body="mars", t0=ee.EPOCH_1997, span=500 * 500.0, margin=1.0):
     return margin * ee.error_summary(body, t0, span)["max_m"]
 
 
-def coverage_over_seeds(name="rkf", seeds=(0, 1, 2, 3), body="mars", error="growing", size=5e4,
+def coverage_over_seeds(name="rkf", seeds=(0, 1, 2, 3), body="mars", error="growing", size=None,
                         n_steps=500, rkf_bias="residual", bias_max=None, k=K_SIGMA, skip=SKIP,
                         **filter_kwargs):
     """:func:`bound_coverage` over seeds: does the filter's ``P`` (the RKF's ``Sigma``) bound its error?
@@ -168,12 +168,14 @@ def coverage_over_seeds(name="rkf", seeds=(0, 1, 2, 3), body="mars", error="grow
     seeds : sequence of int
     body, error, size, n_steps : optional
         The scenario (default: the paper's Mars case, an error growing from 0 to 50 km over
-        500 steps of 500 s along (1, 1, 1)/sqrt(3)).
+        500 steps of 500 s along (1, 1, 1)/sqrt(3)); ``size`` defaults to 5e4 m for an
+        injected error and is refused with another (the real error has its own size).
     rkf_bias : {"residual", "oracle", "prior"}
         Source of the RKF's ``B B^T`` (:func:`xnavlab.robust.filters.run_filter`).
     bias_max : float or array_like, shape (n_steps,), optional
-        ``rkf_bias="prior"``: the bound on ``|dr_E|``, m. Default: the largest true
-        ``|dr_E|`` of the run (the error's known size: ``size`` for an injected error).
+        ``rkf_bias="prior"``: the bound on ``|dr_E|``, m (refused with another filter or
+        bias rule, which would not use it). Default: the largest true ``|dr_E|`` of the run
+        (the error's known size: ``size`` for an injected error).
     k, skip
         As in :func:`bound_coverage`.
     **filter_kwargs
@@ -197,6 +199,11 @@ def coverage_over_seeds(name="rkf", seeds=(0, 1, 2, 3), body="mars", error="grow
     seeds = check_seeds("seeds", seeds)
     n_steps = check_int("n_steps", n_steps, 2, 10**6)
     k = check_real("k", k, 0.0, lo_open=True)
+    if size is None:
+        size = 5e4 if error in ("constant", "slow", "growing") else 0.0
+    if bias_max is not None and not (name == "rkf" and rkf_bias == "prior"):
+        raise ValueError(f"bias_max goes with name='rkf' and rkf_bias='prior', got name={name!r}, "
+                         f"rkf_bias={rkf_bias!r}; leave bias_max out")
     per, ratios, nees, sq, sig = [], [], [], [], []
     for seed in seeds:
         sc = filters.simulate(body, n_steps=n_steps, error=error, size=size, rng=seed)
@@ -253,8 +260,9 @@ def compare_bounds(seeds=(0, 1, 2, 3), sources=BOUND_SOURCES, **scenario):
         if src == "ukf":
             kw = {k: v for k, v in scenario.items() if k not in ("bias_max", "eps", "lam")}
             out = coverage_over_seeds("ukf", seeds, **kw)
-        else:
-            out = coverage_over_seeds("rkf", seeds, rkf_bias=src, **scenario)
+        else:  # bias_max is the prior row's (refused by another bias rule)
+            kw = {k: v for k, v in scenario.items() if k != "bias_max" or src == "prior"}
+            out = coverage_over_seeds("rkf", seeds, rkf_bias=src, **kw)
         rows.append({"source": src, **{k: out[k] for k in ("coverage", "median_ratio", "nees",
                                                             "rmse_m", "median_sigma_m")},
                      "is_bound": out["coverage"] >= out["level"] and out["nees"] <= 3.0})

@@ -73,7 +73,14 @@ import numpy as np
 
 from xnavlab.core import validate
 from xnavlab.core.filters import ukf_weights
-from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
+from xnavlab.core.validate import (
+    check_bool,
+    check_choice,
+    check_finite_array,
+    check_int,
+    check_real,
+    make_rng,
+)
 from xnavlab.robust import ephemeris_error as ee
 from xnavlab.robust._batch import first, mv, sigma_points, sym, tr, unscented
 from xnavlab.robust._propagation import propagate_unchecked
@@ -183,7 +190,8 @@ def simulate(body="earth", n_steps=1200, dt=500.0, error="de405", size=0.0, puls
         at zero), an injected constant, slowly varying or growing error of ``size``
         metres (:func:`xnavlab.robust.ephemeris_error.injected_error`), or none.
     size : float
-        Size of the injected error, m (for ``"growing"``: reached at ``growth_time``).
+        Size of the injected error, m (for ``"growing"``: reached at ``growth_time``); another
+        ``error`` refuses any but 0.
     pulsar_names : sequence of str, optional
         Pulsars (default :data:`xnavlab.robust.ephemeris_error.PULSARS`).
     sigma_m : sequence of float, optional
@@ -195,7 +203,7 @@ def simulate(body="earth", n_steps=1200, dt=500.0, error="de405", size=0.0, puls
         Orbital elements replacing the default orbit (see :func:`xnavlab.robust.ephemeris_error.orbit`).
     direction : array_like of shape (3,) or "de405", optional
         Direction of an injected error (ICRF); ``"de405"``: that of the real DE421 - DE405
-        error at ``t0``. Default ``(1, 1, 1) / sqrt(3)``.
+        error at ``t0``. Default ``(1, 1, 1) / sqrt(3)``; an ``error`` not injected refuses it.
     growth_time : float, optional
         ``"growing"`` only: time after ``t0`` at which the error reaches ``size``, s, in
         (0, 1e9]. Default: the run's length ``n_steps * dt`` (with the default lengths of
@@ -228,6 +236,10 @@ def simulate(body="earth", n_steps=1200, dt=500.0, error="de405", size=0.0, puls
         shaped = "growth_time" if growth_time is not None else "profile"
         raise ValueError(f"{shaped} shapes a growing error only (error='growing'), got error = {error!r}; "
                          f"leave {shaped} out")
+    if error not in ("constant", "slow", "growing") and (size != 0.0 or direction is not None):
+        shaped = "size" if size != 0.0 else "direction"  # the real error has its own: unused
+        raise ValueError(f"{shaped} shapes an injected error (error='constant', 'slow' or "
+                         f"'growing'), got error = {error!r}; leave {shaped} out")
     growth_time = check_real("growth_time", n_steps * dt if growth_time is None else growth_time, 0.0, 1e9,
                              lo_open=True)
     rng = make_rng(rng)
@@ -867,6 +879,11 @@ def run_filters(name, scenarios, rngs=None, eps=None, sigma_r0=1000.0, sigma_v0=
     q_r, q_v, q_b = _per_run("q_r", q_r, r, 1e6), _per_run("q_v", q_v, r, 1e3), _per_run("q_b", q_b, r, 1e6)
     sigma_b0 = _per_run("sigma_b0", sigma_b0, r, 1e8, lo_open=True)
     check_choice("rkf_bias", rkf_bias, RKF_BIAS)
+    td_carry_noise = check_bool("td_carry_noise", td_carry_noise)
+    for key, value, mode in (("oracle_error", oracle_error, "oracle"), ("bias_max", bias_max, "prior")):
+        if value is not None and rkf_bias != mode:  # given, and unused by this bias rule
+            raise ValueError(f"{key} goes with rkf_bias={mode!r}, got rkf_bias={rkf_bias!r}; "
+                             f"leave {key} out")
     lam = _per_run("lam", lam, r, 1.0, lo_open=True)
     if oracle_error is None:
         oracle = np.stack([s.dr_e for s in scenarios])
