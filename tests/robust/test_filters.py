@@ -383,3 +383,9 @@ def test_run_filter_refuses_a_setting_its_bias_rule_would_not_use(kw, words):
     name = "tdukf" if "td_carry_noise" in kw else "rkf"
     with pytest.raises(ValueError, match=words):
         rb.run_filter(name, sc, **kw)
+
+
+def test_tdukf_update_takes_carry_noise_as_a_bool_only():
+    """Review 35e: carry_noise="no" ran as True (a non-empty string)."""
+    with pytest.raises(ValueError, match=r"^carry_noise must be True or False, got 'no'$"):
+        rb.filters.tdukf_update(np.zeros(15), np.eye(15), np.zeros(3), np.eye(3), np.eye(3), "no")

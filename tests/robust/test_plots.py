@@ -76,3 +76,11 @@ def test_bound_table_html_has_one_escaped_row_per_case_and_source():
     page = rplots.bound_table_html({"a <case>": [row, {**row, "source": "ukf"}]})
     assert page.count("<tr>") == 3 and "a &lt;case&gt;" in page
     assert "9.9" in page and "1.74" in page and ">no<" in page
+
+
+def test_bound_table_takes_cache_as_a_bool_only():
+    """Review 35e: cache="no" read and wrote the disk cache (a non-empty string is true)."""
+    from xnavlab.robust import plots as rplots
+
+    with pytest.raises(ValueError, match=r"^cache must be True or False, got 'no'$"):
+        rplots.bound_table(seeds=(0,), sources=("prior",), n_steps=40, cache="no")

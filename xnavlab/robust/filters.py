@@ -555,6 +555,7 @@ def tdukf_update(x, P, dy, R, n, carry_noise=False):
     (9,)
     """
     x, P, dy, R, n = _check_update(x, P, dy, R, n, "dy")
+    carry_noise = check_bool("carry_noise", carry_noise)
     k = n.shape[0]
     if x.size != 12 + (k if carry_noise else 0):
         raise ValueError(f"x must have 12{f' + {k}' if carry_noise else ''} entries when carry_noise "

@@ -16,7 +16,15 @@ import numpy as np
 
 from xnavlab.core.diskcache import cached_arrays, entry_path
 from xnavlab.core.plotting import html_table, sparse_log_minors
-from xnavlab.core.validate import check_choice, check_int, check_items, check_real, check_seeds, make_rng
+from xnavlab.core.validate import (
+    check_bool,
+    check_choice,
+    check_int,
+    check_items,
+    check_real,
+    check_seeds,
+    make_rng,
+)
 from xnavlab.robust import comparison, coverage, filters
 
 __all__ = ["FILTER_NAMES", "PULSAR_SETS", "plot_filter_comparison", "filter_comparison",
@@ -214,6 +222,7 @@ def bound_table(seeds=tuple(range(8)), sources=coverage.BOUND_SOURCES, n_steps=5
     sources = check_items("sources", sources, "source",
                           lambda label, src: check_choice(label, src, coverage.BOUND_SOURCES))
     n_steps = check_int("n_steps", n_steps, 2, 10**6)
+    cache = check_bool("cache", cache)  # "no" is a true string
 
     def compute():
         stats = np.empty((len(BOUND_CASES), len(sources), len(BOUND_STATS)))

@@ -469,3 +469,9 @@ def test_a_state0_faster_than_any_craft_bound_to_the_sun_is_refused():
     with pytest.raises(ValueError, match=r"state0 speed must be below 65164.5 m/s at \|r\| = "
                                          r"4e\+06 m .* got 9e\+08 m/s"):
         scenarios.MarsScenario(state0=(4e6, 0.0, 0.0, 9e8, 0.0, 0.0))
+
+
+def test_run_takes_progress_as_a_bool_only():
+    """Review 35e: progress="no" drew a progress bar (a non-empty string is true)."""
+    with pytest.raises(ValueError, match=r"^progress must be True or False, got 'no'$"):
+        scenarios.run(scenarios.MarsScenario(days=0.02), progress="no")

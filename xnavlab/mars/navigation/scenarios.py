@@ -63,6 +63,7 @@ from xnavlab.core.constants import DAY, GM_MARS, C
 from xnavlab.core.federated import MODES, FederatedFilter
 from xnavlab.core.userfiles import output_path
 from xnavlab.core.validate import (
+    check_bool,
     check_choice,
     check_int,
     check_items,
@@ -728,6 +729,7 @@ def run(scenario=None, *, backend="numba", inputs=None, active=None, gate=None,
     """
     check_choice("backend", backend, ("numba", "numpy"))
     check_choice("local_filter", local_filter, ("ekf", "ukf"))
+    progress = check_bool("progress", progress)  # "no" is a true string
     if local_filter == "ukf" and backend != "numpy":
         raise ValueError("local_filter='ukf' runs with backend='numpy' only")
     if inputs is None:
