@@ -88,3 +88,21 @@ def test_signal_pd_one_panel_per_kind_with_late_dashed():
 def test_cell_grid_refuses_what_is_no_list_of_rows(bad):  # review 35d D37's class: TypeError
     with pytest.raises(ValueError, match=r"^rows(\[0\])? must be a (list of )?detector_table row"):
         dm.cell_grid(bad, "pd", "chi2")
+
+
+@pytest.mark.parametrize(("call", "words"), [
+    (lambda rows: dm.plot_cell_maps(rows), r"^table must be a dict with the key 'rows'"),
+    (lambda rows: dm.plot_cell_maps({"rows": rows}, detectors="wavelet"),
+     r"^detectors must be a list of detectors, got the string 'wavelet'"),
+    (lambda rows: dm.plot_cell_maps({"rows": rows}, detectors=("wavelet", "wavelet")),
+     r"^detectors lists wavelet twice"),
+    (lambda rows: dm.plot_cell_maps({"rows": rows}, detectors=("wavelet",), log="no"),
+     r"^log must be True or False, got 'no'$"),
+])
+def test_plot_cell_maps_checks_its_table_detectors_and_log(call, words):
+    """Review 35e: a list for table was a TypeError, 'wavelet' was split into 'w', a detector
+    twice drew twice, log='no' drew a log scale."""
+    rows = [{"fault_class": "step", "sensor": s, "size": 3.0, "detector": d, "pd": 0.5, "late": 1}
+            for s in dm.SENSORS for d in ("wavelet", "chi2")]
+    with pytest.raises(ValueError, match=words):
+        call(rows)

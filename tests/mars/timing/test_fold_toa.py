@@ -210,3 +210,12 @@ def test_an_a_priori_inside_mars_or_too_fast_names_the_users_inputs():  # review
     with pytest.raises(ValueError, match=r"^state_true \+ error position must lie outside Mars"):
         ft.fold_window("B1937+21", dynamics.MARS_T0, dynamics.MARS_STATE0,
                        error=np.concatenate([-dynamics.MARS_STATE0[:3], np.zeros(3)]))
+
+
+def test_plot_survey_checks_its_surveys_and_bound():
+    """Review 35e: a list of surveys was a TypeError, bound='no' marked the bound."""
+    rows = [{"pulsar": "B0531+21", "crlb_m": 98.7, "apriori_mid_m": 70.3, "apriori_end_m": 888.1}]
+    with pytest.raises(ValueError, match=r"^surveys must be a dict of label -> survey rows"):
+        ft.plot_survey([1, 2])
+    with pytest.raises(ValueError, match=r"^bound must be True or False, got 'no'$"):
+        ft.plot_survey({"x": rows}, bound="no")

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from xnavlab.core.validate import check_choice, check_records
+from xnavlab.core.validate import check_bool, check_choice, check_items, check_records, shown
 
 __all__ = ["SENSORS", "cell_label", "cell_grid", "plot_cell_maps", "plot_false_alarms",
            "plot_signal_pd"]
@@ -136,7 +136,12 @@ def plot_cell_maps(table, key="pd", detectors=("wavelet", "chi2", "combined"), *
     from matplotlib.figure import Figure
 
     check_choice("key", key, tuple(_QUANTITIES))
+    log = check_bool("log", log)
+    if not isinstance(table, dict) or "rows" not in table:  # a list of rows was a TypeError
+        raise ValueError(f"table must be a dict with the key 'rows' (a detector table), got "
+                         f"{shown(table)}")
     rows = table["rows"]
+    detectors = check_items("detectors", detectors, "detector")  # a string is no list
     grids = {d: cell_grid(rows, key, d) for d in detectors}
     name, lo, hi = _QUANTITIES[key]
     allv = np.concatenate([g[1].ravel() for g in grids.values()])

@@ -746,8 +746,10 @@ def plot_survey(surveys, bound=True):
     """
     from matplotlib.figure import Figure
 
-    if not surveys:
-        raise ValueError("surveys must hold at least one survey")
+    if not isinstance(surveys, dict) or not surveys:  # a list was a TypeError
+        raise ValueError(f"surveys must be a dict of label -> survey rows holding at least one "
+                         f"survey, got {shown(surveys)}")
+    bound = check_bool("bound", bound)
     labels = list(surveys)
     names = [r["pulsar"] for r in surveys[labels[0]]]
     if any([r["pulsar"] for r in surveys[k]] != names for k in labels):
