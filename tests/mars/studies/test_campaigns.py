@@ -92,3 +92,9 @@ def test_summaries_refuse_what_is_no_list_of_records(bad):  # review 35d D37's c
     for call in (mc.summarise_consistency, mc.summarise_detectors):
         with pytest.raises(ValueError, match=r"^runs(\[0\])? must be a (list of )?campaign record"):
             call(bad)
+
+
+def test_consistency_run_refuses_a_string_for_its_subsystems():
+    """Review 35e: subsystems="uv" was split into 'u', 'v' ("subsystems[0] ... got 'u'")."""
+    with pytest.raises(ValueError, match=r"^subsystems must be a list of subsystems, got the string 'uv'"):
+        mc.consistency_run(seed=1, days=0.05, subsystems="uv")

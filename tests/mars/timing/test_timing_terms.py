@@ -229,3 +229,9 @@ def test_navigation_effect_names_each_term_under_its_list(terms, words):  # revi
     with pytest.raises(ValueError) as exc:
         tt.navigation_effect(terms, days=0.5)
     assert str(exc.value).startswith(words), str(exc.value)
+
+
+def test_a_run_with_a_term_refuses_a_string_for_its_subsystems():
+    """Review 35e: subsystems="uv" was split and named as ('u', 'v')."""
+    with pytest.raises(ValueError, match=r"^subsystems must be a list of subsystems, got the string 'uv'"):
+        tt.xnav_run_with_term(days=0.05, subsystems="uv")

@@ -101,6 +101,7 @@ def consistency_run(*, seed, days=1.0, q_acc=scenarios.DEFAULT_Q_ACC,
     >>> len(r["nees_bins"]), sorted(r["nis_dof"].items())
     (12, [('cns', 3), ('uv', 3), ('xnav', 4)])
     """
+    subsystems = check_items("subsystems", subsystems, "subsystem")  # "uv" is no list of letters
     days = _consistency_days(days, subsystems)
     seed = check_int("seed", seed, 0, 2**63 - 1)
     span = days * 86400.0

@@ -516,9 +516,10 @@ def xnav_run_with_term(term="clock_orbit", days=30.0, subsystems=("xnav",), seed
 
 def _inputs_and_terms(days, subsystems, seed):
     """The run's inputs and :func:`orbit_terms` at its XNAV epochs and true states."""
-    if "xnav" not in tuple(subsystems):
-        raise ValueError(f"subsystems must include 'xnav', got {tuple(subsystems)!r}")
-    inp = scenarios.prepare(days=days, subsystems=tuple(subsystems), seed=seed)
+    subsystems = check_items("subsystems", subsystems, "subsystem")  # "uv" is no list of letters
+    if "xnav" not in subsystems:
+        raise ValueError(f"subsystems must include 'xnav', got {subsystems!r}")
+    inp = scenarios.prepare(days=days, subsystems=subsystems, seed=seed)
     rows = inp.meas_idx[:, inp.scenario.subsystems.index("xnav")] >= 0
     terms = orbit_terms(inp.times[rows], inp.truth[rows], inp.scenario.pulsars,
                         inp.scenario.truth_ephem)
