@@ -322,3 +322,33 @@ def test_a_single_run_outcome_is_one_draw_and_the_headline_counts_claims():
     assert reproduce.Result("demo", [*parts, other], main="ranking").verdict == "NOT REPRODUCED"
     assert reproduce.headline([res]).startswith(
         "1 of 2 paper claims reproduced (1 not reproduced, 0 undecided; judged in 3 rows)")
+
+
+def test_a_rows_brief_is_its_criterion_where_the_paper_falls_and_what_would_decide_it():
+    row = verdicts.Check(
+        "x (m)", 4000.0, 2796.0,
+        "the paper lost q (the paper gives none; a long aside that lists every setting we ran, "
+        "one after another, far past the eighty characters a box keeps), which moves ours: "
+        "judged over its plausible values (q 1e-12; q 1e-11)",
+        verdicts.UNDECIDED,
+        "at our choice, the paper's number is above all of our 32 runs; ours spans 1-5 km; "
+        "the paper's q (the filter's NEES: every q keeps it below its band) would decide it")
+    assert row.brief() == ("the paper lost q, which moves ours; at our choice, the paper's number "
+                           "is above all of our 32 runs; the paper's q (the filter's NEES: every q "
+                           "keeps it below its band) would decide it")
+    # a clause already in the brief is not repeated; a short row is its own words
+    same = verdicts.Check("y", 1.0, 1.0, "a: b; c would decide it", verdicts.UNDECIDED,
+                          "c would decide it")
+    assert same.brief() == "a; c would decide it"
+    ok = verdicts.check_rel("B0531+21 (m)", 109.0, 111.0, 0.05, why="three digits")
+    assert ok.brief() == "within 5 % of the paper; ours is 1.8 % above the paper"
+    assert verdicts.Check("z", 1, 1, "", verdicts.REPRODUCED).brief() == ""
+
+
+def test_the_closing_box_gives_each_claim_in_brief_and_the_table_in_full():
+    long_why = "the paper gives none (" + "a reason that runs on and on, " * 5 + ")"
+    row = verdicts.check_rel("x (m)", 100.0, 100.5, 0.01, why=long_why)
+    res = reproduce.Result("r", [row])
+    box = reproduce.summary_box([res])
+    assert row.brief() in box and "runs on and on" not in box
+    assert "runs on and on" in res._repr_html_()

@@ -702,8 +702,11 @@ def summary_box(results, title="Reproducing the paper: the verdicts"):
 
     HTML in the admonition style of the book's theme (it renders the same in the HTML book and
     in JupyterLab). Per reproduction its headline; per claim two or three lines: the claim and
-    the paper's value, ours, the verdict with its tolerance and reason, and the reading; the
-    checks of ours are counted in one line, never listed as reproductions.
+    the paper's value, ours, the verdict and why in brief (:meth:`Check.brief
+    <xnavlab.verdicts.Check.brief>`: the criterion, where the paper's number falls, what would
+    decide it); the reproduction's table (its ``_repr_html_``, shown after the box) keeps the
+    whole tolerance and reading. The checks of ours are counted in one line, never listed as
+    reproductions.
 
     Parameters
     ----------
@@ -731,8 +734,7 @@ def summary_box(results, title="Reproducing the paper: the verdicts"):
             lines.append(
                 f"<li><strong>{html.escape(c.name)}</strong>: the paper "
                 f"{html.escape(show(c.paper))}, ours {html.escape(show(c.ours))}. "
-                f'<span class="xnav-verdict">{c.verdict}</span>: {html.escape(c.tolerance)}'
-                + (f"; {html.escape(c.reading)}" if c.reading else "") + ".</li>")
+                f'<span class="xnav-verdict">{c.verdict}</span>: {html.escape(c.brief())}.</li>')
         n = res.counts()
         held, total = n[CHECK], n[CHECK] + n[CHECK_FAILED]
         if total:

@@ -97,6 +97,7 @@ __all__ = [
     "VERDICTS",
     "HEADLINES",
     "MIN_RUNS",
+    "BRIEF_ASIDE",
     "Check",
     "check_rel",
     "check_abs",
@@ -137,6 +138,9 @@ ERROR = "ERROR"
 HEADLINES = (REPRODUCED, PARTLY_REPRODUCED, NOT_REPRODUCED, UNDECIDED, CHECK, ERROR)
 #: The fewest of our single runs a paper's single-run number is judged against.
 MIN_RUNS = 32
+#: The longest aside in parentheses a closing box keeps (:meth:`Check.brief`), characters:
+#: longer ones (lists of settings, the reasons for a reading) stay in the table below the box.
+BRIEF_ASIDE = 80
 
 
 @dataclass(frozen=True)
@@ -201,6 +205,69 @@ class Check:
             text = f"{self.name}: ours {show(self.ours)}: {self.verdict}"
         detail = "; ".join(s for s in (self.tolerance, self.reading) if s)
         return f"{text} ({detail})." if detail else f"{text}."
+
+    def brief(self):
+        """The row's reason in a line or two, for a chapter's closing box.
+
+        Three parts of the row's own words, each at most once: the criterion (the tolerance
+        before its reason: "within 1 % of the paper"), the reading's first clause (where the
+        paper's number falls among our runs, or by how much ours misses it), and what would
+        decide an undecided row (the clause that ends "would decide it"); an aside in parentheses
+        longer than :data:`BRIEF_ASIDE` characters is left out. The table of the reproduction
+        and the dashboard keep the whole tolerance and reading.
+
+        Examples
+        --------
+        >>> c = check_rel("B0531+21 (m)", 109.0, 111.0, 0.05, why="three digits")
+        >>> c.brief()
+        'within 5 % of the paper; ours is 1.8 % above the paper'
+        """
+        criterion = _clauses(self.tolerance, ": ")[0] if self.tolerance else ""
+        first = _clauses(self.reading, "; ")[0] if self.reading else ""
+        decide = ""
+        for text in (self.reading, self.tolerance):
+            ends = [c for c in _clauses(text, "; ") if c.rstrip(". ").endswith("would decide it")]
+            if ends:
+                decide = _clauses(ends[-1], ": ")[-1].rstrip(". ")
+                break
+        parts = []
+        for part in (criterion, first.rstrip(". "), decide):
+            if part and not any(part in p for p in parts):
+                parts.append(part)
+        return "; ".join(_without_long_asides(p) for p in parts)
+
+
+def _without_long_asides(text, limit=None):
+    """``text`` without its parenthesised asides (outermost) longer than ``limit`` characters."""
+    limit = BRIEF_ASIDE if limit is None else limit
+    out, depth, start = [], 0, 0
+    for i, ch in enumerate(text):
+        if ch == "(":
+            if depth == 0:
+                start = i
+            depth += 1
+        elif ch == ")" and depth:
+            depth -= 1
+            if depth == 0 and i - start - 1 > limit:
+                out.append((start, i + 1))
+    for a, b in reversed(out):
+        text = text[:a].rstrip() + text[b:]
+    return text
+
+
+def _clauses(text, sep):
+    """``text`` split at ``sep`` outside parentheses and brackets ("a (b; c); d" -> two)."""
+    out, depth, start, i = [], 0, 0, 0
+    while i < len(text):
+        ch = text[i]
+        depth += (ch in "([") - (ch in ")]")
+        if depth == 0 and text.startswith(sep, i):
+            out.append(text[start:i])
+            start = i = i + len(sep)
+            continue
+        i += 1
+    out.append(text[start:])
+    return [c.strip() for c in out if c.strip()]
 
 
 def _claim(name, paper, ours, holds, tolerance, reading):
