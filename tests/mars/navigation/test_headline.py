@@ -147,3 +147,18 @@ def test_a_broken_shipped_table_is_one_line_naming_it(tmp_path, edit, message):
 def test_numbers_of_names_the_quantity_that_is_not_numbers():
     with pytest.raises(ValueError, match=r"^runs' b: values must contain only finite numbers"):
         headline.numbers_of([{"a": 1.0, "b": np.nan}, {"a": 2.0, "b": 1.0}])
+
+
+@pytest.mark.parametrize(("runs", "words"), [
+    ("abc", r"^runs must be a list of metrics records \(dicts\), got 'abc'$"),
+    ([], r"^runs must hold the metrics of at least two runs, got an empty list$"),
+    ([{"a": 1.0, "b": 2.0}, {"a": 3.0}],
+     r"^runs\[1\] must hold the quantities of runs\[0\], but 'b' is in runs\[0\] only$"),
+    ([{"a": 1.0}, {"a": 3.0, "c": 1.0}],
+     r"^runs\[1\] must hold the quantities of runs\[0\], but 'c' is in runs\[1\] only$"),
+])
+def test_numbers_of_refuses_runs_that_are_no_list_of_like_records(runs, words):
+    """Review 35e: a string was a TypeError, a quantity missing from a later run a KeyError,
+    and a quantity only a later run had was dropped in silence."""
+    with pytest.raises(ValueError, match=words):
+        headline.numbers_of(runs)

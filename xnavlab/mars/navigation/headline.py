@@ -45,7 +45,7 @@ from xnavlab.core.campaign import Campaign, run_campaign
 from xnavlab.core.diskcache import cache_dir, code_digest
 from xnavlab.core.distributions import t_ppf
 from xnavlab.core.userfiles import load_table
-from xnavlab.core.validate import check_bool, check_int, check_real, check_vector
+from xnavlab.core.validate import check_bool, check_int, check_real, check_records, check_vector
 
 __all__ = ["PAPER", "SHIPPED", "RUNS_PATH", "headline_run", "headline_numbers",
            "headline_records", "load_shipped", "mean_interval", "numbers_of"]
@@ -291,7 +291,17 @@ def headline_records(n_seeds=32, days=30.0, faults=True, seed=2016, out=None, wo
 
 def numbers_of(runs):
     """Each quantity's :func:`mean_interval` over the runs' metrics (a list of dicts); a
-    quantity that is not two finite numbers or more is named in the message."""
+    quantity that is not two finite numbers or more is named in the message, and so is a run
+    whose quantities differ from the first run's (a missing one was a KeyError, an extra one
+    dropped in silence)."""
+    runs = check_records("runs", runs, what="metrics record")
+    if not runs:
+        raise ValueError("runs must hold the metrics of at least two runs, got an empty list")
+    for i, r in enumerate(runs):
+        if set(r) != set(runs[0]):
+            odd = sorted(set(r) ^ set(runs[0]))
+            raise ValueError(f"runs[{i}] must hold the quantities of runs[0], but {odd[0]!r} is in "
+                             f"{'runs[0]' if odd[0] in runs[0] else f'runs[{i}]'} only")
     out = {}
     for k in sorted(runs[0]):
         try:
