@@ -600,3 +600,17 @@ def test_load_runs_refuses_an_empty_folder_name():
     """Review 35e: load_runs("") read the current folder ('directory '.' holds no campaign')."""
     with pytest.raises(ValueError, match=r"^campaign folder must name a folder, got ''$"):
         cp.load_runs("")
+
+
+@pytest.mark.parametrize(("kw", "words"), [
+    ({"engine": "serial", "workers": 4}, r"^workers sets the processes of engine 'local' or "
+                                         r"'local-cluster', got workers=4 with engine 'serial'"),
+    ({"engine": "local", "timeout": 60.0}, r"^timeout is the wait for a Dask cluster"),
+    ({"engine": "serial", "timeout": 60.0}, r"^timeout is the wait for a Dask cluster"),
+])
+def test_run_campaign_refuses_a_setting_its_engine_would_not_use(kw, words):
+    """Review 35e: workers=4 with engine 'serial' (or a timeout with a local engine) was
+    dropped in silence."""
+    with pytest.raises(ValueError, match=words):
+        cp.run_campaign(sq_campaign(), 2, **kw)
+    assert cp.run_campaign(sq_campaign(), 2, engine="serial", workers=1).computed == 2

@@ -588,6 +588,19 @@ class _Dask:
             self.cluster.close()
 
 
+def _check_unused(engine, workers, timeout):
+    """``workers`` and ``timeout`` given to an engine that would not use them: one ValueError
+    (``"serial"`` runs in this process, one worker; a Dask scheduler's cluster has its own
+    workers; only a Dask cluster is waited for)."""
+    if (engine == "serial" and workers not in (1, 2)) or (engine == "dask" and workers != 2):
+        raise ValueError(f"workers sets the processes of engine 'local' or 'local-cluster', got "
+                         f"workers={workers} with engine {engine!r}; leave workers out")
+    if engine in ("serial", "local") and timeout != 5.0:
+        raise ValueError(f"timeout is the wait for a Dask cluster (engine 'dask' or "
+                         f"'local-cluster'), got timeout={timeout:g} with engine {engine!r}; "
+                         f"leave timeout out")
+
+
 def _engine(engine, workers, scheduler, timeout):
     if engine == "serial":
         return _Serial()
@@ -671,11 +684,13 @@ def run_campaign(campaign, runs, *, seed=0, out=None, engine="local", workers=2,
     engine : {"serial", "local", "dask", "local-cluster"}
         Where the runs execute (see the module's docstring).
     workers : int
-        Processes of ``"local"`` and ``"local-cluster"``, 1 to 256.
+        Processes of ``"local"`` and ``"local-cluster"``, 1 to 256 (``"serial"`` takes 1 or
+        the default, ``"dask"`` the default only: they would not use another).
     scheduler : str, optional
         Scheduler address of ``"dask"``, e.g. ``"tcp://10.0.0.5:8786"``.
     timeout : float
-        Seconds to connect to the scheduler and to wait for its first worker, in (0, 3600].
+        Seconds to connect to the scheduler and to wait for its first worker, in (0, 3600]
+        (``"dask"`` and ``"local-cluster"`` only: another engine takes the default only).
     retries : int
         Extra attempts of a failed run, 0 to 10.
     progress : bool
@@ -706,6 +721,7 @@ def run_campaign(campaign, runs, *, seed=0, out=None, engine="local", workers=2,
         raise ValueError("engine 'dask' needs a scheduler address, e.g. tcp://HOST:8786")
     if engine != "dask" and scheduler:
         raise ValueError(f"a scheduler address needs engine 'dask', got engine {engine!r}")
+    _check_unused(engine, workers, timeout)
     header = campaign.header(seed)
     run_seeds = spawn_seeds(seed, runs)
     params = [campaign.params(i) for i in range(runs)]
