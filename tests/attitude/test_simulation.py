@@ -90,7 +90,8 @@ def test_one_fault_alone_is_a_run_of_that_fault_and_a_list_is_checked_as_core_do
 
 
 @pytest.mark.parametrize(("change", "words"), [
-    ({"duration": 1e308}, r"^duration must be a real number in \(0, 86400\], got 1e\+308$"),
+    ({"duration": 1e308}, r"^duration must be a real number in \(0, 1e\+06\], got 1e\+308$"),
+    ({"duration": 1e5, "dt": 1e-3}, r"^duration / dt must be at most 1e7 samples"),
     ({"gyro_noise_deg_per_h": 1e308}, r"^gyro_noise_deg_per_h must be a real number in \(0, 100000\]"),
     ({"drifts_deg_per_h": (1e308, 0.0, 0.0, 0.0)}, r"^drifts_deg_per_h must lie in \[-100000, 100000\]"),
     ({"drift_walk_deg_per_h_sqrt_s": 1e308}, r"^drift_walk_deg_per_h_sqrt_s must be a real number in"),

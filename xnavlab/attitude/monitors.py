@@ -168,7 +168,7 @@ def time_sos_dos(n_steps=500, repeats=3, config=None, rng=None):
     >>> r["ratio"] > 1.0
     True
     """
-    n_steps = check_int("n_steps", n_steps, 10, 10**6)
+    n_steps = check_int("n_steps", n_steps, 10, 10**5)  # n_steps dt within SimConfig's duration
     repeats = check_int("repeats", repeats, 1, 10**4)
     cfg = make_config(config)
     if cfg.n < n_steps:

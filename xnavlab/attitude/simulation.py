@@ -135,8 +135,11 @@ class SimConfig:
     dos: bool = True
 
     def __post_init__(self):
-        check_real("duration", self.duration, 0.0, 86400.0, lo_open=True)
+        check_real("duration", self.duration, 0.0, 1e6, lo_open=True)
         check_real("dt", self.dt, 0.0, 10.0, lo_open=True)
+        if self.duration / self.dt > 1e7:  # the samples every array of the run holds
+            raise ValueError(f"duration / dt must be at most 1e7 samples, got duration = "
+                             f"{self.duration:g} s and dt = {self.dt:g} s")
         if self.duration < 2 * self.dt:
             raise ValueError(f"duration must be >= 2 dt = {2 * self.dt}, got {self.duration}")
         drifts = check_finite_array("drifts_deg_per_h", self.drifts_deg_per_h, shape=(4,))
