@@ -198,3 +198,18 @@ def test_a_flat_template_and_an_empty_fold_are_refused():
 def test_accuracy_html_refuses_what_is_no_list_of_rows(bad):  # review 35d D37's class: TypeError
     with pytest.raises(ValueError, match=r"^rows(\[0\])? must be a (list of )?accuracy_table row"):
         tb.accuracy_html(bad)
+
+
+def test_fisher_information_refuses_rates_spins_and_profiles_that_overflow():
+    # review 35e: 1e308 anywhere gave inf or NaN with a numpy warning
+    x = np.arange(256) / 256
+    h, dh = pulsars.profile(x, 0.1), tb.profile_derivative(x, 0.1)
+    assert np.isfinite(tb.fisher_information(1e15, 1e15, 1e4, h, dh))
+    for kw, message in (({"pulsed": 1e308}, r"^pulsed must be a real number in \(0, 1e\+15\]"),
+                        ({"unpulsed": 1e308}, r"^unpulsed must be a real number in \[0, 1e\+15\]"),
+                        ({"frequency": 1e308}, r"^frequency must be a real number in \(0, 10000\]"),
+                        ({"dh": dh * 1e300}, r"^h and dh must be a profile and its derivative of "
+                                             r"finite information")):
+        args = {"pulsed": 1.0, "unpulsed": 0.1, "frequency": 1.0, "h": h, "dh": dh, **kw}
+        with pytest.raises(ValueError, match=message):
+            tb.fisher_information(**args)

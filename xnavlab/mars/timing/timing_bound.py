@@ -162,9 +162,11 @@ def fisher_information(pulsed, unpulsed, frequency, h, dh):
     >>> round(j * (0.1 / 2.3548200450309493) ** 2, 6)  # = 1/sigma^2 for a Gaussian
     1.0
     """
-    ls = check_real("pulsed", pulsed, 0.0, lo_open=True)
-    lb = check_real("unpulsed", unpulsed, 0.0)
-    f = check_real("frequency", frequency, 0.0, lo_open=True)
+    # a rate above 1e15 photons/s (a million times the Crab's on a square metre) or a spin
+    # above 1e4 Hz (the fastest pulsar known spins at 716 Hz) is no pulsar; beyond, J overflows
+    ls = check_real("pulsed", pulsed, 0.0, 1e15, lo_open=True)
+    lb = check_real("unpulsed", unpulsed, 0.0, 1e15)
+    f = check_real("frequency", frequency, 0.0, 1e4, lo_open=True)
     h = check_finite_array("h", h)
     dh = check_finite_array("dh", dh)
     if h.ndim != 1 or h.shape != dh.shape:
@@ -173,8 +175,14 @@ def fisher_information(pulsed, unpulsed, frequency, h, dh):
     if np.any(lam < 0.0) or np.any((lam == 0.0) & (dh != 0.0)):
         raise ValueError("the rate lambda_b + lambda_s h must be non-negative, and positive "
                          "wherever h' is not zero")
-    ratio = np.divide((ls * dh) ** 2, lam, out=np.zeros_like(lam), where=lam > 0.0)  # 0 where h = 0
-    return f * f * float(np.mean(ratio))  # J = f^2 int lambda'^2 / lambda dphi
+    with np.errstate(over="ignore"):
+        ratio = np.divide((ls * dh) ** 2, lam, out=np.zeros_like(lam), where=lam > 0.0)  # 0 where h = 0
+        j = f * f * float(np.mean(ratio))  # J = f^2 int lambda'^2 / lambda dphi
+    if not np.isfinite(j):
+        raise ValueError(f"h and dh must be a profile and its derivative of finite information; "
+                         f"got |dh| up to {float(np.max(np.abs(dh))):.3g} per cycle^2, whose "
+                         f"information overflows")
+    return j
 
 
 def toa_crlb(pulsar, area_m2=1.0, t_obs=500.0, background_ph_cm2_s=0.005, nbins=None,
