@@ -73,14 +73,7 @@ import numpy as np
 
 from xnavlab.core import validate
 from xnavlab.core.filters import ukf_weights
-from xnavlab.core.validate import (
-    check_bool,
-    check_choice,
-    check_finite_array,
-    check_int,
-    check_real,
-    make_rng,
-)
+from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
 from xnavlab.robust import ephemeris_error as ee
 from xnavlab.robust._batch import first, mv, sigma_points, sym, tr, unscented
 from xnavlab.robust._propagation import propagate_unchecked
@@ -555,7 +548,7 @@ def tdukf_update(x, P, dy, R, n, carry_noise=False):
     (9,)
     """
     x, P, dy, R, n = _check_update(x, P, dy, R, n, "dy")
-    carry_noise = check_bool("carry_noise", carry_noise)
+    carry_noise = validate.check_bool("carry_noise", carry_noise)
     k = n.shape[0]
     if x.size != 12 + (k if carry_noise else 0):
         raise ValueError(f"x must have 12{f' + {k}' if carry_noise else ''} entries when carry_noise "
@@ -880,7 +873,7 @@ def run_filters(name, scenarios, rngs=None, eps=None, sigma_r0=1000.0, sigma_v0=
     q_r, q_v, q_b = _per_run("q_r", q_r, r, 1e6), _per_run("q_v", q_v, r, 1e3), _per_run("q_b", q_b, r, 1e6)
     sigma_b0 = _per_run("sigma_b0", sigma_b0, r, 1e8, lo_open=True)
     check_choice("rkf_bias", rkf_bias, RKF_BIAS)
-    td_carry_noise = check_bool("td_carry_noise", td_carry_noise)
+    td_carry_noise = validate.check_bool("td_carry_noise", td_carry_noise)
     for key, value, mode in (("oracle_error", oracle_error, "oracle"), ("bias_max", bias_max, "prior")):
         if value is not None and rkf_bias != mode:  # given, and unused by this bias rule
             raise ValueError(f"{key} goes with rkf_bias={mode!r}, got rkf_bias={rkf_bias!r}; "
