@@ -54,7 +54,7 @@ import sys
 
 from xnavlab.cli import UsageError, number
 from xnavlab.core.userfiles import output_path
-from xnavlab.core.validate import check_int
+from xnavlab.core.validate import SEED_MAX, check_int
 
 __all__ = ["HELP", "COLUMNS", "configure", "execute"]
 
@@ -228,7 +228,7 @@ def _common(args):
         raise UsageError("--timeout is the wait for a Dask cluster: it goes with --scheduler "
                          "or --local-cluster (local workers need none)")
     runs = _number("runs", args.runs, int, 1, 10**7)
-    seed = _number("seed", "0" if args.seed is None else args.seed, int, 0, 2**63 - 1)
+    seed = _number("seed", "0" if args.seed is None else args.seed, int, 0, SEED_MAX)
     timeout = (None if args.timeout is None  # None: run_campaign's own default
                else _number("timeout", args.timeout, float, 0.0, 3600.0, lo_open=True))
     if args.workers is not None and args.scheduler:

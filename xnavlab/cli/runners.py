@@ -14,7 +14,7 @@ from pathlib import Path
 from xnavlab.cli import Parser, UsageError, number
 from xnavlab.core.federated import MODES
 from xnavlab.core.userfiles import output_path
-from xnavlab.core.validate import check_choice
+from xnavlab.core.validate import SEED_MAX, check_choice
 
 __all__ = ["HELP", "FAULT_HELP", "RUNNERS", "configure", "execute", "configure_mars", "execute_mars",
            "out_dir"]
@@ -28,7 +28,7 @@ def _days(text):
 
 
 def _seed(text):
-    return number("seed", text, int, 0, 2**63 - 1)
+    return number("seed", text, int, 0, SEED_MAX)
 
 
 #: The fault-spec grammar, listed by ``run mars --help``.

@@ -90,7 +90,7 @@ from xnavlab.core.campaign_records import (
 )
 from xnavlab.core.montecarlo import seeds as spawn_seeds
 from xnavlab.core.userfiles import InputWarning, as_path, read_text
-from xnavlab.core.validate import check_bool, check_choice, check_int, check_real, shown
+from xnavlab.core.validate import check_bool, check_choice, check_int, check_real, check_seed, shown
 
 __all__ = [
     "ENGINES",
@@ -588,14 +588,19 @@ class _Dask:
             self.cluster.close()
 
 
+#: run_campaign's defaults, which an engine that would not use workers or a timeout accepts.
+_WORKERS = 2
+_TIMEOUT_S = 5.0
+
+
 def _check_unused(engine, workers, timeout):
     """``workers`` and ``timeout`` given to an engine that would not use them: one ValueError
     (``"serial"`` runs in this process, one worker; a Dask scheduler's cluster has its own
     workers; only a Dask cluster is waited for)."""
-    if (engine == "serial" and workers not in (1, 2)) or (engine == "dask" and workers != 2):
+    if (engine == "serial" and workers not in (1, _WORKERS)) or (engine == "dask" and workers != _WORKERS):
         raise ValueError(f"workers sets the processes of engine 'local' or 'local-cluster', got "
                          f"workers={workers} with engine {engine!r}; leave workers out")
-    if engine in ("serial", "local") and timeout != 5.0:
+    if engine in ("serial", "local") and timeout != _TIMEOUT_S:
         raise ValueError(f"timeout is the wait for a Dask cluster (engine 'dask' or "
                          f"'local-cluster'), got timeout={timeout:g} with engine {engine!r}; "
                          f"leave timeout out")
@@ -668,8 +673,8 @@ def _record(index, seed, params, outcome, attempt):
     return rec
 
 
-def run_campaign(campaign, runs, *, seed=0, out=None, engine="local", workers=2, scheduler=None,
-                 timeout=5.0, retries=1, progress=False, retry_failed=True):
+def run_campaign(campaign, runs, *, seed=0, out=None, engine="local", workers=_WORKERS, scheduler=None,
+                 timeout=_TIMEOUT_S, retries=1, progress=False, retry_failed=True):
     """Run (or complete) a campaign of ``runs`` runs on an engine, storing each run as it ends.
 
     Parameters
@@ -710,7 +715,7 @@ def run_campaign(campaign, runs, *, seed=0, out=None, engine="local", workers=2,
     if not isinstance(campaign, Campaign):
         raise ValueError(f"campaign must be a Campaign, got {type(campaign).__name__}")
     runs = check_int("runs", runs, 1, 10**7)
-    seed = check_int("seed", seed, 0, 2**63 - 1)
+    seed = check_seed("seed", seed)
     check_choice("engine", engine, ENGINES)
     workers = check_int("workers", workers, 1, 256)
     timeout = check_real("timeout", timeout, 0.0, 3600.0, lo_open=True)

@@ -65,7 +65,7 @@ def seeds(seed, n):
     >>> seeds(0, 3) == seeds(0, 3), len(set(seeds(0, 3)))
     (True, 3)
     """
-    seed = check_int("seed", seed, 0, 2**63 - 1)
+    seed = check_seed("seed", seed)
     n = check_int("n", n, 0, 10**7)  # as a campaign's runs
     return [int(s.generate_state(1, np.uint64)[0] >> np.uint64(1))
             for s in np.random.SeedSequence(seed).spawn(n)]

@@ -429,9 +429,7 @@ def check_seeds(name, value, min_len=1):
     ...
     ValueError: seeds[1] must be an integer in [0, 9223372036854775807], got 1.5
     """
-    items = check_items(name, value, "seed", lambda label, s: check_int(label, s, 0, SEED_MAX),
-                        min_len)
-    return tuple(int(s) for s in items)
+    return tuple(int(s) for s in check_items(name, value, "seed", check_seed, min_len))
 
 
 def check_seed(name, value):

@@ -45,7 +45,7 @@ from xnavlab.core.campaign import Campaign, run_campaign
 from xnavlab.core.diskcache import cache_dir, code_digest
 from xnavlab.core.distributions import t_ppf
 from xnavlab.core.userfiles import load_table
-from xnavlab.core.validate import check_bool, check_int, check_real, check_records, check_vector
+from xnavlab.core.validate import check_bool, check_int, check_real, check_records, check_seed, check_vector
 
 __all__ = ["PAPER", "SHIPPED", "RUNS_PATH", "headline_run", "headline_numbers",
            "headline_records", "load_shipped", "mean_interval", "numbers_of"]
@@ -83,7 +83,7 @@ def headline_run(*, seed, days=30.0, faults=True):
     from xnavlab.mars.navigation import scenarios
 
     days = check_real("days", days, 0.0, 30.0, lo_open=True)
-    seed = check_int("seed", seed, 0, 2**63 - 1)
+    seed = check_seed("seed", seed)
     faults = check_bool("faults", faults)
     sc = scenarios.MarsScenario(days=days, seed=seed % 2**31)
     inputs = scenarios.prepare(sc)

@@ -46,9 +46,9 @@ from xnavlab.core.filters import chi2_bounds, consistency_verdict, judge_series
 from xnavlab.core.validate import (
     check_bool,
     check_finite_array,
-    check_int,
     check_items,
     check_real,
+    check_seeds,
     shown,
 )
 from xnavlab.mars.navigation import scenarios
@@ -132,8 +132,7 @@ def _cached(path, compute, cache):
 def _check(days, seeds, settle_days):
     days = check_real("days", days, 0.0, 365.0, lo_open=True)
     # each seed is a run's MarsScenario seed: its range, under the list's own name (seeds[i])
-    seeds = tuple(int(s) for s in check_items(
-        "seeds", seeds, "seed", each=lambda label, s: check_int(label, s, 0, 2**63 - 1)))
+    seeds = check_seeds("seeds", seeds)
     if settle_days is None:
         settle_days = scenarios.default_settle_days(days)
     settle_days = check_real("settle_days", settle_days, 0.0, days, hi_open=True)

@@ -65,9 +65,9 @@ from xnavlab.core.userfiles import output_path
 from xnavlab.core.validate import (
     check_bool,
     check_choice,
-    check_int,
     check_items,
     check_real,
+    check_seed,
     make_rng,
     shown,
 )
@@ -319,7 +319,7 @@ class MarsScenario:
             object.__setattr__(self, "beta", b)
         check_choice("mode", self.mode, MODES)
         check_real("record_dt", self.record_dt, 0.1, 86400.0)
-        check_int("seed", self.seed, 0, 2**63 - 1)
+        check_seed("seed", self.seed)
         e = sorted({self.truth_ephem, self.filter_ephem})  # the run, t0 to t0 + span, on them
         lo, hi = (f(c[j] for c in map(ephemeris.coverage, e)) for j, f in ((0, max), (1, min)))
         if not lo <= check_real("t0", self.t0) <= hi - self.span:

@@ -39,7 +39,7 @@ import numpy as np
 
 from xnavlab.core.campaign import Campaign
 from xnavlab.core.filters import chi2_bounds, consistency_verdict
-from xnavlab.core.validate import check_choice, check_int, check_items, check_real, check_records
+from xnavlab.core.validate import check_choice, check_items, check_real, check_records, check_seed
 from xnavlab.mars.navigation import scenario_files, scenarios
 from xnavlab.mars.studies import trials
 from xnavlab.mars.timing import pulsar_specs, pulsars
@@ -103,7 +103,7 @@ def consistency_run(*, seed, days=1.0, q_acc=scenarios.DEFAULT_Q_ACC,
     """
     subsystems = check_items("subsystems", subsystems, "subsystem")  # "uv" is no list of letters
     days = _consistency_days(days, subsystems)
-    seed = check_int("seed", seed, 0, 2**63 - 1)
+    seed = check_seed("seed", seed)
     span = days * 86400.0
     record_dt = min(60.0, span / (4 * NEES_BINS))       # at least four records a bin
     fields = _check_fields(fields)

@@ -308,7 +308,7 @@ def early_fault_trial(*, seed, onsets=EARLY_ONSETS_S, size_sigma=6.0, duration=4
         run after settling, faulty over fault-free); scored by
         :func:`xnavlab.mars.faults.schedules.trial_outcome`.
     """
-    seed = check_int("seed", seed, 0, 2**63 - 1)  # int() took 1.5 as 1 and -1 as 2^31 - 1
+    seed = check_seed("seed", seed)  # int() took 1.5 as 1 and -1 as 2^31 - 1
     sc = scenarios.MarsScenario(days=1.0, seed=seed % 2**31)
     inp = scenarios.prepare(sc)
     ref = scenarios.run(inputs=inp).metrics()["position_error_m"]
