@@ -93,6 +93,25 @@ def test_every_registered_reproduction_runs_and_its_checks_hold(rid):
     assert res.note, f"{rid}: say how ours was obtained and where it differs"
 
 
+@pytest.mark.parametrize(("rid", "kw", "message"), [
+    ("mars-sensors", {"n": 1999}, r"n must be an integer in \[2000, 1000000\]"),
+    ("mars-sensors", {"seed": -1}, r"seed must be an integer in \[0, 9223372036854775807\]"),
+    ("mallat-vs-pywavelets", {"seed": 2**63}, r"seed must be a numpy Generator or an integer"),
+])
+def test_a_reproductions_seed_and_size_are_refused_by_their_own_names(rid, kw, message):
+    """Never as ``rng``, a name the caller never gave (review 35e)."""
+    with pytest.raises(ValueError, match=message):
+        reproduce.run(rid, fresh=True, **kw)
+
+
+def test_fewer_sensor_draws_widen_the_tolerance_by_their_own_scatter():
+    """2 % at the default 40,000 draws; five sample-sigma scatters, 5/sqrt(2 n), below 31,250."""
+    assert reproduce.run("mars-sensors").check("UV range (m)").tolerance.startswith("within 2 %")
+    res = reproduce.run("mars-sensors", n=2000, seed=3)
+    res.assert_ok()
+    assert res.check("UV range (m)").tolerance.startswith("within 7.9 %")
+
+
 # ------------------------------------------------------------------------------------------
 # one verdict vocabulary, safe tables
 

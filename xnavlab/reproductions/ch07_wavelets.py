@@ -41,7 +41,7 @@ def mallat_vs_pywavelets(out=None, n=5000, seed=0):
         Noise seed.
     """
     n = check_int("n", n, 160)
-    rng = make_rng(seed)
+    rng = make_rng(seed, "seed")
     t = 3.0 * np.arange(n)
     x = 4.19e6 - 3.8e5 * np.cos(2.0 * np.pi * t / 8280.0) + rng.normal(0.0, 5000.0, n)
     scale = np.abs(x).max()

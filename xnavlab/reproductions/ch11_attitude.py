@@ -23,6 +23,7 @@ import math
 import numpy as np
 
 from xnavlab import attitude as att
+from xnavlab.core.validate import SEED_MAX, check_int, check_real, check_seed
 from xnavlab.reproduce import (
     Result,
     check_draw,
@@ -107,6 +108,23 @@ def _spread(values):
     return f"median {med:.3g} [{lo:.3g}, {hi:.3g}]"
 
 
+#: The most runs a reproduction takes (about 0.05 s a run of 100 s: a few minutes at most).
+MAX_RUNS = 10_000
+
+
+def _check_runs(seed, n_runs, span=0):
+    """``(seed, n_runs)`` checked: the runs take seeds ``seed`` to ``seed + max(n_runs - 1,
+    span)``, so the first seed's range ends that far below :data:`SEED_MAX`."""
+    n_runs = check_int("n_runs", n_runs, 1, MAX_RUNS)
+    return check_int("seed", seed, 0, SEED_MAX - max(n_runs - 1, span)), n_runs
+
+
+def _check_size(name, value, hi=att.MAX_DEG_PER_H):
+    """A fault's size as the figure shows it: positive, at most ``hi`` (deg/h for the gyros,
+    per second for a quaternion component, whose whole span is 1)."""
+    return check_real(name, value, 0.0, hi, lo_open=True)
+
+
 def _outcomes(fault, seed, n_runs, **changes):
     """The outcomes of ``n_runs`` runs of ``fault``, seeds ``seed`` on (the plotted run first)."""
     return att.seeded_outcomes(fault, range(seed, seed + n_runs), **changes)
@@ -138,6 +156,8 @@ def _figure(run, out, name, method="sos"):
 )
 def xgyro_step(out=None, magnitude_deg_per_h=36.0, seed=0, n_runs=RUNS):
     """Fig. 3: a step of ``magnitude_deg_per_h`` on the x gyro at t = 50 s."""
+    seed, n_runs = _check_runs(seed, n_runs)
+    magnitude_deg_per_h = _check_size("magnitude_deg_per_h", magnitude_deg_per_h)
     fault = att.make_fault("gyro_x", "step", magnitude_deg_per_h * att.DEG_PER_H)
     run = att.simulate(fault, rng=seed)
     mc = _outcomes(fault, seed, n_runs)
@@ -193,6 +213,8 @@ def xgyro_step(out=None, magnitude_deg_per_h=36.0, seed=0, n_runs=RUNS):
 )
 def skew_ramp(out=None, rate_deg_per_h_per_s=0.1, seed=0, n_runs=RUNS):
     """Fig. 4: a ramp of ``rate_deg_per_h_per_s`` on the skewed gyro from t = 50 s."""
+    seed, n_runs = _check_runs(seed, n_runs, SKEW_RUNS)
+    rate_deg_per_h_per_s = _check_size("rate_deg_per_h_per_s", rate_deg_per_h_per_s)
     rate = rate_deg_per_h_per_s * att.DEG_PER_H
     fault = att.make_fault("gyro_skew", "ramp", rate)
     run = att.simulate(fault, rng=seed)
@@ -270,7 +292,8 @@ def _star_run(magnitude, seed):
 )
 def star_tracker(out=None, ramp_per_s=5e-5, seed=0, n_runs=RUNS):
     """Fig. 5: an additive ramp of ``ramp_per_s`` on the star-tracker's q1 from t = 50 s."""
-    run = _star_run(ramp_per_s, seed)
+    seed, n_runs = _check_runs(seed, n_runs)
+    run = _star_run(_check_size("ramp_per_s", ramp_per_s, 1.0), seed)
     mc = _outcomes(run.faults, seed, n_runs)
     crossed = crossed_after_onset(run)
     hit = run.sos.flags[run.t >= run.onset].any(axis=0)
@@ -314,7 +337,9 @@ def star_tracker(out=None, ramp_per_s=5e-5, seed=0, n_runs=RUNS):
 )
 def qdiff(out=None, ramp_per_s=5e-5, seed=0, window_s=10.0, n_runs=RUNS):
     """Fig. 6: ref. [22] on the star-tracker fault of Fig. 5."""
-    run = _star_run(ramp_per_s, seed)
+    seed, n_runs = _check_runs(seed, n_runs)
+    window_s = check_real("window_s", window_s, 0.0, 86400.0, lo_open=True)  # a day, as confirm_s
+    run = _star_run(_check_size("ramp_per_s", ramp_per_s, 1.0), seed)
     if window_s != run.config.qdiff_window_s:
         run = att.simulate(run.faults, qdiff_window_s=window_s, rng=seed)
     mc = _outcomes(run.faults, seed, n_runs, qdiff_window_s=window_s)
@@ -359,7 +384,7 @@ def qdiff(out=None, ramp_per_s=5e-5, seed=0, window_s=10.0, n_runs=RUNS):
 )
 def cost(out=None, n_steps=400, repeats=3, seed=0):
     """DOS against SOS: the filters each runs per sample (the paper's 4x), and the measured time."""
-    r = att.time_sos_dos(n_steps=n_steps, repeats=repeats, rng=seed)
+    r = att.time_sos_dos(n_steps=n_steps, repeats=repeats, rng=check_seed("seed", seed))
     q0 = np.array([0.0, 0.0, 0.0, 1.0])
     n_dos, n_sos = len(att.DOSMonitor(q0).filters), len(att.SOSMonitor(q0).filters)
     ratio = n_dos / n_sos
