@@ -371,3 +371,14 @@ def test_an_empty_value_is_a_value_not_a_flag_left_out(argv, line, tmp_path, cap
     lines = capsys.readouterr().err.splitlines()
     assert len(lines) == 1 and line in lines[0], lines
     assert not out.exists()  # refused before any folder is made
+
+
+def test_a_folder_of_another_campaign_is_one_line_before_any_warning(tmp_path, capsys):
+    """Review 35e: campaign detectors --runs 2 printed its cell warning first, then the refusal."""
+    from xnavlab.core.campaign import Store
+    from xnavlab.mars.studies.campaigns import campaign
+
+    Store(tmp_path, campaign("consistency", days=0.05).header(0)).close()
+    assert main(["campaign", "detectors", "--runs", "2", "--out", str(tmp_path)]) == 2
+    lines = capsys.readouterr().err.splitlines()
+    assert len(lines) == 1 and "holds another campaign's records" in lines[0], lines

@@ -149,6 +149,7 @@ def execute(args):
 
         scenario = dataclasses.replace(scenario, days=days, seed=0)
     camp = campaign(args.name, days=days, scenario=scenario, **options)
+    _check_store(args.out, camp, seed)
     if args.name == "detectors":
         from xnavlab.mars.studies.campaigns import detector_cells
 
@@ -241,6 +242,14 @@ def _common(args):
     engine = "dask" if args.scheduler else ("local-cluster" if args.local_cluster else "local")
     where = {"engine": engine, "workers": workers, "scheduler": args.scheduler}
     return runs, seed, where if timeout is None else {**where, "timeout": timeout}
+
+
+def _check_store(out, camp, seed):
+    """A folder that holds another campaign is refused now, in one line, before any warning
+    about the command as typed (run_campaign checks it again as it opens the store)."""
+    from xnavlab.core.campaign import Store
+
+    Store(out, camp.header(seed)).close()
 
 
 def _run(args, camp, runs, seed, where):
