@@ -129,3 +129,17 @@ def test_counts_beyond_their_range_are_refused_not_an_overflow_or_an_endless_run
         mc.signal_trial("step", 3.0, n=10**12)
     with pytest.raises(ValueError, match=r"^duration must be an integer in \[1, 1000000\]"):
         mc.signal_trial("step", 3.0, duration=10**30)
+
+
+@pytest.mark.parametrize("kind", mc.KINDS)
+def test_plot_pd_draws_every_kind_of_the_chapter_and_a_delay_of_zero(kind):
+    """Chapter 9's slider (10 trials): the chi-square flags a large spike at its own sample, a
+    delay of 0 s, which the log axis could not show (a UserWarning, the point dropped); the
+    symlog axis draws it at 0, no axis goes below 0 s, and a move to each kind draws too."""
+    fig = mc.plot_pd(kind=kind, trials=10)
+    ax = fig.axes[1]
+    assert ax.get_yscale() == "symlog" and ax.get_ylim()[0] >= 0.0
+    if kind == "spike":
+        assert 0.0 in ax.lines[1].get_ydata()  # chi2's median delay at 8 sigma
+    for other in mc.KINDS:
+        assert fig.xnav_update(kind=other, trials=10) is None

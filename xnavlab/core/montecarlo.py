@@ -333,7 +333,7 @@ def plot_pd(kind="step", noise_scale=1.0, trials=30, seed=0, sizes=(1.0, 2.0, 3.
     ['fault size (sigma)', 'fault size (sigma)']
     >>> fig = plot_pd(kind="spike", trials=1, sizes=(1.0,))   # nothing detected
     >>> fig.axes[1].get_ylim()
-    (1.0, 10000.0)
+    (0.0, 10000.0)
     """
     from matplotlib.figure import Figure
 
@@ -346,9 +346,12 @@ def plot_pd(kind="step", noise_scale=1.0, trials=30, seed=0, sizes=(1.0, 2.0, 3.
     pd_lines, delay_lines = {}, {}
     for d in DETECTORS:
         pd_lines[d], = ax1.plot(built, np.zeros(len(built)), "o-", label=d)
-        delay_lines[d], = ax2.semilogy(built, np.ones(len(built)), "o-", label=d)
+        delay_lines[d], = ax2.plot(built, np.ones(len(built)), "o-", label=d)
+    # symmetric log, linear below 1 s: a spike flagged at its own sample has a delay of 0 s,
+    # which a log axis cannot show (it warned and dropped the point)
+    ax2.set_yscale("symlog", linthresh=1.0)
     ax1.set(xlabel="fault size (sigma)", ylabel="probability of detection", ylim=(-0.05, 1.05))
-    ax2.set(xlabel="fault size (sigma)", ylabel="median delay (s)")
+    ax2.set(xlabel="fault size (sigma)", ylabel="median delay (s; linear below 1)")
     ax1.legend(fontsize=8)
     title = fig.suptitle("", fontsize=9)
 
@@ -366,10 +369,12 @@ def plot_pd(kind="step", noise_scale=1.0, trials=30, seed=0, sizes=(1.0, 2.0, 3.
         delays = np.array([r[f"{d}_delay_s"] for r in rows for d in DETECTORS])
         ax2.set_autoscaley_on(True)
         ax2.relim()
-        if np.any(np.isfinite(delays) & (delays > 0.0)):
+        if np.any(np.isfinite(delays)):
             ax2.autoscale_view()
-        else:  # nothing detected: no delay to scale the log axis to
-            ax2.set_ylim(1.0, 1e4)  # (before any autoscaling of it, which would warn)
+            lo, hi = ax2.get_ylim()  # no negative margin below a delay of 0 s; 1 s at least
+            ax2.set_ylim(max(lo, 0.0), max(hi, 1.0))
+        else:  # nothing detected: no delay to scale the axis to
+            ax2.set_ylim(0.0, 1e4)
             ax2.autoscale_view(scaley=False)
         far = {d: np.mean([r[f"{d}_far"] for r in rows]) for d in DETECTORS}
         title.set_text(f"{kind}, true/modelled noise {noise_scale:g}, {trials} trials per size; "
