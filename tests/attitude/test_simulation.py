@@ -104,3 +104,40 @@ def test_a_run_setting_beyond_its_range_is_refused_not_an_overflow(change, words
     """Review 35e: duration=1e308 was 'OverflowError: cannot convert float infinity to integer'."""
     with pytest.raises(ValueError, match=words):
         att.SimConfig(**change)
+
+
+# ------------------------------------------------------------ the compiled filter bank
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_the_compiled_bank_runs_the_books_ekf_steps(seed):
+    """The numba bank the simulations run is ekf_predict and ekf_update, step for step, for
+    every run and filter of a batch: to 1e-10 of each array's largest entry (the loops sum in
+    another order than numpy's matrix products, and solve S by Cholesky rather than LU)."""
+    from xnavlab.attitude._bank_kernel import filter_bank_compiled
+    from xnavlab.attitude.ekf import ekf_init, ekf_predict, ekf_update
+    from xnavlab.core.quaternions import quat_normalize, quat_propagate
+
+    rng = np.random.default_rng(seed)
+    B, F, n, dt = 2, 3, 60, 0.1
+    w = rng.normal(0.0, 0.02, (B, n, F, 3)) + np.array([0.01, -0.02, 0.03])
+    q = np.empty((B, n, 4))
+    q[:, 0] = att.DEFAULT_Q0
+    for k in range(1, n):
+        q[:, k] = quat_propagate(q[:, k - 1], w[:, k - 1, 0], dt)
+    q_meas = quat_normalize(q + rng.normal(0.0, 1e-4, q.shape))
+    q_meas[:, ::7] *= -1.0  # the sign alignment of the update
+    A = rng.normal(0.0, 1.0, (F, 3, 3))
+    gyro_cov, drift_cov = 1e-8 * A @ np.swapaxes(A, 1, 2), 1e-12 * np.eye(3) * np.ones((F, 1, 1))
+    R = 1e-8 * np.eye(4)
+    x0, P0 = ekf_init(np.broadcast_to(q_meas[:, :1], (B, F, 4)), attitude_sigma=1e-3,
+                      drift_sigma=1e-3)
+    q_hat, d_hat, P_dd = filter_bank_compiled(x0, P0, w, q_meas, dt, gyro_cov, drift_cov, R)
+    x, P = x0, P0
+    for k in range(n):
+        if k:
+            x, P = ekf_predict(x, P, w[:, k - 1], dt, gyro_cov, drift_cov)
+        x, P, _ = ekf_update(x, P, np.broadcast_to(q_meas[:, k, None], (B, F, 4)), R)
+        for ours, book in ((q_hat[:, k], x[..., :4]), (d_hat[:, k], x[..., 4:]),
+                           (P_dd[:, k], P[..., 4:, 4:])):
+            assert np.max(np.abs(ours - book)) <= 1e-10 * np.max(np.abs(book)), k

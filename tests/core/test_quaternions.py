@@ -213,3 +213,14 @@ def test_batches_that_do_not_broadcast_name_both_arguments(func, args, names):
     with pytest.raises(ValueError, match=rf"^{names} must have batch shapes that broadcast"):
         func(*args)
     assert qt.quat_product(np.tile(qt.IDENTITY, (3, 1)), qt.IDENTITY).shape == (3, 4)
+
+
+@given(st.lists(st.floats(-10.0, 10.0), min_size=12, max_size=12),
+       st.floats(0.0, 1.0))
+def test_the_unchecked_matrices_are_the_checked_ones_bit_for_bit(values, dt):
+    """The inner loops' variants skip only the conversion and checks of their inputs."""
+    w = np.array(values[:9]).reshape(3, 3)
+    q = np.array(values).reshape(3, 4)
+    q[np.all(q == 0.0, axis=1)] = qt.IDENTITY
+    assert np.array_equal(qt.kinematics_matrix_unchecked(w, dt), qt.kinematics_matrix(w, dt))
+    assert np.array_equal(qt.xi_matrix_unchecked(q), qt.xi_matrix(q))

@@ -34,7 +34,8 @@ listed in ``__all__`` below are re-exported here: ``from xnavlab import attitude
 then ``att.simulate(...)``. A few building blocks are public in their own module only:
 ``simulation.make_config``, ``simulation.simulate_sensors`` and
 ``simulation.diagnose_batch``. The plumbing the modules share (the per-sample input check,
-the EKF steps without checks) lives in the private modules ``_checks`` and ``_ekf_steps``.
+the EKF steps without checks, the filter bank compiled by numba for the simulations) lives in
+the private modules ``_checks``, ``_ekf_steps`` and ``_bank_kernel``.
 
 Units are SI inside (rad, rad/s, s); names say otherwise (``drifts_deg_per_h``).
 """

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from xnavlab.core.quaternions import kinematics_matrix, xi_matrix
+from xnavlab.core.quaternions import kinematics_matrix_unchecked, xi_matrix_unchecked
 
 __all__ = ["ekf_predict_unchecked", "ekf_update_unchecked"]
 
@@ -52,8 +52,8 @@ def ekf_predict_unchecked(x, P, w_g, dt, gyro_cov, drift_cov):
     """
     q, b = x[..., :4], x[..., 4:]
     w = w_g - b  # paper eq. (18): w = w_g1 - b - v_g1, noise-free part
-    phi = kinematics_matrix(w, dt)  # paper eq. (12)
-    G = -0.5 * dt * xi_matrix(q)  # d q(k+1) / d b = -dt/2 Xi(q), paper eqs. (20)-(23)
+    phi = kinematics_matrix_unchecked(w, dt)  # paper eq. (12)
+    G = -0.5 * dt * xi_matrix_unchecked(q)  # d q(k+1) / d b = -dt/2 Xi(q), paper eqs. (20)-(23)
     F = np.zeros(x.shape + (7,))
     F[..., :4, :4] = phi
     F[..., :4, 4:] = G

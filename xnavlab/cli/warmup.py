@@ -126,6 +126,14 @@ def _combined_detector():
     combined.InnovationMonitor(combined.CombinedDesign(28800.0, 1)).process(t, y)   # _scan
 
 
+def _attitude_bank():
+    from xnavlab.attitude import simulation
+
+    # compiles the attitude filter bank (numba's disk cache): chapter 11's first run and its
+    # slider's first move would otherwise pay 15-35 s for it
+    simulation.simulate(duration=50.0)
+
+
 def _bound_table():
     from xnavlab.robust import plots
 
@@ -164,6 +172,7 @@ STEPS = (
     ("the studies' rich truth, 30 days, and its q_acc (truth cache)", _study_truth),
     ("chapter 1's TOA accuracies and chapter 2's fold surveys (cache)", _timing_tables),
     ("chapter 9's combined detector (numba compile)", _combined_detector),
+    ("chapter 11's attitude filter bank (numba compile)", _attitude_bank),
     (KERNEL_STEP, compile_kernel),
     *(_reproduction_step(10, rid) for rid in ("rkf-earth", "rkf-mars", "rkf-sweep",
                                               "rkf-residual-memory", "ukf-vs-ephemeris-error")),

@@ -41,6 +41,8 @@ __all__ = [
     "xi_matrix",
     "psi_matrix",
     "kinematics_matrix",
+    "kinematics_matrix_unchecked",
+    "xi_matrix_unchecked",
     "quat_propagate",
     "quat_from_rotvec",
     "quat_to_rotvec",
@@ -372,6 +374,56 @@ def kinematics_matrix(w, dt):
     True
     """
     return _phi(_vec("w", w), check_real("dt", dt, 0.0))
+
+
+def kinematics_matrix_unchecked(w, dt):
+    """:func:`kinematics_matrix` without the conversion and checks of its inputs, for inner loops.
+
+    The caller guarantees what :func:`kinematics_matrix` checks: ``w`` a finite float ndarray
+    of shape (..., 3), ``dt`` a float >= 0. The angle ``|w| dt`` is still refused when it is
+    not finite or exceeds :data:`MAX_ANGLE` (a filter's estimate may run away). A step of the
+    attitude filter bank costs about half as much without the checks of every input.
+
+    Parameters
+    ----------
+    w : ndarray, shape (..., 3)
+        Body angular rate, rad/s.
+    dt : float
+        Step, s.
+
+    Returns
+    -------
+    ndarray, shape (..., 4, 4)
+
+    Examples
+    --------
+    >>> w = np.array([0.01, -0.02, 0.03])
+    >>> bool(np.array_equal(kinematics_matrix_unchecked(w, 0.1), kinematics_matrix(w, 0.1)))
+    True
+    """
+    return _phi(w, dt)
+
+
+def xi_matrix_unchecked(q):
+    """:func:`xi_matrix` without the conversion and checks of ``q``, for inner loops.
+
+    The caller guarantees a finite float ndarray of shape (..., 4), not zero.
+
+    Parameters
+    ----------
+    q : ndarray, shape (..., 4)
+
+    Returns
+    -------
+    ndarray, shape (..., 4, 3)
+
+    Examples
+    --------
+    >>> q = quat_from_rotvec([0.1, -0.2, 0.3])
+    >>> bool(np.array_equal(xi_matrix_unchecked(q), xi_matrix(q)))
+    True
+    """
+    return _xi(q)
 
 
 def quat_propagate(q, w, dt):
