@@ -188,7 +188,7 @@ def test_complex_or_non_flag_inputs_are_refused_by_name():
         ff.set_active(["yes", "no"])
     with pytest.raises(ValueError, match=r"^Q must hold real numbers"):
         ff.predict(lambda x: x, np.eye(2), np.eye(2) * (1 + 0j))
-    with pytest.raises(ValueError, match=r"^n_local must be an integer in \[1, inf\), got 0$"):
+    with pytest.raises(ValueError, match=r"^n_local must be an integer in \[1, 1000\], got 0$"):
         federated.FederatedFilter(np.zeros(2), np.eye(2), n_local=0)
 
 
@@ -223,3 +223,8 @@ def test_fuse_check_is_a_real_bool(bad):
     """Review 35b N19: a truthy string was read as True."""
     with pytest.raises(ValueError, match="^check must be True or False"):
         federated.fuse([np.zeros(1)], [np.eye(1)], check=bad)
+
+
+def test_a_federated_filter_of_more_than_max_local_filters_is_refused():
+    with pytest.raises(ValueError, match=r"n_local must be an integer in \[1, 1000\]"):
+        federated.FederatedFilter([0.0], [[1.0]], n_local=10**30)

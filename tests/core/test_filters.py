@@ -374,3 +374,8 @@ def test_ukf_weights_refuse_settings_whose_weights_are_not_finite(kw, words):
     was refused there as lam, a parameter never given; beta=1e308 gave an inf weight."""
     with pytest.raises(ValueError, match=words):
         filters.ukf_weights(3, **kw)
+
+
+def test_chi2_bounds_refuses_more_runs_than_it_can_pool():
+    with pytest.raises(ValueError, match=r"n_runs must be a real number in \[1, 1e\+12\]"):
+        filters.chi2_bounds(3, 1e308)

@@ -58,3 +58,12 @@ def test_noise_limit_single_component_matches_the_chi_square_form_and_is_reprodu
 def test_noise_limit_grows_with_the_ratio(r, extra):
     assert limits.noise_pd_limit([r + extra], 5, 0.05, draws=20_000, rng=1) >= \
         limits.noise_pd_limit([r], 5, 0.05, draws=20_000, rng=1) - 0.02
+
+
+@pytest.mark.parametrize(("call", "match"), [
+    (lambda: limits.ramp_means([0.5], 10**30), r"n must be an integer in \[1, 10000000\]"),
+    (lambda: limits.noise_pd_limit([3.0], 6, 0.03, draws=10**30), r"draws must be an integer in \[1000, "),
+])
+def test_a_count_beyond_max_samples_is_refused(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()

@@ -149,3 +149,8 @@ def test_a_holdoff_beyond_its_range_is_refused_not_an_overflow():
     a[[2, 3]] = True
     with pytest.raises(ValueError, match=r"^holdoff must be an integer in \[1, 1000000000\]"):
         D.events_from_alarms(np.arange(10.0), a, a * 2.0, holdoff=10**30)
+
+
+def test_signal_threshold_ratio_refuses_a_sigma_beyond_max_size():
+    with pytest.raises(ValueError, match=r"sigma must be in \(0, 1e\+15\]"):
+        D.signal_threshold_ratio(np.sin(np.arange(2000.0)), 1e308)

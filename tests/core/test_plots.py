@@ -83,3 +83,15 @@ def test_plot_step_detector_is_the_fault_detection_figure_of_its_range_series():
 def test_plot_step_detector_bad_input(kwargs, name):
     with pytest.raises(ValueError, match=name):
         D.plot_step_detector(**kwargs)
+
+
+@pytest.mark.parametrize(("kwargs", "match"), [
+    (dict(size_sigma=1e308), r"size_sigma must be a real number in \[-1e\+06, 1e\+06\]"),
+    (dict(sigma_m=1e308), r"sigma_m must be a real number in \(0, 1e\+09\]"),
+    (dict(dt_s=1e308), r"dt_s must be a real number in \(0, 86400\]"),
+    (dict(n=10**30), r"n must be an integer in \[6000, 10000000\]"),
+    (dict(train=10**30), r"train must be an integer in \[1, 5000000\]"),
+])
+def test_plot_step_detector_refuses_huge_settings(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        D.plot_step_detector(**kwargs)

@@ -67,7 +67,12 @@ from xnavlab.core.validate import (
     check_vector,
 )
 
-__all__ = ["MODES", "fuse", "share_factors", "FederatedFilter"]
+__all__ = ["MODES", "MAX_LOCAL", "fuse", "share_factors", "FederatedFilter"]
+
+#: The most local filters a federated filter takes: one per sensor subsystem, and each holds a
+#: copy of the state and its covariance, so a count beyond a thousand is no navigation system
+#: (and 10**30 would ask numpy for an array it cannot size).
+MAX_LOCAL = 1000
 
 #: Federated-filter modes.
 MODES = ("reset", "no-reset")
@@ -188,7 +193,7 @@ class FederatedFilter:
     P0 : array_like, shape (n, n)
         Its covariance.
     n_local : int
-        Number of local filters (subsystems).
+        Number of local filters (subsystems), in [1, MAX_LOCAL].
     beta : array_like, shape (n_local,), optional
         Information-sharing factors (normalised to sum 1; default equal).
     mode : {"reset", "no-reset"}
@@ -230,7 +235,7 @@ class FederatedFilter:
         self.kind = check_choice("kind", kind, ("ekf", "ukf"))
         x0 = check_vector("x0", x0)
         P0 = symmetrize(check_covariance("P0", P0, x0.size, definite=True))
-        n_local = check_int("n_local", n_local, 1)
+        n_local = check_int("n_local", n_local, 1, MAX_LOCAL)
         if beta is None:
             beta = np.full(n_local, 1.0 / n_local)
         beta = check_finite_array("beta", beta).reshape(-1)

@@ -577,6 +577,16 @@ def chi2_bounds(dof, n_runs=1, p=0.95):
     ``n_runs * average`` is chi-square with ``n_runs * dof`` degrees of freedom, so the
     bounds are ``chi2.ppf((1 -/+ p) / 2, n_runs dof) / n_runs``.
 
+    Parameters
+    ----------
+    dof : float
+        Degrees of freedom of each value, > 0.
+    n_runs : float
+        Values averaged, in [1, 1e12] (a Monte Carlo of more runs than a machine makes in a
+        year; beyond 1e308 / dof the pooled degrees of freedom overflow).
+    p : float
+        Probability inside the bounds, in (0, 1).
+
     Returns
     -------
     lo, hi : float
@@ -588,7 +598,7 @@ def chi2_bounds(dof, n_runs=1, p=0.95):
     (5.08, 7.0)
     """
     dof = check_real("dof", dof, 0.0, lo_open=True)
-    n_runs = check_real("n_runs", n_runs, 1.0)
+    n_runs = check_real("n_runs", n_runs, 1.0, 1e12)
     p = check_real("p", p, 0.0, 1.0, lo_open=True, hi_open=True)
     k = dof * n_runs
     return chi2_ppf((1 - p) / 2, k) / n_runs, chi2_ppf((1 + p) / 2, k) / n_runs

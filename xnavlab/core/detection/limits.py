@@ -37,7 +37,11 @@ import numpy as np
 from xnavlab.core.distributions import norm_cdf, norm_isf
 from xnavlab.core.validate import check_finite_array, check_int, check_real, make_rng
 
-__all__ = ["window_false_alarm", "mean_shift_pd_limit", "ramp_means", "noise_pd_limit"]
+__all__ = ["MAX_SAMPLES", "window_false_alarm", "mean_shift_pd_limit", "ramp_means", "noise_pd_limit"]
+
+#: The most samples or draws an array of these limits holds: 10**7 float64 rows are 80 MB a
+#: component, past any detector window (a year of 3 s samples) and any useful precision.
+MAX_SAMPLES = 10**7
 
 
 def window_false_alarm(rate_per_day, samples_per_day, n):
@@ -108,7 +112,7 @@ def ramp_means(slopes, n, phase=1.0):
     slopes : array_like, shape (m,)
         Drift of each component, noise standard deviations per sample.
     n : int
-        Samples, >= 1.
+        Samples, in [1, MAX_SAMPLES].
     phase : float
         Time of the first sample after the onset, in sample intervals, in (0, 1]; 1 (the
         default, the latest first sample) gives the largest means.
@@ -123,7 +127,7 @@ def ramp_means(slopes, n, phase=1.0):
     [0.5, 1.0, 1.5]
     """
     slopes = np.atleast_1d(check_finite_array("slopes", slopes))
-    n = check_int("n", n, 1)
+    n = check_int("n", n, 1, MAX_SAMPLES)
     phase = check_real("phase", phase, 0.0, 1.0, lo_open=True)
     i = np.arange(n, dtype=float)[:, None]
     return slopes[None, :] * (i + phase)
@@ -142,7 +146,7 @@ def noise_pd_limit(ratios, n, alpha, *, draws=200_000, rng=0):
         False-alarm probability of the test, in (0, 1).
     draws : int
         Monte Carlo draws for the quantile and the probability (default 200,000: about
-        +-0.001).
+        +-0.001), in [1000, MAX_SAMPLES].
     rng : int or numpy.random.Generator
         Seed or generator of the draws.
 
@@ -163,7 +167,7 @@ def noise_pd_limit(ratios, n, alpha, *, draws=200_000, rng=0):
         raise ValueError(f"ratios must be a 1-D array of values >= 1, got {r}")
     n = check_int("n", n, 1)
     alpha = _alpha(alpha)
-    draws = check_int("draws", draws, 1000)
+    draws = check_int("draws", draws, 1000, MAX_SAMPLES)
     g = make_rng(rng)
     w = 1.0 - 1.0 / np.square(r)                        # log LR = sum_c w_c / 2 sum_i z^2 + const
     if not np.any(w > 0.0):

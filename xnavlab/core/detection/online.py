@@ -87,6 +87,7 @@ from numba import njit
 from xnavlab.core.detection._tracked import TrackedDetector
 from xnavlab.core.detection._wavelets import orthogonal_wavelet
 from xnavlab.core.distributions import chi2_isf, chi2_ppf, norm_isf, norm_sf
+from xnavlab.core.faults import MAX_SIZE
 from xnavlab.core.validate import check_finite_array, check_int, check_real
 
 __all__ = [
@@ -516,7 +517,9 @@ def signal_threshold_ratio(x, sigma, wavelet="db3", level=5, pfa=1e-5, n_tests=N
         The noise-free signal (e.g. a measurement model along the true trajectory).
     sigma : float or array_like, shape (level,)
         Per-level noise of the detector (white noise of sigma per sample: sigma at every
-        level, the filters having unit norm; or a trained MAD estimate).
+        level, the filters having unit norm; or a trained MAD estimate), each in
+        (0, MAX_SIZE] (:data:`xnavlab.core.faults.MAX_SIZE`, the measurement's SI unit:
+        beyond any physical noise, and ``k sigma`` overflows near 1e308).
     wavelet, level : as in :func:`causal_details`
     pfa : float
         Design false-alarm probability per sample.
@@ -536,8 +539,8 @@ def signal_threshold_ratio(x, sigma, wavelet="db3", level=5, pfa=1e-5, n_tests=N
     """
     level = check_int("level", level, 1, 12)
     sigma = check_finite_array("sigma", sigma)
-    if sigma.shape not in ((), (level,)) or np.any(sigma <= 0):
-        raise ValueError(f"sigma must be positive, a scalar or one per level ({level},)")
+    if sigma.shape not in ((), (level,)) or np.any(sigma <= 0) or np.any(sigma > MAX_SIZE):
+        raise ValueError(f"sigma must be in (0, {MAX_SIZE:g}], a scalar or one per level ({level},)")
     sigma = np.broadcast_to(sigma, (level,))
     n_tests = level + 1 if n_tests is None else n_tests
     k = threshold_multiplier(pfa, n_tests)

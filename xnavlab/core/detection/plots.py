@@ -190,15 +190,17 @@ def plot_step_detector(size_sigma=6.0, levels=5, log10_pfa=-5, *, sigma_m=5000.0
     Parameters
     ----------
     size_sigma : float
-        Step size in noise standard deviations (dimensionless), finite.
+        Step size in noise standard deviations (dimensionless), in [-1e6, 1e6] (a million
+        sigma: every step the slider shows is detected long before).
     levels : int
         Decomposition levels of the detector, 1..12.
     log10_pfa : float
         Base-10 logarithm of the per-sample false-alarm probability, in [-12, 0).
     sigma_m, dt_s : float
-        Noise standard deviation, m (> 0), and sample interval, s (> 0).
+        Noise standard deviation, m, in (0, 1e9] (a million km, so the step stays under
+        :data:`~xnavlab.core.faults.MAX_SIZE`), and sample interval, s, in (0, 86400].
     n : int
-        Number of samples, >= 2 * ``train``.
+        Number of samples, in [2 * ``train``, 10**7] (80 MB a series, made once per setting).
     mean_m, swing_m, period_s : float
         Mean range (m), its orbital swing (m) and the orbit's period (s, > 0).
     seed : int
@@ -228,14 +230,14 @@ def plot_step_detector(size_sigma=6.0, levels=5, log10_pfa=-5, *, sigma_m=5000.0
 
     def run(size_sigma, levels, log10_pfa, sigma_m, dt_s, n, mean_m, swing_m, period_s, seed,
             onset_s, duration_s, train):
-        size_sigma = check_real("size_sigma", size_sigma)
+        size_sigma = check_real("size_sigma", size_sigma, -1e6, 1e6)
         levels = check_int("levels", levels, 1, 12)
         log10_pfa = check_real("log10_pfa", log10_pfa, -12.0, 0.0, hi_open=True)
-        sigma_m = check_real("sigma_m", sigma_m, 0.0, lo_open=True)
-        dt_s = check_real("dt_s", dt_s, 0.0, lo_open=True)
+        sigma_m = check_real("sigma_m", sigma_m, 0.0, 1e9, lo_open=True)
+        dt_s = check_real("dt_s", dt_s, 0.0, 86400.0, lo_open=True)
         period_s = check_real("period_s", period_s, 0.0, lo_open=True)
-        train = check_int("train", train, 1)
-        n = check_int("n", n, 2 * train)
+        train = check_int("train", train, 1, 5 * 10**6)
+        n = check_int("n", n, 2 * train, 10**7)
         t, clean = _range_series(n, dt_s, check_real("mean_m", mean_m),
                                  check_real("swing_m", swing_m), period_s, sigma_m, int(seed))
         fault = Fault("uv", "step", size_sigma * sigma_m, onset=onset_s, duration=duration_s)
