@@ -61,3 +61,11 @@ def test_exposure_scaling_names_each_length_under_its_list(photons, reference, m
     with pytest.raises(ValueError) as exc:
         photon_error.exposure_scaling(photons, reference, months=months)
     assert str(exc.value).startswith(words), str(exc.value)
+
+
+def test_snr_range_sigma_refuses_more_photons_than_its_background_allows():
+    comps = np.array([[0.18, 0.05, 0.29], [0.61, 0.0174, 0.15], [0.43, 0.36, 0.56]])
+    fake = photon_fix.Photons(*(np.zeros(1),) * 3, np.zeros((1, 3)), np.zeros((1, 3)),
+                              np.array([205.53]), comps)
+    with pytest.raises(ValueError, match=r"n_photons must be a real number in \(0, 1e\+11\]"):
+        photon_error.snr_range_sigma(1e308, 700.0, fake)

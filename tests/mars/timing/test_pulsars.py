@@ -414,3 +414,10 @@ def test_from_par_checks_the_duty_cycle_before_it_scales_the_period(duty):
     path = pint_bridge.examples_path("B1855+09_NANOGrav_9yv1.gls.par")
     with pytest.raises(ValueError, match=r"^duty_cycle must be a real number in \(0, 0.5\], got "):
         pulsars.from_par(path, flux_ph_cm2_s=1e-5, pulsed_fraction=0.5, duty_cycle=duty)
+
+
+def test_a_distance_beyond_the_local_group_and_a_time_beyond_max_span_are_refused():
+    with pytest.raises(ValueError, match=r"Pulsar distance must be a real number in \(0, 3\.08\d*e\+22\]"):
+        dataclasses.replace(pulsars.get("B0531+21"), distance=1e308)
+    with pytest.raises(ValueError, match="t must be within MAX_SPAN = 1e\\+12 s of t0"):
+        pulsars.phase(1e308, [10.0, 0.5])

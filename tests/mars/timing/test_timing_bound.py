@@ -213,3 +213,10 @@ def test_fisher_information_refuses_rates_spins_and_profiles_that_overflow():
         args = {"pulsed": 1.0, "unpulsed": 0.1, "frequency": 1.0, "h": h, "dh": dh, **kw}
         with pytest.raises(ValueError, match=message):
             tb.fisher_information(**args)
+
+
+@pytest.mark.parametrize("rates", [(1e308, 1e5), (2e4, 1e308)])
+def test_ml_phase_shift_refuses_more_photons_than_max_counts(rates):
+    mu = tb.expected_fold(256, 0.05, 2e4, 1e5)
+    with pytest.raises(ValueError, match=r"(un)?pulsed must be a real number in \(0, 1e\+24\]"):
+        tb.ml_phase_shift(mu, 0.05, *rates)

@@ -221,7 +221,7 @@ def test_bad_inputs():
         toa.roemer(R, 2 * N)
     with pytest.raises(ValueError, match=r"n must have shape \(k, 3\)"):
         toa.roemer(R, N[0])
-    with pytest.raises(ValueError, match="distance must be positive"):
+    with pytest.raises(ValueError, match=r"distance must be in \(0, 3.09e\+22\] m"):
         toa.parallax(R, N, -D)
     with pytest.raises(ValueError, match="r_ssb"):
         toa.delay(np.array([np.nan, 0, 0]), N, D, r_sun)
@@ -322,3 +322,11 @@ def test_proper_time_on_the_paper_orbit():
         toa.proper_time_terms(t[::-1])
     with pytest.raises(ValueError, match="center"):
         toa.proper_time_terms(t, center="pluto")
+
+
+def test_a_distance_beyond_max_distance_and_a_huge_step_are_refused():
+    n = np.array([[1.0, 0.0, 0.0]])
+    with pytest.raises(ValueError, match=r"distance must be in \(0, 3\.09e\+22\] m"):
+        toa.parallax(np.array([0.0, 1e11, 0.0]), n, 1e308)
+    with pytest.raises(ValueError, match=r"step must be a real number in \(0, 1e\+12\]"):
+        toa.gradient_fd([1e11, 0.0, 0.0], n, [1e20], [1e9, 2e9, 0.0], step=1e308)

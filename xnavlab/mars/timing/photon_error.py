@@ -46,7 +46,8 @@ def snr_range_sigma(n_photons, weight_sum, photons):
     Parameters
     ----------
     n_photons : float
-        Photons in the set.
+        Photons in the set, in (0, 1e11]: the photons beyond ``weight_sum`` are the background
+        of an equivalent pulsar over 1e6 s on 1 m^2, which must stay at most 10 ph/cm^2/s.
     weight_sum : float
         Their weights' sum (photons from the pulsar), at most ``n_photons``.
     photons : Photons
@@ -66,7 +67,7 @@ def snr_range_sigma(n_photons, weight_sum, photons):
     >>> round(snr_range_sigma(1000.0, 700.0, fake))   # m
     1327
     """
-    n_photons = check_real("n_photons", n_photons, 0.0, lo_open=True)
+    n_photons = check_real("n_photons", n_photons, 0.0, 1e11, lo_open=True)
     weight_sum = check_real("weight_sum", weight_sum, 0.0, n_photons, lo_open=True)
     period = 1.0 / float(np.mean(photons.spin_frequency))
     comp = photons.components[np.argmin(photons.components[:, 1])]  # (phase, FWHM, amplitude)

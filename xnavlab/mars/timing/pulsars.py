@@ -31,29 +31,18 @@ from xnavlab.core.validate import check_bool, check_finite_array, check_int, che
 from xnavlab.mars.timing import xray_pulsars
 
 __all__ = [
-    "Pulsar",
-    "CATALOGUE",
-    "PAPER_PULSARS",
-    "PAPER_RANGING_M",
-    "get",
-    "from_par",
-    "names",
-    "check_names",
-    "directions",
-    "phase",
-    "profile",
-    "binned_template",
-    "photon_rates",
-    "simulate_photons",
-    "phase_exposure",
-    "fold",
-    "simulate_folded",
-    "estimate_phase_shift",
-    "toa_sigma",
-    "ranging_accuracy",
-    "monte_carlo_toa",
-    "xcorr_toa_sigma",
+    "Pulsar", "MAX_DISTANCE", "MAX_SPAN", "CATALOGUE", "PAPER_PULSARS", "PAPER_RANGING_M", "get",
+    "from_par", "names", "check_names", "directions", "phase", "profile", "binned_template",
+    "photon_rates", "simulate_photons", "phase_exposure", "fold", "simulate_folded",
+    "estimate_phase_shift", "toa_sigma", "ranging_accuracy", "monte_carlo_toa", "xcorr_toa_sigma",
 ]
+
+#: The farthest pulsar distance, m: 1 Mpc, the Local Group (the Galaxy is 30 kpc across, the
+#: Magellanic Clouds' pulsars 50-60 kpc away); the delays' 1 / D terms overflow near 1e308 m.
+MAX_DISTANCE = 1e3 * KPC
+#: The longest time from a timing model's epoch, s (about 32,000 years, far beyond any
+#: model's validity); the powers of eq. (2) overflow near 1e308 s.
+MAX_SPAN = 1e12
 
 _SHEIKH = "Sheikh et al. 2006, Table 1"
 _ATNF = "ATNF Pulsar Catalogue (Manchester et al. 2005), rounded"
@@ -71,7 +60,7 @@ class Pulsar:
     ra_deg, dec_deg : float
         J2000 right ascension and declination, degrees.
     distance : float
-        Distance, m.
+        Distance, m, in (0, MAX_DISTANCE].
     period : float
         Spin period P, s.
     fdot : float
@@ -98,7 +87,7 @@ class Pulsar:
     sources: dict = field(default_factory=dict, compare=False, repr=False)
 
     def __post_init__(self):  # a complex, NaN or out-of-range property is refused, by name
-        for key, lo, hi in (("ra_deg", 0, 360), ("dec_deg", -90, 90), ("distance", 0, math.inf),
+        for key, lo, hi in (("ra_deg", 0, 360), ("dec_deg", -90, 90), ("distance", 0, MAX_DISTANCE),
                             ("period", 0, math.inf), ("fdot", -math.inf, math.inf),
                             ("flux", 0, math.inf), ("pulsed_fraction", 0, 1), ("width", 0, math.inf)):
             check_real(f"Pulsar {key}", getattr(self, key), lo, hi,
@@ -252,8 +241,8 @@ def from_par(path, distance=None, flux_ph_cm2_s=None, pulsed_fraction=None, duty
     path : str or pathlib.Path
         The ``.par`` file.
     distance : float, optional
-        Distance, m; by default ``1 / PX`` (kpc per mas). A model without a positive
-        ``PX`` needs it.
+        Distance, m, in (0, MAX_DISTANCE]; by default ``1 / PX`` (kpc per mas). A model
+        without a positive ``PX`` needs it.
     flux_ph_cm2_s : float, optional
         X-ray photon flux (2-10 keV), ph/cm^2/s, in (0, 1000].
     pulsed_fraction : float, optional
@@ -332,7 +321,7 @@ def from_par(path, distance=None, flux_ph_cm2_s=None, pulsed_fraction=None, duty
         distance = KPC / par["px_mas"]  # 1 / PX: kpc per mas
         sources["distance"] = f"timing model {par['name']} (1 / PX)"
     else:
-        distance = check_real("distance", distance, 0.0, lo_open=True)
+        distance = check_real("distance", distance, 0.0, MAX_DISTANCE, lo_open=True)
         sources["distance"] = "argument of pulsars.from_par"
     sources.update({"flux": src["flux_ph_cm2_s"], "pulsed_fraction": src["pulsed_fraction"],
                     "width": src["width_s"]})
@@ -389,7 +378,7 @@ def phase(t, freqs, t0=0.0, phase0=0.0):
     Parameters
     ----------
     t : float or array_like
-        Times, s.
+        Times, s, within MAX_SPAN of ``t0``.
     freqs : sequence of float
         ``[f, fdot, fddot, ...]``: frequency (Hz) and its derivatives (Hz/s^n).
     t0 : float
@@ -412,6 +401,8 @@ def phase(t, freqs, t0=0.0, phase0=0.0):
     if freqs.ndim != 1 or freqs.size == 0:
         raise ValueError("freqs must be a non-empty sequence [f, fdot, ...]")
     dt = t - check_real("t0", t0)
+    if np.any(np.abs(dt) > MAX_SPAN):
+        raise ValueError(f"t must be within MAX_SPAN = {MAX_SPAN:g} s of t0 (the timing model's epoch)")
     out = np.full(dt.shape, check_real("phase0", phase0))
     term = np.ones_like(dt)
     for n, fn in enumerate(freqs, start=1):
@@ -545,8 +536,11 @@ def simulate_photons(pulsar, t_obs, area_m2=1.0, background_ph_cm2_s=0.005, rng=
 def _binned_phase(name, t, p, nbins, t0):
     """``Phi(t)`` of ``p`` (cycles), refused (naming ``name``) beyond ``0.1 2^52 / nbins`` cycles,
     where float64's spacing, ``|Phi| 2^-52``, exceeds a tenth of a bin: which bin is noise."""
+    t = check_finite_array(name, t)
+    if np.any(np.abs(t - check_real("t0", t0)) > MAX_SPAN):  # phase() refuses it: no bin either
+        t = np.full(t.shape, math.inf)
     with np.errstate(over="ignore", invalid="ignore"):  # overflow is refused just below
-        ph = phase(t, [p.frequency, p.fdot], t0=t0)
+        ph = phase(t, [p.frequency, p.fdot], t0=t0) if np.all(np.isfinite(t)) else t
     limit = 0.1 * 2.0**52 / nbins  # eq: cycles at which float64's spacing is 0.1 / nbins
     worst = float(np.max(np.abs(ph), initial=0.0)) if np.all(np.isfinite(ph)) else math.inf
     if not worst <= limit:

@@ -70,6 +70,7 @@ from xnavlab.core.validate import (
 from xnavlab.mars.timing import pulsars
 
 __all__ = [
+    "MAX_COUNTS",
     "XNAV_NOISE",
     "profile_derivative",
     "fisher_information",
@@ -89,6 +90,10 @@ __all__ = [
 #: The XNAV noise models of the Mars scenario: ``"paper"`` the Sheikh et al. (2006) formula
 #: (the main paper's 109, 344, 1866, 325 m), ``"crlb"`` the Poisson Cramer-Rao bound.
 XNAV_NOISE = ("paper", "crlb")
+
+#: The most expected photons in a fold: 1e15 photons/s (the rate bound of
+#: :func:`fisher_information`) over 1e9 s, thirty years; near 1e308 the likelihood overflows.
+MAX_COUNTS = 1e24
 
 _FWHM = 2.0 * math.sqrt(2.0 * math.log(2.0))
 _WRAPS = np.arange(-3, 4)  # images of the wrapped Gaussian (sigma <= 0.5 / 2.355 cycles)
@@ -368,7 +373,8 @@ def ml_phase_shift(counts, duty, pulsed, unpulsed, search=0.5, max_iter=30):
     duty : float
         Pulse FWHM over period.
     pulsed, unpulsed : float
-        Expected pulsed and unpulsed photons in a fold (``lambda_s T``, ``lambda_b T``).
+        Expected pulsed and unpulsed photons in a fold (``lambda_s T``, ``lambda_b T``), in
+        (0, MAX_COUNTS].
     search : float
         Half-width of the window of offsets searched, cycles, in [0, 0.5] (0.5: the whole
         cycle, the unrestricted ML): the a-priori knowledge of the offset. The refinement
@@ -393,8 +399,8 @@ def ml_phase_shift(counts, duty, pulsed, unpulsed, search=0.5, max_iter=30):
     if n.ndim not in (1, 2) or n.shape[-1] < 8 or np.any(n < 0):
         raise ValueError("counts must be a fold of at least 8 non-negative bins, or a 2-D "
                          "array of folds (one a row)")
-    pulsed = check_real("pulsed", pulsed, 0.0, lo_open=True)
-    unpulsed = check_real("unpulsed", unpulsed, 0.0, lo_open=True)
+    pulsed = check_real("pulsed", pulsed, 0.0, MAX_COUNTS, lo_open=True)
+    unpulsed = check_real("unpulsed", unpulsed, 0.0, MAX_COUNTS, lo_open=True)
     search = check_real("search", search, 0.0, 0.5)
     max_iter = check_int("max_iter", max_iter, 1, 1000)
     duty = _sigma(duty) * _FWHM

@@ -91,8 +91,9 @@ def _args(r_ssb, n):
 def _distance(distance, k):
     d = check_finite_array("distance", distance)
     d = np.broadcast_to(d, (k,)) if d.ndim == 0 else d
-    if d.shape != (k,) or np.any(d <= 0):
-        raise ValueError(f"distance must be positive with shape ({k},), got {np.shape(distance)}")
+    if d.shape != (k,) or np.any(d <= 0) or np.any(d > pulsars.MAX_DISTANCE):
+        raise ValueError(f"distance must be in (0, {pulsars.MAX_DISTANCE:.3g}] m (pulsars.MAX_DISTANCE) "
+                         f"with shape ({k},), got {np.shape(distance)}")
     return d
 
 
@@ -111,7 +112,9 @@ def roemer(r_ssb, n):
 def parallax(r_ssb, n, distance):
     """Parallax delay ``[(n . R)^2 - |R|^2] / (2 c D0)``, s; shape (..., k).
 
-    Always <= 0: the wavefront is a sphere centred on the pulsar, not a plane.
+    Always <= 0: the wavefront is a sphere centred on the pulsar, not a plane. ``distance``
+    (m, a scalar or one per pulsar) is in (0, :data:`~xnavlab.mars.timing.pulsars.MAX_DISTANCE`],
+    as in every function here that takes it.
 
     Examples
     --------
@@ -530,7 +533,8 @@ def gradient_fd(r_ssb, n, distance, r_sun_ssb, step=1.0e3, which=("roemer", "par
     r_sun_ssb : array_like, shape (3,)
         Sun relative to the SSB, m.
     step : float
-        Finite-difference step, m (> 0).
+        Finite-difference step, m, in (0, 1e12] (7 au: a difference across more than the
+        inner Solar System is no derivative, and near 1e308 m the squares overflow).
     which : sequence of {"roemer", "parallax", "shapiro"}
         The terms to differentiate (default all three, the whole delay).
     shapiro : {"exact", "paper"}
@@ -548,7 +552,7 @@ def gradient_fd(r_ssb, n, distance, r_sun_ssb, step=1.0e3, which=("roemer", "par
     array([[0.6, 0.8, 0. ]])
     """
     r_ssb = check_finite_array("r_ssb", r_ssb, shape=(3,))
-    step = check_real("step", step, 0.0, lo_open=True)
+    step = check_real("step", step, 0.0, 1e12, lo_open=True)
     which = check_items("which", which, "term",
                         lambda label, name: check_choice(label, name, ("roemer", "parallax", "shapiro")))
 
