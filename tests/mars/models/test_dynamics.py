@@ -332,3 +332,8 @@ def test_a_position_at_the_centre_to_float64_is_refused(r):  # review 35d D42's 
         with pytest.raises(ValueError, match=r"^r must not be the centre \(0, 0, 0\) or within "
                                              r"1e-60 m of it"):
             call(np.array(r))
+
+
+def test_transition_matrix_refuses_a_step_beyond_its_series():
+    with pytest.raises(ValueError, match=r"dt must be a real number in \[-1e\+06, 1e\+06\]"):
+        dynamics.transition_matrix(dynamics.MARS_STATE0[:3], 1e308)

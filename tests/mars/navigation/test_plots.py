@@ -3,6 +3,8 @@
 import re
 
 import matplotlib
+import numpy as np
+import pytest
 
 from xnavlab.mars.navigation import plots as mars_plots
 
@@ -62,3 +64,16 @@ def test_plot_runs_draws_each_error_and_sigma_against_the_first_with_the_band_on
         mars_plots.plot_runs({})
     with pytest.raises(ValueError, match="share their epochs"):
         mars_plots.plot_runs({"a": run, "short": scenarios.run(days=0.01)})
+
+
+@pytest.mark.parametrize(("call", "match"), [
+    (lambda: mars_plots.plot_subsystem("cns", 1e308, 30, days=0.02),
+     r"noise_scale must be a real number in \(0, 100\]"),
+    (lambda: mars_plots.plot_subsystem("cns", 2.0, 10**30, days=0.02),
+     r"interval_s must be a real number in \(0, 86400\]"),
+    (lambda: mars_plots.plot_details(np.arange(10.0), np.zeros(10), np.zeros((1, 10)), stride=10**30),
+     r"stride must be an integer in \[1, 10\]"),
+])
+def test_huge_plot_settings_are_refused(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()

@@ -577,7 +577,8 @@ def transition_matrix(r, dt, gm=GM_MARS):
     r : array_like, shape (3,)
         Position at the start of the step, m.
     dt : float
-        Step, s.
+        Step, s, in [-1e6, 1e6]: beyond 12 days (several orbits) a fourth-order series is no
+        transition matrix, and near 1e77 s its ``dt^4`` overflows.
 
     Returns
     -------
@@ -590,7 +591,7 @@ def transition_matrix(r, dt, gm=GM_MARS):
     ((6, 6), 3.0)
     """
     G = gravity_gradient(r, gm)
-    dt = check_real("dt", dt)
+    dt = check_real("dt", dt, -1e6, 1e6)
     G2 = G @ G
     I3 = np.eye(3)
     # Phi = I + F dt + (F dt)^2/2 + (F dt)^3/6 + (F dt)^4/24, with F^2 = diag(G, G):

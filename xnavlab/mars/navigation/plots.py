@@ -47,10 +47,12 @@ def plot_subsystem(subsystem="uv", noise_scale=1.0, interval_s=3, days=0.25):
     ----------
     subsystem : {"xnav", "uv", "cns"}
     noise_scale : float
-        Factor on the paper's noise (> 0): UV range and direction, CNS star and horizon
-        sensors, or the four XNAV ranging accuracies (109, 344, 1866, 325 m).
+        Factor on the paper's noise, in (0, 100]: UV range and direction, CNS star and
+        horizon sensors, or the four XNAV ranging accuracies (109, 344, 1866, 325 m); a
+        hundred times the paper's noise is no sensor (and the scenario refuses a star
+        sensor's above 3600 arcsec).
     interval_s : float
-        Measurement interval, s (> 0).
+        Measurement interval, s, in (0, 86400] (the scenario's longest interval, a day).
     days : float
         Span, days (default six hours).
 
@@ -77,8 +79,8 @@ def plot_subsystem(subsystem="uv", noise_scale=1.0, interval_s=3, days=0.25):
 
     def update(subsystem="uv", noise_scale=1.0, interval_s=3, days=0.25):
         check_choice("subsystem", subsystem, scenarios.SUBSYSTEMS)
-        noise_scale = check_real("noise_scale", noise_scale, 0.0, lo_open=True)
-        interval_s = check_real("interval_s", interval_s, 0.0, lo_open=True)
+        noise_scale = check_real("noise_scale", noise_scale, 0.0, 100.0, lo_open=True)
+        interval_s = check_real("interval_s", interval_s, 0.0, 86400.0, lo_open=True)
         kw = {"days": days, "subsystems": (subsystem,), "record_dt": 30.0}
         if subsystem == "uv":
             kw.update(sigma_range_m=5000.0 * noise_scale, sigma_dir_deg=0.1 * noise_scale,
@@ -368,7 +370,8 @@ def plot_details(t_days, x, details, onsets_days=(), *, stride=20, title=""):
         Fault onsets, days (dashed lines).
     stride : int
         Plot every ``stride``-th sample of the series and the largest ``|D_j|`` over each
-        block of ``stride`` samples (keeps a month of 3-s samples drawable), >= 1.
+        block of ``stride`` samples (keeps a month of 3-s samples drawable), from 1 to the
+        series' length (a longer stride draws no sample).
     title : str
         Title of the top panel.
 
@@ -394,7 +397,7 @@ def plot_details(t_days, x, details, onsets_days=(), *, stride=20, title=""):
     details = check_finite_array("details", details)
     if details.ndim != 2 or details.shape[1] != t_days.size:
         raise ValueError(f"details must have shape (J, {t_days.size}), got {details.shape}")
-    stride = check_int("stride", stride, 1)
+    stride = check_int("stride", stride, 1, max(1, t_days.size))
     J = details.shape[0]
     fig = Figure(figsize=(9.0, 1.3 * (J + 1) + 0.6), layout="constrained")
     axes = fig.subplots(J + 1, 1, sharex=True)
