@@ -30,3 +30,8 @@ def test_truth_motion_uses_exact_kinematics():
         att.truth_motion(1, 0.1)
     with pytest.raises(ValueError, match="^dt "):
         att.truth_motion(10, 0.0)
+
+
+def test_truth_motion_refuses_more_samples_than_a_run_takes():
+    with pytest.raises(ValueError, match=r"n must be an integer in \[2, 10000000\]"):
+        att.truth_motion(10**30, 0.1)

@@ -238,3 +238,8 @@ def test_imu_noise_beyond_its_range_is_refused_not_an_overflow(key):
     """Review 35e: 1e308 was 'OverflowError: (34, 'Numerical result out of range')'."""
     with pytest.raises(ValueError, match=rf"^{key} must be a real number in \[0, 10000\], got 1e\+308$"):
         ins.imu_noise_psd(**{key: 1e308})
+
+
+def test_discretize_refuses_a_step_beyond_a_day():
+    with pytest.raises(ValueError, match=r"dt must be a real number in \(0, 86400\]"):
+        ins.discretize([[0.0, 1.0], [0.0, 0.0]], [[0.0], [1.0]], [1.0], 1e308)

@@ -77,7 +77,8 @@ def truth_motion(n, dt, *, q0=DEFAULT_Q0, **motion):
     Parameters
     ----------
     n : int
-        Number of samples, >= 2.
+        Number of samples, in [2, 10**7] (a loop step each: 10**6 s, the longest simulated
+        run, at 0.1 s).
     dt : float
         Sample interval, s, in (0, 10].
     q0 : array_like, shape (4,)
@@ -98,7 +99,7 @@ def truth_motion(n, dt, *, q0=DEFAULT_Q0, **motion):
     >>> t[-1], bool(np.allclose(np.linalg.norm(q, axis=1), 1.0))
     (1.0, True)
     """
-    n = check_int("n", n, 2)
+    n = check_int("n", n, 2, 10**7)
     dt = check_real("dt", dt, 0.0, 10.0, lo_open=True)
     q = quat_normalize(check_finite_array("q0", q0, shape=(4,)))
     t = np.arange(n) * dt

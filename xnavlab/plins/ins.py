@@ -398,7 +398,8 @@ def discretize(F, G, q, dt):
     q : array_like, shape (m,) or (m, m)
         Noise power spectral density (diagonal or full).
     dt : float
-        Step, s, > 0.
+        Step, s, in (0, 86400] (an INS step is milliseconds to a second; a day is far beyond,
+        and near 1e308 s the matrix exponential overflows).
 
     Returns
     -------
@@ -425,7 +426,7 @@ def discretize(F, G, q, dt):
     q = np.diag(q) if q.ndim == 1 else q
     if q.shape != (m, m):
         raise ValueError(f"q must have shape ({m},) or ({m}, {m}), got {q.shape}")
-    dt = check_real("dt", dt, 0.0, lo_open=True)
+    dt = check_real("dt", dt, 0.0, 86400.0, lo_open=True)
     # Van Loan: expm([[-F, G q G^T], [0, F^T]] dt) = [[., A^-1 Qd], [0, A^T]]
     big = np.zeros((2 * n, 2 * n))
     big[:n, :n] = -F
