@@ -4,10 +4,10 @@ Plumbing of :mod:`xnavlab.attitude.simulation`: :func:`filter_bank_compiled` run
 predict and update as :func:`~xnavlab.attitude._ekf_steps.ekf_predict_unchecked` and
 :func:`~xnavlab.attitude._ekf_steps.ekf_update_unchecked` (paper eqs. (12), (30)-(34)), in
 loops numba compiles (``cache=True``: once per environment, ``python -m xnavlab warmup`` does
-it at set-up), about a hundred times faster than numpy's small-array calls over the 1,000 steps
-of a run: chapter 11's slider runs one at each move. The numpy steps stay the reference the
-book teaches; a test holds the two together to 1e-12. The file is self-contained (numba keys
-its cache by this file's source).
+it at set-up): 0.04 s a run of 1,000 steps, against 0.6-1.8 s for numpy's small-array calls
+(chapter 11's slider runs one at each move). The numpy steps stay the reference the book
+teaches; a test holds the two together to 1e-10 of each array's scale. The file is
+self-contained (numba keys its cache by this file's source).
 """
 
 from __future__ import annotations

@@ -1,9 +1,10 @@
 """The attitude EKF's predict and update steps without input checks, for the inner loops.
 
 Plumbing of :mod:`xnavlab.attitude`: :func:`xnavlab.attitude.ekf.ekf_predict` and
-:func:`xnavlab.attitude.ekf.ekf_update` check their inputs and call these; the filter bank of
-:mod:`xnavlab.attitude.simulation` checks a whole batch once and calls them directly. Paper
-eqs. (30)-(34) as in :mod:`xnavlab.attitude.ekf`.
+:func:`xnavlab.attitude.ekf.ekf_update` check their inputs and call these, as does the
+:class:`~xnavlab.attitude.ekf.AttitudeEKF` class. The simulations' filter bank runs the same
+steps compiled (``_bank_kernel``), held to these by a test. Paper eqs. (30)-(34) as in
+:mod:`xnavlab.attitude.ekf`.
 """
 
 from __future__ import annotations
