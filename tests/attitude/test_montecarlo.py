@@ -31,7 +31,7 @@ def test_isolation_monte_carlo_small():
     ({"sizes": []}, r"^sizes must name at least one size"),
     ({"locations": ["gyro_x", "gyro_x"]}, r"^locations lists gyro_x twice \(items 0 and 1\)"),
     ({"locations": "gyro_x"}, r"^locations must be a list of locations, got the string"),
-    ({"sizes": [1.0, -2.0]}, r"^sizes\[1\] must be a real number in \(0, inf\)"),
+    ({"sizes": [1.0, -2.0]}, r"^sizes\[1\] must be a real number in \(0, 1000\]"),
 ])
 def test_an_empty_or_repeated_list_is_refused_not_a_table_without_its_rows(kw, words):
     """Review 35b N23's class: an empty list left only the fault-free rows, without a word."""

@@ -207,7 +207,7 @@ def diagnose(t, residuals, thresholds, *, t_arm=0.0, persist=3, confirm_s=5.0, d
     persist : int
         Consecutive samples over the threshold needed, >= 1.
     confirm_s : float
-        Isolation window after the detection, s, >= 0.
+        Isolation window after the detection, s, in [0, 86400] (as :class:`~.simulation.SimConfig`'s).
     decide : callable
         ``crossed (..., m) -> verdict`` (:func:`sos_decide`, :func:`dos_decide`,
         :func:`qdiff_decide`).
@@ -230,7 +230,7 @@ def diagnose(t, residuals, thresholds, *, t_arm=0.0, persist=3, confirm_s=5.0, d
     J = check_finite_array("thresholds", thresholds, shape=(r.shape[-1],))
     t_arm = check_real("t_arm", t_arm)
     persist = check_int("persist", persist, 1, t.size)
-    confirm_s = check_real("confirm_s", confirm_s, 0.0)
+    confirm_s = check_real("confirm_s", confirm_s, 0.0, 86400.0)  # as SimConfig's
     over = (r > J[..., None, :]) & (t >= t_arm)[:, None]
     c = np.cumsum(over, axis=-2)
     lagged = np.concatenate([np.zeros_like(c[..., :persist, :]), c[..., :-persist, :]], -2)

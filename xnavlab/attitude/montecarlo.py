@@ -16,7 +16,7 @@ import math
 import numpy as np
 
 from xnavlab.attitude.motion import truth_motion
-from xnavlab.attitude.sensors import DEFAULT_MAGNITUDES, DEG_PER_H, LOCATIONS, make_fault
+from xnavlab.attitude.sensors import DEFAULT_MAGNITUDES, DEG_PER_H, LOCATIONS, MAX_FACTOR, make_fault
 from xnavlab.attitude.simulation import (
     SimConfig,
     check_faults_in_run,
@@ -67,9 +67,10 @@ def isolation_monte_carlo(
         Subset of :data:`~.sensors.LOCATIONS`.
     kinds : sequence of {"step", "ramp"}
     sizes : sequence of float
-        Multiples of :data:`~.sensors.DEFAULT_MAGNITUDES`, > 0.
+        Multiples of :data:`~.sensors.DEFAULT_MAGNITUDES`, in (0, MAX_FACTOR].
     onset : float
-        Fault onset, s (after ``config.t_cal[1]``).
+        Fault onset, s (after ``config.t_cal[1]``, before ``config.duration``; without a
+        ``config``, at most 1e6 - 30 s).
     config : SimConfig, optional
         Default: :class:`~.simulation.SimConfig` with ``duration = onset + 30``.
     rng : numpy.random.Generator or int, optional
@@ -93,9 +94,11 @@ def isolation_monte_carlo(
                             lambda label, v: check_choice(label, v, LOCATIONS))
     kinds = check_items("kinds", kinds, "kind",
                         lambda label, v: check_choice(label, v, ("step", "ramp")))
-    sizes = [check_real(label, s, 0.0, lo_open=True) for label, s in
+    sizes = [check_real(label, s, 0.0, MAX_FACTOR, lo_open=True) for label, s in
              ((f"sizes[{i}]", s) for i, s in enumerate(check_items("sizes", sizes, "size")))]
-    onset = check_real("onset", onset, 0.0, lo_open=True)
+    # the default config lasts onset + 30 s, at most SimConfig's 1e6 s
+    onset = check_real("onset", onset, 0.0, 1e6 - 30.0 if config is None else math.inf,
+                       lo_open=True)
     if config is None:
         config = SimConfig(duration=onset + 30.0)
     cfg = make_config(config, dos=True)

@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from xnavlab.attitude.sensors import DEFAULT_MAGNITUDES, DEG_PER_H, LOCATIONS, make_fault
+from xnavlab.attitude.sensors import DEFAULT_MAGNITUDES, DEG_PER_H, LOCATIONS, MAX_FACTOR, make_fault
 from xnavlab.attitude.simulation import AttitudeRun, simulate
 from xnavlab.core.validate import check_choice, check_real
 
@@ -152,7 +152,8 @@ def plot_fault_case(location="gyro_x", kind="ramp", size=10.0, n_sigma=5.0, *, r
     location : {"gyro_x", "gyro_y", "gyro_z", "gyro_skew", "star_tracker"}
     kind : {"step", "ramp"}
     size : float
-        Multiple of the reference size :data:`~.sensors.DEFAULT_MAGNITUDES` of ``(sensor, kind)``, > 0.
+        Multiple of the reference size :data:`~.sensors.DEFAULT_MAGNITUDES` of ``(sensor, kind)``,
+        in (0, MAX_FACTOR].
     n_sigma : float
         Threshold multiplier of :func:`~.simulation.simulate`, > 0.
     rng : numpy.random.Generator or int, optional
@@ -200,7 +201,7 @@ def _fault_run(location, kind, size, n_sigma, rng):
     """The run of :func:`plot_fault_case` (checked arguments)."""
     check_choice("location", location, LOCATIONS)
     check_choice("kind", kind, ("step", "ramp"))
-    size = check_real("size", size, 0.0, lo_open=True)
+    size = check_real("size", size, 0.0, MAX_FACTOR, lo_open=True)
     sensor = "star_tracker" if location == "star_tracker" else "gyro"
     return simulate(make_fault(location, kind, size * DEFAULT_MAGNITUDES[(sensor, kind)]),
                     n_sigma=n_sigma, rng=rng)

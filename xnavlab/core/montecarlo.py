@@ -256,7 +256,8 @@ def detection_table(kinds=KINDS, sizes=(2.0, 4.0, 8.0), *, trials=20, seed=0, no
     (0.0, 1.0)
     """
     trials = check_int("trials", trials, 1, 10**6)
-    sizes = [check_real(f"sizes[{i}]", s, 0.0) for i, s in enumerate(check_items("sizes", sizes, "size"))]
+    sizes = [check_real(f"sizes[{i}]", s, 0.0, 1000.0)  # signal_trial's size_sigma range
+             for i, s in enumerate(check_items("sizes", sizes, "size"))]
     kinds = check_items("kinds", kinds, "kind")
     cells = [(k, float(s)) for k in kinds for s in sizes]
     params = [dict(kind=k, size_sigma=s, noise_scale=noise_scale, **trial_kw)

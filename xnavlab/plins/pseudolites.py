@@ -217,7 +217,7 @@ def geodetic_jacobian(lat, lon, h):
     lat, lon : float
         Geodetic latitude and longitude, rad.
     h : float
-        Height, m.
+        Height, m, in (-a/2, :data:`MAX_HEIGHT`].
 
     Returns
     -------
@@ -232,7 +232,7 @@ def geodetic_jacobian(lat, lon, h):
     """
     lat = check_real("lat", lat, -math.pi / 2, math.pi / 2)
     lon = check_real("lon", lon)
-    h = check_real("h", h, -WGS84_A / 2, lo_open=True)
+    h = check_real("h", h, -WGS84_A / 2, MAX_HEIGHT, lo_open=True)
     r_m, r_n = earth_radii(lat)
     s_l, c_l, s_o, c_o = math.sin(lat), math.cos(lat), math.sin(lon), math.cos(lon)
     return np.array([
@@ -469,7 +469,7 @@ def simulate_pseudoranges(traj, x_err, sites=None, sigma=DEFAULT_SIGMA, faults=(
     sites : array_like, shape (m, 3), optional
         Pseudolite positions, ECEF, m (default :func:`sites_ecef()`).
     sigma : float
-        1-sigma white pseudorange noise, m, >= 0.
+        1-sigma white pseudorange noise, m, in [0, 1e6].
     faults : sequence of xnavlab.core.faults.Fault
         Faults of sensor ``"pseudorange"`` (component = pseudolite index, 0-based),
         applied with :func:`xnavlab.core.faults.inject`; a fault of another sensor, one that
@@ -498,7 +498,7 @@ def simulate_pseudoranges(traj, x_err, sites=None, sigma=DEFAULT_SIGMA, faults=(
     if x_err.shape != (len(traj), N_STATES):
         raise ValueError(f"x_err must have shape ({len(traj)}, {N_STATES}), got {x_err.shape}")
     sites = sites_ecef() if sites is None else _check_sites(sites)
-    sigma = check_real("sigma", sigma, 0.0)
+    sigma = check_real("sigma", sigma, 0.0, 1e6)  # as diagnose_flight's
     rng = make_rng(rng)
     r_true = geodetic_to_ecef(traj.lat, traj.lon, traj.h)
     r_ins = geodetic_to_ecef(traj.lat + x_err[:, 6], traj.lon + x_err[:, 7], traj.h + x_err[:, 8])

@@ -36,11 +36,12 @@ def mallat_vs_pywavelets(out=None, n=5000, seed=0):
     out : Path, optional
         Unused (no figure).
     n : int
-        Series length (at least 160 samples: five db3 levels).
+        Series length, in [160, MAX_SAMPLES] (at least five db3 levels; at most the
+        detectors' memory bound, :data:`xnavlab.core.detection.MAX_SAMPLES`).
     seed : int
         Noise seed.
     """
-    n = check_int("n", n, 160)
+    n = check_int("n", n, 160, detection.MAX_SAMPLES)
     rng = make_rng(seed, "seed")
     t = 3.0 * np.arange(n)
     x = 4.19e6 - 3.8e5 * np.cos(2.0 * np.pi * t / 8280.0) + rng.normal(0.0, 5000.0, n)

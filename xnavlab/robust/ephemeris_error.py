@@ -61,7 +61,7 @@ from xnavlab.core.constants import (
     R_EARTH,  # noqa: F401 - used by the doctest of acceleration
 )
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_items, check_real
-from xnavlab.mars.models.dynamics import MARS_POLE, MARS_STATE0
+from xnavlab.mars.models.dynamics import MARS_POLE, MARS_STATE0, MAX_GM, R_MAX
 from xnavlab.mars.timing import pulsars
 from xnavlab.robust._propagation import derivatives, propagate_unchecked
 
@@ -220,7 +220,8 @@ def injected_error(t, size, kind="constant", direction=(1.0, 1.0, 1.0), t0=0.0, 
     t : float or array_like, shape (n,)
         Epochs, s.
     size : float
-        Magnitude, m (``>= 0``).
+        Magnitude, m, in [0, 1e8] (an ephemeris error of 100,000 km; as
+        :func:`~xnavlab.robust.filters.simulate`).
     kind : {"constant", "slow", "growing"}
         ``"constant"``: ``size * u``; ``"slow"``: ``size * u * (1 + 0.2 sin(2 pi (t - t0) / period))``,
         a slowly varying error of the DE405-DE421 kind (about 20 % over a year);
@@ -234,7 +235,8 @@ def injected_error(t, size, kind="constant", direction=(1.0, 1.0, 1.0), t0=0.0, 
     period : float
         Period of the slow variation, s.
     growth_time : float, optional
-        For ``"growing"``: time after ``t0`` at which the error reaches ``size``, s (required).
+        For ``"growing"``: time after ``t0`` at which the error reaches ``size``, s, in
+        [1, 1e12] (required).
     profile : str or callable
         For ``"growing"``: the time profile ``f`` (see :func:`growth_profile`).
 
@@ -250,7 +252,7 @@ def injected_error(t, size, kind="constant", direction=(1.0, 1.0, 1.0), t0=0.0, 
     >>> g[:, 2].tolist()
     [0.0, 5.0, 10.0]
     """
-    size = check_real("size", size, 0.0)
+    size = check_real("size", size, 0.0, 1e8)  # as filters.simulate's
     check_choice("kind", kind, ("constant", "slow", "growing"))
     u = check_finite_array("direction", direction, shape=(3,))
     norm = float(np.linalg.norm(u))
@@ -264,7 +266,8 @@ def injected_error(t, size, kind="constant", direction=(1.0, 1.0, 1.0), t0=0.0, 
     elif kind == "growing":
         if growth_time is None:
             raise ValueError("growth_time must be given (s > 0) for a growing error")
-        growth_time = check_real("growth_time", growth_time, 0.0, lo_open=True)
+        # from a second (a faster growth is a step; 1e-300 overflowed (t - t0) / growth_time)
+        growth_time = check_real("growth_time", growth_time, 1.0, 1e12)
         scale = size * growth_profile((t - t0) / growth_time, profile)  # |dr_E(t)| = size f(s)
     return scale[..., None] * (u / norm)
 
@@ -437,7 +440,7 @@ def elements_to_state(a, e, i_deg, raan_deg, argp_deg, nu_deg, gm):
     Parameters
     ----------
     a : float
-        Semi-major axis, m (positive).
+        Semi-major axis, m, in (0, R_MAX] (:data:`xnavlab.mars.models.dynamics.R_MAX`).
     e : float
         Eccentricity, ``0 <= e < 1``.
     i_deg, raan_deg, argp_deg, nu_deg : float
@@ -456,9 +459,9 @@ def elements_to_state(a, e, i_deg, raan_deg, argp_deg, nu_deg, gm):
     >>> round(float(x[4]), 3) == round(math.sqrt(GM_EARTH / 7e6), 3)
     True
     """
-    a = check_real("a", a, 0.0, lo_open=True)
+    a = check_real("a", a, 0.0, R_MAX, lo_open=True)
     e = check_real("e", e, 0.0, 1.0, hi_open=True)
-    gm = check_real("gm", gm, 0.0, lo_open=True)
+    gm = check_real("gm", gm, 0.0, MAX_GM, lo_open=True)
     i, raan, argp, nu = (math.radians(check_real(n, v, -360.0, 360.0)) for n, v in
                          (("i_deg", i_deg), ("raan_deg", raan_deg), ("argp_deg", argp_deg),
                           ("nu_deg", nu_deg)))

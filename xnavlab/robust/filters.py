@@ -82,6 +82,7 @@ __all__ = [
     "FILTERS",
     "ERRORS",
     "EPSILON",
+    "EPS_RANGE",
     "Scenario",
     "FilterRun",
     "simulate",
@@ -105,6 +106,12 @@ ERRORS = ("de405", "de405-drift", "constant", "slow", "growing", "none")
 FILTERS = ("ukf", "asukf", "tdukf", "rkf")
 #: The paper's epsilon: 1000 for the Earth orbit, 100 for Mars.
 EPSILON = {"earth": 1000.0, "mars": 100.0}
+#: The range of epsilon every function here takes. Below 1e-6 the bound's factor ``1 + 1/eps``
+#: passes 1e6 per update; above 1e15 ``(1 + eps) B B^T`` leaves float64's range for the
+#: largest bias a scenario takes (1e8 m). Inside it a run can still lose P's definiteness or
+#: the solve's precision (measured on chapter 10's Mars run: below about 1e-4 or, with a 1e8 m
+#: error, above about 3e4): the run then stops naming eps (the paper takes eps > 1).
+EPS_RANGE = (1e-6, 1e15)
 
 
 @dataclass
@@ -199,7 +206,7 @@ def simulate(body="earth", n_steps=1200, dt=500.0, error="de405", size=0.0, puls
         error at ``t0``. Default ``(1, 1, 1) / sqrt(3)``; an ``error`` not injected refuses it.
     growth_time : float, optional
         ``"growing"`` only: time after ``t0`` at which the error reaches ``size``, s, in
-        (0, 1e9]. Default: the run's length ``n_steps * dt`` (with the default lengths of
+        [1, 1e12]. Default: the run's length ``n_steps * dt`` (with the default lengths of
         :func:`~xnavlab.robust.comparison.compare_filters`, the end of the paper's RMSE window).
     profile : {"linear", "quadratic", "sqrt"} or callable
         ``"growing"`` only (another error refuses any but ``"linear"``): time profile
@@ -233,8 +240,8 @@ def simulate(body="earth", n_steps=1200, dt=500.0, error="de405", size=0.0, puls
         shaped = "size" if size != 0.0 else "direction"  # the real error has its own: unused
         raise ValueError(f"{shaped} shapes an injected error (error='constant', 'slow' or "
                          f"'growing'), got error = {error!r}; leave {shaped} out")
-    growth_time = check_real("growth_time", n_steps * dt if growth_time is None else growth_time, 0.0, 1e9,
-                             lo_open=True)
+    growth_time = check_real("growth_time", n_steps * dt if growth_time is None else growth_time, 1.0,
+                             1e12)  # as ephemeris_error.injected_error's (n_steps dt <= 1e11)
     rng = make_rng(rng)
     from xnavlab.mars.timing import pulsars
 
@@ -602,7 +609,7 @@ def rkf_gain(Pxz, Pzz, R, BB, eps):
     BB : array_like, shape (k, k)
         Bound on the bias outer product ``B B^T`` (positive semi-definite).
     eps : float
-        The scalar of the matrix inequality, ``eps > 0`` (paper: ``eps > 1``).
+        The scalar of the matrix inequality, in :data:`EPS_RANGE` (paper: ``eps > 1``).
 
     Returns
     -------
@@ -614,13 +621,22 @@ def rkf_gain(Pxz, Pzz, R, BB, eps):
     >>> round(float(K[0, 0]), 6)   # eps -> inf, B = 0: the Kalman gain 1 / (1 + 1)
     0.5
     """
-    eps = check_real("eps", eps, 0.0, lo_open=True)
+    eps = check_real("eps", eps, *EPS_RANGE)
     Pxz = check_finite_array("Pxz", Pxz)
     Pzz = check_finite_array("Pzz", Pzz)
     R = validate.check_covariance("R", R)
     BB = validate.check_covariance("BB", BB)  # a bound on B B^T: a negative one shrank W
     W = (R + (1.0 + eps) * BB) / (1.0 + 1.0 / eps)  # (R + (1+eps) B B^T) / (1 + 1/eps)
-    return tr(np.linalg.solve(sym(Pzz + W), tr(Pxz)))  # K = Sigma H^T [H Sigma H^T + W]^-1
+    return tr(_solve_gain(sym(Pzz + W), tr(Pxz), eps))  # K = Sigma H^T [H Sigma H^T + W]^-1
+
+
+def _solve_gain(S, PxzT, eps):
+    """``S^-1 Pxz^T``, or a ValueError naming eps when ``S`` is singular to float64."""
+    try:
+        return np.linalg.solve(S, PxzT)
+    except np.linalg.LinAlgError:
+        raise ValueError(f"eps = {eps:g} makes H Sigma H^T + (R + (1+eps) B B^T)/(1 + 1/eps) "
+                         f"singular to float64 (the bias term swamps R): take a smaller eps") from None
 
 
 def rkf_bias_bound(m, S, lam):
@@ -674,7 +690,7 @@ def rkf_update(x, P, y, R, n, BB, eps):
         Bound on the bias outer product ``B B^T`` (from :func:`rkf_bias_bound` or from an
         a priori ephemeris-error model ``B = N dr_E``).
     eps : float
-        The inequality's scalar (paper: 1000 Earth, 100 Mars).
+        The inequality's scalar, in :data:`EPS_RANGE` (paper: 1000 Earth, 100 Mars).
 
     Returns
     -------
@@ -696,7 +712,7 @@ def rkf_update(x, P, y, R, n, BB, eps):
     k = n.shape[0]
     if BB.shape != (k, k):
         raise ValueError(f"BB must have shape ({k}, {k}), got {BB.shape}")
-    eps = check_real("eps", eps, 0.0, lo_open=True)
+    eps = check_real("eps", eps, *EPS_RANGE)
     if x.size != 6:
         raise ValueError(f"x must have 6 entries [r, v], got {x.size}")
     H = np.zeros((k, 6))
@@ -708,7 +724,7 @@ def _rkf_update(x, P, y, R, H, BB, eps):
     z_pred, Pzz, Pxz = _measure(x, P, H)
     nu = y - z_pred
     W = (R + (1.0 + eps) * BB) / (1.0 + 1.0 / eps)  # (R + (1+eps) B B^T) / (1 + 1/eps)
-    K = tr(np.linalg.solve(sym(Pzz + W), tr(Pxz)))  # K = Sigma H^T [H Sigma H^T + W]^-1
+    K = tr(_solve_gain(sym(Pzz + W), tr(Pxz), eps))  # K = Sigma H^T [H Sigma H^T + W]^-1
     # Sigma+ = (1 + 1/eps) (Sigma- - K H Sigma-); with the UT, H Sigma- = Pxz^T
     Sig = (1.0 + 1.0 / eps) * (P - K @ tr(Pxz))
     return x + mv(K, nu), sym(Sig), nu
@@ -759,7 +775,7 @@ def run_filter(name, scenario, eps=None, sigma_r0=1000.0, sigma_v0=1.0, q_r=0.0,
     name : {"ukf", "asukf", "tdukf", "rkf"}
     scenario : Scenario
     eps : float, optional
-        RKF scalar (default :data:`EPSILON` of the body).
+        RKF scalar, in :data:`EPS_RANGE` (default :data:`EPSILON` of the body).
     sigma_r0, sigma_v0 : float
         Initial position (m) and velocity (m/s) error, 1 sigma per axis; the initial
         error is drawn from this distribution and ``P0`` is its covariance.
@@ -867,7 +883,7 @@ def run_filters(name, scenarios, rngs=None, eps=None, sigma_r0=1000.0, sigma_v0=
     if len(rngs) != len(scenarios):
         raise ValueError(f"rngs must hold one entry per scenario ({len(scenarios)}), got {len(rngs)}")
     r, N = len(scenarios), sc.t.size
-    eps = EPSILON[sc.body] if eps is None else check_real("eps", eps, 0.0, lo_open=True)
+    eps = EPSILON[sc.body] if eps is None else check_real("eps", eps, *EPS_RANGE)
     sigma_r0 = _per_run("sigma_r0", sigma_r0, r, 1e8, lo_open=True)
     sigma_v0 = _per_run("sigma_v0", sigma_v0, r, 1e5, lo_open=True)
     q_r, q_v, q_b = _per_run("q_r", q_r, r, 1e6), _per_run("q_v", q_v, r, 1e3), _per_run("q_b", q_b, r, 1e6)
@@ -938,7 +954,12 @@ def run_filters(name, scenarios, rngs=None, eps=None, sigma_r0=1000.0, sigma_v0=
             else:
                 x, P, _ = _tdukf_update(x, P, y[i] - y[i - 1], R, n, td_carry_noise)
         else:
-            x, P = _predict(x, P, dt, body, Q)
+            try:
+                x, P = _predict(x, P, dt, body, Q)
+            except ValueError:  # the bound lost its definiteness in float64 (see EPS_RANGE)
+                raise ValueError(f"eps = {eps:g}: the RKF's bound lost its definiteness at step "
+                                 f"{i} (float64 cannot carry it at this eps; the paper takes "
+                                 f"eps > 1, chapter 10 runs 1 to 1e4)") from None
             if rkf_bias == "oracle":
                 b = mv(n, oracle[:, i])  # B = N dr_E (paper eq. (17)), the true bias
                 BB = b[:, :, None] * b[:, None, :]

@@ -55,7 +55,8 @@ def plot_filter_comparison(size=5000.0, eps=100.0, pulsar_set="paper: B0531+21, 
     size : float
         Ephemeris error reached at the end of the RMSE window, m (> 0).
     eps : float
-        The RKF's scalar epsilon (> 1 in the paper; any value > 0 runs).
+        The RKF's scalar epsilon, in :data:`~xnavlab.robust.filters.EPS_RANGE` (> 1 in the
+        paper; a run that loses precision stops naming it).
     pulsar_set : str
         A key of :data:`PULSAR_SETS`.
 
@@ -115,9 +116,9 @@ def filter_comparison(size=5000.0, eps=100.0, pulsar_set="paper: B0531+21, B1821
     Parameters
     ----------
     size : float
-        Ephemeris error reached at the end of the RMSE window, m (> 0).
+        Ephemeris error reached at the end of the RMSE window, m, in (0, 1e8].
     eps : float
-        The RKF's scalar epsilon (> 0).
+        The RKF's scalar epsilon, in :data:`~xnavlab.robust.filters.EPS_RANGE`.
     pulsar_set : str
         A key of :data:`PULSAR_SETS`.
 
@@ -136,8 +137,8 @@ def filter_comparison(size=5000.0, eps=100.0, pulsar_set="paper: B0531+21, B1821
     (True, (500,))
     """
     check_choice("pulsar_set", pulsar_set, tuple(PULSAR_SETS))
-    size = check_real("size", size, 0.0, lo_open=True)
-    eps = check_real("eps", eps, 0.0, lo_open=True)
+    size = check_real("size", size, 0.0, 1e8, lo_open=True)  # simulate's range
+    eps = check_real("eps", eps, *filters.EPS_RANGE)
     runs = {f: _filter_run(f, size, eps if f == "rkf" else None, pulsar_set)
             for f in filters.FILTERS}
     tau = _mars_scenario(size, pulsar_set)[2]

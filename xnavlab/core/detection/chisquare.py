@@ -8,16 +8,23 @@ from collections import deque
 import numpy as np
 
 from xnavlab.core.detection._tracked import TrackedDetector
+from xnavlab.core.detection.limits import MAX_SAMPLES
 from xnavlab.core.detection.online import Detection, EventTracker, events_from_alarms
 from xnavlab.core.distributions import chi2_isf
 from xnavlab.core.validate import check_definite, check_finite_array, check_int, check_real
 
 __all__ = [
+    "MAX_DIMENSION",
     "chi2_statistic",
     "chi2_threshold",
     "Chi2Detector",
     "chi2_detect",
 ]
+
+#: The largest measurement dimension a test takes: no navigation sensor's measurement has more
+#: than a thousand components (the chi-square's threshold and the (m, m) covariance both
+#: stay cheap below it; 10**30 overflowed numpy's index type).
+MAX_DIMENSION = 1000
 
 # --------------------------------------------------------------------------------------------
 # Baseline: innovation chi-square test
@@ -69,7 +76,7 @@ def chi2_statistic(nu, S, window=1):
     S : array_like, shape (N, m, m), (m, m) or (N,) for m = 1
         Innovation covariances ``H P H^T + R``.
     window : int
-        Samples summed (1: the plain per-sample test).
+        Samples summed (1: the plain per-sample test), in [1, MAX_SAMPLES].
 
     Returns
     -------
@@ -84,7 +91,7 @@ def chi2_statistic(nu, S, window=1):
     >>> stat.tolist(), dof
     ([1.0, 5.0], 4)
     """
-    window = check_int("window", window, 1)
+    window = check_int("window", window, 1, MAX_SAMPLES)
     q, m = _nis(nu, S)
     c = np.cumsum(q)
     stat = c.copy()
@@ -98,11 +105,11 @@ class Chi2Detector(TrackedDetector):
     Parameters
     ----------
     m : int
-        Measurement dimension.
+        Measurement dimension, in [1, MAX_DIMENSION].
     alpha : float
         False-alarm probability per decision, default 1e-5 (the wavelet detector's ``pfa``).
     window : int
-        Innovations summed per decision (1 by default).
+        Innovations summed per decision (1 by default), in [1, MAX_SAMPLES].
     holdoff : int
         Alarm-free samples before the detector clears (default 1: clears at the first
         consistent innovation).
@@ -117,9 +124,9 @@ class Chi2Detector(TrackedDetector):
     """
 
     def __init__(self, m, alpha=1e-5, window=1, holdoff=1):
-        self.m = check_int("m", m, 1)
+        self.m = check_int("m", m, 1, MAX_DIMENSION)
         self.alpha = check_real("alpha", alpha, 0.0, 1.0, lo_open=True, hi_open=True)
-        self.window = check_int("window", window, 1)
+        self.window = check_int("window", window, 1, MAX_SAMPLES)
         self.threshold = chi2_threshold(self.alpha, self.m * self.window)
         self._tracker = EventTracker(holdoff)
         self._q = deque(maxlen=self.window)

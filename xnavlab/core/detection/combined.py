@@ -66,6 +66,7 @@ from numba import njit
 
 from xnavlab.core.detection._tracked import TrackedDetector
 from xnavlab.core.detection.batch import wavelet_detect
+from xnavlab.core.detection.limits import MAX_SAMPLES
 from xnavlab.core.detection.online import (
     MAD_SCALE,
     Detection,
@@ -345,11 +346,12 @@ class InnovationMonitor(TrackedDetector):
     adaptive : bool
         Divide by the adaptive scale (default) or trust the model (``s_c = 1``).
     scale_samples : int, optional
-        Innovations in the MAD window (default one day of samples, at least 2000).
+        Innovations in the MAD window (default one day of samples, at least 2000), in
+        [10, MAX_SAMPLES].
     scale_every : int, optional
-        Samples between scale updates (default half a day, at least 20).
+        Samples between scale updates (default half a day, at least 20), in [1, MAX_SAMPLES].
     prior_samples : int
-        Weight of the model's scale 1 (default 500 samples).
+        Weight of the model's scale 1 (default 500 samples), in [0, MAX_SAMPLES].
     holdoff : int
         Alarm-free samples before an event closes (default 1).
 
@@ -373,10 +375,10 @@ class InnovationMonitor(TrackedDetector):
         n_day = design.samples_per_day
         self.adaptive = check_bool("adaptive", adaptive)
         self.scale_samples = check_int("scale_samples", max(2000, round(n_day))
-                                       if scale_samples is None else scale_samples, 10)
+                                       if scale_samples is None else scale_samples, 10, MAX_SAMPLES)
         self.scale_every = check_int("scale_every", max(20, round(n_day / 2))
-                                     if scale_every is None else scale_every, 1)
-        self.prior_samples = check_int("prior_samples", prior_samples, 0)
+                                     if scale_every is None else scale_every, 1, MAX_SAMPLES)
+        self.prior_samples = check_int("prior_samples", prior_samples, 0, MAX_SAMPLES)
         self._tracker = EventTracker(holdoff)
         self.part_names = (["chi2"] + [f"cusum+ {c}" for c in range(self.m)]
                        + [f"cusum- {c}" for c in range(self.m)]

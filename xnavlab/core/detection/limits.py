@@ -141,7 +141,7 @@ def noise_pd_limit(ratios, n, alpha, *, draws=200_000, rng=0):
     ratios : array_like, shape (m,)
         Faulty over nominal standard deviation of each component, >= 1 (1: unaffected).
     n : int
-        Samples the fault lasts (or that the detector may use), >= 1.
+        Samples the fault lasts (or that the detector may use), in [1, MAX_SAMPLES].
     alpha : float
         False-alarm probability of the test, in (0, 1).
     draws : int
@@ -165,7 +165,7 @@ def noise_pd_limit(ratios, n, alpha, *, draws=200_000, rng=0):
     r = np.atleast_1d(check_finite_array("ratios", ratios))
     if r.ndim != 1 or np.any(r < 1.0):
         raise ValueError(f"ratios must be a 1-D array of values >= 1, got {r}")
-    n = check_int("n", n, 1)
+    n = check_int("n", n, 1, MAX_SAMPLES)
     alpha = _alpha(alpha)
     draws = check_int("draws", draws, 1000, MAX_SAMPLES)
     g = make_rng(rng)

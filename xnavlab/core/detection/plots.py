@@ -202,7 +202,8 @@ def plot_step_detector(size_sigma=6.0, levels=5, log10_pfa=-5, *, sigma_m=5000.0
     n : int
         Number of samples, in [2 * ``train``, 10**7] (80 MB a series, made once per setting).
     mean_m, swing_m, period_s : float
-        Mean range (m), its orbital swing (m) and the orbit's period (s, > 0).
+        Mean range (m) and its orbital swing (m), each in [-1e12, 1e12], and the orbit's
+        period (s, > 0).
     seed : int
         Seed of the noise.
     onset_s, duration_s : float
@@ -238,8 +239,10 @@ def plot_step_detector(size_sigma=6.0, levels=5, log10_pfa=-5, *, sigma_m=5000.0
         period_s = check_real("period_s", period_s, 0.0, lo_open=True)
         train = check_int("train", train, 1, 5 * 10**6)
         n = check_int("n", n, 2 * train, 10**7)
-        t, clean = _range_series(n, dt_s, check_real("mean_m", mean_m),
-                                 check_real("swing_m", swing_m), period_s, sigma_m, int(seed))
+        # a range within 1e12 m (7 au): at 1e308 the noise vanished in the rounding
+        t, clean = _range_series(n, dt_s, check_real("mean_m", mean_m, -1e12, 1e12),
+                                 check_real("swing_m", swing_m, -1e12, 1e12), period_s, sigma_m,
+                                 int(seed))
         fault = Fault("uv", "step", size_sigma * sigma_m, onset=onset_s, duration=duration_s)
         return (*_fault_detection(t, clean, [fault], "uv",
                                   f"{size_sigma:g} sigma step, {levels} levels",

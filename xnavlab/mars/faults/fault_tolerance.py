@@ -117,6 +117,7 @@ import numpy as np
 
 from xnavlab.core.constants import DAY, C
 from xnavlab.core.detection import (
+    MAX_SAMPLES,
     BlockWavelet,
     BlockWaveletSensor,
     CombinedDesign,
@@ -359,16 +360,17 @@ def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=
         Wavelet training span of UV and CNS (their first days must be fault-free), in
         (0, days); default :func:`~xnavlab.mars.navigation.scenarios.default_settle_days` of the run.
     readmit_samples : dict, optional
-        NIS window of the rejoining test per subsystem (default uv 100, cns 100, xnav 4).
+        NIS window of the rejoining test per subsystem (default uv 100, cns 100, xnav 4),
+        each in [1, MAX_SAMPLES].
     readmit_alpha : float
         Significance of the rejoining test, in (0, 1).
     readmit : {"quiet", "clear"}
         ``"quiet"`` (default): rejoin when the detector is clear and the NIS window test passes;
         ``"clear"``: as soon as the detector is clear (the naive rule, for comparison).
     xnav_level, xnav_holdoff : int
-        Levels (1..6) and hold-off (samples >= 1) of the XNAV innovation detector.
+        Levels (1..6) and hold-off (samples, in [1, 1e9]) of the XNAV innovation detector.
     check_every : int
-        Epochs between rejoining checks while a subsystem is out, >= 1.
+        Epochs between rejoining checks while a subsystem is out, in [1, MAX_SAMPLES].
     rng : Generator or int, optional
         Extra noise of ``noise`` faults (default: from the scenario's seed).
     rate_per_day : float
@@ -380,7 +382,7 @@ def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=
         defaults with a detector that does not use them are refused, not dropped.
     arm_s : float
         ``"combined"``: seconds after the start before the innovation tests (and the XNAV
-        innovation wavelet) see any innovation, in [0, days). Default 600 s
+        innovation wavelet) see any innovation, in [0, days) (and at most 365 days). Default 600 s
         (:data:`~xnavlab.mars.faults.schedules.EARLIEST_ONSET_S`): the filters' start-up transient
         (fused position error 8.7 km at the start, 0.8 km after 5 min) makes consecutive
         innovations correlated, and a CUSUM armed at once sums them into an alarm within the
@@ -403,14 +405,14 @@ def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=
     readmit_alpha = check_real("readmit_alpha", readmit_alpha, 0.0, 1.0, lo_open=True,
                                hi_open=True)
     xnav_level = check_int("xnav_level", xnav_level, 1, 6)
-    xnav_holdoff = check_int("xnav_holdoff", xnav_holdoff, 1)
-    check_every = check_int("check_every", check_every, 1)
+    xnav_holdoff = check_int("xnav_holdoff", xnav_holdoff, 1, 10**9)  # the detector's holdoff range
+    check_every = check_int("check_every", check_every, 1, MAX_SAMPLES)
     check_choice("readmit", readmit, ("quiet", "clear"))
     if readmit == "clear" and detector != "wavelet":
         raise ValueError("readmit='clear' needs detector='wavelet' (the chi-square test's "
                          "'clear' is the NIS window test)")
     rate_per_day = check_real("rate_per_day", rate_per_day, 0.0, 100.0, lo_open=True)
-    arm_s = check_real("arm_s", arm_s, 0.0)
+    arm_s = check_real("arm_s", arm_s, 0.0, schedules.MAX_DAYS * DAY)  # a run's longest span
     settings = {"pfa": pfa, "alpha": alpha, "rate_per_day": rate_per_day, "adaptive": adaptive,
                 "arm_s": arm_s}
     for key, value in settings.items():  # a setting of another detector would go unused
@@ -453,7 +455,7 @@ def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=
                              f"{{'uv': 100}}, got {readmit_samples!r:.80}")
         for k, v in readmit_samples.items():
             check_choice("readmit_samples key", k, scenarios.SUBSYSTEMS)
-            win[k] = check_int(f"readmit_samples[{k!r}]", v, 1)
+            win[k] = check_int(f"readmit_samples[{k!r}]", v, 1, MAX_SAMPLES)
     loop = _Loop(faulty, faults, detector, pfa, alpha, train_days, win, readmit_alpha, xnav_level,
                  xnav_holdoff, check_every, rate_per_day, adaptive, arm_s)
     loop.readmit = readmit

@@ -208,7 +208,7 @@ def check_schedule(faults, scenario, detector="combined", train_days=1.0, paper=
     detector : str
         One of :data:`~xnavlab.mars.faults.fault_tolerance.DETECTORS`.
     train_days : float
-        Training span of the UV/CNS wavelets, days.
+        Training span of the UV/CNS wavelets, days, in (0, MAX_DAYS].
     paper : bool
         The schedule is the paper's (the message then says how many days it needs).
 
@@ -225,7 +225,7 @@ def check_schedule(faults, scenario, detector="combined", train_days=1.0, paper=
         raise ValueError("scenario must be a MarsScenario (the run the faults are for), got None")
     scenario = scenarios.check_scenario("scenario", scenario)
     check_choice("detector", detector, ("none", "wavelet", "chi2", "combined"))
-    train_days = check_real("train_days", train_days, 0.0, lo_open=True)
+    train_days = check_real("train_days", train_days, 0.0, MAX_DAYS, lo_open=True)
     paper = check_bool("paper", paper)
     span = float(scenario.span)
     comps = components(scenario)
@@ -705,7 +705,7 @@ def trial_outcome(ft, armed_from_s=0.0):
         A run with exactly one fault.
     armed_from_s : float
         False alarms are counted from this time on, s since the start (the detectors'
-        training span), >= 0.
+        training span), in [0, MAX_DAYS days].
 
     Returns
     -------
@@ -715,7 +715,7 @@ def trial_outcome(ft, armed_from_s=0.0):
         explains raised from ``armed_from_s`` on; late alarms are not among them),
         ``time_out_s`` (``out_after_end_s``, 0 when the fault outlasts the run).
     """
-    armed_from_s = check_real("armed_from_s", armed_from_s, 0.0)
+    armed_from_s = check_real("armed_from_s", armed_from_s, 0.0, MAX_DAYS * DAY)
     if len(_check_run(ft, "faults").faults) != 1:
         raise ValueError(f"ft must hold exactly one fault, got {len(ft.faults)}")
     sc = score(ft)

@@ -49,6 +49,10 @@ __all__ = [
     "MARS_STATE0",
     "MARS_POLE",
     "GM_BODIES",
+    "MAX_GM",
+    "R_MIN",
+    "R_MAX",
+    "MAX_BODY_RADIUS",
     "ThirdBodyTable",
     "point_mass",
     "third_body",
@@ -87,6 +91,15 @@ MARS_POLE = np.array([
 ])
 #: GM of the third bodies that can be switched on, m^3/s^2.
 GM_BODIES = {"sun": GM_SUN, "jupiter": GM_JUPITER}
+#: The largest central GM the force model takes, m^3/s^2: about 7.5 solar masses, above any
+#: body a spacecraft orbits (10 x GM_SUN would still be a star; 1e308 overflowed ``gm * r``).
+MAX_GM = 1e21
+#: Distances from the centre a position may have, m: from 1 m (the point-mass field is
+#: singular at the centre; its 1/|r|^5 gradient overflows below about 1e-57 m) to 1e15 m
+#: (6,700 au, past every planet; ``|r|^3`` overflows above 1e102 m).
+R_MIN, R_MAX = 1.0, 1e15
+#: The largest reference radius of a body, m: above the Sun's 6.96e8 m.
+MAX_BODY_RADIUS = 1e9
 
 
 @dataclass
@@ -96,7 +109,8 @@ class ThirdBodyTable:
     Parameters
     ----------
     t_start, t_end : float
-        Span to cover, s TDB past J2000.
+        Span to cover, s TDB past J2000, ``t_start <= t_end``, both inside the ephemeris's
+        :func:`~xnavlab.core.ephemeris.coverage` with two steps to spare at the end.
     bodies : sequence of str
         Third bodies (keys of :data:`GM_BODIES`).
     center : str
@@ -125,9 +139,11 @@ class ThirdBodyTable:
     gm: tuple | None = None
 
     def __post_init__(self):
-        self.t_start = check_real("t_start", self.t_start)
-        self.t_end = check_real("t_end", self.t_end, self.t_start)
         self.step = check_real("step", self.step, 1.0, 86400.0)
+        lo, hi = ephemeris.coverage(self.ephem)
+        # the knots run two steps past t_end; every one must lie inside the ephemeris
+        self.t_start = check_real("t_start", self.t_start, lo, hi - 2.0 * self.step)
+        self.t_end = check_real("t_end", self.t_end, self.t_start, hi - 2.0 * self.step)
         known = tuple(GM_BODIES) if self.gm is None else tuple(
             b for b in ephemeris.BODIES if b != self.center)
         self.bodies = check_items("bodies", self.bodies, "perturber", min_len=0,
@@ -171,12 +187,16 @@ class ThirdBodyTable:
 
 
 def _position(name, r):
-    """A finite position (..., 3), m, off the centre (the field is singular there; within 1e-60 m
-    of it the 1/|r|^5 of J2 is a division by zero in float64)."""
+    """A finite position (..., 3), m, between R_MIN and R_MAX from the centre (the field is
+    singular at the centre, and its powers of |r| overflow float64 near it and far out)."""
     r = check_finite_array(name, r, shape=(3,))
-    if np.any(np.linalg.norm(r, axis=-1) < 1e-60):
-        raise ValueError(f"{name} must not be the centre (0, 0, 0) or within 1e-60 m of it: the "
-                         f"field is singular there")
+    # |r| >= its largest component: a component past R_MAX is refused before |r|^2 overflows
+    rn = np.where(np.abs(r).max(axis=-1) > R_MAX, np.inf, np.linalg.norm(np.clip(r, -R_MAX, R_MAX),
+                                                                          axis=-1))
+    if np.any(rn < R_MIN) or np.any(rn > R_MAX):
+        bad = float(np.ravel(rn)[np.argmax(np.ravel((rn < R_MIN) | (rn > R_MAX)))])
+        raise ValueError(f"{name} must lie between {R_MIN:g} m and {R_MAX:g} m of the centre "
+                         f"(the field is singular at it), got |{name}| = {bad:g} m")
     return r
 
 
@@ -206,7 +226,7 @@ def point_mass(r, gm=GM_MARS):
     3.713
     """
     r = _position("r", r)
-    gm = check_real("gm", gm, 0.0)
+    gm = check_real("gm", gm, 0.0, MAX_GM)
     rn = np.linalg.norm(r, axis=-1, keepdims=True)
     return -gm * r / rn**3
 
@@ -260,7 +280,9 @@ def j2_acceleration(r, j2=J2_MARS, radius=J2_MARS_RADIUS, gm=GM_MARS, pole=MARS_
     """
     r = _position("r", r)
     pole = _pole(pole)
-    j2, radius, gm = (check_real(n, v) for n, v in (("j2", j2), ("radius", radius), ("gm", gm)))
+    j2 = check_real("j2", j2, -1.0, 1.0)  # |J2| of every planet is below 0.02
+    radius = check_real("radius", radius, 0.0, MAX_BODY_RADIUS, lo_open=True)
+    gm = check_real("gm", gm, 0.0, MAX_GM)
     rn2 = float(r @ r)
     z = float(r @ pole)
     k = -1.5 * j2 * gm * radius**2 / rn2**2.5
@@ -560,7 +582,7 @@ def gravity_gradient(r, gm=GM_MARS):
     r = _position("r", r)
     if r.shape != (3,):
         raise ValueError(f"r must have shape (3,), got {r.shape}")
-    gm = check_real("gm", gm, 0.0)
+    gm = check_real("gm", gm, 0.0, MAX_GM)
     rn = np.linalg.norm(r)
     return gm * (3.0 * np.outer(r, r) / rn**5 - np.eye(3) / rn**3)
 
@@ -624,7 +646,7 @@ def orbital_elements(state, gm=GM_MARS, pole=MARS_POLE):
     state : array_like, shape (6,)
         Position (m) and velocity (m/s), centre-relative.
     gm : float
-        Centre's GM, m^3/s^2 (default Mars).
+        Centre's GM, m^3/s^2 (default Mars), in (0, MAX_GM].
     pole : array_like, shape (3,)
         Unit vector of the centre's spin axis, for ``inclination_pole``.
 
@@ -644,7 +666,7 @@ def orbital_elements(state, gm=GM_MARS, pole=MARS_POLE):
     (4196, 0.09, 2.29)
     """
     state = check_finite_array("state", state, shape=(6,))
-    gm = check_real("gm", gm, 0.0, lo_open=True)
+    gm = check_real("gm", gm, 0.0, MAX_GM, lo_open=True)
     pole = _pole(pole)
     r, v = state[:3], state[3:]
     if not np.linalg.norm(np.cross(r, v)) > 0.0:  # the centre, or a radial fall: no plane

@@ -55,7 +55,7 @@ import numpy as np
 from xnavlab.core.constants import GM_MARS, R_MARS
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, shown
 from xnavlab.mars.models import series
-from xnavlab.mars.models.dynamics import MARS_POLE, MARS_STATE0
+from xnavlab.mars.models.dynamics import MARS_POLE, MARS_STATE0, MAX_BODY_RADIUS
 from xnavlab.mars.models.sensors import perturb_direction
 
 __all__ = [
@@ -102,7 +102,7 @@ def apparent_radius(rho, radius=R_MARS):
     rho : float or array_like
         Distance from the centre, m (``> radius``).
     radius : float
-        Sphere radius, m.
+        Sphere radius, m, in (0, MAX_BODY_RADIUS].
 
     Examples
     --------
@@ -110,7 +110,7 @@ def apparent_radius(rho, radius=R_MARS):
     30.0
     """
     rho = check_finite_array("rho", rho)
-    radius = check_real("radius", radius, 0.0, lo_open=True)
+    radius = check_real("radius", radius, 0.0, MAX_BODY_RADIUS, lo_open=True)
     if np.any(rho <= radius):
         raise ValueError("rho must exceed the radius (the sensor is outside the planet)")
     return np.arcsin(radius / rho)  # sin(alpha) = R / rho
@@ -127,6 +127,7 @@ def range_from_radius(alpha, radius=R_MARS):
     alpha = check_finite_array("alpha", alpha)
     if np.any((alpha <= 0.0) | (alpha >= math.pi / 2)):
         raise ValueError("alpha must be in (0, pi/2) rad")
+    radius = check_real("radius", radius, 0.0, MAX_BODY_RADIUS, lo_open=True)
     return radius / np.sin(alpha)  # rho = R / sin(alpha)
 
 
@@ -142,7 +143,7 @@ def radius_range_sigma(rho, sigma_alpha, radius=R_MARS):
     sigma_alpha : float
         Noise of the apparent radius, rad, in [0, pi].
     radius : float
-        Sphere radius, m.
+        Sphere radius, m, in (0, MAX_BODY_RADIUS].
 
     Examples
     --------
@@ -200,7 +201,7 @@ def sigma_alpha_for(sigma_range_m=5000.0, ranges=None, radius=R_MARS):
     >>> round(float(np.degrees(sigma_alpha_for(5000.0))), 4)
     0.0926
     """
-    sigma_range_m = check_real("sigma_range_m", sigma_range_m, 0.0, lo_open=True)
+    sigma_range_m = check_real("sigma_range_m", sigma_range_m, 0.0, 1e7, lo_open=True)  # as sensors
     rho = orbit_ranges() if ranges is None else check_finite_array("ranges", ranges)
     return sigma_range_m / float(np.mean(radius_range_sigma(rho, 1.0, radius)))
 
@@ -224,7 +225,7 @@ def limb_fit(r, pole=MARS_POLE, a=R_EQUATOR, c=R_POLAR, n_azimuth=36):
     pole : array_like, shape (3,)
         Unit vector of the symmetry axis.
     a, c : float
-        Equatorial and polar radii, m.
+        Equatorial and polar radii, m, each in (0, MAX_BODY_RADIUS].
     n_azimuth : int
         Limb samples.
 
@@ -244,8 +245,8 @@ def limb_fit(r, pole=MARS_POLE, a=R_EQUATOR, c=R_POLAR, n_azimuth=36):
     r = check_finite_array("r", r, shape=(3,))
     p = check_finite_array("pole", pole, shape=(3,))
     p = p / np.linalg.norm(p)
-    a = check_real("a", a, 0.0, lo_open=True)
-    c = check_real("c", c, 0.0, lo_open=True)
+    a = check_real("a", a, 0.0, MAX_BODY_RADIUS, lo_open=True)
+    c = check_real("c", c, 0.0, MAX_BODY_RADIUS, lo_open=True)
     n_azimuth = check_int("n_azimuth", n_azimuth, 4, 100000)
     A = np.eye(3) / a**2 + (1.0 / c**2 - 1.0 / a**2) * np.outer(p, p)
     Ar = r @ A
@@ -275,7 +276,7 @@ def limb_bias(r, pole=MARS_POLE, r_fit=R_MEAN):
     pole : array_like, shape (3,)
         Mars's pole (default :data:`xnavlab.mars.models.dynamics.MARS_POLE`).
     r_fit : float
-        Radius of the sensor's sphere, m (default :data:`R_MEAN`).
+        Radius of the sensor's sphere, m (default :data:`R_MEAN`), in (0, MAX_BODY_RADIUS].
 
     Returns
     -------
@@ -291,7 +292,7 @@ def limb_bias(r, pole=MARS_POLE, r_fit=R_MEAN):
     ([-4.0, 7.8], [0.0, 0.0])
     """
     r = check_finite_array("r", r, shape=(3,))
-    r_fit = check_real("r_fit", r_fit, 0.0, lo_open=True)
+    r_fit = check_real("r_fit", r_fit, 0.0, MAX_BODY_RADIUS, lo_open=True)
     p = check_finite_array("pole", pole, shape=(3,))
     p = p / np.linalg.norm(p)
     alpha, u = limb_fit(r, p)
@@ -387,7 +388,7 @@ class UVInstrument:
     Parameters
     ----------
     sigma_range, sigma_dir : float
-        Range noise (orbit mean), m; direction noise per axis, rad.
+        Range noise (orbit mean), m, in (0, 1e7]; direction noise per axis, rad, in (0, pi].
     range_model : {"constant", "radius"}
     limb : {"sphere", "oblate"}
     pole : array_like, shape (3,)
@@ -402,8 +403,9 @@ class UVInstrument:
 
     def __init__(self, sigma_range, sigma_dir, range_model="constant", limb="sphere",
                  pole=MARS_POLE):
-        self.sigma_range = check_real("sigma_range", sigma_range, 0.0, lo_open=True)
-        self.sigma_dir = check_real("sigma_dir", sigma_dir, 0.0, lo_open=True)
+        # the ranges of sensors.uv_measurement's: 1e4 km, and a half turn
+        self.sigma_range = check_real("sigma_range", sigma_range, 0.0, 1e7, lo_open=True)
+        self.sigma_dir = check_real("sigma_dir", sigma_dir, 0.0, math.pi, lo_open=True)
         self.range_model = check_choice("range_model", range_model, RANGE_MODELS)
         self.limb = check_choice("limb", limb, LIMBS)
         self.pole = np.asarray(pole, dtype=float)
@@ -434,7 +436,7 @@ class CNSInstrument:
     ----------
     star_dirs : ndarray, shape (k, 3)
     sigma_star, sigma_horizon : float
-        Per-axis noise, rad.
+        Per-axis noise, rad, in (0, pi].
     dt : float
         Spacing of the epochs, s.
     tau_s : float
@@ -452,8 +454,9 @@ class CNSInstrument:
     def __init__(self, star_dirs, sigma_star, sigma_horizon, dt, tau_s=0.0, limb="sphere",
                  pole=MARS_POLE):
         self.star_dirs = check_finite_array("star_dirs", star_dirs, shape=(3,))
-        self.sigma_star = check_real("sigma_star", sigma_star, 0.0, lo_open=True)
-        self.sigma_horizon = check_real("sigma_horizon", sigma_horizon, 0.0, lo_open=True)
+        # the ranges of sensors.cns_measurement's: a half turn
+        self.sigma_star = check_real("sigma_star", sigma_star, 0.0, math.pi, lo_open=True)
+        self.sigma_horizon = check_real("sigma_horizon", sigma_horizon, 0.0, math.pi, lo_open=True)
         dt = check_real("dt", dt, 0.0, lo_open=True)
         self.tau_s = check_real("tau_s", tau_s, 0.0, 1e8)
         self.phi = math.exp(-dt / self.tau_s) if self.tau_s > 0.0 else 0.0  # phi = exp(-dt / tau)

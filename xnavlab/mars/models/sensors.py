@@ -598,7 +598,7 @@ class UVSensor:
     Parameters
     ----------
     sigma_range : float
-        Range noise, m (paper: 5000).
+        Range noise, m (paper: 5000), in (0, 1e7].
     sigma_dir_deg : float
         Per-axis direction noise, deg (paper: 0.1), applied by :func:`perturb_direction`.
 
@@ -617,7 +617,7 @@ class UVSensor:
     dim: int = field(default=4, init=False)
 
     def __post_init__(self):
-        self.sigma_range = check_real("sigma_range", self.sigma_range, 0.0, lo_open=True)
+        self.sigma_range = check_real("sigma_range", self.sigma_range, 0.0, 1e7, lo_open=True)
         self.sigma_dir_deg = check_real("sigma_dir_deg", self.sigma_dir_deg, 0.0, 90.0,
                                         lo_open=True)
 

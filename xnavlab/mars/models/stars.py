@@ -298,7 +298,7 @@ def starlight_geometry(r, star_names=None, t=0.0, radius=None):
     t : float
         Epoch of the star directions, s TDB past J2000.
     radius : float, optional
-        Mars's radius, m (default :data:`xnavlab.core.constants.R_MARS`, equatorial).
+        Mars's radius, m (default :data:`xnavlab.core.constants.R_MARS`, equatorial), in (0, 1e9].
 
     Returns
     -------
@@ -314,9 +314,11 @@ def starlight_geometry(r, star_names=None, t=0.0, radius=None):
     (89, 91, 0.0)
     """
     from xnavlab.core.constants import R_MARS
+    from xnavlab.mars.models.dynamics import MAX_BODY_RADIUS
 
     r = check_finite_array("r", r, shape=(3,)).reshape(-1, 3)
-    radius = R_MARS if radius is None else check_real("radius", radius, 0.0, lo_open=True)
+    radius = R_MARS if radius is None else check_real("radius", radius, 0.0, MAX_BODY_RADIUS,
+                                                      lo_open=True)
     rho = np.linalg.norm(r, axis=1)
     if np.any(rho <= radius):
         raise ValueError("r must lie outside Mars (|r| > radius)")

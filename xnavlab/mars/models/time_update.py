@@ -95,11 +95,7 @@ def filter_propagate(x, t, dt, table, max_step=10.0):
     True
     """
     x = check_finite_array("x", x, shape=(6,))
-    t, dt = check_real("t", t), check_real("dt", dt, 0.0)
-    max_step = check_real("max_step", max_step, 0.0, 86400.0, lo_open=True)
-    if dt / max_step > 1e6:
-        raise ValueError(f"dt / max_step must be at most 1e6 sub-steps, got dt = {dt:g} s and "
-                         f"max_step = {max_step:g} s ({dt / max_step:.3g})")
+    t, dt, max_step = _check_steps(t, dt, max_step)
     n = max(1, math.ceil(dt / max_step - 1e-9))
     h = dt / n
     Phi = np.eye(6)
@@ -109,17 +105,28 @@ def filter_propagate(x, t, dt, table, max_step=10.0):
     return x, Phi
 
 
+def _check_steps(t, dt, max_step):
+    """(t, dt, max_step) checked: max_step in (0, 86400] s and at most 1e6 sub-steps."""
+    t, dt = check_real("t", t), check_real("dt", dt, 0.0)
+    max_step = check_real("max_step", max_step, 0.0, 86400.0, lo_open=True)
+    if dt / max_step > 1e6:
+        raise ValueError(f"dt / max_step must be at most 1e6 sub-steps, got dt = {dt:g} s and "
+                         f"max_step = {max_step:g} s ({dt / max_step:.3g})")
+    return t, dt, max_step
+
+
 class Propagation:
     """One time update of the filters, memoised: ``f(x)`` and ``F(x)`` integrate once.
 
     Parameters
     ----------
     t, dt : float
-        Epoch and step, s.
+        Epoch and step, s (``dt >= 0``).
     table : ThirdBodyTable
         Third bodies (filter ephemeris).
     max_step : float
-        Largest RK4 sub-step, s.
+        Largest RK4 sub-step, s, in (0, 86400]; ``dt / max_step`` at most 1e6 (as
+        :func:`filter_propagate`, which it calls).
 
     Examples
     --------
@@ -131,8 +138,7 @@ class Propagation:
     """
 
     def __init__(self, t, dt, table, max_step):
-        t, dt = check_real("t", t), check_real("dt", dt, 0.0)
-        max_step = check_real("max_step", max_step, 0.0, lo_open=True)
+        t, dt, max_step = _check_steps(t, dt, max_step)  # refused now, not at the first call
         self.args = (t, dt, table, max_step)
         self.key, self.val = None, None
 

@@ -143,7 +143,7 @@ def default_settle_days(days):
     >>> default_settle_days(30.0), default_settle_days(1.0)
     (1.0, 0.5)
     """
-    days = check_real("days", days, 0.0, lo_open=True)
+    days = check_real("days", days, 0.0, 365.0, lo_open=True)  # a scenario's range
     return min(1.0, days / 2.0)
 
 

@@ -227,7 +227,7 @@ def plot_ambiguity(injected_m, recovered_m, cycle_m):
     injected_m, recovered_m : array_like, shape (k,)
         Injected offsets along the line and their fixes, m.
     cycle_m : float
-        ``c P``, m.
+        ``c P``, m, in (0, 1e12].
 
     Returns
     -------
@@ -244,7 +244,8 @@ def plot_ambiguity(injected_m, recovered_m, cycle_m):
 
     inj = check_finite_array("injected_m", injected_m) / 1e3
     rec = check_finite_array("recovered_m", recovered_m) / 1e3
-    cycle_km = check_real("cycle_m", cycle_m, 0.0, lo_open=True) / 1e3
+    # c times a period of 3,300 s, past every pulsar's (1e308 overflowed the plot's transform)
+    cycle_km = check_real("cycle_m", cycle_m, 0.0, 1e12, lo_open=True) / 1e3
     fig = Figure(figsize=(7, 3.4), layout="constrained")
     ax = fig.add_subplot()
     ax.plot(inj, inj, color="0.7", lw=0.8, label="injected")

@@ -329,7 +329,8 @@ def expected_fold(nbins, duty, pulsed, unpulsed, shift=0.0):
     duty : float
         Pulse FWHM over period.
     pulsed, unpulsed : float
-        Expected pulsed and unpulsed photons in the fold, ``lambda_s T`` and ``lambda_b T``.
+        Expected pulsed and unpulsed photons in the fold, ``lambda_s T`` and ``lambda_b T``,
+        each in [0, MAX_COUNTS].
     shift : float
         Pulse arrival offset, cycles (late positive).
 
@@ -345,8 +346,8 @@ def expected_fold(nbins, duty, pulsed, unpulsed, shift=0.0):
     (1640.0, 15)
     """
     nbins = check_int("nbins", nbins, 8, 2**20)
-    check_real("pulsed", pulsed, 0.0)
-    check_real("unpulsed", unpulsed, 0.0)
+    check_real("pulsed", pulsed, 0.0, MAX_COUNTS)
+    check_real("unpulsed", unpulsed, 0.0, MAX_COUNTS)
     return _bins(nbins, _sigma(duty) * _FWHM, pulsed, unpulsed, check_real("shift", shift))[0]
 
 

@@ -50,7 +50,11 @@ __all__ = [
     "flight_design",
     "diagnose_flight",
     "compare_detectors",
+    "FLIGHT_S",
 ]
+
+#: Length of the simulated flight of :func:`diagnose_flight` by default, s.
+FLIGHT_S = 200.0
 
 
 def first_alarm(t, statistic, threshold, after=-math.inf):
@@ -350,7 +354,7 @@ def flight_design(traj, sites, s, tol, n_points=3):
 
 def diagnose_flight(faults=(), *, model="step", s=11, threshold=None, sigma=_pl.DEFAULT_SIGMA,
                     p_fa=1e-6, leak_tol=0.3, n_points=3, time_origin="absolute", seed=0,
-                    dt=1.0, duration=200.0, sites_deg=None, q_rw=1e-6, with_chi2=False):
+                    dt=1.0, duration=FLIGHT_S, sites_deg=None, q_rw=1e-6, with_chi2=False):
     """Simulate the paper's flight with pseudorange faults and diagnose it.
 
     A pure function of its arguments (seeded): the chapter's slider calls it.
@@ -373,12 +377,12 @@ def diagnose_flight(faults=(), *, model="step", s=11, threshold=None, sigma=_pl.
     threshold : float, optional
         ``r_t`` in metres (default :func:`~.space.residual_threshold` at ``p_fa``).
     sigma : float
-        Pseudorange noise, m, > 0 (default 2 m, see :mod:`xnavlab.plins.pseudolites`).
+        Pseudorange noise, m, in (0, 1e6] (default 2 m, see :mod:`xnavlab.plins.pseudolites`).
     p_fa : float
         False-alarm probability per window and sensor for the default threshold.
     leak_tol : float
         Largest contribution of a typical state or noise left in the residual, in
-        units of ``sigma``, > 0 (sets the numerical left null space).
+        units of ``sigma``, in (0, 1e6] (sets the numerical left null space).
     n_points : int
         Number of T-S operating points.
     time_origin : {"absolute", "onset"}
@@ -409,8 +413,8 @@ def diagnose_flight(faults=(), *, model="step", s=11, threshold=None, sigma=_pl.
     check_choice("model", model, ("step", "ramp"))
     with_chi2 = check_bool("with_chi2", with_chi2)
     s = check_int("s", s, 2, 60)
-    sigma = check_real("sigma", sigma, 0.0, lo_open=True)
-    leak_tol = check_real("leak_tol", leak_tol, 0.0, lo_open=True)
+    sigma = check_real("sigma", sigma, 0.0, 1e6, lo_open=True)  # as residual_threshold's
+    leak_tol = check_real("leak_tol", leak_tol, 0.0, 1e6, lo_open=True)  # tol = leak_tol sigma finite
     check_choice("time_origin", time_origin, ("absolute", "onset"))
     dt = check_real("dt", dt, 0.0, 10.0, lo_open=True)
     duration = check_real("duration", duration, 0.0, 1e4, lo_open=True)
@@ -468,7 +472,7 @@ def compare_detectors(kind, sizes, *, onset=None, sensor=0, n_runs=5, seed=0, **
     onset : float, optional
         Onset, s (default 50 s for a step, 30 s for a ramp, as in the paper).
     sensor : int
-        Faulty pseudorange, 0-based.
+        Faulty pseudorange, 0-based, one of the sites (0..3 with the default four).
     n_runs : int
         Runs per size, in [1, 1000].
     seed : int
@@ -509,7 +513,8 @@ def compare_detectors(kind, sizes, *, onset=None, sensor=0, n_runs=5, seed=0, **
             raise ValueError(f"compare_detectors got {key}={kwargs[key]!r:.60}: {why} (it passes "
                              f"on {', '.join(sorted(takes))})")
     onset = (50.0 if kind == "step" else 30.0) if onset is None else check_real("onset", onset)
-    sensor = check_int("sensor", sensor, 0)
+    n_sites = len(_pl.sites_ecef(kwargs.get("sites_deg")))
+    sensor = check_int("sensor", sensor, 0, n_sites - 1)  # one pseudorange per site
     n_runs = check_int("n_runs", n_runs, 1, 1000)
     seed = check_int("seed", seed, 0, SEED_MAX - (n_runs - 1))  # its runs take seed + i
     rows = []

@@ -5,9 +5,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from xnavlab.core.faults import Fault
+from xnavlab.core.faults import MAX_SIZE, Fault
 from xnavlab.core.validate import check_int, check_real
-from xnavlab.plins.parity.diagnosis import Diagnosis, diagnose_flight
+from xnavlab.plins.parity.diagnosis import FLIGHT_S, Diagnosis, diagnose_flight
 from xnavlab.plins.pseudolites import SENSOR
 
 __all__ = [
@@ -86,7 +86,7 @@ def plot_step_diagnosis(step_m=30.0, s=11, threshold_m=14.0, *, component=0, ons
     Parameters
     ----------
     step_m : float
-        Step size, m (finite).
+        Step size, m, nonzero, ``|step_m| <= 1e15`` (:data:`xnavlab.core.faults.MAX_SIZE`).
     s : int
         Window length minus one (samples); :func:`~.diagnosis.diagnose_flight` checks it.
     threshold_m : float
@@ -94,7 +94,7 @@ def plot_step_diagnosis(step_m=30.0, s=11, threshold_m=14.0, *, component=0, ons
     component : int
         The faulty pseudorange, 0-based (0..3).
     onset_s : float
-        Onset of the step, s.
+        Onset of the step, s, in [0, FLIGHT_S] (the flight of :func:`~.diagnosis.diagnose_flight`).
 
     Returns
     -------
@@ -114,10 +114,13 @@ def plot_step_diagnosis(step_m=30.0, s=11, threshold_m=14.0, *, component=0, ons
     from xnavlab.core.plotting import in_place
 
     def diagnose(step_m, s, threshold_m, component, onset_s):
-        step_m = check_real("step_m", step_m)
+        # a nonzero step within Fault's size bound, inside diagnose_flight's 200-s flight
+        step_m = check_real("step_m", step_m, -MAX_SIZE, MAX_SIZE)
+        if step_m == 0.0:
+            raise ValueError("step_m must be nonzero (a step of 0 m is no fault), got 0")
         threshold_m = check_real("threshold_m", threshold_m, 0.0, lo_open=True)
         component = check_int("component", component, 0, 3)
-        onset_s = check_real("onset_s", onset_s)
+        onset_s = check_real("onset_s", onset_s, 0.0, FLIGHT_S)
         d = diagnose_flight([Fault(SENSOR, "step", step_m, onset_s, component=component)],
                             s=s, threshold=threshold_m)
         alarm = d.detection[component]
