@@ -12,7 +12,7 @@ def test_out_dir_accepts_none_or_a_directory_and_refuses_a_file(tmp_path):
     assert runners.out_dir(None) is None
     assert runners.out_dir(tmp_path / "new") == tmp_path / "new"
     (tmp_path / "f").write_text("")
-    with pytest.raises(ValueError, match="^out must be a directory"):
+    with pytest.raises(ValueError, match="^--out must be a directory"):
         runners.out_dir(tmp_path / "f")
 
 

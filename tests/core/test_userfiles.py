@@ -122,3 +122,28 @@ def test_an_empty_name_is_refused_not_read_as_the_current_folder(blank):
         userfiles.load_table(blank, "grid file")
     with pytest.raises(ValueError, match=r"^runs must name a folder, got '\s*'$"):
         userfiles.as_path(blank, "runs", "folder")
+
+
+def test_a_repeated_or_missing_csv_column_is_refused_not_dropped():  # review 35f #29, #30
+    with pytest.raises(ValueError, match=r"^t.csv, line 1: column 'a' appears twice"):
+        userfiles.csv_rows("a,a\n1,2\n", "t.csv")
+    with pytest.raises(ValueError, match=r"^t.csv, line 1: no column 'c' \(the header has a, b\)"):
+        userfiles.csv_rows("a,b\n1,2\n", "t.csv", ("c",))
+
+
+def test_a_name_too_long_or_a_pipe_is_one_line_before_any_read_or_write(tmp_path):  # 35f #2, #3
+    long = tmp_path / ("a" * 300 + ".toml")
+    assert userfiles.path_kind(tmp_path) == "folder"
+    assert userfiles.path_kind(tmp_path / "none") == "missing"
+    for call in (lambda: userfiles.read_text(long, "scenario file"),
+                 lambda: userfiles.output_path(long, "--out"),
+                 lambda: userfiles.output_path(tmp_path / ("b" * 300), "--out", folder=True)):
+        with pytest.raises(ValueError, match=r"cannot be used \(File name too long\)$"):
+            call()
+    fifo = tmp_path / "f.toml"
+    os.mkfifo(fifo)
+    assert userfiles.path_kind(fifo) == "other"
+    with pytest.raises(ValueError, match=r"f.toml' is not a regular file \(a pipe, socket or device\)"):
+        userfiles.read_text(fifo, "scenario file")      # it waited for a writer for ever
+    with pytest.raises(ValueError, match="is not a regular file"):
+        userfiles.output_path(fifo, "--out")

@@ -13,7 +13,7 @@ from pathlib import Path
 
 from xnavlab.cli import Parser, UsageError, number
 from xnavlab.core.federated import MODES
-from xnavlab.core.userfiles import output_path
+from xnavlab.core.userfiles import output_path, path_kind
 from xnavlab.core.validate import SEED_MAX, check_choice
 
 __all__ = ["HELP", "FAULT_HELP", "RUNNERS", "configure", "execute", "configure_mars", "execute_mars",
@@ -66,8 +66,8 @@ def out_dir(path):
     if path is None:
         return None
     out = Path(path)
-    if str(path).strip() and out.exists() and not out.is_dir():
-        raise ValueError(f"out must be a directory (for mars_run.npz and mars_summary.json), "
+    if str(path).strip() and path_kind(out, "--out") not in ("missing", "folder"):
+        raise ValueError(f"--out must be a directory (for mars_run.npz and mars_summary.json), "
                          f"but {str(out)!r} is a file")
     return output_path(path, "--out", folder=True)
 

@@ -89,7 +89,7 @@ from xnavlab.core.campaign_records import (
     why_not_a_record,
 )
 from xnavlab.core.montecarlo import seeds as spawn_seeds
-from xnavlab.core.userfiles import InputWarning, as_path, read_text
+from xnavlab.core.userfiles import InputWarning, as_path, path_kind, read_text
 from xnavlab.core.validate import check_bool, check_choice, check_int, check_real, check_seed, shown
 
 __all__ = [
@@ -853,12 +853,13 @@ def load_runs(directory, final=True):
         raise ValueError("load_runs needs pandas (pip install pandas)") from None
     directory = as_path(directory, "campaign folder", "folder")  # a dict, None or "": one line
     path, head = directory / STORE_FILE, directory / HEADER_FILE
-    if not path.exists():
+    if path_kind(path, "campaign store") == "missing":
         raise ValueError(f"directory {str(directory)!r} holds no campaign ({STORE_FILE} missing)")
     lines = read_text(path, "campaign store").split("\n")
     first = json_or_none(lines[0]) if lines[0].strip() else None
-    header = json_or_none(read_text(head, "campaign header")) if head.exists() else None
-    if head.exists() and not isinstance(header, dict):
+    has_head = path_kind(head, "campaign header") != "missing"
+    header = json_or_none(read_text(head, "campaign header")) if has_head else None
+    if has_head and not isinstance(header, dict):
         warnings.warn(f"{head}: not a campaign header (not a JSON object); "
                       f"df.attrs['campaign'] is None", InputWarning, stacklevel=2)
         header = None

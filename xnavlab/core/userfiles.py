@@ -18,8 +18,8 @@ import json
 import os
 from pathlib import Path
 
-__all__ = ["InputWarning", "as_path", "read_text", "parse_toml", "load_table", "check_rows",
-           "csv_rows", "output_path"]
+__all__ = ["InputWarning", "as_path", "path_kind", "read_text", "parse_toml", "load_table",
+           "check_rows", "csv_rows", "output_path"]
 
 
 class InputWarning(UserWarning):
@@ -56,6 +56,36 @@ def as_path(path, what="file", kind="file"):
     return Path(path)
 
 
+def path_kind(path, what="file"):
+    """What is at ``path``: ``"missing"``, ``"file"``, ``"folder"`` or ``"other"`` (a pipe, a
+    socket, a device); a name the system cannot look up is one ValueError naming ``what``.
+
+    ``Path.exists`` and ``Path.is_dir`` raise ``OSError`` for a name too long for the file
+    system (Python 3.10 and 3.11) and a pipe read as a file waits for a writer for ever: both
+    are decided here, before any read or write.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> path_kind(tempfile.mkdtemp()), path_kind(Path(tempfile.mkdtemp()) / "none.toml")
+    ('folder', 'missing')
+    >>> try:
+    ...     path_kind("a" * 300 + ".toml", "scenario file")
+    ... except ValueError as exc:
+    ...     print(str(exc).endswith("cannot be used (File name too long)"))
+    True
+    """
+    import stat
+
+    try:
+        mode = Path(path).stat().st_mode
+    except (FileNotFoundError, NotADirectoryError):
+        return "missing"
+    except OSError as exc:
+        raise ValueError(f"{what} {str(path)[:80]!r} cannot be used ({exc.strerror})") from None
+    return "folder" if stat.S_ISDIR(mode) else "file" if stat.S_ISREG(mode) else "other"
+
+
 def read_text(path, what="file"):
     """The text of the UTF-8 file at ``path``; anything else is one ValueError naming it.
 
@@ -90,8 +120,11 @@ def read_text(path, what="file"):
     """
     as_path(path, what)  # a dict, a number, None or "": one line naming what
     path = Path(path)
-    if path.is_dir():
+    kind = path_kind(path, what)
+    if kind == "folder":
         raise ValueError(f"{what} {str(path)!r} is a folder, not a file")
+    if kind == "other":  # a pipe would wait for a writer for ever
+        raise ValueError(f"{what} {str(path)!r} is not a regular file (a pipe, socket or device)")
     try:
         return path.read_text(encoding="utf-8-sig")  # a BOM is no part of the text
     except UnicodeDecodeError as exc:
@@ -238,6 +271,14 @@ def csv_rows(text, what, numbers=()):
     if not lines:
         raise ValueError(f"{what} holds no header line")
     header = [h.strip() for h in lines[0][1].split(",")]
+    repeated = sorted({h for h in header if header.count(h) > 1})
+    if repeated:  # a dict of the row would keep the last column of the name, dropping the first
+        raise ValueError(f"{what}, line {lines[0][0]}: column {repeated[0]!r} appears twice in "
+                         f"the header")
+    missing = [k for k in numbers if k not in header]
+    if missing:
+        raise ValueError(f"{what}, line {lines[0][0]}: no column {missing[0]!r} (the header has "
+                         f"{', '.join(header)})")
     rows = []
     for n, ln in lines[1:]:
         cells = [c.strip() for c in ln.split(",")]
@@ -287,10 +328,13 @@ def output_path(path, what="output", folder=False):
     as_path(path, what, "folder" if folder else "file")  # a dict, None or "": one line
     path = Path(path)
     target = path if folder else path.parent
-    if folder and path.exists() and not path.is_dir():
+    kind = path_kind(path, what)  # a name too long: one line
+    if folder and kind not in ("missing", "folder"):
         raise ValueError(f"{what} {str(path)!r} is a file, not a folder")
-    if not folder and path.is_dir():
+    if not folder and kind == "folder":
         raise ValueError(f"{what} {str(path)!r} is a folder, not a file")
+    if not folder and kind == "other":
+        raise ValueError(f"{what} {str(path)!r} is not a regular file (a pipe, socket or device)")
     try:
         target.mkdir(parents=True, exist_ok=True)
     except (FileExistsError, NotADirectoryError):
