@@ -382,3 +382,39 @@ def test_a_folder_of_another_campaign_is_one_line_before_any_warning(tmp_path, c
     assert main(["campaign", "detectors", "--runs", "2", "--out", str(tmp_path)]) == 2
     lines = capsys.readouterr().err.splitlines()
     assert len(lines) == 1 and "holds another campaign's records" in lines[0], lines
+
+
+@pytest.mark.parametrize(("argv", "words"), [
+    (["run", "mars", "--days", "-1e-3"], "days must be a real number in (0, 365], got '-1e-3'"),
+    (["run", "mars", "--days", "-inf"], "days must be a real number in (0, 365], got '-inf'"),
+    (["run", "mars", "--seed", "-1e2"], "seed must be an integer in [0, "),
+])
+def test_a_negative_value_with_an_exponent_reaches_its_own_range(argv, words, capsys):
+    # review 35f #13: argparse read -1e-3 as an option ("expected one argument")
+    assert main(argv) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and words in err
+
+
+def test_a_refused_command_drops_library_warnings_but_a_run_shows_them(monkeypatch, capsys):
+    # review 35f #4: PINT's notes on a timing model came before the error, three lines
+    import warnings
+
+    from xnavlab.cli import runners
+
+    def noisy(args):
+        warnings.warn("a library's note", UserWarning, stacklevel=1)
+        raise ValueError("refused")
+
+    def quiet(args):
+        warnings.warn("a library's note", UserWarning, stacklevel=1)
+        return 0
+
+    configure, _, words = runners.RUNNERS["mars"]
+    for execute, code, lines in ((noisy, 2, ["xnavlab: error: refused"]),
+                                 (quiet, 0, ["xnavlab: warning: a library's note"])):
+        monkeypatch.setitem(runners.RUNNERS, "mars", (configure, execute, words))
+        with warnings.catch_warnings():  # as the command line runs: no "error" filter
+            warnings.simplefilter("default")
+            assert main(["run", "mars", "--days", "1"]) == code
+        assert capsys.readouterr().err.strip().splitlines() == lines

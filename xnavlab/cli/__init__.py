@@ -36,7 +36,7 @@ import warnings
 
 from xnavlab import __version__
 
-__all__ = ["main", "UsageError", "Parser", "COMMANDS", "EXIT_PIPE", "number"]
+__all__ = ["main", "UsageError", "Parser", "COMMANDS", "EXIT_PIPE", "number", "join_negative_values"]
 
 #: Command name -> module implementing it (``HELP``, ``configure``, ``execute``).
 COMMANDS = {
@@ -177,16 +177,24 @@ def build_parser():
 EXIT_PIPE = 141
 
 
-def _warning_printer():
+def _warning_printer(held):
     """``warnings.showwarning`` of one command: each warning as one line, each text once (a
-    summary that computes a metric twice warns once)."""
+    summary that computes a metric twice warns once). A warning about the user's input
+    (:class:`~xnavlab.core.userfiles.InputWarning`) is printed at once; another library's
+    (PINT's notes on a timing model) is held in ``held`` and printed when the command ends,
+    unless it ends refused: then the error is its one line (review 35f)."""
+    from xnavlab.core.userfiles import InputWarning
+
     shown = set()
 
     def show(message, category, filename, lineno, file=None, line=None):
         text = f"xnavlab: warning: {message}"
         if text not in shown:
             shown.add(text)
-            print(text, file=sys.stderr)
+            if issubclass(category, InputWarning):
+                print(text, file=sys.stderr)
+            else:
+                held.append(text)
 
     return show
 
@@ -213,21 +221,52 @@ def main(argv=None):
     """
     from xnavlab.core.userfiles import InputWarning
 
+    held = []
+    code = None
     try:
         try:
             with warnings.catch_warnings():
                 warnings.filterwarnings("always", category=InputWarning)
-                warnings.showwarning = _warning_printer()
-                return _main(argv)
+                warnings.showwarning = _warning_printer(held)
+                code = _main(argv)
+                return code
         finally:  # --help's SystemExit too: a closed pipe shows here when the output was buffered
+            if code != 2:  # a refused command: its error is the one line
+                for text in held:
+                    print(text, file=sys.stderr)
             sys.stdout.flush()
     except BrokenPipeError:
         _stdout_closed()
         return EXIT_PIPE
 
 
+#: A negative number argparse takes for an option (it knows -1 and -0.5 only): -1e-3, -1.,
+#: -inf, -nan.
+_NEGATIVE = re.compile(r"^-((\d+\.?\d*|\.\d+)[eE][-+]?\d+|\d+\.|inf|infinity|nan)$", re.IGNORECASE)
+
+
+def join_negative_values(argv):
+    """``--days -1e-3`` as ``--days=-1e-3``: argparse reads a negative number with an exponent
+    as an unknown option ("expected one argument", the value not shown); joined, it reaches
+    the option's own range check.
+
+    Examples
+    --------
+    >>> join_negative_values(["run", "mars", "--days", "-1e-3", "--seed", "-1"])
+    ['run', 'mars', '--days=-1e-3', '--seed', '-1']
+    """
+    out = []
+    for tok in argv:
+        if out and _NEGATIVE.match(tok) and out[-1].startswith("--") and "=" not in out[-1]:
+            out[-1] = f"{out[-1]}={tok}"
+        else:
+            out.append(tok)
+    return out
+
+
 def _main(argv):
     try:
+        argv = join_negative_values(sys.argv[1:] if argv is None else list(argv))
         args = build_parser().parse_args(argv)
         if args.version:
             print(f"xnavlab {__version__}")
