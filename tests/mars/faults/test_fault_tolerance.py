@@ -518,3 +518,32 @@ def test_the_last_seed_runs_with_a_detector():
     ... got 9223372036854775808' (the fault noise's seed + 1): it wraps to 0 now."""
     res = ft.run_fault_tolerant(None, [], "chi2", days=0.05, seed=2**63 - 1)
     assert res.run.scenario.seed == 2**63 - 1
+
+
+def test_the_run_length_advice_for_arm_s_exceeds_the_run():
+    # review 35f #9: "run at least days = 0.05" for a run of 0.05 days (a rounding)
+    with pytest.raises(ValueError, match=r"run at least days = 0.0501 or lower arm_s"):
+        ft.run_fault_tolerant(scenarios.MarsScenario(days=0.05), [], "combined", arm_s=4320.0)
+
+
+def test_a_fault_over_before_the_detector_arms_is_refused_not_scored_missed():
+    # review 35f #10: it ran and was scored "missed", though no test could see it
+    sc = scenarios.MarsScenario(days=0.05)
+    fault = Fault("uv", "step", 25000.0, 1000.0, 100.0, 0)
+    with pytest.raises(ValueError, match=r"^faults: uv.range:step:25000@1000\+100 ends at 1100 s, "
+                                         r"before the combined detector's tests arm \(arm_s = "
+                                         r"2000 s\)"):
+        ft.run_fault_tolerant(sc, [fault], "combined", arm_s=2000.0)
+
+
+def test_a_design_rate_below_its_range_is_refused_by_name():
+    # review 35f #8: 5e-324 was refused as "p must be a real number in (0, 1), got 0.0"
+    from xnavlab.mars.navigation import scenario_files
+
+    with pytest.raises(ValueError, match=r"^rate_per_day must be a real number in \[0.001, 100\]"):
+        ft.run_fault_tolerant(scenarios.MarsScenario(days=0.05), [], "combined", rate_per_day=5e-324)
+    text = scenario_files.dump()
+    assert "rate_per_day = 1.0" in text
+    for bad in (5e-324, 2e2):  # the scenario file's range is the same
+        with pytest.raises(ValueError, match=r"rate_per_day must be a real number in \[0.001, 100\]"):
+            scenario_files.loads(text.replace("rate_per_day = 1.0", f"rate_per_day = {bad!r}"))

@@ -357,7 +357,7 @@ def test_python_and_cli_summaries_of_the_same_run_are_equal(capsys):
     ("stars", ("Vega", "Sirius", "Vega"), r"^stars lists Vega twice \(items 0 and 2\)"),
     ("stars", (), r"^stars must name at least one star"),
     ("beta", 0.5, r"^beta must be a list of numbers, got 0.5"),
-    ("beta", (0.5, "a", 0.2), r"^beta\[1\] must be a real number in \(0, 1\]"),
+    ("beta", (0.5, "a", 0.2), r"^beta\[1\] must be a real number in \[0.001, 1\]"),
     ("xnav_sigma_m", 100.0, r"^xnav_sigma_m must be a list of numbers"),
     ("pulsars", ["B1937+21", "B1937+21"], r"^pulsars lists B1937\+21 twice"),
 ])
@@ -452,10 +452,20 @@ def test_a_filter_the_kernel_cannot_carry_stops_with_one_clear_error():
     # review 35d D44: a UV noise of 1e-6 m against a 5-km initial error
     sc = scenarios.MarsScenario(days=0.05, subsystems=("uv",), sigma_range_m=1e-6,
                                 sigma_dir_deg=1e-9)
+    # review 35f #7: the message named pos_err0_m only; it names the settings moved now
     with pytest.raises(FilterDivergence, match=r"the compiled filter stopped: a "
-                       r"covariance lost positive definiteness near epoch \d+ .*raise the "
-                       r"smallest noise setting, or run the numpy backend"):
+                       r"covariance lost positive definiteness near epoch \d+ .*the noise "
+                       r"settings away from their defaults: sigma_range_m = 1e-06 \(default "
+                       r"5000.0\); sigma_dir_deg = 1e-09 \(default 0.1\) \(move them back\), "
+                       r"or run the numpy backend"):
         scenarios.run(sc)
+
+
+def test_a_share_factor_a_local_covariance_cannot_carry_is_refused():
+    # review 35f #1: beta = 5e-324 ended in a ZeroDivisionError (P0 / beta) after --check
+    with pytest.raises(ValueError, match=r"^beta\[0\] must be a real number in \[0.001, 1\], "
+                                         r"got 5e-324"):
+        scenarios.MarsScenario(beta=(5e-324, 1.0, 1.0))
 
 
 def test_a_state0_inside_mars_is_refused_by_the_scenario_itself():

@@ -102,7 +102,7 @@ _KEYS = {
     ("run", "seed"): ("seed", "seed of every noise draw, integer >= 0"),
     ("run", "mode"): ("mode", "federated mode: \"reset\" or \"no-reset\""),
     ("run", "subsystems"): ("subsystems", "any of \"xnav\", \"uv\", \"cns\""),
-    ("run", "beta"): ("beta", "information-sharing factors, one a subsystem, in (0, 1], "
+    ("run", "beta"): ("beta", "information-sharing factors, one a subsystem, in [1e-3, 1], "
                               "normalised to sum 1 (only their ratios count); omit for equal "
                               "shares"),
     ("run", "record_dt"): ("record_dt", "spacing of the recorded estimates, s, [0.1, 86400]"),
@@ -161,7 +161,7 @@ _KEYS = {
     ("detector", "alpha"): ("detector:alpha", "chi-square false-alarm probability per "
                                               "measurement, (0, 1)"),
     ("detector", "rate_per_day"): ("detector:rate_per_day", "combined: design false alarms per "
-                                                            "subsystem per day, (0, 100]"),
+                                                            "subsystem per day, [1e-3, 100]"),
     ("detector", "train_days"): ("detector:train_days", "UV/CNS wavelet training span, days; "
                                                         "omit for min(1, days / 2)"),
     ("detector", "arm_s"): ("detector:arm_s", "combined: seconds before the innovation tests "
@@ -357,7 +357,7 @@ def _check_run(run, sc):
 
 
 def _check_detector(det, sc):
-    from xnavlab.mars.faults.fault_tolerance import DETECTORS, parse_faults
+    from xnavlab.mars.faults.fault_tolerance import DETECTORS, RATE_PER_DAY_RANGE, parse_faults
 
     if det["name"] is not None:
         check_choice("[detector] name", det["name"], DETECTORS)
@@ -371,8 +371,8 @@ def _check_detector(det, sc):
     for key in ("pfa", "alpha"):
         det[key] = check_real(f"[detector] {key}", det[key], 0.0, 1.0, lo_open=True,
                               hi_open=True)
-    det["rate_per_day"] = check_real("[detector] rate_per_day", det["rate_per_day"], 0.0, 100.0,
-                                     lo_open=True)
+    det["rate_per_day"] = check_real("[detector] rate_per_day", det["rate_per_day"],
+                                     *RATE_PER_DAY_RANGE)
     if det["train_days"] is not None:
         det["train_days"] = check_real("[detector] train_days", det["train_days"], 0.0, sc.days,
                                        lo_open=True, hi_open=True)

@@ -204,7 +204,7 @@ class MarsScenario:
         Which subsystems run, any of ``("xnav", "uv", "cns")``; a field set (not at its default)
         for one that does not run is refused (:mod:`xnavlab.mars.navigation.unused_inputs`).
     beta : tuple of float or None
-        Information-sharing factors, one a subsystem, each in (0, 1] (default equal); the run
+        Information-sharing factors, one a subsystem, each in [1e-3, 1] (default equal); the run
         normalises them to sum 1, so only their ratios count ((1, 1, 1) is the default).
     mode : {"reset", "no-reset"}
         Federated mode (:mod:`xnavlab.core.federated`).
@@ -310,7 +310,8 @@ class MarsScenario:
                                                           lambda _, s: stars.get(s).name))
             object.__setattr__(self, "stars", tuple(stars.get(s).name for s in self.stars))
         if self.beta is not None:
-            b = tuple(float(check_real(f"beta[{i}]", v, 0.0, 1.0, lo_open=True))
+            # from 1e-3: a local filter's covariance is P0 / beta (5e-324 divided by zero)
+            b = tuple(float(check_real(f"beta[{i}]", v, 1e-3, 1.0))
                       for i, v in enumerate(check_items("beta", self.beta, "number",
                                                         lambda _, v: object())))
             if len(b) != len(subs):
@@ -868,8 +869,24 @@ def run_kernel(inp, state, a, b, active, beta, gate, rec_pos, records, nis, flag
             f"the compiled filter stopped: a covariance lost positive definiteness near epoch "
             f"{b} (t = {inp.times[min(b, inp.n - 1)]:.0f} s): a measurement noise many orders "
             f"below the state's uncertainty (pos_err0_m = {sc.pos_err0_m:g} m) is beyond double "
-            f"precision; raise the smallest noise setting, or run the numpy backend")
+            f"precision; {_changed_noise(sc)}, or run the numpy backend")
     return int(stop)
+
+
+#: The settings that set a noise or an uncertainty, named when the filter cannot carry them.
+NOISE_SETTINGS = ("sigma_range_m", "sigma_dir_deg", "sigma_star_arcsec", "sigma_horizon_deg",
+                  "xnav_sigma_m", "area_m2", "background", "pos_err0_m", "vel_err0_mps", "q_acc",
+                  "pulsars")
+
+
+def _changed_noise(sc):
+    """Advice naming the noise settings the user moved from their defaults (review 35f: the
+    message named only pos_err0_m, a setting the user had not given)."""
+    moved = [f"{f.name} = {getattr(sc, f.name)!r:.60} (default {f.default!r:.40})"
+             for f in fields(sc) if f.name in NOISE_SETTINGS and getattr(sc, f.name) != f.default]
+    if not moved:
+        return "raise the smallest noise setting"
+    return "the noise settings away from their defaults: " + "; ".join(moved) + " (move them back)"
 
 
 @functools.lru_cache(maxsize=8)

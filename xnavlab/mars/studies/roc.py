@@ -37,7 +37,7 @@ The grid file (TOML or JSON; :func:`load_grid`, :func:`check_grid`)::
 
     detector = "combined"            # combined | chi2 | wavelet
     thresholds = [0.1, 0.3, 1, 3]    # 1-20 distinct values of the detector's threshold:
-                                     # rate_per_day in (0, 100], alpha or pfa in (0, 1)
+                                     # rate_per_day in [1e-3, 100], alpha or pfa in (0, 1)
     days = 0.5                       # run length, days, in [0.5, 5]
 
     [[faults]]                       # 1-50 faults, each a table
@@ -116,9 +116,12 @@ __all__ = ["THRESHOLDS", "THRESHOLD_RANGES", "DEFAULT_GRID", "TRAIN_FRACTION", "
 #: The threshold argument of :func:`~xnavlab.mars.faults.fault_tolerance.run_fault_tolerant` each
 #: detector is swept on.
 THRESHOLDS = {"combined": "rate_per_day", "chi2": "alpha", "wavelet": "pfa"}
-#: Allowed range of each threshold ``(lo, hi, hi_open)``; every ``lo`` is excluded.
-THRESHOLD_RANGES = {"rate_per_day": (0.0, 100.0, False), "alpha": (0.0, 1.0, True),
-                    "pfa": (0.0, 1.0, True)}
+#: Allowed range of each threshold ``(lo, hi, lo_open, hi_open)``. A design rate below one
+#: false alarm in 1,000 days asks the combined detector's CUSUM for an average run length past
+#: its 1e12 samples at 10 samples a second (5e-324 underflowed to a probability of 0).
+THRESHOLD_RANGES = {"rate_per_day": (*fault_tolerance.RATE_PER_DAY_RANGE, False, False),
+                    "alpha": (0.0, 1.0, True, True),
+                    "pfa": (0.0, 1.0, True, True)}
 #: Fraction of the run the wavelets train on; alarms before its end are not counted.
 TRAIN_FRACTION = 0.4
 #: The default grid: faults near the edge of detection (chapter 9's table), half-day runs.
@@ -185,7 +188,7 @@ def check_grid(grid):
     >>> check_grid({"thresholds": [0], "faults": []})
     Traceback (most recent call last):
     ...
-    ValueError: thresholds[0] (rate_per_day) must be a real number in (0, 100], got 0
+    ValueError: thresholds[0] (rate_per_day) must be a real number in [0.001, 100], got 0
     """
     if not isinstance(grid, dict):
         raise ValueError(f"grid must be a table of {', '.join(_GRID_KEYS)}, got {grid!r}")
@@ -197,11 +200,14 @@ def check_grid(grid):
             raise ValueError(f"grid: missing key {key!r} (keys: {', '.join(_GRID_KEYS)})")
     det = check_choice("detector", grid.get("detector", "combined"), tuple(THRESHOLDS))
     name = THRESHOLDS[det]
-    lo, hi, hi_open = THRESHOLD_RANGES[name]
+    lo, hi, lo_open, hi_open = THRESHOLD_RANGES[name]
+    if "threshold_name" in grid and grid["threshold_name"] != name:  # it would be overwritten
+        raise ValueError(f"threshold_name {grid['threshold_name']!r} does not match detector "
+                         f"{det!r}, whose threshold is {name!r} (leave threshold_name out)")
     thr = grid["thresholds"]
     if not isinstance(thr, list) or not 1 <= len(thr) <= 20:
         raise ValueError(f"thresholds must be a list of 1 to 20 values of {name}, got {thr!r}")
-    values = sorted(check_real(f"thresholds[{i}] ({name})", v, lo, hi, lo_open=True,
+    values = sorted(check_real(f"thresholds[{i}] ({name})", v, lo, hi, lo_open=lo_open,
                                hi_open=hi_open) for i, v in enumerate(thr))
     if len(set(values)) != len(values):
         raise ValueError(f"thresholds must be distinct values of {name}, got {thr!r}")
