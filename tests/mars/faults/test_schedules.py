@@ -283,8 +283,8 @@ def test_a_ramp_that_would_grow_beyond_max_size_in_the_run_is_refused_before_it(
 
 @pytest.mark.parametrize(("kw", "words"), [
     ({"detector": "Combined"}, "detector must be one of 'none', 'wavelet', 'chi2', 'combined'"),
-    ({"train_days": -1.0}, "train_days must be a real number in (0, inf)"),
-    ({"train_days": math.nan}, "train_days must be a real number in (0, inf)"),
+    ({"train_days": -1.0}, "train_days must be a real number in (0, 365]"),
+    ({"train_days": math.nan}, "train_days must be a real number in (0, 365]"),
     ({"paper": "no"}, "paper must be True or False"),
 ])
 def test_check_schedule_checks_its_own_arguments(kw, words):  # review 35d D34: accepted
