@@ -1,5 +1,7 @@
 """The photon fix's error bar: against exposure, against chapter 1's formula, over random splits."""
 
+import math
+
 import numpy as np
 import pytest
 
@@ -67,5 +69,10 @@ def test_snr_range_sigma_refuses_more_photons_than_its_background_allows():
     comps = np.array([[0.18, 0.05, 0.29], [0.61, 0.0174, 0.15], [0.43, 0.36, 0.56]])
     fake = photon_fix.Photons(*(np.zeros(1),) * 3, np.zeros((1, 3)), np.zeros((1, 3)),
                               np.array([205.53]), comps)
-    with pytest.raises(ValueError, match=r"n_photons must be a real number in \(0, 1e\+11\]"):
+    with pytest.raises(ValueError, match=r"^n_photons must be a real number in \[0\.01, 1e\+11\]"):
         photon_error.snr_range_sigma(1e308, 700.0, fake)
+    # issue 35, review 35f 14's class: weight_sum 5e-324 was a Pulsar flux the toa_sigma
+    # divides by (now refused by its own name, not as a Pulsar's flux)
+    with pytest.raises(ValueError, match=r"^weight_sum must be a real number in \[0\.01, 1000\]"):
+        photon_error.snr_range_sigma(1000.0, 5e-324, fake)
+    assert math.isfinite(photon_error.snr_range_sigma(0.01, 0.01, fake))

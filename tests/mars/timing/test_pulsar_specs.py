@@ -118,3 +118,17 @@ def test_names_and_fault_names_check_their_list(bad):  # review 35d D37's class:
     for call in (pulsar_specs.names, pulsar_specs.fault_names):
         with pytest.raises(ValueError, match="^pulsars "):
             call(bad)
+
+
+@pytest.mark.parametrize(("key", "value", "words"), [
+    ("flux_ph_cm2_s", 5e-324, r"^flux_ph_cm2_s must be a real number in \[1e-12, 1000\]"),
+    ("pulsed_fraction", 1e-300, r"^pulsed_fraction must be a real number in \[1e-06, 1\]"),
+    ("distance_m", 1e-300, r"^distance_m must be a real number in \[3\.08\d*e\+16, "),
+    ("width_s", 1e-300, r"^width_s must be a real number in \[5e-07, 0\.0025\]"),
+    ("period_s", 5e-324, r"^period_s must be a real number in \[0\.0001, 100\]"),
+])
+def test_a_tables_ranges_are_the_pulsars(key, value, words):
+    """Issue 35, review 35f 14/18's class: the table's ranges agree with Pulsar's, so a value
+    Pulsar refuses is refused by the table's own key, not as a Pulsar field."""
+    with pytest.raises(ValueError, match=words):
+        pulsar_specs.resolve({**ENTRY, key: value})

@@ -56,7 +56,7 @@ def test_profile_is_normalised_and_peaks_at_zero(duty):
 
 
 def test_profile_rejects_bad_duty():
-    with pytest.raises(ValueError, match=r"duty must be a real number in \(0, 0.5\]"):
+    with pytest.raises(ValueError, match=r"^duty must be a real number in \[0.0001, 0.5\]"):
         pulsars.profile(0.0, 0.0)
 
 
@@ -412,12 +412,70 @@ def test_from_par_checks_the_duty_cycle_before_it_scales_the_period(duty):
     from xnavlab.mars.timing import pint_bridge
 
     path = pint_bridge.examples_path("B1855+09_NANOGrav_9yv1.gls.par")
-    with pytest.raises(ValueError, match=r"^duty_cycle must be a real number in \(0, 0.5\], got "):
+    with pytest.raises(ValueError, match=r"^duty_cycle must be a real number in \[0.0001, 0.5\], got "):
         pulsars.from_par(path, flux_ph_cm2_s=1e-5, pulsed_fraction=0.5, duty_cycle=duty)
 
 
 def test_a_distance_beyond_the_local_group_and_a_time_beyond_max_span_are_refused():
-    with pytest.raises(ValueError, match=r"Pulsar distance must be a real number in \(0, 3\.08\d*e\+22\]"):
+    with pytest.raises(ValueError, match=r"^Pulsar distance must be a real number in "
+                                         r"\[3\.08\d*e\+16, 3\.08\d*e\+22\]"):
         dataclasses.replace(pulsars.get("B0531+21"), distance=1e308)
     with pytest.raises(ValueError, match="t must be within MAX_SPAN = 1e\\+12 s of t0"):
         pulsars.phase(1e308, [10.0, 0.5])
+
+
+@pytest.mark.parametrize(("field", "value", "words"), [
+    ("flux", 0.0, r"flux must be a real number in \[1e-08, 1e\+07\]"),
+    ("flux", 5e-324, r"flux must be a real number in \[1e-08, 1e\+07\]"),
+    ("pulsed_fraction", 1e-300, r"pulsed_fraction must be a real number in \[1e-06, 1\]"),
+    ("width", 1e-300, r"width must be a real number in \[1\.56e-07, 0\.00078\]"),
+    ("width", 0.01, r"width must be a real number in \[1\.56e-07, 0\.00078\]"),
+    ("distance", 1e-300, r"distance must be a real number in \[3\.08\d*e\+16, "),
+    ("period", 5e-324, r"period must be a real number in \[0\.0001, 10000\]"),
+    ("fdot", 1e300, r"fdot must be a real number in \[-1, 1\]"),
+])
+def test_a_pulsar_property_that_a_toa_sigma_divides_by_has_a_physical_lower_end(field, value, words):
+    """Review 35f 14, 17: flux 0 was a ZeroDivisionError in toa_sigma, ranging_accuracy and
+    xcorr_toa_sigma; width 1e-300 numpy's 'Maximum allowed size exceeded'."""
+    with pytest.raises(ValueError, match=f"^Pulsar {words}"):
+        dataclasses.replace(pulsars.get("B1937+21"), **{field: value})
+
+
+@pytest.mark.parametrize(("call", "words"), [
+    (lambda: pulsars.toa_sigma("B1937+21", t_obs=5e-324), r"^t_obs must be a real number in \[1e-06, 1e\+07"),
+    (lambda: pulsars.xcorr_toa_sigma("B1937+21", t_obs=1e-300), r"^t_obs must be a real number in \[1e-06, "),
+    (lambda: pulsars.ranging_accuracy("B1937+21", area_m2=5e-324),
+     r"^area_m2 must be a real number in \[1e-06"),
+    (lambda: pulsars.binned_template(8, 1e-300), r"^duty must be a real number in \[0\.0001, 0\.5\], got "),
+    (lambda: pulsars.binned_template(8, 5e-324), r"^duty must be a real number in \[0\.0001, 0\.5\]"),
+    (lambda: pulsars.profile(np.linspace(0, 1, 5), 1e-300), r"^duty must be a real number in \[0\.0001, "),
+    (lambda: pulsars.phase(np.array([1e10]), np.array([1e300, 1e300])), r"^freqs must give a phase within"),
+])
+def test_a_tiny_time_area_or_duty_and_an_overflowing_phase_are_refused_by_name(call, words):
+    """Review 35f 16: overflow and divide-by-zero RuntimeWarnings (pytest makes them errors)."""
+    with pytest.raises(ValueError, match=words):
+        call()
+
+
+@pytest.mark.parametrize(("kwargs", "words"), [
+    ({"flux_ph_cm2_s": 5e-324}, r"^flux_ph_cm2_s must be a real number in \[1e-12, 1000\]"),
+    ({"pulsed_fraction": 1e-300}, r"^pulsed_fraction must be a real number in \[1e-06, 1\]"),
+    ({"distance": 1e-300}, r"^distance must be a real number in \[3\.08\d*e\+16, 3\.08\d*e\+22\]"),
+    ({"width_s": 1e-300}, r"^width_s must be a real number in \[\d\.\d+e-0\d, "),
+])
+def test_from_par_ranges_are_the_pulsars(kwargs, words):
+    """Review 35f 18: flux 5e-324 gave a ranging accuracy of inf."""
+    from xnavlab.mars.timing import pint_bridge
+
+    args = {"distance": 1e20, "flux_ph_cm2_s": 1e-5, "pulsed_fraction": 0.5, "width_s": 1e-4}
+    path = pint_bridge.examples_path("B1855+09_NANOGrav_9yv1.gls.par")
+    with pytest.raises(ValueError, match=words):
+        pulsars.from_par(path, **{**args, **kwargs})
+
+
+def test_the_smallest_accepted_values_give_finite_sigmas():
+    p = dataclasses.replace(pulsars.get("B1937+21"), flux=1e-8, pulsed_fraction=1e-6,
+                            width=1e-4 * 0.00156)
+    for f in (pulsars.toa_sigma, pulsars.xcorr_toa_sigma):
+        assert math.isfinite(f(p, area_m2=1e-6, t_obs=1e-6, background_ph_cm2_s=10.0))
+    assert math.isfinite(pulsars.ranging_accuracy(p, area_m2=1e-6, t_obs=1e-6))

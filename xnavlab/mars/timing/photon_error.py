@@ -27,7 +27,7 @@ import math
 
 import numpy as np
 
-from xnavlab.core.constants import C
+from xnavlab.core.constants import KPC, C
 from xnavlab.core.validate import check_int, check_items, check_real
 from xnavlab.mars.timing import pulsars
 from xnavlab.mars.timing.photon_fix import build_reference, estimate_offset, fix, split_months
@@ -46,10 +46,13 @@ def snr_range_sigma(n_photons, weight_sum, photons):
     Parameters
     ----------
     n_photons : float
-        Photons in the set, in (0, 1e11]: the photons beyond ``weight_sum`` are the background
+        Photons in the set, in [0.01, 1e11]: the photons beyond ``weight_sum`` are the background
         of an equivalent pulsar over 1e6 s on 1 m^2, which must stay at most 10 ph/cm^2/s.
     weight_sum : float
-        Their weights' sum (photons from the pulsar), at most ``n_photons``.
+        Their weights' sum (photons from the pulsar), in [0.01, n_photons]: the equivalent
+        pulsar's flux, ``weight_sum`` per 1e6 s on 1 m^2, is at least 1e-8 ph/m^2/s, the
+        lower end of :class:`~xnavlab.mars.timing.pulsars.Pulsar`'s (a hundredth of a pulsed
+        photon times nothing).
     photons : Photons
         For the template components and the period.
 
@@ -67,12 +70,12 @@ def snr_range_sigma(n_photons, weight_sum, photons):
     >>> round(snr_range_sigma(1000.0, 700.0, fake))   # m
     1327
     """
-    n_photons = check_real("n_photons", n_photons, 0.0, 1e11, lo_open=True)
-    weight_sum = check_real("weight_sum", weight_sum, 0.0, n_photons, lo_open=True)
+    n_photons = check_real("n_photons", n_photons, 0.01, 1e11)
+    weight_sum = check_real("weight_sum", weight_sum, 0.01, n_photons)
     period = 1.0 / float(np.mean(photons.spin_frequency))
     comp = photons.components[np.argmin(photons.components[:, 1])]  # (phase, FWHM, amplitude)
     t_unit = 1.0e6  # s: the formula depends on the counts only
-    equivalent = pulsars.Pulsar(name="J0030+0451", ra_deg=0.0, dec_deg=0.0, distance=1.0,
+    equivalent = pulsars.Pulsar(name="J0030+0451", ra_deg=0.0, dec_deg=0.0, distance=KPC,
                                 period=period, fdot=0.0, flux=weight_sum / t_unit,
                                 pulsed_fraction=float(comp[2]), width=float(comp[1]) * period)
     background = (n_photons - weight_sum) / t_unit / 1.0e4  # ph/cm^2/s on 1 m^2

@@ -14,7 +14,11 @@ a table (a dict; in a scenario file an inline table)
     distance_m = 2e19}``: a timing model with the X-ray properties (and, for a model without a
     parallax, the distance) given, each overriding the table's; or every field of a
     :class:`~xnavlab.mars.timing.pulsars.Pulsar` without a timing model: ``{name, ra_deg, dec_deg,
-    distance_m, period_s, fdot_hz_s, flux_ph_cm2_s, pulsed_fraction, width_s}``.
+    distance_m, period_s, fdot_hz_s, flux_ph_cm2_s, pulsed_fraction, width_s}``, in the ranges
+    of :class:`~xnavlab.mars.timing.pulsars.Pulsar` and
+    :func:`~xnavlab.mars.timing.pulsars.from_par`: ``distance_m`` in [1 pc, 1 Mpc],
+    ``period_s`` in [1e-4, 100], ``fdot_hz_s`` in [-1, 1], ``flux_ph_cm2_s`` in [1e-12, 1e3],
+    ``pulsed_fraction`` in [1e-6, 1], ``width_s`` in [1e-4, 0.5] times the period.
 a :class:`~xnavlab.mars.timing.pulsars.Pulsar`
     from Python.
 
@@ -92,17 +96,16 @@ def _from_table(spec, base):
     name = spec["name"]
     if not isinstance(name, str) or not name.strip():
         raise ValueError(f"pulsar table: name must be a non-empty string, got {name!r}")
-    period = check_real("period_s", spec["period_s"], 0.0, 100.0, lo_open=True)
+    period = check_real("period_s", spec["period_s"], 1e-4, 100.0)
     src = "scenario table"
     return pulsars.Pulsar(
         name=name.strip(), ra_deg=check_real("ra_deg", spec["ra_deg"], 0.0, 360.0, hi_open=True),
         dec_deg=check_real("dec_deg", spec["dec_deg"], -90.0, 90.0),
-        distance=check_real("distance_m", spec["distance_m"], 0.0, 1e3 * KPC, lo_open=True),
+        distance=check_real("distance_m", spec["distance_m"], KPC / 1e3, 1e3 * KPC),
         period=period, fdot=check_real("fdot_hz_s", spec["fdot_hz_s"], -1.0, 1.0),
-        flux=check_real("flux_ph_cm2_s", spec["flux_ph_cm2_s"], 0.0, 1e3, lo_open=True) * _PER_CM2,
-        pulsed_fraction=check_real("pulsed_fraction", spec["pulsed_fraction"], 0.0, 1.0,
-                                   lo_open=True),
-        width=check_real("width_s", spec["width_s"], 0.0, 0.5 * period, lo_open=True),
+        flux=check_real("flux_ph_cm2_s", spec["flux_ph_cm2_s"], 1e-12, 1e3) * _PER_CM2,
+        pulsed_fraction=check_real("pulsed_fraction", spec["pulsed_fraction"], 1e-6, 1.0),
+        width=check_real("width_s", spec["width_s"], 1e-4 * period, 0.5 * period),
         sources=dict.fromkeys(("ra_deg", "dec_deg", "distance", "period", "fdot", "flux",
                                "pulsed_fraction", "width"), src))
 

@@ -43,6 +43,16 @@ MAX_DISTANCE = 1e3 * KPC
 #: The longest time from a timing model's epoch, s (about 32,000 years, far beyond any
 #: model's validity); the powers of eq. (2) overflow near 1e308 s.
 MAX_SPAN = 1e12
+_PC = KPC / 1e3
+# Each property's range (flux in ph/m^2/s), where its formulas stay finite: no neutron star is
+# within 1 pc (the nearest are ~100 pc away); none spins above 10 kHz (it would break up), and
+# 1e4 s is about the slowest (accreting) X-ray pulsars' period; a flux below 1e-12 ph/cm^2/s (below every
+# catalogued X-ray pulsar's) or a pulsed fraction below 1e-6 times nothing in any exposure; a
+# pulse narrower than 1e-4 of the period would need over 2^21 phase samples (xcorr_toa_sigma);
+# a spin-down beyond 1 Hz/s (the fastest known is ~1e-9) would overflow the phase of eq. (2).
+_RANGES = {"ra_deg": (0, 360), "dec_deg": (-90, 90), "distance": (_PC, MAX_DISTANCE),
+           "period": (1e-4, 1e4), "fdot": (-1, 1), "flux": (1e-8, 1e7), "pulsed_fraction": (1e-6, 1)}
+_MIN_DUTY = 1e-4  # the narrowest pulse width over period (above)
 
 _SHEIKH = "Sheikh et al. 2006, Table 1"
 _ATNF = "ATNF Pulsar Catalogue (Manchester et al. 2005), rounded"
@@ -60,17 +70,17 @@ class Pulsar:
     ra_deg, dec_deg : float
         J2000 right ascension and declination, degrees.
     distance : float
-        Distance, m, in (0, MAX_DISTANCE].
+        Distance, m, in [1 pc, MAX_DISTANCE].
     period : float
-        Spin period P, s.
+        Spin period P, s, in [1e-4, 1e4].
     fdot : float
-        Spin-frequency derivative, Hz/s.
+        Spin-frequency derivative, Hz/s, in [-1, 1].
     flux : float
-        Photon flux 2-10 keV, ph/m^2/s.
+        Photon flux 2-10 keV, ph/m^2/s, in [1e-8, 1e7] (1e-12 to 1e3 ph/cm^2/s).
     pulsed_fraction : float
-        Fraction of the flux that is pulsed, in (0, 1].
+        Fraction of the flux that is pulsed, in [1e-6, 1].
     width : float
-        Pulse width (FWHM), s.
+        Pulse width (FWHM), s, in [1e-4 P, 0.5 P].
     sources : dict
         Where each value comes from.
     """
@@ -87,11 +97,9 @@ class Pulsar:
     sources: dict = field(default_factory=dict, compare=False, repr=False)
 
     def __post_init__(self):  # a complex, NaN or out-of-range property is refused, by name
-        for key, lo, hi in (("ra_deg", 0, 360), ("dec_deg", -90, 90), ("distance", 0, MAX_DISTANCE),
-                            ("period", 0, math.inf), ("fdot", -math.inf, math.inf),
-                            ("flux", 0, math.inf), ("pulsed_fraction", 0, 1), ("width", 0, math.inf)):
-            check_real(f"Pulsar {key}", getattr(self, key), lo, hi,
-                       lo_open=key in ("distance", "period", "width"))
+        for key, (lo, hi) in _RANGES.items():  # dataclasses.replace runs this too
+            check_real(f"Pulsar {key}", getattr(self, key), lo, hi)
+        check_real("Pulsar width", self.width, _MIN_DUTY * self.period, 0.5 * self.period)
 
     @property
     def direction(self):
@@ -106,30 +114,20 @@ class Pulsar:
 
     @property
     def duty_cycle(self):
-        """Pulse width over period, W/P."""
-        return self.width / self.period
+        """Pulse width over period, W/P (at least 1e-4: W = 1e-4 P can divide to 1 ulp below)."""
+        return max(self.width / self.period, _MIN_DUTY)
 
 
 def _pulsar(name, ra_hms, dec_dms, dist_kpc, period, fdot, flux_cm2, pf, width):
     h, m, s = ra_hms
     sign = -1.0 if dec_dms[0] < 0 or str(dec_dms[0]).startswith("-") else 1.0
     d, dm, ds = (abs(x) for x in dec_dms)
-    sources = {
-        "ra_deg": _ATNF, "dec_deg": _ATNF, "distance": _ATNF, "fdot": _ATNF,
-        "period": _SHEIKH, "flux": _SHEIKH, "pulsed_fraction": _SHEIKH, "width": _SHEIKH,
-    }
-    return Pulsar(
-        name=name,
-        ra_deg=15.0 * (h + m / 60.0 + s / 3600.0),
-        dec_deg=sign * (d + dm / 60.0 + ds / 3600.0),
-        distance=dist_kpc * KPC,
-        period=period,
-        fdot=fdot,
-        flux=flux_cm2 * _PER_CM2,
-        pulsed_fraction=pf,
-        width=width,
-        sources=sources,
-    )
+    sources = {**dict.fromkeys(("ra_deg", "dec_deg", "distance", "fdot"), _ATNF),
+               **dict.fromkeys(("period", "flux", "pulsed_fraction", "width"), _SHEIKH)}
+    return Pulsar(name=name, ra_deg=15.0 * (h + m / 60.0 + s / 3600.0),
+                  dec_deg=sign * (d + dm / 60.0 + ds / 3600.0), distance=dist_kpc * KPC,
+                  period=period, fdot=fdot, flux=flux_cm2 * _PER_CM2, pulsed_fraction=pf,
+                  width=width, sources=sources)
 
 
 #: The pulsar catalogue, keyed by name.
@@ -241,17 +239,17 @@ def from_par(path, distance=None, flux_ph_cm2_s=None, pulsed_fraction=None, duty
     path : str or pathlib.Path
         The ``.par`` file.
     distance : float, optional
-        Distance, m, in (0, MAX_DISTANCE]; by default ``1 / PX`` (kpc per mas). A model
-        without a positive ``PX`` needs it.
+        Distance, m, in [1 pc, MAX_DISTANCE]; by default ``1 / PX`` (kpc per mas; PX in
+        [0.001, 1000] mas). A model without a positive ``PX`` needs it.
     flux_ph_cm2_s : float, optional
-        X-ray photon flux (2-10 keV), ph/cm^2/s, in (0, 1000].
+        X-ray photon flux (2-10 keV), ph/cm^2/s, in [1e-12, 1e3].
     pulsed_fraction : float, optional
-        Pulsed fraction, in (0, 1].
+        Pulsed fraction, in [1e-6, 1].
     duty_cycle : float, optional
-        Pulse width (FWHM) over period, in (0, 0.5].
+        Pulse width (FWHM) over period, in [1e-4, 0.5] (the ranges of :class:`Pulsar`).
     width_s : float, optional
-        Pulse width (FWHM), s (instead of ``duty_cycle``); ``duty_cycle`` and ``width_s``
-        default to the table's width.
+        Pulse width (FWHM), s, in [1e-4 P, 0.5 P] (instead of ``duty_cycle``); ``duty_cycle``
+        and ``width_s`` default to the table's width. The model's F0 must be in [1e-4, 1e4] Hz.
 
     Returns
     -------
@@ -277,7 +275,7 @@ def from_par(path, distance=None, flux_ph_cm2_s=None, pulsed_fraction=None, duty
     if duty_cycle is not None and width_s is not None:
         raise ValueError("give duty_cycle or width_s, not both (the same pulse width)")
     if duty_cycle is not None:  # checked before it scales the period (a str would repeat)
-        duty_cycle = check_real("duty_cycle", duty_cycle, 0.0, 0.5, lo_open=True)
+        duty_cycle = check_real("duty_cycle", duty_cycle, _MIN_DUTY, 0.5)
     try:
         par = pint_bridge.timing_parameters(path)
     except UnicodeDecodeError as exc:  # a ValueError too: named with the file, as every file
@@ -293,7 +291,7 @@ def from_par(path, distance=None, flux_ph_cm2_s=None, pulsed_fraction=None, duty
         why = (str(exc).strip().splitlines() or [""])[0]
         raise ValueError(f"path: PINT cannot read the timing model {str(path)!r} "
                          f"({type(exc).__name__}: {why})") from None
-    period = 1.0 / par["f0"]
+    period = 1.0 / check_real("path: its F0 (Hz)", par["f0"], 1e-4, 1e4)
     row = xray_pulsars.lookup(par["name"])
     given = {"flux_ph_cm2_s": flux_ph_cm2_s, "pulsed_fraction": pulsed_fraction,
              "width_s": width_s if duty_cycle is None else duty_cycle * period}
@@ -306,28 +304,25 @@ def from_par(path, distance=None, flux_ph_cm2_s=None, pulsed_fraction=None, duty
                          f"{{par = ..., {' = ..., '.join(missing)} = ...}})")
     src = {k: _FROM_PAR if v is not None else row["source"] for k, v in given.items()}
     vals = {k: row[k] if v is None else v for k, v in given.items()}
-    flux = check_real("flux_ph_cm2_s", vals["flux_ph_cm2_s"], 0.0, 1e3, lo_open=True)
-    pf = check_real("pulsed_fraction", vals["pulsed_fraction"], 0.0, 1.0, lo_open=True)
-    if duty_cycle is not None:
-        duty = duty_cycle
-    else:
-        width = check_real("width_s", vals["width_s"], 0.0, 0.5 * period, lo_open=True)
-        duty = width / period
+    flux = check_real("flux_ph_cm2_s", vals["flux_ph_cm2_s"], 1e-12, 1e3)
+    pf = check_real("pulsed_fraction", vals["pulsed_fraction"], 1e-6, 1.0)
+    # duty_cycle * period (checked above) is in range too: rounding is monotonic
+    width = check_real("width_s", vals["width_s"], _MIN_DUTY * period, 0.5 * period)
     sources = dict.fromkeys(("ra_deg", "dec_deg", "period", "fdot"), f"timing model {par['name']}")
     if distance is None:
         if par["px_mas"] is None:
             raise ValueError(f"distance must be given (m, > 0): the timing model of {par['name']} "
                              "has no positive parallax PX")
-        distance = KPC / par["px_mas"]  # 1 / PX: kpc per mas
+        distance = KPC / check_real("path: its PX (mas)", par["px_mas"], 1e-3, 1e3)  # 1 / PX
         sources["distance"] = f"timing model {par['name']} (1 / PX)"
     else:
-        distance = check_real("distance", distance, 0.0, MAX_DISTANCE, lo_open=True)
+        distance = check_real("distance", distance, _PC, MAX_DISTANCE)
         sources["distance"] = "argument of pulsars.from_par"
     sources.update({"flux": src["flux_ph_cm2_s"], "pulsed_fraction": src["pulsed_fraction"],
                     "width": src["width_s"]})
     return Pulsar(name=par["name"], ra_deg=par["ra_deg"], dec_deg=par["dec_deg"], distance=distance,
                   period=period, fdot=par["f1"], flux=flux * _PER_CM2, pulsed_fraction=pf,
-                  width=duty * period, sources=sources)
+                  width=width, sources=sources)
 
 
 def check_names(pulsars, name="pulsars"):
@@ -380,7 +375,8 @@ def phase(t, freqs, t0=0.0, phase0=0.0):
     t : float or array_like
         Times, s, within MAX_SPAN of ``t0``.
     freqs : sequence of float
-        ``[f, fdot, fddot, ...]``: frequency (Hz) and its derivatives (Hz/s^n).
+        ``[f, fdot, fddot, ...]``: frequency (Hz) and its derivatives (Hz/s^n); refused when
+        the phase they give overflows float64 at some ``t``.
     t0 : float
         Reference epoch, s.
     phase0 : float
@@ -405,14 +401,18 @@ def phase(t, freqs, t0=0.0, phase0=0.0):
         raise ValueError(f"t must be within MAX_SPAN = {MAX_SPAN:g} s of t0 (the timing model's epoch)")
     out = np.full(dt.shape, check_real("phase0", phase0))
     term = np.ones_like(dt)
-    for n, fn in enumerate(freqs, start=1):
-        term = term * dt / n  # (t - t0)^n / n!
-        out = out + fn * term  # paper eq. (2)
+    with np.errstate(over="ignore", invalid="ignore"):  # a phase beyond float64: refused below
+        for n, fn in enumerate(freqs, start=1):
+            term = term * (dt / n)  # (t - t0)^n / n!
+            out = out + fn * term if fn else out  # paper eq. (2)
+    if not np.all(np.isfinite(out)):
+        raise ValueError("freqs must give a phase within float64's range at every t (|Phi| < 1.8e308)")
     return out
 
 
 def profile(ph, duty):
-    """Normalised pulse profile: a wrapped Gaussian of FWHM ``duty`` cycles, peak at phase 0.
+    """Normalised pulse profile: a wrapped Gaussian of FWHM ``duty`` cycles (in [1e-4, 0.5],
+    the duty cycles of :class:`Pulsar`), peak at phase 0.
 
     ``int_0^1 profile(phi) dphi = 1``, so a rate ``lambda_s * profile(phi)`` carries
     ``lambda_s`` pulsed photons per second on average.
@@ -423,7 +423,7 @@ def profile(ph, duty):
     >>> round(float(profile(x, 0.05).mean()), 6)
     1.0
     """
-    duty = check_real("duty", duty, 0.0, 0.5, lo_open=True)
+    duty = check_real("duty", duty, _MIN_DUTY, 0.5)
     sig = duty / (2.0 * math.sqrt(2.0 * math.log(2.0)))
     ph = check_finite_array("ph", ph)
     x = ph - np.round(ph)  # in [-0.5, 0.5]
@@ -434,7 +434,8 @@ def profile(ph, duty):
 
 
 def binned_template(nbins, duty):
-    """Expected fraction of pulsed photons in each of ``nbins`` phase bins, sums to 1.
+    """Expected fraction of pulsed photons in each of ``nbins`` phase bins (``duty`` as
+    :func:`profile`'s), sums to 1.
 
     Bin ``i`` covers phases ``[i/nbins, (i+1)/nbins)``; the integral is taken with
     Simpson's rule on 8 sub-intervals per bin.
@@ -469,7 +470,7 @@ def photon_rates(pulsar, area_m2=1.0, background_ph_cm2_s=0.005):
     (1.8914, 50.039)
     """
     p = get(pulsar)
-    area = check_real("area_m2", area_m2, 0.0, 1e3, lo_open=True)
+    area = check_real("area_m2", area_m2, 1e-6, 1e3)  # 1 mm^2 at least: finite TOA sigmas
     bg = check_real("background_ph_cm2_s", background_ph_cm2_s, 0.0, 10.0) * _PER_CM2
     pulsed = area * p.flux * p.pulsed_fraction
     unpulsed = area * (bg + p.flux * (1.0 - p.pulsed_fraction))
@@ -491,7 +492,7 @@ def simulate_photons(pulsar, t_obs, area_m2=1.0, background_ph_cm2_s=0.005, rng=
     t_obs : float
         Observation time, s.
     area_m2 : float
-        Detector effective area, m^2.
+        Detector effective area, m^2, in [1e-6, 1e3].
     background_ph_cm2_s : float
         Diffuse background flux, ph/cm^2/s.
     rng : numpy.random.Generator or int, optional
@@ -539,8 +540,7 @@ def _binned_phase(name, t, p, nbins, t0):
     t = check_finite_array(name, t)
     if np.any(np.abs(t - check_real("t0", t0)) > MAX_SPAN):  # phase() refuses it: no bin either
         t = np.full(t.shape, math.inf)
-    with np.errstate(over="ignore", invalid="ignore"):  # overflow is refused just below
-        ph = phase(t, [p.frequency, p.fdot], t0=t0) if np.all(np.isfinite(t)) else t
+    ph = phase(t, [p.frequency, p.fdot], t0=t0) if np.all(np.isfinite(t)) else t
     limit = 0.1 * 2.0**52 / nbins  # eq: cycles at which float64's spacing is 0.1 / nbins
     worst = float(np.max(np.abs(ph), initial=0.0)) if np.all(np.isfinite(ph)) else math.inf
     if not worst <= limit:
@@ -771,7 +771,8 @@ def toa_sigma(pulsar, area_m2=1.0, t_obs=500.0, background_ph_cm2_s=0.005):
     """TOA accuracy (1 sigma, s) from the signal-to-noise ratio, Sheikh et al. (2006).
 
     ``SNR = F A p_f t / sqrt([B + F (1 - p_f)] A t d + F A p_f t)``, ``d = W / P``,
-    and ``sigma_TOA = W / (2 SNR)`` (Sheikh et al. 2006, eqs. (34)-(35)).
+    and ``sigma_TOA = W / (2 SNR)`` (Sheikh et al. 2006, eqs. (34)-(35)). The parameters and
+    their ranges are :func:`xcorr_toa_sigma`'s.
 
     Examples
     --------
@@ -779,7 +780,7 @@ def toa_sigma(pulsar, area_m2=1.0, t_obs=500.0, background_ph_cm2_s=0.005):
     1.149
     """
     p = get(pulsar)
-    t_obs = check_real("t_obs", t_obs, 0.0, 1e7, lo_open=True)
+    t_obs = check_real("t_obs", t_obs, 1e-6, 1e7)  # 1 us at least: finite TOA sigmas
     lam_s, lam_b = photon_rates(p, area_m2, background_ph_cm2_s)
     signal = lam_s * t_obs
     noise = math.sqrt(lam_b * t_obs * p.duty_cycle + signal)
@@ -855,11 +856,11 @@ def xcorr_toa_sigma(pulsar, area_m2=1.0, t_obs=500.0, background_ph_cm2_s=0.005,
     ----------
     pulsar : str or Pulsar
     area_m2 : float
-        Detector effective area, m^2.
+        Detector effective area, m^2, in [1e-6, 1e3] (a smaller one times nothing).
     t_obs : float
-        Integration time, s (0 to 1e7).
+        Integration time, s, in [1e-6, 1e7] (a shorter one times nothing).
     background_ph_cm2_s : float
-        Diffuse X-ray background, ph/cm^2/s.
+        Diffuse X-ray background, ph/cm^2/s, in [0, 10].
     nbins : int, optional
         Phase bins of the folded profile (the integrals become means over the bins of
         :func:`binned_template`, derivative by FFT); by default the continuous profile.
@@ -877,7 +878,7 @@ def xcorr_toa_sigma(pulsar, area_m2=1.0, t_obs=500.0, background_ph_cm2_s=0.005,
     1.41
     """
     p = get(pulsar)
-    t_obs = check_real("t_obs", t_obs, 0.0, 1e7, lo_open=True)
+    t_obs = check_real("t_obs", t_obs, 1e-6, 1e7)  # 1 us at least: finite TOA sigmas
     lam_s, lam_b = photon_rates(p, area_m2, background_ph_cm2_s)
     if nbins is None:  # the continuous profile, sampled finely enough to integrate exactly
         m = int(2 ** math.ceil(math.log2(max(4096.0, 200.0 / p.duty_cycle))))
