@@ -219,3 +219,24 @@ def test_radius_range_sigma_refuses_an_angle_noise_beyond_pi():
     """Review 35e: sigma_alpha=1e308 overflowed to an inf range noise."""
     with pytest.raises(ValueError, match=r"^sigma_alpha must be a real number in \[0, 3.14159\]"):
         optics.radius_range_sigma(2.0 * optics.R_MARS, 1e308)
+
+
+@pytest.mark.parametrize(("call", "words"), [
+    (lambda: optics.range_from_radius(5e-324), r"^alpha must be in \[1e-09, pi/2\) rad, got 4\.94066e-324"),
+    (lambda: optics.range_from_radius(0.0), r"^alpha must be in \[1e-09, pi/2\) rad, got 0"),
+    (lambda: optics.sigma_alpha_for(ranges=np.array([])), r"^ranges must be a 1-D array of at least one"),
+    (lambda: optics.sigma_alpha_for(ranges=[[4e6, 5e6]]), r"^ranges must be a 1-D array"),
+    (lambda: optics.sigma_alpha_for(ranges=[1.0]), r"^ranges must be in \(radius, radius / MIN_ALPHA\]"),
+    (lambda: optics.sigma_alpha_for(ranges=[1e200]), r"^ranges must be in \(radius, radius / MIN_ALPHA\]"),
+    (lambda: optics.radius_range_sigma(1e308, 1e-3), r"^rho must be in \(radius, radius / MIN_ALPHA\]"),
+])
+def test_no_range_or_apparent_radius_overflows_and_an_empty_orbit_has_no_mean(call, words):
+    """Issue 35, review 35f 37/38: 'Mean of empty slice' (NaN) and 'overflow in scalar divide'."""
+    with pytest.raises(ValueError, match=words):
+        call()
+
+
+def test_the_extreme_accepted_apparent_radius_and_range_are_finite():
+    rho = optics.range_from_radius(optics.MIN_ALPHA)
+    assert math.isfinite(float(rho)) and rho <= optics.R_MARS / optics.MIN_ALPHA * (1 + 1e-12)
+    assert math.isfinite(float(optics.sigma_alpha_for(ranges=[optics.R_MARS / optics.MIN_ALPHA])))

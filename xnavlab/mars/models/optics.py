@@ -62,6 +62,7 @@ __all__ = [
     "R_EQUATOR",
     "R_POLAR",
     "R_MEAN",
+    "MIN_ALPHA",
     "RANGE_MODELS",
     "LIMBS",
     "HORIZON_TAU_S",
@@ -116,8 +117,20 @@ def apparent_radius(rho, radius=R_MARS):
     return np.arcsin(radius / rho)  # sin(alpha) = R / rho
 
 
+#: The smallest apparent radius, rad: 1 nrad (Mars from 20,000 AU), below what any limb sensor
+#: resolves; ``R / sin(alpha)`` overflows near 1e-300. Ranges are at most ``radius / MIN_ALPHA``.
+MIN_ALPHA = 1e-9
+
+
 def range_from_radius(alpha, radius=R_MARS):
     """Range from the apparent angular radius, ``rho = R / sin(alpha)``, m.
+
+    Parameters
+    ----------
+    alpha : float or array_like
+        Apparent radius, rad, in [MIN_ALPHA, pi/2) (1e-9 rad: no limb sensor resolves less).
+    radius : float
+        Sphere radius, m, in (0, MAX_BODY_RADIUS].
 
     Examples
     --------
@@ -125,8 +138,9 @@ def range_from_radius(alpha, radius=R_MARS):
     2.0
     """
     alpha = check_finite_array("alpha", alpha)
-    if np.any((alpha <= 0.0) | (alpha >= math.pi / 2)):
-        raise ValueError("alpha must be in (0, pi/2) rad")
+    if np.any((alpha < MIN_ALPHA) | (alpha >= math.pi / 2)):
+        bad = float(alpha[(alpha < MIN_ALPHA) | (alpha >= math.pi / 2)][0])
+        raise ValueError(f"alpha must be in [{MIN_ALPHA:g}, pi/2) rad, got {bad:g}")
     radius = check_real("radius", radius, 0.0, MAX_BODY_RADIUS, lo_open=True)
     return radius / np.sin(alpha)  # rho = R / sin(alpha)
 
@@ -139,7 +153,7 @@ def radius_range_sigma(rho, sigma_alpha, radius=R_MARS):
     Parameters
     ----------
     rho : float or array_like
-        Range, m.
+        Range, m, in (radius, radius / MIN_ALPHA] (beyond, an apparent radius under 1 nrad).
     sigma_alpha : float
         Noise of the apparent radius, rad, in [0, pi].
     radius : float
@@ -151,9 +165,22 @@ def radius_range_sigma(rho, sigma_alpha, radius=R_MARS):
     0.003464
     """
     sigma_alpha = check_real("sigma_alpha", sigma_alpha, 0.0, math.pi)
+    rho = _check_ranges("rho", rho, radius)
     alpha = apparent_radius(rho, radius)
-    rho = np.asarray(rho, dtype=float)
     return rho / np.tan(alpha) * sigma_alpha  # sigma_rho = rho cot(alpha) sigma_alpha
+
+
+def _check_ranges(name, rho, radius):
+    """``rho`` as a finite array of ranges in ``(radius, radius / MIN_ALPHA]``, else one
+    ValueError naming ``name``."""
+    rho = check_finite_array(name, rho)
+    radius = check_real("radius", radius, 0.0, MAX_BODY_RADIUS, lo_open=True)
+    if np.any((rho <= radius) | (rho > radius / MIN_ALPHA)):
+        bad = float(rho[(rho <= radius) | (rho > radius / MIN_ALPHA)][0])
+        raise ValueError(f"{name} must be in (radius, radius / MIN_ALPHA] = ({radius:g}, "
+                         f"{radius / MIN_ALPHA:g}] m (outside the planet, where it subtends at "
+                         f"least 1 nrad), got {bad:g}")
+    return rho
 
 
 def orbit_ranges(state0=MARS_STATE0, n=3600):
@@ -196,13 +223,24 @@ def sigma_alpha_for(sigma_range_m=5000.0, ranges=None, radius=R_MARS):
     ``sigma_alpha = sigma_range / mean(rho cot(alpha))`` over ``ranges`` (default
     :func:`orbit_ranges` of the paper's orbit: 0.0926 deg for 5 km).
 
+    Parameters
+    ----------
+    sigma_range_m : float
+        Mean range noise, m, in (0, 1e7].
+    ranges : array_like, shape (n,), optional
+        At least one range, m, each in (radius, radius / MIN_ALPHA].
+    radius : float
+        Sphere radius, m, in (0, MAX_BODY_RADIUS].
+
     Examples
     --------
     >>> round(float(np.degrees(sigma_alpha_for(5000.0))), 4)
     0.0926
     """
     sigma_range_m = check_real("sigma_range_m", sigma_range_m, 0.0, 1e7, lo_open=True)  # as sensors
-    rho = orbit_ranges() if ranges is None else check_finite_array("ranges", ranges)
+    rho = orbit_ranges() if ranges is None else _check_ranges("ranges", ranges, radius)
+    if rho.ndim != 1 or rho.size == 0:  # the mean of no range is NaN
+        raise ValueError(f"ranges must be a 1-D array of at least one range, got shape {rho.shape}")
     return sigma_range_m / float(np.mean(radius_range_sigma(rho, 1.0, radius)))
 
 
