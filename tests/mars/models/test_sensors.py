@@ -262,3 +262,27 @@ def test_uv_R_refuses_a_range_noise_beyond_the_sensors_range():
     """Review 35e: sigma_range=1e308 was 'OverflowError: (34, 'Numerical result out of range')'."""
     with pytest.raises(ValueError, match=r"^sigma_range must be a real number in \(0, 1e\+07\], got 1e"):
         sensors.uv_R(1e308, 0.5)
+
+
+_X = np.array([-3437565.6, -1322042.9, -2631212.1, 1953.9, -253.7, -2198.7])
+
+
+@pytest.mark.parametrize(("call", "words"), [
+    (lambda: sensors.cns_h(_X, np.zeros((3, 3))), r"^star_dirs must hold unit vectors \(norm within "
+                                                   r"1e-6 of 1\), got one of norm 0"),
+    (lambda: sensors.cns_h(_X, 5 * np.eye(3)), r"^star_dirs must hold unit vectors .* norm 5"),
+    (lambda: sensors.cns_jacobian(_X, 5 * np.eye(3)), r"^star_dirs must hold unit vectors"),
+    (lambda: sensors.cns_R(_X, np.zeros((2, 3))), r"^star_dirs must hold unit vectors"),
+    (lambda: sensors.tangent_basis(np.array([1e308, 1e308, 0])), r"^u must hold unit vectors .* norm inf"),
+    (lambda: sensors.perturb_direction(np.array([1e308, 1e308, 0]), 0.1, np.zeros(2)),
+     r"^u must hold unit vectors"),
+    (lambda: sensors.uv_h(np.array([1e308, 1e308, 0, 0, 0, 0])), r"^x must have a non-zero position, "
+                                                                  r"1 m to 1e\+13 m from Mars's centre"),
+    (lambda: sensors.uv_jacobian(np.array([5e-324, 0, 0, 0, 0, 0])), r"^x must have a non-zero position"),
+    (lambda: sensors.cns_h(np.array([1e200, 0, 0, 0, 0, 0]), np.eye(3)), r"^x must have a non-zero "),
+])
+def test_directions_must_be_unit_vectors_and_positions_in_range(call, words):
+    """Issue 35, review 35f 39/46: zero or scaled star directions gave [0, 0, 0] or meaningless
+    angles; a huge u or position overflowed its norm (RuntimeWarning)."""
+    with pytest.raises(ValueError, match=words):
+        call()

@@ -85,14 +85,36 @@ _UV_DIR = math.radians(0.1)  # paper: UV direction 0.1 deg
 _HORIZON = math.radians(0.05)  # paper: horizon sensor 0.05 deg
 
 
+#: A Mars-centred position's distance, m: from 1 m (the spacecraft is not at Mars's centre;
+#: 1 / |r| overflows near 1e-308) to 1e13 m (67 au: no Mars navigation; |r|^2 overflows near 1e154).
+_POSITION = (1.0, 1e13)
+
+
 def _state(x):
     x = check_finite_array("x", x, shape=(6,))
-    if np.any(np.linalg.norm(x[..., :3], axis=-1) == 0.0):
-        raise ValueError("x must have a non-zero position (the spacecraft is not at Mars's centre)")
+    with np.errstate(over="ignore"):  # a norm beyond float64 is out of range: refused below
+        rn = np.linalg.norm(x[..., :3], axis=-1)
+    out = (rn < _POSITION[0]) | (rn > _POSITION[1])
+    if np.any(out):
+        raise ValueError(f"x must have a non-zero position, {_POSITION[0]:g} m to {_POSITION[1]:g} m "
+                         f"from Mars's centre, got {float(rn[out].ravel()[0]):.6g} m")
     return x
 
 
 # ------------------------------------------------------------------ direction noise
+
+
+def _unit(name, u):
+    """``u`` as finite unit vectors, shape (..., 3), each within 1e-6 of norm 1, else one
+    ValueError naming ``name`` (a zero or a scaled direction gives meaningless angles)."""
+    u = check_finite_array(name, u, shape=(3,))
+    with np.errstate(over="ignore"):  # a norm beyond float64 is no unit vector: refused below
+        norm = np.linalg.norm(u, axis=-1)
+    bad = np.abs(norm - 1.0) > 1e-6
+    if np.any(bad):
+        raise ValueError(f"{name} must hold unit vectors (norm within 1e-6 of 1), got one of "
+                         f"norm {float(norm[bad].ravel()[0]):.6g}")
+    return u
 
 
 def tangent_basis(u):
@@ -104,7 +126,7 @@ def tangent_basis(u):
     Parameters
     ----------
     u : array_like, shape (..., 3)
-        Unit vectors.
+        Unit vectors (norm within 1e-6 of 1).
 
     Returns
     -------
@@ -116,9 +138,7 @@ def tangent_basis(u):
     >>> (e1 + 0.0).tolist(), (e2 + 0.0).tolist()
     ([0.0, 1.0, 0.0], [0.0, 0.0, 1.0])
     """
-    u = check_finite_array("u", u, shape=(3,))
-    if np.any(np.abs(np.linalg.norm(u, axis=-1) - 1.0) > 1e-6):
-        raise ValueError("u must hold unit vectors (|u| = 1)")
+    u = _unit("u", u)
     ux, uy, uz = u[..., 0], u[..., 1], u[..., 2]
     polar = np.abs(uz) > 1.0 - 1e-12
     zero = np.zeros_like(ux)
@@ -161,7 +181,7 @@ def perturb_direction(u, sigma, w):
     >>> round(float(np.degrees(np.arccos(v[2]))), 4), round(float(np.linalg.norm(v)), 12)
     (0.573, 1.0)
     """
-    u = check_finite_array("u", u, shape=(3,))
+    u = _unit("u", u)
     w = check_finite_array("w", w, shape=(2,))
     sigma = check_finite_array("sigma", sigma)
     if np.any(sigma < 0):
@@ -307,6 +327,15 @@ def cns_h(x, star_dirs):
     Evaluated as ``atan2(|u x s|, u . s)`` with ``u = -r/|r|`` (same value, accurate
     near 0 and pi).
 
+    Parameters
+    ----------
+    x : array_like, shape (..., 6)
+        Mars-centred states, m and m/s, the position 1 m to 1e13 m from Mars's centre (as
+        every function of this module taking ``x``).
+    star_dirs : array_like, shape (k, 3)
+        Unit vectors to the stars (norm within 1e-6 of 1; :func:`cns_jacobian` and
+        :func:`cns_R` take the same).
+
     Examples
     --------
     >>> z = cns_h(np.array([1.0, 0, 0, 0, 0, 0]), np.eye(3))
@@ -314,7 +343,7 @@ def cns_h(x, star_dirs):
     [180.0, 90.0, 90.0]
     """
     x = _state(x)
-    s = check_finite_array("star_dirs", star_dirs, shape=(3,)).reshape(-1, 3)
+    s = _unit("star_dirs", star_dirs).reshape(-1, 3)
     r = x[..., :3]
     u = -r / np.linalg.norm(r, axis=-1, keepdims=True)
     return _angles(u, s)  # paper eq. (6)
@@ -343,7 +372,7 @@ def cns_jacobian(x, star_dirs):
     [0.0, 1.0, 0.0]
     """
     x = _state(x)
-    s = check_finite_array("star_dirs", star_dirs, shape=(3,)).reshape(-1, 3)
+    s = _unit("star_dirs", star_dirs).reshape(-1, 3)
     a, rn = _cns_tangents(x, s)
     H = np.zeros((s.shape[0], 6))
     H[:, :3] = a / rn
@@ -364,7 +393,7 @@ def cns_R(x, star_dirs, sigma_star=3.0 * _ARCSEC, sigma_horizon=_HORIZON):
     [[5.0, 4.0], [4.0, 5.0]]
     """
     x = _state(x)
-    s = check_finite_array("star_dirs", star_dirs, shape=(3,)).reshape(-1, 3)
+    s = _unit("star_dirs", star_dirs).reshape(-1, 3)
     sigma_star = check_real("sigma_star", sigma_star, 0.0, math.pi, lo_open=True)
     sigma_horizon = check_real("sigma_horizon", sigma_horizon, 0.0, math.pi, lo_open=True)
     a, _ = _cns_tangents(x, s)
