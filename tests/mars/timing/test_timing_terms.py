@@ -235,3 +235,25 @@ def test_a_run_with_a_term_refuses_a_string_for_its_subsystems():
     """Review 35e: subsystems="uv" was split and named as ('u', 'v')."""
     with pytest.raises(ValueError, match=r"^subsystems must be a list of subsystems, got the string 'uv'"):
         tt.xnav_run_with_term(days=0.05, subsystems="uv")
+
+
+@pytest.mark.parametrize(("call", "words"), [
+    (lambda: tt.sun_angle_deg(np.zeros(3), np.array([[1.0, 0, 0]]), np.zeros(3)),
+     r"^r_sun_ssb must be at least 1 m from r_ssb \(the Sun's direction is undefined"),
+    (lambda: tt.sun_angle_deg(np.ones(3), np.array([[5.0, 0, 0]]), np.zeros(3)),
+     r"^n must hold unit vectors"),
+    (lambda: tt.sun_angle_deg(np.full(3, 1e308), np.array([[1.0, 0, 0]]), np.zeros(3)),
+     r"^r_ssb must have a norm in \[0, 1e\+15\] m"),
+    (lambda: tt.sun_angle_deg(np.ones(3), np.array([[1.0, 0, 0]]), np.full(3, 1e308)),
+     r"^r_sun_ssb must have coordinates within 1e15 m"),
+    (lambda: tt.position_bias(np.ones(3), np.eye(3), np.full(3, 5e-324)),
+     r"^sigma must be in \[0\.001, 1e\+13\] m, got 4"),
+    (lambda: tt.position_bias(np.ones(2), np.eye(3), np.ones(3)), r"^delta must have shape \(\.\.\., 3\)"),
+    (lambda: tt.position_bias(np.full(3, 1e308), np.eye(3), np.ones(3)),
+     r"^delta must be in \[-1e6, 1e6\] s"),
+])
+def test_a_degenerate_sun_direction_and_a_tiny_sigma_are_refused_by_name(call, words):
+    """Issue 35, review 35f 41: sun_angle_deg at the Sun's centre gave NaN (invalid value), a
+    sigma of 5e-324 overflowed sigma^-2 (RuntimeWarning)."""
+    with pytest.raises(ValueError, match=words):
+        call()

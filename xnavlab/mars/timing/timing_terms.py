@@ -85,21 +85,30 @@ def sun_angle_deg(r_ssb, n, r_sun_ssb):
     Parameters
     ----------
     r_ssb : array_like, shape (..., 3)
-        Observer relative to the SSB, m.
+        Observer relative to the SSB, m, within 1e15 m (as :mod:`~xnavlab.mars.timing.toa`'s).
     n : array_like, shape (k, 3)
-        Unit vectors to the pulsars.
+        Unit vectors to the pulsars (norm 1 within 1e-9).
     r_sun_ssb : array_like, shape (..., 3)
-        Sun relative to the SSB, m.
+        Sun relative to the SSB, m, coordinates within 1e15 m, at least 1 m from ``r_ssb`` (the angle
+        from the Sun's centre has no direction there).
 
     Examples
     --------
     >>> sun_angle_deg(np.array([1e11, 0, 0]), np.array([[-1.0, 0, 0], [0, 1.0, 0]]), np.zeros(3))
     array([ 0., 90.])
     """
-    r_ssb = check_finite_array("r_ssb", r_ssb, shape=(3,))
-    n = check_finite_array("n", n, shape=(3,))
-    to_sun = check_finite_array("r_sun_ssb", r_sun_ssb, shape=(3,)) - r_ssb
-    u = to_sun / np.linalg.norm(to_sun, axis=-1)[..., None]
+    toa.roemer(r_ssb, n)  # validates r_ssb (norm <= 1e15 m) and n (unit vectors), by name
+    r_ssb, n = np.asarray(r_ssb, dtype=float), np.asarray(n, dtype=float)
+    r_sun = check_finite_array("r_sun_ssb", r_sun_ssb, shape=(3,))
+    if np.any(np.abs(r_sun) > 1e15):  # as r_ssb: their difference's norm stays finite
+        raise ValueError(f"r_sun_ssb must have coordinates within 1e15 m of the SSB, got "
+                         f"{float(np.abs(r_sun).max()):.6g} m")
+    to_sun = r_sun - r_ssb
+    dist = np.linalg.norm(to_sun, axis=-1)[..., None]
+    if np.any(dist < 1.0):
+        raise ValueError(f"r_sun_ssb must be at least 1 m from r_ssb (the Sun's direction is "
+                         f"undefined at its centre), got {float(dist.min()):.6g} m")
+    u = to_sun / dist
     return np.degrees(np.arccos(np.clip(u @ n.T, -1.0, 1.0)))
 
 
@@ -444,11 +453,11 @@ def position_bias(delta, n, sigma):
     Parameters
     ----------
     delta : array_like, shape (..., k)
-        Delay biases, s.
+        Delay biases, s, each in [-1e6, 1e6].
     n : array_like, shape (k, 3)
         Unit vectors to ``k >= 3`` pulsars.
     sigma : array_like, shape (k,)
-        Ranging accuracies, m.
+        Ranging accuracies, m, each in [1e-3, 1e13] (:func:`xnavlab.mars.timing.toa.pdop`'s).
 
     Returns
     -------
@@ -462,8 +471,12 @@ def position_bias(delta, n, sigma):
     """
     delta = check_finite_array("delta", delta)
     n = check_finite_array("n", n, shape=(3,))
-    toa.pdop(n)  # validates the geometry (k >= 3, not coplanar)
-    w = check_finite_array("sigma", sigma) ** -2.0
+    toa.pdop(n, sigma)  # validates the geometry (k >= 3, not coplanar) and sigma (1 mm to 1e13 m)
+    if delta.shape[-1:] != (n.shape[0],):
+        raise ValueError(f"delta must have shape (..., {n.shape[0]}), one per pulsar, got {delta.shape}")
+    if np.any(np.abs(delta) > 1e6):  # c delta stays finite; 11 days is no delay bias
+        raise ValueError(f"delta must be in [-1e6, 1e6] s, got {float(np.abs(delta).max()):.6g}")
+    w = np.asarray(sigma, dtype=float) ** -2.0  # W = diag(sigma^-2)
     gain = np.linalg.solve(n.T @ (w[:, None] * n), n.T * w)  # (N^T W N)^-1 N^T W
     return (C * delta) @ gain.T
 

@@ -78,12 +78,34 @@ __all__ = [
 ]
 
 
+#: The farthest spacecraft from the SSB, m (6,700 au, Voyager 1 is at 170); (n . R)^2 of the
+#: parallax overflows near 1e154 m.
+_MAX_R = 1e15
+#: The Sun's (or, for timing_terms.planet_shapiro, a planet's) distance from the SSB, m: at
+#: least 1 m (at 0 the Shapiro delay to the SSB is the log of 0), at most _MAX_R.
+_SUN_SSB = (1.0, _MAX_R)
+
+
+def _norm_in(name, v, lo, hi, why):
+    """``v`` (..., 3) if every ``|v|`` is in ``[lo, hi]``, else one ValueError naming ``name``."""
+    with np.errstate(over="ignore", under="ignore"):  # beyond float64: refused below
+        vn = np.linalg.norm(v, axis=-1)
+    out = (vn < lo) | (vn > hi)
+    if np.any(out):
+        raise ValueError(f"{name} must have a norm in [{lo:g}, {hi:g}] m ({why}), got "
+                         f"{float(vn[out].ravel()[0]):.6g} m")
+    return v
+
+
 def _args(r_ssb, n):
-    r_ssb = check_finite_array("r_ssb", r_ssb, shape=(3,))
+    r_ssb = _norm_in("r_ssb", check_finite_array("r_ssb", r_ssb, shape=(3,)), 0.0, _MAX_R,
+                     "a spacecraft within 6,700 au of the SSB")
     n = check_finite_array("n", n, shape=(3,))
     if n.ndim != 2:
         raise ValueError(f"n must have shape (k, 3), got {n.shape}")
-    if np.any(np.abs(np.linalg.norm(n, axis=-1) - 1.0) > 1e-9):
+    with np.errstate(over="ignore"):  # a norm beyond float64 is no unit vector: refused below
+        off = np.abs(np.linalg.norm(n, axis=-1) - 1.0)
+    if np.any(off > 1e-9):
         raise ValueError("n must hold unit vectors (|n| = 1 within 1e-9)")
     return r_ssb, n
 
@@ -91,9 +113,13 @@ def _args(r_ssb, n):
 def _distance(distance, k):
     d = check_finite_array("distance", distance)
     d = np.broadcast_to(d, (k,)) if d.ndim == 0 else d
-    if d.shape != (k,) or np.any(d <= 0) or np.any(d > pulsars.MAX_DISTANCE):
-        raise ValueError(f"distance must be in (0, {pulsars.MAX_DISTANCE:.3g}] m (pulsars.MAX_DISTANCE) "
-                         f"with shape ({k},), got {np.shape(distance)}")
+    if d.shape != (k,):
+        raise ValueError(f"distance must be a scalar or have shape ({k},), got shape {np.shape(distance)}")
+    low = pulsars.MAX_DISTANCE * 1e-6  # 1 pc: no pulsar is nearer (1 / D overflowed at 5e-324)
+    out = (d < low) | (d > pulsars.MAX_DISTANCE)
+    if np.any(out):
+        raise ValueError(f"distance must be in [{low:.3g}, {pulsars.MAX_DISTANCE:.3g}] m (1 pc to "
+                         f"pulsars.MAX_DISTANCE), got {float(d[out][0]):.6g}")
     return d
 
 
@@ -113,8 +139,8 @@ def parallax(r_ssb, n, distance):
     """Parallax delay ``[(n . R)^2 - |R|^2] / (2 c D0)``, s; shape (..., k).
 
     Always <= 0: the wavefront is a sphere centred on the pulsar, not a plane. ``distance``
-    (m, a scalar or one per pulsar) is in (0, :data:`~xnavlab.mars.timing.pulsars.MAX_DISTANCE`],
-    as in every function here that takes it.
+    (m, a scalar or one per pulsar) is in [1 pc, :data:`~xnavlab.mars.timing.pulsars.MAX_DISTANCE`],
+    as in every function here that takes it (no pulsar is nearer than 1 pc).
 
     Examples
     --------
@@ -130,7 +156,20 @@ def parallax(r_ssb, n, distance):
 
 def _b(r_sun_ssb):
     """SSB position relative to the Sun: b = -r_sun."""
-    return -check_finite_array("r_sun_ssb", r_sun_ssb, shape=(3,))
+    r_sun = check_finite_array("r_sun_ssb", r_sun_ssb, shape=(3,))
+    return -_norm_in("r_sun_ssb", r_sun, *_SUN_SSB, "the Sun's centre is never on the SSB; "
+                     "at 0 the delay to the SSB is the log of 0")
+
+
+def _sun_x(r_ssb, b):
+    """The spacecraft seen from the Sun, ``x = R - r_sun``, at least 1 m from its centre (at 0
+    the delay is the log of 0; for a planet the spacecraft may orbit close)."""
+    x = r_ssb + b
+    xn = np.linalg.norm(x, axis=-1)  # finite: |r_ssb|, |r_sun_ssb| <= 1e15 m
+    if np.any(xn < 1.0):
+        raise ValueError(f"r_ssb must be at least 1 m from the Sun's centre, |r_ssb - r_sun_ssb| >= "
+                         f"1 m (the delay is the log of 0 there), got {float(xn[xn < 1.0].ravel()[0]):.6g} m")
+    return x
 
 
 #: The two forms of the Shapiro delay (the keyword ``shapiro`` of :func:`delay` and others).
@@ -188,7 +227,7 @@ def shapiro(r_ssb, n, r_sun_ssb):
     """
     r_ssb, n = _args(r_ssb, n)
     b = _b(r_sun_ssb)
-    x = r_ssb + b  # spacecraft from the Sun: R - r_sun
+    x = _sun_x(r_ssb, b)  # spacecraft from the Sun: R - r_sun
     return _T_SUN * (np.log(_log_arg(x, n)) - np.log(_log_arg(b, n)))  # Backer & Hellings eq. 4.6
 
 
@@ -217,8 +256,9 @@ def shapiro_paper(r_ssb, n, r_sun_ssb):
     """
     r_ssb, n = _args(r_ssb, n)
     b = _b(r_sun_ssb)
+    _sun_x(r_ssb, b)
     u = r_ssb @ n.T + np.linalg.norm(r_ssb, axis=-1)[..., None]
-    w = b @ n.T + np.linalg.norm(b, axis=-1)[..., None]
+    w = _log_arg(b, n)  # n.b + |b|, refused where 0 (the pulsar behind the Sun from the SSB)
     return _T_SUN * np.log(np.abs(u / w + 1.0))  # paper eq. (1), third term
 
 
@@ -313,13 +353,16 @@ def gradient(r_ssb, n, distance, r_sun_ssb, shapiro="exact"):
     rn = np.linalg.norm(r_ssb, axis=-1)[..., None, None]
     g_roemer = n / C
     g_parallax = (nr * n - R) / (C * d[:, None])
+    x = _sun_x(r_ssb, b)
     if shapiro == "exact":
-        x = r_ssb + b
         xn = np.linalg.norm(x, axis=-1)[..., None, None]
         g_shapiro = _T_SUN * (n + x[..., None, :] / xn) / _log_arg(x, n)[..., None]
     else:
+        if np.any(rn == 0.0):  # R / |R|: |R| has no gradient at the SSB
+            raise ValueError("r_ssb must not be the SSB itself (0) for the paper's Shapiro form, "
+                             "whose gradient holds R / |R|")
         u = nr + rn
-        w = (b @ n.T)[..., None] + np.linalg.norm(b, axis=-1)[..., None, None]
+        w = _log_arg(b, n)[..., None]  # n.b + |b| > 0
         g_shapiro = _T_SUN * (n + R / rn) / (u + w)  # d/dR of paper eq. (1), third term
     return g_roemer + g_parallax + g_shapiro
 
@@ -476,9 +519,10 @@ def pdop(n, sigma=None):
     Parameters
     ----------
     n : array_like, shape (k, 3)
-        Unit vectors to ``k >= 3`` pulsars.
+        Unit vectors to ``k >= 3`` pulsars (norm 1 within 1e-9).
     sigma : array_like, shape (k,), optional
-        Ranging accuracies, m.
+        Ranging accuracies, m, each in [1e-3, 1e13] (1 mm, 3 ps, is far below any pulsar's
+        timing; 1e13 m, 67 au, is no position fix).
 
     Returns
     -------
@@ -500,6 +544,7 @@ def pdop(n, sigma=None):
     n = check_finite_array("n", n, shape=(3,))
     if n.ndim != 2 or n.shape[0] < 3:
         raise ValueError(f"n must have shape (k, 3) with k >= 3, got {n.shape}")
+    _, n = _args(np.zeros(3), n)  # unit vectors (a scaled row overflowed the Gram matrix)
     gram = n.T @ n
     if np.linalg.cond(gram) > 1e12:
         raise ValueError("n must span three dimensions (the pulsar directions are coplanar)")
@@ -507,9 +552,12 @@ def pdop(n, sigma=None):
     if sigma is None:
         return value
     sigma = check_finite_array("sigma", sigma)
-    if sigma.shape != (n.shape[0],) or np.any(sigma <= 0):
-        raise ValueError(f"sigma must be positive with shape ({n.shape[0]},), got {sigma.shape}")
-    w = sigma**-2.0
+    if sigma.shape != (n.shape[0],):
+        raise ValueError(f"sigma must have shape ({n.shape[0]},), one per pulsar, got {sigma.shape}")
+    if np.any((sigma < 1e-3) | (sigma > 1e13)):
+        bad = sigma[(sigma < 1e-3) | (sigma > 1e13)][0]
+        raise ValueError(f"sigma must be in [0.001, 1e+13] m, got {float(bad):.6g}")
+    w = sigma**-2.0  # 1 mm to 1e13 m: the weights' inverse stays finite (5e-324 overflowed)
     return value, float(np.sqrt(np.trace(np.linalg.inv(n.T @ (w[:, None] * n)))))
 
 
