@@ -479,3 +479,11 @@ def test_the_smallest_accepted_values_give_finite_sigmas():
     for f in (pulsars.toa_sigma, pulsars.xcorr_toa_sigma):
         assert math.isfinite(f(p, area_m2=1e-6, t_obs=1e-6, background_ph_cm2_s=10.0))
     assert math.isfinite(pulsars.ranging_accuracy(p, area_m2=1e-6, t_obs=1e-6))
+
+
+def test_a_monte_carlo_too_short_to_fold_a_pulse_names_t_obs_not_counts():
+    """Issue 35, review 35f 16's class: every bin 0 was refused as 'counts', which the caller
+    of monte_carlo_toa never gave."""
+    with pytest.raises(ValueError, match=r"^t_obs must be long enough to fold a pulse in every "
+                                         r"trial: trial 0 drew 0 photons"):
+        pulsars.monte_carlo_toa("B1937+21", n_trials=3, t_obs=1e-9, rng=0)

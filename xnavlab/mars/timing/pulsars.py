@@ -306,8 +306,7 @@ def from_par(path, distance=None, flux_ph_cm2_s=None, pulsed_fraction=None, duty
     vals = {k: row[k] if v is None else v for k, v in given.items()}
     flux = check_real("flux_ph_cm2_s", vals["flux_ph_cm2_s"], 1e-12, 1e3)
     pf = check_real("pulsed_fraction", vals["pulsed_fraction"], 1e-6, 1.0)
-    # duty_cycle * period (checked above) is in range too: rounding is monotonic
-    width = check_real("width_s", vals["width_s"], _MIN_DUTY * period, 0.5 * period)
+    width = check_real("width_s", vals["width_s"], _MIN_DUTY * period, 0.5 * period)  # duty_cycle's too
     sources = dict.fromkeys(("ra_deg", "dec_deg", "period", "fdot"), f"timing model {par['name']}")
     if distance is None:
         if par["px_mas"] is None:
@@ -832,6 +831,9 @@ def monte_carlo_toa(pulsar, n_trials=200, area_m2=1.0, t_obs=500.0, background_p
     for i in range(n_trials):
         truth = rng.uniform(-0.05, 0.05) * p.period
         counts = simulate_folded(p, t_obs, area_m2, background_ph_cm2_s, nbins, rng, truth)
+        if np.ptp(counts) == 0:  # no pulse to estimate (refused as 'counts' below, not given here)
+            raise ValueError(f"t_obs must be long enough to fold a pulse in every trial: trial {i} "
+                             f"drew {int(counts.sum())} photons, {int(counts[0])} in each of {nbins} bins")
         est = estimate_phase_shift(counts, template) * p.period
         errors[i] = est - truth
     return errors
