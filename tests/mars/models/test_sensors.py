@@ -286,3 +286,9 @@ def test_directions_must_be_unit_vectors_and_positions_in_range(call, words):
     angles; a huge u or position overflowed its norm (RuntimeWarning)."""
     with pytest.raises(ValueError, match=words):
         call()
+
+
+def test_xnav_sigma_names_background_as_given():
+    """Issue 35: background=100 was refused as background_ph_cm2_s (pulsars' name)."""
+    with pytest.raises(ValueError, match=r"^background must be a real number in \[0, 10\], got 100"):
+        sensors.xnav_sigma(background=100.0)

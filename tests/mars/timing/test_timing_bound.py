@@ -220,3 +220,15 @@ def test_ml_phase_shift_refuses_more_photons_than_max_counts(rates):
     mu = tb.expected_fold(256, 0.05, 2e4, 1e5)
     with pytest.raises(ValueError, match=r"(un)?pulsed must be a real number in \(0, 1e\+24\]"):
         tb.ml_phase_shift(mu, 0.05, *rates)
+
+
+@pytest.mark.parametrize(("call", "words"), [
+    (lambda: tb.toa_crlb("B1937+21", t_obs=5e-324), r"^t_obs must be a real number in \[1e-06, 1e\+07\]"),
+    (lambda: tb.xnav_noise_sigma(background=100.0), r"^background must be a real number in \[0, 10\]"),
+    (lambda: tb.xnav_noise_sigma("crlb", background=-1.0), r"^background must be a real number in \[0, 10\]"),
+])
+def test_a_bound_refuses_a_tiny_exposure_and_names_background_as_given(call, words):
+    """Issue 35, review 35f 14/16's class: t_obs 5e-324 gave a bound of 1.5e157 s, and
+    background=100 was refused as background_ph_cm2_s, a name the caller never used."""
+    with pytest.raises(ValueError, match=words):
+        call()

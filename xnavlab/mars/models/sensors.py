@@ -202,11 +202,15 @@ def xnav_sigma(pulsar_names=pulsars.PAPER_PULSARS, area_m2=1.0, t_obs=500.0,
                background=0.005):
     """Per-pulsar delay noise, s: ranging accuracy (Sheikh et al. 2006) divided by c.
 
+    ``area_m2`` (m^2, in [1e-6, 1e3]), ``t_obs`` (s, in [1e-6, 1e7]) and ``background``
+    (ph/cm^2/s, in [0, 10]) are those of :func:`xnavlab.mars.timing.pulsars.toa_sigma`.
+
     Examples
     --------
     >>> np.round(xnav_sigma() * C).astype(int).tolist()
     [109, 345, 1868, 326]
     """
+    background = check_real("background", background, 0.0, 10.0)  # named here, not as pulsars'
     return np.array([pulsars.ranging_accuracy(p, area_m2, t_obs, background)
                      for p in pulsars.check_names(pulsar_names, "pulsar_names")]) / C
 

@@ -206,11 +206,11 @@ def toa_crlb(pulsar, area_m2=1.0, t_obs=500.0, background_ph_cm2_s=0.005, nbins=
     pulsar : str or Pulsar
         Supplies the flux, pulsed fraction, period and (unless ``template``) the width.
     area_m2 : float
-        Effective area, m^2.
+        Effective area, m^2, in [1e-6, 1e3].
     t_obs : float
-        Exposure T, s.
+        Exposure T, s, in [1e-6, 1e7] (the ranges of :func:`~xnavlab.mars.timing.pulsars.toa_sigma`).
     background_ph_cm2_s : float
-        Diffuse background, ph/cm^2/s.
+        Diffuse background, ph/cm^2/s, in [0, 10].
     nbins : int, optional
         Bound of a folded profile of ``nbins`` phase bins (the counts per bin are
         sufficient statistics of a binned estimator): ``J = f^2 sum_i mu_i'^2 / mu_i`` with
@@ -233,7 +233,7 @@ def toa_crlb(pulsar, area_m2=1.0, t_obs=500.0, background_ph_cm2_s=0.005, nbins=
     1.0001
     """
     p = pulsars.get(pulsar)
-    t_obs = check_real("t_obs", t_obs, 0.0, 1e7, lo_open=True)
+    t_obs = check_real("t_obs", t_obs, 1e-6, 1e7)  # as pulsars.toa_sigma's: 1 us times nothing
     ls, lb = pulsars.photon_rates(p, area_m2, background_ph_cm2_s)
     if template is not None:
         if nbins is not None:
@@ -706,11 +706,11 @@ def xnav_noise_sigma(kind="paper", pulsar_names=pulsars.PAPER_PULSARS, area_m2=1
     kind : {"paper", "crlb"}
     pulsar_names : sequence of str
     area_m2 : float
-        Effective area, m^2.
+        Effective area, m^2, in [1e-6, 1e3].
     t_obs : float
-        Integration time, s.
+        Integration time, s, in [1e-6, 1e7].
     background : float
-        Diffuse background, ph/cm^2/s.
+        Diffuse background, ph/cm^2/s, in [0, 10].
     efficiency : float
         Statistical efficiency of the TOA estimator, (0, 1]; ``"crlb"`` only.
 
@@ -726,6 +726,7 @@ def xnav_noise_sigma(kind="paper", pulsar_names=pulsars.PAPER_PULSARS, area_m2=1
     """
     check_choice("kind", kind, XNAV_NOISE)
     eff = check_real("efficiency", efficiency, 0.0, 1.0, lo_open=True)
+    background = check_real("background", background, 0.0, 10.0)  # named here, not as pulsars'
     names = list(pulsars.check_names(pulsar_names, "pulsar_names"))
     if kind == "paper":
         if eff != 1.0:
