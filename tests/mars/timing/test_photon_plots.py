@@ -47,3 +47,17 @@ def test_plot_ranging_accuracy_bars_and_reference():
     assert list(ax.lines[0].get_ydata()) == list(ref.values())
     assert "A = 0.5 m$^2$" in ax.get_title()
     assert not photon_plots.plot_ranging_accuracy(pulsar_names=["B0531+21"]).axes[0].lines
+
+
+@pytest.mark.parametrize(("args", "words"), [
+    ((np.linspace(-3e6, 3e6, 7), np.zeros(7), 5e-324),
+     r"^cycle_m must be a real number in \[30000, 1e\+12\]"),
+    ((np.linspace(-3e6, 3e6, 7), np.zeros(7), 1e-300), r"^cycle_m must be a real number in \[30000, "),
+    ((np.array([-1e12, 1e12]), np.zeros(2), 3e4), r"^cycle_m must be at least 1e-4 of the injected span"),
+    ((np.array([]), np.array([]), 1.46e6), r"^injected_m must be a non-empty 1-D array"),
+    ((np.zeros(3), np.zeros(2), 1.46e6), r"^injected_m must be a non-empty 1-D array and recovered_m of "),
+])
+def test_plot_ambiguity_draws_a_bounded_number_of_cycles(args, words):
+    """Issue 35, review 35f 16's class: cycle_m = 1e-300 looped over 1e306 cycle lines."""
+    with pytest.raises(ValueError, match=words):
+        photon_plots.plot_ambiguity(*args)

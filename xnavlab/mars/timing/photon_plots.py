@@ -227,7 +227,9 @@ def plot_ambiguity(injected_m, recovered_m, cycle_m):
     injected_m, recovered_m : array_like, shape (k,)
         Injected offsets along the line and their fixes, m.
     cycle_m : float
-        ``c P``, m, in (0, 1e12].
+        ``c P``, m, in [3e4, 1e12] (``P`` from 1e-4 s, the shortest period of a
+        :class:`~xnavlab.mars.timing.pulsars.Pulsar`) and at least 1e-4 of the injected span
+        (at most 10,000 whole-cycle lines are drawn).
 
     Returns
     -------
@@ -244,8 +246,16 @@ def plot_ambiguity(injected_m, recovered_m, cycle_m):
 
     inj = check_finite_array("injected_m", injected_m) / 1e3
     rec = check_finite_array("recovered_m", recovered_m) / 1e3
-    # c times a period of 3,300 s, past every pulsar's (1e308 overflowed the plot's transform)
-    cycle_km = check_real("cycle_m", cycle_m, 0.0, 1e12, lo_open=True) / 1e3
+    # c times a period of 1e-4 s (5e-324 looped for ever) to 3,300 s, past every pulsar's (1e308
+    # overflowed the plot's transform)
+    cycle_km = check_real("cycle_m", cycle_m, 3e4, 1e12) / 1e3
+    if inj.ndim != 1 or inj.size == 0 or rec.shape != inj.shape:
+        raise ValueError(f"injected_m must be a non-empty 1-D array and recovered_m of its shape, "
+                         f"got shapes {inj.shape} and {rec.shape}")
+    span = float(np.ptp(inj))
+    if span / cycle_km > 1e4:
+        raise ValueError(f"cycle_m must be at least 1e-4 of the injected span ({span * 1e3:.6g} m): "
+                         f"at most 10,000 whole-cycle lines are drawn, got {cycle_km * 1e3:.6g}")
     fig = Figure(figsize=(7, 3.4), layout="constrained")
     ax = fig.add_subplot()
     ax.plot(inj, inj, color="0.7", lw=0.8, label="injected")
