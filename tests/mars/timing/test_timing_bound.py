@@ -218,7 +218,7 @@ def test_fisher_information_refuses_rates_spins_and_profiles_that_overflow():
 @pytest.mark.parametrize("rates", [(1e308, 1e5), (2e4, 1e308)])
 def test_ml_phase_shift_refuses_more_photons_than_max_counts(rates):
     mu = tb.expected_fold(256, 0.05, 2e4, 1e5)
-    with pytest.raises(ValueError, match=r"(un)?pulsed must be a real number in \(0, 1e\+24\]"):
+    with pytest.raises(ValueError, match=r"^(un)?pulsed must be a real number in \[1e-06, 1e\+24\]"):
         tb.ml_phase_shift(mu, 0.05, *rates)
 
 
@@ -232,3 +232,31 @@ def test_a_bound_refuses_a_tiny_exposure_and_names_background_as_given(call, wor
     background=100 was refused as background_ph_cm2_s, a name the caller never used."""
     with pytest.raises(ValueError, match=words):
         call()
+
+
+_DUTY = r"^duty must be a real number in \[0\.0001, 0\.5\]"
+
+
+@pytest.mark.parametrize(("call", "words"), [
+    (lambda: tb.expected_fold(64, 5e-324, 1000.0, 640.0), _DUTY),
+    (lambda: tb.expected_fold(64, 1e-300, 1000.0, 640.0), _DUTY),
+    (lambda: tb.ml_phase_shift(np.ones(64), 1e-300, 2e4, 1e5), _DUTY),
+    (lambda: tb.ml_phase_shift(np.ones(64), 0.05, 1e-300, 1e5),
+     r"^pulsed must be a real number in \[1e-06, "),
+    (lambda: tb.ml_phase_shift(np.ones(64), 0.05, 2e4, 1e-300),
+     r"^unpulsed must be a real number in \[1e-06, "),
+    (lambda: tb.monte_carlo_ml_toa("B1937+21", n_trials=3, t_obs=1e-6, rng=0),
+     r"^t_obs must be long enough to expect 1e-6 pulsed"),
+    (lambda: tb.monte_carlo_ml_toa("B1937+21", n_trials=3, t_obs=1e-3, rng=0),
+     r"^t_obs must be long enough for every trial's fold"),
+])
+def test_a_fold_with_a_tiny_duty_or_count_is_refused_by_the_callers_name(call, words):
+    """Issue 35, review 35f 16's class: duty 5e-324 divided by zero, pulsed or unpulsed 1e-300
+    divided by zero or overflowed, an empty Monte Carlo fold was refused as 'counts'."""
+    with pytest.raises(ValueError, match=words):
+        call()
+
+
+def test_the_ml_shift_of_a_pulse_inside_one_bin_is_finite():
+    mu = tb.expected_fold(8, 1e-4, 2e4, 1e5, shift=0.0)
+    assert np.isfinite(tb.ml_phase_shift(mu, 1e-4, 2e4, 1e5))

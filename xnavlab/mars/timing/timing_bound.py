@@ -100,7 +100,7 @@ _WRAPS = np.arange(-3, 4)  # images of the wrapped Gaussian (sigma <= 0.5 / 2.35
 
 
 def _sigma(duty):
-    return check_real("duty", duty, 0.0, 0.5, lo_open=True) / _FWHM
+    return check_real("duty", duty, 1e-4, 0.5) / _FWHM  # pulsars.profile's (and Pulsar's) range
 
 
 def profile_derivative(ph, duty):
@@ -111,7 +111,7 @@ def profile_derivative(ph, duty):
     ph : float or array_like
         Phase, cycles.
     duty : float
-        Pulse FWHM over period, in (0, 0.5].
+        Pulse FWHM over period, in [1e-4, 0.5] (as :func:`~xnavlab.mars.timing.pulsars.profile`).
 
     Returns
     -------
@@ -327,7 +327,7 @@ def expected_fold(nbins, duty, pulsed, unpulsed, shift=0.0):
     nbins : int
         Phase bins; bin i covers ``[i / nbins, (i + 1) / nbins)``.
     duty : float
-        Pulse FWHM over period.
+        Pulse FWHM over period, in [1e-4, 0.5].
     pulsed, unpulsed : float
         Expected pulsed and unpulsed photons in the fold, ``lambda_s T`` and ``lambda_b T``,
         each in [0, MAX_COUNTS].
@@ -372,10 +372,11 @@ def ml_phase_shift(counts, duty, pulsed, unpulsed, search=0.5, max_iter=30):
     counts : array_like, shape (nbins,) or (m, nbins)
         Folded counts, one fold a row (exposure-corrected counts, non-integer, are accepted).
     duty : float
-        Pulse FWHM over period.
+        Pulse FWHM over period, in [1e-4, 0.5].
     pulsed, unpulsed : float
         Expected pulsed and unpulsed photons in a fold (``lambda_s T``, ``lambda_b T``), in
-        (0, MAX_COUNTS].
+        [1e-6, MAX_COUNTS]: a fold expecting under a millionth of a photon of either has
+        no phase to estimate, and its likelihood's ratios overflow.
     search : float
         Half-width of the window of offsets searched, cycles, in [0, 0.5] (0.5: the whole
         cycle, the unrestricted ML): the a-priori knowledge of the offset. The refinement
@@ -400,8 +401,8 @@ def ml_phase_shift(counts, duty, pulsed, unpulsed, search=0.5, max_iter=30):
     if n.ndim not in (1, 2) or n.shape[-1] < 8 or np.any(n < 0):
         raise ValueError("counts must be a fold of at least 8 non-negative bins, or a 2-D "
                          "array of folds (one a row)")
-    pulsed = check_real("pulsed", pulsed, 0.0, MAX_COUNTS, lo_open=True)
-    unpulsed = check_real("unpulsed", unpulsed, 0.0, MAX_COUNTS, lo_open=True)
+    pulsed = check_real("pulsed", pulsed, 1e-6, MAX_COUNTS)  # 1e-300 divided by zero
+    unpulsed = check_real("unpulsed", unpulsed, 1e-6, MAX_COUNTS)  # 1e-300 overflowed (d1 / m)^2
     search = check_real("search", search, 0.0, 0.5)
     max_iter = check_int("max_iter", max_iter, 1, 1000)
     duty = _sigma(duty) * _FWHM
@@ -424,6 +425,7 @@ def ml_phase_shift(counts, duty, pulsed, unpulsed, search=0.5, max_iter=30):
         g = np.sum(x * d1 / m, axis=1)  # l'(tau)
         curv = np.sum(x * (d2 / m - (d1 / m) ** 2), axis=1)  # l''(tau)
         info = np.sum(d1**2 / m, axis=1)  # expected information
+        info = np.where(info > 0.0, info, math.inf)  # 0 for a pulse inside one bin: no step
         step = np.where(curv < 0, -g / np.where(curv < 0, curv, -1.0), g / info)
         step = np.clip(step, -1.0 / nb, 1.0 / nb)  # at most a bin a step
         if search < 0.5:  # and never farther than a bin out of the a-priori window
@@ -495,10 +497,13 @@ def monte_carlo_ml_toa(pulsar, n_trials=400, area_m2=1.0, t_obs=500.0,
     photons = check_bool("photons", photons)
     p = pulsars.get(pulsar)
     n_trials = check_int("n_trials", n_trials, 2, 10**6)
-    t_obs = check_real("t_obs", t_obs, 0.0, 1e7, lo_open=True)
+    t_obs = check_real("t_obs", t_obs, 1e-6, 1e7)  # as toa_crlb's
     nbins = default_nbins(p) if nbins is None else check_int("nbins", nbins, 8, 2**20)
     rng = make_rng(rng)
     ls, lb = pulsars.photon_rates(p, area_m2, background_ph_cm2_s)
+    if min(ls, lb) * t_obs < 1e-6:  # ml_phase_shift's lower end, refused here by the caller's name
+        raise ValueError(f"t_obs must be long enough to expect 1e-6 pulsed and unpulsed photons a "
+                         f"fold, got {ls * t_obs:.3g} and {lb * t_obs:.3g} in {t_obs:g} s")
     truth = rng.uniform(-0.05, 0.05, n_trials)  # cycles
     if photons:
         counts = np.empty((n_trials, nbins))
@@ -508,6 +513,10 @@ def monte_carlo_ml_toa(pulsar, n_trials=400, area_m2=1.0, t_obs=500.0,
             counts[i] = pulsars.fold(t, p, nbins, span=(0.0, t_obs))
     else:
         counts = rng.poisson(_bins(nbins, p.duty_cycle, ls * t_obs, lb * t_obs, truth)[0])
+    empty = ~(counts.sum(axis=1) > 0)  # no phase (refused below as 'counts', not given here)
+    if np.any(empty):
+        raise ValueError(f"t_obs must be long enough for every trial's fold to hold a photon: "
+                         f"trial {int(np.argmax(empty))} drew none in {t_obs:g} s")
     est = ml_phase_shift(counts, p.duty_cycle, ls * t_obs, lb * t_obs, search)
     return (est - truth) * p.period
 
