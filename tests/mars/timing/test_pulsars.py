@@ -487,3 +487,21 @@ def test_a_monte_carlo_too_short_to_fold_a_pulse_names_t_obs_not_counts():
     with pytest.raises(ValueError, match=r"^t_obs must be long enough to fold a pulse in every "
                                          r"trial: trial 0 drew 0 photons"):
         pulsars.monte_carlo_toa("B1937+21", n_trials=3, t_obs=1e-9, rng=0)
+
+
+@pytest.mark.parametrize(("line", "new", "words"), [
+    ("PX ", "PX                  5000.0  1              0.2186",
+     r"^path: its PX \(mas\) must be a real number in \[0\.001, 1000\], got 5000"),
+    ("F0 ", "F0    1e-9  1  0.0000000000328468",
+     r"^path: its F0 \(Hz\) must be a real number in \[0\.0001, 10000\]"),
+])
+def test_a_timing_models_px_or_f0_outside_a_pulsars_range_is_refused_under_path(tmp_path, line, new, words):
+    """Issue 35, review 35f 18's class: 1 / PX and 1 / F0 are the Pulsar's distance and period,
+    whose ranges a model's values would break under the Pulsar's names."""
+    from xnavlab.mars.timing import pint_bridge
+
+    text = pint_bridge.examples_path("B1855+09_NANOGrav_9yv1.gls.par").read_text().splitlines()
+    path = tmp_path / "edited.par"
+    path.write_text("\n".join(new if t.startswith(line) else t for t in text) + "\n")
+    with pytest.raises(ValueError, match=words):
+        pulsars.from_par(path, flux_ph_cm2_s=1e-5, pulsed_fraction=0.5, duty_cycle=0.1)
