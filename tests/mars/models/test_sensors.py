@@ -292,3 +292,13 @@ def test_xnav_sigma_names_background_as_given():
     """Issue 35: background=100 was refused as background_ph_cm2_s (pulsars' name)."""
     with pytest.raises(ValueError, match=r"^background must be a real number in \[0, 10\], got 100"):
         sensors.xnav_sigma(background=100.0)
+
+
+@pytest.mark.parametrize("R", [5e-324 * np.eye(3), np.diag([1.0, 1.0, 5e-324])])
+def test_position_dop_refuses_an_r_whose_inverse_overflows(R):
+    """Issue 35, review 35f 41's class: R = 5e-324 I leaked numpy's LinAlgError 'Eigenvalues did
+    not converge'."""
+    H = np.hstack([np.eye(3), np.zeros((3, 3))])
+    with pytest.raises(ValueError, match=r"^R must have an inverse within float64 \(smallest variance 4\.9"):
+        sensors.position_dop(H, R)
+    assert np.all(np.isfinite(sensors.position_dop(H, 1e-300 * np.eye(3))))

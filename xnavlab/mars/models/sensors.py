@@ -428,7 +428,11 @@ def position_dop(H, R):
                          f"{H.shape}")
     R = check_definite("R", np.atleast_2d(check_finite_array("R", R)), H.shape[0])
     Hr = H[:, :3]
-    info = Hr.T @ np.linalg.solve(R, Hr)
+    with np.errstate(over="ignore", invalid="ignore"):  # an inverse beyond float64: refused below
+        info = Hr.T @ np.linalg.solve(R, Hr)
+    if not np.all(np.isfinite(info)):  # R = 5e-324 I was LinAlgError 'Eigenvalues did not converge'
+        raise ValueError(f"R must have an inverse within float64 (smallest variance "
+                         f"{float(np.diag(R).min()):.3g}: its information H^T R^-1 H overflows)")
     lam = np.linalg.eigvalsh(0.5 * (info + info.T))
     tol = lam.max() * 1e-10 if lam.max() > 0 else 0.0
     with np.errstate(divide="ignore"):
