@@ -145,7 +145,6 @@ from xnavlab.mars.navigation import scenarios
 
 __all__ = [
     "DETECTORS",
-    "RATE_PER_DAY_RANGE",
     "inject_inputs",
     "FaultTolerantRun",
     "run_fault_tolerant",
@@ -336,23 +335,6 @@ _DETECTOR_SETTINGS = {"pfa": (("wavelet",), 1e-5), "alpha": (("chi2",), 1e-5),
                       "arm_s": (("combined",), 600.0)}
 
 
-def _check_armed(faults, arm_s, sc):
-    """Refuse a fault the combined detector cannot see: one that has ended (a spike: acted)
-    before its tests arm at ``arm_s`` would be scored missed (review 35f)."""
-    for f in faults:
-        end = f.onset if f.kind == "spike" else f.onset + f.duration
-        if end < arm_s:
-            raise ValueError(f"faults: {format_spec([f], components(sc))} ends at {end:.6g} s, "
-                             f"before the combined detector's tests arm (arm_s = {arm_s:g} s): "
-                             f"no test would see it; move it after arm_s or lower arm_s")
-
-
-#: The design false-alarm rates the combined detector takes, per subsystem per day: below one
-#: false alarm in 1,000 days its CUSUM's average run length passes 1e12 samples at 10 samples a
-#: second (and 5e-324 underflowed to a probability of 0, refused under another name).
-RATE_PER_DAY_RANGE = (1e-3, 100.0)
-
-
 def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=None,
                        pfa=1e-5, alpha=1e-5, train_days=None, readmit_samples=None,
                        readmit_alpha=0.01, readmit="quiet", xnav_level=3, xnav_holdoff=12, check_every=100,
@@ -393,7 +375,8 @@ def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=
         Extra noise of ``noise`` faults (default: from the scenario's seed).
     rate_per_day : float
         ``"combined"``: design false alarms per subsystem per day, all parts together, in
-        :data:`RATE_PER_DAY_RANGE` (:class:`~xnavlab.core.detection.CombinedDesign`).
+        :data:`~xnavlab.mars.faults.schedules.RATE_PER_DAY_RANGE`
+        (:class:`~xnavlab.core.detection.CombinedDesign`).
     adaptive : bool
         ``"combined"``: adaptive noise scale of the innovation tests (default True).
         ``pfa``, ``alpha``, ``rate_per_day``, ``adaptive`` and ``arm_s`` away from their
@@ -429,7 +412,7 @@ def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=
     if readmit == "clear" and detector != "wavelet":
         raise ValueError("readmit='clear' needs detector='wavelet' (the chi-square test's "
                          "'clear' is the NIS window test)")
-    rate_per_day = check_real("rate_per_day", rate_per_day, *RATE_PER_DAY_RANGE)
+    rate_per_day = check_real("rate_per_day", rate_per_day, *schedules.RATE_PER_DAY_RANGE)
     arm_s = check_real("arm_s", arm_s, 0.0, schedules.MAX_DAYS * DAY)  # a run's longest span
     settings = {"pfa": pfa, "alpha": alpha, "rate_per_day": rate_per_day, "adaptive": adaptive,
                 "arm_s": arm_s}
@@ -459,7 +442,7 @@ def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=
         faults = parse_faults(faults, sc)
     faults = check_schedule(faults, sc, detector, train_days, paper=paper)
     if detector == "combined":
-        _check_armed(faults, arm_s, sc)
+        schedules.check_armed(faults, arm_s, sc)
     rng = make_rng(seed_after(sc.seed) if rng is None else rng)
     t_start = time.perf_counter()
     faulty = inject_inputs(inputs, faults, rng)

@@ -47,6 +47,8 @@ __all__ = [
     "PAPER_ONSETS",
     "MIN_FAULT_TAIL_S",
     "MAX_DAYS",
+    "RATE_PER_DAY_RANGE",
+    "check_armed",
     "EARLIEST_ONSET_S",
     "LATE_WINDOW_S",
     "STATUSES",
@@ -80,6 +82,11 @@ EARLIEST_ONSET_S = 600.0
 
 #: The longest run of the command line, days (``run mars --days``).
 MAX_DAYS = 365.0
+
+#: The design false-alarm rates the combined detector takes, per subsystem per day: below one
+#: false alarm in 1,000 days its CUSUM's average run length passes 1e12 samples at 10 samples a
+#: second (and 5e-324 underflowed to a probability of 0, refused under another name).
+RATE_PER_DAY_RANGE = (1e-3, 100.0)
 
 #: Seconds a fault's onset must leave before the run's end for the message of
 #: :func:`check_schedule` to suggest a long enough run (one XNAV integration).
@@ -286,6 +293,29 @@ def check_schedule(faults, scenario, detector="combined", train_days=1.0, paper=
                     f"hides a fault from any detector); move its onset to "
                     f"{EARLIEST_ONSET_S:.0f} s or later")
     return faults
+
+
+def check_armed(faults, arm_s, scenario):
+    """Refuse a fault the combined detector cannot see: one that has ended (a spike: acted)
+    before its tests arm at ``arm_s`` (s) would be scored missed (review 35f).
+
+    Examples
+    --------
+    >>> sc = scenarios.MarsScenario(days=0.05)
+    >>> check_armed(parse_faults("uv.range:step:25000@1000+100", sc), 600.0, sc)
+    >>> try:
+    ...     check_armed(parse_faults("uv.range:step:25000@1000+100", sc), 2000.0, sc)
+    ... except ValueError as exc:
+    ...     print(str(exc).split(", ")[1].split(":")[0])
+    before the combined detector's tests arm (arm_s = 2000 s)
+    """
+    for f in faults:
+        end = f.onset if f.kind == "spike" else f.onset + f.duration
+        if end < arm_s:
+            raise ValueError(f"faults: {format_spec([f], components(scenario))} ends at "
+                             f"{end:.6g} s, before the combined detector's tests arm (arm_s = "
+                             f"{arm_s:g} s): no test would see it; move it after arm_s or lower "
+                             f"arm_s")
 
 
 #: How long after a fault's end an alarm on its sensor is still put down to the fault, s

@@ -357,7 +357,8 @@ def _check_run(run, sc):
 
 
 def _check_detector(det, sc):
-    from xnavlab.mars.faults.fault_tolerance import DETECTORS, RATE_PER_DAY_RANGE, parse_faults
+    from xnavlab.mars.faults.fault_tolerance import DETECTORS, parse_faults
+    from xnavlab.mars.faults.schedules import RATE_PER_DAY_RANGE
 
     if det["name"] is not None:
         check_choice("[detector] name", det["name"], DETECTORS)

@@ -869,24 +869,8 @@ def run_kernel(inp, state, a, b, active, beta, gate, rec_pos, records, nis, flag
             f"the compiled filter stopped: a covariance lost positive definiteness near epoch "
             f"{b} (t = {inp.times[min(b, inp.n - 1)]:.0f} s): a measurement noise many orders "
             f"below the state's uncertainty (pos_err0_m = {sc.pos_err0_m:g} m) is beyond double "
-            f"precision; {_changed_noise(sc)}, or run the numpy backend")
+            f"precision; {unused_inputs.divergence_advice(sc)}, or run the numpy backend")
     return int(stop)
-
-
-#: The settings that set a noise or an uncertainty, named when the filter cannot carry them.
-NOISE_SETTINGS = ("sigma_range_m", "sigma_dir_deg", "sigma_star_arcsec", "sigma_horizon_deg",
-                  "xnav_sigma_m", "area_m2", "background", "pos_err0_m", "vel_err0_mps", "q_acc",
-                  "pulsars")
-
-
-def _changed_noise(sc):
-    """Advice naming the noise settings the user moved from their defaults (review 35f: the
-    message named only pos_err0_m, a setting the user had not given)."""
-    moved = [f"{f.name} = {getattr(sc, f.name)!r:.60} (default {f.default!r:.40})"
-             for f in fields(sc) if f.name in NOISE_SETTINGS and getattr(sc, f.name) != f.default]
-    if not moved:
-        return "raise the smallest noise setting"
-    return "the noise settings away from their defaults: " + "; ".join(moved) + " (move them back)"
 
 
 @functools.lru_cache(maxsize=8)

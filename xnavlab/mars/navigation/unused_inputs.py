@@ -33,8 +33,8 @@ import warnings
 
 from xnavlab.core.userfiles import InputWarning
 
-__all__ = ["SUBSYSTEM_FIELDS", "NOISE_FIELDS", "check_fields", "warn_unmeasured",
-           "warn_few_records"]
+__all__ = ["SUBSYSTEM_FIELDS", "NOISE_FIELDS", "NOISE_SETTINGS", "check_fields", "warn_unmeasured",
+           "warn_few_records", "divergence_advice"]
 
 #: Subsystem -> the MarsScenario fields only it uses (``limb`` shapes both the UV sensor and
 #: the CNS horizon sensor, so it is used while either runs).
@@ -158,3 +158,30 @@ with record_dt = 86400 s): lower record_dt or settle_days, or run longer
                       f"{'' if n == 1 else 's'} (from settle_days = {settle_days:g} with "
                       f"record_dt = {record_dt:g} s): lower record_dt or settle_days, or run "
                       f"longer", InputWarning, stacklevel=3)
+
+
+#: The settings that set a noise or an uncertainty, named when the filter cannot carry them.
+NOISE_SETTINGS = ("sigma_range_m", "sigma_dir_deg", "sigma_star_arcsec", "sigma_horizon_deg",
+                  "xnav_sigma_m", "area_m2", "background", "pos_err0_m", "vel_err0_mps", "q_acc",
+                  "pulsars")
+
+
+def divergence_advice(scenario):
+    """What to change when the compiled filter cannot carry a scenario: the noise settings
+    moved from their defaults, by name (review 35f: the message named only pos_err0_m, a
+    setting the user had not given), else the smallest noise setting.
+
+    Examples
+    --------
+    >>> from xnavlab.mars.navigation.scenarios import MarsScenario
+    >>> divergence_advice(MarsScenario(sigma_range_m=1.0))
+    'the noise settings away from their defaults: sigma_range_m = 1.0 (default 5000.0) (move them back)'
+    >>> divergence_advice(MarsScenario())
+    'raise the smallest noise setting'
+    """
+    defaults = _defaults(scenario)
+    moved = [f"{name} = {getattr(scenario, name)!r:.60} (default {defaults[name]!r:.40})"
+             for name in NOISE_SETTINGS if getattr(scenario, name) != defaults[name]]
+    if not moved:
+        return "raise the smallest noise setting"
+    return "the noise settings away from their defaults: " + "; ".join(moved) + " (move them back)"

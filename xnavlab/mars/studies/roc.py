@@ -119,7 +119,7 @@ THRESHOLDS = {"combined": "rate_per_day", "chi2": "alpha", "wavelet": "pfa"}
 #: Allowed range of each threshold ``(lo, hi, lo_open, hi_open)``. A design rate below one
 #: false alarm in 1,000 days asks the combined detector's CUSUM for an average run length past
 #: its 1e12 samples at 10 samples a second (5e-324 underflowed to a probability of 0).
-THRESHOLD_RANGES = {"rate_per_day": (*fault_tolerance.RATE_PER_DAY_RANGE, False, False),
+THRESHOLD_RANGES = {"rate_per_day": (*schedules.RATE_PER_DAY_RANGE, False, False),
                     "alpha": (0.0, 1.0, True, True),
                     "pfa": (0.0, 1.0, True, True)}
 #: Fraction of the run the wavelets train on; alarms before its end are not counted.
