@@ -63,3 +63,16 @@ def test_bad_input_names_the_parameter(kwargs, name):
         measure.fold_range(**args)
     with pytest.raises(ValueError, match="exposure"):
         measure.range_sigma("B0531+21", -1.0)
+
+
+@pytest.mark.parametrize("call, match", [
+    (lambda: measure.range_sigma(exposure=1e-300), r"^exposure must be a real number in \[0.001, 100000\]"),
+    (lambda: measure.fold_range(1e3, 1e3, exposure=5e-324, rng=1), r"^exposure must be a real"),
+    (lambda: measure.fold_range(1e22, 1e22, rng=1), r"^x must be a real number in \[-1e\+15, 1e\+15\]"),
+    (lambda: measure.fold_range(1e3, -1e20, rng=1), r"^x_ref must be a real number in \[-1e\+15"),
+])
+def test_issue35_exposure_and_distance_have_physical_ranges(call, match):
+    # Review 35f findings 15 and 26: a tiny exposure divided by zero; a distance past 1e20 m
+    # lost the ranging noise in the float spacing.
+    with pytest.raises(ValueError, match=match):
+        call()

@@ -62,13 +62,15 @@ def fold_range(x, x_ref, pulsar="B0531+21", exposure=10.0, rng=None, area_m2=1.0
     Parameters
     ----------
     x : float
-        True distance of the spacecraft from the SSB along ``n`` (mid-window), m.
+        True distance of the spacecraft from the SSB along ``n`` (mid-window), m, in
+        [-1e15, 1e15].
     x_ref : float
-        Predicted distance, m; the cycle nearest it is chosen (error below ``c P / 2``).
+        Predicted distance, m, in [-1e15, 1e15]; the cycle nearest it is chosen (error
+        below ``c P / 2``).
     pulsar : str or xnavlab.mars.timing.pulsars.Pulsar
         Default the Crab, B0531+21.
     exposure : float
-        Window length, s, in (0, 1e5].
+        Window length, s, in [1e-3, 1e5].
     rng : numpy.random.Generator or int, optional
     area_m2 : float
         Detector area, m^2 (background 0.005 ph/cm^2/s, as chapter 1).
@@ -79,14 +81,26 @@ def fold_range(x, x_ref, pulsar="B0531+21", exposure=10.0, rng=None, area_m2=1.0
         ``c Delta t`` on the cycle nearest ``x_ref``, m.
     """
     p = pulsars.get(pulsar)
-    x, x_ref = check_real("x", x), check_real("x_ref", x_ref)
-    exposure = check_real("exposure", exposure, 0.0, 1e5, lo_open=True)
+    x, x_ref = _check_distance("x", x), _check_distance("x_ref", x_ref)
+    exposure = _check_exposure(exposure)
     nbins = nbins_for(p)
     shift = (-x / C) % p.period  # the pulse reaches the spacecraft x / c early
     counts = pulsars.simulate_folded(p, exposure, area_m2, nbins=nbins, rng=make_rng(rng), shift=shift)
     rho = -pulsars.estimate_phase_shift(counts, _template(nbins, p.duty_cycle)) * C * p.period
     lam = wavelength(p)
     return rho + lam * round((x_ref - rho) / lam)  # x = c Delta t + k c P, k nearest x_ref
+
+
+def _check_distance(name, x):
+    # |x| <= 1e15 m (about 6,700 au): the float spacing there, 0.125 m, stays far below the
+    # ranging noise (821 m for the Crab in 10 s); at 1e20 m it is 16 km and swamps it.
+    return check_real(name, x, -1e15, 1e15)
+
+
+def _check_exposure(exposure):
+    # At least 1 ms, a fraction of the fastest period: shorter windows fold no photon and
+    # a tiny one (1e-300 s) divides by zero in the TOA sigma.
+    return check_real("exposure", exposure, 1e-3, 1e5)
 
 
 @functools.lru_cache(maxsize=8)
@@ -101,10 +115,17 @@ def range_sigma(pulsar="B0531+21", exposure=10.0, area_m2=1.0):
     (:func:`xnavlab.mars.timing.pulsars.xcorr_toa_sigma`, chapter 1); it falls as
     ``exposure ** -0.5``.
 
+    Parameters
+    ----------
+    pulsar, area_m2
+        As :func:`fold_range`.
+    exposure : float
+        Window length, s, in [1e-3, 1e5].
+
     Examples
     --------
     >>> round(range_sigma("B0531+21", 10.0))
     821
     """
-    exposure = check_real("exposure", exposure, 0.0, 1e5, lo_open=True)
+    exposure = _check_exposure(exposure)
     return C * pulsars.xcorr_toa_sigma(pulsar, area_m2, exposure, nbins=nbins_for(pulsar))

@@ -72,12 +72,25 @@ def cv_model(dt, accel_sigma=0.0, dim=1):
 def simulate(state0, dt, n, accel_sigma=0.0, rng=None):
     """True states ``x_k = F x_{k-1} + w_k``, ``w_k ~ N(0, Q)``, shape (n + 1, 2 d).
 
+    Parameters
+    ----------
+    state0 : array_like
+        Initial position and velocity, shape (2 d,), d in {1, 2, 3}.
+    dt, accel_sigma
+        As :func:`~xnavlab.line.measure.cv_model`.
+    n : int
+        Number of steps, in [1, 1e6].
+    rng : numpy.random.Generator or int, optional
+
     Examples
     --------
     >>> simulate(np.array([0.0, 5.0]), 2.0, 3)[:, 0].tolist()
     [0.0, 10.0, 20.0, 30.0]
     """
     state0 = check_finite_array("state0", state0)
+    if state0.ndim != 1 or state0.size not in (2, 4, 6):
+        raise ValueError(f"state0 must be a position and a velocity in 1, 2 or 3 dimensions, "
+                         f"shape (2,), (4,) or (6,), got shape {state0.shape}")
     F, Q = cv_model(dt, accel_sigma, state0.size // 2)
     w = make_rng(rng).multivariate_normal(np.zeros(state0.size), Q, check_int("n", n, 1, 10**6))
     out = [state0]
@@ -105,7 +118,8 @@ def track(truth, exposure, x0, P0, pulsar_names=("B0531+21",), directions=((1.0,
     truth : array_like
         True states at ``t_k = k exposure`` (:func:`simulate`), shape (n + 1, 2 d).
     exposure : float
-        Window of each TOA and step of the filter, s.
+        Window of each TOA and step of the filter, s, in [1e-3, 1e5] (as
+        :func:`~xnavlab.line.measure.range_sigma`).
     x0, P0 : array_like
         The filter's initial estimate and covariance, shapes (2 d,) and (2 d, 2 d).
     pulsar_names : sequence of str
@@ -131,7 +145,7 @@ def track(truth, exposure, x0, P0, pulsar_names=("B0531+21",), directions=((1.0,
         raise ValueError(f"truth must be (n + 1, {2 * d}) and directions one row a pulsar, "
                          f"got {truth.shape} and {N.shape} for {len(pulsar_names)} pulsars")
     rng = make_rng(rng)
-    exposure = check_real("exposure", exposure, 0.0, 1e7, lo_open=True)
+    exposure = check_real("exposure", exposure, 1e-3, 1e5)  # range_sigma's range
     F, Q = cv_model(exposure, accel_sigma, d)
     H = np.hstack([N, np.zeros_like(N)])  # z_i = n_i . r
     R = np.diag([range_sigma(p, exposure, area_m2) ** 2 for p in pulsar_names])
@@ -155,7 +169,7 @@ def snapshot_covariance(directions, sigmas):
 
     ``directions``: shape (n, d), one direction a pulsar, spanning the d-dimensional space
     (two pulsars along one line leave a direction unobserved: a ValueError, not a singular
-    inverse); ``sigmas``: shape (n,), their range sigmas, m, > 0.
+    inverse); ``sigmas``: shape (n,), their range sigmas, m, each in [1e-3, 1e15].
 
     Examples
     --------
@@ -171,8 +185,9 @@ observes has no finite covariance
     if H.ndim != 2 or H.shape[0] < 1 or H.shape[1] < 1:
         raise ValueError(f"directions must have shape (n, d), n, d >= 1, got shape {H.shape}")
     sigmas = check_finite_array("sigmas", sigmas, shape=(H.shape[0],))
-    if sigmas.ndim != 1 or not np.all(sigmas > 0.0):
-        raise ValueError(f"sigmas must be real numbers in (0, inf), m, one a direction (shape "
+    # From 1 mm (no X-ray TOA ranges better; 5e-324 made 1 / sigma^2 infinite) to 1e15 m.
+    if sigmas.ndim != 1 or not np.all((sigmas >= 1e-3) & (sigmas <= 1e15)):
+        raise ValueError(f"sigmas must be real numbers in [1e-3, 1e15], m, one a direction (shape "
                          f"({H.shape[0]},)), got {sigmas.tolist()!r:.80}")
     d = H.shape[1]
     rank = int(np.linalg.matrix_rank(H))
@@ -191,6 +206,19 @@ def run_line(exposure_s=10.0, accel_sigma=0.0, span_s=2000.0, dv=1.0, seed=0):
     Crab; the filter starts 2 km off at :data:`V0` (sigmas 3 km and 2 m/s) and takes one
     TOA every ``exposure_s`` over ``span_s``.
 
+    Parameters
+    ----------
+    exposure_s : float
+        Window of each TOA, s, in [0.1, 1e4].
+    accel_sigma : float
+        As :func:`~xnavlab.line.measure.cv_model`.
+    span_s : float
+        Length of the run, s, in [exposure_s, 1e5]; it holds ``round(span_s / exposure_s)``
+        TOAs.
+    dv : float
+        Velocity offset towards the Crab, m/s, in [-1e5, 1e5].
+    seed : int
+
     Returns
     -------
     truth : ndarray
@@ -205,7 +233,11 @@ def run_line(exposure_s=10.0, accel_sigma=0.0, span_s=2000.0, dv=1.0, seed=0):
     ((5, 2), (4, 1))
     """
     exposure_s = check_real("exposure_s", exposure_s, 0.1, 1e4)
-    n = max(1, round(check_real("span_s", span_s, 1.0, 1e5) / exposure_s))
+    span_s = check_real("span_s", span_s, 1.0, 1e5)
+    if span_s < exposure_s:
+        raise ValueError(f"span_s must be at least exposure_s ({exposure_s:g} s) and at most "
+                         f"1e5 s, got {span_s:g}: a run holds at least one TOA")
+    n = round(span_s / exposure_s)  # whole TOAs, the nearest to span_s
     dv = check_real("dv", dv, -1e5, 1e5)
     seed = check_seed("seed", seed)
     truth = simulate(np.array([X0, V0 + dv]), exposure_s, n, accel_sigma, seed)
