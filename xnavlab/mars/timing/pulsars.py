@@ -311,7 +311,8 @@ def from_par(path, distance=None, flux_ph_cm2_s=None, pulsed_fraction=None, duty
     if distance is None:
         if par["px_mas"] is None:
             raise ValueError(f"distance must be given (m, 1 pc to 1 Mpc): the timing model of {par['name']} "
-                             "has no positive parallax PX")
+                             "has no positive parallax PX (in a scenario file: the key distance_m "
+                             "of a pulsar table {par = ..., distance_m = ...})")
         distance = KPC / check_real("path: its PX (mas)", par["px_mas"], 1e-3, 1e3)  # 1 / PX
         sources["distance"] = f"timing model {par['name']} (1 / PX)"
     else:
