@@ -37,7 +37,7 @@ def test_a_par_with_the_missing_properties_given_is_a_pulsar(par):
 
 def test_a_tabled_par_takes_the_tables_x_ray_side(par):
     # review 35f #5: the message named "distance"; a scenario file's key is distance_m
-    with pytest.raises(ValueError, match=r"distance must be given .* in a scenario file: the key "
+    with pytest.raises(ValueError, match=r"distance must be given .* \(in a scenario file: the key "
                                          r"distance_m of a pulsar table"):
         pulsar_specs.resolve(par[J0030])          # this file's parallax is commented out
     p = pulsar_specs.resolve({"par": par[J0030], "distance_m": 1.0e19})
