@@ -379,3 +379,26 @@ def test_ukf_weights_refuse_settings_whose_weights_are_not_finite(kw, words):
 def test_chi2_bounds_refuses_more_runs_than_it_can_pool():
     with pytest.raises(ValueError, match=r"n_runs must be a real number in \[1, 1e\+12\]"):
         filters.chi2_bounds(3, 1e308)
+
+
+@pytest.mark.parametrize("R, match", [
+    ([[5e-324]], r"^R must have variances \(diagonal\) in \[1e-100, 1e\+100\]"),
+    ([[1e308]], r"^R must have variances \(diagonal\) in \[1e-100, 1e\+100\]")])
+@pytest.mark.parametrize("update", ["ekf", "ukf"])
+def test_issue35_update_refuses_variances_outside_1e100(R, match, update):
+    # Review 35f findings 19 and 20: R = 5e-324 gave a NaN state, 1e308 an overflow warning.
+    H = np.array([[1.0, 0.0]])
+    with pytest.raises(ValueError, match=match):
+        if update == "ekf":
+            filters.ekf_update(np.zeros(2), np.eye(2), np.array([1.0]), lambda x: H @ x, H, R)
+        else:
+            filters.ukf_update(np.zeros(2), np.eye(2), np.array([1.0]), lambda x: H @ x, R)
+
+
+@pytest.mark.parametrize("err, P, match", [
+    (np.ones(2), 1e-320 * np.eye(2), r"^P must have variances \(diagonal\) in \[1e-100"),
+    (1e200 * np.ones(2), np.eye(2), r"^err must have entries in \[-1e\+100, 1e\+100\]")])
+def test_issue35_nees_refuses_scales_that_leave_the_float_range(err, P, match):
+    # Review 35f finding 21: nan, and an overflow warning.
+    with pytest.raises(ValueError, match=match):
+        filters.nees(err, P)

@@ -130,14 +130,36 @@ def _square(name, value, n=None):
     return arr
 
 
+def _scaled(name, M, definite=False):
+    """``M`` with its variances (diagonal) in [0, 1e100], from 1e-100 if ``definite``."""
+    # Variances within 1e+-100 in any unit keep H P H^T + R and e^2 / var inside the float
+    # range (1e+-308): R = 5e-324 made S^-1 infinite (NaN state), 1e308 overflowed S.
+    lo = 1e-100 if definite else 0.0
+    M = check_finite_array(name, M)  # checked before validate's symmetrising sum overflows
+    d = np.diagonal(M, axis1=-2, axis2=-1) if M.ndim >= 2 else M
+    # a negative or zero variance is left to the definiteness check, which names it better
+    if np.any((d > 1e100) | ((d > 0) & (d < lo))):
+        raise ValueError(f"{name} must have variances (diagonal) in [{lo:g}, 1e+100], got "
+                         f"{d.min():.3g} to {d.max():.3g}")
+    return M
+
+
+def _bounded(name, v):
+    """``v`` with every entry in [-1e100, 1e100] (squared over a variance from 1e-100)."""
+    if not np.all(np.abs(v) <= 1e100):
+        raise ValueError(f"{name} must have entries in [-1e+100, 1e+100], got "
+                         f"{np.abs(v).max():.3g} in magnitude")
+    return v
+
+
 def _call(f, x):
     return f(x) if callable(f) else f
 
 
 def _checked_state(x, P):
     """``x`` (n,) and ``P`` (n, n) symmetric positive semi-definite, or ValueError."""
-    x = _nonempty("x", check_vector("x", x), "state")
-    return x, check_covariance("P", P, x.size)
+    x = _bounded("x", _nonempty("x", check_vector("x", x), "state"))
+    return x, check_covariance("P", _scaled("P", P), x.size)
 
 
 def _odd_length(m_z, m_model, model, R):
@@ -176,15 +198,15 @@ def ekf_predict(x, P, f, F, Q, check=True):
     Parameters
     ----------
     x : array_like, shape (n,)
-        State at the previous epoch.
+        State at the previous epoch, entries in [-1e100, 1e100].
     P : array_like, shape (n, n)
-        Its covariance.
+        Its covariance, variances in [0, 1e100].
     f : callable or array_like
         ``f(x) -> x-`` (the propagated state), or the propagated state itself.
     F : callable or array_like, shape (n, n)
         State-transition matrix ``d f / d x`` at ``x`` (or a callable of ``x``).
     Q : array_like, shape (n, n)
-        Process-noise covariance over the step.
+        Process-noise covariance over the step, variances in [0, 1e100].
     check : bool
         Check the inputs and the model's outputs (see the module docstring).
 
@@ -206,7 +228,7 @@ def ekf_predict(x, P, f, F, Q, check=True):
     check = check_bool("check", check)
     if check:
         x, P = _checked_state(x, P)
-        Q = check_covariance("Q", Q, x.size)
+        Q = check_covariance("Q", _scaled("Q", Q), x.size)
         Phi = _checked_model("F", _call(F, x), (x.size, x.size))
         x_new = _checked_model("f(x)", _call(f, x), (x.size,))
     else:
@@ -249,17 +271,18 @@ def ekf_update(x, P, z, h, H, R, residual=None, check=True):
     Parameters
     ----------
     x : array_like, shape (n,)
-        Prior state.
+        Prior state, entries in [-1e100, 1e100].
     P : array_like, shape (n, n)
-        Prior covariance.
+        Prior covariance, variances in [0, 1e100].
     z : array_like, shape (m,) or None
-        Measurement; ``None`` skips the update (time update only).
+        Measurement, entries in [-1e100, 1e100]; ``None`` skips the update (time update
+        only).
     h : callable or array_like
         ``h(x) -> z_pred``, or the predicted measurement itself.
     H : callable or array_like, shape (m, n)
         Measurement Jacobian at ``x`` (or a callable of ``x``).
     R : array_like, shape (m, m)
-        Measurement-noise covariance.
+        Measurement-noise covariance, positive definite, variances in [1e-100, 1e100].
     residual : callable, optional
         ``residual(z, z_pred) -> innovation`` (default ``z - z_pred``).
     check : bool
@@ -289,13 +312,13 @@ def ekf_update(x, P, z, h, H, R, residual=None, check=True):
     if z is None:
         return Update(x, P, None, None, float("nan"))
     if check:
-        z = _nonempty("z", check_vector("z", z), "measurement")
+        z = _bounded("z", _nonempty("z", check_vector("z", z), "measurement"))
         m = z.size
         Hm = _checked_model("H", np.atleast_2d(_call(H, x)), (None, x.size))
         _odd_length(m, Hm.shape[0], "the rows of H", R)
         Hm = _checked_model("H", Hm, (m, x.size))
         z_pred = _checked_model("h(x)", _call(h, x), (m,))
-        R = check_covariance("R", np.atleast_2d(R), m, definite=True)
+        R = check_covariance("R", _scaled("R", np.atleast_2d(R), True), m, definite=True)
     else:
         z = np.asarray(z, dtype=float)
         z_pred = np.asarray(_call(h, x), dtype=float)
@@ -454,7 +477,7 @@ def ukf_predict(x, P, f, Q, alpha=1.0, beta=2.0, kappa=0.0, check=True):
     check = check_bool("check", check)
     if check:
         x, P = _checked_state(x, P)
-        Q = check_covariance("Q", Q, x.size)
+        Q = check_covariance("Q", _scaled("Q", Q), x.size)
     x = np.asarray(x, dtype=float)
     Wm, Wc, lam = ukf_weights(x.size, alpha, beta, kappa)
     X = sigma_points(x, P, lam)
@@ -495,7 +518,7 @@ def ukf_update(x, P, z, h, R, alpha=1.0, beta=2.0, kappa=0.0, residual=None, che
     if z is None:
         return Update(x, P, None, None, float("nan"))
     if check:
-        z = _nonempty("z", check_vector("z", z), "measurement")
+        z = _bounded("z", _nonempty("z", check_vector("z", z), "measurement"))
     z = np.asarray(z, dtype=float)
     Wm, Wc, lam = ukf_weights(x.size, alpha, beta, kappa)
     X = sigma_points(x, P, lam)
@@ -504,7 +527,7 @@ def ukf_update(x, P, z, h, R, alpha=1.0, beta=2.0, kappa=0.0, residual=None, che
         Z = _checked_model("h(x) of the sigma points", Z, (X.shape[0], None))
         _odd_length(z.size, Z.shape[1], "the length of h(x)", R)
         Z = _checked_model("h(x) of the sigma points", Z, (X.shape[0], z.size))
-        R = check_covariance("R", np.atleast_2d(R), z.size, definite=True)
+        R = check_covariance("R", _scaled("R", np.atleast_2d(R), True), z.size, definite=True)
     z_pred, S = _transform(Z, Wm, Wc, noise=np.atleast_2d(R), residual=residual)
     res = residual if residual is not None else (lambda a, b: a - b)
     Pxz = (Wc[:, None] * (X - x)).T @ res(Z, z_pred)
@@ -524,9 +547,10 @@ def nees(err, P):
     Parameters
     ----------
     err : array_like, shape (..., n)
-        Estimate minus truth.
+        Estimate minus truth, entries in [-1e100, 1e100].
     P : array_like, shape (..., n, n)
-        Covariance.
+        Covariance, positive definite, variances in [1e-100, 1e100] (so that ``e^2 / var``
+        stays inside the float range).
 
     Raises
     ------
@@ -561,7 +585,8 @@ def _normalised_square(ename, err, pname, P):
     if err.shape[-1] == 0:  # an empty sum is 0, a "perfect" statistic of nothing
         raise ValueError(f"{ename} must hold at least one component (shape (..., n), n >= 1), "
                          f"got shape {err.shape}")
-    P = check_definite(pname, P, err.shape[-1])
+    err = _bounded(ename, err)
+    P = check_definite(pname, _scaled(pname, P, True), err.shape[-1])
     try:
         np.broadcast_shapes(err.shape[:-1], P.shape[:-2])
     except ValueError:
