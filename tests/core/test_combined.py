@@ -243,3 +243,11 @@ def test_the_recorded_ratios_are_the_array_forms_bit_for_bit(m, monkeypatch):
     monkeypatch.setattr(combined.InnovationMonitor, "_scan_rows", array_form)
     assert [run(stop) for stop in (False, True)] == compiled
     assert compiled[0][0] == compiled[1][0] >= 3000
+
+
+@pytest.mark.parametrize(("n", "rate"), [(172.8, 5e-324), (172.8, 1e-9), (1e8, 1e-3)])
+def test_a_design_rate_too_low_for_the_cusum_is_refused_naming_rate_per_day(n, rate):
+    # review 35f #8: 5e-324 was refused as "p must be ... got 0.0", 1e-9 as "arl must be ..."
+    with pytest.raises(ValueError, match=rf"^rate_per_day = {rate!r} .* too low for .* raise "
+                                         r"rate_per_day$"):
+        CombinedDesign(n, 3, rate)

@@ -311,6 +311,14 @@ class CombinedDesign:
         self.lam_var = check_real("lam_var", lam_var, 1.0, 100.0, lo_open=True)
         self.k_var = variance_reference(self.lam_var)
         n, F = self.samples_per_day, self.rate_per_day
+        for part, parts in (("cusum", 2 * self.m), ("variance", self.m)):  # their ARL, as below
+            rate = shares[part] * F
+            arl = parts * n / rate if rate > 0.0 else math.inf
+            if not arl <= 1e12:  # cusum_threshold's range, reported as the caller's settings
+                raise ValueError(f"rate_per_day = {F!r} (shares[{part!r}] = {shares[part]:g}) is "
+                                 f"too low for {n:g} samples a day and m = {self.m}: the {part} "
+                                 f"test's average run length would be {arl:.3g} samples, above "
+                                 f"1e12; raise rate_per_day")
         self.alpha = shares["chi2"] * F / n
         if self.alpha >= 0.5:
             raise ValueError(f"rate_per_day {F} is too high for {n} samples a day")
