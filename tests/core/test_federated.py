@@ -228,3 +228,10 @@ def test_fuse_check_is_a_real_bool(bad):
 def test_a_federated_filter_of_more_than_max_local_filters_is_refused():
     with pytest.raises(ValueError, match=r"n_local must be an integer in \[1, 1000\]"):
         federated.FederatedFilter([0.0], [[1.0]], n_local=10**30)
+
+
+def test_issue35_share_factors_of_huge_betas_are_their_ratios():
+    # Review 35f finding 22: the sum of two 1e308 overflowed (RuntimeWarning).
+    assert federated.share_factors([1e308, 1e308], [True, True]).tolist() == [0.5, 0.5]
+    assert federated.share_factors([5e-324, 5e-324, 1.0], [True, True, False]).tolist() == \
+        [0.5, 0.5, 1.0]

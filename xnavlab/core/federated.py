@@ -151,7 +151,7 @@ def share_factors(beta, active):
     Parameters
     ----------
     beta : array_like, shape (N,)
-        Information-sharing factors, positive.
+        Information-sharing factors, positive finite numbers (only their ratios count).
     active : array_like of bool, shape (N,)
         Connected locals.
 
@@ -164,8 +164,13 @@ def share_factors(beta, active):
     if np.any(beta <= 0.0):
         raise ValueError(f"beta must hold positive information-sharing factors, got {beta.tolist()}")
     active = _flags("active", active, beta.size)
-    tot = beta[active].sum()
-    return np.where(active, beta / tot if tot > 0 else 1.0, 1.0)
+    if not active.any():
+        return np.ones_like(beta)
+    # shares are ratios: the active betas scaled to at most 1 sum without overflow (1e308s)
+    b = beta[active] / beta[active].max()
+    out = np.ones_like(beta)
+    out[active] = b / b.sum()  # beta_i / sum_{j active} beta_j
+    return out
 
 
 def _flags(name, value, n):
