@@ -71,3 +71,11 @@ def test_the_online_test_refuses_a_complex_or_misshapen_S():
         det.update(0.0, [1.0], [[1.0 + 1j]])
     with pytest.raises(ValueError, match=r"^S must have shape \(1, 1\)"):
         det.update(0.0, [1.0], np.eye(2))
+
+
+def test_issue35_chi2_statistic_refuses_a_window_longer_than_the_data():
+    # Review 35f finding 23: no sum had the dof m * window returned.
+    with pytest.raises(ValueError, match=r"^window must be an integer in \[1, 3\]"):
+        D.chi2_statistic(np.ones((3, 2)), np.tile(np.eye(2), (3, 1, 1)), window=10)
+    stat, dof = D.chi2_statistic(np.ones((3, 2)), np.tile(np.eye(2), (3, 1, 1)), window=3)
+    assert stat.tolist() == [2.0, 4.0, 6.0] and dof == 6

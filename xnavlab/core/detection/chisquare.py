@@ -76,7 +76,7 @@ def chi2_statistic(nu, S, window=1):
     S : array_like, shape (N, m, m), (m, m) or (N,) for m = 1
         Innovation covariances ``H P H^T + R``.
     window : int
-        Samples summed (1: the plain per-sample test), in [1, MAX_SAMPLES].
+        Samples summed (1: the plain per-sample test), in [1, N] (and at most MAX_SAMPLES).
 
     Returns
     -------
@@ -93,6 +93,9 @@ def chi2_statistic(nu, S, window=1):
     """
     window = check_int("window", window, 1, MAX_SAMPLES)
     q, m = _nis(nu, S)
+    if window > q.size:  # no sum would span the window, so none has the dof returned
+        raise ValueError(f"window must be an integer in [1, {q.size}] (the samples in nu), "
+                         f"got {window}")
     c = np.cumsum(q)
     stat = c.copy()
     stat[window:] = c[window:] - c[:-window]
