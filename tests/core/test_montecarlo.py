@@ -143,3 +143,22 @@ def test_plot_pd_draws_every_kind_of_the_chapter_and_a_delay_of_zero(kind):
         assert 0.0 in ax.lines[1].get_ydata()  # chi2's median delay at 8 sigma
     for other in mc.KINDS:
         assert fig.xnav_update(kind=other, trials=10) is None
+
+
+def test_issue35_runs_for_halfwidth_from_a_millionth():
+    # Review 35f finding 42: 1e-300 squared to 0 (ZeroDivisionError).
+    with pytest.raises(ValueError, match=r"^halfwidth must be a real number in \[1e-06, 0.5\]"):
+        mc.runs_for_halfwidth(0.5, 1e-300)
+
+
+@pytest.mark.parametrize("thresholds, match", [
+    ([float("nan")], r"^thresholds must"), (-5.0, r"^thresholds must be a sequence"),
+    ([], r"^thresholds must be a sequence")])
+def test_issue35_roc_curve_refuses_bad_thresholds_and_no_results(thresholds, match):
+    # Review 35f finding 43: a NaN threshold was returned, a scalar raised IndexError, and no
+    # results gave NaN with a RuntimeWarning.
+    r = [mc.signal_trial("step", 4.0, seed=1)]
+    with pytest.raises(ValueError, match=match):
+        mc.roc_curve(r, "chi2", thresholds=thresholds)
+    with pytest.raises(ValueError, match=r"^results must"):
+        mc.roc_curve([], "chi2")

@@ -43,7 +43,14 @@ from xnavlab.core.detection import chi2_detect, wavelet_detect
 from xnavlab.core.distributions import norm_isf
 from xnavlab.core.faults import Fault, inject
 from xnavlab.core.plotting import sparse_log_minors
-from xnavlab.core.validate import check_choice, check_int, check_items, check_real, check_seed
+from xnavlab.core.validate import (
+    check_choice,
+    check_finite_array,
+    check_int,
+    check_items,
+    check_real,
+    check_seed,
+)
 
 __all__ = ["KINDS", "DETECTORS", "signal_trial", "run_tasks", "seeds",
            "detection_table", "roc_curve", "summarise", "plot_roc", "plot_pd",
@@ -289,16 +296,31 @@ def roc_curve(results, detector, thresholds=None):
     """ROC from trials: for each threshold on the ratio, the fraction of faults whose peak
     while they act exceeds it (Pd) and of equally long fault-free spans (Pfa per span).
 
+    Parameters
+    ----------
+    results : sequence of dict
+        Trials (:func:`signal_trial`), at least one.
+    detector : str
+        One of :data:`DETECTORS`.
+    thresholds : array_like, optional
+        Thresholds on the ratio, shape (k,), k >= 1, finite (default 200 from 0.2 to 20).
+
     Returns
     -------
     pfa, pd, thresholds : ndarray
     """
     check_choice("detector", detector, DETECTORS)
+    if not isinstance(results, (list, tuple)) or not results:  # an empty mean would be NaN
+        raise ValueError(f"results must be a list of at least one trial (signal_trial), got "
+                         f"{results!r:.80}")
     pf = np.array([x[detector]["peak_fault"] for x in results])
     pc = np.array([x[detector]["peak_clean"] for x in results])
     if thresholds is None:
         thresholds = np.geomspace(0.2, 20.0, 200)
-    thr = np.asarray(thresholds, dtype=float)
+    thr = check_finite_array("thresholds", thresholds)
+    if thr.ndim != 1 or thr.size < 1:
+        raise ValueError(f"thresholds must be a sequence of at least one finite number "
+                         f"(shape (k,)), got shape {thr.shape}")
     return (np.mean(pc[None, :] > thr[:, None], axis=1),
             np.mean(pf[None, :] > thr[:, None], axis=1), thr)
 
@@ -426,16 +448,26 @@ def runs_for_halfwidth(pd, halfwidth, level=0.95):
     """Runs that make the normal-approximation interval of a probability ``pd`` as narrow as
     ``+/- halfwidth``: ``N = z^2 pd (1 - pd) / halfwidth^2`` (rounded up).
 
+    Parameters
+    ----------
+    pd : float
+        The probability, in (0, 1).
+    halfwidth : float
+        Half-width of the interval, in [1e-6, 0.5].
+    level : float
+        Confidence level, in (0, 1).
+
     Examples
     --------
     >>> runs_for_halfwidth(0.95, 0.01)
     1825
     """
     pd = check_real("pd", pd, 0.0, 1.0, lo_open=True, hi_open=True)
-    halfwidth = check_real("halfwidth", halfwidth, 0.0, 0.5, lo_open=True)
+    # From 1e-6: about 1e12 runs, more than any Monte Carlo makes (1e-300 squared to 0).
+    halfwidth = check_real("halfwidth", halfwidth, 1e-6, 0.5)
     level = check_real("level", level, 0.0, 1.0, lo_open=True, hi_open=True)
     z = norm_isf((1.0 - level) / 2.0)
-    return math.ceil(z * z * pd * (1.0 - pd) / halfwidth**2)
+    return math.ceil(z * z * pd * (1.0 - pd) / halfwidth**2)  # N = z^2 pd (1 - pd) / h^2
 
 
 def plot_pd_error(runs=100, pd=0.9, campaigns=400, seed=0):
