@@ -4,11 +4,13 @@ reconstruction against PyWavelets, the QMF pair and the detail signals."""
 import math
 
 import numpy as np
+import pytest
 import pywt
 from hypothesis import given
 from hypothesis import strategies as st
 
 from xnavlab.core import detection as D
+from xnavlab.core.detection import mallat
 
 WAVELETS = ("haar", "db2", "db3", "db4", "sym4")
 
@@ -73,3 +75,15 @@ def test_detail_signals_of_a_step_are_local():
     far = np.r_[np.arange(0, 300), np.arange(724, 1024)]
     assert np.abs(details[:, far]).max() < 1e-10                        # vanishing moments
     assert np.abs(details[:, 490:535]).max() > 0.1
+
+
+@pytest.mark.parametrize("func", [mallat.detail_signals, mallat.mallat_wavedec])
+def test_issue35_a_short_x_under_the_default_level_names_x(func):
+    # Review 35f finding 44: the error named level, which the caller did not type.
+    with pytest.raises(ValueError, match=r"^x must hold at least 160 samples for the default 5 "
+                                         r"levels of wavelet 'db3' \(or pass level in \[1, 3\]\)"):
+        func(np.ones(64))
+    with pytest.raises(ValueError, match=r"^level must be an integer in \[1, 3\], got 5"):
+        func(np.ones(64), "db3", 5)
+    with pytest.raises(ValueError, match=r"^x must hold at least 10 samples for one level"):
+        func(np.ones(4))

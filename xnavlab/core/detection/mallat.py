@@ -177,14 +177,21 @@ def mallat_idwt(c, d, wavelet="db3", mode="periodization"):
     return full[F - 2:2 * K]
 
 
-def _check_level(name, level, n, wavelet):
+def _check_level(level, n, wavelet):
+    """``level`` in [1, max_level(n)]; ``None`` is the paper's five levels, which ``x`` must
+    be long enough for (an error then names ``x``, the input the caller gave)."""
     top = max_level(n, wavelet)
-    if top < 1:
-        raise ValueError(f"x is too short for wavelet {wavelet!r}: {n} samples")
-    return check_int(name, level, 1, top)
+    want = 5 if level is None and top >= 1 else 1
+    if top < want:  # max_level: floor(log2(n / (F - 1))) >= want needs n >= (F - 1) 2^want
+        need = (orthogonal_wavelet(wavelet).dec_len - 1) * 2**want
+        levels = "the default 5 levels" if want == 5 else "one level"
+        hint = f" (or pass level in [1, {top}])" if want == 5 else ""
+        raise ValueError(f"x must hold at least {need} samples for {levels} of wavelet "
+                         f"{wavelet!r}{hint}, got {n}")
+    return 5 if level is None else check_int("level", level, 1, top)
 
 
-def mallat_wavedec(x, wavelet="db3", level=5, mode="periodization"):
+def mallat_wavedec(x, wavelet="db3", level=None, mode="periodization"):
     """Multilevel decomposition by repeated :func:`mallat_dwt` (paper eq. (9), ``level`` times).
 
     Parameters
@@ -193,8 +200,9 @@ def mallat_wavedec(x, wavelet="db3", level=5, mode="periodization"):
         Signal.
     wavelet, mode : str
         As in :func:`mallat_dwt`.
-    level : int
-        Number of levels, 1 to :func:`max_level` ``(N)``.
+    level : int, optional
+        Number of levels, in [1, :func:`max_level` ``(N)``]; default (None) 5, for which
+        ``N >= 32 (F - 1)`` (160 samples for db3).
 
     Returns
     -------
@@ -210,7 +218,7 @@ def mallat_wavedec(x, wavelet="db3", level=5, mode="periodization"):
     x = check_finite_array("x", x)
     if x.ndim != 1:
         raise ValueError(f"x must be a 1-D array, got shape {x.shape}")
-    level = _check_level("level", level, x.size, wavelet)
+    level = _check_level(level, x.size, wavelet)
     check_choice("mode", mode, MALLAT_MODES)
     details = []
     c = x
@@ -256,7 +264,7 @@ def mallat_waverec(coeffs, wavelet="db3", mode="periodization"):
 # Detail signals (paper Fig. 5)
 # --------------------------------------------------------------------------------------------
 
-def detail_signals(x, wavelet="db3", level=5, mode="symmetric"):
+def detail_signals(x, wavelet="db3", level=None, mode="symmetric"):
     """Detail signals ``D_j`` of a ``level``-level decomposition, each reconstructed to full length.
 
     ``D_j`` is the reconstruction from the level-``j`` detail coefficients alone (all other
@@ -270,8 +278,9 @@ def detail_signals(x, wavelet="db3", level=5, mode="symmetric"):
         Measurement series (any unit; the outputs carry it).
     wavelet : str
         Default ``"db3"`` as in the paper.
-    level : int
-        Number of levels, default 5 as in the paper; at most :func:`max_level` ``(N)``.
+    level : int, optional
+        Number of levels, in [1, :func:`max_level` ``(N)``]; default (None) 5 as in the paper,
+        for which ``N >= 32 (F - 1)`` (160 samples for db3).
     mode : str
         PyWavelets boundary mode, default ``"symmetric"`` (no wrap-around between the ends).
 
@@ -293,7 +302,7 @@ def detail_signals(x, wavelet="db3", level=5, mode="symmetric"):
     if x.ndim != 1:
         raise ValueError(f"x must be a 1-D array, got shape {x.shape}")
     w = orthogonal_wavelet(wavelet)
-    level = _check_level("level", level, x.size, wavelet)
+    level = _check_level(level, x.size, wavelet)
     check_choice("mode", mode, pywt.Modes.modes)
     coeffs = pywt.wavedec(x, w, mode=mode, level=level)
     zeros = [np.zeros_like(c) for c in coeffs]
