@@ -92,3 +92,9 @@ def test_t_from_jd_refuses_a_date_whose_seconds_overflow():
     """Review 35e: jd=1e308 gave inf seconds with an overflow warning."""
     with pytest.raises(ValueError, match=r"^jd must lie in \[-1e\+15, 1e\+15\] days, got 1e\+308$"):
         ephemeris.t_from_jd([2457388.5, 1e308])
+
+
+def test_issue35_state_refuses_a_2d_t_by_name():
+    # Review 35f finding 45: numpy's broadcast error named no parameter.
+    with pytest.raises(ValueError, match=r"^t must be a number or a 1-D array of epochs"):
+        ephemeris.state("mars", np.full((2, 2), 5e8))

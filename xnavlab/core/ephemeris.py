@@ -108,6 +108,9 @@ def _check(body, t, ephem):
     check_choice("body", body, BODIES)
     check_choice("ephem", ephem, EPHEMERIDES)
     t = check_finite_array("t", t)
+    if t.ndim > 1:  # the states stack one row an epoch
+        raise ValueError(f"t must be a number or a 1-D array of epochs (shape (n,)), got shape "
+                         f"{t.shape}")
     lo, hi = coverage(ephem)
     if t.size and (t.min() < lo or t.max() > hi):
         raise ValueError(
