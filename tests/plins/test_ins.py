@@ -243,3 +243,15 @@ def test_imu_noise_beyond_its_range_is_refused_not_an_overflow(key):
 def test_discretize_refuses_a_step_beyond_a_day():
     with pytest.raises(ValueError, match=r"dt must be a real number in \(0, 86400\]"):
         ins.discretize([[0.0, 1.0], [0.0, 0.0]], [[0.0], [1.0]], [1.0], 1e308)
+
+
+@pytest.mark.parametrize("F, q, match", [
+    (1e200 * np.eye(2), np.eye(2), r"^F must have row sums of \|F\| at most 50 / dt"),
+    (1e3 * np.eye(2), np.eye(2), r"^F must have row sums of \|F\| at most 50 / dt"),
+    (np.eye(2), -np.eye(2), r"^q must be positive semi-definite"),
+    (np.eye(2), [[1.0, 0.5], [0.0, 1.0]], r"^q must be symmetric"),
+    (np.eye(2), [-1.0, 1.0], r"^q must be positive semi-definite")])
+def test_issue35_discretize_refuses_an_overflowing_F_and_a_q_that_is_no_density(F, q, match):
+    # Review 35f findings 31 and 32: NaN matrices and overflow warnings; a negative "Qd".
+    with pytest.raises(ValueError, match=match):
+        ins.discretize(F, np.eye(2), q, 1.0)

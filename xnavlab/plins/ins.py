@@ -56,7 +56,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.linalg import expm
 
-from xnavlab.core.validate import check_finite_array, check_real, make_rng
+from xnavlab.core.validate import check_covariance, check_finite_array, check_real, make_rng
 
 __all__ = [
     "WGS84_A",
@@ -392,11 +392,13 @@ def discretize(F, G, q, dt):
     Parameters
     ----------
     F : array_like, shape (n, n)
-        Continuous system matrix, 1/s.
+        Continuous system matrix, 1/s, with ``||F||_inf dt <= 50`` (its largest row sum of
+        ``|F|``; a growth of ``e^50`` in one step is far beyond any INS).
     G : array_like, shape (n, m)
         Noise input matrix.
     q : array_like, shape (m,) or (m, m)
-        Noise power spectral density (diagonal or full).
+        Noise power spectral density (diagonal entries at least 0, or a full symmetric
+        positive semi-definite matrix).
     dt : float
         Step, s, in (0, 86400] (an INS step is milliseconds to a second; a day is far beyond,
         and near 1e308 s the matrix exponential overflows).
@@ -426,7 +428,12 @@ def discretize(F, G, q, dt):
     q = np.diag(q) if q.ndim == 1 else q
     if q.shape != (m, m):
         raise ValueError(f"q must have shape ({m},) or ({m}, {m}), got {q.shape}")
+    q = check_covariance("q", q, m)  # a spectral density: symmetric, positive semi-definite
     dt = check_real("dt", dt, 0.0, 86400.0, lo_open=True)
+    growth = np.abs(F).sum(axis=1).max() * dt  # ||F||_inf dt bounds log ||e^{F dt}||
+    if growth > 50.0:  # e^50 ~ 5e21 in one step, far beyond any INS; near 700 e^{F dt} overflows
+        raise ValueError(f"F must have row sums of |F| at most 50 / dt = {50.0 / dt:.6g} 1/s "
+                         f"(||F||_inf dt <= 50), got {growth / dt:.6g}")
     # Van Loan: expm([[-F, G q G^T], [0, F^T]] dt) = [[., A^-1 Qd], [0, A^T]]
     big = np.zeros((2 * n, 2 * n))
     big[:n, :n] = -F
