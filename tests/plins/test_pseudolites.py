@@ -190,3 +190,14 @@ def test_a_height_beyond_a_million_km_is_refused_not_an_overflow():
         with pytest.raises(ValueError, match=r"^h must be in \(-3\.18907e\+06, 1e\+09\] m$"):
             call()
     assert np.all(np.isfinite(pl.geodetic_to_ecef(0.0, 0.0, pl.MAX_HEIGHT)))
+
+
+@pytest.mark.parametrize("sites_deg", [[(39.0, 116.0, 0.0)] * 4,
+                                       [(39, 116, 0), (39, 116, 0), (39.1, 116, 0), (39, 116.1, 0)]])
+def test_issue35_sites_must_be_distinct(sites_deg):
+    # Review 35f finding 33: a raw LinAlgError (Singular matrix) or "math domain error".
+    with pytest.raises(ValueError, match=r"^sites_deg must be distinct sites at least 1 m apart"):
+        pl.sites_ecef(sites_deg)
+    E = pl.sites_ecef([(39, 116, 0), (39.1, 116, 0), (39, 116.1, 0), (39.1, 116.1, 0)])
+    with pytest.raises(ValueError, match=r"^sites must be distinct sites at least 1 m apart"):
+        pl.pdop(np.radians(39.05), np.radians(116.05), 1e4, E[[0, 0, 2, 3]])

@@ -248,7 +248,8 @@ def sites_ecef(sites_deg=None):
     Parameters
     ----------
     sites_deg : array_like, shape (m, 3), optional
-        Sites (default :data:`DEFAULT_SITES_DEG`).
+        Sites (default :data:`DEFAULT_SITES_DEG`), latitudes in [-90, 90] deg, distinct
+        (at least 1 m apart).
 
     Returns
     -------
@@ -266,14 +267,27 @@ def sites_ecef(sites_deg=None):
         raise ValueError(f"sites_deg must have shape (m, 3), got {sites.shape}")
     if np.any(np.abs(sites[:, 0]) > 90.0):
         raise ValueError("sites_deg latitudes must be in [-90, 90] deg")
-    return geodetic_to_ecef(np.radians(sites[:, 0]), np.radians(sites[:, 1]), sites[:, 2])
+    ecef = geodetic_to_ecef(np.radians(sites[:, 0]), np.radians(sites[:, 1]), sites[:, 2])
+    return _distinct("sites_deg", ecef)
 
 
 def _check_sites(sites):
     sites = check_finite_array("sites", sites, shape=(3,))
     if sites.ndim != 2:
         raise ValueError(f"sites must have shape (m, 3), got {sites.shape}")
-    return sites
+    return _distinct("sites", sites)
+
+
+def _distinct(name, ecef):
+    """ECEF sites at least 1 m apart (two antennas cannot share a place), or ValueError."""
+    gap = np.linalg.norm(ecef[:, None, :] - ecef[None, :, :], axis=-1)
+    i, j = np.triu_indices(len(ecef), k=1)
+    close = np.flatnonzero(gap[i, j] < 1.0)
+    if close.size:
+        k = close[0]
+        raise ValueError(f"{name} must be distinct sites at least 1 m apart, got sites {i[k]} "
+                         f"and {j[k]} {gap[i[k], j[k]]:.3g} m apart")
+    return ecef
 
 
 def pseudoranges(r, sites):
@@ -378,7 +392,8 @@ def pdop(lat, lon, h, sites):
     h : float
         Receiver height, m.
     sites : array_like, shape (m, 3), m >= 4
-        Pseudolite positions, ECEF, m.
+        Pseudolite positions, ECEF, m: distinct (at least 1 m apart) and around the
+        receiver in 3-D (the geometry matrix's condition number at most 1e6).
 
     Returns
     -------
@@ -394,8 +409,11 @@ def pdop(lat, lon, h, sites):
     if len(E) < 4:
         raise ValueError(f"sites must hold at least 4 pseudolites, got {len(E)}")
     G = np.column_stack([-E, np.ones(len(E))])
+    if np.linalg.cond(G) > 1e6:  # PDOP ~ cond(G); 1e6 is no fix (sites on one line of sight)
+        raise ValueError(f"sites must surround the receiver in 3-D (geometry [-E, 1] of rank 4 "
+                         f"with condition number at most 1e6), got {np.linalg.cond(G):.3g}")
     cov = np.linalg.inv(G.T @ G)
-    return float(math.sqrt(np.trace(cov[:3, :3])))
+    return float(math.sqrt(np.trace(cov[:3, :3])))  # PDOP = sqrt(tr (G^T G)^-1_pos)
 
 
 @dataclass(frozen=True)
