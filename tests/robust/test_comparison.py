@@ -116,3 +116,11 @@ def test_compare_filters_refuses_a_setting_no_filter_of_the_run_uses(kw, words):
     filters were dropped in silence."""
     with pytest.raises(ValueError, match=words):
         rb.compare_filters("mars", ("ukf",), n_steps=40, window=(5e3, 2e4), **kw)
+
+
+def test_issue35_improvement_needs_a_ukf_rmse_from_a_micron():
+    # Review 35f finding 34: rmse_ukf = 5e-324 gave -inf.
+    with pytest.raises(ValueError, match=r"^rmse_ukf must be a real number in \[1e-06, 1e\+15\]"):
+        rb.improvement(1.0, 5e-324)
+    with pytest.raises(ValueError, match=r"^rmse_filter must be a real number in \[0, 1e\+15\]"):
+        rb.improvement(1e308, 1.0)

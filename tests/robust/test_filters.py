@@ -389,3 +389,17 @@ def test_tdukf_update_takes_carry_noise_as_a_bool_only():
     """Review 35e: carry_noise="no" ran as True (a non-empty string)."""
     with pytest.raises(ValueError, match=r"^carry_noise must be True or False, got 'no'$"):
         rb.filters.tdukf_update(np.zeros(15), np.eye(15), np.zeros(3), np.eye(3), np.eye(3), "no")
+
+
+@pytest.mark.parametrize("kw, match", [
+    (dict(sigma_r0=5e-324), r"^sigma_r0 must be a real number in \[0.001, 1e\+08\]"),
+    (dict(sigma_v0=1e-300), r"^sigma_v0 must be a real number in \[1e-06, 100000\]")])
+def test_issue35_initial_sigmas_whose_squares_underflow_are_refused_by_name(kw, match):
+    # Review 35f finding 35: the error named P, not sigma_r0.
+    with pytest.raises(ValueError, match=match):
+        rb.run_filter("ukf", rb.simulate(n_steps=5, rng=0), rng=0, **kw)
+
+
+def test_issue35_a_millimetre_initial_sigma_runs():
+    run = rb.run_filter("ukf", rb.simulate(n_steps=5, rng=0), sigma_r0=1e-3, sigma_v0=1e-6, rng=0)
+    assert np.all(np.isfinite(run.x))

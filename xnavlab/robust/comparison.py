@@ -64,13 +64,22 @@ def rmse(run, scenario, t_from, t_to):
 def improvement(rmse_filter, rmse_ukf):
     """Improvement over the UKF, percent: ``100 (1 - RMSE / RMSE_UKF)``.
 
+    Parameters
+    ----------
+    rmse_filter : float
+        The filter's RMSE, m, in [0, 1e15].
+    rmse_ukf : float
+        The UKF's RMSE, m, in [1e-6, 1e15].
+
     Examples
     --------
     >>> improvement(25.0, 100.0)
     75.0
     """
-    rmse_filter = check_real("rmse_filter", rmse_filter, 0.0)
-    rmse_ukf = check_real("rmse_ukf", rmse_ukf, 0.0, lo_open=True)
+    # RMSEs up to 1e15 m and the UKF's from 1 um (no navigation is better): the ratio stays
+    # finite (5e-324 gave -inf).
+    rmse_filter = check_real("rmse_filter", rmse_filter, 0.0, 1e15)
+    rmse_ukf = check_real("rmse_ukf", rmse_ukf, 1e-6, 1e15)
     return 100.0 * (1.0 - rmse_filter / rmse_ukf)
 
 

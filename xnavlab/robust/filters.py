@@ -742,10 +742,10 @@ SETTINGS = {"eps": (("rkf",), None), "lam": (("rkf",), 0.02), "rkf_bias": (("rkf
              "sigma_b0": (("asukf",), 3000.0)}
 
 
-def _per_run(label, value, r, hi, lo_open=False):
-    """A setting given once or once per run -> (r,) floats in [0, hi] (or (0, hi]), each checked."""
+def _per_run(label, value, r, hi, lo_open=False, lo=0.0):
+    """A setting given once or once per run -> (r,) floats in [lo, hi] (or (lo, hi]), each checked."""
     given = np.atleast_1d(np.asarray(value, dtype=object))
-    vals = [check_real(label, v, 0.0, hi, lo_open=lo_open) for v in given]
+    vals = [check_real(label, v, lo, hi, lo_open=lo_open) for v in given]
     if len(vals) not in (1, r):
         raise ValueError(f"{label} must be one value or one per scenario ({r}), got {len(vals)}")
     return np.array(vals * (r // len(vals)))
@@ -777,14 +777,15 @@ def run_filter(name, scenario, eps=None, sigma_r0=1000.0, sigma_v0=1.0, q_r=0.0,
     eps : float, optional
         RKF scalar, in :data:`EPS_RANGE` (default :data:`EPSILON` of the body).
     sigma_r0, sigma_v0 : float
-        Initial position (m) and velocity (m/s) error, 1 sigma per axis; the initial
-        error is drawn from this distribution and ``P0`` is its covariance.
+        Initial position (m, in [1e-3, 1e8]) and velocity (m/s, in [1e-6, 1e5]) error,
+        1 sigma per axis; the initial error is drawn from this distribution and ``P0`` is
+        its covariance.
     q_r, q_v : float
         Process noise per step, 1 sigma per axis, m and m/s.
     q_b : float
         ASUKF bias random-walk step, m per step (1 sigma).
     sigma_b0 : float
-        ASUKF initial bias uncertainty, m.
+        ASUKF initial bias uncertainty, m, in [1e-3, 1e8].
     rkf_bias : {"residual", "oracle", "prior"}
         Where the RKF's bound on ``B B^T`` comes from. ``"residual"`` (default, the
         paper's, re-derived): the lower bound of :func:`rkf_bias_bound` from the running
@@ -884,10 +885,12 @@ def run_filters(name, scenarios, rngs=None, eps=None, sigma_r0=1000.0, sigma_v0=
         raise ValueError(f"rngs must hold one entry per scenario ({len(scenarios)}), got {len(rngs)}")
     r, N = len(scenarios), sc.t.size
     eps = EPSILON[sc.body] if eps is None else check_real("eps", eps, *EPS_RANGE)
-    sigma_r0 = _per_run("sigma_r0", sigma_r0, r, 1e8, lo_open=True)
-    sigma_v0 = _per_run("sigma_v0", sigma_v0, r, 1e5, lo_open=True)
+    # Initial sigmas from 1 mm and 1 um/s: their squares (P0) stay far from underflow, which
+    # left a P0 of 5e-324**2 = 0 that no Cholesky factor takes.
+    sigma_r0 = _per_run("sigma_r0", sigma_r0, r, 1e8, lo=1e-3)
+    sigma_v0 = _per_run("sigma_v0", sigma_v0, r, 1e5, lo=1e-6)
     q_r, q_v, q_b = _per_run("q_r", q_r, r, 1e6), _per_run("q_v", q_v, r, 1e3), _per_run("q_b", q_b, r, 1e6)
-    sigma_b0 = _per_run("sigma_b0", sigma_b0, r, 1e8, lo_open=True)
+    sigma_b0 = _per_run("sigma_b0", sigma_b0, r, 1e8, lo=1e-3)  # as sigma_r0
     check_choice("rkf_bias", rkf_bias, RKF_BIAS)
     td_carry_noise = validate.check_bool("td_carry_noise", td_carry_noise)
     for key, value, mode in (("oracle_error", oracle_error, "oracle"), ("bias_max", bias_max, "prior")):
