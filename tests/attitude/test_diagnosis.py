@@ -64,3 +64,13 @@ def test_diagnose_persistence_arming_and_confirmation():
         att.diagnose(t, r, np.ones(3))
     with pytest.raises(ValueError, match="^persist"):
         att.diagnose(t, r, np.ones(4), persist=0)
+
+
+@pytest.mark.parametrize("t, thresholds, match", [
+    ([0, 2, 1, 3, 4.0], np.ones(4) * 0.5, r"^t must be strictly increasing"),
+    (np.zeros(5), np.ones(4) * 0.5, r"^t must be strictly increasing"),
+    (np.arange(5.0), np.ones((1, 4)) * 0.5, r"^thresholds must have shape \(\.\.\., 4\)")])
+def test_issue35_diagnose_refuses_unordered_times_and_extra_threshold_axes(t, thresholds, match):
+    # Review 35f finding 36: accepted, and 2-D thresholds gave an array verdict, not a str.
+    with pytest.raises(ValueError, match=match):
+        att.diagnose(np.asarray(t), np.ones((5, 4)), thresholds)

@@ -187,6 +187,13 @@ class Diagnosis:
     verdict: object
 
 
+def _broadcasts_to(shape, target):
+    try:
+        return np.broadcast_shapes(shape, target) == target
+    except ValueError:
+        return False
+
+
 def diagnose(t, residuals, thresholds, *, t_arm=0.0, persist=3, confirm_s=5.0, decide=sos_decide):
     """Threshold logic shared by SOS, DOS and ref. [22].
 
@@ -199,9 +206,10 @@ def diagnose(t, residuals, thresholds, *, t_arm=0.0, persist=3, confirm_s=5.0, d
     Parameters
     ----------
     t : array_like, shape (n,)
-        Sample times, s.
+        Sample times, s, strictly increasing.
     residuals : array_like, shape (..., n, m)
     thresholds : array_like, shape (..., m)
+        Its leading axes broadcast to the residuals' ``...`` (one verdict a run).
     t_arm : float
         No flag before this time, s.
     persist : int
@@ -227,7 +235,13 @@ def diagnose(t, residuals, thresholds, *, t_arm=0.0, persist=3, confirm_s=5.0, d
     r = check_finite_array("residuals", residuals)
     if t.ndim != 1 or r.ndim < 2 or r.shape[-2] != t.size:
         raise ValueError(f"residuals must have shape (..., n, m) with n = len(t) = {t.size}")
+    if t.size > 1 and not np.all(np.diff(t) > 0):  # the detection time is the first flag's
+        raise ValueError("t must be strictly increasing sample times, s")
     J = check_finite_array("thresholds", thresholds, shape=(r.shape[-1],))
+    lead = r.shape[:-2]
+    if not _broadcasts_to(J.shape[:-1], lead):  # else the verdict would gain axes
+        raise ValueError(f"thresholds must have shape (..., {r.shape[-1]}) whose leading axes "
+                         f"broadcast to the residuals' {lead}, got {J.shape}")
     t_arm = check_real("t_arm", t_arm)
     persist = check_int("persist", persist, 1, t.size)
     confirm_s = check_real("confirm_s", confirm_s, 0.0, 86400.0)  # as SimConfig's
