@@ -201,3 +201,10 @@ def test_issue35_sites_must_be_distinct(sites_deg):
     E = pl.sites_ecef([(39, 116, 0), (39.1, 116, 0), (39, 116.1, 0), (39.1, 116.1, 0)])
     with pytest.raises(ValueError, match=r"^sites must be distinct sites at least 1 m apart"):
         pl.pdop(np.radians(39.05), np.radians(116.05), 1e4, E[[0, 0, 2, 3]])
+
+
+def test_issue35_pdop_refuses_sites_on_one_line_of_sight():
+    # Review 35f finding 33's class: distinct sites stacked on one vertical give a singular G.
+    E = pl.sites_ecef([(39, 116, h) for h in (0, 100, 200, 300)])
+    with pytest.raises(ValueError, match=r"^sites must surround the receiver in 3-D"):
+        pl.pdop(np.radians(39.05), np.radians(116.05), 1e4, E)
