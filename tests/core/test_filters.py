@@ -402,3 +402,11 @@ def test_issue35_nees_refuses_scales_that_leave_the_float_range(err, P, match):
     # Review 35f finding 21: nan, and an overflow warning.
     with pytest.raises(ValueError, match=match):
         filters.nees(err, P)
+
+
+def test_issue35_jacobians_beyond_1e100_are_refused_by_name():
+    # Review 35f finding 20's class: H P H^T and F P F^T overflowed.
+    with pytest.raises(ValueError, match=r"^H must have entries in \[-1e\+100, 1e\+100\]"):
+        filters.ekf_update(np.zeros(2), np.eye(2), [1.0], [0.0], [[1e200, 0.0]], [[1.0]])
+    with pytest.raises(ValueError, match=r"^F must have entries in \[-1e\+100, 1e\+100\]"):
+        filters.ekf_predict(np.zeros(2), np.eye(2), np.zeros(2), 1e200 * np.eye(2), np.eye(2))

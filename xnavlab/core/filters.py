@@ -204,7 +204,8 @@ def ekf_predict(x, P, f, F, Q, check=True):
     f : callable or array_like
         ``f(x) -> x-`` (the propagated state), or the propagated state itself.
     F : callable or array_like, shape (n, n)
-        State-transition matrix ``d f / d x`` at ``x`` (or a callable of ``x``).
+        State-transition matrix ``d f / d x`` at ``x`` (or a callable of ``x``), entries in
+        [-1e100, 1e100].
     Q : array_like, shape (n, n)
         Process-noise covariance over the step, variances in [0, 1e100].
     check : bool
@@ -229,7 +230,7 @@ def ekf_predict(x, P, f, F, Q, check=True):
     if check:
         x, P = _checked_state(x, P)
         Q = check_covariance("Q", _scaled("Q", Q), x.size)
-        Phi = _checked_model("F", _call(F, x), (x.size, x.size))
+        Phi = _bounded("F", _checked_model("F", _call(F, x), (x.size, x.size)))
         x_new = _checked_model("f(x)", _call(f, x), (x.size,))
     else:
         x = np.asarray(x, dtype=float)
@@ -280,7 +281,7 @@ def ekf_update(x, P, z, h, H, R, residual=None, check=True):
     h : callable or array_like
         ``h(x) -> z_pred``, or the predicted measurement itself.
     H : callable or array_like, shape (m, n)
-        Measurement Jacobian at ``x`` (or a callable of ``x``).
+        Measurement Jacobian at ``x`` (or a callable of ``x``), entries in [-1e100, 1e100].
     R : array_like, shape (m, m)
         Measurement-noise covariance, positive definite, variances in [1e-100, 1e100].
     residual : callable, optional
@@ -316,7 +317,7 @@ def ekf_update(x, P, z, h, H, R, residual=None, check=True):
         m = z.size
         Hm = _checked_model("H", np.atleast_2d(_call(H, x)), (None, x.size))
         _odd_length(m, Hm.shape[0], "the rows of H", R)
-        Hm = _checked_model("H", Hm, (m, x.size))
+        Hm = _bounded("H", _checked_model("H", Hm, (m, x.size)))
         z_pred = _checked_model("h(x)", _call(h, x), (m,))
         R = check_covariance("R", _scaled("R", np.atleast_2d(R), True), m, definite=True)
     else:
