@@ -81,8 +81,6 @@ OPEN = {
     "xnavlab.plins.parity.identification:\"Q\"": "a scalar random-walk variance: finite",
     "xnavlab.plins.parity.fuzzy:\"center\"": "ordered after left: a membership in [0, 1]",
     "xnavlab.plins.parity.fuzzy:\"right\"": "ordered after center: a membership in [0, 1]",
-    "xnavlab.robust.comparison:\"rmse_filter\"": "a ratio of two RMSEs, finite",
-    "xnavlab.robust.comparison:\"rmse_ukf\"": "a ratio of two RMSEs, finite",
     "xnavlab.robust.comparison:lab": "an RMSE in a table",
     "xnavlab.robust.coverage:\"k\"": "a k-sigma multiplier: the coverage stays in [0, 1]",
 }
