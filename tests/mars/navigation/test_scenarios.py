@@ -485,3 +485,12 @@ def test_run_takes_progress_as_a_bool_only():
     """Review 35e: progress="no" drew a progress bar (a non-empty string is true)."""
     with pytest.raises(ValueError, match=r"^progress must be True or False, got 'no'$"):
         scenarios.run(scenarios.MarsScenario(days=0.02), progress="no")
+
+
+def test_a_real_given_as_a_fraction_or_numpy_scalar_is_kept_as_a_float():
+    # review 35f #28: Fraction(3, 1) passed the check and failed in numpy's rint
+    from fractions import Fraction
+
+    sc = scenarios.MarsScenario(days=np.float32(0.5), dt_uv=Fraction(3, 1), area_m2=np.int64(1))
+    assert all(type(getattr(sc, n)) is float for n in ("days", "dt_uv", "area_m2"))
+    assert sc.dt_uv == 3.0 and sc == scenarios.MarsScenario(days=float(np.float32(0.5)))

@@ -328,6 +328,8 @@ class MarsScenario:
                              f"t0 to t0 + days, in {' and '.join(e.upper() for e in e)}), got {self.t0:.6g}")
         s0 = dynamics.check_state0(self.state0)  # here, so scenario --check says so
         object.__setattr__(self, "state0", tuple(float(v) for v in s0))
+        for f in (f for f in fields(self) if type(f.default) is float):  # checked reals, kept as
+            object.__setattr__(self, f.name, float(getattr(self, f.name)))  # floats (a Fraction failed)
         unused_inputs.check_fields(self)  # a field set but made inert by another is refused
 
     @classmethod
