@@ -77,7 +77,7 @@ def simulate(state0, dt, n, accel_sigma=0.0, rng=None):
     state0 : array_like
         Initial position and velocity, shape (2 d,), d in {1, 2, 3}.
     dt, accel_sigma
-        As :func:`~xnavlab.line.measure.cv_model`.
+        As :func:`cv_model`.
     n : int
         Number of steps, in [1, 1e6].
     rng : numpy.random.Generator or int, optional
@@ -211,7 +211,7 @@ def run_line(exposure_s=10.0, accel_sigma=0.0, span_s=2000.0, dv=1.0, seed=0):
     exposure_s : float
         Window of each TOA, s, in [0.1, 1e4].
     accel_sigma : float
-        As :func:`~xnavlab.line.measure.cv_model`.
+        As :func:`cv_model`.
     span_s : float
         Length of the run, s, in [exposure_s, 1e5]; it holds ``round(span_s / exposure_s)``
         TOAs.
