@@ -223,3 +223,10 @@ def test_check_seed_and_seed_after_stay_in_the_range_every_record_stores():
     assert seed_after(0) == 1 and seed_after(2**63 - 1) == 0 and seed_after(2**63 - 2, 2) == 0
     with pytest.raises(ValueError, match=r"^seed must be an integer in"):
         seed_after(2**63)
+
+
+@pytest.mark.parametrize("value", [[1.0, True], (0.0, [2.0, np.True_]), [[True, 0.0], [0.0, 1.0]]])
+def test_a_bool_among_numbers_is_refused_not_read_as_one(value):
+    # review 35g: [..., true] in a scenario file's state0 became 1.0 m/s without a word
+    with pytest.raises(ValueError, match=r"^x must be an array of finite numbers, got "):
+        check_finite_array("x", value)

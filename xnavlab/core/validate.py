@@ -130,6 +130,10 @@ def check_finite_array(name, value, shape=None, dtype=float, finite=True):
     Traceback (most recent call last):
     ...
     ValueError: z must hold real numbers, got complex values (an imaginary part is not dropped)
+    >>> check_finite_array("state0", [1.0, True])
+    Traceback (most recent call last):
+    ...
+    ValueError: state0 must be an array of finite numbers, got [1.0, True]
     """
     try:
         with warnings.catch_warnings():
@@ -142,7 +146,8 @@ def check_finite_array(name, value, shape=None, dtype=float, finite=True):
     if "c" in kinds:
         raise ValueError(f"{name} must hold real numbers, got complex values (an imaginary part "
                          f"is not dropped)")
-    if kinds & set("USbO"):
+    if kinds & set("USbO") or (isinstance(value, list | tuple) and _holds_bool(value)):
+        # a True among floats: np.asarray made it 1.0 without a word (review 35g)
         raise ValueError(f"{name} must be an array of finite numbers, got {shown(value)}")
     try:
         arr = raw.astype(dtype, copy=False)
@@ -157,6 +162,12 @@ def check_finite_array(name, value, shape=None, dtype=float, finite=True):
     if finite and not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} must contain only finite numbers (no NaN or inf)")
     return arr
+
+
+def _holds_bool(value):
+    """Whether a (nested) list or tuple holds a bool anywhere."""
+    return any(isinstance(v, bool | np.bool_) or (isinstance(v, list | tuple) and _holds_bool(v))
+               for v in value)
 
 
 def check_bool(name, value):
