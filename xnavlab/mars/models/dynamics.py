@@ -95,7 +95,7 @@ GM_BODIES = {"sun": GM_SUN, "jupiter": GM_JUPITER}
 #: body a spacecraft orbits (10 x GM_SUN would still be a star; 1e308 overflowed ``gm * r``).
 MAX_GM = 1e21
 #: Distances from the centre a position may have, m: from 1 m (the point-mass field is
-#: singular at the centre; its 1/|r|^5 gradient overflows below about 1e-57 m) to 1e15 m
+#: singular at the centre; its gradient's ``1/|r|^5`` overflows below about 1e-57 m) to 1e15 m
 #: (6,700 au, past every planet; ``|r|^3`` overflows above 1e102 m).
 R_MIN, R_MAX = 1.0, 1e15
 #: The largest reference radius of a body, m: above the Sun's 6.96e8 m.
