@@ -190,9 +190,8 @@ def _position(name, r):
     """A finite position (..., 3), m, between R_MIN and R_MAX from the centre (the field is
     singular at the centre, and its powers of |r| overflow float64 near it and far out)."""
     r = check_finite_array(name, r, shape=(3,))
-    # |r| >= its largest component: a component past R_MAX is refused before |r|^2 overflows
-    rn = np.where(np.abs(r).max(axis=-1) > R_MAX, np.inf, np.linalg.norm(np.clip(r, -R_MAX, R_MAX),
-                                                                          axis=-1))
+    with np.errstate(over="ignore"):  # a norm beyond float64 (inf) is refused below
+        rn = np.linalg.norm(r, axis=-1)
     if np.any(rn < R_MIN) or np.any(rn > R_MAX):
         bad = float(np.ravel(rn)[np.argmax(np.ravel((rn < R_MIN) | (rn > R_MAX)))])
         raise ValueError(f"{name} must lie between {R_MIN:g} m and {R_MAX:g} m of the centre "
