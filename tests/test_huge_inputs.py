@@ -22,45 +22,24 @@ Runtime (quiet machine, ``pytest -p no:randomly tests/test_huge_inputs.py``): ab
 
 import ast
 import contextlib
-import dataclasses
-import doctest
-import functools
-import importlib
-import inspect
 import io
-import math
-import numbers
-import pkgutil
-import re
-import resource
-import signal
-import time
 import warnings
 
-import matplotlib.pyplot as plt
-import numpy as np
 import pytest
-
-#: The subpackages whose public examples are tried.
-SUBPACKAGES = (
-    "core",
-    "mars.timing",
-    "mars.models",
-    "mars.faults",
-    "mars.navigation",
-    "mars.studies",
-    "robust",
-    "attitude",
-    "plins",
-    "line",
+from example_calls import (
+    bounded,
+    evaluate,
+    example_calls,
+    finite,
+    names_one,
+    parameter_names,
+    public_doctests,
+    state,
+    unmodified,
 )
+
 HUGE_FLOAT = 1e308
 HUGE_INT = 10**30
-#: A huge call still running after this many seconds fails (an endless loop or huge work): ten
-#: times the slowest example's unmodified call, for a loaded machine.
-LIMIT_S = 20.0
-#: Address space a huge call may add before numpy raises MemoryError.
-HEADROOM = 2 * 2**30
 
 #: ``test name:parameter`` -> why that substitution is not tried.
 SKIP: dict[str, str] = {}
@@ -69,29 +48,6 @@ SKIP: dict[str, str] = {}
 ALLOW_INFINITE = {
     "xnavlab.core.detection.online.Detection.first_onset_after": "inf: no event after t0 (documented)",
 }
-
-
-def _public_modules():
-    for sub in SUBPACKAGES:
-        pkg = importlib.import_module(f"xnavlab.{sub}")
-        names = [pkg.__name__]
-        names += [m.name for m in pkgutil.walk_packages(pkg.__path__, pkg.__name__ + ".")]
-        for name in names:
-            if not any(p.startswith("_") for p in name.split(".")):
-                yield importlib.import_module(name)
-
-
-def _doctests():
-    finder = doctest.DocTestFinder(exclude_empty=True)
-    for module in _public_modules():
-        for name in getattr(module, "__all__", ()):
-            obj = getattr(module, name)
-            if getattr(obj, "__module__", None) != module.__name__:
-                continue  # a re-export: tried in its own module
-            if inspect.isfunction(obj) or inspect.isclass(obj):
-                yield from finder.find(
-                    obj, f"{module.__name__}.{name}", module=module, globs=dict(vars(module))
-                )
 
 
 def _literal(node):
@@ -107,31 +63,18 @@ def _literal(node):
 
 def _calls(test):
     """(example index, call node, argument slot) for every literal argument of a call."""
-    fname = test.name.rsplit(".", 1)[-1]
-    for i, ex in enumerate(test.examples):
-        try:
-            tree = ast.parse(ex.source)
-        except SyntaxError:
-            continue
-        for node in ast.walk(tree):
-            if not isinstance(node, ast.Call):
-                continue
-            f = node.func
-            if not (
-                isinstance(f, ast.Name) and f.id == fname or isinstance(f, ast.Attribute) and f.attr == fname
-            ):
-                continue
-            for j, arg in enumerate(node.args):
-                if _literal(arg):
-                    yield i, node, j
-            for kw in node.keywords:
-                if kw.arg and _literal(kw.value):
-                    yield i, node, kw.arg
+    for i, node in example_calls(test):
+        for j, arg in enumerate(node.args):
+            if _literal(arg):
+                yield i, node, j
+        for kw in node.keywords:
+            if kw.arg and _literal(kw.value):
+                yield i, node, kw.arg
 
 
 def _cases():
     out = []
-    for test in _doctests():
+    for test in public_doctests():
         for i, node, slot in _calls(test):
             lineno = (test.lineno or 0) + test.examples[i].lineno + 1
             ident = f"{test.name}:{lineno}:{slot}"
@@ -141,43 +84,6 @@ def _cases():
 
 
 CASES = _cases()
-
-
-@functools.cache
-def _state(test, i):
-    """The doctest's globals before its example ``i`` (the examples before it run once)."""
-    globs = dict(test.globs, np=np)
-    with contextlib.redirect_stdout(io.StringIO()), warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        for ex in test.examples[:i]:
-            try:
-                exec(compile(ex.source, test.name, "single"), globs)
-            except Exception:
-                pass
-    plt.close("all")
-    return globs
-
-
-def _eval(node, globs):
-    return eval(compile(ast.Expression(node), "<example>", "eval"), dict(globs))
-
-
-@functools.cache
-def _unmodified(test, i, node):
-    """(seconds, result, the categories of warning it gives) of the call as the example
-    writes it; None if it fails."""
-    globs = _state(test, i)
-    start = time.perf_counter()
-    try:
-        with contextlib.redirect_stdout(io.StringIO()), warnings.catch_warnings(record=True) as seen:
-            warnings.simplefilter("always")
-            result = _eval(node, globs)
-    except Exception:
-        return None
-    finally:
-        plt.close("all")
-    own = tuple({w.category for w in seen if not issubclass(w.category, RuntimeWarning)})
-    return time.perf_counter() - start, result, own
 
 
 def _huge(node, slot):
@@ -193,71 +99,6 @@ def _huge(node, slot):
     return ast.fix_missing_locations(new)
 
 
-def _names(node, globs):
-    """Names a refusal of this call may give: the callable's parameters, the call's keywords
-    (a setting passed on by ``**kwargs``) and its text arguments (the name a ``check_*``
-    helper is told to use)."""
-    params = set(inspect.signature(_eval(node.func, globs)).parameters)
-    text = {a.value for a in node.args if isinstance(a, ast.Constant) and isinstance(a.value, str)}
-    return params | text | {k.arg for k in node.keywords if k.arg}
-
-
-def _names_one(message, names):
-    return any(re.search(rf"(?<![\w.]){re.escape(n)}(?!\w)", message) for n in names)
-
-
-def finite(x, depth=0):
-    """Whether every number in ``x`` is finite (a few levels of containers, cheaply)."""
-    if depth > 4 or isinstance(x, bool | str | bytes | type(None)):
-        return True
-    if isinstance(x, numbers.Number | np.number):
-        return cmath_finite(complex(x)) if not isinstance(x, numbers.Integral | np.integer) else True
-    if isinstance(x, np.ndarray):
-        if x.dtype.kind in "fc":
-            return bool(np.all(np.isfinite(x)))
-        if x.dtype.kind == "O":
-            return all(finite(v, depth + 1) for v in x.ravel()[:200])
-        return True
-    if dataclasses.is_dataclass(x) and not isinstance(x, type):
-        return all(finite(getattr(x, f.name), depth + 1) for f in dataclasses.fields(x))
-    if isinstance(x, tuple | list):
-        return all(finite(v, depth + 1) for v in x[:200])
-    if isinstance(x, dict):
-        return all(finite(v, depth + 1) for v in list(x.values())[:200])
-    return True
-
-
-def cmath_finite(z):
-    return math.isfinite(z.real) and math.isfinite(z.imag)
-
-
-class Endless(Exception):
-    """A huge call ran past LIMIT_S."""
-
-
-@contextlib.contextmanager
-def _bounded():
-    """Stop the call after LIMIT_S and cap its extra address space at HEADROOM."""
-
-    def alarm(signum, frame):
-        raise Endless(f"still running after {LIMIT_S} s")
-
-    soft, hard = resource.getrlimit(resource.RLIMIT_AS)
-    with open("/proc/self/statm") as f:
-        used = int(f.read().split()[0]) * resource.getpagesize()
-    cap = used + HEADROOM if hard == resource.RLIM_INFINITY else min(hard, used + HEADROOM)
-    old = signal.signal(signal.SIGALRM, alarm)
-    resource.setrlimit(resource.RLIMIT_AS, (cap, hard))
-    signal.setitimer(signal.ITIMER_REAL, LIMIT_S)
-    try:
-        yield
-    finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, old)
-        resource.setrlimit(resource.RLIMIT_AS, (soft, hard))
-        plt.close("all")
-
-
 def test_the_examples_are_collected():
     names = {p.id.split(":")[0] for p in CASES}
     assert len(CASES) > 100
@@ -269,21 +110,21 @@ def test_a_huge_literal_is_used_or_refused(test, i, node, slot):
     ident = f"{test.name}:{slot}"
     if ident in SKIP:
         pytest.skip(SKIP[ident])
-    base = _unmodified(test, i, node)
+    base = unmodified(test, i, node)
     if base is None:
         pytest.skip("the unmodified call raises (an example of a refusal)")
-    globs = _state(test, i)
+    globs = state(test, i)
     call = _huge(node, slot)
     source = ast.unparse(call)
     try:
-        with _bounded(), warnings.catch_warnings(), contextlib.redirect_stdout(io.StringIO()):
+        with bounded(), warnings.catch_warnings(), contextlib.redirect_stdout(io.StringIO()):
             warnings.simplefilter("error")
             if base[2]:  # a function that warns by design: its own warnings are its output
                 warnings.simplefilter("ignore", base[2])
-            result = _eval(call, globs)
+            result = evaluate(call, globs)
     except ValueError as err:
-        names = _names(node, globs)
-        assert _names_one(str(err), names), f"{source}: the ValueError names none of {sorted(names)}: {err}"
+        names = parameter_names(node, globs)
+        assert names_one(str(err), names), f"{source}: the ValueError names none of {sorted(names)}: {err}"
         return
     except BaseException as err:
         if isinstance(err, KeyboardInterrupt):

@@ -21,6 +21,11 @@ __all__ = [
     "check_finite_array",
     "check_choice",
     "check_vector",
+    "check_shape",
+    "check_arrays",
+    "check_callable",
+    "check_instance",
+    "check_text",
     "check_covariance",
     "check_definite",
     "check_items",
@@ -222,6 +227,118 @@ def check_vector(name, value, n=None):
     if arr.ndim != 1 or (n is not None and arr.shape[0] != n):
         raise ValueError(f"{name} must be a 1-D array (shape {want}), got shape {arr.shape}")
     return arr
+
+
+def check_shape(name, value, shape, why=""):
+    """Return ``value`` as a finite float array of exactly ``shape``, else one ValueError that
+    leads with ``name`` (the argument at fault) and says what fixed the shape.
+
+    A cross-check of several arguments (``r`` must match the rows of ``H``) names the argument
+    whose shape disagrees with the ones checked before it, so the user reads first what to
+    change.
+
+    Parameters
+    ----------
+    name : str
+        Parameter name used in the error message.
+    value : array_like
+        Value to check.
+    shape : tuple of int or None
+        The shape (``None`` entries match any size).
+    why : str, optional
+        What fixed the sizes, for the message (``"m = rows of H"``).
+
+    Examples
+    --------
+    >>> check_shape("r", [1.0, 2.0], (2,), "m = rows of H").shape
+    (2,)
+    >>> check_shape("r", [], (2,), "m = rows of H")
+    Traceback (most recent call last):
+    ...
+    ValueError: r must have shape (2,) (m = rows of H), got shape (0,)
+    """
+    arr = check_finite_array(name, value)
+    if arr.ndim != len(shape) or any(s not in (None, t) for s, t in zip(shape, arr.shape, strict=False)):
+        want = str(tuple("n" if s is None else s for s in shape)).replace("'", "")
+        reason = f" ({why})" if why else ""
+        raise ValueError(f"{name} must have shape {want}{reason}, got shape {arr.shape}")
+    return arr
+
+
+def check_arrays(name, value, ndim=None, min_len=1):
+    """Return ``value`` as a list of finite float arrays (a list or tuple of them, at least
+    ``min_len``), each checked under ``name[i]``, else one ValueError.
+
+    Examples
+    --------
+    >>> [a.shape for a in check_arrays("xs", [[1.0, 2.0], [3.0, 4.0]], ndim=1)]
+    [(2,), (2,)]
+    >>> check_arrays("xs", True)
+    Traceback (most recent call last):
+    ...
+    ValueError: xs must be a list of arrays, got True
+    """
+    if not isinstance(value, list | tuple):
+        raise ValueError(f"{name} must be a list of arrays, got {shown(value)}")
+    if len(value) < min_len:
+        raise ValueError(f"{name} must hold at least {min_len} array{'s' * (min_len != 1)}, got {len(value)}")
+    out = [check_finite_array(f"{name}[{i}]", v) for i, v in enumerate(value)]
+    for i, arr in enumerate(out):
+        if ndim is not None and arr.ndim != ndim:
+            raise ValueError(f"{name}[{i}] must be a {ndim}-D array, got shape {arr.shape}")
+    return out
+
+
+def check_callable(name, value, what="a function"):
+    """Return ``value`` if it can be called, else one ValueError naming ``name``.
+
+    Examples
+    --------
+    >>> check_callable("h", abs) is abs
+    True
+    >>> check_callable("h", True, "a function h(x) -> z")
+    Traceback (most recent call last):
+    ...
+    ValueError: h must be a function h(x) -> z, got True
+    """
+    if not callable(value):
+        raise ValueError(f"{name} must be {what}, got {shown(value)}")
+    return value
+
+
+def check_instance(name, value, kinds, what, bool_ok=False):
+    """Return ``value`` if it is an instance of ``kinds``, else one ValueError naming ``name``
+    (a bool is refused unless ``bool_ok``: ``True`` is an ``int`` to Python, not to a user).
+
+    Examples
+    --------
+    >>> check_instance("window", (0.0, 1.0), tuple | list, "a pair (t_from, t_to)")
+    (0.0, 1.0)
+    >>> check_instance("scenario", 1.0, dict, "a scenario")
+    Traceback (most recent call last):
+    ...
+    ValueError: scenario must be a scenario, got float 1.0
+    """
+    if not isinstance(value, kinds) or isinstance(value, bool) and not bool_ok:
+        raise ValueError(f"{name} must be {what}, got {type(value).__name__} {shown(value)}")
+    return value
+
+
+def check_text(name, value, none_ok=False):
+    """Return ``value`` if it is a string (or None when ``none_ok``), else one ValueError.
+
+    Examples
+    --------
+    >>> check_text("title", "Figure 1")
+    'Figure 1'
+    >>> check_text("title", True)
+    Traceback (most recent call last):
+    ...
+    ValueError: title must be text (a str), got True
+    """
+    if not (isinstance(value, str) or none_ok and value is None):
+        raise ValueError(f"{name} must be text (a str{' or None' if none_ok else ''}), got {shown(value)}")
+    return value
 
 
 def check_covariance(name, value, n=None, *, definite=False, rtol=1e-8):

@@ -1,0 +1,219 @@
+"""The public examples as calls a test can run again with other arguments (issue 35).
+
+Shared by ``tests/test_huge_inputs.py`` (each numeric literal replaced by a huge value) and
+``tests/test_edge_inputs.py`` (each argument replaced by an edge value: a bool, an empty or
+one-element list, a 0-d array, zero, a subnormal...). Both take the doctest examples of every
+public function and class (``__all__`` of every public module of :data:`SUBPACKAGES`) and the
+calls in them of the function the docstring documents; they judge a changed call the same way:
+a ``ValueError`` naming the parameter, or a result whose numbers are finite, with every warning
+an error, each call stopped after :data:`LIMIT_S` and given at most :data:`HEADROOM` more bytes.
+"""
+
+import ast
+import contextlib
+import dataclasses
+import doctest
+import functools
+import importlib
+import inspect
+import io
+import math
+import numbers
+import pkgutil
+import re
+import resource
+import signal
+import time
+import warnings
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+__all__ = [
+    "SUBPACKAGES",
+    "LIMIT_S",
+    "HEADROOM",
+    "Endless",
+    "public_doctests",
+    "example_calls",
+    "state",
+    "evaluate",
+    "unmodified",
+    "parameter_names",
+    "names_one",
+    "first_name",
+    "finite",
+    "bounded",
+]
+
+#: The subpackages whose public examples are tried.
+SUBPACKAGES = (
+    "core",
+    "mars.timing",
+    "mars.models",
+    "mars.faults",
+    "mars.navigation",
+    "mars.studies",
+    "robust",
+    "attitude",
+    "plins",
+    "line",
+)
+#: A changed call still running after this many seconds fails (an endless loop or huge work):
+#: ten times the slowest example's unmodified call, for a loaded machine.
+LIMIT_S = 20.0
+#: Address space a changed call may add before numpy raises MemoryError.
+HEADROOM = 2 * 2**30
+
+
+def _public_modules():
+    for sub in SUBPACKAGES:
+        pkg = importlib.import_module(f"xnavlab.{sub}")
+        names = [pkg.__name__]
+        names += [m.name for m in pkgutil.walk_packages(pkg.__path__, pkg.__name__ + ".")]
+        for name in names:
+            if not any(p.startswith("_") for p in name.split(".")):
+                yield importlib.import_module(name)
+
+
+def public_doctests():
+    """The doctests of every public function and class, each in the module that defines it."""
+    finder = doctest.DocTestFinder(exclude_empty=True)
+    for module in _public_modules():
+        for name in getattr(module, "__all__", ()):
+            obj = getattr(module, name)
+            if getattr(obj, "__module__", None) != module.__name__:
+                continue  # a re-export: tried in its own module
+            if inspect.isfunction(obj) or inspect.isclass(obj):
+                yield from finder.find(
+                    obj, f"{module.__name__}.{name}", module=module, globs=dict(vars(module))
+                )
+
+
+def example_calls(test):
+    """(example index, call node) for every call in ``test`` of the callable it documents."""
+    fname = test.name.rsplit(".", 1)[-1]
+    for i, ex in enumerate(test.examples):
+        try:
+            tree = ast.parse(ex.source)
+        except SyntaxError:
+            continue
+        for node in ast.walk(tree):
+            if not isinstance(node, ast.Call):
+                continue
+            f = node.func
+            if isinstance(f, ast.Name) and f.id == fname or isinstance(f, ast.Attribute) and f.attr == fname:
+                yield i, node
+
+
+@functools.cache
+def state(test, i):
+    """The doctest's globals before its example ``i`` (the examples before it run once)."""
+    globs = dict(test.globs, np=np)
+    with contextlib.redirect_stdout(io.StringIO()), warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        for ex in test.examples[:i]:
+            try:
+                exec(compile(ex.source, test.name, "single"), globs)
+            except Exception:
+                pass
+    plt.close("all")
+    return globs
+
+
+def evaluate(node, globs, extra=None):
+    """The value of the expression ``node`` in a copy of ``globs`` (plus ``extra``)."""
+    return eval(compile(ast.Expression(node), "<example>", "eval"), dict(globs, **(extra or {})))
+
+
+@functools.cache
+def unmodified(test, i, node):
+    """(seconds, result, the categories of warning it gives) of the call as the example
+    writes it; None if it fails."""
+    globs = state(test, i)
+    start = time.perf_counter()
+    try:
+        with contextlib.redirect_stdout(io.StringIO()), warnings.catch_warnings(record=True) as seen:
+            warnings.simplefilter("always")
+            result = evaluate(node, globs)
+    except Exception:
+        return None
+    finally:
+        plt.close("all")
+    own = tuple({w.category for w in seen if not issubclass(w.category, RuntimeWarning)})
+    return time.perf_counter() - start, result, own
+
+
+def parameter_names(node, globs):
+    """Names a refusal of this call may give: the callable's parameters, the call's keywords
+    (a setting passed on by ``**kwargs``) and its text arguments (the name a ``check_*``
+    helper is told to use)."""
+    params = set(inspect.signature(evaluate(node.func, globs)).parameters)
+    text = {a.value for a in node.args if isinstance(a, ast.Constant) and isinstance(a.value, str)}
+    return params | text | {k.arg for k in node.keywords if k.arg}
+
+
+def _pattern(name):
+    return rf"(?<![\w.]){re.escape(name)}(?!\w)"
+
+
+def names_one(message, names):
+    """Whether ``message`` names one of ``names`` (a whole word)."""
+    return any(re.search(_pattern(n), message) for n in names)
+
+
+def first_name(message, names):
+    """The one of ``names`` that ``message`` names first (None if it names none)."""
+    found = [(m.start(), n) for n in names for m in [re.search(_pattern(n), message)] if m]
+    return min(found)[1] if found else None
+
+
+def finite(x, depth=0):
+    """Whether every number in ``x`` is finite (a few levels of containers, cheaply)."""
+    if depth > 4 or isinstance(x, bool | str | bytes | type(None)):
+        return True
+    if isinstance(x, numbers.Number | np.number):
+        if isinstance(x, numbers.Integral | np.integer):
+            return True
+        z = complex(x)
+        return math.isfinite(z.real) and math.isfinite(z.imag)
+    if isinstance(x, np.ndarray):
+        if x.dtype.kind in "fc":
+            return bool(np.all(np.isfinite(x)))
+        if x.dtype.kind == "O":
+            return all(finite(v, depth + 1) for v in x.ravel()[:200])
+        return True
+    if dataclasses.is_dataclass(x) and not isinstance(x, type):
+        return all(finite(getattr(x, f.name), depth + 1) for f in dataclasses.fields(x))
+    if isinstance(x, tuple | list):
+        return all(finite(v, depth + 1) for v in x[:200])
+    if isinstance(x, dict):
+        return all(finite(v, depth + 1) for v in list(x.values())[:200])
+    return True
+
+
+class Endless(Exception):
+    """A changed call ran past LIMIT_S."""
+
+
+@contextlib.contextmanager
+def bounded():
+    """Stop the call after LIMIT_S and cap its extra address space at HEADROOM."""
+
+    def alarm(signum, frame):
+        raise Endless(f"still running after {LIMIT_S} s")
+
+    soft, hard = resource.getrlimit(resource.RLIMIT_AS)
+    with open("/proc/self/statm") as f:
+        used = int(f.read().split()[0]) * resource.getpagesize()
+    cap = used + HEADROOM if hard == resource.RLIM_INFINITY else min(hard, used + HEADROOM)
+    old = signal.signal(signal.SIGALRM, alarm)
+    resource.setrlimit(resource.RLIMIT_AS, (cap, hard))
+    signal.setitimer(signal.ITIMER_REAL, LIMIT_S)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old)
+        resource.setrlimit(resource.RLIMIT_AS, (soft, hard))
+        plt.close("all")

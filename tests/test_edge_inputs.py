@@ -1,0 +1,191 @@
+"""Every input is used or refused (issue 35): edge values in the public examples.
+
+Each doctest example of a public function or class (the examples ``tests/example_calls.py``
+collects) is run again with one argument at a time, positional or keyword, replaced by each of
+:func:`edge_values`: a bool, ``-0.0``, an empty list, a one-element list, a list mixing numbers
+and a bool, a 0-d array and, for a positive number, zero, the subnormals just below and above
+it, and for a number in (0, 1] also 1 and the double after 1. A changed call passes when
+
+* it raises a ``ValueError`` that names the replaced parameter before any other parameter of
+  the call (the user reads first the name of what they must change), or
+* it returns a result whose numbers are finite, with no warning, and the value was one a user
+  may mean: a bool or a list holding one is never a number (it must be refused), and an empty
+  list is refused unless the callable maps each element of its input (:data:`EMPTY_OK`).
+
+Anything else fails: a ``TypeError``, ``AttributeError`` or ``IndexError`` from inside (a
+traceback to the user), numpy's own message, a warning, a NaN. A test collects the failures of
+every edge value of one argument and reports them together. :data:`JOINT` lists the refusals
+that rightly lead with another parameter (a joint condition whose other member is named first),
+each with its reason.
+
+Runtime (quiet machine, ``pytest -p no:randomly tests/test_edge_inputs.py``): see the closing
+line of the module's run in ``benchmarks``-free terms: about a minute for some 1,100 arguments.
+"""
+
+import ast
+import contextlib
+import inspect
+import io
+import warnings
+
+import numpy as np
+import pytest
+from example_calls import (
+    bounded,
+    evaluate,
+    example_calls,
+    finite,
+    first_name,
+    parameter_names,
+    public_doctests,
+    state,
+    unmodified,
+)
+
+#: Module -> why its functions are not tried: the package's own plumbing, whose callers are
+#: xnavlab's functions, chapters and CLI, which hand it values they have checked (a user's
+#: value reaches it only through a public function tried here, or through the CLI, whose
+#: grammar and files ``tests/cli`` tries).
+PLUMBING = {
+    "xnavlab.core.validate": "the checks themselves: name, lo, hi are the package's literals",
+    "xnavlab.core.diskcache": "the result cache: keys and paths the package builds",
+    "xnavlab.core.userfiles": "the CLI's file reader: argparse hands it text (tests/cli)",
+    "xnavlab.core.prose": "the book's number formatting: the chapters' own glue",
+    "xnavlab.core.plotting": "the book's tables and figure helpers: the chapters' own calls",
+    "xnavlab.core.widgets": "the sliders' plumbing: the chapters' own calls",
+    "xnavlab.core.campaign": "the campaign engine: tasks and records the package builds",
+    "xnavlab.core.campaign_records": "the records reader: tests/core/test_campaign_records.py",
+    "xnavlab.mars.navigation.unused_inputs": "the run's notes on settings, from checked settings",
+    "xnavlab.mars.navigation.scenario_files": "the scenario-file reader: tests/cli and hypothesis",
+    "xnavlab.mars.navigation.schematics": "the chapter's schematic texts",
+    "xnavlab.mars.timing.pulsar_specs": "the scenario file's pulsar entries: tests/cli",
+}
+
+#: ``test name`` -> why an empty input is a valid one (the result holds one entry per element).
+EMPTY_OK: dict[str, str] = {}
+
+#: ``test name:parameter`` -> why a refusal of an edge value of it names another parameter first.
+JOINT: dict[str, str] = {}
+
+#: ``test name:parameter`` -> why that argument is not tried.
+SKIP: dict[str, str] = {}
+
+BOOLISH = ("True", "[1.0, True, 0.0]")
+
+
+def edge_values(orig):
+    """(label, value) pairs to put in place of the argument ``orig``."""
+    out = []
+    if not isinstance(orig, bool | np.bool_):
+        out.append(("True", True))
+    out += [
+        ("-0.0", -0.0),
+        ("[]", []),
+        ("[1.0]", [1.0]),
+        ("[1.0, True, 0.0]", [1.0, True, 0.0]),
+        ("np.array(1.0)", np.array(1.0)),
+    ]
+    if isinstance(orig, int | float | np.integer | np.floating) and not isinstance(orig, bool | np.bool_):
+        if orig > 0:
+            out += [("0.0", 0.0), ("-5e-324", -5e-324), ("5e-324", 5e-324)]
+            if orig <= 1:
+                out += [("1.0", 1.0), ("nextafter(1, 2)", float(np.nextafter(1.0, 2.0)))]
+    return out
+
+
+def _slot_name(node, slot, globs):
+    if isinstance(slot, str):
+        return slot
+    params = list(inspect.signature(evaluate(node.func, globs)).parameters.values())
+    fixed = [p for p in params if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)]
+    if slot < len(fixed):
+        return fixed[slot].name
+    star = [p for p in params if p.kind == p.VAR_POSITIONAL]
+    return star[0].name if star else f"argument {slot}"
+
+
+def _cases():
+    out, seen = [], set()
+    for test in public_doctests():
+        for i, node in example_calls(test):
+            lineno = (test.lineno or 0) + test.examples[i].lineno + 1
+            slots = [j for j, a in enumerate(node.args) if not isinstance(a, ast.Starred)]
+            slots += [k.arg for k in node.keywords if k.arg]
+            for slot in slots:
+                ident = f"{test.name}:{lineno}:{slot}"
+                if ident not in seen:
+                    seen.add(ident)
+                    out.append(pytest.param(test, i, node, slot, id=ident))
+    return out
+
+
+CASES = _cases()
+
+
+def _changed(node, slot):
+    """A copy of the call whose argument at ``slot`` is the name ``EDGE``."""
+    new = ast.parse(ast.unparse(node), mode="eval").body
+    edge = ast.Name("EDGE", ast.Load())
+    if isinstance(slot, int):
+        new.args[slot] = edge
+    else:
+        next(k for k in new.keywords if k.arg == slot).value = edge
+    return ast.fix_missing_locations(new)
+
+
+def _judge(call, globs, label, value, base, name, names, key):
+    """None if the call with ``EDGE = value`` is used or refused well, else what went wrong."""
+    try:
+        with bounded(), warnings.catch_warnings(), contextlib.redirect_stdout(io.StringIO()):
+            warnings.simplefilter("error")
+            if base[2]:  # a function that warns by design: its own warnings are its output
+                warnings.simplefilter("ignore", base[2])
+            result = evaluate(call, globs, {"EDGE": value})
+    except ValueError as err:
+        lead = first_name(str(err), names)
+        if lead == name or key in JOINT:
+            return None
+        return f"{name}={label}: the ValueError leads with {lead!r}: {err}"
+    except BaseException as err:
+        if isinstance(err, KeyboardInterrupt):
+            raise
+        return f"{name}={label}: {type(err).__name__}: {err}"
+    if label in BOOLISH:
+        return f"{name}={label}: a bool was taken as a number or a value"
+    if label == "[]" and key.rsplit(":", 1)[0] not in EMPTY_OK:
+        return f"{name}={label}: an empty list was accepted"
+    if finite(base[1]) and not finite(result):
+        return f"{name}={label}: a non-finite result"
+    return None
+
+
+def test_the_arguments_are_collected():
+    names = {p.id.split(":")[0] for p in CASES}
+    assert len(CASES) > 500
+    assert "xnavlab.core.filters.ekf_update" in names
+
+
+@pytest.mark.parametrize(("test", "i", "node", "slot"), CASES)
+def test_an_edge_value_is_used_or_refused(test, i, node, slot):
+    module = test.name.rsplit(".", 1)[0]
+    if module in PLUMBING or module.rsplit(".", 1)[0] in PLUMBING:
+        pytest.skip(PLUMBING.get(module) or PLUMBING[module.rsplit(".", 1)[0]])
+    globs = state(test, i)
+    key = f"{test.name}:{_slot_name(node, slot, globs)}"
+    if key in SKIP:
+        pytest.skip(SKIP[key])
+    base = unmodified(test, i, node)
+    if base is None:
+        pytest.skip("the unmodified call raises (an example of a refusal)")
+    orig = evaluate(
+        node.args[slot] if isinstance(slot, int) else next(k.value for k in node.keywords if k.arg == slot),
+        globs,
+    )
+    call = _changed(node, slot)
+    name = _slot_name(node, slot, globs)
+    names = parameter_names(node, globs)
+    problems = [
+        _judge(call, globs, label, value, base, name, names, key) for label, value in edge_values(orig)
+    ]
+    problems = [p for p in problems if p]
+    assert not problems, f"{ast.unparse(node)}:\n" + "\n".join(p[:300] for p in problems)
