@@ -70,7 +70,7 @@ def test_predict_matches_propagation_for_tight_covariance():
     assert _is_psd(P + np.eye(6) * 1e-12)
     xa, Pa = rb.predict(np.r_[o.state0, 1.0, 2.0, 3.0], np.eye(9), 500.0, "mars", np.eye(9))
     np.testing.assert_allclose(xa[6:], [1.0, 2.0, 3.0], atol=1e-9)  # the bias is held
-    with pytest.raises(ValueError, match="x must be 1-D"):
+    with pytest.raises(ValueError, match="x must hold at least 6 entries"):
         rb.predict(np.zeros(3), np.eye(3), 1.0, "mars", np.eye(3))
     with pytest.raises(ValueError, match="body"):
         rb.predict(o.state0, np.eye(6), 1.0, "venus", np.eye(6))
@@ -319,7 +319,7 @@ def test_run_filters_refuses_scenarios_of_different_settings():
         rb.run_filters("ukf", [a, rb.simulate("mars", n_steps=6, rng=0)])
     with pytest.raises(ValueError, match="rngs must hold one entry per scenario"):
         rb.run_filters("ukf", [a, a], rngs=(1,))
-    with pytest.raises(ValueError, match="scenario must be a Scenario"):
+    with pytest.raises(ValueError, match="^scenarios must hold at least one Scenario"):
         rb.run_filters("ukf", [])
 
 
@@ -403,3 +403,47 @@ def test_issue35_initial_sigmas_whose_squares_underflow_are_refused_by_name(kw, 
 def test_issue35_a_millimetre_initial_sigma_runs():
     run = rb.run_filter("ukf", rb.simulate(n_steps=5, rng=0), sigma_r0=1e-3, sigma_v0=1e-6, rng=0)
     assert np.all(np.isfinite(run.x))
+
+
+def test_step_functions_name_the_argument_whose_shape_disagrees():
+    """Each argument is checked on its own, then against the earlier ones (issue 35)."""
+    eye = np.eye(3)
+    with pytest.raises(ValueError, match=r"^P must have shape \(n, n\), got shape \(\)"):
+        rb.ukf_update(np.zeros(6), -0.0, np.ones(3), eye, eye)
+    with pytest.raises(ValueError, match=r"^R must have shape \(n, n\), got shape \(\)"):
+        rb.rkf_update(np.zeros(6), np.eye(6), np.ones(3), -0.0, eye, np.zeros((3, 3)), 1e3)
+    with pytest.raises(ValueError, match=r"^x must have 6 \+ 3 entries"):
+        rb.asukf_update([1.0], np.eye(9), np.ones(3), eye, eye)
+    with pytest.raises(ValueError, match=r"^n must have shape \(3, 3\) \(k = size of dy and R\)"):
+        rb.tdukf_update(np.zeros(12), np.eye(12), np.zeros(3), eye, np.eye(3)[:2])
+    with pytest.raises(ValueError, match=r"^P must have shape \(6, 6\) \(m = size of x\)"):
+        rb.predict(np.zeros(6), -0.0, 500.0, "mars", np.eye(6))
+    with pytest.raises(ValueError, match=r"^Q must have shape \(6, 6\)"):
+        rb.tdukf_predict(np.zeros(6), np.eye(6), 500.0, "mars", -0.0)
+    with pytest.raises(ValueError, match=r"^S must have shape \(n, n\), got shape \(\)"):
+        rb.rkf_bias_bound(np.zeros(2), -0.0, 0.1)
+    with pytest.raises(ValueError, match=r"^m must have shape \(2,\) \(k = rows of S\)"):
+        rb.rkf_bias_bound([1.0], np.eye(2), 0.1)
+    for Pxz, lead in ((-0.0, "Pxz must have shape"), ([], "Pxz must have shape"),
+                      (np.zeros((2, 0)), "Pxz must hold at least one entry")):
+        with pytest.raises(ValueError, match=f"^{lead}"):
+            rb.rkf_gain(Pxz, np.eye(1), np.eye(1), np.zeros((1, 1)), 10.0)
+    with pytest.raises(ValueError, match=r"^Pzz must have shape \(1, 1\) \(k = columns of Pxz\)"):
+        rb.rkf_gain(np.eye(1), [], np.eye(1), np.zeros((1, 1)), 10.0)
+
+
+def test_run_filters_names_scenarios_and_rngs():
+    a = rb.simulate("mars", n_steps=3, rng=0)
+    for bad in (1.0, True, np.array(1.0)):
+        with pytest.raises(ValueError, match="^scenarios must be a list of Scenarios"):
+            rb.run_filters("ukf", bad)
+        with pytest.raises(ValueError, match="^rngs must be a list of Generators or seeds"):
+            rb.run_filters("ukf", [a], bad)
+    with pytest.raises(ValueError, match=r"^scenarios\[1\] must be a Scenario"):
+        rb.run_filters("ukf", [a, 1.0])
+    with pytest.raises(ValueError, match=r"^rngs\[0\] must be a numpy Generator"):
+        rb.run_filters("ukf", [a], [1.5])
+    with pytest.raises(ValueError, match=r"^rng must be a numpy Generator"):
+        rb.run_filter("ukf", a, rng=1.5)
+    with pytest.raises(ValueError, match=r"^scenario must be a Scenario from simulate\(\), got bool True"):
+        rb.run_filter("ukf", True)

@@ -76,6 +76,7 @@ from xnavlab.core.filters import ukf_weights
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
 from xnavlab.robust import ephemeris_error as ee
 from xnavlab.robust._batch import first, mv, sigma_points, sym, tr, unscented
+from xnavlab.robust._checks import check_runs, check_state, check_update
 from xnavlab.robust._propagation import propagate_unchecked
 
 __all__ = [
@@ -336,12 +337,8 @@ def predict(x, P, dt, body, Q, n_dyn=6):
     >>> bool(np.allclose(x, ee.propagate(o.state0, 500.0), atol=1e-3))
     True
     """
-    x = check_finite_array("x", x)
-    P = check_finite_array("P", P)
-    Q = check_finite_array("Q", Q)
-    m = x.size
-    if x.ndim != 1 or m < n_dyn or P.shape != (m, m) or Q.shape != (m, m):
-        raise ValueError(f"x must be 1-D with at least {n_dyn} entries and P, Q of shape ({m}, {m})")
+    x, P = check_state(x, P, n_dyn)
+    Q = validate.check_shape("Q", Q, P.shape, "m = size of x")
     check_choice("body", body, tuple(ee.PLANETS))
     dt = check_real("dt", dt, -1e6, 1e6)
     return first(_predict(x[None], P[None], dt, body, Q, n_dyn))
@@ -363,19 +360,6 @@ def _update_linear(x, P, y, R, H):
     K = tr(np.linalg.solve(S, tr(Pxz)))  # K = Pxz S^-1
     nu = y - z_pred
     return x + mv(K, nu), sym(P - K @ S @ tr(K)), nu  # P+ = P- - K S K^T
-
-
-def _check_update(x, P, y, R, n, yname="y"):
-    x = check_finite_array("x", x)
-    P = check_finite_array("P", P)
-    y = check_finite_array(yname, y)
-    R = check_finite_array("R", R)
-    n = check_finite_array("n", n, shape=(None, 3))
-    k = n.shape[0]
-    if y.shape != (k,) or R.shape != (k, k) or P.shape != (x.size, x.size):
-        raise ValueError(f"{yname} must have shape ({k},), R ({k}, {k}) and P ({x.size}, {x.size}); "
-                         f"got {y.shape}, {R.shape}, {P.shape}")
-    return x, P, y, R, n
 
 
 def ukf_update(x, P, y, R, n):
@@ -405,9 +389,7 @@ def ukf_update(x, P, y, R, n):
     >>> np.round(x[:3], 6).tolist()
     [0.5, 0.5, 0.5]
     """
-    x, P, y, R, n = _check_update(x, P, y, R, n)
-    if x.size != 6:
-        raise ValueError(f"x must have 6 entries [r, v], got {x.size}")
+    x, P, y, R, n = check_update(x, P, y, R, n, lambda k: (6, "6 entries [r, v]"))
     H = np.zeros((n.shape[0], 6))
     H[:, :3] = n  # h(x) = N r
     return first(_update_linear(x[None], P[None], y[None], R, H))
@@ -432,10 +414,7 @@ def asukf_update(x, P, y, R, n):
     >>> np.round(x[6:], 6).tolist()
     [0.333333, 0.333333, 0.333333]
     """
-    x, P, y, R, n = _check_update(x, P, y, R, n)
-    k = n.shape[0]
-    if x.size != 6 + k:
-        raise ValueError(f"x must have 6 + {k} entries (state and bias), got {x.size}")
+    x, P, y, R, n = check_update(x, P, y, R, n, lambda k: (6 + k, f"6 + {k} entries (state and bias)"))
     return first(_update_linear(x[None], P[None], y[None], R, _asukf_h(n)))
 
 
@@ -477,12 +456,8 @@ def tdukf_predict(x, P, dt, body, Q):
     >>> x.shape, bool(np.allclose(x[6:12], o.state0))
     ((15,), True)
     """
-    x = check_finite_array("x", x)
-    P = check_finite_array("P", P)
-    Q = check_finite_array("Q", Q, shape=(6, 6))
-    m = x.size
-    if x.ndim != 1 or m < 6 or P.shape != (m, m):
-        raise ValueError(f"x must be 1-D with at least 6 entries and P of shape ({m}, {m})")
+    x, P = check_state(x, P)
+    Q = validate.check_shape("Q", Q, (6, 6), "the covariance of [r, v]")
     check_choice("body", body, tuple(ee.PLANETS))
     dt = check_real("dt", dt, -1e6, 1e6)
     return first(_tdukf_predict(x[None], P[None], dt, body, Q))
@@ -554,12 +529,11 @@ def tdukf_update(x, P, dy, R, n, carry_noise=False):
     >>> tdukf_update(np.zeros(15), np.eye(15), np.zeros(3), np.eye(3), np.eye(3), True)[0].shape
     (9,)
     """
-    x, P, dy, R, n = _check_update(x, P, dy, R, n, "dy")
     carry_noise = validate.check_bool("carry_noise", carry_noise)
-    k = n.shape[0]
-    if x.size != 12 + (k if carry_noise else 0):
-        raise ValueError(f"x must have 12{f' + {k}' if carry_noise else ''} entries when carry_noise "
-                         f"is {bool(carry_noise)}, got {x.size}")
+    def size(k):
+        return 12 + k * carry_noise, f"12{f' + {k}' * carry_noise} entries when carry_noise is {carry_noise}"
+
+    x, P, dy, R, n = check_update(x, P, dy, R, n, size, "dy")
     return first(_tdukf_update(x[None], P[None], dy[None], R, n, carry_noise))
 
 
@@ -622,10 +596,13 @@ def rkf_gain(Pxz, Pzz, R, BB, eps):
     0.5
     """
     eps = check_real("eps", eps, *EPS_RANGE)
-    Pxz = check_finite_array("Pxz", Pxz)
-    Pzz = check_finite_array("Pzz", Pzz)
-    R = validate.check_covariance("R", R)
-    BB = validate.check_covariance("BB", BB)  # a bound on B B^T: a negative one shrank W
+    Pxz = validate.check_shape("Pxz", Pxz, (None, None))
+    if Pxz.size == 0:
+        raise ValueError(f"Pxz must hold at least one entry, got shape {Pxz.shape}")
+    k = Pxz.shape[1]
+    Pzz = validate.check_shape("Pzz", Pzz, (k, k), "k = columns of Pxz")
+    R = validate.check_covariance("R", R, k)
+    BB = validate.check_covariance("BB", BB, k)  # a bound on B B^T: a negative one shrank W
     W = (R + (1.0 + eps) * BB) / (1.0 + 1.0 / eps)  # (R + (1+eps) B B^T) / (1 + 1/eps)
     return tr(_solve_gain(sym(Pzz + W), tr(Pxz), eps))  # K = Sigma H^T [H Sigma H^T + W]^-1
 
@@ -661,11 +638,11 @@ def rkf_bias_bound(m, S, lam):
     >>> rkf_bias_bound(np.zeros(2), np.eye(2), 0.1).tolist()
     [[0.0, 0.0], [0.0, 0.0]]
     """
-    m = check_finite_array("m", m)
-    S = check_finite_array("S", S)
+    m = validate.check_vector("m", m)
+    S = validate.check_shape("S", S, (None, None))
+    m = validate.check_shape("m", m, (S.shape[0],), "k = rows of S")
+    S = validate.check_shape("S", S, (m.size, m.size), "k = size of m")
     lam = check_real("lam", lam, 0.0, 1.0, lo_open=True)
-    if m.ndim != 1 or S.shape != (m.size, m.size):
-        raise ValueError(f"m must have shape (k,) and S (k, k), got {m.shape} and {S.shape}")
     return _bias_bound(m, S, lam)
 
 
@@ -707,14 +684,12 @@ def rkf_update(x, P, y, R, n, BB, eps):
     >>> bool(np.all(np.linalg.eigvalsh(P) > 0))
     True
     """
-    x, P, y, R, n = _check_update(x, P, y, R, n)
+    x, P, y, R, n = check_update(x, P, y, R, n, lambda k: (6, "6 entries [r, v]"))
     BB = check_finite_array("BB", BB)
     k = n.shape[0]
     if BB.shape != (k, k):
         raise ValueError(f"BB must have shape ({k}, {k}), got {BB.shape}")
     eps = check_real("eps", eps, *EPS_RANGE)
-    if x.size != 6:
-        raise ValueError(f"x must have 6 entries [r, v], got {x.size}")
     H = np.zeros((k, 6))
     H[:, :3] = n
     return first(_rkf_update(x[None], P[None], y[None], R, H, BB, eps))
@@ -823,6 +798,8 @@ def run_filter(name, scenario, eps=None, sigma_r0=1000.0, sigma_v0=1.0, q_r=0.0,
     ValueError: lam is a setting of the rkf filter, not used by ukf, got lam = 0.5; leave it out
     """
     settings = {k: v for k, v in locals().items() if k not in ("name", "scenario", "rng")}
+    validate.check_instance("scenario", scenario, Scenario, "a Scenario from simulate()")
+    make_rng(rng)  # refused under its own name (run_filters names rngs[0])
     return run_filters(name, [scenario], [rng], **settings)[0]
 
 
@@ -872,17 +849,11 @@ def run_filters(name, scenarios, rngs=None, eps=None, sigma_r0=1000.0, sigma_v0=
                                   else not _same(value, default)):
             raise ValueError(f"{key} is a setting of the {'/'.join(users)} filter, not used by "
                              f"{name}, got {key} = {value!r:.60}; leave it out")
-    scenarios = list(scenarios)
-    for s in scenarios or [None]:
-        if not isinstance(s, Scenario):
-            raise ValueError(f"scenario must be a Scenario from simulate(), got {type(s).__name__}")
+    scenarios, rngs = check_runs(scenarios, rngs, Scenario)
     sc = scenarios[0]
     if any(s.body != sc.body or s.dt != sc.dt or not np.array_equal(s.t, sc.t)
            or not np.array_equal(s.n, sc.n) or not np.array_equal(s.R, sc.R) for s in scenarios):
         raise ValueError("scenarios must share the body, dt, epochs, pulsars and R (draws of one setting)")
-    rngs = [None] * len(scenarios) if rngs is None else list(rngs)
-    if len(rngs) != len(scenarios):
-        raise ValueError(f"rngs must hold one entry per scenario ({len(scenarios)}), got {len(rngs)}")
     r, N = len(scenarios), sc.t.size
     eps = EPSILON[sc.body] if eps is None else check_real("eps", eps, *EPS_RANGE)
     # Initial sigmas from 1 mm and 1 um/s: their squares (P0) stay far from underflow, which
@@ -913,8 +884,9 @@ def run_filters(name, scenarios, rngs=None, eps=None, sigma_r0=1000.0, sigma_v0=
     body, dt, n, R = sc.body, sc.dt, sc.n, sc.R
     k = n.shape[0]
     sd0 = np.column_stack([sigma_r0] * 3 + [sigma_v0] * 3)  # (r, 6)
-    x = np.array([ee.propagate(s.x_true[0], -dt, body, substep=10.0) + make_rng(g).normal(size=6) * sd
-                  for s, g, sd in zip(scenarios, rngs, sd0, strict=True)])  # x0 = true x0 + initial error
+    draws = [make_rng(g, f"rngs[{j}]").normal(size=6) for j, g in enumerate(rngs)]
+    x = np.array([ee.propagate(s.x_true[0], -dt, body, substep=10.0) + d * sd
+                  for s, d, sd in zip(scenarios, draws, sd0, strict=True)])  # x0 = true x0 + initial error
     P = _diag(sd0**2)
     Q = _diag(np.column_stack([np.maximum(q_r, 1e-6) ** 2] * 3 + [np.maximum(q_v, 1e-9) ** 2] * 3))
     y = np.stack([s.y for s in scenarios], axis=1)  # (N, r, k)
