@@ -107,14 +107,20 @@ def example_calls(test):
 
 
 @functools.cache
-def state(test, i):
-    """The doctest's globals before its example ``i`` (the examples before it run once)."""
+def state(test, i, line=0):
+    """The doctest's globals before its example ``i`` (the examples before it run once, and
+    the statements of example ``i`` that start before its line ``line``, counted from 1: a
+    call on the last line of ``w = ...; f(w)`` sees ``w``)."""
     globs = dict(test.globs, np=np)
+    sources = [ex.source for ex in test.examples[:i]]
+    if line > 1:
+        body = ast.parse(test.examples[i].source).body
+        sources += [ast.unparse(stmt) for stmt in body if stmt.end_lineno < line]
     with contextlib.redirect_stdout(io.StringIO()), warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        for ex in test.examples[:i]:
+        for source in sources:
             try:
-                exec(compile(ex.source, test.name, "single"), globs)
+                exec(compile(source, test.name, "single" if "\n" not in source else "exec"), globs)
             except Exception:
                 pass
     plt.close("all")
@@ -130,7 +136,7 @@ def evaluate(node, globs, extra=None):
 def unmodified(test, i, node):
     """(seconds, result, the categories of warning it gives) of the call as the example
     writes it; None if it fails."""
-    globs = state(test, i)
+    globs = state(test, i, node.lineno)
     start = time.perf_counter()
     try:
         with contextlib.redirect_stdout(io.StringIO()), warnings.catch_warnings(record=True) as seen:

@@ -1,7 +1,8 @@
 """Every numeric input is used or refused (issue 35): huge values in the public examples.
 
 Each doctest example of a public function or class (``__all__`` of every public module of
-:data:`SUBPACKAGES`) that calls it with numeric literal arguments is run again once per literal,
+``SUBPACKAGES`` in ``tests/example_calls.py``, which this test shares with
+``tests/test_edge_inputs.py``) that calls it with numeric literal arguments is run again once per literal,
 that literal replaced by a huge value (``1e308`` for a float, ``10**30`` for an int, keyword or
 positional, its sign kept). The call passes when it raises a ``ValueError`` naming the parameter
 (``check_real``'s "name must be a real number in [lo, hi]") or returns a result whose numbers
@@ -11,13 +12,13 @@ exception (``OverflowError``, ``MemoryError``).
 
 Guards: every example is tried, the slow ones too (they take 0.2-1.7 s unmodified: whole
 simulations whose huge inputs found overflows the fast ones did not); which cases run is
-decided by the examples, not by a timing. Each huge call is stopped after :data:`LIMIT_S` by
-an alarm (an endless loop fails, it does not hang) and may allocate at most :data:`HEADROOM`
-bytes more address space (a huge allocation fails with ``MemoryError``). :data:`SKIP` lists
+decided by the examples, not by a timing. Each huge call is stopped after ``LIMIT_S`` (20 s) by
+an alarm (an endless loop fails, it does not hang) and may allocate at most ``HEADROOM`` (2 GiB)
+more address space (a huge allocation fails with ``MemoryError``). :data:`SKIP` lists
 calls that cannot be bounded, each with its reason.
 
-Runtime (quiet machine, ``pytest -p no:randomly tests/test_huge_inputs.py``): about 25 s for
-358 cases; 14 skip because the example's own call is a refusal.
+Runtime (quiet machine, ``pytest -p no:randomly tests/test_huge_inputs.py``): about 30 s for
+362 cases; 16 skip because the example's own call is a refusal.
 """
 
 import ast
@@ -113,7 +114,7 @@ def test_a_huge_literal_is_used_or_refused(test, i, node, slot):
     base = unmodified(test, i, node)
     if base is None:
         pytest.skip("the unmodified call raises (an example of a refusal)")
-    globs = state(test, i)
+    globs = state(test, i, node.lineno)
     call = _huge(node, slot)
     source = ast.unparse(call)
     try:
