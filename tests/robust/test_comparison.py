@@ -124,3 +124,35 @@ def test_issue35_improvement_needs_a_ukf_rmse_from_a_micron():
         rb.improvement(1.0, 5e-324)
     with pytest.raises(ValueError, match=r"^rmse_filter must be a real number in \[0, 1e\+15\]"):
         rb.improvement(1e308, 1.0)
+
+
+def test_rmse_names_run_scenario_and_the_end_of_an_empty_window():
+    """Issue 35: a number for the run or the scenario was an AttributeError; an empty window
+    named no argument."""
+    sc = rb.simulate("mars", n_steps=5, rng=0)
+    run = rb.run_filter("ukf", sc, rng=0)
+    with pytest.raises(ValueError, match="^run must be a FilterRun"):
+        rb.rmse(1.0, sc, 0.0, 5000.0)
+    with pytest.raises(ValueError, match="^scenario must be the Scenario the run ran on"):
+        rb.rmse(run, True, 0.0, 5000.0)
+    with pytest.raises(ValueError, match="^scenario must be the one the run ran on: it has 6 epochs"):
+        rb.rmse(run, rb.simulate("mars", n_steps=6, rng=0), 0.0, 5000.0)
+    with pytest.raises(ValueError, match=r"^t_to leaves no epochs in \[0, 0\] s"):
+        rb.rmse(run, sc, 0.0, 0.0)
+    with pytest.raises(ValueError, match=r"^t_from leaves no epochs in \[1e\+07, 2e\+07\] s"):
+        rb.rmse(run, sc, 1e7, 2e7)
+
+
+@pytest.mark.parametrize(("change", "words"), [
+    ({"settings": []}, r"^settings must be a non-empty dict"),
+    ({"settings": {}}, r"^settings must be a non-empty dict"),
+    ({"settings": {"a": ({}, {})}}, r"^settings\['a'\] must be \(simulate arguments"),
+    ({"window": True}, r"^window must be a list of times"),
+    ({"window": [1.0]}, r"^window must name at least 2 times"),
+    ({"window": [1.0, 2.0, 3.0]}, r"^window must be \(t_from, t_to\)"),
+    ({"window": [1.0, True]}, r"^window\[1\] must be a real number"),
+])
+def test_compare_settings_names_settings_and_window(change, words):
+    args = {"body": "mars", "settings": {"a": ({}, {}, ("ukf",))}, "n_steps": 5} | change
+    with pytest.raises(ValueError, match=words):
+        rb.compare_settings(**args)

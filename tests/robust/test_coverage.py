@@ -142,3 +142,14 @@ def test_coverage_refuses_a_bias_bound_it_would_not_use_and_sizes_only_injected_
     assert 0.0 <= out["coverage"] <= 1.0
     rows = cv.compare_bounds((0,), ("residual", "prior"), n_steps=60, bias_max=6e4)
     assert [r["source"] for r in rows] == ["residual", "prior"]
+
+
+def test_bound_coverage_names_run_and_scenario():
+    sc = filters.simulate("mars", n_steps=5, error="none", rng=0)
+    run = filters.run_filter("ukf", sc, rng=0)
+    with pytest.raises(ValueError, match="^run must be a FilterRun"):
+        cv.bound_coverage(True, sc)
+    with pytest.raises(ValueError, match="^scenario must be the Scenario the run ran on"):
+        cv.bound_coverage(run, True)
+    with pytest.raises(ValueError, match="^scenario must be the one the run ran on: it has 6 epochs"):
+        cv.bound_coverage(run, filters.simulate("mars", n_steps=6, error="none", rng=0))

@@ -84,3 +84,14 @@ def test_bound_table_takes_cache_as_a_bool_only():
 
     with pytest.raises(ValueError, match=r"^cache must be True or False, got 'no'$"):
         rplots.bound_table(seeds=(0,), sources=("prior",), n_steps=40, cache="no")
+
+
+@pytest.mark.parametrize(("table", "words"), [
+    ([], r"^table must be bound_table\(\)'s dict"), (True, r"^table must be bound_table\(\)'s dict"),
+    ({"case": [{"source": "prior"}]}, r"^table\['case'\]\[0\] must be a bound row"),
+])
+def test_bound_table_html_names_the_table(table, words):
+    from xnavlab.robust import plots as rplots
+
+    with pytest.raises(ValueError, match=words):
+        rplots.bound_table_html(table)

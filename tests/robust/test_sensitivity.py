@@ -47,8 +47,8 @@ def test_the_earth_error_is_the_real_ephemeris_difference():
     ({"base": "1"}, r"^base must be a real number in \[0, 1e\+12\], got '1'$"),
     ({"base": None}, r"^base must be a real number"),
     ({"base": 1 + 1j}, r"^base must be a real number"),
-    ({"size": 0.0}, r"^size must be a real number in \(0, 1e\+12\], got 0.0$"),
-    ({"size": math.inf}, r"^size must be a real number in \(0, 1e\+12\], got inf$"),
+    ({"size": 0.0}, r"^size must be a real number in \[0.001, 1e\+12\], got 0.0$"),
+    ({"size": math.inf}, r"^size must be a real number in \[0.001, 1e\+12\], got inf$"),
     ({"slopes": [1.0] * 6}, r"^slopes must be a dict of direction name -> value, got \[1.0"),
     ({"slopes": {**{k: 0.5 for k in _dirs()}, "x": 0.5}}, r"^slopes\['x'\] has no direction"),
     ({"slopes": {**{k: 0.5 for k in _dirs()}, "0": math.nan}}, r"^slopes\['0'\] must be a real"),
@@ -67,3 +67,20 @@ def test_steepest_direction_refuses_what_would_give_a_wrong_direction(change, wo
     args.update(change)
     with pytest.raises(ValueError, match=words):
         sensitivity.steepest_direction(**args)
+
+
+def test_sensitivity_names_sizes_and_directions():
+    """Issue 35: a bool among the sizes was taken as 1 m, a list of directions was an
+    AttributeError, a subnormal size a failed eigendecomposition."""
+    for bad, words in ((True, "^sizes must be an array of finite numbers"),
+                       ([1.0, True], "^sizes must be an array of finite numbers"),
+                       ([1.0, 2e8], r"^sizes\[1\] must be a real number in \[0, 1e\+08\]")):
+        with pytest.raises(ValueError, match=words):
+            sensitivity.ukf_sensitivity(bad)
+    for bad in ([], {}, True):
+        with pytest.raises(ValueError, match="^directions must be a non-empty dict"):
+            sensitivity.ukf_sensitivity_by_direction(bad)
+    with pytest.raises(ValueError, match=r"^directions\['z'\] must be a 1-D array"):
+        sensitivity.ukf_sensitivity_by_direction({"z": [0.0, 1.0]})
+    with pytest.raises(ValueError, match=r"^size must be a real number in \[0.001"):
+        sensitivity.steepest_direction({k: 0.5 for k in _dirs()}, _dirs(), 40.0, 5e-324)

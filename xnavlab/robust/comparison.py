@@ -23,7 +23,7 @@ import numpy as np
 from xnavlab.core import validate
 from xnavlab.core.validate import check_choice, check_int, check_real, make_rng
 from xnavlab.robust import ephemeris_error as ee
-from xnavlab.robust.filters import FILTERS, SETTINGS, run_filters, simulate
+from xnavlab.robust.filters import FILTERS, SETTINGS, FilterRun, Scenario, run_filters, simulate
 
 __all__ = ["WINDOWS", "N_STEPS", "PER_RUN", "rmse", "improvement", "compare_filters", "compare_settings"]
 
@@ -52,12 +52,19 @@ def rmse(run, scenario, t_from, t_to):
     >>> rmse(run_filters("ukf", [sc])[0], sc, 0.0, 5000.0) > 0
     True
     """
+    validate.check_instance("run", run, FilterRun, "a FilterRun from run_filter()")
+    validate.check_instance("scenario", scenario, Scenario, "the Scenario the run ran on")
+    if run.error.shape != scenario.t.shape:
+        raise ValueError(f"scenario must be the one the run ran on: it has {scenario.t.size} epochs, "
+                         f"the run {run.error.size}")
     t_from = check_real("t_from", t_from, 0.0)
     t_to = check_real("t_to", t_to, t_from)
     tau = scenario.t - (scenario.t[0] - scenario.dt)
     sel = (tau >= t_from) & (tau <= t_to)
-    if not np.any(sel):
-        raise ValueError(f"no epochs in [{t_from:g}, {t_to:g}] s; the run covers (0, {tau[-1]:g}] s")
+    if not np.any(sel):  # the end that leaves the window empty is named (t_from past the run)
+        which = "t_from" if t_from > tau[-1] else "t_to"
+        raise ValueError(f"{which} leaves no epochs in [{t_from:g}, {t_to:g}] s; the run covers "
+                         f"(0, {tau[-1]:g}] s, one epoch every {scenario.dt:g} s")
     return float(np.sqrt(np.mean(run.error[sel] ** 2)))  # RMSE = sqrt(mean |dr_k|^2)
 
 
@@ -132,10 +139,7 @@ def compare_filters(body="earth", filters=FILTERS, error="de405", size=0.0, eps=
     seeds = validate.check_seeds("seeds", seeds)
     max_workers = check_int("max_workers", max_workers, 1, 64)
     n_steps = N_STEPS[body] if n_steps is None else n_steps
-    window = WINDOWS[body] if window is None else validate.check_items(
-        "window", window, "time", lambda lab, v: (lab, check_real(lab, v, 0.0)), 2)
-    if len(window) != 2 or not window[0] < window[1]:
-        raise ValueError(f"window must be (t_from, t_to), 0 <= t_from < t_to, s, got {window!r}")
+    window = _check_window(body, window)
     _check_filter_kwargs(filters, dict(filter_kwargs, eps=eps))
     one = functools.partial(_group_runs, body, filters, dict(
         n_steps=n_steps, error=error, size=size, pulsar_names=pulsar_names, direction=direction,
@@ -154,6 +158,16 @@ def compare_filters(body="earth", filters=FILTERS, error="de405", size=0.0, eps=
         imp = {f: improvement(mean[f], mean["ukf"]) for f in filters if f != "ukf"}
     return {"rmse": mean, "rmse_runs": runs, "improvement": imp, "tau": results[-1][2],
             "error": results[0][1]}
+
+
+def _check_window(body, window):
+    """``window`` as ``(t_from, t_to)``, 0 <= t_from < t_to, s (None: the body's :data:`WINDOWS`)."""
+    if window is None:
+        return WINDOWS[body]
+    times = validate.check_items("window", window, "time", lambda lab, v: (lab, check_real(lab, v, 0.0)), 2)
+    if len(times) != 2 or not times[0] < times[1]:
+        raise ValueError(f"window must be (t_from, t_to), 0 <= t_from < t_to, s, got {window!r}")
+    return tuple(float(v) for v in times)
 
 
 def _check_filter_kwargs(filters, kwargs):
@@ -237,12 +251,20 @@ def compare_settings(body, settings, seeds=(0,), n_steps=None, window=None, **sc
     (['rkf', 'ukf'], 2)
     """
     check_choice("body", body, tuple(ee.PLANETS))
+    if not isinstance(settings, dict) or not settings:
+        raise ValueError(f"settings must be a non-empty dict label -> (simulate arguments, filter "
+                         f"settings, filters), got {validate.shown(settings)}")
     seeds = validate.check_seeds("seeds", seeds)
-    window = WINDOWS[body] if window is None else window
+    window = _check_window(body, window)
     steps = N_STEPS[body] if n_steps is None else n_steps
     defaults = inspect.signature(run_filters).parameters
     drawn, per_filter = {}, {f: [] for f in FILTERS}
-    for label, (scenario, kw, filters) in settings.items():
+    for label, item in settings.items():
+        if not (isinstance(item, tuple | list) and len(item) == 3 and isinstance(item[0], dict)
+                and isinstance(item[1], dict)):
+            raise ValueError(f"settings[{label!r}] must be (simulate arguments: dict, filter settings: "
+                             f"dict, filters: list), got {validate.shown(item)}")
+        scenario, kw, filters = item
         bad = [k for k in kw if k not in PER_RUN]
         if bad:
             raise ValueError(f"settings[{label!r}] sets {bad[0]}; only {', '.join(PER_RUN)} vary by setting")

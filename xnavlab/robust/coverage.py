@@ -48,6 +48,7 @@ import numpy as np
 from xnavlab.core.validate import (
     check_choice,
     check_definite,
+    check_instance,
     check_int,
     check_items,
     check_real,
@@ -105,10 +106,11 @@ def bound_coverage(run, scenario, k=K_SIGMA, skip=SKIP):
     >>> 0.0 <= c["coverage"] <= 1.0, c["ratio"].shape
     (True, (32,))
     """
-    if not isinstance(run, filters.FilterRun) or not isinstance(scenario, filters.Scenario):
-        raise ValueError("run and scenario must be a FilterRun and the Scenario it ran on")
+    check_instance("run", run, filters.FilterRun, "a FilterRun from run_filter()")
+    check_instance("scenario", scenario, filters.Scenario, "the Scenario the run ran on")
     if run.x.shape[0] != scenario.t.size:
-        raise ValueError(f"run has {run.x.shape[0]} epochs, scenario {scenario.t.size}")
+        raise ValueError(f"scenario must be the one the run ran on: it has {scenario.t.size} epochs, "
+                         f"the run {run.x.shape[0]}")
     k = check_real("k", k, 0.0, lo_open=True)
     skip = check_real("skip", skip, 0.0, 1.0, hi_open=True)
     first = int(skip * scenario.t.size)

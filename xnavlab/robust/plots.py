@@ -22,8 +22,10 @@ from xnavlab.core.validate import (
     check_int,
     check_items,
     check_real,
+    check_records,
     check_seeds,
     make_rng,
+    shown,
 )
 from xnavlab.robust import comparison, coverage, filters
 
@@ -267,6 +269,10 @@ def bound_table_html(table):
     >>> page.count("<tr>"), "100" in page, "1.17" in page
     (2, True, True)
     """
+    if not isinstance(table, dict) or not table:
+        raise ValueError(f"table must be bound_table()'s dict case -> rows, got {shown(table)}")
+    for case, rows in table.items():
+        check_records(f"table[{case!r}]", rows, ("source",) + BOUND_STATS + ("is_bound",), "bound row")
     header = ("case", "source of B B^T", "within 3 sigma (%)", "median |e| / sigma",
               "mean NEES", "RMSE (km)", "a bound?")
     rows = [(case, BOUND_SOURCE_NAMES[r["source"]], f"{100 * r['coverage']:.1f}",

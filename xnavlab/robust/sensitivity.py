@@ -34,7 +34,7 @@ def ukf_sensitivity(sizes=(0.0, 250.0, 500.0, 750.0, 1000.0), body="earth", seed
     Parameters
     ----------
     sizes : sequence of float
-        Error sizes, m.
+        Error sizes, m, each in [0, 1e8].
     body : {"earth", "mars"}
     seeds : sequence of int
     direction : array_like, shape (3,), optional
@@ -52,7 +52,9 @@ def ukf_sensitivity(sizes=(0.0, 250.0, 500.0, 750.0, 1000.0), body="earth", seed
     >>> bool(r[1] - r[0] > 500.0)
     True
     """
-    sizes = np.asarray(sizes, dtype=float)
+    sizes = check_vector("sizes", sizes)
+    for i, s in enumerate(sizes):
+        check_real(f"sizes[{i}]", s, 0.0, 1e8)  # simulate's range of an injected error, m
     out = [compare_filters(body, ("ukf",), error="constant", size=float(s), seeds=seeds,
                            direction=direction)["rmse"]["ukf"] for s in sizes]
     return sizes, np.array(out)
@@ -110,7 +112,14 @@ def ukf_sensitivity_by_direction(directions=None, size=1000.0, body="earth", see
     >>> list(s)
     ['z']
     """
-    directions = sensitivity_directions(body) if directions is None else directions
+    if directions is None:
+        directions = sensitivity_directions(body)
+    elif not isinstance(directions, Mapping) or not directions:
+        raise ValueError(f"directions must be a non-empty dict of name -> direction (3,), "
+                         f"got {shown(directions)}")
+    else:  # each named as the user gave it (simulate names its one direction)
+        directions = {k: u if isinstance(u, str) else check_vector(f"directions[{k!r}]", u, 3)
+                      for k, u in directions.items()}
     base = compare_filters(body, ("ukf",), error="none", seeds=seeds)["rmse"]["ukf"]
     out = {}
     for name, u in directions.items():
@@ -138,7 +147,7 @@ def steepest_direction(slopes, directions, base, size):
     base : float
         UKF RMSE without an ephemeris error, m.
     size : float
-        The error size the slopes were measured at, m.
+        The error size the slopes were measured at, m, in [1e-3, 1e12].
 
     Returns
     -------
@@ -183,7 +192,9 @@ def _slope_inputs(slopes, directions, base, size):
     if len(slopes) < 6:
         raise ValueError(f"slopes must cover at least 6 of the directions; got {len(slopes)}")
     base = check_real("base", base, 0.0, 1e12)
-    size = check_real("size", size, 0.0, 1e12, lo_open=True)
+    # From 1 mm (far below any ranging noise; size**2 of a subnormal size was 0, the fit's
+    # right-hand side inf) to 1e12 m.
+    size = check_real("size", size, 1e-3, 1e12)
     U = np.array([check_vector(f"directions[{k!r}]", directions[k], 3) for k in slopes])
     for k, u in zip(slopes, U, strict=True):
         if abs(float(np.linalg.norm(u)) - 1.0) > 1e-6:
