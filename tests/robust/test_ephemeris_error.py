@@ -172,3 +172,11 @@ def test_compiled_model_matches_the_dynamics_module():
     r = dynamics.MARS_STATE0[:3]
     expected = dynamics.point_mass(r) + dynamics.j2_acceleration(r)
     np.testing.assert_allclose(ee.acceleration(r, "mars"), expected, rtol=1e-13)
+
+
+def test_elements_to_state_takes_a_semi_major_axis_from_1_m():
+    """Issue 35: a subnormal axis failed an eigendecomposition downstream (the speed overflowed)."""
+    for a in (5e-324, 0.5):
+        with pytest.raises(ValueError, match=r"^a must be a real number in \[1, 1e\+15\]"):
+            ee.elements_to_state(a, 0.0, 0.0, 0.0, 0.0, 0.0, GM_MARS)
+    assert np.all(np.isfinite(ee.elements_to_state(1.0, 0.0, 0.0, 0.0, 0.0, 0.0, GM_MARS)))

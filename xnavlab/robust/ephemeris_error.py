@@ -61,7 +61,7 @@ from xnavlab.core.constants import (
     R_EARTH,  # noqa: F401 - used by the doctest of acceleration
 )
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_items, check_real
-from xnavlab.mars.models.dynamics import MARS_POLE, MARS_STATE0, MAX_GM, R_MAX
+from xnavlab.mars.models.dynamics import MARS_POLE, MARS_STATE0, MAX_GM, R_MAX, R_MIN
 from xnavlab.mars.timing import pulsars
 from xnavlab.robust._propagation import derivatives, propagate_unchecked
 
@@ -440,7 +440,8 @@ def elements_to_state(a, e, i_deg, raan_deg, argp_deg, nu_deg, gm):
     Parameters
     ----------
     a : float
-        Semi-major axis, m, in (0, R_MAX] (:data:`xnavlab.mars.models.dynamics.R_MAX`).
+        Semi-major axis, m, in [R_MIN, R_MAX] (:data:`xnavlab.mars.models.dynamics.R_MIN`, 1 m:
+        a subnormal axis gave a state of subnormal position and overflowing speed).
     e : float
         Eccentricity, ``0 <= e < 1``.
     i_deg, raan_deg, argp_deg, nu_deg : float
@@ -459,7 +460,7 @@ def elements_to_state(a, e, i_deg, raan_deg, argp_deg, nu_deg, gm):
     >>> round(float(x[4]), 3) == round(math.sqrt(GM_EARTH / 7e6), 3)
     True
     """
-    a = check_real("a", a, 0.0, R_MAX, lo_open=True)
+    a = check_real("a", a, R_MIN, R_MAX)  # the distances a state may have (dynamics.R_MIN)
     e = check_real("e", e, 0.0, 1.0, hi_open=True)
     gm = check_real("gm", gm, 0.0, MAX_GM, lo_open=True)
     i, raan, argp, nu = (math.radians(check_real(n, v, -360.0, 360.0)) for n, v in
