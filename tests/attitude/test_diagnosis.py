@@ -74,3 +74,14 @@ def test_issue35_diagnose_refuses_unordered_times_and_extra_threshold_axes(t, th
     # Review 35f finding 36: accepted, and 2-D thresholds gave an array verdict, not a str.
     with pytest.raises(ValueError, match=match):
         att.diagnose(np.asarray(t), np.ones((5, 4)), thresholds)
+
+
+@pytest.mark.parametrize(("t", "match"), [
+    (-0.0, r"^t must be a 1-D array \(shape \(n,\)\), got shape \(\)"),
+    ([], r"^t must hold at least one sample time, got an empty array"),
+    ([1.0, True], r"^t must be an array of finite numbers"),
+])
+def test_diagnose_names_t_before_the_residuals(t, match):
+    """Issue 35: a 0-d t was refused under residuals' name (n = len(t) = 1)."""
+    with pytest.raises(ValueError, match=match):
+        att.diagnose(t, np.ones((5, 4)), np.ones(4))

@@ -37,7 +37,7 @@ def test_qdiff_fault_estimates_and_decision():
     assert att.qdiff_decide(np.array([[False, True, False]])).tolist() == ["gyro_y"]
     with pytest.raises(ValueError, match="^omega_g"):
         att.qdiff_fault_estimates(w[:, :2], q, 0.1, 5.0)
-    with pytest.raises(ValueError, match="same number of samples"):
+    with pytest.raises(ValueError, match=r"^q_meas must have as many samples as omega_g \(300\), got 301$"):
         att.qdiff_fault_estimates(w[:-1], q, 0.1, 5.0)
 
 
@@ -48,5 +48,14 @@ def test_a_window_beyond_a_day_is_refused_not_an_overflow():
                  lambda: att.qdiff_fault_estimates(w, q, 0.1, 1e308)):
         with pytest.raises(ValueError, match=r"^window_s must be a real number in \[0.2, 86400\]"):
             call()
-    with pytest.raises(ValueError, match=r"^dt must be a real number in \(0, 10\], got 1e\+308$"):
+    with pytest.raises(ValueError, match=r"^dt must be a real number in \[1e-06, 10\], got 1e\+308$"):
         att.quaternion_rate(q, 1e308)
+
+
+def test_a_subnormal_sample_interval_is_refused_not_an_overflow():
+    """Issue 35: dt=5e-324 made window_s / dt inf ('OverflowError: cannot convert float
+    infinity to integer')."""
+    t, w, q = att.truth_motion(201, 0.1, wobble_deg_s=0.0)
+    for call in (lambda: att.quaternion_rate(q, 5e-324), lambda: att.qdiff_fault_estimates(w, q, 5e-324)):
+        with pytest.raises(ValueError, match=r"^dt must be a real number in \[1e-06, 10\], got 5e-324$"):
+            call()

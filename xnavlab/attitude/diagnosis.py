@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from xnavlab.attitude.sensors import LOCATIONS
-from xnavlab.core.validate import check_finite_array, check_int, check_real
+from xnavlab.core.validate import check_finite_array, check_int, check_real, check_vector
 
 __all__ = [
     "VERDICTS",
@@ -231,10 +231,12 @@ def diagnose(t, residuals, thresholds, *, t_arm=0.0, persist=3, confirm_s=5.0, d
     >>> float(d.detect_time), d.verdict
     (6.0, 'gyro_x')
     """
-    t = check_finite_array("t", t)
+    t = check_vector("t", t)
+    if t.size == 0:
+        raise ValueError("t must hold at least one sample time, got an empty array")
     r = check_finite_array("residuals", residuals)
-    if t.ndim != 1 or r.ndim < 2 or r.shape[-2] != t.size:
-        raise ValueError(f"residuals must have shape (..., n, m) with n = len(t) = {t.size}")
+    if r.ndim < 2 or r.shape[-2] != t.size:
+        raise ValueError(f"residuals must have shape (..., n, m) with n = len(t) = {t.size}, got {r.shape}")
     if t.size > 1 and not np.all(np.diff(t) > 0):  # the detection time is the first flag's
         raise ValueError("t must be strictly increasing sample times, s")
     J = check_finite_array("thresholds", thresholds, shape=(r.shape[-1],))

@@ -23,7 +23,9 @@ __all__ = [
 
 
 def _window(dt, window_s):
-    dt = check_real("dt", dt, 0.0, 10.0, lo_open=True)
+    # dt from 1 us (faster than any star tracker; window_s / dt stays a countable number of
+    # samples: a subnormal dt made it inf) to 10 s.
+    dt = check_real("dt", dt, 1e-6, 10.0)
     window_s = check_real("window_s", window_s, 2.0 * dt, 86400.0)
     return dt, int(round(window_s / dt))
 
@@ -42,7 +44,7 @@ def quaternion_rate(q_meas, dt, window_s=10.0):
     q_meas : array_like, shape (..., n, 4)
         Star-tracker quaternions at interval ``dt``.
     dt : float
-        Sample interval, s.
+        Sample interval, s, in [1e-6, 10].
     window_s : float
         Window length, s, >= 2 dt.
 
@@ -117,10 +119,10 @@ def qdiff_fault_estimates(omega_g, q_meas, dt, window_s=10.0):
     if wg.ndim < 2 or wg.shape[-1] not in (3, 4):
         raise ValueError(f"omega_g must have shape (..., n, 3) or (..., n, 4), got {wg.shape}")
     wq = quaternion_rate(q_meas, dt, window_s)
-    M = int(round(window_s / dt))
+    M = _window(dt, window_s)[1]
     n = wg.shape[-2]
     if np.shape(q_meas)[-2] != n:
-        raise ValueError("omega_g and q_meas must have the same number of samples")
+        raise ValueError(f"q_meas must have as many samples as omega_g ({n}), got {np.shape(q_meas)[-2]}")
     c = np.concatenate([np.zeros(wg.shape[:-2] + (1, 3)), np.cumsum(wg[..., :3], -2)], -2)
     mean = (c[..., M:n, :] - c[..., : n - M, :]) / M  # gyro intervals k-M .. k-1
     return mean - wq
