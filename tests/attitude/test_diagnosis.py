@@ -58,8 +58,10 @@ def test_diagnose_persistence_arming_and_confirmation():
     assert d.detect_time == math.inf and d.verdict == "none"
     batch = att.diagnose(t, np.stack([r, 0 * r]), np.ones((2, 4)), persist=2)
     assert batch.verdict.tolist() == ["gyro_x", "none"]
-    with pytest.raises(ValueError, match="^residuals"):
+    with pytest.raises(ValueError, match=r"^t must hold one time per sample of the residuals \(n = 5\)"):
         att.diagnose(t, r[:5], np.ones(4))
+    with pytest.raises(ValueError, match=r"^residuals must have shape \(\.\.\., n, m\), got \("):
+        att.diagnose(t, r[:, 0], np.ones(4))
     with pytest.raises(ValueError, match="^thresholds"):
         att.diagnose(t, r, np.ones(3))
     with pytest.raises(ValueError, match="^persist"):
@@ -80,6 +82,7 @@ def test_issue35_diagnose_refuses_unordered_times_and_extra_threshold_axes(t, th
     (-0.0, r"^t must be a 1-D array \(shape \(n,\)\), got shape \(\)"),
     ([], r"^t must hold at least one sample time, got an empty array"),
     ([1.0, True], r"^t must be an array of finite numbers"),
+    ([1.0], r"^t must hold one time per sample of the residuals \(n = 5\), got 1$"),
 ])
 def test_diagnose_names_t_before_the_residuals(t, match):
     """Issue 35: a 0-d t was refused under residuals' name (n = len(t) = 1)."""

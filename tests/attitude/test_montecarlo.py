@@ -76,3 +76,28 @@ def test_isolation_monte_carlo_refuses_a_count_that_would_not_end():
     """Review 35e: n_runs=10**30 ran without end."""
     with pytest.raises(ValueError, match=r"^n_runs must be an integer in \[1, 1000000\]"):
         att.isolation_monte_carlo(10**30, locations=["gyro_x"], kinds=["step"], sizes=[1.0])
+
+
+@pytest.mark.parametrize(("rows", "match"), [
+    (True, r"^rows must be a list of isolation_monte_carlo's rows"),
+    (-0.0, r"^rows must be a list of isolation_monte_carlo's rows"),
+    ([1.0], r"^rows\[0\] must be a row \(a dict with location, kind"),
+    ([{"location": "gyro_x"}], r"^rows\[0\] must be a row \(a dict with location, kind"),
+])
+def test_isolation_table_names_rows(rows, match):
+    """Issue 35: a bool or a list of numbers was a TypeError."""
+    import numpy as np
+
+    with pytest.raises(ValueError, match=match):
+        att.isolation_table(rows)
+    with pytest.raises(ValueError, match=r"^rows must be a list"):
+        att.isolation_table(np.array(1.0))
+
+
+def test_seeded_outcomes_names_a_0d_array_of_faults():
+    import numpy as np
+
+    with pytest.raises(ValueError, match=r"^faults must be a Fault or a sequence of Fault, got array\(1"):
+        att.seeded_outcomes(np.array(1.0), [0])
+    with pytest.raises(ValueError, match=r"^faults must be a Fault or a sequence of Fault"):
+        att.simulate(np.array(1.0))

@@ -64,3 +64,16 @@ def test_location_name_gives_plain_words_for_every_verdict():
     names = [att.location_name(v) for v in VERDICTS]
     assert all("_" not in n for n in names) and len(set(names)) == len(VERDICTS)
     assert att.location_name("gyro_x") == "x gyro" and att.location_name("new_thing") == "new thing"
+
+
+def test_location_name_takes_text_only():
+    """Issue 35: True was spelled 'True', a list its repr."""
+    for bad in (True, [], 1.0):
+        with pytest.raises(ValueError, match=r"^name must be text \(a str\)"):
+            att.location_name(bad)
+
+
+def test_plot_fault_case_takes_a_multiple_from_a_millionth():
+    """Issue 35: a subnormal multiple made a zero-size fault, refused under make_fault's name."""
+    with pytest.raises(ValueError, match=r"^size must be a real number in \[1e-06, 1000\], got 5e-324$"):
+        att.plot_fault_case("gyro_x", "step", 5e-324)

@@ -81,3 +81,19 @@ def test_sensor_noise_beyond_its_range_is_refused():
         att.gyro_measurements(t, np.zeros((3, 3)), noise_deg_per_h=1e308)
     with pytest.raises(ValueError, match=r"^noise_deg must be a real number in \[0, 180\]"):
         att.star_tracker_measurements(t, np.tile(att.DEFAULT_Q0, (3, 1)), noise_deg=1e308)
+
+
+@pytest.mark.parametrize(("t", "match"), [
+    (-0.0, r"^t must be a 1-D array \(shape \(n,\)\), got shape \(\)$"),
+    ([1.0, True, 0.0], r"^t must be an array of finite numbers"),
+    ([1.0], r"^t must hold one time per row of (w|q) \(3\), got 1$"),
+    ([], r"^t must hold one time per row of (w|q) \(3\), got 0$"),
+])
+def test_the_sensors_name_t_when_the_times_do_not_match(t, match):
+    """Issue 35: t was refused under w's or q's name (n = len(t))."""
+    with pytest.raises(ValueError, match=match):
+        att.gyro_measurements(t, np.zeros((3, 3)))
+    with pytest.raises(ValueError, match=match):
+        att.star_tracker_measurements(t, np.tile(att.DEFAULT_Q0, (3, 1)))
+    with pytest.raises(ValueError, match=r"^w must have shape \(n, 3\), one rate per sample, got \(3,\)$"):
+        att.gyro_measurements(np.arange(3.0), np.zeros(3))

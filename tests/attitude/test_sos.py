@@ -29,3 +29,18 @@ def test_sos_residuals():
         att.sos_residuals(np.ones(4), np.zeros(4), np.zeros(3), 0.0)
     with pytest.raises(ValueError, match="^omega_g"):
         att.sos_residuals(np.ones(3), np.zeros(3), np.zeros(3), 0.0)
+
+
+@pytest.mark.parametrize("parity_ref", [[], [1.0], np.zeros(2)])
+def test_sos_residuals_names_a_parity_reference_of_other_runs(parity_ref):
+    """Issue 35: parity_ref=[] was numpy's concatenate message."""
+    with pytest.raises(ValueError, match=r"^parity_ref must have leading axes \(\.\.\.\) that broadcast to "
+                                         r"those of the arguments before it, \(\), got \("):
+        att.sos_residuals([1.0, 2.0, 3.0], [0.0, 0.0, 0.0, 1.0], [1.0, 1.0, 1.0], parity_ref)
+
+
+def test_sos_residuals_names_omega_g_of_other_runs_and_broadcasts_shared_ones():
+    with pytest.raises(ValueError, match=r"^omega_g must have leading axes \(\.\.\.\) that broadcast"):
+        att.sos_residuals(np.ones((2, 3)), np.zeros((3, 4)), np.zeros(3), 0.0)
+    r = att.sos_residuals(np.ones(3), np.zeros((2, 4)), np.zeros(3), 0.0)
+    assert r.tolist() == [[1.0, 1.0, 1.0, 0.0]] * 2

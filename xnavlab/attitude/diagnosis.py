@@ -235,8 +235,11 @@ def diagnose(t, residuals, thresholds, *, t_arm=0.0, persist=3, confirm_s=5.0, d
     if t.size == 0:
         raise ValueError("t must hold at least one sample time, got an empty array")
     r = check_finite_array("residuals", residuals)
-    if r.ndim < 2 or r.shape[-2] != t.size:
-        raise ValueError(f"residuals must have shape (..., n, m) with n = len(t) = {t.size}, got {r.shape}")
+    if r.ndim < 2:
+        raise ValueError(f"residuals must have shape (..., n, m), got {r.shape}")
+    if r.shape[-2] != t.size:  # both well formed: the times are the ones to match the series
+        raise ValueError(f"t must hold one time per sample of the residuals (n = {r.shape[-2]}), "
+                         f"got {t.size}")
     if t.size > 1 and not np.all(np.diff(t) > 0):  # the detection time is the first flag's
         raise ValueError("t must be strictly increasing sample times, s")
     J = check_finite_array("thresholds", thresholds, shape=(r.shape[-1],))

@@ -25,7 +25,16 @@ from xnavlab.attitude.simulation import (
     simulate_sensors,
 )
 from xnavlab.core.plotting import markdown_table
-from xnavlab.core.validate import check_choice, check_int, check_items, check_real, check_seeds, make_rng
+from xnavlab.core.validate import (
+    check_choice,
+    check_int,
+    check_items,
+    check_real,
+    check_records,
+    check_seeds,
+    make_rng,
+    shown,
+)
 
 __all__ = [
     "isolation_monte_carlo",
@@ -245,6 +254,10 @@ def isolation_table(rows):
     head = ["fault", "kind", "size"]
     for m in ("SOS", "DOS"):
         head += [f"{m} correct", f"{m} missed", f"{m} false alarm", f"{m} delay (s)"]
+    if not isinstance(rows, list | tuple):  # a 0-d array is no list (check_records iterates it)
+        raise ValueError(f"rows must be a list of isolation_monte_carlo's rows (dicts), got {shown(rows)}")
+    rows = check_records("rows", rows, ("location", "kind", "factor", "size", "method", "correct",
+                                        "missed", "false_alarm", "delay_s"), "row")
     body = []
     by = {}
     for r in rows:

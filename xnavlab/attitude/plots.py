@@ -14,7 +14,7 @@ import numpy as np
 
 from xnavlab.attitude.sensors import DEFAULT_MAGNITUDES, DEG_PER_H, LOCATIONS, MAX_FACTOR, make_fault
 from xnavlab.attitude.simulation import AttitudeRun, simulate
-from xnavlab.core.validate import check_choice, check_real
+from xnavlab.core.validate import check_choice, check_real, check_text
 
 __all__ = [
     "LOCATION_NAMES",
@@ -37,7 +37,7 @@ def location_name(name):
     >>> location_name("gyro_skew"), location_name("star_tracker"), location_name("a_b")
     ('skewed gyro', 'star tracker', 'a b')
     """
-    name = str(name)
+    name = check_text("name", name)  # a verdict is text (a bool or a list was spelled out as one)
     return LOCATION_NAMES.get(name, name.replace("_", " "))
 
 
@@ -153,7 +153,7 @@ def plot_fault_case(location="gyro_x", kind="ramp", size=10.0, n_sigma=5.0, *, r
     kind : {"step", "ramp"}
     size : float
         Multiple of the reference size :data:`~.sensors.DEFAULT_MAGNITUDES` of ``(sensor, kind)``,
-        in (0, MAX_FACTOR].
+        in [1e-6, MAX_FACTOR].
     n_sigma : float
         Threshold multiplier of :func:`~.simulation.simulate`, > 0.
     rng : numpy.random.Generator or int, optional
@@ -201,7 +201,9 @@ def _fault_run(location, kind, size, n_sigma, rng):
     """The run of :func:`plot_fault_case` (checked arguments)."""
     check_choice("location", location, LOCATIONS)
     check_choice("kind", kind, ("step", "ramp"))
-    size = check_real("size", size, 0.0, MAX_FACTOR, lo_open=True)
+    # From a millionth of the reference fault (far below the noise; a subnormal multiple made
+    # the magnitude 0, a zero-size fault) to MAX_FACTOR.
+    size = check_real("size", size, 1e-6, MAX_FACTOR)
     sensor = "star_tracker" if location == "star_tracker" else "gyro"
     return simulate(make_fault(location, kind, size * DEFAULT_MAGNITUDES[(sensor, kind)]),
                     n_sigma=n_sigma, rng=rng)

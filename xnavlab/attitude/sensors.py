@@ -30,6 +30,7 @@ from xnavlab.core.validate import (
     check_choice,
     check_finite_array,
     check_real,
+    check_vector,
     make_rng,
 )
 
@@ -163,10 +164,12 @@ def gyro_measurements(
     >>> np.round(wg[0] / DEG_PER_H, 6)
     array([ 50.,  40., -50.,  45.])
     """
-    t = check_finite_array("t", t)
+    t = check_vector("t", t)  # each on its own first: a 0-d t was refused under w's name
     w = check_finite_array("w", w, shape=(3,))
-    if t.ndim != 1 or w.shape != (t.size, 3):
-        raise ValueError(f"w must have shape (n, 3) with n = len(t) = {t.size}, got {w.shape}")
+    if w.ndim != 2:
+        raise ValueError(f"w must have shape (n, 3), one rate per sample, got {w.shape}")
+    if t.size != w.shape[0]:  # w is a well-formed series: the times are the ones to match it
+        raise ValueError(f"t must hold one time per row of w ({w.shape[0]}), got {t.size}")
     b = check_finite_array("drifts_deg_per_h", drifts_deg_per_h, shape=(4,)) * DEG_PER_H
     sigma = check_real("noise_deg_per_h", noise_deg_per_h, 0.0, MAX_DEG_PER_H) * DEG_PER_H
     rng = make_rng(rng)
@@ -210,10 +213,12 @@ def star_tracker_measurements(t, q, *, noise_deg=PAPER_STAR_NOISE_DEG, faults=()
     >>> bool(np.allclose(star_tracker_measurements([0.0, 1.0], q, noise_deg=0.0), q))
     True
     """
-    t = check_finite_array("t", t)
+    t = check_vector("t", t)  # each on its own first: a 0-d t was refused under q's name
     q = check_finite_array("q", q, shape=(4,))
-    if t.ndim != 1 or q.shape != (t.size, 4):
-        raise ValueError(f"q must have shape (n, 4) with n = len(t) = {t.size}, got {q.shape}")
+    if q.ndim != 2:
+        raise ValueError(f"q must have shape (n, 4), one quaternion per sample, got {q.shape}")
+    if t.size != q.shape[0]:  # q is a well-formed series: the times are the ones to match it
+        raise ValueError(f"t must hold one time per row of q ({q.shape[0]}), got {t.size}")
     sigma = math.radians(check_real("noise_deg", noise_deg, 0.0, 180.0))
     rng = make_rng(rng)
     qv = quat_from_rotvec(rng.normal(0.0, 1.0, (t.size, 3)) * sigma)

@@ -51,7 +51,7 @@ from xnavlab.attitude.sos import gyro_parity, sos_residuals
 from xnavlab.core.distributions import chi2_isf
 from xnavlab.core.faults import Fault, check_faults
 from xnavlab.core.quaternions import MAX_ANGLE, attitude_error, quat_normalize
-from xnavlab.core.validate import check_bool, check_finite_array, check_int, check_real, make_rng
+from xnavlab.core.validate import check_bool, check_finite_array, check_int, check_real, make_rng, shown
 
 __all__ = [
     "SimConfig",
@@ -382,6 +382,8 @@ def check_faults_in_run(faults, config):
 is s since the start, in [0, 100)
     """
     cfg = _config_arg(config)
+    if isinstance(faults, np.ndarray) and faults.ndim != 1:  # a 0-d array is no list of faults
+        raise ValueError(f"faults must be a Fault or a sequence of Fault, got {shown(faults)}")
     faults = (faults,) if isinstance(faults, Fault) else tuple(check_faults("faults", faults))
     t = np.arange(cfg.n) * cfg.dt
     for i, f in enumerate(faults):

@@ -87,6 +87,16 @@ def sos_residuals(drift_hat, omega_g, drift_ref, parity_ref, skew_axis=SKEW_AXIS
     ref = check_finite_array("drift_ref", drift_ref, shape=(3,))
     pref = check_finite_array("parity_ref", parity_ref)
     p = gyro_parity(omega_g, skew_axis)
+    lead = b.shape[:-1]  # the runs' axes "...": each later argument's must agree with those before
+    for name, shape in (("omega_g", p.shape), ("drift_ref", ref.shape[:-1]), ("parity_ref", pref.shape)):
+        try:
+            both = np.broadcast_shapes(lead, shape)
+        except ValueError:
+            both = None
+        if both != lead and (name == "parity_ref" or both is None):
+            raise ValueError(f"{name} must have leading axes (...) that broadcast to those of the "
+                             f"arguments before it, {lead}, got {shape}")
+        lead = both
     r13 = np.abs(b - ref)  # paper eq. (35)
     r4 = np.abs(p - pref)  # paper eq. (37)
-    return np.concatenate([r13, r4[..., None]], axis=-1)
+    return np.concatenate([np.broadcast_to(r13, lead + (3,)), np.broadcast_to(r4, lead)[..., None]], axis=-1)
