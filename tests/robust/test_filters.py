@@ -424,9 +424,8 @@ def test_step_functions_name_the_argument_whose_shape_disagrees():
         rb.rkf_bias_bound(np.zeros(2), -0.0, 0.1)
     with pytest.raises(ValueError, match=r"^m must have shape \(2,\) \(k = rows of S\)"):
         rb.rkf_bias_bound([1.0], np.eye(2), 0.1)
-    for Pxz, lead in ((-0.0, "Pxz must have shape"), ([], "Pxz must have shape"),
-                      (np.zeros((2, 0)), "Pxz must hold at least one entry")):
-        with pytest.raises(ValueError, match=f"^{lead}"):
+    for Pxz in (-0.0, [], np.zeros((2, 0))):
+        with pytest.raises(ValueError, match=r"^Pxz must be a non-empty 2-D array \(n, k\), got shape"):
             rb.rkf_gain(Pxz, np.eye(1), np.eye(1), np.zeros((1, 1)), 10.0)
     with pytest.raises(ValueError, match=r"^Pzz must have shape \(1, 1\) \(k = columns of Pxz\)"):
         rb.rkf_gain(np.eye(1), [], np.eye(1), np.zeros((1, 1)), 10.0)

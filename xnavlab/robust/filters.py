@@ -596,9 +596,9 @@ def rkf_gain(Pxz, Pzz, R, BB, eps):
     0.5
     """
     eps = check_real("eps", eps, *EPS_RANGE)
-    Pxz = validate.check_shape("Pxz", Pxz, (None, None))
-    if Pxz.size == 0:
-        raise ValueError(f"Pxz must hold at least one entry, got shape {Pxz.shape}")
+    Pxz = check_finite_array("Pxz", Pxz)
+    if Pxz.ndim != 2 or Pxz.size == 0:
+        raise ValueError(f"Pxz must be a non-empty 2-D array (n, k), got shape {Pxz.shape}")
     k = Pxz.shape[1]
     Pzz = validate.check_shape("Pzz", Pzz, (k, k), "k = columns of Pxz")
     R = validate.check_covariance("R", R, k)
