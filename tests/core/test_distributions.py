@@ -18,7 +18,7 @@ from scipy import stats
 from xnavlab.core import distributions as dist
 
 PROBS = st.floats(1e-12, 1.0 - 1e-12)
-DOFS = st.floats(0.5, 500.0)
+DOFS = st.floats(1.0, 500.0)   # DOF_RANGE starts at 1 (a law of at least one term)
 X = st.floats(-40.0, 40.0)
 
 
@@ -66,6 +66,11 @@ def test_chi_square_cdf_elementwise_like_scipy():
     (lambda: dist.t_ppf(0.975, -1), "dof"),
     (lambda: dist.norm_cdf(float("inf")), "x"),
     (lambda: dist.chi2_cdf([1.0], "three"), "dof"),
+    (lambda: dist.chi2_cdf(1.0, 5e-324), "dof"),     # was NaN: dof / 2 underflowed
+    (lambda: dist.chi2_isf(0.05, 0.5), "dof"),       # DOF_RANGE starts at 1
+    (lambda: dist.t_ppf(0.5, 5e-324), "dof"),
+    (lambda: dist.t_ppf(5e-324, 31), "q"),           # was inf: below T_Q_MIN
+    (lambda: dist.t_ppf(1e-201, 3), "q"),
 ])
 def test_bad_input_named_with_its_range(call, name):
     # a range when there is one; an unbounded number is "a finite real number", never [-inf, inf]

@@ -410,3 +410,38 @@ def test_issue35_jacobians_beyond_1e100_are_refused_by_name():
         filters.ekf_update(np.zeros(2), np.eye(2), [1.0], [0.0], [[1e200, 0.0]], [[1.0]])
     with pytest.raises(ValueError, match=r"^F must have entries in \[-1e\+100, 1e\+100\]"):
         filters.ekf_predict(np.zeros(2), np.eye(2), np.zeros(2), 1e200 * np.eye(2), np.eye(2))
+
+
+# ------------------------------------------------------------------ edge inputs (issue 35)
+
+@pytest.mark.parametrize(("call", "match"), [
+    # a skipped update (z=None) checks the model it is given, naming it
+    (lambda: filters.ekf_update(np.zeros(1), np.eye(1), None, True, np.eye(1), np.eye(1)),
+     r"^h\(x\) must"),
+    (lambda: filters.ekf_update(np.zeros(1), np.eye(1), None, np.zeros(1), [], np.eye(1)),
+     r"^H must have shape"),
+    (lambda: filters.ekf_update(np.zeros(1), np.eye(1), None, np.zeros(1), np.eye(1), True),
+     r"^R must"),
+    (lambda: filters.ukf_update(np.zeros(1), np.eye(1), None, 1.0, np.eye(1)), r"^h must be a function"),
+    (lambda: filters.ukf_update(np.zeros(1), np.eye(1), [1.0], [], np.eye(1)), r"^h must be a function"),
+    (lambda: filters.ukf_predict(np.zeros(1), np.eye(1), True, np.eye(1)), r"^f must be a function"),
+    # a well-formed x of the wrong length is named when P (and Q, H) agree with each other
+    (lambda: filters.ekf_predict([1.0], np.eye(2), np.ones(2), np.eye(2), np.eye(2)),
+     r"^x must have length 2 \(the size of P\), got length 1"),
+    (lambda: filters.ukf_predict([1.0], np.eye(2), lambda s: s, np.eye(2)), r"^x must have length 2"),
+    (lambda: filters.sigma_points([], np.eye(1), 0.0), r"^x must hold at least one state"),
+    (lambda: filters.nees([1.0], np.eye(2)), r"^err must have 2 components \(the size of P\)"),
+    (lambda: filters.consistency_verdict(1.0, 5.0, -0.0), r"^hi must be at least lo = 5"),
+    (lambda: filters.chi2_bounds(5e-324, 50), r"^dof must be a real number in \[1, 1e\+12\]"),
+    (lambda: filters.chi2_bounds(6, 1e12), r"^n_runs must be at most 1\.66667e\+11 with dof = 6"),
+])
+def test_an_edge_input_is_refused_naming_it(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()
+
+
+def test_a_skipped_update_with_its_model_is_checked_and_skips():
+    up = filters.ekf_update(np.zeros(1), np.eye(1), None, np.zeros(1), np.eye(1), np.eye(1))
+    assert up.innovation is None and np.isnan(up.nis)
+    up = filters.ukf_update(np.zeros(1), np.eye(1), None, lambda s: s, np.eye(1))
+    assert up.S is None and np.isnan(up.nis)

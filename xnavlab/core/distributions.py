@@ -8,7 +8,8 @@ calls the ``scipy.special`` routine that ``scipy.stats`` itself calls for the sa
 (scipy's ``norm_gen``, ``chi2_gen`` and ``t_gen``), so the numbers are the same;
 ``tests/core/test_distributions.py`` holds them against ``scipy.stats``.
 
-Probabilities are plain numbers in (0, 1); ``dof`` is the law's degrees of freedom.
+Probabilities are plain numbers in (0, 1); ``dof`` is the law's degrees of freedom, in
+[1, 1e12] (see :data:`DOF_RANGE`).
 """
 
 from __future__ import annotations
@@ -30,12 +31,25 @@ def _special():
     return special
 
 
+#: The degrees of freedom these functions take. 1: a chi-square or t law here counts
+#: independent terms (the m components of a NIS, the n - 1 of a mean over n runs), at least
+#: one; below it ``t_ppf`` has no finite tail (``dof = 5e-324`` gave NaN and inf). 1e12: more
+#: terms than any campaign sums, where both laws equal their normal limit to double precision.
+DOF_RANGE = (1.0, 1e12)
+
+#: The smallest tail probability :func:`t_ppf` takes: scipy's ``stdtrit`` returns inf (not the
+#: huge finite quantile) below about 1e-250 for dof near 2 and 3, and ``t_ppf(5e-324, 31)`` was
+#: inf; 1e-200 is answered finitely for every dof in :data:`DOF_RANGE` and is far beyond any
+#: confidence level.
+T_Q_MIN = 1e-200
+
+
 def _prob(name, p):
     return check_real(name, p, 0.0, 1.0, lo_open=True, hi_open=True)
 
 
 def _dof(dof):
-    return check_real("dof", dof, 0.0, lo_open=True)
+    return check_real("dof", dof, *DOF_RANGE)
 
 
 def norm_cdf(x):
@@ -92,7 +106,7 @@ def chi2_cdf(x, dof):
         refused, as :func:`norm_cdf` refuses it (a NaN probability would pass any test
         against it silently).
     dof : float
-        Degrees of freedom, > 0.
+        Degrees of freedom, in [1, 1e12] (:data:`DOF_RANGE`).
 
     Returns
     -------
@@ -137,11 +151,15 @@ def chi2_isf(p, dof):
 
 
 def t_ppf(q, dof):
-    """The ``q`` quantile of Student's t law with ``dof`` degrees of freedom, ``0 < q < 1``.
+    """The ``q`` quantile of Student's t law with ``dof`` degrees of freedom.
+
+    ``q`` is in ``[1e-200, 1)`` (:data:`T_Q_MIN`: below it scipy's inverse answers inf) and
+    ``dof`` in [1, 1e12] (:data:`DOF_RANGE`).
 
     Examples
     --------
     >>> round(t_ppf(0.975, 31), 4)   # the 95 % interval of a mean over 32 runs
     2.0395
     """
-    return float(_special().stdtrit(_dof(dof), _prob("q", q)))   # F_t^-1(q)
+    q = check_real("q", q, T_Q_MIN, 1.0, hi_open=True)
+    return float(_special().stdtrit(_dof(dof), q))   # F_t^-1(q)

@@ -49,9 +49,10 @@ from typing import NamedTuple
 
 import numpy as np
 
-from xnavlab.core.distributions import chi2_ppf
+from xnavlab.core.distributions import DOF_RANGE, chi2_ppf
 from xnavlab.core.validate import (
     check_bool,
+    check_callable,
     check_covariance,
     check_definite,
     check_finite_array,
@@ -156,10 +157,25 @@ def _call(f, x):
     return f(x) if callable(f) else f
 
 
-def _checked_state(x, P):
-    """``x`` (n,) and ``P`` (n, n) symmetric positive semi-definite, or ValueError."""
+def _checked_state(x, P, witness=None):
+    """``x`` (n,) and ``P`` (n, n) symmetric positive semi-definite, or ValueError.
+
+    When each is well formed but their sizes differ, ``x`` is named (its length is the odd
+    one out against the square ``P``) unless ``witness``, the size of a third square matrix
+    (``Q``), agrees with ``x``: then ``P`` is.
+    """
     x = _bounded("x", _nonempty("x", check_vector("x", x), "state"))
+    Pa = check_finite_array("P", P)
+    if Pa.ndim == 2 and Pa.shape[0] == Pa.shape[1] != x.size and witness != x.size:
+        raise ValueError(f"x must have length {Pa.shape[0]} (the size of P), got length {x.size}")
     return x, check_covariance("P", _scaled("P", P), x.size)
+
+
+def _size(M, square=True):
+    """The size of a square matrix (the columns of a matrix if not ``square``), else None: a
+    witness for :func:`_checked_state`."""
+    shape = np.shape(M) if isinstance(M, np.ndarray | list | tuple) else ()
+    return shape[1] if len(shape) == 2 and (shape[0] == shape[1] or not square) else None
 
 
 def _odd_length(m_z, m_model, model, R):
@@ -228,7 +244,7 @@ def ekf_predict(x, P, f, F, Q, check=True):
     """
     check = check_bool("check", check)
     if check:
-        x, P = _checked_state(x, P)
+        x, P = _checked_state(x, P, _size(Q))
         Q = check_covariance("Q", _scaled("Q", Q), x.size)
         Phi = _bounded("F", _checked_model("F", _call(F, x), (x.size, x.size)))
         x_new = _checked_model("f(x)", _call(f, x), (x.size,))
@@ -277,7 +293,8 @@ def ekf_update(x, P, z, h, H, R, residual=None, check=True):
         Prior covariance, variances in [0, 1e100].
     z : array_like, shape (m,) or None
         Measurement, entries in [-1e100, 1e100]; ``None`` skips the update (time update
-        only).
+        only): then ``h``, ``H`` and ``R`` may all be None (no model is needed), and are
+        otherwise checked as for an update, so that a wrong model is not hidden by a skip.
     h : callable or array_like
         ``h(x) -> z_pred``, or the predicted measurement itself.
     H : callable or array_like, shape (m, n)
@@ -292,7 +309,9 @@ def ekf_update(x, P, z, h, H, R, residual=None, check=True):
     Returns
     -------
     Update
-        ``x``, ``P``, ``innovation``, ``S``, ``nis``.
+        ``x``, ``P``, ``innovation``, ``S``, ``nis``. A skipped update has ``innovation`` and
+        ``S`` None and ``nis`` NaN: no test was made, and NaN is the one value an average of
+        NIS values (``np.nanmean``) drops instead of counting (0 would be a perfect NIS).
 
     Examples
     --------
@@ -306,20 +325,24 @@ def ekf_update(x, P, z, h, H, R, residual=None, check=True):
     """
     check = check_bool("check", check)
     if check:
-        x, P = _checked_state(x, P)
+        x, P = _checked_state(x, P, _size(H, square=False))
     else:
         x = np.asarray(x, dtype=float)
         P = np.asarray(P, dtype=float)
-    if z is None:
+    if z is None and (not check or (h is None and H is None and R is None)):
         return Update(x, P, None, None, float("nan"))
     if check:
-        z = _bounded("z", _nonempty("z", check_vector("z", z), "measurement"))
-        m = z.size
+        if z is not None:
+            z = _bounded("z", _nonempty("z", check_vector("z", z), "measurement"))
         Hm = _checked_model("H", np.atleast_2d(_call(H, x)), (None, x.size))
-        _odd_length(m, Hm.shape[0], "the rows of H", R)
+        m = Hm.shape[0] if z is None else z.size
+        if z is not None:
+            _odd_length(m, Hm.shape[0], "the rows of H", R)
         Hm = _bounded("H", _checked_model("H", Hm, (m, x.size)))
         z_pred = _checked_model("h(x)", _call(h, x), (m,))
         R = check_covariance("R", _scaled("R", np.atleast_2d(R), True), m, definite=True)
+        if z is None:   # the model given with a skipped update is checked, not used
+            return Update(x, P, None, None, float("nan"))
     else:
         z = np.asarray(z, dtype=float)
         z_pred = np.asarray(_call(h, x), dtype=float)
@@ -400,8 +423,11 @@ def sigma_points(x, P, lam):
     >>> sigma_points(np.zeros(1), np.eye(1) * 4.0, 0.0).ravel().tolist()
     [0.0, 2.0, -2.0]
     """
-    x = check_vector("x", x)
+    x = _nonempty("x", check_vector("x", x), "state")
     n = x.size
+    Pa = check_finite_array("P", P)
+    if Pa.ndim == 2 and Pa.shape[0] == Pa.shape[1] != n:   # x the odd one out
+        raise ValueError(f"x must have length {Pa.shape[0]} (the size of P), got length {n}")
     P = _square("P", P, n)
     lam = check_real("lam", lam, -n, 1e6, lo_open=True)  # (n + lam) P stays finite
     try:
@@ -477,7 +503,8 @@ def ukf_predict(x, P, f, Q, alpha=1.0, beta=2.0, kappa=0.0, check=True):
     """
     check = check_bool("check", check)
     if check:
-        x, P = _checked_state(x, P)
+        x, P = _checked_state(x, P, _size(Q))
+        f = check_callable("f", f, "a function f(x) -> x- of one state")
         Q = check_covariance("Q", _scaled("Q", Q), x.size)
     x = np.asarray(x, dtype=float)
     Wm, Wc, lam = ukf_weights(x.size, alpha, beta, kappa)
@@ -493,6 +520,9 @@ def ukf_update(x, P, z, h, R, alpha=1.0, beta=2.0, kappa=0.0, residual=None, che
 
     Parameters
     ----------
+    z : array_like, shape (m,) or None
+        Measurement; ``None`` skips the update: then ``h`` and ``R`` may both be None, and are
+        otherwise checked (``h`` a function, ``R`` a covariance of the length of ``h(x)``).
     h : callable
         ``h(x) -> z_pred`` for one state.
     residual : callable, optional
@@ -516,19 +546,25 @@ def ukf_update(x, P, z, h, R, alpha=1.0, beta=2.0, kappa=0.0, residual=None, che
     else:
         x = np.asarray(x, dtype=float)
         P = np.asarray(P, dtype=float)
-    if z is None:
+    if z is None and (not check or (h is None and R is None)):
         return Update(x, P, None, None, float("nan"))
     if check:
-        z = _bounded("z", _nonempty("z", check_vector("z", z), "measurement"))
-    z = np.asarray(z, dtype=float)
+        if z is not None:
+            z = _bounded("z", _nonempty("z", check_vector("z", z), "measurement"))
+        h = check_callable("h", h, "a function h(x) -> z_pred of one state")
     Wm, Wc, lam = ukf_weights(x.size, alpha, beta, kappa)
     X = sigma_points(x, P, lam)
     Z = np.array([np.atleast_1d(h(s)) for s in X])
     if check:
         Z = _checked_model("h(x) of the sigma points", Z, (X.shape[0], None))
-        _odd_length(z.size, Z.shape[1], "the length of h(x)", R)
-        Z = _checked_model("h(x) of the sigma points", Z, (X.shape[0], z.size))
-        R = check_covariance("R", _scaled("R", np.atleast_2d(R), True), z.size, definite=True)
+        m = Z.shape[1] if z is None else z.size
+        if z is not None:
+            _odd_length(m, Z.shape[1], "the length of h(x)", R)
+        Z = _checked_model("h(x) of the sigma points", Z, (X.shape[0], m))
+        R = check_covariance("R", _scaled("R", np.atleast_2d(R), True), m, definite=True)
+        if z is None:   # the model given with a skipped update is checked, not used
+            return Update(x, P, None, None, float("nan"))
+    z = np.asarray(z, dtype=float)
     z_pred, S = _transform(Z, Wm, Wc, noise=np.atleast_2d(R), residual=residual)
     res = residual if residual is not None else (lambda a, b: a - b)
     Pxz = (Wc[:, None] * (X - x)).T @ res(Z, z_pred)
@@ -587,6 +623,10 @@ def _normalised_square(ename, err, pname, P):
         raise ValueError(f"{ename} must hold at least one component (shape (..., n), n >= 1), "
                          f"got shape {err.shape}")
     err = _bounded(ename, err)
+    Pa = check_finite_array(pname, P)
+    if Pa.ndim >= 2 and Pa.shape[-1] == Pa.shape[-2] != err.shape[-1]:   # err the odd one out
+        raise ValueError(f"{ename} must have {Pa.shape[-1]} components (the size of {pname}), got "
+                         f"shape {err.shape}")
     P = check_definite(pname, _scaled(pname, P, True), err.shape[-1])
     try:
         np.broadcast_shapes(err.shape[:-1], P.shape[:-2])
@@ -606,10 +646,11 @@ def chi2_bounds(dof, n_runs=1, p=0.95):
     Parameters
     ----------
     dof : float
-        Degrees of freedom of each value, > 0.
+        Degrees of freedom of each value, in [1, 1e12]
+        (:data:`xnavlab.core.distributions.DOF_RANGE`: a NEES or NIS sums at least one term).
     n_runs : float
         Values averaged, in [1, 1e12] (a Monte Carlo of more runs than a machine makes in a
-        year; beyond 1e308 / dof the pooled degrees of freedom overflow).
+        year), with ``n_runs * dof`` at most 1e12 (the pooled law's degrees of freedom).
     p : float
         Probability inside the bounds, in (0, 1).
 
@@ -623,10 +664,13 @@ def chi2_bounds(dof, n_runs=1, p=0.95):
     >>> round(lo, 2), round(hi, 2)
     (5.08, 7.0)
     """
-    dof = check_real("dof", dof, 0.0, lo_open=True)
+    dof = check_real("dof", dof, *DOF_RANGE)
     n_runs = check_real("n_runs", n_runs, 1.0, 1e12)
-    p = check_real("p", p, 0.0, 1.0, lo_open=True, hi_open=True)
     k = dof * n_runs
+    if k > DOF_RANGE[1]:   # the pooled law's degrees of freedom, as chi2_ppf takes them
+        raise ValueError(f"n_runs must be at most {DOF_RANGE[1] / dof:g} with dof = {dof:g} (the "
+                         f"pooled n_runs * dof degrees of freedom at most {DOF_RANGE[1]:g}), got {n_runs:g}")
+    p = check_real("p", p, 0.0, 1.0, lo_open=True, hi_open=True)
     return chi2_ppf((1 - p) / 2, k) / n_runs, chi2_ppf((1 + p) / 2, k) / n_runs
 
 
@@ -653,7 +697,7 @@ def consistency_verdict(value, lo, hi):
     """
     value, lo, hi = (check_real(n, v, 0.0) for n, v in (("value", value), ("lo", lo), ("hi", hi)))
     if lo > hi:
-        raise ValueError(f"lo must not exceed hi, got [{lo:g}, {hi:g}]")
+        raise ValueError(f"hi must be at least lo = {lo:g} (the band's lower end), got {hi:g}")
     return "inside" if lo <= value <= hi else ("conservative" if value < lo else "optimistic")
 
 
