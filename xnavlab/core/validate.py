@@ -530,8 +530,13 @@ def check_records(name, value, keys=(), what="record"):
     Traceback (most recent call last):
     ...
     ValueError: rows[1] must be a detector row (a dict with pd), got {'size': 2}
+    >>> check_records("rows", np.array(1.0))
+    Traceback (most recent call last):
+    ...
+    ValueError: rows must be a list of records (dicts), got array(1.)
     """
-    if isinstance(value, str | bytes | dict) or not hasattr(value, "__iter__"):
+    zero_d = isinstance(value, np.ndarray) and value.ndim == 0  # iterable to hasattr, not to list
+    if isinstance(value, str | bytes | dict) or not hasattr(value, "__iter__") or zero_d:
         raise ValueError(f"{name} must be a list of {what}s (dicts), got {shown(value)}")
     value = list(value)
     for i, row in enumerate(value):
