@@ -160,8 +160,12 @@ def test_model_names_and_tables():
 
 
 def test_accelerations_refuse_mismatched_shapes():
-    with pytest.raises(ValueError, match=r"r shape \(n, 3\)"):
+    with pytest.raises(ValueError, match=r"^r must have shape \(1, 3\) \(n = length of t\)"):
         fm.accelerations([dynamics.MARS_T0], np.zeros((2, 3)))
+    with pytest.raises(ValueError, match=r"^r must have shape \(2, 3\)"):
+        fm.accelerations([dynamics.MARS_T0] * 2, -0.0)
+    with pytest.raises(ValueError, match=r"^t must be a 1-D array of at least one epoch"):
+        fm.accelerations([], np.zeros((0, 3)))
 
 
 def test_a_filter_with_more_planets_runs_the_same_on_both_backends():
@@ -234,3 +238,20 @@ def test_the_gravity_models_take_exactly_the_positions_outside_mars(rn, z, lon):
     else:
         with pytest.raises(ValueError, match="^r must lie outside Mars"):
             fm.harmonic_acceleration(dynamics.MARS_T0, r, 4)
+
+
+def test_a_force_model_is_refused_under_the_callers_name():
+    """Issue 35 (review 35h): ``model``'s refusal named 'force model', which is no parameter."""
+    t = dynamics.MARS_T0 + np.array([0.0, 60.0])
+    with pytest.raises(ValueError, match=r"^spec must be one of 'paper', 'study'"):
+        fm.model(True)
+    with pytest.raises(ValueError, match=r"^force_model must be one of 'paper', 'study'.*got True$"):
+        fm.third_body_table(True, dynamics.MARS_T0, dynamics.MARS_T0 + 3600.0)
+    with pytest.raises(ValueError, match=r"^force_model must be one of"):
+        fm.accelerations(t, np.tile(dynamics.MARS_STATE0[:3], (2, 1)), True)
+    with pytest.raises(ValueError, match=r"^force_model must be one of"):
+        fm.propagate(t, force_model=True)
+    with pytest.raises(ValueError, match=r"^truth_model: gravity_degree must be 0"):
+        fm.check_models({"gravity_degree": 1}, "paper")
+    with pytest.raises(ValueError, match=r"^filter_model has no field 'j2'"):
+        fm.check_models("paper", {"j2": True})

@@ -44,3 +44,22 @@ def test_study_fields_fill_only_what_is_not_given():
     assert g["q_acc"] == 0.0
     sc = MarsScenario.study(days=1.0)
     assert not sc.paper_setup and sc.q_acc == f["q_acc"]
+
+
+def test_an_edge_value_is_refused_under_its_own_name():
+    """Issue 35 (review 35h): a bool model was refused as 'force model', a scalar ``t`` as
+    ``states``, and ``study_fields`` took any ``make`` and failed on ``fields``' type."""
+    t = dynamics.MARS_T0 + np.array([0.0, 600.0])
+    x = dynamics.truth(t, cache=False)
+    with pytest.raises(ValueError, match=r"^t must be a 1-D array of at least one epoch, got shape \(\)"):
+        mn.unmodelled_acceleration(-0.0, x, "paper", "paper")
+    with pytest.raises(ValueError, match=r"^truth_model must be one of 'paper', 'study'"):
+        mn.unmodelled_acceleration(t, x, True, "paper")
+    with pytest.raises(ValueError, match=r"^filter_model must be one of 'paper', 'study'"):
+        mn.unmodelled_statistics("paper", True, days=0.05)
+    with pytest.raises(ValueError, match=r"^truth_model must be one of"):
+        mn.derived_q_acc(True, "paper", days=0.05)
+    with pytest.raises(ValueError, match=r"^make must be a function make\(fields\) -> MarsScenario"):
+        mn.study_fields(True, {"q_acc": 1e-6})
+    with pytest.raises(ValueError, match=r"^fields must be a dict of MarsScenario fields, got list \[\]"):
+        mn.study_fields(lambda kw: MarsScenario(**kw), [])

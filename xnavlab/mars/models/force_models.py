@@ -66,6 +66,7 @@ from xnavlab.core.validate import (
     check_finite_array,
     check_int,
     check_real,
+    check_shape,
     check_vector,
 )
 from xnavlab.mars.models import dynamics
@@ -256,12 +257,7 @@ def check_models(truth_model, filter_model):
     ...     print(str(exc)[:46])
     filter_model must be a point mass with third b
     """
-    out = []
-    for name, spec in (("truth_model", truth_model), ("filter_model", filter_model)):
-        try:
-            out.append(model(spec))
-        except ValueError as exc:
-            raise ValueError(f"{name}: {exc}") from None
+    out = [model(truth_model, "truth_model"), model(filter_model, "filter_model")]
     if not out[1].compiled_filter_ok:
         raise ValueError(f"filter_model must be a point mass with third bodies (gravity_degree "
                          f"0, srp false: the compiled filter integrates no more), got "
@@ -269,8 +265,15 @@ def check_models(truth_model, filter_model):
     return tuple(out)
 
 
-def model(spec):
+def model(spec, name="spec"):
     """A :class:`ForceModel` from a name of :data:`MODELS`, a dict of its fields, or itself.
+
+    Parameters
+    ----------
+    spec : ForceModel, str or dict
+        The model, a name of :data:`MODELS` or a table of :class:`ForceModel` fields.
+    name : str
+        The caller's parameter, for the messages (``"truth_model"``): a refusal leads with it.
 
     Examples
     --------
@@ -279,7 +282,7 @@ def model(spec):
     >>> model("rich")
     Traceback (most recent call last):
     ...
-    ValueError: force model must be one of 'paper', 'study' or a table of ForceModel fields, got 'rich'
+    ValueError: spec must be one of 'paper', 'study' or a table of ForceModel fields, got 'rich'
     """
     if isinstance(spec, ForceModel):
         return spec
@@ -289,9 +292,12 @@ def model(spec):
         known = ("gravity_degree", "third_bodies", "srp", "area_m2", "mass_kg", "reflectivity")
         bad = sorted(set(spec) - set(known))
         if bad:
-            raise ValueError(f"force model has no field {bad[0]!r} (fields: {', '.join(known)})")
-        return ForceModel(**spec)
-    raise ValueError(f"force model must be one of 'paper', 'study' or a table of ForceModel "
+            raise ValueError(f"{name} has no field {bad[0]!r} (fields: {', '.join(known)})")
+        try:
+            return ForceModel(**spec)
+        except ValueError as exc:  # a field's refusal, under the parameter the user typed
+            raise ValueError(f"{name}: {exc}") from None
+    raise ValueError(f"{name} must be one of 'paper', 'study' or a table of ForceModel "
                      f"fields, got {spec!r}")
 
 
@@ -556,7 +562,7 @@ class Tables:
     def __init__(self, force_model, t_start, t_end, ephem="de421"):
         t_start = check_real("t_start", t_start)
         t_end = check_real("t_end", t_end, t_start)
-        fm = model(force_model)
+        fm = model(force_model, "force_model")
         bodies = list(fm.third_bodies)
         if fm.srp and "sun" not in bodies:
             bodies.append("sun")
@@ -597,7 +603,7 @@ def third_body_table(force_model, t_start, t_end, ephem="de421"):
     >>> tab.bodies
     ('sun', 'jupiter')
     """
-    fm = model(force_model)
+    fm = model(force_model, "force_model")
     if set(fm.third_bodies) <= set(dynamics.GM_BODIES):
         return dynamics.ThirdBodyTable(t_start, t_end, fm.third_bodies, "mars", ephem)
     return _table(t_start, t_end, fm.third_bodies, ephem)
@@ -738,10 +744,9 @@ def accelerations(t, r, force_model=PAPER, ephem="de421", tables=None):
     (2, 3)
     """
     t = check_finite_array("t", t)
-    r = check_finite_array("r", r)
-    if t.ndim != 1 or r.shape != (t.size, 3) or t.size == 0:
-        raise ValueError(f"t must have shape (n,) and r shape (n, 3) with n >= 1, got "
-                         f"{t.shape} and {r.shape}")
+    if t.ndim != 1 or t.size == 0:
+        raise ValueError(f"t must be a 1-D array of at least one epoch, got shape {t.shape}")
+    r = check_shape("r", r, (t.size, 3), "n = length of t")
     _outside_mars("r", r)
     if tables is None:
         tables = Tables(force_model, float(t.min()), float(t.max()), ephem)
@@ -775,7 +780,7 @@ def propagate(t_eval, state0=dynamics.MARS_STATE0, t0=dynamics.MARS_T0, force_mo
     ...                  rtol=0, atol=1e-6))
     True
     """
-    fm = model(force_model)
+    fm = model(force_model, "force_model")
     t_eval = check_finite_array("t_eval", t_eval)
     state0 = dynamics.check_state0(state0)  # above Mars, slower than a craft bound to the Sun
     t0 = check_real("t0", t0)
@@ -821,7 +826,7 @@ def truth(t_eval, state0=dynamics.MARS_STATE0, t0=dynamics.MARS_T0, force_model=
     True
     """
     cache = check_bool("cache", cache)
-    fm = model(force_model)
+    fm = model(force_model, "force_model")
     t_eval = check_finite_array("t_eval", t_eval)
     state0 = dynamics.check_state0(state0)
     check_choice("ephem", ephem, ephemeris.EPHEMERIDES)

@@ -35,9 +35,15 @@ import math
 import numpy as np
 
 from xnavlab.core.constants import DAY
-from xnavlab.core.validate import check_choice, check_finite_array, check_real
+from xnavlab.core.validate import (
+    check_callable,
+    check_choice,
+    check_finite_array,
+    check_instance,
+    check_real,
+)
 from xnavlab.mars.models import dynamics
-from xnavlab.mars.models.force_models import PAPER, STUDY, accelerations, truth
+from xnavlab.mars.models.force_models import PAPER, STUDY, accelerations, model, truth
 
 __all__ = ["unmodelled_acceleration", "unmodelled_statistics", "derived_q_acc", "study_fields"]
 
@@ -66,10 +72,13 @@ def unmodelled_acceleration(t, states, truth_model=STUDY, filter_model=PAPER,
     0.0
     """
     t = check_finite_array("t", t)
+    if t.ndim != 1 or t.size == 0:
+        raise ValueError(f"t must be a 1-D array of at least one epoch, got shape {t.shape}")
     states = check_finite_array("states", states)
     if states.ndim != 2 or states.shape[1] not in (3, 6) or states.shape[0] != t.size:
-        raise ValueError(f"states must have shape ({t.size}, 6) or ({t.size}, 3), "
-                         f"got {states.shape}")
+        raise ValueError(f"states must have shape ({t.size}, 6) or ({t.size}, 3) (n = length "
+                         f"of t), got {states.shape}")
+    truth_model, filter_model = model(truth_model, "truth_model"), model(filter_model, "filter_model")
     r = states[:, :3]
     return (accelerations(t, r, truth_model, truth_ephem)
             - accelerations(t, r, filter_model, filter_ephem))
@@ -103,6 +112,7 @@ def unmodelled_statistics(truth_model=STUDY, filter_model=PAPER, days=1.0, dt=30
     >>> st["rms_mps2"], st["correlation_time_s"]
     (0.0, 0.0)
     """
+    truth_model, filter_model = model(truth_model, "truth_model"), model(filter_model, "filter_model")
     days = check_real("days", days, 0.0, 365.0, lo_open=True)
     dt = check_real("dt", dt, 1.0, 3600.0)
     t = t0 + np.arange(0.0, days * DAY + 1e-9, dt)
@@ -203,6 +213,8 @@ def study_fields(make, fields):
     >>> f["truth_model"].gravity_degree, f["q_acc"]
     (8, 1e-06)
     """
+    check_callable("make", make, "a function make(fields) -> MarsScenario")
+    check_instance("fields", fields, dict, "a dict of MarsScenario fields")
     fields = {"truth_model": STUDY, "filter_model": PAPER, **fields}
     if "q_acc" not in fields:
         probe = make({**fields, "q_acc": 0.0})
