@@ -339,3 +339,17 @@ def test_a_position_at_the_centre_or_past_the_planets_is_refused(r):  # review 3
 def test_transition_matrix_refuses_a_step_beyond_its_series():
     with pytest.raises(ValueError, match=r"dt must be a real number in \[-1e\+06, 1e\+06\]"):
         dynamics.transition_matrix(dynamics.MARS_STATE0[:3], 1e308)
+
+
+def test_an_edge_value_of_acceleration_or_the_slider_is_refused_by_name(table):
+    """Issue 35 (review 35h): a bool epoch, a table that is no ThirdBodyTable and a slider's
+    switch that is no bool were taken (t unused without a table, ``table.bodies`` an
+    AttributeError, ``sun=[]`` read as False)."""
+    with pytest.raises(ValueError, match=r"^t must be a finite real number, got True$"):
+        dynamics.acceleration(True, X0[:3])
+    with pytest.raises(ValueError, match=r"^table must be a ThirdBodyTable or None, got float -0.0$"):
+        dynamics.acceleration(T0, X0[:3], -0.0)
+    with pytest.raises(ValueError, match=r"^sun must be True or False, got \[\]$"):
+        dynamics.plot_model_difference(sun=[], days_shown=1)
+    with pytest.raises(ValueError, match=r"^jupiter must be True or False"):
+        dynamics.plot_model_difference(jupiter=1.0, days_shown=1)

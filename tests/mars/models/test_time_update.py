@@ -71,6 +71,22 @@ def test_a_step_or_noise_beyond_its_range_is_refused_not_an_overflow_or_an_endle
     with pytest.raises(ValueError, match=r"^dt / max_step must be at most 1e6 sub-steps, got dt = 1e\+308 s"):
         time_update.filter_propagate(x0, t0, 1e308, tab)
     with pytest.raises(ValueError, match=r"^dt / max_step must be at most 1e6 sub-steps"):
+        time_update.filter_propagate(x0, t0, 1e5, tab, max_step=0.01)
+    with pytest.raises(ValueError, match=r"^max_step must be a real number in \[0.01, 86400\], got 1e-300$"):
         time_update.filter_propagate(x0, t0, 500.0, tab, max_step=1e-300)
-    with pytest.raises(ValueError, match=r"^max_step must be a real number in \(0, 86400\]"):
+    with pytest.raises(ValueError, match=r"^max_step must be a real number in \[0.01, 86400\]"):
         time_update.filter_propagate(x0, t0, 500.0, tab, max_step=1e308)
+
+
+def test_a_table_that_is_no_third_body_table_is_refused_by_name():
+    """Issue 35 (review 35h): a bool or a list for ``table`` was an AttributeError inside
+    the RK4 step ('bool' object has no attribute 'bodies')."""
+    x0, t0 = dynamics.MARS_STATE0, dynamics.MARS_T0
+    for fn in (lambda: time_update.filter_step(x0, t0, 3.0, True),
+               lambda: time_update.filter_propagate(x0, t0, 3.0, -0.0),
+               lambda: time_update.Propagation(t0, 60.0, [], 10.0)):
+        with pytest.raises(ValueError, match=r"^table must be a ThirdBodyTable, got"):
+            fn()
+    tab = dynamics.ThirdBodyTable(t0, t0 + 600.0)
+    with pytest.raises(ValueError, match=r"^max_step must be a real number in \[0.01, 86400\], got 5e-324$"):
+        time_update.Propagation(t0, 60.0, tab, 5e-324)

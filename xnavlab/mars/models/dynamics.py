@@ -38,6 +38,7 @@ from xnavlab.core.validate import (
     check_bool,
     check_choice,
     check_finite_array,
+    check_instance,
     check_int,
     check_items,
     check_real,
@@ -308,7 +309,10 @@ def acceleration(t, r, table=None, j2=False):
     >>> bool(2.0 < np.linalg.norm(a) < 2.2)
     True
     """
+    t = check_real("t", t)
     r = _position("r", r)
+    if table is not None:
+        check_instance("table", table, ThirdBodyTable, "a ThirdBodyTable or None")
     j2 = check_bool("j2", j2)
     a = point_mass(r)
     if table is not None and table.bodies:
@@ -817,6 +821,8 @@ def plot_model_difference(sun=True, jupiter=True, j2=False, days_shown=30):
     title = fig.suptitle("")
 
     def update(sun=True, jupiter=True, j2=False, days_shown=30):
+        sun, jupiter = check_bool("sun", sun), check_bool("jupiter", jupiter)
+        j2 = check_bool("j2", j2)
         days_shown = check_int("days_shown", days_shown, 1, 30)
         bodies = _bodies(sun, jupiter)
         t = chapter_times()  # the chapters' grid (cached truths)

@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from xnavlab.core.validate import check_finite_array, check_real
+from xnavlab.core.validate import check_finite_array, check_instance, check_real
 from xnavlab.mars.models import dynamics
 
 __all__ = ["process_noise", "filter_step", "filter_propagate", "Propagation"]
@@ -62,6 +62,7 @@ def filter_step(x, t, dt, table):
     """
     x = check_finite_array("x", x, shape=(6,))
     t, dt = check_real("t", t), check_real("dt", dt, -86400.0, 86400.0)
+    _check_table(table)
 
     def f(tt, y):
         return np.concatenate([y[3:], dynamics.acceleration(tt, y[:3], table)])
@@ -78,7 +79,7 @@ def filter_propagate(x, t, dt, table, max_step=10.0):
 
     Returns the propagated state and the transition matrix ``Phi_n ... Phi_1``
     (:func:`xnavlab.mars.models.dynamics.transition_matrix` at the start of each sub-step).
-    ``max_step`` (s) is in (0, 86400], and at most 1e6 sub-steps are taken (a ``dt`` or a
+    ``max_step`` (s) is in [0.01, 86400], and at most 1e6 sub-steps are taken (a ``dt`` or a
     ``max_step`` that asks for more is refused, not run without end).
 
     Returns
@@ -95,7 +96,7 @@ def filter_propagate(x, t, dt, table, max_step=10.0):
     True
     """
     x = check_finite_array("x", x, shape=(6,))
-    t, dt, max_step = _check_steps(t, dt, max_step)
+    t, dt, max_step = _check_steps(t, dt, table, max_step)
     n = max(1, math.ceil(dt / max_step - 1e-9))
     h = dt / n
     Phi = np.eye(6)
@@ -105,10 +106,19 @@ def filter_propagate(x, t, dt, table, max_step=10.0):
     return x, Phi
 
 
-def _check_steps(t, dt, max_step):
-    """(t, dt, max_step) checked: max_step in (0, 86400] s and at most 1e6 sub-steps."""
+def _check_table(table):
+    """The filter's third bodies: a ThirdBodyTable (its ``bodies`` may be empty)."""
+    return check_instance("table", table, dynamics.ThirdBodyTable, "a ThirdBodyTable")
+
+
+def _check_steps(t, dt, table, max_step):
+    """(t, dt, max_step) checked, and the table: max_step in [0.01, 86400] s and at most 1e6
+    sub-steps."""
     t, dt = check_real("t", t), check_real("dt", dt, 0.0)
-    max_step = check_real("max_step", max_step, 0.0, 86400.0, lo_open=True)
+    _check_table(table)
+    # from 0.01 s (a scenario's shortest sub-step: RK4's truncation error is below its round-off
+    # long before; a subnormal step asked for 1e300 sub-steps) to one day
+    max_step = check_real("max_step", max_step, 0.01, 86400.0)
     if dt / max_step > 1e6:
         raise ValueError(f"dt / max_step must be at most 1e6 sub-steps, got dt = {dt:g} s and "
                          f"max_step = {max_step:g} s ({dt / max_step:.3g})")
@@ -125,7 +135,7 @@ class Propagation:
     table : ThirdBodyTable
         Third bodies (filter ephemeris).
     max_step : float
-        Largest RK4 sub-step, s, in (0, 86400]; ``dt / max_step`` at most 1e6 (as
+        Largest RK4 sub-step, s, in [0.01, 86400]; ``dt / max_step`` at most 1e6 (as
         :func:`filter_propagate`, which it calls).
 
     Examples
@@ -138,7 +148,7 @@ class Propagation:
     """
 
     def __init__(self, t, dt, table, max_step):
-        t, dt, max_step = _check_steps(t, dt, max_step)  # refused now, not at the first call
+        t, dt, max_step = _check_steps(t, dt, table, max_step)  # refused now, not at the first call
         self.args = (t, dt, table, max_step)
         self.key, self.val = None, None
 
