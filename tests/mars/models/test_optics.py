@@ -240,3 +240,16 @@ def test_the_extreme_accepted_apparent_radius_and_range_are_finite():
     rho = optics.range_from_radius(optics.MIN_ALPHA)
     assert math.isfinite(float(rho)) and rho <= optics.R_MARS / optics.MIN_ALPHA * (1 + 1e-12)
     assert math.isfinite(float(optics.sigma_alpha_for(ranges=[optics.R_MARS / optics.MIN_ALPHA])))
+
+
+def test_a_subnormal_radius_or_a_scalar_series_is_refused_by_name():
+    """Issue 35 (review 35h): ``limb_fit(a=5e-324)`` divided by zero (1/a^2) and
+    ``gauss_markov(-0.0, ...)`` was an IndexError."""
+    r = np.array([0.0, 0.0, 2.0 * optics.R_MARS])
+    with pytest.raises(ValueError, match=r"^a must be a real number in \[1, 1e\+09\], got 5e-324$"):
+        optics.limb_fit(r, a=5e-324)
+    with pytest.raises(ValueError, match=r"^c must be a real number in \[1, 1e\+09\], got 5e-324$"):
+        optics.limb_fit(r, c=5e-324)
+    with pytest.raises(ValueError, match=r"^w must be an array with time along axis 0, got a scalar"):
+        optics.gauss_markov(-0.0, 0.5)
+    assert optics.gauss_markov([], 0.5).shape == (0,)  # an empty chunk stays one

@@ -302,3 +302,20 @@ def test_position_dop_refuses_an_r_whose_inverse_overflows(R):
     with pytest.raises(ValueError, match=r"^R must have an inverse within float64 \(smallest variance 4\.9"):
         sensors.position_dop(H, R)
     assert np.all(np.isfinite(sensors.position_dop(H, 1e-300 * np.eye(3))))
+
+
+def test_an_edge_sigma_or_sensor_is_refused_by_name():
+    """Issue 35 (review 35h): an empty ``sigma`` was numpy's broadcast error, and
+    ``optical_semi_axes(x, True, cns)`` an AttributeError ('bool' has no 'jacobian')."""
+    u, w = np.array([0.0, 0.0, 1.0]), np.array([1.0, 0.0])
+    with pytest.raises(ValueError, match=r"^sigma must be one number, rad, or one per direction"):
+        sensors.perturb_direction(u, [], w)
+    with pytest.raises(ValueError, match=r"^sigma must be one number.*got shape \(3,\)$"):
+        sensors.perturb_direction(u, [0.1, 0.2, 0.3], w)
+    assert sensors.perturb_direction(u, [0.01], w).shape == (3,)
+    x = np.array([4.0e6, 0.0, 0.0, 0.0, 3000.0, 0.0])
+    cns = sensors.CNSSensor(("Sirius", "Canopus", "Vega"))
+    with pytest.raises(ValueError, match=r"^uv must be a UVSensor, got bool True$"):
+        sensors.optical_semi_axes(x, True, cns)
+    with pytest.raises(ValueError, match=r"^cns must be a CNSSensor, got list \[\]$"):
+        sensors.optical_semi_axes(x, sensors.UVSensor(), [])

@@ -122,3 +122,18 @@ def test_directions_refuses_what_is_no_list_of_distinct_stars(value, words):
 def test_radec_refuses_the_zero_vector():  # review 35d D42's class: NaN and a warning
     with pytest.raises(ValueError, match=r"^u must be a direction \(a non-zero vector\)"):
         stars.radec(np.zeros(3))
+
+
+def test_starlight_geometry_refuses_a_star_list_by_name():
+    """Issue 35 (review 35h): ``star_names=True`` was a TypeError, ``[]`` gave an empty
+    result, and an unknown star was refused without the parameter's name."""
+    r = np.array([[4.2e6, 0.0, 0.0]])
+    with pytest.raises(ValueError, match=r"^star_names must be a list of stars, got True$"):
+        stars.starlight_geometry(r, True)
+    with pytest.raises(ValueError, match=r"^star_names must name at least one star"):
+        stars.starlight_geometry(r, [])
+    with pytest.raises(ValueError, match=r"^star_names\[0\]: unknown star 1.0"):
+        stars.starlight_geometry(r, [1.0])
+    with pytest.raises(ValueError, match=r"^star_names must be a list of stars"):
+        stars.starlight_geometry(r, np.array(1.0))
+    assert list(stars.starlight_geometry(r, ["vega"])) == ["Vega"]

@@ -263,7 +263,7 @@ def limb_fit(r, pole=MARS_POLE, a=R_EQUATOR, c=R_POLAR, n_azimuth=36):
     pole : array_like, shape (3,)
         Unit vector of the symmetry axis.
     a, c : float
-        Equatorial and polar radii, m, each in (0, MAX_BODY_RADIUS].
+        Equatorial and polar radii, m, each in [1, MAX_BODY_RADIUS].
     n_azimuth : int
         Limb samples.
 
@@ -283,8 +283,9 @@ def limb_fit(r, pole=MARS_POLE, a=R_EQUATOR, c=R_POLAR, n_azimuth=36):
     r = check_finite_array("r", r, shape=(3,))
     p = check_finite_array("pole", pole, shape=(3,))
     p = p / np.linalg.norm(p)
-    a = check_real("a", a, 0.0, MAX_BODY_RADIUS, lo_open=True)
-    c = check_real("c", c, 0.0, MAX_BODY_RADIUS, lo_open=True)
+    # radii from 1 m (as dynamics.R_MIN: below it 1/a^2 of a subnormal overflowed) to a star's
+    a = check_real("a", a, 1.0, MAX_BODY_RADIUS)
+    c = check_real("c", c, 1.0, MAX_BODY_RADIUS)
     n_azimuth = check_int("n_azimuth", n_azimuth, 4, 100000)
     A = np.eye(3) / a**2 + (1.0 / c**2 - 1.0 / a**2) * np.outer(p, p)
     Ar = r @ A
@@ -369,6 +370,8 @@ def gauss_markov(w, phi, g0=None):
     from scipy.signal import lfilter  # here: scipy.signal imports scipy.stats (slow)
 
     w = check_finite_array("w", w)
+    if w.ndim == 0:
+        raise ValueError(f"w must be an array with time along axis 0, got a scalar {w.item()!r}")
     phi = check_real("phi", phi, 0.0, 1.0, hi_open=True)
     if w.shape[0] == 0:
         return w.copy()

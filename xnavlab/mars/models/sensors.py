@@ -56,7 +56,14 @@ import numpy as np
 
 from xnavlab.core import ephemeris
 from xnavlab.core.constants import C
-from xnavlab.core.validate import check_definite, check_finite_array, check_items, check_real, make_rng
+from xnavlab.core.validate import (
+    check_definite,
+    check_finite_array,
+    check_instance,
+    check_items,
+    check_real,
+    make_rng,
+)
 from xnavlab.mars.models import stars
 from xnavlab.mars.timing import pulsars, toa
 
@@ -186,6 +193,14 @@ def perturb_direction(u, sigma, w):
     sigma = check_finite_array("sigma", sigma)
     if np.any(sigma < 0):
         raise ValueError("sigma must be >= 0, rad")
+    one = w.shape[:-1] + (1,)  # one angle per direction
+    try:
+        fits = sigma.size > 0 and np.broadcast_shapes(sigma.shape, one) == one
+    except ValueError:
+        fits = False
+    if not fits:
+        raise ValueError(f"sigma must be one number, rad, or one per direction (shape {one}), "
+                         f"got shape {sigma.shape}")
     e1, e2 = tangent_basis(u)
     w1, w2 = w[..., 0:1], w[..., 1:2]
     wn = np.sqrt(w1 * w1 + w2 * w2)
@@ -467,6 +482,8 @@ def optical_semi_axes(x, uv, cns):
     ([6980.0, 6980.0, 5000.0], True)
     """
     x = _state(x)
+    check_instance("uv", uv, UVSensor, "a UVSensor")
+    check_instance("cns", cns, CNSSensor, "a CNSSensor")
     h_uv, r_uv = uv.jacobian(x), uv.R()
     h_c, r_c = cns.jacobian(x), cns.R(x)
     n_uv, n_c = r_uv.shape[0], r_c.shape[0]

@@ -141,6 +141,14 @@ def get(star):
     raise ValueError(f"unknown star {star!r}; known stars: {', '.join(names())}")
 
 
+def _star_name(label, star):
+    """The name of the star ``star`` (:func:`get`), refused under ``label`` (``stars[1]``)."""
+    try:
+        return get(star).name
+    except ValueError as exc:
+        raise ValueError(f"{label}: {exc}") from None
+
+
 def direction(star, t=0.0):
     """ICRF unit vector to ``star`` at epoch ``t`` (s TDB past J2000), shape (3,).
 
@@ -322,7 +330,8 @@ def starlight_geometry(r, star_names=None, t=0.0, radius=None):
     rho = np.linalg.norm(r, axis=1)
     if np.any(rho <= radius):
         raise ValueError("r must lie outside Mars (|r| > radius)")
-    names = pick_three(t=t) if star_names is None else tuple(get(s).name for s in star_names)
+    names = pick_three(t=t) if star_names is None else tuple(
+        get(s).name for s in check_items("star_names", star_names, "star", _star_name))
     disc = np.arcsin(radius / rho)  # apparent radius of the disc
     out = {}
     for name in names:
