@@ -163,8 +163,22 @@ def test_fuse_refuses_nan_and_indefinite_covariances_naming_them():
         federated.fuse([np.zeros(2), np.ones(2)], [np.zeros((2, 2)), np.eye(2)])
     with pytest.raises(ValueError, match=r"xs\[1\] must be a 1-D array \(shape \(2,\)\)"):
         federated.fuse([np.zeros(2), np.ones(3)], [np.eye(2), np.eye(2)])
-    with pytest.raises(ValueError, match="use must hold one flag per estimate"):
+    with pytest.raises(ValueError, match=r"use must hold 2 flags \(true/false, one per estimate\)"):
         federated.fuse([np.zeros(2), np.ones(2)], [np.eye(2), np.eye(2)], use=[True])
+
+
+@pytest.mark.parametrize(("call", "match"), [
+    (lambda: federated.fuse(True, [np.eye(1)]), r"^xs must be a list of arrays, got True"),
+    (lambda: federated.fuse([], [np.eye(1)]), r"^xs must hold at least 1 array"),
+    (lambda: federated.fuse([np.zeros(1)], np.array(1.0)), r"^Ps must be a list of arrays"),
+    (lambda: federated.fuse([np.zeros(1)], [np.eye(1)], use=True), r"^use must hold 1 flags"),
+    (lambda: federated.share_factors([], [True]), r"^beta must hold at least one"),
+    (lambda: federated.share_factors([1.0, 1.0, 1.0], [1.0, True, 0.0]), r"^active must hold 3 flags"),
+    (lambda: federated.FederatedFilter([], [[1.0]]), r"^x0 must hold at least one state component"),
+])
+def test_an_edge_input_is_refused_naming_it(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()
 
 
 def test_update_of_a_local_that_does_not_exist_names_the_range():

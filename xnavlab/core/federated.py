@@ -57,6 +57,7 @@ import numpy as np
 
 from xnavlab.core.filters import EKF, UKF, Update, ekf_update, symmetrize, ukf_update
 from xnavlab.core.validate import (
+    check_arrays,
     check_bool,
     check_choice,
     check_covariance,
@@ -114,16 +115,14 @@ def fuse(xs, Ps, use=None, check=True):
     ([1.0, 1.0], [[1.0, 0.0], [0.0, 1.0]])
     """
     if check_bool("check", check):  # before any cast: a complex entry is refused, not cut
-        xs = [check_finite_array(f"xs[{i}]", x) for i, x in enumerate(xs)]
-        Ps = [check_finite_array(f"Ps[{i}]", P) for i, P in enumerate(Ps)]
+        xs = check_arrays("xs", xs, ndim=1)
+        Ps = check_arrays("Ps", Ps, ndim=2)
     xs = [np.asarray(x, dtype=float) for x in xs]
     Ps = [np.asarray(P, dtype=float) for P in Ps]
     if len(Ps) != len(xs):
         raise ValueError(f"Ps must hold one covariance per estimate ({len(xs)}), got {len(Ps)}")
-    if use is not None and len(use) != len(xs):
-        raise ValueError(f"use must hold one flag per estimate ({len(xs)}), got {len(use)}")
     if use is not None:
-        use = _flags("use", use, len(xs))
+        use = _flags("use", use, len(xs), "one per estimate")
     if check and xs:
         n = check_vector("xs[0]", xs[0]).size
         for i, (x, P) in enumerate(zip(xs, Ps, strict=True)):
@@ -161,9 +160,11 @@ def share_factors(beta, active):
     [0.6666666666666666, 1.0, 0.3333333333333333]
     """
     beta = check_vector("beta", beta)
+    if beta.size == 0:
+        raise ValueError("beta must hold at least one information-sharing factor, got an empty array")
     if np.any(beta <= 0.0):
         raise ValueError(f"beta must hold positive information-sharing factors, got {beta.tolist()}")
-    active = _flags("active", active, beta.size)
+    active = _flags("active", active, beta.size, "one per factor of beta")
     if not active.any():
         return np.ones_like(beta)
     # shares are ratios: the active betas scaled to at most 1 sum without overflow (1e308s)
@@ -173,12 +174,13 @@ def share_factors(beta, active):
     return out
 
 
-def _flags(name, value, n):
-    """``value`` as ``n`` booleans (True/False or 1/0), else one ValueError naming it."""
+def _flags(name, value, n, why):
+    """``value`` as ``n`` booleans (True/False or 1/0, not a mixture), else one ValueError."""
     arr = np.asarray(value)
     ok = arr.dtype.kind == "b" or (arr.dtype.kind in "iuf" and np.all((arr == 0) | (arr == 1)))
-    if not ok or arr.ndim != 1 or arr.size != n:
-        raise ValueError(f"{name} must hold {n} flags (true/false), got {value!r}")
+    mixed = isinstance(value, list | tuple) and len({isinstance(v, bool | np.bool_) for v in value}) > 1
+    if not ok or mixed or arr.ndim != 1 or arr.size != n:
+        raise ValueError(f"{name} must hold {n} flags (true/false, {why}), got {value!r:.80}")
     return arr.astype(bool)
 
 
@@ -239,6 +241,8 @@ class FederatedFilter:
         self.mode = check_choice("mode", mode, MODES)
         self.kind = check_choice("kind", kind, ("ekf", "ukf"))
         x0 = check_vector("x0", x0)
+        if x0.size == 0:
+            raise ValueError("x0 must hold at least one state component, got shape (0,)")
         P0 = symmetrize(check_covariance("P0", P0, x0.size, definite=True))
         n_local = check_int("n_local", n_local, 1, MAX_LOCAL)
         if beta is None:
@@ -359,7 +363,7 @@ class FederatedFilter:
         (the module docstring), unlike the function :func:`fuse`, which has no master and
         refuses ``use`` with no local.
         """
-        self.active = _flags("active", active, len(self.locals))
+        self.active = _flags("active", active, len(self.locals), "one per local filter")
         if self.mode == "reset":
             self._reset()
 
