@@ -547,3 +547,10 @@ def test_a_design_rate_below_its_range_is_refused_by_name():
     for bad in (5e-324, 2e2):  # the scenario file's range is the same
         with pytest.raises(ValueError, match=r"rate_per_day must be a real number in \[0.001, 100\]"):
             scenario_files.loads(text.replace("rate_per_day = 1.0", f"rate_per_day = {bad!r}"))
+
+
+def test_merge_events_refuses_a_0d_array_by_name():
+    """Issue 35 (review 35h): numpy's 'iteration over a 0-d array' became a ValueError."""
+    with pytest.raises(ValueError, match=r"^events must be a list of detection Events"):
+        ft.merge_events(np.array(1.0))
+    assert ft.merge_events([]) == []  # no alarm, nothing merged

@@ -365,3 +365,31 @@ def test_score_and_trial_outcome_refuse_what_is_no_run(bad):  # review 35d D37's
         with pytest.raises(ValueError, match=r"^ft must be a FaultTolerantRun \(the result of "
                                              r"run_fault_tolerant\), got "):
             call()
+
+
+def test_an_edge_value_of_a_fault_list_or_an_event_list_is_refused_by_name():
+    """Issue 35 (review 35h): ``check_armed`` took a bool for every argument (``faults=True``
+    a TypeError), and a 0-d array for a list was numpy's 'iteration over a 0-d array'."""
+    import numpy as np
+
+    sc = scenarios.MarsScenario(days=0.05)
+    faults = s.parse_faults("uv.range:step:25000@1000+100", sc)
+    with pytest.raises(ValueError, match=r"^faults must be a sequence of Fault, got bool True"):
+        s.check_armed(True, 600.0, sc)
+    with pytest.raises(ValueError, match=r"^faults\[0\] must be a Fault, got 1\.0$"):
+        s.check_armed([1.0], 600.0, sc)
+    with pytest.raises(ValueError, match=r"^faults must be a sequence of Fault, got array\(1\.\)$"):
+        s.check_armed(np.array(1.0), 600.0, sc)
+    with pytest.raises(ValueError, match=r"^arm_s must be a real number in \[0, 3.1536e\+07\], got True"):
+        s.check_armed(faults, True, sc)
+    with pytest.raises(ValueError, match=r"^scenario must be a MarsScenario, got list \[\]"):
+        s.check_armed(faults, 600.0, [])
+    with pytest.raises(ValueError, match=r"^faults must be a sequence of Fault, got array\(1\.\)$"):
+        s.score_faults(np.array(1.0), {})
+    with pytest.raises(ValueError, match=r"^isolations must be a list of dicts"):
+        s.score_faults([], {}, np.array(1.0))
+    with pytest.raises(ValueError, match=r"^events must be a list of detection Events"):
+        s.check_event_list("events", np.array(1.0))
+    with pytest.raises(ValueError, match=r"^name must be text \(a str\), got True"):
+        s.check_event_list(True, [])
+    assert s.check_event_list("events", []) == []  # no alarm: a valid list

@@ -39,7 +39,7 @@ import numpy as np
 
 from xnavlab.core.constants import DAY
 from xnavlab.core.faults import MAX_SIZE, Fault, check_faults, format_spec, parse_spec
-from xnavlab.core.validate import check_bool, check_choice, check_real, shown
+from xnavlab.core.validate import check_bool, check_choice, check_instance, check_real, check_text, shown
 from xnavlab.mars.navigation import scenarios
 from xnavlab.mars.timing import pulsar_specs
 
@@ -309,6 +309,9 @@ def check_armed(faults, arm_s, scenario):
     ...     print(str(exc).split(", ")[1].split(":")[0])
     before the combined detector's tests arm (arm_s = 2000 s)
     """
+    faults = _fault_list("faults", faults)
+    arm_s = check_real("arm_s", arm_s, 0.0, MAX_DAYS * DAY)  # a run's longest span
+    scenario = check_instance("scenario", scenario, scenarios.MarsScenario, "a MarsScenario")
     for f in faults:
         end = f.onset if f.kind == "spike" else f.onset + f.duration
         if end < arm_s:
@@ -410,6 +413,19 @@ def scoring_span(fault, dt=None, span=math.inf):
     return fault.onset, min(fault.end, span)
 
 
+def _fault_list(name, faults):
+    """``faults`` as a list of Fault (``check_faults``), a numpy array that is no 1-D list
+    (``np.array(1.0)``) refused too, naming ``name``."""
+    if _not_1d(faults):
+        raise ValueError(f"{name} must be a sequence of Fault, got {shown(faults)}")
+    return check_faults(name, faults)
+
+
+def _not_1d(value):
+    """Whether ``value`` is a numpy array that is no 1-D list (a 0-d array is not iterable)."""
+    return isinstance(value, np.ndarray) and value.ndim != 1
+
+
 def _span(span):
     """A run's span, s: a real number > 0 (inf: no end)."""
     if isinstance(span, bool) or not isinstance(span, int | float | np.integer | np.floating) \
@@ -490,7 +506,7 @@ def score_faults(faults, events, isolations=(), *, span=math.inf, dt=None):
     >>> out["faults"][0]["status"], out["faults"][0]["delay_s"], out["faults"][0]["out_at_onset"]
     ('detected', 0.0, True)
     """
-    faults = check_faults("faults", faults)
+    faults = _fault_list("faults", faults)
     span = _span(span)
     events = _check_events(events)
     isolations = _check_isolations(isolations)
@@ -552,8 +568,9 @@ def check_event_list(name, events):
     """
     from xnavlab.core.detection import Event
 
+    check_text("name", name)
     what = "detection Event (xnavlab.core.detection.Event)"
-    if isinstance(events, str | bytes | dict) or not hasattr(events, "__iter__"):
+    if isinstance(events, str | bytes | dict) or not hasattr(events, "__iter__") or _not_1d(events):
         raise ValueError(f"{name} must be a list of {what.replace('Event ', 'Events ')}, "
                          f"got {shown(events)}")
     events = list(events)
@@ -574,7 +591,7 @@ def _check_events(events):
         raise ValueError(f"events must be a dict of sensor -> list of detection Events, got "
                          f"{type(events).__name__} {shown(events)}")
     for sensor, evs in events.items():
-        if isinstance(evs, str | dict) or not hasattr(evs, "__iter__"):
+        if isinstance(evs, str | dict) or not hasattr(evs, "__iter__") or _not_1d(evs):
             raise ValueError(f"events[{sensor!r}] must be a list of detection Events, got "
                              f"{shown(evs)}")
         for i, e in enumerate(evs):
@@ -588,7 +605,7 @@ def _check_events(events):
 
 def _check_isolations(isolations):
     """Isolation intervals: dicts with ``sensor``, ``out`` and ``back`` (s or None)."""
-    if isinstance(isolations, str | dict) or not hasattr(isolations, "__iter__"):
+    if isinstance(isolations, str | dict) or not hasattr(isolations, "__iter__") or _not_1d(isolations):
         raise ValueError(f"isolations must be a list of dicts (sensor, out, back), got "
                          f"{shown(isolations)}")
     isolations = list(isolations)
