@@ -68,12 +68,69 @@ def test_plot_runs_draws_each_error_and_sigma_against_the_first_with_the_band_on
 
 @pytest.mark.parametrize(("call", "match"), [
     (lambda: mars_plots.plot_subsystem("cns", 1e308, 30, days=0.02),
-     r"noise_scale must be a real number in \(0, 100\]"),
+     r"noise_scale must be a real number in \[0.01, 100\]"),
     (lambda: mars_plots.plot_subsystem("cns", 2.0, 10**30, days=0.02),
-     r"interval_s must be a real number in \(0, 86400\]"),
+     r"interval_s must be a real number in \[0.1, 86400\]"),
     (lambda: mars_plots.plot_details(np.arange(10.0), np.zeros(10), np.zeros((1, 10)), stride=10**30),
      r"stride must be an integer in \[1, 10\]"),
 ])
 def test_huge_plot_settings_are_refused(call, match):
     with pytest.raises(ValueError, match=match):
         call()
+
+
+def test_an_edge_value_of_a_figure_argument_is_refused_by_name():
+    """Issue 35 (review 35h): a bool, a number or a 0-d array where a dict or a list belongs
+    was a TypeError or an AttributeError inside matplotlib, and a subnormal noise scale or
+    share was refused under the scenario's name (sigma_horizon_deg, beta[0])."""
+    from xnavlab.core.faults import Fault
+
+    t = np.linspace(0.0, 2.0, 50)
+    curves = {"run": (t, 30.0 + t)}
+    cases = [
+        (lambda: mars_plots.plot_subsystem("uv", 5e-324, 30, days=0.02),
+         r"^noise_scale must be a real number in \[0.01, 100\], got 5e-324$"),
+        (lambda: mars_plots.plot_subsystem("uv", 1.0, 5e-324, days=0.02),
+         r"^interval_s must be a real number in \[0.1, 86400\], got 5e-324$"),
+        (lambda: mars_plots.plot_sharing(5e-324, days=0.02),
+         r"^beta_xnav must be a real number in \[0.001, 0.998\], got 5e-324$"),
+        (lambda: mars_plots.plot_runs(True), r"^runs must be a dict of label -> MarsRun"),
+        (lambda: mars_plots.plot_runs({}), r"^runs must hold at least one labelled run"),
+        (lambda: mars_plots.plot_error_curves([1.0]), r"^curves must be a dict of label"),
+        (lambda: mars_plots.plot_error_curves(curves, True), r"^faults must be a list of Faults, got True"),
+        (lambda: mars_plots.plot_error_curves(curves, [1.0]), r"^faults\[0\] must be a Fault, got 1.0"),
+        (lambda: mars_plots.plot_error_curves(curves, isolations=[1.0]),
+         r"^isolations\[0\] must be a sensor isolation \(a dict with sensor, out, back\)"),
+        (lambda: mars_plots.plot_details(-0.0, t, np.vstack([t, t])),
+         r"^t_days must be a 1-D array of at least one sample time, got shape \(\)$"),
+        (lambda: mars_plots.plot_details(t, t, np.vstack([t, t]), True),
+         r"^onsets_days must be a list of onsets, days, got True$"),
+        (lambda: mars_plots.plot_details(t, t, np.vstack([t, t]), [1.0, True, 0.0]),
+         r"^onsets_days must be an array of finite numbers"),
+        (lambda: mars_plots.detector_table_markdown(np.array(1.0)), r"^table must be a dict with 'rows'"),
+        (lambda: mars_plots.plot_consistency(True, (4.0, 8.0)), r"^cases must be a dict of label"),
+        (lambda: mars_plots.plot_consistency({"a": (t, t)}, -0.0), r"^band must be a list of two numbers"),
+        (lambda: mars_plots.plot_consistency({"a": (t, t)}, []), r"^band must be a pair \(lo, hi\), got"),
+        (lambda: mars_plots.plot_consistency({"a": (t, t)}, [1.0, True]),
+         r"^band\[1\] must be a real number in \[0, inf\), got True"),
+    ]
+    for call, message in cases:
+        with pytest.raises(ValueError, match=message):
+            call()
+    fig = mars_plots.plot_runs({"a": _FakeRun()}, band_days=(0.1, 0.2))
+    assert len(fig.axes) == 2
+    with pytest.raises(ValueError, match=r"^band_days must be a 1-D array \(shape \(2,\)\), got"):
+        mars_plots.plot_runs({"a": _FakeRun()}, band_days=[1.0])
+    assert mars_plots.plot_error_curves(curves, [Fault("uv", "step", 1.0, 86400.0, 3000.0)]).axes
+
+
+class _FakeRun:
+    """A run's plotted part: times, days, and positive errors and sigmas, m."""
+
+    t_days = np.linspace(0.0, 1.0, 5)
+
+    def position_error(self):
+        return np.full(5, 10.0)
+
+    def sigma_position(self):
+        return np.full(5, 20.0)

@@ -494,3 +494,12 @@ def test_a_real_given_as_a_fraction_or_numpy_scalar_is_kept_as_a_float():
     sc = scenarios.MarsScenario(days=np.float32(0.5), dt_uv=Fraction(3, 1), area_m2=np.int64(1))
     assert all(type(getattr(sc, n)) is float for n in ("days", "dt_uv", "area_m2"))
     assert sc.dt_uv == 3.0 and sc == scenarios.MarsScenario(days=float(np.float32(0.5)))
+
+
+def test_check_scenario_refuses_a_name_that_is_no_text():
+    """Issue 35 (review 35h): ``check_scenario(True, None)`` was taken (the name is the
+    caller's parameter, for the message)."""
+    with pytest.raises(ValueError, match=r"^name must be text \(a str\), got True$"):
+        scenarios.check_scenario(True, None)
+    with pytest.raises(ValueError, match=r"^scenario must be a MarsScenario, got bool True$"):
+        scenarios.check_scenario("scenario", True)

@@ -24,9 +24,18 @@ import math
 import numpy as np
 
 from xnavlab.core.constants import DAY
-from xnavlab.core.faults import Fault
+from xnavlab.core.faults import Fault, check_faults
 from xnavlab.core.plotting import in_place, sparse_log_minors
-from xnavlab.core.validate import check_choice, check_real
+from xnavlab.core.validate import (
+    check_choice,
+    check_finite_array,
+    check_instance,
+    check_real,
+    check_records,
+    check_shape,
+    check_vector,
+    shown,
+)
 from xnavlab.mars.faults import fault_tolerance
 from xnavlab.mars.navigation import scenarios
 
@@ -47,12 +56,12 @@ def plot_subsystem(subsystem="uv", noise_scale=1.0, interval_s=3, days=0.25):
     ----------
     subsystem : {"xnav", "uv", "cns"}
     noise_scale : float
-        Factor on the paper's noise, in (0, 100]: UV range and direction, CNS star and
+        Factor on the paper's noise, in [0.01, 100]: UV range and direction, CNS star and
         horizon sensors, or the four XNAV ranging accuracies (109, 344, 1866, 325 m); a
         hundred times the paper's noise is no sensor (and the scenario refuses a star
         sensor's above 3600 arcsec).
     interval_s : float
-        Measurement interval, s, in (0, 86400] (the scenario's longest interval, a day).
+        Measurement interval, s, in [0.1, 86400] (the scenario's intervals: at most a day).
     days : float
         Span, days (default six hours).
 
@@ -79,8 +88,11 @@ def plot_subsystem(subsystem="uv", noise_scale=1.0, interval_s=3, days=0.25):
 
     def update(subsystem="uv", noise_scale=1.0, interval_s=3, days=0.25):
         check_choice("subsystem", subsystem, scenarios.SUBSYSTEMS)
-        noise_scale = check_real("noise_scale", noise_scale, 0.0, 100.0, lo_open=True)
-        interval_s = check_real("interval_s", interval_s, 0.0, 86400.0, lo_open=True)
+        # a hundredth to a hundred times the paper's noise (a subnormal scale was a noise of 0,
+        # refused under the scenario's name)
+        noise_scale = check_real("noise_scale", noise_scale, 0.01, 100.0)
+        # the scenario's measurement intervals: 0.1 s to a day
+        interval_s = check_real("interval_s", interval_s, 0.1, 86400.0)
         kw = {"days": days, "subsystems": (subsystem,), "record_dt": 30.0}
         if subsystem == "uv":
             kw.update(sigma_range_m=5000.0 * noise_scale, sigma_dir_deg=0.1 * noise_scale,
@@ -114,7 +126,8 @@ def plot_sharing(beta_xnav=1 / 3, mode="reset", days=0.5):
     Parameters
     ----------
     beta_xnav : float
-        Share of the XNAV local, 0 < beta_xnav < 1.
+        Share of the XNAV local, in [0.001, 0.998] (each share at least 0.001, as
+        :class:`~xnavlab.mars.navigation.scenarios.MarsScenario`'s ``beta``).
     mode : {"reset", "no-reset"}
     days : float
         Span, days (default half a day; the title gives the RMS error after its midpoint).
@@ -141,7 +154,8 @@ def plot_sharing(beta_xnav=1 / 3, mode="reset", days=0.5):
     fig.legend(fontsize=8, ncol=2, loc="outside lower center")  # off the curves
 
     def update(beta_xnav=1 / 3, mode="reset", days=0.5):
-        beta_xnav = check_real("beta_xnav", beta_xnav, 0.0, 1.0, lo_open=True, hi_open=True)
+        # every share at least 1e-3, as the scenario's beta: rest = (1 - beta_xnav) / 2 too
+        beta_xnav = check_real("beta_xnav", beta_xnav, 1e-3, 0.998)
         check_choice("mode", mode, scenarios.MODES)
         rest = (1.0 - beta_xnav) / 2
         res = scenarios.run(days=days, record_dt=60.0, mode=mode, beta=(beta_xnav, rest, rest))
@@ -190,8 +204,11 @@ def plot_runs(runs, band_days=None):
     """
     from matplotlib.figure import Figure
 
+    check_instance("runs", runs, dict, "a dict of label -> MarsRun")
     if not runs:
         raise ValueError("runs must hold at least one labelled run")
+    if band_days is not None:
+        band_days = check_vector("band_days", band_days, 2)
     fig = Figure(figsize=(8.0, 4.6), layout="constrained")
     top, bottom = fig.subplots(2, 1, sharex=True)
     first = next(iter(runs))
@@ -334,15 +351,17 @@ def plot_error_curves(curves, faults=(), *, title="", isolations=()):
     """
     from matplotlib.figure import Figure
 
+    check_instance("curves", curves, dict, "a dict of label -> (t_days, error_m)")
     if not curves:
         raise ValueError("curves must hold at least one (t_days, error_m) pair")
+    faults = check_faults("faults", _sequence("faults", faults, "Faults"))
+    isolations = check_records("isolations", _sequence("isolations", isolations, "dicts"),
+                               ("sensor", "out", "back"), "sensor isolation")
     fig = Figure(figsize=(9.0, 3.6), layout="constrained")
     ax = fig.add_subplot()
     for label, (td, e) in curves.items():
         ax.semilogy(td, e, lw=0.6, label=label)
     for f in faults:
-        if not isinstance(f, Fault):
-            raise ValueError(f"faults must hold Fault objects, got {type(f).__name__}")
         ax.axvspan(f.onset / DAY, f.end / DAY, color="0.75", zorder=0)
     colors = {"xnav": "C2", "uv": "C3", "cns": "C4"}
     for iv in isolations:
@@ -390,13 +409,18 @@ def plot_details(t_days, x, details, onsets_days=(), *, stride=20, title=""):
     """
     from matplotlib.figure import Figure
 
-    from xnavlab.core.validate import check_finite_array, check_int
+    from xnavlab.core.validate import check_int
 
     t_days = check_finite_array("t_days", t_days)
-    x = check_finite_array("x", x, shape=t_days.shape)
-    details = check_finite_array("details", details)
-    if details.ndim != 2 or details.shape[1] != t_days.size:
-        raise ValueError(f"details must have shape (J, {t_days.size}), got {details.shape}")
+    if t_days.ndim != 1 or t_days.size == 0:
+        raise ValueError(f"t_days must be a 1-D array of at least one sample time, got shape "
+                         f"{t_days.shape}")
+    x = check_shape("x", x, t_days.shape, "N = length of t_days")
+    details = check_shape("details", details, (None, t_days.size), "N = length of t_days")
+    onsets_days = check_finite_array("onsets_days", _sequence("onsets_days", onsets_days,
+                                                              "onsets, days"))
+    if onsets_days.ndim != 1:
+        raise ValueError(f"onsets_days must be a list of onsets, days, got shape {onsets_days.shape}")
     stride = check_int("stride", stride, 1, max(1, t_days.size))
     J = details.shape[0]
     fig = Figure(figsize=(9.0, 1.3 * (J + 1) + 0.6), layout="constrained")
@@ -456,6 +480,8 @@ def detector_table_markdown(table, digits=2):
     from xnavlab.core.plotting import markdown_table
     from xnavlab.core.validate import check_int
 
+    check_instance("table", table, dict, "a dict with 'rows' and 'marked' "
+                   "(xnavlab.mars.studies.trials.load_detector_table)")
     digits = check_int("digits", digits, 0, 6)
     try:
         rows, marked = table["rows"], table["marked"]
@@ -597,6 +623,15 @@ def plot_shapiro_angle(angle_deg=2.0, t=None):
     return in_place(fig, update)
 
 
+def _sequence(name, value, what):
+    """``value`` as a list (a tuple, a list or a 1-D array), else one ValueError naming ``name``
+    (a number, a string, a dict or a 0-d array is no list)."""
+    if isinstance(value, str | bytes | dict) or not hasattr(value, "__iter__") or (
+            isinstance(value, np.ndarray) and value.ndim != 1):
+        raise ValueError(f"{name} must be a list of {what}, got {shown(value)}")
+    return list(value)
+
+
 #: Line colours of the cases of :func:`plot_consistency` (green and red mark the band's shares).
 _CASE_COLORS = ("C0", "k", "C1", "C4", "C5", "C6", "C8", "C9")
 
@@ -645,7 +680,13 @@ def plot_consistency(cases, band, dof=6, settle_days=1.0, bin_days=1.0 / 24.0, y
 
     from xnavlab.core.filters import judge_series
 
-    lo, hi = (check_real(n, v, 0.0) for n, v in zip(("lo", "hi"), band, strict=True))
+    check_instance("cases", cases, dict, "a dict of label -> (t_days, nees)")
+    if not cases:
+        raise ValueError("cases must hold at least one (t_days, nees) pair")
+    band = _sequence("band", band, "two numbers (lo, hi)")
+    if len(band) != 2:
+        raise ValueError(f"band must be a pair (lo, hi), got {shown(band)}")
+    lo, hi = (check_real(n, v, 0.0) for n, v in zip(("band[0]", "band[1]"), band, strict=True))
     bin_days = check_real("bin_days", bin_days, 0.0, lo_open=True)
     fig = Figure(figsize=(8, 5.6), layout="constrained")
     top, bars = fig.subplots(2, 1, height_ratios=(2, 1))

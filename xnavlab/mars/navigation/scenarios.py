@@ -68,6 +68,7 @@ from xnavlab.core.validate import (
     check_items,
     check_real,
     check_seed,
+    check_text,
     make_rng,
     shown,
 )
@@ -120,14 +121,13 @@ def check_scenario(name, value):
     ...
     ValueError: scenario must be a MarsScenario, got dict {'days': 1} (build one with MarsScenario(**fields))
     """
+    check_text("name", name)  # the caller's parameter, for the message
     if value is None:
         return MarsScenario()
     if not isinstance(value, MarsScenario):
         hint = " (build one with MarsScenario(**fields))" if isinstance(value, dict) else ""
-        raise ValueError(f"{name} must be a MarsScenario, got {type(value).__name__} "
-                         f"{shown(value)}{hint}")
+        raise ValueError(f"{name} must be a MarsScenario, got {type(value).__name__} {shown(value)}{hint}")
     return value
-
 
 
 def default_settle_days(days):
