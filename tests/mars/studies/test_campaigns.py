@@ -43,7 +43,7 @@ def test_a_campaign_refuses_days_outside_its_range(name, days):
 
 
 def test_an_unknown_campaign_is_refused_by_name():
-    with pytest.raises(ValueError, match="^campaign"):
+    with pytest.raises(ValueError, match=r"^name must be one of 'consistency', 'detectors', got 'every"):
         mc.campaign("everything")
     assert set(mc.CAMPAIGNS) == set(mc.DAYS)
 
@@ -98,3 +98,15 @@ def test_consistency_run_refuses_a_string_for_its_subsystems():
     """Review 35e: subsystems="uv" was split into 'u', 'v' ("subsystems[0] ... got 'u'")."""
     with pytest.raises(ValueError, match=r"^subsystems must be a list of subsystems, got the string 'uv'"):
         mc.consistency_run(seed=1, days=0.05, subsystems="uv")
+
+
+def test_a_campaign_name_or_a_record_list_is_refused_by_name():
+    """Issue 35 (review 35h): the name was refused as 'campaign' (no parameter), and a 0-d
+    array of runs was numpy's 'iteration over a 0-d array'."""
+    import numpy as np
+
+    with pytest.raises(ValueError, match=r"^name must be one of 'consistency', 'detectors', got True$"):
+        mc.campaign(True)
+    for fn in (mc.summarise_consistency, mc.summarise_detectors):
+        with pytest.raises(ValueError, match=r"^runs must be a list of campaign records \(dicts\), got arr"):
+            fn(np.array(1.0))

@@ -106,3 +106,32 @@ def test_plot_cell_maps_checks_its_table_detectors_and_log(call, words):
             for s in dm.SENSORS for d in ("wavelet", "chi2")]
     with pytest.raises(ValueError, match=words):
         call(rows)
+
+
+def test_an_edge_value_of_a_label_table_or_detector_list_is_refused_by_name():
+    """Issue 35 (review 35h): ``cell_label(True, ...)`` was a label, a bool table an
+    AttributeError, an unknown detector refused as 'detector' (no parameter), and an empty
+    list of rows matplotlib's 'Number of columns must be a positive integer'."""
+    rows = [{"fault_class": "step", "sensor": s, "size": 3.0, "detector": d, "pd": 0.5,
+             "false_alarms_per_day": 0.5, "late": 0} for s in dm.SENSORS for d in ("wavelet", "chi2")]
+    table = {"rows": rows}
+    cases = [
+        (lambda: dm.cell_label(True, 3.0), r"^fault_class must be text \(a str\), got True$"),
+        (lambda: dm.cell_label("step", True), r"^size must be a real number in \(0, 1e\+08\], got True$"),
+        (lambda: dm.plot_cell_maps(table, detectors=[1.0]), r"^detectors\[0\] must be one of"),
+        (lambda: dm.plot_false_alarms(True, {}), r"^table must be a dict with the key 'rows'"),
+        (lambda: dm.plot_false_alarms({"rows": []}, {}), r"^table\['rows'\] must hold at least one"),
+        (lambda: dm.plot_false_alarms(table, []), r"^design must be a dict of detector"),
+        (lambda: dm.plot_false_alarms(table, {"chi2": True}), r"^design\['chi2'\] must be a real number"),
+        (lambda: dm.plot_false_alarms(table, {}, detectors=[]), r"^detectors must name at least one"),
+        (lambda: dm.plot_false_alarms(table, {}, detectors=-0.0), r"^detectors must be a list of detectors"),
+        (lambda: dm.plot_signal_pd(True), r"^rows must be a list of detection_table rows"),
+        (lambda: dm.plot_signal_pd([]), r"^rows must hold at least one detection_table row"),
+        (lambda: dm.plot_signal_pd([1.0]), r"^rows\[0\] must be a detection_table row"),
+        (lambda: dm.plot_signal_pd([{"kind": "step", "size_sigma": 2.0}], ["cusum"]),
+         r"^detectors\[0\] must be a detector whose columns the rows hold, got 'cusum'"),
+    ]
+    for call, message in cases:
+        with pytest.raises(ValueError, match=message):
+            call()
+    assert dm.plot_false_alarms(table, {"chi2": 0.5}, detectors=("chi2",)).axes

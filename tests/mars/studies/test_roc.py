@@ -268,3 +268,18 @@ def test_roc_run_refuses_a_seed_above_the_records_range():
     """Review 35e: 2^63 was taken (check_int without its upper end)."""
     with pytest.raises(ValueError, match=r"^seed must be an integer in \[0, 9223372036854775807\]"):
         roc.roc_run("step", "uv", 2.0, "combined", [1.0], seed=2**63)
+
+
+def test_plot_roc_and_curve_csv_refuse_what_is_no_curve_by_name():
+    """Issue 35 (review 35h): a bool or a list for ``curves`` was an AttributeError ('items'),
+    and a 0-d array of rows numpy's 'iteration over a 0-d array'."""
+    import numpy as np
+
+    with pytest.raises(ValueError, match=r"^curves must be a dict of label -> roc_curve rows, got bool"):
+        roc.plot_roc(True)
+    with pytest.raises(ValueError, match=r"^curves must hold at least one labelled curve$"):
+        roc.plot_roc({})
+    with pytest.raises(ValueError, match=r"^curves\['chi2'\]\[0\] must be a roc_curve row"):
+        roc.plot_roc({"chi2": [{"pd": 0.5}]})
+    with pytest.raises(ValueError, match=r"^rows must be a list of curve rows \(dicts\), got array\(1\.\)$"):
+        roc.curve_csv(np.array(1.0))

@@ -140,3 +140,14 @@ def test_mars_and_detector_trials_refuse_a_seed_above_the_records_range(trial):
     with pytest.raises(ValueError, match=r"^seed must be an integer in \[0, 9223372036854775807\], "
                                          r"got 9223372036854775808$"):
         trial(2**63)
+
+
+def test_a_0d_array_of_records_is_refused_by_name():
+    """Issue 35 (review 35h): numpy's 'iteration over a 0-d array' became a ValueError."""
+    import numpy as np
+
+    with pytest.raises(ValueError, match=r"^records must be a list of trial records \(dicts\), got array"):
+        trials.detector_table(np.array(1.0))
+    with pytest.raises(ValueError, match=r"^rows must be a list of detector_table rows \(dicts\), got arr"):
+        trials.marked_cells(np.array(1.0))
+    assert trials.detector_table([]) == [] and trials.marked_cells([]) == []

@@ -39,7 +39,14 @@ import numpy as np
 
 from xnavlab.core.campaign import Campaign
 from xnavlab.core.filters import chi2_bounds, consistency_verdict
-from xnavlab.core.validate import check_choice, check_items, check_real, check_records, check_seed
+from xnavlab.core.validate import (
+    check_choice,
+    check_items,
+    check_real,
+    check_records,
+    check_seed,
+    shown,
+)
 from xnavlab.mars.navigation import scenario_files, scenarios
 from xnavlab.mars.studies import trials
 from xnavlab.mars.timing import pulsar_specs, pulsars
@@ -166,7 +173,7 @@ def summarise_consistency(runs):
     >>> rows[0]["quantity"], rows[0]["runs"], rows[-1]["quantity"]
     ('NEES', 2, 'position RMS (m)')
     """
-    runs = check_records("runs", runs, ("status",), "campaign record")  # a string: one line
+    runs = _records("runs", runs, ("status",), "campaign record")  # a string: one line
     ok = [r["metrics"] for r in runs if r["status"] == "ok"]
     if not ok:
         return []
@@ -192,6 +199,14 @@ def summarise_consistency(runs):
                  "hi": float(np.percentile(pe, 95)), "inside": None, "verdict": None,
                  "runs": n})
     return rows
+
+
+def _records(name, value, keys, what):
+    """:func:`~xnavlab.core.validate.check_records`, a numpy array that is no 1-D list refused
+    too (``np.array(1.0)`` cannot be iterated), naming ``name``."""
+    if isinstance(value, np.ndarray) and value.ndim != 1:
+        raise ValueError(f"{name} must be a list of {what}s (dicts), got {shown(value)}")
+    return check_records(name, value, keys, what)
 
 
 # --------------------------------------------------------------------------- detectors
@@ -247,7 +262,7 @@ def summarise_detectors(runs):
     []
     """
     recs = []
-    for r in check_records("runs", runs, ("status",), "campaign record"):
+    for r in _records("runs", runs, ("status",), "campaign record"):
         if r["status"] != "ok":
             continue
         p = r["parameters"]
@@ -376,7 +391,7 @@ def campaign(name, *, days=1.0, scenario=None, backend="numba", local_filter="ek
     >>> campaign("detectors", days=1.0).params(46)
     {'fault_class': 'step', 'sensor': 'uv', 'size_index': 1, 'days': 1.0}
     """
-    check_choice("campaign", name, tuple(CAMPAIGNS))
+    check_choice("name", name, tuple(CAMPAIGNS))
     if scenario is not None:
         if name != "consistency":
             raise ValueError(f"scenario goes with campaign consistency; campaign {name} runs "

@@ -29,7 +29,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from xnavlab.core.validate import check_bool, check_choice, check_items, check_records, shown
+from xnavlab.core.validate import (
+    check_bool,
+    check_choice,
+    check_instance,
+    check_items,
+    check_real,
+    check_records,
+    check_text,
+    shown,
+)
 
 __all__ = ["SENSORS", "cell_label", "cell_grid", "plot_cell_maps", "plot_false_alarms",
            "plot_signal_pd"]
@@ -56,6 +65,9 @@ def cell_label(fault_class, size):
     >>> cell_label("ramp", 2.5), cell_label("noise", 3.0), cell_label("stuck", 600.0)
     ('ramp 2.5 σ', 'noise ×3', 'stuck 600 s')
     """
+    check_text("fault_class", fault_class)
+    # a size in noise sigma or a stuck output's length, s: a year (3.2e7 s) at most
+    size = check_real("size", size, 0.0, 1e8, lo_open=True)
     if fault_class == "noise":
         return f"noise ×{size:g}"
     if fault_class == "stuck":
@@ -85,8 +97,8 @@ def cell_grid(rows, key, detector):
     values : ndarray, shape (len(labels), 3)
         Columns :data:`SENSORS`; NaN where the table has no value (e.g. no delay).
     """
-    rows = check_records("rows", rows, ("fault_class", "size", "sensor", "detector"),
-                         "detector_table row")
+    rows = _records("rows", rows, ("fault_class", "size", "sensor", "detector"),
+                    "detector_table row")
     mine = [r for r in rows if r["detector"] == detector]
     if not mine:
         raise ValueError(f"detector must be one of the table's detectors, got {detector!r}")
@@ -135,13 +147,10 @@ def plot_cell_maps(table, key="pd", detectors=("wavelet", "chi2", "combined"), *
     from matplotlib.colors import LogNorm, Normalize
     from matplotlib.figure import Figure
 
+    rows = _table_rows(table, ("fault_class", "size", "sensor", "detector"))
     check_choice("key", key, tuple(_QUANTITIES))
+    detectors = _detectors(detectors, rows)  # a string is no list
     log = check_bool("log", log)
-    if not isinstance(table, dict) or "rows" not in table:  # a list of rows was a TypeError
-        raise ValueError(f"table must be a dict with the key 'rows' (a detector table), got "
-                         f"{shown(table)}")
-    rows = table["rows"]
-    detectors = check_items("detectors", detectors, "detector")  # a string is no list
     grids = {d: cell_grid(rows, key, d) for d in detectors}
     name, lo, hi = _QUANTITIES[key]
     allv = np.concatenate([g[1].ravel() for g in grids.values()])
@@ -206,13 +215,18 @@ def plot_false_alarms(table, design, detectors=("wavelet", "chi2", "combined")):
     """
     from matplotlib.figure import Figure
 
+    rows = _table_rows(table, ("detector", "false_alarms_per_day"))
+    check_instance("design", design, dict, "a dict of detector -> false alarms per day")
+    for det, rate in design.items():  # at most one alarm a sample: 1e6 a day is 0.09 s samples
+        check_real(f"design[{det!r}]", rate, 0.0, 1e6)
+    detectors = _detectors(detectors, rows)
     rng = np.random.default_rng(0)              # the strips' horizontal jitter only
     n = table.get("trials")
     cell = f"a cell ({n} one-day runs)" if n else "a cell"
     fig = Figure(figsize=(6.4, 3.6))
     ax = fig.add_subplot()
     for i, det in enumerate(detectors):
-        fa = np.array([r["false_alarms_per_day"] for r in table["rows"] if r["detector"] == det])
+        fa = np.array([r["false_alarms_per_day"] for r in rows if r["detector"] == det])
         ax.plot(i + rng.uniform(-0.18, 0.18, fa.size), fa, "o", ms=4, alpha=0.6, color=f"C{i}",
                 label=cell if i == 0 else None)
         ax.plot([i - 0.3, i + 0.3], [np.mean(fa)] * 2, color="k", lw=2,
@@ -254,6 +268,18 @@ def plot_signal_pd(rows, detectors=("wavelet", "chi2")):
     """
     from matplotlib.figure import Figure
 
+    rows = _records("rows", rows, ("kind", "size_sigma"), "detection_table row")
+    if not rows:
+        raise ValueError("rows must hold at least one detection_table row, got an empty list")
+
+    def has_columns(label, det):
+        missing = [f"{det}_{c}" for c in ("pd", "late") if not all(f"{det}_{c}" in r for r in rows)]
+        if missing:
+            raise ValueError(f"{label} must be a detector whose columns the rows hold, got "
+                             f"{shown(det)} (no {missing[0]} in every row)")
+        return det
+
+    detectors = check_items("detectors", detectors, "detector", has_columns)
     kinds = list(dict.fromkeys(r["kind"] for r in rows))
     fig = Figure(figsize=(2.6 * len(kinds) + 0.8, 3.2), layout="constrained")
     axes = fig.subplots(1, len(kinds), sharey=True, squeeze=False)[0]
@@ -272,3 +298,31 @@ def plot_signal_pd(rows, detectors=("wavelet", "chi2")):
     fig.legend(*axes[0].get_legend_handles_labels(), loc="outside lower center",
                ncol=2 * len(detectors), fontsize=8)
     return fig
+
+
+def _records(name, value, keys, what):
+    """:func:`~xnavlab.core.validate.check_records`, a numpy array that is no 1-D list refused
+    too (``np.array(1.0)`` cannot be iterated), naming ``name``."""
+    if isinstance(value, np.ndarray) and value.ndim != 1:
+        raise ValueError(f"{name} must be a list of {what}s (dicts), got {shown(value)}")
+    return check_records(name, value, keys, what)
+
+
+def _table_rows(table, keys):
+    """The rows of a detector table (a dict with ``rows``), each holding ``keys``, else one
+    ValueError naming ``table``."""
+    if not isinstance(table, dict) or "rows" not in table:  # a list of rows was a TypeError
+        raise ValueError(f"table must be a dict with the key 'rows' (a detector table), got "
+                         f"{shown(table)}")
+    rows = _records("table['rows']", table["rows"], keys, "detector_table row")
+    if not rows:
+        raise ValueError("table['rows'] must hold at least one detector_table row, got an empty list")
+    return rows
+
+
+def _detectors(detectors, rows):
+    """``detectors`` as a tuple of the table's detectors, each at most once, else one
+    ValueError naming ``detectors`` or ``detectors[i]``."""
+    known = tuple(dict.fromkeys(r["detector"] for r in rows))
+    return check_items("detectors", detectors, "detector",
+                       lambda label, d: check_choice(label, d, known))
