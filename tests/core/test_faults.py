@@ -264,3 +264,19 @@ def test_a_ramp_that_grows_beyond_max_size_is_refused_by_inject_naming_it():
     with pytest.raises(ValueError, match=r"^faults\[1\]: a ramp of 1e\+12 per s from 0 s reaches "
                                          r"2e\+15 by t = 2000 s, beyond MAX_SIZE = 1e\+15"):
         inject(t, np.zeros(3), [Fault("cns", "step", 1.0, 0.0), ok], "uv")
+
+
+@pytest.mark.parametrize(("call", "match"), [
+    (lambda: check_faults(True, []), r"^name must be"),
+    (lambda: check_faults("faults", np.array(1.0)), r"^faults must be a sequence of Fault, got ndarray"),
+    (lambda: fault_mask([0.0], np.array(1.0), "uv"), r"^faults must be a sequence of Fault"),
+    (lambda: fault_mask([0.0], [], True), r"^sensor must be"),
+    (lambda: inject(np.arange(5.0), -0.0, [], "uv"), r"^z must have shape .* = len\(t\) = 5"),
+    (lambda: inject(np.arange(5.0), [1.0], [], "uv"), r"^z must have shape"),
+    (lambda: inject([1.0], np.zeros(5), [], "uv"), r"^t must hold one time per row of z \(5\), got 1"),
+    (lambda: inject(np.arange(5.0), np.zeros(5), [], []), r"^sensor must be"),
+    (lambda: format_spec([], {"uv": ["range"]}), r"^faults must hold at least one Fault"),
+])
+def test_an_edge_input_is_refused_naming_it(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()

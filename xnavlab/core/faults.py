@@ -53,7 +53,7 @@ from numbers import Real
 
 import numpy as np
 
-from xnavlab.core.validate import check_choice, check_finite_array, check_int, make_rng
+from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_text, make_rng
 
 __all__ = ["KINDS", "MAX_SIZE", "Fault", "check_faults", "inject", "fault_mask", "parse_spec", "format_spec"]
 
@@ -181,13 +181,15 @@ def check_faults(name, faults, components=None):
     ...
     ValueError: faults lists uv.range:step:5@1+2 twice (items 0 and 1): a fault is injected and scored once
     """
+    name = check_text("name", name)
     want = f"{name} must be a sequence of Fault"
     if isinstance(faults, Fault):
         raise ValueError(f"{want}, got one Fault: give [fault]")
     if isinstance(faults, str | bytes):
         raise ValueError(f"{want}, got the string {faults!r:.80}: read a fault spec with "
                          "parse_spec (xnavlab.mars.faults.schedules.parse_faults for the Mars run)")
-    if isinstance(faults, dict) or not hasattr(faults, "__iter__"):
+    if isinstance(faults, dict) or not hasattr(faults, "__iter__") or \
+            isinstance(faults, np.ndarray) and faults.ndim == 0:   # a 0-d array has no items
         raise ValueError(f"{want}, got {type(faults).__name__} {faults!r:.80}")
     items = list(faults)
     seen = {}
@@ -253,6 +255,7 @@ def fault_mask(t, faults, sensor):
     """
     t = check_finite_array("t", t)
     faults = check_faults("faults", faults)
+    sensor = check_text("sensor", sensor)
     mask = np.zeros(t.shape, dtype=bool)
     for f in faults:
         if f.sensor == sensor:
@@ -289,9 +292,15 @@ def inject(t, z, faults, sensor, rng=None):
     """
     t = check_finite_array("t", t)
     z = check_finite_array("z", z).copy()
-    if t.ndim != 1 or z.ndim == 0 or z.shape[0] != t.shape[0]:
-        raise ValueError(f"t must have shape (n,) matching z's first axis; got {t.shape}, {z.shape}")
+    if t.ndim != 1:
+        raise ValueError(f"t must be a 1-D array of sample times, got shape {t.shape}")
+    # lengths that disagree: the shorter is named (a series cut short is the likelier slip)
+    if z.ndim == 0 or z.shape[0] < t.shape[0]:
+        raise ValueError(f"z must have shape (n,) or (n, m) with n = len(t) = {t.size}, got shape {z.shape}")
+    if z.shape[0] > t.shape[0]:
+        raise ValueError(f"t must hold one time per row of z ({z.shape[0]}), got {t.size}")
     faults = check_faults("faults", faults)
+    sensor = check_text("sensor", sensor)
     rng = make_rng(rng)
     out = z.reshape(len(t), int(np.prod(z.shape[1:]))).copy()  # no sample: nothing to inject
     for f in faults:
@@ -432,9 +441,12 @@ def format_spec(faults, components):
     >>> format_spec([Fault("uv", "step", 5.0, 1.0, 2.0, 0)], {"uv": ["range"]})
     'uv.range:step:5@1+2'
     """
+    faults = check_faults("faults", faults)
+    if not faults:   # "" would not parse back: parse_spec refuses an empty spec
+        raise ValueError("faults must hold at least one Fault (an empty schedule has no spec)")
     _check_components(components)
     items = []
-    for i, f in enumerate(check_faults("faults", faults)):
+    for i, f in enumerate(faults):
         if f.sensor not in components:
             raise ValueError(f"faults[{i}]: sensor {f.sensor!r} has no component names here "
                              f"(known: {', '.join(sorted(components))})")
