@@ -49,8 +49,8 @@ def filter_step(x, t, dt, table):
         State at ``t``.
     t, dt : float
         Epoch and step, s; ``dt`` in [-86400, 86400] (one day either way).
-    table : ThirdBodyTable
-        Third bodies (filter ephemeris).
+    table : ThirdBodyTable or None
+        Third bodies (filter ephemeris); None: Mars's point mass alone.
 
     Examples
     --------
@@ -107,8 +107,11 @@ def filter_propagate(x, t, dt, table, max_step=10.0):
 
 
 def _check_table(table):
-    """The filter's third bodies: a ThirdBodyTable (its ``bodies`` may be empty)."""
-    return check_instance("table", table, dynamics.ThirdBodyTable, "a ThirdBodyTable")
+    """The filter's third bodies: a ThirdBodyTable (its ``bodies`` may be empty) or None (Mars's
+    point mass alone, as :func:`xnavlab.mars.models.dynamics.acceleration`)."""
+    if table is not None:
+        check_instance("table", table, dynamics.ThirdBodyTable, "a ThirdBodyTable or None")
+    return table
 
 
 def _check_steps(t, dt, table, max_step):
@@ -132,8 +135,8 @@ class Propagation:
     ----------
     t, dt : float
         Epoch and step, s (``dt >= 0``).
-    table : ThirdBodyTable
-        Third bodies (filter ephemeris).
+    table : ThirdBodyTable or None
+        Third bodies (filter ephemeris); None: Mars's point mass alone.
     max_step : float
         Largest RK4 sub-step, s, in [0.01, 86400]; ``dt / max_step`` at most 1e6 (as
         :func:`filter_propagate`, which it calls).
