@@ -172,8 +172,8 @@ def perturb_direction(u, sigma, w):
     ----------
     u : array_like, shape (..., 3)
         True unit vectors.
-    sigma : float
-        Per-axis angular standard deviation, rad.
+    sigma : float or array_like, shape (..., 1)
+        Per-axis angular standard deviation, rad, >= 0: one, or one per direction.
     w : array_like, shape (..., 2)
         Standard normal draws.
 
