@@ -224,3 +224,15 @@ def test_the_unchecked_matrices_are_the_checked_ones_bit_for_bit(values, dt):
     q[np.all(q == 0.0, axis=1)] = qt.IDENTITY
     assert np.array_equal(qt.kinematics_matrix_unchecked(w, dt), qt.kinematics_matrix(w, dt))
     assert np.array_equal(qt.xi_matrix_unchecked(q), qt.xi_matrix(q))
+
+
+@pytest.mark.parametrize(("call", "match"), [
+    (lambda: qt.kinematics_matrix_unchecked([1.0], 0.1), r"^w must be a float ndarray of shape \(\.\.\., 3"),
+    (lambda: qt.kinematics_matrix_unchecked(np.array(1.0), 0.1), r"^w must be a float ndarray"),
+    (lambda: qt.kinematics_matrix_unchecked(np.zeros(3), True), r"^dt must be a real number in \[0"),
+    (lambda: qt.kinematics_matrix_unchecked(np.zeros(3), []), r"^dt must be a real number"),
+    (lambda: qt.xi_matrix_unchecked(-0.0), r"^q must be a float ndarray of shape \(\.\.\., 4\)"),
+])
+def test_the_unchecked_forms_refuse_what_is_no_float_array_naming_it(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()

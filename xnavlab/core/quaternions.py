@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from xnavlab.core.validate import check_finite_array, check_real
+from xnavlab.core.validate import check_finite_array, check_real, shown
 
 __all__ = [
     "IDENTITY",
@@ -382,7 +382,9 @@ def kinematics_matrix_unchecked(w, dt):
     The caller guarantees what :func:`kinematics_matrix` checks: ``w`` a finite float ndarray
     of shape (..., 3), ``dt`` a float >= 0. The angle ``|w| dt`` is still refused when it is
     not finite or exceeds :data:`MAX_ANGLE` (a filter's estimate may run away). A step of the
-    attitude filter bank costs about half as much without the checks of every input.
+    attitude filter bank costs about half as much without the checks of every input; only the
+    types and the trailing shape are checked (a fraction of a microsecond), so that anything
+    else (a list, a bool, a 0-d array) is refused naming it, not failed inside.
 
     Parameters
     ----------
@@ -401,13 +403,20 @@ def kinematics_matrix_unchecked(w, dt):
     >>> bool(np.array_equal(kinematics_matrix_unchecked(w, 0.1), kinematics_matrix(w, 0.1)))
     True
     """
+    if not isinstance(w, np.ndarray) or w.dtype.kind != "f" or w.shape[-1:] != (3,):
+        raise ValueError(f"w must be a float ndarray of shape (..., 3) (no conversion here), got "
+                         f"{type(w).__name__} {shown(w)}")
+    if isinstance(dt, bool) or not isinstance(dt, float | int | np.floating | np.integer) or not dt >= 0:
+        raise ValueError(f"dt must be a real number in [0, inf), s, got {shown(dt)}")
     return _phi(w, dt)
 
 
 def xi_matrix_unchecked(q):
     """:func:`xi_matrix` without the conversion and checks of ``q``, for inner loops.
 
-    The caller guarantees a finite float ndarray of shape (..., 4), not zero.
+    The caller guarantees a finite float ndarray of shape (..., 4), not zero; only the type and
+    the trailing shape are checked (a fraction of a microsecond), so that anything else is
+    refused naming ``q``, not failed inside.
 
     Parameters
     ----------
@@ -423,6 +432,9 @@ def xi_matrix_unchecked(q):
     >>> bool(np.array_equal(xi_matrix_unchecked(q), xi_matrix(q)))
     True
     """
+    if not isinstance(q, np.ndarray) or q.dtype.kind != "f" or q.shape[-1:] != (4,):
+        raise ValueError(f"q must be a float ndarray of shape (..., 4) (no conversion here), got "
+                         f"{type(q).__name__} {shown(q)}")
     return _xi(q)
 
 
