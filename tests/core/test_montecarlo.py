@@ -162,3 +162,18 @@ def test_issue35_roc_curve_refuses_bad_thresholds_and_no_results(thresholds, mat
         mc.roc_curve(r, "chi2", thresholds=thresholds)
     with pytest.raises(ValueError, match=r"^results must"):
         mc.roc_curve([], "chi2")
+
+
+@pytest.mark.parametrize(("call", "match"), [
+    (lambda: mc.run_tasks(mc.signal_trial, True), r"^params must be a list of keyword dicts"),
+    (lambda: mc.run_tasks(mc.signal_trial, np.array(1.0)), r"^params must be a list"),
+    (lambda: mc.run_tasks(mc.signal_trial, [1.0]), r"^params\[0\] must be a dict of keywords"),
+    (lambda: mc.summarise(-0.0, "chi2"), r"^results must be a list of trials"),
+    (lambda: mc.summarise([1.0], "chi2"), r"^results\[0\] must be a trial of signal_trial"),
+    (lambda: mc.detection_table([1.0], (10.0,), trials=1), r"^kinds\[0\] must be one of 'step'"),
+    (lambda: mc.plot_pd(sizes=True), r"^sizes must be a list of sizes"),
+    (lambda: mc.plot_pd(sizes=[2.0, True]), r"^sizes\[1\] must be a real number"),
+])
+def test_an_edge_input_is_refused_naming_it(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()

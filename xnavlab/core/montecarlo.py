@@ -50,6 +50,7 @@ from xnavlab.core.validate import (
     check_items,
     check_real,
     check_seed,
+    shown,
 )
 
 __all__ = ["KINDS", "DETECTORS", "signal_trial", "run_tasks", "seeds",
@@ -164,6 +165,14 @@ def _call(args):
     return func(seed=seed, **params)
 
 
+def _listed(name, value, what):
+    """``value`` as a list (a list, tuple or 1-D array; items may repeat), else one ValueError."""
+    if isinstance(value, str | bytes | dict) or not hasattr(value, "__iter__") or \
+            isinstance(value, np.ndarray) and value.ndim != 1:
+        raise ValueError(f"{name} must be a list of {what}, got {shown(value)}")
+    return list(value)
+
+
 def run_tasks(func, params, *, seed=0, executor=None, max_workers=2, chunksize=1):
     """Run ``func(seed=s_i, **params[i])`` for every task, on an Executor.
 
@@ -200,10 +209,10 @@ def run_tasks(func, params, *, seed=0, executor=None, max_workers=2, chunksize=1
     """
     if not callable(func):
         raise ValueError(f"func must be callable, got {type(func).__name__}")
-    params = list(params)
-    for p in params:
+    params = _listed("params", params, "keyword dicts (one per task)")
+    for i, p in enumerate(params):
         if not isinstance(p, dict):
-            raise ValueError(f"params must be a sequence of dicts, got {type(p).__name__}")
+            raise ValueError(f"params[{i}] must be a dict of keywords, got {type(p).__name__} {shown(p)}")
     task_seeds = seeds(seed, len(params))
     args = list(zip([func] * len(params), params, task_seeds, strict=True))
     if executor is not None:
@@ -229,10 +238,15 @@ def summarise(results, detector):
     >>> summarise(rs, "wavelet")["pd"]
     1.0
     """
+    results = _listed("results", results, "trials (signal_trial)")
     check_choice("detector", detector, DETECTORS)
-    r = [x[detector] for x in results]
-    if not r:
+    if not results:
         raise ValueError("results must hold at least one trial")
+    for i, x in enumerate(results):
+        if not isinstance(x, dict) or detector not in x:
+            raise ValueError(f"results[{i}] must be a trial of signal_trial (a dict with "
+                             f"{detector!r}), got {type(x).__name__} {shown(x)}")
+    r = [x[detector] for x in results]
     found = [x["delay"] for x in r if x["detected"]]
     armed = sum(x["armed_before"] for x in r)
     return {"pd": float(np.mean([x["detected"] for x in r])),
@@ -265,7 +279,7 @@ def detection_table(kinds=KINDS, sizes=(2.0, 4.0, 8.0), *, trials=20, seed=0, no
     trials = check_int("trials", trials, 1, 10**6)
     sizes = [check_real(f"sizes[{i}]", s, 0.0, 1000.0)  # signal_trial's size_sigma range
              for i, s in enumerate(check_items("sizes", sizes, "size"))]
-    kinds = check_items("kinds", kinds, "kind")
+    kinds = check_items("kinds", kinds, "kind", each=lambda label, k: check_choice(label, k, KINDS))
     cells = [(k, float(s)) for k in kinds for s in sizes]
     params = [dict(kind=k, size_sigma=s, noise_scale=noise_scale, **trial_kw)
               for k, s in cells for _ in range(trials)]
@@ -362,7 +376,8 @@ def plot_pd(kind="step", noise_scale=1.0, trials=30, seed=0, sizes=(1.0, 2.0, 3.
 
     from xnavlab.core.plotting import in_place
 
-    built = tuple(sizes)
+    built = tuple(check_real(f"sizes[{i}]", s, 0.0, 1000.0)  # signal_trial's size_sigma range
+                  for i, s in enumerate(check_items("sizes", sizes, "size")))
     # the layout every frame shares; update() sets the curves, the delay axis and the title
     fig = Figure(figsize=(8.5, 3.2), layout="constrained")
     ax1, ax2 = fig.subplots(1, 2)
