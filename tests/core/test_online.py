@@ -152,5 +152,24 @@ def test_a_holdoff_beyond_its_range_is_refused_not_an_overflow():
 
 
 def test_signal_threshold_ratio_refuses_a_sigma_beyond_max_size():
-    with pytest.raises(ValueError, match=r"sigma must be in \(0, 1e\+15\]"):
+    with pytest.raises(ValueError, match=r"sigma must be in \[1e-100, 1e\+15\]"):
         D.signal_threshold_ratio(np.sin(np.arange(2000.0)), 1e308)
+
+
+@pytest.mark.parametrize(("call", "match"), [
+    (lambda: D.mad_sigma(-0.0), r"^d must be an array of detail coefficients"),
+    (lambda: D.mad_sigma([]), r"^d must hold at least one coefficient along axis -1"),
+    (lambda: D.mad_sigma(np.ones(3), axis=1), r"^axis must be an integer in \[-1, 0\]"),
+    (lambda: D.threshold_multiplier(5e-324), r"^pfa must be a real number in \[1e-15, 1\)"),
+    (lambda: D.events_from_alarms(np.arange(3.0), True, np.ones(3), 2), r"^alarm must be a 1-D array"),
+    (lambda: D.events_from_alarms(np.arange(3.0), [1, 0, 1], -0.0, 2), r"^ratio must be a 1-D array"),
+    (lambda: D.events_from_alarms([1.0], [1, 0, 1], np.ones(3), 2), r"^t must have length 3 \(as alarm and"),
+    (lambda: D.alarm_clusters([]), r"^alarm must hold at least one flag"),
+    (lambda: D.alarm_clusters([1.0, True, 0.0]), r"^alarm must be a 1-D array of flags"),
+    (lambda: D.signal_threshold_ratio(np.zeros(400), 5e-324), r"^sigma must be in \[1e-100, "),
+    (lambda: D.Event(1.0, 2.0, 3.0, 2.0, "chi2").as_dict(True, "wavelet"), r"^sensor must be"),
+    (lambda: D.Event(1.0, 2.0, 3.0, 2.0, "chi2").as_dict("uv", []), r"^detector must be"),
+])
+def test_an_edge_input_is_refused_naming_it(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()

@@ -88,7 +88,7 @@ from xnavlab.core.detection._tracked import TrackedDetector
 from xnavlab.core.detection._wavelets import orthogonal_wavelet
 from xnavlab.core.distributions import chi2_isf, chi2_ppf, norm_isf, norm_sf
 from xnavlab.core.faults import MAX_SIZE
-from xnavlab.core.validate import check_finite_array, check_int, check_real
+from xnavlab.core.validate import check_finite_array, check_int, check_real, check_text, shown
 
 __all__ = [
     "MAD_SCALE",
@@ -259,9 +259,10 @@ def mad_sigma(d, axis=-1):
     Parameters
     ----------
     d : array_like
-        Detail coefficients, shape (level, N) for one estimate per level.
+        Detail coefficients, shape (level, N) for one estimate per level (at least 1-D, at
+        least one coefficient along ``axis``: the median of nothing is no noise level).
     axis : int
-        Axis along which to take the median.
+        Axis along which to take the median, in ``[-d.ndim, d.ndim - 1]``.
 
     Examples
     --------
@@ -270,6 +271,12 @@ def mad_sigma(d, axis=-1):
     [1.0, 1.0]
     """
     d = check_finite_array("d", d)
+    if d.ndim == 0:
+        raise ValueError("d must be an array of detail coefficients (shape (N,) or (level, N)), "
+                         "got a scalar")
+    axis = check_int("axis", axis, -d.ndim, d.ndim - 1)
+    if d.shape[axis] == 0:
+        raise ValueError(f"d must hold at least one coefficient along axis {axis}, got shape {d.shape}")
     return np.median(np.abs(d), axis=axis) / MAD_SCALE
 
 
@@ -277,12 +284,15 @@ def threshold_multiplier(pfa, n_tests=6):
     """Multiplier ``k`` of the two-sided Gaussian tests so that ``n_tests`` of them alarm with
     total probability at most ``pfa`` per sample: ``k = Phi^-1(1 - pfa / (2 n_tests))``.
 
+    ``pfa`` is in [1e-15, 1): below 1e-15 (one false sample in 30 million years at 1 Hz) no
+    design asks for, and 5e-324 underflowed ``pfa / (2 n_tests)`` to 0.
+
     Examples
     --------
     >>> round(threshold_multiplier(1e-5, 6), 2)
     4.79
     """
-    pfa = check_real("pfa", pfa, 0.0, 1.0, lo_open=True, hi_open=True)
+    pfa = check_real("pfa", pfa, 1e-15, 1.0, hi_open=True)
     n_tests = check_int("n_tests", n_tests, 1)
     return norm_isf(pfa / (2 * n_tests))
 
@@ -338,6 +348,8 @@ class Event:
         >>> Event(10.0, 12.0, 20.0, 3.0, "level 2").as_dict("uv", "wavelet")["detected_end"]
         12.0
         """
+        sensor = check_text("sensor", sensor)
+        detector = check_text("detector", detector)
         return {"sensor": sensor, "detected_onset": self.onset, "detected_end": self.end,
                 "detector": detector}
 
@@ -429,16 +441,15 @@ def events_from_alarms(t, alarm, ratio, holdoff, tests=None):
     ([(1.0, 3.0, 5.0), (7.0, 7.0, 9.0)], [0, 1, 1, 1, 1, 0, 0, 1, 1, 0])
     """
     t = check_finite_array("t", t)
-    alarm = np.asarray(alarm)
-    if alarm.dtype.kind != "b" and not (alarm.dtype.kind in "iuf" and np.all((alarm == 0) | (alarm == 1))):
-        raise ValueError(f"alarm must hold flags (true/false), got dtype {alarm.dtype}")
-    alarm = alarm.astype(bool)
+    if t.ndim != 1:
+        raise ValueError(f"t must be a 1-D array of sample times, got shape {t.shape}")
+    alarm = _flags("alarm", alarm, None, "one per sample")
     ratio = check_finite_array("ratio", ratio, finite=False)
     if np.isnan(ratio).any():
         raise ValueError("ratio must not contain NaN")
-    if not t.ndim == alarm.ndim == ratio.ndim == 1 or not t.size == alarm.size == ratio.size:
-        raise ValueError(f"t, alarm and ratio must be 1-D of one length, got {t.shape}, "
-                         f"{alarm.shape}, {ratio.shape}")
+    if ratio.ndim != 1:
+        raise ValueError(f"ratio must be a 1-D array (one per sample), got shape {ratio.shape}")
+    _one_length(t=t.size, alarm=alarm.size, ratio=ratio.size)
     holdoff = _check_holdoff(holdoff)
     n = t.size
     faulty = np.zeros(n, dtype=bool)
@@ -457,6 +468,29 @@ def events_from_alarms(t, alarm, ratio, holdoff, tests=None):
         events.append(Event(float(t[s]), float(t[e]), float(t[c]) if c < n else math.inf,
                             float(ratio[p]), str(tests[p]) if tests is not None else ""))
     return events, faulty
+
+
+def _one_length(**sizes):
+    """One ValueError naming the series whose length differs from the others' (which agree),
+    or the last one when no two agree."""
+    if len(set(sizes.values())) > 1:
+        rest = {k: [v for j, v in sizes.items() if j != k] for k in sizes}
+        odd = next((k for k in sizes if len(set(rest[k])) == 1), list(sizes)[-1])
+        others = " and ".join(k for k in sizes if k != odd)
+        raise ValueError(f"{odd} must have length {rest[odd][0]} (as {others}), got {sizes[odd]}")
+
+
+def _flags(name, value, n, why):
+    """``value`` as a 1-D array of flags (bools, or numbers 0 and 1; of length ``n`` unless
+    None), else one ValueError naming ``name``: a list mixing bools and numbers is refused."""
+    arr = np.asarray(value)
+    ok = arr.dtype.kind == "b" or (arr.dtype.kind in "iuf" and np.all((arr == 0) | (arr == 1)))
+    mixed = isinstance(value, list | tuple) and len({isinstance(v, bool | np.bool_) for v in value}) > 1
+    if not ok or mixed or arr.ndim != 1 or n is not None and arr.size != n:
+        size = "" if n is None else f" of length {n}"
+        raise ValueError(f"alarm must be a 1-D array of flags (true/false, {why}){size}, got "
+                         f"{shown(value)}".replace("alarm", name, 1))
+    return arr.astype(bool)
 
 
 def alarm_clusters(alarm, gap=1):
@@ -488,9 +522,9 @@ def alarm_clusters(alarm, gap=1):
     >>> [c.tolist() for c in alarm_clusters(a, gap=2)]
     [[1, 8], [4, 9], [3, 2]]
     """
-    alarm = np.asarray(alarm, dtype=bool)
-    if alarm.ndim != 1:
-        raise ValueError(f"alarm must be 1-D, got shape {alarm.shape}")
+    alarm = _flags("alarm", alarm, None, "one per sample")
+    if alarm.size == 0:
+        raise ValueError("alarm must hold at least one flag, got an empty array")
     gap = check_int("gap", gap, 1, 10**9)
     idx = np.flatnonzero(alarm)
     if idx.size == 0:
@@ -518,8 +552,9 @@ def signal_threshold_ratio(x, sigma, wavelet="db3", level=5, pfa=1e-5, n_tests=N
     sigma : float or array_like, shape (level,)
         Per-level noise of the detector (white noise of sigma per sample: sigma at every
         level, the filters having unit norm; or a trained MAD estimate), each in
-        (0, MAX_SIZE] (:data:`xnavlab.core.faults.MAX_SIZE`, the measurement's SI unit:
-        beyond any physical noise, and ``k sigma`` overflows near 1e308).
+        [1e-100, MAX_SIZE] (:data:`xnavlab.core.faults.MAX_SIZE`, the measurement's SI unit:
+        beyond any physical noise, and ``k sigma`` overflows near 1e308; below 1e-100 the
+        ratio overflows).
     wavelet, level : as in :func:`causal_details`
     pfa : float
         Design false-alarm probability per sample.
@@ -539,8 +574,10 @@ def signal_threshold_ratio(x, sigma, wavelet="db3", level=5, pfa=1e-5, n_tests=N
     """
     level = check_int("level", level, 1, 12)
     sigma = check_finite_array("sigma", sigma)
-    if sigma.shape not in ((), (level,)) or np.any(sigma <= 0) or np.any(sigma > MAX_SIZE):
-        raise ValueError(f"sigma must be in (0, {MAX_SIZE:g}], a scalar or one per level ({level},)")
+    # from 1e-100: x / (k sigma) overflowed for a subnormal sigma (a noise of 1e-100 in any SI
+    # unit is far below any sensor's)
+    if sigma.shape not in ((), (level,)) or np.any(sigma < 1e-100) or np.any(sigma > MAX_SIZE):
+        raise ValueError(f"sigma must be in [1e-100, {MAX_SIZE:g}], a scalar or one per level ({level},)")
     sigma = np.broadcast_to(sigma, (level,))
     n_tests = level + 1 if n_tests is None else n_tests
     k = threshold_multiplier(pfa, n_tests)
