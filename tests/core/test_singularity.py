@@ -2,6 +2,7 @@
 
 
 import numpy as np
+import pytest
 
 from xnavlab.core import detection as D
 
@@ -20,3 +21,16 @@ def test_modulus_maxima_locate_the_step_at_every_scale():
     mm = D.modulus_maxima(w, threshold=0.1)[:, 64:448]                # away from the ends
     for row in mm:
         assert np.flatnonzero(row).tolist() == [256 - 64] or np.flatnonzero(row).tolist() == [255 - 64]
+
+
+@pytest.mark.parametrize(("call", "match"), [
+    (lambda: D.modulus_maxima(np.array(1.0)), r"^w must have shape \(N,\) or \(n_scales, N\) with N >= 1"),
+    (lambda: D.modulus_maxima([]), r"^w must have shape"),
+    (lambda: D.lipschitz_exponent(np.ones((3, 10)), -0.0, 5), r"^scales must be a 1-D array of 3 \(one per"),
+    (lambda: D.lipschitz_exponent(np.ones((2, 10)), [1.0, -1.0], 5), r"^scales must be positive"),
+    (lambda: D.cwt([], [2.0]), r"^x must be a 1-D signal of at least one sample"),
+    (lambda: D.cwt(np.ones(8), []), r"^scales must be a 1-D array of at least one positive scale"),
+])
+def test_an_edge_input_is_refused_naming_it(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()

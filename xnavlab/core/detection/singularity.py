@@ -41,6 +41,8 @@ def modulus_maxima(w, threshold=0.0):
     [0, 0, 1, 0, 0, 1, 0]
     """
     w = check_finite_array("w", w)
+    if w.ndim == 0 or w.shape[-1] == 0:
+        raise ValueError(f"w must have shape (N,) or (n_scales, N) with N >= 1, got shape {w.shape}")
     threshold = check_real("threshold", threshold, 0.0)
     a = np.abs(w)
     left = np.concatenate([np.full(a.shape[:-1] + (1,), np.inf), a[..., :-1]], axis=-1)
@@ -81,9 +83,10 @@ def lipschitz_exponent(w, scales, index, cone=None):
     0.0
     """
     w = check_finite_array("w", w)
-    scales = check_finite_array("scales", scales)
-    if w.ndim != 2 or scales.shape != (w.shape[0],) or w.shape[0] < 2 or np.any(scales <= 0):
-        raise ValueError("w must have shape (n_scales, N) with n_scales >= 2 positive scales")
+    if w.ndim != 2 or w.shape[0] < 2 or w.shape[1] < 1:
+        raise ValueError(f"w must have shape (n_scales, N) with n_scales >= 2 and N >= 1, got "
+                         f"shape {w.shape}")
+    scales = _scales(scales, w.shape[0])
     index = check_int("index", index, 0, w.shape[1] - 1)
     cone = 3.0 * scales if cone is None else check_finite_array("cone", cone, shape=(w.shape[0],))
     peaks = []
@@ -92,6 +95,17 @@ def lipschitz_exponent(w, scales, index, cone=None):
         peaks.append(np.abs(row[lo:hi]).max())
     slope = np.polyfit(np.log2(scales), np.log2(np.maximum(peaks, 1e-300)), 1)[0]
     return float(slope - 0.5)
+
+
+def _scales(scales, n=None):
+    """Scales as a 1-D array of positive numbers (``n`` of them when given), else ValueError."""
+    scales = check_finite_array("scales", scales)
+    if scales.ndim != 1 or scales.size == 0 or n is not None and scales.size != n:
+        want = "at least one" if n is None else f"{n} (one per row of w)"
+        raise ValueError(f"scales must be a 1-D array of {want} positive scales, got shape {scales.shape}")
+    if np.any(scales <= 0):
+        raise ValueError(f"scales must be positive, got {scales.min():g}")
+    return scales
 
 
 def cwt(x, scales, wavelet="gaus1", dt=1.0):
@@ -123,9 +137,9 @@ def cwt(x, scales, wavelet="gaus1", dt=1.0):
     (2, 128)
     """
     x = check_finite_array("x", x)
-    scales = check_finite_array("scales", scales)
-    if x.ndim != 1 or scales.ndim != 1 or np.any(scales <= 0):
-        raise ValueError("x must be 1-D and scales a 1-D array of positive numbers")
+    if x.ndim != 1 or x.size == 0:
+        raise ValueError(f"x must be a 1-D signal of at least one sample, got shape {x.shape}")
+    scales = _scales(scales)
     check_choice("wavelet", wavelet, [w for w in pywt.wavelist(kind="continuous")
                                       if not w.startswith(("cgau", "cmor", "shan", "fbsp"))])
     check_real("dt", dt, 0.0, lo_open=True)
