@@ -67,3 +67,13 @@ def test_noise_limit_grows_with_the_ratio(r, extra):
 def test_a_count_beyond_max_samples_is_refused(call, match):
     with pytest.raises(ValueError, match=match):
         call()
+
+
+@pytest.mark.parametrize(("call", "match"), [
+    (lambda: limits.mean_shift_pd_limit([], 0.05), r"^mu must hold at least one mean"),
+    (lambda: limits.ramp_means([], 3), r"^slopes must be a 1-D array of at least one"),
+    (lambda: limits.noise_pd_limit([], 6, 0.05), r"^ratios must be a 1-D array of at least one value >= 1"),
+])
+def test_an_empty_input_is_refused_not_answered_with_alpha(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()

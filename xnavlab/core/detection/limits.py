@@ -35,7 +35,7 @@ from __future__ import annotations
 import numpy as np
 
 from xnavlab.core.distributions import norm_cdf, norm_isf
-from xnavlab.core.validate import check_finite_array, check_int, check_real, make_rng
+from xnavlab.core.validate import check_finite_array, check_int, check_real, make_rng, shown
 
 __all__ = ["MAX_SAMPLES", "window_false_alarm", "mean_shift_pd_limit", "ramp_means", "noise_pd_limit"]
 
@@ -99,6 +99,8 @@ def mean_shift_pd_limit(mu, alpha):
     0.912
     """
     mu = check_finite_array("mu", mu)
+    if mu.size == 0:   # no sample under the fault: no test, not a "Pd" of alpha
+        raise ValueError(f"mu must hold at least one mean, got shape {mu.shape}")
     alpha = _alpha(alpha)
     d = float(np.sqrt(np.sum(np.square(mu))))
     return norm_cdf(d - norm_isf(alpha))  # Pd = Phi(||mu|| - z_(1-alpha))
@@ -127,6 +129,9 @@ def ramp_means(slopes, n, phase=1.0):
     [0.5, 1.0, 1.5]
     """
     slopes = np.atleast_1d(check_finite_array("slopes", slopes))
+    if slopes.ndim != 1 or slopes.size == 0:
+        raise ValueError(f"slopes must be a 1-D array of at least one component's drift, got "
+                         f"shape {slopes.shape}")
     n = check_int("n", n, 1, MAX_SAMPLES)
     phase = check_real("phase", phase, 0.0, 1.0, lo_open=True)
     i = np.arange(n, dtype=float)[:, None]
@@ -163,8 +168,8 @@ def noise_pd_limit(ratios, n, alpha, *, draws=200_000, rng=0):
     0.96
     """
     r = np.atleast_1d(check_finite_array("ratios", ratios))
-    if r.ndim != 1 or np.any(r < 1.0):
-        raise ValueError(f"ratios must be a 1-D array of values >= 1, got {r}")
+    if r.ndim != 1 or r.size == 0 or np.any(r < 1.0):   # no component: no test, not a "Pd" of alpha
+        raise ValueError(f"ratios must be a 1-D array of at least one value >= 1, got {shown(r)}")
     n = check_int("n", n, 1, MAX_SAMPLES)
     alpha = _alpha(alpha)
     draws = check_int("draws", draws, 1000, MAX_SAMPLES)
