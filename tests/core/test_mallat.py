@@ -87,3 +87,9 @@ def test_issue35_a_short_x_under_the_default_level_names_x(func):
         func(np.ones(64), "db3", 5)
     with pytest.raises(ValueError, match=r"^x must hold at least 10 samples for one level"):
         func(np.ones(4))
+
+
+@pytest.mark.parametrize("func", [mallat.mallat_wavedec, mallat.detail_signals])
+def test_an_empty_signal_is_named_x_not_max_levels_n(func):
+    with pytest.raises(ValueError, match=r"^x must hold at least 10 samples for one level .*, got 0"):
+        func([])

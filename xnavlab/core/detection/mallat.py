@@ -180,7 +180,7 @@ def mallat_idwt(c, d, wavelet="db3", mode="periodization"):
 def _check_level(level, n, wavelet):
     """``level`` in [1, max_level(n)]; ``None`` is the paper's five levels, which ``x`` must
     be long enough for (an error then names ``x``, the input the caller gave)."""
-    top = max_level(n, wavelet)
+    top = max_level(n, wavelet) if n >= 1 else 0   # an empty x: named here, not as max_level's n
     want = 5 if level is None and top >= 1 else 1
     if top < want:  # max_level: floor(log2(n / (F - 1))) >= want needs n >= (F - 1) 2^want
         need = (orthogonal_wavelet(wavelet).dec_len - 1) * 2**want
