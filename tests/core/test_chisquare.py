@@ -79,3 +79,22 @@ def test_issue35_chi2_statistic_refuses_a_window_longer_than_the_data():
         D.chi2_statistic(np.ones((3, 2)), np.tile(np.eye(2), (3, 1, 1)), window=10)
     stat, dof = D.chi2_statistic(np.ones((3, 2)), np.tile(np.eye(2), (3, 1, 1)), window=3)
     assert stat.tolist() == [2.0, 4.0, 6.0] and dof == 6
+
+
+@pytest.mark.parametrize("call", [
+    lambda: D.chi2_statistic([], np.eye(2)),
+    lambda: D.chi2_detect(np.arange(3.0), [], np.ones((3, 1, 1))),
+])
+def test_an_empty_nu_is_named_before_s(call):
+    with pytest.raises(ValueError, match=r"^nu must hold at least one innovation"):
+        call()
+
+
+@pytest.mark.parametrize("call", [
+    lambda: D.chi2_statistic([1.0], np.eye(2)),
+    lambda: D.chi2_detect(np.arange(3.0), [1.0], np.ones(3)),
+    lambda: D.chi2_detect(np.arange(3.0), [1.0], np.ones((3, 1, 1))),
+])
+def test_a_short_nu_is_named_against_a_well_formed_s(call):
+    with pytest.raises(ValueError, match=r"^nu must have shape .* to match S of shape"):
+        call()

@@ -49,8 +49,17 @@ def _nis(nu, S):
         nu = nu[:, None]
     if nu.ndim != 2:
         raise ValueError(f"nu must have shape (N,) or (N, m), got {nu.shape}")
+    if nu.size == 0:   # no innovation: no statistic (and S's shape would be judged by nothing)
+        raise ValueError(f"nu must hold at least one innovation (N >= 1, m >= 1), got shape {nu.shape}")
     n, m = nu.shape
     S = check_finite_array("S", S)
+    square = S.ndim in (2, 3) and S.shape[-1] == S.shape[-2] >= 1
+    if square and (S.shape[-1] != m or S.ndim == 3 and S.shape[0] != n):   # a well-formed S: nu is odd
+        want = f"(N, {S.shape[-1]})" if S.ndim == 2 else f"({S.shape[0]}, {S.shape[-1]})"
+        raise ValueError(f"nu must have shape {want} to match S of shape {S.shape}, got shape {nu.shape}")
+    if S.ndim == 1 and m == 1 and nu.shape[0] < S.size:   # lengths disagree: the shorter is named
+        raise ValueError(f"nu must have shape ({S.size},) to match S of shape {S.shape}, got shape "
+                         f"{nu.shape}")
     if S.ndim == 1 and m == 1:
         S = S.reshape(-1, 1, 1)
     if S.shape == (m, m):
