@@ -76,3 +76,20 @@ def test_snr_range_sigma_refuses_more_photons_than_its_background_allows():
     with pytest.raises(ValueError, match=r"^weight_sum must be a real number in \[0\.01, 1000\]"):
         photon_error.snr_range_sigma(1000.0, 5e-324, fake)
     assert math.isfinite(photon_error.snr_range_sigma(0.01, 0.01, fake))
+
+
+@pytest.mark.parametrize("bad", [True, -0.0, [], np.array(1.0)])
+def test_photons_reference_and_seeds_are_named_when_of_another_kind(photons, reference, bad):
+    """Issue 35 (review 35h): a number or a list was an AttributeError or a TypeError."""
+    with pytest.raises(ValueError, match=r"^photons must be a Photons"):
+        photon_error.exposure_scaling(bad, reference)
+    with pytest.raises(ValueError, match=r"^reference must be a Reference"):
+        photon_error.exposure_scaling(photons, bad)
+    with pytest.raises(ValueError, match=r"^photons must be a Photons"):
+        photon_error.snr_range_sigma(1000.0, 700.0, bad)
+    with pytest.raises(ValueError, match=r"^photons must be a Photons"):
+        photon_error.split_pulls(bad)
+    with pytest.raises(ValueError, match=r"^seeds"):
+        photon_error.split_pulls(photons, seeds=bad)
+    with pytest.raises(ValueError, match=r"^seeds\[1\] must be an integer"):
+        photon_error.split_pulls(photons, seeds=[1, True, 0])

@@ -192,3 +192,46 @@ def test_displacements_add(a, b, phase):
     twice = photon_fix.displaced_phases(moved, b * n[0])
     assert abs(wrapped(once[0] - twice[0])) < 1e-9
     assert abs(wrapped(once[0] - phase - 205.53 * (a + b) / C)) < 1e-9
+
+
+def _fake(n=4):
+    return photon_fix.Photons(np.zeros(n), np.ones(n), np.arange(n) * photon_fix.MONTH,
+                              np.tile([1.0, 0.0, 0.0], (n, 1)), np.zeros((n, 3)), np.full(n, 200.0),
+                              np.zeros((3, 3)))
+
+
+@pytest.mark.parametrize("bad", [True, -0.0, [], np.array(1.0)])
+def test_photons_and_reference_are_refused_by_name_when_of_another_kind(bad):
+    """Issue 35 (review 35h): a number or a list was an AttributeError from inside."""
+    for call in (lambda: photon_fix.cycle_length(bad), lambda: photon_fix.offset_vector(bad, 1.0),
+                 lambda: photon_fix.displaced_phases(bad, np.zeros(3)),
+                 lambda: photon_fix.split_months(bad), lambda: photon_fix.build_reference(bad),
+                 lambda: photon_fix.fix(bad, np.zeros(3), None)):
+        with pytest.raises(ValueError, match=r"^photons must be a Photons \(from fermi_photons\(\)\)"):
+            call()
+    for call in (lambda: photon_fix.log_likelihood(_fake(), bad, [0.0]),
+                 lambda: photon_fix.likelihood_scan(_fake(), bad),
+                 lambda: photon_fix.estimate_offset(_fake(), bad),
+                 lambda: photon_fix.fix(_fake(), np.zeros(3), bad)):
+        with pytest.raises(ValueError, match=r"^reference must be a Reference \(from build_reference\(\)\)"):
+            call()
+
+
+@pytest.mark.parametrize("bad", [True, [], [0.5, True], np.zeros((1, 1)), [0.5, "a"]])
+def test_template_coefficients_must_be_numbers(bad):
+    """Issue 35 (review 35h): a bool was taken as the coefficient 1, an empty list as none."""
+    with pytest.raises(ValueError, match=r"^coeffs must be a non-empty 1-D array of \(complex\) numbers"):
+        photon_fix.template_density(bad, [0.0])
+    assert photon_fix.template_density([0.5 + 0.0j], [0.0]).tolist() == [2.0]
+
+
+def test_phases_are_one_per_photon_and_a_reference_is_of_these_photons(photons, reference):
+    """Issue 35 (review 35h): phases=[] was numpy's broadcast error, a bool a phase of 1."""
+    nav = photons.subset(~reference.in_reference)
+    with pytest.raises(ValueError, match=r"^phases must be an array of finite numbers, got True"):
+        photon_fix.estimate_offset(nav, reference, True)
+    for bad in ([], np.zeros(3)):
+        with pytest.raises(ValueError, match=rf"^phases must have shape \({nav.size},\) \(one phase per"):
+            photon_fix.estimate_offset(nav, reference, bad)
+    with pytest.raises(ValueError, match=rf"^reference must be built from these {nav.size} photons"):
+        photon_fix.fix(nav, np.zeros(3), reference)

@@ -22,7 +22,7 @@ def test_plot_recovery_with_an_across_point():
     fig = photon_plots.plot_recovery([0.0, 1.0e4], [zero, fx], across=(5e5, zero))
     labels = [t.get_text() for t in fig.axes[1].get_xticklabels()]
     assert labels == ["0 along", "10 along", "500 across"]
-    with pytest.raises(ValueError, match="same length"):
+    with pytest.raises(ValueError, match=r"^fixes must hold one Fix per injected offset \(1\), got 2"):
         photon_plots.plot_recovery([0.0], [zero, fx])
 
 
@@ -55,9 +55,34 @@ def test_plot_ranging_accuracy_bars_and_reference():
     ((np.linspace(-3e6, 3e6, 7), np.zeros(7), 1e-300), r"^cycle_m must be a real number in \[30000, "),
     ((np.array([-1e12, 1e12]), np.zeros(2), 3e4), r"^cycle_m must be at least 1e-4 of the injected span"),
     ((np.array([]), np.array([]), 1.46e6), r"^injected_m must be a non-empty 1-D array"),
-    ((np.zeros(3), np.zeros(2), 1.46e6), r"^injected_m must be a non-empty 1-D array and recovered_m of "),
+    ((np.zeros(3), np.zeros(2), 1.46e6),
+     r"^recovered_m must have shape \(3,\) \(one fix per injected offset\), got shape \(2,\)"),
+    ((np.zeros(1), np.zeros(1), 1.46e6), r"^injected_m must hold at least 2 offsets, got 1"),
 ])
 def test_plot_ambiguity_draws_a_bounded_number_of_cycles(args, words):
     """Issue 35, review 35f 16's class: cycle_m = 1e-300 looped over 1e306 cycle lines."""
     with pytest.raises(ValueError, match=words):
         photon_plots.plot_ambiguity(*args)
+
+
+@pytest.mark.parametrize("bad", [True, -0.0, [1.0], np.array(1.0)])
+def test_fixes_and_scaling_are_refused_by_name(bad):
+    """Issue 35 (review 35h): a number or a list of numbers was a TypeError from inside."""
+    with pytest.raises(ValueError, match=r"^fixes(\[0\])? must be a (list of )?Fix"):
+        photon_plots.plot_recovery([1.0e4], bad)
+    with pytest.raises(ValueError, match=r"^scaling must be the dict of exposure_scaling\(\)"):
+        photon_plots.plot_exposure(bad)
+
+
+@pytest.mark.parametrize(("paper_m", "words"), [
+    (True, r"^paper_m must be an array of finite numbers, got True"),
+    ([], r"^paper_m must be a non-empty 1-D array, got shape \(0,\)"),
+    ([1.0, True], r"^paper_m must be an array of finite numbers"),
+])
+def test_plot_exposure_names_paper_m(paper_m, words):
+    s = {"n_photons": [100.0, 400.0], "measured_m": [4e3, 2.1e3], "measured_unc": [0.2, 0.3],
+         "stated_m": [4e3, 2e3], "formula_m": [5e3, 2.5e3], "months": [1, 4]}
+    with pytest.raises(ValueError, match=words):
+        photon_plots.plot_exposure(s, paper_m=paper_m)
+    with pytest.raises(ValueError, match=r"^scaling\['months'\] must have shape \(2,\)"):
+        photon_plots.plot_exposure({**s, "months": [1]})

@@ -28,9 +28,18 @@ import math
 import numpy as np
 
 from xnavlab.core.constants import KPC, C
-from xnavlab.core.validate import check_int, check_items, check_real
+from xnavlab.core.validate import check_instance, check_int, check_items, check_real, check_seeds
 from xnavlab.mars.timing import pulsars
-from xnavlab.mars.timing.photon_fix import build_reference, estimate_offset, fix, split_months
+from xnavlab.mars.timing.photon_fix import (
+    Photons,
+    Reference,
+    build_reference,
+    estimate_offset,
+    fix,
+    split_months,
+)
+
+_PHOTONS = "a Photons (from fermi_photons())"
 
 __all__ = ["exposure_scaling", "snr_range_sigma", "split_pulls"]
 
@@ -72,6 +81,7 @@ def snr_range_sigma(n_photons, weight_sum, photons):
     """
     n_photons = check_real("n_photons", n_photons, 0.01, 1e11)
     weight_sum = check_real("weight_sum", weight_sum, 0.01, n_photons)
+    photons = check_instance("photons", photons, Photons, _PHOTONS)
     period = 1.0 / float(np.mean(photons.spin_frequency))
     comp = photons.components[np.argmin(photons.components[:, 1])]  # (phase, FWHM, amplitude)
     t_unit = 1.0e6  # s: the formula depends on the counts only
@@ -119,6 +129,11 @@ def exposure_scaling(photons, reference, months=(1, 2, 3, 4, 6, 8), min_sets=4):
     >>> out["n_sets"].tolist()                                        # doctest: +SKIP
     [21, 7]
     """
+    photons = check_instance("photons", photons, Photons, _PHOTONS)
+    reference = check_instance("reference", reference, Reference, "a Reference (from build_reference())")
+    if reference.in_reference.shape != (photons.size,):  # built from other photons
+        raise ValueError(f"reference must be built from these {photons.size} photons, got one from "
+                         f"{reference.in_reference.size}")
     min_sets = check_int("min_sets", min_sets, 2, 10**6)
     nav = photons.subset(~reference.in_reference)
     nav_months = np.unique(nav.month)
@@ -182,9 +197,8 @@ def split_pulls(photons, seeds=range(16), bandwidth=0.004):
     >>> out["pulls"].shape                                   # doctest: +SKIP
     (4,)
     """
-    seeds = list(seeds)
-    if len(seeds) < 3:
-        raise ValueError(f"seeds must hold at least 3 seeds, got {len(seeds)}")
+    photons = check_instance("photons", photons, Photons, _PHOTONS)
+    seeds = check_seeds("seeds", seeds, min_len=3)  # a repeat would count one split twice
     rows = []
     for seed in seeds:
         ref = build_reference(photons, split_months(photons, seed), bandwidth=bandwidth)

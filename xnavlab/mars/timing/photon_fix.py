@@ -48,7 +48,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from xnavlab.core.constants import DAY, C
-from xnavlab.core.validate import check_finite_array, check_int, check_real, make_rng
+from xnavlab.core.validate import (
+    check_finite_array,
+    check_instance,
+    check_int,
+    check_real,
+    check_shape,
+    make_rng,
+    shown,
+)
 from xnavlab.mars.timing import pint_bridge
 
 __all__ = [
@@ -76,6 +84,23 @@ MONTH = 365.25 * DAY / 12.0
 _TABLE = 1 << 14  # points of the template tables over one cycle (6e-5 cycle, 0.3 us apart)
 _WEIGHT_GRID = np.linspace(0.0, 1.0, 101)  # weights at which the Fisher information is tabulated
 _FLOOR = 0.01  # the template density is kept above this (per cycle; its mean is 1)
+
+
+def _photons(photons, name="photons"):
+    """``photons`` if it is a :class:`Photons`, else one ValueError naming it."""
+    return check_instance(name, photons, Photons, "a Photons (from fermi_photons())")
+
+
+def _reference(reference):
+    """``reference`` if it is a :class:`Reference`, else one ValueError naming it."""
+    return check_instance("reference", reference, Reference, "a Reference (from build_reference())")
+
+
+def _phases(photons, phases):
+    """``phases`` (None, or one finite phase per photon) checked under the user's name."""
+    if phases is None:
+        return None
+    return check_shape("phases", phases, (photons.size,), "one phase per photon")
 
 
 @dataclass(frozen=True, eq=False)
@@ -272,7 +297,7 @@ def cycle_length(photons):
     >>> round(cycle_length(fake) / 1e3, 1)   # km, J0030+0451 (P = 4.87 ms)
     1458.6
     """
-    return C / float(np.mean(photons.spin_frequency))
+    return C / float(np.mean(_photons(photons).spin_frequency))
 
 
 def offset_vector(photons, along_m=0.0, across_m=0.0):
@@ -297,6 +322,7 @@ def offset_vector(photons, along_m=0.0, across_m=0.0):
     >>> offset_vector(fake, along_m=10.0, across_m=5.0).round(3).tolist()
     [-5.0, 6.0, 8.0]
     """
+    photons = _photons(photons)
     along_m = check_real("along_m", along_m)
     across_m = check_real("across_m", across_m)
     n = photons.mean_direction
@@ -338,6 +364,7 @@ def displaced_phases(photons, offset_m):
     >>> displaced_phases(fake, [C / 800.0, 5e5, 0.0]).tolist()   # a quarter cycle along x
     [0.5]
     """
+    photons = _photons(photons)
     dr = check_finite_array("offset_m", offset_m, shape=(3,))
     if dr.ndim != 1:
         raise ValueError(f"offset_m must have shape (3,), got {dr.shape}")
@@ -367,6 +394,7 @@ def pint_witness(photons, distance_m=500e3):
     >>> bool(np.abs((phases[1] - photons.phases + 0.5) % 1 - 0.5).max() < 1e-6)  # doctest: +SKIP
     True
     """
+    photons = _photons(photons)
     distance_m = check_real("distance_m", distance_m, 0.0, 1e9)
     offsets = np.array([offset_vector(photons, along_m=distance_m),
                         offset_vector(photons, across_m=distance_m),
@@ -396,7 +424,7 @@ def split_months(photons, seed=None):
     >>> split_months(fake).tolist()
     [True, False, True, False]
     """
-    month = photons.month
+    month = _photons(photons).month
     if seed is None:
         return month % 2 == 0
     rng = make_rng(seed)
@@ -442,7 +470,7 @@ def template_density(coeffs, phases=None, derivative=0):
     >>> f.round(12).tolist()   # 1 + cos(2 pi phi)
     [2.0, 1.0, 0.0]
     """
-    coeffs = np.asarray(coeffs, dtype=complex)
+    coeffs = _coeffs(coeffs)
     derivative = check_int("derivative", derivative, 0, 2)
     k = np.arange(1, coeffs.size + 1)
     spec = coeffs * (2j * np.pi * k) ** derivative
@@ -453,6 +481,22 @@ def template_density(coeffs, phases=None, derivative=0):
     x = check_finite_array("phases", phases)
     series = 2.0 * np.real(np.exp(2j * np.pi * np.multiply.outer(x, k)) @ spec)
     return series + (1.0 if derivative == 0 else 0.0)
+
+
+def _coeffs(coeffs):
+    """``coeffs`` as a non-empty 1-D complex array of finite numbers, else one ValueError."""
+    raw = np.asarray(coeffs, dtype=object) if isinstance(coeffs, list | tuple) else np.asarray(coeffs)
+    if raw.dtype.kind == "O":  # a list: each item a real or complex number, no bool
+        ok = raw.ndim == 1 and all(isinstance(v, complex | float | int | np.number)
+                                   and not isinstance(v, bool | np.bool_) for v in raw)
+    else:
+        ok = raw.ndim == 1 and raw.dtype.kind in "iufc"
+    if not ok or raw.size == 0:
+        raise ValueError(f"coeffs must be a non-empty 1-D array of (complex) numbers, got {shown(coeffs)}")
+    out = raw.astype(complex)
+    if not np.all(np.isfinite(out)):
+        raise ValueError("coeffs must contain only finite numbers (no NaN or inf)")
+    return out
 
 
 def _template_coeffs(phases, weights, bandwidth):
@@ -567,6 +611,7 @@ def build_reference(photons, in_reference=None, bandwidth=0.004, iterations=4):
     >>> round(ref.theta[1] * 1e9, 2)             # spin-frequency correction, nHz  # doctest: +SKIP
     0.57
     """
+    photons = _photons(photons)
     bandwidth = check_real("bandwidth", bandwidth, 0.0005, 0.05)
     iterations = check_int("iterations", iterations, 1, 20)
     mask = split_months(photons) if in_reference is None else np.asarray(in_reference, dtype=bool)
@@ -634,7 +679,9 @@ def log_likelihood(photons, reference, offsets_m, phases=None):
     >>> bool(abs(L[1] - L[0]) < 1e-3)                                    # doctest: +SKIP
     True
     """
+    photons, reference = _photons(photons), _reference(reference)
     d = check_finite_array("offsets_m", offsets_m)
+    phases = _phases(photons, phases)
     tables = _tables(reference.coeffs)
     phi = reference.corrected(photons, phases)
     w = photons.weights
@@ -674,6 +721,8 @@ def likelihood_scan(photons, reference, phases=None, bins=1024):
     >>> d.shape, L.shape                                              # doctest: +SKIP
     ((1024,), (1024,))
     """
+    photons, reference = _photons(photons), _reference(reference)
+    phases = _phases(photons, phases)
     bins = check_int("bins", bins, 64, 65536)
     tables = _tables(reference.coeffs)
     phi = reference.corrected(photons, phases)
@@ -725,6 +774,8 @@ def estimate_offset(photons, reference, phases=None):
     >>> abs(d - 1e5) < 2 * s                                         # doctest: +SKIP
     True
     """
+    photons, reference = _photons(photons), _reference(reference)
+    phases = _phases(photons, phases)
     tables = _tables(reference.coeffs)
     phi = reference.corrected(photons, phases)
     w = photons.weights
@@ -784,18 +835,20 @@ def fix(photons, offset_m, reference, phases=None):
     >>> abs(f.along_m) < 2 * f.sigma_m                               # doctest: +SKIP
     True
     """
+    photons = _photons(photons)
     dr = check_finite_array("offset_m", offset_m, shape=(3,))
     if dr.ndim != 1:
         raise ValueError(f"offset_m must have shape (3,), got {dr.shape}")
+    reference = _reference(reference)
+    if reference.in_reference.shape != (photons.size,):  # built from other photons
+        raise ValueError(f"reference must be built from these {photons.size} photons, got one from "
+                         f"{reference.in_reference.size}")
     nav = ~reference.in_reference
     photons_nav = photons.subset(nav)
     if phases is None:
         nav_phases = displaced_phases(photons_nav, dr)
     else:
-        phases = check_finite_array("phases", phases)
-        if phases.shape != (photons.size,):
-            raise ValueError(f"phases must have shape ({photons.size},), got {phases.shape}")
-        nav_phases = phases[nav] % 1.0
+        nav_phases = _phases(photons, phases)[nav] % 1.0
     along, sigma_nav = estimate_offset(photons_nav, reference, nav_phases)
     tables = _tables(reference.coeffs)
     info_nav = tables.photon_info(photons_nav.weights)

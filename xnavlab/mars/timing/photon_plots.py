@@ -25,9 +25,10 @@ import functools
 import numpy as np
 
 from xnavlab.core.plotting import in_place
-from xnavlab.core.validate import check_finite_array, check_real
+from xnavlab.core.validate import check_finite_array, check_instance, check_real, check_shape, shown
 from xnavlab.mars.timing import pulsars
 from xnavlab.mars.timing.photon_fix import (
+    Fix,
     build_reference,
     cycle_length,
     displaced_phases,
@@ -190,11 +191,21 @@ def plot_recovery(injected_m, fixes, across=None):
     """
     from matplotlib.figure import Figure
 
-    inj = check_finite_array("injected_m", injected_m) / 1e3
+    inj = _offsets("injected_m", injected_m) / 1e3
+    if not isinstance(fixes, list | tuple):
+        raise ValueError(f"fixes must be a list of Fix (from fix()), got {shown(fixes)}")
+    for i, f in enumerate(fixes):
+        check_instance(f"fixes[{i}]", f, Fix, "a Fix (from fix())")
+    if len(fixes) != inj.size:
+        raise ValueError(f"fixes must hold one Fix per injected offset ({inj.size}), got {len(fixes)}")
+    if across is not None:
+        check_instance("across", across, tuple | list, "a pair (offset_m, Fix)")
+        if len(across) != 2:
+            raise ValueError(f"across must be a pair (offset_m, Fix), got {shown(across)}")
+        check_real("across[0]", across[0])
+        check_instance("across[1]", across[1], Fix, "a Fix (from fix())")
     rec = np.array([f.along_m for f in fixes]) / 1e3
     bar = np.array([2.0 * f.sigma_m for f in fixes]) / 1e3
-    if inj.shape != rec.shape:
-        raise ValueError(f"injected_m and fixes must have the same length, got {inj.size} and {rec.size}")
     fig = Figure(figsize=(10, 3.4), layout="constrained")
     ax1, ax2 = fig.subplots(1, 2)
     lim = 1.1 * max(np.abs(inj).max(), 1.0)
@@ -225,7 +236,7 @@ def plot_ambiguity(injected_m, recovered_m, cycle_m):
     Parameters
     ----------
     injected_m, recovered_m : array_like, shape (k,)
-        Injected offsets along the line and their fixes, m.
+        Injected offsets along the line (at least 2) and their fixes, m.
     cycle_m : float
         ``c P``, m, in [3e4, 1e12] (``P`` from 1e-4 s, the shortest period of a
         :class:`~xnavlab.mars.timing.pulsars.Pulsar`) and at least 1e-4 of the injected span
@@ -244,14 +255,13 @@ def plot_ambiguity(injected_m, recovered_m, cycle_m):
     """
     from matplotlib.figure import Figure
 
-    inj = check_finite_array("injected_m", injected_m) / 1e3
-    rec = check_finite_array("recovered_m", recovered_m) / 1e3
+    inj = _offsets("injected_m", injected_m) / 1e3
+    if inj.size < 2:  # one offset draws no curve across the cycles
+        raise ValueError(f"injected_m must hold at least 2 offsets, got {inj.size}")
+    rec = check_shape("recovered_m", recovered_m, inj.shape, "one fix per injected offset") / 1e3
     # c times a period of 1e-4 s (5e-324 looped for ever) to 3,300 s, past every pulsar's (1e308
     # overflowed the plot's transform)
     cycle_km = check_real("cycle_m", cycle_m, 3e4, 1e12) / 1e3
-    if inj.ndim != 1 or inj.size == 0 or rec.shape != inj.shape:
-        raise ValueError(f"injected_m must be a non-empty 1-D array and recovered_m of its shape, "
-                         f"got shapes {inj.shape} and {rec.shape}")
     span = float(np.ptp(inj))
     if span / cycle_km > 1e4:
         raise ValueError(f"cycle_m must be at least 1e-4 of the injected span ({span * 1e3:.6g} m): "
@@ -297,7 +307,12 @@ def plot_exposure(scaling, paper_m=None, total=None):
     """
     from matplotlib.figure import Figure
 
-    n = np.asarray(scaling["n_photons"], dtype=float)
+    scaling = _scaling(scaling)
+    if paper_m is not None:
+        paper_m = _offsets("paper_m", paper_m)
+    if total is not None:
+        total = check_shape("total", total, (3,), "n_photons, stated_m, formula_m")
+    n = scaling["n_photons"]
     fig = Figure(figsize=(7, 3.8), layout="constrained")
     ax = fig.add_subplot()
     meas = np.asarray(scaling["measured_m"])
@@ -306,7 +321,7 @@ def plot_exposure(scaling, paper_m=None, total=None):
                 label="measured: scatter of the sets' fixes")
     ax.plot(n, scaling["stated_m"], "s", color="C1", mfc="none", ms=6,
             label="stated: photon statistics")
-    n_line = np.geomspace(0.7 * n.min(), 1.4 * (total[0] if total else n.max()), 50)
+    n_line = np.geomspace(0.7 * n.min(), 1.4 * (total[0] if total is not None else n.max()), 50)
     k_formula = np.sqrt(np.mean(np.asarray(scaling["formula_m"]) ** 2 * n))  # sigma = k / sqrt(N)
     ax.plot(n_line, k_formula / np.sqrt(n_line), color="k", lw=1.0, ls="--",
             label="chapter 1's formula")
@@ -323,6 +338,29 @@ def plot_exposure(scaling, paper_m=None, total=None):
     top.set_xlabel("months of photons")
     ax.legend(fontsize=8, loc="lower left")
     return fig
+
+
+_SCALING = ("n_photons", "measured_m", "measured_unc", "stated_m", "formula_m", "months")
+
+
+def _offsets(name, value):
+    """``value`` as a non-empty 1-D finite array, else one ValueError naming ``name``."""
+    arr = check_finite_array(name, value)
+    if arr.ndim != 1 or arr.size == 0:
+        raise ValueError(f"{name} must be a non-empty 1-D array, got shape {arr.shape}")
+    return arr
+
+
+def _scaling(scaling):
+    """The entries of :func:`~xnavlab.mars.timing.photon_error.exposure_scaling` that
+    :func:`plot_exposure` draws, as 1-D arrays of one length, else one ValueError."""
+    if not isinstance(scaling, dict) or any(k not in scaling for k in _SCALING):
+        raise ValueError(f"scaling must be the dict of exposure_scaling() (with {', '.join(_SCALING)}), "
+                         f"got {shown(scaling)}")
+    out = {k: _offsets(f"scaling[{k!r}]", scaling[k]) for k in _SCALING}
+    for k in _SCALING[1:]:
+        check_shape(f"scaling[{k!r}]", out[k], out["n_photons"].shape, "one per set length")
+    return out
 
 
 def plot_ranging_accuracy(area_m2=1.0, t_obs=500.0, background_ph_cm2_s=0.005, reference=None,
