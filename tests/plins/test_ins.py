@@ -255,3 +255,28 @@ def test_issue35_discretize_refuses_an_overflowing_F_and_a_q_that_is_no_density(
     # Review 35f findings 31 and 32: NaN matrices and overflow warnings; a negative "Qd".
     with pytest.raises(ValueError, match=match):
         ins.discretize(F, np.eye(2), q, 1.0)
+
+
+@pytest.mark.parametrize("F, G, q, match", [
+    (-0.0, [[0.0], [1.0]], [1.0], r"^F must be a square matrix of shape \(n, n\), n >= 1, got shape \(\)$"),
+    ([[0.0, 1.0], [0.0, 0.0]], -0.0, [1.0],
+     r"^G must have shape \(2, m\) \(n = 2 rows of F\), got shape \(\)$"),
+    ([[0.0, 1.0], [0.0, 0.0]], [[1.0]], [1.0], r"^G must have shape \(2, m\) \(n = 2 rows of F\)"),
+    ([[0.0, 1.0], [0.0, 0.0]], [[0.0], [1.0]], [], r"^q must have shape \(1,\) or \(1, 1\) \(m = 1 columns"),
+    ([[0.0, 1.0], [0.0, 0.0]], [[0.0], [1e26]], [1.0], r"^G must have entries of at most 1e\+25 in"),
+    ([[0.0, 1.0], [0.0, 0.0]], [[0.0], [1.0]], [1e101], r"^q must have entries of at most 1e\+100"),
+])
+def test_discretize_checks_each_matrix_on_its_own_and_bounds_the_noise(F, G, q, match):
+    """Issue 35 (review 35h): F=-0.0 was an IndexError; a G of 1e300 or a q of 1e307 overflowed
+    G q G^T (a warning, then NaN matrices)."""
+    with pytest.raises(ValueError, match=match):
+        ins.discretize(F, G, q, 2.0)
+    A, Qd = ins.discretize(np.eye(2) * 25.0 / 86400.0, [[ins.G_MAX], [ins.G_MAX]], [ins.Q_MAX], 86400.0)
+    assert np.all(np.isfinite(A)) and np.all(np.isfinite(Qd))
+
+
+@pytest.mark.parametrize("transitions", [True, -0.0, [], [1.0, True, 0.0], np.array(1.0)])
+def test_simulate_errors_names_transitions_that_are_no_pair(transitions):
+    """Issue 35 (review 35h): transitions=True was 'TypeError: ... not iterable'."""
+    with pytest.raises(ValueError, match=r"^transitions must be a pair \(A, Qd\) from error_transitions"):
+        ins.simulate_errors(ins.paper_trajectory(duration=3.0), transitions=transitions)

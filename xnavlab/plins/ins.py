@@ -56,7 +56,14 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.linalg import expm
 
-from xnavlab.core.validate import check_covariance, check_finite_array, check_real, make_rng
+from xnavlab.core.validate import (
+    check_covariance,
+    check_finite_array,
+    check_real,
+    check_shape,
+    make_rng,
+    shown,
+)
 
 __all__ = [
     "WGS84_A",
@@ -73,6 +80,8 @@ __all__ = [
     "error_matrix",
     "noise_matrix",
     "imu_noise_psd",
+    "G_MAX",
+    "Q_MAX",
     "discretize",
     "Trajectory",
     "paper_trajectory",
@@ -96,6 +105,15 @@ STATE_NAMES = (
 )
 #: Number of error states (``len(STATE_NAMES)``).
 N_STATES = 10
+
+#: Largest entry of a noise input matrix ``G`` (:func:`discretize`), in magnitude: a gain from
+#: a noise to a state is a unit conversion (an Earth radius is 6.4e6 m), far below; with
+#: :data:`Q_MAX` it keeps ``G q G^T`` below 1e150, so that ``Q_d`` (grown at most ``e^150``
+#: by ``||F||_inf dt <= 50``) stays far inside the float range.
+G_MAX = 1e25
+#: Largest entry of a noise power spectral density ``q`` (:func:`discretize`), any SI unit:
+#: far beyond any sensor's (see :data:`G_MAX`).
+Q_MAX = 1e100
 
 _G_EQ = 9.780_325_335_9  # WGS-84 normal gravity at the equator, m/s^2
 _K_SOMIGLIANA = 0.001_931_852_652_41
@@ -395,10 +413,10 @@ def discretize(F, G, q, dt):
         Continuous system matrix, 1/s, with ``||F||_inf dt <= 50`` (its largest row sum of
         ``|F|``; a growth of ``e^50`` in one step is far beyond any INS).
     G : array_like, shape (n, m)
-        Noise input matrix.
+        Noise input matrix, entries at most :data:`G_MAX` in magnitude.
     q : array_like, shape (m,) or (m, m)
         Noise power spectral density (diagonal entries at least 0, or a full symmetric
-        positive semi-definite matrix).
+        positive semi-definite matrix), entries at most :data:`Q_MAX`.
     dt : float
         Step, s, in (0, 86400] (an INS step is milliseconds to a second; a day is far beyond,
         and near 1e308 s the matrix exponential overflows).
@@ -417,17 +435,24 @@ def discretize(F, G, q, dt):
     ([[1.0, 2.0], [0.0, 1.0]], [[2.666667, 2.0], [2.0, 2.0]])
     """
     F = check_finite_array("F", F)
+    if F.ndim != 2 or F.shape[0] != F.shape[1] or F.size == 0:
+        raise ValueError(f"F must be a square matrix of shape (n, n), n >= 1, got shape {F.shape}")
     n = F.shape[0]
-    if F.shape != (n, n):
-        raise ValueError(f"F must be square, got shape {F.shape}")
     G = check_finite_array("G", G)
     if G.ndim != 2 or G.shape[0] != n:
-        raise ValueError(f"G must have shape ({n}, m), got {G.shape}")
+        raise ValueError(f"G must have shape ({n}, m) (n = {n} rows of F), got shape {G.shape}")
+    if np.abs(G).max(initial=0.0) > G_MAX:  # G q G^T below 1e150: Q_d stays far inside the floats
+        raise ValueError(f"G must have entries of at most {G_MAX:g} in magnitude (a noise input "
+                         f"gain: unit conversions are far smaller), got {np.abs(G).max():.3g}")
     q = check_finite_array("q", q)
     m = G.shape[1]
+    if q.ndim not in (1, 2) or q.shape not in ((m,), (m, m)):
+        raise ValueError(f"q must have shape ({m},) or ({m}, {m}) (m = {m} columns of G), "
+                         f"got shape {q.shape}")
+    if np.abs(q).max(initial=0.0) > Q_MAX:  # with G_MAX: G q G^T below 1e150 (see G_MAX)
+        raise ValueError(f"q must have entries of at most {Q_MAX:g} (a noise power spectral "
+                         f"density far beyond any sensor's), got {np.abs(q).max():.3g}")
     q = np.diag(q) if q.ndim == 1 else q
-    if q.shape != (m, m):
-        raise ValueError(f"q must have shape ({m},) or ({m}, {m}), got {q.shape}")
     q = check_covariance("q", q, m)  # a spectral density: symmetric, positive semi-definite
     dt = check_real("dt", dt, 0.0, 86400.0, lo_open=True)
     growth = np.abs(F).sum(axis=1).max() * dt  # ||F||_inf dt bounds log ||e^{F dt}||
@@ -600,10 +625,7 @@ def simulate_errors(traj, x0_std=None, q=None, rng=None, transitions=None):
     if transitions is None:
         A, Qd = error_transitions(traj, q)
     else:
-        A, Qd = (check_finite_array(name, a, shape=(N_STATES, N_STATES))
-                 for name, a in zip(("transitions[0]", "transitions[1]"), transitions, strict=True))
-        if A.shape != (n - 1, N_STATES, N_STATES) or Qd.shape != A.shape:
-            raise ValueError(f"transitions must be two arrays of shape ({n - 1}, 10, 10)")
+        A, Qd = _check_transitions(transitions, n)
     x = np.empty((n, N_STATES))
     x[0] = x0_std * rng.standard_normal(N_STATES)
     for k in range(n - 1):
@@ -645,6 +667,17 @@ def error_transitions(traj, q=None):
         F = error_matrix(traj.lat[k], traj.h[k], traj.v_enu[k], traj.f_enu[k])
         A[k], Qd[k] = discretize(F, G, q, traj.dt)
     return A, Qd
+
+
+def _check_transitions(transitions, n):
+    """``(A, Qd)`` of a flight of ``n`` samples: two arrays of shape (n - 1, 10, 10), else one
+    ValueError naming ``transitions`` (a number, a bool or a list of three is no pair)."""
+    if not isinstance(transitions, list | tuple) or len(transitions) != 2:
+        raise ValueError(f"transitions must be a pair (A, Qd) from error_transitions, got "
+                         f"{shown(transitions)}")
+    why = f"n - 1 = {n - 1} steps of the flight"
+    return tuple(check_shape(f"transitions[{i}]", a, (n - 1, N_STATES, N_STATES), why)
+                 for i, a in enumerate(transitions))
 
 
 def _sample(cov, rng):
