@@ -147,3 +147,23 @@ def test_residual_threshold_refuses_a_noise_or_dimension_beyond_its_range():
         P.residual_threshold(1e308, 1)
     with pytest.raises(ValueError, match=r"^q must be an integer in \[1, 1000\]"):
         P.residual_threshold(1.0, 10**30)
+
+
+def test_each_matrix_is_checked_on_its_own_first():
+    """Issue 35 (review 35h): A=-0.0 was an IndexError, bases=True a TypeError, and a 0-d W or
+    bases was refused under the name of z or weights."""
+    with pytest.raises(ValueError, match=r"^A must be a square matrix of shape \(n, n\), n >= 1, got "):
+        P.stacked_matrices(-0.0, [1.0, 0.0], 2)
+    with pytest.raises(ValueError, match=r"^A must be a square matrix"):
+        P.parity_basis(-0.0, [1.0, 0.0], 3)
+    for bad in (True, -0.0, np.array(1.0)):
+        with pytest.raises(ValueError, match=r"^bases must be a list of arrays"):
+            P.align_bases(bad)
+    V = np.eye(3)[:, :2]
+    with pytest.raises(ValueError, match=r"^bases\[1\] must have shape \(3, 2\) \(the shape of bases\[0\]\)"):
+        P.align_bases([V, V[:, :1]])
+    np.testing.assert_allclose(P.align_bases(np.stack([V, -V]))[0], -V)  # a stack is N bases
+    with pytest.raises(ValueError, match=r"^W must have shape \(6, 1, n, n\)"):
+        P.parity_residuals(np.zeros((6, 1)), -0.0)
+    with pytest.raises(ValueError, match=r"^bases must have shape \(2, n, n, n\) \(N = 2 columns of"):
+        P.blended_bases([[0.5, 0.5]], -0.0)

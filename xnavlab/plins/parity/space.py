@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from xnavlab.core.distributions import chi2_isf
-from xnavlab.core.validate import check_finite_array, check_int, check_real
+from xnavlab.core.validate import check_arrays, check_finite_array, check_int, check_real, check_shape
 
 __all__ = [
     "TYPICAL_STATE_STD",
@@ -84,9 +84,9 @@ def stacked_matrices(A, C, s, B=None):
     ([[1.0, 0.0], [1.0, 1.0], [1.0, 2.0]], [[0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [1.0, 0.0, 0.0]])
     """
     A = check_finite_array("A", A)
+    if A.ndim != 2 or A.shape[0] != A.shape[1] or A.size == 0:
+        raise ValueError(f"A must be a square matrix of shape (n, n), n >= 1, got shape {A.shape}")
     n = A.shape[0]
-    if A.shape != (n, n):
-        raise ValueError(f"A must be square, got shape {A.shape}")
     C = np.atleast_2d(check_finite_array("C", C))
     if C.ndim != 2 or C.shape[1] != n:
         raise ValueError(f"C must have shape (m, {n}), got {C.shape}")
@@ -191,12 +191,11 @@ def align_bases(bases, ref=None):
     >>> bool(np.allclose(out[0], out[1]))
     True
     """
-    bases = [check_finite_array("bases", b) for b in bases]
-    if not bases:
-        raise ValueError("bases must not be empty")
-    shape = bases[0].shape
-    if any(b.shape != shape or b.ndim != 2 for b in bases):
-        raise ValueError("bases must all have the same 2-D shape (the same null-space dimension)")
+    if isinstance(bases, np.ndarray) and bases.ndim == 3:  # a stack (N, p, q) is N bases
+        bases = list(bases)
+    bases = check_arrays("bases", bases, ndim=2)
+    for i, b in enumerate(bases[1:], 1):  # one null-space dimension: bases[0] sets the shape
+        check_shape(f"bases[{i}]", b, bases[0].shape, "the shape of bases[0]")
     ref = len(bases) // 2 if ref is None else check_int("ref", ref, 0, len(bases) - 1)
     out = []
     for b in bases:
@@ -299,9 +298,9 @@ def blended_bases(weights, bases):
     [2.0, 2.0]
     """
     w = check_finite_array("weights", weights)
-    b = check_finite_array("bases", bases)
-    if w.ndim != 2 or b.ndim != 4 or w.shape[1] != b.shape[0]:
-        raise ValueError("weights must have shape (n, N) and bases (N, m, p, q)")
+    if w.ndim != 2:
+        raise ValueError(f"weights must have shape (n, N), got shape {w.shape}")
+    b = check_shape("bases", bases, (w.shape[1], None, None, None), f"N = {w.shape[1]} columns of weights")
     return np.einsum("kl,ljpq->kjpq", w, b)
 
 
@@ -329,9 +328,9 @@ def parity_residuals(z, W):
     [0.0, 0.0]
     """
     z = check_finite_array("z", z)
-    W = check_finite_array("W", W)
-    if z.ndim != 2 or W.ndim != 4 or W.shape[:2] != z.shape:
-        raise ValueError("z must have shape (n, m) and W shape (n, m, s+1, q)")
+    if z.ndim != 2:
+        raise ValueError(f"z must have shape (n, m), got shape {z.shape}")
+    W = check_shape("W", W, (*z.shape, None, None), "its samples and sensors: the shape of z")
     s = W.shape[2] - 1
     if s >= len(z):
         raise ValueError(f"the window (s + 1 = {s + 1}) must be shorter than z ({len(z)} samples)")
