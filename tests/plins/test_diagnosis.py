@@ -120,3 +120,38 @@ def test_compare_detectors_takes_a_first_seed_whose_runs_stay_in_range():
     with pytest.raises(ValueError, match=r"^seed must be an integer in \[0, 9223372036854775806\], "
                                          r"got 9223372036854775807$"):
         P.compare_detectors("step", [1.0], n_runs=2, seed=2**63 - 1)
+
+
+def test_first_alarm_names_the_series_cut_short():
+    """Issue 35 (review 35h): a 0-d statistic was refused as 't and statistic must have the same
+    shape (n,)', leading with t."""
+    with pytest.raises(ValueError, match=r"^statistic must be a 1-D array"):
+        P.first_alarm([0.0, 1.0, 2.0], -0.0, 1.0)
+    with pytest.raises(ValueError, match=r"^t must hold one time per sample of statistic \(n = 3\), got 1$"):
+        P.first_alarm([1.0], [0.1, 5.0, 5.0], 1.0)
+
+
+@pytest.mark.parametrize("transitions", [True, -0.0, [], [1.0, True, 0.0], np.array(1.0)])
+def test_chi2_monitor_names_transitions_that_are_no_pair(transitions):
+    """Issue 35 (review 35h): transitions=True was 'cannot unpack non-iterable bool object', []
+    'not enough values to unpack'."""
+    tr = ins.paper_trajectory(duration=5.0)
+    d = pl.simulate_pseudoranges(tr, ins.simulate_errors(tr, rng=0))
+    with pytest.raises(ValueError, match=r"^transitions must be a pair \(A, Qd\) from error_transitions"):
+        P.chi2_monitor(d, transitions)
+
+
+@pytest.mark.parametrize("faults", [True, -0.0, np.array(1.0), [1.0]])
+def test_diagnose_flight_names_faults_that_are_no_list_of_faults(faults):
+    """Issue 35 (review 35h): faults=True was "TypeError: 'bool' object is not iterable"."""
+    with pytest.raises(ValueError, match=r"^faults(\[0\])? must be a"):
+        P.diagnose_flight(faults)
+
+
+def test_flight_design_leads_with_the_tolerance_that_leaves_no_parity_space():
+    """Issue 35 (review 35h): tol=0 was refused as 's = 11 leaves no common parity space'."""
+    tr = ins.paper_trajectory(duration=40.0)
+    with pytest.raises(ValueError, match=r"^tol = 0 m \(leak_tol \* sigma in diagnose_flight\) leaves "
+                                         r"no common parity space with s = 11 \(constraint 1\); "
+                                         r"increase tol or s$"):
+        P.diagnosis.flight_design(tr, pl.sites_ecef(), 11, 0.0)

@@ -66,7 +66,7 @@ def test_random_walk_kalman_filter():
     assert ths.shape == (5, 1) and Ps.shape == (5, 1, 1)
     with pytest.raises(ValueError, match="P"):
         P.rw_predict([0.0], np.eye(2), np.eye(2))
-    with pytest.raises(ValueError, match="shapes"):
+    with pytest.raises(ValueError, match=r"^G must have shape \(1, 1\) \(q = len\(r\), p = len\(theta\)\)"):
         P.rw_update([0.0], [[1.0]], [1.0], [[1.0, 2.0]], [[1.0]])
     with pytest.raises(ValueError, match="R"):
         P.kf_identify(np.ones((5, 1)), np.ones((5, 1, 1)), -1.0, 0.0)
@@ -93,7 +93,48 @@ def test_identify_fault_refuses_a_noise_beyond_its_range():
     t = np.arange(30.0)
     z = np.where(t >= 10.0, 50.0, 0.0)
     W = np.broadcast_to(V, (30, 4, 2))
-    with pytest.raises(ValueError, match=r"^sigma must be a real number in \(0, 1e\+06\], got 1e\+308$"):
+    with pytest.raises(ValueError, match=r"^sigma must be a real number in \[1e-06, 1e\+06\], got 1e\+308$"):
         P.identify_fault(t, z, W, 10.0, sigma=1e308)
     with pytest.raises(ValueError, match=r"^q_rw must be a real number in \[0, 1e\+06\]"):
         P.identify_fault(t, z, W, 10.0, q_rw=1e308)
+
+
+def test_the_kalman_filter_names_the_argument_whose_shape_disagrees():
+    """Issue 35 (review 35h): theta=-0.0 was 'len() of unsized object', and a bad P, Q, r, G or R
+    was refused as 'shapes must be theta (p,), P (p, p), ...' or under P's name."""
+    cases = [
+        (lambda: P.rw_predict(-0.0, [[2.0]], [[0.5]]), r"^theta must be a 1-D array"),
+        (lambda: P.rw_predict([], [[2.0]], [[0.5]]), r"^theta must hold at least one parameter"),
+        (lambda: P.rw_predict([1.0], [[2.0]], -0.0), r"^Q must have shape \(1, 1\) \(p = len\(theta\)\)"),
+        (lambda: P.rw_update(-0.0, [[1.0]], [2.0], [[1.0]], [[1.0]]), r"^theta must be a 1-D array"),
+        (lambda: P.rw_update([0.0], -0.0, [2.0], [[1.0]], [[1.0]]), r"^P must have shape \(1, 1\)"),
+        (lambda: P.rw_update([0.0], [[1.0]], [], [[1.0]], [[1.0]]), r"^r must hold at least one residual"),
+        (lambda: P.rw_update([0.0], [[1.0]], [2.0], -0.0, [[1.0]]), r"^G must have shape \(1, 1\)"),
+        (lambda: P.rw_update([0.0], [[1.0]], [2.0], [[1.0]], -0.0), r"^R must have shape \(1, 1\) \(q = len"),
+        (lambda: P.FaultIdentifier(-0.0, [[100.0]], [[0.0]]), r"^theta0 must be a 1-D array"),
+        (lambda: P.FaultIdentifier([0.0], [[100.0]], -0.0), r"^Q must have shape \(1, 1\) \(p = len\(theta0"),
+        (lambda: P.kf_identify(np.ones((20, 1)), -0.0, 1.0, 0.0), r"^G must have shape \(20, 1, n\)"),
+    ]
+    for call, words in cases:
+        with pytest.raises(ValueError, match=words):
+            call()
+
+
+def test_the_onset_search_and_identification_name_the_series_at_fault():
+    """Issue 35 (review 35h): a 0-d z_j or W_j was refused as 't and z_j must have shape (n,)
+    ...', and sigma=5e-324 squared to a residual variance of 0, refused under the name R."""
+    V = P.parity_basis([[1.0, 1.0], [0.0, 1.0]], [1.0, 0.0], 3)
+    t = np.arange(12.0)
+    z = np.where(t >= 6.0, 50.0, 0.0)
+    W = np.broadcast_to(V, (12, 4, 2))
+    for call in (P.estimate_onset, lambda *a: P.identify_fault(*a[:3], 6.0)):
+        with pytest.raises(ValueError, match=r"^z_j must be a 1-D array"):
+            call(t, -0.0, W, 6)
+        with pytest.raises(ValueError, match=r"^W_j must have shape \(12, n, n\)"):
+            call(t, z, -0.0, 6)
+        with pytest.raises(ValueError, match=r"^t must hold one time per sample of z_j \(n = 12\), got 1$"):
+            call([1.0], z, W, 6)
+        with pytest.raises(ValueError, match=r"^z_j must have shape \(12,\) \(n = len\(t\)\), got shape"):
+            call(t, [1.0], W, 6)
+    with pytest.raises(ValueError, match=r"^sigma must be a real number in \[1e-06, 1e\+06\], got 5e-324$"):
+        P.identify_fault(t, z, W, 6.0, sigma=5e-324)

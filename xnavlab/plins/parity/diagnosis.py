@@ -27,12 +27,15 @@ from xnavlab.core.validate import (
     check_finite_array,
     check_int,
     check_real,
+    check_shape,
+    check_vector,
     make_rng,
+    shown,
 )
 from xnavlab.plins import ins as _ins
 from xnavlab.plins import pseudolites as _pl
 from xnavlab.plins.parity.fuzzy import local_models, memberships, operating_points, premises
-from xnavlab.plins.parity.identification import estimate_onset, identify_fault
+from xnavlab.plins.parity.identification import SIGMA_MIN, estimate_onset, identify_fault
 from xnavlab.plins.parity.space import (
     TYPICAL_STATE_STD,
     align_bases,
@@ -83,10 +86,11 @@ def first_alarm(t, statistic, threshold, after=-math.inf):
     >>> first_alarm([0.0, 1.0], [0.1, 0.2], 1.0) is None
     True
     """
-    t = check_finite_array("t", t)
-    st = check_finite_array("statistic", statistic)
-    if t.shape != st.shape or t.ndim != 1:
-        raise ValueError("t and statistic must have the same shape (n,)")
+    t = check_vector("t", t)
+    st = check_vector("statistic", statistic)
+    if len(st) > len(t):  # two well-formed series: the shorter one is named (cut short)
+        raise ValueError(f"t must hold one time per sample of statistic (n = {len(st)}), got {len(t)}")
+    st = check_shape("statistic", st, t.shape, "n = len(t)")
     threshold = check_real("threshold", threshold)
     if isinstance(after, bool) or not isinstance(after, int | float | np.integer | np.floating) \
             or math.isnan(after):
@@ -160,10 +164,12 @@ def chi2_monitor(data, transitions, sites=None, x0_std=None, p_fa=1e-6):
     """
     if not isinstance(data, _pl.PseudorangeData):
         raise ValueError(f"data must be a PseudorangeData, got {type(data).__name__}")
-    A, Qd = transitions
     n, m = data.z.shape
-    if np.shape(A) != (n - 1, 10, 10) or np.shape(Qd) != (n - 1, 10, 10):
-        raise ValueError(f"transitions must be two arrays of shape ({n - 1}, 10, 10)")
+    if not isinstance(transitions, list | tuple) or len(transitions) != 2:  # as simulate_errors
+        raise ValueError(f"transitions must be a pair (A, Qd) from error_transitions, got "
+                         f"{shown(transitions)}")
+    A, Qd = (check_shape(f"transitions[{i}]", a, (n - 1, 10, 10), f"n - 1 = {n - 1} steps of data")
+             for i, a in enumerate(transitions))
     sites = _pl.sites_ecef() if sites is None else check_finite_array("sites", sites, shape=(3,))
     x0_std = _ins.DEFAULT_INITIAL_STD if x0_std is None else \
         check_finite_array("x0_std", x0_std, shape=(10,))
@@ -340,8 +346,10 @@ def flight_design(traj, sites, s, tol, n_points=3):
                              f"{sorted(dims)}; change leak_tol or n_points")
         bases.append(align_bases(Vj))
     q = bases[0][0].shape[1]
-    if q == 0 or any(b[0].shape[1] != q for b in bases):
-        raise ValueError(f"s = {s} leaves no common parity space (constraint 1); increase s")
+    if q == 0 or any(b[0].shape[1] != q for b in bases):  # tol first: the edge a user moves
+        held = "None (exact)" if tol is None else f"{tol:g} m"
+        raise ValueError(f"tol = {held} (leak_tol * sigma in diagnose_flight) leaves no common "
+                         f"parity space with s = {s} (constraint 1); increase tol or s")
     stacked = np.stack([np.stack([bases[j][l] for j in range(len(sites))])
                         for l in range(len(models))])
     weights = memberships(premises(traj), points)
@@ -377,7 +385,8 @@ def diagnose_flight(faults=(), *, model="step", s=11, threshold=None, sigma=_pl.
     threshold : float, optional
         ``r_t`` in metres (default :func:`~.space.residual_threshold` at ``p_fa``).
     sigma : float
-        Pseudorange noise, m, in (0, 1e6] (default 2 m, see :mod:`xnavlab.plins.pseudolites`).
+        Pseudorange noise, m, in [1e-6, 1e6] (:data:`~.identification.SIGMA_MIN`; default 2 m,
+        see :mod:`xnavlab.plins.pseudolites`).
     p_fa : float
         False-alarm probability per window and sensor for the default threshold.
     leak_tol : float
@@ -413,17 +422,16 @@ def diagnose_flight(faults=(), *, model="step", s=11, threshold=None, sigma=_pl.
     check_choice("model", model, ("step", "ramp"))
     with_chi2 = check_bool("with_chi2", with_chi2)
     s = check_int("s", s, 2, 60)
-    sigma = check_real("sigma", sigma, 0.0, 1e6, lo_open=True)  # as residual_threshold's
+    sigma = check_real("sigma", sigma, SIGMA_MIN, 1e6)  # as identify_fault's (sigma^2 normal)
     leak_tol = check_real("leak_tol", leak_tol, 0.0, 1e6, lo_open=True)  # tol = leak_tol sigma finite
     check_choice("time_origin", time_origin, ("absolute", "onset"))
     dt = check_real("dt", dt, 0.0, 10.0, lo_open=True)
     duration = check_real("duration", duration, 0.0, 1e4, lo_open=True)
     if duration / dt < s + 2:
         raise ValueError(f"duration must cover more than s + 2 = {s + 2} samples")
-    faults = list(faults)
-    for f in faults:
-        if not isinstance(f, _faults.Fault):
-            raise ValueError(f"faults must hold xnavlab.core.faults.Fault objects, got {f!r}")
+    if isinstance(faults, np.ndarray) and faults.ndim == 0:  # iterable to hasattr, not to list
+        raise ValueError(f"faults must be a sequence of Fault, got {shown(faults)}")
+    faults = _faults.check_faults("faults", faults)
     rng = make_rng(seed, "seed")
     traj, trans = _flight(dt, duration)
     sites = _pl.sites_ecef(sites_deg)

@@ -30,11 +30,14 @@ from xnavlab.core.validate import (
     check_finite_array,
     check_int,
     check_real,
+    check_shape,
+    check_vector,
 )
 from xnavlab.plins import pseudolites as _pl
 
 __all__ = [
     "MODELS",
+    "SIGMA_MIN",
     "fault_signature",
     "estimate_onset",
     "rw_predict",
@@ -48,6 +51,31 @@ __all__ = [
 #: Fault models for identification: ``"bias"`` is constant inside the window (paper
 #: eq. 23), ``"step"`` a step at an onset, ``"ramp"`` ``f = a t + b`` from an onset.
 MODELS = ("bias", "step", "ramp")
+
+#: Smallest pseudorange noise taken, m: a micrometre is far below any code or carrier ranging
+#: noise, and its square (the residual variance) stays a normal float (a subnormal ``sigma``
+#: squares to 0, a singular residual covariance).
+SIGMA_MIN = 1e-6
+
+
+def _nonempty(name, value, what):
+    """``value`` as a finite 1-D array of at least one entry, else one ValueError naming it."""
+    arr = check_vector(name, value)
+    if arr.size == 0:
+        raise ValueError(f"{name} must hold at least one {what}, got an empty array")
+    return arr
+
+
+def _series(t, z_j, W_j):
+    """``t`` (n,), ``z_j`` (n,) and ``W_j`` (n, s+1, q), each named when it disagrees with the
+    ones checked before it."""
+    t = _nonempty("t", t, "sample time")
+    z_j = check_vector("z_j", z_j)
+    if len(z_j) > len(t):  # two well-formed series: the shorter one is named (cut short)
+        raise ValueError(f"t must hold one time per sample of z_j (n = {len(z_j)}), got {len(t)}")
+    z_j = check_shape("z_j", z_j, (len(t),), "n = len(t)")
+    W_j = check_shape("W_j", W_j, (len(t), None, None), "n = len(t) window ends")
+    return t, z_j, W_j
 
 
 def fault_signature(t_window, model, onset=0.0, time_origin="absolute"):
@@ -135,11 +163,7 @@ def estimate_onset(t, z_j, W_j, k_alarm, model="step", time_origin="absolute"):
     >>> estimate_onset(t, z, np.broadcast_to(V, (12, 4, 2)), 6)
     6.0
     """
-    t = check_finite_array("t", t)
-    z_j = check_finite_array("z_j", z_j)
-    W_j = check_finite_array("W_j", W_j)
-    if t.ndim != 1 or z_j.shape != t.shape or W_j.ndim != 3 or W_j.shape[0] != len(t):
-        raise ValueError("t and z_j must have shape (n,) and W_j shape (n, s+1, q)")
+    t, z_j, W_j = _series(t, z_j, W_j)
     check_choice("model", model, ("step", "ramp"))
     s = W_j.shape[1] - 1
     n = len(t)
@@ -180,12 +204,11 @@ def rw_predict(theta, P, Q):
     >>> rw_predict([1.0], [[2.0]], [[0.5]])[1].tolist()
     [[2.5]]
     """
-    theta = check_finite_array("theta", theta)
-    P = check_finite_array("P", P)
-    Q = check_finite_array("Q", Q)
-    if P.shape != (len(theta), len(theta)) or Q.shape != P.shape:
-        raise ValueError("P and Q must have shape (p, p) with p = len(theta)")
-    check_covariance("Q", Q, len(theta))  # a negative Q would shrink P below its truth
+    theta = _nonempty("theta", theta, "parameter")
+    p = len(theta)
+    P = check_shape("P", P, (p, p), "p = len(theta)")
+    Q = check_shape("Q", Q, (p, p), "p = len(theta)")
+    check_covariance("Q", Q, p)  # a negative Q would shrink P below its truth
     return theta.copy(), P + Q  # P = P + Q, eq. (28)
 
 
@@ -215,14 +238,13 @@ def rw_update(theta, P, r, G, R):
     >>> th.tolist(), P.tolist()
     ([1.0], [[0.5]])
     """
-    theta = check_finite_array("theta", theta)
-    P = check_finite_array("P", P)
-    r = check_finite_array("r", r)
-    G = check_finite_array("G", G)
-    R = check_finite_array("R", R)
-    p, q = len(theta), len(r)
-    if P.shape != (p, p) or G.shape != (q, p) or R.shape != (q, q):
-        raise ValueError("shapes must be theta (p,), P (p, p), r (q,), G (q, p), R (q, q)")
+    theta = _nonempty("theta", theta, "parameter")
+    p = len(theta)
+    P = check_shape("P", P, (p, p), "p = len(theta)")
+    r = _nonempty("r", r, "residual")
+    q = len(r)
+    G = check_shape("G", G, (q, p), "q = len(r), p = len(theta)")
+    R = check_shape("R", R, (q, q), "q = len(r)")
     check_covariance("R", R, q)  # an indefinite R gave an indefinite "covariance" P
     return _rw_update(theta, P, r, G, R)
 
@@ -258,12 +280,10 @@ class FaultIdentifier:
     """
 
     def __init__(self, theta0, P0, Q):
-        self.theta = check_finite_array("theta0", theta0).astype(float)
-        self.P = check_finite_array("P0", P0).astype(float)
-        self.Q = check_finite_array("Q", Q).astype(float)
+        self.theta = _nonempty("theta0", theta0, "parameter").astype(float)
         p = len(self.theta)
-        if self.P.shape != (p, p) or self.Q.shape != (p, p):
-            raise ValueError("P0 and Q must have shape (p, p) with p = len(theta0)")
+        self.P = check_shape("P0", P0, (p, p), "p = len(theta0)").astype(float)
+        self.Q = check_shape("Q", Q, (p, p), "p = len(theta0)").astype(float)
 
     def step(self, r, G, R):
         """Predict then update with residual ``r`` and regressor ``G``."""
@@ -303,9 +323,9 @@ def kf_identify(r, G, R, Q, theta0=None, P0=None):
     (4.0, True)
     """
     r = check_finite_array("r", r)
-    G = check_finite_array("G", G)
-    if r.ndim != 2 or G.ndim != 3 or G.shape[:2] != r.shape:
-        raise ValueError("r must have shape (K, q) and G shape (K, q, p)")
+    if r.ndim != 2:
+        raise ValueError(f"r must have shape (K, q), got shape {r.shape}")
+    G = check_shape("G", G, (*r.shape, None), "K windows of q residuals: the shape of r")
     K, q = r.shape
     p = G.shape[2]
     if np.ndim(R) == 0:
@@ -390,7 +410,7 @@ def identify_fault(t, z_j, W_j, onset, model="step", sigma=_pl.DEFAULT_SIGMA,
     model : {"bias", "step", "ramp"}
         Fault model.
     sigma : float
-        Pseudorange noise, m, in (0, 1e6].
+        Pseudorange noise, m, in [1e-6, 1e6] (:data:`SIGMA_MIN`).
     time_origin : {"absolute", "onset"}
         For ``"ramp"`` (:func:`fault_signature`).
     q_rw : float
@@ -411,14 +431,10 @@ def identify_fault(t, z_j, W_j, onset, model="step", sigma=_pl.DEFAULT_SIGMA,
     >>> round(float(idn.final[0]), 3)
     50.0
     """
-    t = check_finite_array("t", t)
-    z_j = check_finite_array("z_j", z_j)
-    W_j = check_finite_array("W_j", W_j)
-    if t.ndim != 1 or z_j.shape != t.shape or W_j.ndim != 3 or W_j.shape[0] != len(t):
-        raise ValueError("t and z_j must have shape (n,) and W_j shape (n, s+1, q)")
+    t, z_j, W_j = _series(t, z_j, W_j)
     onset = check_real("onset", onset)
     check_choice("model", model, MODELS)
-    sigma = check_real("sigma", sigma, 0.0, 1e6, lo_open=True)  # as residual_threshold's
+    sigma = check_real("sigma", sigma, SIGMA_MIN, 1e6)  # sigma^2 a normal float (SIGMA_MIN)
     q_rw = check_real("q_rw", q_rw, 0.0, 1e6)
     s = W_j.shape[1] - 1
     ks = np.arange(s, len(t))
