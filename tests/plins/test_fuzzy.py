@@ -90,3 +90,19 @@ def test_local_models():
         lm.C, pl.measurement_matrix(TRAJ.lat[0], TRAJ.lon[0], TRAJ.h[0], SITES))
     with pytest.raises(ValueError, match="points"):
         P.local_models([1.0, 2.0, 3.0], 0.0, 0.0, SITES, 1.0)
+
+
+def test_a_subnormal_width_is_a_shoulder_not_an_overflow():
+    """Issue 35 (review 35h): center=5e-324 (a width of one subnormal) gave an overflow warning."""
+    np.testing.assert_array_equal(P.triangular([0.0, 0.5, 1.0, 1.5, 2.0], 0.0, 5e-324, 2.0),
+                                  [0.0, 0.75, 0.5, 0.25, 0.0])
+
+
+def test_local_models_check_lon_and_h_under_their_names():
+    """Issue 35 (review 35h): lon=[] was refused as 'r must have shape (3,), got (0, 3)'."""
+    tr = ins.paper_trajectory(duration=10.0)
+    args = (P.operating_points(tr), tr.lon[0], tr.h[0], pl.sites_ecef(), tr.dt)
+    with pytest.raises(ValueError, match=r"^lon must be a finite real number, got \[\]$"):
+        P.local_models(args[0], [], *args[2:])
+    with pytest.raises(ValueError, match=r"^h must be a real number in \[-10000, 100000\], got \[1\.0\]$"):
+        P.local_models(*args[:2], [1.0], *args[3:])

@@ -184,10 +184,11 @@ def test_a_fault_the_flight_would_not_use_is_refused_naming_it(fault, words):
 
 def test_a_height_beyond_a_million_km_is_refused_not_an_overflow():
     """Review 35e: h=1e308 gave an overflow warning and an inf geometry (measurement_matrix, pdop)."""
-    for call in (lambda: pl.geodetic_to_ecef(0.0, 0.0, 1e308),
-                 lambda: pl.measurement_matrix(0.68, 2.02, 1e308, pl.sites_ecef()),
+    with pytest.raises(ValueError, match=r"^h must be in \(-3\.18907e\+06, 1e\+09\] m$"):
+        pl.geodetic_to_ecef(0.0, 0.0, 1e308)
+    for call in (lambda: pl.measurement_matrix(0.68, 2.02, 1e308, pl.sites_ecef()),
                  lambda: pl.pdop(0.68, 2.02, 1e308, pl.sites_ecef())):
-        with pytest.raises(ValueError, match=r"^h must be in \(-3\.18907e\+06, 1e\+09\] m$"):
+        with pytest.raises(ValueError, match=r"^h must be a real number in \(-3\.18907e\+06, 1e\+09\], "):
             call()
     assert np.all(np.isfinite(pl.geodetic_to_ecef(0.0, 0.0, pl.MAX_HEIGHT)))
 
@@ -208,3 +209,26 @@ def test_issue35_pdop_refuses_sites_on_one_line_of_sight():
     E = pl.sites_ecef([(39, 116, h) for h in (0, 100, 200, 300)])
     with pytest.raises(ValueError, match=r"^sites must surround the receiver in 3-D"):
         pl.pdop(np.radians(39.05), np.radians(116.05), 1e4, E)
+
+
+@pytest.mark.parametrize("kw, words", [
+    ({"lat": []}, r"^lat must be a real number in \[-1\.5708, 1\.5708\], got \[\]$"),
+    ({"lon": [1.0]}, r"^lon must be a finite real number, got \[1\.0\]$"),
+    ({"h": True}, r"^h must be a real number in \(-3\.18907e\+06, 1e\+09\], got True$"),
+])
+def test_one_receiver_position_is_three_numbers_each_named(kw, words):
+    """Issue 35 (review 35h): lat=[] in measurement_matrix or pdop was refused as
+    'r must have shape (3,), got (0, 3)', a name the user never typed."""
+    args = {"lat": 0.68, "lon": 2.02, "h": 1e4, **kw}
+    for f in (pl.measurement_matrix, pl.pdop):
+        with pytest.raises(ValueError, match=words):
+            f(args["lat"], args["lon"], args["h"], pl.sites_ecef())
+
+
+def test_simulate_pseudoranges_names_a_0d_array_of_faults():
+    """Issue 35 (review 35h): faults=np.array(1.0) was 'TypeError: iteration over a 0-d array'."""
+    tr = ins.paper_trajectory(duration=5.0)
+    x = ins.simulate_errors(tr, rng=0)
+    for bad in (np.array(1.0), True, -0.0):
+        with pytest.raises(ValueError, match=r"^faults must be a sequence of Fault"):
+            pl.simulate_pseudoranges(tr, x, faults=bad)

@@ -44,7 +44,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from xnavlab.core import faults as _faults
-from xnavlab.core.validate import check_finite_array, check_real, make_rng
+from xnavlab.core.validate import check_finite_array, check_real, make_rng, shown
 from xnavlab.plins.ins import N_STATES, WGS84_A, WGS84_E2, Trajectory, earth_radii
 
 __all__ = [
@@ -271,6 +271,14 @@ def sites_ecef(sites_deg=None):
     return _distinct("sites_deg", ecef)
 
 
+def _point(lat, lon, h):
+    """One receiver position: ``lat``, ``lon`` and ``h`` each a real number in its range, named."""
+    lat = check_real("lat", lat, -math.pi / 2, math.pi / 2)
+    lon = check_real("lon", lon)
+    h = check_real("h", h, -WGS84_A / 2, MAX_HEIGHT, lo_open=True)  # as geodetic_to_ecef's
+    return lat, lon, h
+
+
 def _check_sites(sites):
     sites = check_finite_array("sites", sites, shape=(3,))
     if sites.ndim != 2:
@@ -354,9 +362,9 @@ def measurement_matrix(lat, lon, h, sites):
     Parameters
     ----------
     lat, lon : float
-        Geodetic latitude and longitude of the linearisation point, rad.
+        Geodetic latitude (in [-pi/2, pi/2]) and longitude of the linearisation point, rad.
     h : float
-        Height, m.
+        Height, m, in (-a/2, :data:`MAX_HEIGHT`].
     sites : array_like, shape (m, 3)
         Pseudolite positions, ECEF, m.
 
@@ -371,6 +379,7 @@ def measurement_matrix(lat, lon, h, sites):
     >>> H.shape, H[:, :6].any(), H[:, 9].tolist()
     ((4, 10), False, [1.0, 1.0, 1.0, 1.0])
     """
+    lat, lon, h = _point(lat, lon, h)
     r = geodetic_to_ecef(lat, lon, h)
     E = los_matrix(r, sites)
     T = geodetic_jacobian(lat, lon, h)
@@ -388,9 +397,9 @@ def pdop(lat, lon, h, sites):
     Parameters
     ----------
     lat, lon : float
-        Receiver latitude and longitude, rad.
+        Receiver latitude (in [-pi/2, pi/2]) and longitude, rad.
     h : float
-        Receiver height, m.
+        Receiver height, m, in (-a/2, :data:`MAX_HEIGHT`].
     sites : array_like, shape (m, 3), m >= 4
         Pseudolite positions, ECEF, m: distinct (at least 1 m apart) and around the
         receiver in 3-D (the geometry matrix's condition number at most 1e6).
@@ -404,6 +413,7 @@ def pdop(lat, lon, h, sites):
     >>> round(pdop(np.radians(39.13), np.radians(116.0), 1e4, sites_ecef()), 1)
     3.3
     """
+    lat, lon, h = _point(lat, lon, h)
     r = geodetic_to_ecef(lat, lon, h)
     E = los_matrix(r, sites)
     if len(E) < 4:
@@ -453,6 +463,8 @@ class PseudorangeData:
 def _check_flight_faults(faults, t):
     """The faults as a list, each one the flight uses (its sensor, an onset inside the flight,
     a sample it acts on), else one ValueError naming it: inject would drop it in silence."""
+    if isinstance(faults, np.ndarray) and faults.ndim == 0:  # iterable to hasattr, not to list
+        raise ValueError(f"faults must be a sequence of Fault, got {shown(faults)}")
     faults = _faults.check_faults("faults", faults)
     for i, f in enumerate(faults):
         where = f"faults[{i}] ({f.sensor} {f.kind} from {f.onset:g} s)"

@@ -115,10 +115,16 @@ def triangular(x, left, center, right):
     center = check_real("center", center, left)
     right = check_real("right", right, center)
     mu = np.ones_like(x)
+    # A side narrower than its distances to x (a subnormal width) has a slope beyond the floats:
+    # its quotient is +-inf, which the clip below makes the exact limit 1 or 0 (a shoulder).
     if center > left:
-        mu = np.minimum(mu, (x - left) / (center - left))
+        rise = x - left
+        with np.errstate(over="ignore"):
+            mu = np.minimum(mu, rise / (center - left))
     if right > center:
-        mu = np.minimum(mu, (right - x) / (right - center))
+        fall = right - x
+        with np.errstate(over="ignore"):
+            mu = np.minimum(mu, fall / (right - center))
     return np.clip(mu, 0.0, 1.0)
 
 
@@ -240,7 +246,7 @@ def local_models(points, lon, h, sites, dt, q=None):
     lon : float
         Longitude, rad.
     h : float
-        Height, m.
+        Height, m, in [-1e4, 1e5] (as :func:`xnavlab.plins.ins.error_matrix`).
     sites : array_like, shape (m, 3)
         Pseudolite positions, ECEF, m.
     dt : float
@@ -262,6 +268,8 @@ def local_models(points, lon, h, sites, dt, q=None):
     points = check_finite_array("points", points, shape=(3,))
     if points.ndim != 2:
         raise ValueError(f"points must have shape (N, 3), got {points.shape}")
+    lon = check_real("lon", lon)  # checked here: measurement_matrix would name r for a list
+    h = check_real("h", h, -1e4, 1e5)  # as the error model's (xnavlab.plins.ins.error_matrix)
     q = _ins.imu_noise_psd() if q is None else check_finite_array("q", q, shape=(7,))
     G = _ins.noise_matrix()
     out = []
