@@ -107,15 +107,16 @@ def example_calls(test):
 
 
 @functools.cache
-def state(test, i, line=0):
-    """The doctest's globals before its example ``i`` (the examples before it run once, and
-    the statements of example ``i`` that start before its line ``line``, counted from 1: a
-    call on the last line of ``w = ...; f(w)`` sees ``w``)."""
+def state(test, i, node=None):
+    """The doctest's globals before the call ``node`` of its example ``i``: the examples before
+    it run once, then the statements of example ``i`` that end before the call's line (a call
+    on the line after ``w = ...`` sees ``w``), and a call inside a comprehension sees the
+    comprehension's variable bound to the first item (``[f(n) for n in NAMES]`` sees ``n``)."""
     globs = dict(test.globs, np=np)
     sources = [ex.source for ex in test.examples[:i]]
-    if line > 1:
-        body = ast.parse(test.examples[i].source).body
-        sources += [ast.unparse(stmt) for stmt in body if stmt.end_lineno < line]
+    tree = ast.parse(test.examples[i].source) if node is not None else None
+    if tree is not None:
+        sources += [ast.unparse(stmt) for stmt in tree.body if stmt.end_lineno < node.lineno]
     with contextlib.redirect_stdout(io.StringIO()), warnings.catch_warnings():
         warnings.simplefilter("ignore")
         for source in sources:
@@ -123,8 +124,26 @@ def state(test, i, line=0):
                 exec(compile(source, test.name, "single" if "\n" not in source else "exec"), globs)
             except Exception:
                 pass
+        if tree is not None:
+            _bind_comprehensions(tree, node, globs)
     plt.close("all")
     return globs
+
+
+def _bind_comprehensions(tree, node, globs):
+    """Bind the variable of each comprehension around ``node`` to its first item."""
+    where = (node.lineno, node.col_offset)
+    for comp in ast.walk(tree):
+        if not isinstance(comp, ast.ListComp | ast.SetComp | ast.GeneratorExp | ast.DictComp):
+            continue
+        if not any(isinstance(n, ast.Call) and (n.lineno, n.col_offset) == where for n in ast.walk(comp)):
+            continue
+        for gen in comp.generators:
+            if isinstance(gen.target, ast.Name):
+                try:
+                    globs[gen.target.id] = next(iter(evaluate(gen.iter, globs)))
+                except Exception:
+                    return
 
 
 def evaluate(node, globs, extra=None):
@@ -136,7 +155,7 @@ def evaluate(node, globs, extra=None):
 def unmodified(test, i, node):
     """(seconds, result, the categories of warning it gives) of the call as the example
     writes it; None if it fails."""
-    globs = state(test, i, node.lineno)
+    globs = state(test, i, node)
     start = time.perf_counter()
     try:
         with contextlib.redirect_stdout(io.StringIO()), warnings.catch_warnings(record=True) as seen:

@@ -180,7 +180,7 @@ def test_an_edge_value_is_used_or_refused(test, i, node, slot):
     module = test.name.rsplit(".", 1)[0]
     if module in PLUMBING or module.rsplit(".", 1)[0] in PLUMBING:
         pytest.skip(PLUMBING.get(module) or PLUMBING[module.rsplit(".", 1)[0]])
-    globs = state(test, i, node.lineno)
+    globs = state(test, i, node)
     key = f"{test.name}:{_slot_name(node, slot, globs)}"
     if key in SKIP:
         pytest.skip(SKIP[key])

@@ -114,7 +114,7 @@ def test_a_huge_literal_is_used_or_refused(test, i, node, slot):
     base = unmodified(test, i, node)
     if base is None:
         pytest.skip("the unmodified call raises (an example of a refusal)")
-    globs = state(test, i, node.lineno)
+    globs = state(test, i, node)
     call = _huge(node, slot)
     source = ast.unparse(call)
     try:
