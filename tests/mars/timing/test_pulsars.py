@@ -99,7 +99,7 @@ def test_phase_shift_estimator_is_exact_without_noise(shift):
 
 
 def test_estimator_input_checks():
-    with pytest.raises(ValueError, match="equal length"):
+    with pytest.raises(ValueError, match=r"^template must have shape \(8,\) \(one bin per bin of counts\)"):
         pulsars.estimate_phase_shift(np.ones(8), np.ones(16))
 
 
@@ -195,7 +195,7 @@ def test_fold_checks_and_raw_counts():
     assert raw.dtype.kind == "i" and raw.sum() == t.size
     corrected = pulsars.fold(t, crab, nbins=16, span=(0.0, 1.0))
     assert corrected.dtype.kind == "f" and corrected.sum() == pytest.approx(t.size, rel=0.02)
-    with pytest.raises(ValueError, match="span must hold every photon"):
+    with pytest.raises(ValueError, match=r"^t must lie within span = \[0.1, 1.0\]"):
         pulsars.fold(t, crab, span=(0.1, 1.0))
     with pytest.raises(ValueError, match="two or more"):
         pulsars.fold([0.5], crab)
@@ -339,7 +339,7 @@ def test_a_pulsar_with_a_complex_nan_or_out_of_range_property_is_refused(field, 
 @pytest.mark.parametrize("counts, match", [
     (np.zeros(10), r"^counts must hold a pulse \(bins not all equal\), got every bin 0"),
     (np.full(10, 3.0), r"^counts must hold a pulse"),
-    (np.zeros(0), r"^counts must hold at least 2 phase bins, got 0"),
+    (np.zeros(0), r"^counts must be a 1-D fold of at least 2 phase bins, got shape \(0,\)"),
     (np.r_[-1.0, np.ones(9)], r"^counts must be photon counts, >= 0, got -1 in bin 0"),
 ])
 def test_a_profile_without_a_pulse_has_no_phase(counts, match):
@@ -505,3 +505,34 @@ def test_a_timing_models_px_or_f0_outside_a_pulsars_range_is_refused_under_path(
     path.write_text("\n".join(new if t.startswith(line) else t for t in text) + "\n")
     with pytest.raises(ValueError, match=words):
         pulsars.from_par(path, flux_ph_cm2_s=1e-5, pulsed_fraction=0.5, duty_cycle=0.1)
+
+
+def test_from_par_names_a_path_that_is_no_text():
+    """Issue 35 (review 35h): a 0-d array was a TypeError of pathlib."""
+    with pytest.raises(ValueError, match=r"^path must name an existing \.par file \(a str or Path\)"):
+        pulsars.from_par(np.array(1.0), flux_ph_cm2_s=1e-5, pulsed_fraction=0.5, duty_cycle=0.1)
+
+
+def test_fold_refuses_no_photons_and_names_t_outside_the_span():
+    """Issue 35 (review 35h): no photon folded to zeros; a photon outside the span named span."""
+    with pytest.raises(ValueError, match=r"^t must be a non-empty 1-D array of photon times"):
+        pulsars.fold([], "B0531+21", nbins=8, exposure=False)
+    with pytest.raises(ValueError, match=r"^t must lie within span = \[0.0, 0.01\], got photons in \[1.0"):
+        pulsars.fold([1.0], "B0531+21", nbins=8, span=(0.0, 0.01))
+
+
+def test_estimate_phase_shift_names_the_template_against_the_counts():
+    with pytest.raises(ValueError, match=r"^template must have shape \(128,\) \(one bin per bin of counts\), "
+                                         r"got shape \(\)"):
+        pulsars.estimate_phase_shift(pulsars.binned_template(128, 0.05), -0.0)
+
+
+def test_simulate_photons_refuses_a_spin_that_drifts_past_its_inversion():
+    """Review 35h: an extreme fdot made f + fdot tau near zero, the Newton step's divisor."""
+    slow = dataclasses.replace(pulsars.get("B0531+21"), period=1e4, width=100.0, fdot=-1.0)
+    with pytest.raises(ValueError, match=r"^pulsar B0531\+21 must change its spin frequency by under 1%"):
+        pulsars.simulate_photons(slow, 10.0, rng=0)
+    crab = pulsars.get("B0531+21")
+    with pytest.raises(ValueError, match=r"^shift must be within [0-9.e+]+ s of 0, where pulsar B0531\+21"):
+        pulsars.simulate_photons(crab, 1.0, area_m2=0.01, rng=0, shift=1e12)
+    assert pulsars.simulate_photons(crab, 1.0, area_m2=0.01, rng=0, shift=1e3).size > 0

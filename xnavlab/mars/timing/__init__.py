@@ -24,6 +24,8 @@ module                 what it models
                        checked over random splits of the months
 ``photon_plots``       chapter 1's ranging-accuracy bars; the figures of the fix: slider,
                        recovery, cycle ambiguity, exposure
+``_checks``            plumbing (not public API): the spin drift a photon simulation can
+                       invert, shared by the modules above
 =====================  ===================================================================
 
 The modules are imported by name (``from xnavlab.mars.timing import pulsars``);

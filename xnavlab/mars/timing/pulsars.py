@@ -29,6 +29,7 @@ from xnavlab.core import validate
 from xnavlab.core.constants import KPC, C
 from xnavlab.core.validate import check_bool, check_finite_array, check_int, check_items, check_real, make_rng
 from xnavlab.mars.timing import xray_pulsars
+from xnavlab.mars.timing._checks import check_spin_drift
 
 __all__ = [
     "Pulsar", "MAX_DISTANCE", "MAX_SPAN", "CATALOGUE", "PAPER_PULSARS", "PAPER_RANGING_M", "get",
@@ -282,7 +283,7 @@ def from_par(path, distance=None, flux_ph_cm2_s=None, pulsed_fraction=None, duty
         raise ValueError(f"path: the timing model {str(path)!r} is not UTF-8 text (byte "
                          f"{exc.object[exc.start]:#04x} at position {exc.start})") from None
     except ValueError as exc:
-        if str(path) in str(exc) or Path(path).name in str(exc):
+        if str(exc).startswith("path ") or str(path) in str(exc) or Path(path).name in str(exc):
             raise                          # ours, naming the file already
         why = (str(exc).strip().splitlines() or [""])[0]   # astropy's/PINT's: no file named
         raise ValueError(f"path: PINT cannot read the timing model {str(path)!r} ({why})") \
@@ -516,6 +517,7 @@ def simulate_photons(pulsar, t_obs, area_m2=1.0, background_ph_cm2_s=0.005, rng=
     rng = make_rng(rng)
     lam_s, lam_b = photon_rates(p, area_m2, background_ph_cm2_s)
     f, fdot = p.frequency, p.fdot
+    check_spin_drift(p.name, f, fdot, t_obs, shift)  # else f + fdot tau nears 0 below (MAX_DRIFT)
     sig = p.duty_cycle / (2.0 * math.sqrt(2.0 * math.log(2.0)))
     # Draw over whole cycles -1 .. n_cyc (one spare each side, since the shift and the
     # profile's tails move photons across the ends), at lambda_s / f photons per cycle,
@@ -653,8 +655,8 @@ def fold(t, pulsar, nbins=256, t0=0.0, span=None, exposure=True):
     p = get(pulsar)
     nbins = check_int("nbins", nbins, 8, 2**20)
     t = check_finite_array("t", t)
-    if t.ndim != 1:
-        raise ValueError(f"t must be 1-D, got shape {t.shape}")
+    if t.ndim != 1 or t.size == 0:
+        raise ValueError(f"t must be a non-empty 1-D array of photon times, got shape {t.shape}")
     ph = _binned_phase("t", t, p, nbins, t0) % 1.0  # a bin float64 can tell (else refused)
     idx = np.minimum((ph * nbins).astype(np.int64), nbins - 1)
     counts = np.bincount(idx, minlength=nbins)
@@ -666,7 +668,7 @@ def fold(t, pulsar, nbins=256, t0=0.0, span=None, exposure=True):
         span = (float(t.min()), float(t.max()))
     span = check_finite_array("span", span)
     if span.shape == (2,) and t.size and (t.min() < span[0] or t.max() > span[1]):
-        raise ValueError(f"span must hold every photon: {span.tolist()} against photons in "
+        raise ValueError(f"t must lie within span = {span.tolist()}, got photons in "
                          f"[{t.min()!r}, {t.max()!r}]")
     e = phase_exposure(span, p, nbins, t0)
     return counts * (e.mean() / e)
@@ -740,11 +742,9 @@ def estimate_phase_shift(counts, template):
     0.125
     """
     x = check_finite_array("counts", counts)
-    tpl = check_finite_array("template", template)
-    if x.ndim != 1 or x.shape != tpl.shape:
-        raise ValueError(f"counts and template must be 1-D of equal length; got {x.shape}, {tpl.shape}")
-    if x.size < 2:
-        raise ValueError(f"counts must hold at least 2 phase bins, got {x.size}")
+    if x.ndim != 1 or x.size < 2:
+        raise ValueError(f"counts must be a 1-D fold of at least 2 phase bins, got shape {x.shape}")
+    tpl = validate.check_shape("template", template, x.shape, "one bin per bin of counts")
     if np.any(x < 0.0):
         raise ValueError(f"counts must be photon counts, >= 0, got {float(x.min()):g} in bin "
                          f"{int(np.argmin(x))}")
