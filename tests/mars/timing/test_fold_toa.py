@@ -219,3 +219,27 @@ def test_plot_survey_checks_its_surveys_and_bound():
         ft.plot_survey([1, 2])
     with pytest.raises(ValueError, match=r"^bound must be True or False, got 'no'$"):
         ft.plot_survey({"x": rows}, bound="no")
+
+
+@pytest.mark.parametrize("bad", [[], np.array(1.0), True])
+def test_survey_html_names_rows(bad):
+    """Issue 35 (review 35h): an empty list was an empty table, a 0-d array a TypeError."""
+    with pytest.raises(ValueError, match=r"^rows must (be a list of window_survey rows|hold at least one)"):
+        ft.survey_html(bad)
+
+
+def test_a_fold_without_photons_is_refused_by_the_callers_names(big_window):
+    """Review 35h: ml_phase_shift refused the rates as 'pulsed' and 'unpulsed'."""
+    import dataclasses
+
+    from xnavlab.mars.timing import pulsars
+
+    dim = dataclasses.replace(pulsars.get("B1821-24"), flux=1e-8, pulsed_fraction=1e-6)
+    window = ft.fold_window(dim, T0, X0, error=BIG)
+    u = ft.simulate_window_photons(big_window, rng=0)
+    with pytest.raises(ValueError, match=r"^area_m2 must collect at least 1e-6 pulsed photons of the "
+                                         r"window's pulsar B1821-24 in its 500 s, got 5e-12"):
+        ft.fold_toa(window, u)
+    bare = dataclasses.replace(pulsars.get("B1821-24"), pulsed_fraction=1.0)
+    with pytest.raises(ValueError, match=r"^background_ph_cm2_s must give at least 1e-6 unpulsed photons"):
+        ft.fold_toa(ft.fold_window(bare, T0, X0, error=BIG), u, background_ph_cm2_s=0.0)

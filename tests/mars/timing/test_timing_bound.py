@@ -205,7 +205,7 @@ def test_fisher_information_refuses_rates_spins_and_profiles_that_overflow():
     x = np.arange(256) / 256
     h, dh = pulsars.profile(x, 0.1), tb.profile_derivative(x, 0.1)
     assert np.isfinite(tb.fisher_information(1e15, 1e15, 1e4, h, dh))
-    for kw, message in (({"pulsed": 1e308}, r"^pulsed must be a real number in \(0, 1e\+15\]"),
+    for kw, message in (({"pulsed": 1e308}, r"^pulsed must be a real number in \[1e-20, 1e\+15\]"),
                         ({"unpulsed": 1e308}, r"^unpulsed must be a real number in \[0, 1e\+15\]"),
                         ({"frequency": 1e308}, r"^frequency must be a real number in \(0, 10000\]"),
                         ({"dh": dh * 1e300}, r"^h and dh must be a profile and its derivative of "
@@ -260,3 +260,23 @@ def test_a_fold_with_a_tiny_duty_or_count_is_refused_by_the_callers_name(call, w
 def test_the_ml_shift_of_a_pulse_inside_one_bin_is_finite():
     mu = tb.expected_fold(8, 1e-4, 2e4, 1e5, shift=0.0)
     assert np.isfinite(tb.ml_phase_shift(mu, 1e-4, 2e4, 1e5))
+
+
+def test_fisher_information_names_a_subnormal_rate_and_each_profile():
+    """Issue 35 (review 35h): pulsed 5e-324 was refused as 'h', dh of another shape as 'h and dh'."""
+    x = np.arange(256) / 256
+    h, dh = pulsars.profile(x, 0.1), tb.profile_derivative(x, 0.1)
+    with pytest.raises(ValueError, match=r"^pulsed must be a real number in \[1e-20, 1e\+15\]"):
+        tb.fisher_information(5e-324, 0.0, 1.0, h, dh)
+    with pytest.raises(ValueError, match=r"^h must be a 1-D array, the profile at m >= 8 phases, got shape"):
+        tb.fisher_information(1.0, 0.0, 1.0, [1.0], dh)
+    with pytest.raises(ValueError, match=r"^dh must have shape \(256,\) \(one per sample of h\), got shape"):
+        tb.fisher_information(1.0, 0.0, 1.0, h, -0.0)
+
+
+@pytest.mark.parametrize("bad", [True, [], [1.0], np.array(1.0)])
+def test_the_accuracy_table_and_figure_name_rows(bad):
+    """Issue 35 (review 35h): an empty list was an empty table, a 0-d array a TypeError."""
+    for call in (tb.accuracy_html, tb.plot_accuracy):
+        with pytest.raises(ValueError, match=r"^rows(\[0\])? must (be a|hold at least one)"):
+            call(bad)

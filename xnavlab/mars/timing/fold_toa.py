@@ -399,10 +399,27 @@ def expected_error(window, correction="apriori", tag="mid", area_m2=1.0,
     kk = np.arange(spec.size)
     dmu = ls * T * np.fft.irfft(spec * (-2j * np.pi * kk), nbins)  # d mu / d shift (cycles)
     sigma = 1.0 / (f * math.sqrt(float(np.sum(dmu**2 / mu))))  # 1 / sqrt(f^2 sum mu'^2 / mu)
+    _fold_rates(p, T, area_m2, background_ph_cm2_s)  # a fold with a phase to measure
     tau = timing_bound.ml_phase_shift(mu, p.duty_cycle, ls * T, lb * T) * p.period
     u_tag = tag_offset(tag, T)
     bias = -float(eps_fn(u_tag)) - tau  # z - Delta_t(r(t_tag)) = -eps(t_tag) - tau_hat
     return FoldError(bias, coherence, sigma)
+
+
+def _fold_rates(p, T, area_m2, background_ph_cm2_s):
+    """The pulsed and unpulsed rates (:func:`~xnavlab.mars.timing.pulsars.photon_rates`), ph/s,
+    with the photons a fold of ``T`` s expects of each refused below 1e-6 (the
+    lower end of :func:`~xnavlab.mars.timing.timing_bound.ml_phase_shift`: no phase to
+    estimate) under the caller's names, not as ``pulsed`` and ``unpulsed``."""
+    ls, lb = pulsars.photon_rates(p, area_m2, background_ph_cm2_s)
+    if not ls * T >= 1e-6:
+        raise ValueError(f"area_m2 must collect at least 1e-6 pulsed photons of the window's pulsar "
+                         f"{p.name} in its {T:g} s, got {ls * T:.3g} on {area_m2:g} m^2")
+    if not lb * T >= 1e-6:
+        raise ValueError(f"background_ph_cm2_s must give at least 1e-6 unpulsed photons in the "
+                         f"window's {T:g} s, got {lb * T:.3g} (pulsar {p.name}, pulsed fraction "
+                         f"{p.pulsed_fraction:g})")
+    return ls, lb
 
 
 def _ssb_offset(window, u):
@@ -559,7 +576,7 @@ def fold_toa(window, u, correction="apriori", tag="mid", area_m2=1.0,
     p, T = _check_window(window).pulsar, window.duration
     counts = fold_photons(window, u, correction, tag, nbins)
     proc = _spline(window.u, window.processing_delay(correction, tag))
-    ls, lb = pulsars.photon_rates(p, area_m2, background_ph_cm2_s)
+    ls, lb = _fold_rates(p, T, area_m2, background_ph_cm2_s)
     tau = timing_bound.ml_phase_shift(counts, p.duty_cycle, ls * T, lb * T, search) * p.period
     u_tag = tag_offset(tag, T)
     z = float(proc(u_tag)) - tau
@@ -704,9 +721,10 @@ def survey_html(rows, digits=4):
     """
     from xnavlab.core.plotting import html_table
 
-    if isinstance(rows, str | bytes | dict) or not hasattr(rows, "__iter__"):
+    if not isinstance(rows, list | tuple):  # a string, a dict, a number or a 0-d array
         raise ValueError(f"rows must be a list of window_survey rows (dicts), got {shown(rows)}")
-    rows = list(rows)
+    if not rows:
+        raise ValueError("rows must hold at least one window_survey row, got an empty list")
     for i, r in enumerate(rows):
         missing = [k for k in SURVEY_COLUMNS if not isinstance(r, dict) or k not in r]
         if missing:

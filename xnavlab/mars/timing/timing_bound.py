@@ -65,7 +65,9 @@ from xnavlab.core.validate import (
     check_int,
     check_real,
     check_records,
+    check_shape,
     make_rng,
+    shown,
 )
 from xnavlab.mars.timing import pulsars
 
@@ -147,12 +149,12 @@ def fisher_information(pulsed, unpulsed, frequency, h, dh):
     Parameters
     ----------
     pulsed, unpulsed : float
-        ``lambda_s`` and ``lambda_b``, photons/s.
+        ``lambda_s`` in [1e-20, 1e15] and ``lambda_b`` in [0, 1e15], photons/s.
     frequency : float
         Spin frequency f, Hz.
     h, dh : array_like, shape (m,)
         The profile (density per cycle, mean 1) and its derivative (per cycle^2) at ``m``
-        equally spaced phases of one cycle.
+        equally spaced phases of one cycle, ``m >= 8`` (:func:`toa_crlb`'s fewest bins).
 
     Returns
     -------
@@ -168,14 +170,16 @@ def fisher_information(pulsed, unpulsed, frequency, h, dh):
     1.0
     """
     # a rate above 1e15 photons/s (a million times the Crab's on a square metre) or a spin
-    # above 1e4 Hz (the fastest pulsar known spins at 716 Hz) is no pulsar; beyond, J overflows
-    ls = check_real("pulsed", pulsed, 0.0, 1e15, lo_open=True)
+    # above 1e4 Hz (the fastest pulsar known spins at 716 Hz) is no pulsar; beyond, J overflows.
+    # A pulsed rate below 1e-20 photons/s is below the least of photon_rates (1 mm^2, 1e-12
+    # ph/cm^2/s, a pulsed fraction of 1e-6; a subnormal one made lambda_s h zero where h' is not)
+    ls = check_real("pulsed", pulsed, 1e-20, 1e15)
     lb = check_real("unpulsed", unpulsed, 0.0, 1e15)
     f = check_real("frequency", frequency, 0.0, 1e4, lo_open=True)
     h = check_finite_array("h", h)
-    dh = check_finite_array("dh", dh)
-    if h.ndim != 1 or h.shape != dh.shape:
-        raise ValueError(f"h and dh must be 1-D of equal length; got {h.shape}, {dh.shape}")
+    if h.ndim != 1 or h.size < 8:  # toa_crlb's fewest bins: fewer cannot draw a pulse
+        raise ValueError(f"h must be a 1-D array, the profile at m >= 8 phases, got shape {h.shape}")
+    dh = check_shape("dh", dh, h.shape, "one per sample of h")
     lam = lb + ls * h
     if np.any(lam < 0.0) or np.any((lam == 0.0) & (dh != 0.0)):
         raise ValueError("the rate lambda_b + lambda_s h must be non-negative, and positive "
@@ -640,9 +644,20 @@ def accuracy_html(rows, digits=4):
     """
     from xnavlab.core.plotting import html_table
 
-    rows = check_records("rows", rows, tuple(ACCURACY_COLUMNS), "accuracy_table row")
+    rows = _rows(rows)
     return html_table(list(ACCURACY_COLUMNS.values()),
                       [[r[k] for k in ACCURACY_COLUMNS] for r in rows], digits=digits)
+
+
+def _rows(rows, keys=tuple(ACCURACY_COLUMNS)):
+    """``rows`` as a non-empty list of :func:`accuracy_table` rows holding ``keys``, else one
+    ValueError naming it."""
+    if not isinstance(rows, list | tuple):  # a 0-d array or a number is no list of rows
+        raise ValueError(f"rows must be a list of accuracy_table rows, got {shown(rows)}")
+    rows = check_records("rows", rows, keys, "accuracy_table row")
+    if not rows:
+        raise ValueError("rows must hold at least one pulsar's row, got an empty list")
+    return rows
 
 
 def plot_accuracy(rows):
@@ -672,8 +687,8 @@ def plot_accuracy(rows):
     """
     from matplotlib.figure import Figure
 
-    if not rows:
-        raise ValueError("rows must hold at least one pulsar's row")
+    rows = _rows(rows, ("pulsar", "paper_m", "formula_m", "crlb_m", "ml_m", "ml_lo_m", "ml_hi_m",
+                        "xcorr_m"))  # what the figure draws
     fig = Figure(figsize=(7.0, 3.4), layout="constrained")
     ax = fig.subplots()
     x = np.arange(len(rows))
