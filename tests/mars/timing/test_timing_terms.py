@@ -105,7 +105,7 @@ def test_orbit_terms_shapes_and_sizes(day_orbit):
     assert 1e-10 < np.abs(out["shapiro_exact_minus_paper"]).max() < 2e-8
     assert 1e-9 < np.abs(out["planets"]).max() < 3e-8
     assert out["sun_angle_deg"].min() > 50.0  # no pulsar near the Sun on the paper's orbit
-    with pytest.raises(ValueError, match="x must have shape"):
+    with pytest.raises(ValueError, match=r"^t must hold one epoch per row of x \(3\), got 145"):
         tt.orbit_terms(t, np.zeros((3, 6)))
 
 
@@ -257,3 +257,38 @@ def test_a_degenerate_sun_direction_and_a_tiny_sigma_are_refused_by_name(call, w
     sigma of 5e-324 overflowed sigma^-2 (RuntimeWarning)."""
     with pytest.raises(ValueError, match=words):
         call()
+
+
+@pytest.fixture(scope="module")
+def day_terms():
+    t = dynamics.MARS_T0 + np.arange(0.0, 86400.0 + 1.0, 3600.0)
+    return t, tt.orbit_terms(t, dynamics.truth(t)), tt.mars_year_terms(step_days=30.0)
+
+
+@pytest.mark.parametrize("bad", [True, -0.0, [], np.array(1.0), {"t": 1.0}])
+def test_summary_and_figure_name_orbit_and_year(day_terms, bad):
+    """Issue 35 (review 35h): a number or a list was a TypeError or an IndexError from inside."""
+    t, orbit, year = day_terms
+    n, _ = pulsars.directions()
+    sigma = [109.0, 344.0, 1866.0, 325.0]
+    with pytest.raises(ValueError, match=r"^orbit must be the dict of orbit_terms\(\)"):
+        tt.summary_rows(bad, year, n, sigma)
+    with pytest.raises(ValueError, match=r"^year must be the dict of mars_year_terms\(\)"):
+        tt.summary_rows(orbit, bad, n, sigma)
+    with pytest.raises(ValueError, match=r"^orbit must be the dict of orbit_terms\(\)"):
+        tt.plot_terms(t, bad, year)
+    with pytest.raises(ValueError, match=r"^year must be the dict of mars_year_terms\(\)"):
+        tt.plot_terms(t, orbit, bad)
+
+
+def test_epochs_are_checked_on_their_own_and_against_the_series(day_terms):
+    t, orbit, year = day_terms
+    for bad in (-0.0, []):
+        with pytest.raises(ValueError, match=r"^t must be a non-empty 1-D array of epochs"):
+            tt.plot_terms(bad, orbit, year)
+        with pytest.raises(ValueError, match=r"^t must be a non-empty 1-D array of epochs"):
+            tt.orbit_terms(bad, dynamics.truth(t))
+    with pytest.raises(ValueError, match=rf"^t must hold one epoch per row of orbit's terms \({t.size}\)"):
+        tt.plot_terms([1.0], orbit, year)
+    with pytest.raises(ValueError, match=r"^t must hold at least one epoch, got an empty array"):
+        tt.planet_shapiro(np.zeros(3), [], np.array([[1.0, 0.0, 0.0]]))

@@ -31,3 +31,10 @@ def test_lookup_by_name_alias_and_prefix(name, found):
 
 def test_names_lists_the_first_names():
     assert "J0437-4715" in xray_pulsars.names() and len(xray_pulsars.names()) == 10
+
+
+@pytest.mark.parametrize("bad", [True, [], None, 1.0])
+def test_lookup_takes_a_name_only(bad):
+    """Issue 35 (review 35h): True was looked up as the name 'TRUE' (and found nothing)."""
+    with pytest.raises(ValueError, match=r"^name must be text \(a str\)"):
+        xray_pulsars.lookup(bad)

@@ -37,7 +37,7 @@ import numpy as np
 from xnavlab.core import ephemeris
 from xnavlab.core.constants import DAY, GM_SUN, C
 from xnavlab.core.diskcache import cached_arrays, entry_path
-from xnavlab.core.validate import check_choice, check_finite_array, check_items, check_real
+from xnavlab.core.validate import check_choice, check_finite_array, check_items, check_real, shown
 from xnavlab.mars.models import dynamics
 from xnavlab.mars.navigation import scenarios
 from xnavlab.mars.timing import pulsars, toa
@@ -228,6 +228,8 @@ def planet_shapiro(r_ssb, t, n, bodies=PLANET_BODIES, reference="ssb", ephem="de
     r = check_finite_array("r_ssb", r_ssb, shape=(3,))
     n = check_finite_array("n", n, shape=(3,))
     t = check_finite_array("t", t)
+    if t.size == 0:  # no epoch: the bodies' positions are no (3,) vector
+        raise ValueError("t must hold at least one epoch, got an empty array")
     ssb, au = {}, {}
     for body in bodies:
         check_choice("bodies", body, tuple(b for b in toa.GM_DE421 if b != "sun"))
@@ -318,10 +320,12 @@ def orbit_terms(t, x, pulsar_names=pulsars.PAPER_PULSARS, ephem="de421"):
     >>> out["planets"].shape, bool(np.abs(out["shapiro_exact_minus_paper"]).max() < 1e-8)
     ((145, 4), True)
     """
-    t = check_finite_array("t", t)
+    t = _epochs("t", t)
     x = check_finite_array("x", x, shape=(6,))
-    if x.shape != (t.size, 6):
-        raise ValueError(f"x must have shape ({t.size}, 6), got {x.shape}")
+    if x.ndim != 2:
+        raise ValueError(f"x must have shape (m, 6), one state per epoch, got {x.shape}")
+    if t.size != x.shape[0]:  # x is a well-formed series: the epochs are the ones to match it
+        raise ValueError(f"t must hold one epoch per row of x ({x.shape[0]}), got {t.size}")
     n, _ = pulsars.directions(pulsars.check_names(pulsar_names, "pulsar_names"))
     r = ephemeris.position("mars", t, ephem).reshape(-1, 3) + x[:, :3]
     r_sun = ephemeris.position("sun", t, ephem).reshape(-1, 3)
@@ -666,6 +670,27 @@ _LABELS = {
 }
 
 
+_ORBIT_KEYS = (*TERMS, "planets_au")
+_YEAR_KEYS = ("t", "shapiro_exact_minus_paper", "planets", "planets_au", "clock", "clock_mars_year",
+              "clock_orbit_bound")
+
+
+def _epochs(name, value):
+    """``value`` as a non-empty 1-D array of finite epochs, else one ValueError naming ``name``."""
+    t = check_finite_array(name, value)
+    if t.ndim != 1 or t.size == 0:
+        raise ValueError(f"{name} must be a non-empty 1-D array of epochs, got shape {t.shape}")
+    return t
+
+
+def _terms(name, value, keys, what):
+    """``value`` if it is a dict holding ``keys`` (what :func:`orbit_terms` or
+    :func:`mars_year_terms` returns), else one ValueError naming ``name``."""
+    if not isinstance(value, dict) or any(k not in value for k in keys):
+        raise ValueError(f"{name} must be the dict of {what} (with {', '.join(keys)}), got {shown(value)}")
+    return value
+
+
 def _year_term(year, term):
     """The Mars-year counterpart of an orbit term, s, shape (m, k) or (m,)."""
     if term == "clock_rate":
@@ -708,6 +733,8 @@ def summary_rows(orbit, year, n, sigma, witness=None, nav=None):
     >>> len(header), len(rows), rows[0][0]
     (8, 6, "Sun's Shapiro: exact minus the paper's form")
     """
+    orbit = _terms("orbit", orbit, TERMS, "orbit_terms()")
+    year = _terms("year", year, _YEAR_KEYS, "mars_year_terms()")
     header = ["term", "orbit, 30 days: max (s)", "(m)", "Mars year: max (s)", "(m)",
               "ours minus PINT: max (s)", "snapshot position bias, orbit (m)",
               "XNAV filter RMS position error (m)"]
@@ -768,7 +795,15 @@ def plot_terms(t, orbit, year, witness_t=None, witness=None):
     """
     from matplotlib.figure import Figure
 
-    t = check_finite_array("t", t)
+    t = _epochs("t", t)
+    orbit = _terms("orbit", orbit, _ORBIT_KEYS, "orbit_terms()")
+    year = _terms("year", year, _YEAR_KEYS, "mars_year_terms()")
+    rows = {np.shape(orbit[k])[0] if np.ndim(orbit[k]) else 0 for k in _ORBIT_KEYS}
+    if len(rows) != 1:
+        raise ValueError(f"orbit must hold every term at the same epochs (orbit_terms()), got "
+                         f"{sorted(rows)} rows")
+    if rows != {t.size}:  # orbit is the run's series: its epochs are the ones to match it
+        raise ValueError(f"t must hold one epoch per row of orbit's terms ({rows.pop()}), got {t.size}")
     fig = Figure(figsize=(12, 5.2), layout="constrained")
     axes = fig.subplots(1, 2, sharey=True)
     panels = ((axes[0], (t - t[0]) / DAY, orbit, "days of the paper's run (around the orbit)"),

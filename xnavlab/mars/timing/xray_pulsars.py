@@ -24,6 +24,7 @@ import functools
 from importlib import resources
 
 from xnavlab.core.userfiles import csv_rows
+from xnavlab.core.validate import check_text
 
 __all__ = ["SOURCE", "TABLE_FILE", "FIELDS", "table", "lookup", "names"]
 
@@ -83,7 +84,7 @@ def lookup(name):
     >>> lookup("PSR B1821-24")["width_s"]
     5.5e-05
     """
-    return _index().get(_norm(name))
+    return _index().get(_norm(check_text("name", name)))  # a bool or a list is no name
 
 
 def names():
