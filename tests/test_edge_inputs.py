@@ -72,10 +72,25 @@ EMPTY_OK = {
     "xnavlab.attitude.motion.truth_rate:t": "one rate per time",
     "xnavlab.attitude.montecarlo.isolation_table:rows": "a table of no rows is its header (documented)",
     "xnavlab.attitude.simulation.simulate:faults": "faults=[] is a fault-free run (the default is ())",
+    "xnavlab.plins.ins.earth_radii:lat": "one pair of radii per latitude",
+    "xnavlab.plins.pseudolites.geodetic_to_ecef:lat": "one ECEF point per element, shape (0, 3)",
+    "xnavlab.plins.pseudolites.geodetic_to_ecef:lon": "one ECEF point per element, shape (0, 3)",
+    "xnavlab.plins.pseudolites.geodetic_to_ecef:h": "one ECEF point per element, shape (0, 3)",
+    "xnavlab.plins.parity.fuzzy.triangular:x": "one membership per x",
+    "xnavlab.plins.parity.fuzzy.partition_memberships:x": "one row of memberships per x",
+    "xnavlab.plins.parity.identification.fault_signature:t_window": "one row of M per sample time",
+    "xnavlab.plins.pseudolites.simulate_pseudoranges:faults": "faults=[] is a fault-free flight",
+    "xnavlab.plins.parity.diagnosis.diagnose_flight:faults": "faults=[] is a fault-free flight",
 }
 
 #: ``test name:parameter`` -> why a refusal of an edge value of it names another parameter first.
-JOINT: dict[str, str] = {}
+JOINT = {
+    "xnavlab.plins.parity.fuzzy.triangular:left": "left <= center <= right: center is checked "
+    "against left, and either may be the wrong one",
+    "xnavlab.plins.pseudolites.pdop:lat": "lat = 0 moves the receiver thousands of km from the "
+    "sites: the geometry's condition belongs to receiver and sites together",
+    "xnavlab.plins.pseudolites.pdop:lon": "as for lat",
+}
 
 #: ``test name:parameter`` -> why that argument is not tried.
 SKIP: dict[str, str] = {}
