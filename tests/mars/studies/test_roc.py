@@ -283,3 +283,10 @@ def test_plot_roc_and_curve_csv_refuse_what_is_no_curve_by_name():
         roc.plot_roc({"chi2": [{"pd": 0.5}]})
     with pytest.raises(ValueError, match=r"^rows must be a list of curve rows \(dicts\), got array\(1\.\)$"):
         roc.curve_csv(np.array(1.0))
+
+
+def test_poisson_interval_refuses_a_count_beyond_its_law_by_name():
+    """Issue 35: k = 1e30 was refused as dof (the chi-square's degrees of freedom, 2k + 2)."""
+    with pytest.raises(ValueError, match=r"^k must be an integer in \[0, 499999999999\], got 10{30}$"):
+        roc.poisson_interval(10**30)
+    assert roc.poisson_interval(499_999_999_999)[1] > 4.99e11

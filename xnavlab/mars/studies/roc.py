@@ -93,7 +93,7 @@ import numpy as np
 from xnavlab.core import montecarlo
 from xnavlab.core.campaign import Campaign
 from xnavlab.core.constants import DAY
-from xnavlab.core.distributions import chi2_ppf
+from xnavlab.core.distributions import DOF_RANGE, chi2_ppf
 from xnavlab.core.userfiles import as_path, check_rows, load_table, output_path
 from xnavlab.core.validate import (
     check_bool,
@@ -287,7 +287,8 @@ def roc_run(fault_class, sensor, size, detector, thresholds, *, seed, days=0.5):
 def poisson_interval(k, level=0.95):
     """Exact (Garwood 1936) confidence interval of a Poisson mean from ``k`` events.
 
-    ``chi2.ppf((1 - level)/2, 2k)/2`` (0 at ``k = 0``) to ``chi2.ppf((1 + level)/2, 2k + 2)/2``.
+    ``chi2.ppf((1 - level)/2, 2k)/2`` (0 at ``k = 0``) to ``chi2.ppf((1 + level)/2, 2k + 2)/2``;
+    ``k`` in [0, 5e11 - 1] (the chi-square's degrees of freedom at most 1e12).
 
     Examples
     --------
@@ -295,7 +296,9 @@ def poisson_interval(k, level=0.95):
     >>> lo, round(hi, 3)
     (0.0, 3.689)
     """
-    k = check_int("k", k, 0)
+    # at most 5e11 - 1 events: the upper limit's chi-square has 2k + 2 degrees of freedom, at
+    # most DOF_RANGE's 1e12 (a count beyond was refused as dof)
+    k = check_int("k", k, 0, int(DOF_RANGE[1]) // 2 - 1)
     level = check_real("level", level, 0.0, 1.0, lo_open=True, hi_open=True)
     a = (1.0 - level) / 2.0
     lo = chi2_ppf(a, 2 * k) / 2.0 if k else 0.0      # Garwood lower limit
