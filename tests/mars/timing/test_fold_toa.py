@@ -243,3 +243,14 @@ def test_a_fold_without_photons_is_refused_by_the_callers_names(big_window):
     bare = dataclasses.replace(pulsars.get("B1821-24"), pulsed_fraction=1.0)
     with pytest.raises(ValueError, match=r"^background_ph_cm2_s must give at least 1e-6 unpulsed photons"):
         ft.fold_toa(ft.fold_window(bare, T0, X0, error=BIG), u, background_ph_cm2_s=0.0)
+
+
+def test_a_window_shorter_than_a_cycle_is_not_folded(big_window):
+    import dataclasses
+
+    from xnavlab.mars.timing import pulsars
+
+    slow = dataclasses.replace(pulsars.get("B1821-24"), period=1e4, width=100.0)
+    window = ft.fold_window(slow, T0, X0, error=BIG)
+    with pytest.raises(ValueError, match=r"^window must last a whole pulse cycle of B1821-24 \(10000 s\)"):
+        ft.fold_photons(window, ft.simulate_window_photons(big_window, rng=0))

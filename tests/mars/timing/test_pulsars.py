@@ -536,3 +536,11 @@ def test_simulate_photons_refuses_a_spin_that_drifts_past_its_inversion():
     with pytest.raises(ValueError, match=r"^shift must be within [0-9.e+]+ s of 0, where pulsar B0531\+21"):
         pulsars.simulate_photons(crab, 1.0, area_m2=0.01, rng=0, shift=1e12)
     assert pulsars.simulate_photons(crab, 1.0, area_m2=0.01, rng=0, shift=1e3).size > 0
+
+
+def test_fold_refuses_a_span_that_leaves_a_phase_bin_unswept():
+    """Review 35h: a span shorter than a cycle divided counts by a zero exposure (NaN, warnings)."""
+    with pytest.raises(ValueError, match=r"^t must span every phase bin \(a whole pulse cycle, 0\.0335 s"):
+        pulsars.fold([0.0, 0.001], "B0531+21")
+    with pytest.raises(ValueError, match=r"^span must sweep every phase bin \(a whole pulse cycle"):
+        pulsars.fold([0.0, 0.001], "B0531+21", span=(0.0, 0.002))

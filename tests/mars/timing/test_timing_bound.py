@@ -280,3 +280,9 @@ def test_the_accuracy_table_and_figure_name_rows(bad):
     for call in (tb.accuracy_html, tb.plot_accuracy):
         with pytest.raises(ValueError, match=r"^rows(\[0\])? must (be a|hold at least one)"):
             call(bad)
+
+
+def test_a_photon_monte_carlo_folds_whole_cycles_only():
+    """Review 35h: a fold of part of a cycle divided by a zero exposure (NaN, warnings)."""
+    with pytest.raises(ValueError, match=r"^t_obs must last a whole pulse cycle of B1937\+21"):
+        tb.monte_carlo_ml_toa("B1937+21", n_trials=3, t_obs=1e-3, rng=0, photons=True)

@@ -1,4 +1,5 @@
-"""Checks that the timing modules share: the spin drift a photon simulation can invert.
+"""Checks that the timing modules share: the spin drift a photon simulation can invert, the
+exposure a fold divides by.
 
 Plumbing of :mod:`xnavlab.mars.timing` (imported by :mod:`xnavlab.mars.timing.pulsars`); not
 part of the public API.
@@ -6,7 +7,9 @@ part of the public API.
 
 from __future__ import annotations
 
-__all__ = ["MAX_DRIFT", "check_spin_drift"]
+import numpy as np
+
+__all__ = ["MAX_DRIFT", "check_spin_drift", "check_exposure"]
 
 #: The largest relative change of the spin frequency, ``|fdot| tau / f``, over the photons'
 #: times ``tau`` that :func:`xnavlab.mars.timing.pulsars.simulate_photons` accepts. It inverts
@@ -58,3 +61,30 @@ def check_spin_drift(name, f, fdot, t_obs, shift):
         raise ValueError(f"shift must be within {limit:.3g} s of 0, where pulsar {name}'s spin "
                          f"frequency (fdot = {fdot:g} Hz/s, f = {f:g} Hz) has drifted by "
                          f"{MAX_DRIFT:.0%}, got {shift:g}")
+
+
+def check_exposure(exposure, span, given, period):
+    """``exposure`` (each phase bin's, cycles) if every bin has some, else one ValueError.
+
+    A span shorter than a pulse cycle leaves some bins unswept: their exposure is zero and
+    :func:`xnavlab.mars.timing.pulsars.fold` would divide their counts by it (inf and NaN, with
+    numpy's warnings). Named ``span`` when the caller gave it (``given``), else ``t`` (whose
+    first and last photons made it).
+
+    Examples
+    --------
+    >>> check_exposure(np.ones(4), (0.0, 1.0), True, 0.5).tolist()
+    [1.0, 1.0, 1.0, 1.0]
+    >>> check_exposure(np.array([1.0, 0.0]), (0.0, 0.2), True, 0.5)
+    Traceback (most recent call last):
+    ...
+    ValueError: span must sweep every phase bin (a whole pulse cycle, 0.5 s, does), got 0.2 s
+    """
+    if np.all(exposure > 0.0):
+        return exposure
+    length = float(span[1] - span[0])
+    if given:
+        raise ValueError(f"span must sweep every phase bin (a whole pulse cycle, {period:.6g} s, does), "
+                         f"got {length:.6g} s")
+    raise ValueError(f"t must span every phase bin (a whole pulse cycle, {period:.6g} s, does) for its "
+                     f"exposure, got photons over {length:.6g} s: give span, or exposure=False")

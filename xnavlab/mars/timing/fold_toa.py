@@ -525,6 +525,9 @@ def fold_photons(window, u, correction="apriori", tag="mid", nbins=None):
     [True, False, False]
     """
     p, T = _check_window(window).pulsar, window.duration
+    if T < p.period:  # part of a cycle leaves phase bins unswept (pulsars.fold divides by their exposure)
+        raise ValueError(f"window must last a whole pulse cycle of {p.name} ({p.period:.6g} s) to fold, "
+                         f"got {T:g} s")
     u = check_finite_array("u", u)
     if u.ndim != 1 or u.size < 2 or u.min() < -T / 2.0 or u.max() >= T / 2.0:
         raise ValueError(f"u must hold photon offsets within [-{T / 2:g}, {T / 2:g}) s")

@@ -29,7 +29,7 @@ from xnavlab.core import validate
 from xnavlab.core.constants import KPC, C
 from xnavlab.core.validate import check_bool, check_finite_array, check_int, check_items, check_real, make_rng
 from xnavlab.mars.timing import xray_pulsars
-from xnavlab.mars.timing._checks import check_spin_drift
+from xnavlab.mars.timing._checks import check_exposure, check_spin_drift
 
 __all__ = [
     "Pulsar", "MAX_DISTANCE", "MAX_SPAN", "CATALOGUE", "PAPER_PULSARS", "PAPER_RANGING_M", "get",
@@ -662,6 +662,7 @@ def fold(t, pulsar, nbins=256, t0=0.0, span=None, exposure=True):
     counts = np.bincount(idx, minlength=nbins)
     if not exposure:
         return counts
+    given = span is not None
     if span is None:
         if t.size < 2 or not t.max() > t.min():
             raise ValueError("t must hold photons at two or more times to infer the span; give span")
@@ -670,7 +671,7 @@ def fold(t, pulsar, nbins=256, t0=0.0, span=None, exposure=True):
     if span.shape == (2,) and t.size and (t.min() < span[0] or t.max() > span[1]):
         raise ValueError(f"t must lie within span = {span.tolist()}, got photons in "
                          f"[{t.min()!r}, {t.max()!r}]")
-    e = phase_exposure(span, p, nbins, t0)
+    e = check_exposure(phase_exposure(span, p, nbins, t0), span, given, p.period)  # no bin unswept
     return counts * (e.mean() / e)
 
 

@@ -508,13 +508,17 @@ def monte_carlo_ml_toa(pulsar, n_trials=400, area_m2=1.0, t_obs=500.0,
     if min(ls, lb) * t_obs < 1e-6:  # ml_phase_shift's lower end, refused here by the caller's name
         raise ValueError(f"t_obs must be long enough to expect 1e-6 pulsed and unpulsed photons a "
                          f"fold, got {ls * t_obs:.3g} and {lb * t_obs:.3g} in {t_obs:g} s")
+    if photons and t_obs < p.period:  # part of a cycle leaves phase bins unswept (pulsars.fold)
+        raise ValueError(f"t_obs must last a whole pulse cycle of {p.name} ({p.period:.6g} s) to fold "
+                         f"photons, got {t_obs:g} s")
     truth = rng.uniform(-0.05, 0.05, n_trials)  # cycles
     if photons:
         counts = np.empty((n_trials, nbins))
         for i in range(n_trials):
             t = pulsars.simulate_photons(p, t_obs, area_m2, background_ph_cm2_s, rng,
                                          truth[i] * p.period)
-            counts[i] = pulsars.fold(t, p, nbins, span=(0.0, t_obs))
+            # no photon: an empty fold, refused below by t_obs (fold refuses an empty t)
+            counts[i] = pulsars.fold(t, p, nbins, span=(0.0, t_obs)) if t.size else 0.0
     else:
         counts = rng.poisson(_bins(nbins, p.duty_cycle, ls * t_obs, lb * t_obs, truth)[0])
     empty = ~(counts.sum(axis=1) > 0)  # no phase (refused below as 'counts', not given here)
