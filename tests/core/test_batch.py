@@ -186,3 +186,16 @@ def test_a_training_series_is_named_train():
     b = D.BlockWavelet(t, np.random.default_rng(0).normal(size=600))
     with pytest.raises(ValueError, match=r"^lo must be an integer in \[0, inf\)"):
         b.alarm(lo=1.5)
+
+
+@pytest.mark.parametrize(("call", "match"), [
+    (lambda: D.wavelet_detect(np.arange(500.0), -0.0), r"^x must be a 1-D series of measurements"),
+    (lambda: D.wavelet_detect(np.arange(500.0), [1.0]), r"^x must have N = len\(t\) = 500 samples, got 1"),
+    (lambda: D.wavelet_detect([1.0], np.zeros(500)), r"^t must hold one time per sample of x \(500\), got 1"),
+    (lambda: D.wavelet_detect(np.arange(500.0), np.zeros(500), train=-0.0),
+     r"^train must be a 1-D fault-free series of at least 356 samples"),
+    (lambda: D.wavelet_detect_sensor(-0.0, np.zeros((500, 2))), r"^t must be a 1-D array of sample times"),
+])
+def test_an_edge_input_is_refused_naming_it(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()

@@ -17,6 +17,7 @@ from xnavlab.core.detection import (
     combined_detect,
     cusum_arl,
     cusum_threshold,
+    drift_glr,
     plot_combined_parts,
     variance_reference,
 )
@@ -251,3 +252,15 @@ def test_a_design_rate_too_low_for_the_cusum_is_refused_naming_rate_per_day(n, r
     with pytest.raises(ValueError, match=rf"^rate_per_day = {rate!r} .* too low for .* raise "
                                          r"rate_per_day$"):
         CombinedDesign(n, 3, rate)
+
+
+@pytest.mark.parametrize(("call", "match"), [
+    (lambda: cusum_threshold(1e5, 5e-324), r"^k must be a real number in \[0.01, 100\]"),
+    (lambda: drift_glr([]), r"^y must be a 1-D array of at least one sample"),
+    (lambda: combined_detect(-0.0, np.zeros(500)), r"^t must be a 1-D array of sample times"),
+    (lambda: combined_detect(np.arange(300.0), np.zeros(300)), r"^t must hold at least 400 samples"),
+    (lambda: combined_detect(3.0 * np.arange(500), np.zeros(500), train=-0.0), r"^train must be"),
+])
+def test_an_edge_input_is_refused_naming_it(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()

@@ -147,6 +147,26 @@ def wavelet_detect_sensor(t, z, *, pfa=1e-5, train=None, sigma=None, executor=No
     return b.detection()
 
 
+def series_lengths(t, name, n):
+    """Check ``t`` as a 1-D array of sample times and its length against the ``n`` samples of
+    the series ``name``; when the lengths disagree the shorter is named (a series cut short
+    is the likelier slip), in one ValueError.
+
+    Examples
+    --------
+    >>> series_lengths(np.arange(3.0), "x", 2)
+    Traceback (most recent call last):
+    ...
+    ValueError: x must have N = len(t) = 3 samples, got 2
+    """
+    if t.ndim != 1:
+        raise ValueError(f"t must be a 1-D array of sample times, got shape {t.shape}")
+    if n < t.size:
+        raise ValueError(f"{name} must have N = len(t) = {t.size} samples, got {n}")
+    if n > t.size:
+        raise ValueError(f"t must hold one time per sample of {name} ({n}), got {t.size}")
+
+
 class BlockWavelet:
     """:func:`wavelet_detect` of one series, computed block by block in time.
 
@@ -171,8 +191,9 @@ class BlockWavelet:
                  var_window=32, holdoff=None):
         self.t = t = check_finite_array("t", t)
         self.x = x = check_finite_array("x", x)
-        if t.ndim != 1 or x.shape != t.shape:
-            raise ValueError(f"t and x must be 1-D arrays of one length, got {t.shape}, {x.shape}")
+        if x.ndim != 1:
+            raise ValueError(f"x must be a 1-D series of measurements, got shape {x.shape}")
+        series_lengths(t, "x", x.size)
         if t.size > 1 and not np.all(np.diff(t) > 0):
             k = int(np.argmax(np.diff(t) <= 0))
             raise ValueError(f"t must be strictly increasing (sample times), but t[{k + 1}] = "
@@ -188,7 +209,11 @@ class BlockWavelet:
                 start = check_int("train", train, det.window + 200, n)
                 det.train(x[:start])
             else:
-                det.train(check_finite_array("train", train))
+                train = check_finite_array("train", train)
+                if train.ndim != 1 or train.size < det.window + 200:   # named here, not as det.train's x
+                    raise ValueError(f"train must be a 1-D fault-free series of at least "
+                                     f"{det.window + 200} samples (or an int), got shape {train.shape}")
+                det.train(train)
         self.d = np.empty((det.level, n))
         self.ratio = np.empty(n)
         self.which = np.zeros(n, dtype=np.int8)
@@ -266,8 +291,9 @@ class BlockWaveletSensor(BlockWavelet):
         z = check_finite_array("z", z)
         if z.ndim == 1:
             z = z[:, None]
-        if t.ndim != 1 or z.ndim != 2 or z.shape[0] != t.size:
-            raise ValueError(f"z must have shape (N, m) with N = len(t) = {t.size}, got {z.shape}")
+        if z.ndim != 2:
+            raise ValueError(f"z must have shape (N, m) or (N,), got {z.shape}")
+        series_lengths(t, "z", z.shape[0])
         m = z.shape[1]
         pfa = check_real("pfa", pfa, 0.0, 1.0, lo_open=True, hi_open=True)
         if sigma is not None:

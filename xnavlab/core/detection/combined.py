@@ -65,7 +65,7 @@ import numpy as np
 from numba import njit
 
 from xnavlab.core.detection._tracked import TrackedDetector
-from xnavlab.core.detection.batch import wavelet_detect
+from xnavlab.core.detection.batch import series_lengths, wavelet_detect
 from xnavlab.core.detection.limits import MAX_SAMPLES
 from xnavlab.core.detection.online import (
     MAD_SCALE,
@@ -184,6 +184,9 @@ def cusum_arl(h, k, dof=0, cells=300):
 def cusum_threshold(arl, k, dof=0):
     """Threshold ``h`` whose in-control ARL (:func:`cusum_arl`) is ``arl`` samples.
 
+    ``arl`` in [2, 1e12]; the reference value ``k`` in [0.01, 100] (noise sigmas: below 0.01
+    the longest ARLs need an ``h`` beyond :func:`cusum_arl`'s range).
+
     Examples
     --------
     >>> h = cusum_threshold(1e5, 0.25)
@@ -191,7 +194,9 @@ def cusum_threshold(arl, k, dof=0):
     (17.71, 1.0)
     """
     arl = check_real("arl", arl, 2.0, 1e12)
-    k = check_real("k", k, 0.0, 100.0, lo_open=True)
+    # from 0.01 (a drift to find of 0.02 sigma): a smaller k needs an h beyond cusum_arl's 1e4
+    # for the longest ARLs (k = 0.001: h = 10880 at 1e12), and k = 5e-324 made h inf
+    k = check_real("k", k, 0.01, 100.0)
     f = lambda h: math.log(cusum_arl(h, k, dof)) - math.log(arl)  # noqa: E731
     # log ARL is nearly linear in h for large h (ARL ~ exp(2 k h), Siegmund 1985): bracket
     # from Siegmund's approximation and solve by Brent's method (a few chain solutions)
@@ -613,8 +618,8 @@ def drift_glr(y, window=16):
     (True, 51.0)
     """
     y = check_finite_array("y", y)
-    if y.ndim != 1:
-        raise ValueError(f"y must be a 1-D array, got shape {y.shape}")
+    if y.ndim != 1 or y.size == 0:
+        raise ValueError(f"y must be a 1-D array of at least one sample, got shape {y.shape}")
     window = check_int("window", window, 1, 10_000)
     n = y.size
     T = np.zeros(n)
@@ -672,8 +677,11 @@ def combined_detect(t, y, *, x=None, design=None, rate_per_day=1.0, adaptive=Tru
     y = check_finite_array("y", y)
     if y.ndim == 1:
         y = y[:, None]
-    if t.ndim != 1 or y.ndim != 2 or y.shape[0] != t.size or t.size < 400:
-        raise ValueError(f"y must have shape (N, m) with N = len(t) >= 400, got {y.shape}")
+    if y.ndim != 2:
+        raise ValueError(f"y must have shape (N, m) or (N,), got {y.shape}")
+    series_lengths(t, "y", y.shape[0])
+    if t.size < 400:
+        raise ValueError(f"t must hold at least 400 samples (and y as many), got {t.size}")
     if not np.all(np.diff(t) > 0.0):  # else a sampling rate from the median step, misnamed
         k = int(np.argmin(np.diff(t) > 0.0))
         raise ValueError(f"t must be strictly increasing (sample times, s), but t[{k + 1}] = "
