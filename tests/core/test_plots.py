@@ -95,3 +95,20 @@ def test_plot_step_detector_bad_input(kwargs, name):
 def test_plot_step_detector_refuses_huge_settings(kwargs, match):
     with pytest.raises(ValueError, match=match):
         D.plot_step_detector(**kwargs)
+
+
+_T = 3.0 * np.arange(600)
+
+
+@pytest.mark.parametrize(("call", "match"), [
+    (lambda: D.plot_fault_detection(_T, True, []), r"^clean must be"),
+    (lambda: D.plot_fault_detection(_T, -0.0, []), r"^clean must be a 1-D fault-free series"),
+    (lambda: D.plot_fault_detection(_T, np.zeros(600), np.array(1.0)), r"^faults must be a sequence"),
+    (lambda: D.plot_fault_detection(_T, np.zeros(600), [], title=True), r"^title must be"),
+    (lambda: D.plot_fault_detection(_T, np.zeros(600), [], train=-0.0), r"^train must be"),
+    (lambda: D.plot_step_detector(size_sigma=-0.0), r"^size_sigma must be a nonzero step size"),
+    (lambda: D.plot_step_detector(onset_s=True), r"^onset_s must be"),
+])
+def test_an_edge_input_is_refused_naming_it(call, match):
+    with pytest.raises(ValueError, match=match):
+        call()

@@ -8,10 +8,10 @@ import math
 
 import numpy as np
 
-from xnavlab.core.detection.batch import wavelet_detect
+from xnavlab.core.detection.batch import series_lengths, wavelet_detect
 from xnavlab.core.detection.online import Detection
-from xnavlab.core.faults import Fault, inject
-from xnavlab.core.validate import check_finite_array, check_int, check_real
+from xnavlab.core.faults import Fault, check_faults, inject
+from xnavlab.core.validate import check_finite_array, check_int, check_real, check_text
 
 __all__ = [
     "plot_detection",
@@ -74,12 +74,11 @@ def plot_detection(result, x, faults=(), *, title="", zoom_h=None, ylabel="range
     x = check_finite_array("x", x)
     if x.shape != t.shape:
         raise ValueError(f"x must have the shape of result.t {t.shape}, got {x.shape}")
-    scale = check_real("scale", scale, 0.0, lo_open=True)
+    faults = check_faults("faults", faults)
+    title = check_text("title", title)
     zoom = _check_zoom(zoom_h)
-    faults = list(faults)
-    for f in faults:
-        if not isinstance(f, Fault):
-            raise ValueError(f"faults must hold Fault objects, got {type(f).__name__}")
+    ylabel = check_text("ylabel", ylabel)
+    scale = check_real("scale", scale, 0.0, lo_open=True)
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(10, 4.6), layout="constrained")
@@ -140,6 +139,14 @@ def plot_fault_detection(t, clean, faults, *, sensor="uv", title="", zoom_h=None
     >>> fig.get_suptitle().split(":")[0]
     '10 sigma, k = 4.79'
     """
+    t = check_finite_array("t", t)
+    clean = check_finite_array("clean", clean)   # named here, not as inject's z
+    if clean.ndim != 1:
+        raise ValueError(f"clean must be a 1-D fault-free series, got shape {clean.shape}")
+    series_lengths(t, "clean", clean.size)
+    faults = check_faults("faults", faults)
+    sensor = check_text("sensor", sensor)
+    title = check_text("title", title)
     res, x, title = _fault_detection(t, clean, faults, sensor, title, detect)
     return plot_detection(res, x, [f for f in faults if f.sensor == sensor], title=title,
                           zoom_h=zoom_h)
@@ -232,6 +239,10 @@ def plot_step_detector(size_sigma=6.0, levels=5, log10_pfa=-5, *, sigma_m=5000.0
     def run(size_sigma, levels, log10_pfa, sigma_m, dt_s, n, mean_m, swing_m, period_s, seed,
             onset_s, duration_s, train):
         size_sigma = check_real("size_sigma", size_sigma, -1e6, 1e6)
+        if size_sigma == 0.0:   # named here, not as the Fault's magnitude
+            raise ValueError("size_sigma must be a nonzero step size in [-1e6, 1e6] (a zero-size "
+                             f"fault is no fault), got {size_sigma:g}")
+        onset_s = check_real("onset_s", onset_s)
         levels = check_int("levels", levels, 1, 12)
         log10_pfa = check_real("log10_pfa", log10_pfa, -12.0, 0.0, hi_open=True)
         sigma_m = check_real("sigma_m", sigma_m, 0.0, 1e9, lo_open=True)
