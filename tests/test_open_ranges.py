@@ -54,7 +54,6 @@ OPEN = {
     "xnavlab.core.detection.mallat:\"n\"": "log2 of a length: no allocation",
     "xnavlab.core.detection.online:\"n_tests\"": "a probability's exponent: stays in [0, 1]",
     "xnavlab.core.montecarlo:\"n\"": "a count in the Wilson interval: stays in [0, 1]",
-    "xnavlab.mars.studies.roc:\"k\"": "a count in a Poisson interval: finite for any finite k",
     "xnavlab.mars.studies.roc:f\"{name} metrics.armed_days\"": "a stored record's field, read back",
     "xnavlab.mars.studies.roc:f\"{name} metrics.per_threshold[{j}].false_alarms\"":
         "a stored record's count, read back",
@@ -62,8 +61,6 @@ OPEN = {
     "xnavlab.core.faults:\"component\"": "checked against the sensor's components by check_faults",
     # statistics: thresholds, degrees of freedom, multipliers
     "xnavlab.core.detection.chisquare:\"dof\"": "chi-square quantile: finite for every dof",
-    "xnavlab.core.distributions:\"dof\"": "chi-square functions: finite for every dof",
-    "xnavlab.core.filters:\"dof\"": "chi-square bounds: finite for every dof",
     "xnavlab.core.filters:n": "a statistic against its band: a comparison only",
     "xnavlab.mars.navigation.plots:n": "the band's ends: a comparison and a line drawn",
     "xnavlab.core.detection.online:\"k\"": "a threshold multiplier: the probability -> 0",
