@@ -109,6 +109,17 @@ EMPTY_OK = {
     "xnavlab.mars.timing.timing_terms.directions_from_sun:angle_deg": "one direction per angle",
     "xnavlab.mars.timing.timing_terms.shapiro_by_angle:angle_deg": "one delay per angle",
     "xnavlab.mars.timing.toa.delays_at:t": "one row per epoch, shape (0, 4)",
+    "xnavlab.core.distributions.chi2_cdf:x": "one probability per x",
+    "xnavlab.core.ephemeris.state:t": "one state per epoch",
+    "xnavlab.core.ephemeris.position:t": "one position per epoch",
+    "xnavlab.core.ephemeris.jd_from_t:t": "one date per epoch",
+    "xnavlab.core.ephemeris.t_from_jd:jd": "one epoch per date",
+    "xnavlab.core.faults.check_faults:faults": "no faults: the fault-free schedule",
+    "xnavlab.core.faults.inject:faults": "no faults: z unchanged",
+    "xnavlab.core.faults.fault_mask:faults": "no faults: an all-False mask",
+    "xnavlab.core.faults.fault_mask:t": "one flag per epoch",
+    "xnavlab.core.detection.plots.plot_fault_detection:faults": "no fault: the false-alarm case",
+    "xnavlab.core.montecarlo.run_tasks:params": "one result per task",
 }
 
 #: ``test name:parameter`` -> why a refusal of an edge value of it names another parameter first.
@@ -118,6 +129,8 @@ JOINT = {
     "xnavlab.plins.pseudolites.pdop:lat": "lat = 0 moves the receiver thousands of km from the "
     "sites: the geometry's condition belongs to receiver and sites together",
     "xnavlab.plins.pseudolites.pdop:lon": "as for lat",
+    "xnavlab.core.federated.share_factors:beta": "a length clash of beta and active: active is "
+    "checked against beta, and active=[1.0] leads with active",
     "xnavlab.mars.models.force_models.accelerations:t": "t and r disagree in length: either may "
     "be wrong; r is checked against t, checked first",
     "xnavlab.mars.models.model_noise.unmodelled_acceleration:t": "as accelerations: states is "
