@@ -280,3 +280,77 @@ def test_simulate_errors_names_transitions_that_are_no_pair(transitions):
     """Issue 35 (review 35h): transitions=True was 'TypeError: ... not iterable'."""
     with pytest.raises(ValueError, match=r"^transitions must be a pair \(A, Qd\) from error_transitions"):
         ins.simulate_errors(ins.paper_trajectory(duration=3.0), transitions=transitions)
+
+
+@pytest.mark.parametrize("f", [ins.error_matrix, lambda *a: ins.nav_rates(a[0], 2.0, *a[1:])])
+def test_error_matrix_and_nav_rates_name_a_specific_force_of_the_wrong_shape(f):
+    """Issue 35 (review 35i): f_enu=[[0, 0.5, 9.8]] was an IndexError (error_matrix) and numpy's
+    'all the input arrays must have same number of dimensions' (nav_rates)."""
+    with pytest.raises(ValueError, match=r"^f_enu must have shape \(3,\), got shape \(1, 3\)$"):
+        f(math.radians(39.0), 1e4, [0.0, 150.0, 0.0], [[0.0, 0.5, 9.8]])
+
+
+def _flight(**fields):
+    base = dict(t=[0.0, 1.0, 2.0], lat=[0.7] * 3, lon=[2.0] * 3, h=[0.0] * 3,
+                v_enu=np.zeros((3, 3)), f_enu=np.zeros((3, 3)))
+    return ins.Trajectory(**{**base, **fields})
+
+
+@pytest.mark.parametrize("fields, match", [
+    (dict(t=[1.0, 0.0, 2.0]), r"^t must be strictly increasing \(sample times, s\), got t\[1\] = 0"),
+    (dict(t=[0.0, 0.0, 1.0]), r"^t must be strictly increasing"),
+    (dict(t=[0.0, 1.0, 3.0]), r"^t must be evenly spaced \(error_transitions steps by dt"),
+    (dict(t=[0.0], lat=[0.7], lon=[2.0], h=[0.0], v_enu=np.zeros((1, 3)), f_enu=np.zeros((1, 3))),
+     r"^t must hold at least two samples"),
+    (dict(lat=[np.nan, 0.7, 0.7]), r"^lat must contain only finite numbers"),
+    (dict(lon=[2.0] * 4), r"^lon must have shape \(3,\) \(n = 3 samples of t\), got shape \(4,\)"),
+    (dict(h=[0.0, True, 0.0]), r"^h must be an array of finite numbers"),
+    (dict(v_enu=np.zeros((3, 2))), r"^v_enu must have shape \(3, 3\) \(n = 3 samples of t\)"),
+    (dict(f_enu=np.zeros(3)), r"^f_enu must have shape \(3, 3\)"),
+])
+def test_trajectory_refuses_a_flight_it_cannot_be_naming_the_field(fields, match):
+    """Issue 35 (review 35i): a Trajectory with NaN, decreasing times or fields of other
+    lengths was accepted; decreasing times were then refused as 'dt' by error_transitions."""
+    with pytest.raises(ValueError, match=match):
+        _flight(**fields)
+    assert _flight().dt == 1.0 and _flight().t.dtype == float
+
+
+@pytest.mark.parametrize("kw, match", [
+    (dict(duration=10.5), r"^duration must be a whole number of steps dt = 1 s, got 10.5 s "
+                          r"\(10.5 steps\): the nearest are 10 and 11 s$"),
+    (dict(dt=3.0, duration=10.0), r"^duration must be a whole number of steps dt = 3 s, got 10 s "
+                                  r"\(3.33333 steps\): the nearest are 9 and 12 s$"),
+    (dict(duration=0.5), r"^duration must be a whole number of steps dt = 1 s, got 0.5 s "
+                         r"\(0.5 steps\): the nearest is 1 s$"),
+])
+def test_paper_trajectory_refuses_a_duration_between_two_whole_steps(kw, match):
+    """Issue 35 (review 35i): duration=10.5 at dt=1 ended at 10 s, 10 s at dt=3 at 9 s."""
+    with pytest.raises(ValueError, match=match):
+        ins.paper_trajectory(**kw)
+    assert ins.paper_trajectory(dt=0.1, duration=20.0).t[-1] == pytest.approx(20.0)
+
+
+def test_simulate_errors_refuses_q_beside_transitions_and_checks_each_qd():
+    """Issue 35 (review 35i): q was ignored when transitions were given; an indefinite Qd was
+    sampled (its negative eigenvalue clipped) and a swapped (Qd, A) pair accepted."""
+    tr = ins.paper_trajectory(duration=10.0)
+    A, Qd = ins.error_transitions(tr)
+    with pytest.raises(ValueError, match=r"^q must be omitted when transitions are given"):
+        ins.simulate_errors(tr, q=np.ones(7), transitions=(A, Qd))
+    bad = Qd.copy()
+    bad[:, 0, 0] = -1.0
+    with pytest.raises(ValueError, match=r"^transitions\[1\]\[0\] must be positive semi-definite"):
+        ins.simulate_errors(tr, transitions=(A, bad))
+    with pytest.raises(ValueError, match=r"^transitions\[1\]\[0\] must be symmetric"):
+        ins.simulate_errors(tr, transitions=(Qd, A))
+    with pytest.raises(ValueError, match=r"^x0_std must have shape \(10,\)"):
+        ins.simulate_errors(tr, x0_std=np.ones((2, 10)))
+    np.testing.assert_array_equal(ins.simulate_errors(tr, rng=4, transitions=(A, Qd)),
+                                  ins.simulate_errors(tr, rng=4))
+
+
+def test_error_transitions_names_a_flight_step_beyond_a_day():
+    tr = _flight(t=[0.0, 1e5, 2e5])
+    with pytest.raises(ValueError, match=r"^traj must have a step t\[1\] - t\[0\] of at most 86400 s"):
+        ins.error_transitions(tr)

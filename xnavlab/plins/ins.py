@@ -61,6 +61,7 @@ from xnavlab.core.validate import (
     check_finite_array,
     check_real,
     check_shape,
+    check_vector,
     make_rng,
     shown,
 )
@@ -202,9 +203,7 @@ def _dg_dlat(lat, h):
 def _check_state(lat, h, v_enu):
     lat = check_real("lat", lat, -math.radians(89.0), math.radians(89.0))
     h = check_real("h", h, -1e4, 1e5)
-    v = check_finite_array("v_enu", v_enu, shape=(3,))
-    if v.ndim != 1:
-        raise ValueError(f"v_enu must have shape (3,), got {v.shape}")
+    v = check_shape("v_enu", v_enu, (3,))
     return lat, h, v
 
 
@@ -276,7 +275,7 @@ def nav_rates(lat, lon, h, v_enu, f_enu):
     """
     check_real("lon", lon)
     lat, h, v = _check_state(lat, h, v_enu)
-    f = check_finite_array("f_enu", f_enu, shape=(3,))
+    f = check_shape("f_enu", f_enu, (3,))  # a (1, 3) row broadcast into numpy's message
     r_m, r_n = earth_radii(lat)
     p_dot = np.array([v[1] / (r_m + h), v[0] / ((r_n + h) * math.cos(lat)), v[2]])
     g_n = np.array([0.0, 0.0, -normal_gravity(lat, h)])
@@ -310,7 +309,7 @@ def error_matrix(lat, h, v_enu, f_enu):
     ((10, 10), 1.0, 0.0)
     """
     lat, h, v = _check_state(lat, h, v_enu)
-    f = check_finite_array("f_enu", f_enu, shape=(3,))
+    f = check_shape("f_enu", f_enu, (3,))  # a (1, 3) row raised an IndexError in _skew
     s_l, c_l, t_l = math.sin(lat), math.cos(lat), math.tan(lat)
     r_m, r_n = earth_radii(lat)
     rmh, rnh = r_m + h, r_n + h
@@ -486,6 +485,21 @@ class Trajectory:
         Velocity over the Earth, m/s, ENU.
     f_enu : ndarray, shape (n, 3)
         Specific force (what the accelerometers measure), m/s^2, ENU.
+
+    Every field is checked when the flight is built, naming the field: finite numbers, at
+    least two samples, ``t`` strictly increasing at one step (:attr:`dt`, the step of
+    :func:`error_transitions`), and every other field one row per time.
+
+    Examples
+    --------
+    >>> Trajectory([0.0, 1.0], [0.7, 0.7], [2.0, 2.0], [0.0, 0.0], np.zeros((2, 3)),
+    ...            np.zeros((2, 3))).dt
+    1.0
+    >>> Trajectory([1.0, 0.0], [0.7, 0.7], [2.0, 2.0], [0.0, 0.0], np.zeros((2, 3)),
+    ...            np.zeros((2, 3)))
+    Traceback (most recent call last):
+    ...
+    ValueError: t must be strictly increasing (sample times, s), got t[1] = 0 after t[0] = 1
     """
 
     t: np.ndarray
@@ -494,6 +508,30 @@ class Trajectory:
     h: np.ndarray
     v_enu: np.ndarray
     f_enu: np.ndarray
+
+    def __post_init__(self):
+        t = check_vector("t", self.t)
+        if len(t) < 2:
+            raise ValueError(f"t must hold at least two samples (a flight has a step dt), got "
+                             f"{len(t)}")
+        step = np.diff(t)
+        if not np.all(step > 0.0):
+            k = int(np.argmax(~(step > 0.0))) + 1
+            raise ValueError(f"t must be strictly increasing (sample times, s), got "
+                             f"t[{k}] = {t[k]:g} after t[{k - 1}] = {t[k - 1]:g}")
+        # one step: error_transitions discretises every sample with dt = t[1] - t[0]
+        if np.max(np.abs(step - step[0])) > 1e-9 * max(step[0], np.max(np.abs(t))):
+            raise ValueError(f"t must be evenly spaced (error_transitions steps by dt = t[1] - "
+                             f"t[0] = {step[0]:g} s), got steps from {step.min():g} to "
+                             f"{step.max():g} s")
+        why = f"n = {len(t)} samples of t"
+        checked = {"t": t}
+        for name in ("lat", "lon", "h"):
+            checked[name] = check_shape(name, getattr(self, name), (len(t),), why)
+        for name in ("v_enu", "f_enu"):
+            checked[name] = check_shape(name, getattr(self, name), (len(t), 3), why)
+        for name, value in checked.items():  # frozen: stored as the checked float arrays
+            object.__setattr__(self, name, value)
 
     @property
     def dt(self):
@@ -507,6 +545,21 @@ class Trajectory:
 
     def __len__(self):
         return len(self.t)
+
+
+def _whole_steps(name, span, step_name, step):
+    """``span / step``, a whole number (at least 1, to 1e-9 of a step), else one ValueError
+    naming ``name`` with the nearest valid spans: a span between two whole steps was cut to
+    the nearest (10.5 s at 1-s steps ended at 10 s, 10 s at 3-s steps at 9 s) without a word."""
+    ratio = span / step
+    n = round(ratio)
+    if n < 1 or abs(ratio - n) > 1e-9:
+        lo, hi = max(math.floor(ratio), 1), max(math.ceil(ratio), 1)
+        near = f"{lo * step:g} s" if lo == hi else f"{lo * step:g} and {hi * step:g} s"
+        raise ValueError(f"{name} must be a whole number of steps {step_name} = {step:g} s, got "
+                         f"{span:g} s ({ratio:.6g} steps): the nearest {'is' if lo == hi else 'are'} "
+                         f"{near}")
+    return int(n)
 
 
 def paper_trajectory(dt=1.0, duration=200.0, lat0_deg=39.0, lon0_deg=116.0, h=10_000.0,
@@ -523,7 +576,9 @@ def paper_trajectory(dt=1.0, duration=200.0, lat0_deg=39.0, lon0_deg=116.0, h=10
     dt : float
         Sample interval, s, in (0, 10].
     duration : float
-        Flight time, s, > 0.
+        Flight time, s, in (0, 1e5]: a whole number of steps ``dt`` (to 1e-9 of a step; a
+        duration between two whole steps is refused with its nearest valid values, not cut
+        short to the step below).
     lat0_deg, lon0_deg : float
         Start position, deg.
     h : float
@@ -548,7 +603,7 @@ def paper_trajectory(dt=1.0, duration=200.0, lat0_deg=39.0, lon0_deg=116.0, h=10
     h = check_real("h", h, -1e3, 1e5)
     v0 = check_real("v0", v0, 0.0, 1e4, lo_open=True)
     v1 = check_real("v1", v1, 0.0, 1e4, lo_open=True)
-    n = int(round(duration / dt)) + 1
+    n = _whole_steps("duration", duration, "dt", dt) + 1
     t = np.arange(n) * dt
     acc = (v1 - v0) / duration
     v_n = v0 + acc * t
@@ -601,7 +656,9 @@ def simulate_errors(traj, x0_std=None, q=None, rng=None, transitions=None):
         Seed (``None`` is seed 0).
     transitions : tuple of ndarray, optional
         ``(A, Qd)`` from :func:`error_transitions` (computed when omitted; pass them to
-        reuse them across Monte Carlo runs). ``q`` is ignored when given.
+        reuse them across Monte Carlo runs), each ``Qd[k]`` a covariance (symmetric,
+        positive semi-definite). They hold the noise already: giving ``q`` as well is
+        refused (it would be ignored).
 
     Returns
     -------
@@ -617,7 +674,7 @@ def simulate_errors(traj, x0_std=None, q=None, rng=None, transitions=None):
     if not isinstance(traj, Trajectory):
         raise ValueError(f"traj must be a Trajectory, got {type(traj).__name__}")
     x0_std = DEFAULT_INITIAL_STD if x0_std is None else x0_std
-    x0_std = check_finite_array("x0_std", x0_std, shape=(N_STATES,))
+    x0_std = check_shape("x0_std", x0_std, (N_STATES,))
     if np.any(x0_std < 0):
         raise ValueError("x0_std must be >= 0")
     rng = make_rng(rng)
@@ -625,6 +682,9 @@ def simulate_errors(traj, x0_std=None, q=None, rng=None, transitions=None):
     if transitions is None:
         A, Qd = error_transitions(traj, q)
     else:
+        if q is not None:  # the transitions' Qd already holds a noise: q would be ignored
+            raise ValueError("q must be omitted when transitions are given (their Qd holds the "
+                             "noise: error_transitions(traj, q))")
         A, Qd = _check_transitions(transitions, n)
     x = np.empty((n, N_STATES))
     x[0] = x0_std * rng.standard_normal(N_STATES)
@@ -658,9 +718,12 @@ def error_transitions(traj, q=None):
     """
     if not isinstance(traj, Trajectory):
         raise ValueError(f"traj must be a Trajectory, got {type(traj).__name__}")
-    q = imu_noise_psd() if q is None else check_finite_array("q", q, shape=(7,))
+    q = imu_noise_psd() if q is None else check_shape("q", q, (7,))
     G = noise_matrix()
     n = len(traj)
+    if not traj.dt <= 86400.0:  # discretize's range, named here as the flight's step
+        raise ValueError(f"traj must have a step t[1] - t[0] of at most 86400 s (a day), got "
+                         f"{traj.dt:g} s")
     A = np.empty((n - 1, N_STATES, N_STATES))
     Qd = np.empty_like(A)
     for k in range(n - 1):
@@ -676,8 +739,11 @@ def _check_transitions(transitions, n):
         raise ValueError(f"transitions must be a pair (A, Qd) from error_transitions, got "
                          f"{shown(transitions)}")
     why = f"n - 1 = {n - 1} steps of the flight"
-    return tuple(check_shape(f"transitions[{i}]", a, (n - 1, N_STATES, N_STATES), why)
-                 for i, a in enumerate(transitions))
+    A, Qd = (check_shape(f"transitions[{i}]", a, (n - 1, N_STATES, N_STATES), why)
+             for i, a in enumerate(transitions))
+    for k in range(n - 1):  # a covariance each (an indefinite or a swapped (Qd, A) pair)
+        check_covariance(f"transitions[1][{k}]", Qd[k], N_STATES)
+    return A, Qd
 
 
 def _sample(cov, rng):
