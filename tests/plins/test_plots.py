@@ -52,3 +52,17 @@ def test_plot_step_diagnosis_is_plot_diagnosis_of_the_step_with_its_alarm_in_the
 def test_plot_step_diagnosis_bad_input(kwargs, name):
     with pytest.raises(ValueError, match=name):
         P.plot_step_diagnosis(**kwargs)
+
+
+def test_plot_diagnosis_names_axes_that_are_no_pair_of_axes():
+    """Issue 35 (review 35i): axes="ax" was an AttributeError, [ax] 'not enough values to
+    unpack'."""
+    from matplotlib.figure import Figure
+
+    d = P.diagnose_flight(duration=40.0)
+    ax = Figure().subplots()
+    for axes in ("ax", [ax], (ax, "ax"), True):
+        with pytest.raises(ValueError, match=r"^axes must be a pair of matplotlib Axes"):
+            P.plot_diagnosis(d, axes=axes)
+    fig = Figure()
+    assert P.plot_diagnosis(d, axes=fig.subplots(1, 2)) is fig

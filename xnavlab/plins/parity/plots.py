@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from xnavlab.core.faults import MAX_SIZE, Fault
-from xnavlab.core.validate import check_int, check_real
+from xnavlab.core.validate import check_int, check_real, shown
 from xnavlab.plins.parity.diagnosis import FLIGHT_S, Diagnosis, diagnose_flight
 from xnavlab.plins.pseudolites import SENSOR
 
@@ -44,10 +44,14 @@ def plot_diagnosis(diag, axes=None):
     if not isinstance(diag, Diagnosis):
         raise ValueError(f"diag must be a Diagnosis, got {type(diag).__name__}")
     import matplotlib.pyplot as plt
+    from matplotlib.axes import Axes
     from matplotlib.ticker import FuncFormatter, LogLocator
 
     if axes is None:
         fig, axes = plt.subplots(1, 2, figsize=(10, 3.6), constrained_layout=True)
+    elif not (isinstance(axes, list | tuple | np.ndarray) and len(axes) == 2
+              and all(isinstance(ax, Axes) for ax in np.ravel(np.asarray(axes, dtype=object)))):
+        raise ValueError(f"axes must be a pair of matplotlib Axes (left, right), got {shown(axes)}")
     else:
         fig = axes[0].figure
     ax0, ax1 = axes
