@@ -264,3 +264,24 @@ def test_a_design_rate_too_low_for_the_cusum_is_refused_naming_rate_per_day(n, r
 def test_an_edge_input_is_refused_naming_it(call, match):
     with pytest.raises(ValueError, match=match):
         call()
+
+
+@pytest.mark.parametrize(("args", "message"), [
+    ((2.0, 2.0), r"^arl must be at least 44 samples for k = 2 "),
+    ((2.0, 100.0), r"^k = 100 is too high: this CUSUM runs more than 1e\+13 samples"),
+    ((10.0, 8.0), r"^k = 8 is too high"),
+])
+def test_cusum_threshold_refuses_a_design_the_chain_cannot_reach(args, message):
+    # k = 2 alarms on noise every 44 samples at the earliest (h -> 0): arl = 2 used to halve h
+    # down to 0 for minutes and fail naming h; k = 100 made the chain singular
+    with pytest.raises(ValueError, match=message):
+        cusum_threshold(*args)
+
+
+def test_cusum_threshold_designs_the_longest_arl_and_cusum_arl_refuses_past_its_digits():
+    # arl = 1e12 with k = 0.25 met negative chain ARLs while bracketing (math domain error)
+    h = cusum_threshold(1e12, 0.25)
+    assert 45.0 < h < 55.0
+    assert cusum_arl(h, 0.25) == pytest.approx(1e12, rel=1e-3)
+    with pytest.raises(ValueError, match=r"^h = 100 is too high for k = 0.25: the run length passes"):
+        cusum_arl(100.0, 0.25)

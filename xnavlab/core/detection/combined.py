@@ -88,6 +88,8 @@ __all__ = [
     "SHARES",
     "PARTS",
     "variance_reference",
+    "ARL_MAX",
+    "H_MIN",
     "cusum_arl",
     "cusum_threshold",
     "CombinedDesign",
@@ -126,6 +128,23 @@ def _chi2_1_cdf(x):
     return special.erf(np.sqrt(np.maximum(x, 0.0) / 2.0))   # chi2(1): P(y^2 <= x) = erf(sqrt(x/2))
 
 
+#: The longest run length :func:`cusum_arl` answers: ``I - R`` has a condition number of about
+#: the ARL, so at 1e13 samples its solve keeps about three digits; at 1e16 it returned negative
+#: run lengths (h = 100, k = 0.25). :func:`cusum_threshold` designs up to 1e12.
+ARL_MAX = 1e13
+#: The smallest threshold :func:`cusum_threshold` brackets down to (noise sigmas).
+H_MIN = 1e-6
+
+
+def _check_k_alarms(k, dof):
+    """The run length as h -> 0, refusing a k whose CUSUM passes ARL_MAX even there."""
+    shortest = _arl(H_MIN, float(k), dof, 300)
+    if not 0.0 < shortest <= ARL_MAX:
+        raise ValueError(f"k = {k:g} is too high: this CUSUM runs more than {ARL_MAX:g} samples "
+                         f"on noise even as h -> 0 (lower k)")
+    return shortest
+
+
 @functools.lru_cache(maxsize=256)
 def _arl(h, k, dof, cells):
     # Brook & Evans (1972): the CUSUM as a Markov chain on [0, h] (cell midpoints plus the atom
@@ -146,7 +165,10 @@ def _arl(h, k, dof, cells):
     R = np.empty((cells + 1, cells + 1))
     R[:, 0] = F[:, 0]
     R[:, 1:] = np.diff(F, axis=1)
-    arl = np.linalg.solve(np.eye(cells + 1) - R, np.ones(cells + 1))
+    try:
+        arl = np.linalg.solve(np.eye(cells + 1) - R, np.ones(cells + 1))
+    except np.linalg.LinAlgError:  # the chain never leaves [0, h]: no alarm on noise, ever
+        return math.inf
     return float(arl[0])
 
 
@@ -178,7 +200,12 @@ def cusum_arl(h, k, dof=0, cells=300):
     cells = check_int("cells", cells, 20, 5000)
     if dof and k <= dof:
         raise ValueError(f"k must exceed dof = {dof} for a variance CUSUM, got {k}")
-    return _arl(float(h), float(k), dof, cells)
+    arl = _arl(float(h), float(k), dof, cells)
+    if not 0.0 < arl <= ARL_MAX:
+        _check_k_alarms(k, dof)
+        raise ValueError(f"h = {h:g} is too high for k = {k:g}: the run length passes "
+                         f"{ARL_MAX:g} samples, beyond what the chain resolves (lower h or k)")
+    return arl
 
 
 def cusum_threshold(arl, k, dof=0):
@@ -197,7 +224,15 @@ def cusum_threshold(arl, k, dof=0):
     # from 0.01 (a drift to find of 0.02 sigma): a smaller k needs an h beyond cusum_arl's 1e4
     # for the longest ARLs (k = 0.001: h = 10880 at 1e12), and k = 5e-324 made h inf
     k = check_real("k", k, 0.01, 100.0)
-    f = lambda h: math.log(cusum_arl(h, k, dof)) - math.log(arl)  # noqa: E731
+    dof = check_int("dof", dof, 0, 100)
+    if dof and k <= dof:
+        raise ValueError(f"k must exceed dof = {dof} for a variance CUSUM, got {k}")
+
+    def f(h):
+        run = _arl(h, k, dof, 300)
+        # past ARL_MAX the chain loses its digits: the ARL grows with h, so that h is above
+        return math.log(run) - math.log(arl) if 0.0 < run <= ARL_MAX else 1.0
+
     # log ARL is nearly linear in h for large h (ARL ~ exp(2 k h), Siegmund 1985): bracket
     # from Siegmund's approximation and solve by Brent's method (a few chain solutions)
     kk = k - dof if dof else k
@@ -206,6 +241,10 @@ def cusum_threshold(arl, k, dof=0):
     lo, hi = 0.5 * h0, 1.5 * h0
     while f(lo) > 0:
         lo *= 0.5
+        if lo < H_MIN:  # even h -> 0 runs longer than asked: this k alarms on noise no sooner
+            shortest = _check_k_alarms(k, dof)
+            raise ValueError(f"arl must be at least {shortest:.3g} samples for k = {k:g} (the "
+                             f"run length of this CUSUM as h -> 0), got {arl:g}")
     while f(hi) < 0:
         hi *= 1.5
     from scipy import optimize  # imported here: only a threshold design needs it
