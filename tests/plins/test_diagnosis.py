@@ -155,3 +155,54 @@ def test_flight_design_leads_with_the_tolerance_that_leaves_no_parity_space():
                                          r"no common parity space with s = 11 \(constraint 1\); "
                                          r"increase tol or s$"):
         P.diagnosis.flight_design(tr, pl.sites_ecef(), 11, 0.0)
+
+
+def test_first_alarm_refuses_times_out_of_order_and_a_negative_threshold():
+    """Issue 35 (review 35i): t = [2, 1, 0] gave an alarm at 1 s, repeated times at 0 s, and a
+    threshold of -1 an alarm at the first sample."""
+    with pytest.raises(ValueError, match=r"^t must be strictly increasing \(sample times, s\), got "
+                                         r"t\[1\] = 1 after t\[0\] = 2$"):
+        P.first_alarm([2.0, 1.0, 0.0], [0.1, 5.0, 5.0], 1.0)
+    with pytest.raises(ValueError, match=r"^t must be strictly increasing"):
+        P.first_alarm([0.0, 0.0, 0.0], [0.1, 5.0, 5.0], 1.0)
+    with pytest.raises(ValueError, match=r"^threshold must be a real number in \[0, inf\), got -1.0$"):
+        P.first_alarm([0.0, 1.0, 2.0], [0.1, 5.0, 5.0], -1.0)
+    assert P.first_alarm([0.0, 1.0, 2.0], [0.0, 5.0, 5.0], 0.0) == 1.0
+
+
+def test_chi2_monitor_checks_each_qd_and_a_negative_initial_sigma():
+    """Issue 35 (review 35i): a swapped (Qd, A) pair and x0_std = -1 were accepted."""
+    tr = ins.paper_trajectory(duration=10.0)
+    A, Qd = ins.error_transitions(tr)
+    d = pl.simulate_pseudoranges(tr, ins.simulate_errors(tr, rng=0, transitions=(A, Qd)))
+    with pytest.raises(ValueError, match=r"^transitions\[1\]\[0\] must be symmetric"):
+        P.chi2_monitor(d, (Qd, A))
+    bad = Qd.copy()
+    bad[3, 0, 0] = -1.0
+    with pytest.raises(ValueError, match=r"^transitions\[1\]\[3\] must be positive semi-definite"):
+        P.chi2_monitor(d, (A, bad))
+    with pytest.raises(ValueError, match=r"^x0_std must be >= 0 \(1-sigma initial errors\), got -1$"):
+        P.chi2_monitor(d, (A, Qd), x0_std=-np.ones(10))
+    with pytest.raises(ValueError, match=r"^x0_std must have shape \(10,\)"):
+        P.chi2_monitor(d, (A, Qd), x0_std=np.ones((1, 10)))
+
+
+def test_diagnose_flight_refuses_p_fa_it_would_ignore_and_a_step_its_design_cannot_take():
+    """Issue 35 (review 35i): p_fa beside a threshold was ignored; dt=3, duration=40 was
+    refused as 'the local parity spaces ... change leak_tol or n_points', duration=40.5 cut to
+    40 s."""
+    with pytest.raises(ValueError, match=r"^p_fa must be omitted when threshold is given without "
+                                         r"with_chi2"):
+        P.diagnose_flight(threshold=14.0, p_fa=1e-3, duration=40.0)
+    d = P.diagnose_flight(threshold=14.0, p_fa=1e-3, duration=40.0, with_chi2=True)
+    assert d.threshold == 14.0 and d.chi2.threshold == pytest.approx(chi2.isf(1e-3, 4))
+    with pytest.raises(ValueError, match=r"^p_fa must be a real number in \(0, 0.5\)"):
+        P.diagnose_flight(p_fa=0.7, duration=40.0)
+    with pytest.raises(ValueError, match=r"^dt must be a real number in \[0.001, 3\], got 4.0$"):
+        P.diagnose_flight(dt=4.0, duration=200.0)
+    with pytest.raises(ValueError, match=r"^duration must be a whole number of steps dt = 1 s, got "
+                                         r"40.5 s \(40.5 steps\): the nearest are 40 and 41 s$"):
+        P.diagnose_flight(duration=40.5)
+    with pytest.raises(ValueError, match=r"^duration must be a whole number of steps dt = 3 s"):
+        P.diagnose_flight(dt=3.0, duration=40.0)
+    assert P.diagnose_flight(duration=40.0).threshold == P.diagnose_flight(duration=40.0, p_fa=1e-6).threshold

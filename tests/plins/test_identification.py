@@ -138,3 +138,50 @@ def test_the_onset_search_and_identification_name_the_series_at_fault():
             call(t, [1.0], W, 6)
     with pytest.raises(ValueError, match=r"^sigma must be a real number in \[1e-06, 1e\+06\], got 5e-324$"):
         P.identify_fault(t, z, W, 6.0, sigma=5e-324)
+
+
+def test_the_random_walk_filter_checks_its_covariances():
+    """Issue 35 (review 35i): rw_predict returned an indefinite or non-symmetric P as given,
+    rw_update updated an indefinite P, FaultIdentifier took P0 = -100, and kf_identify with
+    P0 = -1 raised numpy's 'Singular matrix'."""
+    cases = [
+        (lambda: P.rw_predict([1.0, 0.0], [[2.0, 0.0], [0.0, -1.0]], np.zeros((2, 2))),
+         r"^P must be positive semi-definite, got smallest eigenvalue -1$"),
+        (lambda: P.rw_predict([1.0, 0.0], [[2.0, 0.5], [0.0, 1.0]], np.zeros((2, 2))),
+         r"^P must be symmetric"),
+        (lambda: P.rw_update([0.0, 0.0], [[1.0, 0.0], [0.0, -1.0]], [2.0], [[1.0, 1.0]], [[1.0]]),
+         r"^P must be positive semi-definite"),
+        (lambda: P.FaultIdentifier([0.0], [[-100.0]], [[0.0]]), r"^P0 must be positive semi-definite"),
+        (lambda: P.FaultIdentifier([0.0], [[100.0]], [[-1.0]]), r"^Q must be positive semi-definite"),
+        (lambda: P.kf_identify(np.full((20, 1), 4.0), np.ones((20, 1, 1)), 1.0, 0.0, P0=[[-1.0]]),
+         r"^P0 must be positive semi-definite, got smallest eigenvalue -1$"),
+        (lambda: P.kf_identify(np.full((20, 1), 4.0), np.ones((20, 1, 1)), 1.0, 0.0, P0=[1.0]),
+         r"^P0 must have shape \(1, 1\) \(p = columns of G\)"),
+        (lambda: P.kf_identify(np.full((3, 1), 4.0), np.ones((3, 1, 1)), [[0.0]], 0.0, P0=[[0.0]]),
+         r"^R must be positive definite along the residual directions"),
+    ]
+    for call, words in cases:
+        with pytest.raises(ValueError, match=words):
+            call()
+    th, Pk = P.kf_identify(np.full((20, 1), 4.0), np.ones((20, 1, 1)), 1.0, 0.0, P0=[[1e8]])
+    assert round(float(th[-1, 0]), 3) == 4.0
+
+
+def test_onset_search_identification_and_first_alarm_need_increasing_times():
+    """Issue 35 (review 35i): times reversed or repeated were read as given (an onset of 6 s
+    from reversed times, 0 s from repeated ones); sensor=-1, 7.0 were stored as given."""
+    V = P.parity_basis([[1.0, 1.0], [0.0, 1.0]], [1.0, 0.0], 3)
+    t = np.arange(30.0)
+    z = np.where(t >= 10.0, 50.0, 0.0)
+    W = np.broadcast_to(V, (30, 4, 2))
+    for times, words in ((t[::-1].copy(), r"t\[1\] = 28 after t\[0\] = 29"),
+                         (np.zeros(30), r"t\[1\] = 0 after t\[0\] = 0")):
+        with pytest.raises(ValueError, match=r"^t must be strictly increasing \(sample times, s\), "
+                                             r"got " + words):
+            P.estimate_onset(times, z, W, 10)
+        with pytest.raises(ValueError, match=r"^t must be strictly increasing"):
+            P.identify_fault(times, z, W, 10.0, sigma=1.0)
+    for sensor in (-1, 1000, 1.0, True):
+        with pytest.raises(ValueError, match=r"^sensor must be an integer in \[0, 999\]"):
+            P.identify_fault(t, z, W, 10.0, sigma=1.0, sensor=sensor)
+    assert P.identify_fault(t, z, W, 10.0, sigma=1.0, sensor=np.int64(3)).sensor == 3

@@ -552,6 +552,9 @@ def _whole_steps(name, span, step_name, step):
     naming ``name`` with the nearest valid spans: a span between two whole steps was cut to
     the nearest (10.5 s at 1-s steps ended at 10 s, 10 s at 3-s steps at 9 s) without a word."""
     ratio = span / step
+    if ratio > 1e6:  # a million samples: the flight's Python loops and arrays stay tractable
+        raise ValueError(f"{name} must hold at most 1e6 steps {step_name} = {step:g} s, got "
+                         f"{span:g} s ({ratio:.6g} steps)")
     n = round(ratio)
     if n < 1 or abs(ratio - n) > 1e-9:
         lo, hi = max(math.floor(ratio), 1), max(math.ceil(ratio), 1)
@@ -574,9 +577,9 @@ def paper_trajectory(dt=1.0, duration=200.0, lat0_deg=39.0, lon0_deg=116.0, h=10
     Parameters
     ----------
     dt : float
-        Sample interval, s, in (0, 10].
+        Sample interval, s, in [1e-3, 10] (a millisecond: an INS's fastest output).
     duration : float
-        Flight time, s, in (0, 1e5]: a whole number of steps ``dt`` (to 1e-9 of a step; a
+        Flight time, s, in (0, 1e5]: at most 1e6 steps, a whole number of steps ``dt`` (to 1e-9 of a step; a
         duration between two whole steps is refused with its nearest valid values, not cut
         short to the step below).
     lat0_deg, lon0_deg : float
@@ -596,7 +599,7 @@ def paper_trajectory(dt=1.0, duration=200.0, lat0_deg=39.0, lon0_deg=116.0, h=10
     >>> len(tr), float(tr.v_enu[-1, 1]), round(float(tr.lat_deg[-1]), 3)
     (201, 200.0, 39.27)
     """
-    dt = check_real("dt", dt, 0.0, 10.0, lo_open=True)
+    dt = check_real("dt", dt, 1e-3, 10.0)  # 1 ms: an INS's fastest rate (5e-324 made inf steps)
     duration = check_real("duration", duration, 0.0, 1e5, lo_open=True)
     lat0 = math.radians(check_real("lat0_deg", lat0_deg, -80.0, 80.0))
     lon0 = math.radians(check_real("lon0_deg", lon0_deg, -180.0, 360.0))
@@ -728,6 +731,11 @@ def error_transitions(traj, q=None):
     Qd = np.empty_like(A)
     for k in range(n - 1):
         F = error_matrix(traj.lat[k], traj.h[k], traj.v_enu[k], traj.f_enu[k])
+        growth = np.abs(F).sum(axis=1).max() * traj.dt  # discretize's bound, named as the flight's
+        if growth > 50.0:
+            raise ValueError(f"traj must have a step dt of at most {50.0 * traj.dt / growth:.3g} s "
+                             f"at sample {k} (||F||_inf dt <= 50 for its error model), got "
+                             f"{traj.dt:g} s")
         A[k], Qd[k] = discretize(F, G, q, traj.dt)
     return A, Qd
 
@@ -741,9 +749,22 @@ def _check_transitions(transitions, n):
     why = f"n - 1 = {n - 1} steps of the flight"
     A, Qd = (check_shape(f"transitions[{i}]", a, (n - 1, N_STATES, N_STATES), why)
              for i, a in enumerate(transitions))
-    for k in range(n - 1):  # a covariance each (an indefinite or a swapped (Qd, A) pair)
-        check_covariance(f"transitions[1][{k}]", Qd[k], N_STATES)
+    k = _first_non_covariance(Qd)  # an indefinite Qd[k], or a swapped (Qd, A) pair
+    if k is not None:
+        check_covariance(f"transitions[1][{k}]", Qd[k], N_STATES)  # raises, naming Qd[k]
     return A, Qd
+
+
+def _first_non_covariance(stack):
+    """Index of the first matrix of ``stack`` (k, n, n) that :func:`check_covariance` refuses
+    (its own tests, vectorised: one eigvalsh call for a flight), else None."""
+    if not len(stack):
+        return None
+    scale = np.abs(stack).max(axis=(1, 2))
+    asym = np.abs(stack - stack.transpose(0, 2, 1)).max(axis=(1, 2)) > 1e-8 * scale
+    low = np.linalg.eigvalsh(0.5 * (stack + stack.transpose(0, 2, 1)))[:, 0]
+    bad = asym | (low < -1e-8 * scale)
+    return int(np.argmax(bad)) if bad.any() else None
 
 
 def _sample(cov, rng):

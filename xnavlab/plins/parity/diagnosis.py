@@ -24,6 +24,7 @@ from xnavlab.core.validate import (
     SEED_MAX,
     check_bool,
     check_choice,
+    check_covariance,
     check_finite_array,
     check_int,
     check_real,
@@ -66,11 +67,12 @@ def first_alarm(t, statistic, threshold, after=-math.inf):
     Parameters
     ----------
     t : array_like, shape (n,)
-        Times, s.
+        Times, s, strictly increasing.
     statistic : array_like, shape (n,)
         Test statistic.
     threshold : float
-        Threshold.
+        Threshold, >= 0 (a norm or a chi-square is never negative: a negative threshold
+        would alarm at every sample).
     after : float
         Ignore alarms before this time, s.
 
@@ -87,11 +89,15 @@ def first_alarm(t, statistic, threshold, after=-math.inf):
     True
     """
     t = check_vector("t", t)
+    if np.any(np.diff(t) <= 0.0):  # the first alarm is the earliest sample: t read in order
+        k = int(np.argmax(np.diff(t) <= 0.0)) + 1
+        raise ValueError(f"t must be strictly increasing (sample times, s), got t[{k}] = "
+                         f"{t[k]:g} after t[{k - 1}] = {t[k - 1]:g}")
     st = check_vector("statistic", statistic)
     if len(st) > len(t):  # two well-formed series: the shorter one is named (cut short)
         raise ValueError(f"t must hold one time per sample of statistic (n = {len(st)}), got {len(t)}")
     st = check_shape("statistic", st, t.shape, "n = len(t)")
-    threshold = check_real("threshold", threshold)
+    threshold = check_real("threshold", threshold, 0.0)  # below 0 every sample alarms
     if isinstance(after, bool) or not isinstance(after, int | float | np.integer | np.floating) \
             or math.isnan(after):
         raise ValueError(f"after must be a real number (s; -inf for any), got {after!r}")
@@ -141,11 +147,12 @@ def chi2_monitor(data, transitions, sites=None, x0_std=None, p_fa=1e-6):
     data : xnavlab.plins.pseudolites.PseudorangeData
         Simulated measurements.
     transitions : tuple of ndarray
-        ``(A, Qd)`` of the flight (:func:`xnavlab.plins.ins.error_transitions`).
+        ``(A, Qd)`` of the flight (:func:`xnavlab.plins.ins.error_transitions`), each
+        ``Qd[k]`` a covariance (symmetric, positive semi-definite: a swapped pair is refused).
     sites : array_like, shape (m, 3), optional
         Pseudolite positions, ECEF (default :func:`xnavlab.plins.pseudolites.sites_ecef()`).
     x0_std : array_like, shape (10,), optional
-        Initial 1-sigma (default :data:`xnavlab.plins.ins.DEFAULT_INITIAL_STD`).
+        Initial 1-sigma, each >= 0 (default :data:`xnavlab.plins.ins.DEFAULT_INITIAL_STD`).
     p_fa : float
         False-alarm probability per sample, in (0, 0.5).
 
@@ -170,9 +177,18 @@ def chi2_monitor(data, transitions, sites=None, x0_std=None, p_fa=1e-6):
                          f"{shown(transitions)}")
     A, Qd = (check_shape(f"transitions[{i}]", a, (n - 1, 10, 10), f"n - 1 = {n - 1} steps of data")
              for i, a in enumerate(transitions))
+    # a covariance each (an indefinite Qd, or a swapped (Qd, A) pair): check_covariance's own
+    # tests, vectorised over the flight, then its message for the first one it refuses
+    scale = np.abs(Qd).max(axis=(1, 2), initial=0.0)
+    asym = np.abs(Qd - Qd.transpose(0, 2, 1)).max(axis=(1, 2), initial=0.0) > 1e-8 * scale
+    low = np.linalg.eigvalsh(0.5 * (Qd + Qd.transpose(0, 2, 1)))[:, 0] if len(Qd) else scale
+    if np.any(asym | (low < -1e-8 * scale)):
+        k = int(np.argmax(asym | (low < -1e-8 * scale)))
+        check_covariance(f"transitions[1][{k}]", Qd[k], 10)
     sites = _pl.sites_ecef() if sites is None else check_finite_array("sites", sites, shape=(3,))
-    x0_std = _ins.DEFAULT_INITIAL_STD if x0_std is None else \
-        check_finite_array("x0_std", x0_std, shape=(10,))
+    x0_std = _ins.DEFAULT_INITIAL_STD if x0_std is None else check_shape("x0_std", x0_std, (10,))
+    if np.any(x0_std < 0.0):  # squared into P: a negative sigma read as a positive one
+        raise ValueError(f"x0_std must be >= 0 (1-sigma initial errors), got {x0_std.min():g}")
     p_fa = check_real("p_fa", p_fa, 0.0, 0.5, lo_open=True, hi_open=True)
     thr = chi2_isf(p_fa, m)
     R = max(data.sigma, 1e-3) ** 2 * np.eye(m)
@@ -361,7 +377,7 @@ def flight_design(traj, sites, s, tol, n_points=3):
 
 
 def diagnose_flight(faults=(), *, model="step", s=11, threshold=None, sigma=_pl.DEFAULT_SIGMA,
-                    p_fa=1e-6, leak_tol=0.3, n_points=3, time_origin="absolute", seed=0,
+                    p_fa=None, leak_tol=0.3, n_points=3, time_origin="absolute", seed=0,
                     dt=1.0, duration=FLIGHT_S, sites_deg=None, q_rw=1e-6, with_chi2=False):
     """Simulate the paper's flight with pseudorange faults and diagnose it.
 
@@ -383,12 +399,14 @@ def diagnose_flight(faults=(), *, model="step", s=11, threshold=None, sigma=_pl.
     s : int
         Window length minus one, in [2, 60] (paper: 11).
     threshold : float, optional
-        ``r_t`` in metres (default :func:`~.space.residual_threshold` at ``p_fa``).
+        ``r_t`` in metres, > 0 (default :func:`~.space.residual_threshold` at ``p_fa``).
     sigma : float
         Pseudorange noise, m, in [1e-6, 1e6] (:data:`~.identification.SIGMA_MIN`; default 2 m,
         see :mod:`xnavlab.plins.pseudolites`).
-    p_fa : float
-        False-alarm probability per window and sensor for the default threshold.
+    p_fa : float, optional
+        False-alarm probability per window and sensor, in (0, 0.5), of the default threshold
+        and of the chi-square detector (default 1e-6). Refused beside a ``threshold`` unless
+        ``with_chi2`` (it would be ignored).
     leak_tol : float
         Largest contribution of a typical state or noise left in the residual, in
         units of ``sigma``, in (0, 1e6] (sets the numerical left null space).
@@ -399,7 +417,10 @@ def diagnose_flight(faults=(), *, model="step", s=11, threshold=None, sigma=_pl.
     seed : int or numpy.random.Generator
         Seed of INS errors and pseudorange noise.
     dt, duration : float
-        Sample interval and flight time, s.
+        Sample interval, s, in [1e-3, 3] (the T-S design of the paper's flight keeps one
+        parity-space dimension across its operating points up to 3 s; at 3.5 s they differ),
+        and flight time, s, in (0, 1e4], a whole number of steps ``dt``
+        (:func:`xnavlab.plins.ins.paper_trajectory`).
     sites_deg : array_like, shape (m, 3), optional
         Pseudolite sites ``[lat_deg, lon_deg, h]`` (default
         :data:`xnavlab.plins.pseudolites.DEFAULT_SITES_DEG`).
@@ -421,11 +442,21 @@ def diagnose_flight(faults=(), *, model="step", s=11, threshold=None, sigma=_pl.
     """
     check_choice("model", model, ("step", "ramp"))
     with_chi2 = check_bool("with_chi2", with_chi2)
+    if threshold is not None:
+        threshold = check_real("threshold", threshold, 0.0, lo_open=True)
+        if p_fa is not None and not with_chi2:  # it sets no threshold and no chi-square test
+            raise ValueError("p_fa must be omitted when threshold is given without with_chi2 "
+                             "(it would be ignored: it sets the default threshold and the "
+                             "chi-square detector's)")
+    p_fa = 1e-6 if p_fa is None else check_real("p_fa", p_fa, 0.0, 0.5, lo_open=True,
+                                                 hi_open=True)
     s = check_int("s", s, 2, 60)
     sigma = check_real("sigma", sigma, SIGMA_MIN, 1e6)  # as identify_fault's (sigma^2 normal)
     leak_tol = check_real("leak_tol", leak_tol, 0.0, 1e6, lo_open=True)  # tol = leak_tol sigma finite
     check_choice("time_origin", time_origin, ("absolute", "onset"))
-    dt = check_real("dt", dt, 0.0, 10.0, lo_open=True)
+    # up to 3 s the flight's local parity spaces agree in dimension (at 3.5 s, 4 s and 4.5 s
+    # they do not, refused as leak_tol's; from 5 s its error model outgrows discretize's bound)
+    dt = check_real("dt", dt, 1e-3, 3.0)
     duration = check_real("duration", duration, 0.0, 1e4, lo_open=True)
     if duration / dt < s + 2:
         raise ValueError(f"duration must cover more than s + 2 = {s + 2} samples")
@@ -442,8 +473,7 @@ def diagnose_flight(faults=(), *, model="step", s=11, threshold=None, sigma=_pl.
     points, weights, W, q = flight_design(traj, sites, s, tol, n_points)
     r = parity_residuals(data.z, W)
     stat = np.linalg.norm(r, axis=2)
-    thr = residual_threshold(sigma, q, p_fa) if threshold is None else \
-        check_real("threshold", threshold, 0.0, lo_open=True)
+    thr = residual_threshold(sigma, q, p_fa) if threshold is None else threshold
     t_res = traj.t[s:]
     detection, onsets, ident = [], [], {}
     for j in range(m):

@@ -70,6 +70,10 @@ def _series(t, z_j, W_j):
     """``t`` (n,), ``z_j`` (n,) and ``W_j`` (n, s+1, q), each named when it disagrees with the
     ones checked before it."""
     t = _nonempty("t", t, "sample time")
+    if np.any(np.diff(t) <= 0.0):  # the windows and the onset search read t in order
+        k = int(np.argmax(np.diff(t) <= 0.0)) + 1
+        raise ValueError(f"t must be strictly increasing (sample times, s), got t[{k}] = "
+                         f"{t[k]:g} after t[{k - 1}] = {t[k - 1]:g}")
     z_j = check_vector("z_j", z_j)
     if len(z_j) > len(t):  # two well-formed series: the shorter one is named (cut short)
         raise ValueError(f"t must hold one time per sample of z_j (n = {len(z_j)}), got {len(t)}")
@@ -207,6 +211,7 @@ def rw_predict(theta, P, Q):
     theta = _nonempty("theta", theta, "parameter")
     p = len(theta)
     P = check_shape("P", P, (p, p), "p = len(theta)")
+    check_covariance("P", P, p)  # an indefinite or non-symmetric P came back as one
     Q = check_shape("Q", Q, (p, p), "p = len(theta)")
     check_covariance("Q", Q, p)  # a negative Q would shrink P below its truth
     return theta.copy(), P + Q  # P = P + Q, eq. (28)
@@ -241,6 +246,7 @@ def rw_update(theta, P, r, G, R):
     theta = _nonempty("theta", theta, "parameter")
     p = len(theta)
     P = check_shape("P", P, (p, p), "p = len(theta)")
+    check_covariance("P", P, p)  # an indefinite P gave an indefinite updated P
     r = _nonempty("r", r, "residual")
     q = len(r)
     G = check_shape("G", G, (q, p), "q = len(r), p = len(theta)")
@@ -251,7 +257,11 @@ def rw_update(theta, P, r, G, R):
 
 def _rw_update(theta, P, r, G, R):
     S = G @ P @ G.T + R
-    K = np.linalg.solve(S, G @ P).T  # K = P G^T S^-1
+    try:
+        K = np.linalg.solve(S, G @ P).T  # K = P G^T S^-1
+    except np.linalg.LinAlgError:  # R and P both singular along one residual direction
+        raise ValueError("R must be positive definite along the residual directions G P G^T "
+                         "leaves uncertain: S = G P G^T + R is singular") from None
     theta = theta + K @ (r - G @ theta)  # eq. (27)
     IKG = np.eye(len(theta)) - K @ G
     P = IKG @ P @ IKG.T + K @ R @ K.T  # Joseph form
@@ -282,8 +292,10 @@ class FaultIdentifier:
     def __init__(self, theta0, P0, Q):
         self.theta = _nonempty("theta0", theta0, "parameter").astype(float)
         p = len(self.theta)
-        self.P = check_shape("P0", P0, (p, p), "p = len(theta0)").astype(float)
-        self.Q = check_shape("Q", Q, (p, p), "p = len(theta0)").astype(float)
+        self.P = check_covariance("P0", check_shape("P0", P0, (p, p), "p = len(theta0)"),
+                                  p).astype(float)
+        self.Q = check_covariance("Q", check_shape("Q", Q, (p, p), "p = len(theta0)"),
+                                  p).astype(float)
 
     def step(self, r, G, R):
         """Predict then update with residual ``r`` and regressor ``G``."""
@@ -337,7 +349,8 @@ def kf_identify(r, G, R, Q, theta0=None, P0=None):
     else:
         Q = check_covariance("Q", check_finite_array("Q", Q, shape=(p, p)), p)
     theta = np.zeros(p) if theta0 is None else check_finite_array("theta0", theta0, shape=(p,))
-    P = 1e8 * np.eye(p) if P0 is None else check_finite_array("P0", P0, shape=(p, p))
+    P = 1e8 * np.eye(p) if P0 is None else \
+        check_covariance("P0", check_shape("P0", P0, (p, p), "p = columns of G"), p)
     ths = np.empty((K, p))
     Ps = np.empty((K, p, p))
     for k in range(K):
@@ -416,7 +429,8 @@ def identify_fault(t, z_j, W_j, onset, model="step", sigma=_pl.DEFAULT_SIGMA,
     q_rw : float
         Random-walk variance per step of each parameter (eq. 28), in [0, 1e6].
     sensor : int
-        Sensor index, recorded in the result.
+        Sensor (pseudolite) index, 0-based, in [0, 999], recorded in the result (this
+        function sees one sensor's series: the flight's count is the caller's to check).
 
     Returns
     -------
@@ -436,6 +450,8 @@ def identify_fault(t, z_j, W_j, onset, model="step", sigma=_pl.DEFAULT_SIGMA,
     check_choice("model", model, MODELS)
     sigma = check_real("sigma", sigma, SIGMA_MIN, 1e6)  # sigma^2 a normal float (SIGMA_MIN)
     q_rw = check_real("q_rw", q_rw, 0.0, 1e6)
+    # an index, not a float or a negative; a thousand pseudolites is far beyond any flight's
+    sensor = check_int("sensor", sensor, 0, 999)
     s = W_j.shape[1] - 1
     ks = np.arange(s, len(t))
     if model != "bias":
