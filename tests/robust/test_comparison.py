@@ -156,3 +156,13 @@ def test_compare_settings_names_settings_and_window(change, words):
     args = {"body": "mars", "settings": {"a": ({}, {}, ("ukf",))}, "n_steps": 5} | change
     with pytest.raises(ValueError, match=words):
         rb.compare_settings(**args)
+
+
+def test_rmse_refuses_a_scenario_of_another_truth_and_window_as_a_set():
+    """Review 35i: a run scored against another body's scenario; a set as the window."""
+    sc, other = rb.simulate("earth", n_steps=10, rng=0), rb.simulate("mars", n_steps=10, rng=1)
+    run = rb.run_filters("ukf", [sc])[0]
+    with pytest.raises(ValueError, match=r"^scenario must be the one the run ran on: the run's errors"):
+        rb.rmse(run, other, 0.0, 5000.0)
+    with pytest.raises(ValueError, match=r"^window must be an ordered pair \(t_from, t_to\), got the set"):
+        rb.compare_filters("mars", ("ukf",), n_steps=40, window={5e3, 2e4})

@@ -153,3 +153,15 @@ def test_bound_coverage_names_run_and_scenario():
         cv.bound_coverage(run, True)
     with pytest.raises(ValueError, match="^scenario must be the one the run ran on: it has 6 epochs"):
         cv.bound_coverage(run, filters.simulate("mars", n_steps=6, error="none", rng=0))
+
+
+def test_review_35i_refusals():
+    """Another body's scenario, and misspelt keywords named with the valid ones."""
+    sc, other = filters.simulate("mars", n_steps=20, rng=0), filters.simulate("earth", n_steps=20, rng=3)
+    run = filters.run_filter("ukf", sc, rng=0)
+    with pytest.raises(ValueError, match=r"^scenario must be the one the run ran on: the run's errors"):
+        cv.bound_coverage(run, other)
+    with pytest.raises(ValueError, match=r"^lamda=0.1 is not a run_filter setting \(they are eps, lam"):
+        cv.coverage_over_seeds(seeds=(0,), n_steps=60, lamda=0.1)
+    with pytest.raises(ValueError, match=r"^n_step=60 is not a setting of coverage_over_seeds \(they are"):
+        cv.compare_bounds((0,), ("prior",), n_step=60)

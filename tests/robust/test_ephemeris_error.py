@@ -139,7 +139,7 @@ def test_propagate_conserves_energy_without_j2_error_growth():
     np.testing.assert_allclose(rows[0], rows[1])
     for kwargs, name in (({"dt": math.inf}, "dt"), ({"substep": 0.0}, "substep"), ({"body": "x"}, "body")):
         with pytest.raises(ValueError, match=name):
-            ee.propagate(o.state0, **({"dt": 10.0} | kwargs))
+            ee.propagate(o.state0, **({"dt": 10.0, "body": "mars"} | kwargs))
 
 
 def test_elements_to_state_circular():
@@ -180,3 +180,22 @@ def test_elements_to_state_takes_a_semi_major_axis_from_1_m():
         with pytest.raises(ValueError, match=r"^a must be a real number in \[1, 1e\+15\]"):
             ee.elements_to_state(a, 0.0, 0.0, 0.0, 0.0, 0.0, GM_MARS)
     assert np.all(np.isfinite(ee.elements_to_state(1.0, 0.0, 0.0, 0.0, 0.0, 0.0, GM_MARS)))
+
+
+def test_review_35i_refusals():
+    """A position inside the planet, zero or scaled directions, growth settings of a constant error."""
+    with pytest.raises(ValueError, match=r"^r must lie between the radius of earth"):
+        ee.acceleration([0.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match=r"^r must lie between the radius of earth"):
+        ee.acceleration([1.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match=r"^x\[:3\] must lie between the radius of earth"):
+        ee.propagate(np.zeros(6), 500.0)
+    with pytest.raises(ValueError, match=r"^n must hold unit directions, got a zero row"):
+        ee.xnav_range([1.0, 2.0, 3.0], np.zeros(3), np.zeros((3, 3)))
+    with pytest.raises(ValueError, match=r"^n must hold unit directions \(norm 1"):
+        ee.xnav_range([1.0, 2.0, 3.0], np.zeros(3), 5 * np.eye(3))
+    for kwargs, name in (({"profile": "sqrt"}, "profile"), ({"growth_time": 5.0}, "growth_time")):
+        with pytest.raises(ValueError, match=rf"^{name} shapes a growing error only"):
+            ee.injected_error(0.0, 100.0, **kwargs)
+        with pytest.raises(ValueError, match=rf"^{name} shapes a growing error only"):
+            ee.injected_error(0.0, 100.0, "slow", **kwargs)

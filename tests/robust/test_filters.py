@@ -446,3 +446,42 @@ def test_run_filters_names_scenarios_and_rngs():
         rb.run_filter("ukf", a, rng=1.5)
     with pytest.raises(ValueError, match=r"^scenario must be a Scenario from simulate\(\), got bool True"):
         rb.run_filter("ukf", True)
+
+
+def test_step_functions_check_covariances_directions_and_position():
+    """Review 35i: P, Q, R and BB as covariances, n as unit directions, x outside the planet."""
+    eye3, o = np.eye(3), ee.orbit("earth")
+    bad = np.eye(6)
+    bad[0, 0] = -1.0
+    skew = np.eye(6)
+    skew[0, 1] = 0.5
+    with pytest.raises(ValueError, match=r"^P must be positive semi-definite"):
+        rb.ukf_update(np.zeros(6), bad, np.ones(3), eye3, eye3)
+    with pytest.raises(ValueError, match=r"^P must be symmetric"):
+        rb.ukf_update(np.zeros(6), skew, np.ones(3), eye3, eye3)
+    with pytest.raises(ValueError, match=r"^P must be positive semi-definite"):
+        rb.asukf_update(np.zeros(9), np.diag([-2.0] + [1.0] * 8), np.ones(3), eye3, eye3)
+    with pytest.raises(ValueError, match=r"^R must be positive definite"):
+        rb.ukf_update(np.zeros(6), np.eye(6), np.ones(3), np.zeros((3, 3)), eye3)
+    with pytest.raises(ValueError, match=r"^n must hold unit directions, got a zero row n\[0\]"):
+        rb.ukf_update(np.zeros(6), np.eye(6), np.ones(3), eye3, np.zeros((3, 3)))
+    with pytest.raises(ValueError, match=r"^n must hold unit directions \(norm 1 to 1e-06\)"):
+        rb.ukf_update(np.zeros(6), np.eye(6), np.ones(3), eye3, 5 * eye3)
+    with pytest.raises(ValueError, match=r"^BB must be positive semi-definite"):
+        rb.rkf_update(np.zeros(6), np.eye(6), np.ones(3), eye3, eye3, -eye3, 1000.0)
+    with pytest.raises(ValueError, match=r"^P must be positive definite"):
+        rb.predict(o.state0, bad, 500.0, "earth", np.zeros((6, 6)))
+    with pytest.raises(ValueError, match=r"^P must be symmetric"):
+        rb.predict(o.state0, skew, 500.0, "earth", np.zeros((6, 6)))
+    with pytest.raises(ValueError, match=r"^Q must be positive semi-definite"):
+        rb.predict(o.state0, np.eye(6), 500.0, "earth", np.diag([-1.0] + [0.0] * 5))
+    for x, P, f in ((np.zeros(6), np.eye(6), rb.predict), (np.zeros(12), np.eye(12), rb.tdukf_predict),
+                    (o.state0[::-1].copy(), np.eye(6), rb.predict)):
+        with pytest.raises(ValueError, match=r"^x\[:3\] must lie between the radius of earth"):
+            f(x, P, 500.0, "earth", np.zeros((6, 6)))
+
+
+def test_simulate_passes_no_growth_setting_to_another_error():
+    """simulate's default growth_time is not passed on for a constant error (injected_error refuses it)."""
+    sc = rb.simulate("mars", n_steps=3, error="constant", size=100.0, rng=1)
+    np.testing.assert_allclose(np.linalg.norm(sc.dr_e, axis=1), 100.0)

@@ -95,3 +95,17 @@ def test_bound_table_html_names_the_table(table, words):
 
     with pytest.raises(ValueError, match=words):
         rplots.bound_table_html(table)
+
+
+def test_bound_table_html_refuses_nan_and_a_non_bool_is_bound():
+    """Review 35i: a NaN rendered as "nan" and is_bound "no" rendered as yes."""
+    from xnavlab.robust import plots as rplots
+
+    row = {"source": "prior", "coverage": 1.0, "median_ratio": 0.3, "nees": 0.4, "rmse_m": 1172.7,
+           "median_sigma_m": 3092.0, "is_bound": True}
+    with pytest.raises(ValueError, match=r"^table\['real'\]\[0\]\['coverage'\] must be a real number"):
+        rplots.bound_table_html({"real": [dict(row, coverage=float("nan"))]})
+    with pytest.raises(ValueError, match=r"^table\['real'\]\[0\]\['nees'\] must be"):
+        rplots.bound_table_html({"real": [dict(row, nees=float("inf"))]})
+    with pytest.raises(ValueError, match=r"^table\['real'\]\[0\]\['is_bound'\] must be True or False"):
+        rplots.bound_table_html({"real": [dict(row, is_bound="no")]})

@@ -10,17 +10,56 @@ from __future__ import annotations
 
 import numpy as np
 
-from xnavlab.core.validate import check_shape, check_vector, shown
+from xnavlab.core.validate import check_covariance, check_finite_array, check_shape, check_vector, shown
+from xnavlab.mars.models.dynamics import R_MAX
 
-__all__ = ["check_state", "check_update", "check_runs"]
+__all__ = ["check_state", "check_update", "check_runs", "check_position", "check_directions",
+           "check_run_of", "UNIT_TOL"]
+
+#: How far from 1 the norm of a pulsar direction may be. A direction is a unit vector: a row
+#: of norm k would scale the range ``n . r`` by k, so a non-unit one is refused rather than
+#: silently rescaled (that would hide a wrong input); 1e-6 leaves room for directions typed
+#: to 7 digits or computed in float32.
+UNIT_TOL = 1e-6
+
+
+def check_position(name, r, radius, body):
+    """Positions ``r`` (..., 3), m, between the planet's radius and R_MAX from its centre: the
+    two-body + J2 field is the planet's field outside it only (and singular at the centre)."""
+    r = check_finite_array(name, r, shape=(3,))
+    with np.errstate(over="ignore"):  # a norm beyond float64 (inf) is refused below
+        rn = np.linalg.norm(r, axis=-1)
+    bad = (rn < radius) | (rn > R_MAX)
+    if np.any(bad):
+        worst = float(np.ravel(rn)[np.argmax(np.ravel(bad))])
+        raise ValueError(f"{name} must lie between the radius of {body} ({radius:g} m) and "
+                         f"{R_MAX:g} m from its centre, got |{name}| = {worst:g} m")
+    return r
+
+
+def check_directions(name, n):
+    """Pulsar directions ``n`` (k, 3) as unit rows (to :data:`UNIT_TOL`), a zero row refused."""
+    n = check_shape(name, n, (None, 3))
+    norms = np.linalg.norm(n, axis=1)
+    if np.any(norms == 0.0):
+        i = int(np.argmax(norms == 0.0))
+        raise ValueError(f"{name} must hold unit directions, got a zero row {name}[{i}]")
+    off = np.abs(norms - 1.0)
+    if np.any(off > UNIT_TOL):
+        i = int(np.argmax(off))
+        raise ValueError(f"{name} must hold unit directions (norm 1 to {UNIT_TOL:g}), got "
+                         f"|{name}[{i}]| = {norms[i]:.6g}")
+    return n
 
 
 def check_state(x, P, n_dyn=6):
-    """``x`` as a 1-D state of at least ``n_dyn`` entries and ``P`` its (m, m) covariance."""
+    """``x`` as a 1-D state of at least ``n_dyn`` entries and ``P`` its (m, m) covariance,
+    symmetric positive definite (its sigma points take its Cholesky factor)."""
     x = check_vector("x", x)
     if x.size < n_dyn:
         raise ValueError(f"x must hold at least {n_dyn} entries [r, v, ...], got {x.size}")
-    return x, check_shape("P", P, (x.size, x.size), "m = size of x")
+    P = check_shape("P", P, (x.size, x.size), "m = size of x")
+    return x, check_covariance("P", P, x.size, definite=True)
 
 
 def check_update(x, P, y, R, n, size, yname="y"):
@@ -34,7 +73,7 @@ def check_update(x, P, y, R, n, size, yname="y"):
     if y.size == 0:
         raise ValueError(f"{yname} must hold at least one measurement, got an empty array")
     R = check_shape("R", R, (None, None))
-    n = check_shape("n", n, (None, 3))
+    n = check_directions("n", n)
     if y.size == R.shape[0] == R.shape[1] != n.shape[0]:
         check_shape("n", n, (y.size, 3), f"k = size of {yname} and R")
     k = n.shape[0]
@@ -43,7 +82,21 @@ def check_update(x, P, y, R, n, size, yname="y"):
     m, what = size(k)
     if x.size != m:
         raise ValueError(f"x must have {what}, got {x.size}")
-    return x, check_shape("P", P, (m, m), "m = size of x"), y, R, n
+    P = check_covariance("P", check_shape("P", P, (m, m), "m = size of x"), m)
+    return x, P, y, check_covariance("R", R, k, definite=True), n  # R definite: S inverted
+
+
+def check_run_of(run, scenario):
+    """``scenario`` as the one ``run`` ran on: its epochs, and its truth, against which the run
+    recorded its errors ``|r_hat - r|`` (a run records no seed: two seeds of one body share the
+    truth, and the run's errors, hence its scores, are the same against either)."""
+    if run.x.shape[0] != scenario.t.size:
+        raise ValueError(f"scenario must be the one the run ran on: it has {scenario.t.size} epochs, "
+                         f"the run {run.x.shape[0]}")
+    err = np.linalg.norm(run.x[:, :3] - scenario.x_true[:, :3], axis=1)
+    if not np.allclose(err, run.error, rtol=1e-9, atol=1e-6):
+        raise ValueError("scenario must be the one the run ran on: the run's errors |r_hat - r| "
+                         "were not measured against this scenario's truth x_true")
 
 
 def check_runs(scenarios, rngs, kind):

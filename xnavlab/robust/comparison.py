@@ -23,6 +23,7 @@ import numpy as np
 from xnavlab.core import validate
 from xnavlab.core.validate import check_choice, check_int, check_real, make_rng
 from xnavlab.robust import ephemeris_error as ee
+from xnavlab.robust._checks import check_run_of
 from xnavlab.robust.filters import FILTERS, SETTINGS, FilterRun, Scenario, run_filters, simulate
 
 __all__ = ["WINDOWS", "N_STEPS", "PER_RUN", "rmse", "improvement", "compare_filters", "compare_settings"]
@@ -54,9 +55,7 @@ def rmse(run, scenario, t_from, t_to):
     """
     validate.check_instance("run", run, FilterRun, "a FilterRun from run_filter()")
     validate.check_instance("scenario", scenario, Scenario, "the Scenario the run ran on")
-    if run.error.shape != scenario.t.shape:
-        raise ValueError(f"scenario must be the one the run ran on: it has {scenario.t.size} epochs, "
-                         f"the run {run.error.size}")
+    check_run_of(run, scenario)  # its epochs and its truth
     t_from = check_real("t_from", t_from, 0.0)
     t_to = check_real("t_to", t_to, t_from)
     tau = scenario.t - (scenario.t[0] - scenario.dt)
@@ -164,6 +163,8 @@ def _check_window(body, window):
     """``window`` as ``(t_from, t_to)``, 0 <= t_from < t_to, s (None: the body's :data:`WINDOWS`)."""
     if window is None:
         return WINDOWS[body]
+    if isinstance(window, set | frozenset):  # unordered: which end is t_from would be chance
+        raise ValueError(f"window must be an ordered pair (t_from, t_to), got the set {window!r}")
     times = validate.check_items("window", window, "time", lambda lab, v: (lab, check_real(lab, v, 0.0)), 2)
     if len(times) != 2 or not times[0] < times[1]:
         raise ValueError(f"window must be (t_from, t_to), 0 <= t_from < t_to, s, got {window!r}")

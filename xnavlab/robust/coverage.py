@@ -43,6 +43,8 @@ True
 
 from __future__ import annotations
 
+import inspect
+
 import numpy as np
 
 from xnavlab.core.validate import (
@@ -56,6 +58,7 @@ from xnavlab.core.validate import (
 )
 from xnavlab.robust import ephemeris_error as ee
 from xnavlab.robust import filters
+from xnavlab.robust._checks import check_run_of
 
 __all__ = [
     "K_SIGMA",
@@ -108,9 +111,7 @@ def bound_coverage(run, scenario, k=K_SIGMA, skip=SKIP):
     """
     check_instance("run", run, filters.FilterRun, "a FilterRun from run_filter()")
     check_instance("scenario", scenario, filters.Scenario, "the Scenario the run ran on")
-    if run.x.shape[0] != scenario.t.size:
-        raise ValueError(f"scenario must be the one the run ran on: it has {scenario.t.size} epochs, "
-                         f"the run {run.x.shape[0]}")
+    check_run_of(run, scenario)  # its epochs and its truth
     k = check_real("k", k, 0.0, lo_open=True)
     skip = check_real("skip", skip, 0.0, 1.0, hi_open=True)
     first = int(skip * scenario.t.size)
@@ -198,6 +199,7 @@ def coverage_over_seeds(name="rkf", seeds=(0, 1, 2, 3), body="mars", error="grow
     """
     check_choice("name", name, filters.FILTERS)
     check_choice("rkf_bias", rkf_bias, filters.RKF_BIAS)
+    _check_keywords(filter_kwargs, _RUN_SETTINGS, "run_filter setting")
     seeds = check_seeds("seeds", seeds)
     n_steps = check_int("n_steps", n_steps, 2, 10**6)
     k = check_real("k", k, 0.0, lo_open=True)
@@ -224,6 +226,20 @@ def coverage_over_seeds(name="rkf", seeds=(0, 1, 2, 3), body="mars", error="grow
     return {"coverage": float(np.mean(ratio <= k)), "median_ratio": float(np.median(ratio)),
             "nees": float(np.mean(np.concatenate(nees))), "rmse_m": float(np.sqrt(np.mean(sq))),
             "median_sigma_m": float(np.median(sig)), "per_seed": per, "level": 1.0 - 1.0 / k**2}
+
+
+#: The settings of run_filter that coverage_over_seeds passes on (it sets the scenario, the seed
+#: and the RKF's bias rule itself).
+_RUN_SETTINGS = set(inspect.signature(filters.run_filter).parameters) - {"name", "scenario", "rng",
+                                                                        "rkf_bias", "bias_max"}
+
+
+def _check_keywords(kwargs, valid, what):
+    """Each keyword of ``kwargs`` one of ``valid``, else a ValueError naming it (a misspelt one
+    was a TypeError from inside run_filter)."""
+    for key, value in kwargs.items():
+        if key not in valid:
+            raise ValueError(f"{key}={value!r:.60} is not a {what} (they are {', '.join(sorted(valid))})")
 
 
 #: The RKF's sources of ``B B^T`` compared by :func:`compare_bounds`, and the UKF for reference.
@@ -256,6 +272,8 @@ def compare_bounds(seeds=(0, 1, 2, 3), sources=BOUND_SOURCES, **scenario):
     ['residual', 'prior']
     """
     rows = []
+    _check_keywords(scenario, _RUN_SETTINGS | set(inspect.signature(coverage_over_seeds).parameters)
+                    - {"name", "seeds", "rkf_bias", "filter_kwargs"}, "setting of coverage_over_seeds")
     sources = check_items("sources", sources, "source",
                           lambda label, s: check_choice(label, s, BOUND_SOURCES))
     for src in sources:

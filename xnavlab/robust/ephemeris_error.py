@@ -63,6 +63,7 @@ from xnavlab.core.constants import (
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_items, check_real
 from xnavlab.mars.models.dynamics import MARS_POLE, MARS_STATE0, MAX_GM, R_MAX, R_MIN
 from xnavlab.mars.timing import pulsars
+from xnavlab.robust._checks import check_directions, check_position
 from xnavlab.robust._propagation import derivatives, propagate_unchecked
 
 __all__ = [
@@ -254,6 +255,11 @@ def injected_error(t, size, kind="constant", direction=(1.0, 1.0, 1.0), t0=0.0, 
     """
     size = check_real("size", size, 0.0, 1e8)  # as filters.simulate's
     check_choice("kind", kind, ("constant", "slow", "growing"))
+    if kind != "growing":  # settings this kind would not use (as filters.simulate refuses them)
+        for name, value, default in (("growth_time", growth_time, None), ("profile", profile, "linear")):
+            if value is not default and not (isinstance(value, str) and value == default):
+                raise ValueError(f"{name} shapes a growing error only (kind='growing'), got kind = "
+                                 f"{kind!r}; leave {name} out")
     u = check_finite_array("direction", direction, shape=(3,))
     norm = float(np.linalg.norm(u))
     if norm == 0.0:
@@ -358,7 +364,7 @@ def xnav_range(r, r_planet, n):
     r_planet : array_like, shape (..., 3)
         Planet position relative to the SSB, m (broadcast against ``r``).
     n : array_like, shape (k, 3)
-        Pulsar directions (rows).
+        Pulsar directions (unit rows, to 1e-6: a row of norm k would scale its range by k).
 
     Returns
     -------
@@ -372,7 +378,7 @@ def xnav_range(r, r_planet, n):
     """
     r = check_finite_array("r", r, shape=(3,))
     r_planet = check_finite_array("r_planet", r_planet, shape=(3,))
-    n = check_finite_array("n", n, shape=(None, 3))
+    n = check_directions("n", check_finite_array("n", n, shape=(None, 3)))
     return (r + r_planet) @ n.T  # paper eq. (1): c dt = n . (r + r_E)
 
 
@@ -385,7 +391,8 @@ def acceleration(r, body="earth"):
     Parameters
     ----------
     r : array_like, shape (3,) or (k, 3)
-        Position, m.
+        Position, m, between the planet's radius (:data:`PLANETS`) and 1e15 m from its centre
+        (the model is the planet's field outside it).
     body : {"earth", "mars"}
 
     Examples
@@ -395,8 +402,8 @@ def acceleration(r, body="earth"):
     True
     """
     check_choice("body", body, tuple(PLANETS))
-    r = check_finite_array("r", r, shape=(3,))
     gm, j2, radius, pole = PLANETS[body]
+    r = check_position("r", r, radius, body)  # the planet's field outside it only
     X = np.zeros(r.shape[:-1] + (6,))
     X[..., :3] = r
     return derivatives(np.atleast_2d(X), gm, j2, radius, pole)[:, 3:].reshape(r.shape)
@@ -408,7 +415,8 @@ def propagate(x, dt, body="earth", substep=20.0):
     Parameters
     ----------
     x : array_like, shape (6,) or (k, 6)
-        States ``[r, v]``, m and m/s (rows are propagated together, e.g. sigma points).
+        States ``[r, v]``, m and m/s (rows are propagated together, e.g. sigma points);
+        ``r`` outside the planet (as :func:`acceleration`'s).
     dt : float
         Time step, s (may be negative, ``|dt| <= 1e6``).
     body : {"earth", "mars"}
@@ -431,6 +439,7 @@ def propagate(x, dt, body="earth", substep=20.0):
     x = check_finite_array("x", x, shape=(6,))
     dt = check_real("dt", dt, -1e6, 1e6)
     substep = check_real("substep", substep, 0.0, 1e5, lo_open=True)
+    check_position("x[:3]", x[..., :3], PLANETS[body][2], body)  # the planet's field outside it only
     return propagate_unchecked(x, dt, PLANETS[body], substep)
 
 

@@ -76,7 +76,7 @@ from xnavlab.core.filters import ukf_weights
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
 from xnavlab.robust import ephemeris_error as ee
 from xnavlab.robust._batch import first, mv, sigma_points, sym, tr, unscented
-from xnavlab.robust._checks import check_runs, check_state, check_update
+from xnavlab.robust._checks import check_position, check_runs, check_state, check_update
 from xnavlab.robust._propagation import propagate_unchecked
 
 __all__ = [
@@ -271,8 +271,9 @@ def simulate(body="earth", n_steps=1200, dt=500.0, error="de405", size=0.0, puls
     elif error == "none":
         dr = np.zeros((n_steps, 3))
     else:
-        dr = ee.injected_error(t, size, error, direction, t0=orb.t0, growth_time=growth_time,
-                               profile=profile)
+        grow = error == "growing"  # injected_error refuses the growth settings for another kind
+        dr = ee.injected_error(t, size, error, direction, t0=orb.t0, growth_time=growth_time if grow
+                               else None, profile=profile if grow else "linear")
     v = rng.normal(size=(n_steps, len(names))) * sigma
     y = (x[:, :3] + dr) @ n.T + v  # y = z - N r_E_hat = N (r + dr_E) + v, paper eqs. (1)-(3)
     return Scenario(body, t, dt, x, y, n, np.diag(sigma**2), dr)
@@ -338,9 +339,10 @@ def predict(x, P, dt, body, Q, n_dyn=6):
     True
     """
     x, P = check_state(x, P, n_dyn)
-    Q = validate.check_shape("Q", Q, P.shape, "m = size of x")
+    Q = validate.check_covariance("Q", validate.check_shape("Q", Q, P.shape, "m = size of x"))
     check_choice("body", body, tuple(ee.PLANETS))
     dt = check_real("dt", dt, -1e6, 1e6)
+    check_position("x[:3]", x[:3], ee.PLANETS[body][2], body)  # the planet's field outside it only
     return first(_predict(x[None], P[None], dt, body, Q, n_dyn))
 
 
@@ -457,9 +459,10 @@ def tdukf_predict(x, P, dt, body, Q):
     ((15,), True)
     """
     x, P = check_state(x, P)
-    Q = validate.check_shape("Q", Q, (6, 6), "the covariance of [r, v]")
+    Q = validate.check_covariance("Q", validate.check_shape("Q", Q, (6, 6), "the covariance of [r, v]"))
     check_choice("body", body, tuple(ee.PLANETS))
     dt = check_real("dt", dt, -1e6, 1e6)
+    check_position("x[:3]", x[:3], ee.PLANETS[body][2], body)  # the planet's field outside it only
     return first(_tdukf_predict(x[None], P[None], dt, body, Q))
 
 
@@ -685,10 +688,8 @@ def rkf_update(x, P, y, R, n, BB, eps):
     True
     """
     x, P, y, R, n = check_update(x, P, y, R, n, lambda k: (6, "6 entries [r, v]"))
-    BB = check_finite_array("BB", BB)
     k = n.shape[0]
-    if BB.shape != (k, k):
-        raise ValueError(f"BB must have shape ({k}, {k}), got {BB.shape}")
+    BB = validate.check_covariance("BB", BB, k)  # a bound on B B^T, as rkf_gain's
     eps = check_real("eps", eps, *EPS_RANGE)
     H = np.zeros((k, 6))
     H[:, :3] = n

@@ -273,6 +273,12 @@ def bound_table_html(table):
         raise ValueError(f"table must be bound_table()'s dict case -> rows, got {shown(table)}")
     for case, rows in table.items():
         check_records(f"table[{case!r}]", rows, ("source",) + BOUND_STATS + ("is_bound",), "bound row")
+        for i, r in enumerate(rows):  # a NaN printed as "nan", a string "no" read as yes: refused
+            label = f"table[{case!r}][{i}]"
+            check_real(f"{label}['coverage']", r["coverage"], 0.0, 1.0)
+            for key in BOUND_STATS:
+                check_real(f"{label}[{key!r}]", r[key])
+            check_bool(f"{label}['is_bound']", r["is_bound"])
     header = ("case", "source of B B^T", "within 3 sigma (%)", "median |e| / sigma",
               "mean NEES", "RMSE (km)", "a bound?")
     rows = [(case, BOUND_SOURCE_NAMES[r["source"]], f"{100 * r['coverage']:.1f}",
