@@ -106,3 +106,34 @@ def test_local_models_check_lon_and_h_under_their_names():
         P.local_models(args[0], [], *args[2:])
     with pytest.raises(ValueError, match=r"^h must be a real number in \[-10000, 100000\], got \[1\.0\]$"):
         P.local_models(*args[:2], [1.0], *args[3:])
+
+
+def test_memberships_name_premises_of_the_wrong_shape():
+    """Issue 35 (review 35i): x=[[0.0, 0.25]] and rho of shape (1, 1, 3) were numpy's 'could not
+    broadcast input array from shape (2,) into shape (1,)'."""
+    with pytest.raises(ValueError, match=r"^x must have shape \(n,\) \(one premise value a sample\), "
+                                         r"got shape \(1, 2\)$"):
+        P.partition_memberships([[0.0, 0.25]], [0.0, 1.0, 2.0])
+    pts = np.array([[39.0, 100.0, 0.5], [39.2, 200.0, 0.5]])
+    with pytest.raises(ValueError, match=r"^rho must have shape \(n, 3\) \(one premise a sample\), "
+                                         r"got shape \(1, 1, 3\)$"):
+        P.memberships(np.zeros((1, 1, 3)), pts)
+    assert P.partition_memberships(0.25, [0.0, 1.0]).tolist() == [[0.75, 0.25]]
+
+
+def test_local_models_name_the_operating_point_its_error_model_cannot_take():
+    """Issue 35 (review 35i): f_n = 60 m/s^2 was refused as 'F must have row sums ...' and a
+    latitude of 100 deg as 'lat must be a real number in [-1.5708, 1.5708]' (radians)."""
+    ops = P.operating_points(TRAJ)
+    args = (TRAJ.lon[0], TRAJ.h[0], pl.sites_ecef(), TRAJ.dt)
+    fast = ops.copy()
+    fast[1, 2] = 60.0
+    with pytest.raises(ValueError, match=r"^points\[1\] must give an error model with \|\|F\|\|_inf "
+                                         r"dt <= 50 \(discretize's bound\), got 69.7"):
+        P.local_models(fast, *args)
+    polar = ops.copy()
+    polar[0, 0] = 100.0
+    with pytest.raises(ValueError, match=r"^points\[0\] must have a latitude in \[-89, 89\] deg"):
+        P.local_models(polar, *args)
+    with pytest.raises(ValueError, match=r"^dt must be a real number in \(0, 86400\]"):
+        P.local_models(ops, *args[:3], 1e5)

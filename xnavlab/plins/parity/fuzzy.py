@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from xnavlab.core.validate import check_finite_array, check_int, check_real
+from xnavlab.core.validate import check_finite_array, check_int, check_real, check_shape
 from xnavlab.plins import ins as _ins
 from xnavlab.plins import pseudolites as _pl
 
@@ -151,6 +151,8 @@ def partition_memberships(x, centers):
     [[1.0, 0.0, 0.0], [0.75, 0.25, 0.0], [0.0, 0.0, 1.0]]
     """
     x = np.atleast_1d(check_finite_array("x", x))
+    if x.ndim != 1:  # a row of premises was numpy's broadcast error
+        raise ValueError(f"x must have shape (n,) (one premise value a sample), got shape {x.shape}")
     c = np.atleast_1d(check_finite_array("centers", centers))
     if c.ndim != 1 or len(c) < 1 or np.any(np.diff(c) <= 0):
         raise ValueError("centers must be a non-empty, strictly increasing 1-D array")
@@ -197,6 +199,8 @@ def memberships(rho, points):
     rho = check_finite_array("rho", rho, shape=(3,))
     points = check_finite_array("points", points, shape=(3,))
     rho = np.atleast_2d(rho)
+    if rho.ndim != 2:  # a stack of premises was numpy's broadcast error
+        raise ValueError(f"rho must have shape (n, 3) (one premise a sample), got shape {rho.shape}")
     if points.ndim != 2:
         raise ValueError(f"points must have shape (N, 3), got {points.shape}")
     w = np.ones((len(rho), len(points)))
@@ -268,17 +272,28 @@ def local_models(points, lon, h, sites, dt, q=None):
     points = check_finite_array("points", points, shape=(3,))
     if points.ndim != 2:
         raise ValueError(f"points must have shape (N, 3), got {points.shape}")
+    for l, lat_deg in enumerate(points[:, 0]):  # degrees here: error_matrix names its lat in rad
+        if abs(lat_deg) > 89.0:
+            raise ValueError(f"points[{l}] must have a latitude in [-89, 89] deg (the ENU error "
+                             f"model is singular at the poles), got {lat_deg:g}")
     lon = check_real("lon", lon)  # checked here: measurement_matrix would name r for a list
     h = check_real("h", h, -1e4, 1e5)  # as the error model's (xnavlab.plins.ins.error_matrix)
-    q = _ins.imu_noise_psd() if q is None else check_finite_array("q", q, shape=(7,))
+    q = _ins.imu_noise_psd() if q is None else check_shape("q", q, (7,))
+    dt = check_real("dt", dt, 0.0, 86400.0, lo_open=True)  # as discretize's
     G = _ins.noise_matrix()
     out = []
-    for lat_deg, v_n, f_n in points:
+    for l, (lat_deg, v_n, f_n) in enumerate(points):
         lat = math.radians(lat_deg)
         v = np.array([0.0, v_n, 0.0])
         w = 2.0 * _ins.omega_ie(lat) + _ins.omega_en(lat, h, v)
         f = np.array([0.0, f_n, _ins.normal_gravity(lat, h)]) + np.cross(w, v)
-        A, Qd = _ins.discretize(_ins.error_matrix(lat, h, v, f), G, q, dt)
+        F = _ins.error_matrix(lat, h, v, f)
+        growth = np.abs(F).sum(axis=1).max() * dt  # discretize's bound, named as the point's
+        if growth > 50.0:
+            raise ValueError(f"points[{l}] must give an error model with ||F||_inf dt <= 50 "
+                             f"(discretize's bound), got {growth:.6g} at dt = {dt:g} s: a smaller "
+                             f"v_n or f_n, or a shorter dt")
+        A, Qd = _ins.discretize(F, G, q, dt)
         vals, vecs = np.linalg.eigh(Qd)
         B = vecs * np.sqrt(np.clip(vals, 0.0, None))  # B B^T = Q_d
         C = _pl.measurement_matrix(lat, lon, h, sites)
