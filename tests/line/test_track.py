@@ -146,3 +146,59 @@ def test_issue35_snapshot_covariance_sigmas_from_a_millimetre():
     # Review 35f finding 27: 1 / 5e-324**2 overflowed to inf.
     with pytest.raises(ValueError, match=r"^sigmas must be real numbers in \[1e-3, 1e15\]"):
         track.snapshot_covariance(((1.0, 0.0), (0.0, 1.0)), (5e-324, 1.0))
+
+
+@pytest.mark.parametrize("directions, words", [
+    (((0.0,),), r"^directions\[0\] must be a unit vector to a pulsar, got a zero vector"),
+    (((3.0,),), r"^directions\[0\] must be a unit vector to a pulsar \(norm 1 to 1e-12: a range "
+                r"n \. r scales with it\), got norm 3$"),
+    (((1.0 + 1e-9,),), r"^directions\[0\] must be a unit vector .* got norm 1.000000001$"),
+])
+def test_issue35_track_refuses_a_zero_or_non_unit_direction(directions, words):
+    """Review 35i: directions=((0.0,),) ran a filter that observed nothing, ((3.0,),) one whose
+    ranges were three times the truth's."""
+    truth = track.simulate(np.array([0.0, 5.0]), 500.0, 4)
+    with pytest.raises(ValueError, match=words):
+        track.track(truth, 500.0, np.array([0.0, 5.0]), np.diag([1e6, 1.0]), directions=directions,
+                    rng=0)
+    run = track.track(truth, 500.0, np.array([0.0, 5.0]), np.diag([1e6, 1.0]),
+                      directions=((np.cos(0.0),),), rng=0)
+    assert run.x.shape == (5, 2)
+
+
+@pytest.mark.parametrize("directions, sigmas, words", [
+    ([[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]], [3.0, 4.0, 5.0],
+     r"^directions\[0\] must be a unit vector to a pulsar, got a zero vector"),
+    ([[2.0, 0.0], [0.0, 1.0]], [3.0, 4.0], r"^directions\[0\] must be a unit vector .* got norm 2$"),
+    ([[0.707, 0.707], [0.0, 1.0]], [3.0, 4.0], r"^directions\[0\] must be a unit vector"),
+])
+def test_issue35_snapshot_covariance_refuses_a_zero_or_non_unit_direction(directions, sigmas, words):
+    """Review 35i: a zero row was dropped without a word and [[2, 0], [0, 1]] gave a variance
+    of 9 / 4 instead of 9."""
+    with pytest.raises(ValueError, match=words):
+        track.snapshot_covariance(directions, sigmas)
+    c = np.cos(np.radians(30.0))
+    assert track.snapshot_covariance([[c, 0.5], [-0.5, c]], [1.0, 1.0]) == pytest.approx(np.eye(2))
+
+
+@pytest.mark.parametrize("exposure_s, span_s, words", [
+    (500.0, 1700.0, r"^span_s must be a whole number of exposures exposure_s = 500 s, got 1700 s "
+                    r"\(3.4 TOAs\): the nearest are 1500 and 2000 s$"),
+    (30.0, 2000.0, r"^span_s must be a whole number of exposures exposure_s = 30 s, got 2000 s"),
+])
+def test_issue35_run_line_refuses_a_span_between_two_whole_exposures(exposure_s, span_s, words):
+    """Review 35i: exposure_s=500, span_s=1700 ran 3 TOAs, its truth ending at 1500 s."""
+    with pytest.raises(ValueError, match=words):
+        track.run_line(exposure_s=exposure_s, span_s=span_s)
+    for exposure in (10.0, 20.0, 50.0, 100.0, 200.0, 500.0, 1000.0):  # chapter 0's slider
+        assert track.run_line(exposure_s=exposure, span_s=2000.0)[1].z.shape == (2000.0 / exposure, 1)
+
+
+def test_issue35_simulate_takes_an_rng_without_noise_and_ignores_it_as_documented():
+    """Review 35i: rng is unused with accel_sigma = 0; accepted (a sweep down to 0 keeps one
+    call), documented, and the truth is then the same for every seed."""
+    base = track.simulate(np.array([0.0, 5.0]), 2.0, 3)
+    for rng in (1, np.random.default_rng(7)):
+        np.testing.assert_array_equal(track.simulate(np.array([0.0, 5.0]), 2.0, 3, rng=rng), base)
+    with pytest.raises(ValueError, match=r"^rng must be"):
+        track.simulate(np.array([0.0, 5.0]), 2.0, 3, rng=1.5)

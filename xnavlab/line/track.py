@@ -21,6 +21,7 @@ True
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
@@ -47,6 +48,29 @@ __all__ = ["X0", "V0", "cv_model", "simulate", "Track", "track", "snapshot_covar
 X0 = 1.5 * AU
 #: ... and its planned speed towards the pulsar, m/s.
 V0 = 2.0e4
+
+
+#: How far from 1 the norm of a direction may be: a range is ``n . r`` with ``|r|`` up to
+#: 1e15 m (1.5 au is 2.2e11 m), so a norm off by ``e`` moves it by ``e |r|``. 1e-12 keeps that
+#: below a metre at 1.5 au (the Crab's 10-s range sigma is 821 m) and passes any vector
+#: normalised in floating point (off by a few 1e-16); a 3-digit (0.707, 0.707) is 1.5e-4 off,
+#: 3e7 m at 1.5 au. A direction off by more is refused, not rescaled: its scale is the user's
+#: error to see, not ours to guess.
+_UNIT_TOL = 1e-12
+
+
+def _check_directions(N):
+    """Each row of ``N`` (m, d) a unit vector to ``_UNIT_TOL``, else one ValueError naming
+    ``directions[i]`` (a zero row observes nothing; a non-unit one scales its ranges)."""
+    norms = np.linalg.norm(N, axis=1)
+    for i, norm in enumerate(norms):
+        if norm == 0.0:
+            raise ValueError(f"directions[{i}] must be a unit vector to a pulsar, got a zero "
+                             f"vector (no line of sight)")
+        if abs(norm - 1.0) > _UNIT_TOL:
+            raise ValueError(f"directions[{i}] must be a unit vector to a pulsar (norm 1 to "
+                             f"{_UNIT_TOL:g}: a range n . r scales with it), got norm {norm:.12g}")
+    return N
 
 
 def cv_model(dt, accel_sigma=0.0, dim=1):
@@ -81,6 +105,9 @@ def simulate(state0, dt, n, accel_sigma=0.0, rng=None):
     n : int
         Number of steps, in [1, 1e6].
     rng : numpy.random.Generator or int, optional
+        The noise's generator. With ``accel_sigma = 0`` the truth is noise-free and ``rng``
+        does not change it: accepted, not refused, so that a caller sweeping
+        ``accel_sigma`` down to 0 (chapter 0's slider, :func:`run_line`) keeps one call.
 
     Examples
     --------
@@ -125,7 +152,8 @@ def track(truth, exposure, x0, P0, pulsar_names=("B0531+21",), directions=((1.0,
     pulsar_names : sequence of str
         One pulsar per line of sight (default the Crab alone).
     directions : array_like
-        Unit vectors to the pulsars in the line (d = 1) or the plane (d = 2), shape (m, d).
+        Unit vectors to the pulsars in the line (d = 1) or the plane (d = 2), shape (m, d),
+        each of norm 1 to 1e-12 (a zero or non-unit row is refused, not rescaled).
     accel_sigma : float
         The filter's (and truth's) white acceleration, m/s^1.5.
     rng, area_m2
@@ -144,6 +172,7 @@ def track(truth, exposure, x0, P0, pulsar_names=("B0531+21",), directions=((1.0,
     if truth.ndim != 2 or truth.shape[1] != 2 * d or N.shape[0] != len(pulsar_names):
         raise ValueError(f"truth must be (n + 1, {2 * d}) and directions one row a pulsar, "
                          f"got {truth.shape} and {N.shape} for {len(pulsar_names)} pulsars")
+    _check_directions(N)
     rng = make_rng(rng)
     exposure = check_real("exposure", exposure, 1e-3, 1e5)  # range_sigma's range
     F, Q = cv_model(exposure, accel_sigma, d)
@@ -167,9 +196,10 @@ def track(truth, exposure, x0, P0, pulsar_names=("B0531+21",), directions=((1.0,
 def snapshot_covariance(directions, sigmas):
     """Position covariance from one range per pulsar, ``(H^T R^-1 H)^-1``, shape (d, d), m^2.
 
-    ``directions``: shape (n, d), one direction a pulsar, spanning the d-dimensional space
-    (two pulsars along one line leave a direction unobserved: a ValueError, not a singular
-    inverse); ``sigmas``: shape (n,), their range sigmas, m, each in [1e-3, 1e15].
+    ``directions``: shape (n, d), one unit vector a pulsar (norm 1 to 1e-12: a zero row is
+    refused, not dropped, and a non-unit one refused, not read as a scaled range), spanning
+    the d-dimensional space (two pulsars along one line leave a direction unobserved: a
+    ValueError, not a singular inverse); ``sigmas``: shape (n,), their range sigmas, m, each in [1e-3, 1e15].
 
     Examples
     --------
@@ -184,6 +214,7 @@ observes has no finite covariance
     H = check_finite_array("directions", directions)
     if H.ndim != 2 or H.shape[0] < 1 or H.shape[1] < 1:
         raise ValueError(f"directions must have shape (n, d), n, d >= 1, got shape {H.shape}")
+    _check_directions(H)
     sigmas = check_finite_array("sigmas", sigmas, shape=(H.shape[0],))
     # From 1 mm (no X-ray TOA ranges better; 5e-324 made 1 / sigma^2 infinite) to 1e15 m.
     if sigmas.ndim != 1 or not np.all((sigmas >= 1e-3) & (sigmas <= 1e15)):
@@ -213,8 +244,10 @@ def run_line(exposure_s=10.0, accel_sigma=0.0, span_s=2000.0, dv=1.0, seed=0):
     accel_sigma : float
         As :func:`cv_model`.
     span_s : float
-        Length of the run, s, in [exposure_s, 1e5]; it holds ``round(span_s / exposure_s)``
-        TOAs.
+        Length of the run, s, in [exposure_s, 1e5]: a whole number of exposures (to 1e-9 of
+        one), ``span_s / exposure_s`` TOAs. A span between two whole numbers is refused with
+        the nearest valid ones (it was cut to the nearest, the truth ending elsewhere than
+        asked); every span and exposure of chapter 0's slider divide.
     dv : float
         Velocity offset towards the Crab, m/s, in [-1e5, 1e5].
     seed : int
@@ -237,7 +270,13 @@ def run_line(exposure_s=10.0, accel_sigma=0.0, span_s=2000.0, dv=1.0, seed=0):
     if span_s < exposure_s:
         raise ValueError(f"span_s must be at least exposure_s ({exposure_s:g} s) and at most "
                          f"1e5 s, got {span_s:g}: a run holds at least one TOA")
-    n = round(span_s / exposure_s)  # whole TOAs, the nearest to span_s
+    ratio = span_s / exposure_s
+    n = round(ratio)  # whole TOAs only: a fraction of one was cut without a word
+    if abs(ratio - n) > 1e-9:
+        lo, hi = math.floor(ratio), math.ceil(ratio)
+        raise ValueError(f"span_s must be a whole number of exposures exposure_s = {exposure_s:g} "
+                         f"s, got {span_s:g} s ({ratio:.6g} TOAs): the nearest are "
+                         f"{lo * exposure_s:g} and {hi * exposure_s:g} s")
     dv = check_real("dv", dv, -1e5, 1e5)
     seed = check_seed("seed", seed)
     truth = simulate(np.array([X0, V0 + dv]), exposure_s, n, accel_sigma, seed)
