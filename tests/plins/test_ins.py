@@ -354,3 +354,19 @@ def test_error_transitions_names_a_flight_step_beyond_a_day():
     tr = _flight(t=[0.0, 1e5, 2e5])
     with pytest.raises(ValueError, match=r"^traj must have a step t\[1\] - t\[0\] of at most 86400 s"):
         ins.error_transitions(tr)
+
+
+def test_paper_trajectory_bounds_its_step_and_its_samples():
+    """Issue 35 (review 35i): dt=5e-324 made an infinite number of steps (an OverflowError)."""
+    with pytest.raises(ValueError, match=r"^dt must be a real number in \[0.001, 10\], got 5e-324$"):
+        ins.paper_trajectory(dt=5e-324)
+    with pytest.raises(ValueError, match=r"^duration must hold at most 1e6 steps dt = 0.001 s, got "
+                                         r"100000 s"):
+        ins.paper_trajectory(dt=1e-3, duration=1e5)
+
+
+def test_error_transitions_names_a_traj_step_its_error_model_outgrows():
+    """Issue 35 (review 35i): a 5-s step was refused as 'F must have row sums of |F| ...'."""
+    with pytest.raises(ValueError, match=r"^traj must have a step dt of at most 3.38 s at sample 0 "
+                                         r"\(\|\|F\|\|_inf dt <= 50 for its error model\), got 5 s$"):
+        ins.error_transitions(ins.paper_trajectory(dt=5.0, duration=20.0))
