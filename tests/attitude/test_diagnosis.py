@@ -88,3 +88,14 @@ def test_diagnose_names_t_before_the_residuals(t, match):
     """Issue 35: a 0-d t was refused under residuals' name (n = len(t) = 1)."""
     with pytest.raises(ValueError, match=match):
         att.diagnose(t, np.ones((5, 4)), np.ones(4))
+
+
+def test_diagnose_review_35i_refusals():
+    """Negative thresholds (every sample flagged) and a decide that is no function."""
+    t = np.arange(10.0)
+    r = np.zeros((10, 4))
+    r[5:, [0, 3]] = 2.0
+    with pytest.raises(ValueError, match=r"^thresholds must be >= 0"):
+        att.diagnose(t, r, -np.ones(4), persist=2, confirm_s=1.0)
+    with pytest.raises(ValueError, match=r"^decide must be"):
+        att.diagnose(t, r, np.ones(4), decide="sos")

@@ -59,3 +59,16 @@ def test_a_subnormal_sample_interval_is_refused_not_an_overflow():
     for call in (lambda: att.quaternion_rate(q, 5e-324), lambda: att.qdiff_fault_estimates(w, q, 5e-324)):
         with pytest.raises(ValueError, match=r"^dt must be a real number in \[1e-06, 10\], got 5e-324$"):
             call()
+
+
+def test_quaternion_rate_review_35i_refusals():
+    """Zero rows (numpy's warning) and scaled quaternions (a scaled rate) refused."""
+    t, w, q = att.truth_motion(201, 0.1, wobble_deg_s=0.0)
+    with pytest.raises(ValueError, match=r"^q_meas must have a non-zero norm"):
+        att.quaternion_rate(np.zeros((201, 4)), 0.1, 10.0)
+    with pytest.raises(ValueError, match=r"^q_meas must be a unit quaternion"):
+        att.quaternion_rate(3 * q, 0.1, 10.0)
+    qz = q.copy()
+    qz[5] = 0.0
+    with pytest.raises(ValueError, match=r"^q_meas must have a non-zero norm"):
+        att.qdiff_fault_estimates(w + 1e-4, qz, 0.1, 10.0)

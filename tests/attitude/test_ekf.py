@@ -83,7 +83,7 @@ def test_ekf_bad_inputs():
         att.ekf_predict(x, P, np.zeros(3), 0.1, -1.0, 0.0)
     with pytest.raises(ValueError, match="^R "):
         att.ekf_update(x, P, att.DEFAULT_Q0, -np.eye(4))
-    with pytest.raises(ValueError, match="^x "):
+    with pytest.raises(ValueError, match=r"^x\[\.\.\., :4\] must have a non-zero norm"):
         att.ekf_update(np.zeros(7), P, att.DEFAULT_Q0, 1e-10)
     with pytest.raises(ValueError, match="^P "):
         att.ekf_update(x, P[:6, :6], att.DEFAULT_Q0, 1e-10)
@@ -145,3 +145,35 @@ def test_a_setting_whose_square_overflows_is_refused_with_its_range(call, words)
     """Review 35e: 1e308 was an OverflowError or an overflow warning and an inf covariance."""
     with pytest.raises(ValueError, match=words):
         call()
+
+
+def test_ekf_review_35i_refusals():
+    """P, R as covariances; zero or scaled quaternions refused under the user's names."""
+    x0, P0 = att.ekf_init(att.DEFAULT_Q0, attitude_sigma=1e-4, drift_sigma=1e-4)
+    bad, skew = P0.copy(), P0.copy()
+    bad[0, 0] = -1e-8
+    skew[0, 1] = 1e-9
+    with pytest.raises(ValueError, match=r"^P must be positive semi-definite"):
+        att.ekf_predict(x0, bad, [0.0, 0.0, 0.0], 0.1, 1e-12, 0.0)
+    with pytest.raises(ValueError, match=r"^P must be symmetric"):
+        att.ekf_predict(x0, skew, [0.0, 0.0, 0.0], 0.1, 1e-12, 0.0)
+    with pytest.raises(ValueError, match=r"^P must be positive semi-definite"):
+        att.ekf_update(x0, bad, -att.DEFAULT_Q0, 1e-10)
+    with pytest.raises(ValueError, match=r"^P must be positive semi-definite"):
+        att.ekf_predict(x0[None], bad[None], [0.0, 0.0, 0.0], 0.1, 1e-12, 0.0)
+    Rn = np.eye(4) * 1e-10 + np.triu(np.ones((4, 4)), 1) * 1e-11
+    with pytest.raises(ValueError, match=r"^R must be symmetric"):
+        att.ekf_update(x0, P0, -att.DEFAULT_Q0, Rn)
+    with pytest.raises(ValueError, match=r"^q_meas must have a non-zero norm"):
+        att.ekf_update(x0, P0, np.zeros(4), 1e-10)
+    with pytest.raises(ValueError, match=r"^q_meas must be a unit quaternion"):
+        att.ekf_update(x0, P0, 3 * att.DEFAULT_Q0, 1e-10)
+    with pytest.raises(ValueError, match=r"^x\[\.\.\., :4\] must be a unit quaternion"):
+        att.ekf_predict(np.r_[2 * att.DEFAULT_Q0, 0, 0, 0], P0, [0.0, 0.0, 0.0], 0.1, 1e-12, 0.0)
+    with pytest.raises(ValueError, match=r"^q_meas must have a non-zero norm"):
+        att.ekf_init(np.zeros(4), attitude_sigma=1e-4, drift_sigma=1e-4)
+    with pytest.raises(ValueError, match=r"^q0 must have a non-zero norm"):
+        att.SOSMonitor(np.zeros(4))
+    for monitor in (att.SOSMonitor, att.DOSMonitor):
+        with pytest.raises(ValueError, match=r"^q0 must be a 1-D array \(shape \(4,\)\)"):
+            monitor(att.DEFAULT_Q0[None])

@@ -101,3 +101,8 @@ def test_seeded_outcomes_names_a_0d_array_of_faults():
         att.seeded_outcomes(np.array(1.0), [0])
     with pytest.raises(ValueError, match=r"^faults must be a Fault or a sequence of Fault"):
         att.simulate(np.array(1.0))
+
+
+def test_isolation_monte_carlo_refuses_a_set():
+    with pytest.raises(ValueError, match=r"^sizes must be a list \(ordered"):
+        att.isolation_monte_carlo(1, locations=["gyro_x"], kinds=["step"], sizes={10.0, 1.0})

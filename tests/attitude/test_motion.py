@@ -35,3 +35,13 @@ def test_truth_motion_uses_exact_kinematics():
 def test_truth_motion_refuses_more_samples_than_a_run_takes():
     with pytest.raises(ValueError, match=r"n must be an integer in \[2, 10000000\]"):
         att.truth_motion(10**30, 0.1)
+
+
+def test_truth_motion_review_35i_refusals():
+    """A zero q0 named q0; a misspelt or repeated keyword named with the valid ones."""
+    with pytest.raises(ValueError, match=r"^q0 must have a non-zero norm"):
+        att.truth_motion(11, 0.1, q0=np.zeros(4))
+    with pytest.raises(ValueError, match=r"^wobble_deg_=0.0 is not a setting of truth_rate \(they are"):
+        att.truth_motion(11, 0.1, wobble_deg_=0.0)
+    with pytest.raises(ValueError, match=r"^t=5.0 is not a setting of truth_rate"):
+        att.truth_motion(11, 0.1, t=5.0)

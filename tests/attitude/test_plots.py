@@ -77,3 +77,14 @@ def test_plot_fault_case_takes_a_multiple_from_a_millionth():
     """Issue 35: a subnormal multiple made a zero-size fault, refused under make_fault's name."""
     with pytest.raises(ValueError, match=r"^size must be a real number in \[1e-06, 1000\], got 5e-324$"):
         att.plot_fault_case("gyro_x", "step", 5e-324)
+
+
+def test_plot_residuals_refuses_axes_of_the_wrong_kind_or_count():
+    run = att.simulate(duration=50.0, rng=0)
+    fig, ax = plt.subplots()
+    try:
+        for axes in ([ax], "ax"):
+            with pytest.raises(ValueError, match=r"^axes must be a sequence of 4 matplotlib Axes"):
+                att.plot_residuals(run, axes=axes)
+    finally:
+        plt.close(fig)

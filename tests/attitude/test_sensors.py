@@ -97,3 +97,20 @@ def test_the_sensors_name_t_when_the_times_do_not_match(t, match):
         att.star_tracker_measurements(t, np.tile(att.DEFAULT_Q0, (3, 1)))
     with pytest.raises(ValueError, match=r"^w must have shape \(n, 3\), one rate per sample, got \(3,\)$"):
         att.gyro_measurements(np.arange(3.0), np.zeros(3))
+
+
+def test_sensors_review_35i_refusals():
+    """One Fault for a list, another sensor's fault, a zero true attitude."""
+    t = np.arange(3.0)
+    gyro, star = att.make_fault("gyro_x", "step", 1e-6), att.make_fault("star_tracker", "step", 1e-3)
+    with pytest.raises(ValueError, match=r"^faults must be a sequence of Fault, got one Fault"):
+        att.gyro_measurements(t, np.zeros((3, 3)), faults=gyro)
+    with pytest.raises(ValueError, match=r"^faults\[1\] is a fault of the 'star_tracker' sensor"):
+        att.gyro_measurements(t, np.zeros((3, 3)), faults=[gyro, star])
+    q = np.tile(att.DEFAULT_Q0, (3, 1))
+    with pytest.raises(ValueError, match=r"^faults\[0\] is a fault of the 'gyro' sensor"):
+        att.star_tracker_measurements(t, q, faults=[gyro])
+    with pytest.raises(ValueError, match=r"^q must have a non-zero norm"):
+        att.star_tracker_measurements([0.0, 1.0], np.zeros((2, 4)), noise_deg=0.0)
+    with pytest.raises(ValueError, match=r"^q must be a unit quaternion"):
+        att.star_tracker_measurements(t, 2 * q, noise_deg=0.0)

@@ -50,7 +50,7 @@ def test_simulate_fault_free(nominal):
 
 
 def test_simulate_arguments():
-    with pytest.raises(ValueError, match="unknown SimConfig setting"):
+    with pytest.raises(ValueError, match=r"^colour=.red. is not a SimConfig setting \(they are duration, dt"):
         att.simulate(colour="red")
     with pytest.raises(ValueError, match="^faults"):
         att.simulate(["gyro_x"])
@@ -141,3 +141,13 @@ def test_the_compiled_bank_runs_the_books_ekf_steps(seed):
         for ours, book in ((q_hat[:, k], x[..., :4]), (d_hat[:, k], x[..., 4:]),
                            (P_dd[:, k], P[..., 4:, 4:])):
             assert np.max(np.abs(ours - book)) <= 1e-10 * np.max(np.abs(book)), k
+
+
+def test_simulation_review_35i_refusals():
+    """A duration that is no whole number of steps (the run ended past it); a misspelt setting."""
+    with pytest.raises(ValueError, match=r"^duration must be a whole number of steps dt = 0.7 s, got 60 s "
+                                         r"\(nearest 59.5 or 60.2 s\)"):
+        att.SimConfig(duration=60.0, dt=0.7)
+    with pytest.raises(ValueError, match=r"^duraton=60.0 is not a SimConfig setting"):
+        att.simulate(duraton=60.0)
+    assert att.simulate(duration=60.0, dt=0.5, rng=0).t[-1] == 60.0

@@ -1,14 +1,53 @@
-"""The light per-sample input check that the attitude system's on-board loops share.
+"""The input checks that the attitude system's modules share: the light per-sample check of
+the on-board loops, quaternions (non-zero, unit) and batches of covariances.
 
-Plumbing of :mod:`xnavlab.attitude` (imported by :mod:`xnavlab.attitude.ekf` and
-:mod:`xnavlab.attitude.monitors` only); not part of the public API.
+Plumbing of :mod:`xnavlab.attitude`; not part of the public API.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["check_sample"]
+from xnavlab.core.quaternions import UNIT_TOL
+from xnavlab.core.validate import check_covariance, check_finite_array
+
+__all__ = ["check_sample", "check_quaternion", "check_covariances"]
+
+
+def check_quaternion(name, q, unit=True):
+    """Quaternions ``q`` (..., 4), finite, none zero (named ``name``, as the user typed it), and
+    with ``unit`` of norm 1 to :data:`xnavlab.core.quaternions.UNIT_TOL`: an attitude is a unit
+    quaternion, and a scaled one is refused rather than rescaled in silence (the additive EKF,
+    the differentiation and the sensors would carry the scale into their results)."""
+    q = check_finite_array(name, q, shape=(4,))
+    norm = np.linalg.norm(q, axis=-1)
+    if np.any(norm == 0.0):
+        raise ValueError(f"{name} must have a non-zero norm, got a zero quaternion")
+    if unit and np.any(np.abs(norm - 1.0) > UNIT_TOL):
+        worst = float(np.ravel(norm)[int(np.argmax(np.ravel(np.abs(norm - 1.0))))])
+        raise ValueError(f"{name} must be a unit quaternion (norm 1 to {UNIT_TOL:g}), got norm {worst:.6g}")
+    return q
+
+
+def check_covariances(name, value, n, definite=False, rtol=1e-8):
+    """``value`` as (..., n, n) symmetric positive (semi-)definite matrices
+    (:func:`xnavlab.core.validate.check_covariance`, one matrix or a batch)."""
+    arr = check_finite_array(name, value, shape=(n, n))
+    if arr.ndim == 2:
+        return check_covariance(name, arr, n, definite=definite, rtol=rtol)
+    if arr.ndim < 2:
+        raise ValueError(f"{name} must have shape (..., {n}, {n}), got shape {arr.shape}")
+    scale = np.max(np.abs(arr), axis=(-2, -1))
+    if np.any(np.max(np.abs(arr - np.swapaxes(arr, -1, -2)), axis=(-2, -1)) > rtol * scale):
+        raise ValueError(f"{name} must be symmetric (to {rtol:g} of its largest entry)")
+    low = np.linalg.eigvalsh(0.5 * (arr + np.swapaxes(arr, -1, -2)))[..., 0]
+    if definite and not np.all(low > 0.0):
+        raise ValueError(f"{name} must be positive definite, got smallest eigenvalue "
+                         f"{float(np.min(low)):.3g}")
+    if np.any(low < -rtol * scale):
+        raise ValueError(f"{name} must be positive semi-definite, got smallest eigenvalue "
+                         f"{float(np.min(low)):.3g}")
+    return arr
 
 
 def check_sample(name, value, n):

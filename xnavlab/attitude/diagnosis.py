@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from xnavlab.attitude.sensors import LOCATIONS
-from xnavlab.core.validate import check_finite_array, check_int, check_real, check_vector
+from xnavlab.core.validate import check_callable, check_finite_array, check_int, check_real, check_vector
 
 __all__ = [
     "VERDICTS",
@@ -247,9 +247,13 @@ def diagnose(t, residuals, thresholds, *, t_arm=0.0, persist=3, confirm_s=5.0, d
     if not _broadcasts_to(J.shape[:-1], lead):  # else the verdict would gain axes
         raise ValueError(f"thresholds must have shape (..., {r.shape[-1]}) whose leading axes "
                          f"broadcast to the residuals' {lead}, got {J.shape}")
+    if np.any(J < 0.0):  # the residuals are absolute values: a negative threshold flags every sample
+        raise ValueError(f"thresholds must be >= 0 (the residuals are absolute values), got "
+                         f"{float(np.min(J)):g}")
     t_arm = check_real("t_arm", t_arm)
     persist = check_int("persist", persist, 1, t.size)
     confirm_s = check_real("confirm_s", confirm_s, 0.0, 86400.0)  # as SimConfig's
+    check_callable("decide", decide, "a verdict function such as sos_decide")
     over = (r > J[..., None, :]) & (t >= t_arm)[:, None]
     c = np.cumsum(over, axis=-2)
     lagged = np.concatenate([np.zeros_like(c[..., :persist, :]), c[..., :-persist, :]], -2)

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from xnavlab.attitude._checks import check_quaternion
 from xnavlab.core.quaternions import xi_matrix
 from xnavlab.core.validate import check_finite_array, check_real
 
@@ -42,7 +43,8 @@ def quaternion_rate(q_meas, dt, window_s=10.0):
     Parameters
     ----------
     q_meas : array_like, shape (..., n, 4)
-        Star-tracker quaternions at interval ``dt``.
+        Star-tracker quaternions at interval ``dt``, unit (norm 1 to 1e-6: a scaled one
+        would scale the rate; a star tracker reports unit ones).
     dt : float
         Sample interval, s, in [1e-6, 10].
     window_s : float
@@ -62,7 +64,7 @@ def quaternion_rate(q_meas, dt, window_s=10.0):
     >>> bool(np.allclose(wq, w[0], atol=1e-9))
     True
     """
-    q = check_finite_array("q_meas", q_meas, shape=(None, 4))
+    q = check_quaternion("q_meas", check_finite_array("q_meas", q_meas, shape=(None, 4)))  # unit rows
     dt, M = _window(dt, window_s)
     n = q.shape[-2]
     if n <= M:

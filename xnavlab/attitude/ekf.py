@@ -21,10 +21,10 @@ import math
 
 import numpy as np
 
-from xnavlab.attitude._checks import check_sample
+from xnavlab.attitude._checks import check_covariances, check_quaternion, check_sample
 from xnavlab.attitude._ekf_steps import ekf_predict_unchecked, ekf_update_unchecked
 from xnavlab.core.quaternions import quat_normalize
-from xnavlab.core.validate import check_finite_array, check_real
+from xnavlab.core.validate import check_finite_array, check_real, check_vector
 
 __all__ = [
     "MAX_RATE",
@@ -66,13 +66,13 @@ def ekf_init(q_meas, *, attitude_sigma, drift_sigma):
     >>> x0.shape, P0.shape
     ((7,), (7, 7))
     """
-    q = quat_normalize(check_finite_array("q_meas", q_meas, shape=(4,)))
+    q = quat_normalize(check_quaternion("q_meas", q_meas, unit=False))  # zero refused, named
     sa = check_real("attitude_sigma", attitude_sigma, 0.0, math.pi, lo_open=True)
     if np.ndim(drift_sigma) == 0:
         sd = check_real("drift_sigma", drift_sigma, 0.0, MAX_RATE, lo_open=True)
         Pd = sd**2 * np.eye(3)
     else:
-        Pd = check_finite_array("drift_sigma", drift_sigma, shape=(3, 3))
+        Pd = check_covariances("drift_sigma", drift_sigma, 3)
     batch = np.broadcast_shapes(q.shape[:-1], Pd.shape[:-2])
     x = np.zeros(batch + (7,))
     x[..., :4] = q
@@ -158,25 +158,22 @@ def ekf_update(x, P, q_meas, R):
     (0.0, True)
     """
     x, P = _state(x, P)
-    qm = check_finite_array("q_meas", q_meas, shape=(4,))
-    R = _cov3("R", R, 4)
-    if np.ndim(R) == 2 and np.any(np.linalg.eigvalsh(R) <= 0.0):
-        raise ValueError("R must be positive definite")
+    qm = check_quaternion("q_meas", q_meas)  # additive: a scaled q_meas would pull x by its scale
+    R = _cov3("R", R, 4, definite=True)
     return ekf_update_unchecked(x, P, qm, R)
 
 
 def _state(x, P):
     x = check_finite_array("x", x, shape=(7,))
     P = check_finite_array("P", P, shape=(7, 7))
-    if np.any(np.linalg.norm(x[..., :4], axis=-1) == 0.0):
-        raise ValueError("x must have a non-zero quaternion part x[..., :4]")
-    return x, P
+    check_quaternion("x[..., :4]", x[..., :4])  # the attitude: a zero or scaled one refused
+    return x, check_covariances("P", P, 7)
 
 
-def _cov3(name, c, n=3):
+def _cov3(name, c, n=3, definite=False):
     if np.ndim(c) == 0:
-        return check_real(name, c, 0.0, MAX_RATE**2) * np.eye(n)
-    return check_finite_array(name, c, shape=(n, n))
+        return check_real(name, c, 0.0, MAX_RATE**2, lo_open=definite) * np.eye(n)
+    return check_covariances(name, c, n, definite)
 
 
 class AttitudeEKF:
@@ -215,7 +212,7 @@ class AttitudeEKF:
         self.gyro_cov = sg**2 * np.eye(3)
         self.drift_cov = dw**2 * self.dt * np.eye(3)
         self.R = (0.5 * ss) ** 2 * np.eye(4)
-        q0 = check_finite_array("q0", q0, shape=(4,))
+        q0 = check_quaternion("q0", check_vector("q0", q0, 4), unit=False)  # one; normalised by ekf_init
         self.x, self.P = ekf_init(q0, attitude_sigma=ss, drift_sigma=drift_sigma)
 
     @property

@@ -97,6 +97,9 @@ def isolation_monte_carlo(
     [('SOS', 1.0), ('DOS', 1.0)]
     """
     n_runs = check_int("n_runs", n_runs, 1, 10**6)
+    for name, value in (("locations", locations), ("kinds", kinds), ("sizes", sizes)):
+        if isinstance(value, set | frozenset):  # its order (the rows') would be the hash's
+            raise ValueError(f"{name} must be a list (ordered: one row group each), got the set {value!r}")
     # lists of at least one item, none twice (a string is not split into letters): an empty
     # one would leave only the fault-free rows, a repeat would run its cases twice
     locations = check_items("locations", locations, "location",

@@ -16,6 +16,7 @@ import math
 
 import numpy as np
 
+from xnavlab.attitude._checks import check_quaternion
 from xnavlab.core.quaternions import kinematics_matrix, quat_from_rotvec, quat_normalize
 from xnavlab.core.validate import check_finite_array, check_int, check_real
 
@@ -84,7 +85,8 @@ def truth_motion(n, dt, *, q0=DEFAULT_Q0, **motion):
     q0 : array_like, shape (4,)
         Attitude at t = 0 (reference-to-body, scalar last); normalised.
     **motion
-        Passed to :func:`truth_rate`.
+        Passed to :func:`truth_rate` (``omega_orbit_deg_s``, ``wobble_deg_s``,
+        ``wobble_period``; another keyword is refused).
 
     Returns
     -------
@@ -101,7 +103,12 @@ def truth_motion(n, dt, *, q0=DEFAULT_Q0, **motion):
     """
     n = check_int("n", n, 2, 10**7)
     dt = check_real("dt", dt, 0.0, 10.0, lo_open=True)
-    q = quat_normalize(check_finite_array("q0", q0, shape=(4,)))
+    q = quat_normalize(check_quaternion("q0", q0, unit=False))  # documented: normalised; zero refused
+    valid = ("omega_orbit_deg_s", "wobble_deg_s", "wobble_period")  # truth_rate's settings
+    for key, value in motion.items():
+        if key not in valid:  # a misspelt or repeated keyword was a TypeError from truth_rate
+            raise ValueError(f"{key}={value!r:.60} is not a setting of truth_rate "
+                             f"(they are {', '.join(valid)})")
     t = np.arange(n) * dt
     w = truth_rate(t + 0.5 * dt, **motion)
     phi = kinematics_matrix(w, dt)  # paper eq. (12) for every interval

@@ -14,7 +14,7 @@ import numpy as np
 
 from xnavlab.attitude.sensors import DEFAULT_MAGNITUDES, DEG_PER_H, LOCATIONS, MAX_FACTOR, make_fault
 from xnavlab.attitude.simulation import AttitudeRun, simulate
-from xnavlab.core.validate import check_choice, check_real, check_text
+from xnavlab.core.validate import check_choice, check_real, check_text, shown
 
 __all__ = [
     "LOCATION_NAMES",
@@ -69,6 +69,13 @@ def plot_residuals(run, method="sos", axes=None):
     if axes is None:
         fig, axes = plt.subplots(m, 1, sharex=True, figsize=(7, 1.5 * m + 1), squeeze=False)
         axes = axes[:, 0]
+    else:  # a string or a short list was an AttributeError or IndexError from inside
+        from matplotlib.axes import Axes
+
+        if isinstance(axes, str | bytes | dict) or not hasattr(axes, "__len__") or len(axes) < m \
+                or not all(isinstance(ax, Axes) for ax in list(axes)[:m]):
+            raise ValueError(f"axes must be a sequence of {m} matplotlib Axes (one per residual of "
+                             f"{method!r}), got {shown(axes)}")
     fig = axes[0].figure
     _residual_axes(axes[:m], run, method)(run)
     axes[m - 1].set_xlabel("t (s)")

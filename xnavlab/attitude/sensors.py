@@ -24,7 +24,8 @@ import math
 
 import numpy as np
 
-from xnavlab.core.faults import KINDS, Fault, inject
+from xnavlab.attitude._checks import check_quaternion
+from xnavlab.core.faults import KINDS, Fault, check_faults, inject
 from xnavlab.core.quaternions import quat_from_rotvec, quat_normalize, quat_product
 from xnavlab.core.validate import (
     check_choice,
@@ -175,7 +176,17 @@ def gyro_measurements(
     rng = make_rng(rng)
     H = gyro_matrix(skew_axis)
     z = w @ H.T + b + rng.normal(0.0, 1.0, (t.size, 4)) * sigma  # paper eq. (2)
-    return inject(t, z, list(faults), "gyro", rng=rng)  # + f_g
+    return inject(t, z, _own_faults(faults, "gyro", "gyro_measurements"), "gyro", rng=rng)  # + f_g
+
+
+def _own_faults(faults, sensor, func):
+    """``faults`` as a list of Faults of ``sensor``: another sensor's fault was dropped in silence."""
+    faults = check_faults("faults", faults)
+    for i, f in enumerate(faults):
+        if f.sensor != sensor:
+            raise ValueError(f"faults[{i}] is a fault of the {f.sensor!r} sensor: {func} injects the "
+                             f"{sensor!r} faults only (give each its sensor's function)")
+    return faults
 
 
 # --------------------------------------------------------------- star tracker
@@ -214,7 +225,7 @@ def star_tracker_measurements(t, q, *, noise_deg=PAPER_STAR_NOISE_DEG, faults=()
     True
     """
     t = check_vector("t", t)  # each on its own first: a 0-d t was refused under q's name
-    q = check_finite_array("q", q, shape=(4,))
+    q = check_quaternion("q", q)  # the true attitude: a zero or scaled one refused
     if q.ndim != 2:
         raise ValueError(f"q must have shape (n, 4), one quaternion per sample, got {q.shape}")
     if t.size != q.shape[0]:  # q is a well-formed series: the times are the ones to match it
@@ -223,7 +234,8 @@ def star_tracker_measurements(t, q, *, noise_deg=PAPER_STAR_NOISE_DEG, faults=()
     rng = make_rng(rng)
     qv = quat_from_rotvec(rng.normal(0.0, 1.0, (t.size, 3)) * sigma)
     qs = quat_product(q, qv)  # paper eq. (17), q_f = identity
-    qs = inject(t, qs, list(faults), "star_tracker", rng=rng)  # + f_q
+    qs = inject(t, qs, _own_faults(faults, "star_tracker", "star_tracker_measurements"), "star_tracker",
+                rng=rng)  # + f_q
     return quat_normalize(qs)
 
 

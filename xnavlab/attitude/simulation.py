@@ -141,6 +141,11 @@ class SimConfig:
                              f"{self.duration:g} s and dt = {self.dt:g} s")
         if self.duration < 2 * self.dt:
             raise ValueError(f"duration must be >= 2 dt = {2 * self.dt}, got {self.duration}")
+        steps = self.duration / self.dt  # the run has samples 0, dt, ..., (n - 1) dt: it would
+        if abs(steps - round(steps)) > 1e-9 * steps:  # end at round(steps) dt, not at duration
+            lo, hi = math.floor(steps) * self.dt, math.ceil(steps) * self.dt
+            raise ValueError(f"duration must be a whole number of steps dt = {self.dt:g} s, got "
+                             f"{self.duration:g} s (nearest {lo:.6g} or {hi:.6g} s)")
         drifts = check_finite_array("drifts_deg_per_h", self.drifts_deg_per_h, shape=(4,))
         if np.any(np.abs(drifts) > MAX_DEG_PER_H):
             raise ValueError(f"drifts_deg_per_h must lie in [-{MAX_DEG_PER_H:g}, "
@@ -335,10 +340,11 @@ def make_config(config=None, **changes):
         config = SimConfig()
     elif not isinstance(config, SimConfig):
         raise ValueError(f"config must be a SimConfig or None, got {type(config).__name__}")
-    try:
-        return dataclasses.replace(config, **changes)
-    except TypeError as exc:
-        raise ValueError(f"unknown SimConfig setting: {exc}") from None
+    names = [f.name for f in dataclasses.fields(SimConfig)]
+    for key, value in changes.items():  # a misspelt one was "SimConfig.__init__() got ..."
+        if key not in names:
+            raise ValueError(f"{key}={value!r:.60} is not a SimConfig setting (they are {', '.join(names)})")
+    return dataclasses.replace(config, **changes)
 
 
 def _config_arg(config):
@@ -465,9 +471,10 @@ def simulate_sensors(config, faults=(), rng=None, truth=None):
     wg = gyro_measurements(
         t, w, drifts_deg_per_h=cfg.drifts_deg_per_h,
         noise_deg_per_h=cfg.gyro_noise_deg_per_h, skew_axis=cfg.skew_axis,
-        faults=faults, rng=rng,
+        faults=[f for f in faults if f.sensor == "gyro"], rng=rng,  # each sensor its own faults
     )
-    qs = star_tracker_measurements(t, q, noise_deg=cfg.star_noise_deg, faults=faults, rng=rng)
+    qs = star_tracker_measurements(t, q, noise_deg=cfg.star_noise_deg, rng=rng,
+                                   faults=[f for f in faults if f.sensor == "star_tracker"])
     return (t, w, q), wg, qs
 
 
