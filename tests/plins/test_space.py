@@ -167,3 +167,13 @@ def test_each_matrix_is_checked_on_its_own_first():
         P.parity_residuals(np.zeros((6, 1)), -0.0)
     with pytest.raises(ValueError, match=r"^bases must have shape \(2, n, n, n\) \(N = 2 columns of"):
         P.blended_bases([[0.5, 0.5]], -0.0)
+
+
+@pytest.mark.parametrize("weights", [[[2.0, 5.0]], [[-0.5, 1.5]], [[0.0, 0.0]]])
+def test_blended_bases_takes_memberships_only(weights):
+    """Issue 35 (review 35i): weights adding up to 7, or negative, scaled or flipped the basis;
+    zero weights blended it to zeros."""
+    b = np.stack([np.ones((1, 2, 1)), 3 * np.ones((1, 2, 1))])
+    with pytest.raises(ValueError, match=r"^weights\[0\] must be memberships \(each >= 0, adding up to 1\)"):
+        P.blended_bases(weights, b)
+    assert P.blended_bases([[0.25, 0.75]], b)[0, 0, :, 0].tolist() == [2.5, 2.5]

@@ -283,7 +283,8 @@ def blended_bases(weights, bases):
     Parameters
     ----------
     weights : array_like, shape (n, N)
-        Memberships of each sample (:func:`~.fuzzy.memberships`).
+        Memberships of each sample (:func:`~.fuzzy.memberships`): each >= 0, each row
+        adding up to 1 (to 1e-9).
     bases : array_like, shape (N, m, p, q)
         Aligned parity bases of each local model and sensor.
 
@@ -300,6 +301,13 @@ def blended_bases(weights, bases):
     w = check_finite_array("weights", weights)
     if w.ndim != 2:
         raise ValueError(f"weights must have shape (n, N), got shape {w.shape}")
+    # normalised memberships (eq. 13): other weights scaled the basis (its residuals, their
+    # threshold) or flipped it without a word
+    sums = w.sum(axis=1)
+    if np.any(w < 0.0) or np.any(np.abs(sums - 1.0) > 1e-9):
+        k = int(np.argmax(np.any(w < 0.0, axis=1) | (np.abs(sums - 1.0) > 1e-9)))
+        raise ValueError(f"weights[{k}] must be memberships (each >= 0, adding up to 1), got "
+                         f"{w[k].tolist()!r:.80}")
     b = check_shape("bases", bases, (w.shape[1], None, None, None), f"N = {w.shape[1]} columns of weights")
     return np.einsum("kl,ljpq->kjpq", w, b)
 
