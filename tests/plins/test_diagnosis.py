@@ -206,3 +206,9 @@ def test_diagnose_flight_refuses_p_fa_it_would_ignore_and_a_step_its_design_cann
     with pytest.raises(ValueError, match=r"^duration must be a whole number of steps dt = 3 s"):
         P.diagnose_flight(dt=3.0, duration=40.0)
     assert P.diagnose_flight(duration=40.0).threshold == P.diagnose_flight(duration=40.0, p_fa=1e-6).threshold
+
+
+def test_compare_detectors_refuses_a_size_given_twice():
+    """Review 35i (borderline): sizes=[100, 100] ran the same runs twice, one row repeated."""
+    with pytest.raises(ValueError, match=r"^sizes lists 100 twice \(items 0 and 1\)$"):
+        P.compare_detectors("step", [100.0, 100.0], n_runs=1)

@@ -543,6 +543,9 @@ def compare_detectors(kind, sizes, *, onset=None, sensor=0, n_runs=5, seed=0, **
         if size == 0.0 or abs(size) > _faults.MAX_SIZE:
             raise ValueError(f"sizes[{i}] must be a nonzero fault size of at most "
                              f"{_faults.MAX_SIZE:g} m (or m/s), got {size:g}")
+        if size in sizes[:i]:  # the same runs twice: one row repeated, not a second size
+            first = int(np.flatnonzero(sizes[:i] == size)[0])
+            raise ValueError(f"sizes lists {size:g} twice (items {first} and {i})")
     takes = set(inspect.signature(diagnose_flight).parameters) - {"faults", "seed", "with_chi2"}
     for key in kwargs:
         if key not in takes:
