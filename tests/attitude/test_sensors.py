@@ -114,3 +114,12 @@ def test_sensors_review_35i_refusals():
         att.star_tracker_measurements([0.0, 1.0], np.zeros((2, 4)), noise_deg=0.0)
     with pytest.raises(ValueError, match=r"^q must be a unit quaternion"):
         att.star_tracker_measurements(t, 2 * q, noise_deg=0.0)
+
+
+def test_sensors_refuse_times_that_do_not_increase():
+    """A fault's onset is read against t: decreasing or repeated times were accepted."""
+    for t in (np.arange(3.0)[::-1].copy(), np.zeros(3)):
+        with pytest.raises(ValueError, match=r"^t must be strictly increasing"):
+            att.gyro_measurements(t, np.zeros((3, 3)), noise_deg_per_h=0.0)
+        with pytest.raises(ValueError, match=r"^t must be strictly increasing"):
+            att.star_tracker_measurements(t, np.tile(att.DEFAULT_Q0, (3, 1)), noise_deg=0.0)

@@ -340,11 +340,17 @@ def make_config(config=None, **changes):
         config = SimConfig()
     elif not isinstance(config, SimConfig):
         raise ValueError(f"config must be a SimConfig or None, got {type(config).__name__}")
+    _check_settings(changes)
+    return dataclasses.replace(config, **changes)
+
+
+def _check_settings(changes):
+    """Each keyword a field of SimConfig, else a ValueError naming it and listing the fields
+    (a misspelt one was "unknown SimConfig setting: SimConfig.__init__() got ...")."""
     names = [f.name for f in dataclasses.fields(SimConfig)]
-    for key, value in changes.items():  # a misspelt one was "SimConfig.__init__() got ..."
+    for key, value in changes.items():
         if key not in names:
             raise ValueError(f"{key}={value!r:.60} is not a SimConfig setting (they are {', '.join(names)})")
-    return dataclasses.replace(config, **changes)
 
 
 def _config_arg(config):
