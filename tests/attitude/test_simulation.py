@@ -151,3 +151,15 @@ def test_simulation_review_35i_refusals():
     with pytest.raises(ValueError, match=r"^duraton=60.0 is not a SimConfig setting"):
         att.simulate(duraton=60.0)
     assert att.simulate(duration=60.0, dt=0.5, rng=0).t[-1] == 60.0
+
+
+def test_simconfig_names_a_misspelt_setting_and_keeps_its_signature():
+    """SimConfig(duraton=...) was Python's TypeError; the shown signature stays the fields'."""
+    import inspect
+    import pickle
+
+    with pytest.raises(ValueError, match=r"^duraton=60.0 is not a SimConfig setting \(they are duration, dt"):
+        att.SimConfig(duraton=60.0)
+    assert list(inspect.signature(att.SimConfig).parameters)[:2] == ["duration", "dt"]
+    cfg = att.SimConfig(duration=60.0)
+    assert pickle.loads(pickle.dumps(cfg)) == cfg

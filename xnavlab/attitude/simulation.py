@@ -19,6 +19,7 @@ Units are SI inside (rad, rad/s, s); names say otherwise (``drifts_deg_per_h``).
 from __future__ import annotations
 
 import dataclasses
+import inspect
 import math
 from dataclasses import dataclass, field
 
@@ -133,6 +134,10 @@ class SimConfig:
     qdiff_window_s: float = 10.0
     dos: bool = True
 
+    def __new__(cls, *args, **kwargs):
+        _check_settings(kwargs)  # a misspelt keyword was Python's TypeError from __init__
+        return super().__new__(cls)
+
     def __post_init__(self):
         check_real("duration", self.duration, 0.0, 1e6, lo_open=True)
         check_real("dt", self.dt, 0.0, 10.0, lo_open=True)
@@ -179,6 +184,11 @@ class SimConfig:
     def n(self):
         """Number of samples."""
         return int(round(self.duration / self.dt)) + 1
+
+
+# the signature shown (help, the API page) is the fields', not __new__'s (*args, **kwargs)
+SimConfig.__signature__ = inspect.signature(SimConfig.__init__).replace(
+    parameters=list(inspect.signature(SimConfig.__init__).parameters.values())[1:])
 
 
 @dataclass
