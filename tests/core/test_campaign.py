@@ -174,7 +174,7 @@ def test_bad_arguments_name_the_parameter(kw, name):
 def test_campaign_definitions_check_days():
     with pytest.raises(ValueError, match=r"days must be a real number in \[0.5, 5"):
         campaign("detectors", days=0.1)
-    with pytest.raises(ValueError, match="campaign"):
+    with pytest.raises(ValueError, match="^name must be one of 'consistency', 'detectors'"):
         campaign("nope")
 
 

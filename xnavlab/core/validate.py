@@ -266,8 +266,9 @@ def check_shape(name, value, shape, why=""):
 
 
 def check_arrays(name, value, ndim=None, min_len=1):
-    """Return ``value`` as a list of finite float arrays (a list or tuple of them, at least
-    ``min_len``), each checked under ``name[i]``, else one ValueError.
+    """Return ``value`` as a list of finite float arrays (a list or tuple of them, or a stack
+    ``(N, ...)`` of them, at least ``min_len``), each checked under ``name[i]``, else one
+    ValueError.
 
     Examples
     --------
@@ -278,6 +279,8 @@ def check_arrays(name, value, ndim=None, min_len=1):
     ...
     ValueError: xs must be a list of arrays, got True
     """
+    if isinstance(value, np.ndarray) and value.ndim >= 1 and value.dtype.kind in "fiu":
+        value = list(value)  # a stack (N, ...): one array per row
     if not isinstance(value, list | tuple):
         raise ValueError(f"{name} must be a list of arrays, got {shown(value)}")
     if len(value) < min_len:
