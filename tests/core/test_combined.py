@@ -198,9 +198,9 @@ def test_combined_detect_names_its_own_bad_inputs():
     # review 35d D30/D31: times out of order blamed samples_per_day (or divided by zero);
     # a rate beside a design went unused
     t, y = _series()
-    with pytest.raises(ValueError, match=r"t must be strictly increasing .* t\[1\] = 43027.2 follows"):
+    with pytest.raises(ValueError, match=r"t must be strictly increasing .* t\[1\] = 43027.2 after"):
         combined_detect(t[::-1], y)
-    with pytest.raises(ValueError, match=r"t must be strictly increasing .* t\[1\] = 0 follows"):
+    with pytest.raises(ValueError, match=r"t must be strictly increasing .* t\[1\] = 0 after"):
         combined_detect(np.zeros(500), y)
     with pytest.raises(ValueError, match="rate_per_day = 5.0 is unused with a design"):
         combined_detect(t, y, design=CombinedDesign(1000.0, 3), rate_per_day=5.0)

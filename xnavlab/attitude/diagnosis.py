@@ -17,7 +17,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from xnavlab.attitude.sensors import LOCATIONS
-from xnavlab.core.validate import check_callable, check_finite_array, check_int, check_real, check_vector
+from xnavlab.core.validate import (
+    check_callable,
+    check_finite_array,
+    check_increasing,
+    check_int,
+    check_real,
+    check_vector,
+)
 
 __all__ = [
     "VERDICTS",
@@ -240,8 +247,7 @@ def diagnose(t, residuals, thresholds, *, t_arm=0.0, persist=3, confirm_s=5.0, d
     if r.shape[-2] != t.size:  # both well formed: the times are the ones to match the series
         raise ValueError(f"t must hold one time per sample of the residuals (n = {r.shape[-2]}), "
                          f"got {t.size}")
-    if t.size > 1 and not np.all(np.diff(t) > 0):  # the detection time is the first flag's
-        raise ValueError("t must be strictly increasing sample times, s")
+    check_increasing("t", t)  # the detection time is the first flag's
     J = check_finite_array("thresholds", thresholds, shape=(r.shape[-1],))
     lead = r.shape[:-2]
     if not _broadcasts_to(J.shape[:-1], lead):  # else the verdict would gain axes

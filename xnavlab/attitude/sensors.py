@@ -30,6 +30,7 @@ from xnavlab.core.quaternions import quat_from_rotvec, quat_normalize, quat_prod
 from xnavlab.core.validate import (
     check_choice,
     check_finite_array,
+    check_increasing,
     check_real,
     check_vector,
     make_rng,
@@ -171,8 +172,7 @@ def gyro_measurements(
         raise ValueError(f"w must have shape (n, 3), one rate per sample, got {w.shape}")
     if t.size != w.shape[0]:  # w is a well-formed series: the times are the ones to match it
         raise ValueError(f"t must hold one time per row of w ({w.shape[0]}), got {t.size}")
-    if not np.all(np.diff(t) > 0):  # a fault's onset and duration are read against t
-        raise ValueError("t must be strictly increasing sample times, s")
+    check_increasing("t", t)  # a fault's onset and duration are read against t
     b = check_finite_array("drifts_deg_per_h", drifts_deg_per_h, shape=(4,)) * DEG_PER_H
     sigma = check_real("noise_deg_per_h", noise_deg_per_h, 0.0, MAX_DEG_PER_H) * DEG_PER_H
     rng = make_rng(rng)
@@ -232,8 +232,7 @@ def star_tracker_measurements(t, q, *, noise_deg=PAPER_STAR_NOISE_DEG, faults=()
         raise ValueError(f"q must have shape (n, 4), one quaternion per sample, got {q.shape}")
     if t.size != q.shape[0]:  # q is a well-formed series: the times are the ones to match it
         raise ValueError(f"t must hold one time per row of q ({q.shape[0]}), got {t.size}")
-    if not np.all(np.diff(t) > 0):  # a fault's onset and duration are read against t
-        raise ValueError("t must be strictly increasing sample times, s")
+    check_increasing("t", t)  # a fault's onset and duration are read against t
     sigma = math.radians(check_real("noise_deg", noise_deg, 0.0, 180.0))
     rng = make_rng(rng)
     qv = quat_from_rotvec(rng.normal(0.0, 1.0, (t.size, 3)) * sigma)

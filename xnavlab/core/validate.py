@@ -22,6 +22,7 @@ __all__ = [
     "check_choice",
     "check_vector",
     "check_shape",
+    "check_increasing",
     "check_arrays",
     "check_callable",
     "check_instance",
@@ -263,6 +264,28 @@ def check_shape(name, value, shape, why=""):
         reason = f" ({why})" if why else ""
         raise ValueError(f"{name} must have shape {want}{reason}, got shape {arr.shape}")
     return arr
+
+
+def check_increasing(name, value):
+    """Return ``value`` (a 1-D array, already checked) if it strictly increases, else one
+    ValueError naming the first sample that does not (sample times read in order: an onset,
+    a window or a step taken from them would be wrong).
+
+    Examples
+    --------
+    >>> check_increasing("t", np.array([0.0, 1.0, 3.0])).tolist()
+    [0.0, 1.0, 3.0]
+    >>> check_increasing("t", np.array([0.0, 2.0, 1.0]))
+    Traceback (most recent call last):
+    ...
+    ValueError: t must be strictly increasing (sample times, s), got t[2] = 1 after t[1] = 2
+    """
+    step = np.diff(value)
+    if not np.all(step > 0.0):
+        k = int(np.argmax(~(step > 0.0))) + 1
+        raise ValueError(f"{name} must be strictly increasing (sample times, s), got "
+                         f"{name}[{k}] = {_fmt(value[k])} after {name}[{k - 1}] = {_fmt(value[k - 1])}")
+    return value
 
 
 def check_arrays(name, value, ndim=None, min_len=1):

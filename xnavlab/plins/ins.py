@@ -59,6 +59,7 @@ from scipy.linalg import expm
 from xnavlab.core.validate import (
     check_covariance,
     check_finite_array,
+    check_increasing,
     check_real,
     check_shape,
     check_vector,
@@ -514,11 +515,7 @@ class Trajectory:
         if len(t) < 2:
             raise ValueError(f"t must hold at least two samples (a flight has a step dt), got "
                              f"{len(t)}")
-        step = np.diff(t)
-        if not np.all(step > 0.0):
-            k = int(np.argmax(~(step > 0.0))) + 1
-            raise ValueError(f"t must be strictly increasing (sample times, s), got "
-                             f"t[{k}] = {t[k]:g} after t[{k - 1}] = {t[k - 1]:g}")
+        step = np.diff(check_increasing("t", t))
         # one step: error_transitions discretises every sample with dt = t[1] - t[0]
         if np.max(np.abs(step - step[0])) > 1e-9 * max(step[0], np.max(np.abs(t))):
             raise ValueError(f"t must be evenly spaced (error_transitions steps by dt = t[1] - "

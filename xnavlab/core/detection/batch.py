@@ -23,7 +23,7 @@ from xnavlab.core.detection.online import (
     causal_filters,
     events_from_alarms,
 )
-from xnavlab.core.validate import check_finite_array, check_int, check_real
+from xnavlab.core.validate import check_finite_array, check_increasing, check_int, check_real
 
 __all__ = ["wavelet_detect", "wavelet_detect_sensor", "BlockWavelet", "BlockWaveletSensor"]
 
@@ -194,10 +194,7 @@ class BlockWavelet:
         if x.ndim != 1:
             raise ValueError(f"x must be a 1-D series of measurements, got shape {x.shape}")
         series_lengths(t, "x", x.size)
-        if t.size > 1 and not np.all(np.diff(t) > 0):
-            k = int(np.argmax(np.diff(t) <= 0))
-            raise ValueError(f"t must be strictly increasing (sample times), but t[{k + 1}] = "
-                             f"{t[k + 1]:g} follows t[{k}] = {t[k]:g}")
+        check_increasing("t", t)
         self.det = det = WaveletDetector(wavelet, level, sigma=sigma, pfa=pfa,
                                          var_window=var_window, holdoff=holdoff)
         self.n = n = x.size

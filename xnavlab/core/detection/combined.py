@@ -78,6 +78,7 @@ from xnavlab.core.validate import (
     check_bool,
     check_choice,
     check_finite_array,
+    check_increasing,
     check_int,
     check_real,
     check_seed,
@@ -721,10 +722,7 @@ def combined_detect(t, y, *, x=None, design=None, rate_per_day=1.0, adaptive=Tru
     series_lengths(t, "y", y.shape[0])
     if t.size < 400:
         raise ValueError(f"t must hold at least 400 samples (and y as many), got {t.size}")
-    if not np.all(np.diff(t) > 0.0):  # else a sampling rate from the median step, misnamed
-        k = int(np.argmin(np.diff(t) > 0.0))
-        raise ValueError(f"t must be strictly increasing (sample times, s), but t[{k + 1}] = "
-                         f"{t[k + 1]:g} follows t[{k}] = {t[k]:g}")
+    check_increasing("t", t)  # else a sampling rate from the median step, misnamed
     dt = float(np.median(np.diff(t)))
     if design is None:
         design = CombinedDesign(86400.0 / dt, y.shape[1], rate_per_day)

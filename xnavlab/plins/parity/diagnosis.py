@@ -26,6 +26,7 @@ from xnavlab.core.validate import (
     check_choice,
     check_covariance,
     check_finite_array,
+    check_increasing,
     check_int,
     check_real,
     check_shape,
@@ -89,10 +90,7 @@ def first_alarm(t, statistic, threshold, after=-math.inf):
     True
     """
     t = check_vector("t", t)
-    if np.any(np.diff(t) <= 0.0):  # the first alarm is the earliest sample: t read in order
-        k = int(np.argmax(np.diff(t) <= 0.0)) + 1
-        raise ValueError(f"t must be strictly increasing (sample times, s), got t[{k}] = "
-                         f"{t[k]:g} after t[{k - 1}] = {t[k - 1]:g}")
+    check_increasing("t", t)  # the first alarm is the earliest sample: t read in order
     st = check_vector("statistic", statistic)
     if len(st) > len(t):  # two well-formed series: the shorter one is named (cut short)
         raise ValueError(f"t must hold one time per sample of statistic (n = {len(st)}), got {len(t)}")

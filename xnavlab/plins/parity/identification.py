@@ -28,6 +28,7 @@ from xnavlab.core.validate import (
     check_choice,
     check_covariance,
     check_finite_array,
+    check_increasing,
     check_int,
     check_real,
     check_shape,
@@ -70,10 +71,7 @@ def _series(t, z_j, W_j):
     """``t`` (n,), ``z_j`` (n,) and ``W_j`` (n, s+1, q), each named when it disagrees with the
     ones checked before it."""
     t = _nonempty("t", t, "sample time")
-    if np.any(np.diff(t) <= 0.0):  # the windows and the onset search read t in order
-        k = int(np.argmax(np.diff(t) <= 0.0)) + 1
-        raise ValueError(f"t must be strictly increasing (sample times, s), got t[{k}] = "
-                         f"{t[k]:g} after t[{k - 1}] = {t[k - 1]:g}")
+    check_increasing("t", t)  # the windows and the onset search read t in order
     z_j = check_vector("z_j", z_j)
     if len(z_j) > len(t):  # two well-formed series: the shorter one is named (cut short)
         raise ValueError(f"t must hold one time per sample of z_j (n = {len(z_j)}), got {len(t)}")
