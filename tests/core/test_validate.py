@@ -129,7 +129,10 @@ def test_check_items_refuses_strings_empty_lists_and_repeats():
              (["Vega", "Deneb", "Vega"], r"^stars lists Vega twice \(items 0 and 2\)$"),
              (3.0, r"^stars must be a list of stars, got 3.0$"),
              ({"Vega": 1}, r"^stars must be a list of stars"),
-             ([["Vega"]], r"^stars\[0\] must be a star")]
+             ([["Vega"]], r"^stars\[0\] must be a star"),
+             # a set has no order: its items' order would follow the hash seed (review 35i)
+             ({"Vega", "Deneb"}, r"^stars must be a list of stars in order \(a set has none"),
+             (frozenset({"Vega"}), r"^stars must be a list of stars in order")]
     for value, words in cases:
         with pytest.raises(ValueError, match=words):
             check_items("stars", value, "star")

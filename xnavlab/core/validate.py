@@ -517,11 +517,18 @@ def check_items(name, value, what="item", each=None, min_len=1):
     Traceback (most recent call last):
     ...
     ValueError: stars lists Vega twice (items 0 and 2)
+    >>> check_items("stars", {"Vega"}, "star")
+    Traceback (most recent call last):
+    ...
+    ValueError: stars must be a list of stars in order (a set has none: write a list), got {'Vega'}
     """
     if isinstance(value, str | bytes):
         text = value.decode(errors="replace") if isinstance(value, bytes) else value
         raise ValueError(f"{name} must be a list of {what}s, got the string {text!r} "
                          f"(write [\"{text}\"])")
+    if isinstance(value, set | frozenset):  # no order: the items' order would follow the hash seed
+        raise ValueError(f"{name} must be a list of {what}s in order (a set has none: write a "
+                         f"list), got {shown(value)}")
     flat = not isinstance(value, np.ndarray) or value.ndim == 1
     if isinstance(value, dict) or not hasattr(value, "__iter__") or not flat:
         raise ValueError(f"{name} must be a list of {what}s, got {shown(value)}")
