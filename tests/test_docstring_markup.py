@@ -10,6 +10,7 @@ finds both classes in seconds, before the book is built.
 import importlib
 import inspect
 import pkgutil
+import re
 
 import docutils.core
 import docutils.nodes
@@ -84,3 +85,18 @@ def test_decorated_functions_are_read_too():
     from xnavlab.reproductions import ch08_wavelet_details as m
 
     assert "xnavlab.reproductions.ch08_wavelet_details.detail_runs" in dict(_docstrings(m))
+
+
+@pytest.mark.parametrize("modname", sorted(_modules()))
+def test_a_bare_data_reference_names_a_documented_constant(modname):
+    # ``:data:`DOF_RANGE``` in a docstring resolves only if autodoc documents the name, that is,
+    # if it is in the module's __all__: a constant left out failed the book build (-W, "py:data
+    # reference target not found") after every test had passed
+    module = importlib.import_module(modname)
+    public = set(getattr(module, "__all__", ()))
+    own = [(where, doc) for where, doc in _docstrings(module)  # a re-export: in its own module
+           if where == modname or getattr(getattr(module, where.split(".")[len(modname.split("."))], None),
+                                          "__module__", modname) == modname]
+    found = [(where, ref) for where, doc in own if doc
+             for ref in re.findall(r":data:`~?([A-Za-z_]\w*)`", doc) if ref not in public]
+    assert not found, f"not in {modname}.__all__: {found}"

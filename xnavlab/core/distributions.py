@@ -19,6 +19,7 @@ import numpy as np
 from xnavlab.core.validate import check_finite_array, check_real
 
 __all__ = [
+    "DOF_RANGE", "T_Q_MIN",
     "norm_cdf", "norm_sf", "norm_ppf", "norm_isf", "chi2_cdf", "chi2_ppf", "chi2_isf", "t_ppf",
 ]
 
