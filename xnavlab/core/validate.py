@@ -568,8 +568,8 @@ def check_records(name, value, keys=(), what="record"):
     ...
     ValueError: rows must be a list of records (dicts), got array(1.)
     """
-    zero_d = isinstance(value, np.ndarray) and value.ndim == 0  # iterable to hasattr, not to list
-    if isinstance(value, str | bytes | dict) or not hasattr(value, "__iter__") or zero_d:
+    no_list = isinstance(value, np.ndarray) and value.ndim != 1  # a 0-d array: iterable to hasattr
+    if isinstance(value, str | bytes | dict) or not hasattr(value, "__iter__") or no_list:
         raise ValueError(f"{name} must be a list of {what}s (dicts), got {shown(value)}")
     value = list(value)
     for i, row in enumerate(value):

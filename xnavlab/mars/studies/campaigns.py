@@ -45,7 +45,6 @@ from xnavlab.core.validate import (
     check_real,
     check_records,
     check_seed,
-    shown,
 )
 from xnavlab.mars.navigation import scenario_files, scenarios
 from xnavlab.mars.studies import trials
@@ -173,7 +172,7 @@ def summarise_consistency(runs):
     >>> rows[0]["quantity"], rows[0]["runs"], rows[-1]["quantity"]
     ('NEES', 2, 'position RMS (m)')
     """
-    runs = _records("runs", runs, ("status",), "campaign record")  # a string: one line
+    runs = check_records("runs", runs, ("status",), "campaign record")  # a string: one line
     ok = [r["metrics"] for r in runs if r["status"] == "ok"]
     if not ok:
         return []
@@ -199,14 +198,6 @@ def summarise_consistency(runs):
                  "hi": float(np.percentile(pe, 95)), "inside": None, "verdict": None,
                  "runs": n})
     return rows
-
-
-def _records(name, value, keys, what):
-    """:func:`~xnavlab.core.validate.check_records`, a numpy array that is no 1-D list refused
-    too (``np.array(1.0)`` cannot be iterated), naming ``name``."""
-    if isinstance(value, np.ndarray) and value.ndim != 1:
-        raise ValueError(f"{name} must be a list of {what}s (dicts), got {shown(value)}")
-    return check_records(name, value, keys, what)
 
 
 # --------------------------------------------------------------------------- detectors
@@ -262,7 +253,7 @@ def summarise_detectors(runs):
     []
     """
     recs = []
-    for r in _records("runs", runs, ("status",), "campaign record"):
+    for r in check_records("runs", runs, ("status",), "campaign record"):
         if r["status"] != "ok":
             continue
         p = r["parameters"]

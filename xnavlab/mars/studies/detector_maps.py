@@ -97,8 +97,8 @@ def cell_grid(rows, key, detector):
     values : ndarray, shape (len(labels), 3)
         Columns :data:`SENSORS`; NaN where the table has no value (e.g. no delay).
     """
-    rows = _records("rows", rows, ("fault_class", "size", "sensor", "detector"),
-                    "detector_table row")
+    rows = check_records("rows", rows, ("fault_class", "size", "sensor", "detector"),
+                         "detector_table row")
     mine = [r for r in rows if r["detector"] == detector]
     if not mine:
         raise ValueError(f"detector must be one of the table's detectors, got {detector!r}")
@@ -268,7 +268,7 @@ def plot_signal_pd(rows, detectors=("wavelet", "chi2")):
     """
     from matplotlib.figure import Figure
 
-    rows = _records("rows", rows, ("kind", "size_sigma"), "detection_table row")
+    rows = check_records("rows", rows, ("kind", "size_sigma"), "detection_table row")
     if not rows:
         raise ValueError("rows must hold at least one detection_table row, got an empty list")
 
@@ -300,21 +300,13 @@ def plot_signal_pd(rows, detectors=("wavelet", "chi2")):
     return fig
 
 
-def _records(name, value, keys, what):
-    """:func:`~xnavlab.core.validate.check_records`, a numpy array that is no 1-D list refused
-    too (``np.array(1.0)`` cannot be iterated), naming ``name``."""
-    if isinstance(value, np.ndarray) and value.ndim != 1:
-        raise ValueError(f"{name} must be a list of {what}s (dicts), got {shown(value)}")
-    return check_records(name, value, keys, what)
-
-
 def _table_rows(table, keys):
     """The rows of a detector table (a dict with ``rows``), each holding ``keys``, else one
     ValueError naming ``table``."""
     if not isinstance(table, dict) or "rows" not in table:  # a list of rows was a TypeError
         raise ValueError(f"table must be a dict with the key 'rows' (a detector table), got "
                          f"{shown(table)}")
-    rows = _records("table['rows']", table["rows"], keys, "detector_table row")
+    rows = check_records("table['rows']", table["rows"], keys, "detector_table row")
     if not rows:
         raise ValueError("table['rows'] must hold at least one detector_table row, got an empty list")
     return rows

@@ -437,7 +437,7 @@ def curve_csv(rows):
     >>> curve_csv([])
     ''
     """
-    rows = _records("rows", rows, (), "curve row")
+    rows = check_records("rows", rows, (), "curve row")
     if not rows:
         return ""
     out = io.StringIO()
@@ -445,14 +445,6 @@ def curve_csv(rows):
     w.writeheader()
     w.writerows({k: ("" if v is None else v) for k, v in r.items()} for r in rows)
     return out.getvalue()
-
-
-def _records(name, value, keys, what):
-    """:func:`~xnavlab.core.validate.check_records`, a numpy array that is no 1-D list refused
-    too (``np.array(1.0)`` cannot be iterated), naming ``name``."""
-    if isinstance(value, np.ndarray) and value.ndim != 1:
-        raise ValueError(f"{name} must be a list of {what}s (dicts), got {shown(value)}")
-    return check_records(name, value, keys, what)
 
 
 def write_curve(directory, grid, runs, seed):
@@ -513,7 +505,7 @@ def plot_roc(curves, ax=None):
         raise ValueError("curves must hold at least one labelled curve")
     keys = ("threshold", "pd", "pd_lo", "pd_hi", "false_alarms_per_day", "false_alarms_per_day_lo",
             "false_alarms_per_day_hi")
-    curves = {label: _records(f"curves[{label!r}]", rows, keys, "roc_curve row")
+    curves = {label: check_records(f"curves[{label!r}]", rows, keys, "roc_curve row")
               for label, rows in curves.items()}
     fig, ax = (plt.subplots(figsize=(6.4, 4.2)) if ax is None else (ax.figure, ax))
     for label, rows in curves.items():

@@ -51,7 +51,7 @@ from xnavlab.core.detection import limits
 from xnavlab.core.distributions import chi2_ppf
 from xnavlab.core.faults import Fault
 from xnavlab.core.userfiles import as_path, check_rows, load_table
-from xnavlab.core.validate import check_choice, check_int, check_real, check_records, check_seed, shown
+from xnavlab.core.validate import check_choice, check_int, check_real, check_records, check_seed
 from xnavlab.mars.faults import fault_tolerance, schedules
 from xnavlab.mars.navigation import scenarios
 
@@ -360,14 +360,6 @@ def _finite(v):
     return None if v is None or not math.isfinite(v) else float(v)
 
 
-def _records(name, value, keys, what):
-    """:func:`~xnavlab.core.validate.check_records`, a numpy array that is no 1-D list refused
-    too (``np.array(1.0)`` cannot be iterated), naming ``name``."""
-    if isinstance(value, np.ndarray) and value.ndim != 1:
-        raise ValueError(f"{name} must be a list of {what}s (dicts), got {shown(value)}")
-    return check_records(name, value, keys, what)
-
-
 #: What :func:`detector_table` reads of each trial record.
 _RECORD_KEYS = ("fault_class", "sensor", "size_index", "size", "detector", "detected", "delay_s",
                 "false_alarms", "armed_days", "fused_rms_ratio", "late", "time_out_s")
@@ -401,7 +393,7 @@ def detector_table(records):
     (1.0, 10.5, 20)
     """
     cells = OrderedDict()
-    for r in _records("records", records, _RECORD_KEYS, "trial record"):
+    for r in check_records("records", records, _RECORD_KEYS, "trial record"):
         key = (r["fault_class"], r["sensor"], r["size_index"], r["detector"])
         cells.setdefault(key, []).append(r)
     rows = []
@@ -458,7 +450,7 @@ def marked_cells(rows):
     []
     """
     by = {}
-    for r in _records("rows", rows, ("fault_class", "sensor", "size_index", "detector"),
+    for r in check_records("rows", rows, ("fault_class", "sensor", "size_index", "detector"),
                       "detector_table row"):
         by.setdefault((r["fault_class"], r["sensor"], r["size_index"]), {})[r["detector"]] = r
     out = []
