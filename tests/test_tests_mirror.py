@@ -19,9 +19,9 @@ TESTS = ROOT / "tests"
 
 #: Module (path under xnavlab/) -> why it has no test module of its name. Keep it short.
 EXEMPT = {
-    # Every registered reproduction runs in tests/test_reproduce.py
-    # (test_every_registered_reproduction_passes) and again in its system's tests.
-    "reproductions/": "tested through the registry: tests/test_reproduce.py",
+    # Every registered reproduction runs in tests/test_verdicts.py (its checks and its claims'
+    # verdicts) and again in its system's tests.
+    "reproductions/": "tested through the registry: tests/test_verdicts.py",
     # The numba kernel is checked against the readable numpy loop of the same scenario.
     "cli/campaigns.py": "tested by the CLI section of tests/core/test_campaign.py",
     # PINT as a witness: its tests need PINT's shipped data and run with ``-m witness``.

@@ -6,7 +6,7 @@ of each claim of the paper as the book states it (the chapters glue them from th
 verdict changes only by an edit of this table, made on purpose and reviewed: a REPRODUCED that
 turns into NOT REPRODUCED (or back) after a change of the code fails here first, with the row.
 The claims' numbers, tolerances and reasons are in the registry's tables (``python -m xnavlab
-reproduce ID``); our checks (CHECK) must all hold (tests/test_reproduce.py).
+reproduce ID``); our checks (CHECK) must all hold, in the same test (one run each).
 """
 
 import numpy as np
@@ -138,10 +138,16 @@ EXPECTED = {
 
 
 @pytest.mark.parametrize("rid", reproduce.ids())
-def test_every_claim_has_the_verdict_the_book_states(rid):
+def test_every_reproduction_runs_its_checks_hold_and_its_claims_have_the_book_verdicts(rid):
+    """One run of each registered reproduction (the longest take a minute): our checks hold,
+    every row states its tolerance and reason, and each claim's verdict is the recorded one."""
     assert rid in EXPECTED, f"{rid}: record its headline and claims' verdicts in EXPECTED"
     res = reproduce.run(rid)
     res.assert_ok()
+    assert all(c.tolerance for c in res.checks)
+    assert all(c.reading for c in res.claims if c.verdict in ("NOT REPRODUCED", "UNDECIDED")), \
+        f"{rid}: a claim not reproduced must say by how much, an undecided one what would decide it"
+    assert res.note, f"{rid}: say how ours was obtained and where it differs"
     headline, claims = EXPECTED[rid]
     got = {c.name: c.verdict for c in res.claims}
     changed = {n: (claims.get(n), got.get(n)) for n in claims.keys() | got.keys()
