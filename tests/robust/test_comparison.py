@@ -91,7 +91,8 @@ def test_compare_settings_gives_each_setting_the_numbers_of_its_own_study():
 
 def test_compare_settings_refuses_a_setting_that_cannot_vary_by_run():
     with pytest.raises(ValueError, match=r"^settings\['b'\] sets rkf_bias; only sigma_r0"):
-        rb.compare_settings("mars", {"b": ({}, {"rkf_bias": "oracle"}, ("rkf",))}, n_steps=10)
+        rb.compare_settings("mars", {"b": ({}, {"rkf_bias": "oracle"}, ("rkf",))}, n_steps=10,
+                              window=(500.0, 5000.0))
 
 
 @pytest.mark.parametrize(("filters", "words"), [
@@ -101,7 +102,7 @@ def test_compare_settings_refuses_a_setting_that_cannot_vary_by_run():
 ])
 def test_compare_settings_names_each_filter_of_a_setting(filters, words):  # review 35d D11's class
     with pytest.raises(ValueError) as exc:
-        rb.compare_settings("mars", {"b": ({}, {}, filters)}, n_steps=10)
+        rb.compare_settings("mars", {"b": ({}, {}, filters)}, n_steps=10, window=(500.0, 5000.0))
     assert str(exc.value).startswith(words), str(exc.value)
 
 
@@ -153,7 +154,8 @@ def test_rmse_names_run_scenario_and_the_end_of_an_empty_window():
     ({"window": [1.0, True]}, r"^window\[1\] must be a real number"),
 ])
 def test_compare_settings_names_settings_and_window(change, words):
-    args = {"body": "mars", "settings": {"a": ({}, {}, ("ukf",))}, "n_steps": 5} | change
+    args = {"body": "mars", "settings": {"a": ({}, {}, ("ukf",))}, "n_steps": 5,
+            "window": (500.0, 2500.0)} | change
     with pytest.raises(ValueError, match=words):
         rb.compare_settings(**args)
 
@@ -166,3 +168,18 @@ def test_rmse_refuses_a_scenario_of_another_truth_and_window_as_a_set():
         rb.rmse(run, other, 0.0, 5000.0)
     with pytest.raises(ValueError, match=r"^window must be an ordered pair \(t_from, t_to\), got the set"):
         rb.compare_filters("mars", ("ukf",), n_steps=40, window={5e3, 2e4})
+
+
+def test_a_window_past_the_runs_end_is_refused_not_shortened():
+    """An RMSE over fewer epochs than the window asked for is refused, naming the window's end."""
+    sc = rb.simulate("mars", n_steps=40, rng=0)
+    run = rb.run_filter("ukf", sc, rng=1)
+    assert rb.rmse(run, sc, 5e3, 2e4) > 0  # the run's last epoch: 40 x 500 s
+    with pytest.raises(ValueError, match=r"^t_to = 20001 s is past the run's last epoch \(20000 s"):
+        rb.rmse(run, sc, 5e3, 20001.0)
+    with pytest.raises(ValueError, match=r"^window ends at 1e\+09 s, past the run's end \(20000 s"):
+        rb.compare_filters("mars", ("ukf",), n_steps=40, window=(5e3, 1e9))
+    with pytest.raises(ValueError, match=r"^n_steps = 40 ends the run at 20000 s.*n_steps >= 500"):
+        rb.compare_filters("mars", ("ukf",), n_steps=40)
+    with pytest.raises(ValueError, match=r"^n_steps must be an integer in \[1, 1000000\]"):
+        rb.compare_settings("mars", {"a": ({}, {}, ("ukf",))}, n_steps=0, window=(1.0, 2.0))

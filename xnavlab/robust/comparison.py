@@ -26,11 +26,14 @@ from xnavlab.robust import ephemeris_error as ee
 from xnavlab.robust._checks import check_run_of
 from xnavlab.robust.filters import FILTERS, SETTINGS, FilterRun, Scenario, run_filters, simulate
 
-__all__ = ["WINDOWS", "N_STEPS", "PER_RUN", "rmse", "improvement", "compare_filters", "compare_settings"]
+__all__ = ["WINDOWS", "DT", "N_STEPS", "PER_RUN", "rmse", "improvement", "compare_filters",
+           "compare_settings"]
 
 #: The paper's stable intervals for the RMSE, s after the start.
 WINDOWS = {"earth": (1e5, 6e5), "mars": (5e4, 2.5e5)}
-#: Run lengths of :func:`compare_filters`, steps of 500 s: enough for :data:`WINDOWS`.
+#: The step of the compared runs, s (:func:`~xnavlab.robust.filters.simulate`'s default).
+DT = inspect.signature(simulate).parameters["dt"].default
+#: Run lengths of :func:`compare_filters`, steps of :data:`DT`: enough for :data:`WINDOWS`.
 N_STEPS = {"earth": 1200, "mars": 500}
 #: The filter settings :func:`compare_settings` may vary (numbers run_filters takes one per run).
 PER_RUN = ("sigma_r0", "sigma_v0", "q_r", "q_v", "q_b", "sigma_b0", "lam")
@@ -45,7 +48,8 @@ def rmse(run, scenario, t_from, t_to):
     run : FilterRun
     scenario : Scenario
     t_from, t_to : float
-        Interval, s after the initial epoch (paper: Earth 1e5-6e5, Mars 5e4-2.5e5).
+        Interval, s after the initial epoch (paper: Earth 1e5-6e5, Mars 5e4-2.5e5); ``t_to``
+        at most the run's last epoch (a window past it is refused, not shortened).
 
     Examples
     --------
@@ -64,6 +68,9 @@ def rmse(run, scenario, t_from, t_to):
         which = "t_from" if t_from > tau[-1] else "t_to"
         raise ValueError(f"{which} leaves no epochs in [{t_from:g}, {t_to:g}] s; the run covers "
                          f"(0, {tau[-1]:g}] s, one epoch every {scenario.dt:g} s")
+    if t_to > tau[-1] * (1.0 + 1e-12):  # the mean would be over a shorter window than asked
+        raise ValueError(f"t_to = {t_to:g} s is past the run's last epoch ({tau[-1]:g} s after the "
+                         f"start): give t_to <= {tau[-1]:g} s, or a longer run")
     return float(np.sqrt(np.mean(run.error[sel] ** 2)))  # RMSE = sqrt(mean |dr_k|^2)
 
 
@@ -110,9 +117,11 @@ def compare_filters(body="earth", filters=FILTERS, error="de405", size=0.0, eps=
     seeds : sequence of int
         One run per seed.
     n_steps : int, optional
-        Steps of 500 s (default :data:`N_STEPS`, enough for the paper's window).
+        Steps of :data:`DT`, in [1, 1e6] (default :data:`N_STEPS`, enough for the paper's window).
     window : (float, float), optional
-        RMSE interval, s after the start (default :data:`WINDOWS`).
+        RMSE interval ``(t_from, t_to)``, s after the start, ``0 <= t_from < t_to <=
+        n_steps DT`` (default :data:`WINDOWS`): a window past the run's end is refused, not
+        shortened.
     max_workers : int
         Processes the seeds are spread over, in contiguous groups (1: in this process); the
         results do not depend on it.
@@ -137,8 +146,7 @@ def compare_filters(body="earth", filters=FILTERS, error="de405", size=0.0, eps=
                                    lambda lab, f: check_choice(lab, f, FILTERS))
     seeds = validate.check_seeds("seeds", seeds)
     max_workers = check_int("max_workers", max_workers, 1, 64)
-    n_steps = N_STEPS[body] if n_steps is None else n_steps
-    window = _check_window(body, window)
+    n_steps, window = _check_window(body, window, n_steps)
     _check_filter_kwargs(filters, dict(filter_kwargs, eps=eps))
     one = functools.partial(_group_runs, body, filters, dict(
         n_steps=n_steps, error=error, size=size, pulsar_names=pulsar_names, direction=direction,
@@ -159,16 +167,27 @@ def compare_filters(body="earth", filters=FILTERS, error="de405", size=0.0, eps=
             "error": results[0][1]}
 
 
-def _check_window(body, window):
-    """``window`` as ``(t_from, t_to)``, 0 <= t_from < t_to, s (None: the body's :data:`WINDOWS`)."""
+def _check_window(body, window, n_steps):
+    """``(n_steps, (t_from, t_to))``: the run's steps of 500 s (None: the body's :data:`N_STEPS`)
+    and the RMSE window, 0 <= t_from < t_to <= the run's end, s (None: the body's :data:`WINDOWS`)."""
+    n_steps = check_int("n_steps", N_STEPS[body] if n_steps is None else n_steps, 1, 10**6)
+    end = n_steps * DT  # the last epoch, s after the start
     if window is None:
-        return WINDOWS[body]
+        window = WINDOWS[body]
+        if window[1] > end:
+            raise ValueError(f"n_steps = {n_steps} ends the run at {end:g} s, before the end of "
+                             f"{body}'s RMSE window {window} s: give n_steps >= "
+                             f"{int(np.ceil(window[1] / DT))}, or a window")
+        return n_steps, window
     if isinstance(window, set | frozenset):  # unordered: which end is t_from would be chance
         raise ValueError(f"window must be an ordered pair (t_from, t_to), got the set {window!r}")
     times = validate.check_items("window", window, "time", lambda lab, v: (lab, check_real(lab, v, 0.0)), 2)
     if len(times) != 2 or not times[0] < times[1]:
         raise ValueError(f"window must be (t_from, t_to), 0 <= t_from < t_to, s, got {window!r}")
-    return tuple(float(v) for v in times)
+    if times[1] > end:  # an RMSE over fewer epochs than asked, without a word
+        raise ValueError(f"window ends at {times[1]:g} s, past the run's end ({end:g} s = n_steps "
+                         f"{n_steps} x {DT:g} s): give t_to <= {end:g} s, or more n_steps")
+    return n_steps, tuple(float(v) for v in times)
 
 
 def _check_filter_kwargs(filters, kwargs):
@@ -256,8 +275,7 @@ def compare_settings(body, settings, seeds=(0,), n_steps=None, window=None, **sc
         raise ValueError(f"settings must be a non-empty dict label -> (simulate arguments, filter "
                          f"settings, filters), got {validate.shown(settings)}")
     seeds = validate.check_seeds("seeds", seeds)
-    window = _check_window(body, window)
-    steps = N_STEPS[body] if n_steps is None else n_steps
+    steps, window = _check_window(body, window, n_steps)
     defaults = inspect.signature(run_filters).parameters
     drawn, per_filter = {}, {f: [] for f in FILTERS}
     for label, item in settings.items():
