@@ -123,3 +123,10 @@ def test_sensors_refuse_times_that_do_not_increase():
             att.gyro_measurements(t, np.zeros((3, 3)), noise_deg_per_h=0.0)
         with pytest.raises(ValueError, match=r"^t must be strictly increasing"):
             att.star_tracker_measurements(t, np.tile(att.DEFAULT_Q0, (3, 1)), noise_deg=0.0)
+
+
+def test_make_fault_refuses_an_onset_before_the_run():
+    """Review 35i: a negative onset was accepted here and refused only by the run."""
+    with pytest.raises(ValueError, match=r"^onset must be a real number in \[0, inf\)"):
+        att.make_fault("gyro_x", "step", 1e-5, onset=-5.0)
+    assert att.make_fault("gyro_x", "step", 1e-5, onset=0.0).onset == 0.0

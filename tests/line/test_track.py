@@ -202,3 +202,9 @@ def test_issue35_simulate_takes_an_rng_without_noise_and_ignores_it_as_documente
         np.testing.assert_array_equal(track.simulate(np.array([0.0, 5.0]), 2.0, 3, rng=rng), base)
     with pytest.raises(ValueError, match=r"^rng must be"):
         track.simulate(np.array([0.0, 5.0]), 2.0, 3, rng=1.5)
+
+
+def test_track_refuses_a_truth_of_one_row():
+    """Review 35i: one row of truth gave a Track of no measurement (z of shape (0,))."""
+    with pytest.raises(ValueError, match=r"^truth must hold at least 2 rows"):
+        track.track(np.zeros((1, 2)), 10.0, np.zeros(2), np.eye(2) * 1e6, rng=0)

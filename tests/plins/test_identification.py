@@ -185,3 +185,9 @@ def test_onset_search_identification_and_first_alarm_need_increasing_times():
         with pytest.raises(ValueError, match=r"^sensor must be an integer in \[0, 999\]"):
             P.identify_fault(t, z, W, 10.0, sigma=1.0, sensor=sensor)
     assert P.identify_fault(t, z, W, 10.0, sigma=1.0, sensor=np.int64(3)).sensor == 3
+
+
+def test_fault_signature_refuses_times_out_of_order():
+    """Review 35i: a window's times decreasing were accepted (a window is samples in order)."""
+    with pytest.raises(ValueError, match=r"^t_window must be strictly increasing"):
+        P.fault_signature([3.0, 2.0, 1.0], "step", onset=2.0)

@@ -177,3 +177,18 @@ def test_blended_bases_takes_memberships_only(weights):
     with pytest.raises(ValueError, match=r"^weights\[0\] must be memberships \(each >= 0, adding up to 1\)"):
         P.blended_bases(weights, b)
     assert P.blended_bases([[0.25, 0.75]], b)[0, 0, :, 0].tolist() == [2.5, 2.5]
+
+
+def test_align_bases_refuses_a_basis_that_is_not_orthonormal():
+    """Review 35i: a zero basis was 'aligned' (any rotation of zero is zero), a scaled one too."""
+    V = np.eye(3)[:, :2]
+    with pytest.raises(ValueError, match=r"^bases\[0\] must have orthonormal columns"):
+        P.align_bases([np.zeros((3, 2)), V])
+    with pytest.raises(ValueError, match=r"^bases\[1\] must have orthonormal columns.*off by 3"):
+        P.align_bases([V, 2.0 * V])
+
+
+def test_check_identifiability_refuses_a_signature_of_no_parameter():
+    """Review 35i: M with zero columns gave numpy's reshape message."""
+    with pytest.raises(ValueError, match=r"^M must have shape \(4, k\) or \(K, 4, k\), k >= 1"):
+        P.check_identifiability(np.eye(4)[:, :2], np.zeros((4, 0)))

@@ -485,3 +485,15 @@ def test_simulate_passes_no_growth_setting_to_another_error():
     """simulate's default growth_time is not passed on for a constant error (injected_error refuses it)."""
     sc = rb.simulate("mars", n_steps=3, error="constant", size=100.0, rng=1)
     np.testing.assert_allclose(np.linalg.norm(sc.dr_e, axis=1), 100.0)
+
+
+def test_one_generator_listed_twice_is_drawn_from_in_order():
+    """Review 35i asked: the same Generator for two runs is drawn from run after run, as
+    run_filter called twice with it (documented, not refused)."""
+    scs = [rb.simulate("mars", n_steps=10, rng=s) for s in (0, 1)]
+    g = np.random.default_rng(1)
+    runs = rb.run_filters("rkf", scs, [g, g])
+    g = np.random.default_rng(1)
+    one_by_one = [rb.run_filter("rkf", sc, rng=g) for sc in scs]
+    for a, b in zip(runs, one_by_one, strict=True):
+        np.testing.assert_allclose(a.x, b.x, rtol=1e-12, atol=1e-6)

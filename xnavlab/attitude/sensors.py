@@ -257,7 +257,7 @@ def make_fault(location, kind, magnitude, onset=50.0, duration=math.inf):
         SI: rad/s for a gyro step (rad/s^2 for a ramp); dimensionless quaternion units
         for the star tracker (per second for a ramp).
     onset : float
-        Start, s.
+        Start, s since the start of the run, in [0, inf) (a run refuses one at or past its end).
     duration : float
         Length, s (``math.inf``: permanent).
 
@@ -269,6 +269,7 @@ def make_fault(location, kind, magnitude, onset=50.0, duration=math.inf):
     """
     check_choice("location", location, LOCATIONS)
     check_choice("kind", kind, KINDS)
+    check_real("onset", onset, 0.0)  # s since the start: the attitude runs begin at t = 0
     if location == "star_tracker":
         return Fault("star_tracker", kind, magnitude, onset, duration, 0)
     return Fault("gyro", kind, magnitude, onset, duration, LOCATIONS.index(location))

@@ -143,7 +143,7 @@ def track(truth, exposure, x0, P0, pulsar_names=("B0531+21",), directions=((1.0,
     Parameters
     ----------
     truth : array_like
-        True states at ``t_k = k exposure`` (:func:`simulate`), shape (n + 1, 2 d).
+        True states at ``t_k = k exposure`` (:func:`simulate`), shape (n + 1, 2 d), n >= 1.
     exposure : float
         Window of each TOA and step of the filter, s, in [1e-3, 1e5] (as
         :func:`~xnavlab.line.measure.range_sigma`).
@@ -172,6 +172,8 @@ def track(truth, exposure, x0, P0, pulsar_names=("B0531+21",), directions=((1.0,
     if truth.ndim != 2 or truth.shape[1] != 2 * d or N.shape[0] != len(pulsar_names):
         raise ValueError(f"truth must be (n + 1, {2 * d}) and directions one row a pulsar, "
                          f"got {truth.shape} and {N.shape} for {len(pulsar_names)} pulsars")
+    if len(truth) < 2:  # no step: a track of no measurement
+        raise ValueError(f"truth must hold at least 2 rows (t = 0 and one exposure), got {len(truth)}")
     _check_directions(N)
     rng = make_rng(rng)
     exposure = check_real("exposure", exposure, 1e-3, 1e5)  # range_sigma's range

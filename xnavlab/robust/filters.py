@@ -820,7 +820,8 @@ def run_filters(name, scenarios, rngs=None, eps=None, sigma_r0=1000.0, sigma_v0=
         Draws of one :func:`simulate` setting (the same body, epochs, pulsars and noise
         covariance; the measurements, truth and ephemeris error may differ).
     rngs : sequence of (numpy.random.Generator or int), optional
-        One per scenario: draws its initial error.
+        One per scenario: draws its initial error. A Generator listed more than once is
+        drawn from in order, as :func:`run_filter` called run after run with it would.
     sigma_r0, sigma_v0, q_r, q_v, q_b, sigma_b0, lam : float or sequence of float
         As for :func:`run_filter`: one value for every run, or one per scenario (a study of
         the settings runs as one batch too).

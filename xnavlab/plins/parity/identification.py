@@ -89,7 +89,7 @@ def fault_signature(t_window, model, onset=0.0, time_origin="absolute"):
     Parameters
     ----------
     t_window : array_like, shape (p,)
-        Sample times of the window, s.
+        Sample times of the window, s, strictly increasing.
     model : {"bias", "step", "ramp"}
         ``"bias"``: ``theta = [f]``, constant in the whole window (paper eq. 23, the
         onset is ignored). ``"step"``: ``theta = [f]`` from ``onset``. ``"ramp"``:
@@ -114,6 +114,7 @@ def fault_signature(t_window, model, onset=0.0, time_origin="absolute"):
     t = check_finite_array("t_window", t_window)
     if t.ndim != 1:
         raise ValueError(f"t_window must have shape (p,), got {t.shape}")
+    check_increasing("t_window", t)  # a window's samples in time order
     check_choice("model", model, MODELS)
     onset = check_real("onset", onset)
     check_choice("time_origin", time_origin, ("absolute", "onset"))

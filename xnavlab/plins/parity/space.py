@@ -33,6 +33,7 @@ from xnavlab.core.validate import check_arrays, check_finite_array, check_int, c
 
 __all__ = [
     "TYPICAL_STATE_STD",
+    "ORTHONORMAL_TOL",
     "stacked_matrices",
     "parity_basis",
     "align_bases",
@@ -49,6 +50,9 @@ __all__ = [
 TYPICAL_STATE_STD = np.array(
     [3e-4, 3e-4, 3e-3, 1.0, 1.0, 1.0, 100.0 / 6.36e6, 100.0 / 4.95e6, 100.0, 1000.0]
 )
+#: How far ``V^T V`` of a basis :func:`align_bases` takes may be from the identity: the
+#: SVD's bases are orthonormal to about 1e-15; a zero or scaled basis is far off.
+ORTHONORMAL_TOL = 1e-6
 
 
 # --------------------------------------------------------------- parity space
@@ -176,7 +180,7 @@ def align_bases(bases, ref=None):
     Parameters
     ----------
     bases : sequence of array_like, each shape (p, q)
-        Orthonormal bases of equal shape.
+        Orthonormal bases of equal shape (``V^T V = I`` to :data:`ORTHONORMAL_TOL`).
     ref : int, optional
         Index of the reference basis (default: the middle one).
 
@@ -196,6 +200,11 @@ def align_bases(bases, ref=None):
     bases = check_arrays("bases", bases, ndim=2)
     for i, b in enumerate(bases[1:], 1):  # one null-space dimension: bases[0] sets the shape
         check_shape(f"bases[{i}]", b, bases[0].shape, "the shape of bases[0]")
+    for i, b in enumerate(bases):  # a zero or scaled basis has no rotation onto another
+        err = float(np.abs(b.T @ b - np.eye(b.shape[1])).max(initial=0.0))  # q = 0: none
+        if err > ORTHONORMAL_TOL:
+            raise ValueError(f"bases[{i}] must have orthonormal columns (V^T V = I to "
+                             f"{ORTHONORMAL_TOL:g}), off by {err:.3g}: a parity_basis() result")
     ref = len(bases) // 2 if ref is None else check_int("ref", ref, 0, len(bases) - 1)
     out = []
     for b in bases:
@@ -260,10 +269,12 @@ def check_identifiability(V, M, rtol=1e-6):
     if V.ndim != 2:
         raise ValueError(f"V must have shape (p, q), got {V.shape}")
     M = check_finite_array("M", M)
+    given = M.shape
     if M.ndim == 2:
         M = M[None]
-    if M.ndim != 3 or M.shape[1] != V.shape[0]:
-        raise ValueError(f"M must have shape ({V.shape[0]}, k) or (K, {V.shape[0]}, k)")
+    if M.ndim != 3 or M.shape[1] != V.shape[0] or 0 in M.shape:
+        raise ValueError(f"M must have shape ({V.shape[0]}, k) or (K, {V.shape[0]}, k), k >= 1 "
+                         f"fault parameters, got {given}")
     rtol = check_real("rtol", rtol, 0.0, 1.0, lo_open=True, hi_open=True)
     q = V.shape[1]
     scale = np.linalg.norm(M.reshape(-1, M.shape[2]), 2)
