@@ -82,7 +82,8 @@ def test_every_window_of_chapter_12s_slider_is_a_valid_design():
     tol = 0.3 * pseudolites.DEFAULT_SIGMA
     for s in range(4, 30):
         diagnosis.flight_design(traj, sites, s, tol)
-    with pytest.raises(ValueError, match="differ in dimension"):
+    with pytest.raises(ValueError, match=r"^tol = 0.6 m leaves local parity spaces of sensor \d that "
+                                         r"differ in dimension \[28, 29\]; change tol or n_points$"):
         diagnosis.flight_design(traj, sites, 30, tol)
 
 
@@ -151,10 +152,17 @@ def test_diagnose_flight_names_faults_that_are_no_list_of_faults(faults):
 def test_flight_design_leads_with_the_tolerance_that_leaves_no_parity_space():
     """Issue 35 (review 35h): tol=0 was refused as 's = 11 leaves no common parity space'."""
     tr = ins.paper_trajectory(duration=40.0)
-    with pytest.raises(ValueError, match=r"^tol = 0 m \(leak_tol \* sigma in diagnose_flight\) leaves "
-                                         r"no common parity space with s = 11 \(constraint 1\); "
-                                         r"increase tol or s$"):
+    with pytest.raises(ValueError, match=r"^tol = 0 m leaves no common parity space with s = 11 "
+                                         r"\(constraint 1\); increase tol or s$"):
         P.diagnosis.flight_design(tr, pl.sites_ecef(), 11, 0.0)
+
+
+def test_diagnose_flight_names_leak_tol_not_the_tol_it_makes_of_it():
+    """Review 35i: diagnose_flight(leak_tol=1e-300) was refused naming flight_design's tol."""
+    with pytest.raises(ValueError, match=r"^leak_tol = 1e-300 \(tol = leak_tol x sigma = 2e-300 m\) "
+                                         r"leaves no common parity space with s = 11 \(constraint 1\); "
+                                         r"increase leak_tol or s$"):
+        P.diagnose_flight(leak_tol=1e-300)
 
 
 def test_first_alarm_refuses_times_out_of_order_and_a_negative_threshold():

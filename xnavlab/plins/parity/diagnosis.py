@@ -345,6 +345,14 @@ def flight_design(traj, sites, s, tol, n_points=3):
     s = check_int("s", s, 0, 200)
     tol = None if tol is None else check_real("tol", tol, 0.0)
     n_points = check_int("n_points", n_points, 1, 50)
+    return _design(traj, sites, s, tol, n_points,
+                   ("tol", "None (exact)" if tol is None else f"{tol:g} m"))
+
+
+def _design(traj, sites, s, tol, n_points, tol_named):
+    """:func:`flight_design` of checked arguments; ``tol_named`` is (the user's name of the
+    tolerance, its value as shown): the refusals name it (``leak_tol`` in diagnose_flight)."""
+    name, shown_tol = tol_named
     key = (len(traj), traj.dt, float(traj.lat[-1]), sites.tobytes(), s, tol, n_points)
     if key in _DESIGN_CACHE:
         return _DESIGN_CACHE[key]
@@ -356,14 +364,13 @@ def flight_design(traj, sites, s, tol, n_points=3):
               for lm in models]
         dims = {v.shape[1] for v in Vj}
         if len(dims) != 1:
-            raise ValueError(f"the local parity spaces of sensor {j} differ in dimension "
-                             f"{sorted(dims)}; change leak_tol or n_points")
+            raise ValueError(f"{name} = {shown_tol} leaves local parity spaces of sensor {j} that "
+                             f"differ in dimension {sorted(dims)}; change {name} or n_points")
         bases.append(align_bases(Vj))
     q = bases[0][0].shape[1]
     if q == 0 or any(b[0].shape[1] != q for b in bases):  # tol first: the edge a user moves
-        held = "None (exact)" if tol is None else f"{tol:g} m"
-        raise ValueError(f"tol = {held} (leak_tol * sigma in diagnose_flight) leaves no common "
-                         f"parity space with s = {s} (constraint 1); increase tol or s")
+        raise ValueError(f"{name} = {shown_tol} leaves no common parity space with s = {s} "
+                         f"(constraint 1); increase {name} or s")
     stacked = np.stack([np.stack([bases[j][l] for j in range(len(sites))])
                         for l in range(len(models))])
     weights = memberships(premises(traj), points)
@@ -468,7 +475,8 @@ def diagnose_flight(faults=(), *, model="step", s=11, threshold=None, sigma=_pl.
     data = _pl.simulate_pseudoranges(traj, x_err, sites, sigma=sigma, faults=faults, rng=rng)
     m = data.z.shape[1]
     tol = leak_tol * sigma
-    points, weights, W, q = flight_design(traj, sites, s, tol, n_points)
+    points, weights, W, q = _design(traj, sites, s, tol, n_points, (
+        "leak_tol", f"{leak_tol:g} (tol = leak_tol x sigma = {tol:g} m)"))
     r = parity_residuals(data.z, W)
     stat = np.linalg.norm(r, axis=2)
     thr = residual_threshold(sigma, q, p_fa) if threshold is None else threshold
