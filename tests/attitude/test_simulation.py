@@ -63,7 +63,7 @@ def test_simulate_arguments():
 @pytest.mark.parametrize(("fault", "words"), [
     (att.make_fault("gyro_x", "step", 1.0, onset=1e9), r"faults\[0\] \(gyro step, component 0\) "
                                                        r"starts at 1e\+09 s, outside this run"),
-    (att.make_fault("gyro_x", "step", 1.0, onset=-1.0), r"starts at -1 s, outside this run: an "
+    (Fault("gyro", "step", 1.0, -1.0, component=0), r"starts at -1 s, outside this run: an "
                                                         r"onset is s since the start, in \[0, 60\)"),
     (att.make_fault("gyro_y", "step", 1.0, onset=45.01, duration=0.05), "acts on no sample"),
     (Fault("uv", "step", 1.0, 45.0), r"sensor must be one of 'gyro', 'star_tracker'"),

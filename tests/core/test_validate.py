@@ -4,10 +4,14 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+from hypothesis.extra.numpy import arrays
 
 from xnavlab.core.validate import (
     check_bool,
     check_choice,
+    check_covariance,
     check_definite,
     check_finite_array,
     check_int,
@@ -233,3 +237,28 @@ def test_a_bool_among_numbers_is_refused_not_read_as_one(value):
     # review 35g: [..., true] in a scenario file's state0 became 1.0 m/s without a word
     with pytest.raises(ValueError, match=r"^x must be an array of finite numbers, got "):
         check_finite_array("x", value)
+
+
+@given(arrays(np.float64, (3, 3), elements=st.floats(-1.7e308, 1.7e308)))
+def test_check_covariance_judges_any_finite_matrix_without_a_warning(m):
+    """Entries near 1e308 made arr + arr.T overflow (a RuntimeWarning, then an eigenvalue of
+    inf): the check now works on the matrix scaled by a power of two."""
+    for definite in (False, True):
+        try:
+            out = check_covariance("P", m, definite=definite)
+        except ValueError as exc:
+            assert str(exc).startswith("P must be"), exc
+        else:
+            assert out is not None and np.all(np.isfinite(out))
+
+
+def test_check_covariance_scales_exactly():
+    """The scaling is by a power of two: the verdicts of a matrix and of it times 2^k agree."""
+    m = np.array([[2.0, 1.0], [1.0, 0.5]])  # singular to rounding: semi-definite, not definite
+    for k in (-900, 0, 900):
+        check_covariance("P", np.ldexp(m, k))
+        with pytest.raises(ValueError, match="^P must be positive definite"):
+            check_covariance("P", np.ldexp(m, k), definite=True)
+    with pytest.raises(ValueError, match=r"^P must be positive semi-definite, got smallest "
+                                         r"eigenvalue -1e\+308"):
+        check_covariance("P", -1e308 * np.eye(3))

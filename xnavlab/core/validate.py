@@ -402,12 +402,20 @@ def check_covariance(name, value, n=None, *, definite=False, rtol=1e-8):
     if arr.ndim != 2 or arr.shape[1] != size or (n is not None and size != n):
         raise ValueError(f"{name} must be a square matrix of shape {want}, got shape {arr.shape}")
     scale = float(np.max(np.abs(arr))) if arr.size else 0.0
-    if np.max(np.abs(arr - arr.T), initial=0.0) > rtol * scale:
+    # scaled by a power of two (exact) to a largest entry in [0.5, 1): sums of entries near
+    # 1e308 stay finite, and the eigenvalues are those of arr times 2^-e to the last bit
+    e = int(np.frexp(scale)[1]) if scale > 0.0 else 0
+    unit = np.ldexp(arr, -e)
+    if np.max(np.abs(unit - unit.T), initial=0.0) > rtol * np.ldexp(scale, -e):
         raise ValueError(f"{name} must be symmetric (to {rtol:g} of its largest entry)")
-    low = float(np.linalg.eigvalsh(0.5 * (arr + arr.T))[0]) if size else 0.0
-    if definite and not low > 0.0:
+    low_unit = float(np.linalg.eigvalsh(0.5 * (unit + unit.T))[0]) if size else 0.0
+    try:
+        low = math.ldexp(low_unit, e)  # arr's own smallest eigenvalue, for the message
+    except OverflowError:  # past 1.8e308 in size
+        low = math.copysign(math.inf, low_unit)
+    if definite and not low_unit > 0.0:
         raise ValueError(f"{name} must be positive definite, got smallest eigenvalue {low:.3g}")
-    if low < -rtol * scale:
+    if low_unit < -rtol * np.ldexp(scale, -e):
         raise ValueError(f"{name} must be positive semi-definite, got smallest eigenvalue {low:.3g}")
     return arr
 
