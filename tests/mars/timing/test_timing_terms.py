@@ -292,3 +292,59 @@ def test_epochs_are_checked_on_their_own_and_against_the_series(day_terms):
         tt.plot_terms([1.0], orbit, year)
     with pytest.raises(ValueError, match=r"^t must hold at least one epoch, got an empty array"):
         tt.planet_shapiro(np.zeros(3), [], np.array([[1.0, 0.0, 0.0]]))
+
+
+_R = np.array([2e11, 1e10, 3e9])
+
+
+def test_clock_terms_refuses_a_clock_inside_mars_and_x_of_another_length():
+    """Review 35j (1) 23 and (2) 6: a craft at Mars's centre gave a RuntimeWarning; x (3, 6)
+    against t (2,) numpy's broadcast message."""
+    t = np.array([5e8, 5e8 + 10])
+    with pytest.raises(ValueError, match=r"^x must lie outside mars \(at least its polar radius"):
+        tt.clock_terms(t, np.zeros((2, 6)))
+    with pytest.raises(ValueError, match=r"^x must have shape \(6,\) or \(2, 6\)"):
+        tt.clock_terms(t, np.zeros((3, 6)) + [4e6, 0, 0, 0, 3000, 0])
+    # orbit_terms names x too (planet_shapiro ran first and named r_ssb and the Sun)
+    with pytest.raises(ValueError, match=r"^x must lie outside mars"):
+        tt.orbit_terms(T0 + np.arange(3.0) * 60, np.zeros((3, 6)))
+
+
+def test_sun_angle_names_a_sun_position_of_another_shape():
+    """Review 35j (2) 4: r_ssb (4, 3) against r_sun_ssb (2, 3) gave numpy's broadcast message."""
+    with pytest.raises(ValueError, match=r"^r_sun_ssb must have shape \(3,\) or r_ssb's shape \(4, 3\)"):
+        tt.sun_angle_deg(np.zeros((4, 3)) + 1e11, N, np.zeros((2, 3)))
+    assert tt.sun_angle_deg(_R, N, np.zeros((4, 3)) + 1e8).shape == (4, 4)
+
+
+def test_planet_shapiro_names_t_bodies_and_an_observer_inside_a_planet():
+    """Review 35j (2) 5 and (5) 32: r_ssb (3, 3) at t (2,) gave numpy's reshape message (as
+    pint_bridge.planet_shapiro's, t is named); venus twice was silently counted once."""
+    with pytest.raises(ValueError, match=r"^t must be a scalar or have shape \(3,\) \(one epoch per row "
+                                         r"of r_ssb\), got shape \(2,\)"):
+        tt.planet_shapiro(np.zeros((3, 3)) + _R, [5e8, 5e8 + 1], N)
+    with pytest.raises(ValueError, match=r"^t must be a scalar or have shape \(1,\)"):
+        tt.planet_shapiro(_R, [5e8, 5e8 + 1], N)
+    with pytest.raises(ValueError, match=r"^bodies lists venus twice \(items 0 and 1\)"):
+        tt.planet_shapiro(_R, 5e8, N, bodies=("venus", "venus"))
+    with pytest.raises(ValueError, match=r"^bodies must name at least one body name, got an empty list"):
+        tt.planet_shapiro(_R, 5e8, N, bodies=())
+    with pytest.raises(ValueError, match=r"^bodies\[1\] must be one of 'mercury'"):
+        tt.planet_shapiro(_R, 5e8, N, bodies=("venus", "pluto"))
+    with pytest.raises(ValueError, match=r"^r_ssb must lie outside mars"):
+        tt.planet_shapiro(ephemeris.position("mars", 5e8), 5e8, N)
+    # many rows at one epoch: the bodies' one position serves every row
+    one = tt.planet_shapiro(_R, 5e8, N)["total"]
+    np.testing.assert_array_equal(tt.planet_shapiro(np.zeros((2, 3)) + _R, 5e8, N)["total"], [one, one])
+
+
+def test_xnav_run_with_term_refuses_a_scale_without_a_term():
+    """Review 35j (5) 9: scale=5 with term=None was silently ignored."""
+    with pytest.raises(ValueError, match=r"^scale is used only with a term: term=None runs without one"):
+        tt.xnav_run_with_term(None, days=0.02, scale=5.0)
+
+
+def test_mars_year_terms_refuses_an_orbit_inside_mars():
+    """Review 35j (5) 33: orbit_radius_m = 10 m (inside Mars) was accepted."""
+    with pytest.raises(ValueError, match=r"^orbit_radius_m must be a real number in \[3\.39619e\+06, "):
+        tt.mars_year_terms(step_days=30.0, orbit_radius_m=10.0)

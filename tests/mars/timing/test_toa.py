@@ -361,3 +361,58 @@ def test_the_paper_shapiro_form_is_finite_where_the_exact_one_is():
     n = np.array([[0.6, 0.8, 0.0]])
     assert np.isfinite(toa.shapiro_paper(R, n, r_sun)).all()
     assert np.isfinite(toa.gradient(R, n, 1e20, r_sun, shapiro="paper")).all()
+
+
+_R = np.array([2e11, 1e10, 3e9])
+
+
+@pytest.mark.parametrize("call", [
+    lambda n, d: toa.delay(np.zeros((5, 3)) + _R, n, d, np.zeros((3, 3)) + 1e8),
+    lambda n, d: toa.gradient(np.zeros((5, 3)) + _R, n, d, np.zeros((3, 3)) + 1e8),
+    lambda n, d: toa.terms(np.zeros((5, 3)) + _R, n, d, np.zeros((3, 3)) + 1e8, shapiro="paper"),
+    lambda n, d: toa.shapiro_paper(np.zeros((5, 3)) + _R, n, np.zeros((3, 3)) + 1e8),
+])
+def test_a_sun_position_of_another_shape_than_r_ssb_is_named(call):
+    """Review 35j (2) 1: r_ssb (5, 3) against r_sun_ssb (3, 3) gave numpy's "operands could not
+    be broadcast together"."""
+    n, d = pulsars.directions()
+    with pytest.raises(ValueError, match=r"^r_sun_ssb must have shape \(3,\) or r_ssb's shape \(5, 3\) "
+                                         r"\(one Sun position per spacecraft position\), got shape \(3, 3\)"):
+        call(n, d)
+    assert toa.delay(_R, n, d, np.zeros((2, 3)) + 1e8).shape == (2, 4)  # (3,) broadcasts still
+
+
+def test_delays_at_names_t_of_another_length_than_r():
+    """Review 35j (2) 2: r (3, 3) at t (2,) gave numpy's broadcast message."""
+    with pytest.raises(ValueError, match=r"^t must be a scalar or have shape \(3,\) \(one epoch per row "
+                                         r"of r\), got shape \(2,\)"):
+        toa.delays_at(np.zeros((3, 3)) + 1e7, [5e8, 5e8 + 1])
+    with pytest.raises(ValueError, match=r"^t must be a scalar or have shape \(n,\), got shape \(1, 1\)"):
+        toa.delays_at([-3.4e6, -1.3e6, -2.6e6], [[5e8]])
+    assert toa.delays_at([-3.4e6, -1.3e6, -2.6e6], [5e8, 5e8 + 1]).shape == (2, 4)  # one r, two epochs
+
+
+def test_gradient_fd_refuses_more_than_one_position():
+    """Review 35j (2)'s class: r_ssb (5, 3) gave a (5, 12) array of mixed columns."""
+    n, d = pulsars.directions()
+    with pytest.raises(ValueError, match=r"^r_ssb must have shape \(3,\) \(one position"):
+        toa.gradient_fd(np.zeros((5, 3)) + _R, n, d, np.zeros(3) + 1e8)
+    with pytest.raises(ValueError, match=r"^r_sun_ssb must have shape \(3,\)"):
+        toa.gradient_fd(_R, n, d, np.zeros((2, 3)) + 1e8)
+
+
+def test_proper_time_terms_refuses_a_clock_inside_a_body_and_x_of_another_length():
+    """Review 35j (1) 22 and (2) 3: a craft at Mars's centre gave a RuntimeWarning (divide by
+    zero); x (3, 6) against t (2,) numpy's "could not be broadcast" with remapped shapes."""
+    t = np.array([0.0, 1.0])
+    with pytest.raises(ValueError, match=r"^x must lie outside mars \(at least its polar radius, 3376\.2 km, "
+                                         r"from its centre\), got x\[0\] at 0 km"):
+        toa.proper_time_terms(t, np.zeros(6))
+    with pytest.raises(ValueError, match=r"^x must lie outside moon .* got x\[0\] at 0 km"):
+        toa.proper_time_terms(t, np.zeros(6), center="moon")
+    state = np.array([4e6, 0.0, 0.0, 0.0, 3000.0, 0.0])
+    for bad in (np.zeros((3, 6)) + state, np.zeros((1, 6)) + state, np.zeros((2, 2, 6)) + state):
+        with pytest.raises(ValueError, match=r"^x must have shape \(6,\) or \(2, 6\) \(one state per epoch "
+                                             r"of t\), got shape"):
+            toa.proper_time_terms(t, bad)
+    assert toa.proper_time_terms(t, state)["rate"].shape == (2,)

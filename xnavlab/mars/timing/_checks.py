@@ -1,5 +1,6 @@
-"""Checks that the timing modules share: the spin drift a photon simulation can invert, the
-exposure a fold divides by.
+"""Checks that the timing modules share: a pulsar's fields, the spin drift a photon simulation
+can invert, an observation's span, the exposure a fold divides by, two positions that broadcast,
+a position outside a body.
 
 Plumbing of :mod:`xnavlab.mars.timing` (imported by :mod:`xnavlab.mars.timing.pulsars`); not
 part of the public API.
@@ -9,7 +10,10 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["MAX_DRIFT", "check_spin_drift", "check_exposure"]
+from xnavlab.core.validate import check_finite_array, check_real, shown
+
+__all__ = ["MAX_DRIFT", "RADII", "check_pulsar_fields", "check_spin_drift", "check_span",
+           "check_exposure", "check_broadcast", "check_outside"]
 
 #: The largest relative change of the spin frequency, ``|fdot| tau / f``, over the photons'
 #: times ``tau`` that :func:`xnavlab.mars.timing.pulsars.simulate_photons` accepts. It inverts
@@ -19,6 +23,14 @@ __all__ = ["MAX_DRIFT", "check_spin_drift", "check_exposure"]
 #: ``f + fdot tau`` reaches zero and the Newton step divides by it. Every catalogued pulsar
 #: drifts by under 1e-5 over the longest observation (the Crab: 1.3e-11 per second).
 MAX_DRIFT = 0.01
+
+#: Polar radii of the bodies of :data:`xnavlab.mars.timing.toa.GM_DE421`, m (IAU WGCCRE 2015,
+#: Archinal et al. 2018: the smallest semi-axis, so that a clock on the surface at any latitude
+#: passes; the Moon's and Venus's mean radius, the Sun's IAU 2015 B3 nominal one): a clock or an
+#: observer nearer the centre is inside the body, where ``GM / |R - R_i|`` is no potential and
+#: the body's Shapiro delay no delay (at the centre, a division by 0 or the log of 0).
+RADII = {"sun": 6.957e8, "mercury": 2.43826e6, "venus": 6.0518e6, "earth": 6.3567519e6,
+         "moon": 1.7374e6, "mars": 3.3762e6, "jupiter": 6.6854e7, "saturn": 5.4364e7}
 
 
 def check_spin_drift(name, f, fdot, t_obs, shift):
@@ -63,6 +75,53 @@ def check_spin_drift(name, f, fdot, t_obs, shift):
                          f"{MAX_DRIFT:.0%}, got {shift:g}")
 
 
+def check_pulsar_fields(p, ranges, min_duty):
+    """Refuse a :class:`xnavlab.mars.timing.pulsars.Pulsar` field out of its kind or range, by name.
+
+    ``ranges`` maps each numeric field to its closed range; the width is within ``[min_duty P,
+    0.5 P]``; the name is non-empty text (the key of every list of names), and ``sources``
+    a dict from field names to text.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> p = SimpleNamespace(name="", period=1.0, width=0.1, sources={})
+    >>> check_pulsar_fields(p, {"period": (1e-4, 1e4)}, 1e-4)
+    Traceback (most recent call last):
+    ...
+    ValueError: Pulsar name must be a non-empty name (text, e.g. 'B0531+21'), got ''
+    """
+    if not isinstance(p.name, str) or not p.name.strip():
+        raise ValueError(f"Pulsar name must be a non-empty name (text, e.g. 'B0531+21'), got {shown(p.name)}")
+    for key, (lo, hi) in ranges.items():
+        check_real(f"Pulsar {key}", getattr(p, key), lo, hi)
+    check_real("Pulsar width", p.width, min_duty * p.period, 0.5 * p.period)
+    fields = (*ranges, "width")
+    if not isinstance(p.sources, dict):
+        raise ValueError(f"Pulsar sources must be a dict {{field: where its value comes from}}, "
+                         f"got {shown(p.sources)}")
+    for key, value in p.sources.items():
+        if key not in fields or not isinstance(value, str):
+            raise ValueError(f"Pulsar sources must map fields ({', '.join(fields)}) to text, got "
+                             f"{key!r}: {shown(value)}")
+
+
+def check_span(span):
+    """``span`` as a float array ``(t_start, t_stop)`` with ``t_stop > t_start``, else one ValueError.
+
+    Examples
+    --------
+    >>> check_span((10.0, 0.0))
+    Traceback (most recent call last):
+    ...
+    ValueError: span must be (t_start, t_stop) with t_stop > t_start, got [10.0, 0.0]
+    """
+    span = check_finite_array("span", span)
+    if span.shape != (2,) or not span[1] > span[0]:
+        raise ValueError(f"span must be (t_start, t_stop) with t_stop > t_start, got {span.tolist()}")
+    return span
+
+
 def check_exposure(exposure, span, given, period):
     """``exposure`` (each phase bin's, cycles) if every bin has some, else one ValueError.
 
@@ -88,3 +147,44 @@ def check_exposure(exposure, span, given, period):
                          f"got {length:.6g} s")
     raise ValueError(f"t must span every phase bin (a whole pulse cycle, {period:.6g} s, does) for its "
                      f"exposure, got photons over {length:.6g} s: give span, or exposure=False")
+
+
+def check_broadcast(name, value, other_name, other, why):
+    """Refuse ``value`` (an array, shape (..., 3)) whose shape does not broadcast with ``other``'s.
+
+    One ValueError leading with ``name`` (the later argument, checked against the earlier
+    ``other_name``), in place of numpy's "operands could not be broadcast together".
+
+    Examples
+    --------
+    >>> check_broadcast("r_sun_ssb", np.zeros(3), "r_ssb", np.zeros((5, 3)), "one per row")
+    >>> check_broadcast("r_sun_ssb", np.zeros((3, 3)), "r_ssb", np.zeros((5, 3)), "one per row")
+    Traceback (most recent call last):
+    ...
+    ValueError: r_sun_ssb must have shape (3,) or r_ssb's shape (5, 3) (one per row), got shape (3, 3)
+    """
+    try:
+        np.broadcast_shapes(np.shape(value), np.shape(other))
+    except ValueError:
+        raise ValueError(f"{name} must have shape (3,) or {other_name}'s shape {np.shape(other)} ({why}), "
+                         f"got shape {np.shape(value)}") from None
+
+
+def check_outside(name, dist, body):
+    """Refuse a distance from ``body``'s centre (m; a scalar or one per row of ``name``) within
+    its polar radius (:data:`RADII`), naming ``name`` and the first row inside.
+
+    Examples
+    --------
+    >>> check_outside("x", np.array([4e6, 3e6]), "mars")   # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: x must lie outside mars (at least its polar radius, 3376.2 km, from its centre), ...
+    """
+    dist = np.asarray(dist, dtype=float)
+    inside = dist < RADII[body]
+    if np.any(inside):
+        i = int(np.argmax(inside.ravel()))
+        where = f"{name}[{i}]" if dist.ndim else name
+        raise ValueError(f"{name} must lie outside {body} (at least its polar radius, {RADII[body] / 1e3:g} "
+                         f"km, from its centre), got {where} at {float(dist.ravel()[i]) / 1e3:.6g} km")

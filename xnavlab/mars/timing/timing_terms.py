@@ -35,12 +35,13 @@ from __future__ import annotations
 import numpy as np
 
 from xnavlab.core import ephemeris
-from xnavlab.core.constants import DAY, GM_SUN, C
+from xnavlab.core.constants import DAY, GM_SUN, R_MARS, C
 from xnavlab.core.diskcache import cached_arrays, entry_path
 from xnavlab.core.validate import check_choice, check_finite_array, check_items, check_real, shown
 from xnavlab.mars.models import dynamics
 from xnavlab.mars.navigation import scenarios
 from xnavlab.mars.timing import pulsars, toa
+from xnavlab.mars.timing._checks import check_broadcast, check_outside
 
 __all__ = [
     "PLANET_BODIES",
@@ -100,6 +101,7 @@ def sun_angle_deg(r_ssb, n, r_sun_ssb):
     toa.roemer(r_ssb, n)  # validates r_ssb (norm <= 1e15 m) and n (unit vectors), by name
     r_ssb, n = np.asarray(r_ssb, dtype=float), np.asarray(n, dtype=float)
     r_sun = check_finite_array("r_sun_ssb", r_sun_ssb, shape=(3,))
+    check_broadcast("r_sun_ssb", r_sun, "r_ssb", r_ssb, "one Sun position per observer position")
     if np.any(np.abs(r_sun) > 1e15):  # as r_ssb: their difference's norm stays finite
         raise ValueError(f"r_sun_ssb must have coordinates within 1e15 m of the SSB, got "
                          f"{float(np.abs(r_sun).max()):.6g} m")
@@ -196,13 +198,14 @@ def planet_shapiro(r_ssb, t, n, bodies=PLANET_BODIES, reference="ssb", ephem="de
     Parameters
     ----------
     r_ssb : array_like, shape (m, 3) or (3,)
-        Observer relative to the SSB, m.
+        Observer relative to the SSB, m, outside each of ``bodies`` (its polar radius).
     t : float or array_like, shape (m,)
         Epochs, s TDB past J2000.
     n : array_like, shape (k, 3)
         Unit vectors to the pulsars.
     bodies : sequence of str
-        Bodies of :data:`xnavlab.mars.timing.toa.GM_DE421` other than the Sun.
+        Bodies of :data:`xnavlab.mars.timing.toa.GM_DE421` other than the Sun, at least one,
+        none twice (a repeat would count its delay twice in ``total``).
     reference : {"ssb", "au", "both"}
         What the delay is referred to.
     ephem : {"de421", "de405"}
@@ -226,14 +229,23 @@ def planet_shapiro(r_ssb, t, n, bodies=PLANET_BODIES, reference="ssb", ephem="de
     """
     check_choice("reference", reference, ("ssb", "au", "both"))
     r = check_finite_array("r_ssb", r_ssb, shape=(3,))
+    if r.ndim > 2:
+        raise ValueError(f"r_ssb must have shape (3,) or (m, 3), got {r.shape}")
     n = check_finite_array("n", n, shape=(3,))
     t = check_finite_array("t", t)
     if t.size == 0:  # no epoch: the bodies' positions are no (3,) vector
         raise ValueError("t must hold at least one epoch, got an empty array")
+    rows = r.shape[0] if r.ndim == 2 else 1
+    if t.ndim > 1 or (t.ndim == 1 and t.size != rows):  # as pint_bridge.planet_shapiro
+        raise ValueError(f"t must be a scalar or have shape ({rows},) (one epoch per row of r_ssb), "
+                         f"got shape {t.shape}")
+    allowed = tuple(b for b in toa.GM_DE421 if b != "sun")
+    bodies = check_items("bodies", bodies, "body name", lambda label, b: check_choice(label, b, allowed))
     ssb, au = {}, {}
     for body in bodies:
-        check_choice("bodies", body, tuple(b for b in toa.GM_DE421 if b != "sun"))
-        r_p = ephemeris.position(body, t, ephem).reshape(r.shape)
+        r_p = ephemeris.position(body, t, ephem)
+        r_p = r_p.reshape(3) if r.ndim == 1 else r_p  # t a scalar: one position for every row
+        check_outside("r_ssb", np.linalg.norm(r - r_p, axis=-1), body)  # toa.shapiro named the Sun
         ratio = toa.GM_DE421[body] / GM_SUN  # toa.shapiro is 2 GM_sun/c^3 ln[...]
         # the body in place of the Sun: 2 GM_p/c^3 ln[(n.x + |x|)/(n.b + |b|)]
         ssb[body] = ratio * toa.shapiro(r, n, r_p)
@@ -329,11 +341,11 @@ def orbit_terms(t, x, pulsar_names=pulsars.PAPER_PULSARS, ephem="de421"):
     n, _ = pulsars.directions(pulsars.check_names(pulsar_names, "pulsar_names"))
     r = ephemeris.position("mars", t, ephem).reshape(-1, 3) + x[:, :3]
     r_sun = ephemeris.position("sun", t, ephem).reshape(-1, 3)
+    clock = clock_terms(t, x, ephem)  # first: it names x inside Mars (planet_shapiro, r_ssb)
     planets = planet_shapiro(r, t, n, ephem=ephem, reference="both")
     out = {"shapiro_exact_minus_paper": toa.shapiro(r, n, r_sun) - toa.shapiro_paper(r, n, r_sun),
            "planets": planets["total"], "planets_au": planets["total_au"],
            "sun_angle_deg": sun_angle_deg(r, n, r_sun)}
-    clock = clock_terms(t, x, ephem)
     for key in ("clock", "clock_rate", "clock_mars_year", "clock_orbit"):
         out[key] = np.repeat(clock[key][:, None], n.shape[0], axis=1)
     out["rate"] = clock["rate"]
@@ -355,8 +367,9 @@ def mars_year_terms(t0=None, step_days=1.0, pulsar_names=pulsars.PAPER_PULSARS, 
     ephem : {"de421", "de405"}
         Ephemeris.
     orbit_radius_m : float, optional
-        Radius for the bound of the orbit-periodic clock term; default the largest radius
-        of the paper's orbit in its first day.
+        Radius for the bound of the orbit-periodic clock term, m, in [R_Mars, 1e10] (an orbit
+        outside Mars, :data:`xnavlab.core.constants.R_MARS`); default the largest radius of
+        the paper's orbit in its first day.
 
     Returns
     -------
@@ -380,7 +393,7 @@ def mars_year_terms(t0=None, step_days=1.0, pulsar_names=pulsars.PAPER_PULSARS, 
     if orbit_radius_m is None:
         day = dynamics.MARS_T0 + np.arange(0.0, DAY + 1.0, 600.0)
         orbit_radius_m = float(np.linalg.norm(dynamics.truth(day)[:, :3], axis=1).max())
-    orbit_radius_m = check_real("orbit_radius_m", orbit_radius_m, 0.0, 1e10, lo_open=True)
+    orbit_radius_m = check_real("orbit_radius_m", orbit_radius_m, R_MARS, 1e10)  # an orbit outside Mars
     t = t0 + np.arange(0.0, MARS_YEAR_DAYS * DAY, step * DAY)
     n, _ = pulsars.directions(pulsars.check_names(pulsar_names, "pulsar_names"))
     r_mars, v_mars = ephemeris.state("mars", t, ephem)
@@ -504,7 +517,8 @@ def xnav_run_with_term(term="clock_orbit", days=30.0, subsystems=("xnav",), seed
     seed : int
         Seed of the scenario's noise.
     scale : float
-        Factor on the term (1 for the physical size).
+        Factor on the term (1 for the physical size); only with a term (with ``term=None``
+        anything but 1 is refused: there is no term to scale).
 
     Returns
     -------
@@ -525,6 +539,9 @@ def xnav_run_with_term(term="clock_orbit", days=30.0, subsystems=("xnav",), seed
     if term is not None:
         check_choice("term", term, TERMS)
     scale = check_real("scale", scale)
+    if term is None and scale != 1.0:
+        raise ValueError(f"scale is used only with a term: term=None runs without one, so scale = "
+                         f"{scale:g} would be ignored (give a term, or leave scale at 1)")
     inp, terms = _inputs_and_terms(days, subsystems, seed)
     if term is not None:
         inp.z["xnav"] = inp.z["xnav"] + scale * terms[term]  # truth = paper eq. (1) + term

@@ -55,8 +55,16 @@ import numpy as np
 
 from xnavlab.core import ephemeris
 from xnavlab.core.constants import AU, GM_SUN, C
-from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_items, check_real
+from xnavlab.core.validate import (
+    check_choice,
+    check_finite_array,
+    check_int,
+    check_items,
+    check_real,
+    check_shape,
+)
 from xnavlab.mars.timing import pulsars
+from xnavlab.mars.timing._checks import check_broadcast, check_outside
 
 __all__ = [
     "roemer",
@@ -164,6 +172,7 @@ def _b(r_sun_ssb):
 def _sun_x(r_ssb, b):
     """The spacecraft seen from the Sun, ``x = R - r_sun``, at least 1 m from its centre (at 0
     the delay is the log of 0; for a planet the spacecraft may orbit close)."""
+    check_broadcast("r_sun_ssb", b, "r_ssb", r_ssb, "one Sun position per spacecraft position")
     x = r_ssb + b
     xn = np.linalg.norm(x, axis=-1)  # finite: |r_ssb|, |r_sun_ssb| <= 1e15 m
     if np.any(xn < 1.0):
@@ -416,6 +425,13 @@ def delays_at(r, t, pulsar_names=pulsars.PAPER_PULSARS, center="mars", ephem="de
     """
     n, d = pulsars.directions(pulsars.check_names(pulsar_names, "pulsar_names"))
     r = check_finite_array("r", r, shape=(3,))
+    if r.ndim > 2:
+        raise ValueError(f"r must have shape (3,) or (n, 3), got {r.shape}")
+    t = check_finite_array("t", t)
+    rows = r.shape[0] if r.ndim == 2 else None  # one fixed r serves any number of epochs
+    if t.ndim > 1 or (t.ndim == 1 and rows is not None and t.size != rows):
+        want = "(n,)" if rows is None else f"({rows},) (one epoch per row of r)"
+        raise ValueError(f"t must be a scalar or have shape {want}, got shape {t.shape}")
     r_c = ephemeris.position(center, t, ephem)
     r_sun = ephemeris.position("sun", t, ephem)
     return delay(r + r_c, n, d, r_sun, shapiro=shapiro)
@@ -460,7 +476,8 @@ def proper_time_terms(t, x=None, center="mars", ephem="de421"):
     t : array_like, shape (n,)
         Epochs, s TDB past J2000, increasing, n >= 2.
     x : array_like, shape (n, 6) or (6,), optional
-        Spacecraft state relative to ``center`` (m, m/s), J2000 axes. Without it the
+        Spacecraft state relative to ``center`` (m, m/s), J2000 axes, outside every body
+        (its polar radius: inside, ``GM / |R - R_i|`` is no potential). Without it the
         clock rides with the centre body and its own potential is left out.
     center : str
         Centre body, one of :data:`xnavlab.core.ephemeris.BODIES` except ``earthmoon``.
@@ -492,14 +509,18 @@ def proper_time_terms(t, x=None, center="mars", ephem="de421"):
         rel = np.zeros_like(r_c)
     else:
         x = check_finite_array("x", x, shape=(6,))
+        if x.ndim > 1 and x.shape != (t.size, 6):
+            raise ValueError(f"x must have shape (6,) or ({t.size}, 6) (one state per epoch of t), "
+                             f"got shape {x.shape}")
         x = np.broadcast_to(x, (t.size, 6))
         r, v, rel = r_c + x[:, :3], v_c + x[:, 3:], x[:, :3]
     potential = np.zeros(t.size)
     for body in bodies:
         if body == center and x is None:
             continue  # riding with the body: its own potential is a constant left out
-        d = r - ephemeris.position(body, t, ephem)
-        potential += GM_DE421[body] / np.linalg.norm(d, axis=1)  # U = sum GM_i / |R - R_i|
+        d = np.linalg.norm(r - ephemeris.position(body, t, ephem), axis=1)
+        check_outside("x", d, body)  # inside, GM / d is no potential (at the centre, 1 / 0)
+        potential += GM_DE421[body] / d  # U = sum GM_i / |R - R_i|
     rate = L_B - (potential + 0.5 * np.sum(v * v, axis=1)) / C**2  # d(tau - TDB)/dTDB
     steps = 0.5 * (rate[1:] + rate[:-1]) * np.diff(t)  # trapezoid rule
     return {
@@ -599,7 +620,8 @@ def gradient_fd(r_ssb, n, distance, r_sun_ssb, step=1.0e3, which=("roemer", "par
     >>> (gradient_fd([1e11, 0.0, 0.0], n, [1e20], [1e9, 2e9, 0.0], which=("roemer",)) * C).round(9)
     array([[0.6, 0.8, 0. ]])
     """
-    r_ssb = check_finite_array("r_ssb", r_ssb, shape=(3,))
+    r_ssb = check_shape("r_ssb", r_ssb, (3,), "one position: the columns are its three axes")
+    check_shape("r_sun_ssb", r_sun_ssb, (3,), "the Sun at r_ssb's one epoch")
     step = check_real("step", step, 0.0, 1e12, lo_open=True)
     which = check_items("which", which, "term",
                         lambda label, name: check_choice(label, name, ("roemer", "parallax", "shapiro")))
