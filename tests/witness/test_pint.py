@@ -106,3 +106,15 @@ def test_pint_delays_names_t_and_n_in_its_own_words():  # review 35d D20
 def test_examples_path_refuses_what_is_no_file_name(bad):  # review 35d D37's class: TypeError
     with pytest.raises(ValueError, match=r"^name must be a file name in PINT's examples, got "):
         pint_bridge.examples_path(bad)
+
+
+@pytest.mark.parametrize("name", ["nope.par", "B1855+09_NANOGrav_9yv1.gls.pa", "../__init__.py", ".."])
+def test_examples_path_names_a_file_pint_does_not_ship(name):
+    """Review 35j (1) 24: a file PINT does not ship was a FileNotFoundError; a path that climbs
+    out of the examples ('../__init__.py') was returned."""
+    with pytest.raises(ValueError, match=r"^name must be an example file PINT [\d.]+ ships, got .*; the \d+ "
+                                         r"files in .*: B1855\+09_NANOGrav_9yv1\.gls\.par, "):
+        pint_bridge.examples_path(name)
+    if name.endswith(".gls.pa"):
+        with pytest.raises(ValueError, match=r"\(nearest: 'B1855\+09_NANOGrav_9yv1\.gls\.par'\)"):
+            pint_bridge.examples_path(name)

@@ -254,3 +254,16 @@ def test_a_window_shorter_than_a_cycle_is_not_folded(big_window):
     window = ft.fold_window(slow, T0, X0, error=BIG)
     with pytest.raises(ValueError, match=r"^window must last a whole pulse cycle of B1821-24 \(10000 s\)"):
         ft.fold_photons(window, ft.simulate_window_photons(big_window, rng=0))
+
+
+def test_fold_toa_gives_the_reason_for_too_few_photons_or_a_2d_u(big_window):
+    """Review 35j (3) 4: one photon inside the window was refused as 'u must hold photon offsets
+    within [-250, 250) s', the same message as a 2-D u."""
+    u = ft.simulate_window_photons(big_window, rng=0)
+    with pytest.raises(ValueError, match=r"^u must hold at least 2 photon offsets, got 1$"):
+        ft.fold_toa(big_window, u[:1])
+    with pytest.raises(ValueError, match=r"^u must be a 1-D array of photon offsets, shape \(n,\), got "
+                                         r"shape \(2, 5\)"):
+        ft.fold_toa(big_window, u[:10].reshape(2, 5))
+    with pytest.raises(ValueError, match=r"^u must hold photon offsets within \[-250, 250\) s, got 260"):
+        ft.fold_photons(big_window, np.array([0.0, 260.0]))

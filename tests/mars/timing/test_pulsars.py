@@ -544,3 +544,49 @@ def test_fold_refuses_a_span_that_leaves_a_phase_bin_unswept():
         pulsars.fold([0.0, 0.001], "B0531+21")
     with pytest.raises(ValueError, match=r"^span must sweep every phase bin \(a whole pulse cycle"):
         pulsars.fold([0.0, 0.001], "B0531+21", span=(0.0, 0.002))
+
+
+def test_fold_names_a_reversed_span_and_refuses_a_span_it_would_ignore():
+    """Review 35j (3) 1: a reversed span was reported as t outside it; a span with
+    exposure=False was silently ignored (the raw counts need none)."""
+    t = pulsars.simulate_photons("B1821-24", 10.0, rng=1)
+    with pytest.raises(ValueError, match=r"^span must be \(t_start, t_stop\) with t_stop > t_start, got "
+                                         r"\[10\.0, 0\.0\]"):
+        pulsars.fold(t, "B1821-24", nbins=8, span=(10.0, 0.0))
+    with pytest.raises(ValueError, match=r"^span is used only with exposure=True"):
+        pulsars.fold(t, "B1821-24", nbins=8, span=(0.0, 10.0), exposure=False)
+    with pytest.raises(ValueError, match=r"^t must lie within span = \[2\.0, 3\.0\], got photons in \[0\.0"):
+        pulsars.fold(t, "B1821-24", nbins=8, span=(2.0, 3.0))
+
+
+def test_estimate_phase_shift_refuses_a_negative_template_and_measures_from_its_bin_0():
+    """Review 35j (5) 25: a negative template (tpl - 5) was accepted. A template whose peak is
+    not at phase 0 is a template of another origin (the docstring said 'peak at phase 0', but
+    the Fermi template the chapter uses peaks at 0.6 cycle): the shift is measured from its
+    bin 0, which the docstring now says; rolled by 30 of 128 bins, -30/128."""
+    tpl = pulsars.binned_template(128, 0.05)
+    with pytest.raises(ValueError, match=r"^template must be a pulse profile, >= 0, got -5 in bin"):
+        pulsars.estimate_phase_shift(tpl, tpl - 5)
+    assert pulsars.estimate_phase_shift(tpl, np.roll(tpl, 30)) == pytest.approx(-30 / 128, abs=1e-9)
+
+
+def test_phase_refuses_a_spin_frequency_not_above_zero():
+    """Review 35j (5) 27: phase(1.0, [-10.0]) gave -10 cycles."""
+    for f in (-10.0, 0.0):
+        with pytest.raises(ValueError, match=r"^freqs\[0\] must be the spin frequency f, > 0 Hz, got"):
+            pulsars.phase(1.0, [f, 1e-3])
+
+
+@pytest.mark.parametrize(("change", "words"), [
+    ({"name": ""}, r"^Pulsar name must be a non-empty name \(text, e\.g\. 'B0531\+21'\), got ''"),
+    ({"name": "  "}, r"^Pulsar name must be a non-empty name"),
+    ({"name": 3}, r"^Pulsar name must be a non-empty name"),
+    ({"sources": "x"}, r"^Pulsar sources must be a dict \{field: where its value comes from\}, got 'x'"),
+    ({"sources": {"perod": "x"}}, r"^Pulsar sources must map fields \(ra_deg, .*\) to text, got 'perod'"),
+    ({"sources": {"period": 3}}, r"^Pulsar sources must map fields .* got 'period': 3"),
+])
+def test_a_pulsar_refuses_an_empty_name_and_sources_that_are_no_dict_of_texts(change, words):
+    """Review 35j (5) 28: Pulsar(name='') and sources='x' (through dataclasses.replace) were
+    accepted."""
+    with pytest.raises(ValueError, match=words):
+        dataclasses.replace(pulsars.get("B0531+21"), **change)

@@ -286,3 +286,25 @@ def test_a_photon_monte_carlo_folds_whole_cycles_only():
     """Review 35h: a fold of part of a cycle divided by a zero exposure (NaN, warnings)."""
     with pytest.raises(ValueError, match=r"^t_obs must last a whole pulse cycle of B1937\+21"):
         tb.monte_carlo_ml_toa("B1937+21", n_trials=3, t_obs=1e-3, rng=0, photons=True)
+
+
+def test_fisher_information_leads_with_h_and_refuses_a_profile_of_mean_not_1():
+    """Review 35j (3) 5 and (5) 26: a negative h was refused as 'the rate lambda_b + lambda_s h
+    must be ...' (no parameter first); h of mean 5 was accepted (toa_crlb scales its template,
+    but h comes with dh here: refused, not rescaled)."""
+    x = np.arange(4096) / 4096
+    h, dh = pulsars.profile(x, 0.1), tb.profile_derivative(x, 0.1)
+    with pytest.raises(ValueError, match=r"^h must be a profile, >= 0 \(a density per cycle\), got h\[0\]"):
+        tb.fisher_information(1.0, 0.0, 1.0, -h, dh)
+    with pytest.raises(ValueError, match=r"^h must have mean 1 over the cycle \(within 1e-06: .* got mean 5: "
+                                         r"divide h and dh by it"):
+        tb.fisher_information(1.0, 0.0, 1.0, 5 * h, dh)
+    g = np.maximum(h - h.mean() * 0.5, 0.0)  # a profile with zeros, its derivative not 0 there
+    g = g / g.mean()
+    with pytest.raises(ValueError, match=r"^dh must be 0 wherever the rate lambda_b \+ lambda_s h is 0 "
+                                         r"\(h\[\d+\] = 0 with unpulsed = 0\), got dh\[\d+\] = "):
+        tb.fisher_information(1.0, 0.0, 1.0, g, dh)
+    assert tb.fisher_information(1.0, 0.5, 1.0, g, dh) > 0.0  # a background keeps the rate positive
+    # toa_crlb scales a template of any mean to 1 (documented), as before
+    tpl = pulsars.binned_template(64, 0.05)
+    assert tb.toa_crlb("B0531+21", template=5 * tpl) == pytest.approx(tb.toa_crlb("B0531+21", template=tpl))

@@ -504,7 +504,7 @@ def fold_photons(window, u, correction="apriori", tag="mid", nbins=None):
     ----------
     window : FoldWindow
     u : array_like, shape (n,)
-        Photon arrival offsets from ``t_mid``, s, within ``[-T/2, T/2)``.
+        Photon arrival offsets from ``t_mid``, s, within ``[-T/2, T/2)``, at least 2.
     correction : {"apriori", "mars", "constant"}
     tag : {"start", "mid", "end"} or float
         The time tag (it matters to ``"mars"`` and ``"constant"`` only).
@@ -529,8 +529,13 @@ def fold_photons(window, u, correction="apriori", tag="mid", nbins=None):
         raise ValueError(f"window must last a whole pulse cycle of {p.name} ({p.period:.6g} s) to fold, "
                          f"got {T:g} s")
     u = check_finite_array("u", u)
-    if u.ndim != 1 or u.size < 2 or u.min() < -T / 2.0 or u.max() >= T / 2.0:
-        raise ValueError(f"u must hold photon offsets within [-{T / 2:g}, {T / 2:g}) s")
+    if u.ndim != 1:
+        raise ValueError(f"u must be a 1-D array of photon offsets, shape (n,), got shape {u.shape}")
+    if u.size < 2:  # one photon's fold has one filled bin: no pulse to place
+        raise ValueError(f"u must hold at least 2 photon offsets, got {u.size}")
+    if u.min() < -T / 2.0 or u.max() >= T / 2.0:
+        bad = float(u.min()) if u.min() < -T / 2.0 else float(u.max())
+        raise ValueError(f"u must hold photon offsets within [-{T / 2:g}, {T / 2:g}) s, got {bad:g}")
     nbins = timing_bound.default_nbins(p) if nbins is None else check_int("nbins", nbins, 8, 2**20)
     proc = _spline(window.u, window.processing_delay(correction, tag))
     x = u + proc(u) - window.phase0 * p.period  # SSB offset from the phase reference, s
@@ -553,7 +558,7 @@ def fold_toa(window, u, correction="apriori", tag="mid", area_m2=1.0,
     ----------
     window : FoldWindow
     u : array_like, shape (n,)
-        Photon arrival offsets from ``t_mid``, s, within ``[-T/2, T/2)``
+        Photon arrival offsets from ``t_mid``, s, within ``[-T/2, T/2)``, at least 2
         (:func:`simulate_window_photons`).
     correction : {"apriori", "mars", "constant"}
     tag : {"start", "mid", "end"} or float

@@ -126,8 +126,15 @@ def ephemeris_path():
 def examples_path(name):
     """Path of a file in PINT's ``pint/data/examples`` (the ``.par``, ``.tim`` and photon files).
 
-    Found without importing PINT (which takes seconds). A ``name`` that is no non-empty string
-    is one ValueError; a file PINT does not ship, a FileNotFoundError naming it.
+    Found without importing PINT (which takes seconds). A ``name`` that is no non-empty string,
+    holds a folder, or is no file PINT ships is one ValueError (listing the files it ships);
+    PINT not installed, a FileNotFoundError.
+
+    Parameters
+    ----------
+    name : str
+        A file name in ``pint/data/examples``, such as ``"B1855+09_NANOGrav_9yv1.gls.par"``
+        (no folder: a path that climbs out of the examples is refused).
 
     Examples
     --------
@@ -141,10 +148,17 @@ def examples_path(name):
     spec = importlib.util.find_spec("pint")
     if spec is None or not spec.submodule_search_locations:
         raise FileNotFoundError("PINT (the pint-pulsar package) is not installed")
-    path = Path(spec.submodule_search_locations[0]) / "data" / "examples" / name
-    if not path.is_file():
-        raise FileNotFoundError(f"PINT {importlib.metadata.version('pint-pulsar')} ships no example "
-                                f"file {name}")
+    folder = Path(spec.submodule_search_locations[0]) / "data" / "examples"
+    path = folder / name
+    if Path(name).name != name or name in (".", "..") or not path.is_file():
+        import difflib
+
+        shipped = sorted(p.name for p in folder.iterdir() if p.is_file()) if folder.is_dir() else []
+        near = difflib.get_close_matches(name, shipped, n=1)
+        hint = f" (nearest: {near[0]!r})" if near else ""
+        raise ValueError(f"name must be an example file PINT {importlib.metadata.version('pint-pulsar')} "
+                         f"ships, got {name!r}{hint}; the {len(shipped)} files in {folder}: "
+                         f"{', '.join(shipped)}")
     return path
 
 

@@ -29,7 +29,7 @@ from xnavlab.core import validate
 from xnavlab.core.constants import KPC, C
 from xnavlab.core.validate import check_bool, check_finite_array, check_int, check_items, check_real, make_rng
 from xnavlab.mars.timing import xray_pulsars
-from xnavlab.mars.timing._checks import check_exposure, check_spin_drift
+from xnavlab.mars.timing._checks import check_exposure, check_pulsar_fields, check_span, check_spin_drift
 
 __all__ = [
     "Pulsar", "MAX_DISTANCE", "MAX_SPAN", "CATALOGUE", "PAPER_PULSARS", "PAPER_RANGING_M", "get",
@@ -83,7 +83,7 @@ class Pulsar:
     width : float
         Pulse width (FWHM), s, in [1e-4 P, 0.5 P].
     sources : dict
-        Where each value comes from.
+        Where each value comes from: a property's name (``"period"``, ...) to text.
     """
 
     name: str
@@ -97,10 +97,8 @@ class Pulsar:
     width: float
     sources: dict = field(default_factory=dict, compare=False, repr=False)
 
-    def __post_init__(self):  # a complex, NaN or out-of-range property is refused, by name
-        for key, (lo, hi) in _RANGES.items():  # dataclasses.replace runs this too
-            check_real(f"Pulsar {key}", getattr(self, key), lo, hi)
-        check_real("Pulsar width", self.width, _MIN_DUTY * self.period, 0.5 * self.period)
+    def __post_init__(self):  # a complex, NaN or out-of-range field is refused, by name
+        check_pulsar_fields(self, _RANGES, _MIN_DUTY)  # dataclasses.replace runs this too
 
     @property
     def direction(self):
@@ -376,8 +374,8 @@ def phase(t, freqs, t0=0.0, phase0=0.0):
     t : float or array_like
         Times, s, within MAX_SPAN of ``t0``.
     freqs : sequence of float
-        ``[f, fdot, fddot, ...]``: frequency (Hz) and its derivatives (Hz/s^n); refused when
-        the phase they give overflows float64 at some ``t``.
+        ``[f, fdot, fddot, ...]``: frequency (Hz, > 0) and its derivatives (Hz/s^n); refused
+        when the phase they give overflows float64 at some ``t``.
     t0 : float
         Reference epoch, s.
     phase0 : float
@@ -397,6 +395,8 @@ def phase(t, freqs, t0=0.0, phase0=0.0):
     freqs = check_finite_array("freqs", freqs)
     if freqs.ndim != 1 or freqs.size == 0:
         raise ValueError("freqs must be a non-empty sequence [f, fdot, ...]")
+    if not freqs[0] > 0.0:  # a spin frequency; a negative one ran the phase backwards
+        raise ValueError(f"freqs[0] must be the spin frequency f, > 0 Hz, got {float(freqs[0]):g}")
     dt = t - check_real("t0", t0)
     if np.any(np.abs(dt) > MAX_SPAN):
         raise ValueError(f"t must be within MAX_SPAN = {MAX_SPAN:g} s of t0 (the timing model's epoch)")
@@ -589,9 +589,7 @@ def phase_exposure(span, pulsar, nbins=256, t0=0.0):
     """
     p = get(pulsar)
     nbins = check_int("nbins", nbins, 8, 2**20)
-    span = check_finite_array("span", span)
-    if span.shape != (2,) or not span[1] > span[0]:
-        raise ValueError(f"span must be (t_start, t_stop) with t_stop > t_start, got {span.tolist()}")
+    span = check_span(span)
     ends = _binned_phase("span", span, p, nbins, t0)
     lo = np.arange(nbins) / nbins
 
@@ -627,10 +625,10 @@ def fold(t, pulsar, nbins=256, t0=0.0, span=None, exposure=True):
         cycles (about 3e9 s from ``t0`` for B1937+21, 642 Hz, in 256 bins) are refused:
         float64 no longer tells their bin.
     span : (float, float), optional
-        Start and end of the observation, s, which must hold every photon (for
-        :func:`simulate_photons`, ``(0, t_obs)``). By default the first and last photon:
+        Start and end of the observation, s (end after start), which must hold every photon
+        (for :func:`simulate_photons`, ``(0, t_obs)``). By default the first and last photon:
         for bright sources nearly the same, for faint ones short by the waits for the
-        first and last photon.
+        first and last photon. Only with ``exposure`` (with ``exposure=False``, refused).
     exposure : bool
         Divide by the relative exposure (default). ``False`` gives the raw counts
         (integers), exact only over a whole number of cycles.
@@ -652,6 +650,8 @@ def fold(t, pulsar, nbins=256, t0=0.0, span=None, exposure=True):
     [2.5, 2.5, 2.5, 2.5, 2.5, 2.5, 2.5, 2.5]
     """
     exposure = check_bool("exposure", exposure)
+    if span is not None and not exposure:  # the raw counts need no span: it would be ignored
+        raise ValueError("span is used only with exposure=True (for the correction): leave it out")
     p = get(pulsar)
     nbins = check_int("nbins", nbins, 8, 2**20)
     t = check_finite_array("t", t)
@@ -667,10 +667,10 @@ def fold(t, pulsar, nbins=256, t0=0.0, span=None, exposure=True):
         if t.size < 2 or not t.max() > t.min():
             raise ValueError("t must hold photons at two or more times to infer the span; give span")
         span = (float(t.min()), float(t.max()))
-    span = check_finite_array("span", span)
-    if span.shape == (2,) and t.size and (t.min() < span[0] or t.max() > span[1]):
+    span = check_span(span)  # before t: a reversed span blamed t
+    if t.min() < span[0] or t.max() > span[1]:
         raise ValueError(f"t must lie within span = {span.tolist()}, got photons in "
-                         f"[{t.min()!r}, {t.max()!r}]")
+                         f"[{float(t.min())!r}, {float(t.max())!r}]")
     e = check_exposure(phase_exposure(span, p, nbins, t0), span, given, p.period)  # no bin unswept
     return counts * (e.mean() / e)
 
@@ -729,12 +729,13 @@ def estimate_phase_shift(counts, template):
     counts : array_like, shape (nbins,)
         Folded profile: photon counts, >= 0, ``nbins >= 2``, not all equal.
     template : array_like, shape (nbins,)
-        Noise-free profile with its peak at phase 0 (not flat).
+        Noise-free profile, >= 0, not flat; bin 0 starts at the timing model's phase 0 (the
+        shift's origin), which need not be the pulse's peak (PINT's Fermi template peaks at 0.6).
 
     Returns
     -------
     float
-        Shift in cycles, in [-0.5, 0.5): positive means the pulses arrive late.
+        Shift in cycles, in [-0.5, 0.5), against ``template``: positive means the pulses arrive late.
 
     Examples
     --------
@@ -746,11 +747,11 @@ def estimate_phase_shift(counts, template):
     if x.ndim != 1 or x.size < 2:
         raise ValueError(f"counts must be a 1-D fold of at least 2 phase bins, got shape {x.shape}")
     tpl = validate.check_shape("template", template, x.shape, "one bin per bin of counts")
-    if np.any(x < 0.0):
-        raise ValueError(f"counts must be photon counts, >= 0, got {float(x.min()):g} in bin "
-                         f"{int(np.argmin(x))}")
-    for name, v in (("counts", x), ("template", tpl)):  # a flat profile has no phase: 0.0 was
-        if np.ptp(v) == 0.0:                              # returned as if measured
+    for name, v, what in (("counts", x, "photon counts"), ("template", tpl, "a pulse profile")):
+        if np.any(v < 0.0):  # a negative template (an inverted pulse) measured the wrong peak
+            raise ValueError(f"{name} must be {what}, >= 0, got {float(v.min()):g} in "
+                             f"bin {int(np.argmin(v))}")
+        if np.ptp(v) == 0.0:  # a flat profile has no phase: 0.0 was returned as if measured
             raise ValueError(f"{name} must hold a pulse (bins not all equal), got every bin "
                              f"{float(v[0]):g}: no phase shift can be estimated")
     n = x.size

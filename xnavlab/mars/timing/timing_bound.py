@@ -139,6 +139,12 @@ def _grid(duty):
     return int(2 ** math.ceil(math.log2(max(4096.0, 400.0 / duty))))
 
 
+#: How far from 1 the mean of :func:`fisher_information`'s ``h`` may be (relative): the package's
+#: profile on :func:`toa_crlb`'s grid is 1 within 2.3e-16; a grid too coarse for the pulse misses
+#: its peak or lands on it, and its mean is off by far more (0.47 for a 1 % pulse in 64 samples).
+_MEAN_TOL = 1e-6
+
+
 def fisher_information(pulsed, unpulsed, frequency, h, dh):
     """Fisher information of the TOA per second of exposure, 1/s^2 per s.
 
@@ -153,8 +159,10 @@ def fisher_information(pulsed, unpulsed, frequency, h, dh):
     frequency : float
         Spin frequency f, Hz.
     h, dh : array_like, shape (m,)
-        The profile (density per cycle, mean 1) and its derivative (per cycle^2) at ``m``
-        equally spaced phases of one cycle, ``m >= 8`` (:func:`toa_crlb`'s fewest bins).
+        The profile (density per cycle, >= 0, mean 1 within 1e-6: refused otherwise, not
+        rescaled, since ``dh`` would need the same factor) and its derivative (per cycle^2,
+        0 where the rate is 0) at ``m`` equally spaced phases of one cycle, ``m >= 8``
+        (:func:`toa_crlb`'s fewest bins; :func:`toa_crlb` scales its ``template`` itself).
 
     Returns
     -------
@@ -180,10 +188,19 @@ def fisher_information(pulsed, unpulsed, frequency, h, dh):
     if h.ndim != 1 or h.size < 8:  # toa_crlb's fewest bins: fewer cannot draw a pulse
         raise ValueError(f"h must be a 1-D array, the profile at m >= 8 phases, got shape {h.shape}")
     dh = check_shape("dh", dh, h.shape, "one per sample of h")
+    if np.any(h < 0.0):  # a density: lambda_b + lambda_s h < 0 is no rate
+        i = int(np.argmin(h))
+        raise ValueError(f"h must be a profile, >= 0 (a density per cycle), got h[{i}] = {float(h[i]):g}")
+    mean = float(np.mean(h))
+    if abs(mean - 1.0) > _MEAN_TOL:  # lambda_s h carries lambda_s photons/s only at mean 1
+        raise ValueError(f"h must have mean 1 over the cycle (within {_MEAN_TOL:g}: lambda_s h then "
+                         f"carries pulsed = lambda_s photons/s), got mean {mean:.6g}: divide h and dh "
+                         f"by it, or sample a narrow pulse more finely")
     lam = lb + ls * h
-    if np.any(lam < 0.0) or np.any((lam == 0.0) & (dh != 0.0)):
-        raise ValueError("the rate lambda_b + lambda_s h must be non-negative, and positive "
-                         "wherever h' is not zero")
+    if np.any((lam == 0.0) & (dh != 0.0)):  # h' of a profile is 0 where it is 0
+        i = int(np.argmax((lam == 0.0) & (dh != 0.0)))
+        raise ValueError(f"dh must be 0 wherever the rate lambda_b + lambda_s h is 0 (h[{i}] = 0 with "
+                         f"unpulsed = 0), got dh[{i}] = {float(dh[i]):g}")
     with np.errstate(over="ignore"):
         ratio = np.divide((ls * dh) ** 2, lam, out=np.zeros_like(lam), where=lam > 0.0)  # 0 where h = 0
         j = f * f * float(np.mean(ratio))  # J = f^2 int lambda'^2 / lambda dphi
