@@ -353,3 +353,37 @@ def test_an_edge_value_of_acceleration_or_the_slider_is_refused_by_name(table):
         dynamics.plot_model_difference(sun=[], days_shown=1)
     with pytest.raises(ValueError, match=r"^jupiter must be True or False"):
         dynamics.plot_model_difference(jupiter=1.0, days_shown=1)
+
+
+def test_propagate_refuses_a_table_of_the_wrong_kind_bodies_ephemeris_or_span():
+    """Review 35j (1) 20 and (5) 11: a dict raised AttributeError 't_start'; a table of other
+    bodies or another ephemeris replaced third_bodies or ephem without a word (1.4e-5 m at
+    5000 s); a table short of the run was extrapolated."""
+    t0 = dynamics.MARS_T0
+    te = np.array([t0 + 5000.0])
+    tab = dynamics.ThirdBodyTable(t0, t0 + 1e4)
+    with pytest.raises(ValueError, match=r"^table must be a ThirdBodyTable \(or None\), got dict"):
+        dynamics.propagate(te, table={"x": 1})
+    with pytest.raises(ValueError, match=r"^table tabulates \['sun', 'jupiter'\] about mars from "
+                                         r"de421, but the run asks third_bodies = \['sun'\] about "
+                                         r"mars from ephem = 'de421': the table's would be used"):
+        dynamics.propagate(te, third_bodies=("sun",), table=tab)
+    with pytest.raises(ValueError, match=r"^table tabulates .* ephem = 'de405'"):
+        dynamics.propagate(te, ephem="de405", table=tab)
+    with pytest.raises(ValueError, match=r"^table must cover the run, t0 = .* to t_eval\[-1\] = "):
+        dynamics.propagate(np.array([t0 + 2e4]), table=tab)
+    with pytest.raises(ValueError, match=r"^ephem must be one of 'de421', 'de405', got 'x'$"):
+        dynamics.propagate(te, third_bodies=(), ephem="x")
+    same = dynamics.propagate(te, third_bodies=("jupiter", "sun"), table=tab)  # any order
+    assert np.array_equal(same, dynamics.propagate(te))
+
+
+def test_j2_acceleration_refuses_a_point_inside_its_reference_sphere():
+    """Review 35j (5) 29: 1 m from the centre gave 1e24 m/s^2."""
+    with pytest.raises(ValueError, match=r"^r must lie outside the body, on or above the J2 "
+                                         r"reference sphere \(\|r\| >= radius = 3.396e\+06 m; the "
+                                         r"series diverges inside\), got \|r\| = 1 m$"):
+        dynamics.j2_acceleration(np.array([1.0, 0.0, 0.0]))
+    with pytest.raises(ValueError, match=r"^r must lie outside the body"):
+        dynamics.acceleration(dynamics.MARS_T0, np.array([0.0, 0.0, 3.39e6]), None, j2=True)
+    assert np.isfinite(dynamics.j2_acceleration(np.array([J2_MARS_RADIUS, 0.0, 0.0]))).all()

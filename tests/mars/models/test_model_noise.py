@@ -63,3 +63,16 @@ def test_an_edge_value_is_refused_under_its_own_name():
         mn.study_fields(True, {"q_acc": 1e-6})
     with pytest.raises(ValueError, match=r"^fields must be a dict of MarsScenario fields, got list \[\]"):
         mn.study_fields(lambda kw: MarsScenario(**kw), [])
+
+
+def test_a_step_longer_than_the_span_or_a_misspelt_orbit_setting_is_refused():
+    """Review 35j (1) 21: dt > days gave one sample and 0/0 (a RuntimeWarning); a typo in
+    derived_q_acc's **orbit raised unmodelled_statistics' TypeError."""
+    with pytest.raises(ValueError, match=r"^days must span at least one sampling step dt = 3600 s "
+                                         r"\(two samples or more for a correlation time\), got "
+                                         r"0.01 \(864 s\)$"):
+        mn.unmodelled_statistics(days=0.01, dt=3600.0)
+    with pytest.raises(ValueError, match=r"^derived_q_acc got sttae0=1: not an orbit setting "
+                                         r"\(they are state0, t0, truth_ephem, filter_ephem, dt\)$"):
+        mn.derived_q_acc("paper", "paper", days=0.05, sttae0=1)
+    assert mn.unmodelled_statistics("paper", "paper", days=0.01, dt=864.0)["rms_mps2"] == 0.0

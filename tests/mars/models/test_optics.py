@@ -253,3 +253,44 @@ def test_a_subnormal_radius_or_a_scalar_series_is_refused_by_name():
     with pytest.raises(ValueError, match=r"^w must be an array with time along axis 0, got a scalar"):
         optics.gauss_markov(-0.0, 0.5)
     assert optics.gauss_markov([], 0.5).shape == (0,)  # an empty chunk stays one
+
+
+def test_gauss_markov_names_g0_of_the_wrong_shape():
+    """Review 35j (2) 7: numpy's 'remapped shapes' broadcast message."""
+    with pytest.raises(ValueError, match=r"^g0 must have shape \(2,\) \(w's shape past axis 0\), "
+                                         r"or one that broadcasts to it, got shape \(3,\)$"):
+        optics.gauss_markov(np.ones((5, 2)), 0.5, g0=np.ones(3))
+    assert optics.gauss_markov(np.zeros((2, 2)), 0.5, g0=1.0)[0].tolist() == [0.5, 0.5]
+
+
+def test_a_pole_unused_or_not_unit_is_refused():
+    """Review 35j (5) 7, (5) 30: a pole with the sphere was unused; a pole of norm 2 was
+    taken (the limb functions rescaled it, a zero one divided by zero)."""
+    with pytest.raises(ValueError, match=r"^pole is unused with limb = 'sphere' \(a sphere has no "
+                                         r"pole\): leave it out or take limb = 'oblate'$"):
+        optics.UVInstrument(5000.0, 1e-3, limb="sphere", pole=np.array([0.0, 0.0, 1.0]))
+    with pytest.raises(ValueError, match=r"^pole is unused with limb = 'sphere'"):
+        optics.CNSInstrument(np.eye(3), 1e-5, 1e-3, 3.0, pole=np.array([0.0, 0.0, 1.0]))
+    for call in (lambda p: optics.UVInstrument(5000.0, 1e-3, limb="oblate", pole=p),
+                 lambda p: optics.limb_fit(np.array([4e6, 0.0, 0.0]), p),
+                 lambda p: optics.limb_bias(np.array([4e6, 0.0, 0.0]), p)):
+        with pytest.raises(ValueError, match=r"^pole must be a unit vector, shape \(3,\), norm "
+                                             r"within 1e-06 of 1 \(not rescaled\), got norm 2$"):
+            call(np.array([0.0, 0.0, 2.0]))
+        with pytest.raises(ValueError, match=r"^pole must be a unit vector, .*, got norm 0$"):
+            call(np.zeros(3))
+
+
+@pytest.mark.parametrize(("star_dirs", "message"), [
+    (2 * np.eye(3), r"^star_dirs\[0\] must be a unit vector \(norm within 1e-06 of 1, not "
+                    r"rescaled\), got norm 2$"),
+    (np.array([[1.0, 0, 0], [0, 1.0, 0], [1.0, 0, 0]]),
+     r"^star_dirs lists one direction twice \(rows 0 and 2\)$"),
+    (np.zeros((0, 3)), r"^star_dirs must have shape \(k, 3\), one unit vector a star, k >= 1, "
+                       r"got shape \(0, 3\)$"),
+    (np.array([1.0, 0, 0]), r"^star_dirs must have shape \(k, 3\), .*, got shape \(3,\)$"),
+])
+def test_cns_instrument_refuses_star_directions_not_unit_repeated_or_none(star_dirs, message):
+    """Review 35j (5) 30: all three were accepted."""
+    with pytest.raises(ValueError, match=message):
+        optics.CNSInstrument(star_dirs, 1e-5, 1e-3, 3.0)

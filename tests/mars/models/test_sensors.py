@@ -177,8 +177,8 @@ def test_pick_three_is_well_spread_and_respects_exclusions():
     sun = stars.direction(trio[0])
     other = stars.pick_three(avoid=sun, avoid_deg=30.0)
     assert trio[0] not in other
-    with pytest.raises(ValueError, match="number of candidate stars"):
-        stars.pick_three(vmag_max=-1.0)
+    with pytest.raises(ValueError, match=r"^vmag_max = -1 leaves 1 of the catalogue.s stars"):
+        stars.pick_three(vmag_max=-1.0)  # review 35j: the message leads with vmag_max
 
 
 def test_optical_semi_axes_combine_the_information():
@@ -319,3 +319,15 @@ def test_an_edge_sigma_or_sensor_is_refused_by_name():
         sensors.optical_semi_axes(x, True, cns)
     with pytest.raises(ValueError, match=r"^cns must be a CNSSensor, got list \[\]$"):
         sensors.optical_semi_axes(x, sensors.UVSensor(), [])
+
+
+def test_xnav_sensor_refuses_noise_settings_beside_sigma_and_an_unknown_ephemeris():
+    """Review 35j (5) 6, (5) 19: area_m2 beside sigma was unused (MarsScenario refuses the
+    same); ephem='x' was refused only at the first h."""
+    for name, value in (("area_m2", 5.0), ("t_obs", 1000.0), ("background", 0.0)):
+        with pytest.raises(ValueError, match=rf"^{name} = {value} is unused: sigma gives the delay "
+                                             r"noise it would compute; give one of them$"):
+            sensors.XNAVSensor(sigma=np.ones(4) * 1e-6, **{name: value})
+    with pytest.raises(ValueError, match=r"^ephem must be one of 'de421', 'de405', got 'x'$"):
+        sensors.XNAVSensor(ephem="x")
+    assert sensors.XNAVSensor(sigma=np.ones(4) * 1e-6, area_m2=1.0).dim == 4  # the default

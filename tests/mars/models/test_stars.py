@@ -90,7 +90,7 @@ def test_pick_three_keeps_away_from_the_avoided_direction_and_checks_its_input()
     assert "Arcturus" not in picked
     assert all(math.degrees(math.acos(float(stars.direction(n) @ sun))) > 30.0 for n in picked)
     assert stars.pick_three(candidates=["Vega", "Sirius", "Canopus"]) == ("Sirius", "Canopus", "Vega")
-    with pytest.raises(ValueError, match="number of candidate stars"):
+    with pytest.raises(ValueError, match=r"^candidates must name at least 3 stars, got 2$"):
         stars.pick_three(candidates=["Vega", "Sirius"])
     with pytest.raises(ValueError, match="vmag_max"):
         stars.pick_three(vmag_max=20.0)
@@ -137,3 +137,40 @@ def test_starlight_geometry_refuses_a_star_list_by_name():
     with pytest.raises(ValueError, match=r"^star_names must be a list of stars"):
         stars.starlight_geometry(r, np.array(1.0))
     assert list(stars.starlight_geometry(r, ["vega"])) == ["Vega"]
+
+
+def test_pick_three_names_the_setting_that_leaves_too_few_stars():
+    """Review 35j (3) 3: 'number of candidate stars must be an integer in [3, inf), got 2'
+    named no parameter."""
+    with pytest.raises(ValueError, match=r"^vmag_max = 0 leaves 2 of candidates bright enough, "
+                                         r"pick_three needs 3: raise vmag_max or give more "
+                                         r"candidates$"):
+        stars.pick_three(vmag_max=0.0, candidates=["Sirius", "Vega", "Canopus", "Polaris"])
+    with pytest.raises(ValueError, match=r"^avoid_deg = 179 leaves 0 of the catalogue's stars with "
+                                         r"V <= 1 outside it, pick_three needs 3"):
+        stars.pick_three(avoid=[1.0, 0.0, 0.0], avoid_deg=179.0)
+
+
+def test_pick_three_refuses_avoid_or_avoid_deg_alone_a_zero_avoid_and_repeats():
+    """Review 35j (5) 8, (5) 31: avoid_deg without avoid was unused; a repeated candidate was
+    dropped; a zero avoid direction divided by zero."""
+    with pytest.raises(ValueError, match=r"^avoid_deg is unused without avoid"):
+        stars.pick_three(avoid_deg=10.0)
+    with pytest.raises(ValueError, match=r"^avoid is unused with avoid_deg = 0"):
+        stars.pick_three(avoid=[1.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match=r"^avoid\[0\] must be a direction \(a non-zero vector\)"):
+        stars.pick_three(avoid=[0.0, 0.0, 0.0], avoid_deg=5.0)
+    with pytest.raises(ValueError, match=r"^candidates lists Sirius twice \(items 0 and 1\)$"):
+        stars.pick_three(candidates=["Sirius", "Sirius", "Vega", "Canopus"])
+    with pytest.raises(ValueError, match=r"^candidates\[2\]: unknown star 'Nope'"):
+        stars.pick_three(candidates=["Sirius", "Vega", "Nope"])
+    # a direction of any length (the Sun's position) is taken as its direction
+    assert stars.pick_three(avoid=[1e11, 0.0, 0.0], avoid_deg=30.0) == \
+        stars.pick_three(avoid=[1.0, 0.0, 0.0], avoid_deg=30.0)
+
+
+def test_spread_refuses_vectors_that_are_not_unit():
+    """Review 35j (5) 31: spread(2 I) returned 8."""
+    with pytest.raises(ValueError, match=r"^s\[0\] must be a unit vector \(norm within 1e-6 of "
+                                         r"1\), got norm 2$"):
+        stars.spread(2 * np.eye(3))

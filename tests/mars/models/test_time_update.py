@@ -93,3 +93,20 @@ def test_a_table_that_is_no_third_body_table_is_refused_by_name():
     point_mass = dynamics.acceleration(t0, x0[:3])  # no table: Mars's point mass alone
     k1 = time_update.filter_step(x0, t0, 1e-3, None)
     assert np.allclose((k1 - x0)[3:] / 1e-3, point_mass, rtol=1e-6)
+
+
+def test_a_step_out_of_the_tables_span_names_dt():
+    """Review 35j (3) 2: a negative dt from the table's start blamed t, with a value inside
+    the step the user never gave."""
+    tab = dynamics.ThirdBodyTable(dynamics.MARS_T0, dynamics.MARS_T0 + 1e4)
+    x0, t0 = dynamics.MARS_STATE0, dynamics.MARS_T0
+    with pytest.raises(ValueError, match=r"^dt = -10 s takes the step to t \+ dt = 504878390 s, "
+                                         r"outside the table's span \[504878400, 504892800\] s: "
+                                         r"dt must be in \[0, 14400\] from this t$"):
+        time_update.filter_step(x0, t0, -10.0, tab)
+    with pytest.raises(ValueError, match=r"^dt = 100000 s takes the step to"):
+        time_update.filter_propagate(x0, t0, 1e5, tab)
+    with pytest.raises(ValueError, match=r"^t must lie in \[504878400, 504892800\] s, the table's "
+                                         r"span, got 504878395$"):
+        time_update.Propagation(t0 - 5.0, 10.0, tab, 10.0)
+    assert np.isfinite(time_update.filter_step(x0, t0 + 10.0, -10.0, tab)).all()  # backward

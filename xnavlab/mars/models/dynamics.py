@@ -270,7 +270,9 @@ def j2_acceleration(r, j2=J2_MARS, radius=J2_MARS_RADIUS, gm=GM_MARS, pole=MARS_
 
     ``a = -3/2 J2 mu R^2 / r^5 [ (1 - 5 z^2/r^2) r + 2 z p ]`` with ``z = r . p`` and ``R``
     the reference radius the J2 was determined with (MGS95J: 3396.0 km,
-    :data:`xnavlab.core.constants.J2_MARS_RADIUS`, not the IAU radius ``R_MARS``).
+    :data:`xnavlab.core.constants.J2_MARS_RADIUS`, not the IAU radius ``R_MARS``). ``r`` inside
+    the reference sphere (``|r| < radius``, inside the body, where the series diverges) is
+    refused.
 
     Examples
     --------
@@ -284,6 +286,10 @@ def j2_acceleration(r, j2=J2_MARS, radius=J2_MARS_RADIUS, gm=GM_MARS, pole=MARS_
     radius = check_real("radius", radius, 0.0, MAX_BODY_RADIUS, lo_open=True)
     gm = check_real("gm", gm, 0.0, MAX_GM)
     rn2 = float(r @ r)
+    if not math.sqrt(rn2) >= radius:  # review 35j: 1e24 m/s^2 at 1 m from the centre
+        raise ValueError(f"r must lie outside the body, on or above the J2 reference sphere "
+                         f"(|r| >= radius = {radius:g} m; the series diverges inside), got "
+                         f"|r| = {math.sqrt(rn2):.6g} m")
     z = float(r @ pole)
     k = -1.5 * j2 * gm * radius**2 / rn2**2.5
     return k * ((1.0 - 5.0 * z * z / rn2) * r + 2.0 * z * pole)
@@ -429,6 +435,19 @@ def check_state0(state0, name="state0"):
     return x
 
 
+def _check_table(table, third_bodies, ephem, t0, t_end):
+    """A :func:`propagate` table: a ThirdBodyTable of the run's bodies, ephemeris and span."""
+    check_instance("table", table, ThirdBodyTable, "a ThirdBodyTable (or None)")
+    if table.center != "mars" or set(table.bodies) != set(third_bodies) or table.ephem != ephem:
+        raise ValueError(f"table tabulates {list(table.bodies)} about {table.center} from "
+                         f"{table.ephem}, but the run asks third_bodies = {list(third_bodies)} "
+                         f"about mars from ephem = {ephem!r}: the table's would be used; pass a "
+                         f"table of those (or none)")
+    if not table.t_start <= t0 <= t_end <= table.t_end:
+        raise ValueError(f"table must cover the run, t0 = {t0:.9g} s to t_eval[-1] = {t_end:.9g} s, "
+                         f"got [{table.t_start:.9g}, {table.t_end:.9g}] s")
+
+
 def propagate(t_eval, state0=MARS_STATE0, t0=MARS_T0, third_bodies=("sun", "jupiter"),
               j2=False, ephem="de421", rtol=1e-13, atol=1e-9, table=None):
     """Truth trajectory: integrate the model with ``solve_ivp`` (DOP853).
@@ -451,7 +470,9 @@ def propagate(t_eval, state0=MARS_STATE0, t0=MARS_T0, third_bodies=("sun", "jupi
         Integrator tolerances. With the defaults a 30-day run ends within 0.1 m of a
         run with tighter tolerances (rtol 3e-14; see the tests).
     table : ThirdBodyTable, optional
-        Reuse a tabulation.
+        Reuse a tabulation: Mars-centred, of the ``third_bodies`` (any order) from ``ephem``,
+        covering ``t0`` to ``t_eval[-1]`` (another table is refused: its bodies would replace
+        ``third_bodies`` without a word); its GM values are used.
 
     Returns
     -------
@@ -472,7 +493,10 @@ def propagate(t_eval, state0=MARS_STATE0, t0=MARS_T0, third_bodies=("sun", "jupi
     atol = check_real("atol", atol, 1e-12, 1e3, lo_open=True)
     third_bodies = _third_bodies(third_bodies)
     j2 = check_bool("j2", j2)
-    if table is None and third_bodies:
+    check_choice("ephem", ephem, ephemeris.EPHEMERIDES)
+    if table is not None:
+        _check_table(table, third_bodies, ephem, t0, float(t_eval[-1]))
+    elif third_bodies:
         table = ThirdBodyTable(t0, float(t_eval[-1]), tuple(third_bodies), "mars", ephem)
 
     if table is None:

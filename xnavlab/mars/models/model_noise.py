@@ -93,7 +93,8 @@ def unmodelled_statistics(truth_model=STUDY, filter_model=PAPER, days=1.0, dt=30
     ----------
     truth_model, filter_model : ForceModel or str
     days : float
-        Span sampled, days, in (0, 365] (the truth integrated with the truth model).
+        Span sampled, days, in (0, 365] (the truth integrated with the truth model), at least
+        one step ``dt`` (two samples or more).
     dt : float
         Sampling step, s, in [1, 3600].
     state0, t0, truth_ephem, filter_ephem
@@ -115,6 +116,9 @@ def unmodelled_statistics(truth_model=STUDY, filter_model=PAPER, days=1.0, dt=30
     truth_model, filter_model = model(truth_model, "truth_model"), model(filter_model, "filter_model")
     days = check_real("days", days, 0.0, 365.0, lo_open=True)
     dt = check_real("dt", dt, 1.0, 3600.0)
+    if dt > days * DAY:  # one sample: no correlation (0/0, review 35j); as MarsScenario's days
+        raise ValueError(f"days must span at least one sampling step dt = {dt:g} s (two samples "
+                         f"or more for a correlation time), got {days:g} ({days * DAY:.6g} s)")
     t = t0 + np.arange(0.0, days * DAY + 1e-9, dt)
     x = truth(t, state0, t0, truth_model, truth_ephem)
     da = unmodelled_acceleration(t, x, truth_model, filter_model, truth_ephem, filter_ephem)
@@ -171,6 +175,11 @@ def derived_q_acc(truth_model=STUDY, filter_model=PAPER, horizon="correlation", 
     >>> derived_q_acc("paper", "paper", days=0.05)
     0.0
     """
+    takes = ("state0", "t0", "truth_ephem", "filter_ephem", "dt")  # unmodelled_statistics'
+    for key in orbit:
+        if key not in takes:  # review 35j: unmodelled_statistics' TypeError
+            raise ValueError(f"derived_q_acc got {key}={orbit[key]!r:.60}: not an orbit setting "
+                             f"(they are {', '.join(takes)})")
     st = unmodelled_statistics(truth_model, filter_model, days=days, **orbit)
     if isinstance(horizon, str):
         check_choice("horizon", horizon, ("correlation",))

@@ -66,6 +66,7 @@ __all__ = [
     "RANGE_MODELS",
     "LIMBS",
     "HORIZON_TAU_S",
+    "UNIT_TOL",
     "apparent_radius",
     "range_from_radius",
     "radius_range_sigma",
@@ -244,6 +245,53 @@ def sigma_alpha_for(sigma_range_m=5000.0, ranges=None, radius=R_MARS):
     return sigma_range_m / float(np.mean(radius_range_sigma(rho, 1.0, radius)))
 
 
+#: How far from 1 the norm of a unit vector (a pole, a star direction) may be, as the sensors'.
+UNIT_TOL = 1e-6
+
+
+def _unit_pole(pole, name="pole"):
+    """``pole`` (3,) if its norm is within :data:`UNIT_TOL` of 1, made exactly unit (a change
+    below 1e-6: the numbers of a unit pole stay), else one ValueError (review 35j: a zero or a
+    scaled pole was rescaled, or divided by zero)."""
+    p = check_finite_array(name, pole)
+    norm = float(np.linalg.norm(p)) if p.shape == (3,) else 0.0
+    if p.shape != (3,) or not abs(norm - 1.0) <= UNIT_TOL:
+        got = f"shape {p.shape}" if p.shape != (3,) else f"norm {norm:.6g}"
+        raise ValueError(f"{name} must be a unit vector, shape (3,), norm within {UNIT_TOL:g} of "
+                         f"1 (not rescaled), got {got}")
+    return p / norm
+
+
+def _star_dirs(star_dirs):
+    """``star_dirs`` (k, 3), k >= 1, unit rows, none twice (within 1e-9 rad), else one ValueError."""
+    s = check_finite_array("star_dirs", star_dirs)
+    if s.ndim != 2 or s.shape[1] != 3 or s.shape[0] == 0:
+        raise ValueError(f"star_dirs must have shape (k, 3), one unit vector a star, k >= 1, got "
+                         f"shape {s.shape}")
+    norm = np.linalg.norm(s, axis=1)
+    bad = np.abs(norm - 1.0) > UNIT_TOL
+    if bad.any():
+        i = int(np.argmax(bad))
+        raise ValueError(f"star_dirs[{i}] must be a unit vector (norm within {UNIT_TOL:g} of 1, "
+                         f"not rescaled), got norm {norm[i]:.6g}")
+    sine = np.linalg.norm(np.cross(s[:, None, :], s[None, :, :]), axis=-1)
+    close = np.triu((sine < 1e-9) & (s @ s.T > 0.0), 1)  # a star twice: its angle counted twice
+    if close.any():
+        i, j = (int(v) for v in np.argwhere(close)[0])
+        raise ValueError(f"star_dirs lists one direction twice (rows {i} and {j})")
+    return s
+
+
+def _check_pole_used(pole, limb):
+    """The instruments' pole: a unit vector, and unused (refused unless the default) with the
+    sphere, which has none."""
+    p = _unit_pole(pole)
+    if limb == "sphere" and not np.array_equal(np.asarray(pole, dtype=float), MARS_POLE):
+        raise ValueError("pole is unused with limb = 'sphere' (a sphere has no pole): leave it "
+                         "out or take limb = 'oblate'")
+    return p
+
+
 def limb_fit(r, pole=MARS_POLE, a=R_EQUATOR, c=R_POLAR, n_azimuth=36):
     """The circle a limb sensor fits to the limb of an ellipsoid of revolution.
 
@@ -261,7 +309,8 @@ def limb_fit(r, pole=MARS_POLE, a=R_EQUATOR, c=R_POLAR, n_azimuth=36):
     r : array_like, shape (..., 3)
         Spacecraft positions, Mars-centred, m (outside the ellipsoid).
     pole : array_like, shape (3,)
-        Unit vector of the symmetry axis.
+        Unit vector of the symmetry axis (norm within 1e-6 of 1; a zero or scaled one is
+        refused, not rescaled).
     a, c : float
         Equatorial and polar radii, m, each in [1, MAX_BODY_RADIUS].
     n_azimuth : int
@@ -281,8 +330,7 @@ def limb_fit(r, pole=MARS_POLE, a=R_EQUATOR, c=R_POLAR, n_azimuth=36):
     (30.0, [0.0, 0.0, -1.0])
     """
     r = check_finite_array("r", r, shape=(3,))
-    p = check_finite_array("pole", pole, shape=(3,))
-    p = p / np.linalg.norm(p)
+    p = _unit_pole(pole)
     # radii from 1 m (as dynamics.R_MIN: below it 1/a^2 of a subnormal overflowed) to a star's
     a = check_real("a", a, 1.0, MAX_BODY_RADIUS)
     c = check_real("c", c, 1.0, MAX_BODY_RADIUS)
@@ -313,7 +361,8 @@ def limb_bias(r, pole=MARS_POLE, r_fit=R_MEAN):
     r : array_like, shape (..., 3)
         Spacecraft positions, Mars-centred, m.
     pole : array_like, shape (3,)
-        Mars's pole (default :data:`xnavlab.mars.models.dynamics.MARS_POLE`).
+        Mars's pole (default :data:`xnavlab.mars.models.dynamics.MARS_POLE`), a unit vector
+        (norm within 1e-6 of 1).
     r_fit : float
         Radius of the sensor's sphere, m (default :data:`R_MEAN`), in (0, MAX_BODY_RADIUS].
 
@@ -332,8 +381,7 @@ def limb_bias(r, pole=MARS_POLE, r_fit=R_MEAN):
     """
     r = check_finite_array("r", r, shape=(3,))
     r_fit = check_real("r_fit", r_fit, 0.0, MAX_BODY_RADIUS, lo_open=True)
-    p = check_finite_array("pole", pole, shape=(3,))
-    p = p / np.linalg.norm(p)
+    p = _unit_pole(pole)
     alpha, u = limb_fit(r, p)
     rho = np.linalg.norm(r, axis=-1)
     cosd = np.clip(-np.einsum("...i,...i->...", u, r) / rho, -1.0, 1.0)
@@ -382,7 +430,12 @@ def gauss_markov(w, phi, g0=None):
         if w.shape[0] > 1:
             g[1:] = lfilter([b], [1.0, -phi], w[1:], axis=0, zi=(phi * w[0])[None])[0]
         return g
-    g0 = np.broadcast_to(check_finite_array("g0", g0), w.shape[1:])
+    g0 = check_finite_array("g0", g0)
+    try:
+        g0 = np.broadcast_to(g0, w.shape[1:])
+    except ValueError:  # review 35j: numpy's remapped-shapes message
+        raise ValueError(f"g0 must have shape {w.shape[1:]} (w's shape past axis 0), or one "
+                         f"that broadcasts to it, got shape {g0.shape}") from None
     return lfilter([b], [1.0, -phi], w, axis=0, zi=(phi * g0)[None])[0]  # g_k = phi g_k-1 + b w_k
 
 
@@ -433,6 +486,8 @@ class UVInstrument:
     range_model : {"constant", "radius"}
     limb : {"sphere", "oblate"}
     pole : array_like, shape (3,)
+        Mars's pole, a unit vector (norm within 1e-6 of 1), for the oblate limb; with the
+        sphere one other than the default is refused (unused).
 
     Examples
     --------
@@ -449,7 +504,7 @@ class UVInstrument:
         self.sigma_dir = check_real("sigma_dir", sigma_dir, 0.0, math.pi, lo_open=True)
         self.range_model = check_choice("range_model", range_model, RANGE_MODELS)
         self.limb = check_choice("limb", limb, LIMBS)
-        self.pole = np.asarray(pole, dtype=float)
+        self.pole = _check_pole_used(pole, self.limb)
         radius = R_MARS if limb == "sphere" else R_MEAN
         self.radius = radius
         self.sigma_alpha = sigma_alpha_for(self.sigma_range, radius=radius)
@@ -476,6 +531,7 @@ class CNSInstrument:
     Parameters
     ----------
     star_dirs : ndarray, shape (k, 3)
+        Star directions, k >= 1 unit vectors (norm within 1e-6 of 1), none twice.
     sigma_star, sigma_horizon : float
         Per-axis noise, rad, in (0, pi].
     dt : float
@@ -484,6 +540,7 @@ class CNSInstrument:
         Correlation time of the horizon errors, s (0: white).
     limb : {"sphere", "oblate"}
     pole : array_like, shape (3,)
+        As :class:`UVInstrument`'s.
 
     Examples
     --------
@@ -494,7 +551,7 @@ class CNSInstrument:
 
     def __init__(self, star_dirs, sigma_star, sigma_horizon, dt, tau_s=0.0, limb="sphere",
                  pole=MARS_POLE):
-        self.star_dirs = check_finite_array("star_dirs", star_dirs, shape=(3,))
+        self.star_dirs = _star_dirs(star_dirs)
         # the ranges of sensors.cns_measurement's: a half turn
         self.sigma_star = check_real("sigma_star", sigma_star, 0.0, math.pi, lo_open=True)
         self.sigma_horizon = check_real("sigma_horizon", sigma_horizon, 0.0, math.pi, lo_open=True)
@@ -502,7 +559,7 @@ class CNSInstrument:
         self.tau_s = check_real("tau_s", tau_s, 0.0, 1e8)
         self.phi = math.exp(-dt / self.tau_s) if self.tau_s > 0.0 else 0.0  # phi = exp(-dt / tau)
         self.limb = check_choice("limb", limb, LIMBS)
-        self.pole = np.asarray(pole, dtype=float)
+        self.pole = _check_pole_used(pole, self.limb)
         self.carry = None  # the last horizon draw of the previous chunk
 
     def __call__(self, states, noise, out):

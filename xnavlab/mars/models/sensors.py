@@ -57,12 +57,14 @@ import numpy as np
 from xnavlab.core import ephemeris
 from xnavlab.core.constants import C
 from xnavlab.core.validate import (
+    check_choice,
     check_definite,
     check_finite_array,
     check_instance,
     check_items,
     check_real,
     make_rng,
+    shown,
 )
 from xnavlab.mars.models import stars
 from xnavlab.mars.timing import pulsars, toa
@@ -580,6 +582,9 @@ class XNAVSensor:
     sigma : array_like, shape (k,), optional
         Delay noise, s; default from :func:`xnav_sigma` with ``area_m2``, ``t_obs``
         and ``background``.
+    area_m2, t_obs, background : float
+        Of :func:`xnav_sigma`; with ``sigma`` given they are unused, and one set away from
+        its default (1 m^2, 500 s, 0.005 ph/cm^2/s) is refused.
     ephem : {"de421", "de405"}
         Ephemeris for Mars and the Sun in the predicted delays.
 
@@ -601,6 +606,14 @@ class XNAVSensor:
     def __post_init__(self):
         self.pulsar_names = pulsars.check_names(self.pulsar_names, "pulsar_names")
         self.n, self.distance = pulsars.directions(self.pulsar_names)
+        check_choice("ephem", self.ephem, ephemeris.EPHEMERIDES)  # not at the first h (review 35j)
+        if self.sigma is not None:  # then the noise settings would be dropped (review 35j)
+            for name, default in (("area_m2", 1.0), ("t_obs", 500.0), ("background", 0.005)):
+                value = getattr(self, name)
+                if not (isinstance(value, float | int) and not isinstance(value, bool)
+                        and value == default):
+                    raise ValueError(f"{name} = {shown(value)} is unused: sigma gives the delay "
+                                     f"noise it would compute; give one of them")
         if self.sigma is None:
             self.sigma = xnav_sigma(self.pulsar_names, self.area_m2, self.t_obs, self.background)
         self.sigma = check_finite_array("sigma", self.sigma).reshape(-1)

@@ -33,7 +33,7 @@ from importlib import resources
 import numpy as np
 
 from xnavlab.core.userfiles import csv_rows
-from xnavlab.core.validate import check_finite_array, check_int, check_items, check_real
+from xnavlab.core.validate import check_finite_array, check_items, check_real
 
 __all__ = [
     "HIPPARCOS_EPOCH",
@@ -211,7 +211,8 @@ def spread(s):
     Parameters
     ----------
     s : array_like, shape (3, 3)
-        Unit vectors, one a row.
+        Unit vectors, one a row, each of norm within 1e-6 of 1 (a scaled one is refused: its
+        determinant would scale with it).
 
     Examples
     --------
@@ -219,6 +220,12 @@ def spread(s):
     1.0
     """
     s = check_finite_array("s", s, shape=(3, 3))
+    if s.ndim != 2:
+        raise ValueError(f"s must have shape (3, 3), three unit vectors one a row, got shape {s.shape}")
+    norm = np.linalg.norm(s, axis=1)
+    if np.any(np.abs(norm - 1.0) > 1e-6):  # review 35j: 2 I gave 8
+        i = int(np.argmax(np.abs(norm - 1.0) > 1e-6))
+        raise ValueError(f"s[{i}] must be a unit vector (norm within 1e-6 of 1), got norm {norm[i]:.6g}")
     return float(abs(np.linalg.det(s)))
 
 
@@ -241,11 +248,14 @@ def pick_three(vmag_max=1.0, t=0.0, avoid=None, avoid_deg=0.0, candidates=None):
     t : float
         Epoch, s TDB past J2000.
     avoid : array_like, shape (k, 3), optional
-        Directions to keep away from.
+        Directions to keep away from (any length but zero: the Sun's position will do).
     avoid_deg : float
-        Exclusion half-angle around each ``avoid`` direction, deg.
+        Exclusion half-angle around each ``avoid`` direction, deg, in [0, 180]; positive
+        with ``avoid`` and 0 without it (either alone would exclude nothing: refused).
     candidates : sequence of str, optional
-        Restrict the choice to these stars.
+        Restrict the choice to these stars, at least three, none twice.
+
+    Fewer than three stars left by ``vmag_max`` (and ``avoid``) is one ValueError naming it.
 
     Returns
     -------
@@ -260,9 +270,18 @@ def pick_three(vmag_max=1.0, t=0.0, avoid=None, avoid_deg=0.0, candidates=None):
     vmag_max = check_real("vmag_max", vmag_max, -2.0, 10.0)
     avoid_deg = check_real("avoid_deg", avoid_deg, 0.0, 180.0)
     t = check_real("t", t, -1e11, 1e11)
-    names = tuple(get(s).name for s in candidates) if candidates is not None else None
+    names = None if candidates is None else tuple(  # a repeat was dropped (review 35j)
+        check_items("candidates", candidates, "star", _star_name, min_len=3))
+    if (avoid is None) != (avoid_deg == 0.0):
+        raise ValueError("avoid_deg is unused without avoid (the directions it is measured from)"
+                         if avoid is None else "avoid is unused with avoid_deg = 0 (an exclusion "
+                         "of no angle): give avoid_deg > 0")
     if avoid is not None:
         avoid = check_finite_array("avoid", avoid, shape=(3,)).reshape(-1, 3)
+        norm = np.linalg.norm(avoid, axis=1)
+        if not np.all(norm > 0.0):  # 0/0 (review 35j)
+            raise ValueError(f"avoid[{int(np.argmin(norm > 0.0))}] must be a direction (a "
+                             f"non-zero vector), got (0, 0, 0)")
         avoid = tuple(map(tuple, avoid.tolist()))
     return _pick_three(vmag_max, t, avoid, avoid_deg, names)
 
@@ -273,12 +292,20 @@ def _pick_three(vmag_max, t, avoid, avoid_deg, names):
     sensor asks for the same triple (455 triples weighed: 12-14 ms of a one-day run)."""
     pool = [get(s) for s in names] if names is not None else list(catalogue())
     pool = [s for s in pool if s.vmag <= vmag_max]
+    of = "candidates" if names is not None else "the catalogue's stars"
+    if len(pool) < 3:  # review 35j: the message named no parameter
+        raise ValueError(f"vmag_max = {vmag_max:g} leaves {len(pool)} of {of} bright enough, "
+                         f"pick_three needs 3: raise vmag_max"
+                         + (" or give more candidates" if names is not None else ""))
     if avoid is not None:
         av = np.array(avoid)
         av = av / np.linalg.norm(av, axis=1, keepdims=True)
         cos_lim = math.cos(math.radians(avoid_deg))
         pool = [s for s in pool if np.all(av @ direction(s, t) < cos_lim)]
-    check_int("number of candidate stars", len(pool), 3)
+        if len(pool) < 3:
+            raise ValueError(f"avoid_deg = {avoid_deg:g} leaves {len(pool)} of {of} with V <= "
+                             f"{vmag_max:g} outside it, pick_three needs 3: lower avoid_deg or "
+                             f"raise vmag_max")
     pool.sort(key=lambda s: s.vmag)
     u = {s.name: direction(s, t) for s in pool}
     best, best_val = None, -1.0

@@ -48,7 +48,8 @@ def filter_step(x, t, dt, table):
     x : ndarray, shape (6,)
         State at ``t``.
     t, dt : float
-        Epoch and step, s; ``dt`` in [-86400, 86400] (one day either way).
+        Epoch and step, s; ``dt`` in [-86400, 86400] (one day either way), ``t`` and ``t + dt``
+        inside the table's span.
     table : ThirdBodyTable or None
         Third bodies (filter ephemeris); None: Mars's point mass alone.
 
@@ -62,7 +63,7 @@ def filter_step(x, t, dt, table):
     """
     x = check_finite_array("x", x, shape=(6,))
     t, dt = check_real("t", t), check_real("dt", dt, -86400.0, 86400.0)
-    _check_table(table)
+    _check_span(t, dt, _check_table(table))
 
     def f(tt, y):
         return np.concatenate([y[3:], dynamics.acceleration(tt, y[:3], table)])
@@ -114,6 +115,20 @@ def _check_table(table):
     return table
 
 
+def _check_span(t, dt, table):
+    """The step from ``t`` to ``t + dt`` inside the table's span (review 35j: a step out of it
+    was refused naming ``t`` and a value inside the step, not the user's ``dt``)."""
+    if table is None:
+        return
+    lo, hi = table.t_start, float(table.knots[-1])
+    if not lo <= t <= hi:
+        raise ValueError(f"t must lie in [{lo:.9g}, {hi:.9g}] s, the table's span, got {t:.9g}")
+    if not lo <= t + dt <= hi:
+        raise ValueError(f"dt = {dt:g} s takes the step to t + dt = {t + dt:.9g} s, outside the "
+                         f"table's span [{lo:.9g}, {hi:.9g}] s: dt must be in [{lo - t:.6g}, "
+                         f"{hi - t:.6g}] from this t")
+
+
 def _check_steps(t, dt, table, max_step):
     """(t, dt, max_step) checked, and the table: max_step in [0.01, 86400] s and at most 1e6
     sub-steps."""
@@ -125,6 +140,7 @@ def _check_steps(t, dt, table, max_step):
     if dt / max_step > 1e6:
         raise ValueError(f"dt / max_step must be at most 1e6 sub-steps, got dt = {dt:g} s and "
                          f"max_step = {max_step:g} s ({dt / max_step:.3g})")
+    _check_span(t, dt, table)
     return t, dt, max_step
 
 
