@@ -62,7 +62,7 @@ def test_bridge_input_checks():
         pint_bridge.pint_delays([2.0e11, 1.0e11, 1.0e9], 5.0e8, n, d[:2])
     with pytest.raises(ValueError, match="t must"):
         pint_bridge.pint_delays([[2.0e11, 1.0e11, 1.0e9]] * 2, [5.0e8] * 3, n)
-    with pytest.raises(FileNotFoundError, match="ships no example"):
-        pint_bridge.examples_path("nope.par")
+    with pytest.raises(ValueError, match=r"^name must be an example file PINT [\d.]+ ships, got 'nope.par'"):
+        pint_bridge.examples_path("nope.par")  # review 35j (1) 24: was a FileNotFoundError
     with pytest.raises(ValueError, match="log_level"):
         pint_bridge.offline(log_level="LOUD")
