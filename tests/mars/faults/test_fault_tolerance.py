@@ -463,8 +463,8 @@ def test_plot_fault_response_with_kept_inputs_draws_what_fresh_inputs_draw():
 @pytest.mark.parametrize(("days", "kw", "words"), [
     (0.03, {"arm_s": 3000.0}, r"^arm_s \(3000 s: .*\) must be shorter than the run, days = "
                               r"0.03 \(2592 s\)"),
-    (0.01, {}, r"^train_days = 0.005 days gives the uv wavelet detector 143 samples .* "
-               r"run at least days = 0.0247"),
+    (0.01, {}, r"^days = 0.01 is too short for the combined detector: its uv wavelet trains on "
+               r".* 0.005 days \(143 samples\) .* run at least 0.0248 days"),  # review 35j (3) 7
     (0.05, {"train_days": 0.01}, r"^train_days = 0.01 days .* give train_days >= 0.0124"),
 ])
 def test_a_run_too_short_for_the_detector_names_days_not_an_internal_setting(days, kw, words):
@@ -554,3 +554,73 @@ def test_merge_events_refuses_a_0d_array_by_name():
     with pytest.raises(ValueError, match=r"^events must be a list of detection Events"):
         ft.merge_events(np.array(1.0))
     assert ft.merge_events([]) == []  # no alarm, nothing merged
+
+
+@pytest.mark.parametrize(("call", "words"), [
+    (lambda: ft.run_fault_tolerant(None, [], inputs={"a": 1}),
+     r"^inputs must be an Inputs from scenarios.prepare\(\), got dict"),
+    (lambda: ft.sensor_sigma("uv", "x"), r"^scenario must be a MarsScenario, got str 'x'"),
+    (lambda: ft.sensor_sigma("uv", {"days": 1}), r"^scenario must be a MarsScenario, got dict"),
+])
+def test_an_object_parameter_of_the_wrong_kind_is_named(call, words):
+    """Review 35j (1) 14-15: an AttributeError ('dict' object has no attribute 'scenario')."""
+    with pytest.raises(ValueError, match=words):
+        call()
+
+
+def test_a_fault_with_a_bad_component_is_named_as_an_item_of_faults():
+    """Review 35j (3) 6: 'component must be in [0, 3] ...' named no parameter of the call."""
+    sc = scenarios.MarsScenario(days=0.05, subsystems=("uv", "cns"))
+    with pytest.raises(ValueError, match=r"^faults\[0\]: component must be in \[0, 3\] for "
+                                         r"sensor 'uv'"):
+        ft.run_fault_tolerant(sc, [Fault("uv", "step", 1.0, 2000.0, 100.0, 9)], detector="chi2")
+    with pytest.raises(ValueError, match=r"^faults\[0\]: sensor 'xnav' is not in this run"):
+        ft.run_fault_tolerant(sc, [Fault("xnav", "step", 1e-5, 2000.0, 1000.0)], detector="chi2")
+
+
+@pytest.fixture(scope="module")
+def uv_cns_inputs():
+    return scenarios.prepare(scenarios.MarsScenario(days=0.05, subsystems=("uv", "cns")))
+
+
+@pytest.mark.parametrize(("detector", "kw", "words"), [
+    ("chi2", {"xnav_level": 4}, r"^xnav_level = 4 is unused: the run has no xnav subsystem"),
+    ("wavelet", {"xnav_holdoff": 5}, r"^xnav_holdoff = 5 is unused: the run has no xnav"),
+    ("none", {"readmit_samples": {"uv": 5}}, r"^readmit_samples is unused with detector 'none'"),
+    ("none", {"readmit_alpha": 0.05},
+     r"^readmit_alpha = 0.05 is unused with detector 'none': only the wavelet, chi2 and combined"),
+    ("none", {"check_every": 3}, r"^check_every = 3 is unused with detector 'none'"),
+    ("chi2", {"readmit_samples": {"xnav": 5}},
+     r"^readmit_samples\['xnav'\] is unused: the run has no xnav subsystem"),
+])
+def test_an_option_the_run_does_not_use_is_refused(detector, kw, words, uv_cns_inputs):
+    """Review 35j (5) 2-4: xnav_level/xnav_holdoff without XNAV, the rejoining settings with no
+    detector and a readmit window of a subsystem the run lacks were accepted and dropped."""
+    with pytest.raises(ValueError, match=words):
+        ft.run_fault_tolerant(faults=[], detector=detector, inputs=uv_cns_inputs, **kw)
+
+
+def test_xnav_settings_with_a_detector_without_the_xnav_wavelet_are_refused():
+    """Review 35j (5) 2: chi2 has no XNAV innovation wavelet; its defaults are taken."""
+    with pytest.raises(ValueError, match=r"^xnav_level = 4 is unused: detector 'chi2' has no XNAV"):
+        ft.run_fault_tolerant(scenarios.MarsScenario(days=0.05), [], "chi2", xnav_level=4)
+
+
+def test_the_defaults_of_the_rejoining_settings_are_taken_with_every_detector():
+    """Review 35j (5) 1-4: a refusal only for a value the user gave, never for a default (the
+    command line and the scenario files pass none of these); train_days is documented as
+    ignored by chi2 and none (one call serves every detector, as the trials and the book do)."""
+    import inspect
+
+    defaults = {k: v.default for k, v in inspect.signature(ft.run_fault_tolerant).parameters.items()}
+    for key in ("readmit_alpha", "check_every", "xnav_level", "xnav_holdoff"):
+        ft._checks.check_settings("none", {key: defaults[key]}, ("uv",))
+    sc = scenarios.MarsScenario(days=0.05, subsystems=("uv", "cns"))
+    r = ft.run_fault_tolerant(sc, [], "chi2", train_days=0.02, readmit_alpha=0.01, check_every=100)
+    assert r.detector == "chi2"
+
+
+def test_merge_events_refuses_an_event_ending_before_its_onset():
+    """Review 35j (5) 16: Event(5, 2, 1, ...) was returned as it was."""
+    with pytest.raises(ValueError, match=r"^events\[0\] must have onset <= end <= cleared"):
+        ft.merge_events([Event(5.0, 2.0, 1.0, 1.0, "a")])

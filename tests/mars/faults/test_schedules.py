@@ -283,8 +283,8 @@ def test_a_ramp_that_would_grow_beyond_max_size_in_the_run_is_refused_before_it(
 
 @pytest.mark.parametrize(("kw", "words"), [
     ({"detector": "Combined"}, "detector must be one of 'none', 'wavelet', 'chi2', 'combined'"),
-    ({"train_days": -1.0}, "train_days must be a real number in (0, 365]"),
-    ({"train_days": math.nan}, "train_days must be a real number in (0, 365]"),
+    ({"train_days": -1.0}, "train_days must be a real number in (0, 0.05)"),  # the run's days
+    ({"train_days": math.nan}, "train_days must be a real number in (0, 0.05)"),
     ({"paper": "no"}, "paper must be True or False"),
 ])
 def test_check_schedule_checks_its_own_arguments(kw, words):  # review 35d D34: accepted
@@ -393,3 +393,66 @@ def test_an_edge_value_of_a_fault_list_or_an_event_list_is_refused_by_name():
     with pytest.raises(ValueError, match=r"^name must be text \(a str\), got True"):
         s.check_event_list(True, [])
     assert s.check_event_list("events", []) == []  # no alarm: a valid list
+
+
+@pytest.mark.parametrize(("faults", "kw", "words"), [
+    ([Fault("xnav", "step", 1e-5, 1000.0, 100.0, 0)], {},
+     r"^faults\[0\]: sensor 'xnav' is not in this run \(its subsystems: uv, cns\)"),
+    ([Fault("uv", "step", 1.0, 1000.0, 10.0, 0), Fault("gps", "step", 1.0, 1000.0, 100.0)], {},
+     r"^faults\[1\]: sensor 'gps' is not in this run"),
+    ([Fault("uv", "step", 1.0, 1000.0, 100.0, 9)], {},
+     r"^faults\[0\]: component must be in \[0, 3\] for sensor 'uv' \(range, ux, uy, uz\), got 9"),
+    ([Fault("uv", "step", 1.0, 1000.0, 100.0, 9)] * 2, {},   # before the repeat (an IndexError)
+     r"^faults\[0\]: component must be in \[0, 3\]"),
+    ([Fault("uv", "step", 1.0, 1000.0, 100.0, 0)], {"train_days": 1.0},
+     r"^train_days must be a real number in \(0, 0.05\), got 1.0"),
+])
+def test_check_schedule_is_the_runs_check(faults, kw, words):
+    """Review 35j (5) 14: a fault on a subsystem the run lacks, an unknown sensor, a component out
+    of range and a training span longer than the run were returned as fine."""
+    sc = scenarios.MarsScenario(days=0.05, subsystems=("uv", "cns"))
+    with pytest.raises(ValueError, match=words):
+        s.check_schedule(faults, sc, **kw)
+
+
+def test_check_schedule_names_days_when_the_default_training_span_is_too_short():
+    """Review 35j (3) 7: the left-out train_days was named; the run's days is at fault. The
+    suggestion is rounded up (0.0247 was itself too short), and a fault's own problem comes first."""
+    with pytest.raises(ValueError, match=r"^days = 0.02 is too short for the combined detector: "
+                                         r".* run at least 0.0248 days, or give train_days >= 0.0124"):
+        s.check_schedule([], scenarios.MarsScenario(days=0.02))
+    assert s.check_schedule([], scenarios.MarsScenario(days=0.0248)) == []
+    with pytest.raises(ValueError, match=r"^faults: .* outside this run"):
+        s.check_schedule([Fault("uv", "step", 1.0, 1e6, 10.0, 0)], scenarios.MarsScenario(days=0.02))
+    with pytest.raises(ValueError, match=r"^train_days = 0.01 days gives the uv wavelet detector 287"):
+        s.check_schedule([], scenarios.MarsScenario(days=0.05), "wavelet", 0.01)
+    # chi2 and none train nothing: the short default span is no matter, a given one is ignored
+    assert s.check_schedule([], scenarios.MarsScenario(days=0.02), "chi2") == []
+    assert s.check_schedule([], scenarios.MarsScenario(days=0.05), "none", 0.01) == []
+
+
+@pytest.mark.parametrize(("events", "isolations", "words"), [
+    ({"gps": []}, (), r"^events\['gps'\]: 'gps' is not a sensor"),
+    ({"uv": []}, [{"sensor": "uv", "out": 1200.0, "back": 1100.0}],
+     r"^isolations\[0\]\['back'\] must come after its out \(1200 s\)"),
+    ({"uv": []}, [{"sensor": "uv", "out": 1200.0, "back": 1200.0}], r"^isolations\[0\]\['back'\]"),
+    ({"uv": []}, [{"sensor": "gps", "out": 1200.0, "back": None}], r"^isolations\[0\]\['sensor'\]"),
+    ({"uv": []}, [{"sensor": "uv", "out": math.nan, "back": None}], r"^isolations\[0\]\['out'\]"),
+])
+def test_score_faults_refuses_what_it_would_not_score(events, isolations, words):
+    """Review 35j (5) 15: the events of an unknown sensor were ignored; an isolation back before
+    it went out was taken."""
+    fs = [Fault("uv", "step", 25000.0, 1000.0, 100.0, 0)]
+    with pytest.raises(ValueError, match=words):
+        s.score_faults(fs, events, isolations, span=4320.0)
+    assert s.score_faults(fs, {"uv": []}, [{"sensor": "uv", "out": 900.0, "back": None}],
+                          span=4320.0)["faults"][0]["out_at_onset"]
+
+
+def test_check_event_list_refuses_an_event_out_of_order():
+    """Review 35j (5) 16: merge_events took an Event ending before its onset."""
+    from xnavlab.core.detection import Event
+
+    for ev in (Event(5.0, 2.0, 6.0, 1.0, "a"), Event(1.0, 2.0, 1.5, 1.0, "a")):
+        with pytest.raises(ValueError, match=r"^events\[0\] must have onset <= end <= cleared"):
+            s.check_event_list("events", [ev])

@@ -128,8 +128,16 @@ from xnavlab.core.detection import (
 )
 from xnavlab.core.distributions import chi2_isf, norm_isf
 from xnavlab.core.faults import Fault, check_faults, format_spec, inject  # noqa: F401 - Fault: the doctest
-from xnavlab.core.validate import check_bool, check_choice, check_int, check_real, make_rng, seed_after
-from xnavlab.mars.faults import innovations, schedules, watch
+from xnavlab.core.validate import (
+    check_bool,
+    check_choice,
+    check_instance,
+    check_int,
+    check_real,
+    make_rng,
+    seed_after,
+)
+from xnavlab.mars.faults import _checks, innovations, schedules, watch
 from xnavlab.mars.faults.schedules import (  # noqa: F401 - also importable from here, as before
     EARLIEST_ONSET_S,
     LATE_WINDOW_S,
@@ -188,7 +196,8 @@ def inject_inputs(inputs, faults, rng=None):
 
 def merge_events(events):
     """Merge overlapping events (onset..cleared) of several detectors of one sensor; ``events``
-    must be a list of Events (:func:`~xnavlab.mars.faults.schedules.check_event_list`).
+    must be a list of Events, each with ``onset <= end <= cleared``
+    (:func:`~xnavlab.mars.faults.schedules.check_event_list`).
 
     Examples
     --------
@@ -309,32 +318,6 @@ def _nis_dof(sc):
     return {"xnav": len(sc.pulsars), "uv": _NIS_DOF_UV, "cns": len(sc.stars) if sc.stars else 3}
 
 
-def _check_training(inputs, train_days, given):
-    """The wavelets' training span holds 356 UV and CNS samples, or one line naming what to
-    change (``train_days``, or ``days`` when train_days is the default half of the run)."""
-    sc = inputs.scenario
-    for s in ("uv", "cns"):
-        if s not in sc.subsystems:
-            continue
-        t = inputs.t_meas[s] - float(inputs.times[0])
-        n = int(np.searchsorted(t, train_days * DAY))
-        if n >= 356:
-            continue
-        need = (float(t[355]) if t.size > 355 else 356 * getattr(sc, f"dt_{s}")) / DAY * 1.001
-        fix = (f"give train_days >= {need:.3g} (and days above it)" if given or need >= 1.0 else
-               f"run at least days = {2.0 * need:.3g} (train_days is min(1, days / 2) unless "
-               f"given)")
-        raise ValueError(f"train_days = {train_days:g} days gives the {s} wavelet detector "
-                         f"{n} samples to train on; it needs at least 356: {fix}")
-
-
-#: Setting -> (the detectors that use it, its default): another detector with a setting away
-#: from its default is refused (the scenario file's rule, ``DETECTOR_USES``).
-_DETECTOR_SETTINGS = {"pfa": (("wavelet",), 1e-5), "alpha": (("chi2",), 1e-5),
-                      "rate_per_day": (("combined",), 1.0), "adaptive": (("combined",), True),
-                      "arm_s": (("combined",), 600.0)}
-
-
 def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=None,
                        pfa=1e-5, alpha=1e-5, train_days=None, readmit_samples=None,
                        readmit_alpha=0.01, readmit="quiet", xnav_level=3, xnav_holdoff=12, check_every=100,
@@ -347,11 +330,14 @@ def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=
         Default the paper's (``**overrides`` replace fields, e.g. ``days=1``).
     faults : sequence of Fault or str
         The schedule (times s since the start) or a spec for
-        :func:`~xnavlab.mars.faults.schedules.parse_faults`.
+        :func:`~xnavlab.mars.faults.schedules.parse_faults`; checked by
+        :func:`~xnavlab.mars.faults.schedules.check_schedule` (each sensor one of the run's,
+        each component one of its sensor's, ``faults[i]`` named), then the training span.
     detector : {"none", "wavelet", "chi2", "combined"}
         Default ``"combined"``, the book's detector (chapter 9), as ``run mars --faults``.
     inputs : Inputs, optional
-        Fault-free inputs from :func:`xnavlab.mars.navigation.scenarios.prepare` to reuse.
+        Fault-free inputs from :func:`xnavlab.mars.navigation.scenarios.prepare` to reuse (not
+        with a scenario or overrides; anything but an Inputs is refused).
     pfa : float
         Wavelet design false-alarm probability per sample and sensor, in (0, 1).
     alpha : float
@@ -359,18 +345,25 @@ def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=
     train_days : float, optional
         Wavelet training span of UV and CNS (their first days must be fault-free), in
         (0, days); default :func:`~xnavlab.mars.navigation.scenarios.default_settle_days` of the run.
+        Ignored by ``"none"`` and ``"chi2"``, which train nothing (one call may then serve
+        every detector, as the trials' paired runs do); its range is checked all the same.
     readmit_samples : dict, optional
         NIS window of the rejoining test per subsystem (default uv 100, cns 100, xnav 4),
-        each in [1, MAX_SAMPLES].
+        each in [1, MAX_SAMPLES]; a key for a subsystem the run lacks, or any with detector
+        ``"none"`` (nothing rejoins), is refused.
     readmit_alpha : float
-        Significance of the rejoining test, in (0, 1).
+        Significance of the rejoining test, in (0, 1); away from its default (0.01) with
+        detector ``"none"`` it is refused.
     readmit : {"quiet", "clear"}
         ``"quiet"`` (default): rejoin when the detector is clear and the NIS window test passes;
         ``"clear"``: as soon as the detector is clear (the naive rule, for comparison).
     xnav_level, xnav_holdoff : int
-        Levels (1..6) and hold-off (samples, in [1, 1e9]) of the XNAV innovation detector.
+        Levels (1..6) and hold-off (samples, in [1, 1e9]) of the XNAV innovation detector
+        (wavelet and combined detectors); away from their defaults (3, 12) in a run without
+        XNAV or with another detector they are refused.
     check_every : int
-        Epochs between rejoining checks while a subsystem is out, in [1, MAX_SAMPLES].
+        Epochs between rejoining checks while a subsystem is out, in [1, MAX_SAMPLES]; away
+        from its default (100) with detector ``"none"`` it is refused.
     rng : Generator or int, optional
         Extra noise of ``noise`` faults (default: from the scenario's seed).
     rate_per_day : float
@@ -414,25 +407,19 @@ def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=
                          "'clear' is the NIS window test)")
     rate_per_day = check_real("rate_per_day", rate_per_day, *schedules.RATE_PER_DAY_RANGE)
     arm_s = check_real("arm_s", arm_s, 0.0, schedules.MAX_DAYS * DAY)  # a run's longest span
-    settings = {"pfa": pfa, "alpha": alpha, "rate_per_day": rate_per_day, "adaptive": adaptive,
-                "arm_s": arm_s}
-    for key, value in settings.items():  # a setting of another detector would go unused
-        if value != _DETECTOR_SETTINGS[key][1] and detector not in _DETECTOR_SETTINGS[key][0]:
-            raise ValueError(f"{key} = {value!r} is unused with detector {detector!r}: only the "
-                             f"{' and '.join(_DETECTOR_SETTINGS[key][0])} detector uses it; leave "
-                             f"it at its default or name that detector")
+    _checks.check_settings(detector, {"pfa": pfa, "alpha": alpha, "rate_per_day": rate_per_day,
+                                      "adaptive": adaptive, "arm_s": arm_s,
+                                      "readmit_alpha": readmit_alpha, "check_every": check_every})
     if inputs is None:
         inputs = scenarios.prepare(scenario, **overrides)
-    elif scenario is not None or overrides:
-        raise ValueError("pass either inputs or a scenario (with overrides), not both")
+    else:
+        check_instance("inputs", inputs, scenarios.Inputs, "an Inputs from scenarios.prepare()")
+        if scenario is not None or overrides:
+            raise ValueError("pass either inputs or a scenario (with overrides), not both")
     sc = inputs.scenario
-    given = train_days is not None
-    if train_days is None:
-        train_days = scenarios.default_settle_days(sc.days)
-    if detector in ("wavelet", "combined"):
-        train_days = check_real("train_days", train_days, 0.0, sc.days, lo_open=True,
-                                hi_open=True)
-        _check_training(inputs, train_days, given)
+    _checks.check_settings(detector, {"xnav_level": xnav_level, "xnav_holdoff": xnav_holdoff},
+                           sc.subsystems)
+    win = _checks.readmit_windows(readmit_samples, detector, sc.subsystems)
     if detector == "combined" and not arm_s < sc.span:  # the message names the run's length
         raise ValueError(f"arm_s ({arm_s:g} s: the combined detector's tests start then) must be "
                          f"shorter than the run, days = {sc.days:g} ({sc.span:g} s): run at "
@@ -440,7 +427,10 @@ def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=
     paper = isinstance(faults, str) and faults.strip() == "paper"
     if isinstance(faults, str):
         faults = parse_faults(faults, sc)
+    # the run's check: the faults (sensor, component, onset, samples), then the training span
     faults = check_schedule(faults, sc, detector, train_days, paper=paper)
+    if train_days is None:
+        train_days = scenarios.default_settle_days(sc.days)
     if detector == "combined":
         schedules.check_armed(faults, arm_s, sc)
     rng = make_rng(seed_after(sc.seed) if rng is None else rng)
@@ -451,14 +441,6 @@ def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=
         return FaultTolerantRun(res, faults, detector, {},
                                 np.zeros((inputs.n, len(sc.subsystems)), dtype=bool),
                                 {}, time.perf_counter() - t_start)
-    win = {"uv": 100, "cns": 100, "xnav": 4}
-    if readmit_samples is not None:
-        if not isinstance(readmit_samples, dict):
-            raise ValueError(f"readmit_samples must be a dict of subsystem -> samples, e.g. "
-                             f"{{'uv': 100}}, got {readmit_samples!r:.80}")
-        for k, v in readmit_samples.items():
-            check_choice("readmit_samples key", k, scenarios.SUBSYSTEMS)
-            win[k] = check_int(f"readmit_samples[{k!r}]", v, 1, MAX_SAMPLES)
     loop = _Loop(faulty, faults, detector, pfa, alpha, train_days, win, readmit_alpha, xnav_level,
                  xnav_holdoff, check_every, rate_per_day, adaptive, arm_s)
     loop.readmit = readmit
@@ -885,13 +867,16 @@ def sensor_sigma(sensor, scenario=None):
     """One noise standard deviation of a sensor in its SI unit: UV range (m), the horizon
     sensor (rad, common to the CNS angles), the first pulsar's delay (s).
 
+    ``sensor`` is one of ``"xnav"``, ``"uv"``, ``"cns"``; ``scenario`` a MarsScenario
+    (default the paper's) whose noise levels are read.
+
     Examples
     --------
     >>> sensor_sigma("uv")
     5000.0
     """
-    sc = scenario if scenario is not None else scenarios.MarsScenario()
     check_choice("sensor", sensor, scenarios.SUBSYSTEMS)
+    sc = scenarios.check_scenario("scenario", scenario)  # a dict or a string: one line
     if sensor == "uv":
         return float(sc.sigma_range_m)
     if sensor == "cns":

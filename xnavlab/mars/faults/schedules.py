@@ -58,6 +58,7 @@ __all__ = [
     "paper_schedule",
     "parse_faults",
     "check_schedule",
+    "TRAIN_SAMPLES",
     "scoring_span",
     "score_faults",
     "check_event_list",
@@ -190,10 +191,17 @@ def parse_faults(spec, scenario=None):
     return parse_spec(spec, components(sc))
 
 
-def check_schedule(faults, scenario, detector="combined", train_days=1.0, paper=False):
+def check_schedule(faults, scenario, detector="combined", train_days=None, paper=False):
     """Refuse a fault the run cannot use: one ``ValueError`` naming the fault, the span and the fix.
 
-    A fault is used when its onset lies inside the run, ``[0, span)`` s since the start,
+    This is the check :func:`~xnavlab.mars.faults.fault_tolerance.run_fault_tolerant` makes of
+    its faults and training span before any run. A fault's sensor must be one of the run's
+    subsystems and its component one of that sensor's (:func:`components`); the faults are
+    checked first, then the training span: the UV/CNS wavelets of the ``"wavelet"`` and
+    ``"combined"`` detectors train on ``train_days``, which must hold their first 356 samples
+    (:data:`TRAIN_SAMPLES`). When ``train_days`` is left out (``min(1, days / 2)``) and that
+    is too short, the message leads with ``days``: the run is too short. A fault is used
+    when its onset lies inside the run, ``[0, span)`` s since the start,
     and it acts on at least one sample of its sensor (a step of 300 s between two XNAV
     samples 500 s apart would be injected as nothing and scored as missed);
     with the paper's ``"wavelet"`` detector a UV or CNS fault must start after the wavelets'
@@ -214,8 +222,11 @@ def check_schedule(faults, scenario, detector="combined", train_days=1.0, paper=
         The run (its ``span``, s).
     detector : str
         One of :data:`~xnavlab.mars.faults.fault_tolerance.DETECTORS`.
-    train_days : float
-        Training span of the UV/CNS wavelets, days, in (0, MAX_DAYS].
+    train_days : float, optional
+        Training span of the UV/CNS wavelets, days, in (0, days) of the run; default
+        :func:`~xnavlab.mars.navigation.scenarios.default_settle_days` of the run, as the run's.
+        The ``"none"`` and ``"chi2"`` detectors train nothing and ignore it (a range is still
+        checked), so that one call may be made for every detector.
     paper : bool
         The schedule is the paper's (the message then says how many days it needs).
 
@@ -232,11 +243,13 @@ def check_schedule(faults, scenario, detector="combined", train_days=1.0, paper=
         raise ValueError("scenario must be a MarsScenario (the run the faults are for), got None")
     scenario = scenarios.check_scenario("scenario", scenario)
     check_choice("detector", detector, ("none", "wavelet", "chi2", "combined"))
-    train_days = check_real("train_days", train_days, 0.0, MAX_DAYS, lo_open=True)
+    if train_days is not None:  # the run's own range: a span it can train on
+        train_days = check_real("train_days", train_days, 0.0, scenario.days, lo_open=True,
+                                hi_open=True)
     paper = check_bool("paper", paper)
     span = float(scenario.span)
     comps = components(scenario)
-    faults = check_faults("faults", faults, comps)
+    faults = check_faults("faults", _in_run(faults, comps), comps)
     late = [f for f in faults if not 0.0 <= f.onset < span]
     if late and paper:
         last = max(f.onset for f in faults)
@@ -276,6 +289,7 @@ def check_schedule(faults, scenario, detector="combined", train_days=1.0, paper=
                    f"the run's end ({last:.0f} s; the sample at the end, {span:.0f} s, is not "
                    f"scored: scoring_span cuts a fault at the end)")
             raise ValueError(f"faults: {format_spec([f], comps)} acts on no sample: it {why}")
+    train_days = _check_training(scenario, detector, train_days)
     if detector == "wavelet":
         for f in faults:
             if f.sensor in ("uv", "cns") and f.onset < train_days * DAY:
@@ -293,6 +307,65 @@ def check_schedule(faults, scenario, detector="combined", train_days=1.0, paper=
                     f"hides a fault from any detector); move its onset to "
                     f"{EARLIEST_ONSET_S:.0f} s or later")
     return faults
+
+
+#: Samples the UV and CNS wavelets train on at least (their MAD thresholds need them).
+TRAIN_SAMPLES = 356
+
+
+def _in_run(faults, comps):
+    """``faults`` (a list once read) with every Fault's sensor among the run's subsystems and
+    its component among the sensor's (``comps``), else one ValueError naming ``faults[i]``."""
+    if isinstance(faults, list | tuple) or (hasattr(faults, "__iter__") and not _not_1d(faults)
+                                           and not isinstance(faults, str | bytes | dict)):
+        faults = list(faults)
+        for i, f in enumerate(faults):
+            if not isinstance(f, Fault):
+                continue                   # check_faults names it
+            if f.sensor not in comps:
+                raise ValueError(f"faults[{i}]: sensor {f.sensor!r} is not in this run (its "
+                                 f"subsystems: {', '.join(comps)})")
+            names = comps[f.sensor]
+            if f.component is not None and not f.component < len(names):
+                raise ValueError(f"faults[{i}]: component must be in [0, {len(names) - 1}] for "
+                                 f"sensor {f.sensor!r} ({', '.join(names)}), got {f.component}")
+    return faults
+
+
+def _check_training(scenario, detector, train_days):
+    """The training span, days (the run's default when None), checked to hold the UV/CNS
+    wavelets' first :data:`TRAIN_SAMPLES` samples with the detectors that train them."""
+    given = train_days is not None
+    if not given:
+        train_days = scenarios.default_settle_days(scenario.days)
+    if detector not in ("wavelet", "combined"):
+        return train_days
+    span = float(scenario.span)
+    for s, dt in sample_intervals(scenario).items():
+        if s not in ("uv", "cns"):
+            continue
+        n_all = int(math.floor(span / dt + 1e-9))   # the run's samples at k dt, k >= 1
+        t = np.round(dt * np.arange(1, min(n_all, TRAIN_SAMPLES) + 1), 6)
+        n = int(np.searchsorted(t, train_days * DAY))
+        if n >= TRAIN_SAMPLES:
+            continue
+        need = (float(t[-1]) if n_all >= TRAIN_SAMPLES else TRAIN_SAMPLES * dt) / DAY * 1.001
+        if given or need >= 1.0:
+            raise ValueError(f"train_days = {train_days:g} days gives the {s} wavelet detector "
+                             f"{n} samples to train on; it needs at least {TRAIN_SAMPLES}: give "
+                             f"train_days >= {_up(need):g} (and days above it)")
+        # the suggestions rounded up: a rounded-down days (0.0247) was itself too short
+        raise ValueError(f"days = {scenario.days:g} is too short for the {detector} detector: "
+                         f"its {s} wavelet trains on the first min(1, days / 2) = {train_days:g} "
+                         f"days ({n} samples) and needs {TRAIN_SAMPLES}: run at least "
+                         f"{_up(2.0 * need):g} days, or give train_days >= {_up(need):g}")
+    return train_days
+
+
+def _up(x):
+    """``x`` > 0 rounded up to three significant digits (a bound that still holds when shown)."""
+    step = 10.0 ** (math.floor(math.log10(x)) - 2)
+    return float(f"{math.ceil(x / step - 1e-9) * step:.3g}")
 
 
 def check_armed(faults, arm_s, scenario):
@@ -476,10 +549,11 @@ def score_faults(faults, events, isolations=(), *, span=math.inf, dt=None):
     faults : sequence of Fault
         Times s since the start.
     events : dict of str to list of xnavlab.core.detection.Event
-        The detector's events per sensor, same time base.
+        The detector's events per sensor (``"uv"``, ``"cns"``, ``"xnav"``: another key is
+        refused, its alarms would go unscored), same time base.
     isolations : sequence of dict, optional
-        The run's isolation intervals (``sensor``, ``out``, ``back``: s, ``back`` None when
-        still out at the end;
+        The run's isolation intervals (``sensor`` as in ``events``, ``out``, ``back``: s,
+        ``back`` after ``out``, or None when still out at the end;
         :meth:`~xnavlab.mars.faults.fault_tolerance.FaultTolerantRun.isolation_intervals`).
     span : float
         The run's length, s (a fault that outlasts it is scored up to it).
@@ -582,6 +656,10 @@ def check_event_list(name, events):
                         and not math.isnan(e.peak)):
             raise ValueError(f"{name}[{i}] must be a {what} with finite onset and end and a "
                              f"real peak, got {shown(e)}")
+        if not e.onset <= e.end <= e.cleared:  # an event ends after it opens, clears after
+            raise ValueError(f"{name}[{i}] must have onset <= end <= cleared (times of one "
+                             f"alarm, in order), got onset {e.onset:g}, end {e.end:g}, cleared "
+                             f"{e.cleared:g}")
     return events
 
 
@@ -591,6 +669,9 @@ def _check_events(events):
         raise ValueError(f"events must be a dict of sensor -> list of detection Events, got "
                          f"{type(events).__name__} {shown(events)}")
     for sensor, evs in events.items():
+        if sensor not in LATE_WINDOW_S:  # its alarms would be matched to no fault, unscored
+            raise ValueError(f"events[{sensor!r}]: {sensor!r} is not a sensor (subsystem) this "
+                             f"rule scores (known: {', '.join(LATE_WINDOW_S)})")
         if isinstance(evs, str | dict) or not hasattr(evs, "__iter__") or _not_1d(evs):
             raise ValueError(f"events[{sensor!r}] must be a list of detection Events, got "
                              f"{shown(evs)}")
@@ -613,6 +694,14 @@ def _check_isolations(isolations):
         if not isinstance(iv, dict) or not {"sensor", "out", "back"} <= set(iv):
             raise ValueError(f"isolations[{i}] must be a dict with keys sensor, out and back, "
                              f"got {shown(iv)}")
+        if iv["sensor"] not in LATE_WINDOW_S:
+            raise ValueError(f"isolations[{i}]['sensor'] must be one of "
+                             f"{', '.join(map(repr, LATE_WINDOW_S))}, got {shown(iv['sensor'])}")
+        out = check_real(f"isolations[{i}]['out']", iv["out"], 0.0, hi_open=True)
+        if iv["back"] is not None and not check_real(f"isolations[{i}]['back']", iv["back"],
+                                                     0.0, hi_open=True) > out:
+            raise ValueError(f"isolations[{i}]['back'] must come after its out ({out:g} s) or be "
+                             f"None (still out at the end), got {iv['back']!r}")
     return isolations
 
 

@@ -1,0 +1,76 @@
+"""Checks of :func:`xnavlab.mars.faults.fault_tolerance.run_fault_tolerant`'s options: a setting
+the run's detector or subsystems do not use is refused, not dropped (review 35j: ``xnav_level``
+without XNAV, ``readmit_samples`` with no detector, ...).
+
+Plumbing of :mod:`xnavlab.mars.faults`; not part of the public API.
+"""
+
+from __future__ import annotations
+
+from xnavlab.core.detection import MAX_SAMPLES
+from xnavlab.core.validate import check_choice, check_int, shown
+from xnavlab.mars.navigation.scenarios import SUBSYSTEMS
+
+__all__ = ["DETECTOR_SETTINGS", "check_settings", "readmit_windows"]
+
+#: Setting -> (the detectors that use it, its default): another detector with a setting away
+#: from its default is refused (the scenario file's rule, ``DETECTOR_USES``). ``readmit_alpha``
+#: and ``check_every`` belong to the rejoining test, which every detector but ``"none"`` runs.
+DETECTOR_SETTINGS = {"pfa": (("wavelet",), 1e-5), "alpha": (("chi2",), 1e-5),
+                     "rate_per_day": (("combined",), 1.0), "adaptive": (("combined",), True),
+                     "arm_s": (("combined",), 600.0),
+                     "readmit_alpha": (("wavelet", "chi2", "combined"), 0.01),
+                     "check_every": (("wavelet", "chi2", "combined"), 100)}
+
+#: Settings of the XNAV innovation wavelet (wavelet and combined detectors, a run with XNAV).
+XNAV_SETTINGS = {"xnav_level": 3, "xnav_holdoff": 12}
+
+#: NIS window of the rejoining test per subsystem, samples (``readmit_samples``' default).
+READMIT_SAMPLES = {"uv": 100, "cns": 100, "xnav": 4}
+
+
+def check_settings(detector, settings, subsystems=None):
+    """Refuse a setting of ``settings`` (name -> value) away from its default that ``detector``
+    does not use (:data:`DETECTOR_SETTINGS`), and, given the run's ``subsystems``, an XNAV
+    setting (:data:`XNAV_SETTINGS`) of a run whose detector sees no XNAV innovations."""
+    for key, value in settings.items():
+        if key in XNAV_SETTINGS:
+            if subsystems is None or value == XNAV_SETTINGS[key]:
+                continue
+            why = ("the run has no xnav subsystem" if "xnav" not in subsystems else
+                   None if detector in ("wavelet", "combined") else
+                   f"detector {detector!r} has no XNAV innovation wavelet")
+            if why is not None:
+                raise ValueError(f"{key} = {value!r} is unused: {why} (it sets the XNAV "
+                                 f"innovation wavelet of the wavelet and combined detectors); "
+                                 f"leave it at its default, {XNAV_SETTINGS[key]}")
+            continue
+        users, default = DETECTOR_SETTINGS[key]
+        if value != default and detector not in users:
+            who = users[0] if len(users) == 1 else f"{', '.join(users[:-1])} and {users[-1]}"
+            name = "one of them" if len(users) > 1 else "that detector"
+            raise ValueError(f"{key} = {value!r} is unused with detector {detector!r}: only the "
+                             f"{who} detector{'s use' if len(users) > 1 else ' uses'} it; leave "
+                             f"it at its default or name {name}")
+
+
+def readmit_windows(readmit_samples, detector, subsystems):
+    """The rejoining test's NIS window per subsystem: :data:`READMIT_SAMPLES` with
+    ``readmit_samples`` (a dict, or None) over it, each key a subsystem of the run (else one
+    ValueError naming it); given with detector ``"none"`` (nothing rejoins) it is refused."""
+    win = dict(READMIT_SAMPLES)
+    if readmit_samples is None:
+        return win
+    if not isinstance(readmit_samples, dict):
+        raise ValueError(f"readmit_samples must be a dict of subsystem -> samples, e.g. "
+                         f"{{'uv': 100}}, got {shown(readmit_samples)}")
+    if detector == "none":
+        raise ValueError("readmit_samples is unused with detector 'none': nothing is switched "
+                         "out, so nothing rejoins; leave it out or name a detector")
+    for k, v in readmit_samples.items():
+        check_choice("readmit_samples key", k, SUBSYSTEMS)
+        if k not in subsystems:
+            raise ValueError(f"readmit_samples[{k!r}] is unused: the run has no {k} subsystem "
+                             f"(its subsystems: {', '.join(subsystems)})")
+        win[k] = check_int(f"readmit_samples[{k!r}]", v, 1, MAX_SAMPLES)
+    return win
