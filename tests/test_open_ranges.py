@@ -29,6 +29,8 @@ OPEN = {
     # is "no event", which the result says)
     "xnavlab.attitude.motion:\"wobble_period\"": "the wobble's period: sin(2 pi t / T) -> 0 as T grows",
     "xnavlab.attitude.simulation:\"qdiff_window_s\"": "bounded by t_cal in the next check",
+    "xnavlab.attitude.sensors:\"onset\"": "a fault is made before its run: the run refuses an "
+                                         "onset at or past its end, naming faults[i]",
     "xnavlab.core.detection.plots:\"period_s\"": "the orbit's period in a cosine: any T > 0 is finite",
     "xnavlab.core.detection.singularity:\"dt\"": "a scale factor of the wavelet's time axis",
     "xnavlab.mars.faults.schedules:f\"dt[{sensor!r}]\"": "open at both ends: a sensor's sampling interval",
