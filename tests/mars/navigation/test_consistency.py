@@ -25,7 +25,7 @@ import pytest
 
 from xnavlab.core.campaign import Campaign, run_campaign
 from xnavlab.core.filters import chi2_bounds
-from xnavlab.mars.navigation import consistency
+from xnavlab.mars.navigation import consistency, scenarios
 from xnavlab.mars.studies.campaigns import consistency_run, summarise_consistency
 
 
@@ -90,7 +90,9 @@ def test_nees_monte_carlo_inside_chi_square_bounds():
 
 @pytest.mark.parametrize("subsystem", ["xnav", "uv", "cns"])
 def test_nis_of_each_subsystem_alone_inside_chi_square_bounds(subsystem):
-    mc = consistency.nees_monte_carlo(20, days=0.1, record_dt=300.0, subsystems=(subsystem,))
+    # XNAV's epochs are 500 s apart: 300 s recorded every one of them (now refused, review 35j)
+    record_dt = 500.0 if subsystem == "xnav" else 300.0
+    mc = consistency.nees_monte_carlo(20, days=0.1, record_dt=record_dt, subsystems=(subsystem,))
     lo, hi = mc["nis_bounds"][subsystem]
     assert lo <= mc["nis"][subsystem] <= hi
     lo_e, hi_e = chi2_bounds(6, 20)
@@ -102,3 +104,18 @@ def test_an_unknown_override_is_named_with_the_fields():
     with pytest.raises(ValueError, match=r"^unknown override dayz: not a field of MarsScenario "
                                          r"\(the fields: days, "):
         consistency.nees_monte_carlo(n_runs=2, dayz=0.01)
+
+
+def test_a_setting_nees_monte_carlo_makes_itself_is_refused_by_name():
+    """Review 35j (1) 19: init_error=... raised dataclasses.replace's 'multiple values'
+    TypeError; a scenario's own seed was replaced without a word; a dict passed as scenario
+    raised AttributeError."""
+    with pytest.raises(ValueError, match=r"^init_error is set by nees_monte_carlo \(random: each "
+                                         r"run draws its initial error from N\(0, P0\)\), got "
+                                         r"init_error = 'fixed'$"):
+        consistency.nees_monte_carlo(n_runs=2, days=0.02, init_error="fixed")
+    with pytest.raises(ValueError, match=r"^scenario.seed = 5 is replaced by nees_monte_carlo's "
+                                         r"seeds \(seed, seed \+ 1, ...\): pass seed=5 instead$"):
+        consistency.nees_monte_carlo(n_runs=2, scenario=scenarios.MarsScenario(days=0.02, seed=5))
+    with pytest.raises(ValueError, match=r"^scenario must be a MarsScenario, got dict"):
+        consistency.nees_monte_carlo(n_runs=2, scenario={"days": 0.02})

@@ -162,3 +162,22 @@ def test_numbers_of_refuses_runs_that_are_no_list_of_like_records(runs, words):
     and a quantity only a later run had was dropped in silence."""
     with pytest.raises(ValueError, match=words):
         headline.numbers_of(runs)
+
+
+def test_headline_records_takes_its_folder_as_a_str(tmp_path):
+    """Review 35j (1) 18: out='/tmp/x' raised AttributeError 'str' object has no attribute
+    'parent' (only a Path worked)."""
+    out = str(tmp_path / "hl")
+    runs = headline.headline_records(n_seeds=2, days=0.02, faults=False, out=out, workers=1)
+    assert [r["index"] for r in runs] == [0, 1] and (tmp_path / "hl").is_dir()
+    with pytest.raises(ValueError, match=r"^out must be a path \(a str or pathlib.Path\), got dict"):
+        headline.headline_records(n_seeds=2, days=0.02, faults=False, out={})
+
+
+def test_headline_records_refuses_the_fault_schedule_on_a_short_run():
+    """Review 35j: every run failed (the paper's faults need 30 days): an empty list."""
+    with pytest.raises(ValueError, match=r"^faults needs days = 30 \(the paper's schedule runs "
+                                         r"to 27.84 days\), got 0.02$"):
+        headline.headline_records(n_seeds=2, days=0.02)
+    with pytest.raises(ValueError, match=r"^path must be a path \(a str or pathlib.Path\), got dict"):
+        headline.load_shipped({})

@@ -212,8 +212,13 @@ def test_a_short_plain_run_is_not_refused_for_the_combined_detectors_arming_time
     ('[xnav]\npulsars = ["B1937+21"]\nsigma_m = [1.0, 2.0]\n',
      "[xnav] sigma_m must hold 1 value, one a pulsar, got 2"),
     ("[xnav]\nsigma_m = [1.0, 2.0, -3, 4]\n", "[xnav] sigma_m[2] must be a real number"),
-    ('[run]\nsubsystems = ["uv"]\nbeta = [0.5, 0.5]\n', "[run] beta must hold 1 factor, one a "
-                                                         "subsystem, got 2"),
+    ('[run]\nsubsystems = ["uv", "cns"]\nbeta = [0.5, 0.5, 0.5]\n', "[run] beta must hold 2 "
+                                                                     "factors, one a subsystem, got 3"),
+    # review 35j: one subsystem takes no beta (only the factors' ratios count)
+    ('[run]\nsubsystems = ["uv"]\nbeta = [0.5, 0.5]\n', "[run] beta is set but [run] subsystems "
+                                                         "= ['uv'] runs one local filter"),
+    ('[run]\nsubsystems = ["uv"]\nrecord_dt = 1.0\n', "[run] record_dt must be at least 3 s "
+                                                       "([uv] dt_s, the shortest measurement"),
 ])
 def test_a_bad_value_is_named_by_the_file_s_key_not_the_field(text, words):
     """Review 35 F.27: '[xnav] dt_s: dt_xnav must be ...' and 'must hold 1 values'."""
@@ -389,3 +394,12 @@ def test_the_dump_says_how_many_stars_a_file_takes():
     assert sfm.loads("[cns]\nstars = [\"Vega\"]\n").scenario.stars == ("Vega",)
     line = next(ln for ln in sfm.dump().splitlines() if ln.startswith("# stars"))
     assert "one or more (none twice)" in line and "the three stars" not in line
+
+
+def test_load_refuses_a_path_that_is_no_path():
+    """Review 35j (class of (1) 18): load({}) raised Path's TypeError."""
+    with pytest.raises(ValueError, match=r"^scenario file must be a path \(a str or pathlib.Path\), "
+                                         r"got dict \{\}$"):
+        sfm.load({})
+    with pytest.raises(ValueError, match=r"^scenario file must name a file, got ''$"):
+        sfm.load("")

@@ -182,7 +182,8 @@ def test_scenario_validation():
     with pytest.raises(ValueError, match="xnav_sigma_m must hold 4"):
         scenarios.MarsScenario(xnav_sigma_m=(100.0,))
     inp = scenarios.prepare(days=0.01)
-    with pytest.raises(ValueError, match="active must have shape"):
+    with pytest.raises(ValueError, match=r"active must hold True/False flags \(or 1/0\), shape "
+                                         r"\(290, 3\) .*, got shape \(3, 3\)$"):
         scenarios.run(inputs=inp, active=np.ones((3, 3), bool))
     with pytest.raises(ValueError, match="backend"):
         scenarios.run(inputs=inp, backend="fortran")
@@ -503,3 +504,83 @@ def test_check_scenario_refuses_a_name_that_is_no_text():
         scenarios.check_scenario(True, None)
     with pytest.raises(ValueError, match=r"^scenario must be a MarsScenario, got bool True$"):
         scenarios.check_scenario("scenario", True)
+
+
+def test_overrides_that_are_no_dict_are_refused_by_name():
+    """Review 35j (1) 12: check_overrides([1]) raised str.join's TypeError."""
+    with pytest.raises(ValueError, match=r"^overrides must be a dict of MarsScenario fields "
+                                         r"\(\{name: value\}\), got list \[1\]$"):
+        scenarios.check_overrides([1])
+    with pytest.raises(ValueError, match=r"^unknown override 1: not a field of MarsScenario"):
+        scenarios.check_overrides({1: 2.0})
+
+
+def test_inputs_that_are_no_inputs_are_refused_by_name():
+    """Review 35j (1) 13: run(inputs={...}) raised AttributeError 'dict' object has no
+    attribute 'scenario'; the kernel's helpers took any object too."""
+    with pytest.raises(ValueError, match=r"^inputs must be an Inputs from prepare\(\), got dict"):
+        scenarios.run(inputs={"a": 1})
+    for call in (scenarios.alloc_records, lambda inp: scenarios.run_options(inp, None, None),
+                 lambda inp: scenarios.filter_state(inp, np.ones(3))):
+        with pytest.raises(ValueError, match=r"^inp must be an Inputs from prepare\(\), got str"):
+            call("x")
+
+
+@pytest.fixture(scope="module")
+def two():
+    """The inputs of a short run of two subsystems."""
+    return scenarios.prepare(days=0.02, subsystems=("uv", "cns"))
+
+
+@pytest.mark.parametrize(("gate", "message"), [
+    (-1.0, r"^gate must hold one NIS threshold a subsystem, shape \(2,\) for subsystems "
+           r"\['uv', 'cns'\] \(numbers, inf for no gate\), got the number -1.0$"),
+    ([1.0, 2.0, 3.0], r"^gate must hold one NIS threshold a subsystem, shape \(2,\) .*, got "
+                      r"shape \(3,\)$"),
+    ("x", r"^gate must hold one NIS threshold a subsystem, .*, got str 'x'$"),
+    ([1.0, -2.0], r"^gate\[1\] must be a non-negative NIS threshold \(inf for no gate; subsystem "
+                  r"cns\), got -2.0$"),
+    ([np.nan, 1.0], r"^gate\[0\] must be a non-negative NIS threshold .*, got nan$"),
+])
+def test_a_gate_of_the_wrong_kind_sign_or_length_is_refused_by_its_rule(two, gate, message):
+    """Review 35j (2) 9-11: numpy's reshape or float messages, and the sign never reported."""
+    with pytest.raises(ValueError, match=message):
+        scenarios.run(inputs=two, gate=gate)
+
+
+def test_one_number_gates_a_run_of_one_subsystem():
+    inp = scenarios.prepare(days=0.02, subsystems=("uv",))
+    assert scenarios.run_options(inp, None, 9.0)[1].tolist() == [9.0]
+
+
+def test_active_flags_that_are_no_flags_are_refused_not_cast(two):
+    """Review 35j (5) 13: active=0.5 was cast to True without a word."""
+    with pytest.raises(ValueError, match=r"^active must hold True/False flags \(or 1/0\), shape "
+                                         r"\(\d+, 2\) .*, got active\[0, 0\] = 0.5 \(a flag is "
+                                         r"not cast from another number\)$"):
+        scenarios.run(inputs=two, active=np.full((two.n, 2), 0.5))
+    with pytest.raises(ValueError, match=r"^active must hold .*, got str 'x'$"):
+        scenarios.run(inputs=two, active="x")
+    ones = scenarios.run_options(two, np.ones((two.n, 2), dtype=int), None)[0]
+    assert ones.dtype == bool and ones.all()
+
+
+def test_save_npz_refuses_an_extra_array_named_as_one_of_the_runs(tmp_path):
+    """Review 35j (class of (1) 19): extra t=... raised savez's 'multiple values' TypeError."""
+    res = scenarios.run(days=0.02, subsystems=("uv",))
+    for name in ("t", "file"):
+        with pytest.raises(ValueError, match=rf"^extra\['{name}'\] takes a name the npz already "
+                                             r"uses \(taken: t, x, P, "):
+            res.save_npz(tmp_path / "r.npz", **{name: np.ones(2)})
+    with pytest.raises(ValueError, match=r"^path must be a path \(a str or pathlib.Path\), got dict"):
+        res.save_npz({})
+    res.save_npz(str(tmp_path / "r.npz"), mine=np.ones(2))
+    assert np.load(tmp_path / "r.npz")["mine"].tolist() == [1.0, 1.0]
+
+
+def test_filter_state_refuses_beta_of_the_wrong_length_or_sign(two):
+    with pytest.raises(ValueError, match=r"^beta must have shape \(2,\) \(one a subsystem of "
+                                         r"\['uv', 'cns'\]\), got shape \(3,\)$"):
+        scenarios.filter_state(two, np.ones(3) / 3)
+    with pytest.raises(ValueError, match=r"^beta must hold positive information-sharing factors"):
+        scenarios.filter_state(two, np.array([1.0, 0.0]))

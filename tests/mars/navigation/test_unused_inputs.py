@@ -70,3 +70,27 @@ def test_an_rms_of_one_record_is_warned_about_and_two_are_not():
         m = res.metrics()
     assert m["position_error_m"] == m["final_position_error_m"]
     res.metrics(settle_days=0.0)            # the first and the last record: no warning
+
+
+def test_beta_for_one_subsystem_is_refused():
+    """Review 35j (5) 10: beta=(0.5,) with one subsystem was kept, though only ratios count."""
+    for beta in ((0.5,), (1.0,), (0.5, 0.5)):
+        with pytest.raises(ValueError, match=r"^beta is set but subsystems = \['uv'\] runs one "
+                                             r"local filter, which holds the whole information "
+                                             r"share \(beta = 1\): leave it out$"):
+            scenarios.MarsScenario(days=0.02, subsystems=("uv",), beta=beta)
+
+
+def test_a_record_dt_below_the_runs_epochs_is_refused_with_the_nearest_valid_value():
+    """Review 35j (5) 12: record_dt = 1 s on a 3-s grid recorded every 3 s without a word."""
+    with pytest.raises(ValueError, match=r"^record_dt must be at least 3 s \(dt_uv, the shortest "
+                                         r"measurement interval of subsystems = \['uv'\]: the run "
+                                         r"records at most one estimate an epoch\), got 1: use "
+                                         r"record_dt = 3$"):
+        scenarios.MarsScenario(days=0.02, subsystems=("uv",), record_dt=1.0)
+    with pytest.raises(ValueError, match=r"^record_dt must be at least 500 s \(dt_xnav, .*, got "
+                                         r"300: use record_dt = 500$"):
+        scenarios.MarsScenario(days=0.1, subsystems=("xnav",), record_dt=300.0)
+    # the default (60 s) records every epoch of XNAV alone; the shortest interval is valid
+    assert scenarios.MarsScenario(days=0.1, subsystems=("xnav",)).record_dt == 60.0
+    assert scenarios.MarsScenario(days=0.02, subsystems=("uv",), record_dt=3.0).record_dt == 3.0

@@ -19,6 +19,8 @@ module                 what it models
 ``plots``              the figures behind the sliders of chapters 5, 6 and 8
 ``schematics``         drawings of the XNAV geometry, the UV and starlight angles, the
                        federated filter and the isolate/rejoin rule (chapters 2, 4, 6, 8)
+``_run_checks``        plumbing (not public API): the checks of a run's inputs object,
+                       overrides, ``active`` flags and ``gate``, used by ``scenarios``
 =====================  ===================================================================
 
 The modules are imported by name (``from xnavlab.mars.navigation import scenarios``);

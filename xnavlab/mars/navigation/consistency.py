@@ -17,7 +17,7 @@ from dataclasses import replace
 
 from xnavlab.core.filters import chi2_bounds
 from xnavlab.core.validate import check_int
-from xnavlab.mars.navigation.scenarios import MarsScenario, check_overrides, run
+from xnavlab.mars.navigation.scenarios import MarsScenario, check_overrides, check_scenario, run
 
 __all__ = ["nees_monte_carlo"]
 
@@ -33,7 +33,9 @@ def nees_monte_carlo(n_runs=20, scenario=None, seed=0, **overrides):
     n_runs : int
         Runs, 1 to 100000.
     scenario : MarsScenario, optional
-        The scenario (default: the paper's); ``overrides`` replace its fields.
+        The scenario (default: the paper's); ``overrides`` replace its fields, except
+        ``init_error`` (random here) and ``seed`` (this function's own). Its seed must be left
+        at the default 0 (the runs take theirs from ``seed``).
     seed : int
         Seed of the first run (run ``m`` uses ``seed + m``).
 
@@ -50,10 +52,16 @@ def nees_monte_carlo(n_runs=20, scenario=None, seed=0, **overrides):
     >>> mc["nees"].shape == mc["t"].shape
     True
     """
-    sc = scenario if scenario is not None else MarsScenario()
-    sc = replace(sc, init_error="random", **check_overrides(overrides))
     n_runs = check_int("n_runs", n_runs, 1, 10**5)
     seed = check_int("seed", seed, 0, 2**62)
+    sc = check_scenario("scenario", scenario)
+    if "init_error" in check_overrides(overrides):  # review 35j: replace()'s TypeError
+        raise ValueError(f"init_error is set by nees_monte_carlo (random: each run draws its "
+                         f"initial error from N(0, P0)), got init_error = {overrides['init_error']!r}")
+    if sc.seed != MarsScenario.seed:  # the runs' seeds come from seed: the scenario's was dropped
+        raise ValueError(f"scenario.seed = {sc.seed} is replaced by nees_monte_carlo's seeds (seed, "
+                         f"seed + 1, ...): pass seed={sc.seed} instead")
+    sc = replace(sc, init_error="random", **overrides)
     nees_sum, nis_sum, nis_cnt = None, {}, {}
     for m in range(n_runs):
         res = run(replace(sc, seed=seed + m))

@@ -44,7 +44,7 @@ import numpy as np
 from xnavlab.core.campaign import Campaign, run_campaign
 from xnavlab.core.diskcache import cache_dir, code_digest
 from xnavlab.core.distributions import t_ppf
-from xnavlab.core.userfiles import load_table
+from xnavlab.core.userfiles import as_path, load_table
 from xnavlab.core.validate import check_bool, check_int, check_real, check_records, check_seed, check_vector
 
 __all__ = ["PAPER", "SHIPPED", "RUNS_PATH", "headline_run", "headline_numbers",
@@ -192,7 +192,7 @@ def load_shipped(path=None):
     >>> len(data["runs"]) == SHIPPED["n_seeds"], sorted(data["runs"][0])
     (True, ['index', 'metrics', 'seed'])
     """
-    path = Path(RUNS_PATH if path is None else path)
+    path = RUNS_PATH if path is None else as_path(path, "path")  # a dict: one line
     data = load_table(path, "headline runs", (".json",))
     what = f"headline runs {str(path)!r}"
     if data.get("campaign") != SHIPPED:
@@ -207,6 +207,14 @@ def load_shipped(path=None):
                 or not all(isinstance(v, (int, float)) and math.isfinite(v) for v in m.values())):
             raise ValueError(f"{what}: run {r['index']} must hold its seed and finite metrics")
     return data
+
+
+def _check_days(days, faults):
+    days = check_real("days", days, 0.0, 30.0, lo_open=True)
+    if faults and days < 30.0:
+        raise ValueError(f"faults needs days = 30 (the paper's schedule runs to 27.84 days), "
+                         f"got {days:g}")
+    return days
 
 
 def headline_numbers(n_seeds=32, days=30.0, faults=True, seed=2016, cache=True, workers=2,
@@ -244,12 +252,9 @@ def headline_numbers(n_seeds=32, days=30.0, faults=True, seed=2016, cache=True, 
         ``"computed"``.
     """
     n_seeds = check_int("n_seeds", n_seeds, 2, 10_000)
-    days = check_real("days", days, 0.0, 30.0, lo_open=True)
     faults, cache, progress, shipped = (check_bool(n, v) for n, v in (
         ("faults", faults), ("cache", cache), ("progress", progress), ("shipped", shipped)))
-    if faults and days < 30.0:
-        raise ValueError(f"faults needs days = 30 (the paper's schedule runs to 27.84 days), "
-                         f"got {days:g}")
+    days = _check_days(days, faults)
     if shipped and {"n_seeds": n_seeds, "days": days, "faults": bool(faults),
                     "seed": seed} == SHIPPED:
         return _numbers([r["metrics"] for r in load_shipped()["runs"]], days, seed, None,
@@ -270,8 +275,8 @@ def headline_records(n_seeds=32, days=30.0, faults=True, seed=2016, out=None, wo
                      progress=False):
     """The campaign's successful runs, computed (or resumed from the store ``out``).
 
-    Parameters are :func:`headline_numbers`'; ``out`` is the campaign's directory (None: in
-    memory).
+    Parameters are :func:`headline_numbers`'; ``out`` is the campaign's directory, a str or
+    an os.PathLike (None: in memory).
 
     Returns
     -------
@@ -280,6 +285,8 @@ def headline_records(n_seeds=32, days=30.0, faults=True, seed=2016, out=None, wo
         :data:`RUNS_PATH` ships.
     """
     faults, progress = check_bool("faults", faults), check_bool("progress", progress)
+    days = _check_days(days, faults)  # else every run failed: an empty list (review 35j)
+    out = None if out is None else as_path(out, "out", "folder")  # a str too (review 35j)
     camp = Campaign("headline", headline_run, lambda i: {"days": days, "faults": bool(faults)},
                     manifest={"days": days, "faults": bool(faults), "code": _code_key()})
     with _exclusive(out):

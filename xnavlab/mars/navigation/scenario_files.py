@@ -52,9 +52,8 @@ import dataclasses
 import json
 import re
 from dataclasses import dataclass, field
-from pathlib import Path
 
-from xnavlab.core.userfiles import parse_toml, read_text
+from xnavlab.core.userfiles import as_path, parse_toml, read_text
 from xnavlab.core.validate import check_choice, check_real
 from xnavlab.mars.models import force_models, model_noise
 from xnavlab.mars.navigation import scenarios
@@ -389,9 +388,7 @@ def _check_detector(det, sc):
 
 def load(path):
     """Read the scenario file at ``path`` (:func:`loads`); a missing file is a ValueError."""
-    if not str(path).strip():
-        raise ValueError(f"scenario file must name a file, got {str(path)!r}")
-    path = Path(path)
+    path = as_path(path, "scenario file")  # a dict or None: one line, not Path's TypeError
     text = read_text(path, "scenario file")
     try:
         return loads(text, base=path.resolve().parent)

@@ -61,22 +61,20 @@ import numpy as np
 from xnavlab.core import ephemeris
 from xnavlab.core.constants import DAY, GM_MARS, C
 from xnavlab.core.federated import MODES, FederatedFilter
-from xnavlab.core.userfiles import output_path
+from xnavlab.core.userfiles import as_path, output_path
 from xnavlab.core.validate import (
     check_bool,
     check_choice,
     check_items,
     check_real,
     check_seed,
-    check_text,
     make_rng,
-    shown,
 )
 from xnavlab.mars.kernel import compile_notice, kernels
 from xnavlab.mars.kernel import kernel_inputs as ki
 from xnavlab.mars.models import dynamics, force_models, model_noise, optics, sensors, stars
 from xnavlab.mars.models.time_update import Propagation, process_noise
-from xnavlab.mars.navigation import unused_inputs
+from xnavlab.mars.navigation import _run_checks, unused_inputs
 from xnavlab.mars.timing import pulsar_specs, pulsars, timing_bound, toa
 
 __all__ = ["alloc_records", "run_options", "filter_state", "run_kernel", "SUBSYSTEMS",
@@ -99,13 +97,13 @@ def check_overrides(overrides):
     >>> check_overrides({"dayz": 1})  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ValueError: unknown override dayz: not a field of MarsScenario (the fields: days, dt_xnav, ...)
+    >>> check_overrides([1])
+    Traceback (most recent call last):
+    ...
+    ValueError: overrides must be a dict of MarsScenario fields ({name: value}), got list [1]
     """
-    names = [f.name for f in fields(MarsScenario)]
-    unknown = sorted(set(overrides) - set(names))
-    if unknown:
-        raise ValueError(f"unknown override {', '.join(unknown)}: not a field of MarsScenario "
-                         f"(the fields: {', '.join(names)})")
-    return overrides
+    return _run_checks.check_names("overrides", overrides, [f.name for f in fields(MarsScenario)],
+                                   "MarsScenario")
 
 
 def check_scenario(name, value):
@@ -121,13 +119,7 @@ def check_scenario(name, value):
     ...
     ValueError: scenario must be a MarsScenario, got dict {'days': 1} (build one with MarsScenario(**fields))
     """
-    check_text("name", name)  # the caller's parameter, for the message
-    if value is None:
-        return MarsScenario()
-    if not isinstance(value, MarsScenario):
-        hint = " (build one with MarsScenario(**fields))" if isinstance(value, dict) else ""
-        raise ValueError(f"{name} must be a MarsScenario, got {type(value).__name__} {shown(value)}{hint}")
-    return value
+    return _run_checks.check_scenario(name, value, MarsScenario)
 
 
 def default_settle_days(days):
@@ -205,11 +197,13 @@ class MarsScenario:
         for one that does not run is refused (:mod:`xnavlab.mars.navigation.unused_inputs`).
     beta : tuple of float or None
         Information-sharing factors, one a subsystem, each in [1e-3, 1] (default equal); the run
-        normalises them to sum 1, so only their ratios count ((1, 1, 1) is the default).
+        normalises them to sum 1, so only their ratios count ((1, 1, 1) is the default), and
+        a run of one subsystem takes none.
     mode : {"reset", "no-reset"}
         Federated mode (:mod:`xnavlab.core.federated`).
     record_dt : float
-        Spacing of the recorded estimates, s.
+        Spacing of the recorded estimates, s, at least the shortest measurement interval of
+        the subsystems (one record an epoch; the default 60 s records every epoch of XNAV alone).
     seed : int
         Seed of the single generator that draws every noise sample.
     t0 : float
@@ -314,7 +308,7 @@ class MarsScenario:
             b = tuple(float(check_real(f"beta[{i}]", v, 1e-3, 1.0))
                       for i, v in enumerate(check_items("beta", self.beta, "number",
                                                         lambda _, v: object())))
-            if len(b) != len(subs):
+            if len(b) != len(subs) and len(subs) > 1:  # one: unused_inputs refuses any beta
                 raise ValueError(f"beta must hold {len(subs)} factor{'s' if len(subs) > 1 else ''}"
                                  f", one a subsystem, got {len(b)}")
             object.__setattr__(self, "beta", b)
@@ -360,11 +354,11 @@ class MarsScenario:
         if sig is None and self.xnav_noise == "crlb":
             sig = timing_bound.xnav_noise_sigma("crlb", self.pulsars, self.area_m2, self.dt_xnav,
                                                 self.background)
+        noise = {} if sig is not None else {"area_m2": self.area_m2, "t_obs": self.dt_xnav,
+                                            "background": self.background}  # what sig replaces
         return {
             "xnav": sensors.XNAVSensor(tuple(p if p in pulsars.CATALOGUE else pulsars.get(p)
-                                             for p in self.pulsars), sigma=sig,
-                                       area_m2=self.area_m2,
-                                       t_obs=self.dt_xnav, background=self.background,
+                                             for p in self.pulsars), sigma=sig, **noise,
                                        ephem=self.filter_ephem),
             "uv": sensors.UVSensor(self.sigma_range_m, self.sigma_dir_deg),
             "cns": sensors.CNSSensor(self.stars, self.sigma_star_arcsec, self.sigma_horizon_deg,
@@ -667,38 +661,32 @@ class MarsRun:
 
         ``path`` names a file ending in ``.npz`` (numpy would append it to any other name and
         write a sibling); a missing parent folder is made; a folder, a file on the way or an
-        unwritable folder is one ValueError naming the path, before anything is written.
+        unwritable folder is one ValueError naming the path, before anything is written. An
+        ``extra`` name of one of the run's own arrays is refused (it would replace it).
         """
-        if not str(path).endswith(".npz"):
+        if not str(as_path(path, "path")).endswith(".npz"):
             raise ValueError(f"path must name a file ending in .npz, got {str(path)!r}")
-        path = output_path(path, "path")
-        np.savez_compressed(
-            path, t=self.t, x=self.x, P=self.P, truth=self.truth, x_local=self.x_local,
-            P_local_diag=self.P_local_diag, position_error=self.position_error(),
-            velocity_error=self.velocity_error(), nis=self.nis, flags=self.flags,
-            times=self.times, subsystems=np.array(self.scenario.subsystems), **extra,
-        )
+        own = dict(t=self.t, x=self.x, P=self.P, truth=self.truth, x_local=self.x_local,
+                   P_local_diag=self.P_local_diag, position_error=self.position_error(),
+                   velocity_error=self.velocity_error(), nis=self.nis, flags=self.flags,
+                   times=self.times, subsystems=np.array(self.scenario.subsystems))
+        _run_checks.check_extra(extra, [*own, "file", "allow_pickle"])  # np.savez_compressed's
+        np.savez_compressed(output_path(path, "path"), **own, **extra)
 
 
 def run_options(inp, active, gate):
     """Checked run options: ``(active, gate, beta)`` with the defaults filled in.
 
-    ``active`` (n, ns) bool, all True by default; ``gate`` (ns,) NIS thresholds, inf by
+    ``active`` (n, ns) bool (True/False or 1/0), all True by default; ``gate`` (ns,) NIS
+    thresholds (non-negative, inf for none; one number for a run of one subsystem), inf by
     default; ``beta`` (ns,) the information-sharing factors normalised to sum 1.
     """
-    sc = inp.scenario
+    sc = _run_checks.check_object("inp", inp, Inputs).scenario
     ns = len(sc.subsystems)
-    if active is None:
-        active = np.ones((inp.n, ns), dtype=bool)
-    active = np.asarray(active, dtype=bool)
-    if active.shape != (inp.n, ns):
-        raise ValueError(f"active must have shape ({inp.n}, {ns}) (epochs x subsystems), "
-                         f"got {active.shape}")
-    gate = np.full(ns, np.inf) if gate is None else np.asarray(gate, dtype=float).reshape(ns)
-    if np.any(np.isnan(gate)) or np.any(gate < 0):
-        raise ValueError("gate must hold non-negative NIS thresholds (inf for none)")
+    active = _run_checks.check_active(active, inp.n, sc.subsystems)
+    gate = _run_checks.check_gate(gate, sc.subsystems)
     beta = np.full(ns, 1.0 / ns) if sc.beta is None else np.array(sc.beta) / np.sum(sc.beta)
-    return np.ascontiguousarray(active), gate, beta
+    return active, gate, beta
 
 
 def run(scenario=None, *, backend="numba", inputs=None, active=None, gate=None,
@@ -714,10 +702,12 @@ def run(scenario=None, *, backend="numba", inputs=None, active=None, gate=None,
     inputs : Inputs, optional
         Reuse :func:`prepare`'s output (same scenario).
     active : array_like of bool, shape (n, ns), optional
-        Whether each subsystem is connected at each epoch (default all): a switched-out
-        subsystem does time updates only and is left out of the fusion.
+        Whether each subsystem is connected at each epoch (default all), True/False or 1/0
+        (another number is refused, not cast): a switched-out subsystem does time updates
+        only and is left out of the fusion.
     gate : array_like, shape (ns,), optional
-        NIS thresholds above which a measurement is rejected (default none).
+        NIS thresholds above which a measurement is rejected, each non-negative (inf: no
+        gate; default none); one number for a run of one subsystem.
     progress : bool
         Show a tqdm progress bar on stderr.
     local_filter : {"ekf", "ukf"}
@@ -739,6 +729,7 @@ def run(scenario=None, *, backend="numba", inputs=None, active=None, gate=None,
         inputs = prepare(scenario, **overrides)
     elif scenario is not None or overrides:
         raise ValueError("pass either inputs or a scenario (with overrides), not both")
+    _run_checks.check_object("inputs", inputs, Inputs)
     active, gate, beta = run_options(inputs, active, gate)
     t_start = time.perf_counter()
     if backend == "numba":
@@ -758,6 +749,7 @@ def alloc_records(inp):
     Returns a dict with ``x`` (nr, 6), ``P`` (nr, 6, 6), ``xl`` (nr, ns, 6), ``Pl`` (nr, ns, 6)
     (local variances), ``nis`` (n, ns, NaN where no update) and ``flags`` (n, ns, int8).
     """
+    _run_checks.check_object("inp", inp, Inputs)
     ns = len(inp.scenario.subsystems)
     nr = inp.record.size
     return {
@@ -835,7 +827,8 @@ def filter_state(inp, beta):
 
     The kernel updates these arrays in place, epoch after epoch.
     """
-    sc = inp.scenario
+    sc = _run_checks.check_object("inp", inp, Inputs).scenario
+    beta = _run_checks.check_beta(beta, sc.subsystems)
     xs = np.tile(inp.x0, (len(sc.subsystems), 1))
     Ps = np.array([sc.P0 / b for b in beta])
     return xs, Ps, beta.copy(), inp.x0.copy(), sc.P0.copy()
@@ -849,7 +842,7 @@ def run_kernel(inp, state, a, b, active, beta, gate, rec_pos, records, nis, flag
     ``watch``: the combined detector's state (:meth:`xnavlab.mars.faults.watch.Watch.arrays`) or
     None. Returns -1 or the epoch the kernel stopped after (:func:`~.kernels.run_epochs`).
     """
-    sc = inp.scenario
+    sc = _run_checks.check_object("inp", inp, Inputs).scenario
     xnav, uv, cns = inp.sensors["xnav"], inp.sensors["uv"], inp.sensors["cns"]
     kinds = np.array([_KIND[s] for s in sc.subsystems], dtype=np.int64)
     z = inp.z

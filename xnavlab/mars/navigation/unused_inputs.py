@@ -3,8 +3,9 @@
 A setting that another setting makes inert is refused by :func:`check_fields` (called by
 :class:`~xnavlab.mars.navigation.scenarios.MarsScenario` itself): a field of :data:`SUBSYSTEM_FIELDS`
 set for a subsystem that is not in ``subsystems`` (``xnav_sigma_m`` without ``"xnav"``,
-``stars`` without ``"cns"``), and a field of :data:`NOISE_FIELDS` beside ``xnav_sigma_m``,
-which gives the ranging noise they would compute.
+``stars`` without ``"cns"``), a field of :data:`NOISE_FIELDS` beside ``xnav_sigma_m``,
+which gives the ranging noise they would compute, ``beta`` for a run of one subsystem (only
+the factors' ratios count) and a ``record_dt`` below the run's epochs (:func:`check_record_dt`).
 
 "Set" means *different from the field's default* (the dataclass default, which is also the
 value a scenario file's left-out key takes). A value equal to the default is the same run as
@@ -33,8 +34,8 @@ import warnings
 
 from xnavlab.core.userfiles import InputWarning
 
-__all__ = ["SUBSYSTEM_FIELDS", "NOISE_FIELDS", "NOISE_SETTINGS", "check_fields", "warn_unmeasured",
-           "warn_few_records", "divergence_advice"]
+__all__ = ["SUBSYSTEM_FIELDS", "NOISE_FIELDS", "NOISE_SETTINGS", "check_fields", "check_record_dt",
+           "warn_unmeasured", "warn_few_records", "divergence_advice"]
 
 #: Subsystem -> the MarsScenario fields only it uses (``limb`` shapes both the UV sensor and
 #: the CNS horizon sensor, so it is used while either runs).
@@ -94,6 +95,10 @@ def check_fields(scenario):
         add = f"'{owners[0]}'" if len(owners) == 1 else "one of them"
         raise ValueError(f"{f.name} is set but subsystems = {list(on)!r} runs {runs}: leave it "
                          f"out or add {add}")
+    if scenario.beta is not None and len(on) == 1:  # review 35j: only ratios of beta count
+        raise ValueError(f"beta is set but subsystems = {list(on)!r} runs one local filter, which "
+                         f"holds the whole information share (beta = 1): leave it out")
+    check_record_dt(scenario, default["record_dt"])
     if scenario.xnav_sigma_m is None:
         return
     for name in NOISE_FIELDS:
@@ -101,6 +106,29 @@ def check_fields(scenario):
         if value != default[name]:
             raise ValueError(f"{name} = {value!r} is unused: xnav_sigma_m gives the ranging "
                              f"noise it would compute; give one of them")
+
+
+def check_record_dt(scenario, default):
+    """Refuse a ``record_dt`` set (not at its ``default``) below the shortest measurement interval
+    of the run's subsystems: the run records at most every epoch, so a shorter spacing was
+    raised to the epochs' without a word (review 35j). The default (60 s) records every epoch
+    of a run whose epochs are sparser (XNAV alone, every 500 s).
+
+    Examples
+    --------
+    >>> from xnavlab.mars.navigation.scenarios import MarsScenario
+    >>> MarsScenario(days=0.02, subsystems=("uv",), record_dt=1.0)
+    Traceback (most recent call last):
+    ...
+    ValueError: record_dt must be at least 3 s (dt_uv, the shortest measurement interval of \
+subsystems = ['uv']: the run records at most one estimate an epoch), got 1: use record_dt = 3
+    """
+    dt, name = min((getattr(scenario, f"dt_{s}"), f"dt_{s}") for s in scenario.subsystems)
+    if scenario.record_dt != default and scenario.record_dt < dt:
+        raise ValueError(f"record_dt must be at least {dt:g} s ({name}, the shortest measurement "
+                         f"interval of subsystems = {list(scenario.subsystems)!r}: the run records "
+                         f"at most one estimate an epoch), got {scenario.record_dt:g}: use "
+                         f"record_dt = {dt:g}")
 
 
 def warn_unmeasured(scenario, counts):
