@@ -134,3 +134,11 @@ class _FakeRun:
 
     def sigma_position(self):
         return np.full(5, 20.0)
+
+
+def test_plot_subsystem_runs_an_interval_longer_than_its_30_s_records():
+    """Review 35j: MarsScenario now refuses a record_dt below the run's epochs; the slider
+    records every epoch when they are sparser than 30 s (the same records as before)."""
+    for sub, interval in (("xnav", 500.0), ("uv", 45.0)):
+        fig = mars_plots.plot_subsystem(sub, 1.0, interval, days=0.05)
+        assert len(fig.axes[0].lines[0].get_xdata()) > 2

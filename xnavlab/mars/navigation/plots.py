@@ -103,6 +103,9 @@ def plot_subsystem(subsystem="uv", noise_scale=1.0, interval_s=3, days=0.25):
         else:
             kw.update(xnav_sigma_m=tuple(np.array([109.0, 344.0, 1866.0, 325.0]) * noise_scale),
                       dt_xnav=max(interval_s, 30.0))
+        # every epoch when they are sparser than 30 s (the same records: a shorter record_dt
+        # is refused since review 35j)
+        kw["record_dt"] = max(30.0, kw.get(f"dt_{subsystem}", 30.0))
         res = scenarios.run(**kw)
         hours = res.t_days * 24
         band.set_data(hours, 0, 3 * res.sigma_position())
