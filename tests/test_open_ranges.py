@@ -59,7 +59,6 @@ OPEN = {
     "xnavlab.mars.studies.roc:f\"{name} metrics.armed_days\"": "a stored record's field, read back",
     "xnavlab.mars.studies.roc:f\"{name} metrics.per_threshold[{j}].false_alarms\"":
         "a stored record's count, read back",
-    "xnavlab.mars.models.stars:\"number of candidate stars\"": "a list's length: at least three",
     "xnavlab.core.faults:\"component\"": "checked against the sensor's components by check_faults",
     # statistics: thresholds, degrees of freedom, multipliers
     "xnavlab.core.detection.chisquare:\"dof\"": "chi-square quantile: finite for every dof",
