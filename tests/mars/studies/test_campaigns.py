@@ -110,3 +110,28 @@ def test_a_campaign_name_or_a_record_list_is_refused_by_name():
     for fn in (mc.summarise_consistency, mc.summarise_detectors):
         with pytest.raises(ValueError, match=r"^runs must be a list of campaign records \(dicts\), got arr"):
             fn(np.array(1.0))
+
+
+@pytest.mark.parametrize(("kw", "words"), [
+    ({"scenario": {"a": 1}}, r"^scenario must be a MarsScenario, got dict"),
+    ({"backend": "x"}, r"^backend must be one of 'numba', 'numpy', got 'x'"),
+    ({"local_filter": "x"}, r"^local_filter must be one of 'ekf', 'ukf'"),
+    ({"local_filter": "ukf"}, r"^local_filter='ukf' runs with backend='numpy' only"),
+])
+def test_campaign_refuses_a_setting_every_run_would_refuse(kw, words):
+    """Review 35j (1) 17, (5) 17: a dict scenario was an AttributeError; backend 'x' and the UKF
+    with numba built a campaign whose every run failed."""
+    with pytest.raises(ValueError, match=words):
+        mc.campaign("consistency", days=0.02, **kw)
+    assert mc.campaign("consistency", days=0.02, backend="numpy", local_filter="ukf").name
+
+
+@pytest.mark.parametrize(("detectors", "words"), [
+    ((), r"^detectors must name at least one detector, got an empty list"),
+    (("chi2", "chi2"), r"^detectors lists chi2 twice"),
+    (("cusum",), r"^detectors\[0\] must be one of"),
+])
+def test_detectors_run_refuses_no_detector(detectors, words):
+    """Review 35j (5) 35: detectors=() returned {}."""
+    with pytest.raises(ValueError, match=words):
+        mc.detectors_run("step", "uv", 0, seed=0, detectors=detectors)

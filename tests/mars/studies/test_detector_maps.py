@@ -116,7 +116,7 @@ def test_an_edge_value_of_a_label_table_or_detector_list_is_refused_by_name():
              "false_alarms_per_day": 0.5, "late": 0} for s in dm.SENSORS for d in ("wavelet", "chi2")]
     table = {"rows": rows}
     cases = [
-        (lambda: dm.cell_label(True, 3.0), r"^fault_class must be text \(a str\), got True$"),
+        (lambda: dm.cell_label(True, 3.0), r"^fault_class must be one of 'step', .*, got True$"),
         (lambda: dm.cell_label("step", True), r"^size must be a real number in \(0, 1e\+08\], got True$"),
         (lambda: dm.plot_cell_maps(table, detectors=[1.0]), r"^detectors\[0\] must be one of"),
         (lambda: dm.plot_false_alarms(True, {}), r"^table must be a dict with the key 'rows'"),
@@ -135,3 +135,10 @@ def test_an_edge_value_of_a_label_table_or_detector_list_is_refused_by_name():
         with pytest.raises(ValueError, match=message):
             call()
     assert dm.plot_false_alarms(table, {"chi2": 0.5}, detectors=("chi2",)).axes
+
+
+def test_cell_label_refuses_an_unknown_fault_class():
+    """Review 35j (5) 39: cell_label('stpe', 3.0) was 'stpe 3 σ'."""
+    with pytest.raises(ValueError, match=r"^fault_class must be one of 'step', 'ramp', 'spike', "
+                                         r"'stuck', 'noise', got 'stpe'"):
+        dm.cell_label("stpe", 3.0)

@@ -290,3 +290,38 @@ def test_poisson_interval_refuses_a_count_beyond_its_law_by_name():
     with pytest.raises(ValueError, match=r"^k must be an integer in \[0, 499999999999\], got 10{30}$"):
         roc.poisson_interval(10**30)
     assert roc.poisson_interval(499_999_999_999)[1] > 4.99e11
+
+
+@pytest.mark.parametrize(("rows", "words"), [
+    ([{"a": 1}], r"^rows\[0\] must be a curve row \(a dict with threshold, trials"),
+    ([], r"^rows must hold at least one curve row, got an empty list"),
+    ([dict.fromkeys(roc.CURVE_COLUMNS, 1), {**dict.fromkeys(roc.CURVE_COLUMNS, 1), "x": 2}],
+     r"^rows\[1\] must have the columns of rows\[0\]"),
+])
+def test_curve_csv_refuses_rows_that_are_no_curve(rows, words):
+    """Review 35j (5) 37: rows without the curve's columns were written ('a\\n1\\n'), no row as ''."""
+    with pytest.raises(ValueError, match=words):
+        roc.curve_csv(rows)
+
+
+@pytest.mark.parametrize(("args", "words"), [
+    (("step", "xnav", 3.0, "combined", []), r"^thresholds must name at least one value of rate_per_day"),
+    (("step", "xnav", 3.0, "chi2", [1e-3, 1e-3]), r"^thresholds lists 0.001 twice"),
+    (("step", "xnav", 3.0, "chi2", [2.0]), r"^thresholds\[0\] \(alpha\) must be a real number in \(0, 1\)"),
+    (("stpe", "xnav", 3.0, "chi2", [0.1]), r"^fault_class must be one of"),
+    (("noise", "xnav", 0.5, "chi2", [0.1]), r"^size of a noise fault must be a ratio > 1"),
+])
+def test_roc_run_refuses_before_any_run(args, words, monkeypatch):
+    """Review 35j (5) 36: no threshold ran a half-day simulation for nothing."""
+    from xnavlab.mars.navigation import scenarios
+
+    monkeypatch.setattr(scenarios, "prepare", lambda *a, **k: pytest.fail("the run started"))
+    with pytest.raises(ValueError, match=words):
+        roc.roc_run(*args, seed=0)
+
+
+def test_write_curve_refuses_a_seed_that_is_no_integer(tmp_path):
+    """Review 35j, class of (5): int(seed) took 1.5 as 1 and 'x' as Python's 'invalid literal'."""
+    for seed in (1.5, "x"):
+        with pytest.raises(ValueError, match=r"^seed must be an integer"):
+            roc.write_curve(tmp_path, roc.DEFAULT_GRID, [], seed)

@@ -4,6 +4,7 @@ limit of a cell bounds what any detector can find."""
 
 import pytest
 
+from xnavlab.mars.navigation import scenarios
 from xnavlab.mars.studies import trials
 
 
@@ -151,3 +152,32 @@ def test_a_0d_array_of_records_is_refused_by_name():
     with pytest.raises(ValueError, match=r"^rows must be a list of detector_table rows \(dicts\), got arr"):
         trials.marked_cells(np.array(1.0))
     assert trials.detector_table([]) == [] and trials.marked_cells([]) == []
+
+
+@pytest.mark.parametrize(("call", "words"), [
+    (lambda: trials.fault_for("step", "uv", 5.0, 1000.0, scenario="x"),
+     r"^scenario must be a MarsScenario, got str 'x'"),
+    (lambda: trials.fault_for("step", "uv", 5.0, -1000.0), r"^onset must be a real number in \[0, "),
+    (lambda: trials.fault_for("step", "uv", 5.0, 1e12),
+     r"^onset must be a real number in \[0, 3.1536e\+07\)"),
+    (lambda: trials.fault_for("step", "uv", 5.0, 5000.0, scenarios.MarsScenario(days=0.05)),
+     r"^onset must be a real number in \[0, 4320\)"),
+    (lambda: trials.detection_limit("step", "uv", 3.0, scenario={"days": 1}),
+     r"^scenario must be a MarsScenario, got dict"),
+    (lambda: trials.early_fault_trial(seed=0, onsets=()), r"^onsets must name at least one onset"),
+    (lambda: trials.early_fault_trial(seed=0, onsets=(100.0,)),
+     r"^onsets\[0\] must be a real number in \[600, 86400\)"),
+    (lambda: trials.early_fault_trial(seed=0, size_sigma=0.0),
+     r"^size_sigma must be a real number in \(0, 1000\]"),
+    (lambda: trials.early_fault_trial(seed=0, duration=-1.0),
+     r"^duration must be a real number in \(0, 86400\]"),
+    (lambda: trials.mars_trial(5.0, days=0.5, duration=1e6),
+     r"^duration must be a real number in \(0, 8640\]"),
+    (lambda: trials.mars_trial(0.0, days=0.5), r"^size_sigma must be a real number in \(0, 1000\]"),
+])
+def test_a_trial_refuses_what_it_would_not_run(call, words, monkeypatch):
+    """Review 35j (1) 16, (5) 18, 34, 38: a string scenario was an AttributeError; an onset before
+    the start or 1e12 s, no onset at all, a fault longer than the run were taken."""
+    monkeypatch.setattr(scenarios, "prepare", lambda *a, **k: pytest.fail("the run started"))
+    with pytest.raises(ValueError, match=words):
+        call()

@@ -227,11 +227,16 @@ def detectors_run(fault_class, sensor, size_index, *, seed, days=1.0,
     Every detector gets the same seed, hence the same noise, onset and fault-free reference
     run. The wall times measured by the trial are dropped.
 
+    ``detectors`` is a list of :data:`xnavlab.mars.studies.trials.DETECTORS`, at least one,
+    none twice.
+
     Returns
     -------
     dict
         ``{detector: the trial's record without its parameters and wall time}``.
     """
+    detectors = check_items("detectors", detectors, "detector",  # () would run nothing
+                            lambda label, d: check_choice(label, d, trials.DETECTORS))
     out = {}
     for det in detectors:
         r = trials.detector_trial(fault_class, sensor, size_index, det, seed=seed, days=days)
@@ -375,7 +380,10 @@ def campaign(name, *, days=1.0, scenario=None, backend="numba", local_filter="ek
     Raises
     ------
     ValueError
-        An unknown name, or ``days`` outside the campaign's range (:data:`DAYS`).
+        An unknown name, ``days`` outside the campaign's range (:data:`DAYS`), a ``scenario``
+        that is no MarsScenario, or a ``backend`` / ``local_filter`` that
+        :func:`~xnavlab.mars.navigation.scenarios.run` refuses (the UKF runs on numpy only):
+        refused here, not by every run of the campaign.
 
     Examples
     --------
@@ -383,7 +391,12 @@ def campaign(name, *, days=1.0, scenario=None, backend="numba", local_filter="ek
     {'fault_class': 'step', 'sensor': 'uv', 'size_index': 1, 'days': 1.0}
     """
     check_choice("name", name, tuple(CAMPAIGNS))
+    check_choice("backend", backend, ("numba", "numpy"))
+    check_choice("local_filter", local_filter, ("ekf", "ukf"))
+    if local_filter == "ukf" and backend != "numpy":  # as run() refuses it, before any run
+        raise ValueError("local_filter='ukf' runs with backend='numpy' only")
     if scenario is not None:
+        scenario = scenarios.check_scenario("scenario", scenario)
         if name != "consistency":
             raise ValueError(f"scenario goes with campaign consistency; campaign {name} runs "
                              f"the paper's scenario")

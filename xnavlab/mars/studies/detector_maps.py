@@ -36,9 +36,9 @@ from xnavlab.core.validate import (
     check_items,
     check_real,
     check_records,
-    check_text,
     shown,
 )
+from xnavlab.mars.studies.trials import FAULT_CLASSES
 
 __all__ = ["SENSORS", "cell_label", "cell_grid", "plot_cell_maps", "plot_false_alarms",
            "plot_signal_pd"]
@@ -59,13 +59,14 @@ def cell_label(fault_class, size):
 
     Steps and spikes are in sigma of the sensor noise, ramps by the sigma reached at their
     end, noise faults by the total over the nominal noise, stuck outputs by their length.
+    ``fault_class`` is one of :data:`xnavlab.mars.studies.trials.FAULT_CLASSES`.
 
     Examples
     --------
     >>> cell_label("ramp", 2.5), cell_label("noise", 3.0), cell_label("stuck", 600.0)
     ('ramp 2.5 σ', 'noise ×3', 'stuck 600 s')
     """
-    check_text("fault_class", fault_class)
+    check_choice("fault_class", fault_class, FAULT_CLASSES)  # 'stpe' was labelled 'stpe 3 σ'
     # a size in noise sigma or a stuck output's length, s: a year (3.2e7 s) at most
     size = check_real("size", size, 0.0, 1e8, lo_open=True)
     if fault_class == "noise":

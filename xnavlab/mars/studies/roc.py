@@ -247,7 +247,8 @@ def roc_run(fault_class, sensor, size, detector, thresholds, *, seed, days=0.5):
         The fault (:func:`xnavlab.mars.studies.trials.fault_for`).
     detector : {"combined", "chi2", "wavelet"}
     thresholds : sequence of float
-        Values of the detector's threshold (:data:`THRESHOLDS`).
+        Values of the detector's threshold (:data:`THRESHOLDS`), at least one, none twice, each
+        in its range (:data:`THRESHOLD_RANGES`).
     seed : int
         Seeds the noise, the onset and a ``noise`` fault's extra noise through
         ``numpy.random.default_rng(seed)``.
@@ -263,6 +264,13 @@ def roc_run(fault_class, sensor, size, detector, thresholds, *, seed, days=0.5):
         explains, after the training span): :func:`xnavlab.mars.faults.schedules.trial_outcome`).
     """
     check_choice("detector", detector, tuple(THRESHOLDS))
+    name = THRESHOLDS[detector]
+    lo, hi, lo_open, hi_open = THRESHOLD_RANGES[name]
+    thresholds = check_items(  # () ran half a day for nothing
+        "thresholds", thresholds, f"value of {name}",
+        lambda label, v: check_real(f"{label} ({name})", v, lo, hi, lo_open=lo_open,
+                                    hi_open=hi_open))
+    trials.fault_for(fault_class, sensor, size, 0.0)  # the fault's own checks, before any run
     seed = check_seed("seed", seed)
     days = check_real("days", days, 0.5, 5.0)
     rng = np.random.default_rng(seed)
@@ -429,17 +437,24 @@ def campaign(grid):
 def curve_csv(rows):
     """The curve as CSV text (header :data:`CURVE_COLUMNS`, or every key of a by-fault row).
 
-    ``rows`` must be a list of dicts; anything else is one ValueError naming ``rows`` or
-    ``rows[i]``.
+    ``rows`` must be a list of at least one curve row (:func:`roc_curve`): dicts with every
+    column of :data:`CURVE_COLUMNS` and the same keys as ``rows[0]``; anything else is one
+    ValueError naming ``rows`` or ``rows[i]``.
 
     Examples
     --------
-    >>> curve_csv([])
-    ''
+    >>> row = dict.fromkeys(CURVE_COLUMNS, 1)
+    >>> curve_csv([row]).splitlines()[0].split(",")[:3]
+    ['threshold', 'trials', 'detected']
     """
-    rows = check_records("rows", rows, (), "curve row")
+    rows = check_records("rows", rows, CURVE_COLUMNS, "curve row")
     if not rows:
-        return ""
+        raise ValueError("rows must hold at least one curve row, got an empty list (a curve "
+                         "of no run has no CSV)")
+    for i, r in enumerate(rows):
+        if list(r) != list(rows[0]):
+            raise ValueError(f"rows[{i}] must have the columns of rows[0] "
+                             f"({', '.join(map(str, rows[0]))}), got {', '.join(map(str, r))}")
     out = io.StringIO()
     w = csv.DictWriter(out, fieldnames=list(rows[0]), lineterminator="\n")
     w.writeheader()
@@ -449,15 +464,19 @@ def curve_csv(rows):
 
 def write_curve(directory, grid, runs, seed):
     """Write ``roc.json`` (grid, seed, intervals, ``curve``, ``by_fault``) and ``roc.csv``
-    (the curve) into ``directory``; returns the JSON-ready dict written."""
+    (the curve) into ``directory``; returns the JSON-ready dict written. ``seed`` is the
+    campaign's (an integer, :func:`~xnavlab.core.validate.check_seed`: ``int()`` took 1.5 as 1)."""
     grid = check_grid(grid)
-    data = {"grid": grid, "seed": int(seed), "runs": len(runs),
+    seed = check_seed("seed", seed)
+    runs = check_records("runs", runs, ("status",), "run record")  # a generator: counted, then read
+    data = {"grid": grid, "seed": seed, "runs": len(runs),
             "intervals": {"pd": "Wilson score, 95 %",
                           "false_alarms_per_day": "exact Poisson (Garwood), 95 %"},
             "curve": roc_curve(runs), "by_fault": roc_curve(runs, by_fault=True)}
     directory = output_path(directory, "directory", folder=True)
     (directory / "roc.json").write_text(json.dumps(data, indent=1, allow_nan=False) + "\n")
-    (directory / "roc.csv").write_text(curve_csv(data["curve"]))
+    # no ok run: an empty curve, an empty CSV
+    (directory / "roc.csv").write_text(curve_csv(data["curve"]) if data["curve"] else "")
     return data
 
 

@@ -51,7 +51,14 @@ from xnavlab.core.detection import limits
 from xnavlab.core.distributions import chi2_ppf
 from xnavlab.core.faults import Fault
 from xnavlab.core.userfiles import as_path, check_rows, load_table
-from xnavlab.core.validate import check_choice, check_int, check_real, check_records, check_seed
+from xnavlab.core.validate import (
+    check_choice,
+    check_int,
+    check_items,
+    check_real,
+    check_records,
+    check_seed,
+)
 from xnavlab.mars.faults import fault_tolerance, schedules
 from xnavlab.mars.navigation import scenarios
 
@@ -80,6 +87,18 @@ _CACHE: OrderedDict = OrderedDict()
 def mars_trial(size_sigma=5.0, detector="wavelet", *, seed=0, days=1.0, duration=3000.0):
     """A one-day Mars run with one UV range step at a random onset (60-80 % of the run).
 
+    Parameters
+    ----------
+    size_sigma : float
+        The step, in sigma of the range noise (5000 m), in (0, 1000].
+    detector : str
+        One of :data:`xnavlab.mars.faults.fault_tolerance.DETECTORS`.
+    seed : int
+    days : float
+        Run length, days, in [0.5, 30].
+    duration : float
+        The step's length, s, in (0, 0.2 days]: it ends inside the run whatever its onset.
+
     Returns
     -------
     dict
@@ -88,9 +107,10 @@ def mars_trial(size_sigma=5.0, detector="wavelet", *, seed=0, days=1.0, duration
         ``velocity_error_mps`` (RMS after 40 % of the run), ``max_position_error_m``,
         ``isolations`` (count), ``wall_time``.
     """
-    size_sigma = check_real("size_sigma", size_sigma, 0.0, 1000.0)
+    size_sigma = check_real("size_sigma", size_sigma, 0.0, 1000.0, lo_open=True)
     check_choice("detector", detector, fault_tolerance.DETECTORS)
     days = check_real("days", days, 0.5, 30.0)
+    duration = check_real("duration", duration, 0.0, 0.2 * days * DAY, lo_open=True)
     seed = check_seed("seed", seed)
     rng = np.random.default_rng(seed)
     onset = float(np.round(rng.uniform(0.6, 0.8) * days * 86400.0))
@@ -108,6 +128,18 @@ def mars_trial(size_sigma=5.0, detector="wavelet", *, seed=0, days=1.0, duration
 def fault_for(fault_class, sensor, size, onset, scenario=None):
     """The :class:`~xnavlab.core.faults.Fault` of :func:`detector_trial` (module notes).
 
+    Parameters
+    ----------
+    fault_class : {"step", "ramp", "spike", "stuck", "noise"}
+    sensor : {"uv", "cns", "xnav"}
+    size : float
+        In the class's unit (module notes), in (0, 1e5]; a noise ratio > 1.
+    onset : float
+        s since the start, in [0, the scenario's span) (without a scenario: within the longest
+        run, :data:`~xnavlab.mars.faults.schedules.MAX_DAYS` days).
+    scenario : MarsScenario, optional
+        Supplies the noise levels (default the paper's).
+
     Examples
     --------
     >>> f = fault_for("ramp", "uv", 5.0, 1000.0)
@@ -117,7 +149,10 @@ def fault_for(fault_class, sensor, size, onset, scenario=None):
     check_choice("fault_class", fault_class, FAULT_CLASSES)
     check_choice("sensor", sensor, SENSORS)
     size = check_real("size", size, 0.0, 1e5, lo_open=True)
-    sig = fault_tolerance.sensor_sigma(sensor, scenario)
+    end = schedules.MAX_DAYS * DAY if scenario is None else None
+    sc = scenarios.check_scenario("scenario", scenario)
+    onset = check_real("onset", onset, 0.0, sc.span if end is None else end, hi_open=True)
+    sig = fault_tolerance.sensor_sigma(sensor, sc)
     comp = 0 if sensor == "uv" and fault_class in ("step", "ramp", "spike", "noise") else None
     dur = DURATIONS[fault_class]
     if fault_class == "stuck":
@@ -133,7 +168,7 @@ def fault_for(fault_class, sensor, size, onset, scenario=None):
 
 def _component_sigmas(sensor, scenario=None):
     """Noise standard deviation of each component the fault of :func:`fault_for` touches."""
-    sc = scenario if scenario is not None else scenarios.MarsScenario()
+    sc = scenarios.check_scenario("scenario", scenario)
     if sensor == "uv":
         return np.array([float(sc.sigma_range_m)])       # the range (component 0)
     return np.asarray(sc.sensors()["xnav"].sigma, dtype=float)   # every pulsar's delay, s
@@ -177,7 +212,7 @@ def detection_limit(fault_class, sensor, size, window_s=4000.0, rate_per_day=1.0
     check_choice("sensor", sensor, ("uv", "xnav"))
     size = check_real("size", size, 0.0, 1e5, lo_open=True)
     window_s = check_real("window_s", window_s, 0.0, lo_open=True)
-    sc = scenario if scenario is not None else scenarios.MarsScenario()
+    sc = scenarios.check_scenario("scenario", scenario)
     f = fault_for(fault_class, sensor, size, 0.0, sc)
     dt = sc.dt_uv if sensor == "uv" else sc.dt_xnav
     n = int(min(window_s, f.duration) // dt)
@@ -299,6 +334,18 @@ def early_fault_trial(*, seed, onsets=EARLY_ONSETS_S, size_sigma=6.0, duration=4
     on the sensor's first component, against the fault-free run of the same seed (the UV
     and CNS wavelets are still training before 12 h: the innovation tests find the fault).
 
+    Parameters
+    ----------
+    seed : int
+    onsets : sequence of float
+        s since the start, at least one, none twice, each in [600, 86400): the combined
+        detector takes a fault from
+        :data:`~xnavlab.mars.faults.schedules.EARLIEST_ONSET_S` on, in the one-day run.
+    size_sigma : float
+        The step, in sigma of each sensor's noise, in (0, 1000].
+    duration : float
+        s, in (0, 86400].
+
     Returns
     -------
     list of dict
@@ -309,6 +356,11 @@ def early_fault_trial(*, seed, onsets=EARLY_ONSETS_S, size_sigma=6.0, duration=4
         :func:`xnavlab.mars.faults.schedules.trial_outcome`.
     """
     seed = check_seed("seed", seed)  # int() took 1.5 as 1 and -1 as 2^31 - 1
+    onsets = check_items("onsets", onsets, "onset",  # () ran the fault-free day for nothing
+                         lambda label, t: check_real(label, t, schedules.EARLIEST_ONSET_S, DAY,
+                                                     hi_open=True))
+    size_sigma = check_real("size_sigma", size_sigma, 0.0, 1000.0, lo_open=True)
+    duration = check_real("duration", duration, 0.0, DAY, lo_open=True)
     sc = scenarios.MarsScenario(days=1.0, seed=seed % 2**31)
     inp = scenarios.prepare(sc)
     ref = scenarios.run(inputs=inp).metrics()["position_error_m"]
