@@ -1,6 +1,5 @@
 """The four schematics show the model's own numbers (xnavlab.mars.navigation.schematics)."""
 
-import ast
 import inspect
 import math
 
@@ -70,18 +69,13 @@ def test_federated_filter_shows_the_scenario_shares_and_mode():
     assert "no-reset mode" in text and "restarts" not in text
 
 
-def _run_fault_tolerant_windows():
-    """The ``win = {...}`` literal of run_fault_tolerant: its default rejoining windows."""
-    tree = ast.parse(inspect.getsource(fault_tolerance.run_fault_tolerant).lstrip())
-    for node in ast.walk(tree):
-        if (isinstance(node, ast.Assign) and isinstance(node.targets[0], ast.Name)
-                and node.targets[0].id == "win"):
-            return ast.literal_eval(node.value)
-    raise AssertionError("run_fault_tolerant no longer sets win = {...}")
-
-
 def test_the_rejoining_windows_are_run_fault_tolerant_defaults():
-    assert schematics.READMIT_WINDOWS == _run_fault_tolerant_windows()
+    """The drawing's windows are the run's defaults (since review 35j the run takes them from
+    :func:`xnavlab.mars.faults._checks.readmit_windows`, no longer a ``win = {...}`` literal)."""
+    from xnavlab.mars.faults import _checks
+
+    assert "_checks.readmit_windows(" in inspect.getsource(fault_tolerance.run_fault_tolerant)
+    assert schematics.READMIT_WINDOWS == _checks.readmit_windows(None, "chi2", scenarios.SUBSYSTEMS)
 
 
 def test_isolate_rejoin_writes_window_and_threshold_of_each_subsystem():
