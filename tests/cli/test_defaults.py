@@ -128,6 +128,15 @@ REFUSALS = {
         ["run", "mars", "--days", "0.1", "--json", "--faults", SPEC.format(1000)], 0, ""),
     "(refused below --days 27.84)": (
         ["run", "mars", "--days", "5", "--faults", "paper"], 2, "--days 27.84"),
+    # review 35j (3) 7: named train_days, no option of the command line
+    "--days below 0.0248 with the wavelet or combined detector": (
+        ["run", "mars", "--days", "0.02", "--faults", SPEC.format(1000)], 2,
+        "--days 0.02 is too short for the combined detector"),
+    "after the faults' own checks": (
+        ["run", "mars", "--days", "0.02", "--faults", SPEC.format("1e6")], 2, "outside this run"),
+    # review 35j (6) 1: d.json got TOML without a word
+    "another extension is refused": (
+        ["scenario", "--dump", "--out", "{tmp}/d.json"], 2, "--out must name a .toml file"),
     "--faults and --detector run with backend numba and the EKF only": (
         ["run", "mars", "--days", "0.01", "--backend", "numpy", "--detector", "chi2"], 2,
         "--detector: a fault-tolerant run needs backend numba and the EKF, got --backend numpy"),

@@ -6,6 +6,7 @@ import json
 import pytest
 
 from xnavlab.cli import main, runners
+from xnavlab.mars.navigation import scenarios
 
 
 def test_out_dir_accepts_none_or_a_directory_and_refuses_a_file(tmp_path):
@@ -112,7 +113,9 @@ def test_an_out_that_cannot_be_written_is_refused_before_the_run(tmp_path, monke
     (["--days", "1e-5"], "days must span at least one measurement interval"),  # was settle_days
     (["--days", "1_0"], "days must be a real number in (0, 365], got '1_0'"),    # was 10 days
     (["--scenario="], "scenario file must name a file, got ''"),                 # was the defaults
-    (["--days", "0.01", "--detector", "wavelet"], "run at least days = 0.0247"),  # was train_days
+    (["--days", "0.01", "--detector", "wavelet"],   # was train_days (review 35j (3) 7)
+     "--days 0.01 is too short for the wavelet detector: its uv wavelet trains on the first "
+     "min(1, days / 2) = 0.005 days (143 samples) and needs 356: run at least --days 0.0248"),
 ])
 def test_a_flag_is_refused_in_the_users_own_words(flags, words, capsys):
     assert main(["run", "mars", *flags]) == 2
@@ -126,3 +129,25 @@ def test_an_empty_faults_flag_is_refused(capsys, spec):
     assert main(["run", "mars", "--days", "0.02", "--faults", spec]) == 2
     err = capsys.readouterr().err
     assert "--faults is empty" in err and len(err.splitlines()) == 1
+
+
+def test_a_run_too_short_for_the_training_names_where_its_days_came_from(tmp_path, capsys, monkeypatch):
+    """Review 35j (3) 7: the run's days, from --days or a scenario file's [run] days, is named
+    (train_days is no option of the command line); a file's own train_days under its name."""
+    monkeypatch.setattr(scenarios, "run", lambda *a, **k: pytest.fail("the run started"))
+    short = tmp_path / "short.toml"
+    short.write_text("[run]\ndays = 0.02\n")
+    train = tmp_path / "train.toml"
+    train.write_text('[run]\ndays = 0.05\n[detector]\nname = "combined"\ntrain_days = 0.01\n')
+    spec = "uv.range:step:25000@1000+100"
+    for argv, words in (
+            (["--scenario", str(short), "--faults", spec],
+             f"scenario file {str(short)!r}: [run] days = 0.02 is too short for the combined "
+             f"detector"),
+            (["--scenario", str(short), "--days", "0.021", "--faults", spec], "--days 0.021 is too short"),
+            (["--scenario", str(train), "--faults", spec],
+             f"scenario file {str(train)!r}: [detector] train_days = 0.01 days gives the uv wavelet "
+             f"detector 287 samples")):
+        assert main(["run", "mars", *argv]) == 2
+        err = capsys.readouterr().err.strip()
+        assert words in err and len(err.splitlines()) == 1, err

@@ -53,3 +53,30 @@ def test_dump_makes_a_missing_folder_and_refuses_what_it_cannot_write(tmp_path, 
         assert main(["scenario", "--dump", *argv]) == 2
         err = capsys.readouterr().err.strip()
         assert words in err and len(err.splitlines()) == 1
+
+
+@pytest.mark.parametrize("name", ["d.json", "d", "d.toml.bak", "new/d.txt"])
+def test_dump_refuses_an_out_that_is_no_toml_file(name, tmp_path, capsys):
+    """Review 35j (6) 1: d.json got TOML without a word (and its folder was made first)."""
+    assert main(["scenario", "--dump", "--out", str(tmp_path / name)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("xnavlab: error: --out must name a .toml file") and len(err.splitlines()) == 1
+    assert not (tmp_path / name).exists() and not (tmp_path / "new").exists()
+    assert main(["scenario", "--dump", "--out", str(tmp_path / "D.TOML")]) == 0
+
+
+def test_every_out_of_the_command_line_makes_its_missing_folders_as_its_help_says(tmp_path):
+    """Review 35j (6) 1: scenario --dump made a missing folder, as run mars, campaign and
+    reproduce do; each --help now says so."""
+    from xnavlab.cli import build_parser
+
+    parser = build_parser()
+    sub = next(a for a in parser._actions if a.dest == "command")
+    for names in (("scenario",), ("run", "mars"), ("campaign",), ("reproduce",)):
+        p = sub.choices[names[0]]
+        if len(names) > 1:
+            p = next(a for a in p._actions if a.dest == "scenario").choices[names[1]]
+        text = " ".join(p.format_help().split())
+        assert "made if missing" in text or "missing folders are made" in text, names
+    assert main(["scenario", "--dump", "--out", str(tmp_path / "a" / "b" / "s.toml")]) == 0
+    assert (tmp_path / "a" / "b" / "s.toml").is_file()

@@ -102,7 +102,8 @@ def configure(parser):
                              "fault-free run has (--days and --seed override its days and "
                              "seed); a key the campaign does not use is refused")
     parser.add_argument("--out", required=True, metavar="DIR",
-                        help="campaign directory: runs.jsonl is appended there and reused")
+                        help="campaign directory (made if missing, with its parent folders): "
+                             "runs.jsonl is appended there and reused")
     parser.add_argument("--workers", default=None,
                         help="local worker processes (default 2), also of --local-cluster; "
                              "refused with --scheduler (its cluster has its own)")

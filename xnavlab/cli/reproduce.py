@@ -25,7 +25,9 @@ def configure(parser):
     parser.add_argument("--json", action="store_true",
                         help="print JSON instead of a table (no progress bar)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar (--all)")
-    parser.add_argument("--out", metavar="DIR", help="write figures (and JSON for --all) here")
+    parser.add_argument("--out", metavar="DIR",
+                        help="write figures (and JSON for --all) here (made if missing, with its "
+                             "parent folders)")
     parser.add_argument("--fresh", action="store_true",
                         help="compute every result again, not from the reproduction cache "
                              "(results computed before by the same code on this machine)")

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 import sys
 import time
 from pathlib import Path
@@ -48,7 +49,10 @@ NaN; a fault whose onset lies outside the run, or that acts on no sample of its 
 fault that starts inside the wavelets' training span (the first day, or half the run when
 shorter); with the combined detector a fault that starts before 600 s (its innovation
 tests watch while the wavelets train, so a UV or CNS fault inside the training span is
-taken). 'paper' is the paper's 16-fault schedule (refused below --days 27.84).
+taken). 'paper' is the paper's 16-fault schedule (refused below --days 27.84). A run too
+short for the UV/CNS wavelets' training (356 samples in its first min(1, days / 2) days:
+--days below 0.0248 with the wavelet or combined detector) is refused, after the faults'
+own checks, naming --days.
 Score (the summary's "score"): a fault is detected when an alarm on its sensor is raised
 while it acts, [onset, end), or when that sensor was out of the fusion from before the
 onset to the end (delay 0); an alarm up to 2000 s after the end (XNAV 18000 s) makes it
@@ -89,7 +93,9 @@ def configure_mars(parser):
     parser.add_argument("--quiet", action="store_true",
                         help="no progress bar (a terminal gets one on the numpy backend and "
                              "the UKF, the slow paths)")
-    parser.add_argument("--out", metavar="DIR", help="write mars_run.npz and mars_summary.json")
+    parser.add_argument("--out", metavar="DIR",
+                        help="write mars_run.npz and mars_summary.json into DIR (made if missing, "
+                             "with its parent folders)")
     parser.add_argument("--faults", metavar="SPEC",
                         help="SENSOR[.COMPONENT]:KIND:MAGNITUDE@ONSET+DURATION[,...] or 'paper' "
                              "(see 'fault spec' below)")
@@ -150,6 +156,40 @@ def _check_fault_backend(args, opts, det):
                          f"EKF, got {' and '.join(bad)}")
 
 
+#: check_schedule's words for a run too short for the wavelets' training (train_days left out).
+_SHORT = re.compile(r"days = (\S+) (is too short .*): run at least (\S+) days, or give "
+                    r"train_days >= (\S+)")
+
+
+def _check_schedule(args, sc, det):
+    """The run's check of its faults and training span
+    (:func:`xnavlab.mars.faults.schedules.check_schedule`) before any run: a fault's own problem
+    first (its onset outside the run says how many days it needs), then a run too short for the
+    wavelets' training, named as the user set the run's length (``--days``, or the scenario
+    file's ``[run] days``), and a file's ``[detector] train_days`` under the file's name."""
+    from xnavlab.mars.faults import schedules
+
+    spec = det["faults"]
+    faults = schedules.parse_faults(spec, sc) if spec else []
+    try:
+        schedules.check_schedule(faults, sc, det["name"], det["train_days"],
+                                 paper=spec.strip() == "paper")
+    except ValueError as exc:
+        short = _SHORT.fullmatch(str(exc))
+        if short is not None:   # train_days left out, min(1, days / 2): the run's length
+            days, why, need, train = short.groups()
+            if args.days is None and args.scenario_file is not None:
+                raise ValueError(f"scenario file {args.scenario_file!r}: [run] days = {days} "
+                                 f"{why}: make it at least {need}, or set [detector] train_days "
+                                 f">= {train}") from None
+            raise ValueError(f"--days {args.days if args.days is not None else days} {why}: run "
+                             f"at least --days {need} (or set [detector] train_days >= {train} "
+                             f"in a --scenario file)") from None
+        if str(exc).startswith("train_days") and args.scenario_file is not None:
+            raise ValueError(f"scenario file {args.scenario_file!r}: [detector] {exc}") from None
+        raise
+
+
 def execute_mars(args):
     """Run ``run mars``; returns the exit code."""
     sc, opts, det = _settings(args)
@@ -163,8 +203,7 @@ def execute_mars(args):
         check_choice("detector", detector, fault_tolerance.DETECTORS)
         _check_fault_backend(args, opts, det)
         out_dir(args.out)
-        if faults:
-            fault_tolerance.parse_faults(faults, sc)  # a bad spec is named before any run
+        _check_schedule(args, sc, det)  # a bad spec, then a fault the run cannot use, then days
         # the spec as given: run_fault_tolerant parses it and refuses a fault it cannot use
         ft = fault_tolerance.run_fault_tolerant(
             sc, faults or [], detector, pfa=det["pfa"], alpha=det["alpha"],

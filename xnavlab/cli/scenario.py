@@ -9,12 +9,15 @@ A written file read back gives the same settings (:mod:`xnavlab.mars.navigation.
 ``--setup paper`` (the default) writes the paper's set-up (truth and filter share the
 paper's force model), ``--setup study`` the studies'
 (:meth:`xnavlab.mars.navigation.scenarios.MarsScenario.study`).
+``--out`` must name a ``.toml`` file; its missing folders are made, as every ``--out`` of the
+command line makes its own.
 Exit codes: 0 done; 2 a bad file or command line (one line on stderr).
 """
 
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 from xnavlab.cli import UsageError
 from xnavlab.core.userfiles import output_path
@@ -31,7 +34,9 @@ def configure(parser):
     what.add_argument("--dump", action="store_true",
                       help="write the default scenario file (stdout, or --out)")
     what.add_argument("--check", metavar="FILE", help="read FILE and print the settings it gives")
-    parser.add_argument("--out", metavar="FILE", help="with --dump: write here instead of stdout")
+    parser.add_argument("--out", metavar="FILE",
+                        help="with --dump: write this .toml file instead of stdout (its missing "
+                             "folders are made); another extension is refused")
     parser.add_argument("--setup", default=None,
                         help="with --dump: paper (default), truth and filter sharing the "
                              "paper's force model, or study, a rich truth and the paper's filter")
@@ -49,6 +54,11 @@ def execute(args):
                              scenario_files.SETUPS)
         # a missing folder is made; a folder, a file on the way or an unwritable folder is
         # one line, before the file is written
+        # another extension before any folder is made (an empty name or a folder: output_path)
+        if args.out is not None and args.out.strip() and not Path(args.out).is_dir() \
+                and Path(args.out).suffix.lower() != ".toml":
+            raise UsageError(f"--out must name a .toml file (scenario --dump writes TOML), got "
+                             f"{args.out!r}")
         out = output_path(args.out, "--out") if args.out is not None else None
         sc = scenarios.MarsScenario.study() if setup == "study" else scenarios.MarsScenario()
         text = scenario_files.dump(sc)
