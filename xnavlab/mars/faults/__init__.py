@@ -10,6 +10,8 @@ module                 what it models
 ``schedules``          fault schedules checked against a run, and a run's faults scored
 ``watch``              the combined detector's state in the compiled loop, its alarms
 ``innovations``        XNAV innovations against the master, the XNAV innovation wavelet
+``_checks``            plumbing (not public API): the run's options a detector or run does
+                       not use, refused
 =====================  ===================================================================
 
 The modules are imported by name (``from xnavlab.mars.faults import fault_tolerance``);

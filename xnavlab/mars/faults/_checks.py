@@ -11,7 +11,8 @@ from xnavlab.core.detection import MAX_SAMPLES
 from xnavlab.core.validate import check_choice, check_int, shown
 from xnavlab.mars.navigation.scenarios import SUBSYSTEMS
 
-__all__ = ["DETECTOR_SETTINGS", "check_settings", "readmit_windows"]
+__all__ = ["DETECTOR_SETTINGS", "XNAV_SETTINGS", "READMIT_SAMPLES", "check_settings",
+           "readmit_windows"]
 
 #: Setting -> (the detectors that use it, its default): another detector with a setting away
 #: from its default is refused (the scenario file's rule, ``DETECTOR_USES``). ``readmit_alpha``

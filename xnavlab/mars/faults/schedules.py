@@ -684,6 +684,12 @@ def _check_events(events):
     return events
 
 
+def _time(v):
+    """Whether ``v`` is a real, finite time >= 0 (not a bool)."""
+    return isinstance(v, int | float | np.integer | np.floating) and not isinstance(v, bool) \
+        and math.isfinite(v) and v >= 0
+
+
 def _check_isolations(isolations):
     """Isolation intervals: dicts with ``sensor``, ``out`` and ``back`` (s or None)."""
     if isinstance(isolations, str | dict) or not hasattr(isolations, "__iter__") or _not_1d(isolations):
@@ -697,11 +703,14 @@ def _check_isolations(isolations):
         if iv["sensor"] not in LATE_WINDOW_S:
             raise ValueError(f"isolations[{i}]['sensor'] must be one of "
                              f"{', '.join(map(repr, LATE_WINDOW_S))}, got {shown(iv['sensor'])}")
-        out = check_real(f"isolations[{i}]['out']", iv["out"], 0.0, hi_open=True)
-        if iv["back"] is not None and not check_real(f"isolations[{i}]['back']", iv["back"],
-                                                     0.0, hi_open=True) > out:
-            raise ValueError(f"isolations[{i}]['back'] must come after its out ({out:g} s) or be "
-                             f"None (still out at the end), got {iv['back']!r}")
+        for key in ("out", "back"):  # s since the start: a real time (back: None, still out)
+            v = iv[key]
+            if not (key == "back" and v is None or _time(v)):
+                raise ValueError(f"isolations[{i}]['{key}'] must be a finite time >= 0, s since "
+                                 f"the start{' (or None)' if key == 'back' else ''}, got {shown(v)}")
+        if iv["back"] is not None and not iv["back"] > iv["out"]:
+            raise ValueError(f"isolations[{i}]['back'] must come after its out ({iv['out']:g} s) "
+                             f"or be None (still out at the end), got {iv['back']!r}")
     return isolations
 
 
