@@ -199,3 +199,19 @@ def test_a_training_series_is_named_train():
 def test_an_edge_input_is_refused_naming_it(call, match):
     with pytest.raises(ValueError, match=match):
         call()
+
+
+def test_wavelet_detect_sensor_names_a_misspelt_keyword_and_a_bad_executor():
+    """Review 35j (1) 4-5: levle=3 was a TypeError naming BlockWavelet; executor='x' an
+    AttributeError ('str' object has no attribute 'map')."""
+    t = 3.0 * np.arange(3000)
+    z = np.random.default_rng(0).normal(size=(3000, 2))
+    with pytest.raises(ValueError, match=r"^levle is not a keyword wavelet_detect_sensor takes: .*"
+                                         r"\(did you mean level\?\)"):
+        D.wavelet_detect_sensor(t, z, levle=3)
+    with pytest.raises(ValueError, match=r"^levle is not a keyword BlockWaveletSensor takes"):
+        D.BlockWaveletSensor(t, z, levle=3)
+    with pytest.raises(ValueError, match=r"^executor must be a concurrent.futures.Executor .*got "
+                                         r"str 'x'"):
+        D.wavelet_detect_sensor(t, z, executor="x")
+    assert D.wavelet_detect_sensor(t, z, level=4).data["components"][0].data["sigma"].size == 4

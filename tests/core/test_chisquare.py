@@ -98,3 +98,25 @@ def test_an_empty_nu_is_named_before_s(call):
 def test_a_short_nu_is_named_against_a_well_formed_s(call):
     with pytest.raises(ValueError, match=r"^nu must have shape .* to match S of shape"):
         call()
+
+
+def test_chi2_statistic_refuses_a_statistic_past_the_float_range():
+    """Review 35j (1) 7: a subnormal S (1e-320) passes as definite and nu = 1e200 with
+    S = 1e-200 is allowed: nu^T S^-1 nu overflowed with a RuntimeWarning."""
+    for nu, S in ((np.ones(3), np.full(3, 1e-320)), (np.full(3, 1e200), np.full(3, 1e-200)),
+                  (np.full((3, 2), 1e200), 1e-200 * np.eye(2))):
+        with pytest.raises(ValueError, match=r"^nu is too large against S: nu\^T S\^-1 nu passes "
+                                             r"the float range \(1.8e308\) at sample 0"):
+            D.chi2_statistic(nu, S)
+    with pytest.raises(ValueError, match=r"^nu is too large against S: the running sum"):
+        D.chi2_statistic(np.full(3, 1e150), np.full(3, 1e-8))
+    with pytest.raises(ValueError, match=r"^nu is too large against S"):
+        D.Chi2Detector(1).update(0.0, [1.0], [[1e-320]])
+    with pytest.raises(ValueError, match=r"^nu is too large against S"):
+        D.chi2_detect(np.arange(3.0), np.ones(3), np.full(3, 1e-320))
+
+
+def test_chi2_detect_refuses_times_going_back():
+    """Review 35j (5) 22: reversed times gave an event cleared before its onset."""
+    with pytest.raises(ValueError, match=r"^t must be strictly increasing"):
+        D.chi2_detect(np.arange(3.0)[::-1], np.r_[1.0, 10.0, 1.0], np.ones(3))

@@ -127,7 +127,7 @@ def test_snapshot_restore_replays_identically():
     b = mon.process(t[2000:], y[2000:])
     assert a == b and a >= 500
     small = mon.snapshot(max_rows=10)
-    mon.process(t[:50], y[:50] * 0.0, stop=False)
+    mon.process(t[:50] + 5000.0, y[:50] * 0.0, stop=False)   # times go on from the last fed
     with pytest.raises(ValueError, match="max_rows"):
         mon.restore(small)
 
@@ -184,7 +184,7 @@ def test_the_monitor_refuses_complex_innovations_by_name():
     mon = InnovationMonitor(CombinedDesign(samples_per_day=28800.0, m=2))
     with pytest.raises(ValueError, match="^y must hold real numbers"):
         mon.process(np.arange(3.0), np.ones((3, 2)) * (1 + 1j))
-    with pytest.raises(ValueError, match=r"^t must have shape \(n,\) and y \(n, 2\)"):
+    with pytest.raises(ValueError, match=r"^y must have shape \(n, 2\) with n = len\(t\) = 3"):
         mon.process(np.arange(3.0), np.ones((3, 3)))
     with pytest.raises(ValueError, match="^healthy must contain only finite"):
         mon.scale_from(np.full((4, 2), np.nan))
@@ -285,3 +285,94 @@ def test_cusum_threshold_designs_the_longest_arl_and_cusum_arl_refuses_past_its_
     assert cusum_arl(h, 0.25) == pytest.approx(1e12, rel=1e-3)
     with pytest.raises(ValueError, match=r"^h = 100 is too high for k = 0.25: the run length passes"):
         cusum_arl(100.0, 0.25)
+
+
+def _noise(n=3000, m=1, seed=0):
+    return 3.0 * np.arange(n), np.random.default_rng(seed).normal(size=(n, m))
+
+
+def test_combined_detect_refuses_a_design_that_is_no_combined_design():
+    """Review 35j (1) 1: design={'m': 1} raised AttributeError 'pfa_wavelet'."""
+    t, y = _noise()
+    with pytest.raises(ValueError, match=r"^design must be a CombinedDesign \(or None.*got dict"):
+        combined_detect(t, y, design={"m": 1})
+
+
+def test_combined_detect_names_wavelet_kw_set_by_it_or_misspelt():
+    """Review 35j (1) 2-3: wavelet_kw={'pfa': ...} or {'train': ...} was "got multiple values"
+    from wavelet_detect; a typo in it or in the monitor's keywords a TypeError naming an
+    internal function."""
+    t, y = _noise()
+    with pytest.raises(ValueError, match=r"^wavelet_kw\['pfa'\] is set by combined_detect \(from "
+                                         r"the design's pfa_wavelet\)"):
+        combined_detect(t, y, wavelet_kw={"pfa": 1e-3})
+    with pytest.raises(ValueError, match=r"^wavelet_kw\['train'\] is set by combined_detect"):
+        combined_detect(t, y, wavelet_kw={"train": 500})
+    with pytest.raises(ValueError, match=r"^wavelet_kw\['levle'\] is not a keyword of "
+                                         r"wavelet_detect .*\(did you mean level\?\)"):
+        combined_detect(t, y, wavelet_kw={"levle": 3})
+    with pytest.raises(ValueError, match=r"^wavelet_kw must be a dict of keyword arguments"):
+        combined_detect(t, y, wavelet_kw=[("level", 3)])
+    with pytest.raises(ValueError, match=r"^adaptve is not a keyword combined_detect takes: .*"
+                                         r"scale_samples.*\(did you mean adaptive\?\)"):
+        combined_detect(t, y, adaptve=False)
+    # the valid ones still pass
+    res = combined_detect(t, y, train=1000, wavelet_kw={"level": 4}, scale_samples=3000)
+    assert res.data["wavelet"].data["sigma"].size == 4
+
+
+def test_combined_detect_refuses_uneven_times():
+    """Review 35j (5) 20: sorted random times were accepted, though the design's samples a
+    day and the wavelet assume one step."""
+    t, y = _noise()
+    tu = np.sort(np.random.default_rng(1).uniform(0.0, 9000.0, t.size))
+    with pytest.raises(ValueError, match=r"^t must be evenly spaced \(each step within 0.01 of "
+                                         r"the median step"):
+        combined_detect(tu, y)
+    gap = np.r_[t[:1500], t[1500:] + 3.0]          # one sample missing
+    with pytest.raises(ValueError, match=r"got t\[1500\] - t\[1499\] = 6 s \(1 off\)"):
+        combined_detect(gap, y)
+    # rounding of large times is far inside the tolerance
+    jitter = 5e8 + t + np.random.default_rng(2).uniform(-0.01, 0.01, t.size)
+    combined_detect(jitter, y, train=1000)
+
+
+def test_combined_detect_refuses_a_design_for_another_sampling_or_m():
+    """Review 35j (5) 21: a design for 500-s sampling ran on 3-s data without a word."""
+    t, y = _noise()
+    with pytest.raises(ValueError, match=r"^design must be for the sampling of t, 28800 samples a "
+                                         r"day \(one every 3 s\), got CombinedDesign\(samples_per_day"
+                                         r"=172.8.*one every 500 s"):
+        combined_detect(t, y, design=CombinedDesign(172.8, 1))
+    with pytest.raises(ValueError, match=r"^design must have m = 1 \(the columns of y\)"):
+        combined_detect(t, y, design=CombinedDesign(28800.0, 2))
+    res = combined_detect(t, y, design=CombinedDesign(28800.0, 1), train=1000)
+    assert res.data["design"].samples_per_day == 28800.0
+
+
+def test_the_monitor_refuses_scale_settings_without_the_adaptive_scale():
+    """Review 35j (5) 5: scale_samples, scale_every and prior_samples were accepted and unused
+    with adaptive=False."""
+    d = CombinedDesign(28800.0, 2)
+    for key in ("scale_samples", "scale_every", "prior_samples"):
+        with pytest.raises(ValueError, match=rf"^{key} = 100 is unused with adaptive=False"):
+            InnovationMonitor(d, adaptive=False, **{key: 100})
+    assert InnovationMonitor(d, adaptive=False).prior_samples == 500
+    assert InnovationMonitor(d).prior_samples == 500
+    with pytest.raises(ValueError, match=r"^design must be a CombinedDesign, got dict"):
+        InnovationMonitor({"m": 2})
+
+
+def test_the_monitor_refuses_time_going_back():
+    """Review 35j (5) 22 (the class): the monitor took samples earlier than those fed before."""
+    t, y = _noise(500, 2)
+    mon = InnovationMonitor(CombinedDesign(28800.0, 2))
+    mon.process(t, y, stop=False)
+    with pytest.raises(ValueError, match=r"^t must increase from one call to the next .*t\[0\] = 0 "
+                                         r"after the last sample fed, at 1497"):
+        mon.process(t[:10], y[:10])
+    with pytest.raises(ValueError, match=r"^t must be strictly increasing"):
+        mon.process(t[10:][::-1] + 2000.0, y[10:])
+    with pytest.raises(ValueError, match=r"^t must increase"):
+        mon.update(1497.0, y[0])
+    assert mon.update(1500.0, y[0]) in (True, False)

@@ -280,3 +280,18 @@ def test_a_ramp_that_grows_beyond_max_size_is_refused_by_inject_naming_it():
 def test_an_edge_input_is_refused_naming_it(call, match):
     with pytest.raises(ValueError, match=match):
         call()
+
+
+def test_inject_refuses_times_going_back_and_z_of_three_dimensions():
+    """Review 35j (5) 24: inject took decreasing times (documented increasing) and a z of
+    shape (5, 2, 2) (documented (n,) or (n, m))."""
+    ramp = [Fault("uv", "ramp", 1.0, 2.0)]
+    with pytest.raises(ValueError, match=r"^t must be strictly increasing .*t\[1\] = 3 after t\[0\] = 4"):
+        inject(np.arange(5.0)[::-1], np.zeros(5), ramp, "uv")
+    with pytest.raises(ValueError, match=r"^z must have shape \(n,\) or \(n, m\) with n = len\(t\) = 5, "
+                                         r"got shape \(5, 2, 2\)"):
+        inject(np.arange(5.0), np.zeros((5, 2, 2)), [Fault("uv", "step", 1.0, 2.0)], "uv")
+    with pytest.raises(ValueError, match=r"^faults\[1\]: component must be in \[0, 1\] for sensor "
+                                         r"'uv' \(the columns of z\), got 2"):
+        inject(np.arange(5.0), np.zeros((5, 2)), [Fault("cns", "step", 1.0, 2.0),
+                                                  Fault("uv", "step", 1.0, 2.0, component=2)], "uv")

@@ -445,3 +445,14 @@ def test_a_skipped_update_with_its_model_is_checked_and_skips():
     assert up.innovation is None and np.isnan(up.nis)
     up = filters.ukf_update(np.zeros(1), np.eye(1), None, lambda s: s, np.eye(1))
     assert up.S is None and np.isnan(up.nis)
+
+
+def test_sigma_points_refuses_a_non_symmetric_P():
+    """Review 35j (4) 1: sigma_points used the silently symmetrised P (P and P.T gave the same
+    points); every filter refuses a non-symmetric P."""
+    P = np.array([[1.0, 0.5], [0.0, 1.0]])
+    for bad in (P, P.T, 1e300 * P):
+        with pytest.raises(ValueError, match=r"^P must be symmetric \(to 1e-08 of its largest entry\)"):
+            filters.sigma_points(np.zeros(2), bad, 1.0)
+    sym = np.array([[1.0, 0.5], [0.5 + 1e-12, 1.0]])         # symmetric to rounding: accepted
+    assert filters.sigma_points(np.zeros(2), sym, 1.0).shape == (5, 2)

@@ -177,3 +177,43 @@ def test_issue35_roc_curve_refuses_bad_thresholds_and_no_results(thresholds, mat
 def test_an_edge_input_is_refused_naming_it(call, match):
     with pytest.raises(ValueError, match=match):
         call()
+
+
+def test_roc_curve_names_results_that_are_no_trials():
+    """Review 35j (1) 9: roc_curve([{'a': 1}], 'wavelet') raised KeyError 'wavelet'
+    (summarise checked this; roc_curve did not)."""
+    for bad in ([{"a": 1}], [{"wavelet": 1}], [{"wavelet": {"peak_fault": 1.0}}]):
+        with pytest.raises(ValueError, match=r"^results\[0\] must be a trial of signal_trial"):
+            mc.roc_curve(bad, "wavelet")
+    with pytest.raises(ValueError, match=r"^results\[0\] must be a trial of signal_trial"):
+        mc.summarise([{"wavelet": {}}], "wavelet")
+    with pytest.raises(ValueError, match=r"^results must hold at least one trial"):
+        mc.roc_curve([], "wavelet")
+    pf, pd, thr = mc.roc_curve([{"wavelet": {"peak_fault": 3.0, "peak_clean": 0.5}}], "wavelet",
+                               [1.0])
+    assert (pf.tolist(), pd.tolist()) == ([0.0], [1.0])
+
+
+def test_detection_table_and_run_tasks_name_a_keyword_passed_on():
+    """Review 35j (1) 10-11: a typo in detection_table's **trial_kw or in a task's params
+    was a TypeError from inside signal_trial."""
+    with pytest.raises(ValueError, match=r"^duraton is not a keyword of detection_table or of "
+                                         r"signal_trial.*\(did you mean duration\?\)"):
+        mc.detection_table(kinds=("step",), sizes=(2.0,), trials=1, max_workers=1, duraton=5)
+    with pytest.raises(ValueError, match=r"^kind is set by detection_table \(from kinds\)"):
+        mc.detection_table(kinds=("step",), sizes=(2.0,), trials=1, max_workers=1, kind="ramp")
+    with pytest.raises(ValueError, match=r"^params\[0\]\['sise'\] is not a keyword of signal_trial "
+                                         r"\(run_tasks passes params\[0\] on to it\)"):
+        mc.run_tasks(mc.signal_trial, [{"kind": "step", "size_sigma": 3.0, "sise": 1}], max_workers=1)
+    with pytest.raises(ValueError, match=r"^params\[1\]\['seed'\] is set by run_tasks"):
+        mc.run_tasks(mc.signal_trial, [{"kind": "step", "size_sigma": 3.0}, {"seed": 1}], max_workers=1)
+    with pytest.raises(ValueError, match=r"^params\[0\] does not fit signal_trial\(seed=\.\.\., "
+                                         r"\*\*params\[0\]\): missing a required argument: "
+                                         r"'size_sigma'"):
+        mc.run_tasks(mc.signal_trial, [{"kind": "step"}], max_workers=1)
+    # a function taking **kwargs takes any keyword
+    assert mc.run_tasks(_echo, [{"anything": 1}], max_workers=1)[0]["anything"] == 1
+
+
+def _echo(seed, **kw):
+    return dict(kw, seed=seed)

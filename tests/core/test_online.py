@@ -173,3 +173,46 @@ def test_signal_threshold_ratio_refuses_a_sigma_beyond_max_size():
 def test_an_edge_input_is_refused_naming_it(call, match):
     with pytest.raises(ValueError, match=match):
         call()
+
+
+def test_events_from_alarms_refuses_tests_of_another_length_and_times_going_back():
+    """Review 35j (1) 6 and (5) 23: tests=['a'] for three samples was an IndexError; times
+    going back gave an event ending before its onset."""
+    t, a, r = np.arange(3.0), np.array([0, 1, 0], bool), np.array([0.0, 1.0, 0.0])
+    with pytest.raises(ValueError, match=r"^tests must have length 3 \(one name per sample"):
+        D.events_from_alarms(t, a, r, 1, tests=["a"])
+    with pytest.raises(ValueError, match=r"^tests must be a sequence of test names"):
+        D.events_from_alarms(t, a, r, 1, tests="abc")
+    with pytest.raises(ValueError, match=r"^t must be strictly increasing .*t\[1\] = 1 after "
+                                         r"t\[0\] = 2"):
+        D.events_from_alarms(t[::-1], np.array([0, 1, 1], bool), np.array([0.0, 1.0, 1.0]), 1)
+    assert D.events_from_alarms(t, a, r, 1, tests=["x", "y", "z"])[0][0].test == "y"
+
+
+def test_online_detectors_refuse_time_going_back():
+    """Review 35j (5) 22: Chi2Detector.update and WaveletDetector.update accepted time going
+    back (an event then ended or cleared before its onset)."""
+    det = D.Chi2Detector(1)
+    det.update(5.0, [0.0], [[1.0]])
+    with pytest.raises(ValueError, match=r"^t must increase from one update to the next .*got "
+                                         r"t = 1 after t = 5"):
+        det.update(1.0, [9.0], [[1.0]])
+    with pytest.raises(ValueError, match=r"^t must increase"):
+        det.update(5.0, [9.0], [[1.0]])
+    det.update(6.0, [0.0], [[1.0]])
+    w = D.WaveletDetector()
+    w.update(3.0, 1.0)
+    with pytest.raises(ValueError, match=r"^t must increase .*got t = 0 after t = 3"):
+        w.update(0.0, 1.0)
+    w.reset()                                     # forgets the data, and the times
+    w.update(0.0, 1.0)
+    tr = D.EventTracker(2)
+    tr.update(4.0, True, 2.0)
+    with pytest.raises(ValueError, match=r"^t must not go back .*got t = 3 after t = 4"):
+        tr.update(3.0, False)
+    with pytest.raises(ValueError, match=r"^t must not go back"):
+        tr.close(3.0)
+    snap = tr.snapshot()
+    tr.update(9.0, False)
+    tr.restore(snap)                              # back to t = 4: 5 is after it
+    tr.update(5.0, False)

@@ -34,3 +34,17 @@ def test_modulus_maxima_locate_the_step_at_every_scale():
 def test_an_edge_input_is_refused_naming_it(call, match):
     with pytest.raises(ValueError, match=match):
         call()
+
+
+def test_lipschitz_exponent_refuses_equal_scales_and_a_cone_that_is_not_positive():
+    """Review 35j (1) 8 and (2) 8: equal scales gave a RuntimeWarning (a slope over one
+    abscissa); a negative cone numpy's "zero-size array to reduction operation"."""
+    n = np.arange(-512, 512)
+    s = 2.0 ** np.arange(1, 6)
+    w = D.cwt(np.where(n >= 0, 1.0, 0.0), s)
+    with pytest.raises(ValueError, match=r"^scales must hold at least two distinct scales"):
+        D.lipschitz_exponent(w, np.ones(5), 512)
+    for cone in (-np.ones(5), np.r_[1.0, 1.0, 0.0, 1.0, 1.0]):
+        with pytest.raises(ValueError, match=r"^cone must be positive half-widths"):
+            D.lipschitz_exponent(w, s, 512, cone=cone)
+    assert abs(D.lipschitz_exponent(w, s, 512, cone=np.full(5, 0.5))) < 1.0

@@ -13,9 +13,11 @@ from xnavlab.core.validate import (
     check_choice,
     check_covariance,
     check_definite,
+    check_evenly_spaced,
     check_finite_array,
     check_int,
     check_items,
+    check_keywords,
     check_real,
     check_records,
     check_seed,
@@ -262,3 +264,50 @@ def test_check_covariance_scales_exactly():
     with pytest.raises(ValueError, match=r"^P must be positive semi-definite, got smallest "
                                          r"eigenvalue -1e\+308"):
         check_covariance("P", -1e308 * np.eye(3))
+
+
+def test_check_evenly_spaced_names_the_step_that_deviates_most():
+    """Review 35j (5) 20: the shared check for evenly spaced times (combined_detect)."""
+    t = 3.0 * np.arange(10)
+    assert check_evenly_spaced("t", t, 0.01) is t
+    assert check_evenly_spaced("t", t[:1], 0.01).size == 1        # one sample: no step
+    t2 = t.copy()
+    t2[4] += 0.6
+    t2[7] += 0.3
+    with pytest.raises(ValueError, match=r"^t must be evenly spaced \(each step within 0.01 of the "
+                                         r"median step, 3 s\), got t\[4\] - t\[3\] = 3.6 s \(0.2 off\)"):
+        check_evenly_spaced("t", t2, 0.01)
+    assert check_evenly_spaced("t", t2, 0.25) is t2
+    with pytest.raises(ValueError, match=r"^rtol must be"):
+        check_evenly_spaced("t", t, -1.0)
+
+
+def test_check_keywords_names_a_keyword_passed_on():
+    """Review 35j (1) 2-4, 10-11: the shared check of keywords passed on to another function."""
+    def target(t, x, *, level=5, pfa=1e-5):
+        return level
+
+    def open_target(**kw):
+        return kw
+
+    assert check_keywords("f", None, target) == {}
+    assert check_keywords("f", {"level": 3}, target) == {"level": 3}
+    assert check_keywords("f", {"whatever": 3}, open_target) == {"whatever": 3}
+    assert check_keywords("f", {"whatever": 3}, max) == {"whatever": 3}   # no signature to read
+    with pytest.raises(ValueError, match=r"^whatever is not a keyword of f or of len, .* len's are none$"):
+        check_keywords("f", {"whatever": 3}, len)                   # positional only
+    with pytest.raises(ValueError, match=r"^levle is not a keyword of f or of target, which f passes "
+                                         r"its other keywords on to: target's are t, x, level, pfa "
+                                         r"\(did you mean level\?\)"):
+        check_keywords("f", {"levle": 3}, target)
+    with pytest.raises(ValueError, match=r"^f_kw\['zz'\] is not a keyword of target \(f passes f_kw "
+                                         r"on to it\): the valid ones are level, pfa$"):
+        check_keywords("f", {"zz": 3}, target, name="f_kw",
+                       set_here={"t": "its t", "x": "its x"})
+    with pytest.raises(ValueError, match=r"^f_kw\['pfa'\] is set by f \(from the design\): leave it out"):
+        check_keywords("f", {"pfa": 3}, target, name="f_kw", set_here={"pfa": "from the design"})
+    with pytest.raises(ValueError, match=r"^lvl is not a keyword f takes: the valid ones are a, b$"):
+        check_keywords("f", {"lvl": 1}, ("a", "b"))
+    for bad in ([("level", 3)], {3: 1}, "level=3"):
+        with pytest.raises(ValueError, match=r"^f_kw must be a dict of keyword arguments"):
+            check_keywords("f", bad, target, name="f_kw")

@@ -53,7 +53,14 @@ from numbers import Real
 
 import numpy as np
 
-from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_text, make_rng
+from xnavlab.core.validate import (
+    check_choice,
+    check_finite_array,
+    check_increasing,
+    check_int,
+    check_text,
+    make_rng,
+)
 
 __all__ = ["KINDS", "MAX_SIZE", "Fault", "check_faults", "inject", "fault_mask", "parse_spec", "format_spec"]
 
@@ -269,9 +276,9 @@ def inject(t, z, faults, sensor, rng=None):
     Parameters
     ----------
     t : array_like, shape (n,)
-        Sample times, s, increasing.
+        Sample times, s, strictly increasing.
     z : array_like, shape (n,) or (n, m)
-        Fault-free measurements of ``sensor``.
+        Fault-free measurements of ``sensor`` (one row per sample, one column per component).
     faults : sequence of Fault
         The schedule; faults of other sensors are ignored. Faults are applied in
         order, so a ``stuck`` fault freezes whatever earlier faults produced.
@@ -299,14 +306,18 @@ def inject(t, z, faults, sensor, rng=None):
         raise ValueError(f"z must have shape (n,) or (n, m) with n = len(t) = {t.size}, got shape {z.shape}")
     if z.shape[0] > t.shape[0]:
         raise ValueError(f"t must hold one time per row of z ({z.shape[0]}), got {t.size}")
+    if z.ndim > 2:  # the components of a sample are one axis (a fault's component indexes it)
+        raise ValueError(f"z must have shape (n,) or (n, m) with n = len(t) = {t.size}, got "
+                         f"shape {z.shape}")
+    check_increasing("t", t)  # a stuck fault holds the value before its onset, in time order
     faults = check_faults("faults", faults)
     sensor = check_text("sensor", sensor)
     rng = make_rng(rng)
     out = z.reshape(len(t), int(np.prod(z.shape[1:]))).copy()  # no sample: nothing to inject
-    for f in faults:
+    for i, f in enumerate(faults):
         if f.sensor != sensor:
             continue
-        cols = _columns(f, out.shape[1])
+        cols = _columns(f, out.shape[1], i)
         mask = f.active(t)
         if not mask.any():
             continue
@@ -315,7 +326,7 @@ def inject(t, z, faults, sensor, rng=None):
         elif f.kind == "ramp":
             reach = abs(f.magnitude) * float(t[mask].max() - f.onset)
             if reach > MAX_SIZE:
-                raise ValueError(f"faults[{faults.index(f)}]: a ramp of {f.magnitude:g} per s from "
+                raise ValueError(f"faults[{i}]: a ramp of {f.magnitude:g} per s from "
                                  f"{f.onset:g} s reaches {reach:.3g} by t = {t[mask].max():g} s, "
                                  f"beyond MAX_SIZE = {MAX_SIZE:g} (the measurement's SI unit)")
             out[np.ix_(mask, cols)] += f.magnitude * (t[mask] - f.onset)[:, None]
@@ -328,13 +339,12 @@ def inject(t, z, faults, sensor, rng=None):
     return out.reshape(z.shape)
 
 
-def _columns(fault, m):
+def _columns(fault, m, i):
     if fault.component is None:
         return np.arange(m)
     if fault.component >= m:
-        raise ValueError(
-            f"component must be in [0, {m - 1}] for sensor {fault.sensor!r}, got {fault.component}"
-        )
+        raise ValueError(f"faults[{i}]: component must be in [0, {m - 1}] for sensor "
+                         f"{fault.sensor!r} (the columns of z), got {fault.component}")
     return np.array([fault.component])
 
 

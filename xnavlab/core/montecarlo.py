@@ -33,6 +33,7 @@ Examples
 
 from __future__ import annotations
 
+import inspect
 import math
 import os
 from concurrent.futures import Executor, ProcessPoolExecutor
@@ -48,6 +49,7 @@ from xnavlab.core.validate import (
     check_finite_array,
     check_int,
     check_items,
+    check_keywords,
     check_real,
     check_seed,
     shown,
@@ -173,6 +175,26 @@ def _listed(name, value, what):
     return list(value)
 
 
+def _signature(func):
+    """``func``'s signature, or None when it has none to read (a builtin)."""
+    try:
+        return inspect.signature(func)
+    except (TypeError, ValueError):
+        return None
+
+
+def _check_task(func, sig, i, p):
+    """Task ``i``'s keywords ``p`` against ``func(seed=..., **p)``: one ValueError naming
+    ``params[i]`` (a typo or a missing parameter was a TypeError inside the task)."""
+    check_keywords("run_tasks", p, func, name=f"params[{i}]",
+                   set_here={"seed": "one per task, from run_tasks' seed"})
+    try:
+        sig.bind(seed=0, **p)
+    except TypeError as err:
+        name = getattr(func, "__name__", "func")
+        raise ValueError(f"params[{i}] does not fit {name}(seed=..., **params[{i}]): {err}") from None
+
+
 def run_tasks(func, params, *, seed=0, executor=None, max_workers=2, chunksize=1):
     """Run ``func(seed=s_i, **params[i])`` for every task, on an Executor.
 
@@ -181,7 +203,8 @@ def run_tasks(func, params, *, seed=0, executor=None, max_workers=2, chunksize=1
     func : callable
         A module-level function (picklable), e.g. :func:`signal_trial`.
     params : sequence of dict
-        One keyword dict per task.
+        One keyword dict per task: each must fit ``func``'s signature (a misspelt or missing
+        keyword is refused, naming ``params[i]``), without ``seed`` (set here).
     seed : int
         The one seed; task ``i`` gets ``seeds(seed, len(params))[i]``.
     executor : concurrent.futures.Executor, optional
@@ -210,9 +233,12 @@ def run_tasks(func, params, *, seed=0, executor=None, max_workers=2, chunksize=1
     if not callable(func):
         raise ValueError(f"func must be callable, got {type(func).__name__}")
     params = _listed("params", params, "keyword dicts (one per task)")
+    sig = _signature(func)
     for i, p in enumerate(params):
         if not isinstance(p, dict):
             raise ValueError(f"params[{i}] must be a dict of keywords, got {type(p).__name__} {shown(p)}")
+        if sig is not None:
+            _check_task(func, sig, i, p)
     task_seeds = seeds(seed, len(params))
     args = list(zip([func] * len(params), params, task_seeds, strict=True))
     if executor is not None:
@@ -228,6 +254,22 @@ def run_tasks(func, params, *, seed=0, executor=None, max_workers=2, chunksize=1
         return list(pool.map(_call, args, chunksize=chunksize))
 
 
+def _trials(results, detector, keys):
+    """Each trial's result of ``detector`` (a dict holding ``keys``), from ``results`` (trials
+    of :func:`signal_trial`, at least one), else one ValueError naming ``results[i]``."""
+    results = _listed("results", results, "trials (signal_trial)")
+    check_choice("detector", detector, DETECTORS)
+    if not results:  # an empty mean would be NaN
+        raise ValueError("results must hold at least one trial (signal_trial)")
+    for i, x in enumerate(results):
+        part = x.get(detector) if isinstance(x, dict) else None
+        if not isinstance(part, dict) or any(k not in part for k in keys):
+            raise ValueError(f"results[{i}] must be a trial of signal_trial (a dict with "
+                             f"{detector!r}: a dict of {', '.join(keys)}), got "
+                             f"{type(x).__name__} {shown(x)}")
+    return [x[detector] for x in results]
+
+
 def summarise(results, detector):
     """Probability of detection, share of late trials (flagged only after the fault's end),
     false-alarm rate per sample and median delay of the detected trials.
@@ -238,15 +280,7 @@ def summarise(results, detector):
     >>> summarise(rs, "wavelet")["pd"]
     1.0
     """
-    results = _listed("results", results, "trials (signal_trial)")
-    check_choice("detector", detector, DETECTORS)
-    if not results:
-        raise ValueError("results must hold at least one trial")
-    for i, x in enumerate(results):
-        if not isinstance(x, dict) or detector not in x:
-            raise ValueError(f"results[{i}] must be a trial of signal_trial (a dict with "
-                             f"{detector!r}), got {type(x).__name__} {shown(x)}")
-    r = [x[detector] for x in results]
+    r = _trials(results, detector, ("detected", "delay", "false_alarms", "armed_before"))
     found = [x["delay"] for x in r if x["detected"]]
     armed = sum(x["armed_before"] for x in r)
     return {"pd": float(np.mean([x["detected"] for x in r])),
@@ -259,6 +293,10 @@ def summarise(results, detector):
 def detection_table(kinds=KINDS, sizes=(2.0, 4.0, 8.0), *, trials=20, seed=0, noise_scale=1.0,
                     executor=None, max_workers=2, **trial_kw):
     """Pd, false-alarm rate and median delay per fault kind and size for both detectors.
+
+    ``**trial_kw`` are passed to every :func:`signal_trial` (``n``, ``train``, ``duration``,
+    ``pfa``, ``window``); another keyword is refused, naming it (``kind``, ``size_sigma`` and
+    ``seed`` are set here).
 
     Returns
     -------
@@ -280,6 +318,8 @@ def detection_table(kinds=KINDS, sizes=(2.0, 4.0, 8.0), *, trials=20, seed=0, no
     sizes = [check_real(f"sizes[{i}]", s, 0.0, 1000.0)  # signal_trial's size_sigma range
              for i, s in enumerate(check_items("sizes", sizes, "size"))]
     kinds = check_items("kinds", kinds, "kind", each=lambda label, k: check_choice(label, k, KINDS))
+    trial_kw = check_keywords("detection_table", trial_kw, signal_trial, set_here={
+        "kind": "from kinds", "size_sigma": "from sizes", "seed": "one per trial, from seed"})
     cells = [(k, float(s)) for k in kinds for s in sizes]
     params = [dict(kind=k, size_sigma=s, noise_scale=noise_scale, **trial_kw)
               for k, s in cells for _ in range(trials)]
@@ -323,12 +363,9 @@ def roc_curve(results, detector, thresholds=None):
     -------
     pfa, pd, thresholds : ndarray
     """
-    check_choice("detector", detector, DETECTORS)
-    if not isinstance(results, (list, tuple)) or not results:  # an empty mean would be NaN
-        raise ValueError(f"results must be a list of at least one trial (signal_trial), got "
-                         f"{results!r:.80}")
-    pf = np.array([x[detector]["peak_fault"] for x in results])
-    pc = np.array([x[detector]["peak_clean"] for x in results])
+    r = _trials(results, detector, ("peak_fault", "peak_clean"))
+    pf = np.array([x["peak_fault"] for x in r])
+    pc = np.array([x["peak_clean"] for x in r])
     if thresholds is None:
         thresholds = np.geomspace(0.2, 20.0, 200)
     thr = check_finite_array("thresholds", thresholds)

@@ -23,9 +23,11 @@ __all__ = [
     "check_vector",
     "check_shape",
     "check_increasing",
+    "check_evenly_spaced",
     "check_arrays",
     "check_callable",
     "check_instance",
+    "check_keywords",
     "check_text",
     "check_covariance",
     "check_definite",
@@ -288,6 +290,36 @@ def check_increasing(name, value):
     return value
 
 
+def check_evenly_spaced(name, value, rtol):
+    """Return ``value`` (a strictly increasing 1-D array, already checked) if every step is
+    within ``rtol`` of the median step, else one ValueError naming the step that deviates most
+    (a sampling rate taken from the median step, or a filter that assumes one step, would be
+    wrong for the others).
+
+    Examples
+    --------
+    >>> check_evenly_spaced("t", 3.0 * np.arange(4), 0.01).tolist()
+    [0.0, 3.0, 6.0, 9.0]
+    >>> check_evenly_spaced("t", np.array([0.0, 3.0, 6.0, 10.0, 13.0]), 0.01)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: t must be evenly spaced (each step within 0.01 of the median step, 3 s), ...
+    >>> float(check_evenly_spaced("t", np.array([0.0, 3.0, 6.0, 10.0, 13.0]), 0.5)[-1])
+    13.0
+    """
+    _check_rtol(rtol)
+    step = np.diff(value)
+    if step.size:
+        dt = float(np.median(step))
+        off = np.abs(step - dt) / dt
+        k = int(np.argmax(off))
+        if off[k] > rtol:
+            raise ValueError(f"{name} must be evenly spaced (each step within {rtol:g} of the "
+                             f"median step, {dt:.6g} s), got {name}[{k + 1}] - {name}[{k}] = "
+                             f"{float(step[k]):.6g} s ({float(off[k]):.3g} off)")
+    return value
+
+
 def check_arrays(name, value, ndim=None, min_len=1):
     """Return ``value`` as a list of finite float arrays (a list or tuple of them, or a stack
     ``(N, ...)`` of them, at least ``min_len``), each checked under ``name[i]``, else one
@@ -348,6 +380,94 @@ def check_instance(name, value, kinds, what, bool_ok=False):
     if not isinstance(value, kinds) or isinstance(value, bool) and not bool_ok:
         raise ValueError(f"{name} must be {what}, got {type(value).__name__} {shown(value)}")
     return value
+
+
+def check_keywords(caller, given, target, *, name=None, set_here=None):
+    """Return ``given`` (keywords ``caller`` passes on to ``target``) as a dict if each is one
+    ``target`` takes and ``caller`` does not set itself, else one ValueError naming it.
+
+    A misspelt keyword passed on unchecked surfaces as a TypeError of an internal function
+    (or, when the caller sets it too, as "got multiple values"); here it is named as the user
+    wrote it, with the valid names and the nearest one.
+
+    Parameters
+    ----------
+    caller : str
+        The function the user called, for the message.
+    given : dict or None
+        The keywords (``**kw``, or a ``*_kw`` dict; None is no keywords).
+    target : callable or iterable of str
+        What takes them: its signature's keyword parameters (a ``**`` parameter takes any),
+        or the valid names.
+    name : str, optional
+        The ``*_kw`` parameter that holds them (its entries are then named ``name['key']``);
+        None for ``**kw`` (each named by itself).
+    set_here : dict of str to str, optional
+        Keywords ``caller`` sets itself -> where the value comes from.
+
+    Examples
+    --------
+    >>> def target(a, b=1, *, level=5):
+    ...     pass
+    >>> check_keywords("f", {"level": 3}, target)
+    {'level': 3}
+    >>> check_keywords("f", {"levle": 3}, ["a", "level"])
+    Traceback (most recent call last):
+    ...
+    ValueError: levle is not a keyword f takes: the valid ones are a, level (did you mean level?)
+    >>> check_keywords("f", {"levle": 3}, target)  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: levle is not a keyword of f or of target, ...: target's are a, b, level (did you ...
+    >>> check_keywords("f", {"a": 3}, target, name="f_kw", set_here={"a": "from its x"})
+    Traceback (most recent call last):
+    ...
+    ValueError: f_kw['a'] is set by f (from its x): leave it out
+    >>> check_keywords("f", {"c": 3}, target, name="f_kw", set_here={"a": "from its x"})
+    Traceback (most recent call last):
+    ...
+    ValueError: f_kw['c'] is not a keyword of target (f passes f_kw on to it): the valid ones are b, level
+    """
+    import difflib
+    import inspect
+
+    set_here = dict(set_here or {})
+    if given is None:
+        given = {}
+    if not isinstance(given, dict) or not all(isinstance(k, str) for k in given):
+        what = name if name is not None else "the keywords"
+        raise ValueError(f"{what} must be a dict of keyword arguments (names as str), got "
+                         f"{shown(given)}")
+    if callable(target):
+        try:
+            params = inspect.signature(target).parameters.values()
+        except (TypeError, ValueError):  # no signature to read (a builtin): the target's own check
+            return dict(given)
+        if any(p.kind is p.VAR_KEYWORD for p in params):
+            valid = None
+        else:
+            valid = [p.name for p in params if p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)]
+    else:
+        valid = list(target)
+    for key in given:
+        label = key if name is None else f"{name}[{key!r}]"
+        if key in set_here:
+            raise ValueError(f"{label} is set by {caller} ({set_here[key]}): leave it out")
+        if valid is not None and key not in valid:
+            ok = [v for v in valid if v not in set_here]
+            near = difflib.get_close_matches(key, ok, n=1)
+            hint = f" (did you mean {near[0]}?)" if near else ""
+            to = getattr(target, "__name__", None) if callable(target) else None
+            if to is None:
+                what = f"a keyword {caller} takes{'' if name is None else ' in ' + name}: the " \
+                       f"valid ones are"
+            elif name is None:
+                what = f"a keyword of {caller} or of {to}, which {caller} passes its other " \
+                       f"keywords on to: {to}'s are"
+            else:
+                what = f"a keyword of {to} ({caller} passes {name} on to it): the valid ones are"
+            raise ValueError(f"{label} is not {what} {', '.join(ok) or 'none'}{hint}")
+    return dict(given)
 
 
 def check_text(name, value, none_ok=False):

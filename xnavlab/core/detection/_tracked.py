@@ -15,8 +15,19 @@ class TrackedDetector:
     """Base of the online detectors: event reporting from an
     :class:`~xnavlab.core.detection.online.EventTracker`.
 
-    A subclass keeps its tracker in ``self._tracker``; this base exposes its events.
+    A subclass keeps its tracker in ``self._tracker``; this base exposes its events. Its
+    one-sample ``update`` calls :meth:`_advance_time` (sample times strictly increase).
     """
+
+    _t_last = float("-inf")   # the latest sample time fed (set per instance once fed)
+
+    def _advance_time(self, t):
+        """Refuse a sample time ``t`` (s, checked real) not after the last one fed (an event
+        would end or clear before its onset); else record it."""
+        if not t > self._t_last:
+            raise ValueError(f"t must increase from one update to the next (sample times, s), "
+                             f"got t = {t:g} after t = {self._t_last:g}")
+        self._t_last = t
 
     @property
     def events(self):

@@ -13,6 +13,8 @@ thread (:mod:`xnavlab.mars.faults.fault_tolerance`).
 
 from __future__ import annotations
 
+from concurrent.futures import Executor
+
 import numpy as np
 from numba import njit
 
@@ -23,7 +25,14 @@ from xnavlab.core.detection.online import (
     causal_filters,
     events_from_alarms,
 )
-from xnavlab.core.validate import check_finite_array, check_increasing, check_int, check_real
+from xnavlab.core.validate import (
+    check_finite_array,
+    check_increasing,
+    check_int,
+    check_keywords,
+    check_real,
+    shown,
+)
 
 __all__ = ["wavelet_detect", "wavelet_detect_sensor", "BlockWavelet", "BlockWaveletSensor"]
 
@@ -124,7 +133,8 @@ def wavelet_detect_sensor(t, z, *, pfa=1e-5, train=None, sigma=None, executor=No
         Runs the components' detectors (a thread pool: their compiled parts release the
         GIL); the result is the same.
     **kwargs
-        ``wavelet``, ``level``, ``var_window``, ``holdoff`` as in :func:`wavelet_detect`.
+        ``wavelet``, ``level``, ``var_window``, ``holdoff`` as in :func:`wavelet_detect`
+        (another keyword is refused, naming it).
 
     Returns
     -------
@@ -142,9 +152,29 @@ def wavelet_detect_sensor(t, z, *, pfa=1e-5, train=None, sigma=None, executor=No
     >>> [(e.onset, e.test) for e in res.events]
     [(9000.0, 'component 2, level 1')]
     """
+    kwargs = _sensor_kwargs("wavelet_detect_sensor", kwargs)
     b = BlockWaveletSensor(t, z, pfa=pfa, train=train, sigma=sigma, executor=executor, **kwargs)
     b.advance(b.n)
     return b.detection()
+
+
+#: The keywords :func:`wavelet_detect_sensor` passes on to each component's detector.
+_SENSOR_KW = ("wavelet", "level", "var_window", "holdoff")
+
+
+def _sensor_kwargs(caller, kwargs):
+    """``kwargs`` for each component's :class:`BlockWavelet`, else one ValueError naming the
+    keyword (an internal class was named in a TypeError)."""
+    return check_keywords(caller, kwargs, _SENSOR_KW + ("t", "z", "pfa", "train", "sigma",
+                                                          "executor"))
+
+
+def _check_executor(executor):
+    if executor is not None and not isinstance(executor, Executor) and \
+            not callable(getattr(executor, "map", None)):
+        raise ValueError(f"executor must be a concurrent.futures.Executor (or None: the "
+                         f"components in turn), got {type(executor).__name__} {shown(executor)}")
+    return executor
 
 
 def series_lengths(t, name, n):
@@ -284,6 +314,8 @@ class BlockWaveletSensor(BlockWavelet):
     """
 
     def __init__(self, t, z, *, pfa=1e-5, train=None, sigma=None, executor=None, **kwargs):
+        kwargs = _sensor_kwargs(type(self).__name__, kwargs)
+        executor = _check_executor(executor)
         t = check_finite_array("t", t)
         z = check_finite_array("z", z)
         if z.ndim == 1:
@@ -346,6 +378,9 @@ class _TestNames:
     def __init__(self, names, which):
         self.names, self.which = names, which
 
+    def __len__(self):
+        return len(self.which)
+
     def __getitem__(self, n):
         return self.names[int(self.which[n])]
 
@@ -355,6 +390,9 @@ class _ComponentTests:
 
     def __init__(self, parts, which):
         self.parts, self.which = parts, which
+
+    def __len__(self):
+        return len(self.which)
 
     def __getitem__(self, n):
         i = int(self.which[n])

@@ -11,7 +11,13 @@ from xnavlab.core.detection._tracked import TrackedDetector
 from xnavlab.core.detection.limits import MAX_SAMPLES
 from xnavlab.core.detection.online import Detection, EventTracker, events_from_alarms
 from xnavlab.core.distributions import chi2_isf
-from xnavlab.core.validate import check_definite, check_finite_array, check_int, check_real
+from xnavlab.core.validate import (
+    check_definite,
+    check_finite_array,
+    check_increasing,
+    check_int,
+    check_real,
+)
 
 __all__ = [
     "MAX_DIMENSION",
@@ -68,8 +74,20 @@ def _nis(nu, S):
         raise ValueError(f"S must have shape (m, m) or (N, m, m) with m = {m}, N = {n}, got {S.shape}")
     check_definite("S", S, m)  # one line naming S: not symmetric, indefinite or singular
     L = np.linalg.cholesky(S)
-    y = np.linalg.solve(L, nu[..., None])[..., 0]
-    return np.sum(y * y, axis=-1), m                                # nu^T S^-1 nu
+    with np.errstate(over="ignore", invalid="ignore"):  # judged below, by name
+        y = np.linalg.solve(L, nu[..., None])[..., 0]
+        q = np.sum(y * y, axis=-1)                                  # nu^T S^-1 nu
+    if not np.all(np.isfinite(q)):  # a subnormal S (1e-320) passes as definite, or nu = 1e200
+        i = int(np.argmax(~np.isfinite(q)))
+        raise ValueError(_too_large(i, nu[i], S[i]))
+    return q, m
+
+
+def _too_large(i, nu, S):
+    """The message refusing sample ``i`` whose statistic passes the float range."""
+    return (f"nu is too large against S: nu^T S^-1 nu passes the float range (1.8e308) at "
+            f"sample {i} (|nu| up to {float(np.max(np.abs(nu))):.3g}, S's variances down to "
+            f"{float(np.min(np.diagonal(S))):.3g})")
 
 
 def chi2_statistic(nu, S, window=1):
@@ -105,7 +123,12 @@ def chi2_statistic(nu, S, window=1):
     if window > q.size:  # no sum would span the window, so none has the dof returned
         raise ValueError(f"window must be an integer in [1, {q.size}] (the samples in nu), "
                          f"got {window}")
-    c = np.cumsum(q)
+    with np.errstate(over="ignore"):
+        c = np.cumsum(q)
+    if not np.isfinite(c[-1]):  # each finite, their running sum past the float range
+        raise ValueError(f"nu is too large against S: the running sum of nu^T S^-1 nu passes "
+                         f"the float range (1.8e308) by sample "
+                         f"{int(np.argmax(~np.isfinite(c)))}")
     stat = c.copy()
     stat[window:] = c[window:] - c[:-window]
     return stat, m * window
@@ -144,17 +167,24 @@ class Chi2Detector(TrackedDetector):
         self._q = deque(maxlen=self.window)
 
     def update(self, t, nu, S):
-        """Feed one innovation ``nu`` (m,) with covariance ``S`` (m, m); return the flag."""
+        """Feed one innovation ``nu`` (m,) with covariance ``S`` (m, m) at time ``t`` (s, after
+        the last one fed); return the flag."""
         t = check_real("t", t)
         nu = check_finite_array("nu", nu, shape=(self.m,))
         S = check_finite_array("S", S)
         if S.size != self.m * self.m:
             raise ValueError(f"S must have shape ({self.m}, {self.m}), got shape {S.shape}")
         q, _ = _nis(nu[None, :], S.reshape(1, self.m, self.m))
+        self._advance_time(t)  # the sample is judged: its time is taken
         self._q.append(float(q[0]))
         if len(self._q) < self.window:
             return False
-        ratio = sum(self._q) / self.threshold
+        total = sum(self._q)
+        if total == float("inf"):  # each finite, their window sum past the float range
+            self._q.pop()
+            raise ValueError("nu is too large against S: the window's sum of nu^T S^-1 nu "
+                             "passes the float range (1.8e308)")
+        ratio = total / self.threshold
         return self._tracker.update(t, ratio > 1.0, ratio, "chi2")
 
 
@@ -164,7 +194,7 @@ def chi2_detect(t, nu, S, *, alpha=1e-5, window=1, holdoff=1):
     Parameters
     ----------
     t : array_like, shape (N,)
-        Sample times, s.
+        Sample times, s, strictly increasing.
     nu, S, window
         As in :func:`chi2_statistic`.
     alpha : float
@@ -189,6 +219,7 @@ def chi2_detect(t, nu, S, *, alpha=1e-5, window=1, holdoff=1):
     stat, dof = chi2_statistic(nu, S, window)
     if t.ndim != 1 or t.shape != stat.shape:
         raise ValueError(f"t must have shape ({stat.size},), got {t.shape}")
+    check_increasing("t", t)  # else an event would end before its onset
     thr = chi2_threshold(alpha, dof)
     ratio = stat / thr
     armed = np.arange(t.size) >= window - 1

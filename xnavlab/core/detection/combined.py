@@ -59,11 +59,12 @@ Robustness to a mis-modelled noise level
 from __future__ import annotations
 
 import functools
+import inspect
 import math
 
 import numpy as np
-from numba import njit
 
+from xnavlab.core.detection._cusum_scan import scan_segment
 from xnavlab.core.detection._tracked import TrackedDetector
 from xnavlab.core.detection.batch import series_lengths, wavelet_detect
 from xnavlab.core.detection.limits import MAX_SAMPLES
@@ -77,9 +78,11 @@ from xnavlab.core.distributions import chi2_cdf, chi2_isf
 from xnavlab.core.validate import (
     check_bool,
     check_choice,
+    check_evenly_spaced,
     check_finite_array,
     check_increasing,
     check_int,
+    check_keywords,
     check_real,
     check_seed,
     shown,
@@ -88,6 +91,7 @@ from xnavlab.core.validate import (
 __all__ = [
     "SHARES",
     "PARTS",
+    "EVEN_RTOL",
     "variance_reference",
     "ARL_MAX",
     "H_MIN",
@@ -105,6 +109,11 @@ SHARES = {"wavelet": 0.1, "chi2": 0.2, "cusum": 0.5, "variance": 0.2}
 
 #: The parts of the combined detector, in the order of :data:`SHARES`.
 PARTS = tuple(SHARES)
+
+#: How far a step of :func:`combined_detect`'s ``t`` may be from the median step (relative),
+#: and a given design's ``samples_per_day`` from the sampling of ``t``: 1 %, far beyond the
+#: rounding of times such as ``t0 + 3.0 * np.arange(n)``, far below a missing sample (100 %).
+EVEN_RTOL = 0.01
 
 
 def variance_reference(lam=2.0):
@@ -253,52 +262,6 @@ def cusum_threshold(arl, k, dof=0):
     return float(optimize.brentq(f, lo, hi, xtol=1e-4))
 
 
-@njit(cache=True)
-def _scan(y, scale, S0, k_mean, k_var, chi2_thr, h_mean, h_var, rows, rmax, S_end, stop):
-    """Compiled form of :meth:`InnovationMonitor._segment`.
-
-    The same operations in the same order as the array form (so the same bits): ``z = y / s``,
-    ``q = sum z^2``, running sums ``D`` of ``[z - k, -z - k, z^2 - k_v]``, their running minima
-    ``M``, ``S = D - min(-S_0, M)`` (Lindley), every statistic over its threshold. ``rows`` is
-    (N, 1 + 3m) to keep every sample's ratios, or (1, 1 + 3m) to keep only the latest (then,
-    after an alarm with ``stop``, the alarm's). Fills ``rmax`` (N,) with each sample's largest
-    ratio and ``S_end`` (3m,) with the CUSUMs of the last sample scanned. With ``stop`` the scan
-    ends at the first sample whose largest ratio exceeds 1. Returns that sample's index or -1.
-    """
-    n, m = y.shape
-    keep = rows.shape[0] == n
-    D = np.zeros(3 * m)
-    M = np.empty(3 * m)
-    z = np.empty(m)
-    first = -1
-    for i in range(n):
-        ri = i if keep else 0
-        q = 0.0
-        for c in range(m):
-            z[c] = y[i, c] / scale[c]
-            q += z[c] * z[c]                                   # chapter 9 eq. (ch9-chi2)
-        for c in range(m):
-            D[c] += z[c] - k_mean                              # S+ increments
-            D[m + c] += -z[c] - k_mean                         # S- increments
-            D[2 * m + c] += z[c] * z[c] - k_var                # variance increments
-        best = q / chi2_thr
-        rows[ri, 0] = best
-        for j in range(3 * m):
-            M[j] = D[j] if i == 0 else min(M[j], D[j])
-            S = D[j] - min(-S0[j], M[j])                       # S_n = D_n - min(-S_0, min D_j)
-            r = S / (h_mean if j < 2 * m else h_var)
-            rows[ri, 1 + j] = r
-            S_end[j] = S
-            if r > best:
-                best = r
-        rmax[i] = best
-        if first < 0 and best > 1.0:
-            first = i
-            if stop:
-                return i
-    return first
-
-
 class CombinedDesign:
     """The combined detector's thresholds for one subsystem, from its false-alarm budget.
 
@@ -403,10 +366,13 @@ class InnovationMonitor(TrackedDetector):
         [10, MAX_SAMPLES].
     scale_every : int, optional
         Samples between scale updates (default half a day, at least 20), in [1, MAX_SAMPLES].
-    prior_samples : int
+    prior_samples : int, optional
         Weight of the model's scale 1 (default 500 samples), in [0, MAX_SAMPLES].
     holdoff : int
         Alarm-free samples before an event closes (default 1).
+
+    ``scale_samples``, ``scale_every`` and ``prior_samples`` set the adaptive scale: with
+    ``adaptive=False`` they are unused, and refused.
 
     Examples
     --------
@@ -420,13 +386,21 @@ class InnovationMonitor(TrackedDetector):
     """
 
     def __init__(self, design, *, adaptive=True, scale_samples=None, scale_every=None,
-                 prior_samples=500, holdoff=1):
+                 prior_samples=None, holdoff=1):
         if not isinstance(design, CombinedDesign):
-            raise ValueError("design must be a CombinedDesign")
+            raise ValueError(f"design must be a CombinedDesign, got {type(design).__name__} "
+                             f"{shown(design)}")
         self.design = design
         self.m = design.m
         n_day = design.samples_per_day
         self.adaptive = check_bool("adaptive", adaptive)
+        if not self.adaptive:  # they set the adaptive scale only
+            for key, value in (("scale_samples", scale_samples), ("scale_every", scale_every),
+                               ("prior_samples", prior_samples)):
+                if value is not None:
+                    raise ValueError(f"{key} = {shown(value)} is unused with adaptive=False (it "
+                                     f"sets the adaptive noise scale): leave it out")
+        prior_samples = 500 if prior_samples is None else prior_samples
         self.scale_samples = check_int("scale_samples", max(2000, round(n_day))
                                        if scale_samples is None else scale_samples, 10, MAX_SAMPLES)
         self.scale_every = check_int("scale_every", max(20, round(n_day / 2))
@@ -442,6 +416,7 @@ class InnovationMonitor(TrackedDetector):
         self._pos = 0             # next ring row
         self._n_fed = 0           # healthy samples fed (the scale grid)
         self._next_update = self.next_scale_update()
+        self._t_last = -math.inf  # the latest sample time fed (times must increase)
         self.reset_statistics()
 
     def reset_statistics(self):
@@ -465,7 +440,8 @@ class InnovationMonitor(TrackedDetector):
         tr = self._tracker
         return {"S": self.S.copy(), "scale": self.scale.copy(), "idx": idx,
                 "rows": self._ring[idx].copy(), "n_ring": self._n_ring, "pos": self._pos,
-                "n_fed": self._n_fed, "next": self._next_update, "tracker": tr.snapshot()}
+                "n_fed": self._n_fed, "next": self._next_update, "tracker": tr.snapshot(),
+                "t_last": self._t_last}
 
     def restore(self, state):
         """Return to a :meth:`snapshot` (at most its ``max_rows`` samples fed since)."""
@@ -476,6 +452,7 @@ class InnovationMonitor(TrackedDetector):
         self._ring[state["idx"]] = state["rows"]
         self._n_ring, self._pos, self._n_fed = state["n_ring"], state["pos"], state["n_fed"]
         self._next_update = state["next"]
+        self._t_last = state["t_last"]
         self._tracker.restore(state["tracker"])
 
     @property
@@ -536,25 +513,29 @@ class InnovationMonitor(TrackedDetector):
         return ratio, S
 
     def _scan(self, y):
-        """:func:`_scan` of a segment up to its first alarm: (alarm index or -1, rmax up to it,
-        its ratios, final S)."""
+        """:func:`~xnavlab.core.detection._cusum_scan.scan_segment` of a segment up to its
+        first alarm: (alarm index or -1, rmax up to it, its ratios, final S)."""
         d, n = self.design, y.shape[0]
         rmax, row, S_end = np.empty(n), np.empty((1, 1 + 3 * self.m)), np.empty(3 * self.m)
-        a = _scan(np.ascontiguousarray(y), self.scale, self.S, d.k_mean, d.k_var, d.chi2_threshold,
-                  d.h_mean, d.h_var, row, rmax, S_end, True)
+        a = scan_segment(np.ascontiguousarray(y), self.scale, self.S, d.k_mean, d.k_var,
+                         d.chi2_threshold, d.h_mean, d.h_var, row, rmax, S_end, True)
         return a, rmax[:a + 1] if a >= 0 else rmax, row[0], S_end
 
     def _scan_rows(self, y, rows):
-        """:func:`_scan` of a whole segment, its ratios written into ``rows``: (alarm index or
-        -1, rmax, the alarm's ratios or None, final S)."""
+        """:func:`~xnavlab.core.detection._cusum_scan.scan_segment` of a whole segment, its
+        ratios written into ``rows``: (alarm index or -1, rmax, the alarm's ratios or None,
+        final S)."""
         d, n = self.design, y.shape[0]
         rmax, S_end = np.empty(n), np.empty(3 * self.m)
-        a = _scan(np.ascontiguousarray(y), self.scale, self.S, d.k_mean, d.k_var,
-                  d.chi2_threshold, d.h_mean, d.h_var, rows, rmax, S_end, False)
+        a = scan_segment(np.ascontiguousarray(y), self.scale, self.S, d.k_mean, d.k_var,
+                         d.chi2_threshold, d.h_mean, d.h_var, rows, rmax, S_end, False)
         return a, rmax, (rows[a] if a >= 0 else None), S_end
 
     def process(self, t, y, *, stop=True, record=None):
         """Feed whitened innovations ``y`` (N, m) at times ``t`` (N,) s, in order.
+
+        ``t`` must increase, from the last sample fed before (an earlier time is refused; a
+        :meth:`restore` returns to the snapshot's last time).
 
         Parameters
         ----------
@@ -571,9 +552,16 @@ class InnovationMonitor(TrackedDetector):
         """
         t = check_finite_array("t", t)
         y = check_finite_array("y", y)
-        if t.ndim != 1 or y.size != t.size * self.m:
-            raise ValueError(f"t must have shape (n,) and y (n, {self.m}), got {t.shape} and "
-                             f"{y.shape}")
+        if t.ndim != 1:
+            raise ValueError(f"t must be a 1-D array of sample times, got shape {t.shape}")
+        m = self.m
+        if y.shape != (t.size, m) and not (m == 1 and y.shape == (t.size,)):
+            raise ValueError(f"y must have shape (n, {m}) with n = len(t) = {t.size} and m = "
+                             f"the design's m, got shape {y.shape}")
+        check_increasing("t", t)
+        if t.size and not t[0] > self._t_last:
+            raise ValueError(f"t must increase from one call to the next (sample times, s), got "
+                             f"t[0] = {t[0]:g} after the last sample fed, at {self._t_last:g}")
         y = y.reshape(t.size, self.m)
         first = -1
         i = 0
@@ -604,6 +592,8 @@ class InnovationMonitor(TrackedDetector):
             self.S = S_end.copy()
             self._feed_healthy(t[i:j], y[i:j], rmax)
             i = j
+        if n:  # the last sample fed (stop: the first alarm's; the rest was not fed)
+            self._t_last = float(t[first if stop and first >= 0 else n - 1])
         if record is not None:
             record["ratio"] = ratios
         return first
@@ -678,23 +668,28 @@ def combined_detect(t, y, *, x=None, design=None, rate_per_day=1.0, adaptive=Tru
     Parameters
     ----------
     t : array_like, shape (N,)
-        Sample times, s, evenly spaced.
+        Sample times, s, increasing and evenly spaced: each step within :data:`EVEN_RTOL` of
+        the median step ``dt`` (a gap, a missing sample, is refused).
     y : array_like, shape (N, m) or (N,)
         Whitened innovations (unit white noise when healthy under the model).
     x : array_like, shape (N,), optional
         The raw series the wavelet watches (default: ``y[:, 0]``).
     design : CombinedDesign, optional
-        Default from ``rate_per_day`` and the sampling of ``t``.
+        Default from ``rate_per_day`` and the sampling of ``t``; a design given must be for
+        that sampling (its ``samples_per_day`` within :data:`EVEN_RTOL` of ``86400 / dt``) and
+        for the ``m`` columns of ``y``.
     adaptive : bool
         Adaptive noise scale of the innovation parts.
     wavelet_kw : dict, optional
-        Passed to :func:`~.batch.wavelet_detect` (``level``, ``var_window``, ``sigma``...).
+        Passed to :func:`~.batch.wavelet_detect` (``level``, ``var_window``, ``sigma``...);
+        not ``pfa`` (the design's) nor ``train`` (this function's own).
     train : int, optional
         Wavelet training samples at the start (default: the series itself).
     holdoff : int, optional
         Hold-off grouping the combined alarms into events (default the wavelet's).
     **monitor_kw
-        Passed to :class:`InnovationMonitor`.
+        Passed to :class:`InnovationMonitor` (``scale_samples``, ``scale_every``,
+        ``prior_samples``); another keyword is refused, naming it.
 
     Returns
     -------
@@ -723,14 +718,24 @@ def combined_detect(t, y, *, x=None, design=None, rate_per_day=1.0, adaptive=Tru
     if t.size < 400:
         raise ValueError(f"t must hold at least 400 samples (and y as many), got {t.size}")
     check_increasing("t", t)  # else a sampling rate from the median step, misnamed
+    check_evenly_spaced("t", t, EVEN_RTOL)  # the design's rate and the wavelet assume one step
     dt = float(np.median(np.diff(t)))
     if design is None:
         design = CombinedDesign(86400.0 / dt, y.shape[1], rate_per_day)
-    elif rate_per_day != 1.0:  # a rate beside a design would go unused
-        raise ValueError(f"rate_per_day = {shown(rate_per_day)} is unused with a design (its own "
-                         f"rate is {design.rate_per_day:g}): give one of them")
+    else:
+        _check_design(design, dt, y.shape[1])
+        if rate_per_day != 1.0:  # a rate beside a design would go unused
+            raise ValueError(f"rate_per_day = {shown(rate_per_day)} is unused with a design (its "
+                             f"own rate is {design.rate_per_day:g}): give one of them")
     x = y[:, 0] if x is None else check_finite_array("x", x, shape=(t.size,))
-    wkw = dict(wavelet_kw or {})
+    wkw = check_keywords("combined_detect", wavelet_kw, wavelet_detect, name="wavelet_kw",
+                         set_here={"t": "its t", "x": "its x (default y[:, 0])",
+                                   "pfa": "from the design's pfa_wavelet",
+                                   "train": "its own train"})
+    # the rest goes to InnovationMonitor, whose design, adaptive and holdoff are taken above
+    own = [k for k in inspect.signature(combined_detect).parameters if k not in ("t", "y", "monitor_kw")]
+    monitor_kw = check_keywords("combined_detect", monitor_kw,
+                                own + ["scale_samples", "scale_every", "prior_samples"])
     wav = wavelet_detect(t, x, pfa=design.pfa_wavelet, train=train, **wkw)
     mon = InnovationMonitor(design, adaptive=adaptive, **monitor_kw)
     rec = {}
@@ -751,6 +756,22 @@ def combined_detect(t, y, *, x=None, design=None, rate_per_day=1.0, adaptive=Tru
     return Detection(t, best, alarm, faulty, wav.armed, events,
                      data={"first": first, "parts": parts, "ratio": ratio, "design": design,
                            "wavelet": wav, "scale": mon.scale.copy()})
+
+
+def _check_design(design, dt, m):
+    """``design`` (given to :func:`combined_detect`) as a CombinedDesign for samples ``dt`` s
+    apart (within :data:`EVEN_RTOL`) and ``m`` components, else one ValueError naming it."""
+    if not isinstance(design, CombinedDesign):
+        raise ValueError(f"design must be a CombinedDesign (or None: one from rate_per_day and "
+                         f"the sampling of t), got {type(design).__name__} {shown(design)}")
+    rate = 86400.0 / dt
+    if abs(design.samples_per_day - rate) > EVEN_RTOL * rate:
+        raise ValueError(f"design must be for the sampling of t, {rate:.6g} samples a day (one "
+                         f"every {dt:.6g} s), got {design!r}, {design.samples_per_day:.6g} a day "
+                         f"(one every {86400.0 / design.samples_per_day:.6g} s): its thresholds "
+                         f"would give another false-alarm rate")
+    if design.m != m:
+        raise ValueError(f"design must have m = {m} (the columns of y), got {design!r}")
 
 
 def plot_combined_parts(drift_sigma_per_hour=3.0, step_sigma=0.0, noise_ratio=1.0,

@@ -88,7 +88,14 @@ from xnavlab.core.detection._tracked import TrackedDetector
 from xnavlab.core.detection._wavelets import orthogonal_wavelet
 from xnavlab.core.distributions import chi2_isf, chi2_ppf, norm_isf, norm_sf
 from xnavlab.core.faults import MAX_SIZE
-from xnavlab.core.validate import check_finite_array, check_int, check_real, check_text, shown
+from xnavlab.core.validate import (
+    check_finite_array,
+    check_increasing,
+    check_int,
+    check_real,
+    check_text,
+    shown,
+)
 
 __all__ = [
     "MAD_SCALE",
@@ -419,13 +426,13 @@ def events_from_alarms(t, alarm, ratio, holdoff, tests=None):
     Parameters
     ----------
     t : array_like, shape (N,)
-        Sample times, s.
+        Sample times, s, strictly increasing.
     alarm : array_like of bool, shape (N,)
     ratio : array_like, shape (N,)
         Statistic / threshold per sample (for ``Event.peak``).
     holdoff : int
         Samples without alarm after which the detector clears.
-    tests : sequence of str, optional
+    tests : sequence of str, shape (N,), optional
         Name of the test with the largest ratio at each sample.
 
     Returns
@@ -450,8 +457,17 @@ def events_from_alarms(t, alarm, ratio, holdoff, tests=None):
     if ratio.ndim != 1:
         raise ValueError(f"ratio must be a 1-D array (one per sample), got shape {ratio.shape}")
     _one_length(t=t.size, alarm=alarm.size, ratio=ratio.size)
+    check_increasing("t", t)  # else an event would end before its onset
     holdoff = _check_holdoff(holdoff)
     n = t.size
+    if tests is not None:
+        if isinstance(tests, str | bytes) or not hasattr(tests, "__getitem__") or \
+                not hasattr(tests, "__len__"):
+            raise ValueError(f"tests must be a sequence of test names (one per sample), got "
+                             f"{shown(tests)}")
+        if len(tests) != n:
+            raise ValueError(f"tests must have length {n} (one name per sample, as t), got "
+                             f"{len(tests)}")
     faulty = np.zeros(n, dtype=bool)
     idx = np.flatnonzero(alarm)
     if idx.size == 0:
@@ -611,16 +627,25 @@ class EventTracker:
         self.faulty = False
         self._open = None          # [onset, end, peak, test]
         self._quiet = 0
+        self._t_last = -math.inf   # the latest time fed: times must not go back
+
+    def _not_back(self, t, what):
+        if t < self._t_last:  # an event would end (or clear) before its onset
+            raise ValueError(f"t must not go back from one {what} to the next (sample times, "
+                             f"s), got t = {t:g} after t = {self._t_last:g}")
 
     def update(self, t, alarm, ratio=0.0, test=""):
-        """Advance one sample; return whether the detector flags the sensor after it."""
+        """Advance one sample (``t`` not before the last one fed); return whether the detector
+        flags the sensor after it."""
         t = check_real("t", t)
+        self._not_back(t, "update")
         if isinstance(ratio, complex) or ratio != ratio:  # complex or NaN
             raise ValueError(f"ratio must be a real number, got {ratio!r}")
         if alarm is not True and alarm is not False and not (
                 isinstance(alarm, int | float | np.bool_ | np.integer | np.floating)
                 and alarm in (0, 1)):
             raise ValueError(f"alarm must be true or false, got {alarm!r}")
+        self._t_last = t
         if alarm:
             if self._open is None:
                 self._open = [t, t, ratio, test]
@@ -642,7 +667,7 @@ class EventTracker:
     def snapshot(self):
         """The tracker's state, for :meth:`restore`."""
         return (list(self.events), None if self._open is None else list(self._open),
-                self._quiet, self.faulty)
+                self._quiet, self.faulty, self._t_last)
 
     def restore(self, state):
         """Return to a :meth:`snapshot`.
@@ -654,13 +679,14 @@ class EventTracker:
         True
         False
         """
-        events, open_, self._quiet, self.faulty = state
+        events, open_, self._quiet, self.faulty, self._t_last = state
         self.events = list(events)
         self._open = None if open_ is None else list(open_)
 
     def close(self, t=None):
-        """Close the open event now (``cleared = t``, default its last alarm), e.g. when the
-        watched sensor is re-admitted after an isolation; no-op when none is open.
+        """Close the open event now (``cleared = t``, not before the last time fed; default its
+        last alarm), e.g. when the watched sensor is re-admitted after an isolation; no-op when
+        none is open.
 
         Examples
         --------
@@ -670,6 +696,7 @@ class EventTracker:
         """
         if t is not None:
             t = check_real("t", t)
+            self._not_back(t, "update or close")
         if self._open is None:
             return
         onset, end, peak, tst = self._open
@@ -795,18 +822,20 @@ class WaveletDetector(TrackedDetector):
         self._count = 0
         self._z1 = deque(maxlen=max(1, 2 * self.var_window - 1))
         self._tracker = EventTracker(self.holdoff)
+        self._t_last = -math.inf
 
     def details(self):
         """Current detail coefficients ``d_j[n]``, shape (level,), measurement unit."""
         return self._G @ self._buf
 
     def update(self, t, x):
-        """Feed one measurement ``x`` taken at time ``t`` (s); return whether the sensor is flagged.
+        """Feed one measurement ``x`` taken at time ``t`` (s, after the last one fed); return
+        whether the sensor is flagged.
 
         Before :meth:`train` (or ``sigma``) and until the window is full, it returns False.
         """
         x = check_real("x", x)
-        t = check_real("t", t)
+        self._advance_time(check_real("t", t))
         if self._x0 is None:
             self._x0 = x
         self._buf[1:] = self._buf[:-1]

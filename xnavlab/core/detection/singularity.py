@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pywt
 
-from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real
+from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, shown
 
 __all__ = [
     "modulus_maxima",
@@ -64,11 +64,11 @@ def lipschitz_exponent(w, scales, index, cone=None):
     w : array_like, shape (n_scales, N)
         Coefficients at the given scales (e.g. centred undecimated details, or :func:`cwt`).
     scales : array_like, shape (n_scales,)
-        Scales in samples (``2^j`` for dyadic details).
+        Scales in samples (``2^j`` for dyadic details), positive, at least two distinct.
     index : int
         Sample of the singularity.
     cone : array_like, shape (n_scales,), optional
-        Half-width of the search window per scale, samples; default ``3 * scales``.
+        Half-width of the search window per scale, samples, > 0; default ``3 * scales``.
 
     Returns
     -------
@@ -87,8 +87,14 @@ def lipschitz_exponent(w, scales, index, cone=None):
         raise ValueError(f"w must have shape (n_scales, N) with n_scales >= 2 and N >= 1, got "
                          f"shape {w.shape}")
     scales = _scales(scales, w.shape[0])
+    if np.unique(scales).size < 2:  # the slope over log2(scale) needs two distinct scales
+        raise ValueError(f"scales must hold at least two distinct scales (the exponent is a "
+                         f"slope over log2(scale)), got {shown(scales.tolist())}")
     index = check_int("index", index, 0, w.shape[1] - 1)
     cone = 3.0 * scales if cone is None else check_finite_array("cone", cone, shape=(w.shape[0],))
+    if np.any(cone <= 0.0):  # a negative half-width leaves no sample to search
+        raise ValueError(f"cone must be positive half-widths (samples), one per scale, got "
+                         f"{float(cone.min()):g}")
     peaks = []
     for row, c in zip(w, cone, strict=True):
         lo, hi = max(0, index - int(math.ceil(c))), min(w.shape[1], index + int(math.ceil(c)) + 1)
