@@ -135,3 +135,12 @@ def test_detectors_run_refuses_no_detector(detectors, words):
     """Review 35j (5) 35: detectors=() returned {}."""
     with pytest.raises(ValueError, match=words):
         mc.detectors_run("step", "uv", 0, seed=0, detectors=detectors)
+
+
+def test_a_short_consistency_run_records_no_closer_than_its_measurements():
+    """Review 35j follow-up: under 0.00167 days the campaign's record_dt (span / 48) fell below
+    the 3-s measurements, which MarsScenario now refuses, naming a record_dt the user never set."""
+    from xnavlab.mars.studies import campaigns
+
+    r = campaigns.consistency_run(seed=0, days=0.001, subsystems=("uv", "cns"))
+    assert len(r["nees_bins"]) == campaigns.NEES_BINS

@@ -111,7 +111,8 @@ def consistency_run(*, seed, days=1.0, q_acc=scenarios.DEFAULT_Q_ACC,
     days = _consistency_days(days, subsystems)
     seed = check_seed("seed", seed)
     span = days * 86400.0
-    record_dt = min(60.0, span / (4 * NEES_BINS))       # at least four records a bin
+    # at least four records a bin, and no closer than the measurements (a record an epoch)
+    record_dt = max(_shortest_dt(subsystems), min(60.0, span / (4 * NEES_BINS)))
     fields = _check_fields(fields)
     sc = scenarios.MarsScenario(days=days, seed=seed, init_error="random", record_dt=record_dt,
                                 q_acc=q_acc, subsystems=tuple(subsystems),
@@ -275,13 +276,18 @@ def _consistency_days(days, subsystems):
     """``days`` in (0, 30] and long enough that each of the NEES_BINS bins holds a measurement
     (the shortest interval of the subsystems, at the scenario's default rates), else one line."""
     days = check_real("days", days, *DAYS["consistency"], lo_open=True)
-    dt = {"xnav": 500.0, "uv": 3.0, "cns": 3.0}
-    shortest = min(dt.get(s, 3.0) for s in subsystems)
+    shortest = _shortest_dt(subsystems)
     if days * 86400.0 < NEES_BINS * shortest:
         raise ValueError(f"days must be at least {NEES_BINS * shortest / 86400.0:.3g} for the "
                          f"consistency campaign: each of its {NEES_BINS} NEES bins needs a "
                          f"measurement (one every {shortest:g} s), got {days:g}")
     return days
+
+
+def _shortest_dt(subsystems):
+    """The shortest measurement interval of ``subsystems`` at the scenario's default rates, s."""
+    dt = {"xnav": 500.0, "uv": 3.0, "cns": 3.0}
+    return min(dt.get(s, 3.0) for s in subsystems)
 
 
 #: MarsScenario fields a consistency campaign sets itself (a scenario's own are not used).
