@@ -376,3 +376,11 @@ def test_the_monitor_refuses_time_going_back():
     with pytest.raises(ValueError, match=r"^t must increase"):
         mon.update(1497.0, y[0])
     assert mon.update(1500.0, y[0]) in (True, False)
+
+
+def test_the_monitor_restore_refuses_a_state_that_is_no_snapshot():
+    """Review 35j (1), the class: a state that is no snapshot was a KeyError."""
+    mon = InnovationMonitor(CombinedDesign(28800.0, 1))
+    with pytest.raises(ValueError, match=r"^state must be a snapshot\(\) of this monitor"):
+        mon.restore({"a": 1})
+    mon.restore(mon.snapshot())

@@ -217,3 +217,15 @@ def test_detection_table_and_run_tasks_name_a_keyword_passed_on():
 
 def _echo(seed, **kw):
     return dict(kw, seed=seed)
+
+
+def test_plot_roc_names_curves_that_are_no_dict_of_pairs():
+    """Review 35j (1), the class (an object parameter not checked): a list of curves was an
+    AttributeError, a label without a (pfa, pd) pair a TypeError."""
+    for bad, msg in (([1, 2], r"^curves must be a dict of label -> \(pfa, pd\)"),
+                     ({}, r"^curves must be a dict"),
+                     ({"a": 1}, r"^curves\['a'\] must be a pair \(pfa, pd\), got 1"),
+                     ({"a": ([0.0, 0.5], [1.0])}, r"^curves\['a'\] must be two equally long 1-D"),
+                     ({"a": ([0.0, 2.0], [1.0, 1.0])}, r"probabilities in \[0, 1\]")):
+        with pytest.raises(ValueError, match=msg):
+            mc.plot_roc(bad)

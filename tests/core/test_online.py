@@ -216,3 +216,9 @@ def test_online_detectors_refuse_time_going_back():
     tr.update(9.0, False)
     tr.restore(snap)                              # back to t = 4: 5 is after it
     tr.update(5.0, False)
+
+
+def test_restore_refuses_a_state_that_is_no_snapshot():
+    """Review 35j (1), the class: a state that is no snapshot was Python's unpacking message."""
+    with pytest.raises(ValueError, match=r"^state must be a snapshot\(\) of this tracker"):
+        D.EventTracker(2).restore((1, 2))

@@ -112,3 +112,16 @@ _T = 3.0 * np.arange(600)
 def test_an_edge_input_is_refused_naming_it(call, match):
     with pytest.raises(ValueError, match=match):
         call()
+
+
+def test_plot_fault_detection_names_a_misspelt_detector_keyword():
+    """Review 35j (1) 2-4, the class: **detect went to wavelet_detect unchecked (a TypeError);
+    its t and x are set here."""
+    t = 3.0 * np.arange(3000)
+    clean = np.random.default_rng(0).normal(size=t.size)
+    with pytest.raises(ValueError, match=r"^levle is not a keyword of plot_fault_detection or of "
+                                         r"wavelet_detect.*\(did you mean level\?\)"):
+        D.plot_fault_detection(t, clean, [], levle=3)
+    with pytest.raises(ValueError, match=r"^x is set by plot_fault_detection \(its clean, the faults "
+                                         r"injected\)"):
+        D.plot_fault_detection(t, clean, [], x=clean)

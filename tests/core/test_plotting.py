@@ -92,3 +92,13 @@ def test_a_table_refuses_a_non_finite_cell_naming_its_row_and_column(bad):
         with pytest.raises(ValueError, match=r"rows\[1\]\['b'\] is .*inf|rows\[1\]\['b'\] is nan"):
             table([[1, 2.0], [3, bad]])
     assert "-" in html_table(["a"], [[None]])   # a missing value is None
+
+
+def test_figure_names_a_misspelt_subplots_keyword():
+    """Review 35j (1) 2-4, the class: figure's **kwargs went to Figure.subplots unchecked."""
+    from xnavlab.core.plotting import figure
+
+    with pytest.raises(ValueError, match=r"^sharx is not a keyword of figure or of FigureBase.subplots, "
+                                         r".*\(did you mean sharex\?\)"):
+        figure(1, 2, sharx=True)
+    assert figure(1, 2, sharex=True)[1].shape == (2,)

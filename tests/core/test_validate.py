@@ -294,10 +294,10 @@ def test_check_keywords_names_a_keyword_passed_on():
     assert check_keywords("f", {"level": 3}, target) == {"level": 3}
     assert check_keywords("f", {"whatever": 3}, open_target) == {"whatever": 3}
     assert check_keywords("f", {"whatever": 3}, max) == {"whatever": 3}   # no signature to read
-    with pytest.raises(ValueError, match=r"^whatever is not a keyword of f or of len, .* len's are none$"):
+    with pytest.raises(ValueError, match=r"^whatever is not a keyword of f or of len, .* of len are none$"):
         check_keywords("f", {"whatever": 3}, len)                   # positional only
     with pytest.raises(ValueError, match=r"^levle is not a keyword of f or of target, which f passes "
-                                         r"its other keywords on to: target's are t, x, level, pfa "
+                                         r"its other keywords on to: those of target are t, x, level, pfa "
                                          r"\(did you mean level\?\)"):
         check_keywords("f", {"levle": 3}, target)
     with pytest.raises(ValueError, match=r"^f_kw\['zz'\] is not a keyword of target \(f passes f_kw "

@@ -52,6 +52,7 @@ from xnavlab.core.validate import (
     check_keywords,
     check_real,
     check_seed,
+    check_text,
     shown,
 )
 
@@ -377,12 +378,27 @@ def roc_curve(results, detector, thresholds=None):
 
 
 def plot_roc(curves, title=""):
-    """ROC curves: ``curves`` maps a label to ``(pfa, pd)``; returns a Figure."""
+    """ROC curves: ``curves`` maps a label to ``(pfa, pd)`` (two equally long 1-D arrays of
+    probabilities, as :func:`roc_curve` gives), at least one; returns a Figure."""
     from matplotlib.figure import Figure
 
+    if not isinstance(curves, dict) or not curves:
+        raise ValueError(f"curves must be a dict of label -> (pfa, pd), at least one, got "
+                         f"{shown(curves)}")
+    pairs = {}
+    for label, pair in curves.items():
+        if not isinstance(pair, tuple | list) or len(pair) != 2:
+            raise ValueError(f"curves[{label!r}] must be a pair (pfa, pd), got {shown(pair)}")
+        pf = check_finite_array(f"curves[{label!r}] pfa", pair[0])
+        pd = check_finite_array(f"curves[{label!r}] pd", pair[1])
+        if pf.ndim != 1 or pd.shape != pf.shape or np.any((pf < 0) | (pf > 1) | (pd < 0) | (pd > 1)):
+            raise ValueError(f"curves[{label!r}] must be two equally long 1-D arrays of "
+                             f"probabilities in [0, 1], got shapes {pf.shape} and {pd.shape}")
+        pairs[str(label)] = (pf, pd)
+    title = check_text("title", title)
     fig = Figure(figsize=(5.0, 4.0), layout="constrained")
     ax = fig.add_subplot()
-    for label, (pf, pd) in curves.items():
+    for label, (pf, pd) in pairs.items():
         ax.plot(pf, pd, lw=1.2, label=label, drawstyle="steps-post")
     ax.plot([0, 1], [0, 1], color="0.7", lw=0.6, ls=":")
     ax.set(xlabel="false alarm probability per window", ylabel="probability of detection",

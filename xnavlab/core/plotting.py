@@ -17,7 +17,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from xnavlab.core.validate import check_int
+from xnavlab.core.validate import check_int, check_keywords
 
 __all__ = ["figure", "sparse_log_minors", "LOG_MINOR_SUBS", "markdown_table", "html_table",
            "SafeHTML", "format_cell", "in_place", "updater", "UPDATE_ATTR"]
@@ -28,6 +28,9 @@ LOG_MINOR_SUBS = (2.0, 5.0)
 
 def figure(*args, figsize=(6.0, 3.5), **kwargs):
     """A figure for a reproduction's PNG: like ``pyplot.subplots`` but outside pyplot.
+
+    ``args`` and ``kwargs`` are ``Figure.subplots``' (``nrows``, ``ncols``, ``sharex``, ...);
+    another keyword is refused, naming it.
 
     A bare :class:`matplotlib.figure.Figure` needs no backend, so writing figures never
     switches the backend of a running notebook kernel and leaves no open pyplot figure.
@@ -44,6 +47,7 @@ def figure(*args, figsize=(6.0, 3.5), **kwargs):
     """
     from matplotlib.figure import Figure
 
+    kwargs = check_keywords("figure", kwargs, Figure.subplots)  # named here, not by matplotlib
     fig = Figure(figsize=figsize)
     return fig, fig.subplots(*args, **kwargs)
 

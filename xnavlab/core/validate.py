@@ -418,7 +418,7 @@ def check_keywords(caller, given, target, *, name=None, set_here=None):
     >>> check_keywords("f", {"levle": 3}, target)  # doctest: +ELLIPSIS
     Traceback (most recent call last):
     ...
-    ValueError: levle is not a keyword of f or of target, ...: target's are a, b, level (did you ...
+    ValueError: levle is not a keyword of f or of target, ...: those of target are a, b, level (did ...
     >>> check_keywords("f", {"a": 3}, target, name="f_kw", set_here={"a": "from its x"})
     Traceback (most recent call last):
     ...
@@ -446,7 +446,8 @@ def check_keywords(caller, given, target, *, name=None, set_here=None):
         if any(p.kind is p.VAR_KEYWORD for p in params):
             valid = None
         else:
-            valid = [p.name for p in params if p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)]
+            valid = [p.name for p in params if p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)
+                     and p.name != "self"]
     else:
         valid = list(target)
     for key in given:
@@ -457,13 +458,15 @@ def check_keywords(caller, given, target, *, name=None, set_here=None):
             ok = [v for v in valid if v not in set_here]
             near = difflib.get_close_matches(key, ok, n=1)
             hint = f" (did you mean {near[0]}?)" if near else ""
-            to = getattr(target, "__name__", None) if callable(target) else None
+            to = getattr(target, "__qualname__", None) if callable(target) else None
+            if to is not None and "<" in to:  # a local function: its own name
+                to = target.__name__
             if to is None:
                 what = f"a keyword {caller} takes{'' if name is None else ' in ' + name}: the " \
                        f"valid ones are"
             elif name is None:
                 what = f"a keyword of {caller} or of {to}, which {caller} passes its other " \
-                       f"keywords on to: {to}'s are"
+                       f"keywords on to: those of {to} are"
             else:
                 what = f"a keyword of {to} ({caller} passes {name} on to it): the valid ones are"
             raise ValueError(f"{label} is not {what} {', '.join(ok) or 'none'}{hint}")

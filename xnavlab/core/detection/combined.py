@@ -445,6 +445,9 @@ class InnovationMonitor(TrackedDetector):
 
     def restore(self, state):
         """Return to a :meth:`snapshot` (at most its ``max_rows`` samples fed since)."""
+        keys = {"S", "scale", "idx", "rows", "n_ring", "pos", "n_fed", "next", "tracker", "t_last"}
+        if not isinstance(state, dict) or set(state) != keys:
+            raise ValueError(f"state must be a snapshot() of this monitor, got {shown(state)}")
         if self._n_fed - state["n_fed"] > state["idx"].size:
             raise ValueError("restore: more samples were fed since the snapshot than its max_rows")
         self.S = state["S"].copy()

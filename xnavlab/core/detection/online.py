@@ -679,6 +679,8 @@ class EventTracker:
         True
         False
         """
+        if not isinstance(state, tuple) or len(state) != 5:
+            raise ValueError(f"state must be a snapshot() of this tracker, got {shown(state)}")
         events, open_, self._quiet, self.faulty, self._t_last = state
         self.events = list(events)
         self._open = None if open_ is None else list(open_)

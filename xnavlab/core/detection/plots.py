@@ -11,7 +11,13 @@ import numpy as np
 from xnavlab.core.detection.batch import series_lengths, wavelet_detect
 from xnavlab.core.detection.online import Detection
 from xnavlab.core.faults import Fault, check_faults, inject
-from xnavlab.core.validate import check_finite_array, check_int, check_real, check_text
+from xnavlab.core.validate import (
+    check_finite_array,
+    check_int,
+    check_keywords,
+    check_real,
+    check_text,
+)
 
 __all__ = [
     "plot_detection",
@@ -123,7 +129,8 @@ def plot_fault_detection(t, clean, faults, *, sensor="uv", title="", zoom_h=None
     zoom_h : (float, float), optional
         Time window shown, hours.
     **detect
-        Keyword arguments of :func:`~.batch.wavelet_detect` (``level``, ``pfa``, ``train``, ...).
+        Keyword arguments of :func:`~.batch.wavelet_detect` (``level``, ``pfa``, ``train``, ...);
+        another keyword is refused, naming it.
 
     Returns
     -------
@@ -147,6 +154,8 @@ def plot_fault_detection(t, clean, faults, *, sensor="uv", title="", zoom_h=None
     faults = check_faults("faults", faults)
     sensor = check_text("sensor", sensor)
     title = check_text("title", title)
+    detect = check_keywords("plot_fault_detection", detect, wavelet_detect, set_here={
+        "t": "its t", "x": "its clean, the faults injected"})
     res, x, title = _fault_detection(t, clean, faults, sensor, title, detect)
     return plot_detection(res, x, [f for f in faults if f.sensor == sensor], title=title,
                           zoom_h=zoom_h)
