@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import re
 import sys
 import time
 from pathlib import Path
@@ -157,10 +156,6 @@ def _check_fault_backend(args, opts, det):
 
 
 #: check_schedule's words for a run too short for the wavelets' training (train_days left out).
-_SHORT = re.compile(r"days = (\S+) (is too short .*): run at least (\S+) days, or give "
-                    r"train_days >= (\S+)")
-
-
 def _check_schedule(args, sc, det):
     """The run's check of its faults and training span
     (:func:`xnavlab.mars.faults.schedules.check_schedule`) before any run: a fault's own problem
@@ -174,17 +169,17 @@ def _check_schedule(args, sc, det):
     try:
         schedules.check_schedule(faults, sc, det["name"], det["train_days"],
                                  paper=spec.strip() == "paper")
+    except schedules.RunTooShort as exc:   # train_days left out, min(1, days / 2): the length
+        days, why = f"{exc.days:g}", exc.why
+        need, train = f"{exc.need_days:g}", f"{exc.need_train_days:g}"
+        if args.days is None and args.scenario_file is not None:
+            raise ValueError(f"scenario file {args.scenario_file!r}: [run] days = {days} "
+                             f"{why}: make it at least {need}, or set [detector] train_days "
+                             f">= {train}") from None
+        raise ValueError(f"--days {args.days if args.days is not None else days} {why}: run "
+                         f"at least --days {need} (or set [detector] train_days >= {train} "
+                         f"in a --scenario file)") from None
     except ValueError as exc:
-        short = _SHORT.fullmatch(str(exc))
-        if short is not None:   # train_days left out, min(1, days / 2): the run's length
-            days, why, need, train = short.groups()
-            if args.days is None and args.scenario_file is not None:
-                raise ValueError(f"scenario file {args.scenario_file!r}: [run] days = {days} "
-                                 f"{why}: make it at least {need}, or set [detector] train_days "
-                                 f">= {train}") from None
-            raise ValueError(f"--days {args.days if args.days is not None else days} {why}: run "
-                             f"at least --days {need} (or set [detector] train_days >= {train} "
-                             f"in a --scenario file)") from None
         if str(exc).startswith("train_days") and args.scenario_file is not None:
             raise ValueError(f"scenario file {args.scenario_file!r}: [detector] {exc}") from None
         raise

@@ -58,6 +58,7 @@ __all__ = [
     "paper_schedule",
     "parse_faults",
     "check_schedule",
+    "RunTooShort",
     "TRAIN_SAMPLES",
     "scoring_span",
     "score_faults",
@@ -355,11 +356,36 @@ def _check_training(scenario, detector, train_days):
                              f"{n} samples to train on; it needs at least {TRAIN_SAMPLES}: give "
                              f"train_days >= {_up(need):g} (and days above it)")
         # the suggestions rounded up: a rounded-down days (0.0247) was itself too short
-        raise ValueError(f"days = {scenario.days:g} is too short for the {detector} detector: "
-                         f"its {s} wavelet trains on the first min(1, days / 2) = {train_days:g} "
-                         f"days ({n} samples) and needs {TRAIN_SAMPLES}: run at least "
-                         f"{_up(2.0 * need):g} days, or give train_days >= {_up(need):g}")
+        raise RunTooShort(scenario.days, f"is too short for the {detector} detector: its {s} "
+                          f"wavelet trains on the first min(1, days / 2) = {train_days:g} days "
+                          f"({n} samples) and needs {TRAIN_SAMPLES}", _up(2.0 * need), _up(need))
     return train_days
+
+
+class RunTooShort(ValueError):
+    """:func:`check_schedule`'s refusal of a run too short for its wavelets' default training
+    span; its parts are kept so that the CLI can name the run's length as the user gave it.
+
+    Parameters
+    ----------
+    days : float
+        The run's length, days.
+    why : str
+        What is too short, from "is too short ...".
+    need_days, need_train_days : float
+        The shortest run, and the shortest ``train_days``, that would do, days.
+
+    Examples
+    --------
+    >>> str(RunTooShort(0.02, "is too short", 0.0248, 0.0124))
+    'days = 0.02 is too short: run at least 0.0248 days, or give train_days >= 0.0124'
+    """
+
+    def __init__(self, days, why, need_days, need_train_days):
+        self.days, self.why = days, why
+        self.need_days, self.need_train_days = need_days, need_train_days
+        super().__init__(f"days = {days:g} {why}: run at least {need_days:g} days, or give "
+                         f"train_days >= {need_train_days:g}")
 
 
 def _up(x):
