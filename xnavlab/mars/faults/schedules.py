@@ -369,11 +369,12 @@ class RunTooShort(ValueError):
     Parameters
     ----------
     days : float
-        The run's length, days.
+        The run's length, days, in (0, :data:`MAX_DAYS`].
     why : str
         What is too short, from "is too short ...".
     need_days, need_train_days : float
-        The shortest run, and the shortest ``train_days``, that would do, days.
+        The shortest run, in (0, 2 :data:`MAX_DAYS`], and the shortest ``train_days``, in
+        (0, :data:`MAX_DAYS`], that would do, days.
 
     Examples
     --------
@@ -382,6 +383,11 @@ class RunTooShort(ValueError):
     """
 
     def __init__(self, days, why, need_days, need_train_days):
+        days = check_real("days", days, 0.0, MAX_DAYS, lo_open=True)
+        why = check_text("why", why)
+        need_days = check_real("need_days", need_days, 0.0, 2.0 * MAX_DAYS, lo_open=True)
+        need_train_days = check_real("need_train_days", need_train_days, 0.0, MAX_DAYS,
+                                     lo_open=True)
         self.days, self.why = days, why
         self.need_days, self.need_train_days = need_days, need_train_days
         super().__init__(f"days = {days:g} {why}: run at least {need_days:g} days, or give "
