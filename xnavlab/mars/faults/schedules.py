@@ -373,8 +373,7 @@ class RunTooShort(ValueError):
     why : str
         What is too short, from "is too short ...".
     need_days, need_train_days : float
-        The shortest run, in (0, 2 :data:`MAX_DAYS`], and the shortest ``train_days``, in
-        (0, :data:`MAX_DAYS`], that would do, days.
+        The shortest run (up to twice :data:`MAX_DAYS`) and ``train_days`` that would do, days.
 
     Examples
     --------
@@ -383,15 +382,11 @@ class RunTooShort(ValueError):
     """
 
     def __init__(self, days, why, need_days, need_train_days):
-        days = check_real("days", days, 0.0, MAX_DAYS, lo_open=True)
-        why = check_text("why", why)
-        need_days = check_real("need_days", need_days, 0.0, 2.0 * MAX_DAYS, lo_open=True)
-        need_train_days = check_real("need_train_days", need_train_days, 0.0, MAX_DAYS,
-                                     lo_open=True)
-        self.days, self.why = days, why
-        self.need_days, self.need_train_days = need_days, need_train_days
-        super().__init__(f"days = {days:g} {why}: run at least {need_days:g} days, or give "
-                         f"train_days >= {need_train_days:g}")
+        self.days, self.why = check_real("days", days, 0.0, MAX_DAYS, lo_open=True), check_text("why", why)
+        self.need_days = check_real("need_days", need_days, 0.0, 2.0 * MAX_DAYS, lo_open=True)
+        self.need_train_days = check_real("need_train_days", need_train_days, 0.0, MAX_DAYS, lo_open=True)
+        super().__init__(f"days = {self.days:g} {why}: run at least {self.need_days:g} days, or "
+                         f"give train_days >= {self.need_train_days:g}")
 
 
 def _up(x):
