@@ -360,7 +360,8 @@ class InnovationMonitor(TrackedDetector):
     ----------
     design : CombinedDesign
     adaptive : bool
-        Divide by the adaptive scale (default) or trust the model (``s_c = 1``).
+        Divide by the adaptive scale (default) or trust the model (``s_c = 1``; then
+        ``scale_samples``, ``scale_every`` and ``prior_samples`` are unused, and refused).
     scale_samples : int, optional
         Innovations in the MAD window (default one day of samples, at least 2000), in
         [10, MAX_SAMPLES].
@@ -370,9 +371,6 @@ class InnovationMonitor(TrackedDetector):
         Weight of the model's scale 1 (default 500 samples), in [0, MAX_SAMPLES].
     holdoff : int
         Alarm-free samples before an event closes (default 1).
-
-    ``scale_samples``, ``scale_every`` and ``prior_samples`` set the adaptive scale: with
-    ``adaptive=False`` they are unused, and refused.
 
     Examples
     --------
