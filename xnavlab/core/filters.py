@@ -58,6 +58,7 @@ from xnavlab.core.validate import (
     check_finite_array,
     check_int,
     check_real,
+    check_symmetric,
     check_vector,
 )
 
@@ -120,16 +121,6 @@ def symmetrize(P):
 
 def _sym(P):
     return 0.5 * (P + P.T)
-
-
-def _symmetric(name, M, rtol=1e-8):
-    """Refuse a square ``M`` not symmetric to ``rtol`` of its largest entry (the test and
-    message of :func:`~xnavlab.core.validate.check_covariance`, without its eigenvalues)."""
-    scale = float(np.max(np.abs(M))) if M.size else 0.0
-    e = int(np.frexp(scale)[1]) if scale > 0.0 else 0
-    unit = np.ldexp(M, -e)  # a power of two (exact): entries near 1e308 do not overflow
-    if np.max(np.abs(unit - unit.T), initial=0.0) > rtol * np.ldexp(scale, -e):
-        raise ValueError(f"{name} must be symmetric (to {rtol:g} of its largest entry)")
 
 
 def _square(name, value, n=None):
@@ -440,7 +431,7 @@ def sigma_points(x, P, lam):
     if Pa.ndim == 2 and Pa.shape[0] == Pa.shape[1] != n:   # x the odd one out
         raise ValueError(f"x must have length {Pa.shape[0]} (the size of P), got length {n}")
     P = _square("P", P, n)
-    _symmetric("P", P)  # else the Cholesky factor would read only its lower triangle
+    check_symmetric("P", P)  # else the Cholesky factor would read only its lower triangle
     lam = check_real("lam", lam, -n, 1e6, lo_open=True)  # (n + lam) P stays finite
     try:
         L = np.linalg.cholesky((n + lam) * _sym(P))

@@ -29,6 +29,7 @@ __all__ = [
     "check_instance",
     "check_keywords",
     "check_text",
+    "check_symmetric",
     "check_covariance",
     "check_definite",
     "check_items",
@@ -490,6 +491,35 @@ def check_text(name, value, none_ok=False):
     return value
 
 
+def _unit_scaled(arr):
+    """``(arr 2^-e, e)``: ``arr`` scaled by a power of two (exact) to a largest entry in
+    [0.5, 1) (``e = 0`` for zeros), so that sums of entries near 1e308 stay finite."""
+    scale = float(np.max(np.abs(arr))) if arr.size else 0.0
+    e = int(np.frexp(scale)[1]) if scale > 0.0 else 0
+    return np.ldexp(arr, -e), e
+
+
+def check_symmetric(name, value, rtol=1e-8):
+    """Return ``value`` (a finite square array, already checked) if it is symmetric to ``rtol``
+    of its largest entry (a matrix that went through floating-point products is symmetric only
+    to rounding), else one ValueError naming it.
+
+    Examples
+    --------
+    >>> check_symmetric("P", np.array([[2.0, 1.0], [1.0, 3.0]])).shape
+    (2, 2)
+    >>> check_symmetric("P", np.array([[1.0, 0.5], [0.0, 1.0]]))
+    Traceback (most recent call last):
+    ...
+    ValueError: P must be symmetric (to 1e-08 of its largest entry)
+    """
+    _check_rtol(rtol)
+    unit, _ = _unit_scaled(value)
+    if np.max(np.abs(unit - unit.T), initial=0.0) > rtol * float(np.max(np.abs(unit), initial=0.0)):
+        raise ValueError(f"{name} must be symmetric (to {rtol:g} of its largest entry)")
+    return value
+
+
 def check_covariance(name, value, n=None, *, definite=False, rtol=1e-8):
     """Return ``value`` as a finite, symmetric, positive (semi-)definite (n, n) array, else raise.
 
@@ -524,13 +554,8 @@ def check_covariance(name, value, n=None, *, definite=False, rtol=1e-8):
     want = "(n, n)" if n is None else f"({n}, {n})"
     if arr.ndim != 2 or arr.shape[1] != size or (n is not None and size != n):
         raise ValueError(f"{name} must be a square matrix of shape {want}, got shape {arr.shape}")
-    scale = float(np.max(np.abs(arr))) if arr.size else 0.0
-    # scaled by a power of two (exact) to a largest entry in [0.5, 1): sums of entries near
-    # 1e308 stay finite, and the eigenvalues are those of arr times 2^-e to the last bit
-    e = int(np.frexp(scale)[1]) if scale > 0.0 else 0
-    unit = np.ldexp(arr, -e)
-    if np.max(np.abs(unit - unit.T), initial=0.0) > rtol * np.ldexp(scale, -e):
-        raise ValueError(f"{name} must be symmetric (to {rtol:g} of its largest entry)")
+    check_symmetric(name, arr, rtol)
+    unit, e = _unit_scaled(arr)  # the eigenvalues of arr times 2^-e, to the last bit
     low_unit = float(np.linalg.eigvalsh(0.5 * (unit + unit.T))[0]) if size else 0.0
     try:
         low = math.ldexp(low_unit, e)  # arr's own smallest eigenvalue, for the message
@@ -538,7 +563,7 @@ def check_covariance(name, value, n=None, *, definite=False, rtol=1e-8):
         low = math.copysign(math.inf, low_unit)
     if definite and not low_unit > 0.0:
         raise ValueError(f"{name} must be positive definite, got smallest eigenvalue {low:.3g}")
-    if low_unit < -rtol * np.ldexp(scale, -e):
+    if low_unit < -rtol * float(np.max(np.abs(unit), initial=0.0)):
         raise ValueError(f"{name} must be positive semi-definite, got smallest eigenvalue {low:.3g}")
     return arr
 
