@@ -24,6 +24,7 @@ __all__ = [
     "check_shape",
     "check_increasing",
     "check_evenly_spaced",
+    "off_unit",
     "check_arrays",
     "check_callable",
     "check_instance",
@@ -319,6 +320,27 @@ def check_evenly_spaced(name, value, rtol):
                              f"median step, {dt:.6g} s), got {name}[{k + 1}] - {name}[{k}] = "
                              f"{float(step[k]):.6g} s ({float(off[k]):.3g} off)")
     return value
+
+
+def off_unit(vectors, tol):
+    """``(i, norms)``: the flat index ``i`` of the first vector (along the last axis) whose norm
+    is more than ``tol`` from 1 (None if every one is a unit vector), and the norms.
+
+    The shared test of the unit-vector checks (a zero or a scaled direction is refused, not
+    rescaled); each caller words its own refusal. A norm past the float range counts as off.
+
+    Examples
+    --------
+    >>> i, norms = off_unit(np.array([[1.0, 0.0], [0.0, 2.0]]), 1e-6)
+    >>> i, norms.tolist()
+    (1, [1.0, 2.0])
+    >>> off_unit(np.eye(3), 1e-6)[0] is None
+    True
+    """
+    with np.errstate(over="ignore"):  # a norm beyond float64 is no unit vector: off
+        norms = np.linalg.norm(vectors, axis=-1)
+    bad = np.ravel(~(np.abs(norms - 1.0) <= tol))
+    return (int(np.argmax(bad)) if bad.any() else None), norms
 
 
 def check_arrays(name, value, ndim=None, min_len=1):

@@ -53,7 +53,7 @@ import math
 import numpy as np
 
 from xnavlab.core.constants import GM_MARS, R_MARS
-from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, shown
+from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, off_unit, shown
 from xnavlab.mars.models import series
 from xnavlab.mars.models.dynamics import MARS_POLE, MARS_STATE0, MAX_BODY_RADIUS
 from xnavlab.mars.models.sensors import perturb_direction
@@ -268,10 +268,8 @@ def _star_dirs(star_dirs):
     if s.ndim != 2 or s.shape[1] != 3 or s.shape[0] == 0:
         raise ValueError(f"star_dirs must have shape (k, 3), one unit vector a star, k >= 1, got "
                          f"shape {s.shape}")
-    norm = np.linalg.norm(s, axis=1)
-    bad = np.abs(norm - 1.0) > UNIT_TOL
-    if bad.any():
-        i = int(np.argmax(bad))
+    i, norm = off_unit(s, UNIT_TOL)
+    if i is not None:
         raise ValueError(f"star_dirs[{i}] must be a unit vector (norm within {UNIT_TOL:g} of 1, "
                          f"not rescaled), got norm {norm[i]:.6g}")
     sine = np.linalg.norm(np.cross(s[:, None, :], s[None, :, :]), axis=-1)

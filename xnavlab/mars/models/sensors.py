@@ -64,6 +64,7 @@ from xnavlab.core.validate import (
     check_items,
     check_real,
     make_rng,
+    off_unit,
     shown,
 )
 from xnavlab.mars.models import stars
@@ -117,12 +118,10 @@ def _unit(name, u):
     """``u`` as finite unit vectors, shape (..., 3), each within 1e-6 of norm 1, else one
     ValueError naming ``name`` (a zero or a scaled direction gives meaningless angles)."""
     u = check_finite_array(name, u, shape=(3,))
-    with np.errstate(over="ignore"):  # a norm beyond float64 is no unit vector: refused below
-        norm = np.linalg.norm(u, axis=-1)
-    bad = np.abs(norm - 1.0) > 1e-6
-    if np.any(bad):
+    i, norm = off_unit(u, 1e-6)
+    if i is not None:
         raise ValueError(f"{name} must hold unit vectors (norm within 1e-6 of 1), got one of "
-                         f"norm {float(norm[bad].ravel()[0]):.6g}")
+                         f"norm {float(np.ravel(norm)[i]):.6g}")
     return u
 
 

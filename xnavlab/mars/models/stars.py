@@ -33,7 +33,7 @@ from importlib import resources
 import numpy as np
 
 from xnavlab.core.userfiles import csv_rows
-from xnavlab.core.validate import check_finite_array, check_items, check_real
+from xnavlab.core.validate import check_finite_array, check_items, check_real, off_unit
 
 __all__ = [
     "HIPPARCOS_EPOCH",
@@ -222,9 +222,8 @@ def spread(s):
     s = check_finite_array("s", s, shape=(3, 3))
     if s.ndim != 2:
         raise ValueError(f"s must have shape (3, 3), three unit vectors one a row, got shape {s.shape}")
-    norm = np.linalg.norm(s, axis=1)
-    if np.any(np.abs(norm - 1.0) > 1e-6):  # review 35j: 2 I gave 8
-        i = int(np.argmax(np.abs(norm - 1.0) > 1e-6))
+    i, norm = off_unit(s, 1e-6)
+    if i is not None:  # review 35j: 2 I gave 8
         raise ValueError(f"s[{i}] must be a unit vector (norm within 1e-6 of 1), got norm {norm[i]:.6g}")
     return float(abs(np.linalg.det(s)))
 
