@@ -100,3 +100,42 @@ def test_a_bare_data_reference_names_a_documented_constant(modname):
     found = [(where, ref) for where, doc in own if doc
              for ref in re.findall(r":data:`~?([A-Za-z_]\w*)`", doc) if ref not in public]
     assert not found, f"not in {modname}.__all__: {found}"
+
+
+#: numpydoc sections whose unindented lines napoleon reads as ``name : type`` entries.
+ENTRY_SECTIONS = ("Parameters", "Other Parameters", "Attributes")
+ENTRY = re.compile(r"[*\w][\w*]*(, [*\w][\w*]*)*( : \S.*)?")
+
+
+def _stray_lines(doc):
+    """Unindented lines of an entry section that are not ``name[, name] : type``.
+
+    napoleon renders such a line as one more parameter (a sentence inside Parameters became a
+    parameter of type 'with' and failed the book build, -W, after every test had passed).
+    """
+    lines = inspect.cleandoc(doc).splitlines()
+    heading = [i for i in range(len(lines) - 1)
+               if lines[i + 1].strip() and set(lines[i + 1].strip()) == {"-"}]
+    stray = []
+    for start, end in zip(heading, [*heading[1:], len(lines)][:len(heading)], strict=True):
+        if lines[start].strip() not in ENTRY_SECTIONS:
+            continue
+        stray += [line for line in lines[start + 2:end]
+                  if line and not line[0].isspace() and not ENTRY.fullmatch(line)]
+    return stray
+
+
+@pytest.mark.parametrize("modname", sorted(_modules()))
+def test_entry_sections_hold_only_entries(modname):
+    module = importlib.import_module(modname)
+    found = [(where, line) for where, doc in _docstrings(module) if doc
+             for line in _stray_lines(doc)]
+    assert not found, f"move each sentence into an entry or a Notes section: {found}"
+
+
+def test_the_entry_check_finds_a_sentence_inside_parameters():
+    doc = "Sum.\n\nParameters\n----------\nx, y : float\n    Terms.\n\nA sentence: with.\n"
+    assert _stray_lines(doc) == ["A sentence: with."]
+    assert _stray_lines(doc.replace("x, y : float", "z, h :")) == ["z, h :", "A sentence: with."]
+    notes = doc.replace("A sentence", "Notes\n-----\nA sentence")
+    assert not _stray_lines(notes)

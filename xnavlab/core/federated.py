@@ -289,10 +289,12 @@ class FederatedFilter:
         ----------
         i : int
             Local index.
-        z, h, H, R :
+        z, h, H, R : array_like, callable, ndarray, ndarray
             As :func:`xnavlab.core.filters.ekf_update` (``H`` unused by UKF locals).
         gate : float
             NIS threshold: an innovation with a larger NIS is rejected (time update only).
+        residual : callable, optional
+            ``residual(z, h(x))``, as :func:`xnavlab.core.filters.ekf_update` (angles that wrap).
 
         Returns
         -------

@@ -197,6 +197,8 @@ class Glued(Mapping):
         display : bool
             Also show the value as the cell's output (IPython's ``display``); True or False.
 
+        Notes
+        -----
         A non-finite number may be glued (a chapter's code may keep one), but no entry shows
         it: ``glued["name:spec"]`` refuses it, naming the entry (:func:`format_value`).
         """

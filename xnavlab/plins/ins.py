@@ -487,6 +487,8 @@ class Trajectory:
     f_enu : ndarray, shape (n, 3)
         Specific force (what the accelerometers measure), m/s^2, ENU.
 
+    Notes
+    -----
     Every field is checked when the flight is built, naming the field: finite numbers, at
     least two samples, ``t`` strictly increasing at one step (:attr:`dt`, the step of
     :func:`error_transitions`), and every other field one row per time.

@@ -254,12 +254,15 @@ def pick_three(vmag_max=1.0, t=0.0, avoid=None, avoid_deg=0.0, candidates=None):
     candidates : sequence of str, optional
         Restrict the choice to these stars, at least three, none twice.
 
-    Fewer than three stars left by ``vmag_max`` (and ``avoid``) is one ValueError naming it.
-
     Returns
     -------
     tuple of str
         Three star names, brightest first.
+
+    Raises
+    ------
+    ValueError
+        Fewer than three stars left by ``vmag_max`` (and ``avoid``), naming it.
 
     Examples
     --------
