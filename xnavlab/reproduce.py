@@ -37,6 +37,7 @@ the dashboard.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import html
 import importlib
@@ -51,7 +52,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from xnavlab.core.diskcache import cache_dir, code_digest, store
+from xnavlab.core.diskcache import cache_dir, code_digest, exclusive, store
 from xnavlab.core.plotting import SafeHTML, figure, html_table
 from xnavlab.verdicts import (  # noqa: F401 - re-exported: reproduce.check_rel is verdicts.check_rel
     CHECK,
@@ -473,6 +474,7 @@ def _to_disk(id, path, result):
         ours = re.fullmatch(re.escape(id) + r"(?:-[0-9a-f]{8})?-([0-9a-f]{24})", old.stem)
         if ours and ours.group(1) != code:
             old.unlink(missing_ok=True)
+            old.with_name(old.name + ".lock").unlink(missing_ok=True)  # diskcache.exclusive's
 
 
 def run(id, out=None, fresh=False, **kwargs):
@@ -502,14 +504,16 @@ def run(id, out=None, fresh=False, **kwargs):
     on_disk = (out is None and rep.cache and all(_plain(v) for v in kwargs.values())
                and os.environ.get(CACHE_ENV, "1") != "0")
     path = _disk_path(id, kwargs) if on_disk else None
-    result = None if (path is None or fresh) else _from_disk(path)
-    if result is None:
-        if out is not None:
-            out = Path(out)
-            out.mkdir(parents=True, exist_ok=True)
-        result = rep.func(out=out, **kwargs)
-        if path is not None:
-            _to_disk(id, path, result)
+    # another process computing the same result (pytest -n 2, the book's kernels): wait, read
+    with contextlib.nullcontext() if path is None else exclusive(path):
+        result = None if (path is None or fresh) else _from_disk(path)
+        if result is None:
+            if out is not None:
+                out = Path(out)
+                out.mkdir(parents=True, exist_ok=True)
+            result = rep.func(out=out, **kwargs)
+            if path is not None:
+                _to_disk(id, path, result)
     if out is None:
         _CACHE[key] = result
     return result

@@ -45,9 +45,3 @@ from xnavlab.core import detection as D
 def test_bad_input_raises_value_error_naming_the_parameter(call, name):
     with pytest.raises(ValueError, match=rf"\b{name}\b"):
         call()
-
-
-def test_reproduction_mallat_vs_pywavelets_passes():
-    from xnavlab import reproduce
-
-    reproduce.run("mallat-vs-pywavelets").assert_ok()

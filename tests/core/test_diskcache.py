@@ -126,3 +126,43 @@ def test_a_writer_that_fails_leaves_no_temporary_file(tmp_path):
     with pytest.raises(RuntimeError, match="writer failed"):
         diskcache.store(tmp_path / "entry.bin", broken)
     assert list(tmp_path.iterdir()) == []
+
+
+#: A child process asking for an entry, computing it slowly and logging each computation.
+SLOW_ENTRY = """
+import sys, time
+import numpy as np
+from xnavlab.core import diskcache
+entry, log = sys.argv[1:]
+def compute():
+    with open(log, "a", encoding="utf-8") as fh:
+        fh.write("computed\\n")
+    time.sleep(1.0)
+    return {"x": np.arange(3.0)}
+print(diskcache.cached_arrays(entry, compute)["x"].tolist())
+"""
+
+
+def test_two_processes_asking_at_once_compute_the_entry_once(tmp_path):
+    # pytest -n 2 and the book's two kernels ask for the same entries: the second waits for the
+    # first (diskcache.exclusive) and reads what it stored, instead of computing it again
+    import subprocess
+    import sys
+
+    entry, log = tmp_path / "e.npz", tmp_path / "log.txt"
+    procs = [subprocess.Popen([sys.executable, "-c", SLOW_ENTRY, str(entry), str(log)],
+                              stdout=subprocess.PIPE, text=True) for _ in range(2)]
+    outs = [p.communicate(timeout=120)[0].strip() for p in procs]
+    assert outs == ["[0.0, 1.0, 2.0]"] * 2 and [p.returncode for p in procs] == [0, 0]
+    assert log.read_text().splitlines() == ["computed"]
+
+def test_the_lock_is_released_on_an_exception_and_skipped_where_nothing_can_be_written(tmp_path):
+    entry = tmp_path / "e.npz"
+    with pytest.raises(RuntimeError, match="boom"), diskcache.exclusive(entry):
+        raise RuntimeError("boom")
+    with diskcache.exclusive(entry):   # not held any more: no wait
+        pass
+    blocked = tmp_path / "file"
+    blocked.write_text("a file where the cache's folder would go")
+    with diskcache.exclusive(blocked / "sub" / "e.npz"):   # no lock file can be made: runs
+        pass

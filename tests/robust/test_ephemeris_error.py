@@ -7,7 +7,6 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from xnavlab import reproduce
 from xnavlab.core import ephemeris
 from xnavlab.core.constants import GM_EARTH, GM_MARS, J2_EARTH, J2_EARTH_RADIUS
 from xnavlab.mars.timing import pulsars
@@ -159,10 +158,6 @@ def test_orbit():
     assert abs(np.linalg.norm(u.state0[:3]) - 7.2e6) < 1e-3
     with pytest.raises(ValueError, match="elements"):
         ee.orbit("earth", elements=(1.0, 2.0))
-
-
-def test_ephemeris_error_reproduction_passes():
-    reproduce.run("ephemeris-error").assert_ok()
 
 
 def test_compiled_model_matches_the_dynamics_module():

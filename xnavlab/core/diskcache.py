@@ -6,10 +6,10 @@ PINT's delays, the headline campaign) are kept under ``$XNAVLAB_CACHE`` (default
 a changed input or model is never served from a stale file. The code is part of that hash:
 :func:`code_digest` hashes the source of the module that computes an entry and of every
 module of the package it imports, directly or not, with the shipped data; an edit anywhere in
-that code computes the entry again, an edit elsewhere in the package does not. A write goes to a temporary
-file first and is renamed into place, so a reader never sees half a file, and two processes
-computing the same entry at once both succeed. A home that cannot be written still gets
-its result, uncached.
+that code computes the entry again, an edit elsewhere in the package does not. A write goes to
+a temporary file first and is renamed into place, so a reader never sees half a file; a second
+process asking for an entry another is computing waits for it and reads it (:func:`exclusive`),
+instead of computing it twice. A home that cannot be written still gets its result, uncached.
 """
 
 from __future__ import annotations
@@ -24,7 +24,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["cache_dir", "cached_arrays", "code_digest", "entry_path", "load_array", "source_digest", "store"]
+__all__ = ["cache_dir", "cached_arrays", "code_digest", "entry_path", "exclusive", "load_array",
+           "source_digest", "store"]
 
 
 def cache_dir():
@@ -77,15 +78,57 @@ def cached_arrays(path, compute):
     1
     """
     path = Path(path)
-    if path.exists():
-        try:
-            with open(path, "rb") as f, np.load(f) as data:
-                return {key: data[key] for key in data.files}
-        except (OSError, ValueError, EOFError, zipfile.BadZipFile):  # unreadable: computed again
-            pass
-    result = compute()
-    store(path, lambda f: np.savez(f, **result))
+    with exclusive(path):  # a second process asking for it waits, then reads it
+        if path.exists():
+            try:
+                with open(path, "rb") as f, np.load(f) as data:
+                    return {key: data[key] for key in data.files}
+            except (OSError, ValueError, EOFError, zipfile.BadZipFile):  # unreadable: computed again
+                pass
+        result = compute()
+        store(path, lambda f: np.savez(f, **result))
     return {key: np.asarray(value) for key, value in result.items()}
+
+
+@contextlib.contextmanager
+def exclusive(path):
+    """Hold the entry ``path`` for this process: another process asking for it waits here.
+
+    Two processes that need the same expensive entry at once (``pytest -n 2``, the book's two
+    kernels, a test beside a chapter) would both compute it; with this lock the second waits
+    for the first and then reads what it stored. An advisory lock (``fcntl.flock``) on the
+    file ``path`` + ``.lock`` beside the entry, released when the block ends, also on an
+    exception. Where the cache cannot be written (a read-only home) or the platform has no
+    advisory locks, nothing is held and each process computes on its own, as without the lock.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The entry (it need not exist yet).
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> entry = Path(tempfile.mkdtemp()) / "demo.npz"
+    >>> with exclusive(entry):
+    ...     entry.with_name("demo.npz.lock").exists()
+    True
+    """
+    path = Path(path)
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - no advisory locks (Windows): compute side by side
+        yield
+        return
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fh = open(path.with_name(path.name + ".lock"), "a", encoding="utf-8")  # noqa: SIM115
+    except OSError:  # a cache that cannot be written: nothing to share, nothing to wait for
+        yield
+        return
+    with fh:
+        fcntl.flock(fh.fileno(), fcntl.LOCK_EX)  # blocks; released when the file closes
+        yield
 
 
 def store(path, write):

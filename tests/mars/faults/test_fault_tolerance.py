@@ -177,13 +177,6 @@ def test_a_cns_onset_detected_right_after_an_xnav_epoch_stays_out_while_flagged(
     assert iv["sensor"] == "cns" and iv["out"] == first and iv["back"] > f.end
 
 
-@pytest.mark.parametrize("rid", ["mars-faults-ekf", "mars-faults-wavelet", "wavelet-details"])
-def test_reproductions_pass(rid):
-    from xnavlab import reproduce
-
-    reproduce.run(rid).assert_ok()
-
-
 def test_plot_fault_response_is_a_figure():
     fig = mars_plots.plot_fault_response(8.0, "uv", days=0.5)
     assert "uv step of 8 sigma" in fig.axes[0].get_title()

@@ -42,7 +42,7 @@ from pathlib import Path
 import numpy as np
 
 from xnavlab.core.campaign import Campaign, run_campaign
-from xnavlab.core.diskcache import cache_dir, code_digest
+from xnavlab.core.diskcache import cache_dir, code_digest, exclusive
 from xnavlab.core.distributions import t_ppf
 from xnavlab.core.userfiles import as_path, load_table
 from xnavlab.core.validate import check_bool, check_int, check_real, check_records, check_seed, check_vector
@@ -158,29 +158,6 @@ def _code_key():
     return code_digest((__name__,))
 
 
-@contextlib.contextmanager
-def _exclusive(out):
-    """Wait for any other process computing the same cached campaign, then hold it.
-
-    Two processes (a test and a chapter run side by side, ``pytest -n 2``) asking for the same
-    headline numbers would meet at the campaign store, whose lock refuses the second at once.
-    This lock, beside the store, makes the second wait; it then finds every run done and only
-    reads them. Without a cache directory there is nothing to share and nothing to wait for.
-    """
-    if out is None:
-        yield
-        return
-    try:
-        import fcntl
-    except ImportError:  # pragma: no cover - no advisory locks: the store's own check remains
-        yield
-        return
-    out.parent.mkdir(parents=True, exist_ok=True)
-    with open(out.with_name(out.name + ".lock"), "a", encoding="utf-8") as fh:
-        fcntl.flock(fh.fileno(), fcntl.LOCK_EX)  # blocks; released when the file closes
-        yield
-
-
 def load_shipped(path=None):
     """The shipped runs: ``{"campaign": SHIPPED, "runs": [{"index", "seed", "metrics"}],
     "command": str, ...}``, one per seed in index order; a file that is not such a table (a
@@ -289,7 +266,7 @@ def headline_records(n_seeds=32, days=30.0, faults=True, seed=2016, out=None, wo
     out = None if out is None else as_path(out, "out", "folder")  # a str too (review 35j)
     camp = Campaign("headline", headline_run, lambda i: {"days": days, "faults": bool(faults)},
                     manifest={"days": days, "faults": bool(faults), "code": _code_key()})
-    with _exclusive(out):
+    with contextlib.nullcontext() if out is None else exclusive(out):
         res = run_campaign(camp, n_seeds, seed=seed, out=out, engine="local" if workers > 1
                            else "serial", workers=workers, progress=progress)
     return [{"index": r["index"], "seed": r["seed"], "metrics": r["metrics"]}
