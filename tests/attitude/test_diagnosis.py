@@ -54,7 +54,7 @@ def test_diagnose_persistence_arming_and_confirmation():
     assert d.flags.shape == (20, 4) and not d.flags[3, 0]
     d = att.diagnose(t, r, np.ones(4), persist=2, confirm_s=1.0)
     assert d.verdict == "gyro_skew"
-    d = att.diagnose(t, r, np.ones(4), t_arm=100.0)
+    d = att.diagnose(t, r, np.ones(4), t_arm=float(t[-1]))  # armed at the last sample only
     assert d.detect_time == math.inf and d.verdict == "none"
     batch = att.diagnose(t, np.stack([r, 0 * r]), np.ones((2, 4)), persist=2)
     assert batch.verdict.tolist() == ["gyro_x", "none"]
@@ -99,3 +99,19 @@ def test_diagnose_review_35i_refusals():
         att.diagnose(t, r, -np.ones(4), persist=2, confirm_s=1.0)
     with pytest.raises(ValueError, match=r"^decide must be"):
         att.diagnose(t, r, np.ones(4), decide="sos")
+
+
+def test_an_arming_time_after_the_last_sample_is_refused():
+    """Review 35k (5) 8: t_arm=1e300 (past the run) was accepted and the diagnosis read as a
+    healthy run's (detect_time inf)."""
+    t = np.arange(10.0)
+    r = np.zeros((10, 4))
+    with pytest.raises(ValueError, match=r"^t_arm must be a real number in \(-inf, 9\], got 1e\+300"):
+        att.diagnose(t, r, np.ones(4), persist=2, confirm_s=1.0, t_arm=1e300)
+    assert math.isinf(float(att.diagnose(t, r, np.ones(4), persist=1, t_arm=9.0).detect_time))
+
+
+def test_simconfig_arms_its_detectors_at_a_sample():
+    """Review 35k (5) 8: SimConfig's t_cal[1] is diagnose's t_arm: it must not pass the last sample."""
+    with pytest.raises(ValueError, match=r"^t_cal must satisfy .* <= duration \(the last sample, 50 s\)"):
+        att.SimConfig(duration=50.0, t_cal=(20.0, 50.5))

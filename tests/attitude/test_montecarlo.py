@@ -106,3 +106,17 @@ def test_seeded_outcomes_names_a_0d_array_of_faults():
 def test_isolation_monte_carlo_refuses_a_set():
     with pytest.raises(ValueError, match=r"^sizes must be a list \(ordered"):
         att.isolation_monte_carlo(1, locations=["gyro_x"], kinds=["step"], sizes={10.0, 1.0})
+
+
+@pytest.mark.parametrize(("onset", "words"), [
+    (5e-324, r"^onset must be a real number in \[40, 999960\], got 5e-324"),
+    (None, r"^onset must be a real number in \[40, 999960\]"),
+    (999970.0, r"^onset must be a real number in \[40, 999960\]"),
+    (45.05, r"^onset = 45\.05 s makes the default config's duration onset \+ 30 s, which SimConfig "
+            r"refuses: duration must be a whole number of steps"),
+])
+def test_the_onset_of_the_default_config_is_refused_under_its_own_name(onset, words):
+    """Review 35k (3) 14: onset=5e-324 was refused as 't_cal must satisfy 0 <= t_cal[0] <
+    t_cal[1] <= duration', a field of the default config the user never gave."""
+    with pytest.raises(ValueError, match=words):
+        att.isolation_monte_carlo(1, locations=["gyro_x"], kinds=["step"], sizes=[1.0], onset=onset)

@@ -45,3 +45,12 @@ def test_truth_motion_review_35i_refusals():
         att.truth_motion(11, 0.1, wobble_deg_=0.0)
     with pytest.raises(ValueError, match=r"^t=5.0 is not a setting of truth_rate"):
         att.truth_motion(11, 0.1, t=5.0)
+
+
+def test_truth_motion_takes_one_initial_quaternion_and_a_real_period():
+    """Review 35k (patterns D, E): q0 of shape (2, 4) was numpy's broadcast error; a subnormal
+    wobble_period overflowed t / P (RuntimeWarning)."""
+    with pytest.raises(ValueError, match=r"^q0 must have shape \(4,\) \(one quaternion\)"):
+        att.truth_motion(3, 0.1, q0=np.tile(att.DEFAULT_Q0, (2, 1)))
+    with pytest.raises(ValueError, match=r"^wobble_period must be a real number in \[0.001, inf\)"):
+        att.truth_rate([0.0, 1.0], wobble_period=5e-324)

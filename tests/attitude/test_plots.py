@@ -88,3 +88,11 @@ def test_plot_residuals_refuses_axes_of_the_wrong_kind_or_count():
                 att.plot_residuals(run, axes=axes)
     finally:
         plt.close(fig)
+
+
+@pytest.mark.parametrize("n_sigma", [5e-324, 100.0, None, "1.0", True])
+def test_plot_fault_case_names_n_sigma_not_the_tail_probability(n_sigma):
+    """Review 35k (3) 13: n_sigma=5e-324 was refused as 'p must be a real number in (0, 1),
+    got 1.0' (the thresholds' tail probability, an inner name)."""
+    with pytest.raises(ValueError, match=r"^n_sigma must be a real number in \[0.01, 30\]"):
+        att.plot_fault_case("gyro_x", "step", 1.0, n_sigma=n_sigma)

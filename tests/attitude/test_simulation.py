@@ -91,12 +91,12 @@ def test_one_fault_alone_is_a_run_of_that_fault_and_a_list_is_checked_as_core_do
 
 @pytest.mark.parametrize(("change", "words"), [
     ({"duration": 1e308}, r"^duration must be a real number in \(0, 1e\+06\], got 1e\+308$"),
-    ({"duration": 1e5, "dt": 1e-3}, r"^duration / dt must be at most 1e7 samples"),
+    ({"duration": 1e5, "dt": 1e-3}, r"^duration / dt must be below 1e7 \(at most 1e7 samples\)"),
     ({"gyro_noise_deg_per_h": 1e308}, r"^gyro_noise_deg_per_h must be a real number in \(0, 100000\]"),
     ({"drifts_deg_per_h": (1e308, 0.0, 0.0, 0.0)}, r"^drifts_deg_per_h must lie in \[-100000, 100000\]"),
     ({"drift_walk_deg_per_h_sqrt_s": 1e308}, r"^drift_walk_deg_per_h_sqrt_s must be a real number in"),
     ({"drift_sigma0_deg_per_h": 1e308}, r"^drift_sigma0_deg_per_h must be a real number in"),
-    ({"n_sigma": 1e308}, r"^n_sigma must be a real number in \(0, 100\]"),
+    ({"n_sigma": 1e308}, r"^n_sigma must be a real number in \[0.01, 30\]"),
     ({"persist": 10**30}, r"^persist must be an integer in \[1, 1000000\]"),
     ({"confirm_s": 1e308}, r"^confirm_s must be a real number in \[0, 86400\]"),
 ])
@@ -163,3 +163,68 @@ def test_simconfig_names_a_misspelt_setting_and_keeps_its_signature():
     assert list(inspect.signature(att.SimConfig).parameters)[:2] == ["duration", "dt"]
     cfg = att.SimConfig(duration=60.0)
     assert pickle.loads(pickle.dumps(cfg)) == cfg
+
+
+def test_simconfig_stores_the_checked_values_not_the_numpy_scalars():
+    """Review 35k (1) 1: SimConfig(duration=np.float16(100.0)) kept the float16 and duration / dt
+    overflowed (RuntimeWarning); every field is now stored as checked (float, int, tuples)."""
+    cfg = att.SimConfig(duration=np.float16(100.0), dt=np.float64(0.1), persist=np.int8(3),
+                        n_sigma=np.float16(4.0), t_cal=np.array([20.0, 40.0]),
+                        q0=np.array(att.DEFAULT_Q0), drifts_deg_per_h=np.zeros(4, np.float32))
+    assert type(cfg.duration) is float and cfg.duration == 100.0
+    assert type(cfg.dt) is float and type(cfg.persist) is int and type(cfg.n_sigma) is float
+    assert cfg.t_cal == (20.0, 40.0) and all(type(v) is float for v in cfg.q0 + cfg.drifts_deg_per_h)
+    assert att.SimConfig() == att.SimConfig(q0=tuple(att.DEFAULT_Q0))  # the defaults unchanged
+
+
+@pytest.mark.parametrize(("change", "words"), [
+    ({"q0": []}, r"^q0 must have trailing shape \(\.\.\., 4\)"),
+    ({"q0": None}, r"^q0 must be"),
+    ({"q0": np.ones((2, 4))}, r"^q0 must have shape \(4,\) \(one quaternion\)"),
+    ({"q0": [0.0] * 4}, r"^q0 must have a non-zero norm"),
+    ({"omega_orbit_deg_s": None}, r"^omega_orbit_deg_s must be a real number in \[0, 10\]"),
+    ({"wobble_deg_s": math.nan}, r"^wobble_deg_s must be a real number in \[0, 10\]"),
+    ({"wobble_period": 5e-324}, r"^wobble_period must be a real number in \[0.001, inf\)"),
+    ({"wobble_period": "1.0"}, r"^wobble_period must be a real number"),
+    ({"n_sigma": 5e-324}, r"^n_sigma must be a real number in \[0.01, 30\]"),
+    ({"n_sigma": 100.0}, r"^n_sigma must be a real number in \[0.01, 30\]"),
+])
+def test_simconfig_names_the_field_at_fault(change, words):
+    """Review 35k (3) 11 and 13: SimConfig(q0=[]) was refused as 'q must have ...' (the inner
+    helper's name), n_sigma=5e-324 (or 100, inside the stated (0, 100]) later as 'p must be
+    ...' (the tail probability, 1 or 0); the truth-motion settings were not checked at all."""
+    with pytest.raises(ValueError, match=words):
+        att.SimConfig(**change)
+
+
+def test_a_run_of_more_than_1e7_samples_is_refused_by_simconfig():
+    """Review 35k (3) 12: simulate(duration=1e6, dt=0.1) passed SimConfig (1e7 steps) and was
+    refused by truth_motion as 'n must be an integer in [2, 10000000]'."""
+    with pytest.raises(ValueError, match=r"^duration / dt must be below 1e7 .* \(at most 999999\.9 s"):
+        att.simulate(duration=1e6, dt=0.1)
+    assert att.SimConfig(duration=999999.9, dt=0.1).n == 10**7
+
+
+@pytest.mark.parametrize(("truth", "words"), [
+    (1.0, r"^truth must be a tuple \(t, w, q\) from truth_motion for config, got 1\.0"),
+    ("x", r"^truth must be a tuple \(t, w, q\)"),
+    ([], r"^truth must be a tuple \(t, w, q\)"),
+    ({}, r"^truth must be a tuple \(t, w, q\)"),
+    ((np.zeros(3),) * 3, r"^truth\[0\] must have shape \(601,\)"),
+])
+def test_simulate_sensors_checks_the_truth_it_is_given(truth, words):
+    """Review 35k (1) 13, (2) 7: truth=1.0 was "TypeError: cannot unpack non-iterable float",
+    truth='x' numpy's "not enough values to unpack (expected 3, got 1)"."""
+    with pytest.raises(ValueError, match=words):
+        att.simulation.simulate_sensors(att.SimConfig(duration=60.0), truth=truth)
+
+
+def test_simulate_sensors_refuses_the_truth_of_another_config():
+    """Review 35k (1) 13: a truth of another dt (the same number of samples) was used as given."""
+    cfg = att.SimConfig(duration=60.0)
+    with pytest.raises(ValueError, match=r"^truth\[0\] must be config's sample times k dt"):
+        att.simulation.simulate_sensors(cfg, truth=att.truth_motion(cfg.n, 0.2))
+    truth = att.truth_motion(cfg.n, cfg.dt)
+    a = att.simulation.simulate_sensors(cfg, truth=truth)
+    b = att.simulation.simulate_sensors(cfg)
+    assert np.array_equal(a[1], b[1]) and np.array_equal(a[2], b[2])

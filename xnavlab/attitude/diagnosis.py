@@ -218,7 +218,7 @@ def diagnose(t, residuals, thresholds, *, t_arm=0.0, persist=3, confirm_s=5.0, d
     thresholds : array_like, shape (..., m)
         Its leading axes broadcast to the residuals' ``...`` (one verdict a run).
     t_arm : float
-        No flag before this time, s.
+        No flag before this time, s, at most ``t[-1]`` (a later one would flag nothing).
     persist : int
         Consecutive samples over the threshold needed, >= 1.
     confirm_s : float
@@ -256,7 +256,8 @@ def diagnose(t, residuals, thresholds, *, t_arm=0.0, persist=3, confirm_s=5.0, d
     if np.any(J < 0.0):  # the residuals are absolute values: a negative threshold flags every sample
         raise ValueError(f"thresholds must be >= 0 (the residuals are absolute values), got "
                          f"{float(np.min(J)):g}")
-    t_arm = check_real("t_arm", t_arm)
+    # an arming time after the last sample flags nothing: detect_time inf, as a healthy run's
+    t_arm = check_real("t_arm", t_arm, hi=float(t[-1]))
     persist = check_int("persist", persist, 1, t.size)
     confirm_s = check_real("confirm_s", confirm_s, 0.0, 86400.0)  # as SimConfig's
     check_callable("decide", decide, "a verdict function such as sos_decide")

@@ -36,6 +36,11 @@ from xnavlab.core.validate import (
     shown,
 )
 
+#: Where the default SimConfig arms its detectors (t_cal[1], s): the earliest default onset.
+_DEFAULT_T_ARM = SimConfig.__dataclass_fields__["t_cal"].default[1]
+#: The latest onset of the default config (duration onset + 30 s, at most 1e7 samples of 0.1 s).
+_MAX_DEFAULT_ONSET = 999960.0  # shown as is (999969.9 was printed 999970)
+
 __all__ = [
     "isolation_monte_carlo",
     "isolation_table",
@@ -79,7 +84,8 @@ def isolation_monte_carlo(
         Multiples of :data:`~.sensors.DEFAULT_MAGNITUDES`, in (0, MAX_FACTOR].
     onset : float
         Fault onset, s (after ``config.t_cal[1]``, before ``config.duration``; without a
-        ``config``, at most 1e6 - 30 s).
+        ``config``, in [40, 999960] s on the 0.1 s grid: from the default config's t_cal[1] to its
+        longest run of onset + 30 s).
     config : SimConfig, optional
         Default: :class:`~.simulation.SimConfig` with ``duration = onset + 30``.
     rng : numpy.random.Generator or int, optional
@@ -108,11 +114,17 @@ def isolation_monte_carlo(
                         lambda label, v: check_choice(label, v, ("step", "ramp")))
     sizes = [check_real(label, s, 0.0, MAX_FACTOR, lo_open=True) for label, s in
              ((f"sizes[{i}]", s) for i, s in enumerate(check_items("sizes", sizes, "size")))]
-    # the default config lasts onset + 30 s, at most SimConfig's 1e6 s
-    onset = check_real("onset", onset, 0.0, 1e6 - 30.0 if config is None else math.inf,
-                       lo_open=True)
+    # the default config lasts onset + 30 s, at most SimConfig's 1e6 s, and arms its detectors
+    # at t_cal[1] = 40 s: an earlier onset was refused as SimConfig's t_cal, a field never given
     if config is None:
-        config = SimConfig(duration=onset + 30.0)
+        onset = check_real("onset", onset, _DEFAULT_T_ARM, _MAX_DEFAULT_ONSET)
+        try:
+            config = SimConfig(duration=onset + 30.0)
+        except ValueError as err:  # a duration off the 0.1 s grid: the user's onset is at fault
+            raise ValueError(f"onset = {onset:g} s makes the default config's duration onset + 30 s, "
+                             f"which SimConfig refuses: {err}") from None
+    else:
+        onset = check_real("onset", onset, 0.0, lo_open=True)
     cfg = make_config(config, dos=True)
     if not (cfg.t_cal[1] <= onset < cfg.duration):
         raise ValueError(

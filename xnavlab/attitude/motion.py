@@ -47,7 +47,7 @@ def truth_rate(t, *, omega_orbit_deg_s=0.06, wobble_deg_s=0.01, wobble_period=30
     wobble_deg_s : float
         Wobble amplitude ``a``, deg/s, >= 0.
     wobble_period : float
-        Wobble period ``P``, s, > 0.
+        Wobble period ``P``, s, >= 1e-3 (a subnormal one overflowed ``t / P``).
 
     Returns
     -------
@@ -61,7 +61,7 @@ def truth_rate(t, *, omega_orbit_deg_s=0.06, wobble_deg_s=0.01, wobble_period=30
     t = check_finite_array("t", t)
     wo = math.radians(check_real("omega_orbit_deg_s", omega_orbit_deg_s, 0.0, 10.0))
     a = math.radians(check_real("wobble_deg_s", wobble_deg_s, 0.0, 10.0))
-    period = check_real("wobble_period", wobble_period, 0.0, lo_open=True)
+    period = check_real("wobble_period", wobble_period, 1e-3)
     ph = 2.0 * math.pi * t[..., None] / period + np.array([0.0, 2.0, 4.0]) * math.pi / 3.0
     w = a * np.sin(ph)
     w[..., 1] -= wo
@@ -78,8 +78,8 @@ def truth_motion(n, dt, *, q0=DEFAULT_Q0, **motion):
     Parameters
     ----------
     n : int
-        Number of samples, in [2, 10**7] (a loop step each: 10**6 s, the longest simulated
-        run, at 0.1 s).
+        Number of samples, in [2, 10**7] (a loop step each: the most a
+        :class:`~xnavlab.attitude.simulation.SimConfig` allows).
     dt : float
         Sample interval, s, in (0, 10].
     q0 : array_like, shape (4,)
@@ -104,6 +104,8 @@ def truth_motion(n, dt, *, q0=DEFAULT_Q0, **motion):
     n = check_int("n", n, 2, 10**7)
     dt = check_real("dt", dt, 0.0, 10.0, lo_open=True)
     q = quat_normalize(check_quaternion("q0", q0, unit=False))  # documented: normalised; zero refused
+    if q.ndim != 1:  # a stack of quaternions was numpy's broadcast error
+        raise ValueError(f"q0 must have shape (4,) (one quaternion), got shape {q.shape}")
     valid = ("omega_orbit_deg_s", "wobble_deg_s", "wobble_period")  # truth_rate's settings
     for key, value in motion.items():
         if key not in valid:  # a misspelt or repeated keyword was a TypeError from truth_rate

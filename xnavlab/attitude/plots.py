@@ -162,7 +162,8 @@ def plot_fault_case(location="gyro_x", kind="ramp", size=10.0, n_sigma=5.0, *, r
         Multiple of the reference size :data:`~.sensors.DEFAULT_MAGNITUDES` of ``(sensor, kind)``,
         in [1e-6, MAX_FACTOR].
     n_sigma : float
-        Threshold multiplier of :func:`~.simulation.simulate`, > 0.
+        Threshold multiplier of :func:`~.simulation.simulate`, in [0.01, 30] (as
+        :class:`~.simulation.SimConfig`'s).
     rng : numpy.random.Generator or int, optional
         Seed of the sensor noise (default 0, as :func:`~.simulation.simulate`).
 

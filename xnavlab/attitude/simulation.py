@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from xnavlab.attitude._checks import check_quaternion
 from xnavlab.attitude.diagnosis import (
     Diagnosis,
     diagnose,
@@ -51,8 +52,16 @@ from xnavlab.attitude.sensors import (
 from xnavlab.attitude.sos import gyro_parity, sos_residuals
 from xnavlab.core.distributions import chi2_isf
 from xnavlab.core.faults import Fault, check_faults
-from xnavlab.core.quaternions import MAX_ANGLE, attitude_error, quat_normalize
-from xnavlab.core.validate import check_bool, check_finite_array, check_int, check_real, make_rng, shown
+from xnavlab.core.quaternions import MAX_ANGLE, attitude_error
+from xnavlab.core.validate import (
+    check_bool,
+    check_finite_array,
+    check_int,
+    check_real,
+    check_shape,
+    make_rng,
+    shown,
+)
 
 __all__ = [
     "SimConfig",
@@ -73,7 +82,7 @@ class SimConfig:
     Attributes
     ----------
     duration : float
-        Run length, s (default 100).
+        Run length, s, in (0, 1e6] and below 1e7 ``dt`` (at most 1e7 samples; default 100).
     dt : float
         Gyro and star-tracker sample interval, s (default 0.1: 10 Hz).
     drifts_deg_per_h : tuple of 4 float
@@ -85,16 +94,18 @@ class SimConfig:
     skew_axis : tuple of 3 float
         Skewed-gyro axis (default equal-angle ``[1, 1, 1]/sqrt(3)``).
     q0 : tuple of 4 float
-        Initial true attitude.
+        Initial true attitude (non-zero; normalised by :func:`~.motion.truth_motion`).
     omega_orbit_deg_s, wobble_deg_s, wobble_period : float
-        Truth motion, see :func:`~.motion.truth_rate`.
+        Truth motion, see :func:`~.motion.truth_rate` (rates in [0, 10] deg/s, the period
+        at least 1e-3 s).
     drift_walk_deg_per_h_sqrt_s : float
         Filter drift random walk, deg/h per sqrt(s) (default 1): sets how fast the drift
         estimates follow a change (time constant about 3.4 s at 10 Hz, as chapter 11 measures).
     drift_sigma0_deg_per_h : float
         Initial drift uncertainty of the filters (default 100 deg/h).
     n_sigma : float
-        Thresholds in predicted standard deviations of each residual (default 5).
+        Thresholds in predicted standard deviations of each residual, in [0.01, 30]
+        (default 5; from about 38 the tail probability underflows to zero).
     t_cal : tuple of 2 float
         Fault-free window where references are learned, s (default 20-40 s); the
         detectors are armed at its end.
@@ -139,46 +150,72 @@ class SimConfig:
         return super().__new__(cls)
 
     def __post_init__(self):
-        check_real("duration", self.duration, 0.0, 1e6, lo_open=True)
-        check_real("dt", self.dt, 0.0, 10.0, lo_open=True)
-        if self.duration / self.dt > 1e7:  # the samples every array of the run holds
-            raise ValueError(f"duration / dt must be at most 1e7 samples, got duration = "
-                             f"{self.duration:g} s and dt = {self.dt:g} s")
-        if self.duration < 2 * self.dt:
-            raise ValueError(f"duration must be >= 2 dt = {2 * self.dt}, got {self.duration}")
-        steps = self.duration / self.dt  # the run has samples 0, dt, ..., (n - 1) dt: it would
+        # every field is stored as checked (float, int, tuple of float), not as given: a numpy
+        # scalar kept its dtype (np.float16(100.0) / dt overflowed)
+        def put(name, value):
+            object.__setattr__(self, name, value)
+            return value
+
+        duration = put("duration", check_real("duration", self.duration, 0.0, 1e6, lo_open=True))
+        dt = put("dt", check_real("dt", self.dt, 0.0, 10.0, lo_open=True))
+        if duration / dt >= 1e7:  # the samples every array of the run holds: n <= 1e7
+            raise ValueError(f"duration / dt must be below 1e7 (at most 1e7 samples), got "
+                             f"duration = {duration:g} s and dt = {dt:g} s (at most "
+                             f"{(1e7 - 1) * dt:.10g} s at this dt)")
+        if duration < 2 * dt:
+            raise ValueError(f"duration must be >= 2 dt = {2 * dt}, got {duration}")
+        steps = duration / dt  # the run has samples 0, dt, ..., (n - 1) dt: it would
         if abs(steps - round(steps)) > 1e-9 * steps:  # end at round(steps) dt, not at duration
-            lo, hi = math.floor(steps) * self.dt, math.ceil(steps) * self.dt
-            raise ValueError(f"duration must be a whole number of steps dt = {self.dt:g} s, got "
-                             f"{self.duration:g} s (nearest {lo:.6g} or {hi:.6g} s)")
+            lo, hi = math.floor(steps) * dt, math.ceil(steps) * dt
+            raise ValueError(f"duration must be a whole number of steps dt = {dt:g} s, got "
+                             f"{duration:g} s (nearest {lo:.6g} or {hi:.6g} s)")
         drifts = check_finite_array("drifts_deg_per_h", self.drifts_deg_per_h, shape=(4,))
+        if drifts.ndim != 1:
+            raise ValueError(f"drifts_deg_per_h must have shape (4,), got shape {drifts.shape}")
         if np.any(np.abs(drifts) > MAX_DEG_PER_H):
             raise ValueError(f"drifts_deg_per_h must lie in [-{MAX_DEG_PER_H:g}, "
                              f"{MAX_DEG_PER_H:g}] deg/h, got {drifts.tolist()}")
-        check_real("gyro_noise_deg_per_h", self.gyro_noise_deg_per_h, 0.0, MAX_DEG_PER_H,
-                   lo_open=True)
-        check_real("star_noise_deg", self.star_noise_deg, 0.0, 1.0, lo_open=True)
-        gyro_matrix(self.skew_axis)
-        quat_normalize(self.q0)
-        check_real("drift_walk_deg_per_h_sqrt_s", self.drift_walk_deg_per_h_sqrt_s, 0.0,
-                   MAX_DEG_PER_H)
-        check_real("drift_sigma0_deg_per_h", self.drift_sigma0_deg_per_h, 0.0, MAX_DEG_PER_H,
-                   lo_open=True)
-        check_real("n_sigma", self.n_sigma, 0.0, 100.0, lo_open=True)
+        put("drifts_deg_per_h", tuple(drifts.tolist()))
+        put("gyro_noise_deg_per_h", check_real("gyro_noise_deg_per_h", self.gyro_noise_deg_per_h,
+                                               0.0, MAX_DEG_PER_H, lo_open=True))
+        put("star_noise_deg", check_real("star_noise_deg", self.star_noise_deg, 0.0, 1.0,
+                                         lo_open=True))
+        gyro_matrix(self.skew_axis)  # checks it (shape (3,), no zero component)
+        put("skew_axis", tuple(np.asarray(self.skew_axis, dtype=float).tolist()))
+        q0 = check_quaternion("q0", self.q0, unit=False)  # normalised by truth_motion; zero refused
+        if q0.ndim != 1:
+            raise ValueError(f"q0 must have shape (4,) (one quaternion), got shape {q0.shape}")
+        put("q0", tuple(q0.tolist()))
+        # the truth motion's settings, checked here as truth_rate does (they were used only
+        # when the run started), the period from 1e-3 s (a subnormal one overflowed t / P)
+        put("omega_orbit_deg_s", check_real("omega_orbit_deg_s", self.omega_orbit_deg_s, 0.0, 10.0))
+        put("wobble_deg_s", check_real("wobble_deg_s", self.wobble_deg_s, 0.0, 10.0))
+        put("wobble_period", check_real("wobble_period", self.wobble_period, 1e-3))
+        put("drift_walk_deg_per_h_sqrt_s", check_real(
+            "drift_walk_deg_per_h_sqrt_s", self.drift_walk_deg_per_h_sqrt_s, 0.0, MAX_DEG_PER_H))
+        put("drift_sigma0_deg_per_h", check_real(
+            "drift_sigma0_deg_per_h", self.drift_sigma0_deg_per_h, 0.0, MAX_DEG_PER_H,
+            lo_open=True))
+        # the thresholds' tail probability erfc(n_sigma / sqrt 2) must lie in (0, 1): it is 1
+        # for a subnormal n_sigma and underflows to 0 from about 38
+        put("n_sigma", check_real("n_sigma", self.n_sigma, 0.01, 30.0))
         cal = check_finite_array("t_cal", self.t_cal, shape=(2,))
-        if cal.ndim != 1 or not (0.0 <= cal[0] < cal[1] <= self.duration):
-            raise ValueError(f"t_cal must satisfy 0 <= t_cal[0] < t_cal[1] <= duration, got {cal}")
-        if cal[1] - cal[0] < 2 * self.dt:
+        last = (self.n - 1) * dt  # the last sample's time (duration to 1e-9 of it)
+        if cal.ndim != 1 or not (0.0 <= cal[0] < cal[1] <= last):
+            raise ValueError(f"t_cal must satisfy 0 <= t_cal[0] < t_cal[1] <= duration (the last "
+                             f"sample, {last:g} s), got {cal}")
+        if cal[1] - cal[0] < 2 * dt:
             raise ValueError("t_cal must span at least two samples")
-        check_int("persist", self.persist, 1, 10**6)
-        check_real("confirm_s", self.confirm_s, 0.0, 86400.0)
-        w = check_real("qdiff_window_s", self.qdiff_window_s, 2 * self.dt)
+        put("t_cal", tuple(cal.tolist()))
+        put("persist", check_int("persist", self.persist, 1, 10**6))
+        put("confirm_s", check_real("confirm_s", self.confirm_s, 0.0, 86400.0))
+        w = put("qdiff_window_s", check_real("qdiff_window_s", self.qdiff_window_s, 2 * dt))
         if max(w, cal[0] + 0.5 * w) >= cal[1]:
             raise ValueError(
                 "qdiff_window_s must leave an estimate inside t_cal: need "
                 f"max(w, t_cal[0] + w/2) < t_cal[1], got w = {w}, t_cal = {tuple(cal)}"
             )
-        object.__setattr__(self, "dos", check_bool("dos", self.dos))
+        put("dos", check_bool("dos", self.dos))
 
     @property
     def n(self):
@@ -460,7 +497,8 @@ def simulate_sensors(config, faults=(), rng=None, truth=None):
         Source of the sensor noise (default seed 0).
     truth : tuple, optional
         ``(t, w, q)`` from :func:`xnavlab.attitude.motion.truth_motion` for ``config``,
-        to reuse across the runs of a batch; computed when omitted.
+        to reuse across the runs of a batch (shapes (n,), (n, 3), (n, 4), ``t`` the config's
+        sample times, ``q`` unit quaternions); computed when omitted.
 
     Returns
     -------
@@ -480,7 +518,7 @@ def simulate_sensors(config, faults=(), rng=None, truth=None):
     cfg = _config_arg(config)
     faults = check_faults_in_run(faults, cfg)
     rng = make_rng(rng)
-    t, w, q = truth if truth is not None else truth_motion(
+    t, w, q = _check_truth(truth, cfg) if truth is not None else truth_motion(
         cfg.n, cfg.dt, q0=cfg.q0, omega_orbit_deg_s=cfg.omega_orbit_deg_s,
         wobble_deg_s=cfg.wobble_deg_s, wobble_period=cfg.wobble_period,
     )
@@ -492,6 +530,25 @@ def simulate_sensors(config, faults=(), rng=None, truth=None):
     qs = star_tracker_measurements(t, q, noise_deg=cfg.star_noise_deg, rng=rng,
                                    faults=[f for f in faults if f.sensor == "star_tracker"])
     return (t, w, q), wg, qs
+
+
+def _check_truth(truth, cfg):
+    """``truth`` as ``(t, w, q)`` of ``cfg``'s samples, else one ValueError naming it (a float
+    was "cannot unpack", a string numpy's "not enough values to unpack")."""
+    what = "a tuple (t, w, q) from truth_motion for config"
+    if not isinstance(truth, tuple | list) or len(truth) != 3:
+        raise ValueError(f"truth must be {what}, got {shown(truth)}")
+    n = cfg.n
+    t = check_shape("truth[0]", truth[0], (n,), f"t: the {n} sample times of config")
+    w = check_shape("truth[1]", truth[1], (n, 3), "w: the body rates, rad/s")
+    q = check_quaternion("truth[2]", check_shape("truth[2]", truth[2], (n, 4),
+                                                 "q: the true attitudes"))
+    times = np.arange(n) * cfg.dt
+    if not np.allclose(t, times, rtol=0.0, atol=1e-9 * cfg.dt):
+        k = int(np.argmax(np.abs(t - times)))
+        raise ValueError(f"truth[0] must be config's sample times k dt (dt = {cfg.dt:g} s), got "
+                         f"{t[k]:g} s at sample {k} (expected {times[k]:g} s)")
+    return t, w, q
 
 
 # ------------------------------------------------------------ a batch of runs
