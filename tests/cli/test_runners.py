@@ -151,3 +151,20 @@ def test_a_run_too_short_for_the_training_names_where_its_days_came_from(tmp_pat
         assert main(["run", "mars", *argv]) == 2
         err = capsys.readouterr().err.strip()
         assert words in err and len(err.splitlines()) == 1, err
+
+
+def test_mars_summary_json_is_checked_before_the_run(tmp_path, capsys):
+    """Review 35k (6) 5: a folder where mars_summary.json goes was refused after the run."""
+    (tmp_path / "o" / "mars_summary.json").mkdir(parents=True)
+    with pytest.raises(ValueError, match="mars_summary.json.*is a folder"):
+        runners.out_dir(tmp_path / "o")
+    assert main(["run", "mars", "--days", "15", "--quiet", "--out", str(tmp_path / "o")]) == 2
+    assert "mars_summary.json" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("days", ["1e-5", "5e-324"])
+def test_a_run_too_short_names_the_days_flag(days, capsys):
+    """Review 35k (6) 7: --days too short was named as the scenario file's [run] days."""
+    assert main(["run", "mars", "--days", days]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("xnavlab: error: --days must span") and "[run]" not in err

@@ -614,3 +614,70 @@ def test_run_campaign_refuses_a_setting_its_engine_would_not_use(kw, words):
     with pytest.raises(ValueError, match=words):
         cp.run_campaign(sq_campaign(), 2, **kw)
     assert cp.run_campaign(sq_campaign(), 2, engine="serial", workers=1).computed == 2
+
+
+# ------------------------------------------------------------------ review 35k (6)
+
+
+def warns_input(*, seed):
+    import warnings as _w
+
+    from xnavlab.core.userfiles import InputWarning
+    _w.warn("a warning of the run", InputWarning, stacklevel=2)
+    return {"y": 1.0}
+
+
+def _y_is_a_number(metrics):
+    y = metrics.get("y")
+    return None if isinstance(y, float) else f"y is {y!r}, not a number"
+
+
+def test_stored_metrics_are_checked_in_content(tmp_path):
+    """Review 35k (6) 1-2: a record's metrics were checked in kind only (a text or missing
+    metric gave a traceback in the summary, a NaN an error naming no file)."""
+    from xnavlab.core.userfiles import InputWarning
+
+    camp = cp.Campaign("sq", square, lambda i: {"x": float(i)}, check_metrics=_y_is_a_number)
+    cp.run_campaign(camp, 3, seed=1, out=tmp_path, engine="serial")
+    path = tmp_path / cp.STORE_FILE
+    lines = path.read_text().splitlines()
+    lines[1] = lines[1].replace('"y": 1.0', '"y": "x"')
+    lines[2] = lines[2].replace('"y": 4.0', '"y": NaN')
+    path.write_text("\n".join(lines) + "\n")
+    with pytest.warns(InputWarning, match=r"runs.jsonl: 2 lines not read.*line 2 \(metrics: y "
+                                          r"is 'x'.*line 3 \(metrics.y is not a finite"):
+        r = cp.run_campaign(camp, 3, seed=1, out=tmp_path, engine="serial")
+    assert (r.computed, r.reused) == (2, 1)
+    assert [x["metrics"]["y"] for x in r.runs()] == [0.0, 1.0, 4.0]
+    with pytest.raises(ValueError, match="check_metrics must be a function"):
+        cp.Campaign("sq", square, lambda i: {}, check_metrics=1.0)
+
+
+def test_a_torn_or_empty_header_is_not_trusted(tmp_path):
+    """Review 35k (6) 3: a torn or empty campaign.json was read as no header, and the records
+    reused without the check that they are this campaign's."""
+    from xnavlab.core.userfiles import InputWarning
+
+    cp.run_campaign(sq_campaign(), 2, seed=1, out=tmp_path, engine="serial")
+    head = tmp_path / cp.HEADER_FILE
+    for text in ('{"format": "xnavlab-campaign/2"', ""):
+        head.write_text(text)
+        with pytest.raises(ValueError, match="campaign.json is empty or not JSON"):
+            cp.run_campaign(sq_campaign(), 2, seed=1, out=tmp_path, engine="serial")
+    (tmp_path / cp.STORE_FILE).write_text("")  # no record: the header is written again
+    with pytest.warns(InputWarning, match="campaign.json: empty or not JSON"):
+        cp.run_campaign(sq_campaign(), 2, seed=1, out=tmp_path, engine="serial")
+    assert json.loads(head.read_text()) == sq_campaign().header(1)
+    with pytest.raises(ValueError, match="^out must name a folder"):
+        cp.run_campaign(sq_campaign(), 2, out=" ", engine="serial")
+
+
+def test_a_runs_warnings_are_given_again_where_the_campaign_runs():
+    """Review 35k (6) 6: a worker's warning went to the worker's stderr in Python's two-line
+    format; it is given again in the calling process (the CLI prints it in one line)."""
+    from xnavlab.core.userfiles import InputWarning
+
+    out = cp.execute(warns_input, 1, {})
+    assert out["warnings"] == [(InputWarning, "a warning of the run")]
+    with pytest.warns(InputWarning, match="a warning of the run"):
+        cp.run_campaign(cp.Campaign("w", warns_input, lambda i: {}), 2, engine="serial")

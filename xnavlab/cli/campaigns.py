@@ -248,9 +248,17 @@ def _common(args):
 def _check_store(out, camp, seed):
     """A folder that holds another campaign is refused now, in one line, before any warning
     about the command as typed (run_campaign checks it again as it opens the store)."""
-    from xnavlab.core.campaign import Store
+    from xnavlab.core.campaign import SUMMARY_FILE, Store
 
-    Store(out, camp.header(seed)).close()
+    Store(out, camp.header(seed), camp.check_metrics).close()
+    _check_outputs(out, SUMMARY_FILE)
+
+
+def _check_outputs(out, *names):
+    """The files written after the runs (summary.json; roc.json and roc.csv), checked before
+    them: a folder or a pipe in their place is refused now, not after the campaign."""
+    for name in names:
+        output_path(os.path.join(out, name), f"--out {str(out)!r}: {name}")
 
 
 def _run(args, camp, runs, seed, where):
@@ -285,10 +293,13 @@ def _execute_roc(args):
     grid = roc.load_grid(args.grid) if args.grid is not None else roc.check_grid(roc.DEFAULT_GRID)
     runs, seed, where = _common(args)
     nf = len(grid["faults"])
+    camp = roc.campaign(grid)
+    _check_store(args.out, camp, seed)  # before any warning about the command as typed
+    _check_outputs(args.out, "roc.json", "roc.csv")
     if runs % nf:
         print(f"xnavlab: warning: --runs {runs} gives the grid's {nf} faults unequal numbers "
               f"of trials; a multiple of {nf} gives each the same", file=sys.stderr)
-    res = _run(args, roc.campaign(grid), runs, seed, where)
+    res = _run(args, camp, runs, seed, where)
     if res is None:
         return 130
     payload = res.to_json()

@@ -72,7 +72,10 @@ def out_dir(path):
     if str(path).strip() and path_kind(out, "--out") not in ("missing", "folder"):
         raise ValueError(f"--out must be a directory (for mars_run.npz and mars_summary.json), "
                          f"but {str(out)!r} is a file")
-    return output_path(path, "--out", folder=True)
+    out = output_path(path, "--out", folder=True)
+    for name in ("mars_run.npz", "mars_summary.json"):  # both checked before the run
+        output_path(out / name, f"--out {str(path)!r}: {name}")
+    return out
 
 
 def configure_mars(parser):
@@ -115,9 +118,14 @@ def _settings(args):
     try:  # the file's settings checked again against the flags, the file named
         sf = scenario_files.with_overrides(sf, days=days, seed=seed, mode=mode)
     except ValueError as exc:
+        text = str(exc)
+        if days is not None and text.startswith("[run] days "):  # the flag the user typed
+            text = f"--days {text.removeprefix('[run] days ')}".replace(
+                f" (with days = {days:g}", f" (with --days {args.days}", 1)
+            text = text.replace(f"(with --days {args.days})", "").rstrip()
         if args.scenario_file is None:
-            raise
-        raise ValueError(f"scenario file {args.scenario_file!r}: {exc}") from None
+            raise ValueError(text) from None
+        raise ValueError(f"scenario file {args.scenario_file!r}: {text}") from None
     run, det = dict(sf.run), dict(sf.detector)
     if args.backend is not None:
         run["backend"] = check_choice("backend", args.backend, ("numba", "numpy"))

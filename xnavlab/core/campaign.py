@@ -76,7 +76,6 @@ from collections.abc import Callable
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
@@ -146,6 +145,11 @@ class Campaign:
     summarise : callable, optional
         ``summarise(runs) -> list of dict``: the aggregated table of the run records
         (:func:`public_record`), for reports.
+    check_metrics : callable, optional
+        ``check_metrics(metrics) -> None or str``: why the metrics of a stored ``ok`` record
+        are not this campaign's (a key missing, text where a number goes), else None. A
+        stored record it refuses is reported with the file and its line and its run computed
+        again, as a line that is not a record.
     """
 
     name: str
@@ -153,6 +157,7 @@ class Campaign:
     params: Callable
     manifest: dict = field(default_factory=dict)
     summarise: Callable | None = None
+    check_metrics: Callable | None = None
 
     def __post_init__(self):
         if not isinstance(self.name, str) or not self.name:
@@ -161,6 +166,10 @@ class Campaign:
             raise ValueError("trial and params must be callable")
         if not isinstance(self.manifest, dict):
             raise ValueError(f"manifest must be a dict, got {type(self.manifest).__name__}")
+        for name in ("summarise", "check_metrics"):
+            if getattr(self, name) is not None and not callable(getattr(self, name)):
+                raise ValueError(f"{name} must be a function of the records or None, got "
+                                 f"{type(getattr(self, name)).__name__}")
 
     def header(self, seed):
         """The store's header for ``seed``: format, campaign name, trial, seed, parameters."""
@@ -232,7 +241,10 @@ def execute(trial, seed, params):
     -------
     dict
         ``metrics`` (the result as JSON text, or ``None``), ``error`` (``None`` or
-        ``"Type: message"``), ``elapsed_s`` (s in the trial), ``worker`` (host:pid).
+        ``"Type: message"``), ``elapsed_s`` (s in the trial), ``worker`` (host:pid),
+        ``warnings`` (``(category, text)`` of each warning the trial gave, each once: the
+        campaign gives them again where it runs, so a worker's warning reaches the caller's
+        warning filters and the command line's one-line printer, not a worker's stderr).
         Exceptions of the trial are caught here, so an unpicklable exception cannot break
         the transfer back.
 
@@ -244,15 +256,34 @@ def execute(trial, seed, params):
     """
     t0 = time.perf_counter()
     metrics, error = None, None
-    try:
-        result = trial(seed=seed, **params)
-        if not isinstance(result, dict):
-            raise ValueError(f"trial must return a dict, got {type(result).__name__}")
-        metrics = json.dumps(json_ready(result), allow_nan=False)
-    except Exception as exc:  # noqa: BLE001 - any failure of a run is recorded, not raised
-        error = _describe(exc)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        try:
+            result = trial(seed=seed, **params)
+            if not isinstance(result, dict):
+                raise ValueError(f"trial must return a dict, got {type(result).__name__}")
+            metrics = json.dumps(json_ready(result), allow_nan=False)
+        except Exception as exc:  # noqa: BLE001 - any failure of a run is recorded, not raised
+            error = _describe(exc)
+    given = []
+    for w in caught:
+        item = (_portable(w.category), str(w.message))
+        if item not in given:
+            given.append(item)
     return {"metrics": metrics, "error": error, "elapsed_s": time.perf_counter() - t0,
-            "worker": f"{socket.gethostname()}:{os.getpid()}"}
+            "worker": f"{socket.gethostname()}:{os.getpid()}", "warnings": given}
+
+
+def _portable(category):
+    """A warning class that travels back from a worker (an importable one), else UserWarning."""
+    module = sys.modules.get(getattr(category, "__module__", ""), None)
+    return category if getattr(module, category.__qualname__, None) is category else UserWarning
+
+
+def _warn_again(payload):
+    """The warnings a run gave where it ran, given again here (each once)."""
+    for category, text in payload.get("warnings", ()):
+        warnings.warn(text, category, stacklevel=2)
 
 
 def _describe(exc):
@@ -292,18 +323,24 @@ class Store:
     header : dict
         The campaign's header (:meth:`Campaign.header`). A new store starts with it; an
         existing one must hold the same header.
+    check : callable, optional
+        The campaign's :attr:`Campaign.check_metrics`: a stored ``ok`` record whose metrics
+        it refuses is reported (file and line) and its run computed again.
 
     Raises
     ------
     ValueError
-        If the store holds another campaign, is not a campaign store, or is in use by
+        If the store holds another campaign, is not a campaign store, has records but a
+        header that cannot be read (empty or torn ``campaign.json``), or is in use by
         another process.
     """
 
-    def __init__(self, directory, header):
-        self.path = Path(directory) / STORE_FILE
-        self.header_path = Path(directory) / HEADER_FILE
+    def __init__(self, directory, header, check=None):
+        directory = as_path(directory, "directory", "folder")  # None, a dict or "": one line
+        self.path = directory / STORE_FILE
+        self.header_path = directory / HEADER_FILE
         self.header = header
+        self._check = check
         try:
             self.path.parent.mkdir(parents=True, exist_ok=True)
             self._fh = open(self.path, "a+", encoding="utf-8")  # noqa: SIM115 - closed by close()
@@ -350,6 +387,15 @@ class Store:
         legacy = isinstance(first, dict) and first.get("format") == LEGACY_FORMAT
         if self.header_path.exists():
             head = json_or_none(read_text(self.header_path, "campaign header"))
+            if head is None:  # empty or torn: the records cannot be matched to this campaign
+                if any(line.strip() for line in lines):
+                    raise ValueError(f"out {str(self.path.parent)!r}: {HEADER_FILE} is empty or "
+                                     f"not JSON (torn), so the records in {STORE_FILE} cannot "
+                                     f"be matched to this campaign; restore it, or choose "
+                                     f"another --out")
+                warnings.warn(f"{self.header_path}: empty or not JSON (torn) and no record "
+                              f"stored; written again", InputWarning, stacklevel=4)
+                self._write_header()
         elif legacy:
             head = {**first, "format": FORMAT}
         elif lines == [""]:
@@ -366,8 +412,14 @@ class Store:
             self._fh.write("\n".join(lines))
             self._fh.flush()
         if not self.header_path.exists():
-            self.header_path.write_text(json.dumps(self.header, indent=1, allow_nan=False) + "\n")
+            self._write_header()
         return lines
+
+    def _write_header(self):
+        """The header, written whole or not at all (a kill mid-write leaves no torn file)."""
+        tmp = self.header_path.with_name(HEADER_FILE + ".tmp")
+        tmp.write_text(json.dumps(self.header, indent=1, allow_nan=False) + "\n")
+        os.replace(tmp, self.header_path)
 
     def _check_header(self, head):
         if not isinstance(head, dict) or head.get("format") != FORMAT:
@@ -389,7 +441,7 @@ class Store:
         elif lines[-1] != "":
             self._fh.write("\n")  # a whole record that lost only its newline
             self._fh.flush()
-        records, bad, numbers = parse_records(lines, skipped, numbers=True)
+        records, bad, numbers = parse_records(lines, skipped, numbers=True, check=self._check)
         if bad:
             report_bad_lines(bad, self.path, "their runs are computed again")
         report_disagreements(records, numbers, self.path)
@@ -659,6 +711,8 @@ class CampaignResult:
 
 def _record(index, seed, params, outcome, attempt):
     kind, payload = outcome
+    if kind == "ok":
+        _warn_again(payload)
     rec = {"index": index, "seed": seed, "parameters": params, "metrics": None,
            "status": "failed", "error": None, "attempt": attempt, "elapsed_s": None,
            "worker": None}
@@ -733,7 +787,9 @@ def run_campaign(campaign, runs, *, seed=0, out=None, engine="local", workers=_W
     if not all(isinstance(p, dict) for p in params):
         raise ValueError("campaign.params(index) must return a dict of keyword arguments")
     params = [json_ready(p) for p in params]
-    store = Store(out, header) if out is not None else None
+    if out is not None:
+        as_path(out, "out", "folder")  # a dict or "" (the current folder): one line
+    store = Store(out, header, campaign.check_metrics) if out is not None else None
     t0 = time.perf_counter()
     try:
         final = {}

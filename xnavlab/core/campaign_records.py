@@ -8,13 +8,14 @@ its run computed again (:mod:`xnavlab.core.campaign`), never dropped in silence.
 from __future__ import annotations
 
 import json
+import math
 import warnings
 
 from xnavlab.core.userfiles import InputWarning
 from xnavlab.core.validate import SEED_MAX
 
-__all__ = ["PUBLIC_KEYS", "json_or_none", "why_not_a_record", "parse_records", "report_bad_lines",
-           "report_disagreements"]
+__all__ = ["PUBLIC_KEYS", "json_or_none", "non_finite", "why_not_a_record", "parse_records",
+           "report_bad_lines", "report_disagreements"]
 
 #: Keys of a record that make up a run's result (the rest is bookkeeping).
 PUBLIC_KEYS = ("index", "seed", "parameters", "metrics", "status", "error")
@@ -34,13 +35,46 @@ def json_or_none(text):
         return None
 
 
-def why_not_a_record(rec):
+def non_finite(value, where=""):
+    """The dotted place of the first NaN or infinity in a parsed JSON value, else None.
+
+    Python's ``json`` reads ``NaN`` and ``Infinity``; a campaign writes neither (non-finite
+    metrics are stored as ``null``), so a record holding one was not written by a campaign.
+
+    Examples
+    --------
+    >>> non_finite({"metrics": {"nees_bins": [1.0, float("nan")]}})
+    'metrics.nees_bins[1]'
+    """
+    if isinstance(value, float) and not math.isfinite(value):
+        return where or "value"
+    if isinstance(value, dict):
+        items = ((f"{where}.{k}" if where else str(k), v) for k, v in value.items())
+    elif isinstance(value, list):
+        items = ((f"{where}[{i}]", v) for i, v in enumerate(value))
+    else:
+        return None
+    for place, v in items:
+        found = non_finite(v, place)
+        if found is not None:
+            return found
+    return None
+
+
+def why_not_a_record(rec, check=None):
     """Why a parsed line is not a campaign record (None when it is one).
+
+    ``check`` (optional): the campaign's ``check_metrics(metrics) -> None or why``, applied
+    to the metrics of an ``ok`` record (a record whose metrics its summary cannot use is not
+    a record of that campaign).
 
     Examples
     --------
     >>> why_not_a_record([1, 2])
     'not a JSON object'
+    >>> why_not_a_record({"index": 0, "seed": 1, "parameters": {}, "metrics": {"a": float("inf")},
+    ...                   "status": "ok", "error": None})
+    'metrics.a is not a finite number (a campaign writes none)'
     """
     if rec is None:
         return "not JSON"
@@ -60,10 +94,17 @@ def why_not_a_record(rec):
     for key in ("parameters", "metrics"):
         if rec[key] is not None and not isinstance(rec[key], dict):
             return f"{key} is not a table"
+    bad = non_finite({k: rec[k] for k in PUBLIC_KEYS})
+    if bad is not None:
+        return f"{bad} is not a finite number (a campaign writes none)"
+    if check is not None and rec["status"] == "ok":
+        why = check(rec["metrics"])
+        if why is not None:
+            return f"metrics: {why}"
     return None
 
 
-def parse_records(lines, first=0, numbers=False):
+def parse_records(lines, first=0, numbers=False, check=None):
     """The campaign records among the lines of ``runs.jsonl``, and the lines that are not.
 
     Parameters
@@ -74,13 +115,16 @@ def parse_records(lines, first=0, numbers=False):
         Lines before ``lines[0]`` in the file (for the line numbers).
     numbers : bool
         Also return the line number of each record (for :func:`report_disagreements`).
+    check : callable, optional
+        The campaign's metrics check (:func:`why_not_a_record`).
 
     Returns
     -------
     records : list of dict
     bad : list of (int, str)
         ``(line number, why)`` of every line that is not a record: not JSON (a line torn by a
-        kill), not an object, a key missing, or a key of the wrong kind.
+        kill), not an object, a key missing, a key of the wrong kind, a NaN or infinity, or
+        metrics that ``check`` refuses.
     lines : list of int
         With ``numbers=True`` only: the line number of each record.
 
@@ -96,7 +140,7 @@ def parse_records(lines, first=0, numbers=False):
         if not line.strip():
             continue
         rec = json_or_none(line)
-        why = why_not_a_record(rec)
+        why = why_not_a_record(rec, check)
         if why is None:
             records.append(rec)
             where.append(n)

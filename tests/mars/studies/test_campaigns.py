@@ -144,3 +144,20 @@ def test_a_short_consistency_run_records_no_closer_than_its_measurements():
 
     r = campaigns.consistency_run(seed=0, days=0.001, subsystems=("uv", "cns"))
     assert len(r["nees_bins"]) == campaigns.NEES_BINS
+
+
+def test_summaries_refuse_metrics_they_cannot_use():
+    """Review 35k (6) 1: a record's metrics without nees_bins (or with text in it) gave a
+    KeyError / numpy TypeError; now one line naming runs[i] and the key, and the campaign's
+    check_metrics says the same of a stored record."""
+    good = mc.consistency_run(seed=1, days=0.02)
+    runs = [{"status": "ok", "metrics": good}, {"status": "ok", "metrics": {"a": 1}}]
+    with pytest.raises(ValueError, match=r"^runs\[1\]\['metrics'\].*nees_bins is missing"):
+        mc.summarise_consistency(runs)
+    bad = {**good, "nees_bins": ["x"] + good["nees_bins"][1:]}
+    with pytest.raises(ValueError, match=r"nees_bins\[0\] is 'x', not a finite number"):
+        mc.summarise_consistency([{"status": "ok", "metrics": bad}])
+    camp = mc.campaign("consistency", days=0.02)
+    assert camp.check_metrics(good) is None and "nees_bins" in camp.check_metrics(bad)
+    with pytest.raises(ValueError, match=r"^runs\[0\]\['metrics'\] is not a detectors_run"):
+        mc.summarise_detectors([{"status": "ok", "parameters": {}, "metrics": {"x": {}}}])

@@ -48,6 +48,7 @@ from xnavlab.core.validate import (
 )
 from xnavlab.mars.navigation import scenario_files, scenarios
 from xnavlab.mars.studies import trials
+from xnavlab.mars.studies._metrics import why_not
 from xnavlab.mars.timing import pulsar_specs, pulsars
 
 __all__ = ["CAMPAIGNS", "NEES_BINS", "DAYS", "campaign", "consistency_run", "detectors_run",
@@ -140,6 +141,26 @@ def consistency_run(*, seed, days=1.0, q_acc=scenarios.DEFAULT_Q_ACC,
             "final_position_error_m": m["final_position_error_m"]}
 
 
+#: What summarise_consistency reads of a run's metrics (a stored record without it is no run).
+_CONSISTENCY_SPEC = {"nees_bins": ("list", NEES_BINS, "real"),
+                     "bin_days": ("list", NEES_BINS, "real"),
+                     "nis_sum": ("map", "real"), "nis_count": ("map", "count"),
+                     "nis_dof": ("map", "count"), "position_error_m": "real",
+                     "velocity_error_mps": "real?", "final_position_error_m": "real?"}
+
+
+def _consistency_metrics(metrics):
+    """Why ``metrics`` is not a :func:`consistency_run` result (its first key at fault), else
+    None (the campaign's ``check_metrics``)."""
+    why = why_not(metrics, _CONSISTENCY_SPEC)
+    if why is None:
+        for key in ("nis_sum", "nis_count"):
+            if set(metrics[key]) != set(metrics["nis_dof"]):
+                return (f"{key} names {sorted(metrics[key])}, not the subsystems of nis_dof "
+                        f"{sorted(metrics['nis_dof'])}")
+    return why
+
+
 def summarise_consistency(runs):
     """The consistency table: run-averaged NEES per time bin and NIS per subsystem, with bounds.
 
@@ -174,7 +195,16 @@ def summarise_consistency(runs):
     ('NEES', 2, 'position RMS (m)')
     """
     runs = check_records("runs", runs, ("status",), "campaign record")  # a string: one line
-    ok = [r["metrics"] for r in runs if r["status"] == "ok"]
+    ok = []
+    for i, r in enumerate(runs):
+        if r["status"] != "ok":
+            continue
+        why = _consistency_metrics(r.get("metrics"))
+        if why is None and ok and set(r["metrics"]["nis_dof"]) != set(ok[0]["nis_dof"]):
+            why = f"nis_dof names other subsystems than the first ok run's ({sorted(ok[0]['nis_dof'])})"
+        if why is not None:
+            raise ValueError(f"runs[{i}]['metrics'] is not a consistency_run result: {why}")
+        ok.append(r["metrics"])
     if not ok:
         return []
     n = len(ok)
@@ -247,6 +277,22 @@ def detectors_run(fault_class, sensor, size_index, *, seed, days=1.0,
     return out
 
 
+#: What summarise_detectors reads of each detector's record in a run's metrics.
+_DETECTOR_SPEC = {"size": "real", "detected": "bool", "delay_s": "real?", "late": "bool",
+                  "false_alarms": "count", "armed_days": "real", "fused_rms_ratio": "real",
+                  "time_out_s": "real"}
+
+
+def _detectors_metrics(metrics):
+    """Why ``metrics`` is not a :func:`detectors_run` result, else None (``check_metrics``)."""
+    if not isinstance(metrics, dict) or not metrics:
+        return "not a table of detectors"
+    for det in metrics:
+        if det not in trials.DETECTORS:
+            return f"{det!r} is not a detector ({', '.join(trials.DETECTORS)})"
+    return why_not(metrics, {det: _DETECTOR_SPEC for det in metrics})
+
+
 def summarise_detectors(runs):
     """:func:`xnavlab.mars.studies.trials.detector_table` of the ok runs (one record per detector).
 
@@ -259,10 +305,17 @@ def summarise_detectors(runs):
     []
     """
     recs = []
-    for r in check_records("runs", runs, ("status",), "campaign record"):
+    for i, r in enumerate(check_records("runs", runs, ("status",), "campaign record")):
         if r["status"] != "ok":
             continue
-        p = r["parameters"]
+        why = _detectors_metrics(r.get("metrics"))
+        p = r.get("parameters")
+        if why is None and not (isinstance(p, dict) and all(
+                k in p for k in ("fault_class", "sensor", "size_index"))):
+            raise ValueError(f"runs[{i}]['parameters'] must name fault_class, sensor and "
+                             f"size_index, got {p!r}"[:300])
+        if why is not None:
+            raise ValueError(f"runs[{i}]['metrics'] is not a detectors_run result: {why}")
         for det, m in r["metrics"].items():
             recs.append({"fault_class": p["fault_class"], "sensor": p["sensor"],
                          "size_index": p["size_index"], "detector": det, **m})
@@ -318,7 +371,7 @@ def _consistency(days, scenario=None, backend="numba", local_filter="ekf"):
         return Campaign("consistency", consistency_run, lambda i: {"days": days},
                         manifest={"days": days, "q_acc": scenarios.DEFAULT_Q_ACC,
                                   "nees_bins": NEES_BINS},
-                        summarise=summarise_consistency)
+                        summarise=summarise_consistency, check_metrics=_consistency_metrics)
     default = scenarios.MarsScenario()
     for name in ("seed", "record_dt"):  # set by the campaign: a scenario's own is refused
         if getattr(scenario, name) != getattr(default, name):
@@ -345,7 +398,7 @@ def _consistency(days, scenario=None, backend="numba", local_filter="ekf"):
             base[k] = v
     return Campaign("consistency", consistency_run, lambda i: {"days": days, **base},
                     manifest={"days": days, **base, "nees_bins": NEES_BINS},
-                    summarise=summarise_consistency)
+                    summarise=summarise_consistency, check_metrics=_consistency_metrics)
 
 
 def _detectors(days):
@@ -360,7 +413,7 @@ def _detectors(days):
                     manifest={"days": days, "cells": [list(c) for c in cells],
                               "detectors": list(trials.DETECTORS),
                               "sizes": {f: list(v) for f, v in trials.SIZES.items()}},
-                    summarise=summarise_detectors)
+                    summarise=summarise_detectors, check_metrics=_detectors_metrics)
 
 
 #: Campaign name -> (builder(days) -> Campaign, one-line help).

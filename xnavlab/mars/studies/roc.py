@@ -109,6 +109,7 @@ from xnavlab.core.validate import (
 from xnavlab.mars.faults import fault_tolerance, schedules
 from xnavlab.mars.navigation import scenarios
 from xnavlab.mars.studies import trials
+from xnavlab.mars.studies._metrics import why_not
 
 __all__ = ["THRESHOLDS", "THRESHOLD_RANGES", "DEFAULT_GRID", "TRAIN_FRACTION", "CURVE_COLUMNS",
            "CURVES_PATH", "check_grid", "load_grid", "roc_run", "roc_curve", "campaign",
@@ -431,7 +432,20 @@ def campaign(grid):
         return {**faults[i % len(faults)], "detector": grid["detector"],
                 "thresholds": grid["thresholds"], "days": grid["days"]}
 
-    return Campaign("roc", roc_run, params, manifest={"grid": grid}, summarise=_summarise)
+    return Campaign("roc", roc_run, params, manifest={"grid": grid}, summarise=_summarise,
+                    check_metrics=_roc_metrics)
+
+
+#: What roc_curve reads of a run's metrics.
+_ROC_SPEC = {"armed_days": "real",
+             "per_threshold": ("list", None, {"threshold": "real", "detected": "bool",
+                                              "late": "bool", "false_alarms": "count",
+                                              "delay_s": "real?"})}
+
+
+def _roc_metrics(metrics):
+    """Why ``metrics`` is not a :func:`roc_run` result, else None (the campaign's check)."""
+    return why_not(metrics, _ROC_SPEC)
 
 
 def curve_csv(rows):
@@ -526,6 +540,10 @@ def plot_roc(curves, ax=None):
             "false_alarms_per_day_hi")
     curves = {label: check_records(f"curves[{label!r}]", rows, keys, "roc_curve row")
               for label, rows in curves.items()}
+    if ax is not None:
+        from matplotlib.axes import Axes
+
+        check_instance("ax", ax, Axes, "a matplotlib Axes (or None for a new figure)")
     fig, ax = (plt.subplots(figsize=(6.4, 4.2)) if ax is None else (ax.figure, ax))
     for label, rows in curves.items():
         x = np.array([r["false_alarms_per_day"] for r in rows])
