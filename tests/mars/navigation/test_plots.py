@@ -142,3 +142,42 @@ def test_plot_subsystem_runs_an_interval_longer_than_its_30_s_records():
     for sub, interval in (("xnav", 500.0), ("uv", 45.0)):
         fig = mars_plots.plot_subsystem(sub, 1.0, interval, days=0.05)
         assert len(fig.axes[0].lines[0].get_xdata()) > 2
+
+
+def _cases():
+    t = np.linspace(0.0, 2.0, 97)
+    return {"a": (t, np.full(t.size, 6.0))}
+
+
+@pytest.mark.parametrize("kw, name", [
+    ({"dof": None}, "dof"), ({"dof": 2.5}, "dof"), ({"dof": True}, "dof"), ({"dof": -1}, "dof"),
+    ({"dof": "3"}, "dof"),
+    ({"settle_days": None}, "settle_days"), ({"settle_days": "1.0"}, "settle_days"),
+    ({"settle_days": np.nan}, "settle_days"), ({"settle_days": 1e300}, "settle_days"),
+    ({"bin_days": 5e-324}, "bin_days"),
+    ({"ylim": 1.0}, "ylim"), ({"ylim": True}, "ylim"), ({"ylim": np.nan}, "ylim"),
+    ({"ylim": "x"}, "ylim"), ({"ylim": []}, "ylim"), ({"ylim": {}}, "ylim"),
+    ({"ylim": (10.0, 1.0)}, "ylim"), ({"ylim": (0.0, 1.0)}, r"ylim\[0\]"),
+])
+def test_plot_consistency_checks_its_defaulted_parameters(kw, name):
+    """Review 35k (1) 4-5, (2) 8, (3) 19, (5) 7: dof, settle_days, bin_days and ylim (left at
+    their defaults by the examples) reached matplotlib or judge_series unchecked."""
+    with pytest.raises(ValueError, match=f"^{name} must"):
+        mars_plots.plot_consistency(_cases(), (4.0, 8.0), **kw)
+
+
+@pytest.mark.parametrize("cases, name", [
+    ({"a": 1.0}, r"cases\['a'\]"), ({"a": ([0.0, 1.0], [1.0])}, r"cases\['a'\]\[1\]"),
+    ({"a": ([-1.0, 1.0], [1.0, 1.0])}, r"cases\['a'\]\[0\]"),
+])
+def test_plot_consistency_checks_each_case(cases, name):
+    """Review 35k pattern A: the cases' pairs were unpacked and divided unchecked."""
+    with pytest.raises(ValueError, match=f"^{name}"):
+        mars_plots.plot_consistency(cases, (4.0, 8.0))
+
+
+def test_plot_details_refuses_no_detail_rows():
+    """Review 35k (1) 6: details of shape (0, N) gave TypeError 'Axes' not subscriptable."""
+    t = np.linspace(0.0, 1.0, 400)
+    with pytest.raises(ValueError, match="^details must hold at least one detail signal"):
+        mars_plots.plot_details(t, np.sin(t), np.zeros((0, t.size)), [t[100]], stride=4)

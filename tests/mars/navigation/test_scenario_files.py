@@ -403,3 +403,17 @@ def test_load_refuses_a_path_that_is_no_path():
         sfm.load({})
     with pytest.raises(ValueError, match=r"^scenario file must name a file, got ''$"):
         sfm.load("")
+
+
+@pytest.mark.parametrize("call, name", [
+    (lambda: sfm.detector_name(None), "detector"),
+    (lambda: sfm.detector_name({}), "detector"),
+    (lambda: sfm.detector_name({"name": None, "faults": None}), r"detector\['faults'\]"),
+    (lambda: sfm.detector_name({"name": 1, "faults": ""}), r"detector\['name'\]"),
+    (lambda: sfm.check_detector({}), "detector"),
+    (lambda: sfm.check_detector({"name": "wavelet", "faults": ""}), "detector"),
+])
+def test_detector_helpers_name_their_parameter(call, name):
+    """Review 35k (1) 25: detector_name(None) and check_detector({}) raised TypeError/KeyError."""
+    with pytest.raises(ValueError, match=f"^{name} must"):
+        call()

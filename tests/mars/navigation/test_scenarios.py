@@ -584,3 +584,15 @@ def test_filter_state_refuses_beta_of_the_wrong_length_or_sign(two):
         scenarios.filter_state(two, np.ones(3) / 3)
     with pytest.raises(ValueError, match=r"^beta must hold positive information-sharing factors"):
         scenarios.filter_state(two, np.array([1.0, 0.0]))
+
+
+def test_numpy_scalars_are_stored_as_floats():
+    """Review 35k (1) 1: MarsScenario(days=np.float16(0.5)) kept the float16 and overflowed
+    in days * DAY (RuntimeWarning); the checked value is stored as a float (seed as an int)."""
+    import numpy as np
+
+    sc = scenarios.MarsScenario(days=np.float16(0.5), seed=np.int64(3), q_acc=np.float32(1e-9))
+    assert type(sc.days) is float and sc.days == 0.5 and type(sc.seed) is int
+    assert type(sc.q_acc) is float
+    with pytest.raises(ValueError, match=r"^days must be a real number in \(0, 365\]"):
+        scenarios.MarsScenario(days="1.0")

@@ -94,3 +94,20 @@ def test_a_record_dt_below_the_runs_epochs_is_refused_with_the_nearest_valid_val
     # the default (60 s) records every epoch of XNAV alone; the shortest interval is valid
     assert scenarios.MarsScenario(days=0.1, subsystems=("xnav",)).record_dt == 60.0
     assert scenarios.MarsScenario(days=0.02, subsystems=("uv",), record_dt=3.0).record_dt == 3.0
+
+
+@pytest.mark.parametrize("call, name", [
+    (lambda: unused_inputs.warn_unmeasured(1.0, {"xnav": 1}), "scenario"),
+    (lambda: unused_inputs.warn_unmeasured(None, None), "counts"),
+    (lambda: unused_inputs.warn_unmeasured(None, {"xnav": 1}), "counts"),
+    (lambda: unused_inputs.warn_unmeasured(None, {"xnav": "1", "uv": 1, "cns": 1}),
+     r"counts\['xnav'\]"),
+    (lambda: unused_inputs.warn_few_records(None, 0.025, 86400.0), "n"),
+    (lambda: unused_inputs.warn_few_records(1, "x", 86400.0), "settle_days"),
+    (lambda: unused_inputs.warn_few_records(1, 0.0, 0.0), "record_dt"),
+    (lambda: unused_inputs.divergence_advice("x"), "scenario"),
+])
+def test_the_helpers_name_their_parameters(call, name):
+    """Review 35k (1) 25: the run notes' helpers raised AttributeError or TypeError."""
+    with pytest.raises(ValueError, match=f"^{name} must"):
+        call()

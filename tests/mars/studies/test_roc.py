@@ -325,3 +325,12 @@ def test_write_curve_refuses_a_seed_that_is_no_integer(tmp_path):
     for seed in (1.5, "x"):
         with pytest.raises(ValueError, match=r"^seed must be an integer"):
             roc.write_curve(tmp_path, roc.DEFAULT_GRID, [], seed)
+
+
+@pytest.mark.parametrize("ax", [1.0, "x", True])
+def test_plot_roc_refuses_an_ax_that_is_no_axes(ax):
+    """Review 35k (1) 24: a non-Axes ax gave AttributeError 'no attribute figure'."""
+    with pytest.raises(ValueError, match="^ax must be a matplotlib Axes"):
+        roc.plot_roc({"a": [dict.fromkeys(("threshold", "pd", "pd_lo", "pd_hi",
+                                           "false_alarms_per_day", "false_alarms_per_day_lo",
+                                           "false_alarms_per_day_hi"), 0.5)]}, ax=ax)

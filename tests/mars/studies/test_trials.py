@@ -181,3 +181,10 @@ def test_a_trial_refuses_what_it_would_not_run(call, words, monkeypatch):
     monkeypatch.setattr(scenarios, "prepare", lambda *a, **k: pytest.fail("the run started"))
     with pytest.raises(ValueError, match=words):
         call()
+
+
+@pytest.mark.parametrize("rate", [5e-324, 1e300, None, "1.0", True])
+def test_detection_limit_names_rate_per_day(rate):
+    """Review 35k (3) 18: a subnormal or huge rate_per_day was refused as alpha."""
+    with pytest.raises(ValueError, match="^rate_per_day must be"):
+        trials.detection_limit("step", "uv", 3.0, rate_per_day=rate)

@@ -30,6 +30,7 @@ from xnavlab.core.validate import (
     check_choice,
     check_finite_array,
     check_instance,
+    check_int,
     check_real,
     check_records,
     check_shape,
@@ -354,15 +355,13 @@ def plot_error_curves(curves, faults=(), *, title="", isolations=()):
     """
     from matplotlib.figure import Figure
 
-    check_instance("curves", curves, dict, "a dict of label -> (t_days, error_m)")
-    if not curves:
-        raise ValueError("curves must hold at least one (t_days, error_m) pair")
+    series = _pairs("curves", curves, "t_days, error_m")
     faults = check_faults("faults", _sequence("faults", faults, "Faults"))
     isolations = check_records("isolations", _sequence("isolations", isolations, "dicts"),
                                ("sensor", "out", "back"), "sensor isolation")
     fig = Figure(figsize=(9.0, 3.6), layout="constrained")
     ax = fig.add_subplot()
-    for label, (td, e) in curves.items():
+    for label, td, e in series:
         ax.semilogy(td, e, lw=0.6, label=label)
     for f in faults:
         ax.axvspan(f.onset / DAY, f.end / DAY, color="0.75", zorder=0)
@@ -385,7 +384,7 @@ def plot_details(t_days, x, details, onsets_days=(), *, stride=20, title=""):
         Sample times, days.
     x : array_like, shape (N,)
         The series, m (plotted in km).
-    details : array_like, shape (J, N)
+    details : array_like, shape (J, N), J >= 1
         Its detail signals, m, from :func:`xnavlab.core.detection.detail_signals
         <xnavlab.core.detection.mallat.detail_signals>`.
     onsets_days : sequence of float
@@ -412,14 +411,15 @@ def plot_details(t_days, x, details, onsets_days=(), *, stride=20, title=""):
     """
     from matplotlib.figure import Figure
 
-    from xnavlab.core.validate import check_int
-
     t_days = check_finite_array("t_days", t_days)
     if t_days.ndim != 1 or t_days.size == 0:
         raise ValueError(f"t_days must be a 1-D array of at least one sample time, got shape "
                          f"{t_days.shape}")
     x = check_shape("x", x, t_days.shape, "N = length of t_days")
     details = check_shape("details", details, (None, t_days.size), "N = length of t_days")
+    if not details.shape[0]:  # no detail row: nothing below the series
+        raise ValueError(f"details must hold at least one detail signal (J >= 1 rows), got "
+                         f"shape {details.shape}")
     onsets_days = check_finite_array("onsets_days", _sequence("onsets_days", onsets_days,
                                                               "onsets, days"))
     if onsets_days.ndim != 1:
@@ -635,6 +635,35 @@ def _sequence(name, value, what):
     return list(value)
 
 
+def _pairs(name, value, what):
+    """``{label: (t_days, y)}`` checked: a dict of at least one pair of 1-D arrays (finite
+    times) of one length (at least one record), times >= 0 and non-decreasing; else one ValueError naming
+    ``name['label']``. Returns ``[(label, t, y)]``."""
+    check_instance(name, value, dict, f"a dict of label -> ({what})")
+    if not value:
+        raise ValueError(f"{name} must hold at least one ({what}) pair")
+    out = []
+    for label, pair in value.items():
+        where = f"{name}[{label!r}]"
+        if isinstance(pair, str | bytes | dict) or not hasattr(pair, "__len__") or len(pair) != 2:
+            raise ValueError(f"{where} must be a pair ({what}), got {shown(pair)}")
+        t = check_finite_array(f"{where}[0]", pair[0])
+        y = check_finite_array(f"{where}[1]", pair[1], finite=False)  # a diverged case: inf
+        if t.ndim != 1 or not t.size:
+            raise ValueError(f"{where}[0] must be a 1-D array of at least one time, got shape "
+                             f"{t.shape}")
+        check_shape(f"{where}[1]", y, t.shape, f"one value a time of {where}[0]")
+        if t[0] < 0.0 or np.any(np.diff(t) < 0.0):
+            raise ValueError(f"{where}[0] must hold non-decreasing times >= 0 (days since the "
+                             f"start)")
+        out.append((label, t, y))
+    return out
+
+
+#: Most bins of :func:`plot_consistency`'s top panel (last time / bin_days).
+_MAX_BINS = 10**6
+
+
 #: Line colours of the cases of :func:`plot_consistency` (green and red mark the band's shares).
 _CASE_COLORS = ("C0", "k", "C1", "C4", "C5", "C6", "C8", "C9")
 
@@ -657,14 +686,15 @@ def plot_consistency(cases, band, dof=6, settle_days=1.0, bin_days=1.0 / 24.0, y
         ``(lo, hi)``: the 95 % band of one record's average
         (:func:`xnavlab.core.filters.chi2_bounds`).
     dof : int
-        Degrees of freedom (6: position and velocity).
+        Degrees of freedom (6: position and velocity), 1 to 1000.
     settle_days : float
-        Start of the judged span, days.
+        Start of the judged span, days, >= 0 and at most every case's last record time.
     bin_days : float
-        Width of the averaging bins of the top panel, days (default one hour).
+        Width of the averaging bins of the top panel, days (default one hour); at most
+        10^6 bins up to the last record (5e-324 is refused, not divided by).
     ylim : tuple of float, optional
-        Limits of the top panel's NEES axis (a diverging case may leave it; its bar still
-        shows it).
+        Limits ``(lo, hi)``, 0 < lo < hi, of the top panel's (log) NEES axis (a diverging
+        case may leave it; its bar still shows it).
 
     Returns
     -------
@@ -683,19 +713,33 @@ def plot_consistency(cases, band, dof=6, settle_days=1.0, bin_days=1.0 / 24.0, y
 
     from xnavlab.core.filters import judge_series
 
-    check_instance("cases", cases, dict, "a dict of label -> (t_days, nees)")
-    if not cases:
-        raise ValueError("cases must hold at least one (t_days, nees) pair")
+    series = _pairs("cases", cases, "t_days, nees")
     band = _sequence("band", band, "two numbers (lo, hi)")
     if len(band) != 2:
         raise ValueError(f"band must be a pair (lo, hi), got {shown(band)}")
     lo, hi = (check_real(n, v, 0.0) for n, v in zip(("band[0]", "band[1]"), band, strict=True))
+    dof = check_int("dof", dof, 1, 1000)
+    settle_days = check_real("settle_days", settle_days, 0.0)
+    for label, t, _ in series:
+        if t[-1] < settle_days:
+            raise ValueError(f"settle_days must be at most the last record time of every case, "
+                             f"{t[-1]:g} days for cases[{label!r}], got {settle_days:g}")
     bin_days = check_real("bin_days", bin_days, 0.0, lo_open=True)
+    last = float(max(t[-1] for _, t, _ in series))
+    if last > _MAX_BINS * bin_days:  # (not last / bin_days: 5e-324 overflows)
+        raise ValueError(f"bin_days must be at least {last / _MAX_BINS:.3g} (at most "
+                         f"{_MAX_BINS:.0e} bins up to day {last:g}), got {bin_days:g}")
+    if ylim is not None:
+        ylim = _sequence("ylim", ylim, "two numbers (lo, hi)")
+        if len(ylim) != 2:
+            raise ValueError(f"ylim must be a pair (lo, hi), got {shown(ylim)}")
+        ylim = [check_real(f"ylim[{i}]", v, 0.0, lo_open=True) for i, v in enumerate(ylim)]
+        if ylim[0] >= ylim[1]:
+            raise ValueError(f"ylim must be (lo, hi) with lo < hi, got {shown(tuple(ylim))}")
     fig = Figure(figsize=(8, 5.6), layout="constrained")
     top, bars = fig.subplots(2, 1, height_ratios=(2, 1))
     names = []
-    for k, (label, (t, nees)) in enumerate(cases.items()):
-        t, nees = np.asarray(t, dtype=float), np.asarray(nees, dtype=float)
+    for k, (label, t, nees) in enumerate(series):
         b = np.floor(t / bin_days).astype(int)
         n = np.bincount(b)
         have = n > 0

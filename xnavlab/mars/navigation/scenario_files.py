@@ -54,7 +54,7 @@ import re
 from dataclasses import dataclass, field
 
 from xnavlab.core.userfiles import as_path, parse_toml, read_text
-from xnavlab.core.validate import check_choice, check_real
+from xnavlab.core.validate import check_choice, check_instance, check_real, check_text, shown
 from xnavlab.mars.models import force_models, model_noise
 from xnavlab.mars.navigation import scenarios
 from xnavlab.mars.timing import pulsar_specs
@@ -407,9 +407,19 @@ def detector_name(detector):
     >>> detector_name({"name": None, "faults": "paper"}), detector_name({"name": None, "faults": ""})
     ('combined', 'none')
     """
+    check_instance("detector", detector, dict, "a [detector] table (a dict with 'name' and "
+                   "'faults')")
+    for key in ("name", "faults"):
+        if key not in detector:
+            raise ValueError(f"detector must hold {key!r} (a [detector] table: "
+                             f"{', '.join(DETECTOR_DEFAULTS)})")
     if detector["name"] is not None:
-        return detector["name"]
-    return "combined" if detector["faults"] else "none"
+        return check_text("detector['name']", detector["name"])
+    faults = detector["faults"]
+    if not isinstance(faults, str):
+        raise ValueError(f"detector['faults'] must be a fault spec (text, '' for none), got "
+                         f"{shown(faults)}")
+    return "combined" if faults else "none"
 
 
 def check_detector(detector):
@@ -430,6 +440,10 @@ def check_detector(detector):
 only the wavelet detector uses it; leave it out or name that detector
     """
     name = detector_name(detector)
+    missing = [k for k in DETECTOR_USES if k not in detector]
+    if missing:
+        raise ValueError(f"detector must hold every [detector] key, {missing[0]!r} is missing "
+                         f"(the keys: {', '.join(DETECTOR_DEFAULTS)})")
     if name != "none" and not any(name in users for users in DETECTOR_USES.values()):
         return  # an unknown detector is named by its own check
     for key, users in DETECTOR_USES.items():

@@ -55,6 +55,7 @@ import sys
 import time
 from collections import OrderedDict
 from dataclasses import dataclass, field, fields, replace
+from numbers import Real
 
 import numpy as np
 
@@ -258,6 +259,10 @@ class MarsScenario:
     state0: tuple = tuple(dynamics.MARS_STATE0.tolist())
 
     def __post_init__(self):
+        for f in (f for f in fields(self) if type(f.default) is float):  # reals kept as floats
+            v = getattr(self, f.name)  # (a Fraction failed; np.float16 overflowed in days * DAY)
+            if isinstance(v, Real | np.floating | np.integer) and not isinstance(v, bool | np.bool_):
+                object.__setattr__(self, f.name, float(v))  # the range checks below refuse the rest
         check_real("days", self.days, 0.0, 365.0, lo_open=True)
         for name in ("dt_xnav", "dt_uv", "dt_cns"):
             check_real(name, getattr(self, name), 0.1, 86400.0)
@@ -314,7 +319,7 @@ class MarsScenario:
             object.__setattr__(self, "beta", b)
         check_choice("mode", self.mode, MODES)
         check_real("record_dt", self.record_dt, 0.1, 86400.0)
-        check_seed("seed", self.seed)
+        object.__setattr__(self, "seed", check_seed("seed", self.seed))
         e = sorted({self.truth_ephem, self.filter_ephem})  # the run, t0 to t0 + span, on them
         lo, hi = (f(c[j] for c in map(ephemeris.coverage, e)) for j, f in ((0, max), (1, min)))
         if not lo <= check_real("t0", self.t0) <= hi - self.span:
@@ -322,8 +327,6 @@ class MarsScenario:
                              f"t0 to t0 + days, in {' and '.join(e.upper() for e in e)}), got {self.t0:.6g}")
         s0 = dynamics.check_state0(self.state0)  # here, so scenario --check says so
         object.__setattr__(self, "state0", tuple(float(v) for v in s0))
-        for f in (f for f in fields(self) if type(f.default) is float):  # checked reals, kept as
-            object.__setattr__(self, f.name, float(getattr(self, f.name)))  # floats (a Fraction failed)
         unused_inputs.check_fields(self)  # a field set but made inert by another is refused
 
     @classmethod

@@ -33,6 +33,7 @@ import dataclasses
 import warnings
 
 from xnavlab.core.userfiles import InputWarning
+from xnavlab.core.validate import check_instance, check_int, check_real
 
 __all__ = ["SUBSYSTEM_FIELDS", "NOISE_FIELDS", "NOISE_SETTINGS", "check_fields", "check_record_dt",
            "warn_unmeasured", "warn_few_records", "divergence_advice"]
@@ -152,8 +153,13 @@ def warn_unmeasured(scenario, counts):
     xnav gets no measurement in 0.005 days (its first comes at 500 s): run longer or drop it \
 from subsystems
     """
+    scenario = _scenario(scenario)
+    check_instance("counts", counts, dict, "a dict of subsystem -> number of measurements")
     for s in scenario.subsystems:
-        if counts[s] == 0:
+        if s not in counts:
+            raise ValueError(f"counts must hold every subsystem of the scenario "
+                             f"({', '.join(scenario.subsystems)}), {s!r} is missing")
+        if check_int(f"counts[{s!r}]", counts[s], 0) == 0:
             dt = getattr(scenario, f"dt_{s}")
             warnings.warn(f"{s} gets no measurement in {scenario.days:g} days (its first comes "
                           f"at {dt:g} s): run longer or drop it from subsystems", InputWarning,
@@ -181,6 +187,9 @@ def warn_few_records(n, settle_days, record_dt):
     position_error_m and velocity_error_mps are the RMS of 1 record (from settle_days = 0.025 \
 with record_dt = 86400 s): lower record_dt or settle_days, or run longer
     """
+    n = check_int("n", n, 0)
+    settle_days = check_real("settle_days", settle_days, 0.0)
+    record_dt = check_real("record_dt", record_dt, 0.0, lo_open=True)
     if n < 2:
         warnings.warn(f"position_error_m and velocity_error_mps are the RMS of {n} record"
                       f"{'' if n == 1 else 's'} (from settle_days = {settle_days:g} with "
@@ -192,6 +201,13 @@ with record_dt = 86400 s): lower record_dt or settle_days, or run longer
 NOISE_SETTINGS = ("sigma_range_m", "sigma_dir_deg", "sigma_star_arcsec", "sigma_horizon_deg",
                   "xnav_sigma_m", "area_m2", "background", "pos_err0_m", "vel_err0_mps", "q_acc",
                   "pulsars")
+
+
+def _scenario(scenario):
+    """``scenario`` checked as a MarsScenario (None: the default one), under its own name."""
+    from xnavlab.mars.navigation.scenarios import check_scenario  # it imports this module
+
+    return check_scenario("scenario", scenario)
 
 
 def divergence_advice(scenario):
@@ -207,6 +223,7 @@ def divergence_advice(scenario):
     >>> divergence_advice(MarsScenario())
     'raise the smallest noise setting'
     """
+    scenario = _scenario(scenario)
     defaults = _defaults(scenario)
     moved = [f"{name} = {getattr(scenario, name)!r:.60} (default {defaults[name]!r:.40})"
              for name in NOISE_SETTINGS if getattr(scenario, name) != defaults[name]]

@@ -195,7 +195,8 @@ def detection_limit(fault_class, sensor, size, window_s=4000.0, rate_per_day=1.0
     window_s : float
         Detection window after the onset, s, > 0.
     rate_per_day : float
-        Design false alarms of the subsystem per day.
+        Design false alarms of the subsystem per day, from 1e-12 to below the samples of a
+        day over those of the window (a false-alarm probability in the window under 1).
 
     Returns
     -------
@@ -212,12 +213,17 @@ def detection_limit(fault_class, sensor, size, window_s=4000.0, rate_per_day=1.0
     check_choice("sensor", sensor, ("uv", "xnav"))
     size = check_real("size", size, 0.0, 1e5, lo_open=True)
     window_s = check_real("window_s", window_s, 0.0, lo_open=True)
+    rate_per_day = check_real("rate_per_day", rate_per_day, 1e-12)  # 5e-324: alpha 0
     sc = scenarios.check_scenario("scenario", scenario)
     f = fault_for(fault_class, sensor, size, 0.0, sc)
     dt = sc.dt_uv if sensor == "uv" else sc.dt_xnav
     n = int(min(window_s, f.duration) // dt)
     if n < 1:
         return 0.0
+    if rate_per_day * n * dt >= DAY:  # the window's false-alarm probability would be 1
+        raise ValueError(f"rate_per_day must be below {DAY / (n * dt):.6g} (the {sensor} samples "
+                         f"of a day, one every {dt:g} s, over the window's {n}), got "
+                         f"{rate_per_day:g}")
     sig = _component_sigmas(sensor, sc)
     alpha = limits.window_false_alarm(rate_per_day, DAY / dt, n)
     if fault_class == "noise":
