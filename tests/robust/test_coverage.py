@@ -165,3 +165,23 @@ def test_review_35i_refusals():
         cv.coverage_over_seeds(seeds=(0,), n_steps=60, lamda=0.1)
     with pytest.raises(ValueError, match=r"^n_step=60 is not a setting of coverage_over_seeds \(they are"):
         cv.compare_bounds((0,), ("prior",), n_step=60)
+
+
+@pytest.mark.parametrize("k", [5e-324, 0.0, None, "3"])
+def test_review_35k_1_11_coverage_k(k):
+    """Review 35k (1) 11: k = 5e-324 was a ZeroDivisionError in the level 1 - 1/k^2 (and 1e300
+    an OverflowError, now a level of 1)."""
+    with pytest.raises(ValueError, match=r"^k must be a real number in \[0.001, inf\)"):
+        cv.coverage_over_seeds(seeds=(0,), n_steps=60, k=k)
+
+
+def test_review_35k_1_11_coverage_huge_k():
+    """Review 35k (1) 11: k = 1e300 overflowed k**2; its level is 1 (every error inside)."""
+    out = cv.coverage_over_seeds(seeds=(0,), n_steps=60, k=1e300)
+    assert out["level"] == 1.0 and out["coverage"] == 1.0
+
+
+def test_review_35k_3_4_prior_bias_max_t0():
+    """Review 35k (3) 4: t0 = 1e300 was refused as the ephemeris' ``t``."""
+    with pytest.raises(ValueError, match=r"^t0 must be an epoch in \["):
+        cv.prior_bias_max("mars", t0=1e300)

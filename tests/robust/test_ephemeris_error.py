@@ -194,3 +194,67 @@ def test_review_35i_refusals():
             ee.injected_error(0.0, 100.0, **kwargs)
         with pytest.raises(ValueError, match=rf"^{name} shapes a growing error only"):
             ee.injected_error(0.0, 100.0, "slow", **kwargs)
+
+
+@pytest.mark.parametrize("t0", [None, "1.0", math.nan, 1e300])
+def test_review_35k_1_8_3_5_5_5_injected_error_t0(t0):
+    """Review 35k (1) 8, (3) 5, (5) 5: a growing error's t0 of None or text was a TypeError, NaN
+    was refused as the internal ``s``, and 1e300 put every epoch before the onset (all zeros)."""
+    with pytest.raises(ValueError, match=r"^t0 must be an epoch in \["):
+        ee.injected_error([0.0, 50.0, 100.0], 10.0, "growing", (0, 0, 1), growth_time=100.0, t0=t0)
+
+
+@pytest.mark.parametrize("kwargs", [{"t0": None}, {"t0": "1.0"}, {"t0": math.nan}, {"period": 1e300}])
+def test_review_35k_5_4_injected_error_unused_t0_period(kwargs):
+    """Review 35k (5) 4: a constant error's t0 and period (unused) were accepted unchecked."""
+    name = next(iter(kwargs))
+    with pytest.raises(ValueError, match=rf"^{name} shapes a .*error only .*leave {name} out"):
+        ee.injected_error(0.0, 100.0, **kwargs)
+    with pytest.raises(ValueError, match=r"^period must be a real number in \[1, inf\)"):
+        ee.injected_error(0.0, 100.0, "slow", period=5e-324)
+    assert ee.injected_error(0.0, 100.0, t0=0.0).shape == (3,)  # the default, typed: accepted
+
+
+def test_review_35k_1_9_propagate_substep():
+    """Review 35k (1) 9: a subnormal substep was an OverflowError (the count of RK4 steps)."""
+    x0 = ee.orbit("earth").state0
+    for substep in (5e-324, 1e-9):
+        with pytest.raises(ValueError, match=r"^substep must be at least \|dt\| / 1e\+07 = 5e-05 s"):
+            ee.propagate(x0, 500.0, substep=substep)
+    assert np.array_equal(ee.propagate(x0, 0.0, substep=5e-324), x0)  # no step at all
+
+
+@pytest.mark.parametrize("elements", [1.0, True, -1, math.nan, "abcdef", [1.0] * 5])
+def test_review_35k_1_10_orbit_elements(elements):
+    """Review 35k (1) 10: elements that are no sequence were a TypeError ('not iterable')."""
+    with pytest.raises(ValueError, match=r"^elements must be"):
+        ee.orbit("earth", elements=elements)
+
+
+def test_review_35k_1_10_orbit_elements_named_by_index():
+    """Review 35k (1) 10 (pattern B): an element out of range was named a, e, ... (the inner
+    function's names), not elements[i]."""
+    with pytest.raises(ValueError, match=r"^elements\[1\] must be a real number in \[0, 1\)"):
+        ee.orbit("earth", elements=(7e6, 1.5, 0.0, 0.0, 0.0, 0.0))
+    with pytest.raises(ValueError, match=r"^elements\[0\] must be a real number"):
+        ee.orbit("earth", elements=(math.nan, 0.0, 0.0, 0.0, 0.0, 0.0))
+    o = ee.orbit("earth", elements=np.array(ee.EARTH_ELEMENTS))
+    assert np.array_equal(o.state0, ee.orbit("earth").state0)
+
+
+def test_review_35k_3_3_3_4_names_of_the_caller():
+    """Review 35k (3) 3, (3) 4: truth/model were refused as ``ephem``, and t0 = 1e300 of
+    error_summary as the ephemeris' ``t``."""
+    t = [ee.EPOCH_1997, ee.EPOCH_1997 + 3600.0]
+    with pytest.raises(ValueError, match=r"^truth must be one of 'de421', 'de405', got ''"):
+        ee.ephemeris_error("mars", t, truth="")
+    with pytest.raises(ValueError, match=r"^model must be one of"):
+        ee.ephemeris_drift("earth", ee.EPOCH_1997, ee.EPOCH_1997, model="x")
+    with pytest.raises(ValueError, match=r"^t_ref must be an epoch in \["):
+        ee.ephemeris_drift("earth", ee.EPOCH_1997, 1e300)
+    with pytest.raises(ValueError, match=r"^t0 must be an epoch in \["):
+        ee.error_summary("earth", t0=1e300)
+    with pytest.raises(ValueError, match=r"^span must end the run within the ephemerides"):
+        ee.error_summary("earth", t0=6.3e9, span=5 * ee.YEAR)
+    with pytest.raises(ValueError, match=r"^t0 must be an epoch in \["):
+        ee.orbit("earth", t0=None)

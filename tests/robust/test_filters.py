@@ -497,3 +497,24 @@ def test_one_generator_listed_twice_is_drawn_from_in_order():
     one_by_one = [rb.run_filter("rkf", sc, rng=g) for sc in scs]
     for a, b in zip(runs, one_by_one, strict=True):
         np.testing.assert_allclose(a.x, b.x, rtol=1e-12, atol=1e-6)
+
+
+@pytest.mark.parametrize("n_dyn", [None, "3", 2.5, -1, True, 7])
+def test_review_35k_1_7_2_6_predict_n_dyn(n_dyn):
+    """Review 35k (1) 7, (2) 6: n_dyn of None or text was a TypeError, 2.5 a slice TypeError,
+    -1 and True numpy's reshape message."""
+    o = ee.orbit("earth")
+    with pytest.raises(ValueError, match=r"^n_dyn must be 6 \(the dynamics propagate"):
+        rb.filters.predict(o.state0, np.eye(6), 500.0, "earth", np.zeros((6, 6)), n_dyn=n_dyn)
+
+
+def test_review_35k_1_10_5_5_simulate_elements_t0():
+    """Review 35k (1) 10, (5) 5: simulate's elements=1.0 was a TypeError, t0=1e300 gave epochs
+    that were all 1e300; a run past the ephemerides was refused as the ephemeris' ``t``."""
+    with pytest.raises(ValueError, match=r"^elements must be"):
+        rb.filters.simulate("mars", n_steps=5, elements=1.0)
+    with pytest.raises(ValueError, match=r"^t0 must be an epoch in \["):
+        rb.filters.simulate("mars", n_steps=5, error="constant", size=100.0, rng=1, t0=1e300)
+    with pytest.raises(ValueError, match=r"^n_steps must end the run within the ephemerides: t0 \+ "
+                                         r"n_steps \* dt"):
+        rb.filters.simulate("earth", n_steps=10**6, dt=1e5)

@@ -84,3 +84,17 @@ def test_sensitivity_names_sizes_and_directions():
         sensitivity.ukf_sensitivity_by_direction({"z": [0.0, 1.0]})
     with pytest.raises(ValueError, match=r"^size must be a real number in \[0.001"):
         sensitivity.steepest_direction({k: 0.5 for k in _dirs()}, _dirs(), 40.0, 5e-324)
+
+
+@pytest.mark.parametrize("size", [0.0, 5e-324, None, "1.0", True, 1e9])
+def test_review_35k_1_12_sensitivity_size(size):
+    """Review 35k (1) 12: size 0 was a ZeroDivisionError, None or text a TypeError, True taken as 1."""
+    with pytest.raises(ValueError, match=r"^size must be a real number in \[0.001, 1e\+08\]"):
+        sensitivity.ukf_sensitivity_by_direction({"z": [0.0, 0.0, 1.0]}, body="mars", size=size)
+
+
+@pytest.mark.parametrize("t0", [math.nan, None, 1e300])
+def test_review_35k_3_4_earth_error_size_t0(t0):
+    """Review 35k (3) 4: t0 was refused as the ephemeris' ``t``."""
+    with pytest.raises(ValueError, match=r"^t0 must be an epoch in \["):
+        sensitivity.earth_error_size(t0=t0)

@@ -8,13 +8,23 @@ API.
 
 from __future__ import annotations
 
+from numbers import Integral
+
 import numpy as np
 
-from xnavlab.core.validate import check_covariance, check_finite_array, check_shape, check_vector, shown
+from xnavlab.core import ephemeris
+from xnavlab.core.validate import (
+    check_covariance,
+    check_finite_array,
+    check_real,
+    check_shape,
+    check_vector,
+    shown,
+)
 from xnavlab.mars.models.dynamics import R_MAX
 
 __all__ = ["check_state", "check_update", "check_runs", "check_position", "check_directions",
-           "check_run_of", "UNIT_TOL"]
+           "check_run_of", "check_epoch", "check_n_dyn", "UNIT_TOL"]
 
 #: How far from 1 the norm of a pulsar direction may be. A direction is a unit vector: a row
 #: of norm k would scale the range ``n . r`` by k, so a non-unit one is refused rather than
@@ -35,6 +45,33 @@ def check_position(name, r, radius, body):
         raise ValueError(f"{name} must lie between the radius of {body} ({radius:g} m) and "
                          f"{R_MAX:g} m from its centre, got |{name}| = {worst:g} m")
     return r
+
+
+def check_epoch(name, t0, span=0.0, span_name=None, span_expr=None):
+    """``t0`` (s TDB past J2000) as a float whose span ``[t0, t0 + span]`` both ephemerides
+    (DE421 and DE405) cover, else one ValueError leading with ``name`` (``span_name`` when
+    ``t0`` lies inside and only the span's end, ``name + span_expr``, outside): the user's own
+    parameter, never the ephemeris' ``t``."""
+    lo = max(ephemeris.coverage(e)[0] for e in ephemeris.EPHEMERIDES)
+    hi = min(ephemeris.coverage(e)[1] for e in ephemeris.EPHEMERIDES)
+    want = f"in [{lo:.6g}, {hi:.6g}] s TDB past J2000 (the years DE421 and DE405 both cover)"
+    try:
+        t0 = check_real(name, t0, lo, hi)
+    except ValueError:
+        raise ValueError(f"{name} must be an epoch {want}, got {shown(t0)}") from None
+    if t0 + span > hi:
+        raise ValueError(f"{span_name} must end the run within the ephemerides: {name} + "
+                         f"{span_expr or span_name} at most {hi:.6g} s TDB past J2000 ({hi - t0:.6g} s "
+                         f"after {name} = {t0:.6g}), got {t0 + span:.6g}")
+    return t0
+
+
+def check_n_dyn(n_dyn):
+    """``n_dyn`` as 6: the step propagates the six components ``[r, v]`` of the state."""
+    if isinstance(n_dyn, bool) or not isinstance(n_dyn, Integral | np.integer) or n_dyn != 6:
+        raise ValueError(f"n_dyn must be 6 (the dynamics propagate the six components [r, v] of x; "
+                         f"further components are held), got {shown(n_dyn)}")
+    return 6
 
 
 def check_directions(name, n):

@@ -89,7 +89,8 @@ def bound_coverage(run, scenario, k=K_SIGMA, skip=SKIP):
     scenario : xnavlab.robust.filters.Scenario
         The truth the run is scored against.
     k : float
-        Size of the ellipse, sigmas (``> 0``).
+        Size of the ellipse, sigmas, at least 1e-3 (a subnormal k divided the level
+        ``1 - 1/k^2`` by zero).
     skip : float
         Fraction of the epochs left out at the start, in [0, 1).
 
@@ -112,7 +113,7 @@ def bound_coverage(run, scenario, k=K_SIGMA, skip=SKIP):
     check_instance("run", run, filters.FilterRun, "a FilterRun from run_filter()")
     check_instance("scenario", scenario, filters.Scenario, "the Scenario the run ran on")
     check_run_of(run, scenario)  # its epochs and its truth
-    k = check_real("k", k, 0.0, lo_open=True)
+    k = check_real("k", k, 1e-3)
     skip = check_real("skip", skip, 0.0, 1.0, hi_open=True)
     first = int(skip * scenario.t.size)
     e = run.x[first:, :3] - scenario.x_true[first:, :3]
@@ -202,7 +203,7 @@ def coverage_over_seeds(name="rkf", seeds=(0, 1, 2, 3), body="mars", error="grow
     _check_keywords(filter_kwargs, _RUN_SETTINGS, "run_filter setting")
     seeds = check_seeds("seeds", seeds)
     n_steps = check_int("n_steps", n_steps, 2, 10**6)
-    k = check_real("k", k, 0.0, lo_open=True)
+    k = check_real("k", k, 1e-3)  # 1 - 1/k^2: 5e-324 divided by 0; k * k is inf, k**2 overflowed
     if size is None:
         size = 5e4 if error in ("constant", "slow", "growing") else 0.0
     if bias_max is not None and not (name == "rkf" and rkf_bias == "prior"):
@@ -225,7 +226,7 @@ def coverage_over_seeds(name="rkf", seeds=(0, 1, 2, 3), body="mars", error="grow
     ratio = np.concatenate(ratios)
     return {"coverage": float(np.mean(ratio <= k)), "median_ratio": float(np.median(ratio)),
             "nees": float(np.mean(np.concatenate(nees))), "rmse_m": float(np.sqrt(np.mean(sq))),
-            "median_sigma_m": float(np.median(sig)), "per_seed": per, "level": 1.0 - 1.0 / k**2}
+            "median_sigma_m": float(np.median(sig)), "per_seed": per, "level": 1.0 - 1.0 / (k * k)}
 
 
 #: The settings of run_filter that coverage_over_seeds passes on (it sets the scenario, the seed

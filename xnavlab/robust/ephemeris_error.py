@@ -60,10 +60,10 @@ from xnavlab.core.constants import (
     J2_MARS_RADIUS,
     R_EARTH,  # noqa: F401 - used by the doctest of acceleration
 )
-from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_items, check_real
+from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_items, check_real, shown
 from xnavlab.mars.models.dynamics import MARS_POLE, MARS_STATE0, MAX_GM, R_MAX, R_MIN
 from xnavlab.mars.timing import pulsars
-from xnavlab.robust._checks import check_directions, check_position
+from xnavlab.robust._checks import check_directions, check_epoch, check_position
 from xnavlab.robust._propagation import derivatives, propagate_unchecked
 
 __all__ = [
@@ -85,6 +85,7 @@ __all__ = [
     "directions",
     "xnav_range",
     "acceleration",
+    "MAX_SUBSTEPS",
     "propagate",
     "elements_to_state",
     "orbit",
@@ -131,6 +132,8 @@ def ephemeris_error(body, t, truth="de421", model="de405"):
     (2, 3)
     """
     check_choice("body", body, tuple(PLANETS))
+    check_choice("truth", truth, ephemeris.EPHEMERIDES)  # by the user's names, not the ephemeris'
+    check_choice("model", model, ephemeris.EPHEMERIDES)
     return ephemeris.position(body, t, truth) - ephemeris.position(body, t, model)
 
 
@@ -144,9 +147,10 @@ def error_summary(body, t0=EPOCH_1997, span=DAY, n=97):
     ----------
     body : {"earth", "mars"}
     t0 : float
-        Start, s TDB past J2000 (default 1997-01-01).
+        Start, s TDB past J2000 (default 1997-01-01), within the years DE421 and DE405 both
+        cover (1900-2199).
     span : float
-        Length, s (positive, at most 10 years).
+        Length, s (positive, at most 10 years; ``t0 + span`` within the ephemerides too).
     n : int
         Number of samples (at least 2).
 
@@ -163,8 +167,8 @@ def error_summary(body, t0=EPOCH_1997, span=DAY, n=97):
     True
     """
     check_choice("body", body, tuple(PLANETS))
-    t0 = check_real("t0", t0)
     span = check_real("span", span, 0.0, 10 * YEAR, lo_open=True)
+    t0 = check_epoch("t0", t0, span, "span")  # named as given, not as the ephemeris' t
     n = check_int("n", n, 2, 10**6)
     t = t0 + np.linspace(0.0, span, n)
     norm = np.linalg.norm(ephemeris_error(body, t), axis=1)
@@ -232,9 +236,12 @@ def injected_error(t, size, kind="constant", direction=(1.0, 1.0, 1.0), t0=0.0, 
     direction : array_like, shape (3,)
         Direction ``u`` (normalised here; must be non-zero).
     t0 : float
-        Reference epoch (start of the growth, phase of the slow variation), s.
+        For ``"growing"`` and ``"slow"``: reference epoch (start of the growth, phase of the
+        slow variation), s TDB past J2000, within the years DE421 and DE405 both cover
+        (1900-2199); ``"constant"`` refuses any but the default.
     period : float
-        Period of the slow variation, s.
+        For ``"slow"``: period of the slow variation, s, at least 1; another kind refuses
+        any but the default (a year).
     growth_time : float, optional
         For ``"growing"``: time after ``t0`` at which the error reaches ``size``, s, in
         [1, 1e12] (required).
@@ -260,11 +267,18 @@ def injected_error(t, size, kind="constant", direction=(1.0, 1.0, 1.0), t0=0.0, 
             if value is not default and not (isinstance(value, str) and value == default):
                 raise ValueError(f"{name} shapes a growing error only (kind='growing'), got kind = "
                                  f"{kind!r}; leave {name} out")
+    for name, value, default, kinds in (("t0", t0, 0.0, ("growing", "slow")), ("period", period, YEAR,
+                                                                             ("slow",))):
+        if kind not in kinds and not _is_number(value, default):  # unused by this kind: refused
+            raise ValueError(f"{name} shapes a {' or '.join(kinds)} error only (kind={kinds[0]!r}"
+                             f"{'' if len(kinds) == 1 else f' or {kinds[1]!r}'}), got kind = "
+                             f"{kind!r}; leave {name} out")
     u = check_finite_array("direction", direction, shape=(3,))
     norm = float(np.linalg.norm(u))
     if norm == 0.0:
         raise ValueError("direction must be a non-zero 3-vector")
-    period = check_real("period", period, 0.0, lo_open=True)
+    period = check_real("period", period, 1.0)  # from a second: 5e-324 overflowed (t - t0) / period
+    t0 = check_epoch("t0", t0)  # 1e300 put every t before the onset (an error of zero throughout)
     t = check_finite_array("t", t)
     scale = np.full(t.shape, size)
     if kind == "slow":
@@ -276,6 +290,12 @@ def injected_error(t, size, kind="constant", direction=(1.0, 1.0, 1.0), t0=0.0, 
         growth_time = check_real("growth_time", growth_time, 1.0, 1e12)
         scale = size * growth_profile((t - t0) / growth_time, profile)  # |dr_E(t)| = size f(s)
     return scale[..., None] * (u / norm)
+
+
+def _is_number(value, default):
+    """Whether ``value`` is the real number ``default`` (a setting left at its default)."""
+    return (not isinstance(value, bool) and isinstance(value, int | float | np.integer | np.floating)
+            and value == default)
 
 
 def ephemeris_drift(body, t, t_ref, truth="de421", model="de405"):
@@ -303,7 +323,7 @@ def ephemeris_drift(body, t, t_ref, truth="de421", model="de405"):
     >>> float(np.linalg.norm(ephemeris_drift("earth", EPOCH_1997, EPOCH_1997)))
     0.0
     """
-    t_ref = check_real("t_ref", t_ref)
+    t_ref = check_epoch("t_ref", t_ref)
     return ephemeris_error(body, t, truth, model) - ephemeris_error(body, t_ref, truth, model)
 
 
@@ -409,6 +429,11 @@ def acceleration(r, body="earth"):
     return derivatives(np.atleast_2d(X), gm, j2, radius, pole)[:, 3:].reshape(r.shape)
 
 
+#: The most RK4 steps :func:`propagate` takes over one ``dt`` (``ceil(|dt| / substep)``): a
+#: second or so per state, far more than any accuracy needs (the default takes 25 over 500 s).
+MAX_SUBSTEPS = 10**7
+
+
 def propagate(x, dt, body="earth", substep=20.0):
     """Propagate states over ``dt`` with fixed-step RK4 of the two-body + J2 model.
 
@@ -421,8 +446,9 @@ def propagate(x, dt, body="earth", substep=20.0):
         Time step, s (may be negative, ``|dt| <= 1e6``).
     body : {"earth", "mars"}
     substep : float
-        Largest RK4 step, s; ``dt`` is split into ``ceil(|dt| / substep)`` equal steps.
-        20 s keeps the error over one orbit (12 h Earth, 2.3 h Mars) below 0.1 m.
+        Largest RK4 step, s, in (0, 1e5]; ``dt`` is split into ``ceil(|dt| / substep)`` equal
+        steps, at most :data:`MAX_SUBSTEPS` (``substep >= |dt| / 1e7``). 20 s keeps the error
+        over one orbit (12 h Earth, 2.3 h Mars) below 0.1 m.
 
     Returns
     -------
@@ -439,6 +465,10 @@ def propagate(x, dt, body="earth", substep=20.0):
     x = check_finite_array("x", x, shape=(6,))
     dt = check_real("dt", dt, -1e6, 1e6)
     substep = check_real("substep", substep, 0.0, 1e5, lo_open=True)
+    if abs(dt) / substep > MAX_SUBSTEPS:  # 5e-324 overflowed the count (and 1e-9 ran for hours)
+        raise ValueError(f"substep must be at least |dt| / {MAX_SUBSTEPS:.0e} = "
+                         f"{abs(dt) / MAX_SUBSTEPS:.6g} s (at most {MAX_SUBSTEPS:.0e} RK4 steps over "
+                         f"dt = {dt:g} s), got {substep:g}")
     check_position("x[:3]", x[..., :3], PLANETS[body][2], body)  # the planet's field outside it only
     return propagate_unchecked(x, dt, PLANETS[body], substep)
 
@@ -469,12 +499,17 @@ def elements_to_state(a, e, i_deg, raan_deg, argp_deg, nu_deg, gm):
     >>> round(float(x[4]), 3) == round(math.sqrt(GM_EARTH / 7e6), 3)
     True
     """
-    a = check_real("a", a, R_MIN, R_MAX)  # the distances a state may have (dynamics.R_MIN)
-    e = check_real("e", e, 0.0, 1.0, hi_open=True)
+    return _state_of((a, e, i_deg, raan_deg, argp_deg, nu_deg), gm,
+                     ("a", "e", "i_deg", "raan_deg", "argp_deg", "nu_deg"))
+
+
+def _state_of(elements, gm, names):
+    """:func:`elements_to_state` of the six ``elements``, each checked under its ``names`` entry."""
+    a = check_real(names[0], elements[0], R_MIN, R_MAX)  # the distances a state may have (dynamics.R_MIN)
+    e = check_real(names[1], elements[1], 0.0, 1.0, hi_open=True)
     gm = check_real("gm", gm, 0.0, MAX_GM, lo_open=True)
     i, raan, argp, nu = (math.radians(check_real(n, v, -360.0, 360.0)) for n, v in
-                         (("i_deg", i_deg), ("raan_deg", raan_deg), ("argp_deg", argp_deg),
-                          ("nu_deg", nu_deg)))
+                         zip(names[2:], elements[2:], strict=True))
     p = a * (1.0 - e * e)
     rn = p / (1.0 + e * math.cos(nu))
     r_pf = np.array([rn * math.cos(nu), rn * math.sin(nu), 0.0])
@@ -533,9 +568,10 @@ def orbit(body="earth", t0=EPOCH_1997, elements=None):
     ----------
     body : {"earth", "mars"}
     t0 : float
-        Epoch, s TDB past J2000.
-    elements : tuple of 6 floats, optional
-        ``(a_m, e, i_deg, raan_deg, argp_deg, nu_deg)`` replacing the default orbit.
+        Epoch, s TDB past J2000, within the years DE421 and DE405 both cover (1900-2199).
+    elements : sequence of 6 floats, optional
+        ``(a_m, e, i_deg, raan_deg, argp_deg, nu_deg)`` replacing the default orbit, each in
+        :func:`elements_to_state`'s range (named ``elements[i]``).
 
     Returns
     -------
@@ -548,13 +584,15 @@ def orbit(body="earth", t0=EPOCH_1997, elements=None):
     26294
     """
     check_choice("body", body, tuple(PLANETS))
-    t0 = check_real("t0", t0)
+    t0 = check_epoch("t0", t0)
     gm = PLANETS[body][0]
     if elements is not None:
-        el = tuple(elements)
-        if len(el) != 6:
-            raise ValueError(f"elements must be (a_m, e, i_deg, raan_deg, argp_deg, nu_deg), got {el!r}")
-        return Orbit(body, elements_to_state(*el, gm), t0, f"{body} (user elements)", "user")
+        el = check_finite_array("elements", elements, finite=False)
+        if el.shape != (6,):
+            raise ValueError(f"elements must be (a_m, e, i_deg, raan_deg, argp_deg, nu_deg), 6 numbers, "
+                             f"got {shown(elements)}")
+        return Orbit(body, _state_of(el, gm, [f"elements[{i}]" for i in range(6)]), t0,
+                     f"{body} (user elements)", "user")
     if body == "earth":
         return Orbit(body, elements_to_state(*EARTH_ELEMENTS, gm), t0, "OPS_5111 (representative)",
                      "representative GPS Block I elements (OPS 5111 = NAVSTAR 1)")

@@ -76,7 +76,14 @@ from xnavlab.core.filters import ukf_weights
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, make_rng
 from xnavlab.robust import ephemeris_error as ee
 from xnavlab.robust._batch import first, mv, sigma_points, sym, tr, unscented
-from xnavlab.robust._checks import check_position, check_runs, check_state, check_update
+from xnavlab.robust._checks import (
+    check_epoch,
+    check_n_dyn,
+    check_position,
+    check_runs,
+    check_state,
+    check_update,
+)
 from xnavlab.robust._propagation import propagate_unchecked
 
 __all__ = [
@@ -199,7 +206,8 @@ def simulate(body="earth", n_steps=1200, dt=500.0, error="de405", size=0.0, puls
         Their ranging noise, m (default :data:`xnavlab.robust.ephemeris_error.SIGMA_M`; needed
         when other pulsars are chosen: defaults to their ranging accuracy then).
     t0 : float
-        Epoch of the initial state, s TDB past J2000.
+        Epoch of the initial state, s TDB past J2000, within the years DE421 and DE405 both
+        cover (1900-2199; with ``error="de405"`` or ``"de405-drift"`` the run's end too).
     elements : tuple, optional
         Orbital elements replacing the default orbit (see :func:`xnavlab.robust.ephemeris_error.orbit`).
     direction : array_like of shape (3,) or "de405", optional
@@ -257,6 +265,8 @@ def simulate(body="earth", n_steps=1200, dt=500.0, error="de405", size=0.0, puls
         raise ValueError(f"sigma_m must hold {len(names)} positive values, got {sigma_m!r}")
     n = ee.directions(names)
     orb = ee.orbit(body, t0, elements)
+    if error in ("de405", "de405-drift"):  # the run's epochs in the ephemerides, by the user's names
+        check_epoch("t0", orb.t0, n_steps * dt, "n_steps", "n_steps * dt")
     if direction is None:
         direction = np.ones(3)
     elif isinstance(direction, str):
@@ -272,8 +282,9 @@ def simulate(body="earth", n_steps=1200, dt=500.0, error="de405", size=0.0, puls
         dr = np.zeros((n_steps, 3))
     else:
         grow = error == "growing"  # injected_error refuses the growth settings for another kind
-        dr = ee.injected_error(t, size, error, direction, t0=orb.t0, growth_time=growth_time if grow
-                               else None, profile=profile if grow else "linear")
+        dr = ee.injected_error(t, size, error, direction, t0=0.0 if error == "constant" else orb.t0,
+                               growth_time=growth_time if grow else None,
+                               profile=profile if grow else "linear")
     v = rng.normal(size=(n_steps, len(names))) * sigma
     y = (x[:, :3] + dr) @ n.T + v  # y = z - N r_E_hat = N (r + dr_E) + v, paper eqs. (1)-(3)
     return Scenario(body, t, dt, x, y, n, np.diag(sigma**2), dr)
@@ -325,6 +336,8 @@ def predict(x, P, dt, body, Q, n_dyn=6):
     body : {"earth", "mars"}
     Q : array_like, shape (m, m)
         Process noise over the step.
+    n_dyn : int
+        Number of leading components the dynamics propagate: 6 (``[r, v]``), the only value.
 
     Returns
     -------
@@ -338,6 +351,7 @@ def predict(x, P, dt, body, Q, n_dyn=6):
     >>> bool(np.allclose(x, ee.propagate(o.state0, 500.0), atol=1e-3))
     True
     """
+    n_dyn = check_n_dyn(n_dyn)  # refused before it slices x
     x, P = check_state(x, P, n_dyn)
     Q = validate.check_covariance("Q", validate.check_shape("Q", Q, P.shape, "m = size of x"))
     check_choice("body", body, tuple(ee.PLANETS))

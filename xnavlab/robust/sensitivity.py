@@ -22,6 +22,7 @@ import numpy as np
 
 from xnavlab.core.validate import check_real, check_vector, shown
 from xnavlab.robust import ephemeris_error as ee
+from xnavlab.robust._checks import check_epoch
 from xnavlab.robust.comparison import compare_filters
 
 __all__ = ["ukf_sensitivity", "sensitivity_directions", "ukf_sensitivity_by_direction",
@@ -97,7 +98,8 @@ def ukf_sensitivity_by_direction(directions=None, size=1000.0, body="earth", see
     directions : dict of name -> array_like (3,), optional
         Default :func:`sensitivity_directions`.
     size : float
-        Error size, m.
+        Error size, m, in [1e-3, 1e8] (from a millimetre, as :func:`steepest_direction`'s: the
+        slope divides by it; to simulate's largest injected error).
     body : {"earth", "mars"}
     seeds : sequence of int
 
@@ -112,6 +114,7 @@ def ukf_sensitivity_by_direction(directions=None, size=1000.0, body="earth", see
     >>> list(s)
     ['z']
     """
+    size = check_real("size", size, 1e-3, 1e8)  # checked before the runs (0 divided the slope)
     if directions is None:
         directions = sensitivity_directions(body)
     elif not isinstance(directions, Mapping) or not directions:
@@ -123,7 +126,7 @@ def ukf_sensitivity_by_direction(directions=None, size=1000.0, body="earth", see
     base = compare_filters(body, ("ukf",), error="none", seeds=seeds)["rmse"]["ukf"]
     out = {}
     for name, u in directions.items():
-        r = compare_filters(body, ("ukf",), error="constant", size=float(size), seeds=seeds,
+        r = compare_filters(body, ("ukf",), error="constant", size=size, seeds=seeds,
                                    direction=u)["rmse"]["ukf"]
         out[name] = (r - base) / size  # Fig. 4's slope along this direction
     return out
@@ -208,9 +211,15 @@ def _slope_inputs(slopes, directions, base, size):
 def earth_error_size(t0=ee.EPOCH_1997):
     """Size of the real DE421 - DE405 Earth error at ``t0``, m (the Earth runs' final size).
 
+    Parameters
+    ----------
+    t0 : float
+        Epoch, s TDB past J2000, within the years DE421 and DE405 both cover (1900-2199).
+
     Examples
     --------
     >>> round(earth_error_size())
     1492
     """
+    t0 = check_epoch("t0", t0)  # named as given, not as the ephemeris' t
     return float(np.linalg.norm(ee.ephemeris_error("earth", t0)))
