@@ -220,3 +220,15 @@ def test_compare_detectors_refuses_a_size_given_twice():
     """Review 35i (borderline): sizes=[100, 100] ran the same runs twice, one row repeated."""
     with pytest.raises(ValueError, match=r"^sizes lists 100 twice \(items 0 and 1\)$"):
         P.compare_detectors("step", [100.0, 100.0], n_runs=1)
+
+
+def test_flight_design_refuses_no_site_and_compare_detectors_names_the_onset():
+    """Review 35k (1) 23: flight_design(tr, sites[:0], ...) was an IndexError; compare_detectors'
+    onset=-1 was refused as 'faults[0] (...) starts outside this flight' (a list never given)."""
+    with pytest.raises(ValueError, match=r"^sites must have shape \(m, 3\) with m >= 1"):
+        P.diagnosis.flight_design(ins.paper_trajectory(), pl.sites_ecef()[:0], 11, 0.6)
+    for onset in (-1.0, 1e300, "1.0"):
+        with pytest.raises(ValueError, match=r"^onset must be a real number in \[0, 200\]"):
+            P.compare_detectors("step", [100.0], n_runs=1, onset=onset)
+    with pytest.raises(ValueError, match=r"^onset must be a real number in \[0, 30\], got 50"):
+        P.compare_detectors("step", [100.0], n_runs=1, duration=30.0)

@@ -111,12 +111,12 @@ def test_local_models_check_lon_and_h_under_their_names():
 def test_memberships_name_premises_of_the_wrong_shape():
     """Issue 35 (review 35i): x=[[0.0, 0.25]] and rho of shape (1, 1, 3) were numpy's 'could not
     broadcast input array from shape (2,) into shape (1,)'."""
-    with pytest.raises(ValueError, match=r"^x must have shape \(n,\) \(one premise value a sample\), "
-                                         r"got shape \(1, 2\)$"):
+    with pytest.raises(ValueError, match=r"^x must have shape \(n,\) with n >= 1 \(one premise value "
+                                         r"a sample\), got shape \(1, 2\)$"):
         P.partition_memberships([[0.0, 0.25]], [0.0, 1.0, 2.0])
     pts = np.array([[39.0, 100.0, 0.5], [39.2, 200.0, 0.5]])
-    with pytest.raises(ValueError, match=r"^rho must have shape \(n, 3\) \(one premise a sample\), "
-                                         r"got shape \(1, 1, 3\)$"):
+    with pytest.raises(ValueError, match=r"^rho must have shape \(n, 3\) with n >= 1 \(one premise "
+                                         r"a sample\), got shape \(1, 1, 3\)$"):
         P.memberships(np.zeros((1, 1, 3)), pts)
     assert P.partition_memberships(0.25, [0.0, 1.0]).tolist() == [[0.75, 0.25]]
 
@@ -137,3 +137,21 @@ def test_local_models_name_the_operating_point_its_error_model_cannot_take():
         P.local_models(polar, *args)
     with pytest.raises(ValueError, match=r"^dt must be a real number in \(0, 86400\]"):
         P.local_models(ops, *args[:3], 1e5)
+
+
+def test_no_operating_point_no_premise_and_no_site_are_refused():
+    """Review 35k (3) 17, (5) 9: memberships(rho, points of 0 rows) was refused as 'centers must
+    be a non-empty ...' (an inner name); local_models(points[:0]) returned [] and
+    local_models(..., sites[:0], ...) built models without pseudolites."""
+    tr = ins.paper_trajectory()
+    pts = P.operating_points(tr)
+    with pytest.raises(ValueError, match=r"^points must have shape \(N, 3\) with N >= 1"):
+        P.fuzzy.memberships([[39.1, 150.0, 0.5]], np.zeros((0, 3)))
+    with pytest.raises(ValueError, match=r"^rho must have shape \(n, 3\) with n >= 1"):
+        P.fuzzy.memberships(np.zeros((0, 3)), pts)
+    with pytest.raises(ValueError, match=r"^x must have shape \(n,\) with n >= 1"):
+        P.fuzzy.partition_memberships([], [0.0, 1.0])
+    with pytest.raises(ValueError, match=r"^points must have shape \(N, 3\) with N >= 1"):
+        P.fuzzy.local_models(pts[:0], tr.lon[0], tr.h[0], pl.sites_ecef(), tr.dt)
+    with pytest.raises(ValueError, match=r"^sites must have shape \(m, 3\) with m >= 1"):
+        P.fuzzy.local_models(pts, tr.lon[0], tr.h[0], pl.sites_ecef()[:0], tr.dt)

@@ -232,3 +232,13 @@ def test_simulate_pseudoranges_names_a_0d_array_of_faults():
     for bad in (np.array(1.0), True, -0.0):
         with pytest.raises(ValueError, match=r"^faults must be a sequence of Fault"):
             pl.simulate_pseudoranges(tr, x, faults=bad)
+
+
+def test_no_pseudolite_site_is_refused():
+    """Review 35k (5) 9: measurement_matrix(..., sites of 0 rows) returned an empty (0, 10)
+    matrix (and pseudoranges, los_matrix no measurement at all)."""
+    words = r"^sites must have shape \(m, 3\) with m >= 1 \(one row a pseudolite\), got shape \(0, 3\)"
+    with pytest.raises(ValueError, match=words):
+        pl.measurement_matrix(0.68, 2.02, 1e4, pl.sites_ecef()[:0])
+    with pytest.raises(ValueError, match=words):
+        pl.pseudoranges(pl.sites_ecef()[0] + 100.0, np.zeros((0, 3)))

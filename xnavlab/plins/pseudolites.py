@@ -281,8 +281,9 @@ def _point(lat, lon, h):
 
 def _check_sites(sites):
     sites = check_finite_array("sites", sites, shape=(3,))
-    if sites.ndim != 2:
-        raise ValueError(f"sites must have shape (m, 3), got {sites.shape}")
+    if sites.ndim != 2 or len(sites) < 1:  # no site: no measurement (an empty (0, 10) matrix)
+        raise ValueError(f"sites must have shape (m, 3) with m >= 1 (one row a pseudolite), got "
+                         f"shape {sites.shape}")
     return _distinct("sites", sites)
 
 
@@ -306,7 +307,7 @@ def pseudoranges(r, sites):
     r : array_like, shape (..., 3)
         Receiver positions, ECEF, m.
     sites : array_like, shape (m, 3)
-        Pseudolite positions, ECEF, m.
+        Pseudolite positions, ECEF, m; m >= 1, at least 1 m apart.
 
     Returns
     -------
@@ -334,7 +335,7 @@ def los_matrix(r, sites):
     r : array_like, shape (3,)
         Receiver position, ECEF, m, not at a pseudolite.
     sites : array_like, shape (m, 3)
-        Pseudolite positions, ECEF, m.
+        Pseudolite positions, ECEF, m; m >= 1, at least 1 m apart.
 
     Returns
     -------
@@ -366,7 +367,7 @@ def measurement_matrix(lat, lon, h, sites):
     h : float
         Height, m, in (-a/2, :data:`MAX_HEIGHT`].
     sites : array_like, shape (m, 3)
-        Pseudolite positions, ECEF, m.
+        Pseudolite positions, ECEF, m; m >= 1, at least 1 m apart.
 
     Returns
     -------

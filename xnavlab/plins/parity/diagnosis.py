@@ -339,9 +339,7 @@ def flight_design(traj, sites, s, tol, n_points=3):
     """
     if not isinstance(traj, _ins.Trajectory):
         raise ValueError(f"traj must be a Trajectory, got {type(traj).__name__}")
-    sites = check_finite_array("sites", sites, shape=(3,))
-    if sites.ndim != 2:
-        raise ValueError(f"sites must have shape (m, 3), got {sites.shape}")
+    sites = _pl._check_sites(sites)  # (m, 3), m >= 1 (none was an IndexError), distinct
     s = check_int("s", s, 0, 200)
     tol = None if tol is None else check_real("tol", tol, 0.0)
     n_points = check_int("n_points", n_points, 1, 50)
@@ -514,7 +512,7 @@ def compare_detectors(kind, sizes, *, onset=None, sensor=0, n_runs=5, seed=0, **
     sizes : sequence of float
         Step sizes (m) or ramp slopes (m/s).
     onset : float, optional
-        Onset, s (default 50 s for a step, 30 s for a ramp, as in the paper).
+        Onset, s, in [0, duration] (default 50 s for a step, 30 s for a ramp, as in the paper).
     sensor : int
         Faulty pseudorange, 0-based, one of the sites (0..3 with the default four).
     n_runs : int
@@ -559,7 +557,11 @@ def compare_detectors(kind, sizes, *, onset=None, sensor=0, n_runs=5, seed=0, **
                    else "not a setting of diagnose_flight")
             raise ValueError(f"compare_detectors got {key}={kwargs[key]!r:.60}: {why} (it passes "
                              f"on {', '.join(sorted(takes))})")
-    onset = (50.0 if kind == "step" else 30.0) if onset is None else check_real("onset", onset)
+    # the onset checked under its own name (it was refused as "faults[0] ... starts outside this
+    # flight", a list the user never gave), inside the flight [0, duration]
+    duration = check_real("duration", kwargs.get("duration", FLIGHT_S), 0.0, 1e4, lo_open=True)
+    onset = check_real("onset", (50.0 if kind == "step" else 30.0) if onset is None else onset,
+                       0.0, duration)
     n_sites = len(_pl.sites_ecef(kwargs.get("sites_deg")))
     sensor = check_int("sensor", sensor, 0, n_sites - 1)  # one pseudorange per site
     n_runs = check_int("n_runs", n_runs, 1, 1000)

@@ -137,7 +137,7 @@ def partition_memberships(x, centers):
     Parameters
     ----------
     x : array_like, shape (n,)
-        Premise values.
+        Premise values, n >= 1.
     centers : array_like, shape (m,)
         Strictly increasing peaks.
 
@@ -151,8 +151,9 @@ def partition_memberships(x, centers):
     [[1.0, 0.0, 0.0], [0.75, 0.25, 0.0], [0.0, 0.0, 1.0]]
     """
     x = np.atleast_1d(check_finite_array("x", x))
-    if x.ndim != 1:  # a row of premises was numpy's broadcast error
-        raise ValueError(f"x must have shape (n,) (one premise value a sample), got shape {x.shape}")
+    if x.ndim != 1 or x.size == 0:  # a row of premises was numpy's broadcast error
+        raise ValueError(f"x must have shape (n,) with n >= 1 (one premise value a sample), got "
+                         f"shape {x.shape}")
     c = np.atleast_1d(check_finite_array("centers", centers))
     if c.ndim != 1 or len(c) < 1 or np.any(np.diff(c) <= 0):
         raise ValueError("centers must be a non-empty, strictly increasing 1-D array")
@@ -177,9 +178,9 @@ def memberships(rho, points):
     Parameters
     ----------
     rho : array_like, shape (n, 3)
-        Premise values ``[lat_deg, v_n, f_n]``.
+        Premise values ``[lat_deg, v_n, f_n]``, n >= 1.
     points : array_like, shape (N, 3)
-        Operating points.
+        Operating points, N >= 1.
 
     Returns
     -------
@@ -199,10 +200,10 @@ def memberships(rho, points):
     rho = check_finite_array("rho", rho, shape=(3,))
     points = check_finite_array("points", points, shape=(3,))
     rho = np.atleast_2d(rho)
-    if rho.ndim != 2:  # a stack of premises was numpy's broadcast error
-        raise ValueError(f"rho must have shape (n, 3) (one premise a sample), got shape {rho.shape}")
-    if points.ndim != 2:
-        raise ValueError(f"points must have shape (N, 3), got {points.shape}")
+    if rho.ndim != 2 or len(rho) < 1:  # a stack of premises was numpy's broadcast error
+        raise ValueError(f"rho must have shape (n, 3) with n >= 1 (one premise a sample), got "
+                         f"shape {rho.shape}")
+    points = _check_points(points)  # no point was refused as the inner partition's centers
     w = np.ones((len(rho), len(points)))
     for i in range(3):
         centers = np.unique(points[:, i])
@@ -212,6 +213,15 @@ def memberships(rho, points):
     if np.any(total <= 0):
         raise ValueError("rho has a premise outside every fuzzy set of the operating points")
     return w / total[:, None]
+
+
+def _check_points(points):
+    """Operating points as an (N, 3) array, N >= 1 (one T-S rule each), else one ValueError."""
+    points = check_finite_array("points", points, shape=(3,))
+    if points.ndim != 2 or len(points) < 1:
+        raise ValueError(f"points must have shape (N, 3) with N >= 1 (one operating point a "
+                         f"rule), got shape {points.shape}")
+    return points
 
 
 @dataclass(frozen=True)
@@ -246,13 +256,13 @@ def local_models(points, lon, h, sites, dt, q=None):
     Parameters
     ----------
     points : array_like, shape (N, 3)
-        Operating points ``[lat_deg, v_n, f_n]``.
+        Operating points ``[lat_deg, v_n, f_n]``, N >= 1.
     lon : float
         Longitude, rad.
     h : float
         Height, m, in [-1e4, 1e5] (as :func:`xnavlab.plins.ins.error_matrix`).
     sites : array_like, shape (m, 3)
-        Pseudolite positions, ECEF, m.
+        Pseudolite positions, ECEF, m; m >= 1, at least 1 m apart.
     dt : float
         Sample interval, s.
     q : array_like, shape (7,), optional
@@ -269,9 +279,8 @@ def local_models(points, lon, h, sites, dt, q=None):
     >>> len(ms), ms[0].A.shape, ms[0].C.shape
     (3, (10, 10), (4, 10))
     """
-    points = check_finite_array("points", points, shape=(3,))
-    if points.ndim != 2:
-        raise ValueError(f"points must have shape (N, 3), got {points.shape}")
+    points = _check_points(points)  # none was an empty list of models
+    sites = _pl._check_sites(sites)  # checked up front (no site: models without pseudolites)
     for l, lat_deg in enumerate(points[:, 0]):  # degrees here: error_matrix names its lat in rad
         if abs(lat_deg) > 89.0:
             raise ValueError(f"points[{l}] must have a latitude in [-89, 89] deg (the ENU error "
