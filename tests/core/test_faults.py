@@ -122,8 +122,8 @@ def test_parse_spec_examples():
     ("uv:step:1@0x10+1", "'0x10' is not a number"),
     ("uv:step:1@10+1_000", "'1_000' is not a number"),
     ("uv:step:1@0+-5", "duration"),
-    ("uv:step:0@3600+3000", r"^bad fault item .*: magnitude of a step fault must be a nonzero"),
-    ("uv:step:25000@3600+0", r"^bad fault item .*: duration of a step fault must be a real "
+    ("uv:step:0@3600+3000", r"^spec: bad fault item .*: magnitude of a step fault must be a nonzero"),
+    ("uv:step:25000@3600+0", r"^spec: bad fault item .*: duration of a step fault must be a real "
                              r"number in \(0, inf\], s, got 0\.0"),
     ("uv:ramp:nan@3600+10", "magnitude must be a finite real number"),
     ("uv:step:inf@3600+10", "magnitude must be a finite real number"),
@@ -172,7 +172,7 @@ def test_format_spec_keeps_the_g_text_where_it_is_exact():
 
 def test_a_fault_listed_twice_is_refused_with_both_items():
     """Injected twice it doubled its size; scored twice it counted one event as two faults."""
-    with pytest.raises(ValueError, match=r"^fault spec lists uv.range:step:1000@1000\+10 twice "
+    with pytest.raises(ValueError, match=r"^spec lists uv.range:step:1000@1000\+10 twice "
                                          r"\(items 0 and 2\)"):
         parse_spec("uv.range:step:1e3@1000+10,uv:step:1e3@1000+10,uv.0:step:1e3@1000+10", COMPS)
     f = Fault("uv", "step", 1.0, 1.0, 1.0)
@@ -203,7 +203,8 @@ def test_format_spec_names_a_component_or_sensor_it_has_no_name_for():
     with pytest.raises(ValueError, match=r"^faults\[0\]: sensor 'gps' has no component names"):
         format_spec([Fault("gps", "step", 1.0, 10.0, 5.0)], COMPS)
     for bad in ("uv", ["uv"], {"uv": "range"}):
-        with pytest.raises(ValueError, match="^components must be a dict of sensor name"):
+        with pytest.raises(ValueError, match=r"^components(\[.uv.\])? must be a (dict of sensor "
+                                             r"name|non-empty list)"):
             parse_spec("uv:step:1@1+1", bad)
 
 
@@ -233,7 +234,7 @@ def test_two_faults_on_one_component_at_one_time_are_refused_naming_both(spec, i
     """uv.range and uv (every component) at one time were injected twice, one alarm scored as
     two detections; the parsed faults of one kind are compared, not the strings (a ramp beside
     a step, the affine fault a t + b, combines: below)."""
-    with pytest.raises(ValueError, match=re.escape(f"fault spec items {items} act on the same "
+    with pytest.raises(ValueError, match=re.escape(f"spec items {items} act on the same "
                                                    "component at the same time")):
         parse_spec(spec, COMPS)
     ok = "uv.range:step:1e3@1000+10,uv.ux:step:1e3@1000+10,uv.range:step:1e3@1010+10"
@@ -253,7 +254,7 @@ def test_a_fault_beyond_max_size_is_refused_naming_its_magnitude(kind):
     with pytest.raises(ValueError, match=rf"^magnitude of a {kind} fault must be at most 1e\+15"):
         Fault("uv", kind, -1e308 if kind != "noise" else 1e308, 0.0, 10.0)
     assert Fault("uv", kind, MAX_SIZE, 0.0, 10.0).magnitude == MAX_SIZE
-    with pytest.raises(ValueError, match=r"^bad fault item 'uv.range:ramp:1e308@1000\+10': magnitude"):
+    with pytest.raises(ValueError, match=r"^spec: bad fault item 'uv.range:ramp:1e308@1000\+10': magnitude"):
         parse_spec("uv.range:ramp:1e308@1000+10", COMPS)
 
 
@@ -295,3 +296,48 @@ def test_inject_refuses_times_going_back_and_z_of_three_dimensions():
                                          r"'uv' \(the columns of z\), got 2"):
         inject(np.arange(5.0), np.zeros((5, 2)), [Fault("cns", "step", 1.0, 2.0),
                                                   Fault("uv", "step", 1.0, 2.0, component=2)], "uv")
+
+
+def test_a_fault_stores_the_checked_python_numbers():
+    """Review 35k (1) 1 and (5) 2: a Fault kept the user's numpy scalar (np.float16, np.int8);
+    its end time onset + duration then overflowed float16 (a RuntimeWarning)."""
+    f = Fault(np.str_("uv"), "step", np.float16(5000.0), np.int8(100), np.float16(5.0),
+              np.int8(0))
+    assert [type(v) for v in (f.sensor, f.magnitude, f.onset, f.duration, f.component)] == \
+        [str, float, float, float, int]
+    assert (f.magnitude, f.onset, f.end, f.component) == (5000.0, 100.0, 105.0, 0)
+    assert Fault("uv", "step", 1.0, 0.0, 10**400).duration == math.inf   # permanent
+    with pytest.raises(ValueError, match=r"^magnitude must be a finite real number"):
+        Fault("uv", "step", 10**400, 0.0, 1.0)
+
+
+@pytest.mark.parametrize(("components", "match"), [
+    (-1, r"^components must be a dict of sensor name .*, got int -1"),
+    (math.nan, r"^components must be a dict"),
+    ("x", r"^components must be a dict"),
+    (True, r"^components must be a dict"),
+    ([], r"^components must be a dict"),
+    ({}, r"^components must be a dict .*got an empty dict"),
+    ({"uv": []}, r"^components\['uv'\] must be a non-empty list of component names"),
+    ({"cns": ["a"]}, r"^components has no entry for sensor 'uv' of faults\[0\] \(its sensors: cns\)"),
+    ({"uv": ["range"], "cns": ["a"]}, r"^components\['uv'\] has 1 names \(range\), not one for "
+                                      r"component 2 of faults\[0\]"),
+])
+def test_check_faults_checks_its_components(components, match):
+    """Review 35k (5) 1: check_faults never checked components (-1, NaN, 'x', a table without
+    the faults' sensor were accepted)."""
+    with pytest.raises(ValueError, match=match):
+        check_faults("faults", [Fault("uv", "step", 5.0, 1.0, 2.0, 2)], components)
+
+
+def test_parse_spec_leads_with_spec_and_refuses_an_empty_components_table():
+    """Review 35k (3) 16 and (5) 11: parse_spec's messages began 'bad fault item', never naming
+    spec; an empty components table was accepted and then blamed on the spec ('unknown sensor
+    'uv' (known: )')."""
+    with pytest.raises(ValueError, match=r"^spec: bad fault item 'x': expected SENSOR"):
+        parse_spec("x", {"uv": ["range"]})
+    for bad in (None, "", " ", 5):
+        with pytest.raises(ValueError, match=r"^spec must be a non-empty string of fault items"):
+            parse_spec(bad, {"uv": ["range"]})
+    with pytest.raises(ValueError, match=r"^components must be a dict .*got an empty dict"):
+        parse_spec("uv.range:step:5@1+2", {})

@@ -456,3 +456,63 @@ def test_sigma_points_refuses_a_non_symmetric_P():
             filters.sigma_points(np.zeros(2), bad, 1.0)
     sym = np.array([[1.0, 0.5], [0.5 + 1e-12, 1.0]])         # symmetric to rounding: accepted
     assert filters.sigma_points(np.zeros(2), sym, 1.0).shape == (5, 2)
+
+
+@pytest.mark.parametrize("bad", ["x", 1.0, True, [], {}])
+def test_a_residual_that_cannot_be_called_is_refused_naming_it(bad):
+    """Review 35k (1) 2: a residual that is no function reached the call (a raw TypeError
+    "'str' object is not callable")."""
+    Wm, Wc, _ = filters.ukf_weights(1)
+    calls = (
+        lambda: filters.ekf_update(np.zeros(1), np.eye(1), np.ones(1), lambda x: x, np.eye(1),
+                                   np.eye(1), residual=bad),
+        lambda: filters.ukf_update(np.zeros(1), np.eye(1), np.ones(1), lambda s: s, np.eye(1),
+                                   residual=bad),
+        lambda: filters.unscented_transform(np.array([[0.0], [2.0], [-2.0]]), Wm, Wc,
+                                            residual=bad),
+    )
+    for call in calls:
+        with pytest.raises(ValueError, match=r"^residual must be a function residual\("):
+            call()
+
+
+def test_a_residual_of_the_wrong_shape_is_refused_naming_it():
+    """Review 35k (1) 2, the class: a residual's output reached the UKF's products unchecked."""
+    with pytest.raises(ValueError, match=r"^residual\(a, b\) must have shape \(3, 1\)"):
+        filters.ukf_update(np.zeros(1), np.eye(1), np.ones(1), lambda s: s, np.eye(1),
+                           residual=lambda a, b: np.zeros(2))
+
+
+def test_a_beta_that_makes_the_transformed_covariance_indefinite_is_refused():
+    """Review 35k (4) 1: beta = -3 (or -1e3) made the central covariance weight Wc0 negative and
+    ukf_predict returned an indefinite P (eigenvalues -2 and 6). Decision: beta keeps its range
+    [-1e3, 1e3] (the chapter's alpha = 1e-3 has Wc0 = -1e6 with the default beta = 2, so no beta
+    range alone keeps Wc0 >= 0); a covariance that comes out indefinite with Wc0 < 0 is
+    refused, naming beta and the beta that keeps Wc0 >= 0."""
+    f = lambda s: s**2  # noqa: E731
+    for beta in (-3.0, -1e3):
+        with pytest.raises(ValueError, match=r"^beta must keep the central covariance weight "
+                                             r"Wc0 = .* >= 0 here .*the predicted covariance P is "
+                                             r"not positive semi-definite .*; use beta >= 0$"):
+            filters.ukf_predict(np.ones(2), np.eye(2), f, np.zeros((2, 2)), beta=beta)
+    with pytest.raises(ValueError, match=r"^beta must keep .*the innovation covariance S is not "
+                                         r"positive definite"):
+        filters.ukf_update(np.ones(2), np.eye(2), np.ones(1), lambda s: s[:1] ** 2,
+                           np.eye(1) * 1e-6, beta=-1e3)
+    with pytest.raises(ValueError, match=r"^beta must keep"):
+        filters.UKF(np.ones(2), np.eye(2), beta=-3.0).predict(f, np.zeros((2, 2)))
+    Wm, Wc, _ = filters.ukf_weights(1, beta=-1e3)
+    with pytest.raises(ValueError, match=r"^Wc\[0\] must be >= 0 here .*got -1000: the "
+                                         r"covariance is not positive semi-definite"):
+        filters.unscented_transform(np.array([[0.0], [2.0], [-1.0]]), Wm, Wc)
+    # a negative Wc0 whose covariance stays positive is used; a linear f is exact for any beta
+    x, P = filters.ukf_predict(np.ones(2), np.eye(2), lambda s: 2 * s, np.zeros((2, 2)), beta=-3.0)
+    np.testing.assert_allclose(P, 4 * np.eye(2))
+    x, P = filters.ukf_predict(np.ones(2), np.eye(2), f, np.zeros((2, 2)), alpha=1e-3)
+    assert np.linalg.eigvalsh(P)[0] > 0
+
+
+def test_ukf_stores_its_weights_parameters_as_floats():
+    """Review 35k pattern C: UKF kept the user's numpy scalars for alpha, beta, kappa."""
+    kf = filters.UKF([0.0], [[1.0]], alpha=np.float16(0.5), beta=np.int8(2), kappa=np.float32(0))
+    assert [type(v) for v in (kf.alpha, kf.beta, kf.kappa)] == [float, float, float]

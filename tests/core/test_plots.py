@@ -1,5 +1,6 @@
 """The detection figures (xnavlab.core.detection.plots)."""
 
+import math
 
 import numpy as np
 import pytest
@@ -125,3 +126,48 @@ def test_plot_fault_detection_names_a_misspelt_detector_keyword():
     with pytest.raises(ValueError, match=r"^x is set by plot_fault_detection \(its clean, the faults "
                                          r"injected\)"):
         D.plot_fault_detection(t, clean, [], x=clean)
+
+
+_KW = dict(size_sigma=10.0, levels=2, n=6000, onset_s=9000.0, train=2000)
+
+
+@pytest.mark.parametrize(("kwargs", "match"), [
+    (dict(seed=None), r"^seed must be an integer in \[0, 9223372036854775807\], got None"),
+    (dict(seed=-1), r"^seed must be an integer in \[0, "),
+    (dict(seed=2.5), r"^seed must be an integer in \[0, "),
+    (dict(seed=True), r"^seed must be an integer in \[0, "),
+    (dict(seed=10**30), r"^seed must be an integer in \[0, "),
+    (dict(period_s=5e-324), r"^period_s must be a real number in \[1e-06, inf\), got 5e-324"),
+    (dict(onset_s=1e9), r"^onset_s must be a real number in \[0, 17997\], got 1000000000.0"),
+    (dict(onset_s=-5.0), r"^onset_s must be a real number in \[0, 17997\]"),
+    (dict(duration_s=0.0), r"^duration_s must be a real number in \(0, inf\] \(s; inf: to the "),
+    (dict(duration_s=math.nan), r"^duration_s must be"),
+    (dict(duration_s=None), r"^duration_s must be"),
+    (dict(duration_s="1.0"), r"^duration_s must be"),
+    (dict(mean_m=-1.0), r"^mean_m must be a real number in \[0, 1e\+12\]"),
+    (dict(swing_m=-1.0), r"^swing_m must be a real number in \[0, 4.19e\+06\]"),
+])
+def test_plot_step_detector_checks_the_settings_the_examples_leave_out(kwargs, match):
+    """Review 35k (1) 3, (1) 4, (2) 9, (3) 15, (5) 3: seed=None was a TypeError, -1 numpy's
+    message, 2.5 silently seed 2; period_s=5e-324 overflowed; duration_s was named as the
+    Fault's duration; an onset outside the run (1e9 s, -5 s) and a negative range were drawn."""
+    with pytest.raises(ValueError, match=match):
+        D.plot_step_detector(**{**_KW, **kwargs})
+
+
+def test_plot_step_detector_takes_a_permanent_step():
+    fig = D.plot_step_detector(**_KW, duration_s=math.inf, zoom_h=None)
+    assert "onset detected after" in fig.get_suptitle()
+
+
+def test_plot_detection_refuses_a_scale_that_overflows_the_plotted_series():
+    """Review 35k (1) 4: scale=5e-324 passed '(0, inf)' and x / scale overflowed (a warning);
+    a series near 1e308 overflowed matplotlib's limits."""
+    t = 3.0 * np.arange(4000)
+    x = np.random.default_rng(0).normal(0.0, 1.0, t.size)
+    res = D.wavelet_detect(t, x, train=1500)
+    with pytest.raises(ValueError, match=r"^scale must be at least max \|x\| / 1e\+300 = .*got 5e-324"):
+        D.plot_detection(res, x, scale=5e-324)
+    with pytest.raises(ValueError, match=r"^scale must be at least max \|x\| / 1e\+300"):
+        D.plot_detection(res, x * 1e307, scale=1.0)
+    assert len(D.plot_detection(res, x * 1e299, scale=1.0).axes) == 2

@@ -48,3 +48,20 @@ def test_lipschitz_exponent_refuses_equal_scales_and_a_cone_that_is_not_positive
         with pytest.raises(ValueError, match=r"^cone must be positive half-widths"):
             D.lipschitz_exponent(w, s, 512, cone=cone)
     assert abs(D.lipschitz_exponent(w, s, 512, cone=np.full(5, 0.5))) < 1.0
+
+
+def test_cwt_bounds_its_scales_and_does_not_use_dt():
+    """Review 35k (1) 4: dt=5e-324 passed '(0, inf)' and pywt's frequencies 1 / (scale dt)
+    overflowed (a warning); dt scales only those frequencies, which cwt does not return. A
+    scale below one sample step of the wavelet (pywt's 'Selected scale of 1e-300 too small',
+    or a NaN warning at 5e-324) or beyond 1e7 samples of it (an allocation error) is refused
+    naming scales."""
+    x = np.r_[np.zeros(64), np.ones(64)]
+    np.testing.assert_array_equal(D.cwt(x, [2.0, 4.0], dt=5e-324), D.cwt(x, [2.0, 4.0]))
+    for bad in (5e-324, 1e-300, 0.09, 1e300):
+        with pytest.raises(ValueError, match=r"^scales must lie in \[0.1, 1e\+06\] samples for "
+                                             r"the 'gaus1' wavelet"):
+            D.cwt(x, [2.0, bad])
+    with pytest.raises(ValueError, match=r"^scales must lie in \[0.0625, 625000\]"):
+        D.cwt(x, [0.05], "mexh")
+    assert D.cwt(x, [0.1, 1e6]).shape == (2, 128)

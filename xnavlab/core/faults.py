@@ -112,8 +112,10 @@ class Fault:
     def __post_init__(self):
         if not isinstance(self.sensor, str) or not self.sensor:
             raise ValueError(f"sensor must be a non-empty string, got {self.sensor!r}")
-        check_choice("kind", self.kind, KINDS)
-        _check_finite("magnitude", self.magnitude, "the measurement's SI unit")
+        self._store("sensor", str(self.sensor))   # np.str_: a plain str
+        self._store("kind", str(check_choice("kind", self.kind, KINDS)))
+        self._store("magnitude", _check_finite("magnitude", self.magnitude,
+                                               "the measurement's SI unit"))
         if abs(self.magnitude) > MAX_SIZE:
             raise ValueError(f"magnitude of a {self.kind} fault must be at most {MAX_SIZE:g} in size "
                              f"(the measurement's SI unit{', per s' if self.kind == 'ramp' else ''}; "
@@ -125,7 +127,7 @@ class Fault:
             raise ValueError(f"magnitude of a {self.kind} fault must be a nonzero finite real "
                              f"number, in (-inf, 0) or (0, inf), got {self.magnitude!r} (a "
                              "zero-size fault injects nothing)")
-        _check_finite("onset", self.onset, "s")
+        self._store("onset", _check_finite("onset", self.onset, "s"))
         d = self.duration
         real = isinstance(d, Real) and not isinstance(d, bool)
         if self.kind == "spike":         # one sample: the duration is ignored
@@ -137,7 +139,16 @@ class Fault:
             raise ValueError(f"duration of a {self.kind} fault must be a real number in "
                              f"(0, inf], s, got {d!r}{why}")
         if self.component is not None:
-            check_int("component", self.component, 0)
+            self._store("component", check_int("component", self.component, 0))
+        try:
+            self._store("duration", float(d))
+        except OverflowError:   # 10**400 s: a permanent fault
+            self._store("duration", math.inf)
+
+    def _store(self, field, value):
+        """Keep the checked Python number (``float``, ``int``), not the user's numpy scalar: an
+        np.float16 or np.int8 would compute in its own dtype later (``onset + duration``)."""
+        object.__setattr__(self, field, value)
 
     @property
     def end(self):
@@ -157,8 +168,14 @@ class Fault:
 
 
 def _check_finite(name, value, unit):
-    if isinstance(value, bool) or not isinstance(value, Real) or not math.isfinite(float(value)):
+    """``float(value)``, or one ValueError naming ``name`` (an integer beyond any float too)."""
+    try:
+        x = float(value) if isinstance(value, Real) and not isinstance(value, bool) else math.nan
+    except OverflowError:   # 10**400
+        x = math.inf
+    if not math.isfinite(x):
         raise ValueError(f"{name} must be a finite real number, {unit}, got {value!r}")
+    return x
 
 
 def check_faults(name, faults, components=None):
@@ -172,7 +189,8 @@ def check_faults(name, faults, components=None):
         A schedule; no fault may be listed twice (it would be injected twice and scored as
         two faults).
     components : dict of str to sequence of str, optional
-        Component names per sensor, to name a repeated fault in the spec form.
+        Component names per sensor (a non-empty list or tuple of str each), to name a repeated
+        fault in the spec form; when given, it must name every fault's sensor and component.
 
     Returns
     -------
@@ -199,11 +217,14 @@ def check_faults(name, faults, components=None):
             isinstance(faults, np.ndarray) and faults.ndim == 0:   # a 0-d array has no items
         raise ValueError(f"{want}, got {type(faults).__name__} {faults!r:.80}")
     items = list(faults)
-    seen = {}
     for i, f in enumerate(items):
         if not isinstance(f, Fault):
             hint = " (a spec: read it with parse_spec)" if isinstance(f, str) else ""
             raise ValueError(f"{name}[{i}] must be a Fault, got {f!r:.80}{hint}")
+    if components is not None:   # a table is checked whole: one the faults are not in is no use
+        _check_components(components, items, name)
+    seen = {}
+    for i, f in enumerate(items):
         if f in seen:
             named = components is not None and f.sensor in components
             raise ValueError(f"{name} lists {_item(f, components if named else None)} twice "
@@ -377,7 +398,8 @@ def parse_spec(spec, components):
     Raises
     ------
     ValueError
-        Naming the bad item and what is wrong with it.
+        Leading with ``spec`` and naming the bad item and what is wrong with it (or with
+        ``components``: an empty table, or one that is not a dict of name lists).
 
     Examples
     --------
@@ -387,7 +409,8 @@ def parse_spec(spec, components):
     ('uv', 0, 'step', 5000.0, 700000.0, 3000.0)
     """
     if not isinstance(spec, str) or not spec.strip():
-        raise ValueError("fault spec must be a non-empty string")
+        raise ValueError(f"spec must be a non-empty string of fault items "
+                         f"SENSOR[.COMPONENT]:KIND:MAGNITUDE@ONSET+DURATION, got {spec!r:.80}")
     _check_components(components)
     faults = []
     for item in spec.split(","):
@@ -395,26 +418,43 @@ def parse_spec(spec, components):
         m = _SPEC.match(item)
         if not m:
             raise ValueError(
-                f"bad fault item {item!r}: expected SENSOR[.COMPONENT]:KIND:MAGNITUDE@ONSET+DURATION"
+                f"spec: bad fault item {item!r}: expected SENSOR[.COMPONENT]:KIND:MAGNITUDE@ONSET+DURATION"
             )
         faults.append(_fault_from_match(item, m, components))
-    return check_faults("fault spec", faults, components)
+    return check_faults("spec", faults, components)
 
 
-def _check_components(components):
-    """Component names per sensor: a dict of str to a sequence of str."""
-    if not isinstance(components, dict) or not all(
-            isinstance(k, str) and not isinstance(v, str) and hasattr(v, "__len__")
-            for k, v in components.items()):
-        raise ValueError(f"components must be a dict of sensor name to its component names, "
-                         f"got {components!r:.80}")
+def _check_components(components, faults=(), name="faults"):
+    """Component names per sensor: a non-empty dict of str to a non-empty list or tuple of str,
+    naming every sensor of ``faults`` and holding each one's component, else one ValueError
+    naming ``components`` (a table the faults are not in would be ignored)."""
+    want = "components must be a dict of sensor name to its component names (a list of str)"
+    if not isinstance(components, dict):
+        raise ValueError(f"{want}, got {type(components).__name__} {components!r:.80}")
+    if not components:
+        raise ValueError(f"{want}, got an empty dict (no sensor is known)")
+    for k, v in components.items():
+        if not isinstance(k, str) or not k:
+            raise ValueError(f"{want}, got the key {k!r:.80}")
+        if not isinstance(v, list | tuple) or not v or \
+                not all(isinstance(c, str) and c for c in v):
+            raise ValueError(f"components[{k!r}] must be a non-empty list of component names "
+                             f"(str), got {v!r:.80}")
+    for i, f in enumerate(faults):
+        if f.sensor not in components:
+            raise ValueError(f"components has no entry for sensor {f.sensor!r} of {name}[{i}] "
+                             f"(its sensors: {', '.join(components)})")
+        n = len(components[f.sensor])
+        if f.component is not None and f.component >= n:
+            raise ValueError(f"components[{f.sensor!r}] has {n} names ({', '.join(components[f.sensor])}), "
+                             f"not one for component {f.component} of {name}[{i}]")
 
 
 def _fault_from_match(item, m, components):
     sensor = m["sensor"]
     if sensor not in components:
         known = ", ".join(sorted(components))
-        raise ValueError(f"bad fault item {item!r}: unknown sensor {sensor!r} (known: {known})")
+        raise ValueError(f"spec: bad fault item {item!r}: unknown sensor {sensor!r} (known: {known})")
     names = list(components[sensor])
     comp = m["comp"]
     index = None
@@ -425,21 +465,21 @@ def _fault_from_match(item, m, components):
             index = int(comp)
         else:
             raise ValueError(
-                f"bad fault item {item!r}: component {comp!r} of {sensor} must be one of "
+                f"spec: bad fault item {item!r}: component {comp!r} of {sensor} must be one of "
                 f"{', '.join(names)} or an index in [0, {len(names) - 1}]"
             )
     if m["kind"] not in KINDS:
-        raise ValueError(f"bad fault item {item!r}: kind must be one of {', '.join(KINDS)}")
+        raise ValueError(f"spec: bad fault item {item!r}: kind must be one of {', '.join(KINDS)}")
     values = {}
     for key in ("mag", "onset", "dur"):
         if not _NUMBER.fullmatch(m[key]):  # float() would also read 1_0 as 10, as no flag does
-            raise ValueError(f"bad fault item {item!r}: {m[key]!r} is not a number (plain "
+            raise ValueError(f"spec: bad fault item {item!r}: {m[key]!r} is not a number (plain "
                              f"decimals: 25000, 1e-5, inf)")
         values[key] = float(m[key])
     try:
         return Fault(sensor, m["kind"], values["mag"], values["onset"], values["dur"], index)
     except ValueError as exc:
-        raise ValueError(f"bad fault item {item!r}: {exc}") from None
+        raise ValueError(f"spec: bad fault item {item!r}: {exc}") from None
 
 
 def format_spec(faults, components):

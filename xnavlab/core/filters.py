@@ -335,6 +335,7 @@ def ekf_update(x, P, z, h, H, R, residual=None, check=True):
     if check:
         if z is not None:
             z = _bounded("z", _nonempty("z", check_vector("z", z), "measurement"))
+        _check_residual(residual, "residual(z, z_pred) -> innovation (None: z - z_pred)")
         Hm = _checked_model("H", np.atleast_2d(_call(H, x)), (None, x.size))
         m = Hm.shape[0] if z is None else z.size
         if z is not None:
@@ -363,6 +364,10 @@ def ekf_update(x, P, z, h, H, R, residual=None, check=True):
 # --------------------------------------------------------------------------- UKF
 
 
+#: The range of the UKF's ``beta`` (:func:`ukf_weights`).
+_BETA_RANGE = (-1e3, 1e3)
+
+
 def ukf_weights(n, alpha=1.0, beta=2.0, kappa=0.0):
     """Weights of the scaled unscented transform.
 
@@ -377,7 +382,11 @@ def ukf_weights(n, alpha=1.0, beta=2.0, kappa=0.0):
         Spread of the sigma points (``0 < alpha <= 1``; 1e-3 is Wan and van der Merwe's
         small-spread choice, 1 keeps all weights positive when ``kappa = 0``).
     beta : float
-        Prior-knowledge term (2 is optimal for Gaussians), in [-1e3, 1e3].
+        Prior-knowledge term (2 is optimal for Gaussians), in [-1e3, 1e3]. A central
+        covariance weight ``Wc0 < 0`` (``beta < alpha^2 - 1 - Wm0``; also the small-spread
+        alpha's) makes a transformed covariance a difference: :func:`ukf_predict`,
+        :func:`ukf_update` and :func:`unscented_transform` refuse one that comes out
+        indefinite, naming ``beta`` (``Wc`` for the last).
     kappa : float
         Secondary scaling, in (-n, 1e5]; ``alpha^2 (n + kappa) >= 1e-150`` is required (the
         weights are ``1 / (n + lambda)``).
@@ -397,7 +406,7 @@ def ukf_weights(n, alpha=1.0, beta=2.0, kappa=0.0):
     """
     n = check_int("n", n, 1, 10**4)
     alpha = check_real("alpha", alpha, 0.0, 1.0, lo_open=True)
-    beta = check_real("beta", beta, -1e3, 1e3)
+    beta = check_real("beta", beta, *_BETA_RANGE)
     kappa = check_real("kappa", kappa, -n, 1e5, lo_open=True)
     lam = alpha**2 * (n + kappa) - n
     if not alpha**2 * (n + kappa) >= 1e-150:  # the weights 1 / (n + lam) would be inf
@@ -458,25 +467,66 @@ def unscented_transform(Y, Wm, Wc, noise=None, residual=None):
     covariance (indefinite, asymmetric) are refused: the result would be no mean or no
     covariance.
     """
-    mean, cov = _transform(Y, Wm, Wc, noise, residual)
+    _check_residual(residual, "residual(a, b) of the rows of Y (None: a - b)")
+    mean, cov = _transform(Y, Wm, Wc, noise, residual, check=True)
     total = float(np.sum(Wm))
     if not abs(total - 1.0) <= 1e-8 * max(1.0, float(np.sum(np.abs(Wm)))):
         raise ValueError(f"Wm must sum to 1 (the weights of a mean), got sum {total:.6g}")
     if noise is not None:
         check_covariance("noise", noise, cov.shape[0])
+    _check_weighted(cov, Wc, "covariance", None, None, None)
     return mean, cov
 
 
-def _transform(Y, Wm, Wc, noise=None, residual=None):
-    """:func:`unscented_transform` for the UKF's own calls (its noise already checked)."""
+def _check_residual(residual, what):
+    """``residual`` None or a function (else one ValueError naming it)."""
+    if residual is not None:
+        check_callable("residual", residual, f"a function {what}")
+
+
+def _check_weighted(cov, Wc, what, alpha, beta, kappa, definite=False):
+    """A negative covariance weight ``Wc[0]`` (``Wm0 + 1 - alpha^2 + beta < 0``) makes the
+    transformed covariance a difference, which may be indefinite: refuse such a ``cov``,
+    naming ``beta`` (``Wc`` when the weights were given, ``alpha`` None). Nothing to check,
+    and no cost, when ``Wc[0] >= 0``: every term is then positive semi-definite."""
+    if not Wc[0] < 0.0:
+        return
+    try:
+        check_covariance("cov", cov, definite=definite)
+        return
+    except ValueError:
+        low = float(np.linalg.eigvalsh(cov)[0]) if np.all(np.isfinite(cov)) else float("nan")
+    kind = "positive definite" if definite else "positive semi-definite"
+    why = f"the {what} is not {kind} (smallest eigenvalue {low:.3g})"
+    if alpha is None:
+        raise ValueError(f"Wc[0] must be >= 0 here (a negative central weight made the "
+                         f"covariance a difference), got {Wc[0]:.4g}: {why}")
+    beta = float(beta)
+    need = beta - float(Wc[0])  # Wc0 >= 0 from this beta on: alpha^2 - 1 - Wm0
+    fix = (f"use beta >= {need:.4g}" if need <= _BETA_RANGE[1] else
+           f"that needs beta >= {need:.3g}, beyond its range: raise alpha (1 with kappa = 0 "
+           f"gives Wc0 = beta)")
+    raise ValueError(f"beta must keep the central covariance weight Wc0 = Wm0 + 1 - alpha^2 + "
+                     f"beta >= 0 here (alpha = {float(alpha):g}, kappa = {float(kappa):g}, beta = "
+                     f"{beta:g}: Wc0 = {Wc[0]:.4g}): {why}; {fix}")
+
+
+def _transform(Y, Wm, Wc, noise=None, residual=None, check=False):
+    """:func:`unscented_transform` for the UKF's own calls (its noise already checked); with
+    ``check``, a ``residual``'s outputs are checked for shape."""
     Y = check_finite_array("Y", Y)
     if Y.ndim != 2 or Y.shape[0] % 2 != 1 or Y.shape[1] == 0:
         raise ValueError(f"Y must have shape (2n+1, m) with m >= 1, got shape {Y.shape}")
     Wm = check_vector("Wm", Wm, Y.shape[0])
     Wc = check_vector("Wc", Wc, Y.shape[0])
     res = residual if residual is not None else (lambda a, b: a - b)
-    mean = Y[0] + Wm @ res(Y, Y[0])
+    D0 = res(Y, Y[0])
+    if check and residual is not None:
+        D0 = _checked_model("residual(a, b)", D0, Y.shape)
+    mean = Y[0] + Wm @ D0
     D = res(Y, mean)
+    if check and residual is not None:
+        D = _checked_model("residual(a, b)", D, Y.shape)
     cov = (Wc[:, None] * D).T @ D
     if noise is not None:
         cov = cov + _square("noise", noise, Y.shape[1])
@@ -515,7 +565,10 @@ def ukf_predict(x, P, f, Q, alpha=1.0, beta=2.0, kappa=0.0, check=True):
     Y = np.array([f(s) for s in X])
     if check:
         Y = _checked_model("f(x) of the sigma points", Y, X.shape)
-    return _transform(Y, Wm, Wc, noise=np.asarray(Q, dtype=float))
+    x_new, P_new = _transform(Y, Wm, Wc, noise=np.asarray(Q, dtype=float))
+    if check:
+        _check_weighted(P_new, Wc, "predicted covariance P", alpha, beta, kappa)
+    return x_new, P_new
 
 
 def ukf_update(x, P, z, h, R, alpha=1.0, beta=2.0, kappa=0.0, residual=None, check=True):
@@ -555,6 +608,7 @@ def ukf_update(x, P, z, h, R, alpha=1.0, beta=2.0, kappa=0.0, residual=None, che
         if z is not None:
             z = _bounded("z", _nonempty("z", check_vector("z", z), "measurement"))
         h = check_callable("h", h, "a function h(x) -> z_pred of one state")
+        _check_residual(residual, "residual(a, b) of measurements (None: a - b)")
     Wm, Wc, lam = ukf_weights(x.size, alpha, beta, kappa)
     X = sigma_points(x, P, lam)
     Z = np.array([np.atleast_1d(h(s)) for s in X])
@@ -568,13 +622,21 @@ def ukf_update(x, P, z, h, R, alpha=1.0, beta=2.0, kappa=0.0, residual=None, che
         if z is None:   # the model given with a skipped update is checked, not used
             return Update(x, P, None, None, float("nan"))
     z = np.asarray(z, dtype=float)
-    z_pred, S = _transform(Z, Wm, Wc, noise=np.atleast_2d(R), residual=residual)
+    z_pred, S = _transform(Z, Wm, Wc, noise=np.atleast_2d(R), residual=residual, check=check)
+    if check:
+        _check_weighted(S, Wc, "innovation covariance S", alpha, beta, kappa, definite=True)
     res = residual if residual is not None else (lambda a, b: a - b)
-    Pxz = (Wc[:, None] * (X - x)).T @ res(Z, z_pred)
-    K = np.linalg.solve(S, Pxz.T).T  # K = Pxz S^-1
+    dZ = res(Z, z_pred)
     nu = res(z, z_pred)
+    if check and residual is not None:
+        dZ = _checked_model("residual(h(x), z_pred) of the sigma points", dZ, Z.shape)
+        nu = _checked_model("residual(z, z_pred)", nu, z.shape)
+    Pxz = (Wc[:, None] * (X - x)).T @ dZ
+    K = np.linalg.solve(S, Pxz.T).T  # K = Pxz S^-1
     x_new = x + K @ nu
     P_new = _sym(P - K @ S @ K.T)  # P = P - K S K^T
+    if check:
+        _check_weighted(P_new, Wc, "updated covariance P", alpha, beta, kappa)
     return Update(x_new, P_new, nu, S, float(nu @ np.linalg.solve(S, nu)))
 
 
@@ -802,7 +864,7 @@ class UKF(EKF):
     def __init__(self, x0, P0, alpha=1.0, beta=2.0, kappa=0.0):
         super().__init__(x0, P0)
         ukf_weights(self.x.size, alpha, beta, kappa)  # validates
-        self.alpha, self.beta, self.kappa = alpha, beta, kappa
+        self.alpha, self.beta, self.kappa = float(alpha), float(beta), float(kappa)  # np.float16
 
     def predict(self, f, Q):
         """Time update (see :func:`ukf_predict`); returns ``self``."""

@@ -456,3 +456,13 @@ def test_check_event_list_refuses_an_event_out_of_order():
     for ev in (Event(5.0, 2.0, 6.0, 1.0, "a"), Event(1.0, 2.0, 1.5, 1.0, "a")):
         with pytest.raises(ValueError, match=r"^events\[0\] must have onset <= end <= cleared"):
             s.check_event_list("events", [ev])
+
+
+def test_parse_faults_leads_with_spec():
+    """Review 35k (3) 16: parse_faults('x') said "bad fault item 'x': ..." without naming spec;
+    a spec that is no string (or blank) is refused naming 'paper' too."""
+    with pytest.raises(ValueError, match=r"^spec: bad fault item 'x': expected SENSOR"):
+        s.parse_faults("x")
+    for bad in (None, "", "  ", 5, ["paper"]):
+        with pytest.raises(ValueError, match=r"^spec must be 'paper' or a fault spec SENSOR"):
+            s.parse_faults(bad)

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import functools
 import math
+from numbers import Real
 
 import numpy as np
 
@@ -16,7 +17,9 @@ from xnavlab.core.validate import (
     check_int,
     check_keywords,
     check_real,
+    check_seed,
     check_text,
+    shown,
 )
 
 __all__ = [
@@ -41,6 +44,11 @@ def _check_zoom(zoom_h):
     return lo, hi
 
 
+#: The largest value :func:`plot_detection` plots (``x / scale``): matplotlib's limits overflow
+#: near 1e308.
+_PLOT_MAX = 1e300
+
+
 def plot_detection(result, x, faults=(), *, title="", zoom_h=None, ylabel="range (km)",
                    scale=1e3):
     """Plot a series and what a detector flags: the series, then ratio to threshold and flags.
@@ -59,7 +67,8 @@ def plot_detection(result, x, faults=(), *, title="", zoom_h=None, ylabel="range
     ylabel : str, optional
         Label of the series' axis.
     scale : float, optional
-        Divisor of ``x`` for display (default 1e3: m to km), > 0.
+        Divisor of ``x`` for display (default 1e3: m to km), > 0 and at least
+        ``max |x| / 1e300`` (what is plotted stays finite).
 
     Returns
     -------
@@ -85,6 +94,10 @@ def plot_detection(result, x, faults=(), *, title="", zoom_h=None, ylabel="range
     zoom = _check_zoom(zoom_h)
     ylabel = check_text("ylabel", ylabel)
     scale = check_real("scale", scale, 0.0, lo_open=True)
+    top = float(np.abs(x).max(initial=0.0))
+    if top > _PLOT_MAX * scale:   # x / scale would overflow, or the figure's limits would
+        raise ValueError(f"scale must be at least max |x| / {_PLOT_MAX:g} = {top / _PLOT_MAX:.3g} "
+                         f"(x / scale is plotted; max |x| = {top:.3g}), got {shown(scale)}")
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(10, 4.6), layout="constrained")
@@ -189,6 +202,25 @@ def _range_series(n, dt_s, mean_m, swing_m, period_s, sigma_m, seed):
     return t, clean
 
 
+#: The shortest orbital period :func:`plot_step_detector` takes, s (a microsecond: its phase
+#: ``2 pi t / period_s`` stays finite over the longest run, and a period below the sampling
+#: interval is aliased noise anyway).
+_PERIOD_MIN_S = 1e-6
+
+
+def _check_duration(duration_s):
+    """The step's length, s, in (0, inf] (``inf``: to the end of the run), named as the
+    slider's ``duration_s`` rather than the Fault's ``duration``."""
+    if isinstance(duration_s, Real | np.floating) and not isinstance(duration_s, bool) \
+            and duration_s == math.inf:
+        return math.inf
+    try:
+        return check_real("duration_s", duration_s, 0.0, math.inf, lo_open=True)  # inf: above
+    except ValueError:
+        raise ValueError(f"duration_s must be a real number in (0, inf] (s; inf: to the end of "
+                         f"the run), got {shown(duration_s)}") from None
+
+
 def plot_step_detector(size_sigma=6.0, levels=5, log10_pfa=-5, *, sigma_m=5000.0, dt_s=3.0,
                        n=12_000, mean_m=4.19e6, swing_m=3.8e5, period_s=8280.0, seed=5,
                        onset_s=18_000.0, duration_s=3000.0, train=3000, zoom_h=(4.5, 6.5)):
@@ -218,14 +250,15 @@ def plot_step_detector(size_sigma=6.0, levels=5, log10_pfa=-5, *, sigma_m=5000.0
     n : int
         Number of samples, in [2 * ``train``, 10**7] (80 MB a series, made once per setting).
     mean_m, swing_m, period_s : float
-        Mean range (m) and its orbital swing (m), each in [-1e12, 1e12], and the orbit's
-        period (s, > 0).
+        Mean range (m) in [0, 1e12] and its orbital swing (m) in [0, ``mean_m``] (a range is
+        never negative), and the orbit's period, s, from 1e-6 (a microsecond) on.
     seed : int
-        Seed of the noise.
+        Seed of the noise, in [0, 2**63 - 1].
     onset_s, duration_s : float
-        Start and length of the step, s.
+        Start of the step, s, in [0, (``n`` - 1) ``dt_s``] (it acts on at least one sample
+        of the run), and its length, s, in (0, inf] (``inf``: to the end of the run).
     train : int
-        Fault-free training samples of the detector's threshold.
+        Fault-free training samples of the detector's threshold, in [1, 5e6].
     zoom_h : (float, float), optional
         Time window shown, hours (``None``: the whole series).
 
@@ -251,18 +284,21 @@ def plot_step_detector(size_sigma=6.0, levels=5, log10_pfa=-5, *, sigma_m=5000.0
         if size_sigma == 0.0:   # named here, not as the Fault's magnitude
             raise ValueError("size_sigma must be a nonzero step size in [-1e6, 1e6] (a zero-size "
                              f"fault is no fault), got {size_sigma:g}")
-        onset_s = check_real("onset_s", onset_s)
         levels = check_int("levels", levels, 1, 12)
         log10_pfa = check_real("log10_pfa", log10_pfa, -12.0, 0.0, hi_open=True)
         sigma_m = check_real("sigma_m", sigma_m, 0.0, 1e9, lo_open=True)
         dt_s = check_real("dt_s", dt_s, 0.0, 86400.0, lo_open=True)
-        period_s = check_real("period_s", period_s, 0.0, lo_open=True)
+        period_s = check_real("period_s", period_s, _PERIOD_MIN_S)  # 2 pi t / period_s: finite
         train = check_int("train", train, 1, 5 * 10**6)
         n = check_int("n", n, 2 * train, 10**7)
-        # a range within 1e12 m (7 au): at 1e308 the noise vanished in the rounding
-        t, clean = _range_series(n, dt_s, check_real("mean_m", mean_m, -1e12, 1e12),
-                                 check_real("swing_m", swing_m, -1e12, 1e12), period_s, sigma_m,
-                                 int(seed))
+        # a range within 1e12 m (7 au): at 1e308 the noise vanished in the rounding; never < 0
+        mean_m = check_real("mean_m", mean_m, 0.0, 1e12)
+        swing_m = check_real("swing_m", swing_m, 0.0, mean_m)
+        seed = check_seed("seed", seed)
+        # the step acts on at least one sample of the run [0, (n - 1) dt_s], from its start
+        onset_s = check_real("onset_s", onset_s, 0.0, (n - 1) * dt_s)
+        duration_s = _check_duration(duration_s)
+        t, clean = _range_series(n, dt_s, mean_m, swing_m, period_s, sigma_m, seed)
         fault = Fault("uv", "step", size_sigma * sigma_m, onset=onset_s, duration=duration_s)
         return (*_fault_detection(t, clean, [fault], "uv",
                                   f"{size_sigma:g} sigma step, {levels} levels",

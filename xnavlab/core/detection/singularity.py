@@ -114,6 +114,10 @@ def _scales(scales, n=None):
     return scales
 
 
+#: The longest wavelet :func:`cwt` samples at one scale (``scale * support`` samples, 80 MB).
+_KERNEL_MAX = 1e7
+
+
 def cwt(x, scales, wavelet="gaus1", dt=1.0):
     """Continuous wavelet transform, paper eqs. (7)-(8), via ``pywt.cwt``.
 
@@ -127,11 +131,13 @@ def cwt(x, scales, wavelet="gaus1", dt=1.0):
     x : array_like, shape (N,)
         Signal sampled every ``dt``.
     scales : array_like, shape (n_scales,)
-        Scales ``a`` in samples (> 0).
+        Scales ``a`` in samples, in [1 / support, 1e7 / support] with the wavelet's support
+        (10 for ``"gaus1"``: [0.1, 1e6]).
     wavelet : str
         A PyWavelets continuous wavelet, real-valued (``"gaus1"``, ``"mexh"``, ``"morl"``, ...).
     dt : float
-        Sampling interval, s (only scales the frequencies PyWavelets reports; unused here).
+        Sampling interval, s, > 0 (only scales the frequencies PyWavelets reports, which are
+        not returned: unused here).
 
     Returns
     -------
@@ -148,8 +154,20 @@ def cwt(x, scales, wavelet="gaus1", dt=1.0):
     scales = _scales(scales)
     check_choice("wavelet", wavelet, [w for w in pywt.wavelist(kind="continuous")
                                       if not w.startswith(("cgau", "cmor", "shan", "fbsp"))])
+    # the wavelet at a scale spans scale * support samples (pywt): at least 2 (one difference),
+    # at most 1e7 (80 MB, as the other series here)
+    c = pywt.ContinuousWavelet(wavelet)
+    support = c.upper_bound - c.lower_bound
+    lo, hi = 1.0 / support, _KERNEL_MAX / support
+    if not np.all((scales >= lo) & (scales <= hi)):
+        bad = scales[(scales < lo) | (scales > hi)][0]
+        raise ValueError(f"scales must lie in [{lo:g}, {hi:g}] samples for the {wavelet!r} "
+                         f"wavelet (its support, {support:g}, times a scale: at least 1 sample "
+                         f"step, at most {_KERNEL_MAX:g} samples), got {bad:g}")
     check_real("dt", dt, 0.0, lo_open=True)
-    coefs, _ = pywt.cwt(x, scales, wavelet, sampling_period=dt)
+    # dt scales only the frequencies pywt reports, which are not returned: it is not passed on
+    # (pywt's 1 / (scale dt) overflowed for a subnormal dt)
+    coefs, _ = pywt.cwt(x, scales, wavelet)
     return np.asarray(coefs)
 
 

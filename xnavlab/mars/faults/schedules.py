@@ -182,12 +182,13 @@ def parse_faults(spec, scenario=None):
     [0, 1]
     """
     sc = scenarios.check_scenario("scenario", scenario)
-    if isinstance(spec, str) and spec.strip() == "paper":
+    if not isinstance(spec, str) or not spec.strip():
+        raise ValueError(f"spec must be 'paper' or a fault spec SENSOR[.COMPONENT]:KIND:"
+                         f"MAGNITUDE@ONSET+DURATION[,...], got {shown(spec)}")
+    if spec.strip() == "paper":
         return paper_schedule(scenario=sc)
-    if isinstance(spec, str) and "xnav" in sc.subsystems:
-        # a pulsar may be named in full (xnav.B1937+21): its '+' is not the duration's
-        for name, short in zip(pulsar_specs.names(sc.pulsars), components(sc)["xnav"],
-                               strict=True):
+    if "xnav" in sc.subsystems:  # a pulsar named in full (xnav.B1937+21): its '+' is no duration's
+        for name, short in zip(pulsar_specs.names(sc.pulsars), components(sc)["xnav"], strict=True):
             spec = spec.replace(f"xnav.{name}:", f"xnav.{short}:")
     return parse_spec(spec, components(sc))
 
