@@ -81,10 +81,12 @@ import numpy as np
 
 from xnavlab.core.campaign_records import (
     PUBLIC_KEYS,
+    given_warnings,
     json_or_none,
     parse_records,
     report_bad_lines,
     report_disagreements,
+    warn_again,
     why_not_a_record,
 )
 from xnavlab.core.montecarlo import seeds as spawn_seeds
@@ -146,10 +148,8 @@ class Campaign:
         ``summarise(runs) -> list of dict``: the aggregated table of the run records
         (:func:`public_record`), for reports.
     check_metrics : callable, optional
-        ``check_metrics(metrics) -> None or str``: why the metrics of a stored ``ok`` record
-        are not this campaign's (a key missing, text where a number goes), else None. A
-        stored record it refuses is reported with the file and its line and its run computed
-        again, as a line that is not a record.
+        ``check_metrics(metrics) -> None or str``: why a stored ``ok`` record's metrics are
+        not this campaign's (reported by file and line, and its run computed again).
     """
 
     name: str
@@ -242,9 +242,8 @@ def execute(trial, seed, params):
     dict
         ``metrics`` (the result as JSON text, or ``None``), ``error`` (``None`` or
         ``"Type: message"``), ``elapsed_s`` (s in the trial), ``worker`` (host:pid),
-        ``warnings`` (``(category, text)`` of each warning the trial gave, each once: the
-        campaign gives them again where it runs, so a worker's warning reaches the caller's
-        warning filters and the command line's one-line printer, not a worker's stderr).
+        ``warnings`` (:func:`~xnavlab.core.campaign_records.given_warnings`: given again
+        where the campaign runs, so a worker's warning reaches the command line's printer).
         Exceptions of the trial are caught here, so an unpicklable exception cannot break
         the transfer back.
 
@@ -265,25 +264,8 @@ def execute(trial, seed, params):
             metrics = json.dumps(json_ready(result), allow_nan=False)
         except Exception as exc:  # noqa: BLE001 - any failure of a run is recorded, not raised
             error = _describe(exc)
-    given = []
-    for w in caught:
-        item = (_portable(w.category), str(w.message))
-        if item not in given:
-            given.append(item)
     return {"metrics": metrics, "error": error, "elapsed_s": time.perf_counter() - t0,
-            "worker": f"{socket.gethostname()}:{os.getpid()}", "warnings": given}
-
-
-def _portable(category):
-    """A warning class that travels back from a worker (an importable one), else UserWarning."""
-    module = sys.modules.get(getattr(category, "__module__", ""), None)
-    return category if getattr(module, category.__qualname__, None) is category else UserWarning
-
-
-def _warn_again(payload):
-    """The warnings a run gave where it ran, given again here (each once)."""
-    for category, text in payload.get("warnings", ()):
-        warnings.warn(text, category, stacklevel=2)
+            "worker": f"{socket.gethostname()}:{os.getpid()}", "warnings": given_warnings(caught)}
 
 
 def _describe(exc):
@@ -324,8 +306,7 @@ class Store:
         The campaign's header (:meth:`Campaign.header`). A new store starts with it; an
         existing one must hold the same header.
     check : callable, optional
-        The campaign's :attr:`Campaign.check_metrics`: a stored ``ok`` record whose metrics
-        it refuses is reported (file and line) and its run computed again.
+        The campaign's ``check_metrics``.
 
     Raises
     ------
@@ -576,70 +557,6 @@ class _Pool:
         self.pool.shutdown(wait=True, cancel_futures=True)
 
 
-class _Dask:
-    """A Dask ``distributed.Client``: to a scheduler address, or to a LocalCluster started here."""
-
-    window = 1 << 30  # the scheduler balances; every run is submitted at once
-
-    def __init__(self, address, workers, timeout):
-        try:
-            import distributed
-        except ImportError:
-            raise ValueError("engine 'dask' and 'local-cluster' need the packages dask and "
-                             "distributed (pip install dask distributed)") from None
-        self._distributed = distributed
-        self.cluster = None
-        if address is None:
-            import logging
-
-            try:
-                self.cluster = distributed.LocalCluster(
-                    n_workers=workers, threads_per_worker=1, processes=True,
-                    dashboard_address=None, silence_logs=logging.ERROR)
-                self.client = distributed.Client(self.cluster, timeout=timeout)
-            except Exception as exc:  # noqa: BLE001 - reported as one line
-                if self.cluster is not None:
-                    self.cluster.close()
-                raise ValueError(f"could not start a Dask LocalCluster of {workers} workers "
-                                 f"({_describe(exc)})") from None
-        else:
-            try:
-                self.client = distributed.Client(address, timeout=timeout)
-            except Exception as exc:  # noqa: BLE001 - OSError, TimeoutError, bad address...
-                raise ValueError(f"scheduler {address} unreachable within {timeout:g} s "
-                                 f"({_describe(exc)})") from None
-        try:
-            self.client.wait_for_workers(1, timeout=timeout)
-        except Exception:  # noqa: BLE001 - distributed raises TimeoutError
-            self.close()
-            where = f"scheduler {address}" if address else "the local cluster"
-            raise ValueError(f"{where} has no workers after {timeout:g} s") from None
-
-    def submit(self, trial, seed, params):
-        return self.client.submit(execute, trial, seed, params, pure=False)
-
-    def wait(self, handles):
-        done = self._distributed.wait(handles, return_when="FIRST_COMPLETED").done
-        out = []
-        for f in done:
-            if f.status == "finished":
-                out.append((f, ("ok", f.result())))
-            else:
-                try:
-                    exc = f.exception()
-                    msg = _describe(exc) if exc is not None else f"run {f.status}"
-                except Exception as err:  # noqa: BLE001 - a cancelled future raises
-                    msg = _describe(err)
-                out.append((f, ("error", msg)))
-            f.release()
-        return out
-
-    def close(self):
-        self.client.close()
-        if self.cluster is not None:
-            self.cluster.close()
-
-
 #: run_campaign's defaults, which an engine that would not use workers or a timeout accepts.
 _WORKERS = 2
 _TIMEOUT_S = 5.0
@@ -663,7 +580,9 @@ def _engine(engine, workers, scheduler, timeout):
         return _Serial()
     if engine == "local":
         return _Pool(workers)
-    return _Dask(scheduler if engine == "dask" else None, workers, timeout)
+    from xnavlab.core._campaign_dask import DaskEngine  # Dask only for the Dask engines
+
+    return DaskEngine(scheduler if engine == "dask" else None, workers, timeout, execute)
 
 
 # ------------------------------------------------------------------------------- campaign
@@ -712,7 +631,7 @@ class CampaignResult:
 def _record(index, seed, params, outcome, attempt):
     kind, payload = outcome
     if kind == "ok":
-        _warn_again(payload)
+        warn_again(payload.get("warnings", ()))
     rec = {"index": index, "seed": seed, "parameters": params, "metrics": None,
            "status": "failed", "error": None, "attempt": attempt, "elapsed_s": None,
            "worker": None}

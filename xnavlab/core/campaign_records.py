@@ -9,13 +9,14 @@ from __future__ import annotations
 
 import json
 import math
+import sys
 import warnings
 
 from xnavlab.core.userfiles import InputWarning
 from xnavlab.core.validate import SEED_MAX
 
 __all__ = ["PUBLIC_KEYS", "json_or_none", "non_finite", "why_not_a_record", "parse_records",
-           "report_bad_lines", "report_disagreements"]
+           "report_bad_lines", "report_disagreements", "given_warnings", "warn_again"]
 
 #: Keys of a record that make up a run's result (the rest is bookkeeping).
 PUBLIC_KEYS = ("index", "seed", "parameters", "metrics", "status", "error")
@@ -202,3 +203,34 @@ def report_disagreements(records, numbers, path):
         more = f"; and {len(found) - 10} more" if len(found) > 10 else ""
         warnings.warn(f"{path}: {'; '.join(found[:10])}{more}; the first counts", InputWarning,
                       stacklevel=3)
+
+
+def given_warnings(caught):
+    """The warnings a run gave where it ran (``warnings.catch_warnings(record=True)``), as
+    ``(category, text)`` pairs, each once, for :func:`warn_again` in the campaign's process (a
+    category that cannot travel back, not importable by name, becomes UserWarning).
+
+    Examples
+    --------
+    >>> with warnings.catch_warnings(record=True) as w:
+    ...     warnings.simplefilter("always")
+    ...     warnings.warn("a", InputWarning); warnings.warn("a", InputWarning)
+    >>> given_warnings(w)
+    [(<class 'xnavlab.core.userfiles.InputWarning'>, 'a')]
+    """
+    out = []
+    for w in caught:
+        cat = w.category
+        module = sys.modules.get(getattr(cat, "__module__", ""), None)
+        item = (cat if getattr(module, cat.__qualname__, None) is cat else UserWarning,
+                str(w.message))
+        if item not in out:
+            out.append(item)
+    return out
+
+
+def warn_again(items):
+    """Give again each ``(category, text)`` of :func:`given_warnings` (in this process: its
+    filters and the command line's one-line printer see a worker's warnings)."""
+    for category, text in items:
+        warnings.warn(text, category, stacklevel=2)

@@ -98,9 +98,9 @@ def test_a_record_dt_below_the_runs_epochs_is_refused_with_the_nearest_valid_val
 
 @pytest.mark.parametrize("call, name", [
     (lambda: unused_inputs.warn_unmeasured(1.0, {"xnav": 1}), "scenario"),
-    (lambda: unused_inputs.warn_unmeasured(None, None), "counts"),
-    (lambda: unused_inputs.warn_unmeasured(None, {"xnav": 1}), "counts"),
-    (lambda: unused_inputs.warn_unmeasured(None, {"xnav": "1", "uv": 1, "cns": 1}),
+    (lambda: unused_inputs.warn_unmeasured(scenarios.MarsScenario(), None), "counts"),
+    (lambda: unused_inputs.warn_unmeasured(scenarios.MarsScenario(), {"xnav": 1}), "counts"),
+    (lambda: unused_inputs.warn_unmeasured(scenarios.MarsScenario(), {"xnav": "1", "uv": 1, "cns": 1}),
      r"counts\['xnav'\]"),
     (lambda: unused_inputs.warn_few_records(None, 0.025, 86400.0), "n"),
     (lambda: unused_inputs.warn_few_records(1, "x", 86400.0), "settle_days"),

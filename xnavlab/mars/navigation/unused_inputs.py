@@ -33,7 +33,7 @@ import dataclasses
 import warnings
 
 from xnavlab.core.userfiles import InputWarning
-from xnavlab.core.validate import check_instance, check_int, check_real
+from xnavlab.core.validate import check_instance, check_int, check_real, shown
 
 __all__ = ["SUBSYSTEM_FIELDS", "NOISE_FIELDS", "NOISE_SETTINGS", "check_fields", "check_record_dt",
            "warn_unmeasured", "warn_few_records", "divergence_advice"]
@@ -204,10 +204,11 @@ NOISE_SETTINGS = ("sigma_range_m", "sigma_dir_deg", "sigma_star_arcsec", "sigma_
 
 
 def _scenario(scenario):
-    """``scenario`` checked as a MarsScenario (None: the default one), under its own name."""
-    from xnavlab.mars.navigation.scenarios import check_scenario  # it imports this module
-
-    return check_scenario("scenario", scenario)
+    """``scenario`` checked as a MarsScenario, under its own name."""
+    if type(scenario).__name__ != "MarsScenario" or not dataclasses.is_dataclass(scenario):
+        raise ValueError(f"scenario must be a MarsScenario, got {type(scenario).__name__} "
+                         f"{shown(scenario)}")  # (scenarios imports this module: no isinstance)
+    return scenario
 
 
 def divergence_advice(scenario):

@@ -12,6 +12,8 @@ module                 what it models
                        alarms per day (``campaign roc``, chapter 9)
 ``campaigns``          the Mars campaigns of ``python -m xnavlab campaign`` (chapter 13)
 ``detector_maps``      the detector table as heat maps and false-alarm strips (chapter 9)
+``_metrics``           plumbing (not public API): the campaigns' check of a stored run's
+                       metrics (``Campaign.check_metrics``)
 =====================  ===================================================================
 
 The modules are imported by name (``from xnavlab.mars.studies import trials``);

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 import math
 
+__all__ = ["why_not"]
+
 
 def _why_item(value, kind, where):
     if isinstance(kind, dict):
