@@ -45,6 +45,7 @@ import numpy as np
 
 from xnavlab.core import faults as _faults
 from xnavlab.core.validate import check_finite_array, check_real, make_rng, shown
+from xnavlab.plins._checks import check_sites, distinct_sites
 from xnavlab.plins.ins import N_STATES, WGS84_A, WGS84_E2, Trajectory, earth_radii
 
 __all__ = [
@@ -268,7 +269,7 @@ def sites_ecef(sites_deg=None):
     if np.any(np.abs(sites[:, 0]) > 90.0):
         raise ValueError("sites_deg latitudes must be in [-90, 90] deg")
     ecef = geodetic_to_ecef(np.radians(sites[:, 0]), np.radians(sites[:, 1]), sites[:, 2])
-    return _distinct("sites_deg", ecef)
+    return distinct_sites("sites_deg", ecef)
 
 
 def _point(lat, lon, h):
@@ -277,26 +278,6 @@ def _point(lat, lon, h):
     lon = check_real("lon", lon)
     h = check_real("h", h, -WGS84_A / 2, MAX_HEIGHT, lo_open=True)  # as geodetic_to_ecef's
     return lat, lon, h
-
-
-def _check_sites(sites):
-    sites = check_finite_array("sites", sites, shape=(3,))
-    if sites.ndim != 2 or len(sites) < 1:  # no site: no measurement (an empty (0, 10) matrix)
-        raise ValueError(f"sites must have shape (m, 3) with m >= 1 (one row a pseudolite), got "
-                         f"shape {sites.shape}")
-    return _distinct("sites", sites)
-
-
-def _distinct(name, ecef):
-    """ECEF sites at least 1 m apart (two antennas cannot share a place), or ValueError."""
-    gap = np.linalg.norm(ecef[:, None, :] - ecef[None, :, :], axis=-1)
-    i, j = np.triu_indices(len(ecef), k=1)
-    close = np.flatnonzero(gap[i, j] < 1.0)
-    if close.size:
-        k = close[0]
-        raise ValueError(f"{name} must be distinct sites at least 1 m apart, got sites {i[k]} "
-                         f"and {j[k]} {gap[i[k], j[k]]:.3g} m apart")
-    return ecef
 
 
 def pseudoranges(r, sites):
@@ -320,7 +301,7 @@ def pseudoranges(r, sites):
     [5.0, 2.0]
     """
     r = check_finite_array("r", r, shape=(3,))
-    sites = _check_sites(sites)
+    sites = check_sites(sites)
     return np.linalg.norm(r[..., None, :] - sites, axis=-1)  # eq. (4)
 
 
@@ -349,7 +330,7 @@ def los_matrix(r, sites):
     r = check_finite_array("r", r, shape=(3,))
     if r.ndim != 1:
         raise ValueError(f"r must have shape (3,), got {r.shape}")
-    sites = _check_sites(sites)
+    sites = check_sites(sites)
     d = sites - r
     rho = np.linalg.norm(d, axis=1)
     if np.any(rho < 1e-3):
@@ -528,7 +509,7 @@ def simulate_pseudoranges(traj, x_err, sites=None, sigma=DEFAULT_SIGMA, faults=(
     x_err = check_finite_array("x_err", x_err, shape=(N_STATES,))
     if x_err.shape != (len(traj), N_STATES):
         raise ValueError(f"x_err must have shape ({len(traj)}, {N_STATES}), got {x_err.shape}")
-    sites = sites_ecef() if sites is None else _check_sites(sites)
+    sites = sites_ecef() if sites is None else check_sites(sites)
     sigma = check_real("sigma", sigma, 0.0, 1e6)  # as diagnose_flight's
     rng = make_rng(rng)
     r_true = geodetic_to_ecef(traj.lat, traj.lon, traj.h)

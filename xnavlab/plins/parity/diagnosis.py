@@ -36,6 +36,7 @@ from xnavlab.core.validate import (
 )
 from xnavlab.plins import ins as _ins
 from xnavlab.plins import pseudolites as _pl
+from xnavlab.plins._checks import check_sites
 from xnavlab.plins.parity.fuzzy import local_models, memberships, operating_points, premises
 from xnavlab.plins.parity.identification import SIGMA_MIN, estimate_onset, identify_fault
 from xnavlab.plins.parity.space import (
@@ -339,7 +340,7 @@ def flight_design(traj, sites, s, tol, n_points=3):
     """
     if not isinstance(traj, _ins.Trajectory):
         raise ValueError(f"traj must be a Trajectory, got {type(traj).__name__}")
-    sites = _pl._check_sites(sites)  # (m, 3), m >= 1 (none was an IndexError), distinct
+    sites = check_sites(sites)  # (m, 3), m >= 1 (none was an IndexError), distinct
     s = check_int("s", s, 0, 200)
     tol = None if tol is None else check_real("tol", tol, 0.0)
     n_points = check_int("n_points", n_points, 1, 50)

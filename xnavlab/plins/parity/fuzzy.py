@@ -18,6 +18,7 @@ import numpy as np
 from xnavlab.core.validate import check_finite_array, check_int, check_real, check_shape
 from xnavlab.plins import ins as _ins
 from xnavlab.plins import pseudolites as _pl
+from xnavlab.plins._checks import check_sites
 
 __all__ = [
     "PREMISES",
@@ -280,7 +281,7 @@ def local_models(points, lon, h, sites, dt, q=None):
     (3, (10, 10), (4, 10))
     """
     points = _check_points(points)  # none was an empty list of models
-    sites = _pl._check_sites(sites)  # checked up front (no site: models without pseudolites)
+    sites = check_sites(sites)  # checked up front (no site: models without pseudolites)
     for l, lat_deg in enumerate(points[:, 0]):  # degrees here: error_matrix names its lat in rad
         if abs(lat_deg) > 89.0:
             raise ValueError(f"points[{l}] must have a latitude in [-89, 89] deg (the ENU error "
