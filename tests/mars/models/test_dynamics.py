@@ -1,5 +1,7 @@
 """Dynamics: accelerations, third-body table, compiled RHS vs numpy, propagator accuracy, STM."""
 
+import math
+
 import numpy as np
 import pytest
 from hypothesis import given
@@ -387,3 +389,52 @@ def test_j2_acceleration_refuses_a_point_inside_its_reference_sphere():
     with pytest.raises(ValueError, match=r"^r must lie outside the body"):
         dynamics.acceleration(dynamics.MARS_T0, np.array([0.0, 0.0, 3.39e6]), None, j2=True)
     assert np.isfinite(dynamics.j2_acceleration(np.array([J2_MARS_RADIUS, 0.0, 0.0]))).all()
+
+
+@pytest.mark.parametrize(("call", "message"), [
+    (lambda: dynamics.j2_acceleration(np.array([[0.0, 0.0, 4e6]])),
+     r"^r must be a 1-D array \(shape \(3,\)\), got shape \(1, 3\)$"),
+    (lambda: dynamics.acceleration(T0, np.array([[4e6, 0.0, 0.0]])),
+     r"^r must be a 1-D array \(shape \(3,\)\), got shape \(1, 3\)$"),
+    (lambda: dynamics.third_body(np.zeros((1, 3)), np.array([[1e11, 0, 0]]), [GM_SUN]),
+     r"^r must be a 1-D array \(shape \(3,\)\), got shape \(1, 3\)$"),
+    (lambda: dynamics.orbital_elements(X0[None]),
+     r"^state must be a 1-D array \(shape \(6,\)\), got shape \(1, 6\)$"),
+])
+def test_one_position_or_state_of_another_shape_is_refused_by_name(call, message):
+    """Review 35k (2) 1, (2) 2: a (1, 3) r was numpy's matmul message, a (1, 6) state its
+    two-line cross-product message."""
+    with pytest.raises(ValueError, match=message):
+        call()
+
+
+def test_a_table_centre_is_refused_as_center():
+    """Review 35k (3) 1: center='' was refused as the ephemeris's 'body'."""
+    with pytest.raises(ValueError, match=r"^center must be one of 'sun', .*, got ''$"):
+        dynamics.ThirdBodyTable(T0, T0 + 86400.0, center="")
+
+
+@pytest.mark.parametrize("call", [dynamics.propagate,
+                                  lambda t, **kw: dynamics.truth(t, cache=False, **kw)])
+def test_propagate_refuses_float32_epochs_a_bad_t0_and_a_span_of_years(call):
+    """Review 35k (5) 12, (1) 17 pattern A: float32 epochs (32 s resolution at 5e8 s) gave
+    another trajectory; t0 = 0 with 2016 epochs integrated 16 years (minutes, unbounded);
+    t0=None was a TypeError in truth's cache key."""
+    t = T0 + np.array([0.0, 60.0])
+    with pytest.raises(ValueError, match=r"^t_eval must resolve its epochs to 0.001 s: as "
+                                         r"float32 it resolves 32 s at 5.04878e\+08 s; pass "
+                                         r"float64 epochs$"):
+        call(t.astype(np.float32))
+    with pytest.raises(ValueError, match=r"^t0 must resolve its epochs"):
+        call(t, t0=np.float32(T0))
+    with pytest.raises(ValueError, match=r"^t_eval\[-1\] - t0 must be at most 731 days \(the "
+                                         r"longest propagation\), got 5843.5 days"):
+        call(t, t0=0.0)
+    for bad in (None, "1.0", math.nan, True):
+        with pytest.raises(ValueError, match=r"^t0 must be a finite real number, got "):
+            call(t, t0=bad)
+    with pytest.raises(ValueError, match=r"^t0 must be in \[.*\] s TDB past J2000 \(the coverage "
+                                         r"of de421\), got 1e\+300$"):
+        call(t, t0=1e300)
+    # small float32 epochs resolve to 0.1 microsecond: taken
+    assert call(np.array([0.0, 1.0], np.float32), t0=0.0, third_bodies=()).shape == (2, 6)

@@ -220,7 +220,7 @@ def test_a_state0_faster_than_any_craft_bound_to_the_sun_is_refused():  # review
     (lambda: fm.srp_acceleration(R0, np.zeros(3)), "|s| must exceed the Sun's radius"),
     (lambda: fm.srp_acceleration(SUN, SUN), "|r - s| must exceed the Sun's radius"),
     (lambda: fm.srp_acceleration(R0, SUN, area_m2=0.0), "area_m2 must be a real number in (0, 1000]"),
-    (lambda: fm.srp_acceleration(R0, SUN, mass_kg=0.0), "mass_kg must be a real number in (0, 100000]"),
+    (lambda: fm.srp_acceleration(R0, SUN, mass_kg=0.0), "mass_kg must be a real number in [0.001, 100000]"),
     (lambda: fm.srp_acceleration(R0, SUN, reflectivity=math.nan), "reflectivity must be a real"),
 ])
 def test_a_force_at_a_singular_point_or_with_no_area_or_mass_is_one_line(call, words):
@@ -255,3 +255,46 @@ def test_a_force_model_is_refused_under_the_callers_name():
         fm.check_models({"gravity_degree": 1}, "paper")
     with pytest.raises(ValueError, match=r"^filter_model has no field 'j2'"):
         fm.check_models("paper", {"j2": True})
+
+
+def test_accelerations_refuses_a_tables_that_is_not_one_of_its_model_and_span():
+    """Review 35k (1) 14: tables=1.0 (any non-Tables) was AttributeError 'args'; a Tables of
+    another model or span was used in silence."""
+    t = dynamics.MARS_T0 + np.array([0.0, 60.0])
+    r = np.tile(R0, (2, 1))
+    for bad in (1.0, True, "x", {}, []):
+        with pytest.raises(ValueError, match=r"^tables must be a Tables of force_model over t "
+                                             r"\(or None\), got "):
+            fm.accelerations(t, r, "study", tables=bad)
+    paper = fm.Tables("paper", t[0], t[1])
+    with pytest.raises(ValueError, match=r"^tables must tabulate force_model \(Mars MRO95A 8x8 "
+                                         r".*\) from de421 over t, got Mars point mass \+ Sun, "
+                                         r"Jupiter from de421"):
+        fm.accelerations(t, r, "study", tables=paper)
+    with pytest.raises(ValueError, match=r"^tables must tabulate force_model"):
+        fm.accelerations(t + 120.0, r, "paper", tables=paper)  # past its span
+    assert np.array_equal(fm.accelerations(t, r, "paper", tables=paper), fm.accelerations(t, r))
+
+
+def test_a_subnormal_mass_is_refused_not_an_infinite_acceleration():
+    """Review 35k (5) 6: mass_kg=5e-324 (inside (0, 1e5]) gave [-inf, nan, nan]."""
+    for call in (lambda m: fm.srp_acceleration(np.array([4e6, 0, 0]), np.array([2e11, 0, 0]),
+                                               mass_kg=m),
+                 lambda m: fm.ForceModel(srp=True, mass_kg=m)):
+        with pytest.raises(ValueError, match=r"mass_kg must be a real number in \[0.001, "
+                                             r"100000\], got 5e-324$"):
+            call(5e-324)
+    assert fm.ForceModel(srp=True, mass_kg=1e-3).mass_kg == 1e-3
+
+
+def test_force_model_propagate_refuses_float32_epochs_and_a_span_of_years():
+    """Review 35k (5) 12: as dynamics.propagate."""
+    t = dynamics.MARS_T0 + np.array([0.0, 60.0])
+    with pytest.raises(ValueError, match=r"^t_eval must resolve its epochs to 0.001 s"):
+        fm.propagate(t.astype(np.float32), force_model="paper")
+    with pytest.raises(ValueError, match=r"^t_eval\[-1\] - t0 must be at most 731 days"):
+        fm.propagate(t, t0=0.0, force_model="paper")
+    with pytest.raises(ValueError, match=r"^t0 must be a finite real number, got None$"):
+        fm.truth(t, t0=None, force_model="study")
+    with pytest.raises(ValueError, match=r"^t must resolve its epochs"):
+        fm.accelerations(t.astype(np.float32), np.tile(R0, (2, 1)))

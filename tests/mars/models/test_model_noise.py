@@ -1,6 +1,8 @@
 """Process noise from the model difference: the unmodelled acceleration, its size and time
 scale, q = sigma_a^2 T, and the studies' fields."""
 
+import math
+
 import numpy as np
 import pytest
 
@@ -76,3 +78,19 @@ def test_a_step_longer_than_the_span_or_a_misspelt_orbit_setting_is_refused():
                                          r"\(they are state0, t0, truth_ephem, filter_ephem, dt\)$"):
         mn.derived_q_acc("paper", "paper", days=0.05, sttae0=1)
     assert mn.unmodelled_statistics("paper", "paper", days=0.01, dt=864.0)["rms_mps2"] == 0.0
+
+
+def test_the_orbit_settings_are_refused_under_the_users_names():
+    """Review 35k (1) 17, (3) 2: t0=None was a TypeError and '1.0' a UFuncTypeError; t0=nan
+    was refused as 't_eval', 1e300 as 't_start', and truth_ephem='' as 'ephem'."""
+    for bad in (None, "1.0", math.nan, 1e300, True):
+        with pytest.raises(ValueError, match=r"^t0 must be a real number in \[-3.15814e\+09, "
+                                             r"6.31\d+e\+09\], got "):
+            mn.unmodelled_statistics("paper", "paper", days=0.05, t0=bad)
+    for name in ("truth_ephem", "filter_ephem"):
+        with pytest.raises(ValueError, match=rf"^{name} must be one of 'de421', 'de405', got ''$"):
+            mn.unmodelled_statistics("paper", "paper", days=0.05, **{name: ""})
+        t = dynamics.MARS_T0 + np.array([0.0, 600.0])
+        with pytest.raises(ValueError, match=rf"^{name} must be one of 'de421', 'de405', got 3$"):
+            mn.unmodelled_acceleration(t, np.tile(dynamics.MARS_STATE0, (2, 1)), "paper", "paper",
+                                       **{name: 3})

@@ -294,3 +294,25 @@ def test_cns_instrument_refuses_star_directions_not_unit_repeated_or_none(star_d
     """Review 35j (5) 30: all three were accepted."""
     with pytest.raises(ValueError, match=message):
         optics.CNSInstrument(star_dirs, 1e-5, 1e-3, 3.0)
+
+
+def test_orbit_ranges_takes_one_state_above_mars():
+    """Review 35k (1) 15, (2) 4: a state at the centre was a divide-by-zero warning and a
+    (1, 6) one numpy's matmul message."""
+    with pytest.raises(ValueError, match=r"^state0 position must lie outside Mars"):
+        optics.orbit_ranges(state0=np.zeros(6))
+    with pytest.raises(ValueError, match=r"^state0 must be a 1-D array \(shape \(6,\)\), got "
+                                         r"shape \(1, 6\)$"):
+        optics.orbit_ranges(state0=optics.MARS_STATE0[None])
+
+
+def test_a_subnormal_radius_is_refused_not_a_zero_angle():
+    """Review 35k pattern D: radius=5e-324 (inside (0, 1e9]) gave an apparent radius of 0
+    rad, and r_fit=5e-324 a range bias of -4500 km."""
+    for call in (lambda: optics.apparent_radius(4e6, radius=5e-324),
+                 lambda: optics.radius_range_sigma(7e6, 1e-3, radius=5e-324)):
+        with pytest.raises(ValueError, match=r"^radius must be a real number in \[1, 1e\+09\], "
+                                             r"got 5e-324$"):
+            call()
+    with pytest.raises(ValueError, match=r"^r_fit must be a real number in \[1, 1e\+09\]"):
+        optics.limb_bias(np.array([4.2e6, 0.0, 0.0]), r_fit=5e-324)

@@ -260,7 +260,7 @@ def test_a_star_listed_twice_is_refused_as_by_the_scenario():
 
 def test_uv_R_refuses_a_range_noise_beyond_the_sensors_range():
     """Review 35e: sigma_range=1e308 was 'OverflowError: (34, 'Numerical result out of range')'."""
-    with pytest.raises(ValueError, match=r"^sigma_range must be a real number in \(0, 1e\+07\], got 1e"):
+    with pytest.raises(ValueError, match=r"^sigma_range must be a real number in \[1e-100, 1e\+07\], got 1e"):
         sensors.uv_R(1e308, 0.5)
 
 
@@ -331,3 +331,45 @@ def test_xnav_sensor_refuses_noise_settings_beside_sigma_and_an_unknown_ephemeri
     with pytest.raises(ValueError, match=r"^ephem must be one of 'de421', 'de405', got 'x'$"):
         sensors.XNAVSensor(ephem="x")
     assert sensors.XNAVSensor(sigma=np.ones(4) * 1e-6, area_m2=1.0).dim == 4  # the default
+
+
+def test_one_state_of_another_shape_is_refused_as_x():
+    """Review 35k (2) 3, (3) 8: a (1, 6) x was numpy's matmul message in cns_jacobian and
+    cns_R, and 'uv_jacobian takes one state' (no parameter) in uv_jacobian and
+    optical_semi_axes."""
+    x = np.array([4.0e6, 0.0, 0.0, 0.0, 3000.0, 0.0])[None]
+    dirs = np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+    cns = sensors.CNSSensor(("Sirius", "Canopus", "Vega"))
+    for call in (lambda: sensors.cns_jacobian(x, dirs), lambda: sensors.cns_R(x, dirs, 1.0, 2.0),
+                 lambda: sensors.uv_jacobian(x),
+                 lambda: sensors.optical_semi_axes(x, sensors.UVSensor(), cns)):
+        with pytest.raises(ValueError, match=r"^x must be a 1-D array \(shape \(6,\)\), got "
+                                             r"shape \(1, 6\)$"):
+            call()
+
+
+@pytest.mark.parametrize("bad", [math.nan, None, "1.0", True, 1e300])
+def test_a_cns_epoch_is_refused_as_epoch(bad):
+    """Review 35k (3) 6: refused as pick_three's 't'."""
+    with pytest.raises(ValueError, match=r"^epoch must be a real number in \[-1e\+11, 1e\+11\], "
+                                         r"got "):
+        sensors.CNSSensor(epoch=bad)
+
+
+def test_a_subnormal_noise_is_refused_under_the_users_name():
+    """Review 35k (3) 9: plot_optical_geometry(sigma_dir_deg=5e-324) was refused as
+    'sigma_dir ... in (0, 3.14159], got 0.0' (radians, after conversion); a subnormal sigma
+    made a zero variance."""
+    for kw in ({"sigma_dir_deg": 5e-324}, {"sigma_horizon_deg": 5e-324}):
+        (name,) = kw
+        with pytest.raises(ValueError, match=rf"^{name} must be a real number in \[1e-100, 90\], "
+                                             r"got 5e-324$"):
+            sensors.plot_optical_geometry(**kw)
+    with pytest.raises(ValueError, match=r"^sigma_range must be a real number in \[1e-100, "):
+        sensors.UVSensor(sigma_range=5e-324)
+    with pytest.raises(ValueError, match=r"^sigma_star_arcsec must be a real number in \[1e-100"):
+        sensors.CNSSensor(sigma_star_arcsec=5e-324)
+    with pytest.raises(ValueError, match=r"^sigma_dir must be a real number in \[1e-120, "):
+        sensors.uv_R(1.0, 5e-324)
+    tiny = sensors.CNSSensor(sigma_star_arcsec=1e-100, sigma_horizon_deg=1e-100)
+    assert np.all(np.diag(tiny.R(np.array([4.0e6, 0.0, 0.0, 0.0, 3000.0, 0.0]))) > 0.0)

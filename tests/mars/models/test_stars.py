@@ -174,3 +174,23 @@ def test_spread_refuses_vectors_that_are_not_unit():
     with pytest.raises(ValueError, match=r"^s\[0\] must be a unit vector \(norm within 1e-6 of "
                                          r"1\), got norm 2$"):
         stars.spread(2 * np.eye(3))
+
+
+def test_one_vector_or_no_position_is_refused_by_name():
+    """Review 35k (1) 16, (2) 5: radec of a (1, 3) vector was an IndexError, and
+    starlight_geometry of no position numpy's 'zero-size array' message."""
+    with pytest.raises(ValueError, match=r"^u must be a 1-D array \(shape \(3,\)\), got shape "
+                                         r"\(1, 3\)$"):
+        stars.radec(np.array([[0.0, 0.0, 1.0]]))
+    for r in (np.zeros((0, 3)), np.full((2, 2, 3), 4e6)):
+        with pytest.raises(ValueError, match=r"^r must have shape \(n, 3\) with n >= 1"):
+            stars.starlight_geometry(r, ("Polaris",))
+
+
+def test_no_avoid_direction_or_a_subnormal_radius_is_refused():
+    """Review 35k pattern A/D: avoid of shape (0, 3) was numpy's 'axis 1 is out of bounds';
+    radius=5e-324 was taken (a disc of no size)."""
+    with pytest.raises(ValueError, match=r"^avoid must hold at least one direction"):
+        stars.pick_three(avoid=np.zeros((0, 3)), avoid_deg=10.0)
+    with pytest.raises(ValueError, match=r"^radius must be a real number in \[1, 1e\+09\]"):
+        stars.starlight_geometry(np.array([[4e6, 0.0, 0.0]]), ("Polaris",), radius=5e-324)

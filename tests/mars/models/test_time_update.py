@@ -110,3 +110,16 @@ def test_a_step_out_of_the_tables_span_names_dt():
                                          r"span, got 504878395$"):
         time_update.Propagation(t0 - 5.0, 10.0, tab, 10.0)
     assert np.isfinite(time_update.filter_step(x0, t0 + 10.0, -10.0, tab)).all()  # backward
+
+
+def test_one_state_is_refused_as_x_not_as_an_inner_r():
+    """Review 35k (3) 7: a (1, 6) x was refused as 'r must have trailing shape (..., 3)', and
+    a state at the centre as dynamics.acceleration's r."""
+    tab = dynamics.ThirdBodyTable(dynamics.MARS_T0, dynamics.MARS_T0 + 600.0)
+    for call in (time_update.filter_step, time_update.filter_propagate):
+        with pytest.raises(ValueError, match=r"^x must be a 1-D array \(shape \(6,\)\), got "
+                                             r"shape \(1, 6\)$"):
+            call(dynamics.MARS_STATE0[None], dynamics.MARS_T0, 3.0, tab)
+    with pytest.raises(ValueError, match=r"^x position must lie between 1 m and 1e\+15 m of "
+                                         r"Mars's centre, got \|r\| = 0 m$"):
+        time_update.filter_step(np.zeros(6), dynamics.MARS_T0, 3.0, tab)

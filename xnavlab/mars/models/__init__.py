@@ -18,6 +18,8 @@ module                 what it models
 ``optics``             the optical sensors as instruments: range from the apparent radius,
                        Mars's oblate limb, correlated horizon errors (chapters 4-6)
 ``series``             the compiled draws of the UV and CNS measurement series
+``_checks``            plumbing (not public API): the epochs' dtype and the longest
+                       propagation span the propagators share
 =====================  ===================================================================
 
 The modules are imported by name (``from xnavlab.mars.models import dynamics``);

@@ -44,6 +44,7 @@ from xnavlab.core.validate import (
     check_real,
     check_vector,
 )
+from xnavlab.mars.models import _checks
 
 __all__ = [
     "MARS_T0",
@@ -141,6 +142,7 @@ class ThirdBodyTable:
 
     def __post_init__(self):
         self.step = check_real("step", self.step, 1.0, 86400.0)
+        check_choice("center", self.center, ephemeris.BODIES)  # not ephemeris's 'body' (35k)
         lo, hi = ephemeris.coverage(self.ephem)
         # the knots run two steps past t_end; every one must lie inside the ephemeris
         self.t_start = check_real("t_start", self.t_start, lo, hi - 2.0 * self.step)
@@ -187,10 +189,11 @@ class ThirdBodyTable:
                 + h01 * self.pos[i + 1] + h11 * h * self.vel[i + 1])
 
 
-def _position(name, r):
-    """A finite position (..., 3), m, between R_MIN and R_MAX from the centre (the field is
-    singular at the centre, and its powers of |r| overflow float64 near it and far out)."""
-    r = check_finite_array(name, r, shape=(3,))
+def _position(name, r, one=False):
+    """A finite position (..., 3), or (3,) with ``one``, m, between R_MIN and R_MAX from the
+    centre (the field is singular at the centre, and its powers of |r| overflow float64 near
+    it and far out)."""
+    r = check_vector(name, r, 3) if one else check_finite_array(name, r, shape=(3,))
     with np.errstate(over="ignore"):  # a norm beyond float64 (inf) is refused below
         rn = np.linalg.norm(r, axis=-1)
     if np.any(rn < R_MIN) or np.any(rn > R_MAX):
@@ -249,7 +252,7 @@ def third_body(r, s, gm):
     >>> third_body(np.zeros(3), np.array([[1e11, 0, 0]]), np.array([GM_SUN])).tolist()
     [0.0, 0.0, 0.0]
     """
-    r = check_finite_array("r", r, shape=(3,))
+    r = check_vector("r", r, 3)  # one position: a (1, 3) one broadcast (review 35k)
     s = _position("s", s).reshape(-1, 3)
     gm = check_finite_array("gm", gm).reshape(-1)
     if gm.size != s.shape[0]:
@@ -280,10 +283,10 @@ def j2_acceleration(r, j2=J2_MARS, radius=J2_MARS_RADIUS, gm=GM_MARS, pole=MARS_
     >>> bool(a[2] > 0)   # over the pole J2 weakens gravity
     True
     """
-    r = _position("r", r)
+    r = _position("r", r, one=True)  # (1, 3): numpy's matmul message (review 35k)
     pole = _pole(pole)
     j2 = check_real("j2", j2, -1.0, 1.0)  # |J2| of every planet is below 0.02
-    radius = check_real("radius", radius, 0.0, MAX_BODY_RADIUS, lo_open=True)
+    radius = check_real("radius", radius, 1.0, MAX_BODY_RADIUS)  # as R_MIN
     gm = check_real("gm", gm, 0.0, MAX_GM)
     rn2 = float(r @ r)
     if not math.sqrt(rn2) >= radius:  # review 35j: 1e24 m/s^2 at 1 m from the centre
@@ -316,7 +319,7 @@ def acceleration(t, r, table=None, j2=False):
     True
     """
     t = check_real("t", t)
-    r = _position("r", r)
+    r = _position("r", r, one=True)
     if table is not None:
         check_instance("table", table, ThirdBodyTable, "a ThirdBodyTable or None")
     j2 = check_bool("j2", j2)
@@ -455,12 +458,14 @@ def propagate(t_eval, state0=MARS_STATE0, t0=MARS_T0, third_bodies=("sun", "jupi
     Parameters
     ----------
     t_eval : array_like, shape (n,)
-        Output epochs, s TDB past J2000, increasing, all ``>= t0``.
+        Output epochs, s TDB past J2000, increasing, all ``>= t0``, ``t_eval[-1] - t0`` at
+        most 731 days (about 4 minutes of integration); an epoch dtype resolving them worse
+        than 1 ms (float32 resolves 32 s at 5e8 s) is refused, as for ``t0``.
     state0 : array_like, shape (6,)
         State at ``t0``, m and m/s (default: the paper's); refused by :func:`check_state0`
         inside Mars or faster than any craft bound to the Sun.
     t0 : float
-        Initial epoch (default :data:`MARS_T0`).
+        Initial epoch (default :data:`MARS_T0`); with third bodies inside ``ephem``'s coverage.
     third_bodies : sequence of str
         Any of ``"sun"``, ``"jupiter"``.
     j2 : bool
@@ -484,16 +489,17 @@ def propagate(t_eval, state0=MARS_STATE0, t0=MARS_T0, third_bodies=("sun", "jupi
     >>> bool(np.allclose(x[0], MARS_STATE0))
     True
     """
-    t_eval = check_finite_array("t_eval", t_eval)
+    t_eval = _checks.epochs("t_eval", t_eval)
     state0 = check_state0(state0)
-    t0 = check_real("t0", t0)
-    if t_eval.ndim != 1 or t_eval.size == 0 or np.any(np.diff(t_eval) < 0) or t_eval[0] < t0:
-        raise ValueError("t_eval must be a non-empty increasing 1-D array with t_eval[0] >= t0")
+    t0 = _checks.epoch("t0", t0)
     rtol = check_real("rtol", rtol, 2.3e-14, 1e-3)
     atol = check_real("atol", atol, 1e-12, 1e3, lo_open=True)
     third_bodies = _third_bodies(third_bodies)
     j2 = check_bool("j2", j2)
     check_choice("ephem", ephem, ephemeris.EPHEMERIDES)
+    _checks.span(t0, float(t_eval[-1]), ephem if table is None and third_bodies else None)
+    if np.any(np.diff(t_eval) < 0) or t_eval[0] < t0:
+        raise ValueError("t_eval must be a non-empty increasing 1-D array with t_eval[0] >= t0")
     if table is not None:
         _check_table(table, third_bodies, ephem, t0, float(t_eval[-1]))
     elif third_bodies:
@@ -538,7 +544,7 @@ def truth(t_eval, state0=MARS_STATE0, t0=MARS_T0, third_bodies=("sun", "jupiter"
     >>> truth(MARS_T0 + np.array([0.0, 3.0]), cache=False).shape
     (2, 6)
     """
-    t_eval = check_finite_array("t_eval", t_eval)
+    t_eval, t0 = _checks.epochs("t_eval", t_eval), _checks.epoch("t0", t0)
     state0 = check_state0(state0)
     bodies = _third_bodies(third_bodies)
     j2, cache = check_bool("j2", j2), check_bool("cache", cache)
@@ -692,7 +698,7 @@ def orbital_elements(state, gm=GM_MARS, pole=MARS_POLE):
     >>> round(el.a / 1e3), round(el.e, 3), round(el.period / 3600, 2)
     (4196, 0.09, 2.29)
     """
-    state = check_finite_array("state", state, shape=(6,))
+    state = check_vector("state", state, 6)  # (1, 6): numpy's cross message (review 35k)
     gm = check_real("gm", gm, 0.0, MAX_GM, lo_open=True)
     pole = _pole(pole)
     r, v = state[:3], state[3:]

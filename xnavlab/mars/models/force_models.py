@@ -63,13 +63,13 @@ from xnavlab.core.userfiles import csv_rows
 from xnavlab.core.validate import (
     check_bool,
     check_choice,
-    check_finite_array,
+    check_instance,
     check_int,
     check_real,
     check_shape,
     check_vector,
 )
-from xnavlab.mars.models import dynamics
+from xnavlab.mars.models import _checks, dynamics
 
 __all__ = [
     "GRAVITY_SOURCE",
@@ -120,6 +120,7 @@ _HEADER = {"mercury": "GM1", "venus": "GM2", "earthmoon": "GMB", "saturn": "GM6"
 
 
 _SRP_FIELDS = ("area_m2", "mass_kg", "reflectivity")
+_MIN_MASS_KG = 1e-3  # 1 g: a subnormal mass made A/m infinite (review 35k)
 
 
 @dataclass(frozen=True)
@@ -136,7 +137,7 @@ class ForceModel:
     srp : bool
         Solar radiation pressure (cannonball, Mars's cylindrical shadow).
     area_m2, mass_kg, reflectivity : float
-        SRP cross-section, m^2, in (0, 1000]; mass, kg, in (0, 1e5]; radiation-pressure
+        SRP cross-section, m^2, in (0, 1000]; mass, kg, in [1e-3, 1e5]; radiation-pressure
         coefficient C_R, in [1, 2]. With ``srp`` false they are unused, so each must stay at
         its default (a setting away from it is refused, not dropped).
 
@@ -186,7 +187,7 @@ true, or leave mass_kg at its default 1000
         object.__setattr__(self, "area_m2",
                            check_real("area_m2", self.area_m2, 0.0, 1000.0, lo_open=True))
         object.__setattr__(self, "mass_kg",
-                           check_real("mass_kg", self.mass_kg, 0.0, 1e5, lo_open=True))
+                           check_real("mass_kg", self.mass_kg, _MIN_MASS_KG, 1e5))
         object.__setattr__(self, "reflectivity",
                            check_real("reflectivity", self.reflectivity, 1.0, 2.0))
         if not self.srp:  # SRP settings away from their defaults would go unused
@@ -500,8 +501,9 @@ def srp_acceleration(r, s, area_m2=10.0, mass_kg=1000.0, reflectivity=1.3):
     s : array_like, shape (3,)
         Sun, Mars-centred, m; ``|s|`` above the Sun's radius (the Sun does not hold Mars).
     area_m2, mass_kg, reflectivity : float
-        Cross-section in (0, 1000] m^2, mass in (0, 1e5] kg and C_R in [1, 2], as
-        :class:`ForceModel` (an area or a mass of 0 is refused, not a zero or an infinity).
+        Cross-section in (0, 1000] m^2, mass in [1e-3, 1e5] kg and C_R in [1, 2], as
+        :class:`ForceModel` (an area of 0 or a mass below 1 g, whose ``A/m`` overflows, is
+        refused, not a zero or an infinity).
 
     Examples
     --------
@@ -519,7 +521,7 @@ def srp_acceleration(r, s, area_m2=10.0, mass_kg=1000.0, reflectivity=1.3):
                              f"spacecraft and s the Sun, both Mars-centred; got "
                              f"{float(np.linalg.norm(d)):.6g} m")
     area = check_real("area_m2", area_m2, 0.0, 1000.0, lo_open=True)
-    mass = check_real("mass_kg", mass_kg, 0.0, 1e5, lo_open=True)
+    mass = check_real("mass_kg", mass_kg, _MIN_MASS_KG, 1e5)  # 5e-324: -inf (review 35k)
     cr = check_real("reflectivity", reflectivity, 1.0, 2.0)
     return _srp(r, s, SOLAR_PRESSURE_1AU * cr * area / mass, R_MARS)
 
@@ -578,7 +580,7 @@ class Tables:
         k_srp = SOLAR_PRESSURE_1AU * fm.reflectivity * fm.area_m2 / fm.mass_kg if fm.srp else 0.0
         Cu, Su = gravity_coefficients()
         fixed, rxi, psi0, psi1, phi0, phi1 = _orientation_args()
-        self.model = fm
+        self.model, self.ephem, self.t_start, self.t_end = fm, ephem, t_start, t_end
         self.args = (GM_MARS, t0, step, pos, vel, gm, fm.gravity_degree, Cu, Su, GRAVITY_RADIUS,
                      fixed, rxi, np.array([psi0, psi1 / DAY, phi0, phi1 / DAY]), sun, k_srp,
                      R_MARS)
@@ -735,7 +737,7 @@ def accelerations(t, r, force_model=PAPER, ephem="de421", tables=None):
     force_model : ForceModel or str
     ephem : {"de421", "de405"}
     tables : Tables, optional
-        Reuse a tabulation covering ``t``.
+        Reuse a tabulation of ``force_model`` and ``ephem`` covering ``t`` (another is refused).
 
     Examples
     --------
@@ -743,13 +745,19 @@ def accelerations(t, r, force_model=PAPER, ephem="de421", tables=None):
     >>> accelerations(t, np.tile(dynamics.MARS_STATE0[:3], (2, 1)), "study").shape
     (2, 3)
     """
-    t = check_finite_array("t", t)
-    if t.ndim != 1 or t.size == 0:
-        raise ValueError(f"t must be a 1-D array of at least one epoch, got shape {t.shape}")
+    t = _checks.epochs("t", t)
     r = check_shape("r", r, (t.size, 3), "n = length of t")
     _outside_mars("r", r)
+    fm = model(force_model, "force_model")
     if tables is None:
-        tables = Tables(force_model, float(t.min()), float(t.max()), ephem)
+        tables = Tables(fm, float(t.min()), float(t.max()), ephem)
+    else:  # review 35k: AttributeError 'args'; a table of another model was used silently
+        check_instance("tables", tables, Tables, "a Tables of force_model over t (or None)")
+        if tables.model != fm or tables.ephem != ephem or not (
+                tables.t_start <= t.min() and t.max() <= tables.t_end):
+            raise ValueError(f"tables must tabulate force_model ({fm.describe()}) from {ephem} "
+                             f"over t, got {tables.model.describe()} from {tables.ephem} over "
+                             f"[{tables.t_start:.9g}, {tables.t_end:.9g}] s")
     return _accel_many(t, np.ascontiguousarray(r), *tables.args)
 
 
@@ -760,10 +768,12 @@ def propagate(t_eval, state0=dynamics.MARS_STATE0, t0=dynamics.MARS_T0, force_mo
     Parameters
     ----------
     t_eval : array_like, shape (n,)
-        Output epochs, s TDB past J2000, increasing, all ``>= t0``.
+        Output epochs, s TDB past J2000, increasing, all ``>= t0``, up to 731 days past it
+        (float64: as :func:`xnavlab.mars.models.dynamics.propagate`).
     state0 : array_like, shape (6,)
         State at ``t0``, m and m/s.
     t0 : float
+        Inside ``ephem``'s coverage.
     force_model : ForceModel or str
     ephem : {"de421", "de405"}
     rtol, atol : float
@@ -781,14 +791,15 @@ def propagate(t_eval, state0=dynamics.MARS_STATE0, t0=dynamics.MARS_T0, force_mo
     True
     """
     fm = model(force_model, "force_model")
-    t_eval = check_finite_array("t_eval", t_eval)
+    t_eval = _checks.epochs("t_eval", t_eval)
     state0 = dynamics.check_state0(state0)  # above Mars, slower than a craft bound to the Sun
-    t0 = check_real("t0", t0)
-    if t_eval.ndim != 1 or t_eval.size == 0 or np.any(np.diff(t_eval) < 0) or t_eval[0] < t0:
-        raise ValueError("t_eval must be a non-empty increasing 1-D array with t_eval[0] >= t0")
+    t0 = _checks.epoch("t0", t0)
     rtol = check_real("rtol", rtol, 2.3e-14, 1e-3)
     atol = check_real("atol", atol, 1e-12, 1e3, lo_open=True)
     t_end = float(t_eval[-1])
+    _checks.span(t0, t_end, ephem)  # as dynamics.propagate (review 35k)
+    if np.any(np.diff(t_eval) < 0) or t_eval[0] < t0:
+        raise ValueError("t_eval must be a non-empty increasing 1-D array with t_eval[0] >= t0")
     if t_end == t0:
         return np.tile(state0, (t_eval.size, 1))
     args = Tables(fm, t0, t_end, ephem).args
@@ -827,7 +838,7 @@ def truth(t_eval, state0=dynamics.MARS_STATE0, t0=dynamics.MARS_T0, force_model=
     """
     cache = check_bool("cache", cache)
     fm = model(force_model, "force_model")
-    t_eval = check_finite_array("t_eval", t_eval)
+    t_eval, t0 = _checks.epochs("t_eval", t_eval), _checks.epoch("t0", t0)
     state0 = dynamics.check_state0(state0)
     check_choice("ephem", ephem, ephemeris.EPHEMERIDES)
     if fm.gravity_degree == 0 and not fm.srp and set(fm.third_bodies) <= {"sun", "jupiter"}:

@@ -34,6 +34,7 @@ import math
 
 import numpy as np
 
+from xnavlab.core import ephemeris
 from xnavlab.core.constants import DAY
 from xnavlab.core.validate import (
     check_callable,
@@ -42,7 +43,7 @@ from xnavlab.core.validate import (
     check_instance,
     check_real,
 )
-from xnavlab.mars.models import dynamics
+from xnavlab.mars.models import _checks, dynamics
 from xnavlab.mars.models.force_models import PAPER, STUDY, accelerations, model, truth
 
 __all__ = ["unmodelled_acceleration", "unmodelled_statistics", "derived_q_acc", "study_fields"]
@@ -71,9 +72,8 @@ def unmodelled_acceleration(t, states, truth_model=STUDY, filter_model=PAPER,
     >>> float(np.abs(unmodelled_acceleration(t, x, "paper", "paper")).max())
     0.0
     """
-    t = check_finite_array("t", t)
-    if t.ndim != 1 or t.size == 0:
-        raise ValueError(f"t must be a 1-D array of at least one epoch, got shape {t.shape}")
+    t = _checks.epochs("t", t)
+    _check_ephems(truth_ephem, filter_ephem)
     states = check_finite_array("states", states)
     if states.ndim != 2 or states.shape[1] not in (3, 6) or states.shape[0] != t.size:
         raise ValueError(f"states must have shape ({t.size}, 6) or ({t.size}, 3) (n = length "
@@ -82,6 +82,13 @@ def unmodelled_acceleration(t, states, truth_model=STUDY, filter_model=PAPER,
     r = states[:, :3]
     return (accelerations(t, r, truth_model, truth_ephem)
             - accelerations(t, r, filter_model, filter_ephem))
+
+
+def _check_ephems(truth_ephem, filter_ephem):
+    """Both ephemerides checked under their names; the span both cover, s TDB past J2000."""
+    spans = [ephemeris.coverage(check_choice(name, e, ephemeris.EPHEMERIDES))
+             for name, e in (("truth_ephem", truth_ephem), ("filter_ephem", filter_ephem))]
+    return max(s[0] for s in spans), min(s[1] for s in spans)
 
 
 def unmodelled_statistics(truth_model=STUDY, filter_model=PAPER, days=1.0, dt=30.0,
@@ -98,7 +105,8 @@ def unmodelled_statistics(truth_model=STUDY, filter_model=PAPER, days=1.0, dt=30
     dt : float
         Sampling step, s, in [1, 3600].
     state0, t0, truth_ephem, filter_ephem
-        The orbit and the ephemerides (:class:`~xnavlab.mars.navigation.scenarios.MarsScenario`).
+        The orbit and the ephemerides (:class:`~xnavlab.mars.navigation.scenarios.MarsScenario`);
+        ``t0`` to ``t0 + days`` inside both ephemerides' coverage.
 
     Returns
     -------
@@ -119,6 +127,8 @@ def unmodelled_statistics(truth_model=STUDY, filter_model=PAPER, days=1.0, dt=30
     if dt > days * DAY:  # one sample: no correlation (0/0, review 35j); as MarsScenario's days
         raise ValueError(f"days must span at least one sampling step dt = {dt:g} s (two samples "
                          f"or more for a correlation time), got {days:g} ({days * DAY:.6g} s)")
+    lo, hi = _check_ephems(truth_ephem, filter_ephem)  # review 35k: 'ephem', 't_eval', 't_start'
+    t0 = _checks.epoch("t0", t0, lo, hi - 7200.0 - days * DAY)  # the run inside both ephemerides
     t = t0 + np.arange(0.0, days * DAY + 1e-9, dt)
     x = truth(t, state0, t0, truth_model, truth_ephem)
     da = unmodelled_acceleration(t, x, truth_model, filter_model, truth_ephem, filter_ephem)

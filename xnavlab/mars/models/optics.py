@@ -55,7 +55,7 @@ import numpy as np
 from xnavlab.core.constants import GM_MARS, R_MARS
 from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, off_unit, shown
 from xnavlab.mars.models import series
-from xnavlab.mars.models.dynamics import MARS_POLE, MARS_STATE0, MAX_BODY_RADIUS
+from xnavlab.mars.models.dynamics import MARS_POLE, MARS_STATE0, MAX_BODY_RADIUS, check_state0
 from xnavlab.mars.models.sensors import perturb_direction
 
 __all__ = [
@@ -104,7 +104,7 @@ def apparent_radius(rho, radius=R_MARS):
     rho : float or array_like
         Distance from the centre, m (``> radius``).
     radius : float
-        Sphere radius, m, in (0, MAX_BODY_RADIUS].
+        Sphere radius, m, in [1, MAX_BODY_RADIUS] (from 1 m, as :func:`limb_fit`'s radii).
 
     Examples
     --------
@@ -112,7 +112,7 @@ def apparent_radius(rho, radius=R_MARS):
     30.0
     """
     rho = check_finite_array("rho", rho)
-    radius = check_real("radius", radius, 0.0, MAX_BODY_RADIUS, lo_open=True)
+    radius = check_real("radius", radius, 1.0, MAX_BODY_RADIUS)  # 5e-324: 0 rad (35k)
     if np.any(rho <= radius):
         raise ValueError("rho must exceed the radius (the sensor is outside the planet)")
     return np.arcsin(radius / rho)  # sin(alpha) = R / rho
@@ -131,7 +131,7 @@ def range_from_radius(alpha, radius=R_MARS):
     alpha : float or array_like
         Apparent radius, rad, in [MIN_ALPHA, pi/2) (1e-9 rad: no limb sensor resolves less).
     radius : float
-        Sphere radius, m, in (0, MAX_BODY_RADIUS].
+        Sphere radius, m, in [1, MAX_BODY_RADIUS] (from 1 m, as :func:`limb_fit`'s radii).
 
     Examples
     --------
@@ -142,7 +142,7 @@ def range_from_radius(alpha, radius=R_MARS):
     if np.any((alpha < MIN_ALPHA) | (alpha >= math.pi / 2)):
         bad = float(alpha[(alpha < MIN_ALPHA) | (alpha >= math.pi / 2)][0])
         raise ValueError(f"alpha must be in [{MIN_ALPHA:g}, pi/2) rad, got {bad:g}")
-    radius = check_real("radius", radius, 0.0, MAX_BODY_RADIUS, lo_open=True)
+    radius = check_real("radius", radius, 1.0, MAX_BODY_RADIUS)  # 5e-324: 0 rad (35k)
     return radius / np.sin(alpha)  # rho = R / sin(alpha)
 
 
@@ -158,7 +158,7 @@ def radius_range_sigma(rho, sigma_alpha, radius=R_MARS):
     sigma_alpha : float
         Noise of the apparent radius, rad, in [0, pi].
     radius : float
-        Sphere radius, m, in (0, MAX_BODY_RADIUS].
+        Sphere radius, m, in [1, MAX_BODY_RADIUS] (from 1 m, as :func:`limb_fit`'s radii).
 
     Examples
     --------
@@ -175,7 +175,7 @@ def _check_ranges(name, rho, radius):
     """``rho`` as a finite array of ranges in ``(radius, radius / MIN_ALPHA]``, else one
     ValueError naming ``name``."""
     rho = check_finite_array(name, rho)
-    radius = check_real("radius", radius, 0.0, MAX_BODY_RADIUS, lo_open=True)
+    radius = check_real("radius", radius, 1.0, MAX_BODY_RADIUS)  # 5e-324: 0 rad (35k)
     if np.any((rho <= radius) | (rho > radius / MIN_ALPHA)):
         bad = float(rho[(rho <= radius) | (rho > radius / MIN_ALPHA)][0])
         raise ValueError(f"{name} must be in (radius, radius / MIN_ALPHA] = ({radius:g}, "
@@ -190,7 +190,9 @@ def orbit_ranges(state0=MARS_STATE0, n=3600):
     Parameters
     ----------
     state0 : array_like, shape (6,)
-        An osculating state, m and m/s (default: the paper's initial state).
+        An osculating state, m and m/s (default: the paper's initial state), as
+        :func:`xnavlab.mars.models.dynamics.check_state0` takes it (above Mars, in its Hill
+        sphere) and on an elliptic orbit.
     n : int
         Samples (uniform in mean anomaly).
 
@@ -204,7 +206,7 @@ def orbit_ranges(state0=MARS_STATE0, n=3600):
     >>> round(float(r.min()) / 1e3), round(float(r.max()) / 1e3)
     (3817, 4575)
     """
-    s = check_finite_array("state0", state0, shape=(6,))
+    s = check_state0(state0)  # one state above Mars (review 35k: (1, 6), the centre: 1/0)
     n = check_int("n", n, 8, 10**7)
     r, v = s[:3], s[3:]
     a = 1.0 / (2.0 / np.linalg.norm(r) - v @ v / GM_MARS)  # vis-viva
@@ -231,7 +233,7 @@ def sigma_alpha_for(sigma_range_m=5000.0, ranges=None, radius=R_MARS):
     ranges : array_like, shape (n,), optional
         At least one range, m, each in (radius, radius / MIN_ALPHA].
     radius : float
-        Sphere radius, m, in (0, MAX_BODY_RADIUS].
+        Sphere radius, m, in [1, MAX_BODY_RADIUS] (from 1 m, as :func:`limb_fit`'s radii).
 
     Examples
     --------
@@ -362,7 +364,7 @@ def limb_bias(r, pole=MARS_POLE, r_fit=R_MEAN):
         Mars's pole (default :data:`xnavlab.mars.models.dynamics.MARS_POLE`), a unit vector
         (norm within 1e-6 of 1).
     r_fit : float
-        Radius of the sensor's sphere, m (default :data:`R_MEAN`), in (0, MAX_BODY_RADIUS].
+        Radius of the sensor's sphere, m (default :data:`R_MEAN`), in [1, MAX_BODY_RADIUS].
 
     Returns
     -------
@@ -378,7 +380,7 @@ def limb_bias(r, pole=MARS_POLE, r_fit=R_MEAN):
     ([-4.0, 7.8], [0.0, 0.0])
     """
     r = check_finite_array("r", r, shape=(3,))
-    r_fit = check_real("r_fit", r_fit, 0.0, MAX_BODY_RADIUS, lo_open=True)
+    r_fit = check_real("r_fit", r_fit, 1.0, MAX_BODY_RADIUS)
     p = _unit_pole(pole)
     alpha, u = limb_fit(r, p)
     rho = np.linalg.norm(r, axis=-1)

@@ -63,6 +63,7 @@ from xnavlab.core.validate import (
     check_instance,
     check_items,
     check_real,
+    check_vector,
     make_rng,
     off_unit,
     shown,
@@ -98,10 +99,15 @@ _HORIZON = math.radians(0.05)  # paper: horizon sensor 0.05 deg
 #: A Mars-centred position's distance, m: from 1 m (the spacecraft is not at Mars's centre;
 #: 1 / |r| overflows near 1e-308) to 1e13 m (67 au: no Mars navigation; |r|^2 overflows near 1e154).
 _POSITION = (1.0, 1e13)
+# The smallest noise a sensor takes (m, rad, deg or arcsec): its square, the variance, stays
+# a normal float64 (review 35k: a subnormal sigma_dir_deg became 0 rad, refused as sigma_dir).
+_SIGMA_MIN = 1e-100
+_SIGMA_MIN_RAD = 1e-120  # in rad: below 1e-100 deg or arcsec made rad (never refused as rad)
 
 
-def _state(x):
-    x = check_finite_array("x", x, shape=(6,))
+def _state(x, one=False):
+    """States (..., 6), or one (6,) with ``one`` (review 35k: (1, 6) reached matmul)."""
+    x = check_vector("x", x, 6) if one else check_finite_array("x", x, shape=(6,))
     with np.errstate(over="ignore"):  # a norm beyond float64 is out of range: refused below
         rn = np.linalg.norm(x[..., :3], axis=-1)
     out = (rn < _POSITION[0]) | (rn > _POSITION[1])
@@ -305,9 +311,7 @@ def uv_jacobian(x):
     >>> H[:, :3].tolist()
     [[1.0, 0.0, 0.0], [-0.0, -0.0, -0.0], [-0.0, -0.5, -0.0], [-0.0, -0.0, -0.5]]
     """
-    x = _state(x)
-    if x.ndim != 1:
-        raise ValueError("uv_jacobian takes one state of shape (6,)")
+    x = _state(x, one=True)
     r = x[:3]
     rn = np.linalg.norm(r)
     e = r / rn
@@ -320,15 +324,16 @@ def uv_jacobian(x):
 def uv_R(sigma_range=5000.0, sigma_dir=_UV_DIR):
     """UV noise covariance ``diag(sigma_range^2, sigma_dir^2 I3)``, shape (4, 4).
 
-    ``sigma_range`` in m, in (0, 1e7] (as :class:`UVSensor`'s); ``sigma_dir`` in (0, pi].
+    ``sigma_range`` in m, in [1e-100, 1e7] (as :class:`UVSensor`'s); ``sigma_dir`` in
+    [1e-120, pi] rad (below, a variance is no normal float).
 
     Examples
     --------
     >>> np.diag(uv_R(10.0, 0.5)).tolist()
     [100.0, 0.25, 0.25, 0.25]
     """
-    sigma_range = check_real("sigma_range", sigma_range, 0.0, 1e7, lo_open=True)
-    sigma_dir = check_real("sigma_dir", sigma_dir, 0.0, math.pi, lo_open=True)
+    sigma_range = check_real("sigma_range", sigma_range, _SIGMA_MIN, 1e7)
+    sigma_dir = check_real("sigma_dir", sigma_dir, _SIGMA_MIN_RAD, math.pi)
     return np.diag([sigma_range**2, sigma_dir**2, sigma_dir**2, sigma_dir**2])
 
 
@@ -391,7 +396,7 @@ def cns_jacobian(x, star_dirs):
     >>> (H[0, :3] * 1e6).tolist()
     [0.0, 1.0, 0.0]
     """
-    x = _state(x)
+    x = _state(x, one=True)
     s = _unit("star_dirs", star_dirs).reshape(-1, 3)
     a, rn = _cns_tangents(x, s)
     H = np.zeros((s.shape[0], 6))
@@ -404,7 +409,8 @@ def cns_R(x, star_dirs, sigma_star=3.0 * _ARCSEC, sigma_horizon=_HORIZON):
 
     The horizon-sensor error of the Mars direction is shared by every starlight
     angle (``A`` rows: unit tangents at the Mars direction toward each star); the
-    star-sensor errors are independent.
+    star-sensor errors are independent. ``x`` is one state (6,); ``sigma_star`` and
+    ``sigma_horizon`` are in [1e-120, pi] rad.
 
     Examples
     --------
@@ -412,10 +418,10 @@ def cns_R(x, star_dirs, sigma_star=3.0 * _ARCSEC, sigma_horizon=_HORIZON):
     >>> R.tolist()
     [[5.0, 4.0], [4.0, 5.0]]
     """
-    x = _state(x)
+    x = _state(x, one=True)
     s = _unit("star_dirs", star_dirs).reshape(-1, 3)
-    sigma_star = check_real("sigma_star", sigma_star, 0.0, math.pi, lo_open=True)
-    sigma_horizon = check_real("sigma_horizon", sigma_horizon, 0.0, math.pi, lo_open=True)
+    sigma_star = check_real("sigma_star", sigma_star, _SIGMA_MIN_RAD, math.pi)
+    sigma_horizon = check_real("sigma_horizon", sigma_horizon, _SIGMA_MIN_RAD, math.pi)
     a, _ = _cns_tangents(x, s)
     return sigma_star**2 * np.eye(s.shape[0]) + sigma_horizon**2 * (a @ a.T)
 
@@ -482,7 +488,7 @@ def optical_semi_axes(x, uv, cns):
     >>> ax["UV"].round(-1).tolist(), bool(np.isinf(ax["CNS"][0]))
     ([6980.0, 6980.0, 5000.0], True)
     """
-    x = _state(x)
+    x = _state(x, one=True)
     check_instance("uv", uv, UVSensor, "a UVSensor")
     check_instance("cns", cns, CNSSensor, "a CNSSensor")
     h_uv, r_uv = uv.jacobian(x), uv.R()
@@ -664,9 +670,10 @@ class UVSensor:
     Parameters
     ----------
     sigma_range : float
-        Range noise, m (paper: 5000), in (0, 1e7].
+        Range noise, m (paper: 5000), in [1e-100, 1e7].
     sigma_dir_deg : float
-        Per-axis direction noise, deg (paper: 0.1), applied by :func:`perturb_direction`.
+        Per-axis direction noise, deg (paper: 0.1), in [1e-100, 90], applied by
+        :func:`perturb_direction`.
 
     Examples
     --------
@@ -683,9 +690,8 @@ class UVSensor:
     dim: int = field(default=4, init=False)
 
     def __post_init__(self):
-        self.sigma_range = check_real("sigma_range", self.sigma_range, 0.0, 1e7, lo_open=True)
-        self.sigma_dir_deg = check_real("sigma_dir_deg", self.sigma_dir_deg, 0.0, 90.0,
-                                        lo_open=True)
+        self.sigma_range = check_real("sigma_range", self.sigma_range, _SIGMA_MIN, 1e7)
+        self.sigma_dir_deg = check_real("sigma_dir_deg", self.sigma_dir_deg, _SIGMA_MIN, 90.0)
 
     @property
     def sigma_dir(self):
@@ -726,11 +732,11 @@ class CNSSensor:
     star_names : tuple of str, optional
         Stars; default :func:`xnavlab.mars.models.stars.pick_three`.
     sigma_star_arcsec : float
-        Star-sensor noise per axis, arcsec (paper: 3).
+        Star-sensor noise per axis, arcsec (paper: 3), in [1e-100, 3600].
     sigma_horizon_deg : float
-        Horizon-sensor noise per axis, deg (paper: 0.05).
+        Horizon-sensor noise per axis, deg (paper: 0.05), in [1e-100, 90].
     epoch : float
-        Epoch for the star directions (proper motion), s TDB past J2000.
+        Epoch for the star directions (proper motion), s TDB past J2000, in [-1e11, 1e11].
 
     Examples
     --------
@@ -746,6 +752,8 @@ class CNSSensor:
     name: str = field(default="cns", init=False)
 
     def __post_init__(self):
+        # review 35k: refused as pick_three's or directions' 't'
+        self.epoch = check_real("epoch", self.epoch, -1e11, 1e11)
         if self.star_names is None:
             self.star_names = stars.pick_three(t=self.epoch)
         # a list of at least one star, none twice (its information would count twice), as
@@ -753,10 +761,10 @@ class CNSSensor:
         self.star_names = check_items("star_names", self.star_names, "star",
                                       lambda _, s: stars.get(s).name)
         self.star_names = tuple(stars.get(s).name for s in self.star_names)
-        self.sigma_star_arcsec = check_real("sigma_star_arcsec", self.sigma_star_arcsec, 0.0,
-                                            3600.0, lo_open=True)
-        self.sigma_horizon_deg = check_real("sigma_horizon_deg", self.sigma_horizon_deg, 0.0,
-                                            90.0, lo_open=True)
+        self.sigma_star_arcsec = check_real("sigma_star_arcsec", self.sigma_star_arcsec,
+                                            _SIGMA_MIN, 3600.0)
+        self.sigma_horizon_deg = check_real("sigma_horizon_deg", self.sigma_horizon_deg,
+                                            _SIGMA_MIN, 90.0)
         self.star_dirs = stars.directions(self.star_names, self.epoch)
 
     @property

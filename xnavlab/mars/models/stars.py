@@ -33,7 +33,7 @@ from importlib import resources
 import numpy as np
 
 from xnavlab.core.userfiles import csv_rows
-from xnavlab.core.validate import check_finite_array, check_items, check_real, off_unit
+from xnavlab.core.validate import check_finite_array, check_items, check_real, check_vector, off_unit
 
 __all__ = [
     "HIPPARCOS_EPOCH",
@@ -197,7 +197,7 @@ def radec(u):
     >>> radec(np.array([0.0, 1.0, 0.0]))
     (90.0, 0.0)
     """
-    u = check_finite_array("u", u, shape=(3,))
+    u = check_vector("u", u, 3)  # one vector: (1, 3) was an IndexError (review 35k)
     if not np.linalg.norm(u) > 0.0:  # (a NaN declination and a warning before)
         raise ValueError("u must be a direction (a non-zero vector), got (0, 0, 0)")
     ra = math.degrees(math.atan2(u[1], u[0])) % 360.0
@@ -280,6 +280,9 @@ def pick_three(vmag_max=1.0, t=0.0, avoid=None, avoid_deg=0.0, candidates=None):
                          "of no angle): give avoid_deg > 0")
     if avoid is not None:
         avoid = check_finite_array("avoid", avoid, shape=(3,)).reshape(-1, 3)
+        if avoid.size == 0:  # review 35k: numpy's 'axis 1 is out of bounds'
+            raise ValueError("avoid must hold at least one direction (shape (3,) or (k, 3)), "
+                             "got none")
         norm = np.linalg.norm(avoid, axis=1)
         if not np.all(norm > 0.0):  # 0/0 (review 35j)
             raise ValueError(f"avoid[{int(np.argmin(norm > 0.0))}] must be a direction (a "
@@ -328,14 +331,14 @@ def starlight_geometry(r, star_names=None, t=0.0, radius=None):
     Parameters
     ----------
     r : array_like, shape (n, 3)
-        Spacecraft positions, Mars-centred J2000, m, sampled uniformly in time (e.g. the
+        Spacecraft positions (at least one), Mars-centred J2000, m, sampled uniformly in time (e.g. the
         truth of :func:`xnavlab.mars.navigation.scenarios.prepare`).
     star_names : sequence of str, optional
         Default :func:`pick_three`.
     t : float
         Epoch of the star directions, s TDB past J2000.
     radius : float, optional
-        Mars's radius, m (default :data:`xnavlab.core.constants.R_MARS`, equatorial), in (0, 1e9].
+        Mars's radius, m (default :data:`xnavlab.core.constants.R_MARS`, equatorial), in [1, 1e9].
 
     Returns
     -------
@@ -353,9 +356,12 @@ def starlight_geometry(r, star_names=None, t=0.0, radius=None):
     from xnavlab.core.constants import R_MARS
     from xnavlab.mars.models.dynamics import MAX_BODY_RADIUS
 
-    r = check_finite_array("r", r, shape=(3,)).reshape(-1, 3)
-    radius = R_MARS if radius is None else check_real("radius", radius, 0.0, MAX_BODY_RADIUS,
-                                                      lo_open=True)
+    r = check_finite_array("r", r, shape=(3,))
+    if r.ndim > 2 or r.size == 0:  # review 35k: no position was numpy's 'zero-size array'
+        raise ValueError(f"r must have shape (n, 3) with n >= 1 (positions, one a row), got "
+                         f"shape {r.shape}")
+    r = r.reshape(-1, 3)
+    radius = R_MARS if radius is None else check_real("radius", radius, 1.0, MAX_BODY_RADIUS)
     rho = np.linalg.norm(r, axis=1)
     if np.any(rho <= radius):
         raise ValueError("r must lie outside Mars (|r| > radius)")

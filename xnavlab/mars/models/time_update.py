@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from xnavlab.core.validate import check_finite_array, check_instance, check_real
+from xnavlab.core.validate import check_instance, check_real, check_vector
 from xnavlab.mars.models import dynamics
 
 __all__ = ["process_noise", "filter_step", "filter_propagate", "Propagation"]
@@ -46,7 +46,7 @@ def filter_step(x, t, dt, table):
     Parameters
     ----------
     x : ndarray, shape (6,)
-        State at ``t``.
+        State at ``t``, its position 1 m to 1e15 m from Mars's centre.
     t, dt : float
         Epoch and step, s; ``dt`` in [-86400, 86400] (one day either way), ``t`` and ``t + dt``
         inside the table's span.
@@ -61,7 +61,11 @@ def filter_step(x, t, dt, table):
     >>> bool(np.abs(x1 - truth)[:3].max() < 1e-6)
     True
     """
-    x = check_finite_array("x", x, shape=(6,))
+    x = check_vector("x", x, 6)  # one state: (1, 6) was refused as r (review 35k)
+    if not dynamics.R_MIN <= math.hypot(*x[:3]) <= dynamics.R_MAX:  # not as acceleration's r
+        raise ValueError(f"x position must lie between {dynamics.R_MIN:g} m and "
+                         f"{dynamics.R_MAX:g} m of Mars's centre, got |r| = "
+                         f"{math.hypot(*x[:3]):g} m")
     t, dt = check_real("t", t), check_real("dt", dt, -86400.0, 86400.0)
     _check_span(t, dt, _check_table(table))
 
@@ -96,7 +100,7 @@ def filter_propagate(x, t, dt, table, max_step=10.0):
     >>> bool(np.abs(x - truth)[:3].max() < 1e-3)
     True
     """
-    x = check_finite_array("x", x, shape=(6,))
+    x = check_vector("x", x, 6)
     t, dt, max_step = _check_steps(t, dt, table, max_step)
     n = max(1, math.ceil(dt / max_step - 1e-9))
     h = dt / n
@@ -172,7 +176,7 @@ class Propagation:
         self.key, self.val = None, None
 
     def _get(self, x):
-        x = check_finite_array("x", x, shape=(6,))
+        x = check_vector("x", x, 6)
         key = x.tobytes()
         if key != self.key:
             self.key, self.val = key, filter_propagate(x, *self.args)

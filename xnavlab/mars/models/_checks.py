@@ -1,0 +1,73 @@
+"""Plumbing (not public API): the checks the models' epochs and spans share.
+
+Epochs are seconds TDB past J2000, near 5e8 s for the paper's run: a float32 array there
+resolves 32 s (and float16 none at all), so such epochs are refused, not converted (the
+values given are already rounded: a float64 copy of them would keep the wrong times).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from xnavlab.core import ephemeris
+from xnavlab.core.constants import DAY
+from xnavlab.core.validate import check_choice, check_finite_array, check_real
+
+__all__ = ["EPOCH_RESOLUTION", "MAX_SPAN_DAYS", "epoch", "epochs", "span"]
+
+#: The coarsest resolution an epoch's dtype may have at the epoch's size, s (1 ms: the orbiter
+#: moves 3.5 m in it). float64 resolves 6e-8 s at 5e8 s; float32 32 s.
+EPOCH_RESOLUTION = 1e-3
+#: The longest propagation span, days: two years (more than a Mars year, 687 days). The
+#: integrator takes about 0.3 s a day at its default tolerances, so this is about 4 minutes;
+#: a span of years (t0 = 0 with epochs in 2016: 16 years) is refused, not run for an hour.
+MAX_SPAN_DAYS = 731.0
+#: The knots of a third-body table run two steps (of 3600 s) past its end.
+_TABLE_MARGIN = 2.0 * 3600.0
+
+
+def _resolution(name, value, largest):
+    """Refuse a float dtype narrower than float64 that cannot resolve ``largest`` (s)."""
+    dtype = np.asarray(value).dtype
+    if dtype.kind == "f" and dtype.itemsize < 8:
+        res = float(np.spacing(dtype.type(largest)))
+        if not res <= EPOCH_RESOLUTION:
+            raise ValueError(f"{name} must resolve its epochs to {EPOCH_RESOLUTION:g} s: as "
+                             f"{dtype} it resolves {res:.3g} s at {largest:.6g} s; pass float64 "
+                             f"epochs")
+
+
+def epoch(name, value, lo=-np.inf, hi=np.inf):
+    """A scalar epoch, s TDB past J2000, as a float (a float32 one resolving it refused)."""
+    t = check_real(name, value, lo, hi)
+    _resolution(name, value, abs(t))
+    return t
+
+
+def epochs(name, value):
+    """A non-empty 1-D array of epochs as float64 (a narrower float dtype that cannot resolve
+    them is refused: module notes)."""
+    t = check_finite_array(name, value)
+    if t.ndim != 1 or t.size == 0:
+        raise ValueError(f"{name} must be a 1-D array of at least one epoch, got shape {t.shape}")
+    _resolution(name, value, float(np.abs(t).max()))
+    return t
+
+
+def span(t0, t_end, ephem=None, name="t_eval"):
+    """Refuse a propagation from ``t0`` to ``t_end`` (``name[-1]``) longer than
+    :data:`MAX_SPAN_DAYS` or, with ``ephem``, outside its coverage (the table's knots)."""
+    if t_end - t0 > MAX_SPAN_DAYS * DAY:
+        raise ValueError(f"{name}[-1] - t0 must be at most {MAX_SPAN_DAYS:g} days (the longest "
+                         f"propagation), got {(t_end - t0) / DAY:.6g} days (t0 = {t0:.9g} s, "
+                         f"{name}[-1] = {t_end:.9g} s)")
+    if ephem is not None:
+        check_choice("ephem", ephem, ephemeris.EPHEMERIDES)
+        lo, hi = ephemeris.coverage(ephem)
+        hi -= _TABLE_MARGIN
+        if not lo <= t0 <= hi:
+            raise ValueError(f"t0 must be in [{lo:.6g}, {hi:.6g}] s TDB past J2000 (the coverage "
+                             f"of {ephem}), got {t0:.6g}")
+        if not t_end <= hi:
+            raise ValueError(f"{name}[-1] must be at most {hi:.6g} s TDB past J2000 (the coverage "
+                             f"of {ephem}), got {t_end:.6g}")
