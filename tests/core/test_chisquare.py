@@ -120,3 +120,12 @@ def test_chi2_detect_refuses_times_going_back():
     """Review 35j (5) 22: reversed times gave an event cleared before its onset."""
     with pytest.raises(ValueError, match=r"^t must be strictly increasing"):
         D.chi2_detect(np.arange(3.0)[::-1], np.r_[1.0, 10.0, 1.0], np.ones(3))
+
+
+def test_a_row_of_innovations_against_per_sample_variances_names_nu():
+    """Review 35k pattern E: nu of shape (1, N) (one row) beside S of shape (N,) was refused
+    naming S, whose shape was right."""
+    with pytest.raises(ValueError, match=r"^nu must have shape \(1000,\) to match S of shape "
+                                         r"\(1000,\) \(the variances of a scalar measurement\), "
+                                         r"got shape \(1, 1000\)"):
+        D.chi2_detect(3.0 * np.arange(1000), np.ones((1, 1000)), np.full(1000, 25.0))

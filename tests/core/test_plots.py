@@ -89,7 +89,7 @@ def test_plot_step_detector_bad_input(kwargs, name):
 @pytest.mark.parametrize(("kwargs", "match"), [
     (dict(size_sigma=1e308), r"size_sigma must be a real number in \[-1e\+06, 1e\+06\]"),
     (dict(sigma_m=1e308), r"sigma_m must be a real number in \(0, 1e\+09\]"),
-    (dict(dt_s=1e308), r"dt_s must be a real number in \(0, 86400\]"),
+    (dict(dt_s=1e308), r"dt_s must be a real number in \[1e-06, 86400\]"),
     (dict(n=10**30), r"n must be an integer in \[6000, 10000000\]"),
     (dict(train=10**30), r"train must be an integer in \[1, 5000000\]"),
 ])
@@ -138,19 +138,24 @@ _KW = dict(size_sigma=10.0, levels=2, n=6000, onset_s=9000.0, train=2000)
     (dict(seed=True), r"^seed must be an integer in \[0, "),
     (dict(seed=10**30), r"^seed must be an integer in \[0, "),
     (dict(period_s=5e-324), r"^period_s must be a real number in \[1e-06, inf\), got 5e-324"),
-    (dict(onset_s=1e9), r"^onset_s must be a real number in \[0, 17997\], got 1000000000.0"),
-    (dict(onset_s=-5.0), r"^onset_s must be a real number in \[0, 17997\]"),
+    (dict(onset_s=1e9), r"^onset_s must lie in the run, \[0, \(n - 1\) dt_s\] = \[0, 17997\] s "
+                        r"\(n = 6000, dt_s = 3\), got 1e\+09"),
+    (dict(onset_s=-5.0), r"^onset_s must lie in the run"),
+    (dict(onset_s=None), r"^onset_s must be a finite real number"),
+    (dict(dt_s=5e-324), r"^dt_s must be a real number in \[1e-06, 86400\], got 5e-324"),
     (dict(duration_s=0.0), r"^duration_s must be a real number in \(0, inf\] \(s; inf: to the "),
     (dict(duration_s=math.nan), r"^duration_s must be"),
     (dict(duration_s=None), r"^duration_s must be"),
     (dict(duration_s="1.0"), r"^duration_s must be"),
     (dict(mean_m=-1.0), r"^mean_m must be a real number in \[0, 1e\+12\]"),
-    (dict(swing_m=-1.0), r"^swing_m must be a real number in \[0, 4.19e\+06\]"),
+    (dict(swing_m=-1.0), r"^swing_m must be a real number in \[0, 1e\+12\]"),
+    (dict(mean_m=0.0), r"^swing_m must be at most mean_m = 0 \(the range"),
 ])
 def test_plot_step_detector_checks_the_settings_the_examples_leave_out(kwargs, match):
     """Review 35k (1) 3, (1) 4, (2) 9, (3) 15, (5) 3: seed=None was a TypeError, -1 numpy's
     message, 2.5 silently seed 2; period_s=5e-324 overflowed; duration_s was named as the
-    Fault's duration; an onset outside the run (1e9 s, -5 s) and a negative range were drawn."""
+    Fault's duration; an onset outside the run (1e9 s, -5 s) and a negative range were drawn;
+    dt_s = 5e-324 (as period_s) is below the microsecond the ranges now start at."""
     with pytest.raises(ValueError, match=match):
         D.plot_step_detector(**{**_KW, **kwargs})
 

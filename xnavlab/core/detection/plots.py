@@ -246,7 +246,7 @@ def plot_step_detector(size_sigma=6.0, levels=5, log10_pfa=-5, *, sigma_m=5000.0
         Base-10 logarithm of the per-sample false-alarm probability, in [-12, 0).
     sigma_m, dt_s : float
         Noise standard deviation, m, in (0, 1e9] (a million km, so the step stays under
-        :data:`~xnavlab.core.faults.MAX_SIZE`), and sample interval, s, in (0, 86400].
+        :data:`~xnavlab.core.faults.MAX_SIZE`), and sample interval, s, in [1e-6, 86400].
     n : int
         Number of samples, in [2 * ``train``, 10**7] (80 MB a series, made once per setting).
     mean_m, swing_m, period_s : float
@@ -287,16 +287,22 @@ def plot_step_detector(size_sigma=6.0, levels=5, log10_pfa=-5, *, sigma_m=5000.0
         levels = check_int("levels", levels, 1, 12)
         log10_pfa = check_real("log10_pfa", log10_pfa, -12.0, 0.0, hi_open=True)
         sigma_m = check_real("sigma_m", sigma_m, 0.0, 1e9, lo_open=True)
-        dt_s = check_real("dt_s", dt_s, 0.0, 86400.0, lo_open=True)
+        dt_s = check_real("dt_s", dt_s, 1e-6, 86400.0)   # from a microsecond, as period_s
         period_s = check_real("period_s", period_s, _PERIOD_MIN_S)  # 2 pi t / period_s: finite
         train = check_int("train", train, 1, 5 * 10**6)
         n = check_int("n", n, 2 * train, 10**7)
         # a range within 1e12 m (7 au): at 1e308 the noise vanished in the rounding; never < 0
         mean_m = check_real("mean_m", mean_m, 0.0, 1e12)
-        swing_m = check_real("swing_m", swing_m, 0.0, mean_m)
+        swing_m = check_real("swing_m", swing_m, 0.0, 1e12)
+        if swing_m > mean_m:
+            raise ValueError(f"swing_m must be at most mean_m = {mean_m:g} (the range "
+                             f"mean_m - swing_m cos(...) stays >= 0), got {swing_m:g}")
         seed = check_seed("seed", seed)
         # the step acts on at least one sample of the run [0, (n - 1) dt_s], from its start
-        onset_s = check_real("onset_s", onset_s, 0.0, (n - 1) * dt_s)
+        onset_s = check_real("onset_s", onset_s)
+        if not 0.0 <= onset_s <= (n - 1) * dt_s:
+            raise ValueError(f"onset_s must lie in the run, [0, (n - 1) dt_s] = [0, "
+                             f"{(n - 1) * dt_s:g}] s (n = {n}, dt_s = {dt_s:g}), got {onset_s:g}")
         duration_s = _check_duration(duration_s)
         t, clean = _range_series(n, dt_s, mean_m, swing_m, period_s, sigma_m, seed)
         fault = Fault("uv", "step", size_sigma * sigma_m, onset=onset_s, duration=duration_s)
