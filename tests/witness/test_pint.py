@@ -118,3 +118,11 @@ def test_examples_path_names_a_file_pint_does_not_ship(name):
     if name.endswith(".gls.pa"):
         with pytest.raises(ValueError, match=r"\(nearest: 'B1855\+09_NANOGrav_9yv1\.gls\.par'\)"):
             pint_bridge.examples_path(name)
+
+
+@pytest.mark.parametrize("name", ["x" * 300, "a\x00b", "B1855+09_NANOGrav_9yv1.tim/"])
+def test_review_35k_1_21_examples_path_names_the_os_refuses(name):
+    """Review 35k (1) 21: a name the OS refuses (300 characters) was an OSError 'File name too
+    long' (a NUL a ValueError of the file system): looked up among the files, never opened."""
+    with pytest.raises(ValueError, match=r"^name must be an example file PINT [\d.]+ ships, got "):
+        pint_bridge.examples_path(name)

@@ -267,3 +267,32 @@ def test_fold_toa_gives_the_reason_for_too_few_photons_or_a_2d_u(big_window):
         ft.fold_toa(big_window, u[:10].reshape(2, 5))
     with pytest.raises(ValueError, match=r"^u must hold photon offsets within \[-250, 250\) s, got 260"):
         ft.fold_photons(big_window, np.array([0.0, 260.0]))
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"t0": None}, r"^t0 must be a finite real number, got None"),
+    ({"t0": "1.0"}, r"^t0 must be a finite real number, got '1.0'"),
+    ({"t0": math.nan}, r"^t0 must be a finite real number, got nan"),
+    ({"t0": 1e300}, r"^t0 must lie in \[.*\] s TDB past J2000 \(its window in DE421\)"),
+    ({"duration": 0.0}, r"^duration must be a real number in \[1, 86400\], got 0.0"),
+    ({"duration": None}, r"^duration must be"),
+    ({"area_m2": None}, r"^area_m2 must be a real number in \[1e-06, 1000\]"),
+    ({"background_ph_cm2_s": "x"}, r"^background_ph_cm2_s must be"),
+    ({"n_windows": 10**4, "spacing": 86400.0, "t0": 6.3e9}, r"^n_windows must keep the last window in DE421"),
+    ({"error": [[0.0] * 6]}, r"^error must be a 1-D array \(shape \(6,\)\)"),
+    ({"cache": True, "t0": None}, r"^t0 must be a finite real number"),
+])
+def test_review_35k_1_18_3_10_window_survey_names(kwargs, message):
+    """Review 35k (1) 18, (3) 10: t0 of None or text was a TypeError, NaN refused as t_eval and
+    1e300 as t_start; duration was refused as t_obs (the inner names); with cache=True float()
+    met the raw values."""
+    with pytest.raises(ValueError, match=message):
+        ft.window_survey(["B0531+21"], **({"n_windows": 2} | kwargs))
+
+
+def test_review_35k_1_22_window_photons_bounded():
+    """Review 35k (1) 22: the photons of a window are bounded before they are drawn, by the
+    caller's area_m2 (not simulate_photons' t_obs)."""
+    w = ft.fold_window("B0531+21", dynamics.MARS_T0, dynamics.MARS_STATE0, duration=20.0)
+    with pytest.raises(ValueError, match=r"^area_m2 must keep the expected photons at most 5e\+07"):
+        ft.simulate_window_photons(w, area_m2=1e3, rng=0)

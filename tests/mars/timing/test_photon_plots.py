@@ -86,3 +86,18 @@ def test_plot_exposure_names_paper_m(paper_m, words):
         photon_plots.plot_exposure(s, paper_m=paper_m)
     with pytest.raises(ValueError, match=r"^scaling\['months'\] must have shape \(2,\)"):
         photon_plots.plot_exposure({**s, "months": [1]})
+
+
+@pytest.mark.parametrize("reference, message", [
+    (1.0, r"^reference must be a non-empty dict of pulsar name -> ranging accuracy"),
+    ([], r"^reference must be a non-empty dict"),
+    ({}, r"^reference must be a non-empty dict"),
+    ({"B0531+21": 109.0}, r"^reference must hold a value for every bar, got none for B1937\+21"),
+    ({**pulsars.PAPER_RANGING_M, "X": 1.0}, r"^reference\['X'\] marks no bar"),
+    ({**pulsars.PAPER_RANGING_M, "B0531+21": None}, r"^reference\['B0531\+21'\] must be a real number"),
+])
+def test_review_35k_1_20_ranging_reference(reference, message):
+    """Review 35k (1) 20: reference=1.0 was a TypeError ('not subscriptable'), [] and {} were
+    accepted (nothing marked), a missing name a KeyError."""
+    with pytest.raises(ValueError, match=message):
+        photon_plots.plot_ranging_accuracy(t_obs=2000.0, reference=reference)

@@ -134,3 +134,19 @@ def test_a_tables_ranges_are_the_pulsars(key, value, words):
     Pulsar refuses is refused by the table's own key, not as a Pulsar field."""
     with pytest.raises(ValueError, match=words):
         pulsar_specs.resolve({**ENTRY, key: value})
+
+
+@pytest.mark.parametrize("base", [float("nan"), -1, [], True, ""])
+def test_review_35k_5_10_resolve_base(base):
+    """Review 35k (5) 10: base (unused for a catalogue name) was accepted unchecked."""
+    with pytest.raises(ValueError, match=r"^base must be a folder \(a non-empty str or os.PathLike\)"):
+        pulsar_specs.resolve("B1957+20", base=base)
+    with pytest.raises(ValueError, match=r"^base must be a folder"):
+        pulsar_specs.check_list(["B1957+20"], base)
+
+
+def test_review_35k_5_10_resolve_base_path():
+    """Review 35k (5) 10: a folder as str or os.PathLike is taken (and ignored for a name)."""
+    from pathlib import Path
+
+    assert pulsar_specs.resolve("B1957+20", base=Path("/tmp")).name == "B1957+20"

@@ -590,3 +590,11 @@ def test_a_pulsar_refuses_an_empty_name_and_sources_that_are_no_dict_of_texts(ch
     accepted."""
     with pytest.raises(ValueError, match=words):
         dataclasses.replace(pulsars.get("B0531+21"), **change)
+
+
+def test_review_35k_1_22_simulate_photons_bounded():
+    """Review 35k (1) 22: t_obs = 1e6 s of the Crab (inside t_obs's range) was a MemoryError
+    (80 GiB): the expected photons are bounded up front (5e7)."""
+    with pytest.raises(ValueError, match=r"^t_obs must keep the expected photons at most 5e\+07 "
+                                         r"\(about 2 GB\), got 1.54e\+10: .* at most 3236 s"):
+        pulsars.simulate_photons("B0531+21", 1e6, rng=0)

@@ -308,3 +308,9 @@ def test_fisher_information_leads_with_h_and_refuses_a_profile_of_mean_not_1():
     # toa_crlb scales a template of any mean to 1 (documented), as before
     tpl = pulsars.binned_template(64, 0.05)
     assert tb.toa_crlb("B0531+21", template=5 * tpl) == pytest.approx(tb.toa_crlb("B0531+21", template=tpl))
+
+
+def test_review_35k_1_22_monte_carlo_photons_bounded():
+    """Review 35k (1) 22: photons=True with t_obs = 1e6 s and 100 m^2 was a MemoryError (7.8 TiB)."""
+    with pytest.raises(ValueError, match=r"^t_obs must keep the expected photons at most 5e\+07"):
+        tb.monte_carlo_ml_toa("B0531+21", n_trials=2, t_obs=1e6, area_m2=100.0, photons=True, rng=0)

@@ -350,3 +350,38 @@ def test_mars_year_terms_refuses_an_orbit_inside_mars():
     """Review 35j (5) 33: orbit_radius_m = 10 m (inside Mars) was accepted."""
     with pytest.raises(ValueError, match=r"^orbit_radius_m must be a real number in \[3\.39619e\+06, "):
         tt.mars_year_terms(step_days=30.0, orbit_radius_m=10.0)
+
+
+def test_review_35k_1_19_position_bias_sigma_none():
+    """Review 35k (1) 19: sigma=None (pdop's 'no weights') was an IndexError here."""
+    with pytest.raises(ValueError, match=r"^sigma must be the pulsars' ranging accuracies"):
+        tt.position_bias(np.full(3, 1e-9), np.eye(3), None)
+
+
+@pytest.fixture(scope="module")
+def summary_inputs():
+    t = dynamics.MARS_T0 + np.arange(0.0, 86400.0 + 1.0, 600.0)
+    n, _ = pulsars.directions()
+    return (tt.orbit_terms(t, dynamics.truth(t)), tt.mars_year_terms(step_days=10.0), n,
+            [109.0, 344.0, 1866.0, 325.0])
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"witness": 1.0}, r"^witness must be the dict of pint_witness\(\)"),
+    ({"witness": {}}, r"^witness must be the dict of pint_witness\(\)"),
+    ({"witness": {"shapiro": "x", "jupiter": 1, "saturn": 1, "venus": 1}}, r"^witness\['shapiro'\] must be"),
+    ({"nav": 1.0}, r"^nav must be the dict of navigation_effect\(\)"),
+    ({"nav": "x"}, r"^nav must be the dict of navigation_effect\(\)"),
+    ({"nav": []}, r"^nav must be the dict of navigation_effect\(\)"),
+    ({"nav": {"bogus": {}}}, r"^nav\['bogus'\] is no term"),
+    ({"nav": {"planets": 1.0}}, r"^nav\['planets'\] must be a dict with position_error_m or failed"),
+    ({"nav": {"planets": {"position_error_m": "x"}}}, r"^nav\['planets'\]\['position_error_m'\] must be"),
+])
+def test_review_35k_1_19_summary_rows_witness_nav(summary_inputs, kwargs, message):
+    """Review 35k (1) 19: witness=1.0 or {} was a TypeError or KeyError, nav=1.0 a TypeError and
+    nav='x' or [] accepted (a substring test)."""
+    with pytest.raises(ValueError, match=message):
+        tt.summary_rows(*summary_inputs, **kwargs)
+    header, rows = tt.summary_rows(*summary_inputs, nav={None: {"position_error_m": 1.0},
+                                                         "planets": {"failed": "x"}})
+    assert [r[-1] for r in rows][:2] == ["-", "the filter breaks down"]

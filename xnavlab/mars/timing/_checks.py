@@ -12,8 +12,15 @@ import numpy as np
 
 from xnavlab.core.validate import check_finite_array, check_real, shown
 
-__all__ = ["MAX_DRIFT", "RADII", "check_pulsar_fields", "check_spin_drift", "check_span",
-           "check_exposure", "check_broadcast", "check_outside"]
+__all__ = ["MAX_DRIFT", "MAX_PHOTONS", "RADII", "check_pulsar_fields", "check_spin_drift", "check_span",
+           "check_exposure", "check_broadcast", "check_outside", "check_photons"]
+
+#: The most photons a simulation of arrival times expects, ``(lambda_s + lambda_b) t_obs``
+#: (the rates of :func:`xnavlab.mars.timing.pulsars.photon_rates`, which grow with the area):
+#: a simulation holds about 40 bytes a photon at its peak, so 5e7 photons take about 2 GB
+#: and half a minute (the Crab at 1 m^2 over 3,200 s; the millisecond pulsars over 11 days).
+#: t_obs = 1e6 s of the Crab asked for 80 GiB at once.
+MAX_PHOTONS = 5e7
 
 #: The largest relative change of the spin frequency, ``|fdot| tau / f``, over the photons'
 #: times ``tau`` that :func:`xnavlab.mars.timing.pulsars.simulate_photons` accepts. It inverts
@@ -104,6 +111,27 @@ def check_pulsar_fields(p, ranges, min_duty):
         if key not in fields or not isinstance(value, str):
             raise ValueError(f"Pulsar sources must map fields ({', '.join(fields)}) to text, got "
                              f"{key!r}: {shown(value)}")
+
+
+def check_photons(name, rates, t_obs):
+    """``rates`` (``lambda_s, lambda_b``, ph/s) back when their photons over ``t_obs`` s expect at
+    most :data:`MAX_PHOTONS`, else one ValueError leading with ``name`` (the argument the caller
+    took that sets the count), before any array is drawn.
+
+    Examples
+    --------
+    >>> check_photons("t_obs", (1e4, 5e3), 1e6)   # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: t_obs must keep the expected photons at most 5e+07 (about 2 GB), got 1.5e+10: ...
+    """
+    rate = float(rates[0] + rates[1])
+    total = rate * t_obs
+    if total > MAX_PHOTONS:
+        raise ValueError(f"{name} must keep the expected photons at most {MAX_PHOTONS:.0e} (about 2 GB), "
+                         f"got {total:.3g}: {rate:.4g} photons/s over {t_obs:.6g} s (at this area and "
+                         f"background, at most {MAX_PHOTONS / rate:.4g} s; or a smaller area_m2)")
+    return rates
 
 
 def check_span(span):

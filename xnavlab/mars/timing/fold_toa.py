@@ -75,6 +75,7 @@ from xnavlab.core.validate import (
 )
 from xnavlab.mars.models import dynamics
 from xnavlab.mars.timing import pulsars, timing_bound, toa
+from xnavlab.mars.timing._checks import check_photons
 
 __all__ = [
     "CORRECTIONS",
@@ -441,7 +442,9 @@ def simulate_window_photons(window, area_m2=1.0, background_ph_cm2_s=0.005, rng=
     ----------
     window : FoldWindow
     area_m2, background_ph_cm2_s : float
-        Effective area, m^2, and diffuse background, ph/cm^2/s.
+        Effective area, m^2, in [1e-6, 1e3], and diffuse background, ph/cm^2/s, in [0, 10]:
+        the window and its margins expect at most 5e7 photons
+        (:func:`~xnavlab.mars.timing.pulsars.simulate_photons`' bound).
     rng : numpy.random.Generator or int, optional
 
     Returns
@@ -460,6 +463,7 @@ def simulate_window_photons(window, area_m2=1.0, background_ph_cm2_s=0.005, rng=
     d = window.true_delay()
     margin = float(np.max(np.abs(d))) + 1.0
     length = T + 2.0 * margin
+    check_photons("area_m2", pulsars.photon_rates(p, area_m2, background_ph_cm2_s), length)  # by name
     shift = T / 2.0 + margin + window.phase0 * p.period  # phase zero at SSB offset phase0 P
     s = pulsars.simulate_photons(p, length, area_m2, background_ph_cm2_s, make_rng(rng),
                                  shift=shift) - (T / 2.0 + margin)
@@ -641,12 +645,16 @@ def window_survey(pulsar_names=pulsars.PAPER_PULSARS, error=PAPER_ERROR0, n_wind
         :data:`SETTLED_ERROR`).
     n_windows : int
     spacing, duration : float
-        Between window starts, and the window's length, s.
+        Between window starts, in [1, 86400], and the window's length, in [1, 86400] (as
+        :func:`fold_window`'s), s.
     t0 : float
-        First window's start, s TDB past J2000 (the truth's epoch).
+        First window's start, s TDB past J2000 (the truth's epoch); every window within DE421.
     state0 : array_like, shape (6,)
-        True state at ``t0``.
+        True state at ``t0`` (:func:`xnavlab.mars.models.dynamics.check_state0`; so is
+        ``state0 + error``).
     area_m2, background_ph_cm2_s : float
+        Effective area, m^2, in [1e-6, 1e3], and diffuse background, ph/cm^2/s, in [0, 10]
+        (:func:`xnavlab.mars.timing.pulsars.photon_rates`).
     cache : bool
         Read the rows from the disk cache, or compute and store them there (keyed by the
         arguments and the code, :func:`xnavlab.core.diskcache.entry_path`): the default survey
@@ -666,13 +674,26 @@ def window_survey(pulsar_names=pulsars.PAPER_PULSARS, error=PAPER_ERROR0, n_wind
     cache = check_bool("cache", cache)
     n_windows = check_int("n_windows", n_windows, 1, 10**4)
     spacing = check_real("spacing", spacing, 1.0, 86400.0)
-    err = check_finite_array("error", error, shape=(6,))
+    err = check_vector("error", error, 6)
+    # Each argument under its own name before the windows pass it on (as t_start, t_obs, ...)
+    duration = check_real("duration", duration, 1.0, 86400.0)
+    t0 = check_real("t0", t0)
+    lo, hi = ephemeris.coverage("de421")
+    if not lo <= t0 <= hi - duration:
+        raise ValueError(f"t0 must lie in [{lo:.6g}, {hi - duration:.6g}] s TDB past J2000 (its window "
+                         f"in DE421), got {t0:.6g}")
+    if t0 + spacing * (n_windows - 1) + duration > hi:
+        raise ValueError(f"n_windows must keep the last window in DE421 (t0 + spacing (n_windows - 1) + "
+                         f"duration <= {hi:.6g} s TDB past J2000), got {n_windows}")
+    state0 = dynamics.check_state0(state0)
+    dynamics.check_state0(state0 + err, "state0 + error")  # the first window's a-priori
+    area_m2 = check_real("area_m2", area_m2, 1e-6, 1e3)
+    background_ph_cm2_s = check_real("background_ph_cm2_s", background_ph_cm2_s, 0.0, 10.0)
     pulsar_names = pulsars.check_names(pulsar_names, "pulsar_names")
     if cache:
         names = tuple(pulsars.get(n).name for n in pulsar_names)
-        x0 = dynamics.check_state0(state0)
-        parts = (names, n_windows, spacing, float(duration), float(t0), float(area_m2),
-                 float(background_ph_cm2_s))
+        x0 = state0
+        parts = (names, n_windows, spacing, duration, t0, area_m2, background_ph_cm2_s)
         path = entry_path("fold-survey", parts, (err, x0), (__name__,), suffix=".json")
         try:
             return json.loads(path.read_text(encoding="utf-8"))

@@ -106,8 +106,8 @@ def plot_fix(offset_km=100.0, across_km=0.0):
     """
     from matplotlib.figure import Figure
 
-    check_real("offset_km", offset_km, -1e5, 1e5)
-    check_real("across_km", across_km, -1e5, 1e5)
+    offset_km = check_real("offset_km", offset_km, -1e5, 1e5)  # the checked floats, as drawn below
+    across_km = check_real("across_km", across_km, -1e5, 1e5)
     photons, ref = _default()
     nav = photons.subset(~ref.in_reference)
     fig = Figure(figsize=(11, 3.4), layout="constrained")
@@ -363,6 +363,22 @@ def _scaling(scaling):
     return out
 
 
+def _check_reference(reference, names):
+    """The marks of :func:`plot_ranging_accuracy`, one per name, m; else one ValueError naming
+    ``reference`` or its entry (a float was a TypeError, a missing name a KeyError, an empty
+    dict or an unknown name dropped in silence)."""
+    if not isinstance(reference, dict) or not reference:
+        raise ValueError(f"reference must be a non-empty dict of pulsar name -> ranging accuracy (m), "
+                         f"got {shown(reference)}")
+    for key in reference:
+        if key not in names:
+            raise ValueError(f"reference[{key!r}] marks no bar: the bars are {', '.join(names)}")
+    missing = [n for n in names if n not in reference]
+    if missing:
+        raise ValueError(f"reference must hold a value for every bar, got none for {', '.join(missing)}")
+    return [check_real(f"reference[{n!r}]", reference[n], 1e-3, 1e13) for n in names]
+
+
 def plot_ranging_accuracy(area_m2=1.0, t_obs=500.0, background_ph_cm2_s=0.005, reference=None,
                           pulsar_names=pulsars.PAPER_PULSARS):
     """Bar chart of the ranging accuracies of a pulsar set
@@ -375,7 +391,8 @@ def plot_ranging_accuracy(area_m2=1.0, t_obs=500.0, background_ph_cm2_s=0.005, r
     area_m2, t_obs, background_ph_cm2_s : float
         As :func:`xnavlab.mars.timing.pulsars.ranging_accuracy` (m^2, s, ph/cm^2/s).
     reference : dict of str to float, optional
-        Values to mark on the bars (m), e.g. the paper's at 1 m^2 and 500 s.
+        Values to mark on the bars (m, each in [1e-3, 1e13]), e.g. the paper's at 1 m^2 and
+        500 s: one for each pulsar of ``pulsar_names`` (keyed as written there), no other.
     pulsar_names : sequence of str
         The pulsars, one bar each (default the paper's four).
 
@@ -395,12 +412,14 @@ def plot_ranging_accuracy(area_m2=1.0, t_obs=500.0, background_ph_cm2_s=0.005, r
     from xnavlab.core.plotting import sparse_log_minors
 
     names = list(pulsars.check_names(pulsar_names, "pulsar_names"))
+    if reference is not None:
+        marks = _check_reference(reference, names)
     built = (reference, pulsar_names)
     fig = Figure(figsize=(6, 3.2), layout="constrained")
     ax = fig.add_subplot()
     bars = ax.bar(names, [1.0] * len(names), color="C0", label="xnavlab")
     if reference:
-        ax.plot(names, [reference[n] for n in names], "k_", ms=30, mew=2,
+        ax.plot(names, marks, "k_", ms=30, mew=2,
                 label="paper (1 m$^2$, 500 s)")
     ax.set(yscale="log", ylim=(1, 1e5), ylabel="ranging accuracy (m)")
     ax.legend(fontsize=8)

@@ -149,17 +149,18 @@ def examples_path(name):
     if spec is None or not spec.submodule_search_locations:
         raise FileNotFoundError("PINT (the pint-pulsar package) is not installed")
     folder = Path(spec.submodule_search_locations[0]) / "data" / "examples"
-    path = folder / name
-    if Path(name).name != name or name in (".", "..") or not path.is_file():
+    # The name looked up among the files, never opened as given: a name the OS refuses (300
+    # characters, a NUL) was an OSError or ValueError from the file system
+    shipped = sorted(p.name for p in folder.iterdir() if p.is_file()) if folder.is_dir() else []
+    if name not in shipped:
         import difflib
 
-        shipped = sorted(p.name for p in folder.iterdir() if p.is_file()) if folder.is_dir() else []
         near = difflib.get_close_matches(name, shipped, n=1)
         hint = f" (nearest: {near[0]!r})" if near else ""
         raise ValueError(f"name must be an example file PINT {importlib.metadata.version('pint-pulsar')} "
-                         f"ships, got {name!r}{hint}; the {len(shipped)} files in {folder}: "
-                         f"{', '.join(shipped)}")
-    return path
+                         f"ships, got {name[:80]!r}{'...' if len(name) > 80 else ''}{hint}; the "
+                         f"{len(shipped)} files in {folder}: {', '.join(shipped)}")
+    return folder / name
 
 
 _OFFLINE = {}

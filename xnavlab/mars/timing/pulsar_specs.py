@@ -47,6 +47,7 @@ ValueError: pulsars lists B0531+21 twice (items 0 and 1)
 from __future__ import annotations
 
 import math
+import os
 from pathlib import Path
 
 import numpy as np
@@ -116,8 +117,10 @@ def resolve(spec, base=None):
     Parameters
     ----------
     spec : str, dict or Pulsar
-    base : str or pathlib.Path, optional
-        Folder a relative ``.par`` path is read from (a scenario file's own folder).
+    base : str or os.PathLike, optional
+        Folder a relative ``.par`` path is read from (a scenario file's own folder); ignored
+        for an item without one (a catalogue name, a Pulsar, a table without ``par``), as for
+        the items of a scenario file's list. Anything but a non-empty path or None is refused.
 
     Examples
     --------
@@ -128,6 +131,7 @@ def resolve(spec, base=None):
     ...          "pulsed_fraction": 0.5, "width_s": 5e-4}).duty_cycle
     0.1
     """
+    base = _check_base(base)
     if isinstance(spec, pulsars.Pulsar):
         return spec
     if isinstance(spec, dict):
@@ -139,6 +143,16 @@ def resolve(spec, base=None):
         return pulsars.get(spec)
     raise ValueError(f"a pulsar must be a catalogue name, the path of a .par file or a table, "
                      f"got {spec!r}")
+
+
+def _check_base(base):
+    """``base`` as None or a non-empty path (str or os.PathLike), else one ValueError naming it
+    (nan, -1, [] or True were accepted unchecked where no ``.par`` path used them)."""
+    if base is None:
+        return None
+    if not isinstance(base, str | os.PathLike) or not str(os.fspath(base)).strip():
+        raise ValueError(f"base must be a folder (a non-empty str or os.PathLike) or None, got {shown(base)}")
+    return base
 
 
 def _normal(spec, base):
@@ -160,8 +174,9 @@ def check_list(specs, base=None, name="pulsars"):
     ----------
     specs : sequence
         The items.
-    base : str or pathlib.Path, optional
-        Folder of relative ``.par`` paths.
+    base : str or os.PathLike, optional
+        Folder of relative ``.par`` paths (ignored by the items without one; anything but a
+        non-empty path or None is refused).
     name : str
         The parameter's name in messages.
 
@@ -170,6 +185,7 @@ def check_list(specs, base=None, name="pulsars"):
     tuple
         Catalogue names and absolute ``.par`` paths as strings, tables as Pulsars.
     """
+    base = _check_base(base)
     if isinstance(specs, str):
         raise ValueError(f"{name} must be a list of pulsars, got the string {specs!r} "
                          f"(write [\"{specs}\"])")

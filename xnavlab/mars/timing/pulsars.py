@@ -28,7 +28,7 @@ import numpy as np
 from xnavlab.core import validate
 from xnavlab.core.constants import KPC, C
 from xnavlab.core.validate import check_bool, check_finite_array, check_int, check_items, check_real, make_rng
-from xnavlab.mars.timing import xray_pulsars
+from xnavlab.mars.timing import _checks, xray_pulsars
 from xnavlab.mars.timing._checks import check_exposure, check_pulsar_fields, check_span, check_spin_drift
 
 __all__ = [
@@ -491,11 +491,10 @@ def simulate_photons(pulsar, t_obs, area_m2=1.0, background_ph_cm2_s=0.005, rng=
     ----------
     pulsar : str or Pulsar
     t_obs : float
-        Observation time, s.
-    area_m2 : float
-        Detector effective area, m^2, in [1e-6, 1e3].
-    background_ph_cm2_s : float
-        Diffuse background flux, ph/cm^2/s.
+        Observation time, s, in (0, 1e6], over which the photon rates expect at most 5e7
+        photons (about 2 GB: the Crab at 1 m^2 over 3,200 s; ``_checks.MAX_PHOTONS``).
+    area_m2, background_ph_cm2_s : float
+        Detector effective area, m^2, in [1e-6, 1e3]; diffuse background, ph/cm^2/s, in [0, 10].
     rng : numpy.random.Generator or int, optional
     shift : float
         True TOA offset of the pulse train, s (what an estimator should recover).
@@ -515,7 +514,7 @@ def simulate_photons(pulsar, t_obs, area_m2=1.0, background_ph_cm2_s=0.005, rng=
     t_obs = check_real("t_obs", t_obs, 0.0, 1e6, lo_open=True)
     shift = check_real("shift", shift)
     rng = make_rng(rng)
-    lam_s, lam_b = photon_rates(p, area_m2, background_ph_cm2_s)
+    lam_s, lam_b = _checks.check_photons("t_obs", photon_rates(p, area_m2, background_ph_cm2_s), t_obs)
     f, fdot = p.frequency, p.fdot
     check_spin_drift(p.name, f, fdot, t_obs, shift)  # else f + fdot tau nears 0 below (MAX_DRIFT)
     sig = p.duty_cycle / (2.0 * math.sqrt(2.0 * math.log(2.0)))

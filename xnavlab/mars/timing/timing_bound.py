@@ -70,6 +70,7 @@ from xnavlab.core.validate import (
     shown,
 )
 from xnavlab.mars.timing import pulsars
+from xnavlab.mars.timing._checks import check_photons
 
 __all__ = [
     "MAX_COUNTS",
@@ -367,8 +368,8 @@ def expected_fold(nbins, duty, pulsed, unpulsed, shift=0.0):
     (1640.0, 15)
     """
     nbins = check_int("nbins", nbins, 8, 2**20)
-    check_real("pulsed", pulsed, 0.0, MAX_COUNTS)
-    check_real("unpulsed", unpulsed, 0.0, MAX_COUNTS)
+    pulsed = check_real("pulsed", pulsed, 0.0, MAX_COUNTS)  # the checked floats (np.float16 overflowed)
+    unpulsed = check_real("unpulsed", unpulsed, 0.0, MAX_COUNTS)
     return _bins(nbins, _sigma(duty) * _FWHM, pulsed, unpulsed, check_real("shift", shift))[0]
 
 
@@ -496,7 +497,9 @@ def monte_carlo_ml_toa(pulsar, n_trials=400, area_m2=1.0, t_obs=500.0,
         Phase bins (default :func:`default_nbins`: 10 a pulse width or more).
     rng : numpy.random.Generator or int, optional
     photons : bool
-        Simulate photon arrival times and fold them (slow) instead of drawing the fold.
+        Simulate photon arrival times and fold them (slow) instead of drawing the fold; each
+        trial's photons at most 5e7 expected (as
+        :func:`~xnavlab.mars.timing.pulsars.simulate_photons`: ``t_obs`` refused beyond).
     search : float
         Half-width of the estimator's search window, cycles (:func:`ml_phase_shift`). The
         default, the true offsets' own range, makes it the maximum a posteriori estimate
@@ -525,6 +528,8 @@ def monte_carlo_ml_toa(pulsar, n_trials=400, area_m2=1.0, t_obs=500.0,
     if min(ls, lb) * t_obs < 1e-6:  # ml_phase_shift's lower end, refused here by the caller's name
         raise ValueError(f"t_obs must be long enough to expect 1e-6 pulsed and unpulsed photons a "
                          f"fold, got {ls * t_obs:.3g} and {lb * t_obs:.3g} in {t_obs:g} s")
+    if photons:  # each trial's arrival times: bounded before the first is drawn (1e6 s asked 7.8 TiB)
+        check_photons("t_obs", (ls, lb), t_obs)
     if photons and t_obs < p.period:  # part of a cycle leaves phase bins unswept (pulsars.fold)
         raise ValueError(f"t_obs must last a whole pulse cycle of {p.name} ({p.period:.6g} s) to fold "
                          f"photons, got {t_obs:g} s")

@@ -474,7 +474,8 @@ def position_bias(delta, n, sigma):
     n : array_like, shape (k, 3)
         Unit vectors to ``k >= 3`` pulsars.
     sigma : array_like, shape (k,)
-        Ranging accuracies, m, each in [1e-3, 1e13] (:func:`xnavlab.mars.timing.toa.pdop`'s).
+        Ranging accuracies, m, each in [1e-3, 1e13] (:func:`xnavlab.mars.timing.toa.pdop`'s;
+        required: the weights).
 
     Returns
     -------
@@ -488,6 +489,9 @@ def position_bias(delta, n, sigma):
     """
     delta = check_finite_array("delta", delta)
     n = check_finite_array("n", n, shape=(3,))
+    if sigma is None:  # pdop's "no weights"; here the weights of the fix (None was an IndexError)
+        raise ValueError("sigma must be the pulsars' ranging accuracies, m, shape (k,) (the fix's "
+                         "weights), got None")
     toa.pdop(n, sigma)  # validates the geometry (k >= 3, not coplanar) and sigma (1 mm to 1e13 m)
     if delta.shape[-1:] != (n.shape[0],):
         raise ValueError(f"delta must have shape (..., {n.shape[0]}), one per pulsar, got {delta.shape}")
@@ -717,6 +721,22 @@ def _year_term(year, term):
     return year[term]
 
 
+def _nav(nav):
+    """``nav`` if it is :func:`navigation_effect`'s dict, else one ValueError naming the entry."""
+    if not isinstance(nav, dict):
+        raise ValueError(f"nav must be the dict of navigation_effect(), got {shown(nav)}")
+    for key, value in nav.items():
+        if key is not None and key not in TERMS:  # a term that no row shows
+            raise ValueError(f"nav[{key!r}] is no term: nav's keys are None and terms of TERMS "
+                             f"({', '.join(TERMS)})")
+        if not isinstance(value, dict) or not ({"failed", "position_error_m"} & set(value)):
+            raise ValueError(f"nav[{key!r}] must be a dict with position_error_m or failed (as "
+                             f"navigation_effect() gives), got {shown(value)}")
+        if "failed" not in value:
+            check_real(f"nav[{key!r}]['position_error_m']", value["position_error_m"])
+    return nav
+
+
 def summary_rows(orbit, year, n, sigma, witness=None, nav=None):
     """One row per omitted term (:data:`TERMS`): sizes, ours against PINT, effect on navigation.
 
@@ -731,9 +751,11 @@ def summary_rows(orbit, year, n, sigma, witness=None, nav=None):
     sigma : array_like, shape (k,)
         Ranging accuracies of the pulsars, m (for :func:`position_bias`).
     witness : dict, optional
-        :func:`pint_witness`; without it the column says ``-``.
+        :func:`pint_witness` (with ``shapiro``, ``jupiter``, ``saturn``, ``venus``); without it
+        the column says ``-``.
     nav : dict, optional
-        :func:`navigation_effect`; without it the column says ``-``.
+        :func:`navigation_effect` (keys ``None`` and terms of :data:`TERMS`); without it, or for
+        a term it lacks, the column says ``-``.
 
     Returns
     -------
@@ -752,10 +774,13 @@ def summary_rows(orbit, year, n, sigma, witness=None, nav=None):
     """
     orbit = _terms("orbit", orbit, TERMS, "orbit_terms()")
     year = _terms("year", year, _YEAR_KEYS, "mars_year_terms()")
+    pint_col = {"shapiro_exact_minus_paper": "shapiro", "planets": ("jupiter", "saturn", "venus")}
+    if witness is not None:
+        witness = _terms("witness", witness, ("shapiro", "jupiter", "saturn", "venus"), "pint_witness()")
+    nav = {} if nav is None else _nav(nav)
     header = ["term", "orbit, 30 days: max (s)", "(m)", "Mars year: max (s)", "(m)",
               "ours minus PINT: max (s)", "snapshot position bias, orbit (m)",
               "XNAV filter RMS position error (m)"]
-    pint_col = {"shapiro_exact_minus_paper": "shapiro", "planets": ("jupiter", "saturn", "venus")}
     rows = []
     for term in TERMS:
         on_orbit = float(np.abs(orbit[term]).max())
@@ -765,10 +790,11 @@ def summary_rows(orbit, year, n, sigma, witness=None, nav=None):
             theirs = "-"
         elif term in pint_col:
             keys = pint_col[term] if isinstance(pint_col[term], tuple) else (pint_col[term],)
-            theirs = float(max(np.abs(witness[key]).max() for key in keys))
+            theirs = float(max(np.abs(check_finite_array(f"witness[{key!r}]", witness[key])).max()
+                               for key in keys))
         else:
             theirs = "not in PINT (it takes TDB epochs)"
-        if nav is None or term not in nav:
+        if term not in nav:
             effect = "-"
         elif "failed" in nav[term]:
             effect = "the filter breaks down"
