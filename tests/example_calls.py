@@ -44,6 +44,9 @@ __all__ = [
     "first_name",
     "finite",
     "bounded",
+    "outcome",
+    "PLUMBING",
+    "plumbing",
 ]
 
 #: The subpackages whose public examples are tried.
@@ -59,6 +62,25 @@ SUBPACKAGES = (
     "plins",
     "line",
 )
+#: Module -> why its functions are not tried: the package's own plumbing, whose callers are
+#: xnavlab's functions, chapters and CLI, which hand it values they have checked (a user's
+#: value reaches it only through a public function tried here, or through the CLI, whose
+#: grammar and files ``tests/cli`` tries).
+PLUMBING = {
+    "xnavlab.core.validate": "the checks themselves: name, lo, hi are the package's literals",
+    "xnavlab.core.diskcache": "the result cache: keys and paths the package builds",
+    "xnavlab.core.userfiles": "the CLI's file reader: argparse hands it text (tests/cli)",
+    "xnavlab.core.prose": "the book's number formatting: the chapters' own glue",
+    "xnavlab.core.plotting": "the book's tables and figure helpers: the chapters' own calls",
+    "xnavlab.core.widgets": "the sliders' plumbing: the chapters' own calls",
+    "xnavlab.core.campaign": "the campaign engine: tasks and records the package builds",
+    "xnavlab.core.campaign_records": "the records reader: tests/core/test_campaign_records.py",
+    "xnavlab.mars.navigation.unused_inputs": "the run's notes on settings, from checked settings",
+    "xnavlab.mars.navigation.scenario_files": "the scenario-file reader: tests/cli and hypothesis",
+    "xnavlab.mars.navigation.schematics": "the chapter's schematic texts",
+    "xnavlab.mars.timing.pulsar_specs": "the scenario file's pulsar entries: tests/cli",
+}
+
 #: A changed call still running after this many seconds fails (an endless loop or huge work):
 #: ten times the slowest example's unmodified call, for a loaded machine.
 LIMIT_S = 20.0
@@ -242,3 +264,25 @@ def bounded():
         signal.signal(signal.SIGALRM, old)
         resource.setrlimit(resource.RLIMIT_AS, (soft, hard))
         plt.close("all")
+
+
+def outcome(call, globs, value, base):
+    """``(error, result)`` of the changed ``call`` with ``EDGE = value``: the exception it raised
+    (None if it returned) and its result; every warning is an error but the ones the unmodified
+    call gives by design (``base[2]``, its output), each call :func:`bounded`."""
+    try:
+        with bounded(), warnings.catch_warnings(), contextlib.redirect_stdout(io.StringIO()):
+            warnings.simplefilter("error")
+            if base[2]:  # a function that warns by design: its own warnings are its output
+                warnings.simplefilter("ignore", base[2])
+            return None, evaluate(call, globs, {"EDGE": value})
+    except KeyboardInterrupt:
+        raise
+    except BaseException as err:  # noqa: BLE001 - every other exception is the finding
+        return err, None
+
+
+def plumbing(test):
+    """Why the doctest ``test``'s module is not tried (its entry of :data:`PLUMBING`), or ''."""
+    module = test.name.rsplit(".", 1)[0]
+    return PLUMBING.get(module) or PLUMBING.get(module.rsplit(".", 1)[0], "")

@@ -23,43 +23,22 @@ line of the module's run in ``benchmarks``-free terms: about a minute for some 1
 """
 
 import ast
-import contextlib
 import inspect
-import io
-import warnings
 
 import numpy as np
 import pytest
 from example_calls import (
-    bounded,
     evaluate,
     example_calls,
     finite,
     first_name,
+    outcome,
     parameter_names,
+    plumbing,
     public_doctests,
     state,
     unmodified,
 )
-
-#: Module -> why its functions are not tried: the package's own plumbing, whose callers are
-#: xnavlab's functions, chapters and CLI, which hand it values they have checked (a user's
-#: value reaches it only through a public function tried here, or through the CLI, whose
-#: grammar and files ``tests/cli`` tries).
-PLUMBING = {
-    "xnavlab.core.validate": "the checks themselves: name, lo, hi are the package's literals",
-    "xnavlab.core.diskcache": "the result cache: keys and paths the package builds",
-    "xnavlab.core.userfiles": "the CLI's file reader: argparse hands it text (tests/cli)",
-    "xnavlab.core.prose": "the book's number formatting: the chapters' own glue",
-    "xnavlab.core.plotting": "the book's tables and figure helpers: the chapters' own calls",
-    "xnavlab.core.widgets": "the sliders' plumbing: the chapters' own calls",
-    "xnavlab.core.campaign": "the campaign engine: tasks and records the package builds",
-    "xnavlab.core.campaign_records": "the records reader: tests/core/test_campaign_records.py",
-    "xnavlab.mars.navigation.unused_inputs": "the run's notes on settings, from checked settings",
-    "xnavlab.mars.navigation.scenario_files": "the scenario-file reader: tests/cli and hypothesis",
-    "xnavlab.mars.navigation.schematics": "the chapter's schematic texts",
-    "xnavlab.mars.timing.pulsar_specs": "the scenario file's pulsar entries: tests/cli",
-}
 
 #: ``test name:parameter`` -> why an empty list is a valid input: the result holds one entry per element
 #: (an empty input, an empty result), or an empty list means something (no faults).
@@ -211,20 +190,13 @@ def _changed(node, slot):
 
 def _judge(call, globs, label, value, base, name, names, key):
     """None if the call with ``EDGE = value`` is used or refused well, else what went wrong."""
-    try:
-        with bounded(), warnings.catch_warnings(), contextlib.redirect_stdout(io.StringIO()):
-            warnings.simplefilter("error")
-            if base[2]:  # a function that warns by design: its own warnings are its output
-                warnings.simplefilter("ignore", base[2])
-            result = evaluate(call, globs, {"EDGE": value})
-    except ValueError as err:
+    err, result = outcome(call, globs, value, base)
+    if isinstance(err, ValueError):
         lead = first_name(str(err), names)
         if lead == name or key in JOINT:
             return None
         return f"{name}={label}: the ValueError leads with {lead!r}: {err}"
-    except BaseException as err:
-        if isinstance(err, KeyboardInterrupt):
-            raise
+    if err is not None:
         return f"{name}={label}: {type(err).__name__}: {err}"
     if label in BOOLISH:
         return f"{name}={label}: a bool was taken as a number or a value"
@@ -243,9 +215,8 @@ def test_the_arguments_are_collected():
 
 @pytest.mark.parametrize(("test", "i", "node", "slot"), CASES)
 def test_an_edge_value_is_used_or_refused(test, i, node, slot):
-    module = test.name.rsplit(".", 1)[0]
-    if module in PLUMBING or module.rsplit(".", 1)[0] in PLUMBING:
-        pytest.skip(PLUMBING.get(module) or PLUMBING[module.rsplit(".", 1)[0]])
+    if plumbing(test):
+        pytest.skip(plumbing(test))
     globs = state(test, i, node)
     key = f"{test.name}:{_slot_name(node, slot, globs)}"
     if key in SKIP:

@@ -22,17 +22,13 @@ Runtime (quiet machine, ``pytest -p no:randomly tests/test_huge_inputs.py``): ab
 """
 
 import ast
-import contextlib
-import io
-import warnings
 
 import pytest
 from example_calls import (
-    bounded,
-    evaluate,
     example_calls,
     finite,
     names_one,
+    outcome,
     parameter_names,
     public_doctests,
     state,
@@ -117,19 +113,12 @@ def test_a_huge_literal_is_used_or_refused(test, i, node, slot):
     globs = state(test, i, node)
     call = _huge(node, slot)
     source = ast.unparse(call)
-    try:
-        with bounded(), warnings.catch_warnings(), contextlib.redirect_stdout(io.StringIO()):
-            warnings.simplefilter("error")
-            if base[2]:  # a function that warns by design: its own warnings are its output
-                warnings.simplefilter("ignore", base[2])
-            result = evaluate(call, globs)
-    except ValueError as err:
+    err, result = outcome(call, globs, None, base)
+    if isinstance(err, ValueError):
         names = parameter_names(node, globs)
         assert names_one(str(err), names), f"{source}: the ValueError names none of {sorted(names)}: {err}"
         return
-    except BaseException as err:
-        if isinstance(err, KeyboardInterrupt):
-            raise
+    if err is not None:
         pytest.fail(f"{source}: {type(err).__name__}: {err}"[:500])
     if finite(base[1]) and test.name not in ALLOW_INFINITE:
         assert finite(result), f"{source}: a non-finite result"

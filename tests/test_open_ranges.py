@@ -28,6 +28,20 @@ OPEN = {
     # times and windows: a larger value only moves the event past the data (the answer then
     # is "no event", which the result says)
     "xnavlab.attitude.motion:\"wobble_period\"": "the wobble's period: sin(2 pi t / T) -> 0 as T grows",
+    "xnavlab.attitude.simulation:\"wobble_period\"": "SimConfig's copy of truth_rate's "
+                                                  "wobble_period: sin(2 pi t / T) -> 0 as T grows",
+    "xnavlab.attitude.montecarlo:\"onset\"": "with the caller's config the next check bounds it "
+                                           "to [t_cal[1], duration), naming onset",
+    "xnavlab.mars.navigation.plots:\"settle_days\"": "the next check bounds it by every case's "
+                                                  "last record time, naming settle_days",
+    "xnavlab.mars.navigation.unused_inputs:\"settle_days\"": "a run note's text: printed only",
+    "xnavlab.mars.navigation.unused_inputs:\"record_dt\"": "a run note's text: printed only",
+    "xnavlab.mars.navigation.unused_inputs:\"n\"": "a count of records: compared with 2 only",
+    "xnavlab.mars.navigation.unused_inputs:f\"counts[{s!r}]\"": "a count of measurements: "
+                                                              "compared with 0 only",
+    "xnavlab.mars.studies.trials:\"rate_per_day\"": "the next check bounds it by the day's "
+                                                   "samples over the window's, naming rate_per_day "
+                                                   "(a window of no sample: 0 whatever the rate)",
     "xnavlab.attitude.simulation:\"qdiff_window_s\"": "bounded by t_cal in the next check",
     "xnavlab.attitude.sensors:\"onset\"": "a fault is made before its run: the run refuses an "
                                          "onset at or past its end, naming faults[i]",

@@ -23,7 +23,6 @@ EXEMPT = {
     # verdicts) and again in its system's tests.
     "reproductions/": "tested through the registry: tests/test_verdicts.py",
     # The numba kernel is checked against the readable numpy loop of the same scenario.
-    "cli/campaigns.py": "tested by the CLI section of tests/core/test_campaign.py",
     # PINT as a witness: its tests need PINT's shipped data and run with ``-m witness``.
     "mars/timing/pint_bridge.py": "tested by tests/witness/test_pint.py",
 }

@@ -1,5 +1,6 @@
 """The chapter figures of xnavlab.mars.navigation.plots (more in test_scenarios and test_fault_tolerance)."""
 
+import io
 import re
 
 import matplotlib
@@ -181,3 +182,16 @@ def test_plot_details_refuses_no_detail_rows():
     t = np.linspace(0.0, 1.0, 400)
     with pytest.raises(ValueError, match="^details must hold at least one detail signal"):
         mars_plots.plot_details(t, np.sin(t), np.zeros((0, t.size)), [t[100]], stride=4)
+
+
+def test_consistency_plot_of_a_diverged_case_and_its_ylim_range():
+    """Review 35k: NEES or a band end near 1e300 overflowed matplotlib's log autoscale (a
+    RuntimeWarning); ylim = (1, 1e308) overflowed its ticks. The axis now ends at YLIM_RANGE's
+    edge, and a ylim outside the range is refused naming ylim[i]."""
+    t = np.linspace(0.0, 2.0, 2881)
+    cases = {"diverged": (t, np.full(t.size, 1e300)), "good": (t, np.full(t.size, 6.0))}
+    fig = mars_plots.plot_consistency(cases, (4.0, 8.0))
+    fig.savefig(io.BytesIO(), format="png")
+    assert fig.axes[0].get_ylim() == (4.0, mars_plots.YLIM_RANGE[1])
+    with pytest.raises(ValueError, match=r"ylim\[1\] must be a real number in \[1e-200, 1e\+200\]"):
+        mars_plots.plot_consistency(cases, (4.0, 8.0), ylim=(1.0, 1e308))

@@ -296,3 +296,11 @@ def test_review_35k_1_22_window_photons_bounded():
     w = ft.fold_window("B0531+21", dynamics.MARS_T0, dynamics.MARS_STATE0, duration=20.0)
     with pytest.raises(ValueError, match=r"^area_m2 must keep the expected photons at most 5e\+07"):
         ft.simulate_window_photons(w, area_m2=1e3, rng=0)
+
+
+def test_a_survey_longer_than_the_longest_propagation_names_n_windows():
+    """Review 35k (after the models' span bound): 800 daily windows were refused as the
+    propagation's t_eval, a name the user never gave."""
+    with pytest.raises(ValueError, match=r"^n_windows must keep the windows within 731 days"):
+        ft.window_survey(["B0531+21"], n_windows=800, spacing=86400.0)
+    assert dynamics.MAX_SPAN_DAYS == 731.0

@@ -46,6 +46,10 @@ from xnavlab.core.validate import (
 )
 from xnavlab.mars.models import _checks
 
+#: The longest propagation, days past ``t0`` (:func:`propagate`, :func:`truth`): about four
+#: minutes of integration; a longer span is refused up front.
+MAX_SPAN_DAYS = _checks.MAX_SPAN_DAYS
+
 __all__ = [
     "MARS_T0",
     "MARS_STATE0",
@@ -55,6 +59,7 @@ __all__ = [
     "R_MIN",
     "R_MAX",
     "MAX_BODY_RADIUS",
+    "MAX_SPAN_DAYS",
     "ThirdBodyTable",
     "point_mass",
     "third_body",

@@ -41,7 +41,8 @@ from xnavlab.mars.faults import fault_tolerance
 from xnavlab.mars.navigation import scenarios
 
 __all__ = ["plot_subsystem", "plot_sharing", "plot_runs", "plot_fault_response", "plot_error_curves",
-           "plot_details", "detector_table_markdown", "plot_shapiro_angle", "plot_consistency"]
+           "plot_details", "detector_table_markdown", "plot_shapiro_angle", "plot_consistency",
+           "YLIM_RANGE"]
 
 
 def plot_subsystem(subsystem="uv", noise_scale=1.0, interval_s=3, days=0.25):
@@ -662,6 +663,9 @@ def _pairs(name, value, what):
 
 #: Most bins of :func:`plot_consistency`'s top panel (last time / bin_days).
 _MAX_BINS = 10**6
+#: The range of :func:`plot_consistency`'s ``ylim`` values: matplotlib's log-axis ticks
+#: overflow for wider limits (1e-250 to 1e250 already did).
+YLIM_RANGE = (1e-200, 1e200)
 
 
 #: Line colours of the cases of :func:`plot_consistency` (green and red mark the band's shares).
@@ -693,8 +697,8 @@ def plot_consistency(cases, band, dof=6, settle_days=1.0, bin_days=1.0 / 24.0, y
         Width of the averaging bins of the top panel, days (default one hour); at most
         10^6 bins up to the last record (5e-324 is refused, not divided by).
     ylim : tuple of float, optional
-        Limits ``(lo, hi)``, 0 < lo < hi, of the top panel's (log) NEES axis (a diverging
-        case may leave it; its bar still shows it).
+        Limits ``(lo, hi)``, lo < hi, each in :data:`YLIM_RANGE`, of the top panel's (log)
+        NEES axis (a diverging case may leave it; its bar still shows it).
 
     Returns
     -------
@@ -733,19 +737,31 @@ def plot_consistency(cases, band, dof=6, settle_days=1.0, bin_days=1.0 / 24.0, y
         ylim = _sequence("ylim", ylim, "two numbers (lo, hi)")
         if len(ylim) != 2:
             raise ValueError(f"ylim must be a pair (lo, hi), got {shown(ylim)}")
-        ylim = [check_real(f"ylim[{i}]", v, 0.0, lo_open=True) for i, v in enumerate(ylim)]
+        # matplotlib's log-axis ticks overflow (a RuntimeWarning) for limits past about 1e250
+        ylim = [check_real(f"ylim[{i}]", v, YLIM_RANGE[0], YLIM_RANGE[1]) for i, v in enumerate(ylim)]
         if ylim[0] >= ylim[1]:
             raise ValueError(f"ylim must be (lo, hi) with lo < hi, got {shown(tuple(ylim))}")
     fig = Figure(figsize=(8, 5.6), layout="constrained")
     top, bars = fig.subplots(2, 1, height_ratios=(2, 1))
-    names = []
-    for k, (label, t, nees) in enumerate(series):
+    binned = []
+    for _, t, nees in series:
         b = np.floor(t / bin_days).astype(int)
         n = np.bincount(b)
         have = n > 0
-        top.semilogy(((np.arange(n.size) + 0.5) * bin_days)[have],
-                     (np.bincount(b, nees) / np.maximum(n, 1))[have],
-                     color=_CASE_COLORS[k % len(_CASE_COLORS)], lw=0.8, label=label)
+        binned.append((((np.arange(n.size) + 0.5) * bin_days)[have],
+                       (np.bincount(b, nees) / np.maximum(n, 1))[have]))
+    drawn = [v for v in [lo, hi, dof, *(v for _, m in binned for v in (m.min(), m.max()))]
+             if 0.0 < v < math.inf]
+    if ylim is None and (min(drawn) < YLIM_RANGE[0] or max(drawn) > YLIM_RANGE[1]):
+        # a diverged case (NEES 1e300): matplotlib's log autoscale would overflow; the axis
+        # ends at the range's edge and the case's bar still shows where it went
+        ylim = (max(min(drawn), YLIM_RANGE[0]), min(max(drawn), YLIM_RANGE[1]))
+    top.set_yscale("log")
+    if ylim is not None:  # before the curves: no autoscale of them first
+        top.set_ylim(*ylim)
+    names = []
+    for k, ((label, t, nees), (x, mean)) in enumerate(zip(series, binned, strict=True)):
+        top.plot(x, mean, color=_CASE_COLORS[k % len(_CASE_COLORS)], lw=0.8, label=label)
         j = judge_series(nees[t >= settle_days], lo, hi)
         left = 0.0
         for share, color, word in ((j["below"], "0.6", "below"), (j["inside"], "C2", "inside"),
@@ -757,8 +773,6 @@ def plot_consistency(cases, band, dof=6, settle_days=1.0, bin_days=1.0 / 24.0, y
     top.axhline(dof, color="k", ls="--", lw=0.8, label=f"{dof}: a consistent filter's mean")
     top.set(xlabel="time (days)", ylabel="NEES, hourly mean" if bin_days == 1.0 / 24.0
             else "NEES, binned mean")
-    if ylim is not None:
-        top.set_ylim(*ylim)
     fig.legend(*top.get_legend_handles_labels(), fontsize=7, ncol=3, loc="outside upper center")
     bars.set_yticks(range(len(names)), names, fontsize=8)
     bars.invert_yaxis()

@@ -88,7 +88,7 @@ _MODEL_KEYS = {
     "third_bodies": f"point masses from the ephemeris, any of {_BODIES}",
     "srp": "solar radiation pressure (cannonball, Mars's cylindrical shadow), true/false",
     "area_m2": "SRP cross-section, m^2, (0, 1000]",
-    "mass_kg": "spacecraft mass for SRP, kg, (0, 1e5]",
+    "mass_kg": "spacecraft mass for SRP, kg, [1e-3, 1e5]",
     "reflectivity": "SRP coefficient C_R, [1, 2]",
 }
 

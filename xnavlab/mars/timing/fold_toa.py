@@ -61,7 +61,7 @@ from typing import NamedTuple
 import numpy as np
 
 from xnavlab.core import ephemeris
-from xnavlab.core.constants import C
+from xnavlab.core.constants import DAY, C
 from xnavlab.core.diskcache import entry_path, store
 from xnavlab.core.validate import (
     check_bool,
@@ -644,6 +644,8 @@ def window_survey(pulsar_names=pulsars.PAPER_PULSARS, error=PAPER_ERROR0, n_wind
         A-priori minus true state at each window's start, m and m/s (:data:`PAPER_ERROR0`,
         :data:`SETTLED_ERROR`).
     n_windows : int
+        1 to 10^4, the windows within DE421 and within
+        :data:`~xnavlab.mars.models.dynamics.MAX_SPAN_DAYS` of ``t0``.
     spacing, duration : float
         Between window starts, in [1, 86400], and the window's length, in [1, 86400] (as
         :func:`fold_window`'s), s.
@@ -685,6 +687,11 @@ def window_survey(pulsar_names=pulsars.PAPER_PULSARS, error=PAPER_ERROR0, n_wind
     if t0 + spacing * (n_windows - 1) + duration > hi:
         raise ValueError(f"n_windows must keep the last window in DE421 (t0 + spacing (n_windows - 1) + "
                          f"duration <= {hi:.6g} s TDB past J2000), got {n_windows}")
+    span = spacing * (n_windows - 1) + duration  # the truth is propagated over every window
+    if span > dynamics.MAX_SPAN_DAYS * DAY:
+        raise ValueError(f"n_windows must keep the windows within {dynamics.MAX_SPAN_DAYS:g} days of t0 "
+                         f"(spacing (n_windows - 1) + duration, the longest propagation), got "
+                         f"{n_windows} ({span / DAY:.6g} days)")
     state0 = dynamics.check_state0(state0)
     dynamics.check_state0(state0 + err, "state0 + error")  # the first window's a-priori
     area_m2 = check_real("area_m2", area_m2, 1e-6, 1e3)

@@ -1,0 +1,140 @@
+"""Every input is used or refused (issue 35): the parameters the public examples leave out.
+
+``tests/test_edge_inputs.py`` and ``tests/test_huge_inputs.py`` change the arguments a doctest
+example writes. A parameter the example leaves at its default (``t0``, ``seed``, ``residual``,
+``ax``, ``ylim``, ``dof`` ...) was never tried there, and review 35k found most of its raw
+exceptions among them. Here each example call of a public function or class is run again with
+one parameter it leaves out given, in turn, each of :func:`odd_values` of its default's kind:
+a value of the wrong kind (None, a bool, a string, a number where a text goes) and, for a
+number, NaN. A changed call passes when
+
+* it raises a ``ValueError`` that names the added parameter before any other parameter of the
+  call, or
+* it returns a result whose numbers are finite, with no warning, and the value was not a bool
+  given where a number goes (a bool is never a count or a length).
+
+A ``TypeError``, ``AttributeError`` or ``IndexError`` from inside, numpy's message, a warning or
+a NaN fails. An example whose unmodified call takes longer than :data:`SLOW_BASE_S` is passed
+over (its parameters are a run's settings, which the run's own tests try): the test's cost is
+kept to about a minute of CPU.
+"""
+
+import ast
+import inspect
+import math
+
+import pytest
+from example_calls import (
+    evaluate,
+    example_calls,
+    finite,
+    first_name,
+    outcome,
+    parameter_names,
+    plumbing,
+    public_doctests,
+    state,
+    unmodified,
+)
+
+#: An example call slower than this (s, unmodified) is passed over (a run of the filters).
+SLOW_BASE_S = 1.0
+
+#: ``test name:parameter`` -> why a refusal of an odd value of it names another parameter first.
+JOINT = {}
+
+#: ``test name:parameter`` -> why it is not tried.
+SKIP = {}
+
+
+def odd_values(default):
+    """(label, value) pairs of the wrong kind for a parameter whose default is ``default``."""
+    if isinstance(default, bool):
+        return [("None", None), ("'yes'", "yes"), ("2", 2)]
+    if isinstance(default, int | float):
+        out = [("True", True), ("None", None), ("'1.0'", "1.0")]
+        return out + ([("nan", math.nan)] if isinstance(default, float) else [("2.5", 2.5)])
+    if default is None:
+        return [("'x'", "x"), ("{}", {}), ("nan", math.nan)]
+    if isinstance(default, str):
+        return [("None", None), ("3", 3)]
+    if isinstance(default, tuple | list):
+        return [("None", None), ("3.0", 3.0)]
+    return []
+
+
+def _cases():
+    out, seen = [], set()
+    for test in public_doctests():
+        for i, node in example_calls(test):
+            func = ast.unparse(node.func)
+            if (test.name, func) in seen:  # one call per function and docstring: the cost
+                continue
+            seen.add((test.name, func))
+            lineno = (test.lineno or 0) + test.examples[i].lineno + 1
+            out.append(pytest.param(test, i, node, id=f"{test.name}:{lineno}"))
+    return out
+
+
+CASES = _cases()
+
+
+def _omitted(node, globs):
+    """The parameters (inspect.Parameter) with a default that the call ``node`` leaves out."""
+    params = list(inspect.signature(evaluate(node.func, globs)).parameters.values())
+    fixed = [p for p in params if p.kind in (p.POSITIONAL_ONLY, p.POSITIONAL_OR_KEYWORD)]
+    given = {p.name for p in fixed[:len(node.args)]} | {k.arg for k in node.keywords}
+    return [p for p in params if p.name not in given and p.default is not p.empty
+            and p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY)]
+
+
+def _added(node, name):
+    """A copy of the call with ``name=EDGE`` added."""
+    new = ast.parse(ast.unparse(node), mode="eval").body
+    new.keywords.append(ast.keyword(arg=name, value=ast.Name("EDGE", ast.Load())))
+    return ast.fix_missing_locations(new)
+
+
+def _judge(call, globs, label, value, base, name, names, key):
+    """None if the call with ``name=value`` added is used or refused well, else what went wrong."""
+    err, result = outcome(call, globs, value, base)
+    if isinstance(err, ValueError):
+        lead = first_name(str(err), names | {name})
+        if lead == name or key in JOINT:
+            return None
+        return f"{name}={label}: the ValueError leads with {lead!r}: {err}"
+    if err is not None:
+        return f"{name}={label}: {type(err).__name__}: {err}"
+    if label == "True":
+        return f"{name}={label}: a bool was taken as a number"
+    if finite(base[1]) and not finite(result):
+        return f"{name}={label}: a non-finite result"
+    return None
+
+
+def test_the_calls_are_collected():
+    assert len(CASES) > 300
+    assert any(p.id.startswith("xnavlab.core.filters.ekf_update:") for p in CASES)
+
+
+@pytest.mark.parametrize(("test", "i", "node"), CASES)
+def test_a_parameter_left_at_its_default_is_used_or_refused(test, i, node):
+    if plumbing(test):
+        pytest.skip(plumbing(test))
+    base = unmodified(test, i, node)
+    if base is None:
+        pytest.skip("the unmodified call raises (an example of a refusal)")
+    if base[0] > SLOW_BASE_S:
+        pytest.skip(f"the unmodified call takes {base[0]:.1f} s (a run: its own tests try it)")
+    globs = state(test, i, node)
+    names = parameter_names(node, globs)
+    problems = []
+    for param in _omitted(node, globs):
+        key = f"{test.name}:{param.name}"
+        if key in SKIP:
+            continue
+        call = _added(node, param.name)
+        problems += [_judge(call, globs, label, value, base, param.name, names, key)
+                     for label, value in odd_values(param.default)]
+    problems = [p for p in problems if p]
+    assert not problems, f"{ast.unparse(node)}:\n" + "\n".join(p[:300] for p in problems)
