@@ -14,9 +14,9 @@ number, NaN. A changed call passes when
   given where a number goes (a bool is never a count or a length).
 
 A ``TypeError``, ``AttributeError`` or ``IndexError`` from inside, numpy's message, a warning or
-a NaN fails. An example whose unmodified call takes longer than :data:`SLOW_BASE_S` is passed
-over (its parameters are a run's settings, which the run's own tests try): the test's cost is
-kept to about a minute of CPU.
+a NaN fails. The examples in :data:`SLOW` (an unmodified call of a second or more, measured
+once and written down: the choice never depends on this machine's speed) are passed over, their
+parameters tried by their own tests; the rest cost about a minute of CPU.
 """
 
 import ast
@@ -37,11 +37,31 @@ from example_calls import (
     unmodified,
 )
 
-#: An example call slower than this (s, unmodified) is passed over (a run of the filters).
-SLOW_BASE_S = 1.0
+#: Examples whose unmodified call takes a second or more (measured on a quiet 2-core machine,
+#: 2026-11-29; ten changed calls per parameter would take minutes): their own tests try them.
+SLOW = {
+    "xnavlab.mars.timing.pint_bridge": "PINT's timing models and photon files (80 s, 64 s, 17 s)",
+    "xnavlab.mars.models.dynamics.chapter_truths": "eight 30-day truths (43 s)",
+    "xnavlab.core.detection.combined": "the compiled CUSUM and wavelet designs (4-11 s)",
+    "xnavlab.core.detection.batch.wavelet_detect": "a day of samples (7 s)",
+    "xnavlab.mars.timing.photon_error.split_pulls": "a photon Monte Carlo (10 s)",
+    "xnavlab.mars.timing.photon_plots.plot_fix": "a photon fix (2.6 s)",
+    "xnavlab.mars.timing.photon_fix.build_reference": "a photon template (2.5 s)",
+    "xnavlab.core.montecarlo.plot_pd": "a Monte Carlo of detections (2.3 s)",
+    "xnavlab.core.montecarlo.plot_pd_error": "a Monte Carlo of detections (2.0 s)",
+    "xnavlab.mars.timing.fold_toa.window_survey": "17 folded windows (1.8 s)",
+    "xnavlab.mars.timing.fold_toa.fold_window": "a folded window (1.8 s)",
+    "xnavlab.mars.models.dynamics.plot_model_difference": "a changed call propagates 30-day "
+    "orbits afresh (46 s in all)",
+    "xnavlab.mars.timing.toa.plot_orbit_terms": "a changed call computes a day's delays afresh "
+    "(24 s in all)",
+}
 
 #: ``test name:parameter`` -> why a refusal of an odd value of it names another parameter first.
-JOINT = {}
+JOINT = {
+    "xnavlab.mars.timing.pulsars.from_par:width_s": "duty_cycle and width_s give the same pulse "
+    "width: the conflict names both, duty_cycle (the example's) first",
+}
 
 #: ``test name:parameter`` -> why it is not tried.
 SKIP = {}
@@ -121,11 +141,12 @@ def test_the_calls_are_collected():
 def test_a_parameter_left_at_its_default_is_used_or_refused(test, i, node):
     if plumbing(test):
         pytest.skip(plumbing(test))
+    slow = [why for prefix, why in SLOW.items() if test.name == prefix or test.name.startswith(prefix + ".")]
+    if slow:
+        pytest.skip(slow[0])
     base = unmodified(test, i, node)
     if base is None:
         pytest.skip("the unmodified call raises (an example of a refusal)")
-    if base[0] > SLOW_BASE_S:
-        pytest.skip(f"the unmodified call takes {base[0]:.1f} s (a run: its own tests try it)")
     globs = state(test, i, node)
     names = parameter_names(node, globs)
     problems = []

@@ -198,7 +198,7 @@ def test_a_schedule_that_is_not_a_list_of_faults_is_refused_by_name(faults, matc
 
 def test_format_spec_names_a_component_or_sensor_it_has_no_name_for():
     with pytest.raises(ValueError, match=r"^faults\[0\]: component must be in \[0, 3\] for "
-                                         r"sensor 'uv', got 99"):
+                                         r"sensor 'uv' \(components\['uv'\]: .*\), got 99"):
         format_spec([Fault("uv", "step", 1.0, 10.0, 5.0, 99)], COMPS)
     with pytest.raises(ValueError, match=r"^faults\[0\]: sensor 'gps' has no component names"):
         format_spec([Fault("gps", "step", 1.0, 10.0, 5.0)], COMPS)
@@ -319,9 +319,9 @@ def test_a_fault_stores_the_checked_python_numbers():
     ([], r"^components must be a dict"),
     ({}, r"^components must be a dict .*got an empty dict"),
     ({"uv": []}, r"^components\['uv'\] must be a non-empty list of component names"),
-    ({"cns": ["a"]}, r"^components has no entry for sensor 'uv' of faults\[0\] \(its sensors: cns\)"),
-    ({"uv": ["range"], "cns": ["a"]}, r"^components\['uv'\] has 1 names \(range\), not one for "
-                                      r"component 2 of faults\[0\]"),
+    ({"cns": ["a"]}, r"^faults\[0\]: sensor 'uv' has no component names in components \(known: cns\)"),
+    ({"uv": ["range"], "cns": ["a"]}, r"^faults\[0\]: component must be in \[0, 0\] for sensor 'uv' "
+                                      r"\(components\['uv'\]: range\), got 2"),
 ])
 def test_check_faults_checks_its_components(components, match):
     """Review 35k (5) 1: check_faults never checked components (-1, NaN, 'x', a table without

@@ -427,7 +427,8 @@ def parse_spec(spec, components):
 def _check_components(components, faults=(), name="faults"):
     """Component names per sensor: a non-empty dict of str to a non-empty list or tuple of str,
     naming every sensor of ``faults`` and holding each one's component, else one ValueError
-    naming ``components`` (a table the faults are not in would be ignored)."""
+    naming ``components`` (or the fault, ``name[i]``, it has no names for: a table the faults
+    are not in would be ignored)."""
     want = "components must be a dict of sensor name to its component names (a list of str)"
     if not isinstance(components, dict):
         raise ValueError(f"{want}, got {type(components).__name__} {components!r:.80}")
@@ -442,12 +443,13 @@ def _check_components(components, faults=(), name="faults"):
                              f"(str), got {v!r:.80}")
     for i, f in enumerate(faults):
         if f.sensor not in components:
-            raise ValueError(f"components has no entry for sensor {f.sensor!r} of {name}[{i}] "
-                             f"(its sensors: {', '.join(components)})")
+            raise ValueError(f"{name}[{i}]: sensor {f.sensor!r} has no component names in components "
+                             f"(known: {', '.join(sorted(components))})")
         n = len(components[f.sensor])
         if f.component is not None and f.component >= n:
-            raise ValueError(f"components[{f.sensor!r}] has {n} names ({', '.join(components[f.sensor])}), "
-                             f"not one for component {f.component} of {name}[{i}]")
+            raise ValueError(f"{name}[{i}]: component must be in [0, {n - 1}] for sensor {f.sensor!r} "
+                             f"(components[{f.sensor!r}]: {', '.join(components[f.sensor])}), got "
+                             f"{f.component}")
 
 
 def _fault_from_match(item, m, components):
@@ -494,18 +496,8 @@ def format_spec(faults, components):
     faults = check_faults("faults", faults)
     if not faults:   # "" would not parse back: parse_spec refuses an empty spec
         raise ValueError("faults must hold at least one Fault (an empty schedule has no spec)")
-    _check_components(components)
-    items = []
-    for i, f in enumerate(faults):
-        if f.sensor not in components:
-            raise ValueError(f"faults[{i}]: sensor {f.sensor!r} has no component names here "
-                             f"(known: {', '.join(sorted(components))})")
-        n = len(components[f.sensor])
-        if f.component is not None and f.component >= n:
-            raise ValueError(f"faults[{i}]: component must be in [0, {n - 1}] for sensor "
-                             f"{f.sensor!r}, got {f.component}")
-        items.append(_item(f, components))
-    return ",".join(items)
+    _check_components(components, faults, "faults")  # each fault's sensor and component named
+    return ",".join(_item(f, components) for f in faults)
 
 
 def _number(x):

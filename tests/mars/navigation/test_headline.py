@@ -181,3 +181,10 @@ def test_headline_records_refuses_the_fault_schedule_on_a_short_run():
         headline.headline_records(n_seeds=2, days=0.02)
     with pytest.raises(ValueError, match=r"^path must be a path \(a str or pathlib.Path\), got dict"):
         headline.load_shipped({})
+
+
+def test_load_shipped_names_its_path():
+    """Review 35k (tests/test_default_inputs.py): a path of the wrong kind was refused without
+    naming the parameter."""
+    with pytest.raises(ValueError, match=r"^path, the headline runs 'x' must end in \.json"):
+        headline.load_shipped("x")

@@ -385,3 +385,16 @@ def test_review_35k_1_19_summary_rows_witness_nav(summary_inputs, kwargs, messag
     header, rows = tt.summary_rows(*summary_inputs, nav={None: {"position_error_m": 1.0},
                                                          "planets": {"failed": "x"}})
     assert [r[-1] for r in rows][:2] == ["-", "the filter breaks down"]
+
+
+def test_plot_terms_checks_witness_and_its_epochs_together():
+    """Review 35k (tests/test_default_inputs.py): witness='x' was refused as witness_t, and
+    witness_t alone was dropped."""
+    t = dynamics.MARS_T0 + np.arange(0.0, 86400.0 + 1.0, 600.0)
+    orbit, year = tt.orbit_terms(t, dynamics.truth(t)), tt.mars_year_terms(step_days=10.0)
+    with pytest.raises(ValueError, match=r"^witness must be the dict of pint_witness\(\)"):
+        tt.plot_terms(t, orbit, year, witness="x")
+    with pytest.raises(ValueError, match=r"^witness_t must be given with witness"):
+        tt.plot_terms(t, orbit, year, witness={"shapiro_paper": 0, "pint_planets": 0})
+    with pytest.raises(ValueError, match=r"^witness_t is used only with witness"):
+        tt.plot_terms(t, orbit, year, witness_t=t)

@@ -416,3 +416,10 @@ def test_proper_time_terms_refuses_a_clock_inside_a_body_and_x_of_another_length
                                              r"of t\), got shape"):
             toa.proper_time_terms(t, bad)
     assert toa.proper_time_terms(t, state)["rate"].shape == (2,)
+
+
+def test_delays_at_names_its_center():
+    """Review 35k (tests/test_default_inputs.py): center=None was refused as the ephemeris's
+    'body'."""
+    with pytest.raises(ValueError, match=r"^center must be one of"):
+        toa.delays_at([-3.4e6, -1.3e6, -2.6e6], 5.0e8, center=None)

@@ -170,8 +170,8 @@ def load_shipped(path=None):
     (True, ['index', 'metrics', 'seed'])
     """
     path = RUNS_PATH if path is None else as_path(path, "path")  # a dict: one line
-    data = load_table(path, "headline runs", (".json",))
-    what = f"headline runs {str(path)!r}"
+    data = load_table(path, "path, the headline runs", (".json",))  # the user's name first
+    what = f"path, the headline runs {str(path)!r},"
     if data.get("campaign") != SHIPPED:
         raise ValueError(f"{what} must hold the campaign {SHIPPED}, got {data.get('campaign')}")
     runs = data.get("runs")
@@ -182,7 +182,7 @@ def load_shipped(path=None):
         m = r.get("metrics")
         if (not isinstance(m, dict) or not m or not isinstance(r.get("seed"), int)
                 or not all(isinstance(v, (int, float)) and math.isfinite(v) for v in m.values())):
-            raise ValueError(f"{what}: run {r['index']} must hold its seed and finite metrics")
+            raise ValueError(f"{what} run {r['index']} must hold its seed and finite metrics")
     return data
 
 

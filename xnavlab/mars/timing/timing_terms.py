@@ -820,9 +820,9 @@ def plot_terms(t, orbit, year, witness_t=None, witness=None):
     orbit, year : dict
         :func:`orbit_terms` and :func:`mars_year_terms`.
     witness_t : array_like, shape (k,), optional
-        Epochs of ``witness`` (:func:`pint_witness`).
+        Epochs of ``witness`` (:func:`pint_witness`); given with ``witness`` only.
     witness : dict, optional
-        :func:`pint_witness` at ``witness_t``.
+        :func:`pint_witness` at ``witness_t`` (with ``shapiro_paper`` and ``pint_planets``).
 
     Returns
     -------
@@ -859,7 +859,13 @@ def plot_terms(t, orbit, year, witness_t=None, witness=None):
         ax.plot(days, C * np.abs(data["planets_au"]).max(axis=-1), "--", color="C1",
                 label="planets' Shapiro referred to 1 au (PINT's convention)")
         ax.set(yscale="log", xlabel=xlabel, ylim=(1e-2, 1e9))
+    if witness is None and witness_t is not None:
+        raise ValueError("witness_t is used only with witness (the epochs of pint_witness()), "
+                         "got witness_t without witness")
     if witness is not None:
+        witness = _terms("witness", witness, ("shapiro_paper", "pint_planets"), "pint_witness()")
+        if witness_t is None:
+            raise ValueError("witness_t must be given with witness (the epochs of pint_witness())")
         wt = (check_finite_array("witness_t", witness_t) - t[0]) / DAY
         for ax, span in ((axes[0], (t[-1] - t[0]) / DAY), (axes[1], (year["t"][-1] - t[0]) / DAY)):
             inside = (wt >= -1e-9) & (wt <= span + 1e-9)

@@ -432,6 +432,7 @@ def delays_at(r, t, pulsar_names=pulsars.PAPER_PULSARS, center="mars", ephem="de
     if t.ndim > 1 or (t.ndim == 1 and rows is not None and t.size != rows):
         want = "(n,)" if rows is None else f"({rows},) (one epoch per row of r)"
         raise ValueError(f"t must be a scalar or have shape {want}, got shape {t.shape}")
+    center = check_choice("center", center, ephemeris.BODIES)  # (was refused as the ephemeris's body)
     r_c = ephemeris.position(center, t, ephem)
     r_sun = ephemeris.position("sun", t, ephem)
     return delay(r + r_c, n, d, r_sun, shapiro=shapiro)
