@@ -466,3 +466,19 @@ def test_parse_faults_leads_with_spec():
     for bad in (None, "", "  ", 5, ["paper"]):
         with pytest.raises(ValueError, match=r"^spec must be 'paper' or a fault spec SENSOR"):
             s.parse_faults(bad)
+
+
+_IN_RANGE = " must be a real number in \\[0.001, 1000\\]"
+
+
+@pytest.mark.parametrize("kw, lead", [
+    (dict(cns_step_sigma=5e-324), "cns_step_sigma" + _IN_RANGE),
+    (dict(uv_step_sigma=1e-4), "uv_step_sigma" + _IN_RANGE),
+    (dict(scenario=scenarios.MarsScenario(sigma_horizon_deg=5e-324)),
+     "scenario.sigma_horizon_deg \\(5e-324\\) times cns_step_sigma")])
+def test_paper_schedule_refuses_a_step_size_under_its_own_name(kw, lead):
+    """Review 35l (3) 3: cns_step_sigma=5e-324 underflowed to a zero step, refused as the Fault's
+    "magnitude of a step fault", and the stated range (0, 1000] was not the real one."""
+    with pytest.raises(ValueError, match=f"^{lead}"):
+        s.paper_schedule(**kw)
+    assert len(s.paper_schedule(uv_step_sigma=s.MIN_STEP_SIGMA, cns_step_sigma=s.MIN_STEP_SIGMA)) == 16

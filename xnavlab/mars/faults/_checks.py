@@ -7,12 +7,16 @@ Plumbing of :mod:`xnavlab.mars.faults`; not part of the public API.
 
 from __future__ import annotations
 
+import math
+
+import numpy as np
+
 from xnavlab.core.detection import MAX_SAMPLES
 from xnavlab.core.validate import check_choice, check_int, shown
 from xnavlab.mars.navigation.scenarios import SUBSYSTEMS
 
 __all__ = ["DETECTOR_SETTINGS", "XNAV_SETTINGS", "READMIT_SAMPLES", "check_settings",
-           "readmit_windows"]
+           "readmit_windows", "not_1d", "check_isolations"]
 
 #: Setting -> (the detectors that use it, its default): another detector with a setting away
 #: from its default is refused (the scenario file's rule, ``DETECTOR_USES``). ``readmit_alpha``
@@ -75,3 +79,39 @@ def readmit_windows(readmit_samples, detector, subsystems):
                              f"(its subsystems: {', '.join(subsystems)})")
         win[k] = check_int(f"readmit_samples[{k!r}]", v, 1, MAX_SAMPLES)
     return win
+
+
+def not_1d(value):
+    """Whether ``value`` is a numpy array that is no 1-D list (a 0-d array is not iterable)."""
+    return isinstance(value, np.ndarray) and value.ndim != 1
+
+
+def _time(v):
+    """Whether ``v`` is a real, finite time >= 0 (not a bool)."""
+    return isinstance(v, int | float | np.integer | np.floating) and not isinstance(v, bool) \
+        and math.isfinite(v) and v >= 0
+
+
+def check_isolations(isolations, sensors):
+    """Isolation intervals: dicts with ``sensor`` (one of ``sensors``), ``out`` and ``back`` (s
+    or None), else one ValueError naming ``isolations[i]``."""
+    if isinstance(isolations, str | dict) or not hasattr(isolations, "__iter__") or not_1d(isolations):
+        raise ValueError(f"isolations must be a list of dicts (sensor, out, back), got "
+                         f"{shown(isolations)}")
+    isolations = list(isolations)
+    for i, iv in enumerate(isolations):
+        if not isinstance(iv, dict) or not {"sensor", "out", "back"} <= set(iv):
+            raise ValueError(f"isolations[{i}] must be a dict with keys sensor, out and back, "
+                             f"got {shown(iv)}")
+        if iv["sensor"] not in sensors:
+            raise ValueError(f"isolations[{i}]['sensor'] must be one of "
+                             f"{', '.join(map(repr, sensors))}, got {shown(iv['sensor'])}")
+        for key in ("out", "back"):  # s since the start: a real time (back: None, still out)
+            v = iv[key]
+            if not (key == "back" and v is None or _time(v)):
+                raise ValueError(f"isolations[{i}]['{key}'] must be a finite time >= 0, s since "
+                                 f"the start{' (or None)' if key == 'back' else ''}, got {shown(v)}")
+        if iv["back"] is not None and not iv["back"] > iv["out"]:
+            raise ValueError(f"isolations[{i}]['back'] must come after its out ({iv['out']:g} s) "
+                             f"or be None (still out at the end), got {iv['back']!r}")
+    return isolations

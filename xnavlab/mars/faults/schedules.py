@@ -40,12 +40,14 @@ import numpy as np
 from xnavlab.core.constants import DAY
 from xnavlab.core.faults import MAX_SIZE, Fault, check_faults, format_spec, parse_spec
 from xnavlab.core.validate import check_bool, check_choice, check_instance, check_real, check_text, shown
+from xnavlab.mars.faults import _checks
 from xnavlab.mars.navigation import scenarios
 from xnavlab.mars.timing import pulsar_specs
 
 __all__ = [
     "PAPER_ONSETS",
     "MIN_FAULT_TAIL_S",
+    "MIN_STEP_SIGMA",
     "MAX_DAYS",
     "RATE_PER_DAY_RANGE",
     "check_armed",
@@ -90,6 +92,10 @@ MAX_DAYS = 365.0
 #: second (and 5e-324 underflowed to a probability of 0, refused under another name).
 RATE_PER_DAY_RANGE = (1e-3, 100.0)
 
+#: The smallest UV or CNS step of :func:`paper_schedule`, in units of the sensor's noise: a
+#: thousandth of it (a smaller step is no fault; 5e-324 underflowed to a zero-size fault).
+MIN_STEP_SIGMA = 1e-3
+
 #: Seconds a fault's onset must leave before the run's end for the message of
 #: :func:`check_schedule` to suggest a long enough run (one XNAV integration).
 MIN_FAULT_TAIL_S = 5000.0
@@ -124,7 +130,8 @@ def paper_schedule(uv_step_sigma=5.0, uv_duration=5000.0, xnav_step_s=1.0e-5,
     Parameters
     ----------
     uv_step_sigma : float
-        UV range step, in units of the range noise (5000 m), in (0, 1000].
+        UV range step, in units of the range noise (5000 m), in [1e-3, 1000] (a thousandth of
+        the noise at the least: below it the step is no fault, and a subnormal one underflowed).
     uv_duration, xnav_duration, cns_duration : float
         Fault durations, s, in (0, 1e5] (the paper's onsets are 1e5 s apart at the closest).
     xnav_step_s : float
@@ -132,7 +139,8 @@ def paper_schedule(uv_step_sigma=5.0, uv_duration=5000.0, xnav_step_s=1.0e-5,
     xnav_ramp : float
         XNAV delay drift, s/s, on pulsar 1 (2e-9 s/s = 0.6 m/s), nonzero, in [-1e-3, 1e-3].
     cns_step_sigma : float
-        Horizon-sensor step on every starlight angle, in units of its noise (0.05 deg).
+        Horizon-sensor step on every starlight angle, in units of its noise (0.05 deg), in
+        [1e-3, 1000] (as ``uv_step_sigma``).
     scenario : MarsScenario, optional
         Supplies the noise levels.
 
@@ -147,8 +155,8 @@ def paper_schedule(uv_step_sigma=5.0, uv_duration=5000.0, xnav_step_s=1.0e-5,
     (16, 'xnav', 1e-05)
     """
     sc = scenarios.check_scenario("scenario", scenario)
-    uv_step_sigma = check_real("uv_step_sigma", uv_step_sigma, 0.0, 1000.0, lo_open=True)
-    cns_step_sigma = check_real("cns_step_sigma", cns_step_sigma, 0.0, 1000.0, lo_open=True)
+    uv_step_sigma = check_real("uv_step_sigma", uv_step_sigma, MIN_STEP_SIGMA, 1000.0)
+    cns_step_sigma = check_real("cns_step_sigma", cns_step_sigma, MIN_STEP_SIGMA, 1000.0)
     for name, v in (("uv_duration", uv_duration), ("xnav_duration", xnav_duration),
                     ("cns_duration", cns_duration)):
         check_real(name, v, 0.0, 1e5, lo_open=True)
@@ -165,11 +173,16 @@ def paper_schedule(uv_step_sigma=5.0, uv_duration=5000.0, xnav_step_s=1.0e-5,
         else:
             faults.append(Fault("xnav", "ramp", xnav_ramp, t, xnav_duration, component=1))
     sig_h = math.radians(sc.sigma_horizon_deg)
+    uv_m, cns_rad = uv_step_sigma * sc.sigma_range_m, cns_step_sigma * sig_h
+    for name, size, noise in (("uv_step_sigma", uv_m, "sigma_range_m"),
+                              ("cns_step_sigma", cns_rad, "sigma_horizon_deg")):
+        if not size > 0.0:  # a subnormal noise level of the scenario's: the step underflows
+            raise ValueError(f"scenario.{noise} ({getattr(sc, noise)!r}) times {name} underflows "
+                             f"to a step of {size!r}: give the scenario a real noise level")
     for t in PAPER_ONSETS["uv"]:
-        faults.append(Fault("uv", "step", uv_step_sigma * sc.sigma_range_m, t, uv_duration,
-                            component=0))
+        faults.append(Fault("uv", "step", uv_m, t, uv_duration, component=0))
     for t in PAPER_ONSETS["cns"]:
-        faults.append(Fault("cns", "step", cns_step_sigma * sig_h, t, cns_duration))
+        faults.append(Fault("cns", "step", cns_rad, t, cns_duration))
     return sorted(faults, key=lambda f: f.onset)
 
 
@@ -318,7 +331,7 @@ TRAIN_SAMPLES = 356
 def _in_run(faults, comps):
     """``faults`` (a list once read) with every Fault's sensor among the run's subsystems and
     its component among the sensor's (``comps``), else one ValueError naming ``faults[i]``."""
-    if isinstance(faults, list | tuple) or (hasattr(faults, "__iter__") and not _not_1d(faults)
+    if isinstance(faults, list | tuple) or (hasattr(faults, "__iter__") and not _checks.not_1d(faults)
                                            and not isinstance(faults, str | bytes | dict)):
         faults = list(faults)
         for i, f in enumerate(faults):
@@ -517,14 +530,9 @@ def scoring_span(fault, dt=None, span=math.inf):
 def _fault_list(name, faults):
     """``faults`` as a list of Fault (``check_faults``), a numpy array that is no 1-D list
     (``np.array(1.0)``) refused too, naming ``name``."""
-    if _not_1d(faults):
+    if _checks.not_1d(faults):
         raise ValueError(f"{name} must be a sequence of Fault, got {shown(faults)}")
     return check_faults(name, faults)
-
-
-def _not_1d(value):
-    """Whether ``value`` is a numpy array that is no 1-D list (a 0-d array is not iterable)."""
-    return isinstance(value, np.ndarray) and value.ndim != 1
 
 
 def _span(span):
@@ -611,7 +619,7 @@ def score_faults(faults, events, isolations=(), *, span=math.inf, dt=None):
     faults = _fault_list("faults", faults)
     span = _span(span)
     events = _check_events(events)
-    isolations = _check_isolations(isolations)
+    isolations = _checks.check_isolations(isolations, LATE_WINDOW_S)
     for f in faults:
         if f.sensor not in LATE_WINDOW_S:
             raise ValueError(f"faults: sensor {f.sensor!r} has no late window "
@@ -672,7 +680,7 @@ def check_event_list(name, events):
 
     check_text("name", name)
     what = "detection Event (xnavlab.core.detection.Event)"
-    if isinstance(events, str | bytes | dict) or not hasattr(events, "__iter__") or _not_1d(events):
+    if isinstance(events, str | bytes | dict) or not hasattr(events, "__iter__") or _checks.not_1d(events):
         raise ValueError(f"{name} must be a list of {what.replace('Event ', 'Events ')}, "
                          f"got {shown(events)}")
     events = list(events)
@@ -700,7 +708,7 @@ def _check_events(events):
         if sensor not in LATE_WINDOW_S:  # its alarms would be matched to no fault, unscored
             raise ValueError(f"events[{sensor!r}]: {sensor!r} is not a sensor (subsystem) this "
                              f"rule scores (known: {', '.join(LATE_WINDOW_S)})")
-        if isinstance(evs, str | dict) or not hasattr(evs, "__iter__") or _not_1d(evs):
+        if isinstance(evs, str | dict) or not hasattr(evs, "__iter__") or _checks.not_1d(evs):
             raise ValueError(f"events[{sensor!r}] must be a list of detection Events, got "
                              f"{shown(evs)}")
         for i, e in enumerate(evs):
@@ -710,37 +718,6 @@ def _check_events(events):
                 raise ValueError(f"events[{sensor!r}][{i}] must be a detection Event (with an "
                                  f"onset, s: xnavlab.core.detection.Event), got {shown(e)}")
     return events
-
-
-def _time(v):
-    """Whether ``v`` is a real, finite time >= 0 (not a bool)."""
-    return isinstance(v, int | float | np.integer | np.floating) and not isinstance(v, bool) \
-        and math.isfinite(v) and v >= 0
-
-
-def _check_isolations(isolations):
-    """Isolation intervals: dicts with ``sensor``, ``out`` and ``back`` (s or None)."""
-    if isinstance(isolations, str | dict) or not hasattr(isolations, "__iter__") or _not_1d(isolations):
-        raise ValueError(f"isolations must be a list of dicts (sensor, out, back), got "
-                         f"{shown(isolations)}")
-    isolations = list(isolations)
-    for i, iv in enumerate(isolations):
-        if not isinstance(iv, dict) or not {"sensor", "out", "back"} <= set(iv):
-            raise ValueError(f"isolations[{i}] must be a dict with keys sensor, out and back, "
-                             f"got {shown(iv)}")
-        if iv["sensor"] not in LATE_WINDOW_S:
-            raise ValueError(f"isolations[{i}]['sensor'] must be one of "
-                             f"{', '.join(map(repr, LATE_WINDOW_S))}, got {shown(iv['sensor'])}")
-        for key in ("out", "back"):  # s since the start: a real time (back: None, still out)
-            v = iv[key]
-            if not (key == "back" and v is None or _time(v)):
-                raise ValueError(f"isolations[{i}]['{key}'] must be a finite time >= 0, s since "
-                                 f"the start{' (or None)' if key == 'back' else ''}, got {shown(v)}")
-        if iv["back"] is not None and not iv["back"] > iv["out"]:
-            raise ValueError(f"isolations[{i}]['back'] must come after its out ({iv['out']:g} s) "
-                             f"or be None (still out at the end), got {iv['back']!r}")
-    return isolations
-
 
 
 def fault_detection_delays(faults, events, isolations=(), *, span=math.inf, dt=None):
