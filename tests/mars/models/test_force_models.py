@@ -298,3 +298,17 @@ def test_force_model_propagate_refuses_float32_epochs_and_a_span_of_years():
         fm.truth(t, t0=None, force_model="study")
     with pytest.raises(ValueError, match=r"^t must resolve its epochs"):
         fm.accelerations(t.astype(np.float32), np.tile(R0, (2, 1)))
+
+
+@pytest.mark.parametrize("call, lead", [
+    (lambda: fm.acceleration(dynamics.MARS_T0 * 1e6, dynamics.MARS_STATE0[:3]), "t must be in "),
+    (lambda: fm.accelerations(dynamics.MARS_T0 + np.array([0.0, 1e12]),
+                              np.tile(dynamics.MARS_STATE0[:3], (2, 1))), "t\\[1\\] must be in "),
+    (lambda: fm.acceleration(np.float32(dynamics.MARS_T0), dynamics.MARS_STATE0[:3]),
+     "t must resolve its epochs to 0.001 s"),
+    (lambda: fm.mars_fixed_matrix(np.float32(dynamics.MARS_T0)), "t must resolve its epochs")])
+def test_acceleration_names_t_not_the_tables_t_start(call, lead):
+    """Review 35l (3) 4: acceleration(MARS_T0 * 1e6, r) was refused as the inner table's
+    "t_start must be ..."; a float32 epoch (32 s) was taken by the scalar calls."""
+    with pytest.raises(ValueError, match=f"^{lead}"):
+        call()

@@ -13,7 +13,7 @@ from xnavlab.core import ephemeris
 from xnavlab.core.constants import DAY
 from xnavlab.core.validate import check_choice, check_finite_array, check_real
 
-__all__ = ["EPOCH_RESOLUTION", "MAX_SPAN_DAYS", "epoch", "epochs", "span"]
+__all__ = ["EPOCH_RESOLUTION", "MAX_SPAN_DAYS", "epoch", "epochs", "span", "covered"]
 
 #: The coarsest resolution an epoch's dtype may have at the epoch's size, s (1 ms: the orbiter
 #: moves 3.5 m in it). float64 resolves 6e-8 s at 5e8 s; float32 32 s.
@@ -71,3 +71,18 @@ def span(t0, t_end, ephem=None, name="t_eval"):
         if not t_end <= hi:
             raise ValueError(f"{name}[-1] must be at most {hi:.6g} s TDB past J2000 (the coverage "
                              f"of {ephem}), got {t_end:.6g}")
+
+
+def covered(name, t, ephem):
+    """Refuse epochs ``t`` (a float or an array, the user's ``name``) outside ``ephem``'s
+    coverage less a third-body table's knots past its end, naming ``name`` (``name[i]``), not
+    the table's ``t_start`` or ``t_end``."""
+    check_choice("ephem", ephem, ephemeris.EPHEMERIDES)
+    lo, hi = ephemeris.coverage(ephem)
+    hi -= _TABLE_MARGIN
+    arr = np.asarray(t, dtype=float).reshape(-1)
+    bad = np.flatnonzero((arr < lo) | (arr > hi))
+    if bad.size:
+        label = name if np.ndim(t) == 0 else f"{name}[{bad[0]}]"
+        raise ValueError(f"{label} must be in [{lo:.6g}, {hi:.6g}] s TDB past J2000 (the coverage "
+                         f"of {ephem}, which tabulates the third bodies), got {arr[bad[0]]:.6g}")

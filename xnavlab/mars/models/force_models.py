@@ -391,7 +391,7 @@ def mars_fixed_matrix(t):
     >>> bool(np.degrees(np.arccos(pole @ dynamics.MARS_POLE)) < 0.01)   # IAU: within 0.01 deg
     True
     """
-    t = check_real("t", t)
+    t = _checks.epoch("t", t)
     fixed, rxi, psi0, psi1, phi0, phi1 = _orientation_args()
     d = t / DAY
     return _rz(phi0 + phi1 * d) @ rxi @ _rz(psi0 + psi1 * d) @ fixed
@@ -706,7 +706,8 @@ def acceleration(t, r, force_model=PAPER, ephem="de421"):
     Parameters
     ----------
     t : float
-        Epoch, s TDB past J2000.
+        Epoch, s TDB past J2000 (float64: a float32 one is refused), inside ``ephem``'s
+        coverage when the model has third bodies or SRP.
     r : array_like, shape (3,)
         Mars-centred position, J2000 axes, m; outside Mars (``|r| > R_MARS``), else refused.
     force_model : ForceModel or str
@@ -720,8 +721,11 @@ def acceleration(t, r, force_model=PAPER, ephem="de421"):
     >>> bool(np.allclose(acceleration(t, r), dynamics.acceleration(t, r, tab), rtol=1e-12))
     True
     """
-    t = check_real("t", t)
+    t = _checks.epoch("t", t)  # float32 refused (it resolves 32 s), as accelerations' t
     r = _outside_mars("r", check_vector("r", r, 3))
+    fm = model(force_model, "force_model")
+    if fm.third_bodies or fm.srp:  # the table's t_start was named (review 35l (3) 4)
+        _checks.covered("t", t, ephem)
     return accelerations(np.array([t]), r.reshape(1, 3), force_model, ephem)[0]
 
 
@@ -731,7 +735,8 @@ def accelerations(t, r, force_model=PAPER, ephem="de421", tables=None):
     Parameters
     ----------
     t : array_like, shape (n,)
-        Epochs, s TDB past J2000.
+        Epochs, s TDB past J2000, each inside ``ephem``'s coverage when the model has third
+        bodies or SRP.
     r : array_like, shape (n, 3)
         Mars-centred positions, m, each outside Mars (``|r| > R_MARS``), else refused.
     force_model : ForceModel or str
@@ -750,6 +755,8 @@ def accelerations(t, r, force_model=PAPER, ephem="de421", tables=None):
     _outside_mars("r", r)
     fm = model(force_model, "force_model")
     if tables is None:
+        if fm.third_bodies or fm.srp:  # t, not the table's t_start or t_end (review 35l (3) 4)
+            _checks.covered("t", t, ephem)
         tables = Tables(fm, float(t.min()), float(t.max()), ephem)
     else:  # review 35k: AttributeError 'args'; a table of another model was used silently
         check_instance("tables", tables, Tables, "a Tables of force_model over t (or None)")
