@@ -177,3 +177,16 @@ def test_ekf_review_35i_refusals():
     for monitor in (att.SOSMonitor, att.DOSMonitor):
         with pytest.raises(ValueError, match=r"^q0 must be a 1-D array \(shape \(4,\)\)"):
             monitor(att.DEFAULT_Q0[None])
+
+
+@pytest.mark.parametrize("q, words", [
+    (np.zeros(4), "q_meas must have a non-zero norm"),
+    (2.0 * np.asarray(att.DEFAULT_Q0), "q_meas must be a unit quaternion \\(norm 1 to 1e-06\\)")])
+def test_attitude_ekf_update_refuses_a_zero_or_scaled_measurement(q, words):
+    """Review 35l (5) 4: att.AttitudeEKF.update(np.zeros(4)) was taken and moved x and P."""
+    f = att.AttitudeEKF(att.DEFAULT_Q0, 0.1, 0.05 * att.DEG_PER_H, 1e-4, att.DEG_PER_H, 100 * att.DEG_PER_H)
+    f.predict([0.0, 0.0, 0.0])
+    x, P = f.x.copy(), f.P.copy()
+    with pytest.raises(ValueError, match=f"^{words}"):
+        f.update(q)
+    assert np.array_equal(f.x, x) and np.array_equal(f.P, P)

@@ -42,3 +42,17 @@ def test_time_sos_dos_refuses_counts_that_would_not_end():
         att.time_sos_dos(n_steps=20, repeats=10**30)
     with pytest.raises(ValueError, match=r"^n_steps must be an integer in \[10, 100000\]"):
         att.time_sos_dos(n_steps=10**30)
+
+
+@pytest.mark.parametrize("monitor", [att.SOSMonitor, att.DOSMonitor])
+@pytest.mark.parametrize("q, words", [
+    (np.zeros(4), "q_meas must have a non-zero norm"),
+    (1.5 * np.asarray(att.DEFAULT_Q0), "q_meas must be a unit quaternion")])
+def test_monitor_step_refuses_a_zero_or_scaled_measurement_before_any_filter_moves(monitor, q, words):
+    """Review 35l (5) 4: att.SOSMonitor/att.DOSMonitor.step(w, np.zeros(4)) was taken."""
+    m = monitor(att.DEFAULT_Q0)
+    m.step(att.gyro_matrix() @ np.zeros(3), att.DEFAULT_Q0)
+    xs = [f.x.copy() for f in m.filters]
+    with pytest.raises(ValueError, match=f"^{words}"):
+        m.step(att.gyro_matrix() @ np.zeros(3), q)
+    assert all(np.array_equal(x, f.x) for x, f in zip(xs, m.filters, strict=True))

@@ -6,6 +6,8 @@ Plumbing of :mod:`xnavlab.attitude`; not part of the public API.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from xnavlab.core.quaternions import UNIT_TOL
@@ -50,7 +52,7 @@ def check_covariances(name, value, n, definite=False, rtol=1e-8):
     return arr
 
 
-def check_sample(name, value, n):
+def check_sample(name, value, n, unit=False):
     """One sensor sample as ``n`` finite floats: the light check of the on-board loops.
 
     Cheaper than :func:`xnavlab.core.validate.check_finite_array` (one shape test, one
@@ -65,6 +67,10 @@ def check_sample(name, value, n):
         One sample: gyro rates (rad/s) or a star-tracker quaternion.
     n : int
         Expected length.
+    unit : bool
+        A quaternion measurement: its norm must be 1 to :data:`xnavlab.core.quaternions.UNIT_TOL`
+        (one norm per call; a zero or scaled one is refused, not rescaled, as
+        :func:`check_quaternion`).
 
     Returns
     -------
@@ -86,4 +92,11 @@ def check_sample(name, value, n):
     arr = arr.astype(float, copy=False)
     if arr.shape != (n,) or not np.isfinite(arr).all():
         raise ValueError(f"{name} must be {n} finite numbers, got {value!r}")
+    if unit:
+        norm = math.sqrt(float(arr @ arr))
+        if norm == 0.0:
+            raise ValueError(f"{name} must have a non-zero norm, got a zero quaternion")
+        if abs(norm - 1.0) > UNIT_TOL:
+            raise ValueError(f"{name} must be a unit quaternion (norm 1 to {UNIT_TOL:g}), got "
+                             f"norm {norm:.6g}")
     return arr

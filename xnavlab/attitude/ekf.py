@@ -232,7 +232,9 @@ class AttitudeEKF:
                                                self.drift_cov)
 
     def update(self, q_meas):
-        """Update with a star-tracker quaternion (4,); returns the innovation (eqs. (32)-(34))."""
-        qm = check_sample("q_meas", q_meas, 4)
+        """Update with a star-tracker quaternion (4,), of norm 1 to
+        :data:`xnavlab.core.quaternions.UNIT_TOL` (a zero or scaled one is refused, as
+        :func:`ekf_update`); returns the innovation (eqs. (32)-(34))."""
+        qm = check_sample("q_meas", q_meas, 4, unit=True)
         self.x, self.P, nu = ekf_update_unchecked(self.x, self.P, qm, self.R)
         return nu

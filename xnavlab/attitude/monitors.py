@@ -78,16 +78,19 @@ class SOSMonitor:
         return f
 
     def step(self, omega_g, q_meas):
-        """Process one gyro sample (4,) and star-tracker quaternion (4,); residuals (4,).
+        """Process one gyro sample (4,) and star-tracker quaternion (4,), of norm 1 to
+        :data:`xnavlab.core.quaternions.UNIT_TOL` (else refused before any filter moves);
+        residuals (4,).
 
         The gyro sample of step ``k`` drives the prediction to ``k + 1``, as in
         :func:`~.simulation.simulate`.
         """
         wg = check_sample("omega_g", omega_g, 4)
+        qm = check_sample("q_meas", q_meas, 4, unit=True)  # before the prediction moves x
         f = self.filters[0]
         if not self._first:
             f.predict(self._w_prev)
-        f.update(q_meas)
+        f.update(qm)
         self._first = False
         self._w_prev = wg[:3]
         r = np.abs(f.drift - self.drift_ref)  # paper eq. (35)
@@ -130,11 +133,12 @@ class DOSMonitor(SOSMonitor):
     def step(self, omega_g, q_meas):
         """Process one sample; the four residuals ``|d_j_hat - d_j_ref|`` (4,), rad/s."""
         wg = check_sample("omega_g", omega_g, 4)
+        qm = check_sample("q_meas", q_meas, 4, unit=True)  # before any filter moves
         r = np.empty(4)
         for j, (f, mix) in enumerate(zip(self.filters, self.mix, strict=True)):
             if not self._first:
                 f.predict(mix @ self._w_prev)
-            f.update(q_meas)
+            f.update(qm)
             r[j] = np.linalg.norm(f.drift - self.drift_ref[j])
         self._first = False
         self._w_prev = wg
