@@ -398,3 +398,20 @@ def test_plot_terms_checks_witness_and_its_epochs_together():
         tt.plot_terms(t, orbit, year, witness={"shapiro_paper": 0, "pint_planets": 0})
     with pytest.raises(ValueError, match=r"^witness_t is used only with witness"):
         tt.plot_terms(t, orbit, year, witness_t=t)
+
+
+_T32 = dynamics.MARS_T0 + np.arange(0.0, 3601.0, 600.0)
+
+
+@pytest.mark.parametrize("call, name", [
+    (lambda: tt.clock_terms(_T32.astype(np.float32), dynamics.truth(_T32)), "t"),
+    (lambda: tt.orbit_terms(_T32.astype(np.float32), dynamics.truth(_T32)), "t"),
+    (lambda: tt.directions_from_sun(10.0, np.float32(dynamics.MARS_T0)), "t"),
+    (lambda: tt.mars_year_terms(np.float32(dynamics.MARS_T0)), "t0"),
+    (lambda: toa.proper_time_terms(_T32.astype(np.float32)), "t")])
+def test_float32_epochs_are_refused_with_their_resolution(call, name):
+    """Review 35l (5) 5: clock_terms/orbit_terms took float32 epochs (32 s at 5e8 s): the clock
+    term moved by 1.2e-7 s, 36 m; mars.models refused them already."""
+    with pytest.raises(ValueError, match=f"^{name} must resolve its epochs to 0.001 s: as float32 "
+                                         "it resolves 32 s"):
+        call()

@@ -70,6 +70,7 @@ from xnavlab.core import ephemeris
 from xnavlab.core.constants import DAY, KPC
 from xnavlab.core.diskcache import cached_arrays, entry_path
 from xnavlab.core.validate import check_bool, check_choice, check_finite_array, check_int, shown
+from xnavlab.mars.timing import _checks
 
 __all__ = [
     "EPHEMERIS",
@@ -335,7 +336,7 @@ def pint_delays(r_sc_ssb, t, n, distance=None, planets=False):
         # PINT takes a position with any zero component for the barycentre (no geometric delay)
         raise ValueError("r_sc_ssb must have no component exactly 0 (PINT reads such a position as "
                          "the barycentre)")
-    t = check_finite_array("t", t)
+    t = _checks.check_epochs("t", t)
     if t.ndim > 1 or (t.ndim == 1 and t.size != r.shape[0]):
         raise ValueError(f"t must be a scalar or have shape ({r.shape[0]},), got {t.shape}")
     lo, hi = ephemeris.coverage(EPHEMERIS)

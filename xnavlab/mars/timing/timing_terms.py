@@ -40,7 +40,7 @@ from xnavlab.core.diskcache import cached_arrays, entry_path
 from xnavlab.core.validate import check_choice, check_finite_array, check_items, check_real, shown
 from xnavlab.mars.models import dynamics
 from xnavlab.mars.navigation import scenarios
-from xnavlab.mars.timing import pulsars, toa
+from xnavlab.mars.timing import _checks, pulsars, toa
 from xnavlab.mars.timing._checks import check_broadcast, check_outside
 
 __all__ = [
@@ -140,7 +140,7 @@ def directions_from_sun(angle_deg, t=None, ephem="de421"):
     theta = np.atleast_1d(check_finite_array("angle_deg", angle_deg))
     if theta.ndim != 1 or np.any((theta <= 0.0) | (theta > 180.0)):
         raise ValueError("angle_deg must hold angles in (0, 180] degrees")
-    t = dynamics.MARS_T0 if t is None else check_real("t", t)
+    t = dynamics.MARS_T0 if t is None else _checks.check_epoch("t", t)
     r_mars, v_mars = (np.asarray(a, dtype=float).reshape(3) for a in ephemeris.state("mars", t, ephem))
     u = ephemeris.position("sun", t, ephem).reshape(3) - r_mars
     u /= np.linalg.norm(u)  # Mars -> Sun
@@ -174,7 +174,7 @@ def shapiro_by_angle(angle_deg, t=None, ephem="de421"):
     >>> bool(abs(out["error"][0]) > 1e-6)   # microseconds, near the Sun
     True
     """
-    t = dynamics.MARS_T0 if t is None else check_real("t", t)
+    t = dynamics.MARS_T0 if t is None else _checks.check_epoch("t", t)
     n = directions_from_sun(angle_deg, t, ephem)
     r_mars = ephemeris.position("mars", t, ephem).reshape(3)
     r_sun = ephemeris.position("sun", t, ephem).reshape(3)
@@ -232,7 +232,7 @@ def planet_shapiro(r_ssb, t, n, bodies=PLANET_BODIES, reference="ssb", ephem="de
     if r.ndim > 2:
         raise ValueError(f"r_ssb must have shape (3,) or (m, 3), got {r.shape}")
     n = check_finite_array("n", n, shape=(3,))
-    t = check_finite_array("t", t)
+    t = _checks.check_epochs("t", t)
     if t.size == 0:  # no epoch: the bodies' positions are no (3,) vector
         raise ValueError("t must hold at least one epoch, got an empty array")
     rows = r.shape[0] if r.ndim == 2 else 1
@@ -273,7 +273,8 @@ def clock_terms(t, x, ephem="de421"):
     Parameters
     ----------
     t : array_like, shape (m,)
-        Epochs, s TDB past J2000, increasing; steps much shorter than the orbit.
+        Epochs, s TDB past J2000, increasing; steps much shorter than the orbit (float64: a
+        float32 array resolves 32 s and is refused).
     x : array_like, shape (m, 6)
         Spacecraft states relative to Mars, m and m/s.
     ephem : {"de421", "de405"}
@@ -293,7 +294,7 @@ def clock_terms(t, x, ephem="de421"):
     ...     + out["clock_mars_year"] + out["clock_orbit"], atol=1e-15))
     (6.7, True)
     """
-    t = check_finite_array("t", t)
+    t = _checks.check_epochs("t", t)
     pt = toa.proper_time_terms(t, x, center="mars", ephem=ephem)
     clock = -pt["tau_minus_tdb"]  # a clock ahead of TDB reads the arrival late
     orbit = -pt["orbit_term"]  # +V_Mars . r / c^2
@@ -310,7 +311,8 @@ def orbit_terms(t, x, pulsar_names=pulsars.PAPER_PULSARS, ephem="de421"):
     Parameters
     ----------
     t : array_like, shape (m,)
-        Epochs, s TDB past J2000, increasing (steps much shorter than the orbit).
+        Epochs, s TDB past J2000, increasing (steps much shorter than the orbit), float64 (a
+        float32 array resolves 32 s and is refused).
     x : array_like, shape (m, 6)
         Spacecraft states relative to Mars, J2000, m and m/s.
     pulsar_names : sequence of str
@@ -388,7 +390,7 @@ def mars_year_terms(t0=None, step_days=1.0, pulsar_names=pulsars.PAPER_PULSARS, 
     >>> out["planets"].shape, bool(np.ptp(out["clock_mars_year"]) > 1e-3)    # milliseconds
     ((69, 4), True)
     """
-    t0 = dynamics.MARS_T0 if t0 is None else check_real("t0", t0)
+    t0 = dynamics.MARS_T0 if t0 is None else _checks.check_epoch("t0", t0)
     step = check_real("step_days", step_days, 0.01, 30.0)
     if orbit_radius_m is None:
         day = dynamics.MARS_T0 + np.arange(0.0, DAY + 1.0, 600.0)
@@ -439,7 +441,7 @@ def closest_approach(pulsar="B0531+21", t_start=None, years=1.0, step_days=0.5, 
     >>> bool(out["angle_deg"] < 3.0 and abs(out["error"]) > 1e-6)
     True
     """
-    t_start = dynamics.MARS_T0 if t_start is None else check_real("t_start", t_start)
+    t_start = dynamics.MARS_T0 if t_start is None else _checks.check_epoch("t_start", t_start)
     years = check_real("years", years, 0.1, 25.0)
     step = check_real("step_days", step_days, 0.01, 10.0)
     n, _ = pulsars.directions([pulsar])
@@ -656,7 +658,7 @@ def pint_witness(r_ssb, t, n, distance):
     True
     """
     r = np.atleast_2d(check_finite_array("r_ssb", r_ssb, shape=(3,)))
-    t = np.atleast_1d(check_finite_array("t", t))
+    t = np.atleast_1d(_checks.check_epochs("t", t))
     n = check_finite_array("n", n, shape=(3,))
     d = check_finite_array("distance", distance)
     return cached_arrays(_cache_path("terms", (r, t, n, d)), lambda: _witness(r, t, n, d))
@@ -698,7 +700,7 @@ _YEAR_KEYS = ("t", "shapiro_exact_minus_paper", "planets", "planets_au", "clock"
 
 def _epochs(name, value):
     """``value`` as a non-empty 1-D array of finite epochs, else one ValueError naming ``name``."""
-    t = check_finite_array(name, value)
+    t = _checks.check_epochs(name, value)  # float32: 32 s at 5e8 s (review 35l (5) 5)
     if t.ndim != 1 or t.size == 0:
         raise ValueError(f"{name} must be a non-empty 1-D array of epochs, got shape {t.shape}")
     return t

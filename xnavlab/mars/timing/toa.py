@@ -63,7 +63,7 @@ from xnavlab.core.validate import (
     check_real,
     check_shape,
 )
-from xnavlab.mars.timing import pulsars
+from xnavlab.mars.timing import _checks, pulsars
 from xnavlab.mars.timing._checks import check_broadcast, check_outside
 
 __all__ = [
@@ -427,7 +427,7 @@ def delays_at(r, t, pulsar_names=pulsars.PAPER_PULSARS, center="mars", ephem="de
     r = check_finite_array("r", r, shape=(3,))
     if r.ndim > 2:
         raise ValueError(f"r must have shape (3,) or (n, 3), got {r.shape}")
-    t = check_finite_array("t", t)
+    t = _checks.check_epochs("t", t)
     rows = r.shape[0] if r.ndim == 2 else None  # one fixed r serves any number of epochs
     if t.ndim > 1 or (t.ndim == 1 and rows is not None and t.size != rows):
         want = "(n,)" if rows is None else f"({rows},) (one epoch per row of r)"
@@ -499,7 +499,7 @@ def proper_time_terms(t, x=None, center="mars", ephem="de421"):
     >>> round(float(out["rate"].mean()) * 1e9, 1)      # the clock at Mars gains on TDB
     5.8
     """
-    t = check_finite_array("t", t)
+    t = _checks.check_epochs("t", t)
     if t.ndim != 1 or t.size < 2 or np.any(np.diff(t) <= 0):
         raise ValueError(f"t must be 1-D, increasing, with at least 2 epochs, got shape {t.shape}")
     bodies = tuple(GM_DE421)
