@@ -617,3 +617,14 @@ def test_merge_events_refuses_an_event_ending_before_its_onset():
     """Review 35j (5) 16: Event(5, 2, 1, ...) was returned as it was."""
     with pytest.raises(ValueError, match=r"^events\[0\] must have onset <= end <= cleared"):
         ft.merge_events([Event(5.0, 2.0, 1.0, 1.0, "a")])
+
+
+@pytest.mark.parametrize("kw, name", [(dict(readmit_alpha=0.5), "readmit_alpha"),
+                                      (dict(readmit_samples={"uv": 2}), "readmit_samples")])
+def test_readmit_clear_refuses_the_window_tests_settings(kw, name):
+    """Review 35l (5) 6: readmit='clear' never asks the NIS window test, yet readmit_alpha and
+    readmit_samples given with it were taken and dropped (same 65.644 m)."""
+    with pytest.raises(ValueError, match=f"^{name} is unused with readmit='clear'"):
+        ft.run_fault_tolerant(scenarios.MarsScenario(days=0.2), (), "wavelet", readmit="clear", **kw)
+    with pytest.raises(ValueError, match="^inputs must be"):  # the defaults pass this check
+        ft.run_fault_tolerant(None, (), "wavelet", readmit="clear", inputs="x")

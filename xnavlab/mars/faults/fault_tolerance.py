@@ -350,13 +350,14 @@ def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=
     readmit_samples : dict, optional
         NIS window of the rejoining test per subsystem (default uv 100, cns 100, xnav 4),
         each in [1, MAX_SAMPLES]; a key for a subsystem the run lacks, or any with detector
-        ``"none"`` (nothing rejoins), is refused.
+        ``"none"`` (nothing rejoins) or ``readmit="clear"`` (no window test), is refused.
     readmit_alpha : float
         Significance of the rejoining test, in (0, 1); away from its default (0.01) with
-        detector ``"none"`` it is refused.
+        detector ``"none"`` or ``readmit="clear"`` it is refused.
     readmit : {"quiet", "clear"}
         ``"quiet"`` (default): rejoin when the detector is clear and the NIS window test passes;
-        ``"clear"``: as soon as the detector is clear (the naive rule, for comparison).
+        ``"clear"``: as soon as the detector is clear (the naive rule, for comparison; wavelet
+        detector only, and ``readmit_samples`` or ``readmit_alpha`` given with it is refused).
     xnav_level, xnav_holdoff : int
         Levels (1..6) and hold-off (samples, in [1, 1e9]) of the XNAV innovation detector
         (wavelet and combined detectors); away from their defaults (3, 12) in a run without
@@ -405,6 +406,12 @@ def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=
     if readmit == "clear" and detector != "wavelet":
         raise ValueError("readmit='clear' needs detector='wavelet' (the chi-square test's "
                          "'clear' is the NIS window test)")
+    for key, given in (("readmit_alpha", readmit_alpha != _checks.DETECTOR_SETTINGS["readmit_alpha"][1]),
+                       ("readmit_samples", readmit_samples is not None)):
+        if readmit == "clear" and given:  # review 35l (5) 6: they were dropped
+            raise ValueError(f"{key} is unused with readmit='clear': a subsystem rejoins as soon as "
+                             f"its detector is clear, with no NIS window test; leave it out or "
+                             f"use readmit='quiet'")
     rate_per_day = check_real("rate_per_day", rate_per_day, *schedules.RATE_PER_DAY_RANGE)
     arm_s = check_real("arm_s", arm_s, 0.0, schedules.MAX_DAYS * DAY)  # a run's longest span
     _checks.check_settings(detector, {"pfa": pfa, "alpha": alpha, "rate_per_day": rate_per_day,
