@@ -41,3 +41,19 @@ def test_run_one_turns_an_exception_into_a_failed_result(monkeypatch):
 def test_list_and_all_together_is_a_usage_error(capsys):
     assert main(["reproduce", "--list", "--all"]) == 2
     assert "not allowed with argument" in capsys.readouterr().err
+
+
+def test_out_with_a_figure_path_that_cannot_be_written_is_refused_before_the_run(
+        monkeypatch, tmp_path, capsys):
+    """Review 35l (6) 7: a folder (or a link to nothing) at a figure's name gave a traceback
+    after the reproduction ran; now one line naming the figure, before any run."""
+    monkeypatch.setattr(reproduce, "run", lambda *a, **k: (_ for _ in ()).throw(AssertionError))
+    (tmp_path / "a" / "xnav-ranging.png").mkdir(parents=True)
+    (tmp_path / "b").mkdir()
+    (tmp_path / "b" / "xnav-ranging.png").symlink_to(tmp_path / "none" / "x.png")
+    for sub, words in (("a", "is a folder, not a file"), ("b", "is a symbolic link")):
+        for extra in ([], ["--all"]):
+            ident = [] if extra else ["xnav-ranging"]
+            assert main(["reproduce", *ident, *extra, "--out", str(tmp_path / sub)]) == 2
+            err = capsys.readouterr().err
+            assert "the figure xnav-ranging.png" in err and words in err

@@ -147,3 +147,13 @@ def test_a_name_too_long_or_a_pipe_is_one_line_before_any_read_or_write(tmp_path
         userfiles.read_text(fifo, "scenario file")      # it waited for a writer for ever
     with pytest.raises(ValueError, match="is not a regular file"):
         userfiles.output_path(fifo, "--out")
+
+
+def test_output_path_refuses_a_dangling_symlink(tmp_path):
+    """Review 35l (6) 5, (6) 6: a link to nothing was "missing" and passed; the write failed
+    after the work."""
+    link = tmp_path / "summary.json"
+    link.symlink_to(tmp_path / "none" / "s.json")
+    with pytest.raises(ValueError, match=r"^--out .*summary.json' is a symbolic link to .*"
+                                         r"which does not exist"):
+        userfiles.output_path(link, "--out")

@@ -150,7 +150,7 @@ def execute(args):
 
         scenario = dataclasses.replace(scenario, days=days, seed=0)
     camp = campaign(args.name, days=days, scenario=scenario, **options)
-    _check_store(args.out, camp, seed)
+    _check_store(args.out, camp, seed, runs)
     if args.name == "detectors":
         from xnavlab.mars.studies.campaigns import detector_cells
 
@@ -245,12 +245,31 @@ def _common(args):
     return runs, seed, where if timeout is None else {**where, "timeout": timeout}
 
 
-def _check_store(out, camp, seed):
-    """A folder that holds another campaign is refused now, in one line, before any warning
-    about the command as typed (run_campaign checks it again as it opens the store)."""
-    from xnavlab.core.campaign import SUMMARY_FILE, Store
+def _check_store(out, camp, seed, runs):
+    """A folder that holds another campaign (its header, or a stored run of the first
+    ``runs`` with other parameters or seed) is refused now, in one line naming ``--out``,
+    before any warning about the command as typed (run_campaign checks it again as it opens
+    the store)."""
+    from xnavlab.core.campaign import SUMMARY_FILE, Store, differences, json_ready
+    from xnavlab.core.montecarlo import seeds
 
-    Store(out, camp.header(seed), camp.check_metrics).close()
+    try:
+        store = Store(out, camp.header(seed), camp.check_metrics)
+        try:
+            run_seeds = seeds(seed, runs)
+            for i, rec in store.final().items():
+                if i >= runs:
+                    continue
+                stored = {"seed": rec["seed"], "parameters": rec["parameters"]}
+                asked = {"seed": run_seeds[i], "parameters": json_ready(camp.params(i))}
+                if stored != asked:
+                    raise ValueError(f"out {out}: stored run {i} is another campaign's: "
+                                     f"{differences(stored, asked)}; choose another --out")
+        finally:
+            store.close()
+    except ValueError as exc:  # the store's messages name the API's out: the flag is --out
+        msg = str(exc)
+        raise ValueError("--out " + msg[4:] if msg.startswith("out ") else msg) from None
     _check_outputs(out, SUMMARY_FILE)
 
 
@@ -294,7 +313,7 @@ def _execute_roc(args):
     runs, seed, where = _common(args)
     nf = len(grid["faults"])
     camp = roc.campaign(grid)
-    _check_store(args.out, camp, seed)  # before any warning about the command as typed
+    _check_store(args.out, camp, seed, runs)  # before any warning about the command as typed
     _check_outputs(args.out, "roc.json", "roc.csv")
     if runs % nf:
         print(f"xnavlab: warning: --runs {runs} gives the grid's {nf} faults unequal numbers "

@@ -44,7 +44,7 @@ def execute(args):
     """
     _refuse_unused(args)
     if args.out is not None:  # made and writable before any reproduction runs
-        output_path(args.out, "--out", folder=True)
+        _check_out(args.out, args.all)
     if args.list:
         for rid in reproduce.ids():
             rep = reproduce.get(rid)
@@ -63,6 +63,18 @@ def execute(args):
             print(result.note)
         print(f"{result.id}: {result.verdict}")
     return 0 if result.ok else 1
+
+
+def _check_out(out, every):
+    """``--out``: a folder that can be written, with no figure name (``*.png``) that is not a
+    writable file (a folder, a link to nothing, a read-only file) and, with ``--all``, a
+    writable ``reproductions.json``: refused now, not after the reproductions ran."""
+    folder = output_path(out, "--out", folder=True)
+    for entry in sorted(folder.iterdir()):
+        if entry.name.endswith(".png"):
+            output_path(entry, f"--out {str(out)!r}: the figure {entry.name}")
+    if every:
+        output_path(folder / "reproductions.json", f"--out {str(out)!r}: reproductions.json")
 
 
 def _refuse_unused(args):

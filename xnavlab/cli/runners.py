@@ -227,11 +227,13 @@ def execute_mars(args):
     summary["run_time_s"] = time.perf_counter() - t_start
     if args.out is not None:
         out = out_dir(args.out)
+        name = "mars_run.npz"
         try:
-            res.save_npz(out / "mars_run.npz")
-            (out / "mars_summary.json").write_text(json.dumps(summary, indent=2))
+            res.save_npz(out / name)
+            name = "mars_summary.json"
+            (out / name).write_text(json.dumps(summary, indent=2))
         except OSError as exc:
-            raise ValueError(f"--out {str(out)!r}: the results cannot be written "
+            raise ValueError(f"--out {str(args.out)!r}: {name} cannot be written "
                              f"({exc.strerror})") from None
     if args.json:
         print(json.dumps(summary))

@@ -303,8 +303,9 @@ def output_path(path, what="output", folder=False):
     """Check, before any work, that the package can write ``path``; return it as a Path.
 
     The parent folder (or, with ``folder``, the folder itself) is created when missing; a
-    parent that is a file, a folder that cannot be written, or a file where a folder belongs is
-    one ValueError naming the path.
+    parent that is a file, a folder that cannot be written, a file where a folder belongs, a
+    symbolic link to nothing, or a file (or a link to one) that cannot be written is one
+    ValueError naming the path.
 
     Parameters
     ----------
@@ -335,6 +336,11 @@ def output_path(path, what="output", folder=False):
         raise ValueError(f"{what} {str(path)!r} is a folder, not a file")
     if not folder and kind == "other":
         raise ValueError(f"{what} {str(path)!r} is not a regular file (a pipe, socket or device)")
+    if kind == "missing" and os.path.islink(path):  # a dangling link: the write would fail
+        raise ValueError(f"{what} {str(path)!r} is a symbolic link to {os.readlink(path)!r}, "
+                         f"which does not exist: not a file that can be written")
+    if not folder and kind == "file" and not os.access(path, os.W_OK):
+        raise ValueError(f"{what} {str(path)!r} cannot be written (a read-only file)")
     try:
         target.mkdir(parents=True, exist_ok=True)
     except (FileExistsError, NotADirectoryError):

@@ -161,3 +161,63 @@ def test_summaries_refuse_metrics_they_cannot_use():
     assert camp.check_metrics(good) is None and "nees_bins" in camp.check_metrics(bad)
     with pytest.raises(ValueError, match=r"^runs\[0\]\['metrics'\] is not a detectors_run"):
         mc.summarise_detectors([{"status": "ok", "parameters": {}, "metrics": {"x": {}}}])
+
+
+def _runs(change):
+    good = mc.consistency_run(seed=1, days=0.02)
+    out = []
+    for _ in range(2):
+        m = {k: (dict(v) if isinstance(v, dict) else list(v) if isinstance(v, list) else v)
+             for k, v in good.items()}
+        change(m)
+        out.append({"status": "ok", "metrics": m})
+    return out
+
+
+@pytest.mark.parametrize(("change", "words"), [
+    (lambda m: m.__setitem__("nees_bins", [-5.0] * 12), "nees_bins[0] is -5.0, not a number in [0"),
+    (lambda m: m.__setitem__("nees_bins", [1e308] * 12), "nees_bins[0] is 1e+308"),
+    (lambda m: m.__setitem__("position_error_m", 1e308), "position_error_m is 1e+308"),
+    (lambda m: m.__setitem__("position_error_m", -1.0), "position_error_m is -1.0"),
+    (lambda m: m.__setitem__("bin_days", [-1.0] * 12), "bin_days[0] is -1.0"),
+    (lambda m: m["nis_sum"].__setitem__("uv", 1e308), "nis_sum.uv is 1e+308"),
+    (lambda m: m["nis_dof"].__setitem__("xnav", 0), "nis_dof.xnav is 0, not an integer in [1"),
+    (lambda m: (m["nis_count"].__setitem__("uv", 0), m["nis_sum"].__setitem__("uv", 5.0)),
+     "nis_sum.uv is 5.0 of nis_count.uv = 0 updates"),
+])
+def test_summarise_consistency_refuses_values_out_of_range(change, words):
+    """Review 35l (1) 2, (3) 1, (5) 2: negative or huge values gave messages naming value or
+    dof, an overflow warning, a negative RMS, bins at -1 day, or dropped the NIS uv row; now
+    one line naming runs[i]['metrics'] and the key, and the campaign's store check refuses
+    the same record (its run is computed again)."""
+    runs = _runs(change)
+    with pytest.raises(ValueError) as info:
+        mc.summarise_consistency(runs)
+    assert str(info.value).startswith("runs[0]['metrics'] is not a consistency_run result: "
+                                      + words)
+    assert words in mc.campaign("consistency", days=0.02).check_metrics(runs[0]["metrics"])
+
+
+def test_consistency_check_metrics_compares_the_manifest():
+    """Review 35l (5) 2: bins of another run length or a dof of 1e6 were summarised."""
+    camp = mc.campaign("consistency", days=0.02)
+    good = _runs(lambda m: None)[0]["metrics"]
+    assert camp.check_metrics(good) is None
+    assert "bin_days[0]" in mc.campaign("consistency", days=0.04).check_metrics(good)
+    bad = _runs(lambda m: m["nis_dof"].__setitem__("xnav", 10**6))[0]["metrics"]
+    assert "not the campaign's" in camp.check_metrics(bad)
+
+
+def test_detectors_check_metrics_refuses_out_of_range_records():
+    """Review 35l (1) 1, (6) 1, (6) 4: armed_days 0 or -1 passed the store's check."""
+    camp = mc.campaign("detectors", days=1.0)
+    rec = dict(size=3.0, detected=True, delay_s=1.0, late=False, false_alarms=0,
+               armed_days=0.6, fused_rms_ratio=1.0, time_out_s=300.0)
+    assert camp.check_metrics({"chi2": rec}) is None
+    assert "chi2.armed_days is 0.0" in camp.check_metrics({"chi2": dict(rec, armed_days=0.0)})
+    assert "chi2.size is -3.0" in camp.check_metrics({"chi2": dict(rec, size=-3.0)})
+    assert "size 7.5 is none" in camp.check_metrics({"chi2": dict(rec, size=7.5)})
+    run = {"status": "ok", "parameters": {"fault_class": "step", "sensor": "uv", "size_index": 1},
+           "metrics": {"chi2": rec}}
+    with pytest.raises(ValueError, match=r"^runs\[0\]\['metrics'\]\['chi2'\]\['size'\] must be"):
+        mc.summarise_detectors([run])

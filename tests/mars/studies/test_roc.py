@@ -215,14 +215,14 @@ def _grid_record(index, detector="combined", days=0.5):
     ([_grid_record(0), _grid_record(0)], "runs lists run index 0 twice (runs[0] and runs[1])"),
     ([_grid_record(0), _grid_record(1, detector="chi2")], "runs[1] is a run of another grid"),
     ([_grid_record(0), _grid_record(1, days=2.0)], "runs[1] is a run of another grid"),
-    ([{**_grid_record(0), "metrics": {"per_threshold": []}}], "runs[0] must be an ok record of a "
-                                                              "ROC campaign run, but it has no "
-                                                              "'armed_days'"),
+    ([{**_grid_record(0), "metrics": {"per_threshold": []}}], "runs[0]['metrics']['armed_days'] is "
+                                                              "missing"),
     ([{**_grid_record(0), "metrics": {"armed_days": 0.0, "per_threshold": []}}],
-     "runs[0] metrics.armed_days must be a real number in (0, inf)"),
+     "runs[0]['metrics']['armed_days'] is 0.0, not a number in (0, 1e+100]"),
     ([{**_grid_record(0), "metrics": {"armed_days": 0.5, "per_threshold": [
         {"threshold": 0.1, "detected": True, "late": False, "delay_s": 1.0, "false_alarms": -3}]}}],
-     "runs[0] metrics.per_threshold[0].false_alarms must be an integer in [0, inf)"),
+     "runs[0]['metrics']['per_threshold'][0]['false_alarms'] is -3, not an integer in [0, "
+     "1e+09]"),
 ])
 def test_roc_curve_refuses_runs_it_cannot_pool(runs, words):
     # review 35d D26: these gave [], TypeError, KeyError, ZeroDivisionError, a negative rate,
@@ -334,3 +334,18 @@ def test_plot_roc_refuses_an_ax_that_is_no_axes(ax):
         roc.plot_roc({"a": [dict.fromkeys(("threshold", "pd", "pd_lo", "pd_hi",
                                            "false_alarms_per_day", "false_alarms_per_day_lo",
                                            "false_alarms_per_day_hi"), 0.5)]}, ax=ax)
+
+
+def test_roc_refuses_an_empty_or_foreign_per_threshold():
+    """Review 35l (5) 3, (6) 4: per_threshold [] gave an empty curve and a threshold not of
+    the grid a row of its own; the store's check took both."""
+    camp = roc.campaign(roc.DEFAULT_GRID)
+    thr = camp.params(0)["thresholds"]
+    row = {"detected": True, "late": False, "false_alarms": 0, "delay_s": 1.0}
+    good = {"armed_days": 0.3, "per_threshold": [dict(row, threshold=t) for t in thr]}
+    assert camp.check_metrics(good) is None
+    assert "is empty" in camp.check_metrics({**good, "per_threshold": []})
+    other = {**good, "per_threshold": [dict(row, threshold=0.5)] + good["per_threshold"][1:]}
+    assert "not the grid's" in camp.check_metrics(other)
+    assert "delay_s is -50.0" in camp.check_metrics(
+        {**good, "per_threshold": [dict(row, threshold=t, delay_s=-50.0) for t in thr]})

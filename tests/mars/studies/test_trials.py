@@ -188,3 +188,34 @@ def test_detection_limit_names_rate_per_day(rate):
     """Review 35k (3) 18: a subnormal or huge rate_per_day was refused as alpha."""
     with pytest.raises(ValueError, match="^rate_per_day must be"):
         trials.detection_limit("step", "uv", 3.0, rate_per_day=rate)
+
+
+_REC = dict(fault_class="step", sensor="uv", size_index=0, size=3.0, detector="chi2",
+            detected=True, delay_s=1.0, late=False, false_alarms=0, armed_days=0.6,
+            fused_rms_ratio=1.0, time_out_s=300.0)
+
+
+@pytest.mark.parametrize(("change", "words"), [
+    ({"armed_days": 0.0}, "records[0]['armed_days'] is 0.0, not a number in (0, 1e+100]"),
+    ({"armed_days": -1.0}, "records[0]['armed_days'] is -1.0"),
+    ({"armed_days": float("nan")}, "records[0]['armed_days'] is nan, not a finite number"),
+    ({"detected": "no"}, "records[0]['detected'] is 'no', not true or false"),
+    ({"false_alarms": 2.5}, "records[0]['false_alarms'] is 2.5, not an integer in [0, 1e+09]"),
+    ({"false_alarms": -1}, "records[0]['false_alarms'] is -1"),
+    ({"delay_s": -5.0}, "records[0]['delay_s'] is -5.0, not a number in [0, 1e+100]"),
+    ({"fused_rms_ratio": float("inf")}, "records[0]['fused_rms_ratio'] is inf"),
+    ({"fused_rms_ratio": 1e308}, "records[0]['fused_rms_ratio'] is 1e+308"),
+])
+def test_detector_table_refuses_values_out_of_range(change, words):
+    """Review 35l (1) 1, (1) 2, (3) 2, (5) 1: armed_days 0 gave ZeroDivisionError, 1e308 an
+    overflow warning, false_alarms -1 a message naming dof, and -1 days, "no", 2.5 false
+    alarms, a negative delay or an infinite ratio numbers; now one line naming records[i]."""
+    with pytest.raises(ValueError) as info:
+        trials.detector_table([dict(_REC, **change)] * 2)
+    assert str(info.value).startswith(words)
+
+
+def test_detector_table_refuses_two_sizes_in_a_cell():
+    """Review 35l (5) 1: a cell's size was its first record's, whatever the others said."""
+    with pytest.raises(ValueError, match=r"^records\[1\]\['size'\] must be that of its cell"):
+        trials.detector_table([_REC, dict(_REC, size=5.0)])

@@ -33,6 +33,7 @@ Examples
 from __future__ import annotations
 
 import dataclasses
+from functools import partial
 from itertools import product
 
 import numpy as np
@@ -125,8 +126,7 @@ def consistency_run(*, seed, days=1.0, q_acc=scenarios.DEFAULT_Q_ACC,
     k = (frac * NEES_BINS).astype(int)
     bins = [float(np.mean(e[k == b])) for b in range(NEES_BINS)]
     # NIS dof: XNAV one a pulsar; UV range + two direction angles; CNS one a star (3)
-    dof = {"xnav": len(sc.pulsars), "uv": 3, "cns": len(sc.stars) if sc.stars else 3}
-    dof = {s: dof[s] for s in sc.subsystems}
+    dof = _nis_dof(sc)
     nis_sum, nis_count = {}, {}
     for i, s in enumerate(sc.subsystems):
         v = res.nis[:, i][res.flags[:, i] == 1]
@@ -142,22 +142,46 @@ def consistency_run(*, seed, days=1.0, q_acc=scenarios.DEFAULT_Q_ACC,
 
 
 #: What summarise_consistency reads of a run's metrics (a stored record without it is no run).
-_CONSISTENCY_SPEC = {"nees_bins": ("list", NEES_BINS, "real"),
-                     "bin_days": ("list", NEES_BINS, "real"),
-                     "nis_sum": ("map", "real"), "nis_count": ("map", "count"),
-                     "nis_dof": ("map", "count"), "position_error_m": "real",
-                     "velocity_error_mps": "real?", "final_position_error_m": "real?"}
+_CONSISTENCY_SPEC = {"nees_bins": ("list", NEES_BINS, "real>=0"),
+                     "bin_days": ("list", NEES_BINS, "real>0"),
+                     "nis_sum": ("map", "real>=0"), "nis_count": ("map", "count"),
+                     "nis_dof": ("map", "count>=1"), "position_error_m": "real>=0",
+                     "velocity_error_mps": "real>=0?", "final_position_error_m": "real>=0?"}
 
 
-def _consistency_metrics(metrics):
+def _nis_dof(scenario):
+    """{subsystem: NIS dof} of a scenario's runs: XNAV one a pulsar; UV range + two direction
+    angles; CNS one a star (3 without a star list)."""
+    dof = {"xnav": len(scenario.pulsars), "uv": 3,
+           "cns": len(scenario.stars) if scenario.stars else 3}
+    return {s: dof[s] for s in scenario.subsystems}
+
+
+def _consistency_metrics(metrics, days=None, dof=None):
     """Why ``metrics`` is not a :func:`consistency_run` result (its first key at fault), else
-    None (the campaign's ``check_metrics``)."""
+    None (the campaign's ``check_metrics``, with the campaign's ``days`` and NIS ``dof``:
+    the bins' times and the dof a run of it writes)."""
     why = why_not(metrics, _CONSISTENCY_SPEC)
     if why is None:
         for key in ("nis_sum", "nis_count"):
             if set(metrics[key]) != set(metrics["nis_dof"]):
                 return (f"{key} names {sorted(metrics[key])}, not the subsystems of nis_dof "
                         f"{sorted(metrics['nis_dof'])}")
+        for s, c in metrics["nis_count"].items():
+            if c == 0 and metrics["nis_sum"][s] != 0:
+                return f"nis_sum.{s} is {metrics['nis_sum'][s]!r} of nis_count.{s} = 0 updates"
+        if metrics["nis_dof"].get("uv", 3) != 3:
+            return f"nis_dof.uv is {metrics['nis_dof']['uv']!r}, not 3 (range and two angles)"
+        times = metrics["bin_days"]
+        if any(b <= a for a, b in zip(times, times[1:], strict=False)):
+            return f"bin_days {times!r} is not increasing"[:300]
+    if why is None and days is not None:
+        want = [(b + 0.5) * days / NEES_BINS for b in range(NEES_BINS)]
+        for b, (t, w) in enumerate(zip(metrics["bin_days"], want, strict=True)):
+            if abs(t - w) > 1e-9 * days:
+                return f"bin_days[{b}] is {t!r}, not the campaign's {w!r} (days = {days:g})"
+    if why is None and dof is not None and metrics["nis_dof"] != dof:
+        return f"nis_dof is {metrics['nis_dof']!r}, not the campaign's {dof!r}"[:300]
     return why
 
 
@@ -200,8 +224,10 @@ def summarise_consistency(runs):
         if r["status"] != "ok":
             continue
         why = _consistency_metrics(r.get("metrics"))
-        if why is None and ok and set(r["metrics"]["nis_dof"]) != set(ok[0]["nis_dof"]):
-            why = f"nis_dof names other subsystems than the first ok run's ({sorted(ok[0]['nis_dof'])})"
+        if why is None and ok and r["metrics"]["nis_dof"] != ok[0]["nis_dof"]:
+            why = f"nis_dof is not the first ok run's ({ok[0]['nis_dof']})"
+        if why is None and ok and r["metrics"]["bin_days"] != ok[0]["bin_days"]:
+            why = "bin_days are not the first ok run's (one campaign's runs share their bins)"
         if why is not None:
             raise ValueError(f"runs[{i}]['metrics'] is not a consistency_run result: {why}")
         ok.append(r["metrics"])
@@ -218,6 +244,9 @@ def summarise_consistency(runs):
         count = sum(m["nis_count"][s] for m in ok)
         if not count:
             continue
+        if dof * count > 1e12:  # chi2_bounds' pooled law
+            raise ValueError(f"runs[i]['metrics']['nis_count'][{s!r}] sum to {count} updates "
+                             f"of nis_dof {dof}: more than 1e12 degrees of freedom in all")
         v = sum(m["nis_sum"][s] for m in ok) / count
         lo, hi = chi2_bounds(dof, count)
         rows.append({"quantity": f"NIS {s}", "t_days": None, "value": float(v), "dof": dof,
@@ -278,9 +307,7 @@ def detectors_run(fault_class, sensor, size_index, *, seed, days=1.0,
 
 
 #: What summarise_detectors reads of each detector's record in a run's metrics.
-_DETECTOR_SPEC = {"size": "real", "detected": "bool", "delay_s": "real?", "late": "bool",
-                  "false_alarms": "count", "armed_days": "real", "fused_rms_ratio": "real",
-                  "time_out_s": "real"}
+_DETECTOR_SPEC = trials._RECORD_SPEC
 
 
 def _detectors_metrics(metrics):
@@ -290,7 +317,14 @@ def _detectors_metrics(metrics):
     for det in metrics:
         if det not in trials.DETECTORS:
             return f"{det!r} is not a detector ({', '.join(trials.DETECTORS)})"
-    return why_not(metrics, {det: _DETECTOR_SPEC for det in metrics})
+    why = why_not(metrics, {det: _DETECTOR_SPEC for det in metrics})
+    if why is None:
+        sizes = {m["size"] for m in metrics.values()}
+        if len(sizes) > 1:  # one run is one cell: every detector saw one fault
+            return f"the detectors' sizes differ ({sorted(sizes)}): a run is one cell"
+        if not sizes <= {v for f in trials.SIZES.values() for v in f}:
+            return f"size {sizes.pop()!r} is none of the cells' sizes"
+    return why
 
 
 def summarise_detectors(runs):
@@ -316,7 +350,14 @@ def summarise_detectors(runs):
                              f"size_index, got {p!r}"[:300])
         if why is not None:
             raise ValueError(f"runs[{i}]['metrics'] is not a detectors_run result: {why}")
+        sizes = trials.SIZES.get(p["fault_class"]) if isinstance(p["fault_class"], str) else None
+        k = p["size_index"]
         for det, m in r["metrics"].items():
+            if (sizes is not None and isinstance(k, int) and 0 <= k < len(sizes)
+                    and m["size"] != sizes[k]):
+                raise ValueError(f"runs[{i}]['metrics'][{det!r}]['size'] must be the cell's "
+                                 f"size {sizes[k]!r} ({p['fault_class']} size_index {k}), "
+                                 f"got {m['size']!r}")
             recs.append({"fault_class": p["fault_class"], "sensor": p["sensor"],
                          "size_index": p["size_index"], "detector": det, **m})
     return trials.detector_table(recs)
@@ -371,7 +412,9 @@ def _consistency(days, scenario=None, backend="numba", local_filter="ekf"):
         return Campaign("consistency", consistency_run, lambda i: {"days": days},
                         manifest={"days": days, "q_acc": scenarios.DEFAULT_Q_ACC,
                                   "nees_bins": NEES_BINS},
-                        summarise=summarise_consistency, check_metrics=_consistency_metrics)
+                        summarise=summarise_consistency,
+                        check_metrics=partial(_consistency_metrics, days=days,
+                                              dof=_nis_dof(scenarios.MarsScenario())))
     default = scenarios.MarsScenario()
     for name in ("seed", "record_dt"):  # set by the campaign: a scenario's own is refused
         if getattr(scenario, name) != getattr(default, name):
@@ -398,7 +441,9 @@ def _consistency(days, scenario=None, backend="numba", local_filter="ekf"):
             base[k] = v
     return Campaign("consistency", consistency_run, lambda i: {"days": days, **base},
                     manifest={"days": days, **base, "nees_bins": NEES_BINS},
-                    summarise=summarise_consistency, check_metrics=_consistency_metrics)
+                    summarise=summarise_consistency,
+                    check_metrics=partial(_consistency_metrics, days=days,
+                                          dof=_nis_dof(scenario)))
 
 
 def _detectors(days):

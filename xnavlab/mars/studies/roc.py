@@ -85,6 +85,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+from functools import partial
 from importlib import resources
 from pathlib import Path
 
@@ -320,6 +321,10 @@ def _row(threshold, cells):
     late = sum(c["late"] for c in cells)
     lo, hi = montecarlo.wilson_interval(k, n)
     fa = sum(c["false_alarms"] for c in cells)
+    if fa > int(DOF_RANGE[1]) // 2 - 1:  # poisson_interval's range
+        raise ValueError(f"runs[i]['metrics']['per_threshold'][j]['false_alarms'] of threshold "
+                         f"{threshold:g} sum to {fa}, more than {int(DOF_RANGE[1]) // 2 - 1} "
+                         f"(the Poisson interval's range)")
     armed = sum(c["armed_days"] for c in cells)
     fa_lo, fa_hi = poisson_interval(fa)
     delays = [c["delay_s"] for c in cells if c["delay_s"] is not None]
@@ -349,11 +354,12 @@ def _ok_runs(runs):
             p, m = r["parameters"], r["metrics"]
             setup = (p.get("detector"), p.get("days"), tuple(p.get("thresholds", ())))
             _ = (p["fault_class"], p["sensor"], p["size"])
-            cells = list(m["per_threshold"])
-            check_real(f"{name} metrics.armed_days", m["armed_days"], 0.0, lo_open=True)
-            for j, c in enumerate(cells):
-                check_int(f"{name} metrics.per_threshold[{j}].false_alarms", c["false_alarms"], 0)
-                _ = (c["threshold"], c["detected"], c["late"], c["delay_s"])
+            why = why_not(m, _ROC_SPEC, f"{name}['metrics']", brackets=True)
+            if why is not None:
+                raise ValueError(why)
+            why = _against_grid(m, p.get("thresholds"))
+            if why is not None:
+                raise ValueError(f"{name}['metrics']: {why}")
         except (KeyError, TypeError) as exc:
             raise ValueError(f"{name} must be an ok record of a ROC campaign run, but it has no "
                              f"{exc}") from None
@@ -433,19 +439,32 @@ def campaign(grid):
                 "thresholds": grid["thresholds"], "days": grid["days"]}
 
     return Campaign("roc", roc_run, params, manifest={"grid": grid}, summarise=_summarise,
-                    check_metrics=_roc_metrics)
+                    check_metrics=partial(_roc_metrics, thresholds=grid["thresholds"]))
 
 
-#: What roc_curve reads of a run's metrics.
-_ROC_SPEC = {"armed_days": "real",
-             "per_threshold": ("list", None, {"threshold": "real", "detected": "bool",
-                                              "late": "bool", "false_alarms": "count",
-                                              "delay_s": "real?"})}
+#: What roc_curve reads of a run's metrics (``_metrics``'s kinds).
+_ROC_SPEC = {"armed_days": "real>0",
+             "per_threshold": ("list", -1, {"threshold": "real>0", "detected": "bool",
+                                            "late": "bool", "false_alarms": "count",
+                                            "delay_s": "real>=0?"})}
 
 
-def _roc_metrics(metrics):
-    """Why ``metrics`` is not a :func:`roc_run` result, else None (the campaign's check)."""
-    return why_not(metrics, _ROC_SPEC)
+def _against_grid(metrics, thresholds):
+    """Why ``per_threshold`` is not one row per threshold of the grid, in order, else None."""
+    got = [c["threshold"] for c in metrics["per_threshold"]]
+    if thresholds is None:  # a record without the grid: its thresholds once each
+        return (f"per_threshold lists a threshold twice ({got})"[:300]
+                if len(set(got)) != len(got) else None)
+    if got != list(thresholds):
+        return (f"per_threshold's thresholds {got} are not the grid's {list(thresholds)}, "
+                f"in order"[:300])
+    return None
+
+
+def _roc_metrics(metrics, thresholds=None):
+    """Why ``metrics`` is not a :func:`roc_run` result of the grid's ``thresholds``, else
+    None (the campaign's check)."""
+    return why_not(metrics, _ROC_SPEC) or _against_grid(metrics, thresholds)
 
 
 def curve_csv(rows):

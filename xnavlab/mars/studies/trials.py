@@ -61,6 +61,7 @@ from xnavlab.core.validate import (
 )
 from xnavlab.mars.faults import fault_tolerance, schedules
 from xnavlab.mars.navigation import scenarios
+from xnavlab.mars.studies._metrics import refuse
 
 __all__ = ["mars_trial", "FAULT_CLASSES", "SENSORS", "SIZES", "DETECTORS", "DURATIONS",
            "fault_for", "detection_limit", "detector_trial", "detector_trials", "detector_table",
@@ -421,13 +422,24 @@ def _finite(v):
 #: What :func:`detector_table` reads of each trial record.
 _RECORD_KEYS = ("fault_class", "sensor", "size_index", "size", "detector", "detected", "delay_s",
                 "false_alarms", "armed_days", "fused_rms_ratio", "late", "time_out_s")
+#: The kind and range of each value :func:`detector_table` reads (``_metrics``'s kinds).
+_RECORD_SPEC = {"size": "real>0", "detected": "bool", "delay_s": "real>=0?", "late": "bool",
+               "false_alarms": "count", "armed_days": "real>0", "fused_rms_ratio": "real>=0",
+               "time_out_s": "real>=0"}
+#: Most false alarms of one cell (the Poisson interval's chi-square has 2k + 2 <= 1e12 dof).
+_FA_MAX = 5 * 10**11 - 1
 
 
 def detector_table(records):
     """Aggregate :func:`detector_trial` records per (class, sensor, size, detector).
 
     ``records`` must be a list of trial records (dicts with the keys read here); anything
-    else is one ValueError naming ``records`` or ``records[i]``.
+    else is one ValueError naming ``records`` or ``records[i]``. Each value must be of its
+    kind and range, else one ValueError naming ``records[i]['key']``: ``detected`` and
+    ``late`` true or false, ``false_alarms`` an integer in [0, 1e9], ``armed_days`` and
+    ``size`` in (0, 1e100], ``fused_rms_ratio`` and ``time_out_s`` in [0, 1e100],
+    ``delay_s`` None or in [0, 1e100]; the records of a cell share its ``size``, and a cell's
+    false alarms sum to at most 5e11 - 1.
 
     Returns
     -------
@@ -450,9 +462,15 @@ def detector_table(records):
     >>> row["pd"], row["delay_median_s"], row["trials"]
     (1.0, 10.5, 20)
     """
-    cells = OrderedDict()
-    for r in check_records("records", records, _RECORD_KEYS, "trial record"):
+    cells, first = OrderedDict(), {}
+    records = check_records("records", records, _RECORD_KEYS, "trial record")
+    for i, r in enumerate(records):
+        refuse(r, _RECORD_SPEC, f"records[{i}]")
         key = (r["fault_class"], r["sensor"], r["size_index"], r["detector"])
+        j = first.setdefault(key, i)
+        if r["size"] != records[j]["size"]:
+            raise ValueError(f"records[{i}]['size'] must be that of its cell's first record, "
+                             f"records[{j}] ({records[j]['size']!r}), got {r['size']!r}")
         cells.setdefault(key, []).append(r)
     rows = []
     z = 1.959963984540054                # two-sided 95 % normal quantile (RMS-ratio error)
@@ -462,6 +480,9 @@ def detector_table(records):
         pd_lo, pd_hi = montecarlo.wilson_interval(k, n)
         delays = [r["delay_s"] for r in rs if r["delay_s"] is not None]
         fa = sum(r["false_alarms"] for r in rs)
+        if fa > _FA_MAX:
+            raise ValueError(f"records[i]['false_alarms'] of the cell ({fc}, {s}, {si}, {det}) "
+                             f"sum to {fa}, more than {_FA_MAX} (the Poisson interval's range)")
         armed = sum(r["armed_days"] for r in rs)
         fa_lo = chi2_ppf(0.025, 2 * fa) / 2 if fa else 0.0    # Poisson (Garwood) interval
         fa_hi = chi2_ppf(0.975, 2 * fa + 2) / 2
