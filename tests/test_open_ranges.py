@@ -70,9 +70,6 @@ OPEN = {
     "xnavlab.core.detection.mallat:\"n\"": "log2 of a length: no allocation",
     "xnavlab.core.detection.online:\"n_tests\"": "a probability's exponent: stays in [0, 1]",
     "xnavlab.core.montecarlo:\"n\"": "a count in the Wilson interval: stays in [0, 1]",
-    "xnavlab.mars.studies.roc:f\"{name} metrics.armed_days\"": "a stored record's field, read back",
-    "xnavlab.mars.studies.roc:f\"{name} metrics.per_threshold[{j}].false_alarms\"":
-        "a stored record's count, read back",
     "xnavlab.core.faults:\"component\"": "checked against the sensor's components by check_faults",
     # statistics: thresholds, degrees of freedom, multipliers
     "xnavlab.core.detection.chisquare:\"dof\"": "chi-square quantile: finite for every dof",

@@ -129,3 +129,12 @@ def test_a_row_of_innovations_against_per_sample_variances_names_nu():
                                          r"\(1000,\) \(the variances of a scalar measurement\), "
                                          r"got shape \(1, 1000\)"):
         D.chi2_detect(3.0 * np.arange(1000), np.ones((1, 1000)), np.full(1000, 25.0))
+
+
+def test_a_clash_of_nu_and_per_sample_variances_names_the_odd_one():
+    """After review 35k: per-sample variances S (N,) beside a well-formed nu (n, m), m > 1, named
+    nu; S is the odd one there. A row nu (1, N) beside S (N,) still names nu."""
+    with pytest.raises(ValueError, match=r"^S must have shape \(m, m\) or \(N, m, m\) with m = 2"):
+        D.chi2_statistic([[1.0, 0.0], [0.0, 2.0]], [1.0], window=2)
+    with pytest.raises(ValueError, match=r"^nu must have shape \(3,\) to match S of shape \(3,\)"):
+        D.chi2_statistic([[1.0, 2.0, 3.0]], [1.0, 1.0, 1.0])

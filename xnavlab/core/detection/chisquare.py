@@ -66,9 +66,13 @@ def _nis(nu, S):
     if S.ndim == 1 and m == 1 and nu.shape[0] < S.size:   # lengths disagree: the shorter is named
         raise ValueError(f"nu must have shape ({S.size},) to match S of shape {S.shape}, got shape "
                          f"{nu.shape}")
-    if S.ndim == 1 and m != 1:   # one variance per sample: a scalar measurement (a row (1, N)?)
+    if S.ndim == 1 and m != 1 and n == 1 and m == S.size:   # nu a row (1, N) of scalar innovations
         raise ValueError(f"nu must have shape ({S.size},) to match S of shape {S.shape} (the "
                          f"variances of a scalar measurement), got shape {nu.shape}")
+    if S.ndim == 1 and m != 1:   # per-sample variances serve a scalar measurement only
+        raise ValueError(f"S must have shape (m, m) or (N, m, m) with m = {m}, N = {n} for nu of shape "
+                         f"{nu.shape} (variances of shape (N,) only for a scalar measurement), got "
+                         f"{S.shape}")
     if S.ndim == 1 and m == 1:
         S = S.reshape(-1, 1, 1)
     if S.shape == (m, m):

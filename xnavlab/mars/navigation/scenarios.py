@@ -261,7 +261,9 @@ class MarsScenario:
     def __post_init__(self):
         for f in (f for f in fields(self) if type(f.default) is float):  # reals kept as floats
             v = getattr(self, f.name)  # (a Fraction failed; np.float16 overflowed in days * DAY)
-            if isinstance(v, Real | np.floating | np.integer) and not isinstance(v, bool | np.bool_):
+            # (a Python int or float is kept: the messages show it as given, 10**400 included)
+            plain = isinstance(v, bool | np.bool_ | int | float)
+            if isinstance(v, Real | np.floating | np.integer) and not plain:
                 object.__setattr__(self, f.name, float(v))  # the range checks below refuse the rest
         check_real("days", self.days, 0.0, 365.0, lo_open=True)
         for name in ("dt_xnav", "dt_uv", "dt_cns"):

@@ -307,7 +307,7 @@ def detectors_run(fault_class, sensor, size_index, *, seed, days=1.0,
 
 
 #: What summarise_detectors reads of each detector's record in a run's metrics.
-_DETECTOR_SPEC = trials._RECORD_SPEC
+_DETECTOR_SPEC = trials.RECORD_SPEC
 
 
 def _detectors_metrics(metrics):

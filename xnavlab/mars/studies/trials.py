@@ -66,7 +66,7 @@ from xnavlab.mars.studies._metrics import refuse
 __all__ = ["mars_trial", "FAULT_CLASSES", "SENSORS", "SIZES", "DETECTORS", "DURATIONS",
            "fault_for", "detection_limit", "detector_trial", "detector_trials", "detector_table",
            "marked_cells", "load_detector_table", "TABLE_PATH", "EARLY_ONSETS_S",
-           "early_fault_trial", "EARLY_PATH", "load_early_faults"]
+           "early_fault_trial", "EARLY_PATH", "load_early_faults", "RECORD_SPEC"]
 
 #: Fault classes of :func:`detector_trial` (:mod:`xnavlab.core.faults` kinds).
 FAULT_CLASSES = ("step", "ramp", "spike", "stuck", "noise")
@@ -423,7 +423,7 @@ def _finite(v):
 _RECORD_KEYS = ("fault_class", "sensor", "size_index", "size", "detector", "detected", "delay_s",
                 "false_alarms", "armed_days", "fused_rms_ratio", "late", "time_out_s")
 #: The kind and range of each value :func:`detector_table` reads (``_metrics``'s kinds).
-_RECORD_SPEC = {"size": "real>0", "detected": "bool", "delay_s": "real>=0?", "late": "bool",
+RECORD_SPEC = {"size": "real>0", "detected": "bool", "delay_s": "real>=0?", "late": "bool",
                "false_alarms": "count", "armed_days": "real>0", "fused_rms_ratio": "real>=0",
                "time_out_s": "real>=0"}
 #: Most false alarms of one cell (the Poisson interval's chi-square has 2k + 2 <= 1e12 dof).
@@ -465,7 +465,7 @@ def detector_table(records):
     cells, first = OrderedDict(), {}
     records = check_records("records", records, _RECORD_KEYS, "trial record")
     for i, r in enumerate(records):
-        refuse(r, _RECORD_SPEC, f"records[{i}]")
+        refuse(r, RECORD_SPEC, f"records[{i}]")
         key = (r["fault_class"], r["sensor"], r["size_index"], r["detector"])
         j = first.setdefault(key, i)
         if r["size"] != records[j]["size"]:
