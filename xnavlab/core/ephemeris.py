@@ -36,12 +36,39 @@ import numpy as np
 from xnavlab.core.constants import DAY, J2000_JD
 from xnavlab.core.validate import check_choice, check_finite_array, shown
 
-__all__ = ["EPHEMERIDES", "BODIES", "state", "position", "coverage", "jd_from_t", "t_from_jd"]
+__all__ = ["EPHEMERIDES", "BODIES", "EPOCH_RESOLUTION", "check_resolution", "state", "position",
+           "coverage", "jd_from_t", "t_from_jd"]
 
 #: Ephemerides that can be selected.
 EPHEMERIDES = ("de421", "de405")
 #: Bodies that can be asked for.
 BODIES = ("sun", "mercury", "venus", "earth", "moon", "earthmoon", "mars", "jupiter", "saturn")
+#: The coarsest resolution an epoch's dtype may have at the epoch's size, s (1 ms: a Mars
+#: orbiter moves 3.5 m in it). float64 resolves 6e-8 s at 5e8 s; float32 32 s.
+EPOCH_RESOLUTION = 1e-3
+
+
+def check_resolution(name, value, largest):
+    """Refuse epochs ``value`` of a float dtype narrower than float64 that cannot resolve
+    ``largest`` (s TDB past J2000, their largest magnitude) to :data:`EPOCH_RESOLUTION`.
+
+    Refused, not converted: the values given are already rounded, so a float64 copy would
+    keep the wrong times. The one rule of mars.models' and mars.timing's epoch checks.
+
+    Examples
+    --------
+    >>> check_resolution("t", np.float32([5e8]), 5e8)
+    Traceback (most recent call last):
+    ...
+    ValueError: t must resolve its epochs to 0.001 s: as float32 it resolves 32 s at 5e+08 s; ...
+    """
+    dtype = np.asarray(value).dtype
+    if dtype.kind == "f" and dtype.itemsize < 8:
+        res = float(np.spacing(dtype.type(largest)))
+        if not res <= EPOCH_RESOLUTION:
+            raise ValueError(f"{name} must resolve its epochs to {EPOCH_RESOLUTION:g} s: as "
+                             f"{dtype} it resolves {res:.3g} s at {largest:.6g} s; pass float64 "
+                             f"epochs")
 
 _KM = 1.0e3
 _KM_PER_DAY = 1.0e3 / DAY

@@ -15,9 +15,8 @@ from xnavlab.core.validate import check_choice, check_finite_array, check_real
 
 __all__ = ["EPOCH_RESOLUTION", "MAX_SPAN_DAYS", "epoch", "epochs", "span", "covered"]
 
-#: The coarsest resolution an epoch's dtype may have at the epoch's size, s (1 ms: the orbiter
-#: moves 3.5 m in it). float64 resolves 6e-8 s at 5e8 s; float32 32 s.
-EPOCH_RESOLUTION = 1e-3
+#: :data:`xnavlab.core.ephemeris.EPOCH_RESOLUTION` (1 ms), the one rule of the epochs' dtype.
+EPOCH_RESOLUTION = ephemeris.EPOCH_RESOLUTION
 #: The longest propagation span, days: two years (more than a Mars year, 687 days). The
 #: integrator takes about 0.3 s a day at its default tolerances, so this is about 4 minutes;
 #: a span of years (t0 = 0 with epochs in 2016: 16 years) is refused, not run for an hour.
@@ -26,21 +25,10 @@ MAX_SPAN_DAYS = 731.0
 _TABLE_MARGIN = 2.0 * 3600.0
 
 
-def _resolution(name, value, largest):
-    """Refuse a float dtype narrower than float64 that cannot resolve ``largest`` (s)."""
-    dtype = np.asarray(value).dtype
-    if dtype.kind == "f" and dtype.itemsize < 8:
-        res = float(np.spacing(dtype.type(largest)))
-        if not res <= EPOCH_RESOLUTION:
-            raise ValueError(f"{name} must resolve its epochs to {EPOCH_RESOLUTION:g} s: as "
-                             f"{dtype} it resolves {res:.3g} s at {largest:.6g} s; pass float64 "
-                             f"epochs")
-
-
 def epoch(name, value, lo=-np.inf, hi=np.inf):
     """A scalar epoch, s TDB past J2000, as a float (a float32 one resolving it refused)."""
     t = check_real(name, value, lo, hi)
-    _resolution(name, value, abs(t))
+    ephemeris.check_resolution(name, value, abs(t))
     return t
 
 
@@ -50,7 +38,7 @@ def epochs(name, value):
     t = check_finite_array(name, value)
     if t.ndim != 1 or t.size == 0:
         raise ValueError(f"{name} must be a 1-D array of at least one epoch, got shape {t.shape}")
-    _resolution(name, value, float(np.abs(t).max()))
+    ephemeris.check_resolution(name, value, float(np.abs(t).max()))
     return t
 
 

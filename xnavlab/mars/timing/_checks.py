@@ -10,17 +10,16 @@ from __future__ import annotations
 
 import numpy as np
 
+from xnavlab.core import ephemeris
 from xnavlab.core.validate import check_finite_array, check_real, shown
 
 __all__ = ["EPOCH_RESOLUTION", "check_epochs", "check_epoch",
            "MAX_DRIFT", "MAX_PHOTONS", "RADII", "check_pulsar_fields", "check_spin_drift", "check_span",
            "check_exposure", "check_broadcast", "check_outside", "check_photons"]
 
-#: The coarsest resolution an epoch's dtype may have at the epoch's size, s (1 ms), as
-#: :mod:`xnavlab.mars.models`' epochs: float64 resolves 6e-8 s at 5e8 s (the paper's run, s TDB
-#: past J2000), float32 32 s, so a float32 epoch there is refused, not converted (its values
-#: are already rounded: the clock term of clock_terms moved by 1.2e-7 s, 36 m).
-EPOCH_RESOLUTION = 1e-3
+#: :data:`xnavlab.core.ephemeris.EPOCH_RESOLUTION` (1 ms), the one rule of the epochs' dtype
+#: (a float32 epoch near 5e8 s moved clock_terms' clock term by 1.2e-7 s, 36 m).
+EPOCH_RESOLUTION = ephemeris.EPOCH_RESOLUTION
 
 #: The most photons a simulation of arrival times expects, ``(lambda_s + lambda_b) t_obs``
 #: (the rates of :func:`xnavlab.mars.timing.pulsars.photon_rates`, which grow with the area):
@@ -225,24 +224,12 @@ def check_outside(name, dist, body):
                          f"km, from its centre), got {where} at {float(dist.ravel()[i]) / 1e3:.6g} km")
 
 
-def _resolution(name, value, largest):
-    """Refuse a float dtype narrower than float64 that cannot resolve ``largest`` (s) to
-    :data:`EPOCH_RESOLUTION`."""
-    dtype = np.asarray(value).dtype
-    if dtype.kind == "f" and dtype.itemsize < 8:
-        res = float(np.spacing(dtype.type(largest)))
-        if not res <= EPOCH_RESOLUTION:
-            raise ValueError(f"{name} must resolve its epochs to {EPOCH_RESOLUTION:g} s: as "
-                             f"{dtype} it resolves {res:.3g} s at {largest:.6g} s; pass float64 "
-                             f"epochs")
-
-
 def check_epochs(name, value):
     """Finite epochs (any shape) as float64 (:func:`xnavlab.core.validate.check_finite_array`);
     a narrower float dtype that cannot resolve them to :data:`EPOCH_RESOLUTION` is refused."""
     t = check_finite_array(name, value)
     if t.size:
-        _resolution(name, value, float(np.abs(t).max()))
+        ephemeris.check_resolution(name, value, float(np.abs(t).max()))
     return t
 
 
@@ -250,5 +237,5 @@ def check_epoch(name, value, lo=-np.inf, hi=np.inf):
     """One epoch as a float (:func:`xnavlab.core.validate.check_real`), a float32 one that
     cannot resolve it refused as :func:`check_epochs`."""
     t = check_real(name, value, lo, hi)
-    _resolution(name, value, abs(t))
+    ephemeris.check_resolution(name, value, abs(t))
     return t
