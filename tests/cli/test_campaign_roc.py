@@ -70,7 +70,7 @@ def _write(tmp_path, name, text):
     ("g.json", "{}", [], "missing key 'thresholds'"),
     ("g.txt", GRID, [], "must end in .toml or .json"),
     ("g.toml", GRID, ["--days", "1"], "takes its run length from the grid file's days"),
-    ("g.toml", GRID, ["--runs", "0"], "runs must be an integer in [1, 10000000]"),
+    ("g.toml", GRID, ["--runs", "0"], "--runs must be an integer in [1, 10000000]"),
 ])
 def test_bad_roc_input_is_one_line_exit_2(tmp_path, capsys, name, text, extra, words):
     path = _write(tmp_path, name, text)

@@ -360,7 +360,7 @@ def test_a_filter_the_kernel_cannot_carry_ends_in_one_line_not_a_traceback(tmp_p
     (["campaign", "roc", "--runs", "1", "--grid", ""], "grid file must name a file, got ''"),
     (["campaign", "consistency", "--runs", "1", "--scheduler", " "], "--scheduler is empty"),
     (["campaign", "consistency", "--runs", "1", "--workers", ""],
-     "workers must be an integer in [1, 256], got ''"),
+     "--workers must be an integer in [1, 256], got ''"),
 ])
 def test_an_empty_value_is_a_value_not_a_flag_left_out(argv, line, tmp_path, capsys):
     """Review 35e: an empty shell variable ("--scheduler $ADDR") ran the campaign on local
@@ -385,15 +385,31 @@ def test_a_folder_of_another_campaign_is_one_line_before_any_warning(tmp_path, c
 
 
 @pytest.mark.parametrize(("argv", "words"), [
-    (["run", "mars", "--days", "-1e-3"], "days must be a real number in (0, 365], got '-1e-3'"),
-    (["run", "mars", "--days", "-inf"], "days must be a real number in (0, 365], got '-inf'"),
-    (["run", "mars", "--seed", "-1e2"], "seed must be an integer in [0, "),
+    (["run", "mars", "--days", "-1e-3"], "--days must be a real number in (0, 365], got '-1e-3'"),
+    (["run", "mars", "--days", "-inf"], "--days must be a real number in (0, 365], got '-inf'"),
+    (["run", "mars", "--seed", "-1e2"], "--seed must be an integer in [0, "),
 ])
 def test_a_negative_value_with_an_exponent_reaches_its_own_range(argv, words, capsys):
     # review 35f #13: argparse read -1e-3 as an option ("expected one argument")
     assert main(argv) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and words in err
+
+
+@pytest.mark.parametrize(("flags", "words"), [
+    (["consistency", "--runs", "1", "--days", "0"], "--days must be a real number in (0, 30], got '0'"),
+    (["detectors", "--runs", "1", "--days", "99"], "--days must be a real number in [0.5, 5], got '99'"),
+    (["consistency", "--runs", "0"], "--runs must be an integer in [1, 10000000], got '0'"),
+    (["consistency", "--runs", "1", "--seed", "-1"], "--seed must be an integer in [0, "),
+    (["consistency", "--runs", "1", "--workers", "0"], "--workers must be an integer in [1, 256]"),
+    (["consistency", "--runs", "1", "--local-cluster", "--timeout", "0"],
+     "--timeout must be a real number in (0, 3600], got '0'"),
+])
+def test_a_campaign_flag_is_named_with_its_dashes(flags, words, tmp_path, capsys):
+    """Review 35l (6) 9: campaign --days 0 said "days must be ...", the API's name."""
+    assert main(["campaign", *flags, "--out", str(tmp_path / "o")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == f"xnavlab: error: {words}" or (len(err.splitlines()) == 1 and words in err), err
 
 
 def test_a_refused_command_drops_library_warnings_but_a_run_shows_them(monkeypatch, capsys):

@@ -156,7 +156,7 @@ REFUSALS = {
         ["campaign", "consistency", "--runs", "1", "--out", "{tmp}", "--workers", "2",
          "--scheduler", "tcp://127.0.0.1:1"], 2, "--workers sets local processes"),
     "--runs RUNS number of runs, >= 1": (
-        ["campaign", "consistency", "--runs", "0", "--out", "{tmp}"], 2, "runs must be"),
+        ["campaign", "consistency", "--runs", "0", "--out", "{tmp}"], 2, "--runs must be"),
     "--out FILE with --dump": (["scenario", "--check", "{tmp}/x.toml", "--out", "y"], 2,
                                "--out goes with --dump"),
     "--setup SETUP with --dump": (["scenario", "--check", "{tmp}/x.toml", "--setup", "study"], 2,

@@ -110,8 +110,8 @@ def test_an_out_that_cannot_be_written_is_refused_before_the_run(tmp_path, monke
 
 
 @pytest.mark.parametrize(("flags", "words"), [
-    (["--days", "1e-5"], "days must span at least one measurement interval"),  # was settle_days
-    (["--days", "1_0"], "days must be a real number in (0, 365], got '1_0'"),    # was 10 days
+    (["--days", "1e-5"], "--days must span at least one measurement interval"),  # was settle_days
+    (["--days", "1_0"], "--days must be a real number in (0, 365], got '1_0'"),    # was 10 days
     (["--scenario="], "scenario file must name a file, got ''"),                 # was the defaults
     (["--days", "0.01", "--detector", "wavelet"],   # was train_days (review 35j (3) 7)
      "--days 0.01 is too short for the wavelet detector: its uv wavelet trains on the first "

@@ -49,7 +49,7 @@ def test_dump_makes_a_missing_folder_and_refuses_what_it_cannot_write(tmp_path, 
     assert (tmp_path / "new" / "s.toml").read_text(encoding="utf-8") == scenario_files.dump()
     (tmp_path / "f").write_text("")
     for argv, words in ((["--out", str(tmp_path / "f" / "s.toml")], "a part of its folder is a file"),
-                        (["--out="], "--out must name a file"), (["--setup="], "setup must be one of")):
+                        (["--out="], "--out must name a file"), (["--setup="], "--setup must be one of")):
         assert main(["scenario", "--dump", *argv]) == 2
         err = capsys.readouterr().err.strip()
         assert words in err and len(err.splitlines()) == 1

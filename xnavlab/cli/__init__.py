@@ -132,12 +132,12 @@ def number(name, text, kind=float, lo=-math.inf, hi=math.inf, lo_open=False, hi_
 
     Examples
     --------
-    >>> number("days", "0.5", float, 0.0, 365.0, lo_open=True)
+    >>> number("--days", "0.5", float, 0.0, 365.0, lo_open=True)
     0.5
-    >>> number("days", "1_0", float, 0.0, 365.0, lo_open=True)
+    >>> number("--days", "1_0", float, 0.0, 365.0, lo_open=True)
     Traceback (most recent call last):
     ...
-    ValueError: days must be a real number in (0, 365], got '1_0'
+    ValueError: --days must be a real number in (0, 365], got '1_0'
     """
     from xnavlab.core.validate import check_int, check_real
 

@@ -143,7 +143,7 @@ def execute(args):
     runs, seed, where = _common(args)
     lo, hi = DAYS[args.name]  # the campaign's own range, checked again (with more) below
     days = (file_days if args.days is None and file_days is not None else
-            _number("days", "1" if args.days is None else args.days, float, lo, hi,
+            _number("--days", "1" if args.days is None else args.days, float, lo, hi,
                     lo_open=args.name == "consistency"))
     if scenario is not None:
         import dataclasses
@@ -229,15 +229,15 @@ def _common(args):
     if args.timeout is not None and not (args.scheduler or args.local_cluster):
         raise UsageError("--timeout is the wait for a Dask cluster: it goes with --scheduler "
                          "or --local-cluster (local workers need none)")
-    runs = _number("runs", args.runs, int, 1, 10**7)
-    seed = _number("seed", "0" if args.seed is None else args.seed, int, 0, SEED_MAX)
+    runs = _number("--runs", args.runs, int, 1, 10**7)
+    seed = _number("--seed", "0" if args.seed is None else args.seed, int, 0, SEED_MAX)
     timeout = (None if args.timeout is None  # None: run_campaign's own default
-               else _number("timeout", args.timeout, float, 0.0, 3600.0, lo_open=True))
+               else _number("--timeout", args.timeout, float, 0.0, 3600.0, lo_open=True))
     if args.workers is not None and args.scheduler:
         raise UsageError("--workers sets local processes; the cluster at --scheduler has its own")
-    workers = _number("workers", "2" if args.workers is None else args.workers, int, 1, 256)
+    workers = _number("--workers", "2" if args.workers is None else args.workers, int, 1, 256)
     if not args.local_cluster and not args.scheduler:
-        workers = check_int("workers", workers, 1, os.cpu_count() or 1)
+        workers = check_int("--workers", workers, 1, os.cpu_count() or 1)
     output_path(args.out, "--out", folder=True)  # made and writable before any run, once the
     # flags are checked (a bad flag leaves no folder behind)
     engine = "dask" if args.scheduler else ("local-cluster" if args.local_cluster else "local")
@@ -263,7 +263,7 @@ def _check_store(out, camp, seed, runs):
                 stored = {"seed": rec["seed"], "parameters": rec["parameters"]}
                 asked = {"seed": run_seeds[i], "parameters": json_ready(camp.params(i))}
                 if stored != asked:
-                    raise ValueError(f"out {out}: stored run {i} is another campaign's: "
+                    raise ValueError(f"--out {str(out)!r}: stored run {i} is another campaign's: "
                                      f"{differences(stored, asked)}; choose another --out")
         finally:
             store.close()

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 import sys
 import time
 from pathlib import Path
@@ -24,11 +25,11 @@ HELP = "run a scenario"
 
 
 def _days(text):
-    return number("days", text, float, 0.0, 365.0, lo_open=True)
+    return number("--days", text, float, 0.0, 365.0, lo_open=True)
 
 
 def _seed(text):
-    return number("seed", text, int, 0, SEED_MAX)
+    return number("--seed", text, int, 0, SEED_MAX)
 
 
 #: The fault-spec grammar, listed by ``run mars --help``.
@@ -106,6 +107,30 @@ def configure_mars(parser):
                              "else none: a plain run)")
 
 
+def _as_typed(text, flags):
+    """A message of :func:`~xnavlab.mars.navigation.scenario_files.with_overrides` in the
+    words the user typed: the run's field an override replaced (``[run] days = 1``) and the
+    closing ``(with days = 1, seed = 3)`` name the flags (``--days 1``); a flag the message
+    already names is not repeated.
+
+    ``flags`` maps a field to (its value as the scenario holds it or None, the flag's text).
+    """
+    given = re.search(r" \(with ([^()]*)\)$", text)
+    body = text[:given.start()] if given else text
+    tail = []
+    for field, (value, typed) in flags.items():
+        if value is None:
+            continue
+        shown = f"{value:g}" if isinstance(value, float) else f"{value}"
+        flag = f"--{field} {typed}"
+        body = body.replace(f"[run] {field} = {shown}", flag)  # the flag's value, not the file's
+        if body.startswith(f"[run] {field} "):
+            body = f"--{field} {body.removeprefix(f'[run] {field} ')}"
+        if f"--{field}" not in body:
+            tail.append(flag)
+    return f"{body} (with {', '.join(tail)})" if tail else body
+
+
 def _settings(args):
     """The scenario file (or the defaults) with the flags given on the command line applied."""
     from xnavlab.mars.navigation import scenario_files  # imported here: the parser stays light
@@ -114,21 +139,18 @@ def _settings(args):
           else scenario_files.loads(""))
     days = None if args.days is None else _days(args.days)
     seed = None if args.seed is None else _seed(args.seed)
-    mode = None if args.mode is None else check_choice("mode", args.mode, MODES)
+    mode = None if args.mode is None else check_choice("--mode", args.mode, MODES)
     try:  # the file's settings checked again against the flags, the file named
         sf = scenario_files.with_overrides(sf, days=days, seed=seed, mode=mode)
     except ValueError as exc:
-        text = str(exc)
-        if days is not None and text.startswith("[run] days "):  # the flag the user typed
-            text = f"--days {text.removeprefix('[run] days ')}".replace(
-                f" (with days = {days:g}", f" (with --days {args.days}", 1)
-            text = text.replace(f"(with --days {args.days})", "").rstrip()
+        text = _as_typed(str(exc), {"days": (days, args.days), "seed": (seed, args.seed),
+                                    "mode": (mode, args.mode)})
         if args.scenario_file is None:
             raise ValueError(text) from None
         raise ValueError(f"scenario file {args.scenario_file!r}: {text}") from None
     run, det = dict(sf.run), dict(sf.detector)
     if args.backend is not None:
-        run["backend"] = check_choice("backend", args.backend, ("numba", "numpy"))
+        run["backend"] = check_choice("--backend", args.backend, ("numba", "numpy"))
     if args.faults is not None:
         if not args.faults.strip():  # an empty shell variable: "--faults $SPEC"
             raise UsageError("--faults is empty: give a fault spec or 'paper', or leave the "
@@ -203,7 +225,7 @@ def execute_mars(args):
     if faults or detector != "none":
         from xnavlab.mars.faults import fault_tolerance  # only a fault-tolerant run needs it
 
-        check_choice("detector", detector, fault_tolerance.DETECTORS)
+        check_choice("--detector", detector, fault_tolerance.DETECTORS)
         _check_fault_backend(args, opts, det)
         out_dir(args.out)
         _check_schedule(args, sc, det)  # a bad spec, then a fault the run cannot use, then days

@@ -50,7 +50,7 @@ def execute(args):
         from xnavlab.core.validate import check_choice
         from xnavlab.mars.navigation import scenarios
 
-        setup = check_choice("setup", "paper" if args.setup is None else args.setup,
+        setup = check_choice("--setup", "paper" if args.setup is None else args.setup,
                              scenario_files.SETUPS)
         # a missing folder is made; a folder, a file on the way or an unwritable folder is
         # one line, before the file is written

@@ -236,11 +236,33 @@ def test_days_on_the_command_line_rechecks_the_file_s_settings_with_its_name(tmp
     assert main(["run", "mars", "--scenario", str(path), "--days", "0.03"]) == 2
     err = capsys.readouterr().err.strip()
     assert err == (f"xnavlab: error: scenario file {str(path)!r}: [run] settle_days must be a "
-                   f"real number in [0, 0.03), got 0.04 (with days = 0.03)")
+                   f"real number in [0, 0.03), got 0.04 (with --days 0.03)")
     path2 = tmp_path / "s2.toml"
     path2.write_text("[run]\ndays = 0.03\nsettle_days = 0.04\n")
     assert main(["scenario", "--check", str(path2)]) == 2
     assert "[run] settle_days must be a real number in [0, 0.03), got 0.04" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("text, flags, words", [
+    ('[run]\ndays = 30\n[detector]\nname = "combined"\narm_s = 200000\n', ["--days", "1"],
+     "[detector] arm_s (200000 s, when the combined detector's tests start) must be shorter "
+     "than the run: --days 1 is 86400 s"),
+    ("[run]\ndays = 30\nsettle_days = 5\n", ["--days", "1e0"],
+     "[run] settle_days must be a real number in [0, 1), got 5.0 (with --days 1e0)"),
+    ('[run]\ndays = 30\n[detector]\nname = "wavelet"\ntrain_days = 10\n', ["--days", "1"],
+     "[detector] train_days must be a real number in (0, 1), got 10.0 (with --days 1)"),
+    ("[run]\nsettle_days = 0.5\n", ["--days", "0.1", "--seed", "3"],
+     "[run] settle_days must be a real number in [0, 0.1), got 0.5 (with --days 0.1, --seed 3)"),
+])
+def test_the_flags_a_file_s_setting_clashes_with_are_named_as_typed(tmp_path, capsys, text,
+                                                                     flags, words):
+    """Review 35l (6) 8: a message that leads with another key said "[run] days = 1 ... (with
+    days = 1)" for the flag --days 1, a days the file does not hold."""
+    path = tmp_path / "s.toml"
+    path.write_text(text)
+    assert main(["run", "mars", "--scenario", str(path), *flags, "--quiet"]) == 2
+    assert capsys.readouterr().err.strip() == (f"xnavlab: error: scenario file {str(path)!r}: "
+                                               f"{words}")
 
 
 @pytest.mark.parametrize("content, words", [
@@ -364,7 +386,7 @@ def test_flags_that_move_the_run_past_the_ephemeris_name_the_file_s_key(tmp_path
     assert main(["run", "mars", "--scenario", str(path), "--days", "365"]) == 2
     err = capsys.readouterr().err.strip()
     assert err.startswith(f"xnavlab: error: scenario file {str(path)!r}: [orbit] t0 must be in "
-                          "[-3.15814e+09, 6.28253e+09]") and err.endswith("(with days = 365)"), err
+                          "[-3.15814e+09, 6.28253e+09]") and err.endswith("(with --days 365)"), err
 
 
 def test_a_flag_that_makes_the_run_fault_tolerant_names_the_file_s_backend(tmp_path, capsys):
