@@ -244,6 +244,17 @@ def test_cli_detectors_json(tmp_path, capsys):
     assert set(payload["runs"][0]["metrics"]) == {"wavelet", "chi2", "combined"}
     assert {(r["size_index"], r["detector"]) for r in payload["summary"]} == {
         (i, d) for i in (0, 1) for d in ("wavelet", "chi2", "combined")}
+    # review 35l (6) 9: a stored run of another campaign is refused before the cells' warning
+    store = tmp_path / "d" / cp.STORE_FILE
+    lines = store.read_text(encoding="utf-8").splitlines()
+    first = json.loads(lines[0])
+    first["parameters"]["size_index"] = 99
+    store.write_text("\n".join([json.dumps(first), *lines[1:]]) + "\n", encoding="utf-8")
+    assert main(["campaign", "detectors", "--runs", "1", "--days", "0.5", "--workers", "1",
+                 "--out", str(tmp_path / "d")]) == 2
+    assert capsys.readouterr().err.strip() == (
+        f"xnavlab: error: --out {str(tmp_path / 'd')!r}: stored run 0 is another campaign's: "
+        "parameters.size_index 99 (asked 0); choose another --out")
 
 
 def test_interrupted_campaign_completes_with_every_run_computed_once(tmp_path):
