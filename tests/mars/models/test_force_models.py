@@ -306,7 +306,11 @@ def test_force_model_propagate_refuses_float32_epochs_and_a_span_of_years():
                               np.tile(dynamics.MARS_STATE0[:3], (2, 1))), "t\\[1\\] must be in "),
     (lambda: fm.acceleration(np.float32(dynamics.MARS_T0), dynamics.MARS_STATE0[:3]),
      "t must resolve its epochs to 0.001 s"),
-    (lambda: fm.mars_fixed_matrix(np.float32(dynamics.MARS_T0)), "t must resolve its epochs")])
+    (lambda: fm.mars_fixed_matrix(np.float32(dynamics.MARS_T0)), "t must resolve its epochs"),
+    (lambda: fm.Tables("paper", np.float32(dynamics.MARS_T0), dynamics.MARS_T0 + 3600.0),
+     "t_start must resolve its epochs"),
+    (lambda: dynamics.ThirdBodyTable(dynamics.MARS_T0, np.float32(dynamics.MARS_T0 + 86400.0)),
+     "t_end must resolve its epochs")])
 def test_acceleration_names_t_not_the_tables_t_start(call, lead):
     """Review 35l (3) 4: acceleration(MARS_T0 * 1e6, r) was refused as the inner table's
     "t_start must be ..."; a float32 epoch (32 s) was taken by the scalar calls."""

@@ -304,3 +304,15 @@ def test_a_survey_longer_than_the_longest_propagation_names_n_windows():
     with pytest.raises(ValueError, match=r"^n_windows must keep the windows within 731 days"):
         ft.window_survey(["B0531+21"], n_windows=800, spacing=86400.0)
     assert dynamics.MAX_SPAN_DAYS == 731.0
+
+
+@pytest.mark.parametrize("call, name", [
+    (lambda: ft.fold_window("B0531+21", np.float32(dynamics.MARS_T0), dynamics.MARS_STATE0),
+     "t_start"),
+    (lambda: ft.window_survey(t0=np.float32(dynamics.MARS_T0), n_windows=1), "t0")])
+def test_a_float32_window_epoch_is_refused_with_its_resolution(call, name):
+    """A float32 epoch near 5e8 s resolves 32 s: the window's orbit started 32 s off in silence
+    (the epochs' rule of :func:`xnavlab.core.ephemeris.check_resolution`)."""
+    with pytest.raises(ValueError, match=f"^{name} must resolve its epochs to 0.001 s: as float32 "
+                                         "it resolves 32 s"):
+        call()

@@ -598,3 +598,22 @@ def test_review_35k_1_22_simulate_photons_bounded():
     with pytest.raises(ValueError, match=r"^t_obs must keep the expected photons at most 5e\+07 "
                                          r"\(about 2 GB\), got 1.54e\+10: .* at most 3236 s"):
         pulsars.simulate_photons("B0531+21", 1e6, rng=0)
+
+
+def test_fold_refuses_photon_times_whose_dtype_cannot_tell_their_bin():
+    """Float32 photon times resolve 1 us at 10 s: B1937+21's 256 bins are 6 us wide, so a
+    tenth of one (0.6 us) is lost; the values are already rounded, so they are refused, not
+    converted. Times a float32 resolves finely enough (the Crab's 16 bins) are taken."""
+    t = pulsars.simulate_photons("B1937+21", 10.0, rng=1)
+    for name, call in (("t", lambda: pulsars.fold(t.astype(np.float32), "B1937+21")),
+                       ("t", lambda: pulsars.fold(t.astype(np.float16), "B1937+21")),
+                       ("t0", lambda: pulsars.fold(t, "B1937+21", t0=np.float32(1e4))),
+                       ("span", lambda: pulsars.phase_exposure(np.float32([0.0, 1e5]),
+                                                               "B1937+21"))):
+        with pytest.raises(ValueError, match=rf"^{name} must resolve its times to a tenth of a "
+                                             r"phase bin \(6.09e-07 s, 256 bins of B1937\+21's "
+                                             r"0.00156 s period\): as float(32|16) it resolves"):
+            call()
+    crab = pulsars.fold(t.astype(np.float32), "B0531+21", nbins=16)
+    assert np.array_equal(crab, pulsars.fold(t.astype(np.float32).astype(float), "B0531+21",
+                                             nbins=16))

@@ -150,8 +150,8 @@ class ThirdBodyTable:
         check_choice("center", self.center, ephemeris.BODIES)  # not ephemeris's 'body' (35k)
         lo, hi = ephemeris.coverage(self.ephem)
         # the knots run two steps past t_end; every one must lie inside the ephemeris
-        self.t_start = check_real("t_start", self.t_start, lo, hi - 2.0 * self.step)
-        self.t_end = check_real("t_end", self.t_end, self.t_start, hi - 2.0 * self.step)
+        self.t_start = _checks.epoch("t_start", self.t_start, lo, hi - 2.0 * self.step)
+        self.t_end = _checks.epoch("t_end", self.t_end, self.t_start, hi - 2.0 * self.step)
         known = tuple(GM_BODIES) if self.gm is None else tuple(
             b for b in ephemeris.BODIES if b != self.center)
         self.bodies = check_items("bodies", self.bodies, "perturber", min_len=0,

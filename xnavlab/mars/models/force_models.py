@@ -562,8 +562,8 @@ class Tables:
     """
 
     def __init__(self, force_model, t_start, t_end, ephem="de421"):
-        t_start = check_real("t_start", t_start)
-        t_end = check_real("t_end", t_end, t_start)
+        t_start = _checks.epoch("t_start", t_start)  # float32 refused (it resolves 32 s)
+        t_end = _checks.epoch("t_end", t_end, t_start)
         fm = model(force_model, "force_model")
         bodies = list(fm.third_bodies)
         if fm.srp and "sun" not in bodies:

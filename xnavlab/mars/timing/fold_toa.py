@@ -75,7 +75,7 @@ from xnavlab.core.validate import (
 )
 from xnavlab.mars.models import dynamics
 from xnavlab.mars.timing import pulsars, timing_bound, toa
-from xnavlab.mars.timing._checks import check_photons
+from xnavlab.mars.timing._checks import check_epoch, check_photons
 
 __all__ = [
     "CORRECTIONS",
@@ -248,7 +248,7 @@ def fold_window(pulsar, t_start, state_true, error=None, duration=500.0, ephem="
     (-250.0, 250.0, 8175)
     """
     p = pulsars.get(pulsar)
-    t_start = check_real("t_start", t_start)
+    t_start = check_epoch("t_start", t_start)  # float32 refused (it resolves 32 s at 5e8 s)
     duration = check_real("duration", duration, 1.0, 86400.0)
     step = check_real("step", step, 0.01, 60.0)
     state_true = dynamics.check_state0(state_true, "state_true")  # above Mars, a physical speed
@@ -679,7 +679,7 @@ def window_survey(pulsar_names=pulsars.PAPER_PULSARS, error=PAPER_ERROR0, n_wind
     err = check_vector("error", error, 6)
     # Each argument under its own name before the windows pass it on (as t_start, t_obs, ...)
     duration = check_real("duration", duration, 1.0, 86400.0)
-    t0 = check_real("t0", t0)
+    t0 = check_epoch("t0", t0)
     lo, hi = ephemeris.coverage("de421")
     if not lo <= t0 <= hi - duration:
         raise ValueError(f"t0 must lie in [{lo:.6g}, {hi - duration:.6g}] s TDB past J2000 (its window "
