@@ -221,3 +221,25 @@ def test_detectors_check_metrics_refuses_out_of_range_records():
            "metrics": {"chi2": rec}}
     with pytest.raises(ValueError, match=r"^runs\[0\]\['metrics'\]\['chi2'\]\['size'\] must be"):
         mc.summarise_detectors([run])
+
+
+def test_summarise_consistency_checks_the_runs_against_a_scenario_given():
+    """Issue 35: called directly, the summary compared nis_dof only run with run; with the
+    scenario it also compares it (and the bins' times) with the scenario's."""
+    from xnavlab.mars.navigation.scenarios import MarsScenario
+    from xnavlab.mars.timing.pulsars import PAPER_PULSARS
+
+    runs = [{"status": "ok", "metrics": mc.consistency_run(seed=s, days=0.02)} for s in (1, 2)]
+    rows = mc.summarise_consistency(runs, scenario=MarsScenario(days=0.02))
+    assert rows == mc.summarise_consistency(runs)
+    with pytest.raises(ValueError, match=r"^runs\[0\]\['metrics'\] is not a consistency_run "
+                                         r"result: nis_dof is \{'xnav': 4, .*not the campaign's "
+                                         r"\{'xnav': 3"):
+        mc.summarise_consistency(runs, scenario=MarsScenario(days=0.02,
+                                                             pulsars=PAPER_PULSARS[:3]))
+    with pytest.raises(ValueError, match=r"^runs\[0\]\['metrics'\] is not a consistency_run "
+                                         r"result: bin_days\[0\] is "):
+        mc.summarise_consistency(runs, scenario=MarsScenario(days=0.04))
+    with pytest.raises(ValueError, match=r"^scenario must be a MarsScenario \(the runs' set-up\), "
+                                         r"got 'x'"):
+        mc.summarise_consistency(runs, scenario="x")

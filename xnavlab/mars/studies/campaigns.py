@@ -46,6 +46,7 @@ from xnavlab.core.validate import (
     check_real,
     check_records,
     check_seed,
+    shown,
 )
 from xnavlab.mars.navigation import scenario_files, scenarios
 from xnavlab.mars.studies import trials
@@ -185,7 +186,7 @@ def _consistency_metrics(metrics, days=None, dof=None):
     return why
 
 
-def summarise_consistency(runs):
+def summarise_consistency(runs, scenario=None):
     """The consistency table: run-averaged NEES per time bin and NIS per subsystem, with bounds.
 
     ``runs`` must be a list of campaign records (dicts with ``status``); anything else is
@@ -200,6 +201,11 @@ def summarise_consistency(runs):
     ----------
     runs : list of dict
         Run records (:func:`xnavlab.core.campaign.public_record`); failed runs are skipped.
+        Their ``nis_dof`` and ``bin_days`` must agree with each other's.
+    scenario : MarsScenario, optional
+        The runs' scenario (its ``days`` the campaign's): their ``nis_dof`` (XNAV one a pulsar)
+        and ``bin_days`` are also checked against it. A campaign's store does this for the
+        records it reads (:func:`campaign`'s ``check_metrics``).
 
     Returns
     -------
@@ -219,11 +225,17 @@ def summarise_consistency(runs):
     ('NEES', 2, 'position RMS (m)')
     """
     runs = check_records("runs", runs, ("status",), "campaign record")  # a string: one line
+    given = {}
+    if scenario is not None:
+        if not isinstance(scenario, scenarios.MarsScenario):
+            raise ValueError(f"scenario must be a MarsScenario (the runs' set-up), got "
+                             f"{shown(scenario)}")
+        given = {"days": scenario.days, "dof": _nis_dof(scenario)}
     ok = []
     for i, r in enumerate(runs):
         if r["status"] != "ok":
             continue
-        why = _consistency_metrics(r.get("metrics"))
+        why = _consistency_metrics(r.get("metrics"), **given)
         if why is None and ok and r["metrics"]["nis_dof"] != ok[0]["nis_dof"]:
             why = f"nis_dof is not the first ok run's ({ok[0]['nis_dof']})"
         if why is None and ok and r["metrics"]["bin_days"] != ok[0]["bin_days"]:
