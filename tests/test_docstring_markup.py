@@ -139,3 +139,79 @@ def test_the_entry_check_finds_a_sentence_inside_parameters():
     assert _stray_lines(doc.replace("x, y : float", "z, h :")) == ["z, h :", "A sentence: with."]
     notes = doc.replace("A sentence", "Notes\n-----\nA sentence")
     assert not _stray_lines(notes)
+
+
+def _ignored_class_patterns():
+    """The book's ``nitpick_ignore_regex`` entries for ``py:class`` (read from _config.yml)."""
+    import pathlib
+
+    import yaml
+
+    config = yaml.safe_load((pathlib.Path(__file__).parents[1] / "_config.yml").read_text())
+    return [re.compile(rx) for role, rx in config["sphinx"]["config"]["nitpick_ignore_regex"]
+            if role == "py:class"]
+
+
+def _documented_classes():
+    """Every class (and exception) an xnavlab module's ``__all__`` documents, by full name."""
+    names = set()
+    for modname in _modules():
+        module = importlib.import_module(modname)
+        for name in getattr(module, "__all__", ()):
+            obj = getattr(module, name, None)
+            if inspect.isclass(obj):
+                names |= {f"{modname}.{name}", f"{obj.__module__}.{obj.__qualname__}"}
+    return names
+
+
+def _unresolved_types(doc, ignored, classes):
+    """The pieces of ``doc``'s type fields that the book's nitpicky build (``-n``) cannot
+    resolve: Sphinx splits each ``:type x: ...`` napoleon writes at its delimiters
+    (PyXrefMixin's, below) and looks each piece up as a class, by the end of its name; a
+    built-in or typing name, or one the config ignores, is no reference."""
+    import builtins
+    import typing
+
+    from sphinx.domains.python._object import PyXrefMixin
+
+    delimiters = PyXrefMixin._delimiters_re
+    rst = str(NumpyDocstring(inspect.cleandoc(doc), NAPOLEON))
+    found = []
+    for spec in re.findall(r"^\s*:(?:type|vartype) [^:]*: (.*)$", rst, re.M):
+        for piece in filter(None, delimiters.split(spec)):
+            if delimiters.match(piece):
+                continue
+            piece = piece.lstrip("~.")
+            if (piece == "None"
+                    or inspect.isclass(getattr(builtins, piece, None))
+                    or piece.removeprefix("typing.") in typing.__all__
+                    or any(rx.fullmatch(piece) for rx in ignored)
+                    or any(c == piece or c.endswith(f".{piece}") for c in classes)):
+                continue
+            found.append(piece)
+    return found
+
+
+@pytest.fixture(scope="module")
+def type_lookup():
+    return _ignored_class_patterns(), _documented_classes()
+
+
+@pytest.mark.parametrize("modname", sorted(m for m in _modules() if "._" not in m))
+def test_every_type_in_a_docstring_resolves_in_the_book(modname, type_lookup):
+    """A type the nitpicky build cannot resolve (``os.PathLike`` before the standard library's
+    ``os`` joined the ignored packages) failed the book build after every test had passed.
+    The API reference documents the public modules (a private one's docstrings are not read)."""
+    module = importlib.import_module(modname)
+    found = [(where, piece) for where, doc in _docstrings(module) if doc
+             for piece in _unresolved_types(doc, *type_lookup)]
+    assert not found, f"no class of that name in the API reference or _config.yml: {found}"
+
+
+def test_the_type_check_finds_a_type_the_book_cannot_resolve(type_lookup):
+    doc = "Sum.\n\nParameters\n----------\nx : {}, optional\n    Terms.\n"
+    assert _unresolved_types(doc.format("os.PathLike"), *type_lookup) == []  # ignored: os
+    assert _unresolved_types(doc.format("shutil.Foo"), *type_lookup) == ["shutil.Foo"]
+    assert _unresolved_types(doc.format("MarsScenario or None"), *type_lookup) == []
+    assert _unresolved_types(doc.format("MarsScenaro"), *type_lookup) == ["MarsScenaro"]
+    assert _unresolved_types(doc.format("array_like, shape (n, 3)"), *type_lookup) == []
