@@ -93,3 +93,29 @@ def test_issue35_a_short_x_under_the_default_level_names_x(func):
 def test_an_empty_signal_is_named_x_not_max_levels_n(func):
     with pytest.raises(ValueError, match=r"^x must hold at least 10 samples for one level .*, got 0"):
         func([])
+
+
+@pytest.mark.parametrize("func", [mallat.detail_signals, mallat.mallat_wavedec, mallat.mallat_dwt])
+def test_a_read_only_or_memory_mapped_signal_gives_the_writable_ones_result(func, tmp_path):
+    """Review 35m (2) 1: a read-only x (np.load(..., mmap_mode="r"), setflags(write=False))
+    reached PyWavelets, whose bare "buffer source array is read-only" named no argument."""
+    x = np.random.default_rng(3).normal(size=320)
+    np.save(tmp_path / "x.npy", x)
+    ro = x.copy()
+    ro.setflags(write=False)
+    base = func(x)
+    for carrier in (ro, np.load(tmp_path / "x.npy", mmap_mode="r")):
+        for got, want in zip(func(carrier), base, strict=True):
+            assert np.array_equal(got, want)
+
+
+@pytest.mark.parametrize("func", [mallat.detail_signals, mallat.mallat_wavedec, mallat.mallat_dwt])
+def test_a_masked_sample_is_refused_naming_x(func):
+    """Review 35m (5) 1: the masked samples were transformed as data."""
+    name = "c" if func is mallat.mallat_dwt else "x"
+    x = np.ma.masked_array(np.ones(320))
+    x[7] = np.ma.masked
+    with pytest.raises(ValueError, match=rf"^{name} has masked entries: 1 of 320, the first {name}\[7\]"):
+        func(x)
+    assert all(np.array_equal(a, b) for a, b in zip(func(np.ma.masked_array(np.ones(320))),
+                                                    func(np.ones(320)), strict=True))

@@ -236,3 +236,20 @@ def test_the_unchecked_matrices_are_the_checked_ones_bit_for_bit(values, dt):
 def test_the_unchecked_forms_refuse_what_is_no_float_array_naming_it(call, match):
     with pytest.raises(ValueError, match=match):
         call()
+
+
+@pytest.mark.parametrize("func, arg, name", [
+    (lambda w: qt.kinematics_matrix_unchecked(w, 0.1), np.array([0.01, -0.02, 0.03]), "w"),
+    (qt.xi_matrix_unchecked, qt.quat_from_rotvec([0.1, -0.2, 0.3]), "q")])
+def test_the_unchecked_kernels_take_only_a_plain_ndarray(func, arg, name):
+    """Review 35m (5) 1: a masked array passed their isinstance(ndarray) test and its masked
+    entries were used; a read-only one is a plain ndarray and gives the same result."""
+    masked = np.ma.masked_array(arg.copy())
+    masked[0] = np.ma.masked
+    for bad in (masked, np.ma.masked_array(arg.copy())):
+        with pytest.raises(ValueError, match=rf"^{name} must be a float ndarray of shape .* got "
+                                             rf"MaskedArray array\(\["):
+            func(bad)
+    ro = arg.copy()
+    ro.setflags(write=False)
+    assert np.array_equal(func(ro), func(arg))

@@ -1,5 +1,6 @@
 """Argument checks: messages name the parameter and the allowed range."""
 
+import functools
 import math
 
 import numpy as np
@@ -311,3 +312,129 @@ def test_check_keywords_names_a_keyword_passed_on():
     for bad in ([("level", 3)], {3: 1}, "level=3"):
         with pytest.raises(ValueError, match=r"^f_kw must be a dict of keyword arguments"):
             check_keywords("f", bad, target, name="f_kw")
+
+
+# -------------------------------------------------------------------- review 35m (5) 1, (2) 1
+
+
+@given(st.integers(1, 4), st.integers(1, 5), st.data())
+def test_a_masked_entry_is_refused_naming_the_argument_and_the_first_one(rows, cols, data):
+    """Review 35m (5) 1: np.asarray dropped the mask, so the masked values were used as data."""
+    mask = data.draw(arrays(np.bool_, (rows, cols)).filter(np.any))
+    first = ", ".join(str(int(i)) for i in np.unravel_index(np.argmax(mask), mask.shape))
+    value = np.ma.masked_array(np.ones((rows, cols)), mask=mask)
+    with pytest.raises(ValueError, match=rf"^P has masked entries: {mask.sum()} of {mask.size}, "
+                                         rf"the first P\[{first}\] \(no number to use"):
+        check_finite_array("P", value)
+
+
+@pytest.mark.parametrize("value", [[np.ma.masked_array([1.0, 2.0], mask=[True, False]), [3.0, 4.0]],
+                                   [1.0, np.ma.masked], (True, np.ma.masked), [[0.0], [np.ma.masked]]])
+def test_a_masked_entry_inside_a_list_is_refused_without_numpys_warning(value):
+    """Review 35m (5) 1: a list of masked arrays lost its masks in np.asarray; np.ma.masked in a
+    list was converted to NaN with a UserWarning (an error under the tests' filterwarnings)."""
+    with pytest.raises(ValueError, match=r"^x has masked entries \(no number to use"):
+        check_finite_array("x", value)
+
+
+def test_an_unmasked_masked_array_and_a_matrix_are_used_as_their_data():
+    """Review 35m pattern N: a numpy.ma array with no masked entry is its data; np.matrix its
+    2-D array (a plain ndarray, so that ``*`` stays elementwise)."""
+    m = np.arange(6.0).reshape(2, 3)
+    with pytest.warns(PendingDeprecationWarning):  # numpy's own, at the user's np.asmatrix
+        matrix = np.asmatrix(m)
+    for value in (np.ma.masked_array(m), np.ma.masked_array(m, mask=np.zeros(m.shape, bool)),
+                  matrix, [np.ma.masked_array(m[0]), m[1]]):
+        out = check_finite_array("x", value)
+        assert type(out) is np.ndarray and np.array_equal(out, m)
+
+
+def test_a_read_only_array_is_copied_and_a_writable_float64_one_is_not():
+    """Review 35m (2) 1: a read-only array reached PyWavelets ("buffer source array is read-only")
+    and the numba kernels (a new compilation); the common path still makes no copy."""
+    x = np.arange(6.0).reshape(2, 3)
+    assert check_finite_array("x", x) is x
+    assert np.shares_memory(check_finite_array("x", x[:, ::2]), x)  # strided: a view, as it is
+    ro = x.copy()
+    ro.setflags(write=False)
+    out = check_finite_array("x", ro)
+    assert out.flags.writeable and out.flags.c_contiguous and np.array_equal(out, x)
+    big = check_finite_array("x", x.astype(">f8"))
+    assert big.dtype == np.float64 and big.dtype.isnative and np.array_equal(big, x)
+
+
+def _carriers(v):
+    """The kinds of the same float array a caller may hold (review 35m mode c), by name."""
+    ro = v.copy()
+    ro.setflags(write=False)
+    out = {"unmasked np.ma": np.ma.masked_array(v.copy()), "read-only": ro,
+           "big-endian": v.astype(">f8"), "strided": np.repeat(v, 2, axis=-1)[..., ::2]}
+    if v.ndim == 2:
+        with pytest.warns(PendingDeprecationWarning):
+            out["np.matrix"] = np.asmatrix(v)
+    return out
+
+
+@functools.cache
+def _public_calls():
+    """(label, function, {argument: array}, other keywords, result -> array, numba kernel or None)."""
+    from xnavlab.attitude import _bank_kernel, simulation
+    from xnavlab.core import filters, quaternions
+    from xnavlab.core.detection import chisquare, mallat
+    from xnavlab.mars.models import dynamics, force_models
+    from xnavlab.mars.timing import photon_fix
+
+    def same(r):
+        return np.asarray(r, dtype=float)
+
+    nu = np.random.default_rng(5).normal(0.0, 5000.0, 200)
+    cfg = simulation.SimConfig(duration=50.0)
+    _, wg, qs = simulation.simulate_sensors(cfg)
+    return [
+        ("nees", filters.nees, {"err": np.array([1.0, 2.0]), "P": np.diag([1.0, 4.0])}, {}, same, None),
+        ("nis", filters.nis, {"nu": np.array([3.0, 1.0]), "S": np.array([[9.0, 1.0], [1.0, 4.0]])},
+         {}, same, None),
+        ("chi2_detect", chisquare.chi2_detect,
+         {"t": 3.0 * np.arange(200), "nu": nu, "S": np.full(200, 5000.0**2)}, {},
+         lambda d: np.r_[d.ratio, d.alarm], None),
+        ("quat_to_rotvec", quaternions.quat_to_rotvec,
+         {"q": quaternions.quat_from_rotvec([0.1, -0.2, 0.3])}, {}, same, None),
+        ("quat_product", quaternions.quat_product,
+         {"p": np.array([0.0, 0.0, 0.6, 0.8]), "q": np.array([[0.6, 0.0, 0.0, 0.8]] * 2)}, {}, same, None),
+        ("detail_signals", mallat.detail_signals,
+         {"x": np.random.default_rng(2).normal(size=200)}, {}, lambda r: np.vstack([r[0], r[1]]), None),
+        ("acceleration", lambda r: force_models.acceleration(dynamics.MARS_T0, r),
+         {"r": dynamics.MARS_STATE0[:3].copy()}, {}, same, force_models._accel_many),
+        ("diagnose_batch", lambda omega_g, q_meas: simulation.diagnose_batch(omega_g, q_meas, cfg),
+         {"omega_g": wg[None], "q_meas": qs[None]}, {}, lambda r: r["sos_r"], _bank_kernel._bank),
+        ("template_density", photon_fix.template_density,
+         {"coeffs": np.array([0.5, 0.1]), "phases": np.array([0.0, 0.25, 0.5])}, {}, same, None),
+    ]
+
+
+LABELS = ("nees", "nis", "chi2_detect", "quat_to_rotvec", "quat_product", "detail_signals",
+          "acceleration", "diagnose_batch", "template_density")
+
+
+@pytest.mark.parametrize("case", LABELS)
+def test_masked_and_read_only_arrays_are_refused_or_give_the_same_result(case):
+    """Review 35m (5) 1, (2) 1, pattern N: across modules, a masked entry is refused naming the
+    argument; the unmasked, read-only, big-endian, strided and matrix kinds of the same array
+    give the same result (to rounding), and a read-only one compiles no new numba specialization (it ran
+    past 6 s in acceleration and diagnose_batch)."""
+    label, fn, args, kw, key, kernel = _public_calls()[LABELS.index(case)]
+    assert label == case
+    base = key(fn(**args, **kw))
+    n_compiled = len(kernel.signatures) if kernel is not None else 0
+    for name, v in args.items():
+        masked = np.ma.masked_array(v.copy())
+        masked[np.unravel_index(v.size - 1, v.shape)] = np.ma.masked
+        with pytest.raises(ValueError, match=rf"^{name} has masked entries"):
+            fn(**{**args, name: masked}, **kw)
+        for kind, carrier in _carriers(v).items():
+            got = key(fn(**{**args, name: carrier}, **kw))
+            # to rounding: a strided array may take another BLAS/einsum path (diagnose_batch)
+            scale = float(np.abs(base).max())
+            assert np.allclose(got, base, rtol=0.0, atol=1e-12 * scale), f"{label}({name}=<{kind}>)"
+    if kernel is not None:
+        assert len(kernel.signatures) == n_compiled, f"{label}: a new specialization compiled"

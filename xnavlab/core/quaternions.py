@@ -384,7 +384,8 @@ def kinematics_matrix_unchecked(w, dt):
     not finite or exceeds :data:`MAX_ANGLE` (a filter's estimate may run away). A step of the
     attitude filter bank costs about half as much without the checks of every input; only the
     types and the trailing shape are checked (a fraction of a microsecond), so that anything
-    else (a list, a bool, a 0-d array) is refused naming it, not failed inside.
+    else (a list, a bool, a 0-d array, an ndarray subclass: a masked array) is refused naming
+    it, not failed inside.
 
     Parameters
     ----------
@@ -403,9 +404,9 @@ def kinematics_matrix_unchecked(w, dt):
     >>> bool(np.array_equal(kinematics_matrix_unchecked(w, 0.1), kinematics_matrix(w, 0.1)))
     True
     """
-    if not isinstance(w, np.ndarray) or w.dtype.kind != "f" or w.shape[-1:] != (3,):
+    if type(w) is not np.ndarray or w.dtype.kind != "f" or w.shape[-1:] != (3,):  # no np.ma (35m)
         raise ValueError(f"w must be a float ndarray of shape (..., 3) (no conversion here), got "
-                         f"{type(w).__name__} {shown(w)}")
+                         f"{type(w).__name__} {shown(np.asarray(w) if isinstance(w, np.ndarray) else w)}")
     if isinstance(dt, bool) or not isinstance(dt, float | int | np.floating | np.integer) or not dt >= 0:
         raise ValueError(f"dt must be a real number in [0, inf), s, got {shown(dt)}")
     return _phi(w, dt)
@@ -414,9 +415,10 @@ def kinematics_matrix_unchecked(w, dt):
 def xi_matrix_unchecked(q):
     """:func:`xi_matrix` without the conversion and checks of ``q``, for inner loops.
 
-    The caller guarantees a finite float ndarray of shape (..., 4), not zero; only the type and
-    the trailing shape are checked (a fraction of a microsecond), so that anything else is
-    refused naming ``q``, not failed inside.
+    The caller guarantees a finite float ndarray of shape (..., 4), not zero; only the type (a
+    plain ndarray, no subclass: a masked array's mask would be dropped) and the trailing shape
+    are checked (a fraction of a microsecond), so that anything else is refused naming ``q``,
+    not failed inside.
 
     Parameters
     ----------
@@ -432,9 +434,9 @@ def xi_matrix_unchecked(q):
     >>> bool(np.array_equal(xi_matrix_unchecked(q), xi_matrix(q)))
     True
     """
-    if not isinstance(q, np.ndarray) or q.dtype.kind != "f" or q.shape[-1:] != (4,):
+    if type(q) is not np.ndarray or q.dtype.kind != "f" or q.shape[-1:] != (4,):  # no np.ma (35m)
         raise ValueError(f"q must be a float ndarray of shape (..., 4) (no conversion here), got "
-                         f"{type(q).__name__} {shown(q)}")
+                         f"{type(q).__name__} {shown(np.asarray(q) if isinstance(q, np.ndarray) else q)}")
     return _xi(q)
 
 

@@ -119,9 +119,11 @@ def check_int(name, value, lo=-math.inf, hi=math.inf):
 def check_finite_array(name, value, shape=None, dtype=float, finite=True):
     """Return ``value`` as a finite float array, checking its trailing shape.
 
-    Complex numbers (whose imaginary part a cast would drop), text and booleans are refused,
-    not converted. ``finite=False`` lets NaN and inf through (an elementwise function that
-    maps NaN to NaN, as scipy's do).
+    Complex numbers (whose imaginary part a cast would drop), text, booleans and masked entries
+    are refused, not converted (a ``numpy.ma`` array with none is used as its data, a matrix as
+    its 2-D array). A read-only array is copied once (PyWavelets and the compiled kernels need
+    a writable one); a writable float64 array is returned as it is. ``finite=False`` lets NaN
+    and inf through (an elementwise function that maps NaN to NaN, as scipy's do).
 
     Parameters
     ----------
@@ -144,7 +146,19 @@ def check_finite_array(name, value, shape=None, dtype=float, finite=True):
     Traceback (most recent call last):
     ...
     ValueError: state0 must be an array of finite numbers, got [1.0, True]
+    >>> check_finite_array("P", np.ma.masked_array([1.0, 4.0], mask=[True, False]))
+    Traceback (most recent call last):
+    ...
+    ValueError: P has masked entries: 1 of 2, the first P[0] (no number to use: fill or drop them)
     """
+    if isinstance(value, np.ma.MaskedArray):  # np.asarray used the masked values (review 35m)
+        if (mask := np.ma.getmaskarray(value)).any():
+            at = ", ".join(str(int(i)) for i in np.unravel_index(np.argmax(mask), mask.shape))
+            raise ValueError(f"{name} has masked entries: {int(mask.sum())} of {mask.size}, the "
+                             f"first {name}[{at}] (no number to use: fill or drop them)")
+        value = value.data
+    if (odd := _odd_item(value) if isinstance(value, list | tuple) else None) == "masked":
+        raise ValueError(f"{name} has masked entries (no number to use: fill or drop them)")
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", np.exceptions.VisibleDeprecationWarning)
@@ -156,7 +170,7 @@ def check_finite_array(name, value, shape=None, dtype=float, finite=True):
     if "c" in kinds:
         raise ValueError(f"{name} must hold real numbers, got complex values (an imaginary part "
                          f"is not dropped)")
-    if kinds & set("USbO") or (isinstance(value, list | tuple) and _holds_bool(value)):
+    if kinds & set("USbO") or odd:
         # a True among floats: np.asarray made it 1.0 without a word (review 35g)
         raise ValueError(f"{name} must be an array of finite numbers, got {shown(value)}")
     try:
@@ -171,13 +185,20 @@ def check_finite_array(name, value, shape=None, dtype=float, finite=True):
             raise ValueError(f"{name} must have trailing shape {want}, got shape {arr.shape}")
     if finite and not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} must contain only finite numbers (no NaN or inf)")
-    return arr
+    return arr if arr.flags.writeable else arr.copy()  # pywt: "buffer source array is read-only"
 
 
-def _holds_bool(value):
-    """Whether a (nested) list or tuple holds a bool anywhere."""
-    return any(isinstance(v, bool | np.bool_) or (isinstance(v, list | tuple) and _holds_bool(v))
-               for v in value)
+def _odd_item(value):
+    """``"masked"`` if a (nested) list or tuple holds a masked entry, else ``"bool"`` if a bool."""
+    odd = set()
+    for v in value:
+        if isinstance(v, list | tuple):
+            odd.add(_odd_item(v))
+        elif isinstance(v, bool | np.bool_):
+            odd.add("bool")
+        elif isinstance(v, np.ma.MaskedArray) and np.ma.is_masked(v):
+            odd.add("masked")
+    return "masked" if "masked" in odd else "bool" if "bool" in odd else None
 
 
 def check_bool(name, value):

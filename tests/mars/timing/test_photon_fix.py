@@ -235,3 +235,18 @@ def test_phases_are_one_per_photon_and_a_reference_is_of_these_photons(photons, 
             photon_fix.estimate_offset(nav, reference, bad)
     with pytest.raises(ValueError, match=rf"^reference must be built from these {nav.size} photons"):
         photon_fix.fix(nav, np.zeros(3), reference)
+
+
+def test_template_density_refuses_masked_coefficients():
+    """Review 35m (5) 1: the masked coefficients were used (its own complex check, not the
+    shared array check); an array with no masked entry is its data."""
+    phases = np.array([0.0, 0.25, 0.5])
+    with pytest.raises(ValueError, match=r"^coeffs has masked entries"):
+        photon_fix.template_density(np.ma.masked_array([0.5, 0.1], mask=[True, False]), phases)
+    with pytest.raises(ValueError, match=r"^coeffs must be a non-empty 1-D array of \(complex\) "
+                                         r"numbers, got \[0.5, masked\]"):
+        photon_fix.template_density([0.5, np.ma.masked], phases)
+    with pytest.raises(ValueError, match=r"^phases has masked entries: 1 of 3, the first phases\[1\]"):
+        photon_fix.template_density([0.5], np.ma.masked_array(phases, mask=[False, True, False]))
+    assert np.array_equal(photon_fix.template_density(np.ma.masked_array([0.5]), phases),
+                          photon_fix.template_density([0.5], phases))

@@ -485,6 +485,8 @@ def template_density(coeffs, phases=None, derivative=0):
 
 def _coeffs(coeffs):
     """``coeffs`` as a non-empty 1-D complex array of finite numbers, else one ValueError."""
+    if np.ma.is_masked(coeffs):  # np.asarray would use the masked values (review 35m (5) 1)
+        raise ValueError("coeffs has masked entries (no number to use: fill or drop them)")
     raw = np.asarray(coeffs, dtype=object) if isinstance(coeffs, list | tuple) else np.asarray(coeffs)
     if raw.dtype.kind == "O":  # a list: each item a real or complex number, no bool
         ok = raw.ndim == 1 and all(isinstance(v, complex | float | int | np.number)
