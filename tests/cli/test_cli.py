@@ -334,7 +334,7 @@ def test_a_standard_output_closed_early_ends_quietly(argv):
                                 "write 'run mars --days 0.02'"),
     (["run", "--days", "0.02", "mars"], "run needs its scenario before the options (choose from "
                                         "'mars'): write 'run mars --days 0.02'"),
-    (["run", "venus"], "argument scenario: invalid choice: 'venus' (choose from 'mars')"),
+    (["run", "venus"], "run: unknown scenario 'venus' (choose from 'mars')"),  # review 35m (6) 2
 ])
 def test_an_option_before_its_sub_command_says_the_order(argv, line, capsys):
     """Review 35b N24: 'run --days 0.02' said "argument scenario: invalid choice: '0.02'"."""
@@ -434,3 +434,20 @@ def test_a_refused_command_drops_library_warnings_but_a_run_shows_them(monkeypat
             warnings.simplefilter("default")
             assert main(["run", "mars", "--days", "1"]) == code
         assert capsys.readouterr().err.strip().splitlines() == lines
+
+
+@pytest.mark.parametrize(("argv", "line"), [
+    (["--version", "run", "mars", "--days", "-1"],
+     "--version is given alone (python -m xnavlab --version), got also 'run mars --days -1'"),
+    (["--version", "warmup"], "--version is given alone (python -m xnavlab --version), got also "
+                              "'warmup'"),
+    (["bogus"], "python -m xnavlab: unknown command 'bogus' (choose from 'reproduce', 'run', "
+                "'warmup', 'campaign', 'scenario')"),
+    (["run", "attitude"], "run: unknown scenario 'attitude' (choose from 'mars')"),
+])
+def test_a_command_line_is_refused_in_the_words_it_shows(argv, line, capsys):
+    """Review 35m (6) 4: '--version run mars --days -1' printed the version, rc 0, the rest
+    unread; (6) 2: 'run attitude' said "argument scenario", argparse's internal name."""
+    assert main(argv) == 2
+    cap = capsys.readouterr()
+    assert cap.err.strip() == f"xnavlab: error: {line}" and cap.out == ""

@@ -126,8 +126,15 @@ REFUSALS = {
         ["run", "mars", "--days", "0.1", "--faults", SPEC.format(300)], 2, "before the filter"),
     "so a UV or CNS fault inside the training span is taken": (
         ["run", "mars", "--days", "0.1", "--json", "--faults", SPEC.format(1000)], 0, ""),
-    "(refused below --days 27.84)": (
-        ["run", "mars", "--days", "5", "--faults", "paper"], 2, "--days 27.84"),
+    "refused for a run that ends by its last onset, 2400000 s: --days 27.77 or less": (
+        ["run", "mars", "--days", "27.77", "--faults", "paper"], 2, "--days 27.84"),
+    # review 35m (6) 5: "magnitude ignored" beside "Refused: a zero MAGNITUDE"; both ran unused
+    "a stuck fault's, a number it would not use, must be 0": (
+        ["run", "mars", "--days", "0.1", "--faults", "uv.range:stuck:5@3600+3000"], 2,
+        "a stuck fault's MAGNITUDE must be 0"),
+    "(a spike's must be 0)": (
+        ["run", "mars", "--days", "0.1", "--faults", "uv.range:spike:5@3600+3000"], 2,
+        "a spike fault's DURATION must be 0"),
     # review 35j (3) 7: named train_days, no option of the command line
     "--days below 0.0248 with the wavelet or combined detector": (
         ["run", "mars", "--days", "0.02", "--faults", SPEC.format(1000)], 2,

@@ -168,3 +168,91 @@ def test_a_run_too_short_names_the_days_flag(days, capsys):
     assert main(["run", "mars", "--days", days]) == 2
     err = capsys.readouterr().err.strip()
     assert err.startswith("xnavlab: error: --days must span") and "[run]" not in err
+
+
+_FAULT_CLAIMS = [  # (words of FAULT_HELP's "Refused:" part, flags, words of the one-line refusal)
+    ("a zero, NaN or infinite MAGNITUDE", ["--faults", "uv.range:step:0@20000+3000"],
+     "--faults: bad fault item 'uv.range:step:0@20000+3000': magnitude of a step fault must be"),
+    ("a zero, NaN or infinite MAGNITUDE", ["--faults", "uv.range:step:nan@20000+3000"],
+     "--faults: bad fault item 'uv.range:step:nan@20000+3000': magnitude must be a finite"),
+    ("a zero, NaN or infinite MAGNITUDE", ["--faults", "uv.range:ramp:inf@20000+3000"],
+     "--faults: bad fault item 'uv.range:ramp:inf@20000+3000': magnitude must be a finite"),
+    ("a noise sigma must be > 0", ["--faults", "uv.range:noise:-1@20000+3000"],
+     "magnitude of a noise fault (the extra noise's standard deviation) must be"),
+    ("a stuck fault's, a number it would not use, must be 0", ["--faults", "uv.range:stuck:5@20000+3000"],
+     "--faults: bad fault item 'uv.range:stuck:5@20000+3000': a stuck fault's MAGNITUDE must be 0"),
+    ("a DURATION <= 0 or NaN", ["--faults", "uv.range:step:1@20000+0"],
+     "duration of a step fault must be a real number in (0, inf], s, got 0.0"),
+    ("a DURATION <= 0 or NaN", ["--faults", "uv.range:step:1@20000+nan"],
+     "duration of a step fault must be a real number in (0, inf], s, got nan"),
+    ("(a spike's must be 0)", ["--faults", "uv.range:spike:1@20000+3000"],
+     "a spike fault's DURATION must be 0"),
+    ("a fault whose onset lies outside the run", ["--faults", "uv.range:step:1@43200+3000"],
+     "--faults: uv.range:step:1@43200+3000 starts at 43200 s, outside this run"),
+    ("a fault whose onset lies outside the run", ["--faults", "uv.range:step:1@-5+3000"],
+     "--faults: uv.range:step:1@-5+3000 starts at -5 s, before the run's start"),
+    ("acts on no sample of its sensor (XNAV: one every 500 s)", ["--faults", "xnav:step:1e-5@20001+10"],
+     "--faults: xnav:step:1e-05@20001+10 acts on no sample"),
+    ("with the wavelet detector a UV or CNS fault that starts inside the wavelets' training span",
+     ["--detector", "wavelet", "--faults", "uv.range:step:25000@2000+3000"],
+     "--faults: uv.range:step:25000@2000+3000 starts at 2000 s, inside the 21600-s span on which "
+     "the uv wavelet detector trains (it must be fault-free); move its onset to 21600 s or later, "
+     "or use --detector combined"),
+    ("with the combined detector a fault that starts before 600 s",
+     ["--faults", "uv.range:step:25000@599+3000"],
+     "--faults: uv.range:step:25000@599+3000 starts at 599 s, before the filter has settled"),
+    ("'paper' is the paper's 16-fault schedule (refused for a run that ends by its last onset, "
+     "2400000 s: --days 27.77 or less", ["--days", "27.77", "--faults", "paper"],
+     "--faults: the paper's schedule has onsets up to 2400000 s (27.78 days); run at least "
+     "--days 27.84"),
+    ("--days below 0.0248 with the wavelet or combined detector) is refused",
+     ["--days", "0.0247", "--detector", "wavelet"], "--days 0.0247 is too short for the wavelet "
+                                                     "detector"),
+]
+
+
+@pytest.mark.parametrize(("claim", "flags", "words"), _FAULT_CLAIMS)
+def test_every_refusal_run_mars_help_states_holds(claim, flags, words, capsys, monkeypatch):
+    """Review 35m (6) 5: the help said "Refused: a zero ... MAGNITUDE" and "stuck (... magnitude
+    ignored)", and a stuck fault of magnitude 0 or 5 ran; every "Refused:" statement is now
+    checked by a refusal, in one line leading with the flag (review 35m (6) 1: "spec:" and
+    "faults:", parse_faults' and check_schedule's parameters, led before)."""
+    from xnavlab.mars.faults import fault_tolerance
+
+    monkeypatch.setattr(fault_tolerance, "run_fault_tolerant", lambda *a, **k: pytest.fail("ran"))
+    monkeypatch.setattr(scenarios, "run", lambda *a, **k: pytest.fail("the run started"))
+    assert claim in " ".join(runners.FAULT_HELP.split())
+    argv = flags if "--days" in flags else ["--days", "0.5", *flags]
+    assert main(["run", "mars", "--quiet", *argv]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith("xnavlab: error: ") and words in err and len(err.splitlines()) == 1, err
+    assert " spec" not in err and "error: faults" not in err
+
+
+def test_a_fault_backend_conflict_in_a_file_is_refused_by_check(tmp_path, capsys):
+    """FAULT_HELP: "a scenario file with faults or a detector and another backend or local_filter
+    is refused by --check"."""
+    assert "is refused by --check" in " ".join(runners.FAULT_HELP.split())
+    path = tmp_path / "s.toml"
+    path.write_text('[run]\nbackend = "numpy"\n[detector]\nfaults = "uv.range:step:1@700+300"\n')
+    assert main(["scenario", "--check", str(path)]) == 2
+    assert '[detector] faults (a fault-tolerant run) runs with [run] backend = "numba"' in \
+        capsys.readouterr().err
+
+
+def test_a_files_faults_and_arm_s_are_named_as_its_keys(tmp_path, capsys, monkeypatch):
+    """Review 35m (6) 1, pattern Q: run_fault_tolerant's check of arm_s said "faults: ... (arm_s =
+    5000 s) ... lower arm_s", its parameters, for a file's [detector] faults and arm_s."""
+    from xnavlab.mars.faults import fault_tolerance
+
+    monkeypatch.setattr(fault_tolerance, "run_fault_tolerant", lambda *a, **k: pytest.fail("ran"))
+    path = tmp_path / "s.toml"
+    path.write_text('[run]\ndays = 0.5\n[detector]\nfaults = "uv.range:step:25000@700+300"\n'
+                    'arm_s = 5000.0\n')
+    for flags, head in (([], "[detector] faults"), (["--faults", "uv.range:step:25000@800+100"],
+                                                    "--faults")):
+        assert main(["run", "mars", "--scenario", str(path), "--quiet", *flags]) == 2
+        err = capsys.readouterr().err.strip()
+        assert err.startswith(f"xnavlab: error: scenario file {str(path)!r}: {head}: uv.range:step:"), err
+        assert "([detector] arm_s = 5000 s)" in err and err.endswith(
+            "move it after [detector] arm_s or lower [detector] arm_s")

@@ -2,7 +2,10 @@
 
 Usage errors print one line on stderr and exit with code 2; so does an option given twice
 (``--faults A --faults B``: argparse would keep B and drop A without a word). ``python -m xnavlab --version``
-prints ``xnavlab`` and :data:`xnavlab.__version__` on one line and exits with code 0.
+prints ``xnavlab`` and :data:`xnavlab.__version__` on one line and exits with code 0; given
+with anything else (``--version run mars --days -1``) it is refused, as the rest would go
+unread. An unknown command or scenario is named as typed (``run: unknown scenario
+'attitude' (choose from 'mars')``), not by argparse's internal name.
 
 Commands are discovered through :data:`COMMANDS`, a table of the modules that implement
 them; nothing below this package imports it, so the models never know about the command
@@ -116,6 +119,9 @@ class Parser(argparse.ArgumentParser):
             rest = [a for a in argv if a not in given[:1]]
             raise UsageError(f"{cmd} needs its {bad[1]} before the options (choose from "
                              f"{bad[3]}): write '{' '.join([cmd, (given or choices)[0], *rest])}'")
+        if bad:  # argparse's dest ('argument scenario') is no word the user typed or read
+            raise UsageError(f"{cmd or 'python -m xnavlab'}: unknown {bad[1]} {bad[2]!r} "
+                             f"(choose from {bad[3]})")
         raise UsageError(message)
 
 
@@ -269,6 +275,9 @@ def _main(argv):
         argv = join_negative_values(sys.argv[1:] if argv is None else list(argv))
         args = build_parser().parse_args(argv)
         if args.version:
+            if argv != ["--version"]:  # the rest would be dropped without a word
+                raise UsageError(f"--version is given alone (python -m xnavlab --version), got "
+                                 f"also {' '.join(a for a in argv if a != '--version')!r}")
             print(f"xnavlab {__version__}")
             return 0
         if args.command is None:

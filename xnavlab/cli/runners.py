@@ -41,15 +41,17 @@ since the start, DURATION may be inf; no COMPONENT means every component of the 
           full names such as B1937+21 also work)
   uv      range, ux, uy, uz (or 0-3)              m (range); 1 (unit-vector components)
   cns     angle0, angle1, angle2 (or 0-2)         rad (starlight angle)
-  kinds   step (+magnitude), ramp (+magnitude * (t - onset)), spike (one sample; duration
-          ignored), stuck (output frozen; magnitude ignored), noise (extra noise of that sigma)
-Refused: a zero, NaN or infinite MAGNITUDE (a noise sigma must be > 0); a DURATION <= 0 or
-NaN; a fault whose onset lies outside the run, or that acts on no sample of its sensor
+  kinds   step (+magnitude), ramp (+magnitude * (t - onset)), spike (one sample: DURATION
+          0), stuck (output frozen: MAGNITUDE 0), noise (extra noise of that sigma)
+Refused: a zero, NaN or infinite MAGNITUDE (a noise sigma must be > 0; a stuck fault's, a
+number it would not use, must be 0); a DURATION <= 0 or NaN (a spike's must be 0); a fault
+whose onset lies outside the run, or that acts on no sample of its sensor
 (XNAV: one every 500 s); with the wavelet detector a UV or CNS
 fault that starts inside the wavelets' training span (the first day, or half the run when
 shorter); with the combined detector a fault that starts before 600 s (its innovation
 tests watch while the wavelets train, so a UV or CNS fault inside the training span is
-taken). 'paper' is the paper's 16-fault schedule (refused below --days 27.84). A run too
+taken). 'paper' is the paper's 16-fault schedule (refused for a run that ends by its last
+onset, 2400000 s: --days 27.77 or less; --days 27.84 lets its last faults act). A run too
 short for the UV/CNS wavelets' training (356 samples in its first min(1, days / 2) days:
 --days below 0.0248 with the wavelet or combined detector) is refused, after the faults'
 own checks, naming --days.
@@ -185,7 +187,20 @@ def _check_fault_backend(args, opts, det):
                          f"EKF, got {' and '.join(bad)}")
 
 
-#: check_schedule's words for a run too short for the wavelets' training (train_days left out).
+def _fault_words(text, args):
+    """A message of the fault checks (:func:`~xnavlab.mars.faults.schedules.parse_faults`,
+    ``check_schedule``, ``check_armed``) in the user's words: their parameters ``spec`` and
+    ``faults`` are ``--faults`` (or the scenario file's ``[detector] faults``), ``arm_s`` and
+    ``train_days`` the file's ``[detector]`` keys, ``detector combined`` the flag."""
+    source = "--faults" if args.faults is not None else "[detector] faults"
+    text = re.sub(r"^(spec|faults)(?=[:\[ ])", source, text)
+    text = re.sub(r"(?<!\] )\b(arm_s|train_days)\b", r"[detector] \1", text)
+    text = text.replace("use detector combined", "use --detector combined")
+    if args.scenario_file is not None and (args.faults is None or "[detector]" in text):
+        return f"scenario file {args.scenario_file!r}: {text}"
+    return text
+
+
 def _check_schedule(args, sc, det):
     """The run's check of its faults and training span
     (:func:`xnavlab.mars.faults.schedules.check_schedule`) before any run: a fault's own problem
@@ -195,10 +210,12 @@ def _check_schedule(args, sc, det):
     from xnavlab.mars.faults import schedules
 
     spec = det["faults"]
-    faults = schedules.parse_faults(spec, sc) if spec else []
     try:
-        schedules.check_schedule(faults, sc, det["name"], det["train_days"],
-                                 paper=spec.strip() == "paper")
+        faults = schedules.parse_faults(spec, sc) if spec else []
+        faults = schedules.check_schedule(faults, sc, det["name"], det["train_days"],
+                                          paper=spec.strip() == "paper")
+        if det["name"] == "combined":  # run_fault_tolerant's check, in the user's words here
+            schedules.check_armed(faults, det["arm_s"], sc)
     except schedules.RunTooShort as exc:   # train_days left out, min(1, days / 2): the length
         days, why = f"{exc.days:g}", exc.why
         need, train = f"{exc.need_days:g}", f"{exc.need_train_days:g}"
@@ -210,9 +227,7 @@ def _check_schedule(args, sc, det):
                          f"at least --days {need} (or set [detector] train_days >= {train} "
                          f"in a --scenario file)") from None
     except ValueError as exc:
-        if str(exc).startswith("train_days") and args.scenario_file is not None:
-            raise ValueError(f"scenario file {args.scenario_file!r}: [detector] {exc}") from None
-        raise
+        raise ValueError(_fault_words(str(exc), args)) from None
 
 
 def execute_mars(args):

@@ -482,3 +482,22 @@ def test_paper_schedule_refuses_a_step_size_under_its_own_name(kw, lead):
     with pytest.raises(ValueError, match=f"^{lead}"):
         s.paper_schedule(**kw)
     assert len(s.paper_schedule(uv_step_sigma=s.MIN_STEP_SIGMA, cns_step_sigma=s.MIN_STEP_SIGMA)) == 16
+
+
+@pytest.mark.parametrize(("spec", "words"), [
+    ("uv.range:stuck:5@20000+3000", "a stuck fault's MAGNITUDE must be 0 (the output freezes at its "
+                                    "last fault-free value: a magnitude would go unused), got 5"),
+    ("uv.range:spike:5@20000+3000", "a spike fault's DURATION must be 0 (it acts on one sample: a "
+                                    "duration would go unused), got 3000"),
+    ("uv.range:spike:5@20000+inf", "a spike fault's DURATION must be 0"),
+])
+def test_a_number_a_fault_kind_does_not_use_is_refused(spec, words):
+    """Review 35m (6) 5: run mars --help said 'stuck (magnitude ignored)' and 'Refused: a zero
+    MAGNITUDE', and any stuck magnitude or spike duration ran unused: each number is used or
+    refused (0 is the one value of an unused number)."""
+    sc = scenarios.MarsScenario(days=0.5)
+    with pytest.raises(ValueError) as info:
+        s.parse_faults(spec, sc)
+    assert str(info.value).startswith(f"spec: bad fault item {spec!r}: {words}")
+    for ok in ("uv.range:stuck:0@20000+3000", "uv.range:spike:5@20000+0"):
+        assert len(s.parse_faults(ok, sc)) == 1

@@ -192,9 +192,54 @@ def test_a_table_where_a_value_belongs_is_refused_for_every_field(field):
 
 
 def test_a_bad_fault_spec_is_refused_by_check_not_first_by_the_run():
-    with pytest.raises(ValueError, match=r"^(scenario file: )?\[detector\] faults: (spec: )?"
+    with pytest.raises(ValueError, match=r"^(scenario file: )?\[detector\] faults: "
                                          r"bad fault item 'abc'"):
         sfm.loads('[detector]\nfaults = "abc"\n')
+
+
+@pytest.mark.parametrize(("faults", "words"), [
+    ("abc", "[detector] faults: bad fault item 'abc': expected"),
+    ("uv.range:step:1@700+300,uv.range:step:1@700+300", "[detector] faults lists "
+                                                        "uv.range:step:1@700+300 twice"),
+    (" ", "[detector] faults must be 'paper' or a fault spec"),  # was a run with faults " "
+    ("uv.range:stuck:3@700+300", "[detector] faults: bad fault item 'uv.range:stuck:3@700+300': "
+                                 "a stuck fault's MAGNITUDE must be 0"),
+])
+def test_a_fault_spec_is_named_as_the_files_key(faults, words):
+    """Review 35m (6) 1, pattern Q: '[detector] faults: spec: bad fault item' named parse_faults'
+    parameter inside the key's message; a blank spec ran as the combined detector's run."""
+    with pytest.raises(ValueError) as info:
+        sfm.loads(f'[detector]\nfaults = "{faults}"\n')
+    assert str(info.value).removeprefix("scenario file: ").startswith(words), str(info.value)
+    assert "spec" not in str(info.value).replace("fault spec", "")
+
+
+@pytest.mark.parametrize(("text", "words"), [
+    ("[[run]]\ndays = 1\n", "[[run]] is an array of tables; write [run] (one table)"),
+    ("days = 3\n", "the key 'days' is outside any section: put it under [run]"),
+    ("dt_s = 3\n", "the key 'dt_s' is outside any section: put it under [xnav] or [uv] or [cns]"),
+    ("run = 3\n", "run is a section: write [run] and its keys under it"),
+    ("bogus = 1\n", "the key 'bogus' is outside any section: no section has it (sections: run,"),
+    ("[[gps]]\nx = 1\n", "unknown section [[gps]] (sections, one table each: run,"),
+])
+def test_the_files_structure_is_named_as_written(text, words):
+    """Review 35m (3) 3: [[run]] was "unknown section [run] (sections: run, ...)" and a key
+    outside any section "unknown section [days]"."""
+    with pytest.raises(ValueError) as info:
+        sfm.loads(text)
+    assert str(info.value).startswith(f"scenario file: {words}"), str(info.value)
+
+
+def test_a_par_without_f0_names_the_pulsar_entry_and_the_file(tmp_path, capsys):
+    """Review 35m (3) 2: "[xnav] path: its F0 (Hz) must be a real number ..., got 0.0"."""
+    (tmp_path / "nof0.par").write_text("PSR J0000+00\nRAJ 1:00:00\nDECJ 1:00:00\n")
+    path = tmp_path / "s.toml"
+    path.write_text('[xnav]\npulsars = ["B0531+21", "nof0.par"]\n')
+    assert main(["scenario", "--check", str(path)]) == 2
+    assert capsys.readouterr().err.strip() == (
+        f"xnavlab: error: scenario file {str(path)!r}: [xnav] pulsars[1]: "
+        f"{str(tmp_path / 'nof0.par')!r} is not a pulsar timing model: it has no F0 line (the "
+        f"spin frequency, Hz, in every timing model)")
 
 
 def test_a_short_plain_run_is_not_refused_for_the_combined_detectors_arming_time():

@@ -69,12 +69,12 @@ def test_relative_par_paths_read_from_the_base_folder(par, tmp_path):
     (["B0531+21", "b1937+21"], "unknown pulsar 'b1937+21': the catalogue names it 'B1937+21'"),
     ([{**ENTRY, "extra": 1}], "pulsar table has no key 'extra'"),
     ([{k: v for k, v in ENTRY.items() if k != "width_s"}], "needs width_s"),
-    ([{**ENTRY, "dec_deg": 95.0}], "dec_deg must be a real number in [-90, 90]"),
+    ([{**ENTRY, "dec_deg": 95.0}], "pulsars[0]['dec_deg'] must be a real number in [-90, 90]"),
     ([ENTRY, {**ENTRY, "name": "X2"}], "lists X2 twice (items 0 and 1)"),  # same direction
     # review 35e: a number or a list for par was read as the file name '5' or "['a.par']"
-    ([{"par": 5}], "pulsar table's par must be the path of a .par file (a string), got 5"),
-    ([{"par": ["a.par"]}], "par must be the path of a .par file (a string), got ['a.par']"),
-    ([{"par": " "}], "par must be the path of a .par file (a string), got ' '"),
+    ([{"par": 5}], "pulsars[0]['par'] must be the path of a .par file (a string), got 5"),
+    ([{"par": ["a.par"]}], "pulsars[0]['par'] must be the path of a .par file (a string), got ['a.par']"),
+    ([{"par": " "}], "pulsars[0]['par'] must be the path of a .par file (a string), got ' '"),
 ])
 def test_bad_pulsar_lists_are_one_line_each(specs, words):
     with pytest.raises(ValueError) as exc:
@@ -108,7 +108,7 @@ def test_a_scenario_with_a_timing_model_pulsar_runs(par):
 
 def test_a_malformed_timing_model_is_one_line_naming_it(tmp_path):
     bad = tmp_path / "bad.par"
-    bad.write_text("PSR J0000\nGARBAGE x\n")
+    bad.write_text("PSR J0000\nF0 1\nGARBAGE x\n")
     with pytest.raises(ValueError) as exc:
         pulsar_specs.check_list([str(bad)])
     assert "PINT cannot read the timing model" in str(exc.value) and str(bad) in str(exc.value)
@@ -150,3 +150,19 @@ def test_review_35k_5_10_resolve_base_path():
     from pathlib import Path
 
     assert pulsar_specs.resolve("B1957+20", base=Path("/tmp")).name == "B1957+20"
+
+
+def test_an_items_message_names_the_item_not_from_pars_parameters(tmp_path):
+    """Review 35m (3) 2: a .par without F0 said "path: its F0 (Hz) must be ..., got 0.0" (from_par's
+    parameter, no item, no file, 0.0 for a missing value); a table's key was named bare."""
+    nof0 = tmp_path / "nof0.par"
+    nof0.write_text("PSR J0000+00\nRAJ 1:00:00\nDECJ 1:00:00\n")
+    with pytest.raises(ValueError) as info:
+        pulsar_specs.check_list(["B0531+21", str(nof0)])
+    assert str(info.value) == (f"pulsars[1]: {str(nof0)!r} is not a pulsar timing model: it has no "
+                               f"F0 line (the spin frequency, Hz, in every timing model)")
+    table = {"par": str(nof0), "distance_m": 3e19}
+    with pytest.raises(ValueError, match=r"^stars\[0\]: '.*nof0\.par' is not a pulsar timing"):
+        pulsar_specs.check_list([table], name="stars")
+    with pytest.raises(ValueError, match=r"^pulsars\[0\]\['width_s'\] must be a real number"):
+        pulsar_specs.check_list([{**ENTRY, "width_s": 1.0}])

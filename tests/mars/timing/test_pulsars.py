@@ -491,9 +491,11 @@ def test_a_monte_carlo_too_short_to_fold_a_pulse_names_t_obs_not_counts():
 
 @pytest.mark.parametrize(("line", "new", "words"), [
     ("PX ", "PX                  5000.0  1              0.2186",
-     r"^path: its PX \(mas\) must be a real number in \[0\.001, 1000\], got 5000"),
+     r"^path: the timing model '.*edited\.par': its PX \(mas\) must be a real number in "
+     r"\[0\.001, 1000\], got 5000"),
     ("F0 ", "F0    1e-9  1  0.0000000000328468",
-     r"^path: its F0 \(Hz\) must be a real number in \[0\.0001, 10000\]"),
+     r"^path: the timing model '.*edited\.par': its F0 \(Hz\) must be a real number in "
+     r"\[0\.0001, 10000\]"),
 ])
 def test_a_timing_models_px_or_f0_outside_a_pulsars_range_is_refused_under_path(tmp_path, line, new, words):
     """Issue 35, review 35f 18's class: 1 / PX and 1 / F0 are the Pulsar's distance and period,
@@ -617,3 +619,23 @@ def test_fold_refuses_photon_times_whose_dtype_cannot_tell_their_bin():
     crab = pulsars.fold(t.astype(np.float32), "B0531+21", nbins=16)
     assert np.array_equal(crab, pulsars.fold(t.astype(np.float32).astype(float), "B0531+21",
                                              nbins=16))
+
+
+@pytest.mark.parametrize(("content", "words"), [
+    (b"", "is not a pulsar timing model: it is empty"),
+    (b"# only a comment\n\n", "is not a pulsar timing model: it is empty"),
+    (b"\x00\x01\x02PSR", "is not a pulsar timing model: it holds binary data (byte 0x00 at "
+                         "position 0)"),
+    (b"PSR J0000+00\nRAJ 1:00:00\nDECJ 1:00:00\n", "is not a pulsar timing model: it has no F0 "
+                                                   "line"),
+])
+def test_a_file_that_is_no_timing_model_is_named_in_our_words(tmp_path, content, words):
+    """Review 35m (2) 3, (3) 2: an empty or binary .par passed PINT's AssertionError ("Model must
+    have one and only one spindown component") through, and one without F0 said "got 0.0"."""
+    path = tmp_path / "x.par"
+    path.write_bytes(content)
+    with pytest.raises(ValueError) as info:
+        pulsars.from_par(path, flux_ph_cm2_s=1e-5, pulsed_fraction=0.5, duty_cycle=0.1)
+    text = str(info.value)
+    assert text.startswith(f"path: {str(path)!r} ") and words in text, text
+    assert "PINT" not in text and "Assertion" not in text and len(text.splitlines()) == 1

@@ -189,6 +189,11 @@ def paper_schedule(uv_step_sigma=5.0, uv_duration=5000.0, xnav_step_s=1.0e-5,
 def parse_faults(spec, scenario=None):
     """``"paper"`` -> :func:`paper_schedule`; otherwise :func:`xnavlab.core.faults.parse_spec`.
 
+    Every number of an item is used or refused: a stuck output's MAGNITUDE must be written 0
+    (the output freezes at its last fault-free value: a size would go unused) and a spike's
+    DURATION 0 (it acts on one sample: a length would go unused); the messages lead with
+    ``spec`` and name the item.
+
     Examples
     --------
     >>> [f.component for f in parse_faults("uv.range:step:5000@700000+3000,xnav.1:ramp:2e-9@5e5+5000")]
@@ -200,10 +205,20 @@ def parse_faults(spec, scenario=None):
                          f"MAGNITUDE@ONSET+DURATION[,...], got {shown(spec)}")
     if spec.strip() == "paper":
         return paper_schedule(scenario=sc)
+    items = [item.strip() for item in spec.split(",")]
     if "xnav" in sc.subsystems:  # a pulsar named in full (xnav.B1937+21): its '+' is no duration's
         for name, short in zip(pulsar_specs.names(sc.pulsars), components(sc)["xnav"], strict=True):
             spec = spec.replace(f"xnav.{name}:", f"xnav.{short}:")
-    return parse_spec(spec, components(sc))
+    faults = parse_spec(spec, components(sc))
+    for item, f in zip(items, faults, strict=True):
+        unused = ("MAGNITUDE", f.magnitude, "the output freezes at its last fault-free value") \
+            if f.kind == "stuck" else ("DURATION", f.duration, "it acts on one sample") \
+            if f.kind == "spike" else None
+        if unused and unused[1] != 0.0:
+            raise ValueError(f"spec: bad fault item {item!r}: a {f.kind} fault's {unused[0]} must "
+                             f"be 0 ({unused[2]}: a {unused[0].lower()} would go unused), got "
+                             f"{unused[1]:g}")
+    return faults
 
 
 def check_schedule(faults, scenario, detector="combined", train_days=None, paper=False):

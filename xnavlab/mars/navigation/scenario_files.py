@@ -272,7 +272,9 @@ def loads(text, base=None):
     fields, run, detector = {}, dict(RUN_DEFAULTS), dict(DETECTOR_DEFAULTS)
     models = {"truth_model": {}, "filter_model": {}}
     for section, table in data.items():
-        if section not in SECTIONS or not isinstance(table, dict):
+        if not isinstance(table, dict):
+            raise ValueError(_not_a_section(section, table))
+        if section not in SECTIONS:
             raise ValueError(f"scenario file: unknown section [{section}] "
                              f"(sections: {', '.join(SECTIONS)})")
         for key, value in table.items():
@@ -316,6 +318,22 @@ def loads(text, base=None):
     _check_detector(detector, sc)
     check_fault_backend(run, detector)
     return ScenarioFile(sc, run, detector)
+
+
+def _not_a_section(name, value):
+    """The message for a top-level entry that is no table: ``[[run]]`` (an array of tables) or
+    a key outside any section (``days = 3``, said with the section that has it)."""
+    if isinstance(value, list) and value and all(isinstance(v, dict) for v in value):
+        if name not in SECTIONS:
+            return (f"scenario file: unknown section [[{name}]] (sections, one table each: "
+                    f"{', '.join(SECTIONS)})")
+        return f"scenario file: [[{name}]] is an array of tables; write [{name}] (one table)"
+    if name in SECTIONS:
+        return f"scenario file: {name} is a section: write [{name}] and its keys under it"
+    home = [s for s, k in _KEYS if k == name]
+    where = (f"put it under {' or '.join(f'[{s}]' for s in home)}" if home else
+             f"no section has it (sections: {', '.join(SECTIONS)})")
+    return f"scenario file: the key {name!r} is outside any section: {where}"
 
 
 def _pulsars(value, base):
@@ -363,11 +381,14 @@ def _check_detector(det, sc):
         check_choice("[detector] name", det["name"], DETECTORS)
     if not isinstance(det["faults"], str):
         raise ValueError(f"[detector] faults must be a fault spec string, got {det['faults']!r}")
-    if det["faults"].strip():  # a bad spec is named by --check, not first by the run
+    if det["faults"]:  # a bad spec (" " too) is named by --check, not first by the run
         try:
             parse_faults(det["faults"], sc)
-        except ValueError as exc:
-            raise ValueError(f"[detector] faults: {exc}") from None
+        except ValueError as exc:  # parse_faults' own name, spec, is the key here
+            text = re.sub(r"^spec(\[\d+\])?: ", r"\1: ", str(exc))
+            text = re.sub(r"^(spec|faults)(?=[ \[])", "", text)
+            raise ValueError(f"[detector] faults{text if text[:1] in ':[ ' else ': ' + text}") \
+                from None
     for key in ("pfa", "alpha"):
         det[key] = check_real(f"[detector] {key}", det[key], 0.0, 1.0, lo_open=True,
                               hi_open=True)

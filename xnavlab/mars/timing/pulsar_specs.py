@@ -72,16 +72,16 @@ def _from_table(spec, base):
     if "par" in keys:
         bad = sorted(keys - set(PAR_KEYS))
         if bad:
-            raise ValueError(f"pulsar table with a par has no key {bad[0]!r} "
+            raise ValueError(f"a pulsar table with a par has no key {bad[0]!r} "
                              f"(keys: {', '.join(PAR_KEYS)})")
         if not isinstance(spec["par"], str | Path) or not str(spec["par"]).strip():
-            raise ValueError(f"pulsar table's par must be the path of a .par file (a string), "
+            raise ValueError(f"par must be the path of a .par file (a string), "
                              f"got {shown(spec['par'])}")  # a number is no file name
         path = Path(spec["par"]).expanduser()
         if base is not None and not path.is_absolute():
             path = Path(base) / path
         if not path.is_file():
-            raise ValueError(f"pulsar par {str(path)!r}: no such timing model (.par) file")
+            raise ValueError(f"par names no timing model (.par) file: {str(path)!r}")
         return pulsars.from_par(path, distance=spec.get("distance_m"),
                                 flux_ph_cm2_s=spec.get("flux_ph_cm2_s"),
                                 pulsed_fraction=spec.get("pulsed_fraction"),
@@ -89,14 +89,14 @@ def _from_table(spec, base):
     missing = [k for k in ENTRY_KEYS if k not in keys]
     bad = sorted(keys - set(ENTRY_KEYS))
     if bad:
-        raise ValueError(f"pulsar table has no key {bad[0]!r} (a timing model: par, "
+        raise ValueError(f"a pulsar table has no key {bad[0]!r} (a timing model: par, "
                          f"{', '.join(PAR_KEYS[1:])}; or every one of {', '.join(ENTRY_KEYS)})")
     if missing:
-        raise ValueError(f"pulsar table without a par needs {', '.join(missing)} "
+        raise ValueError(f"a pulsar table without a par needs {', '.join(missing)} "
                          f"(or give par = its timing model)")
     name = spec["name"]
     if not isinstance(name, str) or not name.strip():
-        raise ValueError(f"pulsar table: name must be a non-empty string, got {name!r}")
+        raise ValueError(f"name must be a non-empty string, got {name!r}")
     period = check_real("period_s", spec["period_s"], 1e-4, 100.0)
     src = "scenario table"
     return pulsars.Pulsar(
@@ -167,6 +167,20 @@ def _normal(spec, base):
     return spec
 
 
+#: from_par's parameters -> the keys of a pulsar table that give them.
+_TABLE_KEY = {"distance": "distance_m", **{k: k for k in (*PAR_KEYS, *ENTRY_KEYS)}}
+
+
+def _item_words(text, item, spec):
+    """A message about one item in the list's words: ``pulsars[0]: ...``, a table's key as
+    ``pulsars[0]['width_s'] ...``, never from_par's ``path`` or ``distance``."""
+    text = text.removeprefix("path: ")
+    first = text.split(" ")[0]
+    if isinstance(spec, dict) and first in _TABLE_KEY:
+        return f"{item}[{_TABLE_KEY[first]!r}]{text[len(first):]}"
+    return f"{item}: {text}"
+
+
 def check_list(specs, base=None, name="pulsars"):
     """A checked, normalised tuple of pulsar items (module notes); one ``ValueError`` a fault.
 
@@ -199,8 +213,11 @@ def check_list(specs, base=None, name="pulsars"):
         if not isinstance(spec, str | dict | pulsars.Pulsar):
             raise ValueError(f"{name}[{i}] must be a catalogue name, the path of a .par file or "
                              f"a table, got {spec!r}")
-        norm = _normal(spec, base)
-        p = resolve(norm)
+        try:
+            norm = _normal(spec, base)
+            p = resolve(norm)
+        except ValueError as exc:
+            raise ValueError(_item_words(str(exc), f"{name}[{i}]", spec)) from None
         key = p.name
         n = p.direction
         for j, (other, d) in seen.items():

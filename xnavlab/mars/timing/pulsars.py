@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import functools
 import math
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -275,22 +276,15 @@ def from_par(path, distance=None, flux_ph_cm2_s=None, pulsed_fraction=None, duty
         raise ValueError("give duty_cycle or width_s, not both (the same pulse width)")
     if duty_cycle is not None:  # checked before it scales the period (a str would repeat)
         duty_cycle = check_real("duty_cycle", duty_cycle, _MIN_DUTY, 0.5)
-    try:
+    _check_par_text(path)
+    try:  # its ValueErrors lead with path and name the file (PINT's and astropy's too)
         par = pint_bridge.timing_parameters(path)
-    except UnicodeDecodeError as exc:  # a ValueError too: named with the file, as every file
-        raise ValueError(f"path: the timing model {str(path)!r} is not UTF-8 text (byte "
-                         f"{exc.object[exc.start]:#04x} at position {exc.start})") from None
-    except ValueError as exc:
-        if str(exc).startswith("path ") or str(path) in str(exc) or Path(path).name in str(exc):
-            raise                          # ours, naming the file already
-        why = (str(exc).strip().splitlines() or [""])[0]   # astropy's/PINT's: no file named
-        raise ValueError(f"path: PINT cannot read the timing model {str(path)!r} ({why})") \
-            from None
-    except Exception as exc:  # PINT's own errors on a malformed model: one line, named
+    except (TypeError, AttributeError, ArithmeticError) as exc:  # a value PINT left unset
         why = (str(exc).strip().splitlines() or [""])[0]
         raise ValueError(f"path: PINT cannot read the timing model {str(path)!r} "
                          f"({type(exc).__name__}: {why})") from None
-    period = 1.0 / check_real("path: its F0 (Hz)", par["f0"], 1e-4, 1e4)
+    model = f"path: the timing model {str(path)!r}"
+    period = 1.0 / check_real(f"{model}: its F0 (Hz)", par["f0"], 1e-4, 1e4)
     row = xray_pulsars.lookup(par["name"])
     given = {"flux_ph_cm2_s": flux_ph_cm2_s, "pulsed_fraction": pulsed_fraction,
              "width_s": width_s if duty_cycle is None else duty_cycle * period}
@@ -312,7 +306,7 @@ def from_par(path, distance=None, flux_ph_cm2_s=None, pulsed_fraction=None, duty
             raise ValueError(f"distance must be given (m, 1 pc to 1 Mpc): the timing model of {par['name']} "
                              "has no positive parallax PX (in a scenario file: the key distance_m "
                              "of a pulsar table {par = ..., distance_m = ...})")
-        distance = KPC / check_real("path: its PX (mas)", par["px_mas"], 1e-3, 1e3)  # 1 / PX
+        distance = KPC / check_real(f"{model}: its PX (mas)", par["px_mas"], 1e-3, 1e3)
         sources["distance"] = f"timing model {par['name']} (1 / PX)"
     else:
         distance = check_real("distance", distance, _PC, MAX_DISTANCE)
@@ -322,6 +316,33 @@ def from_par(path, distance=None, flux_ph_cm2_s=None, pulsed_fraction=None, duty
     return Pulsar(name=par["name"], ra_deg=par["ra_deg"], dec_deg=par["dec_deg"], distance=distance,
                   period=period, fdot=par["f1"], flux=flux * _PER_CM2, pulsed_fraction=pf,
                   width=width, sources=sources)
+
+
+def _check_par_text(path):
+    """A file that is no timing model (binary, empty, without F0) refused in our words, naming
+    it; PINT would say "Model must have one and only one spindown component", or take 0 Hz."""
+    if not isinstance(path, str | os.PathLike) or not Path(path).is_file():
+        return  # timing_parameters names it
+    try:
+        data = Path(path).read_bytes()
+    except OSError as exc:
+        raise ValueError(f"path: the timing model {str(path)!r} cannot be read ({exc.strerror})") from None
+    head = f"path: {str(path)!r} is not a pulsar timing model"
+    if b"\0" in data:
+        raise ValueError(f"{head}: it holds binary data (byte 0x00 at position {data.index(0)}), "
+                         f"not the text of a .par file")
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"path: the timing model {str(path)!r} is not UTF-8 text (byte "
+                         f"{data[exc.start]:#04x} at position {exc.start})") from None
+    words = [ln.split()[0].upper() for ln in text.splitlines()
+             if ln.split() and not ln.lstrip().startswith(("#", "C "))]
+    if not words:
+        raise ValueError(f"{head}: it is empty (a .par file gives one parameter a line: PSR, "
+                         f"RAJ and DECJ or ELONG and ELAT, F0, ...)")
+    if "F0" not in words:
+        raise ValueError(f"{head}: it has no F0 line (the spin frequency, Hz, in every timing model)")
 
 
 def check_names(pulsars, name="pulsars"):
