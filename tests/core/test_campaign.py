@@ -91,11 +91,15 @@ def test_store_resumes_and_extends(tmp_path):
 
 
 def test_torn_last_line_is_recomputed(tmp_path):
+    """Review 35m (7) 3: the torn last line was cut off without a word (load_runs warned)."""
     cp.run_campaign(sq_campaign(), 3, seed=2, out=tmp_path, engine="serial")
     path = tmp_path / cp.STORE_FILE
     lines = path.read_text().splitlines()
     path.write_text("\n".join(lines[:-1]) + "\n" + lines[-1][:20])   # killed mid-write
-    r = cp.run_campaign(sq_campaign(), 3, seed=2, out=tmp_path, engine="serial")
+    with pytest.warns(UserWarning, match=r"^\S*runs.jsonl: 1 line not read .* computed again: "
+                                         r"line 3 \(not JSON; the last line, torn by an "
+                                         r"interrupted write: cut off\)$"):
+        r = cp.run_campaign(sq_campaign(), 3, seed=2, out=tmp_path, engine="serial")
     assert (r.computed, r.reused, r.failed) == (1, 2, 0)
     rest = path.read_text().splitlines()[len(lines) - 1:]
     # the torn line is cut off (no broken line stays in the file), its run computed again
@@ -692,3 +696,73 @@ def test_a_runs_warnings_are_given_again_where_the_campaign_runs():
     assert out["warnings"] == [(InputWarning, "a warning of the run")]
     with pytest.warns(InputWarning, match="a warning of the run"):
         cp.run_campaign(cp.Campaign("w", warns_input, lambda i: {}), 2, engine="serial")
+
+
+# ------------------------------------------------------------------------ review 35m
+
+
+def test_a_refused_campaign_makes_no_store(tmp_path):
+    """Review 35m (7) 1: a campaign refused after the store was opened (an unreachable or
+    malformed scheduler) left campaign.json, runs.jsonl and owner.pid bound to its settings,
+    so the corrected call was refused as "another campaign's"."""
+    out = tmp_path / "c"
+    with pytest.raises(ValueError, match=r"^scheduler 'bogus://x' is a malformed scheduler "
+                                         r"address: unknown scheme 'bogus'"):
+        cp.run_campaign(sq_campaign(), 2, out=out, engine="dask", scheduler="bogus://x")
+    with pytest.raises(ValueError, match="^scheduler tcp://127.0.0.1:1 unreachable"):
+        cp.run_campaign(sq_campaign(), 2, out=out, engine="dask", scheduler="tcp://127.0.0.1:1",
+                        timeout=1)
+    assert not out.exists() or not list(out.iterdir())
+    r = cp.run_campaign(sq_campaign(), 2, seed=3, out=out, engine="serial")  # another seed: fine
+    assert (r.computed, r.reused) == (2, 0)
+
+
+@pytest.mark.parametrize(("address", "why"), [
+    ("bogus://x", "unknown scheme 'bogus'"), ("tcp://", "no port"), ("host", "no port"),
+    ("tcp://h:abc", "the port 'abc' is not an integer"), ("h:99999", "the port '99999'"),
+    ("tcp://:8786", "the host '' is not"), ("tcp://::1:8786", "goes in brackets"),
+    (7, "must be a scheduler address"),
+])
+def test_a_malformed_scheduler_address_is_named_malformed(address, why):
+    """Review 35m (2) 3, (6) 3: 'bogus://x' was "unreachable within 1 s (ValueError: unknown
+    address scheme ...)", distributed's text: the address is malformed, before any connection."""
+    with pytest.raises(ValueError, match=rf"^scheduler .*{why}"):
+        cp.run_campaign(sq_campaign(), 1, engine="dask", scheduler=address)
+    assert cp.check_scheduler("s", "tls://[::1]:8786") == "tls://[::1]:8786"
+
+
+@pytest.mark.parametrize("kind", ["folder", "dangling link"])
+@pytest.mark.parametrize("name", [cp.STORE_FILE, cp.HEADER_FILE])
+def test_a_store_file_that_is_a_folder_or_a_dangling_link_is_named(tmp_path, kind, name):
+    """Review 35m (7) 4: "out must be a writable directory: [Errno 21] Is a directory:
+    's74/runs.jsonl'" called the (writable) folder unwritable; the file and what it is are named."""
+    cp.run_campaign(sq_campaign(), 1, seed=1, out=tmp_path, engine="serial")
+    path = tmp_path / name
+    path.unlink()
+    path.mkdir() if kind == "folder" else path.symlink_to(tmp_path / "none" / "x")
+    what = "a folder" if kind == "folder" else "a symbolic link to .*, which does not exist"
+    for call in (lambda: cp.run_campaign(sq_campaign(), 1, seed=1, out=tmp_path, engine="serial"),
+                 lambda: cp.Store(tmp_path, sq_campaign().header(1))):
+        with pytest.raises(ValueError, match=rf"^out '.*': {name} '.*{name}' is {what}, not a "
+                                             rf"file of a campaign store"):
+            call()
+
+
+def test_reading_a_store_changes_nothing(tmp_path):
+    """Review 35m (7) 1: the check before the runs (Store.read) reads without making a file;
+    it refuses what opening refuses, a store in use included."""
+    out = tmp_path / "c"
+    assert cp.Store.read(out, sq_campaign().header(1)) == {} and not out.exists()
+    cp.run_campaign(sq_campaign(), 2, seed=1, out=out, engine="serial")
+    before = {p.name: p.read_bytes() for p in out.iterdir()}
+    assert sorted(cp.Store.read(out, sq_campaign().header(1))) == [0, 1]
+    with pytest.raises(ValueError, match="another campaign's records: seed 1"):
+        cp.Store.read(out, sq_campaign().header(2))
+    store = cp.Store(out, sq_campaign().header(1))
+    try:
+        with pytest.raises(ValueError, match="in use by another running campaign"):
+            cp.Store.read(out, sq_campaign().header(1))
+    finally:
+        store.close()
+    assert {p.name: p.read_bytes() for p in out.iterdir() if p.name != cp.OWNER_FILE} == {
+        k: v for k, v in before.items() if k != cp.OWNER_FILE}

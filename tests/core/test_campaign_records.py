@@ -61,3 +61,18 @@ def test_a_record_whose_seed_no_run_can_draw_from_is_no_record():
     assert [r["seed"] for r in records] == [0, 2**63 - 1]
     assert bad == [(1, "seed -1 is not in [0, 9223372036854775807]"),
                    (2, f"seed {2**70} is not in [0, 9223372036854775807]")]
+
+
+@pytest.mark.parametrize(("change", "why"), [
+    ({"error": "boom"}, "status 'ok' with an error 'boom'"),
+    ({"metrics": None}, "status 'ok' without metrics"),
+    ({"status": "failed", "error": "boom"}, "status 'failed' with metrics"),
+    ({"status": "failed", "metrics": None}, "status 'failed' without its error"),
+    ({"status": "failed", "metrics": None, "error": 3}, "error 3 is neither null nor a text"),
+])
+def test_a_record_whose_status_error_and_metrics_disagree_is_no_record(change, why):
+    """Review 35m (5) 6: "status": "ok" with "error": "boom" was reused without a word; a
+    campaign writes an ok run with metrics and no error, a failed one the other way round."""
+    assert cr.why_not_a_record({**RECORD, **change}) == why
+    assert cr.why_not_a_record({**RECORD, "status": "failed", "metrics": None,
+                                "error": "RuntimeError: boom"}) is None

@@ -42,8 +42,11 @@ table), ``computed``, ``reused``, ``failed`` and ``wall_s``.
 
 Exit codes: 0 every run ok; 1 some runs failed (after their retry; they are in the output
 and the store); 2 bad input (one line on stderr), including a DIR that holds another
-campaign and an unreachable scheduler (``--timeout``, default 5 s); 130 interrupted (the
-finished runs are stored).
+campaign, a malformed ``--scheduler`` address and an unreachable scheduler (``--timeout``,
+default 5 s): a refused command makes no store in DIR, so the corrected one starts afresh;
+130 interrupted (the finished runs are stored). A line of ``runs.jsonl`` that is not a
+record (a last line torn by an interrupted write) is one warning line naming the file and
+the line, and its run is computed again.
 """
 
 from __future__ import annotations
@@ -226,6 +229,10 @@ def _common(args):
     if args.scheduler is not None and not args.scheduler.strip():  # an empty "$SCHEDULER"
         raise UsageError("--scheduler is empty: give the scheduler's address (tcp://HOST:8786), "
                          "or leave the flag out to run on local workers")
+    if args.scheduler is not None:
+        from xnavlab.core.campaign import check_scheduler
+
+        check_scheduler("--scheduler", args.scheduler)  # malformed, not unreachable: one line
     if args.timeout is not None and not (args.scheduler or args.local_cluster):
         raise UsageError("--timeout is the wait for a Dask cluster: it goes with --scheduler "
                          "or --local-cluster (local workers need none)")
@@ -248,29 +255,39 @@ def _common(args):
 def _check_store(out, camp, seed, runs):
     """A folder that holds another campaign (its header, or a stored run of the first
     ``runs`` with other parameters or seed) is refused now, in one line naming ``--out``,
-    before any warning about the command as typed (run_campaign checks it again as it opens
-    the store)."""
+    before any warning about the command as typed; the store is only read (no file is made
+    before every check has passed: run_campaign reads it again, connects, then opens it)."""
     from xnavlab.core.campaign import SUMMARY_FILE, Store, differences, json_ready
     from xnavlab.core.montecarlo import seeds
 
-    try:
-        store = Store(out, camp.header(seed), camp.check_metrics)
-        try:
-            run_seeds = seeds(seed, runs)
-            for i, rec in store.final().items():
-                if i >= runs:
-                    continue
-                stored = {"seed": rec["seed"], "parameters": rec["parameters"]}
-                asked = {"seed": run_seeds[i], "parameters": json_ready(camp.params(i))}
-                if stored != asked:
-                    raise ValueError(f"--out {str(out)!r}: stored run {i} is another campaign's: "
-                                     f"{differences(stored, asked)}; choose another --out")
-        finally:
-            store.close()
-    except ValueError as exc:  # the store's messages name the API's out: the flag is --out
-        msg = str(exc)
-        raise ValueError("--out " + msg[4:] if msg.startswith("out ") else msg) from None
+    with _flags():
+        run_seeds = seeds(seed, runs)
+        for i, rec in Store.read(out, camp.header(seed), camp.check_metrics).items():
+            if i >= runs:
+                continue
+            stored = {"seed": rec["seed"], "parameters": rec["parameters"]}
+            asked = {"seed": run_seeds[i], "parameters": json_ready(camp.params(i))}
+            if stored != asked:
+                raise ValueError(f"--out {str(out)!r}: stored run {i} is another campaign's: "
+                                 f"{differences(stored, asked)}; choose another --out")
     _check_outputs(out, SUMMARY_FILE)
+
+
+class _flags:
+    """Context: a ValueError of the campaign API that leads with its parameter ``out`` or
+    ``scheduler`` is raised again leading with the flag, ``--out`` or ``--scheduler``."""
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, kind, exc, tb):
+        if kind is not ValueError:
+            return False
+        msg = str(exc)
+        for name in ("out", "scheduler"):
+            if msg.startswith(name + " "):
+                raise ValueError(f"--{msg}") from None
+        return False
 
 
 def _check_outputs(out, *names):
@@ -285,8 +302,9 @@ def _run(args, camp, runs, seed, where):
     from xnavlab.core.campaign import run_campaign
 
     try:
-        return run_campaign(camp, runs, seed=seed, out=args.out,
-                            progress=not (args.quiet or args.json), **where)
+        with _flags():
+            return run_campaign(camp, runs, seed=seed, out=args.out,
+                                progress=not (args.quiet or args.json), **where)
     except KeyboardInterrupt:
         print(f"xnavlab: interrupted; the finished runs are in {args.out}; run the same "
               f"command to complete the campaign", file=sys.stderr)

@@ -29,8 +29,12 @@ Store (:class:`Store`)
     whose every attempt failed); a DIR whose header names another campaign is refused with a
     ``ValueError``. The number of runs is not part of the manifest: run ``i``'s seed and
     parameters do not depend on it, so a campaign of 100 runs can be extended to 1,000 in
-    the same DIR. A torn last line (a process killed while writing) is ignored. The manifest
-    does not cover the code: after changing a trial's code, start a new DIR.
+    the same DIR. A line that is not a record (a last line torn by a process killed while
+    writing, a line edited by hand) is reported in one warning naming the file and the line,
+    and its run computed again (a torn last line is cut off). Every refusal (another
+    campaign's DIR, a store in use, a malformed scheduler address, an unreachable scheduler)
+    comes before the store's files are made. The manifest does not cover the code: after
+    changing a trial's code, start a new DIR.
 
 Failures
     A run that raises, returns something that is not a JSON-ready dict, or whose worker
@@ -63,22 +67,18 @@ from __future__ import annotations
 
 import json
 import math
-import multiprocessing
 import os
-import signal
 import socket
 import sys
-import threading
 import time
 import warnings
 from collections import deque
 from collections.abc import Callable
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
-from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from xnavlab.core._campaign_local import Pool, Serial
 from xnavlab.core.campaign_records import (
     PUBLIC_KEYS,
     given_warnings,
@@ -100,6 +100,7 @@ __all__ = [
     "SUMMARY_FILE",
     "OWNER_FILE",
     "FORMAT",
+    "SCHEDULER_SCHEMES",
     "Campaign",
     "CampaignResult",
     "Store",
@@ -108,6 +109,7 @@ __all__ = [
     "execute",
     "public_record",
     "run_campaign",
+    "check_scheduler",
     "load_runs",
 ]
 
@@ -289,6 +291,107 @@ def public_record(record):
 # ---------------------------------------------------------------------------------- store
 
 
+def _check_files(directory):
+    """A folder, a pipe or a dangling link in place of the store's files: one line naming it."""
+    if path_kind(directory, "out") != "folder":
+        return
+    for name in (STORE_FILE, HEADER_FILE):
+        path = directory / name
+        kind = path_kind(path, f"out {str(directory)!r}: {name}")
+        what = {"folder": "a folder", "other": "a pipe, socket or device"}.get(kind)
+        if kind == "missing" and os.path.islink(path):
+            what = f"a symbolic link to {os.readlink(path)!r}, which does not exist"
+        if what is not None:
+            raise ValueError(f"out {str(directory)!r}: {name} {str(path)!r} is {what}, not a "
+                             f"file of a campaign store; remove it, or choose another --out")
+
+
+def _try_lock(fh, directory, release=False):
+    """Lock the store's file ``fh`` (released at once with ``release``); another running
+    campaign holding it is one ValueError naming its process (the pid in ``owner.pid``)."""
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - no advisory locks on this platform
+        return
+    try:
+        fcntl.flock(fh.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        try:
+            who = (directory / OWNER_FILE).read_text().split()[0]
+        except (OSError, IndexError, UnicodeDecodeError):
+            who = "unknown"
+        raise ValueError(f"out {directory} is in use by another running campaign (process "
+                         f"{who})") from None
+    # the lock is the kernel's: it ends with the process that holds it, so a dead owner's
+    # store is taken over at once; the pid is only for the message above
+    if release:
+        fcntl.flock(fh.fileno(), fcntl.LOCK_UN)
+
+
+def _decode(read, directory):
+    """The lines ``read()`` gives of ``runs.jsonl``; not UTF-8 is one ValueError."""
+    try:
+        return read().split("\n")
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"out {str(directory)!r}: {STORE_FILE} is not UTF-8 text (byte "
+                         f"{exc.start}), not an xnavlab campaign store; choose another --out"
+                         ) from None
+
+
+def _scan(directory, lines, header, check):
+    """What the store's ``lines`` hold for ``header``, read only (:class:`Store` writes what it
+    says): ``read`` (the record lines), ``lines`` (them without a torn last line),
+    ``legacy``, ``torn_header`` (empty or torn campaign.json, no record), ``torn`` ((line,
+    why) of a torn last line, or None), ``records``, ``bad``, ``numbers``."""
+    head_path = directory / HEADER_FILE
+    first = json_or_none(lines[0]) if lines[0].strip() else None
+    legacy = isinstance(first, dict) and first.get("format") == LEGACY_FORMAT
+    torn_header = False
+    if path_kind(head_path, HEADER_FILE) != "missing":
+        head = json_or_none(read_text(head_path, "campaign header"))
+        if head is None:  # empty or torn: the records cannot be matched to this campaign
+            if any(line.strip() for line in lines):
+                raise ValueError(f"out {str(directory)!r}: {HEADER_FILE} is empty or not JSON "
+                                 f"(torn), so the records in {STORE_FILE} cannot be matched "
+                                 f"to this campaign; restore it, or choose another --out")
+            torn_header = True
+    elif legacy:
+        head = {**first, "format": FORMAT}
+    elif lines == [""]:
+        head = None
+    else:
+        raise ValueError(f"out {directory / STORE_FILE} is not an xnavlab campaign store; "
+                         f"choose another --out")
+    if head is not None and (not isinstance(head, dict) or head.get("format") != FORMAT):
+        raise ValueError(f"out {directory} is not an xnavlab campaign store; choose another "
+                         f"--out")
+    if head is not None and head != header:
+        raise ValueError(f"out {directory} holds another campaign's records: "
+                         f"{differences(head, header)}; choose another --out")
+    skipped = int(legacy)
+    read = (lines[1:] or [""]) if legacy else lines
+    torn, kept = None, read
+    why = why_not_a_record(json_or_none(read[-1])) if read[-1] != "" else None
+    if why is not None:  # the last line torn by a kill: its run is computed again
+        torn = (skipped + len(read), f"{why}; the last line, torn by an interrupted write: "
+                                     f"cut off")
+        kept = read[:-1] + [""]
+    records, bad, numbers = parse_records(kept, skipped, numbers=True, check=check)
+    return {"read": read, "lines": kept, "legacy": legacy, "torn_header": torn_header,
+            "torn": torn, "records": records, "bad": bad, "numbers": numbers}
+
+
+def _final(records):
+    """The record that counts for each index: its ``ok`` one, else its last failed one."""
+    out = {}
+    for rec in records:
+        i = rec["index"]
+        if i not in out or out[i]["status"] != "ok":
+            out[i] = rec
+    return out
+
+
+
 class Store:
     """A campaign's files: ``DIR/campaign.json`` (the header) and ``DIR/runs.jsonl`` (records).
 
@@ -296,7 +399,10 @@ class Store:
     takes it directly (``pandas.read_json(path, lines=True)``, or :func:`load_runs`); it is
     appended to and locked while a campaign runs. ``campaign.json`` is the header: the
     campaign's name, manifest, seed and format. A store of the first format (header as the
-    first line of ``runs.jsonl``) is converted when it is opened.
+    first line of ``runs.jsonl``) is converted when it is opened. A line that is not a record
+    is reported in one warning naming the file and line, and its run computed again; a torn
+    last line (a process killed while writing) is also cut off, so no broken line stays in the
+    middle of the file. :meth:`read` reads a store without making or changing a file.
 
     Parameters
     ----------
@@ -312,8 +418,8 @@ class Store:
     ------
     ValueError
         If the store holds another campaign, is not a campaign store, has records but a
-        header that cannot be read (empty or torn ``campaign.json``), or is in use by
-        another process.
+        header that cannot be read (empty or torn ``campaign.json``), is in use by another
+        process, or a folder, a pipe or a dangling link stands in place of one of its files.
     """
 
     def __init__(self, directory, header, check=None):
@@ -321,112 +427,82 @@ class Store:
         self.path = directory / STORE_FILE
         self.header_path = directory / HEADER_FILE
         self.header = header
-        self._check = check
+        _check_files(directory)
         try:
             self.path.parent.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise ValueError(f"out {str(directory)!r} cannot be made a folder ({exc.strerror})"
+                             ) from None
+        try:
             self._fh = open(self.path, "a+", encoding="utf-8")  # noqa: SIM115 - closed by close()
         except OSError as exc:
-            raise ValueError(f"out must be a writable directory: {exc}") from None
+            raise ValueError(f"out {str(directory)!r}: {STORE_FILE} {str(self.path)!r} cannot be "
+                             f"opened for appending ({exc.strerror})") from None
         try:
-            self._lock()
+            _try_lock(self._fh, directory)
+            (directory / OWNER_FILE).write_text(f"{os.getpid()} {socket.gethostname()}\n")
             self._fh.seek(0)
-            try:
-                lines = self._fh.read().split("\n")
-            except UnicodeDecodeError as exc:
-                raise ValueError(f"out {str(self.path.parent)!r}: {STORE_FILE} is not UTF-8 text "
-                                 f"(byte {exc.start}), not an xnavlab campaign store; choose "
-                                 f"another --out") from None
-            n_all = len(lines)
-            lines = self._take_header(lines)
-            self._records = self._parse(lines, n_all - len(lines))
+            scan = _scan(directory, _decode(self._fh.read, directory), header, check)
+            lines = scan["lines"]
+            if scan["torn_header"]:
+                warnings.warn(f"{self.header_path}: empty or not JSON (torn) and no record "
+                              f"stored; written again", InputWarning, stacklevel=3)
+                self._write_header()
+            if scan["legacy"]:  # the first format: move the header line to its own file
+                self._fh.seek(0)
+                self._fh.truncate()
+                self._fh.write("\n".join(scan["read"]))
+                self._fh.flush()
+            if not self.header_path.exists():
+                self._write_header()
+            if scan["torn"] is not None:  # cut off, so that no broken line stays in the file
+                self._fh.truncate(len("\n".join(lines).encode("utf-8")))
+                self._fh.seek(0, os.SEEK_END)
+                self._fh.flush()
+            elif scan["read"][-1] != "":
+                self._fh.write("\n")  # a whole record that lost only its newline
+                self._fh.flush()
+            bad = scan["bad"] + ([scan["torn"]] if scan["torn"] is not None else [])
+            if bad:
+                report_bad_lines(bad, self.path, "their runs are computed again")
+            report_disagreements(scan["records"], scan["numbers"], self.path)
+            self._records = scan["records"]
         except BaseException:
             self._fh.close()
             raise
 
-    def _lock(self):
-        try:
-            import fcntl
-        except ImportError:  # pragma: no cover - no advisory locks on this platform
-            return
-        owner = self.path.parent / OWNER_FILE
-        try:
-            fcntl.flock(self._fh.fileno(), fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
-            try:
-                who = owner.read_text().split()[0]
-            except (OSError, IndexError):
-                who = "unknown"
-            raise ValueError(f"out {self.path.parent} is in use by another running "
-                             f"campaign (process {who})") from None
-        # the lock is the kernel's: it ends with the process that holds it, so a dead
-        # owner's store is taken over at once; the pid is only for the message above
-        owner.write_text(f"{os.getpid()} {socket.gethostname()}\n")
+    @staticmethod
+    def read(directory, header, check=None):
+        """The record that counts for each index (:meth:`final`) of the store in ``directory``,
+        read without making, locking or changing any file, and without a warning (opening it
+        gives them): the refusals of opening it, before a command makes its other checks.
 
-    def _take_header(self, lines):
-        """Check (or write) the header file; return the record lines."""
-        first = json_or_none(lines[0]) if lines[0].strip() else None
-        legacy = isinstance(first, dict) and first.get("format") == LEGACY_FORMAT
-        if self.header_path.exists():
-            head = json_or_none(read_text(self.header_path, "campaign header"))
-            if head is None:  # empty or torn: the records cannot be matched to this campaign
-                if any(line.strip() for line in lines):
-                    raise ValueError(f"out {str(self.path.parent)!r}: {HEADER_FILE} is empty or "
-                                     f"not JSON (torn), so the records in {STORE_FILE} cannot "
-                                     f"be matched to this campaign; restore it, or choose "
-                                     f"another --out")
-                warnings.warn(f"{self.header_path}: empty or not JSON (torn) and no record "
-                              f"stored; written again", InputWarning, stacklevel=4)
-                self._write_header()
-        elif legacy:
-            head = {**first, "format": FORMAT}
-        elif lines == [""]:
-            head = None
-        else:
-            raise ValueError(f"out {self.path} is not an xnavlab campaign store; choose "
-                             f"another --out")
-        if head is not None:
-            self._check_header(head)
-        if legacy:  # the first format: move the header line to its own file
-            lines = lines[1:]
-            self._fh.seek(0)
-            self._fh.truncate()
-            self._fh.write("\n".join(lines))
-            self._fh.flush()
-        if not self.header_path.exists():
-            self._write_header()
-        return lines
+        Returns
+        -------
+        dict
+            Index -> record; empty for a missing folder or store.
+        """
+        directory = as_path(directory, "directory", "folder")
+        if path_kind(directory, "out") != "folder":
+            return {}  # missing (made by the open), or a file (refused by it)
+        _check_files(directory)
+        path = directory / STORE_FILE
+        lines = [""]
+        if path_kind(path, STORE_FILE) == "file":
+            try:
+                with open(path, encoding="utf-8") as fh:
+                    _try_lock(fh, directory, release=True)
+                    lines = _decode(fh.read, directory)
+            except OSError as exc:
+                raise ValueError(f"out {str(directory)!r}: {STORE_FILE} {str(path)!r} cannot be "
+                                 f"read ({exc.strerror})") from None
+        return _final(_scan(directory, lines, header, check)["records"])
 
     def _write_header(self):
         """The header, written whole or not at all (a kill mid-write leaves no torn file)."""
         tmp = self.header_path.with_name(HEADER_FILE + ".tmp")
         tmp.write_text(json.dumps(self.header, indent=1, allow_nan=False) + "\n")
         os.replace(tmp, self.header_path)
-
-    def _check_header(self, head):
-        if not isinstance(head, dict) or head.get("format") != FORMAT:
-            raise ValueError(f"out {self.path.parent} is not an xnavlab campaign store; choose "
-                             f"another --out")
-        if head != self.header:
-            raise ValueError(f"out {self.path.parent} holds another campaign's records: "
-                             f"{differences(head, self.header)}; choose another --out")
-
-    def _parse(self, lines, skipped=0):
-        if lines[-1] != "" and why_not_a_record(json_or_none(lines[-1])):
-            # the last line torn by a kill: cut it off (its run is recomputed), so that no
-            # broken line stays in the middle of the file
-            keep = len(("\n".join(lines[:-1]) + "\n").encode("utf-8")) if len(lines) > 1 else 0
-            self._fh.truncate(keep)
-            self._fh.seek(0, os.SEEK_END)
-            self._fh.flush()
-            lines = lines[:-1] + [""]
-        elif lines[-1] != "":
-            self._fh.write("\n")  # a whole record that lost only its newline
-            self._fh.flush()
-        records, bad, numbers = parse_records(lines, skipped, numbers=True, check=self._check)
-        if bad:
-            report_bad_lines(bad, self.path, "their runs are computed again")
-        report_disagreements(records, numbers, self.path)
-        return records
 
     def _write(self, obj):
         self._fh.write(json.dumps(obj, allow_nan=False) + "\n")
@@ -446,12 +522,7 @@ class Store:
         dict
             Index -> record.
         """
-        out = {}
-        for rec in self._records:
-            i = rec["index"]
-            if i not in out or out[i]["status"] != "ok":
-                out[i] = rec
-        return out
+        return _final(self._records)
 
     def append(self, record):
         """Append one record and flush it to disk."""
@@ -466,95 +537,44 @@ class Store:
 # -------------------------------------------------------------------------------- engines
 
 
-class _Serial:
-    window = 1
-
-    def __init__(self):
-        self._done = {}
-        self._n = 0
-
-    def submit(self, trial, seed, params):
-        self._n += 1
-        self._done[self._n] = ("ok", execute(trial, seed, params))
-        return self._n
-
-    def wait(self, handles):
-        return [(h, self._done.pop(h)) for h in handles]
-
-    def close(self):
-        pass
+#: Schemes of a Dask scheduler's address (:func:`check_scheduler`).
+SCHEDULER_SCHEMES = ("tcp", "tls", "ws", "wss")
 
 
-def _die_with(parent_pid):
-    """Pool worker initializer: end this worker when the campaign process that started it ends.
+def check_scheduler(name, address):
+    """``address`` if it is a Dask scheduler's address, ``[SCHEME://]HOST:PORT`` (a scheme of
+    :data:`SCHEDULER_SCHEMES`, tcp when left out; an IPv6 host in brackets; a port in [1,
+    65535]); else one ValueError leading with ``name`` that calls it malformed (not
+    unreachable: this is checked before any connection).
 
-    However the parent ends (SIGINT, SIGTERM, SIGKILL), its workers must not outlive it:
-    they would keep computing for nobody and, before the store's descriptor was kept from
-    them, held its lock. On Linux the kernel sends SIGKILL at the parent's death
-    (``prctl(PR_SET_PDEATHSIG)``); everywhere a daemon thread checks every 0.2 s that the
-    parent is still the same process and exits otherwise.
+    Examples
+    --------
+    >>> check_scheduler("scheduler", "tcp://10.0.0.5:8786")
+    'tcp://10.0.0.5:8786'
+    >>> check_scheduler("--scheduler", "tcp://host")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: --scheduler 'tcp://host' is a malformed scheduler address: no port; give ...
     """
-    if sys.platform.startswith("linux"):
-        try:
-            import ctypes
-
-            libc = ctypes.CDLL(None, use_errno=True)
-            libc.prctl(1, int(signal.SIGKILL), 0, 0, 0)  # PR_SET_PDEATHSIG = 1
-        except (OSError, AttributeError):  # pragma: no cover - the watchdog still runs
-            pass
-    if os.getppid() != parent_pid:  # the parent died before the prctl took effect
-        os._exit(1)
-
-    def watch():
-        while True:
-            time.sleep(0.2)
-            if os.getppid() != parent_pid:
-                os._exit(1)
-
-    threading.Thread(target=watch, name="xnavlab-parent-watch", daemon=True).start()
-
-
-class _Pool:
-    """A local process pool that is rebuilt when a worker dies (BrokenProcessPool).
-
-    Workers are started with ``spawn`` (they inherit no open file, so never the store's
-    lock) and end with the campaign process (:func:`_die_with`).
-    """
-
-    def __init__(self, workers):
-        self.workers = workers
-        self.window = 2 * workers
-        self.pool = self._new()
-
-    def _new(self):
-        return ProcessPoolExecutor(max_workers=self.workers,
-                                   mp_context=multiprocessing.get_context("spawn"),
-                                   initializer=_die_with, initargs=(os.getpid(),))
-
-    def submit(self, trial, seed, params):
-        try:
-            return self.pool.submit(execute, trial, seed, params)
-        except BrokenProcessPool:
-            self.pool.shutdown(wait=False, cancel_futures=True)
-            self.pool = self._new()
-            return self.pool.submit(execute, trial, seed, params)
-
-    def wait(self, handles):
-        done, _ = wait(handles, return_when=FIRST_COMPLETED)
-        out = []
-        for f in done:
-            exc = f.exception()
-            if exc is None:
-                out.append((f, ("ok", f.result())))
-            elif isinstance(exc, BrokenProcessPool):
-                out.append((f, ("lost", "WorkerDied: the worker process running this run "
-                                        "died (BrokenProcessPool)")))
-            else:
-                out.append((f, ("error", _describe(exc))))
-        return out
-
-    def close(self):
-        self.pool.shutdown(wait=True, cancel_futures=True)
+    if not isinstance(address, str) or not address.strip():
+        raise ValueError(f"{name} must be a scheduler address, [SCHEME://]HOST:PORT (e.g. "
+                         f"tcp://HOST:8786), got {shown(address)}")
+    scheme, sep, rest = address.partition("://")
+    scheme, rest = (scheme, rest) if sep else ("tcp", address)
+    host, _, port = rest.rpartition(":")
+    why = None
+    if scheme not in SCHEDULER_SCHEMES:
+        why = f"unknown scheme {scheme!r} ({', '.join(SCHEDULER_SCHEMES)})"
+    elif not (port.isascii() and port.isdigit() and 1 <= int(port) <= 65535):
+        why = f"the port {port!r} is not an integer in [1, 65535]" if host else "no port"
+    elif not host or any(c.isspace() or c in "/?#@" for c in host):
+        why = f"the host {host!r} is not a host name or IP address"
+    elif ":" in host and not (host.startswith("[") and host.endswith("]")):
+        why = f"the IPv6 host {host!r} goes in brackets ([::1]:8786)"
+    if why is not None:
+        raise ValueError(f"{name} {address!r} is a malformed scheduler address: {why}; give "
+                         f"[SCHEME://]HOST:PORT, e.g. tcp://HOST:8786")
+    return address
 
 
 #: run_campaign's defaults, which an engine that would not use workers or a timeout accepts.
@@ -577,9 +597,9 @@ def _check_unused(engine, workers, timeout):
 
 def _engine(engine, workers, scheduler, timeout):
     if engine == "serial":
-        return _Serial()
+        return Serial(execute)
     if engine == "local":
-        return _Pool(workers)
+        return Pool(workers, execute, _describe)
     from xnavlab.core._campaign_dask import DaskEngine  # Dask only for the Dask engines
 
     return DaskEngine(scheduler if engine == "dask" else None, workers, timeout, execute)
@@ -699,6 +719,8 @@ def run_campaign(campaign, runs, *, seed=0, out=None, engine="local", workers=_W
         raise ValueError("engine 'dask' needs a scheduler address, e.g. tcp://HOST:8786")
     if engine != "dask" and scheduler:
         raise ValueError(f"a scheduler address needs engine 'dask', got engine {engine!r}")
+    if engine == "dask":
+        check_scheduler("scheduler", scheduler)  # malformed, not unreachable: before connecting
     _check_unused(engine, workers, timeout)
     header = campaign.header(seed)
     run_seeds = spawn_seeds(seed, runs)
@@ -706,31 +728,42 @@ def run_campaign(campaign, runs, *, seed=0, out=None, engine="local", workers=_W
     if not all(isinstance(p, dict) for p in params):
         raise ValueError("campaign.params(index) must return a dict of keyword arguments")
     params = [json_ready(p) for p in params]
-    if out is not None:
-        as_path(out, "out", "folder")  # a dict or "" (the current folder): one line
-    store = Store(out, header, campaign.check_metrics) if out is not None else None
-    t0 = time.perf_counter()
-    try:
+
+    def reusable(stored):  # the stored runs that count; one of another campaign: refused
         final = {}
-        if store is not None:
-            for i, rec in store.final().items():
-                if i >= runs:
-                    continue
-                stored = {"seed": rec["seed"], "parameters": rec["parameters"]}
-                asked = {"seed": run_seeds[i], "parameters": params[i]}
-                if stored != asked:
-                    raise ValueError(f"out {out}: stored run {i} is another campaign's: "
-                                     f"{differences(stored, asked)}; choose another --out")
-                if rec["status"] == "ok" or not retry_failed:
-                    final[i] = rec
+        for i, rec in stored.items():
+            if i >= runs:
+                continue
+            was = {"seed": rec["seed"], "parameters": rec["parameters"]}
+            asked = {"seed": run_seeds[i], "parameters": params[i]}
+            if was != asked:
+                raise ValueError(f"out {out}: stored run {i} is another campaign's: "
+                                 f"{differences(was, asked)}; choose another --out")
+            if rec["status"] == "ok" or not retry_failed:
+                final[i] = rec
+        return final
+
+    final = {}
+    if out is not None:  # every refusal before the engine connects and the store's files exist
+        as_path(out, "out", "folder")  # a dict or "" (the current folder): one line
+        final = reusable(Store.read(out, header, campaign.check_metrics))
+    t0 = time.perf_counter()
+    eng = _engine(engine, workers, scheduler, timeout) if len(final) < runs else None
+    store = None
+    try:
+        if out is not None:
+            store = Store(out, header, campaign.check_metrics)
+            final = reusable(store.final())  # again, locked: another process may have written
         reused = len(final)
         todo = [i for i in range(runs) if i not in final]
         computed, attempts = 0, 0
         if todo:
-            computed, attempts = _drive(campaign, todo, run_seeds, params, final, store,
-                                        _engine(engine, workers, scheduler, timeout),
+            eng = eng or _engine(engine, workers, scheduler, timeout)
+            computed, attempts = _drive(campaign, todo, run_seeds, params, final, store, eng,
                                         retries, progress, runs, reused)
     finally:
+        if eng is not None:
+            eng.close()
         if store is not None:
             store.close()
     records = [final[i] for i in range(runs)]
@@ -791,7 +824,6 @@ def _drive(campaign, todo, run_seeds, params, final, store, eng, retries, progre
                 bar.update(1)
     finally:
         bar.close()
-        eng.close()
     return computed, attempts
 
 

@@ -1,8 +1,11 @@
 """The records of a campaign store (``runs.jsonl``): what a record is, and reading them.
 
-One line of the store is one run's record, a JSON object with at least :data:`PUBLIC_KEYS`.
-A line that is not one (torn by a kill, edited by hand) is reported by its line number and
-its run computed again (:mod:`xnavlab.core.campaign`), never dropped in silence.
+One line of the store is one run's record, a JSON object with at least :data:`PUBLIC_KEYS`
+(an ``ok`` run with its metrics and a null ``error``, a ``failed`` one with its error text and
+null metrics). A line that is not one (torn by a kill, edited by hand) is never dropped in
+silence: a campaign reports it in one warning naming the file and the line and computes its
+run again (:class:`xnavlab.core.campaign.Store`; a torn last line is also cut off), and
+:func:`xnavlab.core.campaign.load_runs` reports it and leaves it out of its table.
 """
 
 from __future__ import annotations
@@ -13,7 +16,7 @@ import sys
 import warnings
 
 from xnavlab.core.userfiles import InputWarning
-from xnavlab.core.validate import SEED_MAX
+from xnavlab.core.validate import SEED_MAX, shown
 
 __all__ = ["PUBLIC_KEYS", "json_or_none", "non_finite", "why_not_a_record", "parse_records",
            "report_bad_lines", "report_disagreements", "given_warnings", "warn_again"]
@@ -95,6 +98,16 @@ def why_not_a_record(rec, check=None):
     for key in ("parameters", "metrics"):
         if rec[key] is not None and not isinstance(rec[key], dict):
             return f"{key} is not a table"
+    # a campaign writes an ok run with its metrics and a null error, a failed one the other
+    # way round: a record with both (or neither) is no run's result
+    if rec["error"] is not None and not isinstance(rec["error"], str):
+        return f"error {shown(rec['error'])} is neither null nor a text"
+    if rec["status"] == "ok" and (rec["error"] is not None or rec["metrics"] is None):
+        return ("status 'ok' with an error " + shown(rec["error"]) if rec["error"] is not None
+                else "status 'ok' without metrics")
+    if rec["status"] == "failed" and (not rec["error"] or rec["metrics"] is not None):
+        return ("status 'failed' with metrics" if rec["metrics"] is not None
+                else "status 'failed' without its error")
     bad = non_finite({k: rec[k] for k in PUBLIC_KEYS})
     if bad is not None:
         return f"{bad} is not a finite number (a campaign writes none)"

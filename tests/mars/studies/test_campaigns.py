@@ -243,3 +243,24 @@ def test_summarise_consistency_checks_the_runs_against_a_scenario_given():
     with pytest.raises(ValueError, match=r"^scenario must be a MarsScenario \(the runs' set-up\), "
                                          r"got 'x'"):
         mc.summarise_consistency(runs, scenario="x")
+
+
+@pytest.mark.parametrize(("parameters", "words"), [
+    ({"fault_class": "bogus", "sensor": 3, "size_index": -7},
+     "['fault_class'] must be one of 'step'"),
+    ({"fault_class": "step", "sensor": 3, "size_index": 0}, "['sensor'] must be one of 'uv'"),
+    ({"fault_class": "step", "sensor": "uv", "size_index": -7},
+     "['size_index'] must be an integer in [0, 2], got -7"),
+    ({"fault_class": "step", "sensor": "uv", "size_index": True}, "['size_index'] must be"),
+])
+def test_summarise_detectors_refuses_parameters_of_no_cell(parameters, words):
+    """Review 35m (5) 7, pattern H: a run with fault_class "bogus", sensor 3 and size_index
+    -7 became a table row for the cell (bogus, 3, -7); its parameters are a cell's or refused."""
+    rec = dict(size=3.0, detected=True, delay_s=1.0, late=False, false_alarms=0,
+               armed_days=0.6, fused_rms_ratio=1.0, time_out_s=300.0)
+    run = {"status": "ok", "parameters": parameters, "metrics": {"chi2": rec}}
+    with pytest.raises(ValueError) as err:
+        mc.summarise_detectors([run])
+    assert str(err.value).startswith("runs[0]['parameters']" + words)
+    run["parameters"] = {"fault_class": "step", "sensor": "uv", "size_index": 0}
+    assert [r["fault_class"] for r in mc.summarise_detectors([run])] == ["step"]

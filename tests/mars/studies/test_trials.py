@@ -219,3 +219,18 @@ def test_detector_table_refuses_two_sizes_in_a_cell():
     """Review 35l (5) 1: a cell's size was its first record's, whatever the others said."""
     with pytest.raises(ValueError, match=r"^records\[1\]\['size'\] must be that of its cell"):
         trials.detector_table([_REC, dict(_REC, size=5.0)])
+
+
+@pytest.mark.parametrize(("change", "words"), [
+    ({"fault_class": "bogus"}, "records[0]['fault_class'] must be one of 'step'"),
+    ({"sensor": 3}, "records[0]['sensor'] must be one of 'uv'"),
+    ({"size_index": -7}, "records[0]['size_index'] must be an integer in [0, 2], got -7"),
+    ({"detector": "none"}, "records[0]['detector'] must be one of 'wavelet'"),
+    ({"size": 5.0}, "records[0]['size'] must be its cell's size SIZES['step'][0] = 3.0, got 5.0"),
+])
+def test_detector_table_refuses_a_record_of_no_cell(change, words):
+    """Review 35m pattern H: the values were checked but not the cell keys; a record of fault
+    class "bogus", sensor 3 or size_index -7 became a table row of its own."""
+    with pytest.raises(ValueError) as err:
+        trials.detector_table([dict(_REC, **change)])
+    assert str(err.value).startswith(words)

@@ -42,6 +42,7 @@ from xnavlab.core.campaign import Campaign
 from xnavlab.core.filters import chi2_bounds, consistency_verdict
 from xnavlab.core.validate import (
     check_choice,
+    check_int,
     check_items,
     check_real,
     check_records,
@@ -343,7 +344,10 @@ def summarise_detectors(runs):
     """:func:`xnavlab.mars.studies.trials.detector_table` of the ok runs (one record per detector).
 
     ``runs`` must be a list of campaign records (dicts with ``status``); anything else is
-    one ValueError naming ``runs`` or ``runs[i]``.
+    one ValueError naming ``runs`` or ``runs[i]``. An ok run's ``parameters`` must be one of
+    :func:`detector_cells` (``fault_class``, ``sensor``, ``size_index`` in range) and its
+    metrics a :func:`detectors_run` result of that cell's size, else one ValueError naming
+    the key (``runs[i]['parameters']['sensor']``).
 
     Examples
     --------
@@ -356,17 +360,20 @@ def summarise_detectors(runs):
             continue
         why = _detectors_metrics(r.get("metrics"))
         p = r.get("parameters")
-        if why is None and not (isinstance(p, dict) and all(
+        if why is not None:
+            raise ValueError(f"runs[{i}]['metrics'] is not a detectors_run result: {why}")
+        if not (isinstance(p, dict) and all(
                 k in p for k in ("fault_class", "sensor", "size_index"))):
             raise ValueError(f"runs[{i}]['parameters'] must name fault_class, sensor and "
                              f"size_index, got {p!r}"[:300])
-        if why is not None:
-            raise ValueError(f"runs[{i}]['metrics'] is not a detectors_run result: {why}")
-        sizes = trials.SIZES.get(p["fault_class"]) if isinstance(p["fault_class"], str) else None
-        k = p["size_index"]
+        # the cell: one of detector_cells(), not a row of its own (a hand-edited record)
+        name = f"runs[{i}]['parameters']"
+        fc = check_choice(f"{name}['fault_class']", p["fault_class"], trials.FAULT_CLASSES)
+        check_choice(f"{name}['sensor']", p["sensor"], trials.SENSORS)
+        sizes = trials.SIZES[fc]
+        k = check_int(f"{name}['size_index']", p["size_index"], 0, len(sizes) - 1)
         for det, m in r["metrics"].items():
-            if (sizes is not None and isinstance(k, int) and 0 <= k < len(sizes)
-                    and m["size"] != sizes[k]):
+            if m["size"] != sizes[k]:
                 raise ValueError(f"runs[{i}]['metrics'][{det!r}]['size'] must be the cell's "
                                  f"size {sizes[k]!r} ({p['fault_class']} size_index {k}), "
                                  f"got {m['size']!r}")

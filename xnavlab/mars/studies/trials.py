@@ -435,7 +435,10 @@ def detector_table(records):
 
     ``records`` must be a list of trial records (dicts with the keys read here); anything
     else is one ValueError naming ``records`` or ``records[i]``. Each value must be of its
-    kind and range, else one ValueError naming ``records[i]['key']``: ``detected`` and
+    kind and range, else one ValueError naming ``records[i]['key']``: ``fault_class``,
+    ``sensor`` and ``detector`` of :data:`FAULT_CLASSES`, :data:`SENSORS` and
+    :data:`DETECTORS`, ``size_index`` 0, 1 or 2 and ``size`` its ``SIZES[fault_class]``
+    entry (a cell of :func:`detector_trial`); ``detected`` and
     ``late`` true or false, ``false_alarms`` an integer in [0, 1e9], ``armed_days`` and
     ``size`` in (0, 1e100], ``fused_rms_ratio`` and ``time_out_s`` in [0, 1e100],
     ``delay_s`` None or in [0, 1e100]; the records of a cell share its ``size``, and a cell's
@@ -466,11 +469,19 @@ def detector_table(records):
     records = check_records("records", records, _RECORD_KEYS, "trial record")
     for i, r in enumerate(records):
         refuse(r, RECORD_SPEC, f"records[{i}]")
+        # the cell: a fault class, sensor, size index and detector of detector_trial's
+        fc = check_choice(f"records[{i}]['fault_class']", r["fault_class"], FAULT_CLASSES)
+        check_choice(f"records[{i}]['sensor']", r["sensor"], SENSORS)
+        si = check_int(f"records[{i}]['size_index']", r["size_index"], 0, len(SIZES[fc]) - 1)
+        check_choice(f"records[{i}]['detector']", r["detector"], DETECTORS)
         key = (r["fault_class"], r["sensor"], r["size_index"], r["detector"])
         j = first.setdefault(key, i)
         if r["size"] != records[j]["size"]:
             raise ValueError(f"records[{i}]['size'] must be that of its cell's first record, "
                              f"records[{j}] ({records[j]['size']!r}), got {r['size']!r}")
+        if r["size"] != SIZES[fc][si]:
+            raise ValueError(f"records[{i}]['size'] must be its cell's size SIZES[{fc!r}]"
+                             f"[{si}] = {SIZES[fc][si]!r}, got {r['size']!r}")
         cells.setdefault(key, []).append(r)
     rows = []
     z = 1.959963984540054                # two-sided 95 % normal quantile (RMS-ratio error)
