@@ -213,7 +213,12 @@ def _grid_record(index, detector="combined", days=0.5):
     ({"status": "ok"}, "runs must be a list of run records"),
     ("abc", "runs must be a list of run records"),
     ([_grid_record(0), _grid_record(0)], "runs lists run index 0 twice (runs[0] and runs[1])"),
-    ([_grid_record(0), _grid_record(1, detector="chi2")], "runs[1] is a run of another grid"),
+    ([_grid_record(0), {**_grid_record(1), "parameters": {
+        k: v for k, v in _grid_record(1)["parameters"].items() if k != "detector"}}],
+     "runs[1] is a run of another grid"),
+    # review 35m pattern H: chi2's alpha is in (0, 1): no grid of chi2 holds 1.0
+    ([_grid_record(0, detector="chi2")],
+     "runs[0]['parameters']['thresholds'][1] must be a real number in (0, 1), got 1.0"),
     ([_grid_record(0), _grid_record(1, days=2.0)], "runs[1] is a run of another grid"),
     ([{**_grid_record(0), "metrics": {"per_threshold": []}}], "runs[0]['metrics']['armed_days'] is "
                                                               "missing"),
@@ -349,3 +354,23 @@ def test_roc_refuses_an_empty_or_foreign_per_threshold():
     assert "not the grid's" in camp.check_metrics(other)
     assert "delay_s is -50.0" in camp.check_metrics(
         {**good, "per_threshold": [dict(row, threshold=t, delay_s=-50.0) for t in thr]})
+
+
+@pytest.mark.parametrize(("change", "words"), [
+    ({"fault_class": "bogus"}, "['fault_class'] must be one of 'step'"),
+    ({"sensor": 3}, "['sensor'] must be one of 'uv'"),
+    ({"size": -1.0}, "['size'] must be a real number in (0, 100000], got -1.0"),
+    ({"detector": "x"}, "['detector'] must be one of 'combined'"),
+    ({"days": 0.1}, "['days'] must be a real number in [0.5, 5]"),
+    ({"thresholds": 3}, "['thresholds'] must be a list"),
+])
+def test_roc_curve_refuses_parameters_of_no_grid_fault(change, words):
+    """Review 35m pattern H: roc_curve read a run's fault class, sensor and size without a
+    check; a run of fault class "bogus" became a by-fault row of its own."""
+    rec = _record("step", (True, False), (0, 1))
+    rec["parameters"].update(change)
+    with pytest.raises(ValueError) as err:
+        roc.roc_curve([rec], by_fault=True)
+    assert str(err.value).startswith("runs[0]['parameters']" + words)
+    with pytest.raises(ValueError, match=r"^runs\[0\]\['parameters'\] must be a table"):
+        roc.roc_curve([dict(rec, parameters=3)])

@@ -85,6 +85,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import math
 from functools import partial
 from importlib import resources
 from pathlib import Path
@@ -352,8 +353,8 @@ def _ok_runs(runs):
             continue
         try:
             p, m = r["parameters"], r["metrics"]
+            _check_run_fault(f"{name}['parameters']", p)
             setup = (p.get("detector"), p.get("days"), tuple(p.get("thresholds", ())))
-            _ = (p["fault_class"], p["sensor"], p["size"])
             why = why_not(m, _ROC_SPEC, f"{name}['metrics']", brackets=True)
             if why is not None:
                 raise ValueError(why)
@@ -378,6 +379,31 @@ def _ok_runs(runs):
     return ok
 
 
+def _check_run_fault(name, p):
+    """A run's ``parameters``: the fault of a grid (:func:`check_grid`'s rules), and its
+    detector, days and thresholds where given; anything else is one ValueError naming the key
+    (``runs[i]['parameters']['sensor']``), not a curve row of its own."""
+    if not isinstance(p, dict):
+        raise ValueError(f"{name} must be a table of a ROC run's parameters, got {shown(p)}")
+    missing = [k for k in _FAULT_KEYS if k not in p]
+    if missing:
+        raise ValueError(f"{name} has no {missing[0]!r} (a ROC run's fault: "
+                         f"{', '.join(_FAULT_KEYS)})")
+    fc = check_choice(f"{name}['fault_class']", p["fault_class"], trials.FAULT_CLASSES)
+    check_choice(f"{name}['sensor']", p["sensor"], trials.SENSORS)
+    check_real(f"{name}['size']", p["size"], 1.0 if fc == "noise" else 0.0, 1e5, lo_open=True)
+    if "days" in p:
+        check_real(f"{name}['days']", p["days"], 0.5, 5.0)
+    lo, hi, lo_open, hi_open = 0.0, math.inf, True, True
+    if "detector" in p:
+        det = check_choice(f"{name}['detector']", p["detector"], tuple(THRESHOLDS))
+        lo, hi, lo_open, hi_open = THRESHOLD_RANGES[THRESHOLDS[det]]
+    if "thresholds" in p:
+        check_items(f"{name}['thresholds']", p["thresholds"], "threshold",
+                    lambda label, v: check_real(label, v, lo, hi, lo_open=lo_open,
+                                                hi_open=hi_open))
+
+
 def roc_curve(runs, by_fault=False):
     """The curve of a ROC campaign's runs: one row per threshold (:data:`CURVE_COLUMNS`).
 
@@ -385,8 +411,10 @@ def roc_curve(runs, by_fault=False):
     ----------
     runs : list of dict
         Run records (:func:`xnavlab.core.campaign.public_record`) of :func:`campaign`; failed
-        runs are skipped. An empty list, records of two grids, an index twice or a record
-        without its metrics is one ValueError naming the record.
+        runs are skipped. An empty list, records of two grids, an index twice, a record
+        without its metrics, or parameters that are no grid's fault (:func:`check_grid`'s
+        rules; ``detector``, ``days`` and ``thresholds`` checked where given) is one
+        ValueError naming the record or its key.
     by_fault : bool
         One row per (fault, threshold) instead, with the fault's ``fault_class``, ``sensor``
         and ``size`` in front.
