@@ -1,12 +1,15 @@
 """Checks that the timing modules share: a pulsar's fields, the spin drift a photon simulation
 can invert, an observation's span, the exposure a fold divides by, two positions that broadcast,
-a position outside a body.
+a position outside a body, photon times a dtype can place in a phase bin, a .par file's text.
 
 Plumbing of :mod:`xnavlab.mars.timing` (imported by :mod:`xnavlab.mars.timing.pulsars`); not
 part of the public API.
 """
 
 from __future__ import annotations
+
+import os
+from pathlib import Path
 
 import numpy as np
 
@@ -15,7 +18,8 @@ from xnavlab.core.validate import check_finite_array, check_real, shown
 
 __all__ = ["EPOCH_RESOLUTION", "check_epochs", "check_epoch",
            "MAX_DRIFT", "MAX_PHOTONS", "RADII", "check_pulsar_fields", "check_spin_drift", "check_span",
-           "check_exposure", "check_broadcast", "check_outside", "check_photons"]
+           "check_exposure", "check_broadcast", "check_outside", "check_photons",
+           "check_times_dtype", "check_par_text"]
 
 #: :data:`xnavlab.core.ephemeris.EPOCH_RESOLUTION` (1 ms), the one rule of the epochs' dtype
 #: (a float32 epoch near 5e8 s moved clock_terms' clock term by 1.2e-7 s, 36 m).
@@ -239,3 +243,47 @@ def check_epoch(name, value, lo=-np.inf, hi=np.inf):
     t = check_real(name, value, lo, hi)
     ephemeris.check_resolution(name, value, abs(t))
     return t
+
+
+def check_times_dtype(name, value, p, nbins):
+    """Refuse times ``value`` (s, already checked finite) of a float dtype narrower than
+    float64 that cannot place a photon to a tenth of one of ``nbins`` phase bins of ``p``:
+    refused, not converted (the values given are already rounded; float32 resolves 1 ms at
+    1e4 s, a tenth of a bin of B1937+21's 1.56 ms in 256 bins is 0.6 us)."""
+    dtype = np.asarray(value).dtype
+    if dtype.kind != "f" or dtype.itemsize >= 8:
+        return
+    largest = float(np.abs(np.asarray(value, dtype=float)).max(initial=0.0))
+    res = float(np.spacing(dtype.type(largest)))
+    tenth = 0.1 * p.period / nbins  # s: a tenth of a phase bin
+    if not res <= tenth:
+        raise ValueError(f"{name} must resolve its times to a tenth of a phase bin ({tenth:.3g} s, "
+                         f"{nbins} bins of {p.name}'s {p.period:.4g} s period): as {dtype} it "
+                         f"resolves {res:.3g} s at {largest:.6g} s; pass float64 times")
+
+
+def check_par_text(path):
+    """A file that is no timing model (binary, empty, without F0) refused in our words, naming
+    it; PINT would say "Model must have one and only one spindown component", or take 0 Hz."""
+    if not isinstance(path, str | os.PathLike) or not Path(path).is_file():
+        return  # timing_parameters names it
+    try:
+        data = Path(path).read_bytes()
+    except OSError as exc:
+        raise ValueError(f"path: the timing model {str(path)!r} cannot be read ({exc.strerror})") from None
+    head = f"path: {str(path)!r} is not a pulsar timing model"
+    if b"\0" in data:
+        raise ValueError(f"{head}: it holds binary data (byte 0x00 at position {data.index(0)}), "
+                         f"not the text of a .par file")
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"path: the timing model {str(path)!r} is not UTF-8 text (byte "
+                         f"{data[exc.start]:#04x} at position {exc.start})") from None
+    words = [ln.split()[0].upper() for ln in text.splitlines()
+             if ln.split() and not ln.lstrip().startswith(("#", "C "))]
+    if not words:
+        raise ValueError(f"{head}: it is empty (a .par file gives one parameter a line: PSR, "
+                         f"RAJ and DECJ or ELONG and ELAT, F0, ...)")
+    if "F0" not in words:
+        raise ValueError(f"{head}: it has no F0 line (the spin frequency, Hz, in every timing model)")

@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import functools
 import math
-import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -276,7 +275,7 @@ def from_par(path, distance=None, flux_ph_cm2_s=None, pulsed_fraction=None, duty
         raise ValueError("give duty_cycle or width_s, not both (the same pulse width)")
     if duty_cycle is not None:  # checked before it scales the period (a str would repeat)
         duty_cycle = check_real("duty_cycle", duty_cycle, _MIN_DUTY, 0.5)
-    _check_par_text(path)
+    _checks.check_par_text(path)
     try:  # its ValueErrors lead with path and name the file (PINT's and astropy's too)
         par = pint_bridge.timing_parameters(path)
     except (TypeError, AttributeError, ArithmeticError) as exc:  # a value PINT left unset
@@ -316,33 +315,6 @@ def from_par(path, distance=None, flux_ph_cm2_s=None, pulsed_fraction=None, duty
     return Pulsar(name=par["name"], ra_deg=par["ra_deg"], dec_deg=par["dec_deg"], distance=distance,
                   period=period, fdot=par["f1"], flux=flux * _PER_CM2, pulsed_fraction=pf,
                   width=width, sources=sources)
-
-
-def _check_par_text(path):
-    """A file that is no timing model (binary, empty, without F0) refused in our words, naming
-    it; PINT would say "Model must have one and only one spindown component", or take 0 Hz."""
-    if not isinstance(path, str | os.PathLike) or not Path(path).is_file():
-        return  # timing_parameters names it
-    try:
-        data = Path(path).read_bytes()
-    except OSError as exc:
-        raise ValueError(f"path: the timing model {str(path)!r} cannot be read ({exc.strerror})") from None
-    head = f"path: {str(path)!r} is not a pulsar timing model"
-    if b"\0" in data:
-        raise ValueError(f"{head}: it holds binary data (byte 0x00 at position {data.index(0)}), "
-                         f"not the text of a .par file")
-    try:
-        text = data.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise ValueError(f"path: the timing model {str(path)!r} is not UTF-8 text (byte "
-                         f"{data[exc.start]:#04x} at position {exc.start})") from None
-    words = [ln.split()[0].upper() for ln in text.splitlines()
-             if ln.split() and not ln.lstrip().startswith(("#", "C "))]
-    if not words:
-        raise ValueError(f"{head}: it is empty (a .par file gives one parameter a line: PSR, "
-                         f"RAJ and DECJ or ELONG and ELAT, F0, ...)")
-    if "F0" not in words:
-        raise ValueError(f"{head}: it has no F0 line (the spin frequency, Hz, in every timing model)")
 
 
 def check_names(pulsars, name="pulsars"):
@@ -556,29 +528,12 @@ def simulate_photons(pulsar, t_obs, area_m2=1.0, background_ph_cm2_s=0.005, rng=
     return np.sort(np.concatenate([t_s, t_b]))
 
 
-def _check_dtype(name, value, p, nbins):
-    """Refuse times ``value`` (s, already checked finite) of a float dtype narrower than
-    float64 that cannot place a photon to a tenth of one of ``nbins`` phase bins of ``p``:
-    refused, not converted (the values given are already rounded; float32 resolves 1 ms at
-    1e4 s, a tenth of a bin of B1937+21's 1.56 ms in 256 bins is 0.6 us)."""
-    dtype = np.asarray(value).dtype
-    if dtype.kind != "f" or dtype.itemsize >= 8:
-        return
-    largest = float(np.abs(np.asarray(value, dtype=float)).max(initial=0.0))
-    res = float(np.spacing(dtype.type(largest)))
-    tenth = 0.1 * p.period / nbins  # s: a tenth of a phase bin
-    if not res <= tenth:
-        raise ValueError(f"{name} must resolve its times to a tenth of a phase bin ({tenth:.3g} s, "
-                         f"{nbins} bins of {p.name}'s {p.period:.4g} s period): as {dtype} it "
-                         f"resolves {res:.3g} s at {largest:.6g} s; pass float64 times")
-
-
 def _binned_phase(name, t, p, nbins, t0):
     """``Phi(t)`` of ``p`` (cycles), refused (naming ``name``) beyond ``0.1 2^52 / nbins`` cycles,
     where float64's spacing, ``|Phi| 2^-52``, exceeds a tenth of a bin: which bin is noise."""
     t = check_finite_array(name, t)
     start = check_real("t0", t0)
-    _check_dtype("t0", t0, p, nbins)  # a float32 t0 rounds every phase
+    _checks.check_times_dtype("t0", t0, p, nbins)  # a float32 t0 rounds every phase
     if np.any(np.abs(t - start) > MAX_SPAN):  # phase() refuses it: no bin either
         t = np.full(t.shape, math.inf)
     ph = phase(t, [p.frequency, p.fdot], t0=t0) if np.all(np.isfinite(t)) else t
@@ -629,7 +584,7 @@ def phase_exposure(span, pulsar, nbins=256, t0=0.0):
     p = get(pulsar)
     nbins = check_int("nbins", nbins, 8, 2**20)
     given, span = span, check_span(span)
-    _check_dtype("span", given, p, nbins)
+    _checks.check_times_dtype("span", given, p, nbins)
     ends = _binned_phase("span", span, p, nbins, t0)
     lo = np.arange(nbins) / nbins
 
@@ -697,7 +652,7 @@ def fold(t, pulsar, nbins=256, t0=0.0, span=None, exposure=True):
     given, t = t, check_finite_array("t", t)
     if t.ndim != 1 or t.size == 0:
         raise ValueError(f"t must be a non-empty 1-D array of photon times, got shape {t.shape}")
-    _check_dtype("t", given, p, nbins)
+    _checks.check_times_dtype("t", given, p, nbins)
     ph = _binned_phase("t", t, p, nbins, t0) % 1.0  # a bin float64 can tell (else refused)
     idx = np.minimum((ph * nbins).astype(np.int64), nbins - 1)
     counts = np.bincount(idx, minlength=nbins)
