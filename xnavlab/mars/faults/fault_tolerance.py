@@ -433,7 +433,11 @@ def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=
                          f"least days = {math.ceil(arm_s / DAY * 1e4 + 1) / 1e4:g} or lower arm_s")
     paper = isinstance(faults, str) and faults.strip() == "paper"
     if isinstance(faults, str):
-        faults = parse_faults(faults, sc)
+        try:
+            faults = parse_faults(faults, sc)
+        except ValueError as exc:  # parse_faults names its own parameter, spec: here, faults
+            text = str(exc)
+            raise ValueError(f"faults{text[4:]}" if text.startswith("spec") else text) from None
     # the run's check: the faults (sensor, component, onset, samples), then the training span
     faults = check_schedule(faults, sc, detector, train_days, paper=paper)
     if train_days is None:
