@@ -766,3 +766,17 @@ def test_reading_a_store_changes_nothing(tmp_path):
         store.close()
     assert {p.name: p.read_bytes() for p in out.iterdir() if p.name != cp.OWNER_FILE} == {
         k: v for k, v in before.items() if k != cp.OWNER_FILE}
+
+
+def test_a_torn_last_line_of_a_crlf_store_is_cut_at_its_own_byte(tmp_path):
+    """Review 35m (7) 3, by class: the store was read with newline translation, so the cut of
+    a torn line in a CRLF file fell a byte a line early, into the record before it."""
+    cp.run_campaign(sq_campaign(), 3, seed=2, out=tmp_path, engine="serial")
+    path = tmp_path / cp.STORE_FILE
+    lines = path.read_text().splitlines()
+    path.write_bytes(("\r\n".join(lines[:-1]) + "\r\n" + lines[-1][:20]).encode())
+    with pytest.warns(UserWarning, match=r"line 3 \(not JSON; the last line, torn"):
+        r = cp.run_campaign(sq_campaign(), 3, seed=2, out=tmp_path, engine="serial")
+    assert (r.computed, r.reused) == (1, 2)
+    r = cp.run_campaign(sq_campaign(), 3, seed=2, out=tmp_path, engine="serial")  # no warning
+    assert (r.computed, r.reused) == (0, 3)

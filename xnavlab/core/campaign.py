@@ -434,7 +434,8 @@ class Store:
             raise ValueError(f"out {str(directory)!r} cannot be made a folder ({exc.strerror})"
                              ) from None
         try:
-            self._fh = open(self.path, "a+", encoding="utf-8")  # noqa: SIM115 - closed by close()
+            # newline="": the lines as stored (a CRLF file's torn line is cut at its own byte)
+            self._fh = open(self.path, "a+", encoding="utf-8", newline="")  # noqa: SIM115
         except OSError as exc:
             raise ValueError(f"out {str(directory)!r}: {STORE_FILE} {str(self.path)!r} cannot be "
                              f"opened for appending ({exc.strerror})") from None
@@ -490,7 +491,7 @@ class Store:
         lines = [""]
         if path_kind(path, STORE_FILE) == "file":
             try:
-                with open(path, encoding="utf-8") as fh:
+                with open(path, encoding="utf-8", newline="") as fh:
                     _try_lock(fh, directory, release=True)
                     lines = _decode(fh.read, directory)
             except OSError as exc:
