@@ -96,3 +96,22 @@ def test_plot_fault_case_names_n_sigma_not_the_tail_probability(n_sigma):
     got 1.0' (the thresholds' tail probability, an inner name)."""
     with pytest.raises(ValueError, match=r"^n_sigma must be a real number in \[0.01, 30\]"):
         att.plot_fault_case("gyro_x", "step", 1.0, n_sigma=n_sigma)
+
+
+def test_plot_residuals_refuses_extra_3d_or_foreign_axes():
+    """Review 35m (1) 3, the rule of every plot's axes: a 3-D or polar Axes was matplotlib's
+    error mid-plot, a fifth Axes was ignored without a word, Axes of two figures returned
+    the first's."""
+    from matplotlib.figure import Figure
+
+    run = att.simulate(duration=50.0, rng=0)
+    fig = Figure()
+    four = list(fig.subplots(4, 1))
+    with pytest.raises(ValueError, match=r"^axes must be a sequence of 4 matplotlib Axes"):
+        att.plot_residuals(run, axes=four + [fig.add_subplot(5, 1, 5)])
+    with pytest.raises(ValueError, match=r"^axes\[2\] must be a 2-D rectilinear matplotlib Axes, got a '3d'"):
+        att.plot_residuals(run, axes=four[:2] + [Figure().add_subplot(projection="3d")] + four[3:])
+    with pytest.raises(ValueError, match=r"^axes\[3\] must be an Axes of the same figure"):
+        att.plot_residuals(run, axes=four[:3] + [Figure().subplots()])
+    assert not any(a.lines for a in four)  # refused before anything was drawn
+    assert att.plot_residuals(run, axes=four) is fig

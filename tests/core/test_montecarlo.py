@@ -229,3 +229,17 @@ def test_plot_roc_names_curves_that_are_no_dict_of_pairs():
                      ({"a": ([0.0, 2.0], [1.0, 1.0])}, r"probabilities in \[0, 1\]")):
         with pytest.raises(ValueError, match=msg):
             mc.plot_roc(bad)
+
+
+def test_detection_table_and_plot_pd_take_noise_scale_as_checked():
+    """Review 35m pattern M: noise_scale went on raw: a Fraction was stored in the rows and
+    broke plot_pd's title ('unsupported format string passed to Fraction'); 0 was refused by
+    each trial, not before the trials ran."""
+    from fractions import Fraction
+
+    rows = mc.detection_table(("step",), (8.0,), trials=1, noise_scale=Fraction(1), max_workers=1)
+    assert type(rows[0]["noise_scale"]) is float
+    fig = mc.plot_pd(trials=1, sizes=(8.0,), noise_scale=Fraction(1))
+    assert "true/modelled noise 1," in fig.texts[0].get_text()
+    with pytest.raises(ValueError, match=r"^noise_scale must be a real number in \(0, 100\]"):
+        mc.detection_table(("step",), (8.0,), trials=1, noise_scale=0.0, max_workers=1)

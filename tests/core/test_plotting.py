@@ -102,3 +102,34 @@ def test_figure_names_a_misspelt_subplots_keyword():
                                          r".*\(did you mean sharex\?\)"):
         figure(1, 2, sharx=True)
     assert figure(1, 2, sharex=True)[1].shape == (2,)
+
+
+def test_check_axes_is_the_rule_of_every_plots_ax():
+    """Review 35m (1) 3: one rule for ax: a 2-D rectilinear Axes of a figure (3-D, polar and
+    removed Axes were matplotlib's TypeError, NotImplementedError, AttributeError mid-plot)."""
+    from matplotlib.figure import Figure
+
+    from xnavlab.core.plotting import check_axes, sparse_log_minors
+
+    fig = Figure()
+    ax = fig.add_subplot(2, 2, 1)
+    assert check_axes("ax", ax) == (fig, ax)
+    inset = ax.inset_axes([0.5, 0.5, 0.3, 0.3])
+    assert check_axes("ax", inset) == (fig, inset)  # a child Axes belongs to the figure
+    sub = Figure()
+    sub_ax = sub.subfigures(1, 2)[1].subplots()
+    assert check_axes("ax", sub_ax) == (sub, sub_ax)  # a subfigure's: its root figure
+    for bad, why in ((fig.add_subplot(2, 2, 2, projection="3d"), "got a '3d' Axes"),
+                     (fig.add_subplot(2, 2, 3, projection="polar"), "got a 'polar' Axes"),
+                     ("ax", "got str 'ax'"), (fig, "got Figure")):
+        with pytest.raises(ValueError, match=rf"^axes\[1\] must be a 2-D rectilinear matplotlib Axes, {why}"):
+            check_axes("axes[1]", bad)
+    gone = fig.add_subplot(2, 2, 4)
+    gone.remove()
+    with pytest.raises(ValueError, match=r"^ax must be a 2-D rectilinear matplotlib Axes of a figure, "
+                                         r"got an Axes removed"):
+        check_axes("ax", gone)
+    with pytest.raises(ValueError, match=r"^axes\[1\] must be an Axes of the same figure as the others"):
+        check_axes("axes[1]", sub_ax, fig)
+    with pytest.raises(ValueError, match=r"^axes\[1\] must be a 2-D rectilinear matplotlib Axes, got str"):
+        sparse_log_minors(ax, "x")  # was AttributeError 'no attribute child_axes'

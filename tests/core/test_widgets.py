@@ -849,3 +849,10 @@ def test_frames_written_at_once_by_many_threads_are_read_back_whole(tmp_path):
     assert [p.name for p in path.parent.iterdir()] == ["f.png"]
     path.write_bytes(pngs[0][:-3])  # cut short (not by a store): drawn again, not served
     assert DiskFrames.load(path) is None
+
+
+def test_explore_keeps_max_frames_and_dpi_as_checked():
+    """Review 35m pattern M: check_int's value was dropped, the raw np.uint8 / np.int64 went on
+    to the Explorer (np.uint8 arithmetic wraps at 256)."""
+    ex = explore(wave, omega=np.linspace(1.0, 2.0, 21), max_frames=np.uint8(5), dpi=np.int64(80))
+    assert type(ex.dpi) is int and ex.frame_values == [1.0, 1.25, 1.5, 1.75, 2.0]

@@ -208,3 +208,14 @@ def test_track_refuses_a_truth_of_one_row():
     """Review 35i: one row of truth gave a Track of no measurement (z of shape (0,))."""
     with pytest.raises(ValueError, match=r"^truth must hold at least 2 rows"):
         track.track(np.zeros((1, 2)), 10.0, np.zeros(2), np.eye(2) * 1e6, rng=0)
+
+
+def test_plot_tracking_takes_a_fraction_as_its_float():
+    """Review 35m (1) 2, pattern M: exposure_s=Fraction(50) passed run_line's check, then the
+    plot went on with the raw Fraction (matplotlib's "ufunc 'isfinite' not supported")."""
+    from fractions import Fraction
+
+    fig = track.plot_tracking(exposure_s=Fraction(50))
+    ref = track.plot_tracking(exposure_s=50.0)
+    assert fig.get_suptitle() == ref.get_suptitle()
+    np.testing.assert_array_equal(fig.axes[0].lines[0].get_xdata(), ref.axes[0].lines[0].get_xdata())

@@ -61,8 +61,32 @@ def test_plot_diagnosis_names_axes_that_are_no_pair_of_axes():
 
     d = P.diagnose_flight(duration=40.0)
     ax = Figure().subplots()
-    for axes in ("ax", [ax], (ax, "ax"), True):
+    for axes in ("ax", [ax], True, Figure().subplots(2, 2)):
         with pytest.raises(ValueError, match=r"^axes must be a pair of matplotlib Axes"):
             P.plot_diagnosis(d, axes=axes)
+    with pytest.raises(ValueError, match=r"^axes\[1\] must be a 2-D rectilinear matplotlib Axes, got str"):
+        P.plot_diagnosis(d, axes=(ax, "ax"))  # review 35m: the item at fault named
     fig = Figure()
     assert P.plot_diagnosis(d, axes=fig.subplots(1, 2)) is fig
+
+
+def test_plot_diagnosis_refuses_a_polar_removed_or_foreign_axes():
+    """Review 35m (1) 3, the rule of every plot's axes: a polar Axes was matplotlib's
+    NotImplementedError (no log scale), a removed one an AttributeError, two figures' pair
+    returned one of them."""
+    from matplotlib.figure import Figure
+
+    d = P.diagnose_flight(duration=40.0)
+    fig = Figure()
+    left = fig.add_subplot(1, 2, 1)
+    polar = fig.add_subplot(1, 2, 2, projection="polar")
+    with pytest.raises(ValueError,
+                       match=r"^axes\[1\] must be a 2-D rectilinear matplotlib Axes, got a 'polar'"):
+        P.plot_diagnosis(d, axes=[left, polar])
+    with pytest.raises(ValueError, match=r"^axes\[1\] must be an Axes of the same figure"):
+        P.plot_diagnosis(d, axes=[left, Figure().subplots()])
+    gone = fig.add_subplot(2, 2, 4)
+    gone.remove()
+    with pytest.raises(ValueError, match=r"^axes\[1\] must be a 2-D rectilinear matplotlib Axes of a figure"):
+        P.plot_diagnosis(d, axes=[left, gone])
+    assert not left.lines  # refused before anything was drawn

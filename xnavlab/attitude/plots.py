@@ -49,7 +49,8 @@ def plot_residuals(run, method="sos", axes=None):
     run : AttitudeRun
     method : {"sos", "dos", "qdiff"}
     axes : sequence of matplotlib Axes, optional
-        Four axes (three for ``"qdiff"``); a new figure when omitted.
+        Four axes (three for ``"qdiff"``), no more: 2-D rectilinear Axes of one figure
+        (:func:`xnavlab.core.plotting.check_axes`); a new figure when omitted.
 
     Returns
     -------
@@ -70,13 +71,15 @@ def plot_residuals(run, method="sos", axes=None):
         fig, axes = plt.subplots(m, 1, sharex=True, figsize=(7, 1.5 * m + 1), squeeze=False)
         axes = axes[:, 0]
     else:  # a string or a short list was an AttributeError or IndexError from inside
-        from matplotlib.axes import Axes
+        from xnavlab.core.plotting import check_axes
 
-        if isinstance(axes, str | bytes | dict) or not hasattr(axes, "__len__") or len(axes) < m \
-                or not all(isinstance(ax, Axes) for ax in list(axes)[:m]):
+        if isinstance(axes, str | bytes | dict) or not hasattr(axes, "__len__") or len(axes) != m \
+                or np.asarray(axes, dtype=object).ndim != 1:
             raise ValueError(f"axes must be a sequence of {m} matplotlib Axes (one per residual of "
                              f"{method!r}), got {shown(axes)}")
-    fig = axes[0].figure
+        fig = check_axes("axes[0]", axes[0])[0]  # each 2-D, of one figure
+        for i in range(1, m):
+            check_axes(f"axes[{i}]", axes[i], fig)
     _residual_axes(axes[:m], run, method)(run)
     axes[m - 1].set_xlabel("t (s)")
     return fig

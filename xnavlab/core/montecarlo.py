@@ -316,6 +316,8 @@ def detection_table(kinds=KINDS, sizes=(2.0, 4.0, 8.0), *, trials=20, seed=0, no
     (0.0, 1.0)
     """
     trials = check_int("trials", trials, 1, 10**6)
+    # signal_trial's range; a float in the rows (a Fraction was stored as given)
+    noise_scale = check_real("noise_scale", noise_scale, 0.0, 100.0, lo_open=True)
     sizes = [check_real(f"sizes[{i}]", s, 0.0, 1000.0)  # signal_trial's size_sigma range
              for i, s in enumerate(check_items("sizes", sizes, "size"))]
     kinds = check_items("kinds", kinds, "kind", each=lambda label, k: check_choice(label, k, KINDS))
@@ -454,6 +456,7 @@ def plot_pd(kind="step", noise_scale=1.0, trials=30, seed=0, sizes=(1.0, 2.0, 3.
             return False  # other sizes: a new figure
         rows = detection_table((kind,), sizes, trials=trials, seed=seed,
                                noise_scale=noise_scale, max_workers=1)
+        noise_scale = rows[0]["noise_scale"]  # as detection_table checked it (a float)
         for d in DETECTORS:
             pd_lines[d].set_ydata([r[f"{d}_pd"] for r in rows])
             delay_lines[d].set_ydata([r[f"{d}_delay_s"] for r in rows])

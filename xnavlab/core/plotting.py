@@ -17,9 +17,9 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from xnavlab.core.validate import check_int, check_keywords
+from xnavlab.core.validate import check_int, check_keywords, shown
 
-__all__ = ["figure", "sparse_log_minors", "LOG_MINOR_SUBS", "markdown_table", "html_table",
+__all__ = ["figure", "check_axes", "sparse_log_minors", "LOG_MINOR_SUBS", "markdown_table", "html_table",
            "SafeHTML", "format_cell", "in_place", "updater", "UPDATE_ATTR"]
 
 #: Where :func:`sparse_log_minors` puts the minor ticks of a log axis: at 2 and 5 of each decade.
@@ -50,6 +50,58 @@ def figure(*args, figsize=(6.0, 3.5), **kwargs):
     kwargs = check_keywords("figure", kwargs, Figure.subplots)  # named here, not by matplotlib
     fig = Figure(figsize=figsize)
     return fig, fig.subplots(*args, **kwargs)
+
+
+def check_axes(name, ax, figure=None):
+    """Return ``(fig, ax)`` if ``ax`` is a 2-D rectilinear matplotlib Axes that belongs to a
+    figure, else one ValueError naming ``name``: the rule of every plotting function's ``ax``
+    or ``axes`` item.
+
+    A 3-D, polar or other projection's Axes, or an Axes removed from its figure, is refused
+    before anything is drawn (they were matplotlib's TypeError, NotImplementedError or
+    AttributeError half-way through a plot). ``fig`` is the Axes' root
+    :class:`~matplotlib.figure.Figure` (a subfigure's Axes: the figure holding it), the
+    figure the plotting function returns.
+
+    Parameters
+    ----------
+    name : str
+        The user's parameter (``"ax"``, ``"axes[1]"``), leading the message.
+    ax : object
+        The value to check.
+    figure : matplotlib.figure.Figure, optional
+        The root figure ``ax`` must belong to (that of the other Axes of the same plot).
+
+    Returns
+    -------
+    (Figure, Axes)
+
+    Examples
+    --------
+    >>> fig, ax = figure()
+    >>> check_axes("ax", ax) == (fig, ax)
+    True
+    >>> check_axes("ax", fig.add_subplot(projection="polar"))
+    Traceback (most recent call last):
+    ...
+    ValueError: ax must be a 2-D rectilinear matplotlib Axes, got a 'polar' Axes
+    """
+    from matplotlib.axes import Axes
+
+    want = "a 2-D rectilinear matplotlib Axes"
+    if not isinstance(ax, Axes):
+        raise ValueError(f"{name} must be {want}, got {type(ax).__name__} {shown(ax)}")
+    if ax.name != "rectilinear":
+        raise ValueError(f"{name} must be {want}, got a {ax.name!r} Axes")
+    owner = ax.figure
+    if owner is None or not (ax in owner.axes or any(ax in a.child_axes for a in owner.axes)):
+        raise ValueError(f"{name} must be {want} of a figure, got an Axes removed from its "
+                         f"figure")
+    root = owner.figure  # a Figure's is itself, a SubFigure's the Figure that holds it
+    if figure is not None and root is not figure:
+        raise ValueError(f"{name} must be an Axes of the same figure as the others, got one of "
+                         f"another figure")
+    return root, ax
 
 
 #: The attribute of a figure that holds its in-place update (:func:`in_place`).
@@ -119,7 +171,9 @@ def sparse_log_minors(*axes):
     Parameters
     ----------
     *axes : matplotlib.axes.Axes
-        Axes whose log-scaled x and y axes get the sparse minor ticks (others are left).
+        Axes whose log-scaled x and y axes get the sparse minor ticks (others are left); each
+        a 2-D rectilinear Axes of a figure (:func:`check_axes`), else one ValueError naming
+        ``axes[i]``.
 
     Examples
     --------
@@ -131,7 +185,8 @@ def sparse_log_minors(*axes):
     """
     from matplotlib.ticker import LogLocator
 
-    for ax in axes:
+    for i, ax in enumerate(axes):
+        check_axes(f"axes[{i}]", ax)
         for part in (ax, *ax.child_axes):
             for axis in (part.xaxis, part.yaxis):
                 if axis.get_scale() in ("log", "functionlog"):

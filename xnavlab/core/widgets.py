@@ -69,7 +69,6 @@ import functools
 import html as _html
 import io
 import json
-import os
 import weakref
 from collections.abc import Callable
 from numbers import Number
@@ -79,6 +78,7 @@ import numpy as np
 from xnavlab.core._ahead import RENDER_LOCK, AheadWorker, Failed, FrameCache, foreground
 from xnavlab.core._frames import DiskFrames
 from xnavlab.core._render import recording_canvas_class
+from xnavlab.core.diskcache import env_switch
 from xnavlab.core.plotting import updater
 from xnavlab.core.validate import check_choice, check_int
 
@@ -420,7 +420,7 @@ class Explorer:
         if not _in_kernel():
             return {"text/plain": repr(self), "text/html": self.html()}
         view = self.widget()._repr_mimebundle_()
-        page = self.html() if os.environ.get(FRAMES_ENV) == "1" else self.still_html()
+        page = self.html() if env_switch(FRAMES_ENV, False) else self.still_html()
         bundle = {"text/plain": repr(self), "text/html": page}
         bundle.update({k: v for k, v in view.items() if k == _MIME_WIDGET})
         return bundle
@@ -769,8 +769,8 @@ def explore(plot: Callable, *, main=None, initial=None, max_frames=12, dpi=80, a
     ...
     ValueError: explore needs at least one parameter grid (name=[values...]), got only phase
     """
-    check_int("max_frames", max_frames, 2, 60)
-    check_int("dpi", dpi, 30, 300)
+    max_frames = check_int("max_frames", max_frames, 2, 60)  # an int, as checked: np.uint8 wraps
+    dpi = check_int("dpi", dpi, 30, 300)
     if not callable(plot):
         raise ValueError(f"plot must be callable, got {type(plot).__name__}")
     grids, fixed = {}, {}
@@ -816,8 +816,8 @@ def ahead_default():
     >>> ahead_default()  # not in a kernel
     False
     """
-    return (_in_kernel() and os.environ.get(FRAMES_ENV) != "1"
-            and os.environ.get(AHEAD_ENV, "1") != "0")
+    return (_in_kernel() and not env_switch(FRAMES_ENV, False)
+            and env_switch(AHEAD_ENV, True))
 
 
 @functools.cache

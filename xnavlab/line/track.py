@@ -315,6 +315,7 @@ def plot_tracking(exposure_s=10.0, accel_sigma=0.0, span_s=2000.0, dv=1.0, seed=
 
     def update(exposure_s=10.0, accel_sigma=0.0, span_s=2000.0, dv=1.0, seed=0):
         truth, run = run_line(exposure_s, accel_sigma, span_s, dv, seed)
+        exposure_s = float(exposure_s)  # run_line checked it: a Fraction or numpy scalar, a float
         n = len(truth) - 1
         t, err = exposure_s * np.arange(n + 1), run.x - truth
         sd = np.sqrt(run.P[:, [0, 1], [0, 1]])

@@ -195,3 +195,33 @@ def test_consistency_plot_of_a_diverged_case_and_its_ylim_range():
     assert fig.axes[0].get_ylim() == (4.0, mars_plots.YLIM_RANGE[1])
     with pytest.raises(ValueError, match=r"ylim\[1\] must be a real number in \[1e-200, 1e\+200\]"):
         mars_plots.plot_consistency(cases, (4.0, 8.0), ylim=(1.0, 1e308))
+
+
+@pytest.mark.parametrize("band", [(8.0, 4.0), (0.0, 0.0), (5.0, 5.0)])
+def test_plot_consistency_names_band_when_it_is_no_range(band):
+    """Review 35m (3) 1, (5) 4: band=(8, 4) was refused as judge_series' "hi must be at least
+    lo", and band=(0, 0) (a band no record falls in) was drawn."""
+    t = np.linspace(0.0, 2.0, 97)
+    with pytest.raises(ValueError, match=r"^band must be \(lo, hi\) with lo < hi, got "):
+        mars_plots.plot_consistency({"a": (t, np.full(t.size, 6.0))}, band)
+
+
+def test_plot_consistency_names_the_case_of_a_negative_nees():
+    """Review 35m (3) 1: a negative NEES was named judge_series' values[0] (and counted in the
+    judged span only), not the case's entry."""
+    t = np.linspace(0.0, 2.0, 97)
+    nees = np.full(t.size, 6.0)
+    nees[3] = -1.0  # before settle_days: judge_series never saw it
+    with pytest.raises(ValueError,
+                       match=r"^cases\['b'\]\[1\]\[3\] must be a NEES value in \[0, inf\), got -1"):
+        mars_plots.plot_consistency({"a": (t, np.full(t.size, 6.0)), "b": (t, nees)}, (4.0, 8.0))
+
+
+def test_plot_sharing_titles_a_fraction_of_days_as_its_float():
+    """Review 35m (1) 2, pattern M: days=Fraction(1, 50) passed the run's check_real, then the
+    title formatted the raw Fraction ('unsupported format string passed to Fraction')."""
+    from fractions import Fraction
+
+    fig = mars_plots.plot_sharing(0.8, "no-reset", days=Fraction(1, 50))
+    ref = mars_plots.plot_sharing(0.8, "no-reset", days=0.02)
+    assert fig.axes[0].get_title() == ref.axes[0].get_title()

@@ -335,7 +335,7 @@ def test_write_curve_refuses_a_seed_that_is_no_integer(tmp_path):
 @pytest.mark.parametrize("ax", [1.0, "x", True])
 def test_plot_roc_refuses_an_ax_that_is_no_axes(ax):
     """Review 35k (1) 24: a non-Axes ax gave AttributeError 'no attribute figure'."""
-    with pytest.raises(ValueError, match="^ax must be a matplotlib Axes"):
+    with pytest.raises(ValueError, match="^ax must be a 2-D rectilinear matplotlib Axes"):
         roc.plot_roc({"a": [dict.fromkeys(("threshold", "pd", "pd_lo", "pd_hi",
                                            "false_alarms_per_day", "false_alarms_per_day_lo",
                                            "false_alarms_per_day_hi"), 0.5)]}, ax=ax)
@@ -354,6 +354,84 @@ def test_roc_refuses_an_empty_or_foreign_per_threshold():
     assert "not the grid's" in camp.check_metrics(other)
     assert "delay_s is -50.0" in camp.check_metrics(
         {**good, "per_threshold": [dict(row, threshold=t, delay_s=-50.0) for t in thr]})
+
+
+ROW = {"threshold": 1.0, "pd": 0.5, "pd_lo": 0.3, "pd_hi": 0.7, "false_alarms_per_day": 2.0,
+       "false_alarms_per_day_lo": 1.0, "false_alarms_per_day_hi": 3.5}
+
+
+@pytest.mark.parametrize("projection, word", [("3d", "'3d' Axes"), ("polar", "'polar' Axes")])
+def test_plot_roc_refuses_an_axes_of_another_projection(projection, word):
+    """Review 35m (1) 3: a 3-D Axes was Axes3D.errorbar's TypeError, a polar one
+    'The xscale cannot be set on a polar plot'."""
+    from matplotlib.figure import Figure
+
+    ax = Figure().add_subplot(projection=projection)
+    with pytest.raises(ValueError, match=rf"^ax must be a 2-D rectilinear matplotlib Axes, got a {word}"):
+        roc.plot_roc({"chi2": [ROW]}, ax=ax)
+    assert not ax.lines and not ax.collections  # refused before anything was drawn
+
+
+def test_plot_roc_refuses_an_axes_removed_from_its_figure_and_draws_on_a_subfigure():
+    """Review 35m (1) 3: an Axes removed from its figure was "'NoneType' object has no
+    attribute 'tight_layout'"; a subfigure's Axes gives its root figure."""
+    from matplotlib.figure import Figure
+
+    fig = Figure()
+    ax = fig.subplots()
+    ax.remove()
+    with pytest.raises(ValueError, match=r"^ax must be a 2-D rectilinear matplotlib Axes of a figure"):
+        roc.plot_roc({"chi2": [ROW]}, ax=ax)
+    for bad in ("ax", 1.0, fig):
+        with pytest.raises(ValueError, match=r"^ax must be a 2-D rectilinear matplotlib Axes, got"):
+            roc.plot_roc({"chi2": [ROW]}, ax=bad)
+    root = Figure()
+    assert roc.plot_roc({"chi2": [ROW]}, ax=root.subfigures(1, 2)[0].subplots()) is root
+    ax = Figure().subplots()
+    assert roc.plot_roc({"chi2": [ROW]}, ax=ax) is ax.figure
+
+
+@pytest.mark.parametrize("change, message", [
+    ({"pd_lo": 0.9}, r"^curves\['chi2'\]\[0\]\['pd_lo'\] must be at most pd \(0.5\), got 0.9"),
+    ({"pd_hi": 0.4}, r"^curves\['chi2'\]\[0\]\['pd_hi'\] must be at least pd \(0.5\), got 0.4"),
+    ({"false_alarms_per_day_lo": 2.5},
+     r"^curves\['chi2'\]\[0\]\['false_alarms_per_day_lo'\] must be at most false_alarms_per_day"),
+    ({"false_alarms_per_day_hi": 1.5},
+     r"^curves\['chi2'\]\[0\]\['false_alarms_per_day_hi'\] must be at least false_alarms_per_day"),
+])
+def test_plot_roc_names_an_interval_that_misses_its_value(change, message):
+    """Review 35m (2) 2: pd_lo 0.9 > pd 0.5 was matplotlib's "'yerr' must not contain negative
+    values"."""
+    with pytest.raises(ValueError, match=message):
+        roc.plot_roc({"chi2": [dict(ROW, **change)]})
+
+
+@pytest.mark.parametrize("change, message", [
+    ({"pd": 1.5, "pd_hi": 1.6}, r"^curves\['chi2'\]\[0\]\['pd'\] must be a real number in \[0, 1\], got 1.5"),
+    ({"threshold": float("nan")},
+     r"^curves\['chi2'\]\[0\]\['threshold'\] must be a real number in \(0, inf\)"),
+    ({"threshold": 0.0}, r"^curves\['chi2'\]\[0\]\['threshold'\] must be a real number in \(0, inf\)"),
+    ({"pd_lo": -0.1}, r"^curves\['chi2'\]\[0\]\['pd_lo'\] must be a real number in \[0, 1\]"),
+    ({"false_alarms_per_day": float("inf")},
+     r"^curves\['chi2'\]\[0\]\['false_alarms_per_day'\] must be"),
+    ({"pd": "0.5"}, r"^curves\['chi2'\]\[0\]\['pd'\] must be a real number"),
+])
+def test_plot_roc_refuses_a_meaningless_row(change, message):
+    """Review 35m (5) 4: pd 1.5 (with pd_hi 1.6) and threshold NaN were drawn."""
+    with pytest.raises(ValueError, match=message):
+        roc.plot_roc({"chi2": [dict(ROW, **change)]})
+
+
+@pytest.mark.parametrize("k, n", [(0, 3), (10, 10), (0, 6), (25, 25)])
+def test_plot_roc_draws_a_wilson_interval_rounded_past_its_end(k, n):
+    """Review 35m (2) 2: roc_curve's Wilson ends at pd 0 or 1 round past it (pd_lo 6e-17 at
+    pd 0, pd_hi 1 - 1e-16 at pd 1): such a row of a real campaign was matplotlib's 'yerr' error."""
+    from xnavlab.core.montecarlo import wilson_interval
+
+    lo, hi = wilson_interval(k, n)
+    fig = roc.plot_roc({"chi2": [dict(ROW, pd=k / n, pd_lo=lo, pd_hi=hi)]})
+    assert len(fig.axes) == 1
+    plt.close(fig)
 
 
 @pytest.mark.parametrize(("change", "words"), [

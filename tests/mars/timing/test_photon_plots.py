@@ -101,3 +101,16 @@ def test_review_35k_1_20_ranging_reference(reference, message):
     accepted (nothing marked), a missing name a KeyError."""
     with pytest.raises(ValueError, match=message):
         photon_plots.plot_ranging_accuracy(t_obs=2000.0, reference=reference)
+
+
+@pytest.mark.parametrize("name", ["area_m2", "t_obs", "background_ph_cm2_s"])
+def test_plot_ranging_accuracy_titles_a_fraction_as_its_float(name):
+    """Review 35m (1) 2, pattern M: t_obs=Fraction(...) passed ranging_accuracy's check, then the
+    title formatted the raw Fraction ('unsupported format string passed to Fraction')."""
+    from fractions import Fraction
+
+    value = {"area_m2": 1.0, "t_obs": 500.0, "background_ph_cm2_s": 0.005}[name]
+    fig = photon_plots.plot_ranging_accuracy(**{name: Fraction(value)})
+    ref = photon_plots.plot_ranging_accuracy(**{name: value})
+    assert fig.axes[0].get_title() == ref.axes[0].get_title()
+    plt.close("all")

@@ -164,6 +164,7 @@ def plot_sharing(beta_xnav=1 / 3, mode="reset", days=0.5):
         check_choice("mode", mode, scenarios.MODES)
         rest = (1.0 - beta_xnav) / 2
         res = scenarios.run(days=days, record_dt=60.0, mode=mode, beta=(beta_xnav, rest, rest))
+        days = float(days)  # run checked it: a Fraction or numpy scalar, a float
         settle = days / 2
         hours = res.t_days * 24
         error.set_data(hours, res.position_error())
@@ -559,7 +560,7 @@ def plot_shapiro_angle(angle_deg=2.0, t=None):
     from xnavlab.mars.models import dynamics
     from xnavlab.mars.timing import pulsars, toa
 
-    check_real("angle_deg", angle_deg, 0.0, 180.0, lo_open=True)
+    angle_deg = check_real("angle_deg", angle_deg, 0.0, 180.0, lo_open=True)
     t0 = dynamics.MARS_T0 if t is None else check_real("t", t)
     r_mars, v_mars = (np.asarray(a, dtype=float).reshape(3) for a in ephemeris.state("mars", t0))
     r_sun = np.asarray(ephemeris.position("sun", t0), dtype=float).reshape(3)
@@ -685,9 +686,9 @@ def plot_consistency(cases, band, dof=6, settle_days=1.0, bin_days=1.0 / 24.0, y
     ----------
     cases : dict
         ``{label: (t_days, nees)}``: record times, days since the start, shape (n,), and the
-        run-averaged NEES at each, shape (n,).
+        run-averaged NEES at each (>= 0), shape (n,).
     band : tuple of float
-        ``(lo, hi)``: the 95 % band of one record's average
+        ``(lo, hi)``, ``0 <= lo < hi``: the 95 % band of one record's average
         (:func:`xnavlab.core.filters.chi2_bounds`).
     dof : int
         Degrees of freedom (6: position and velocity), 1 to 1000.
@@ -722,6 +723,13 @@ def plot_consistency(cases, band, dof=6, settle_days=1.0, bin_days=1.0 / 24.0, y
     if len(band) != 2:
         raise ValueError(f"band must be a pair (lo, hi), got {shown(band)}")
     lo, hi = (check_real(n, v, 0.0) for n, v in zip(("band[0]", "band[1]"), band, strict=True))
+    if lo >= hi:  # judge_series named its own lo and hi; (0, 0) holds no record
+        raise ValueError(f"band must be (lo, hi) with lo < hi, got {shown(tuple(band))}")
+    for label, _, nees in series:  # judge_series named its values[i], of the judged span
+        if np.any(nees < 0.0):
+            i = int(np.argmax(nees < 0.0))
+            raise ValueError(f"cases[{label!r}][1][{i}] must be a NEES value in [0, inf), got "
+                             f"{nees[i]:g}")
     dof = check_int("dof", dof, 1, 1000)
     settle_days = check_real("settle_days", settle_days, 0.0)
     for label, t, _ in series:

@@ -563,11 +563,17 @@ def plot_roc(curves, ax=None):
     ----------
     curves : dict
         ``{label: rows}`` (:func:`roc_curve`); each point is annotated with its threshold.
+        In each row ``threshold`` is a real number > 0; ``pd_lo <= pd <= pd_hi`` in [0, 1]
+        and ``0 <= false_alarms_per_day_lo <= false_alarms_per_day <= false_alarms_per_day_hi``,
+        each finite (to 1e-12 of the value, the rounding of an interval at ``pd`` 0 or 1).
     ax : matplotlib Axes, optional
+        A 2-D rectilinear Axes of a figure (:func:`xnavlab.core.plotting.check_axes`); a new
+        figure when omitted.
 
     Returns
     -------
     matplotlib.figure.Figure
+        The figure of ``ax`` (its root figure, for an Axes of a subfigure).
 
     Examples
     --------
@@ -580,26 +586,25 @@ def plot_roc(curves, ax=None):
     """
     import matplotlib.pyplot as plt
 
+    from xnavlab.core.plotting import check_axes
+
     check_instance("curves", curves, dict, "a dict of label -> roc_curve rows")
     if not curves:
         raise ValueError("curves must hold at least one labelled curve")
-    keys = ("threshold", "pd", "pd_lo", "pd_hi", "false_alarms_per_day", "false_alarms_per_day_lo",
-            "false_alarms_per_day_hi")
-    curves = {label: check_records(f"curves[{label!r}]", rows, keys, "roc_curve row")
-              for label, rows in curves.items()}
-    if ax is not None:
-        from matplotlib.axes import Axes
-
-        check_instance("ax", ax, Axes, "a matplotlib Axes (or None for a new figure)")
-    fig, ax = (plt.subplots(figsize=(6.4, 4.2)) if ax is None else (ax.figure, ax))
+    curves = {label: [_plot_row(f"curves[{label!r}][{i}]", r) for i, r in enumerate(
+        check_records(f"curves[{label!r}]", rows, _PLOT_KEYS, "roc_curve row"))]
+        for label, rows in curves.items()}
+    fig, ax = plt.subplots(figsize=(6.4, 4.2)) if ax is None else check_axes("ax", ax)
     for label, rows in curves.items():
         x = np.array([r["false_alarms_per_day"] for r in rows])
         y = np.array([r["pd"] for r in rows])
         # one (2, N) array each, matplotlib's documented form: a list of two arrays makes
-        # matplotlib 3.10 (the last for Python 3.10) convert a one-point array to a scalar
-        xerr = np.array([x - [r["false_alarms_per_day_lo"] for r in rows],
-                         np.array([r["false_alarms_per_day_hi"] for r in rows]) - x])
-        yerr = np.array([y - [r["pd_lo"] for r in rows], np.array([r["pd_hi"] for r in rows]) - y])
+        # matplotlib 3.10 (the last for Python 3.10) convert a one-point array to a scalar;
+        # at least 0: an interval's end rounded past its value (pd_lo 6e-17 at pd 0)
+        xerr = np.maximum(0.0, [x - [r["false_alarms_per_day_lo"] for r in rows],
+                                np.array([r["false_alarms_per_day_hi"] for r in rows]) - x])
+        yerr = np.maximum(0.0, [y - [r["pd_lo"] for r in rows],
+                                np.array([r["pd_hi"] for r in rows]) - y])
         line = ax.errorbar(x, y, xerr=xerr, yerr=yerr, marker="o", capsize=3, label=label)
         for r in rows:
             ax.annotate(f"{r['threshold']:g}", (r["false_alarms_per_day"], r["pd"]),
@@ -613,3 +618,27 @@ def plot_roc(curves, ax=None):
     ax.legend(title="detector (threshold at each point)", fontsize=8)
     fig.tight_layout()
     return fig
+
+
+#: The keys of a row :func:`plot_roc` draws.
+_PLOT_KEYS = ("threshold", "pd", "pd_lo", "pd_hi", "false_alarms_per_day",
+              "false_alarms_per_day_lo", "false_alarms_per_day_hi")
+
+
+def _plot_row(name, row):
+    """``row``'s values :func:`plot_roc` draws, as floats, if each is in its range and each
+    interval holds its value (to 1e-12 of it: the rounding of a Wilson end), else one
+    ValueError naming ``name['key']``."""
+    out = {k: check_real(f"{name}[{k!r}]", row[k], 0.0, 1.0 if k.startswith("pd") else math.inf,
+                         lo_open=k == "threshold")  # a threshold > 0, as a run's
+           for k in _PLOT_KEYS}
+    for value, lo, hi in (("pd", "pd_lo", "pd_hi"), ("false_alarms_per_day",
+                          "false_alarms_per_day_lo", "false_alarms_per_day_hi")):
+        tol = 1e-12 * max(1.0, out[value])
+        if out[lo] > out[value] + tol:
+            raise ValueError(f"{name}[{lo!r}] must be at most {value} ({out[value]:g}), "
+                             f"got {shown(row[lo])}")
+        if out[hi] < out[value] - tol:
+            raise ValueError(f"{name}[{hi!r}] must be at least {value} ({out[value]:g}), "
+                             f"got {shown(row[hi])}")
+    return out

@@ -430,6 +430,8 @@ def plot_ranging_accuracy(area_m2=1.0, t_obs=500.0, background_ph_cm2_s=0.005, r
         if (reference, pulsar_names) != built:
             return False  # other bars or marks: a new figure
         ours = [pulsars.ranging_accuracy(n, area_m2, t_obs, background_ph_cm2_s) for n in names]
+        # checked there: a Fraction or numpy scalar, a float
+        area_m2, t_obs, background_ph_cm2_s = map(float, (area_m2, t_obs, background_ph_cm2_s))
         for bar, height in zip(bars, ours, strict=True):
             bar.set_height(height)
         ax.set_title(f"A = {area_m2:.3g} m$^2$, t = {t_obs:.4g} s, "

@@ -622,7 +622,7 @@ def gradient_fd(r_ssb, n, distance, r_sun_ssb, step=1.0e3, which=("roemer", "par
     array([[0.6, 0.8, 0. ]])
     """
     r_ssb = check_shape("r_ssb", r_ssb, (3,), "one position: the columns are its three axes")
-    check_shape("r_sun_ssb", r_sun_ssb, (3,), "the Sun at r_ssb's one epoch")
+    r_sun_ssb = check_shape("r_sun_ssb", r_sun_ssb, (3,), "the Sun at r_ssb's one epoch")
     step = check_real("step", step, 0.0, 1e12, lo_open=True)
     which = check_items("which", which, "term",
                         lambda label, name: check_choice(label, name, ("roemer", "parallax", "shapiro")))

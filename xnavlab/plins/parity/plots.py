@@ -24,7 +24,8 @@ def plot_diagnosis(diag, axes=None):
     diag : ~xnavlab.plins.parity.diagnosis.Diagnosis
         From :func:`~.diagnosis.diagnose_flight`.
     axes : sequence of 2 matplotlib Axes, optional
-        Where to draw (a new figure when omitted).
+        Where to draw: two 2-D rectilinear Axes of one figure
+        (:func:`xnavlab.core.plotting.check_axes`); a new figure when omitted.
 
     Returns
     -------
@@ -44,16 +45,18 @@ def plot_diagnosis(diag, axes=None):
     if not isinstance(diag, Diagnosis):
         raise ValueError(f"diag must be a Diagnosis, got {type(diag).__name__}")
     import matplotlib.pyplot as plt
-    from matplotlib.axes import Axes
     from matplotlib.ticker import FuncFormatter, LogLocator
+
+    from xnavlab.core.plotting import check_axes
 
     if axes is None:
         fig, axes = plt.subplots(1, 2, figsize=(10, 3.6), constrained_layout=True)
     elif not (isinstance(axes, list | tuple | np.ndarray) and len(axes) == 2
-              and all(isinstance(ax, Axes) for ax in np.ravel(np.asarray(axes, dtype=object)))):
+              and np.asarray(axes, dtype=object).ndim == 1):
         raise ValueError(f"axes must be a pair of matplotlib Axes (left, right), got {shown(axes)}")
-    else:
-        fig = axes[0].figure
+    else:  # each 2-D, of one figure (a polar or removed Axes was matplotlib's error)
+        fig = check_axes("axes[0]", axes[0])[0]
+        check_axes("axes[1]", axes[1], fig)
     ax0, ax1 = axes
     for j in range(diag.statistic.shape[1]):
         ax0.semilogy(diag.t_res, np.maximum(diag.statistic[:, j], 1e-3), label=f"PR{j + 1}")
