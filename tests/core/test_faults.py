@@ -99,6 +99,15 @@ def test_what_a_kind_ignores_may_be_zero():
     assert Fault("uv", "step", -2.0, 10.0, math.inf).end == math.inf      # permanent, negative
 
 
+def test_a_stuck_fault_refuses_a_magnitude_it_would_not_use():
+    """Review 35m (6) 5's class: Fault('uv', 'stuck', 5.0, ...) froze the output and dropped
+    the 5 without a word (the CLI's grammar refuses it; the class now does too)."""
+    with pytest.raises(ValueError, match=r"^magnitude of a stuck fault must be 0 \(the output "
+                                         r"freezes at its last fault-free value: a size would "
+                                         r"go unused\), got 5.0$"):
+        Fault("uv", "stuck", 5.0, 10.0, 5.0)
+
+
 def test_component_out_of_range():
     with pytest.raises(ValueError, match=r"component must be in \[0, 1\]"):
         inject(T, np.zeros((20, 2)), [Fault("s", "step", 1.0, 0.0, component=3)], "s")

@@ -87,7 +87,8 @@ class Fault:
     kind : {"step", "ramp", "spike", "stuck", "noise"}
         Fault kind (see module docstring).
     magnitude : float
-        Size in the measurement's SI unit (per second for a ramp).
+        Size in the measurement's SI unit (per second for a ramp); 0 for a stuck fault (the
+        output freezes at its last fault-free value).
     onset : float
         Start time, s.
     duration : float
@@ -123,6 +124,10 @@ class Fault:
         if self.kind == "noise" and not self.magnitude > 0.0:
             raise ValueError(f"magnitude of a noise fault (the extra noise's standard deviation) "
                              f"must be a real number in (0, inf), got {self.magnitude!r}")
+        if self.kind == "stuck" and self.magnitude != 0.0:  # every input used or refused
+            raise ValueError(f"magnitude of a stuck fault must be 0 (the output freezes at its "
+                             f"last fault-free value: a size would go unused), got "
+                             f"{self.magnitude!r}")
         if self.kind not in ("noise", "stuck") and self.magnitude == 0.0:
             raise ValueError(f"magnitude of a {self.kind} fault must be a nonzero finite real "
                              f"number, in (-inf, 0) or (0, inf), got {self.magnitude!r} (a "
