@@ -131,7 +131,7 @@ REFUSALS = {
     # review 35m (6) 5: "magnitude ignored" beside "Refused: a zero MAGNITUDE"; both ran unused
     "a stuck fault's, a number it would not use, must be 0": (
         ["run", "mars", "--days", "0.1", "--faults", "uv.range:stuck:5@3600+3000"], 2,
-        "a stuck fault's MAGNITUDE must be 0"),
+        "magnitude of a stuck fault must be 0"),
     "(a spike's must be 0)": (
         ["run", "mars", "--days", "0.1", "--faults", "uv.range:spike:5@3600+3000"], 2,
         "a spike fault's DURATION must be 0"),

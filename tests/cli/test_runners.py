@@ -180,7 +180,7 @@ _FAULT_CLAIMS = [  # (words of FAULT_HELP's "Refused:" part, flags, words of the
     ("a noise sigma must be > 0", ["--faults", "uv.range:noise:-1@20000+3000"],
      "magnitude of a noise fault (the extra noise's standard deviation) must be"),
     ("a stuck fault's, a number it would not use, must be 0", ["--faults", "uv.range:stuck:5@20000+3000"],
-     "--faults: bad fault item 'uv.range:stuck:5@20000+3000': a stuck fault's MAGNITUDE must be 0"),
+     "--faults: bad fault item 'uv.range:stuck:5@20000+3000': magnitude of a stuck fault must be 0"),
     ("a DURATION <= 0 or NaN", ["--faults", "uv.range:step:1@20000+0"],
      "duration of a step fault must be a real number in (0, inf], s, got 0.0"),
     ("a DURATION <= 0 or NaN", ["--faults", "uv.range:step:1@20000+nan"],

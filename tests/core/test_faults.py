@@ -89,7 +89,7 @@ def test_a_zero_size_fault_is_refused_naming_the_magnitude(kind):
 def test_a_zero_or_negative_length_fault_is_refused_naming_the_duration(kind, duration):
     with pytest.raises(ValueError, match=r"^duration of a \w+ fault must be a real number in "
                                          r"\(0, inf\], s, got .* injects nothing\)$"):
-        Fault("uv", kind, 1.0, 100.0, duration)
+        Fault("uv", kind, 0.0 if kind == "stuck" else 1.0, 100.0, duration)
 
 
 def test_what_a_kind_ignores_may_be_zero():
@@ -150,6 +150,7 @@ def test_parse_spec_errors_name_the_bad_part(spec, match):
     st.floats(1e-12, 1e6), st.floats(0, 3e6), st.floats(1e-3, 1e5),
 )
 def test_format_parse_round_trip(sensor, kind, mag, onset, dur):
+    mag = 0.0 if kind == "stuck" else mag  # a stuck output's size is 0 (it is not used)
     f = Fault(sensor, kind, float(f"{mag:g}"), float(f"{onset:g}"), float(f"{dur:g}"), 0)
     assert parse_spec(format_spec([f], COMPS), COMPS) == [f]
 
@@ -165,6 +166,7 @@ def test_a_saved_spec_reads_back_as_the_same_faults_to_the_last_bit(sensor, kind
                                                                     dur, comp):
     """format_spec wrote %g (1234.5678 became 1234.57): a re-run from a saved spec injected
     another fault. Every float now comes back bit for bit; %g text where it was exact."""
+    mag = 0.0 if kind == "stuck" else mag  # a stuck output's size is 0 (it is not used)
     f = Fault(sensor, kind, -mag if neg and kind != "noise" else mag, onset, dur, comp)
     other = "uv" if sensor == "cns" else "cns"  # a second item, on another sensor
     text = format_spec([f, Fault(other, "step", 1.0, onset, 1.0, 2)], COMPS)

@@ -633,7 +633,7 @@ def test_readmit_clear_refuses_the_window_tests_settings(kw, name):
 @pytest.mark.parametrize("spec, words", [
     ("uv.range:step:5@", r"^faults: bad fault item 'uv.range:step:5@'"),
     (" ", r"^faults must be 'paper' or a fault spec"),
-    ("uv.range:stuck:5@1000+10", r"^faults: bad fault item .*a stuck fault's MAGNITUDE must be 0"),
+    ("uv.range:stuck:5@1000+10", r"^faults: bad fault item .*: magnitude of a stuck fault must be 0"),
 ])
 def test_a_fault_spec_string_is_refused_under_faults(inputs, spec, words):
     """Review 35m (6) 1's class: run_fault_tolerant(faults="...") said "spec: ...", the name of

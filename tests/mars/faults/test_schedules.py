@@ -485,8 +485,8 @@ def test_paper_schedule_refuses_a_step_size_under_its_own_name(kw, lead):
 
 
 @pytest.mark.parametrize(("spec", "words"), [
-    ("uv.range:stuck:5@20000+3000", "a stuck fault's MAGNITUDE must be 0 (the output freezes at its "
-                                    "last fault-free value: a magnitude would go unused), got 5"),
+    ("uv.range:stuck:5@20000+3000", "magnitude of a stuck fault must be 0 (the output freezes at "
+                                    "its last fault-free value: a size would go unused), got 5.0"),
     ("uv.range:spike:5@20000+3000", "a spike fault's DURATION must be 0 (it acts on one sample: a "
                                     "duration would go unused), got 3000"),
     ("uv.range:spike:5@20000+inf", "a spike fault's DURATION must be 0"),

@@ -203,7 +203,7 @@ def test_a_bad_fault_spec_is_refused_by_check_not_first_by_the_run():
                                                         "uv.range:step:1@700+300 twice"),
     (" ", "[detector] faults must be 'paper' or a fault spec"),  # was a run with faults " "
     ("uv.range:stuck:3@700+300", "[detector] faults: bad fault item 'uv.range:stuck:3@700+300': "
-                                 "a stuck fault's MAGNITUDE must be 0"),
+                                 "magnitude of a stuck fault must be 0"),
 ])
 def test_a_fault_spec_is_named_as_the_files_key(faults, words):
     """Review 35m (6) 1, pattern Q: '[detector] faults: spec: bad fault item' named parse_faults'
