@@ -115,3 +115,12 @@ def test_simconfig_arms_its_detectors_at_a_sample():
     """Review 35k (5) 8: SimConfig's t_cal[1] is diagnose's t_arm: it must not pass the last sample."""
     with pytest.raises(ValueError, match=r"^t_cal must satisfy .* <= duration \(the last sample, 50 s\)"):
         att.SimConfig(duration=50.0, t_cal=(20.0, 50.5))
+
+
+def test_masked_crossed_flags_are_refused():
+    """Review 35m (5) 1: np.asarray dropped the mask and the masked flag was used."""
+    crossed = np.ma.masked_array([True, False, False, True], mask=[False, False, False, True])
+    for decide in (att.sos_decide, att.dos_decide):
+        with pytest.raises(ValueError, match=r"^crossed has masked entries \(no flag to use"):
+            decide(crossed)
+    assert att.sos_decide(np.ma.masked_array([True, False, False, True])) == "gyro_x"

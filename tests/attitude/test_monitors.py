@@ -56,3 +56,18 @@ def test_monitor_step_refuses_a_zero_or_scaled_measurement_before_any_filter_mov
     with pytest.raises(ValueError, match=f"^{words}"):
         m.step(att.gyro_matrix() @ np.zeros(3), q)
     assert all(np.array_equal(x, f.x) for x, f in zip(xs, m.filters, strict=True))
+
+
+def test_a_masked_sample_is_refused_a_read_only_one_used(nominal):
+    """Review 35m (5) 1: the monitors' per-sample check used a masked entry as data."""
+    run = nominal
+    sos = att.SOSMonitor(run.q_meas[0], run.config, run.refs["drift"], run.refs["parity"])
+    twin = att.SOSMonitor(run.q_meas[0], run.config, run.refs["drift"], run.refs["parity"])
+    wg = np.ma.masked_array(run.omega_g[0].copy())
+    wg[2] = np.ma.masked
+    with pytest.raises(ValueError, match=r"^omega_g has masked entries \(no number to use"):
+        sos.step(wg, run.q_meas[0])
+    ro = run.q_meas[0].copy()
+    ro.setflags(write=False)
+    np.testing.assert_array_equal(sos.step(np.ma.masked_array(run.omega_g[0]), ro),
+                                  twin.step(run.omega_g[0], run.q_meas[0]))

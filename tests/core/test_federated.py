@@ -249,3 +249,15 @@ def test_issue35_share_factors_of_huge_betas_are_their_ratios():
     assert federated.share_factors([1e308, 1e308], [True, True]).tolist() == [0.5, 0.5]
     assert federated.share_factors([5e-324, 5e-324, 1.0], [True, True, False]).tolist() == \
         [0.5, 0.5, 1.0]
+
+
+def test_masked_flags_are_refused():
+    """Review 35m (5) 1: np.asarray dropped the mask and the masked flag was used."""
+    active = np.ma.masked_array([True, False, True], mask=[False, True, False])
+    with pytest.raises(ValueError, match=r"^active has masked entries \(no flag to use"):
+        federated.share_factors([0.5, 0.25, 0.25], active)
+    with pytest.raises(ValueError, match=r"^beta has masked entries: 1 of 3, the first beta\[2\]"):
+        federated.share_factors(np.ma.masked_array([0.5, 0.25, 0.25], mask=[0, 0, 1]), [True] * 3)
+    np.testing.assert_array_equal(
+        federated.share_factors([0.5, 0.25, 0.25], np.ma.masked_array([True, False, True])),
+        federated.share_factors([0.5, 0.25, 0.25], [True, False, True]))

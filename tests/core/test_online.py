@@ -222,3 +222,10 @@ def test_restore_refuses_a_state_that_is_no_snapshot():
     """Review 35j (1), the class: a state that is no snapshot was Python's unpacking message."""
     with pytest.raises(ValueError, match=r"^state must be a snapshot\(\) of this tracker"):
         D.EventTracker(2).restore((1, 2))
+
+
+def test_masked_alarm_flags_are_refused():
+    """Review 35m (5) 1: np.asarray dropped the mask and the masked alarm was used."""
+    alarm = np.ma.masked_array(np.zeros(5, bool), mask=[0, 0, 1, 0, 0])
+    with pytest.raises(ValueError, match=r"^alarm has masked entries \(no flag to use"):
+        D.events_from_alarms(np.arange(5.0), alarm, np.zeros(5), 1)

@@ -86,6 +86,8 @@ def check_sample(name, value, n, unit=False):
     >>> check_sample("omega_g", [0.0, 0.1, 0.2], 3).shape
     (3,)
     """
+    if isinstance(value, np.ma.MaskedArray) and np.ma.is_masked(value):  # review 35m (5) 1
+        raise ValueError(f"{name} has masked entries (no number to use: fill or drop them)")
     arr = np.asarray(value)
     if arr.dtype.kind not in "fiu":  # complex (never cut to its real part), text, flags
         raise ValueError(f"{name} must be {n} finite real numbers, got {value!r}")

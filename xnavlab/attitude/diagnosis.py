@@ -154,6 +154,8 @@ def qdiff_decide(crossed):
 
 
 def _bool_flags(name, flags, n):
+    if np.ma.is_masked(flags):  # np.asarray would use the masked flags (review 35m (5) 1)
+        raise ValueError(f"{name} has masked entries (no flag to use: fill or drop them)")
     try:
         arr = np.asarray(flags)
     except (TypeError, ValueError):

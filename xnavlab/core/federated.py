@@ -176,6 +176,8 @@ def share_factors(beta, active):
 
 def _flags(name, value, n, why):
     """``value`` as ``n`` booleans (True/False or 1/0, not a mixture), else one ValueError."""
+    if np.ma.is_masked(value):  # np.asarray would use the masked flags (review 35m (5) 1)
+        raise ValueError(f"{name} has masked entries (no flag to use: fill or drop them)")
     arr = np.asarray(value)
     ok = arr.dtype.kind == "b" or (arr.dtype.kind in "iuf" and np.all((arr == 0) | (arr == 1)))
     mixed = isinstance(value, list | tuple) and len({isinstance(v, bool | np.bool_) for v in value}) > 1

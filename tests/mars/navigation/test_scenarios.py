@@ -596,3 +596,13 @@ def test_numpy_scalars_are_stored_as_floats():
     assert type(sc.q_acc) is float
     with pytest.raises(ValueError, match=r"^days must be a real number in \(0, 365\]"):
         scenarios.MarsScenario(days="1.0")
+
+
+def test_masked_active_flags_are_refused_not_read_as_data(two):
+    """Review 35m (5) 1: np.asarray dropped the mask and the masked flags were used."""
+    active = np.ma.masked_array(np.ones((two.n, 2), dtype=bool))
+    active[3, 1] = np.ma.masked
+    with pytest.raises(ValueError, match=r"^active has masked entries \(no flag to use"):
+        scenarios.run_options(two, active, None)
+    unmasked = scenarios.run_options(two, np.ma.masked_array(np.ones((two.n, 2), dtype=bool)), None)[0]
+    assert type(unmasked) is np.ndarray and unmasked.all()

@@ -499,6 +499,8 @@ def _one_length(**sizes):
 def _flags(name, value, n, why):
     """``value`` as a 1-D array of flags (bools, or numbers 0 and 1; of length ``n`` unless
     None), else one ValueError naming ``name``: a list mixing bools and numbers is refused."""
+    if np.ma.is_masked(value):  # np.asarray would use the masked flags (review 35m (5) 1)
+        raise ValueError(f"{name} has masked entries (no flag to use: fill or drop them)")
     arr = np.asarray(value)
     ok = arr.dtype.kind == "b" or (arr.dtype.kind in "iuf" and np.all((arr == 0) | (arr == 1)))
     mixed = isinstance(value, list | tuple) and len({isinstance(v, bool | np.bool_) for v in value}) > 1

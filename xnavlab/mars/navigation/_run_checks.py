@@ -66,6 +66,8 @@ def check_active(active, n, subsystems):
     ns = len(subsystems)
     if active is None:
         return np.ones((n, ns), dtype=bool)
+    if np.ma.is_masked(active):  # np.asarray would use the masked flags (review 35m (5) 1)
+        raise ValueError("active has masked entries (no flag to use: fill or drop them)")
     try:
         arr = np.asarray(active)
     except (TypeError, ValueError):  # a ragged list
