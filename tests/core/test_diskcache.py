@@ -166,3 +166,32 @@ def test_the_lock_is_released_on_an_exception_and_skipped_where_nothing_can_be_w
     blocked.write_text("a file where the cache's folder would go")
     with diskcache.exclusive(blocked / "sub" / "e.npz"):   # no lock file can be made: runs
         pass
+
+
+def test_an_env_switch_is_0_or_1(monkeypatch):
+    """Review 35m (5) 5 and pattern R: a switch set to "false", "off" or "no" was read as "not
+    0" (on) without a word; now only 0 and 1 (unset or empty: the default), else one line."""
+    monkeypatch.delenv("XNAVLAB_TEST_SWITCH", raising=False)
+    assert diskcache.env_switch("XNAVLAB_TEST_SWITCH", True) is True
+    for value, want in (("0", False), ("1", True), ("", False)):
+        monkeypatch.setenv("XNAVLAB_TEST_SWITCH", value)
+        assert diskcache.env_switch("XNAVLAB_TEST_SWITCH", False) is want
+    for value in ("false", "off", "no", "yes", "true", " 1"):
+        monkeypatch.setenv("XNAVLAB_TEST_SWITCH", value)
+        with pytest.raises(ValueError, match=r"^XNAVLAB_TEST_SWITCH must be 0 \(off\) or 1 \(on\)"):
+            diskcache.env_switch("XNAVLAB_TEST_SWITCH", True)
+
+
+def test_a_cache_folder_that_cannot_be_written_is_refused(monkeypatch, tmp_path):
+    """Review 35m (7) 2: XNAVLAB_CACHE naming a file (or /proc/version) computed every result
+    uncached without a word; a variable set explicitly is now checked at first use."""
+    afile = tmp_path / "afile"
+    afile.write_text("x")
+    monkeypatch.setenv("XNAVLAB_CACHE", str(afile))
+    with pytest.raises(ValueError, match=r"^XNAVLAB_CACHE must name a folder .*\(a file, not a folder\)"):
+        diskcache.cache_dir()
+    monkeypatch.setenv("XNAVLAB_CACHE", str(afile / "sub"))
+    with pytest.raises(ValueError, match="^XNAVLAB_CACHE must name a folder"):
+        diskcache.entry_path("demo", (1,), modules=("xnavlab.core.constants",))
+    monkeypatch.setenv("XNAVLAB_CACHE", str(tmp_path / "new" / "cache"))
+    assert diskcache.cache_dir().is_dir()  # created at first use

@@ -42,7 +42,7 @@ from pathlib import Path
 
 import numpy as np
 
-from xnavlab.core.diskcache import cache_dir, code_digest, store
+from xnavlab.core.diskcache import cache_dir, code_digest, env_switch, store
 
 __all__ = ["DiskFrames", "FRAME_CACHE_ENV", "FRAME_CACHE_BYTES", "FRAMES_SUBDIR", "prune"]
 
@@ -164,14 +164,14 @@ class DiskFrames:
         own, or beside a cell's, raised "SystemError: AST constructor recursion depth
         mismatch" in chapter 9 under nbval).
         """
-        if os.environ.get(FRAME_CACHE_ENV, "1") != "0" and self._static is None:
+        if env_switch(FRAME_CACHE_ENV, True) and self._static is None:
             self._static_key()
 
     def path(self, kwargs, layout_state):
         """The file of the frame drawn for ``kwargs`` in the kept layout ``layout_state``, or
         ``None`` when it is not kept on disk (no kept layout, the disk turned off, a function or
         an argument without an exact key)."""
-        if layout_state is None or os.environ.get(FRAME_CACHE_ENV, "1") == "0":
+        if layout_state is None or not env_switch(FRAME_CACHE_ENV, True):
             return None
         static = self._static_key()
         if static is None:

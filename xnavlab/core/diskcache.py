@@ -18,23 +18,68 @@ import contextlib
 import functools
 import hashlib
 import os
+import tempfile
 import threading
 import zipfile
 from pathlib import Path
 
 import numpy as np
 
-__all__ = ["cache_dir", "cached_arrays", "code_digest", "entry_path", "exclusive", "load_array",
-           "source_digest", "store"]
+__all__ = ["cache_dir", "cached_arrays", "code_digest", "entry_path", "env_switch", "exclusive",
+           "load_array", "source_digest", "store"]
+
+
+def env_switch(name, default):
+    """The on/off setting of the environment variable ``name``: ``"1"`` on, ``"0"`` off, unset
+    or empty ``default``; any other value is refused in one line naming the variable (a
+    ``false`` or ``off`` read as "not 0" would leave the switch on without a word).
+
+    Examples
+    --------
+    >>> import os
+    >>> os.environ["XNAVLAB_DEMO"] = "0"
+    >>> env_switch("XNAVLAB_DEMO", True)
+    False
+    >>> os.environ["XNAVLAB_DEMO"] = "off"
+    >>> env_switch("XNAVLAB_DEMO", True)
+    Traceback (most recent call last):
+    ...
+    ValueError: XNAVLAB_DEMO must be 0 (off) or 1 (on), or unset (on); got 'off'
+    >>> del os.environ["XNAVLAB_DEMO"]
+    """
+    value = os.environ.get(name, "")
+    if value not in ("", "0", "1"):
+        raise ValueError(f"{name} must be 0 (off) or 1 (on), or unset ({'on' if default else 'off'}); "
+                         f"got {value!r}")
+    return bool(default) if value == "" else value == "1"
+
+
+@functools.lru_cache(maxsize=8)
+def _usable(folder):
+    """None when ``folder`` is (or can be made) a folder this process can write, else why not."""
+    if Path(folder).exists() and not Path(folder).is_dir():
+        return "a file, not a folder"
+    try:
+        Path(folder).mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryFile(dir=folder):
+            pass
+    except OSError as exc:
+        return exc.strerror or type(exc).__name__
+    return None
 
 
 def cache_dir():
     """The cache's root: ``$XNAVLAB_CACHE``, or ``~/.cache/xnavlab`` when it is unset or empty.
 
+    ``$XNAVLAB_CACHE`` set is checked at first use (created if missing): a file, or a folder
+    that cannot be written, is refused in one line naming the variable, instead of every result
+    computed uncached without a word. The default, a home that cannot be written, still gets its
+    results, uncached.
+
     Returns
     -------
     pathlib.Path
-        Not created here.
+        Created when ``$XNAVLAB_CACHE`` names it; the default is not created here.
 
     Examples
     --------
@@ -46,7 +91,14 @@ def cache_dir():
     >>> cache_dir() == Path.home() / ".cache" / "xnavlab"
     True
     """
-    return Path(os.environ.get("XNAVLAB_CACHE") or Path.home() / ".cache" / "xnavlab")
+    given = os.environ.get("XNAVLAB_CACHE")
+    if not given:
+        return Path.home() / ".cache" / "xnavlab"
+    why = _usable(given)
+    if why is not None:
+        raise ValueError(f"XNAVLAB_CACHE must name a folder this process can write (or be unset: "
+                         f"~/.cache/xnavlab); got {given!r} ({why})")
+    return Path(given)
 
 
 def cached_arrays(path, compute):
