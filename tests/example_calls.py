@@ -49,7 +49,7 @@ __all__ = [
     "plumbing",
 ]
 
-#: The subpackages whose public examples are tried.
+#: The subpackages (and top-level modules) whose public examples are tried.
 SUBPACKAGES = (
     "core",
     "mars.timing",
@@ -61,6 +61,8 @@ SUBPACKAGES = (
     "attitude",
     "plins",
     "line",
+    "reproduce",
+    "verdicts",
 )
 #: Module -> why its functions are not tried: the package's own plumbing, whose callers are
 #: xnavlab's functions, chapters and CLI, which hand it values they have checked (a user's
@@ -92,7 +94,8 @@ def _public_modules():
     for sub in SUBPACKAGES:
         pkg = importlib.import_module(f"xnavlab.{sub}")
         names = [pkg.__name__]
-        names += [m.name for m in pkgutil.walk_packages(pkg.__path__, pkg.__name__ + ".")]
+        if hasattr(pkg, "__path__"):  # a subpackage: its modules too (a module is one)
+            names += [m.name for m in pkgutil.walk_packages(pkg.__path__, pkg.__name__ + ".")]
         for name in names:
             if not any(p.startswith("_") for p in name.split(".")):
                 yield importlib.import_module(name)

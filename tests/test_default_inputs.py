@@ -55,6 +55,9 @@ SLOW = {
     "orbits afresh (46 s in all)",
     "xnavlab.mars.timing.toa.plot_orbit_terms": "a changed call computes a day's delays afresh "
     "(24 s in all)",
+    "xnavlab.reproduce.run": "a whole reproduction (0.1 s cached, up to minutes afresh; out='x' "
+    "would write its figures into the working folder): tests/test_reproduce.py tries out, fresh "
+    "and the keywords",
 }
 
 #: ``test name:parameter`` -> why a refusal of an odd value of it names another parameter first.

@@ -337,3 +337,84 @@ def test_a_timing_is_never_read_from_disk(dummy, tmp_path):
     assert not reproduce.run("test-timing").from_cache and calls == [0, 0]
     assert not list((tmp_path / "reproductions").glob("test-timing-*"))
     assert reproduce.get("attitude-cost").cache is False
+
+
+# -- review 35m: the public calls' arguments ------------------------------------------------
+
+def test_run_refuses_a_keyword_its_reproduction_does_not_take(dummy):
+    """Review 35m (1) 1: run(id, bogus=1) raised the reproduction function's TypeError (and
+    run_or_fail turned it into "ERROR: TypeError"); now one ValueError naming the keyword, the
+    reproduction's ID and the keywords it takes."""
+    with pytest.raises(ValueError, match=r"^bogus is not a keyword the reproduction 'test-dummy' "
+                                         r"takes: the valid ones are seed"):
+        reproduce.run("test-dummy", bogus=1)
+    assert reproduce.run_or_fail("test-dummy", bogus=1).error.startswith("ValueError: bogus is")
+
+
+def test_run_refuses_an_out_that_is_not_a_folder(dummy, tmp_path):
+    """Review 35m (1) 1: out=123 raised pathlib's TypeError, out=<a file> FileExistsError."""
+    afile = tmp_path / "afile"
+    afile.write_text("x")
+    with pytest.raises(ValueError, match=r"^out must be a folder \(a str or os.PathLike\); got 123"):
+        reproduce.run("test-dummy", out=123)
+    with pytest.raises(ValueError, match=r"^out must be a folder; '.*afile' is a file"):
+        reproduce.run("test-dummy", out=afile)
+    assert reproduce.run("test-dummy", out=tmp_path / "new").id == "test-dummy"  # created
+
+
+def test_run_refuses_a_fresh_that_is_not_a_bool(dummy):
+    """Review 35m (5) 3: fresh="no" was taken as true (computed again)."""
+    with pytest.raises(ValueError, match="^fresh must be True or False, got 'no'"):
+        reproduce.run("test-dummy", fresh="no")
+
+
+@pytest.mark.parametrize("value", ["false", "no", "off", " 0", "2"])
+def test_the_cache_switch_refuses_what_is_not_0_or_1(dummy, monkeypatch, value):
+    """Review 35m (5) 5: XNAVLAB_REPRODUCE_CACHE=false/no/off left the cache on without a word
+    (only "0" turned it off); now refused in one line naming the variable, also by run_or_fail
+    (raised once, not as every reproduction's ERROR)."""
+    monkeypatch.setenv(reproduce.CACHE_ENV, value)
+    with pytest.raises(ValueError, match="^XNAVLAB_REPRODUCE_CACHE must be 0 .off. or 1 .on."):
+        reproduce.run("test-dummy")
+    with pytest.raises(ValueError, match="^XNAVLAB_REPRODUCE_CACHE"):
+        reproduce.run_or_fail("test-dummy")
+
+
+def test_an_unusable_cache_folder_is_refused(dummy, monkeypatch, tmp_path):
+    """Review 35m (7) 2: XNAVLAB_CACHE naming a file computed every result uncached without a
+    word; now refused naming the variable (the default home's silent fallback stays)."""
+    afile = tmp_path / "afile"
+    afile.write_text("x")
+    for bad in (str(afile), str(afile / "sub")):
+        monkeypatch.setenv("XNAVLAB_CACHE", bad)
+        with pytest.raises(ValueError, match="^XNAVLAB_CACHE must name a folder this process can write"):
+            reproduce.run("test-dummy")
+
+
+@pytest.mark.parametrize(("call", "match"), [
+    (lambda: reproduce.counts([1, 2]), r"^results\[0\] must be a Result .*got int 1"),
+    (lambda: reproduce.results_table(["x"]), r"^results\[0\] must be a Result .*got str 'x'"),
+    (lambda: reproduce.headline([]), "^results must hold at least one Result"),
+    (lambda: reproduce.summary_box(True), "^results must be a list of Result"),
+    (lambda: reproduce.report_html([reproduce.run_or_fail("no-such-id")], elapsed_s="x"),
+     "^elapsed_s must be"),
+    (lambda: reproduce.summary_box([reproduce.run_or_fail("no-such-id")], title=3), "^title must be"),
+    (lambda: reproduce.get(5), r"^id must be a reproduction ID \(a str"),
+    (lambda: reproduce.run_or_fail(None), r"^id must be a reproduction ID"),
+])
+def test_the_tables_and_the_registry_refuse_what_is_not_theirs(call, match):
+    """Review 35m (1) 1: counts([1, 2]) and results_table(["x"]) raised AttributeError."""
+    with pytest.raises(ValueError, match=match):
+        call()
+
+
+def test_save_figure_refuses_a_missing_folder(tmp_path):
+    """Review 35m (1) 1: save_figure into a missing folder raised matplotlib's FileNotFoundError."""
+    fig, _ = reproduce.figure()
+    with pytest.raises(ValueError, match="^out must be an existing folder; '/nonexistent/dir' does not"):
+        reproduce.save_figure(fig, "/nonexistent/dir", "x")
+    with pytest.raises(ValueError, match="^fig must be a matplotlib Figure"):
+        reproduce.save_figure(None, tmp_path, "x")
+    with pytest.raises(ValueError, match="^name must be a file name"):
+        reproduce.save_figure(fig, tmp_path, "a/b")
+    assert reproduce.save_figure(fig, tmp_path, "x").endswith("x.png")

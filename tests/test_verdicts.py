@@ -162,8 +162,7 @@ def test_no_recorded_reproduction_is_gone():
 
 def test_check_helpers():
     assert verdicts.check_abs("a", 10.0, 12.0, 3.0, why="w").verdict == "REPRODUCED"
-    nan = verdicts.check_range("b", 1.0, float("nan"), 0.0, 2.0, why="range")
-    assert nan.verdict == "NOT REPRODUCED"
+    assert verdicts.check_range("b", 1.0, 3.0, 0.0, 2.0, why="range").verdict == "NOT REPRODUCED"
     assert verdicts.check_true("c", "x", "x", True, why="same").verdict == "REPRODUCED"
     assert verdicts.check_measure("d", 3, "shown").verdict == "CHECK"
 
@@ -358,3 +357,34 @@ def test_the_closing_box_gives_each_claim_in_brief_and_the_table_in_full():
     box = reproduce.summary_box([res])
     assert row.brief() in box and "runs on and on" not in box
     assert "runs on and on" in res._repr_html_()
+
+
+@pytest.mark.parametrize(("make", "match"), [
+    (lambda: verdicts.check_rel("a", 1.0, 1.1, -0.1, "w"), r"^rel must be a real number in \[0, inf\)"),
+    (lambda: verdicts.check_rel("a", 1.0, 1.0, float("inf"), "w"), "^rel must be .*got inf"),
+    (lambda: verdicts.check_rel("a", 1.0, 1.0, float("nan"), "w"), "^rel must be .*got nan"),
+    (lambda: verdicts.check_abs("a", 1.0, 1.0, -1, why="w"), r"^tol must be a real number in \[0"),
+    (lambda: verdicts.check_range("a", 1, 2, 5, 3, "w"), "^hi must be at least lo = 5; got 3"),
+    (lambda: verdicts.check_range("a", 1, 2, float("-inf"), 3, "w"), "^lo must be a finite"),
+    (lambda: verdicts.check_abs("a", 1.0, float("nan"), 0.1, why="w"), "^ours must be a finite"),
+    (lambda: verdicts.check_rel("a", 1.0, float("inf"), 0.1, "w"), "^ours must be a finite"),
+    (lambda: verdicts.check_range("a", 1, float("nan"), 0, 3, "w"), "^ours must be a finite"),
+    (lambda: verdicts.check_range("a", float("nan"), 1.0, 0, 3, "w"), "^paper must be a finite"),
+    (lambda: verdicts.check_draw("a", float("nan"), [1.0] * 40), "^paper must be a finite"),
+    (lambda: verdicts.check_draw("a", 1.0, [1.0] * 40, slack=True), "^slack must be a real number"),
+    (lambda: verdicts.check_event("a", True, [True] * 40, "w"), "^paper must be words"),
+    (lambda: verdicts.check_event("a", "", [True] * 40, "w"), "^paper must be words"),
+    (lambda: verdicts.check_rel(True, 1.0, 1.0, 0.1, "w"), "^name must be words"),
+    (lambda: verdicts.check_true("a", "x", "x", [], why="w"), "^condition must be True or False"),
+    (lambda: verdicts.check_sanity("a", "x", "x", "yes", "w"), "^condition must be True or False"),
+    (lambda: verdicts.check_order("a", "a < b", [1.0, True, 0.0]), "^differences"),
+    (lambda: verdicts.part_of("c", 1.0), r"^rows\[0\] must be a Check"),
+    (lambda: verdicts.combine(True), "^verdicts must be a list of claim verdicts"),
+])
+def test_a_row_refuses_a_tolerance_or_value_that_cannot_judge(make, match):
+    """Review 35m (5) 2: rel=-0.1 gave "within -10 %", rel=inf REPRODUCED, lo > hi NOT
+    REPRODUCED, ours=nan NOT REPRODUCED, check_draw(paper=nan) and check_event(paper=True) were
+    accepted. No reproduction passes a NaN result to these rows (their call sites checked), so a
+    NaN is refused, not judged; an infinite tolerance cannot fail, so it is no check."""
+    with pytest.raises(ValueError, match=match):
+        make()

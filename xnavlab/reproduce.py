@@ -42,6 +42,7 @@ import hashlib
 import html
 import importlib
 import importlib.metadata
+import inspect
 import json
 import os
 import pickle
@@ -52,8 +53,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from xnavlab.core.diskcache import cache_dir, code_digest, exclusive, store
+from xnavlab.core.diskcache import cache_dir, code_digest, env_switch, exclusive, store
 from xnavlab.core.plotting import SafeHTML, figure, html_table
+from xnavlab.core.validate import check_bool, check_keywords, check_real, check_text
 from xnavlab.verdicts import (  # noqa: F401 - re-exported: reproduce.check_rel is verdicts.check_rel
     CHECK,
     CHECK_FAILED,
@@ -350,10 +352,51 @@ def save_figure(fig, out, name):
     ...     save_figure(fig, d, "x").endswith("x.png")
     True
     """
+    from matplotlib.figure import Figure
+
+    if not isinstance(fig, Figure):
+        raise ValueError(f"fig must be a matplotlib Figure (from figure()); got {type(fig).__name__}")
+    out = _folder("out", out, create=False)
+    if not (isinstance(name, str) and name.strip() and "/" not in name and "\\" not in name):
+        raise ValueError(f"name must be a file name without its folder (a non-empty str); got {name!r}")
     fig.tight_layout()
-    path = Path(out) / f"{name}.png"
+    path = out / f"{name}.png"
     fig.savefig(path, dpi=100)
     return str(path)
+
+
+def _folder(name, value, create):
+    """``value`` (a str or os.PathLike) as the Path of a folder: one that exists, or with
+    ``create`` one made here; else one ValueError naming ``name``."""
+    if not isinstance(value, str | os.PathLike) or not str(value).strip():
+        raise ValueError(f"{name} must be a folder (a str or os.PathLike); got {value!r}")
+    path = Path(value)
+    if path.exists() and not path.is_dir():
+        raise ValueError(f"{name} must be a folder; {str(value)!r} is a file")
+    if not path.is_dir():
+        if not create:
+            raise ValueError(f"{name} must be an existing folder; {str(value)!r} does not exist")
+        try:
+            path.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise ValueError(f"{name} {str(value)!r} cannot be created: {exc.strerror}") from None
+    return path
+
+
+def _results(results):
+    """``results`` as a list of :class:`Result` (at least one), else one ValueError."""
+    if isinstance(results, Result) or isinstance(results, str | bytes | dict) \
+            or not hasattr(results, "__iter__") or getattr(results, "ndim", 1) == 0:
+        raise ValueError("results must be a list of Result (from run or run_or_fail); got "
+                         f"{type(results).__name__} {results!r:.80}")
+    results = list(results)
+    if not results:
+        raise ValueError("results must hold at least one Result; got an empty list")
+    for i, res in enumerate(results):
+        if not isinstance(res, Result):
+            raise ValueError(f"results[{i}] must be a Result (from run or run_or_fail); got "
+                             f"{type(res).__name__} {res!r:.80}")
+    return results
 
 
 def register(id, *, title, source, chapter, cache=True):
@@ -409,6 +452,8 @@ def ids():
 
 def get(id):
     """Return the :class:`Reproduction` registered under ``id``."""
+    if not isinstance(id, str):
+        raise ValueError(f"id must be a reproduction ID (a str, see ids()); got {id!r}")
     _load_all()
     if id not in _REGISTRY:
         known = ", ".join(sorted(_REGISTRY))
@@ -418,8 +463,14 @@ def get(id):
 
 _CACHE: dict[tuple, Result] = {}
 
-#: Set to ``"0"`` to compute every reproduction afresh instead of reading the disk cache.
+#: Set to ``"0"`` to compute every reproduction afresh instead of reading the disk cache
+#: (``"1"`` or unset: on; any other value is refused).
 CACHE_ENV = "XNAVLAB_REPRODUCE_CACHE"
+
+
+def _disk_on():
+    """Whether results are kept on disk (:data:`CACHE_ENV`), its folder checked when on."""
+    return env_switch(CACHE_ENV, True) and bool(cache_dir())
 #: The distributions whose version is part of a cached result's key (the numbers depend on them).
 _DEPENDS = ("numpy", "scipy", "numba", "PyWavelets", "jplephem", "de421", "de405", "pint-pulsar")
 
@@ -489,28 +540,37 @@ def run(id, out=None, fresh=False, **kwargs):
     ----------
     id : str
         A registered ID (see :func:`ids`).
-    out : str or Path, optional
-        Directory for the figures; created if missing. ``None`` writes none.
+    out : str or os.PathLike, optional
+        Folder for the figures; created if missing (a file there is refused). ``None`` writes none.
     fresh : bool, optional
-        Compute it even when a result is cached (in this session or on disk), and store the
-        new one.
+        True or False (a string is refused): compute it even when a result is cached (in
+        this session or on disk), and store the new one.
     **kwargs
-        Passed to the reproduction (for example ``seed``).
+        Passed to the reproduction (for example ``seed``): only the keywords its function
+        takes (another is refused, naming the ones it takes).
+
+    Examples
+    --------
+    >>> run("mallat-vs-pywavelets").verdict
+    'CHECK'
     """
     rep = get(id)
+    fresh = check_bool("fresh", fresh)
+    takes = [p.name for p in inspect.signature(rep.func).parameters.values()
+             if p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY) and p.name != "out"]
+    kwargs = check_keywords(f"the reproduction {id!r}", kwargs, takes)
+    if out is not None:
+        out = _folder("out", out, create=True)
     key = (id, tuple(sorted(kwargs.items())))
     if out is None and key in _CACHE and not fresh:
         return _CACHE[key]
     on_disk = (out is None and rep.cache and all(_plain(v) for v in kwargs.values())
-               and os.environ.get(CACHE_ENV, "1") != "0")
+               and _disk_on())
     path = _disk_path(id, kwargs) if on_disk else None
     # another process computing the same result (pytest -n 2, the book's kernels): wait, read
     with contextlib.nullcontext() if path is None else exclusive(path):
         result = None if (path is None or fresh) else _from_disk(path)
         if result is None:
-            if out is not None:
-                out = Path(out)
-                out.mkdir(parents=True, exist_ok=True)
             result = rep.func(out=out, **kwargs)
             if path is not None:
                 _to_disk(id, path, result)
@@ -532,6 +592,9 @@ def run_or_fail(id, out=None, **kwargs):
     >>> res.verdict, res.error.startswith("ValueError")
     ('ERROR', True)
     """
+    if not isinstance(id, str):  # the caller's slip, not the reproduction's: raised
+        get(id)
+    _disk_on()  # a bad cache setting is refused once, not as every reproduction's ERROR
     try:
         return run(id, out=out, **kwargs)
     except Exception as exc:  # noqa: BLE001 - reported as the ERROR of that reproduction
@@ -560,6 +623,7 @@ def counts(results):
     >>> n["claims"], n["checks"], n["errors"]
     (1, 2, ['no-such-id'])
     """
+    results = _results(results)
     rows = dict.fromkeys(VERDICTS, 0)
     heads = dict.fromkeys(HEADLINES, 0)
     distinct = dict.fromkeys(CLAIM_VERDICTS, 0)
@@ -619,7 +683,7 @@ CHECK_HEADER = ("reproduction", "quantity", "paper", "ours", "tolerance", "verdi
 def summary_rows(results):
     """One row per result (columns :data:`SUMMARY_HEADER`), for :func:`~xnavlab.core.plotting.html_table`."""
     rows = []
-    for res in results:
+    for res in _results(results):
         n = res.counts()
         try:
             rep = get(res.id)
@@ -635,7 +699,7 @@ def summary_rows(results):
 def check_rows(results):
     """One row per check (columns :data:`CHECK_HEADER`), values formatted for a table."""
     return [(res.id, c.name, show(c.paper), show(c.ours), c.tolerance, c.verdict, c.reading)
-            for res in results for c in res.checks]
+            for res in _results(results) for c in res.checks]
 
 
 def report_html(results, elapsed_s=None):
@@ -664,6 +728,9 @@ def report_html(results, elapsed_s=None):
     >>> "1 of 1 paper claim reproduced" in page, "x|y" in page
     (True, True)
     """
+    results = _results(results)
+    if elapsed_s is not None:
+        elapsed_s = check_real("elapsed_s", elapsed_s, 0.0)
     reused = sum(r.from_cache for r in results)
     when = "" if elapsed_s is None else f" (computed when the book was built, in {elapsed_s:.0f} s)"
     if elapsed_s is not None and reused:
@@ -731,6 +798,7 @@ def summary_box(results, title="Reproducing the paper: the verdicts"):
     >>> "REPRODUCED" in box, "1 check of ours holds" in box
     (True, True)
     """
+    results, title = _results(results), check_text("title", title)
     items = []
     for res in results:
         lines = []

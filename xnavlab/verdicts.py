@@ -85,6 +85,8 @@ from typing import Any
 
 import numpy as np
 
+from xnavlab.core.validate import check_bool, check_finite_array, check_real, check_text
+
 __all__ = [
     "REPRODUCED",
     "NOT_REPRODUCED",
@@ -176,6 +178,9 @@ class Check:
     claim: str = ""
 
     def __post_init__(self):
+        _words("name", self.name)
+        for label in ("tolerance", "reading", "claim"):
+            check_text(label, getattr(self, label))
         if self.verdict not in VERDICTS:
             raise ValueError(f"verdict must be one of {', '.join(VERDICTS)}; got {self.verdict!r}")
 
@@ -281,11 +286,30 @@ def _why(criterion, why):
     return f"{criterion}: {why.strip()}"
 
 
-def _finite(name, value):
+def _real(name, value, finite=False, lo=-math.inf):
+    """``float(value)``, a bool or text refused; NaN and infinities kept unless ``finite`` (a
+    paper's value, ours, a bound; ``lo=0``: a tolerance, where an infinite one cannot fail)."""
     try:
-        value = float(value)
+        if isinstance(value, bool | np.bool_ | str | bytes) or getattr(value, "ndim", 0):
+            raise TypeError
+        x = float(value)
     except (TypeError, ValueError):
         raise ValueError(f"{name} must be a real number; got {value!r}") from None
+    return check_real(name, x, lo) if finite or lo > -math.inf else x
+
+
+def _finite(name, value):
+    return _real(name, value, True)
+
+
+def _tolerance(name, value):
+    return _real(name, value, True, 0.0)
+
+
+def _words(name, value):
+    """``value``, words (a non-empty str: a row's name, the paper's outcome), else refused."""
+    if not (isinstance(value, str) and value.strip()):
+        raise ValueError(f"{name} must be words (a non-empty str); got {value!r}")
     return value
 
 
@@ -306,9 +330,9 @@ def check_rel(name, paper, ours, rel, why):
     name : str
         The quantity, with its unit.
     paper, ours : float
-        The paper's value and ours.
+        The paper's value and ours, finite.
     rel : float
-        The relative tolerance (0.05 is 5 %).
+        The relative tolerance (0.05 is 5 %), finite and >= 0.
     why : str
         The reason for that tolerance (the paper's printed digits, a lost parameter, a named
         physical difference). Required: a tolerance without a reason is not a check.
@@ -320,22 +344,23 @@ def check_rel(name, paper, ours, rel, why):
     >>> check_rel("B0531+21 (m)", 109.0, 131.0, 0.05, why="three printed digits").reading
     'ours is 20 % above the paper'
     """
-    paper, ours = _finite("paper", paper), _finite("ours", ours)
-    ok = math.isfinite(ours) and abs(ours - paper) <= rel * abs(paper)
+    paper, ours, rel = _finite("paper", paper), _finite("ours", ours), _tolerance("rel", rel)
+    ok = abs(ours - paper) <= rel * abs(paper)
     return _claim(name, paper, ours, ok, _why(f"within {100 * rel:g} % of the paper", why),
                   _relative(ours, paper))
 
 
 def check_abs(name, paper, ours, tol, unit="", why=""):
-    """A claim that holds when ``|ours - paper| <= tol``.
+    """A claim that holds when ``|ours - paper| <= tol`` (all finite, ``tol >= 0``).
 
     Examples
     --------
     >>> check_abs("improvement (%)", 67.4, 60.0, 10.0, "pp", why="one run").verdict
     'REPRODUCED'
     """
-    paper, ours = _finite("paper", paper), _finite("ours", ours)
-    ok = math.isfinite(ours) and abs(ours - paper) <= tol
+    paper, ours, tol = _finite("paper", paper), _finite("ours", ours), _tolerance("tol", tol)
+    unit = check_text("unit", unit)
+    ok = abs(ours - paper) <= tol
     reading = f"ours is {abs(ours - paper):.3g} {unit} {'above' if ours > paper else 'below'} the paper" \
         if math.isfinite(ours) and ours != paper else ""
     return _claim(name, paper, ours, ok, _why(f"within {tol:g} {unit}".rstrip(), why),
@@ -343,23 +368,25 @@ def check_abs(name, paper, ours, tol, unit="", why=""):
 
 
 def check_range(name, paper, ours, lo, hi, why):
-    """A claim that holds when ``lo <= ours <= hi``; ``why`` says why those bounds.
+    """A claim that holds when ``lo <= ours <= hi`` (all finite); ``why`` says why those bounds.
 
     Examples
     --------
     >>> check_range("mean error (m)", "lost", 1487.0, 100.0, 1e4, why="DE405-class").verdict
     'REPRODUCED'
     """
-    ours = _finite("ours", ours)
-    ok = math.isfinite(ours) and lo <= ours <= hi
+    if not isinstance(paper, str):   # words ("lost", "about 5e4") or a number
+        paper = _finite("paper", paper)
+    ours, lo, hi = _finite("ours", ours), _finite("lo", lo), _finite("hi", hi)
+    if hi < lo:
+        raise ValueError(f"hi must be at least lo = {lo:g}; got {hi:g}")
+    ok = lo <= ours <= hi
     return _claim(name, paper, ours, ok, _why(f"between {lo:g} and {hi:g}", why),
                   "" if ok else _outside(ours, lo, hi))
 
 
 def _outside(ours, lo, hi):
     """How far ``ours`` lies outside ``[lo, hi]``, in words."""
-    if not math.isfinite(ours):
-        return f"ours is {ours}, not a number in the range"
     bound, side = (lo, "below") if ours < lo else (hi, "above")
     gap = abs(ours - bound)
     if bound != 0 and ours != 0 and (ours / bound > 0):
@@ -384,6 +411,7 @@ def check_true(name, paper, ours, condition, why, reading=""):
     """
     if not (isinstance(why, str) and why.strip()):
         raise ValueError("why must say, in words, what the condition checks")
+    condition, reading = check_bool("condition", condition), check_text("reading", reading)
     if not condition and not reading:
         reading = f"ours ({show(ours)}) does not meet it"
     return _claim(name, paper, ours, bool(condition), why.strip(), reading)
@@ -414,13 +442,13 @@ def check_draw(name, paper, runs, why="", slack=0.0, unit=""):
     name : str
         The quantity, with its unit.
     paper : float
-        The paper's single-run number.
+        The paper's single-run number, finite.
     runs : array_like, shape (n,)
         Our single runs, one per seed; ``n >= MIN_RUNS``, all finite.
     why : str, optional
         The reason for a ``slack`` (required when ``slack > 0``).
     slack : float, optional
-        Added to both ends of our range, in the quantity's unit.
+        Added to both ends of our range, in the quantity's unit: finite, >= 0.
     unit : str, optional
         The quantity's unit, for the reading.
 
@@ -433,14 +461,13 @@ def check_draw(name, paper, runs, why="", slack=0.0, unit=""):
     >>> check_draw("fused position error (m)", 36.587, runs).verdict
     'NOT REPRODUCED'
     """
-    paper = _finite("paper", paper)
+    paper, why, unit = _finite("paper", paper), check_text("why", why), check_text("unit", unit)
     runs = np.asarray(runs, dtype=float).ravel()
     if runs.size < MIN_RUNS:
         raise ValueError(f"runs must hold at least {MIN_RUNS} single runs; got {runs.size}")
     if not np.all(np.isfinite(runs)):
         raise ValueError("runs must all be finite")
-    if slack < 0 or not math.isfinite(slack):
-        raise ValueError(f"slack must be finite and >= 0; got {slack!r}")
+    slack = _tolerance("slack", slack)
     lo, hi = np.percentile(runs, [2.5, 97.5])
     criterion = f"{_DRAWN}{runs.size} single runs"
     if slack > 0:
@@ -492,7 +519,8 @@ def check_order(name, claim, differences, unit="", why=""):
     >>> c.verdict, c.reading
     ('UNDECIDED', 'the 95 % interval holds zero; about 190 runs would decide it (we have 4)')
     """
-    d = np.asarray(differences, dtype=float).ravel()
+    claim, unit, why = _words("claim", claim), check_text("unit", unit), check_text("why", why)
+    d = check_finite_array("differences", differences, finite=False).ravel()
     if d.size < 2 or not np.all(np.isfinite(d)):
         raise ValueError("differences must hold at least 2 finite paired differences")
     mean, se = float(d.mean()), float(d.std(ddof=1) / math.sqrt(d.size))
@@ -530,7 +558,8 @@ def check_sanity(name, expected, ours, condition, what):
     """
     if not (isinstance(what, str) and what.strip()):
         raise ValueError("what must say, in words, the criterion of the check")
-    return Check(name, expected, ours, what.strip(), CHECK if condition else CHECK_FAILED, "")
+    ok = check_bool("condition", condition)
+    return Check(name, expected, ours, what.strip(), CHECK if ok else CHECK_FAILED, "")
 
 
 def check_measure(name, ours, what, paper="not given"):
@@ -557,7 +586,10 @@ def combine(verdicts):
     >>> combine(["REPRODUCED", "UNDECIDED"]), combine(["REPRODUCED", "NOT REPRODUCED"])
     ('UNDECIDED', 'NOT REPRODUCED')
     """
-    found = set(verdicts)
+    try:
+        found = set(verdicts)
+    except TypeError:  # not a list
+        raise ValueError(f"verdicts must be a list of claim verdicts; got {verdicts!r}") from None
     if not found or not found <= set(CLAIM_VERDICTS):
         raise ValueError(f"verdicts must be claim verdicts ({', '.join(CLAIM_VERDICTS)}); "
                          f"got {sorted(found)}")
@@ -582,6 +614,10 @@ def part_of(claim, *rows):
     """
     if not (isinstance(claim, str) and claim.strip()):
         raise ValueError("claim must say, in words, the paper's claim the rows are parts of")
+    for i, r in enumerate(rows):
+        if not isinstance(r, Check):
+            raise ValueError(f"rows[{i}] must be a Check (a row of check_rel, check_draw, ...); "
+                             f"got {type(r).__name__} {r!r}")
     return [replace(r, claim=claim.strip()) if r.claimed else r for r in rows]
 
 
@@ -645,12 +681,12 @@ def check_lost(row, lost, reach, decides, unit="", held=""):
                               ("decides", decides, "what would decide the claim")):
         if not (isinstance(text, str) and text.strip()):
             raise ValueError(f"{label} must say, in words, {what}")
-    paper = _finite("paper", row.paper)
+    paper, unit = _real("paper", row.paper), check_text("unit", unit)
     if not isinstance(reach, dict) or len(reach) < 2:
         raise ValueError("reach must map at least two plausible values (labels) to our (lo, hi) there")
     spans = {}
     for label, pair in reach.items():
-        lo, hi = (_finite("reach", v) for v in pair)
+        lo, hi = (_real("reach", v) for v in pair)
         spans[str(label)] = (min(lo, hi), max(lo, hi))
     ours = [k for k in spans if k.lower().startswith("ours")]
     if len(ours) != 1:
@@ -703,11 +739,12 @@ def check_lost(row, lost, reach, decides, unit="", held=""):
 def check_event(name, paper, hits, why):
     """An outcome the paper reports from one run (it happened), judged as one draw from ours.
 
-    ``hits`` says, per single run of ours, whether the outcome happened (at least
-    :data:`MIN_RUNS` runs). As for a number (:func:`check_draw`), the paper's single run is an
-    ordinary draw when it falls inside the 95 % range of our single runs, that is when at
-    least 2.5 % of ours show the outcome: REPRODUCED; else NOT REPRODUCED. How often ours show
-    it (the reliability) is in the reading: that is our measurement, not the paper's claim.
+    ``paper`` names the outcome in words; ``hits`` says, per single run of ours, whether it
+    happened (at least :data:`MIN_RUNS` runs). As for a number (:func:`check_draw`), the
+    paper's single run is an ordinary draw when it falls inside the 95 % range of our single
+    runs, that is when at least 2.5 % of ours show the outcome: REPRODUCED; else NOT
+    REPRODUCED. How often ours show it (the reliability) is in the reading: that is our
+    measurement, not the paper's claim.
 
     With at most 40 runs one run that shows it is already 2.5 % (1 of 40), so the claim fails
     only when none does; a run that shows it but too rarely (a rare draw) needs more runs, at
@@ -728,6 +765,7 @@ def check_event(name, paper, hits, why):
     """
     if not (isinstance(why, str) and why.strip()):
         raise ValueError("why must say, in words, what counts as the outcome")
+    paper = _words("paper", paper)
     hits = np.asarray(hits, dtype=bool).ravel()
     if hits.size < MIN_RUNS:
         raise ValueError(f"hits must hold at least {MIN_RUNS} single runs; got {hits.size}")
