@@ -221,7 +221,7 @@ def test_cli_module_entry_point():
     proc = subprocess.run([sys.executable, "-m", "xnavlab", "run", "mars", "--days", "-1"],
                           capture_output=True, text=True, check=False)
     assert proc.returncode == 2
-    assert proc.stderr.strip().startswith("xnavlab: error: days")
+    assert proc.stderr.strip().startswith("xnavlab: error: --days")
 
 
 def test_plot_subsystem_is_the_single_subsystem_run():
