@@ -302,6 +302,24 @@ def test_an_outcome_over_a_lost_parameter_refuses_what_it_cannot_judge(hits, mat
                                   lost=" ", decides="x")
 
 
+@pytest.mark.parametrize("hits", [["no"] * 40, [0.5] * 40, [2] * 40,
+                                  np.ma.array([True] * 40, mask=[True] + [False] * 39)])
+def test_an_outcome_takes_one_bool_a_run(hits):
+    """Review 35n 1, 2: check_event counted any truthy hit ('no', 0.5, 2: 40 of 40 runs,
+    REPRODUCED) and a masked run; check_draw used a masked run's value, check_abs warned."""
+    with pytest.raises(ValueError, match=r"^hits must hold one bool a run \(did the outcome "
+                                         r"happen\), none masked; got "):
+        verdicts.check_event("e", "yes", hits, why="w")
+    with pytest.raises(ValueError, match=r"^hits\['b'\] must hold one bool a run"):
+        verdicts.check_event_lost("e", "yes", {"ours": [True] * 40, "b": hits}, why="w",
+                                  lost="noise", decides="x")
+    runs = np.ma.array(np.linspace(1.0, 2.0, 40), mask=[True] + [False] * 39)
+    with pytest.raises(ValueError, match=r"^runs has masked entries"):
+        verdicts.check_draw("d", 1.5, runs)
+    with pytest.raises(ValueError, match=r"^ours must be a real number; got masked"):
+        verdicts.check_abs("a", 1.0, np.ma.masked, 1.0, why="w")
+
+
 def test_the_paper_fault_free_numbers_place_the_process_noise_interval_of_chapter_8():
     # ch08_mars_faults.Q_HELD: q is varied in chapter 8 only over the interval in which the
     # paper's fault-free 28.835 m and 0.02149 m/s lie inside our range; of mars-nofault's decade

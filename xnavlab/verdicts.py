@@ -290,7 +290,7 @@ def _real(name, value, finite=False, lo=-math.inf):
     """``float(value)``, a bool or text refused; NaN and infinities kept unless ``finite`` (a
     paper's value, ours, a bound; ``lo=0``: a tolerance, where an infinite one cannot fail)."""
     try:
-        if isinstance(value, bool | np.bool_ | str | bytes) or getattr(value, "ndim", 0):
+        if isinstance(value, bool | np.bool_ | str | bytes | np.ma.MaskedArray) or getattr(value, "ndim", 0):
             raise TypeError
         x = float(value)
     except (TypeError, ValueError):
@@ -304,6 +304,15 @@ def _finite(name, value):
 
 def _tolerance(name, value):
     return _real(name, value, True, 0.0)
+
+
+def _hits(name, value):
+    """Per-run outcomes as a flat bool array (a "no" or a 0.5 counted as a hit); masked refused."""
+    arr = np.asarray(value).ravel()
+    if arr.dtype != bool or np.ma.is_masked(value):
+        raise ValueError(f"{name} must hold one bool a run (did the outcome happen), none masked; "
+                         f"got {'masked entries' if np.ma.is_masked(value) else arr.dtype}")
+    return arr
 
 
 def _words(name, value):
@@ -462,11 +471,9 @@ def check_draw(name, paper, runs, why="", slack=0.0, unit=""):
     'NOT REPRODUCED'
     """
     paper, why, unit = _finite("paper", paper), check_text("why", why), check_text("unit", unit)
-    runs = np.asarray(runs, dtype=float).ravel()
+    runs = check_finite_array("runs", runs).ravel()  # finite, no masked run
     if runs.size < MIN_RUNS:
         raise ValueError(f"runs must hold at least {MIN_RUNS} single runs; got {runs.size}")
-    if not np.all(np.isfinite(runs)):
-        raise ValueError("runs must all be finite")
     slack = _tolerance("slack", slack)
     lo, hi = np.percentile(runs, [2.5, 97.5])
     criterion = f"{_DRAWN}{runs.size} single runs"
@@ -766,7 +773,7 @@ def check_event(name, paper, hits, why):
     if not (isinstance(why, str) and why.strip()):
         raise ValueError("why must say, in words, what counts as the outcome")
     paper = _words("paper", paper)
-    hits = np.asarray(hits, dtype=bool).ravel()
+    hits = _hits("hits", hits)
     if hits.size < MIN_RUNS:
         raise ValueError(f"hits must hold at least {MIN_RUNS} single runs; got {hits.size}")
     k, n = int(hits.sum()), hits.size
@@ -843,7 +850,7 @@ def check_event_lost(name, paper, hits, why, lost, decides, held=""):
         raise ValueError(f"held must be words (what is held and why); got {held!r}")
     if not isinstance(hits, dict) or len(hits) < 2:
         raise ValueError("hits must map at least two plausible values (labels) to our runs there")
-    runs = {str(k): np.asarray(h, dtype=bool).ravel() for k, h in hits.items()}
+    runs = {str(k): _hits(f"hits[{k!r}]", h) for k, h in hits.items()}
     ours = [k for k in runs if k.lower().startswith("ours")]
     if len(ours) != 1:
         raise ValueError("hits must name our own choice: exactly one label starting with 'ours'; "
