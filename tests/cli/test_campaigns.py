@@ -1,5 +1,7 @@
 """``python -m xnavlab campaign``: outputs checked before the runs (reviews 35k, 35m)."""
 
+import pytest
+
 from xnavlab.cli import main
 
 
@@ -71,3 +73,20 @@ def test_a_store_file_that_is_a_folder_is_named_with_what_it_is(tmp_path, capsys
     assert err == (f"xnavlab: error: --out {str(out)!r}: runs.jsonl {str(out / 'runs.jsonl')!r} "
                    f"is a folder, not a file of a campaign store; remove it, or choose another "
                    f"--out")
+
+
+def test_an_unusable_cache_is_one_line_before_any_folder_or_run(tmp_path, monkeypatch, capsys):
+    """Review 35n 3: with XNAVLAB_CACHE a file, every run of a campaign failed on it (rc 1, a
+    store of failed records), while run mars, warmup and reproduce refused it in one line."""
+    from xnavlab.core.campaign import run_campaign
+    from xnavlab.mars.studies.campaigns import campaign
+
+    (tmp_path / "afile").write_text("")
+    monkeypatch.setenv("XNAVLAB_CACHE", str(tmp_path / "afile"))
+    assert main(["campaign", "consistency", "--runs", "1", "--days", "0.02",
+                 "--out", str(tmp_path / "o")]) == 2
+    assert capsys.readouterr().err.strip().startswith("xnavlab: error: XNAVLAB_CACHE must name a "
+                                                      "folder this process can write")
+    with pytest.raises(ValueError, match=r"^XNAVLAB_CACHE must name a folder"):
+        run_campaign(campaign("consistency", days=0.02), 1, out=tmp_path / "p")
+    assert not (tmp_path / "o").exists() and not (tmp_path / "p").exists()

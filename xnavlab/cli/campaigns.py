@@ -56,6 +56,7 @@ import os
 import sys
 
 from xnavlab.cli import UsageError, number
+from xnavlab.core.diskcache import cache_dir
 from xnavlab.core.userfiles import output_path
 from xnavlab.core.validate import SEED_MAX, check_int
 
@@ -245,6 +246,8 @@ def _common(args):
     workers = _number("--workers", "2" if args.workers is None else args.workers, int, 1, 256)
     if not args.local_cluster and not args.scheduler:
         workers = check_int("--workers", workers, 1, os.cpu_count() or 1)
+    if not args.scheduler:  # runs here read the cache: refused before the folder is made
+        cache_dir()
     output_path(args.out, "--out", folder=True)  # made and writable before any run, once the
     # flags are checked (a bad flag leaves no folder behind)
     engine = "dask" if args.scheduler else ("local-cluster" if args.local_cluster else "local")
