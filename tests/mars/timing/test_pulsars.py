@@ -628,6 +628,10 @@ def test_fold_refuses_photon_times_whose_dtype_cannot_tell_their_bin():
                          "position 0)"),
     (b"PSR J0000+00\nRAJ 1:00:00\nDECJ 1:00:00\n", "is not a pulsar timing model: it has no F0 "
                                                    "line"),
+    (b"PSR J0000+00\nRAJ 1:00:00\nDECJ 1:00:00\nF0\n", "its F0 line holds no number (the spin "
+                                                       "frequency, Hz), got 'F0'"),  # review 35n 4
+    (b"PSR J0000+00\nRAJ 1:00:00\nDECJ 1:00:00\nF0 abc 1\n", "its F0 line holds no number (the "
+                                                            "spin frequency, Hz), got 'F0 abc 1'"),
 ])
 def test_a_file_that_is_no_timing_model_is_named_in_our_words(tmp_path, content, words):
     """Review 35m (2) 3, (3) 2: an empty or binary .par passed PINT's AssertionError ("Model must

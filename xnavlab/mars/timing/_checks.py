@@ -280,10 +280,16 @@ def check_par_text(path):
     except UnicodeDecodeError as exc:
         raise ValueError(f"path: the timing model {str(path)!r} is not UTF-8 text (byte "
                          f"{data[exc.start]:#04x} at position {exc.start})") from None
-    words = [ln.split()[0].upper() for ln in text.splitlines()
+    lines = [ln.split() for ln in text.splitlines()
              if ln.split() and not ln.lstrip().startswith(("#", "C "))]
-    if not words:
+    if not lines:
         raise ValueError(f"{head}: it is empty (a .par file gives one parameter a line: PSR, "
                          f"RAJ and DECJ or ELONG and ELAT, F0, ...)")
-    if "F0" not in words:
+    f0 = [ln[1:2] for ln in lines if ln[0].upper() == "F0"]
+    if not f0:
         raise ValueError(f"{head}: it has no F0 line (the spin frequency, Hz, in every timing model)")
+    try:  # PINT: an AttributeError of its own for "F0" alone, its long double's words for "F0 abc"
+        float(f0[0][0].upper().replace("D", "E"))  # a Fortran exponent (1.2D-3) is a number too
+    except (IndexError, ValueError):
+        raise ValueError(f"{head}: its F0 line holds no number (the spin frequency, Hz), got "
+                         f"{' '.join(['F0', *f0[0]])!r}") from None
