@@ -285,11 +285,11 @@ def check_par_text(path):
     if not lines:
         raise ValueError(f"{head}: it is empty (a .par file gives one parameter a line: PSR, "
                          f"RAJ and DECJ or ELONG and ELAT, F0, ...)")
-    f0 = [ln[1:2] for ln in lines if ln[0].upper() == "F0"]
+    f0 = [ln for ln in lines if ln[0].upper() == "F0"]
     if not f0:
         raise ValueError(f"{head}: it has no F0 line (the spin frequency, Hz, in every timing model)")
     try:  # PINT: an AttributeError of its own for "F0" alone, its long double's words for "F0 abc"
-        float(f0[0][0].upper().replace("D", "E"))  # a Fortran exponent (1.2D-3) is a number too
+        float(f0[0][1].upper().replace("D", "E"))  # a Fortran exponent (1.2D-3) is a number too
     except (IndexError, ValueError):
         raise ValueError(f"{head}: its F0 line holds no number (the spin frequency, Hz), got "
-                         f"{' '.join(['F0', *f0[0]])!r}") from None
+                         f"{' '.join(f0[0])!r}") from None
