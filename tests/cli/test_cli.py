@@ -444,6 +444,8 @@ def test_a_refused_command_drops_library_warnings_but_a_run_shows_them(monkeypat
     (["bogus"], "python -m xnavlab: unknown command 'bogus' (choose from 'reproduce', 'run', "
                 "'warmup', 'campaign', 'scenario')"),
     (["run", "attitude"], "run: unknown scenario 'attitude' (choose from 'mars')"),
+    (["--versio"], "unrecognized arguments: --versio"),  # review 35n 5: argparse's abbreviation
+    (["run", "mars", "--da", "0.01"], "unrecognized arguments: --da 0.01"),
 ])
 def test_a_command_line_is_refused_in_the_words_it_shows(argv, line, capsys):
     """Review 35m (6) 4: '--version run mars --days -1' printed the version, rc 0, the rest

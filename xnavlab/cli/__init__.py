@@ -94,10 +94,12 @@ class _StoreTrueOnce(argparse.Action):
 class Parser(argparse.ArgumentParser):
     """An ``ArgumentParser`` that raises :class:`UsageError` instead of exiting, and refuses an
     option given twice on one command line (``--days 0.2 --days 0.3``), which argparse would
-    read as the last one alone."""
+    read as the last one alone, and an abbreviated one (``--da 0.2``: flags are written in full,
+    so that a new flag never changes what an old command line means)."""
 
     def __init__(self, *args, **kwargs):
-        super().__init__(*args, **kwargs)
+        # a flag as written in full: argparse would take --da for --days, --versio for --version
+        super().__init__(*args, **{"allow_abbrev": False, **kwargs})
         self.register("action", None, _StoreOnce)
         self.register("action", "store", _StoreOnce)
         self.register("action", "store_true", _StoreTrueOnce)
