@@ -357,8 +357,12 @@ def test_run_refuses_an_out_that_is_not_a_folder(dummy, tmp_path):
     afile.write_text("x")
     with pytest.raises(ValueError, match=r"^out must be a folder \(a str or os.PathLike\); got 123"):
         reproduce.run("test-dummy", out=123)
-    with pytest.raises(ValueError, match=r"^out must be a folder; '.*afile' is a file"):
+    with pytest.raises(ValueError, match=r"^out '.*afile' is a file, not a folder"):
         reproduce.run("test-dummy", out=afile)
+    (tmp_path / "dang").symlink_to(tmp_path / "nothing")  # review 35n 6: "cannot be created: File exists"
+    with pytest.raises(ValueError, match=r"^out '.*dang' is a symbolic link to '.*nothing', which "
+                                         r"does not exist"):
+        reproduce.run("test-dummy", out=tmp_path / "dang")
     assert reproduce.run("test-dummy", out=tmp_path / "new").id == "test-dummy"  # created
 
 

@@ -55,6 +55,7 @@ from typing import Any
 
 from xnavlab.core.diskcache import cache_dir, code_digest, env_switch, exclusive, store
 from xnavlab.core.plotting import SafeHTML, figure, html_table
+from xnavlab.core.userfiles import output_path
 from xnavlab.core.validate import check_bool, check_keywords, check_real, check_text
 from xnavlab.verdicts import (  # noqa: F401 - re-exported: reproduce.check_rel is verdicts.check_rel
     CHECK,
@@ -370,6 +371,8 @@ def _folder(name, value, create):
     ``create`` one made here; else one ValueError naming ``name``."""
     if not isinstance(value, str | os.PathLike) or not str(value).strip():
         raise ValueError(f"{name} must be a folder (a str or os.PathLike); got {value!r}")
+    if create:  # made, writable: a file, a link to nothing or a file on the way named as such
+        return output_path(value, name, folder=True)
     path = Path(value)
     if path.exists() and not path.is_dir():
         raise ValueError(f"{name} must be a folder; {str(value)!r} is a file")
