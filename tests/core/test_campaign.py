@@ -721,6 +721,7 @@ def test_a_refused_campaign_makes_no_store(tmp_path):
     ("bogus://x", "unknown scheme 'bogus'"), ("tcp://", "no port"), ("host", "no port"),
     ("tcp://h:abc", "the port 'abc' is not an integer"), ("h:99999", "the port '99999'"),
     ("tcp://:8786", "the host '' is not"), ("tcp://::1:8786", "goes in brackets"),
+    ("tcp://[]:1", r"the host '\[\]' is not"),  # review 35n: "unreachable"
     (7, "must be a scheduler address"),
 ])
 def test_a_malformed_scheduler_address_is_named_malformed(address, why):

@@ -337,6 +337,12 @@ def test_a_masked_entry_inside_a_list_is_refused_without_numpys_warning(value):
         check_finite_array("x", value)
 
 
+def test_the_masked_constant_is_named_without_an_empty_index():
+    """Review 35n: check_finite_array("x", np.ma.masked) named its entry x[]."""
+    with pytest.raises(ValueError, match=r"^x is masked \(no number to use\)$"):
+        check_finite_array("x", np.ma.masked)
+
+
 def test_an_unmasked_masked_array_and_a_matrix_are_used_as_their_data():
     """Review 35m pattern N: a numpy.ma array with no masked entry is its data; np.matrix its
     2-D array (a plain ndarray, so that ``*`` stays elementwise)."""

@@ -569,7 +569,7 @@ def check_scheduler(name, address):
         why = f"unknown scheme {scheme!r} ({', '.join(SCHEDULER_SCHEMES)})"
     elif not (port.isascii() and port.isdigit() and 1 <= int(port) <= 65535):
         why = f"the port {port!r} is not an integer in [1, 65535]" if host else "no port"
-    elif not host or any(c.isspace() or c in "/?#@" for c in host):
+    elif host.strip("[]") == "" or any(c.isspace() or c in "/?#@" for c in host):
         why = f"the host {host!r} is not a host name or IP address"
     elif ":" in host and not (host.startswith("[") and host.endswith("]")):
         why = f"the IPv6 host {host!r} goes in brackets ([::1]:8786)"

@@ -155,7 +155,8 @@ def check_finite_array(name, value, shape=None, dtype=float, finite=True):
         if (mask := np.ma.getmaskarray(value)).any():
             at = ", ".join(str(int(i)) for i in np.unravel_index(np.argmax(mask), mask.shape))
             raise ValueError(f"{name} has masked entries: {int(mask.sum())} of {mask.size}, the "
-                             f"first {name}[{at}] (no number to use: fill or drop them)")
+                             f"first {name}[{at}] (no number to use: fill or drop them)"
+                             if at else f"{name} is masked (no number to use)")
         value = value.data
     if (odd := _odd_item(value) if isinstance(value, list | tuple) else None) == "masked":
         raise ValueError(f"{name} has masked entries (no number to use: fill or drop them)")
