@@ -157,3 +157,20 @@ def test_output_path_refuses_a_dangling_symlink(tmp_path):
     with pytest.raises(ValueError, match=r"^--out .*summary.json' is a symbolic link to .*"
                                          r"which does not exist"):
         userfiles.output_path(link, "--out")
+
+
+def test_output_path_refuses_a_leading_tilde_and_a_folder_that_takes_no_file(tmp_path,
+                                                                             monkeypatch):
+    """Review 35o (7) 1, (7) 2: '~/x' made a folder named '~' (not expanded), and /proc (where
+    even root makes no file) passed the os.access check and failed at the write."""
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(ValueError, match=r"^--out '~/x\.toml' starts with '~', which is not "
+                                         r"expanded here"):
+        userfiles.output_path("~/x.toml", "--out")
+    if os.path.isdir("/proc/self"):  # Linux: a folder where no file can be made
+        with pytest.raises(ValueError, match=r"^--out '/proc/x\.toml' cannot be written: no file "
+                                             r"can be made in '/proc'"):
+            userfiles.output_path("/proc/x.toml", "--out")
+    assert list(tmp_path.iterdir()) == []
+    assert userfiles.output_path(tmp_path / "a" / "b.toml", "--out").parent.is_dir()
+    assert sorted(p.name for p in (tmp_path / "a").iterdir()) == []  # the probe is removed

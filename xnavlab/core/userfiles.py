@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import json
 import os
+import tempfile
 from pathlib import Path
 
 __all__ = ["InputWarning", "as_path", "path_kind", "read_text", "parse_toml", "load_table",
@@ -303,9 +304,11 @@ def output_path(path, what="output", folder=False):
     """Check, before any work, that the package can write ``path``; return it as a Path.
 
     The parent folder (or, with ``folder``, the folder itself) is created when missing; a
-    parent that is a file, a folder that cannot be written, a file where a folder belongs, a
-    symbolic link to nothing, or a file (or a link to one) that cannot be written is one
-    ValueError naming the path.
+    parent that is a file, a folder that cannot be written (a file is made there and removed
+    to know), a file where a folder belongs, a symbolic link to nothing, a file (or a link to
+    one) that cannot be written, or a path starting with ``~`` (not expanded here: a folder
+    named ``~`` would be made; give ``os.path.expanduser(path)``) is one ValueError naming
+    the path.
 
     Parameters
     ----------
@@ -327,6 +330,10 @@ def output_path(path, what="output", folder=False):
     True
     """
     as_path(path, what, "folder" if folder else "file")  # a dict, None or "": one line
+    if str(os.fspath(path)).startswith("~"):  # review 35o 7.1: a folder named '~' was made
+        raise ValueError(f"{what} {str(path)!r} starts with '~', which is not expanded here (a "
+                         f"folder named '~' would be made): give the full path, e.g. "
+                         f"os.path.expanduser({str(path)!r})")
     path = Path(path)
     target = path if folder else path.parent
     kind = path_kind(path, what)  # a name too long: one line
@@ -349,4 +356,11 @@ def output_path(path, what="output", folder=False):
         raise ValueError(f"{what} {str(path)!r}: its folder cannot be made ({exc.strerror})") from None
     if not os.access(target, os.W_OK):
         raise ValueError(f"{what} {str(path)!r}: the folder {str(target)!r} cannot be written")
+    try:  # a folder that takes no new file (/proc, even to root): a file made and removed
+        fd, probe = tempfile.mkstemp(prefix=".xnavlab-", suffix=".probe", dir=target)
+    except OSError as exc:  # review 35o 7.2: zipfile's FileNotFoundError after the run
+        raise ValueError(f"{what} {str(path)!r} cannot be written: no file can be made in "
+                         f"{str(target)!r} ({exc.strerror})") from None
+    os.close(fd)
+    os.unlink(probe)
     return path

@@ -2,6 +2,7 @@
 
 import dataclasses
 import json
+import os
 import subprocess
 import sys
 
@@ -606,3 +607,69 @@ def test_masked_active_flags_are_refused_not_read_as_data(two):
         scenarios.run_options(two, active, None)
     unmasked = scenarios.run_options(two, np.ma.masked_array(np.ones((two.n, 2), dtype=bool)), None)[0]
     assert type(unmasked) is np.ndarray and unmasked.all()
+
+
+def test_run_checks_inputs_edited_by_hand():
+    """Review 35o (1) 3, (1) 4, (3) 2, (5) 1 (pattern S): an Inputs edited with
+    dataclasses.replace gave an IndexError (a cut z, a record past the end), ekf_update's names
+    (x0, z) on numpy, a FilterDivergence blaming pos_err0_m on numba, or a compiled kernel
+    reading past a shortened z (the edit silently ignored)."""
+    inp = scenarios.prepare(days=0.01)
+    rep = dataclasses.replace
+    uv = inp.z["uv"]
+    nan_uv = uv.copy()
+    nan_uv[5, 0] = np.nan
+    cases = [
+        (rep(inp, z={**inp.z, "uv": uv[:-1]}), r"^inputs\.z\['uv'\] has 287 rows; inputs\.meas_idx"
+                                               r"\[:, 1\] uses 288"),
+        (rep(inp, z={**inp.z, "uv": uv[:10].copy()}), r"^inputs\.z\['uv'\] has 10 rows"),
+        (rep(inp, z={**inp.z, "uv": uv[:, :3]}), r"^inputs\.z\['uv'\] must have shape \(m, 4\), "
+                                                 r"got shape \(288, 3\)"),
+        (rep(inp, z={**inp.z, "uv": nan_uv}), r"^inputs\.z\['uv'\] must contain only finite "
+                                              r"numbers, got inputs\.z\['uv'\]\[5, 0\] = nan"),
+        (rep(inp, z={k: v for k, v in inp.z.items() if k != "cns"}),
+         r"^inputs\.z must have one entry a subsystem of the scenario \['xnav', 'uv', 'cns'\]"),
+        (rep(inp, x0=np.full(6, np.nan)), r"^inputs\.x0 must contain only finite numbers"),
+        (rep(inp, x0=np.zeros((1, 6))), r"^inputs\.x0 must have shape \(6,\), got shape \(1, 6\)"),
+        (rep(inp, record=np.array([0, 10**6])), r"^inputs\.record must hold epoch indices in "
+                                                r"\[0, 289\] \(n = 290 epochs\), got inputs\."
+                                                r"record\[1\] = 1000000"),
+        (rep(inp, record=inp.record[::-1].copy()), r"^inputs\.record must increase"),
+        (rep(inp, truth=inp.truth[:-1]), r"^inputs\.truth must have shape \(290, 6\)"),
+        (rep(inp, times=inp.times[::-1].copy()), r"^inputs\.times must increase"),
+    ]
+    for bad, msg in cases:
+        for backend in ("numba", "numpy"):
+            with pytest.raises(ValueError, match=msg):
+                scenarios.run(inputs=bad, backend=backend)
+    assert inp.check() is inp  # prepare's own: taken, and the numbers unchanged
+    a, b = scenarios.run(inputs=inp), scenarios.run(days=0.01)
+    assert np.array_equal(a.x, b.x) and np.array_equal(a.P, b.P)
+
+
+def test_save_npz_refuses_what_np_load_cannot_read_and_unexpanded_or_unwritable_paths(tmp_path,
+                                                                                        monkeypatch):
+    """Review 35o (5) 2, (7) 1, (7) 2: meta={'a': 1} or None were pickled (np.load refused
+    them), names '' and 'a/b' written as members, '~/x.npz' made a folder named '~', and
+    /proc/x.npz raised zipfile's FileNotFoundError."""
+    res = scenarios.run(days=0.01, subsystems=("uv",))
+    monkeypatch.chdir(tmp_path)
+    for value, kind in (({"a": 1}, "dict"), (None, "NoneType"), (np.array([{}]), "ndarray")):
+        with pytest.raises(ValueError, match=rf"^extra\['meta'\] must be an array of numbers, "
+                                             rf"bools or strings .*, got {kind} "):
+            res.save_npz("m.npz", meta=value)
+    for name in ("", "a/b"):
+        with pytest.raises(ValueError, match=rf"^extra\['{name}'\]: an array name must be an "
+                                             r"identifier"):
+            res.save_npz("m.npz", **{name: np.ones(2)})
+    with pytest.raises(ValueError, match=r"^path '~/x\.npz' starts with '~', which is not "
+                                         r"expanded here .*os\.path\.expanduser"):
+        res.save_npz("~/x.npz")
+    if os.path.isdir("/proc/self"):  # Linux: a folder where no file can be made
+        with pytest.raises(ValueError, match=r"^path '/proc/x\.npz' cannot be written: no file "
+                                             r"can be made in '/proc'"):
+            res.save_npz("/proc/x.npz")
+    assert sorted(p.name for p in tmp_path.iterdir()) == []  # nothing written, no '~' folder
+    res.save_npz("ok.npz", note=np.array("text"), flags2=[True, False])
+    with np.load("ok.npz") as data:
+        assert str(data["note"]) == "text" and data["flags2"].tolist() == [True, False]

@@ -12,10 +12,11 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from xnavlab.core.userfiles import as_path, output_path
 from xnavlab.core.validate import check_finite_array, check_instance, check_shape, check_text, shown
 
-__all__ = ["check_scenario", "check_names", "check_object", "check_extra", "check_active",
-           "check_gate", "check_beta"]
+__all__ = ["check_scenario", "check_names", "check_object", "check_inputs", "check_extra", "check_npz",
+           "check_active", "check_gate", "check_beta"]
 
 
 def check_scenario(name, value, kind):
@@ -52,12 +53,34 @@ def check_object(name, value, kind):
 
 def check_extra(extra, taken):
     """``extra`` (the named arrays of :meth:`~xnavlab.mars.navigation.scenarios.MarsRun.save_npz`)
-    if none of its names is one of the run's own arrays ``taken``, else one ValueError."""
+    if each name is an identifier not among the run's own arrays ``taken`` and each value an
+    array of numbers, bools or strings (what ``np.load`` reads back without pickle), else one
+    ValueError naming ``extra['name']`` (review 35o 5.2: a dict or None was pickled, a name
+    ``''`` or ``'a/b'`` written as ``.npy`` or a folder inside the npz)."""
     clash = [k for k in extra if k in taken]
     if clash:
         raise ValueError(f"extra[{clash[0]!r}] takes a name the npz already uses (taken: "
                          f"{', '.join(taken)}): give the array another name")
+    for key, value in extra.items():
+        if not key.isidentifier():
+            raise ValueError(f"extra[{key!r}]: an array name must be an identifier (letters, "
+                             f"digits, _; not a path or empty), got {key!r}")
+        kind = np.asarray(value).dtype.kind if not isinstance(value, dict | set) else "O"
+        if kind not in "biufcUS" or np.ma.isMaskedArray(value):
+            raise ValueError(f"extra[{key!r}] must be an array of numbers, bools or strings "
+                             f"(np.load reads nothing else without pickle), got "
+                             f"{type(value).__name__} {shown(value)}: store a dict as JSON "
+                             f"text, np.array(json.dumps(d))")
     return extra
+
+
+def check_npz(path, extra, taken):
+    """``path`` (a new ``.npz`` file, checked by :func:`~xnavlab.core.userfiles.output_path`,
+    its folder made) once ``path``'s name and ``extra`` (:func:`check_extra`) are checked."""
+    if not str(as_path(path, "path")).endswith(".npz"):
+        raise ValueError(f"path must name a file ending in .npz, got {str(path)!r}")
+    check_extra(extra, taken)
+    return output_path(path, "path")
 
 
 def check_active(active, n, subsystems):
@@ -119,3 +142,101 @@ def check_beta(beta, subsystems):
     if not np.all(arr > 0.0):
         raise ValueError(f"beta must hold positive information-sharing factors, got {arr.tolist()}")
     return arr
+
+
+def _finite(a):
+    """Whether every entry of the float array ``a`` is finite: a finite sum says so (a NaN or
+    inf carries into it) at a fifth of ``np.isfinite``'s cost; an overflow looks entry by entry."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        return bool(np.isfinite(np.sum(a))) or bool(np.isfinite(a).all())
+
+
+def _array(name, value, shape, kind="f"):
+    """``value`` if it is a numpy array of ``kind`` (float64 or integer) and ``shape`` (None:
+    any length), finite, else one ValueError naming ``name`` (nothing is copied or cast)."""
+    want = "float64" if kind == "f" else "integer"
+    ok = isinstance(value, np.ndarray) and (value.dtype == np.float64 if kind == "f"
+                                            else value.dtype.kind in "iu")
+    if not ok:
+        raise ValueError(f"{name} must be a {want} array as prepare() makes it, got "
+                         f"{type(value).__name__} {getattr(value, 'dtype', '')} {shown(value)}")
+    if value.ndim != len(shape) or any(w is not None and w != s
+                                       for w, s in zip(shape, value.shape, strict=True)):
+        want = ", ".join("m" if w is None else str(w) for w in shape)
+        raise ValueError(f"{name} must have shape ({want}{',' if len(shape) == 1 else ''}), got "
+                         f"shape {value.shape}")
+    if kind == "f" and value.size and not _finite(value):
+        bad = tuple(int(i) for i in np.argwhere(~np.isfinite(value))[0])
+        raise ValueError(f"{name} must contain only finite numbers, got {name}"
+                         f"[{', '.join(map(str, bad))}] = {value[bad]}")
+    return value
+
+
+def check_inputs(name, inputs, kind, subsystems_all):
+    """``inputs`` if it is a ``kind`` (:class:`~xnavlab.mars.navigation.scenarios.Inputs`) whose
+    arrays agree with each other, else one ValueError naming ``inputs.<field>`` (review 35o S:
+    an Inputs edited with ``dataclasses.replace`` gave an IndexError, ekf_update's names, or a
+    compiled kernel reading past a shortened ``z``). Checked: ``times`` (n,) increasing,
+    ``truth`` (n, 6), ``x0`` (6,), ``meas_idx`` (n, ns) in [-1, rows), the keys of ``z`` and
+    ``t_meas`` the scenario's subsystems, each ``z[s]`` exactly the rows ``meas_idx`` uses and
+    its sensor's columns, ``xnav_bodies`` one row per XNAV measurement, ``record`` increasing
+    in [0, n); the float arrays finite. Nothing is copied or changed (about 1 % of a run).
+    ``subsystems_all``: the names the sensors must hold (the compiled kernel reads all three).
+    """
+    check_object(name, inputs, kind)
+    sc = inputs.scenario
+    subs = tuple(sc.subsystems)
+    ns = len(subs)
+    times = _array(f"{name}.times", inputs.times, (None,))
+    n = times.size
+    if n < 1:
+        raise ValueError(f"{name}.times must hold at least one epoch, got none")
+    if n > 1 and not np.all(times[1:] > times[:-1]):
+        k = int(np.argmax(~(np.diff(times) > 0))) + 1
+        raise ValueError(f"{name}.times must increase, got times[{k}] = {times[k]!r} after "
+                         f"times[{k - 1}] = {times[k - 1]!r}")
+    _array(f"{name}.truth", inputs.truth, (n, 6))
+    _array(f"{name}.x0", inputs.x0, (6,))
+    idx = _array(f"{name}.meas_idx", inputs.meas_idx, (n, ns), "i")
+    sens = inputs.sensors
+    if not isinstance(sens, dict) or not all(s in sens for s in subsystems_all):
+        raise ValueError(f"{name}.sensors must be the dict of sensors prepare() makes (keys "
+                         f"{list(subsystems_all)}), got {shown(sens)}")
+    for field in ("z", "t_meas"):
+        d = getattr(inputs, field)
+        if not isinstance(d, dict) or sorted(d) != sorted(subs):
+            keys = sorted(map(str, d)) if isinstance(d, dict) else type(d).__name__
+            raise ValueError(f"{name}.{field} must have one entry a subsystem of the scenario "
+                             f"{list(subs)}, got {keys}")
+    cols = {"xnav": sens["xnav"].dim, "uv": 4, "cns": sens["cns"].dim}
+    for i, s in enumerate(subs):
+        col = idx[:, i]
+        if col.size and col.min() < -1:
+            k = int(np.argmin(col))
+            raise ValueError(f"{name}.meas_idx[{k}, {i}] must be -1 (no {s} measurement) or a row "
+                             f"of {name}.z[{s!r}], got {int(col[k])}")
+        rows = int(col.max()) + 1 if col.size else 0
+        z = _array(f"{name}.z[{s!r}]", inputs.z[s], (None, cols[s]))
+        if z.shape[0] != rows:
+            raise ValueError(f"{name}.z[{s!r}] has {z.shape[0]} rows; {name}.meas_idx[:, {i}] uses "
+                             f"{rows} (rows 0..{rows - 1}): one row a measurement")
+        _array(f"{name}.t_meas[{s!r}]", inputs.t_meas[s], (rows,))
+    m_x = inputs.z["xnav"].shape[0] if "xnav" in subs else None
+    bodies = inputs.xnav_bodies
+    if not isinstance(bodies, tuple) or len(bodies) != 2:
+        raise ValueError(f"{name}.xnav_bodies must be a tuple (Mars, Sun positions), got "
+                         f"{shown(bodies)}")
+    for j in range(2):  # Mars, Sun positions at the XNAV epochs
+        _array(f"{name}.xnav_bodies[{j}]", bodies[j], (m_x, 3))
+    rec = _array(f"{name}.record", inputs.record, (None,), "i")
+    if rec.size == 0:
+        raise ValueError(f"{name}.record must hold at least one epoch index, got none")
+    if rec.min() < 0 or rec.max() >= n:
+        j = int(np.argmax((rec < 0) | (rec >= n)))
+        raise ValueError(f"{name}.record must hold epoch indices in [0, {n - 1}] (n = {n} "
+                         f"epochs), got {name}.record[{j}] = {int(rec[j])}")
+    if rec.size > 1 and not np.all(np.diff(rec) > 0):
+        j = int(np.argmax(~(np.diff(rec) > 0))) + 1
+        raise ValueError(f"{name}.record must increase (each epoch once), got {name}.record[{j}] "
+                         f"= {int(rec[j])} after {int(rec[j - 1])}")
+    return inputs

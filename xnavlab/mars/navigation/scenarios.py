@@ -62,7 +62,6 @@ import numpy as np
 from xnavlab.core import ephemeris
 from xnavlab.core.constants import DAY, GM_MARS, C
 from xnavlab.core.federated import MODES, FederatedFilter
-from xnavlab.core.userfiles import as_path, output_path
 from xnavlab.core.validate import (
     check_bool,
     check_choice,
@@ -421,6 +420,11 @@ class Inputs:
     def n(self):
         return self.times.size
 
+    def check(self, name="inputs"):
+        """``self`` if its arrays agree (shapes, keys, finite values, ``record`` increasing in
+        [0, n)), else one ValueError naming ``<name>.<field>``: an Inputs edited by hand."""
+        return _run_checks.check_inputs(name, self, Inputs, SUBSYSTEMS)
+
 
 # ------------------------------------------------------------------ preparation
 
@@ -665,18 +669,16 @@ class MarsRun:
         """Write the recorded time series (and ``extra`` named arrays) to ``path`` (npz).
 
         ``path`` names a file ending in ``.npz`` (numpy would append it to any other name and
-        write a sibling); a missing parent folder is made; a folder, a file on the way or an
-        unwritable folder is one ValueError naming the path, before anything is written. An
-        ``extra`` name of one of the run's own arrays is refused (it would replace it).
+        write a sibling); a missing parent folder is made; a folder, a file on the way, an
+        unwritable folder or a leading ``~`` is one ValueError naming the path, before anything
+        is written. ``extra``: identifiers, not the run's names; arrays of numbers or text.
         """
-        if not str(as_path(path, "path")).endswith(".npz"):
-            raise ValueError(f"path must name a file ending in .npz, got {str(path)!r}")
         own = dict(t=self.t, x=self.x, P=self.P, truth=self.truth, x_local=self.x_local,
                    P_local_diag=self.P_local_diag, position_error=self.position_error(),
                    velocity_error=self.velocity_error(), nis=self.nis, flags=self.flags,
                    times=self.times, subsystems=np.array(self.scenario.subsystems))
-        _run_checks.check_extra(extra, [*own, "file", "allow_pickle"])  # np.savez_compressed's
-        np.savez_compressed(output_path(path, "path"), **own, **extra)
+        path = _run_checks.check_npz(path, extra, [*own, "file", "allow_pickle"])  # savez's too
+        np.savez_compressed(path, **own, **extra)
 
 
 def run_options(inp, active, gate):
@@ -705,7 +707,7 @@ def run(scenario=None, *, backend="numba", inputs=None, active=None, gate=None,
     backend : {"numba", "numpy"}
         Compiled kernel or the readable loop (same estimates).
     inputs : Inputs, optional
-        Reuse :func:`prepare`'s output (same scenario).
+        Reuse :func:`prepare`'s output (same scenario; checked by :meth:`Inputs.check`).
     active : array_like of bool, shape (n, ns), optional
         Whether each subsystem is connected at each epoch (default all), True/False or 1/0
         (another number is refused, not cast): a switched-out subsystem does time updates
@@ -734,7 +736,8 @@ def run(scenario=None, *, backend="numba", inputs=None, active=None, gate=None,
         inputs = prepare(scenario, **overrides)
     elif scenario is not None or overrides:
         raise ValueError("pass either inputs or a scenario (with overrides), not both")
-    _run_checks.check_object("inputs", inputs, Inputs)
+    else:  # shapes, finite values, keys and records agree (an Inputs edited by hand)
+        _run_checks.check_object("inputs", inputs, Inputs).check()
     active, gate, beta = run_options(inputs, active, gate)
     t_start = time.perf_counter()
     if backend == "numba":
