@@ -501,7 +501,7 @@ def test_merge_events_refuses_what_is_no_list_of_events(events, words):
 
 @pytest.mark.parametrize("bad", [None, {}, "inputs"])
 def test_inject_inputs_refuses_what_is_no_inputs(bad):  # review 35d D37: AttributeError
-    with pytest.raises(ValueError, match=r"^inputs must be a scenarios.Inputs \(scenarios.prepare\), "
+    with pytest.raises(ValueError, match=r"^inputs must be an Inputs from scenarios.prepare\(\), "
                                          r"got "):
         ft.inject_inputs(bad, [Fault("uv", "step", 1e3, 1000.0, 10.0)])
 
@@ -632,7 +632,7 @@ def test_readmit_clear_refuses_the_window_tests_settings(kw, name):
 
 @pytest.mark.parametrize("spec, words", [
     ("uv.range:step:5@", r"^faults: bad fault item 'uv.range:step:5@'"),
-    (" ", r"^faults must be 'paper' or a fault spec"),
+    (" ", r"^faults is empty \(' '\): pass \[\] \(or leave it out\) for no faults"),  # 35o C1
     ("uv.range:stuck:5@1000+10", r"^faults: bad fault item .*: magnitude of a stuck fault must be 0"),
 ])
 def test_a_fault_spec_string_is_refused_under_faults(inputs, spec, words):
@@ -640,3 +640,23 @@ def test_a_fault_spec_string_is_refused_under_faults(inputs, spec, words):
     parse_faults' parameter."""
     with pytest.raises(ValueError, match=words):
         ft.run_fault_tolerant(faults=spec, inputs=inputs, detector="wavelet", train_days=TRAIN)
+
+
+def test_edited_inputs_and_an_empty_fault_spec_are_refused_by_name(inputs):
+    """Review 35o (1) 3-4, (5) 1, C1: an Inputs edited by hand reached the compiled kernel (a cut
+    z read past its end, a NaN x0 blamed on pos_err0_m); faults='' was refused as a bad spec
+    while the CLI's --faults '' says to leave it out."""
+    import dataclasses
+
+    cut = dataclasses.replace(inputs, z={**inputs.z, "uv": inputs.z["uv"][:10]})
+    for call in (lambda: ft.run_fault_tolerant(faults=HAND[:1], detector="none", inputs=cut),
+                 lambda: ft.inject_inputs(cut, HAND[:1])):
+        with pytest.raises(ValueError, match=r"^inputs\.z\['uv'\] has 10 rows; inputs\.meas_idx"):
+            call()
+    nan_x0 = dataclasses.replace(inputs, x0=np.full(6, np.nan))
+    with pytest.raises(ValueError, match=r"^inputs\.x0 must contain only finite numbers"):
+        ft.run_fault_tolerant(faults=HAND[:1], detector="chi2", inputs=nan_x0)
+    for empty in ("", "  "):
+        with pytest.raises(ValueError, match=r"^faults is empty \(.*\): pass \[\] \(or leave it "
+                                             r"out\) for no faults, 'paper', or a fault spec"):
+            ft.run_fault_tolerant(faults=empty, detector="none", inputs=inputs)

@@ -179,10 +179,10 @@ def inject_inputs(inputs, faults, rng=None):
     """A copy of a run's :class:`~xnavlab.mars.navigation.scenarios.Inputs` with the faults in its
     measurements.
 
-    Fault times are seconds since the start (``inputs.times[0]``). ``inputs`` must be an Inputs.
+    Fault times are seconds since the start (``inputs.times[0]``). ``inputs`` must be an Inputs
+    whose arrays agree (:meth:`~xnavlab.mars.navigation.scenarios.Inputs.check`).
     """
-    if not isinstance(inputs, scenarios.Inputs):  # (None gave an AttributeError)
-        raise ValueError(f"inputs must be a scenarios.Inputs (scenarios.prepare), got {inputs!r:.80}")
+    check_instance("inputs", inputs, scenarios.Inputs, "an Inputs from scenarios.prepare()").check()
     t0 = float(inputs.times[0])
     rng = make_rng(rng)
     faults = check_faults("faults", faults)  # a spec string: read it with parse_faults first
@@ -421,7 +421,7 @@ def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=
         inputs = scenarios.prepare(scenario, **overrides)
     else:
         check_instance("inputs", inputs, scenarios.Inputs, "an Inputs from scenarios.prepare()")
-        if scenario is not None or overrides:
+        if scenario is not None or overrides:  # its arrays: inject_inputs (Inputs.check)
             raise ValueError("pass either inputs or a scenario (with overrides), not both")
     sc = inputs.scenario
     _checks.check_settings(detector, {"xnav_level": xnav_level, "xnav_holdoff": xnav_holdoff},
@@ -432,6 +432,9 @@ def run_fault_tolerant(scenario=None, faults=(), detector="combined", *, inputs=
                          f"shorter than the run, days = {sc.days:g} ({sc.span:g} s): run at "
                          f"least days = {math.ceil(arm_s / DAY * 1e4 + 1) / 1e4:g} or lower arm_s")
     paper = isinstance(faults, str) and faults.strip() == "paper"
+    if isinstance(faults, str) and not faults.strip():  # review 35o C1: as the CLI's --faults ""
+        raise ValueError(f"faults is empty ({faults!r}): pass [] (or leave it out) for no faults, "
+                         f"'paper', or a fault spec SENSOR[.COMPONENT]:KIND:MAGNITUDE@ONSET+DURATION")
     if isinstance(faults, str):
         try:
             faults = parse_faults(faults, sc)
