@@ -228,3 +228,21 @@ def test_simulate_sensors_refuses_the_truth_of_another_config():
     a = att.simulation.simulate_sensors(cfg, truth=truth)
     b = att.simulation.simulate_sensors(cfg)
     assert np.array_equal(a[1], b[1]) and np.array_equal(a[2], b[2])
+
+
+@pytest.mark.parametrize("changes, words", [
+    ({"duration": 20.0}, r"^duration must be at least 40 s with the default calibration window "
+                         r"t_cal = \(20, 40\) s, got 20 s: lengthen it or give t_cal$"),
+    ({"dt": 6.0, "duration": 60.0}, r"^dt must be at most 5 s with the default qdiff_window_s = "
+                                    r"10 s \(two samples at least\), got 6 s"),
+    ({"t_cal": (20.0, 25.0)}, r"^t_cal must leave an estimate for the default qdiff_window_s = "
+                              r"10 s: .*got t_cal = \(20\.0, 25\.0\)"),
+    ({"qdiff_window_s": 50.0}, r"^qdiff_window_s must leave an estimate inside t_cal: .*got "
+                               r"w = 50\.0, t_cal = \(20\.0, 40\.0\)$"),
+])
+def test_a_default_setting_is_named_as_the_default_the_given_one_clashes_with(changes, words):
+    """Review 35o (3) 1 (pattern U): make_config(duration=20) said 't_cal must satisfy ...
+    got [20. 40.]', naming the default t_cal as if the user had typed it."""
+    with pytest.raises(ValueError, match=words):
+        att.simulation.make_config(**changes)
+

@@ -201,6 +201,11 @@ class SimConfig:
         put("n_sigma", check_real("n_sigma", self.n_sigma, 0.01, 30.0))
         cal = check_finite_array("t_cal", self.t_cal, shape=(2,))
         last = (self.n - 1) * dt  # the last sample's time (duration to 1e-9 of it)
+        default_cal = tuple(cal.tolist()) == _default("t_cal")  # review 35o 3.1: the user gave
+        if default_cal and cal[1] > last:  # duration only: name it, and the default it meets
+            raise ValueError(f"duration must be at least {cal[1]:g} s with the default "
+                             f"calibration window t_cal = ({cal[0]:g}, {cal[1]:g}) s, got "
+                             f"{duration:g} s: lengthen it or give t_cal")
         if cal.ndim != 1 or not (0.0 <= cal[0] < cal[1] <= last):
             raise ValueError(f"t_cal must satisfy 0 <= t_cal[0] < t_cal[1] <= duration (the last "
                              f"sample, {last:g} s), got {cal}")
@@ -209,11 +214,21 @@ class SimConfig:
         put("t_cal", tuple(cal.tolist()))
         put("persist", check_int("persist", self.persist, 1, 10**6))
         put("confirm_s", check_real("confirm_s", self.confirm_s, 0.0, 86400.0))
-        w = put("qdiff_window_s", check_real("qdiff_window_s", self.qdiff_window_s, 2 * dt))
+        w = self.qdiff_window_s
+        w_default = isinstance(w, float) and w == _default("qdiff_window_s")
+        if w_default and w < 2 * dt:  # dt given, the window the default
+            raise ValueError(f"dt must be at most {w / 2:g} s with the default qdiff_window_s = "
+                             f"{w:g} s (two samples at least), got {dt:g} s: lower it or give "
+                             f"qdiff_window_s")
+        w = put("qdiff_window_s", check_real("qdiff_window_s", w, 2 * dt))
+        if max(w, cal[0] + 0.5 * w) >= cal[1] and w_default and not default_cal:  # t_cal given
+            raise ValueError(f"t_cal must leave an estimate for the default qdiff_window_s = "
+                             f"{w:g} s: need max(w, t_cal[0] + w/2) < t_cal[1], got t_cal = "
+                             f"{tuple(cal.tolist())}: widen it or give qdiff_window_s")
         if max(w, cal[0] + 0.5 * w) >= cal[1]:
             raise ValueError(
                 "qdiff_window_s must leave an estimate inside t_cal: need "
-                f"max(w, t_cal[0] + w/2) < t_cal[1], got w = {w}, t_cal = {tuple(cal)}"
+                f"max(w, t_cal[0] + w/2) < t_cal[1], got w = {w}, t_cal = {tuple(cal.tolist())}"
             )
         put("dos", check_bool("dos", self.dos))
 
@@ -221,6 +236,11 @@ class SimConfig:
     def n(self):
         """Number of samples."""
         return int(round(self.duration / self.dt)) + 1
+
+
+def _default(name):
+    """A SimConfig field's default (a message names a default the user did not give as such)."""
+    return SimConfig.__dataclass_fields__[name].default
 
 
 # the signature shown (help, the API page) is the fields', not __new__'s (*args, **kwargs)
