@@ -160,10 +160,10 @@ def test_kernel_still_html_names_an_opening_error(monkeypatch):
     ("kwargs", "match"),
     [
         ({"phase": 0.0}, "at least one parameter grid"),
-        ({"omega": []}, "grid omega is empty"),
+        ({"omega": []}, "omega is an empty grid"),
         ({"omega": [1.0], "main": "phase"}, "main must be one of"),
-        ({"omega": [1.0, 2.0], "initial": {"omega": 1.5}}, "initial value of omega"),
-        ({"omega": [1.0], "initial": {"nope": 1}}, "initial must be one of"),
+        ({"omega": [1.0, 2.0], "initial": {"omega": 1.5}}, r"initial\['omega'\] must be one of"),
+        ({"omega": [1.0], "initial": {"nope": 1}}, r"initial\['nope'\] is not a grid parameter"),
         ({"omega": [1.0], "max_frames": 1}, "max_frames"),
         ({"omega": [1.0], "dpi": 1000}, "dpi"),
     ],
@@ -176,7 +176,7 @@ def test_bad_input(kwargs, match):
 def test_plot_must_return_figure():
     with pytest.raises(ValueError, match="plot must return a matplotlib Figure"):
         explore(lambda omega: None, omega=[1.0]).frames()
-    with pytest.raises(ValueError, match="plot must be callable"):
+    with pytest.raises(ValueError, match="plot must be a function"):
         explore(3, omega=[1.0])
 
 
@@ -856,3 +856,75 @@ def test_explore_keeps_max_frames_and_dpi_as_checked():
     to the Explorer (np.uint8 arithmetic wraps at 256)."""
     ex = explore(wave, omega=np.linspace(1.0, 2.0, 21), max_frames=np.uint8(5), dpi=np.int64(80))
     assert type(ex.dpi) is int and ex.frame_values == [1.0, 1.25, 1.5, 1.75, 2.0]
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"initial": [1.0]}, r"^initial must be a dict \{grid name: opening value\}, got list"),
+        ({"initial": "om"}, r"^initial must be a dict .*got str 'om'"),
+        ({"initial": 0}, r"^initial must be a dict"),  # not taken as "no initial"
+        ({"initial": {"phase": 0.0}}, r"^initial\['phase'\] is not a grid parameter"),
+        ({"initial": {"omega": np.array([1.0, 2.0])}}, r"^initial\['omega'\] must be one of"),
+        ({"initial": {"omega": 1j}}, r"^initial\['omega'\] must be one of"),
+        ({"initial": {"omega": True}}, r"^initial\['omega'\] must be one of"),  # not 1.0
+        ({"omegaa": [1.0, 2.0]}, r"^omegaa is not a keyword of explore or of wave.*did you mean "
+                                 "omega"),
+        ({"ahead": "no"}, r"^ahead must be True or False, got 'no'"),
+        ({"ahead": 0.5}, r"^ahead must be True or False"),
+        ({"omega": np.array([[1.0, 2.0], [3.0, 4.0]])}, r"^omega must be a grid .*shape \(2, 2\)"),
+        ({"omega": np.array(2.0)}, r"^omega must be a grid .*shape \(\)"),
+        ({"phase": (x for x in [1.0])}, r"^phase must be a grid .*got generator"),
+        ({"omega": [1.0, np.nan]}, r"^omega\[1\] is NaN"),
+        ({"omega": [1.0, 2.0, 1.0 + 1e-12]}, r"^omega\[2\] is omega\[0\] again"),
+        ({"main": ["omega"]}, r"^main must be the name of a grid parameter \(str\), got list"),
+        ({"main": np.array(["omega", "x"])}, r"^main must be the name of a grid parameter"),
+    ],
+)
+def test_explore_refuses_each_keyword_of_the_wrong_kind_by_its_name(kwargs, match):
+    """Review 35o 1.1, 1.2, 2.1, 5.3, 5.4 and pattern T: a list or str for initial went to
+    dict() (a raw TypeError, or Python's bare "dictionary update sequence"); a misspelt grid
+    name was taken and raised in plot at the first frame; ahead="no" or 0.5 turned the worker
+    on (bool()); a 2-D grid was flattened; a generator was used up by the first frame; a NaN
+    or repeated grid value made a position no initial could name; a 2-value array for main
+    or an initial value raised numpy's "truth value ... is ambiguous"."""
+    kwargs = {"omega": [1.0, 2.0], **kwargs}
+    with pytest.raises(ValueError, match=match):
+        explore(wave, **kwargs)
+
+
+def test_explore_refuses_a_plot_missing_a_parameter_it_needs_and_takes_bool_grids():
+    """Review 35o pattern T: plot's required parameter left out raised plot's TypeError at the
+    first frame, not at explore."""
+    def needs(omega, phase=0.0):
+        return wave(omega, phase)
+
+    with pytest.raises(ValueError, match=r"^plot needs omega: give each a grid or a value"):
+        explore(needs, phase=[0.0, 1.0])
+    ex = explore(wave, omega=[1.0, 2.0], style=["-", ":"], ahead=np.True_,
+                 initial={"omega": np.float64(2.0), "style": ":"})
+    assert ex.ahead is True and ex.initial == {"omega": 2.0, "style": ":"}
+    flags = explore(lambda on=True: wave(1.0 + on), on=[True, False], initial={"on": False})
+    assert flags.initial == {"on": False}
+    with pytest.raises(ValueError, match=r"^initial\['on'\] must be one of"):
+        explore(lambda on=True: wave(), on=[True, False], initial={"on": 0})
+    with pytest.raises(ValueError, match=r"^phasee is not a keyword of figure or of wave"):
+        ex.figure(phasee=1.0)
+
+
+def test_frame_helpers_refuse_what_is_not_a_figure_or_a_setting():
+    """Review 35o pattern T: live_png(None), SteadyLayout().png(fig, dpi="x") or
+    compress_level=20, error_line("x") gave AttributeError, TypeError, OSError or a line for
+    a non-exception."""
+    with pytest.raises(ValueError, match=r"^fig must be a matplotlib Figure, got NoneType"):
+        widgets.live_png(None)
+    with pytest.raises(ValueError, match=r"^layout must be a SteadyLayout"):
+        widgets.live_png(Figure(), layout=3)
+    with pytest.raises(ValueError, match=r"^dpi must be"):
+        widgets.SteadyLayout().png(Figure(), dpi="x")
+    with pytest.raises(ValueError, match=r"^compress_level must be an integer in \[0, 9\]"):
+        widgets.SteadyLayout().png(Figure(), compress_level=20)
+    with pytest.raises(ValueError, match=r"^fig must be a matplotlib Figure, got str"):
+        widgets.SteadyLayout().prepare("fig")
+    with pytest.raises(ValueError, match=r"^exc must be an exception, got str"):
+        widgets.error_line("x")

@@ -44,7 +44,8 @@ import numpy as np
 
 from xnavlab.core.diskcache import cache_dir, code_digest, env_switch, store
 
-__all__ = ["DiskFrames", "FRAME_CACHE_ENV", "FRAME_CACHE_BYTES", "FRAMES_SUBDIR", "prune"]
+__all__ = ["DiskFrames", "FRAME_CACHE_ENV", "FRAME_CACHE_BYTES", "FRAMES_SUBDIR", "prune",
+           "check_png_args"]
 
 #: The environment variable that turns the frames on disk off (``"0"``).
 FRAME_CACHE_ENV = "XNAVLAB_FRAME_CACHE"
@@ -215,6 +216,34 @@ class DiskFrames:
         if _writes["n"] % _PRUNE_EVERY == 0:
             prune(path.parent)
         return True
+
+
+def check_png_args(fig, dpi=None, compress_level=6, layout=None, layout_class=None):
+    """Check the arguments of a frame's PNG (:func:`xnavlab.core.widgets.live_png`,
+    :meth:`xnavlab.core.widgets.SteadyLayout.png`): one ValueError naming the first one wrong.
+
+    ``fig`` a matplotlib Figure, ``dpi`` None or a number in [1, 1000], ``compress_level`` an
+    integer in [0, 9] and ``layout`` None or an instance of ``layout_class``.
+
+    Examples
+    --------
+    >>> from matplotlib.figure import Figure
+    >>> check_png_args(Figure(), dpi=80)
+    >>> check_png_args(Figure(), compress_level=10)
+    Traceback (most recent call last):
+    ...
+    ValueError: compress_level must be an integer in [0, 9], got 10
+    """
+    from matplotlib.figure import Figure
+
+    from xnavlab.core import validate
+
+    validate.check_instance("fig", fig, Figure, "a matplotlib Figure")
+    if dpi is not None:
+        validate.check_real("dpi", dpi, 1, 1000)
+    validate.check_int("compress_level", compress_level, 0, 9)
+    if layout is not None:
+        validate.check_instance("layout", layout, layout_class, "a SteadyLayout (or None)")
 
 
 def prune(directory, max_bytes=None):

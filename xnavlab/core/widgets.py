@@ -67,20 +67,21 @@ from __future__ import annotations
 import base64
 import functools
 import html as _html
+import inspect
 import io
 import json
 import weakref
-from collections.abc import Callable
-from numbers import Number
+from collections.abc import Callable, Iterator
+from numbers import Number, Real
 
 import numpy as np
 
+from xnavlab.core import validate
 from xnavlab.core._ahead import RENDER_LOCK, AheadWorker, Failed, FrameCache, foreground
-from xnavlab.core._frames import DiskFrames
+from xnavlab.core._frames import DiskFrames, check_png_args
 from xnavlab.core._render import recording_canvas_class
 from xnavlab.core.diskcache import env_switch
 from xnavlab.core.plotting import updater
-from xnavlab.core.validate import check_choice, check_int
 
 __all__ = ["explore", "Explorer", "SteadyLayout", "error_line", "live_png", "ahead_default",
            "BUSY", "LIVE_MEMO_FRAMES", "FRAMES_ENV", "AHEAD_ENV", "MAX_MISFITS"]
@@ -119,7 +120,24 @@ _ONINPUT = (
 
 
 def _is_grid(value):
-    return isinstance(value, list | tuple | range | np.ndarray) and not isinstance(value, str)
+    return isinstance(value, list | tuple | range | np.ndarray | Iterator)
+
+
+def _grid(name, value):
+    """The grid ``name`` as a list of plain values: 1-D, not empty, no NaN, no value twice."""
+    if isinstance(value, Iterator) or isinstance(value, np.ndarray) and value.ndim != 1:
+        got = f"shape {value.shape}" if isinstance(value, np.ndarray) else type(value).__name__
+        raise ValueError(f"{name} must be a grid (a list, tuple, range or 1-D array) or one value "
+                         f"passed through, got {got} (write a list, or use functools.partial)")
+    values = [v.item() if isinstance(v, np.generic) else v for v in value]  # plot gets plain ones
+    if not values:
+        raise ValueError(f"{name} is an empty grid; give at least one value")
+    for i, v in enumerate(values):
+        j = _index(values[:i], v, None)
+        if j is not None or isinstance(v, float) and np.isnan(v):
+            what = "NaN" if j is None else f"{name}[{j}] again ({_label(v)})"
+            raise ValueError(f"{name}[{i}] is {what}: each grid value must be one position")
+    return values
 
 
 def _label(value):
@@ -128,11 +146,6 @@ def _label(value):
     if isinstance(value, np.generic):
         return str(value.item())
     return str(value)
-
-
-def _plain(value):
-    """A grid value as a plain Python scalar (what the plotting function receives)."""
-    return value.item() if isinstance(value, np.generic) else value
 
 
 class Explorer:
@@ -210,6 +223,7 @@ class Explorer:
     # -- the kernel-free scrubber ---------------------------------------------------------
     def figure(self, **values):
         """Call ``plot`` with the initial values updated by ``values``; return the Figure."""
+        values = validate.check_keywords("figure", values, self.plot)
         kwargs = {**self.fixed, **self.initial, **values}
         fig = self.plot(**kwargs)
         from matplotlib.figure import Figure
@@ -494,6 +508,7 @@ class SteadyLayout:
         """
         from matplotlib.layout_engine import PlaceHolderLayoutEngine
 
+        check_png_args(fig)
         engine = fig.get_layout_engine()
         if engine is None or isinstance(engine, PlaceHolderLayoutEngine):
             engine = self._engines.get(fig)  # a figure prepared before, updated in place
@@ -540,6 +555,7 @@ class SteadyLayout:
         A kept layout whose drawn texts stick out of the figure or into another axes (see the
         class) is replaced: the frame is laid out by its own engine and drawn again.
         """
+        check_png_args(fig, dpi, compress_level)
         how = self.prepare(fig)
         if how == "fixed":  # drawn as it is (on the shared renderer)
             png = _png_checked(fig, dpi, compress_level, check=False)[0]
@@ -674,6 +690,7 @@ def live_png(fig, layout=None):
     >>> png[:8] == b"\\x89PNG\\r\\n\\x1a\\n"
     True
     """
+    check_png_args(fig, layout=layout, layout_class=SteadyLayout)
     if layout is not None:
         return layout.png(fig, compress_level=1)
     buf = io.BytesIO()
@@ -702,6 +719,7 @@ def error_line(exc):
     >>> error_line(ZeroDivisionError())
     'error: ZeroDivisionError'
     """
+    validate.check_instance("exc", exc, BaseException, "an exception")
     lines = str(exc).strip().splitlines()
     text = f"error: {type(exc).__name__}" + (f": {lines[0].strip()}" if lines else "")
     if len(text) > _ERROR_MAX_CHARS:
@@ -722,7 +740,7 @@ def explore(plot: Callable, *, main=None, initial=None, max_frames=12, dpi=80, a
     main : str, optional
         The parameter the HTML scrubber moves through; default the first grid parameter.
     initial : dict, optional
-        Opening value of grid parameters (must be one of the grid's values); default the
+        ``{grid name: opening value}`` (one of the grid's values); default the
         middle of the scrubber's frames for ``main`` and the middle value of other grids.
     max_frames : int, optional
         At most this many frames in the scrubber (2 to 60), spread evenly over the grid of
@@ -734,8 +752,9 @@ def explore(plot: Callable, *, main=None, initial=None, max_frames=12, dpi=80, a
         opening frame (see the module); default :func:`ahead_default` (on in a reader's
         kernel). The HTML scrubber is the same either way.
     **params
-        ``name=grid`` (a list, tuple, range or 1-D array of values: a control) or
-        ``name=value`` (passed unchanged). At least one grid is required.
+        ``name=grid`` (a list, tuple, range or 1-D array of values, each once and no NaN: a
+        control) or ``name=value`` (passed unchanged; not a generator), each a keyword ``plot``
+        takes, and every one it needs. At least one grid is required.
 
     Returns
     -------
@@ -746,8 +765,8 @@ def explore(plot: Callable, *, main=None, initial=None, max_frames=12, dpi=80, a
     Raises
     ------
     ValueError
-        No grid, an empty grid, ``main`` not a grid parameter, an ``initial`` value not in
-        its grid, ``max_frames`` or ``dpi`` out of range, or ``plot`` not returning a Figure.
+        An argument of the wrong kind or out of range (named), a keyword ``plot`` does not
+        take or needs, or ``plot`` not returning a Figure.
 
     Examples
     --------
@@ -769,30 +788,36 @@ def explore(plot: Callable, *, main=None, initial=None, max_frames=12, dpi=80, a
     ...
     ValueError: explore needs at least one parameter grid (name=[values...]), got only phase
     """
-    max_frames = check_int("max_frames", max_frames, 2, 60)  # an int, as checked: np.uint8 wraps
-    dpi = check_int("dpi", dpi, 30, 300)
-    if not callable(plot):
-        raise ValueError(f"plot must be callable, got {type(plot).__name__}")
-    grids, fixed = {}, {}
-    for name, value in params.items():
-        if _is_grid(value):
-            values = [_plain(v) for v in (value.ravel() if isinstance(value, np.ndarray) else value)]
-            if not values:
-                raise ValueError(f"grid {name} is empty; give at least one value")
-            grids[name] = values
-        else:
-            fixed[name] = value
+    max_frames = validate.check_int("max_frames", max_frames, 2, 60)  # an int: np.uint8 wraps
+    dpi = validate.check_int("dpi", dpi, 30, 300)
+    ahead = None if ahead is None else validate.check_bool("ahead", ahead)  # "no" is not True
+    validate.check_callable("plot", plot, "a function plot(**values) -> Figure")
+    validate.check_keywords("explore", params, plot)  # a misspelt name now, not at a frame
+    try:  # every parameter plot needs is given (a builtin has no signature: its own check)
+        need = [p.name for p in inspect.signature(plot).parameters.values() if p.default is p.empty
+                and p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY) and p.name not in params]
+    except (TypeError, ValueError):
+        need = []
+    if need:
+        raise ValueError(f"plot needs {', '.join(need)}: give each a grid or a value (name=...)")
+    grids = {name: _grid(name, value) for name, value in params.items() if _is_grid(value)}
+    fixed = {name: value for name, value in params.items() if name not in grids}
     if not grids:
         raise ValueError("explore needs at least one parameter grid (name=[values...]), got "
                          + (f"only {', '.join(fixed)}" if fixed else "no parameters"))
-    main = check_choice("main", next(iter(grids)) if main is None else main, tuple(grids))
-    initial = dict(initial or {})
+    if main is not None:
+        validate.check_instance("main", main, str, "the name of a grid parameter (str)")
+    main = validate.check_choice("main", next(iter(grids)) if main is None else main, tuple(grids))
+    initial = {} if initial is None else validate.check_instance(
+        "initial", initial, dict, "a dict {grid name: opening value}")
     for name in initial:
-        check_choice("initial", name, tuple(grids))
+        if not isinstance(name, str) or name not in grids:
+            raise ValueError(f"initial[{name!r}] is not a grid parameter: the grids are "
+                             + ", ".join(grids))
     start = {}
     for name, grid in grids.items():
         if name in initial:
-            start[name] = grid[_index(grid, initial[name], name)]
+            start[name] = grid[_index(grid, initial[name], f"initial[{name!r}]")]
         elif name == main:
             n = min(max_frames, len(grid))
             idx = sorted(set(np.round(np.linspace(0, len(grid) - 1, n)).astype(int).tolist()))
@@ -836,14 +861,20 @@ def _interactive_class(w):
 
 
 def _index(grid, value, name="value"):
-    """Index of ``value`` in ``grid`` (numbers compared with a relative tolerance)."""
+    """Index of ``value`` in ``grid`` (numbers within a relative 1e-9, a bool only as a bool,
+    arrays entry by entry); ``name`` None: None if absent."""
     for i, g in enumerate(grid):
-        if g == value or (isinstance(g, Number) and isinstance(value, Number)
-                          and not isinstance(g, bool)
-                          and np.isclose(float(g), float(value), rtol=1e-9, atol=0.0)):
+        if isinstance(g, np.ndarray) or isinstance(value, np.ndarray):
+            if np.array_equal(g, value):
+                return i
+        elif isinstance(g, bool | np.bool_) == isinstance(value, bool | np.bool_) and (
+                g == value or isinstance(g, Real) and isinstance(value, Real)
+                and np.isclose(float(g), float(value), rtol=1e-9, atol=0.0)):
             return i
-    raise ValueError(f"initial value of {name} must be one of its grid values "
-                     f"{[_label(g) for g in grid]}, got {value!r}")
+    if name is not None:
+        raise ValueError(f"{name} must be one of its grid values "
+                         f"{[_label(g) for g in grid]}, got {value!r}")
+    return None
 
 
 def _control(w, name, grid, value):
