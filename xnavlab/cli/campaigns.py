@@ -56,7 +56,7 @@ import os
 import sys
 
 from xnavlab.cli import UsageError, number
-from xnavlab.core.diskcache import cache_dir
+from xnavlab.core.diskcache import check_cache
 from xnavlab.core.userfiles import output_path
 from xnavlab.core.validate import SEED_MAX, check_int
 
@@ -247,7 +247,7 @@ def _common(args):
     if not args.local_cluster and not args.scheduler:
         workers = check_int("--workers", workers, 1, os.cpu_count() or 1)
     if not args.scheduler:  # runs here read the cache: refused before the folder is made
-        cache_dir()
+        check_cache()
     output_path(args.out, "--out", folder=True)  # made and writable before any run, once the
     # flags are checked (a bad flag leaves no folder behind)
     engine = "dask" if args.scheduler else ("local-cluster" if args.local_cluster else "local")

@@ -89,7 +89,7 @@ from xnavlab.core.campaign_records import (
     warn_again,
     why_not_a_record,
 )
-from xnavlab.core.diskcache import cache_dir
+from xnavlab.core.diskcache import check_cache
 from xnavlab.core.montecarlo import seeds as spawn_seeds
 from xnavlab.core.userfiles import InputWarning, as_path, path_kind, read_text
 from xnavlab.core.validate import check_bool, check_choice, check_int, check_real, check_seed, shown
@@ -725,7 +725,7 @@ def run_campaign(campaign, runs, *, seed=0, out=None, engine="local", workers=_W
         check_scheduler("scheduler", scheduler)  # malformed, not unreachable: before connecting
     _check_unused(engine, workers, timeout)
     if engine != "dask":  # runs here read the cache: an unusable $XNAVLAB_CACHE refused now
-        cache_dir()
+        check_cache()
     header = campaign.header(seed)
     run_seeds = spawn_seeds(seed, runs)
     params = [campaign.params(i) for i in range(runs)]

@@ -25,8 +25,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["cache_dir", "cached_arrays", "code_digest", "entry_path", "env_switch", "exclusive",
-           "load_array", "source_digest", "store"]
+__all__ = ["cache_dir", "check_cache", "cached_arrays", "code_digest", "entry_path", "env_switch",
+           "exclusive", "load_array", "source_digest", "store"]
 
 
 def env_switch(name, default):
@@ -99,6 +99,18 @@ def cache_dir():
         raise ValueError(f"XNAVLAB_CACHE must name a folder this process can write (or be unset: "
                          f"~/.cache/xnavlab); got {given!r} ({why})")
     return Path(given)
+
+
+def check_cache():
+    """Refuse an unusable ``$XNAVLAB_CACHE`` now, in one line naming it (:func:`cache_dir`'s
+    check), before work whose every step would read the cache: a campaign's runs. Nothing is
+    stored or returned.
+
+    Examples
+    --------
+    >>> check_cache()   # unset, or a folder this process can write: nothing to say
+    """
+    cache_dir()
 
 
 def cached_arrays(path, compute):
