@@ -215,3 +215,16 @@ def test_the_type_check_finds_a_type_the_book_cannot_resolve(type_lookup):
     assert _unresolved_types(doc.format("MarsScenario or None"), *type_lookup) == []
     assert _unresolved_types(doc.format("MarsScenaro"), *type_lookup) == ["MarsScenaro"]
     assert _unresolved_types(doc.format("array_like, shape (n, 3)"), *type_lookup) == []
+
+
+@pytest.mark.parametrize("modname", sorted(m for m in _modules() if "._" not in m))
+def test_a_reference_to_another_package_shows_its_package(modname):
+    """``:class:`~matplotlib.figure.Figure``` renders as a bare "Figure", which the page check
+    (tools/check_book.py) cannot tell from an unresolved xnavlab name: the CI failed on it."""
+    import importlib.util
+
+    module = importlib.import_module(modname)
+    found = [(where, ref) for where, doc in _docstrings(module) if doc
+             for ref in re.findall(r":\w+:`~((?!xnavlab\.|\.)[\w.]+)`", doc)
+             if importlib.util.find_spec(ref.split(".")[0]) is not None]  # another package's
+    assert not found, f"write the full name (no ~) of another package's object: {found}"

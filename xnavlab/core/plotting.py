@@ -60,7 +60,7 @@ def check_axes(name, ax, figure=None):
     A 3-D, polar or other projection's Axes, or an Axes removed from its figure, is refused
     before anything is drawn (they were matplotlib's TypeError, NotImplementedError or
     AttributeError half-way through a plot). ``fig`` is the Axes' root
-    :class:`~matplotlib.figure.Figure` (a subfigure's Axes: the figure holding it), the
+    ``matplotlib.figure.Figure`` (a subfigure's Axes: the figure holding it), the
     figure the plotting function returns.
 
     Parameters
