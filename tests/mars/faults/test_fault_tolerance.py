@@ -660,3 +660,46 @@ def test_edited_inputs_and_an_empty_fault_spec_are_refused_by_name(inputs):
         with pytest.raises(ValueError, match=r"^faults is empty \(.*\): pass \[\] \(or leave it "
                                              r"out\) for no faults, 'paper', or a fault spec"):
             ft.run_fault_tolerant(faults=empty, detector="none", inputs=inputs)
+
+
+@pytest.mark.parametrize(("field", "value", "words"), [
+    ("faults", "uv", r"^FaultTolerantRun\.faults must be a sequence of Fault, got the string 'uv'"),
+    ("detector", "wavlet", r"^FaultTolerantRun\.detector must be one of 'none', 'wavelet'"),
+    ("events", {"gps": []}, r"^FaultTolerantRun\.events must be a dict keyed by the run's "
+                            r"subsystems \['xnav', 'uv', 'cns'\]"),
+    ("events", {"uv": [1.0]}, r"^FaultTolerantRun\.events\['uv'\] must be a list of Event"),
+    ("isolated", "cut", r"^FaultTolerantRun\.isolated must be a bool array of shape \(\d+, 3\)"),
+    ("run", None, r"^FaultTolerantRun\.run must be a MarsRun, got NoneType None"),
+    ("wall_time", float("nan"), r"^FaultTolerantRun\.wall_time must be a real number"),
+])
+def test_an_edited_result_is_checked_by_field(runs, field, value, words):
+    """Review 35o C3: a FaultTolerantRun (or its MarsRun) edited with dataclasses.replace kept a
+    string for faults and raised an AttributeError in summary(); both results are frozen and
+    check their fields when made, naming the field."""
+    import dataclasses
+
+    res = runs["wavelet"]
+    if value == "cut":
+        value = res.isolated[:-1]
+    with pytest.raises(ValueError, match=words):
+        dataclasses.replace(res, **{field: value})
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        res.faults = []
+    assert dataclasses.replace(res).summary()["faults"] == res.summary()["faults"]
+
+
+@pytest.mark.parametrize(("field", "cut", "words"), [
+    ("x", lambda a: a[:-1], r"^MarsRun\.x must have shape \(\d+, 6\), got shape"),
+    ("P", lambda a: a * np.nan, r"^MarsRun\.P must contain only finite numbers, got MarsRun\.P\[0, 0, 0\]"),
+    ("flags", lambda a: a + 4, r"^MarsRun\.flags must hold 0 \(no measurement\), 1"),
+    ("t", lambda a: a[::-1].copy(), r"^MarsRun\.t must increase"),
+    ("nis", lambda a: a[:, :2], r"^MarsRun\.nis must have shape"),
+    ("backend", lambda a: "gpu", r"^MarsRun\.backend must be one of 'numba', 'numpy'"),
+])
+def test_an_edited_mars_run_is_checked_by_field(clean, field, cut, words):
+    import dataclasses
+
+    with pytest.raises(ValueError, match=words):
+        dataclasses.replace(clean, **{field: cut(getattr(clean, field))})
+    ok = dataclasses.replace(clean, nis=np.full_like(clean.nis, np.nan))  # NaN: no measurement
+    assert ok.metrics() == clean.metrics()

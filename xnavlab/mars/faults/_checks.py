@@ -11,12 +11,13 @@ import math
 
 import numpy as np
 
-from xnavlab.core.detection import MAX_SAMPLES
-from xnavlab.core.validate import check_choice, check_int, shown
+from xnavlab.core.detection import MAX_SAMPLES, Event
+from xnavlab.core.faults import check_faults
+from xnavlab.core.validate import check_choice, check_instance, check_int, check_real, shown
 from xnavlab.mars.navigation.scenarios import SUBSYSTEMS
 
 __all__ = ["DETECTOR_SETTINGS", "XNAV_SETTINGS", "READMIT_SAMPLES", "check_settings",
-           "readmit_windows", "not_1d", "check_isolations"]
+           "readmit_windows", "not_1d", "check_isolations", "check_result"]
 
 #: Setting -> (the detectors that use it, its default): another detector with a setting away
 #: from its default is refused (the scenario file's rule, ``DETECTOR_USES``). ``readmit_alpha``
@@ -115,3 +116,34 @@ def check_isolations(isolations, sensors):
             raise ValueError(f"isolations[{i}]['back'] must come after its out ({iv['out']:g} s) "
                              f"or be None (still out at the end), got {iv['back']!r}")
     return isolations
+
+
+def check_result(res, run_kind, detectors, components):
+    """``res`` (a :class:`~xnavlab.mars.faults.fault_tolerance.FaultTolerantRun`) if its fields
+    agree with its run, else one ValueError naming ``FaultTolerantRun.<field>`` (review 35o C3:
+    ``dataclasses.replace(res, faults="uv")`` gave an AttributeError in ``summary()``).
+    Checked: ``run`` a ``run_kind`` (itself checked when made); ``faults`` a sequence of Fault
+    on the run's ``components(scenario)``; ``detector`` one of ``detectors``; ``events`` a dict of
+    the run's subsystems to sequences of Event; ``isolated`` bool (n, ns) as the run's NIS;
+    ``detection_data`` a dict of the run's subsystems; ``wall_time`` finite, >= 0 s."""
+    run = check_instance("FaultTolerantRun.run", res.run, run_kind, f"a {run_kind.__name__}")
+    subs = tuple(run.scenario.subsystems)
+    check_faults("FaultTolerantRun.faults", res.faults, components(run.scenario))
+    check_choice("FaultTolerantRun.detector", res.detector, detectors)
+    for field in ("events", "detection_data"):
+        d = getattr(res, field)
+        if not isinstance(d, dict) or not set(d) <= set(subs):
+            raise ValueError(f"FaultTolerantRun.{field} must be a dict keyed by the run's "
+                             f"subsystems {list(subs)}, got {shown(d)}")
+    for s, evs in res.events.items():
+        if not isinstance(evs, list | tuple) or not all(isinstance(e, Event) for e in evs):
+            raise ValueError(f"FaultTolerantRun.events[{s!r}] must be a list of Event, got "
+                             f"{shown(evs)}")
+    iso = res.isolated
+    if not (isinstance(iso, np.ndarray) and iso.dtype == bool and iso.shape == run.nis.shape):
+        raise ValueError(f"FaultTolerantRun.isolated must be a bool array of shape "
+                         f"{run.nis.shape} (epochs, subsystems), got "
+                         f"{type(iso).__name__} {getattr(iso, 'dtype', '')} "
+                         f"{getattr(iso, 'shape', '')}")
+    check_real("FaultTolerantRun.wall_time", res.wall_time, 0.0)
+    return res

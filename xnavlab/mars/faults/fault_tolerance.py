@@ -159,9 +159,8 @@ __all__ = [
     "merge_events",
     "sensor_sigma",
 ]
-# The schedules (PAPER_ONSETS, components, paper_schedule, parse_faults, check_schedule,
-# fault_detection_delays, LATE_WINDOW_S) live in xnavlab.mars.faults.schedules and are importable
-# from here too, as before; they are documented there, with the scoring rule.
+# The schedules (PAPER_ONSETS, components, paper_schedule, parse_faults, check_schedule, ...) live
+# in xnavlab.mars.faults.schedules (importable from here too), documented with the scoring rule.
 
 #: The detectors of :func:`run_fault_tolerant`.
 DETECTORS = ("none", "wavelet", "chi2", "combined")
@@ -217,9 +216,9 @@ def merge_events(events):
     return out
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class FaultTolerantRun:
-    """A faulty Mars run with a detector.
+    """A faulty Mars run with a detector (frozen: ``dataclasses.replace`` checks the fields).
 
     Attributes
     ----------
@@ -249,6 +248,9 @@ class FaultTolerantRun:
     isolated: np.ndarray
     detection_data: dict = field(default_factory=dict, repr=False)
     wall_time: float = 0.0
+
+    def __post_init__(self):  # review 35o C3
+        _checks.check_result(self, scenarios.MarsRun, DETECTORS, components)
 
     @property
     def detections(self):

@@ -13,10 +13,21 @@ from collections.abc import Mapping
 import numpy as np
 
 from xnavlab.core.userfiles import as_path, output_path
-from xnavlab.core.validate import check_finite_array, check_instance, check_shape, check_text, shown
+from xnavlab.core.validate import (
+    check_choice,
+    check_finite_array,
+    check_instance,
+    check_real,
+    check_shape,
+    check_text,
+    shown,
+)
 
-__all__ = ["check_scenario", "check_names", "check_object", "check_inputs", "check_extra", "check_npz",
-           "check_active", "check_gate", "check_beta"]
+__all__ = ["RUN_BACKENDS", "check_scenario", "check_names", "check_object", "check_inputs",
+           "check_run", "check_extra", "check_npz", "check_active", "check_gate", "check_beta"]
+
+#: The labels ``run()`` gives a MarsRun's ``backend`` (the UKF runs on numpy only).
+RUN_BACKENDS = ("numba", "numpy", "numpy-ukf")
 
 
 def check_scenario(name, value, kind):
@@ -151,9 +162,10 @@ def _finite(a):
         return bool(np.isfinite(np.sum(a))) or bool(np.isfinite(a).all())
 
 
-def _array(name, value, shape, kind="f"):
+def _array(name, value, shape, kind="f", finite=True):
     """``value`` if it is a numpy array of ``kind`` (float64 or integer) and ``shape`` (None:
-    any length), finite, else one ValueError naming ``name`` (nothing is copied or cast)."""
+    any length), finite (unless not ``finite``: NaN marks "none"), else one ValueError naming
+    ``name`` (nothing is copied or cast)."""
     want = "float64" if kind == "f" else "integer"
     ok = isinstance(value, np.ndarray) and (value.dtype == np.float64 if kind == "f"
                                             else value.dtype.kind in "iu")
@@ -165,7 +177,7 @@ def _array(name, value, shape, kind="f"):
         want = ", ".join("m" if w is None else str(w) for w in shape)
         raise ValueError(f"{name} must have shape ({want}{',' if len(shape) == 1 else ''}), got "
                          f"shape {value.shape}")
-    if kind == "f" and value.size and not _finite(value):
+    if finite and kind == "f" and value.size and not _finite(value):
         bad = tuple(int(i) for i in np.argwhere(~np.isfinite(value))[0])
         raise ValueError(f"{name} must contain only finite numbers, got {name}"
                          f"[{', '.join(map(str, bad))}] = {value[bad]}")
@@ -240,3 +252,35 @@ def check_inputs(name, inputs, kind, subsystems_all):
         raise ValueError(f"{name}.record must increase (each epoch once), got {name}.record[{j}] "
                          f"= {int(rec[j])} after {int(rec[j - 1])}")
     return inputs
+
+
+def check_run(run, scenario_kind):
+    """``run`` (a :class:`~xnavlab.mars.navigation.scenarios.MarsRun`) if its fields agree with
+    each other, else one ValueError naming ``MarsRun.<field>`` (review 35o C3: a run edited with
+    ``dataclasses.replace`` failed later in ``metrics()`` or ``summary()`` with numpy's words).
+    Checked: ``scenario`` a ``scenario_kind``; ``t`` (nr,) increasing; ``x``, ``truth`` (nr, 6),
+    ``P`` (nr, 6, 6), ``x_local``, ``P_local_diag`` (nr, ns, 6), finite float64; ``times`` (n,)
+    finite, ``nis`` (n, ns) float64 (NaN where none), ``flags`` (n, ns) integer in [0, 3];
+    ``backend`` one of :data:`RUN_BACKENDS`; ``wall_time`` finite, >= 0 s. Nothing is copied."""
+    if not isinstance(run.scenario, scenario_kind):
+        raise ValueError(f"MarsRun.scenario must be a {scenario_kind.__name__}, got "
+                         f"{type(run.scenario).__name__} {shown(run.scenario)}")
+    ns = len(run.scenario.subsystems)
+    t = _array("MarsRun.t", run.t, (None,))
+    nr = t.size
+    if nr < 1:
+        raise ValueError("MarsRun.t must hold at least one recorded epoch, got none")
+    if nr > 1 and not np.all(t[1:] > t[:-1]):
+        raise ValueError("MarsRun.t must increase (the recorded epochs, s TDB past J2000)")
+    for field, shape in (("x", (nr, 6)), ("truth", (nr, 6)), ("P", (nr, 6, 6)),
+                         ("x_local", (nr, ns, 6)), ("P_local_diag", (nr, ns, 6))):
+        _array(f"MarsRun.{field}", getattr(run, field), shape)
+    n = _array("MarsRun.times", run.times, (None,)).size
+    _array("MarsRun.nis", run.nis, (n, ns), finite=False)
+    flags = _array("MarsRun.flags", run.flags, (n, ns), "i")
+    if flags.size and (flags.min() < 0 or flags.max() > 3):
+        raise ValueError("MarsRun.flags must hold 0 (no measurement), 1 (updated), 2 (gated) or "
+                         f"3 (switched out), got values in [{flags.min()}, {flags.max()}]")
+    check_choice("MarsRun.backend", run.backend, RUN_BACKENDS)
+    check_real("MarsRun.wall_time", run.wall_time, 0.0)
+    return run

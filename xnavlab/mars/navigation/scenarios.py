@@ -554,9 +554,9 @@ def prepare(scenario=None, **overrides):
 # ------------------------------------------------------------------------ runs
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class MarsRun:
-    """The result of a run.
+    """The result of a run (frozen: ``dataclasses.replace`` checks the changed fields).
 
     Attributes
     ----------
@@ -592,6 +592,9 @@ class MarsRun:
     times: np.ndarray
     backend: str
     wall_time: float
+
+    def __post_init__(self):  # shapes agree, no NaN outside nis (review 35o C3)
+        _run_checks.check_run(self, MarsScenario)
 
     @property
     def t_days(self):
@@ -668,11 +671,9 @@ class MarsRun:
     def save_npz(self, path, **extra):
         """Write the recorded time series (and ``extra`` named arrays) to ``path`` (npz).
 
-        ``path`` names a file ending in ``.npz`` (numpy would append it to any other name and
-        write a sibling); a missing parent folder is made; a folder, a file on the way, an
-        unwritable folder or a leading ``~`` is one ValueError naming the path, before anything
-        is written. ``extra``: identifiers, not the run's names; arrays of numbers or text.
-        """
+        ``path`` ends in ``.npz`` (numpy appends it to any other name); a missing parent folder
+        is made; a folder, a file on the way, an unwritable folder or a leading ``~`` is one
+        ValueError, before anything is written. ``extra``: identifiers, arrays of numbers or text."""
         own = dict(t=self.t, x=self.x, P=self.P, truth=self.truth, x_local=self.x_local,
                    P_local_diag=self.P_local_diag, position_error=self.position_error(),
                    velocity_error=self.velocity_error(), nis=self.nis, flags=self.flags,
@@ -682,12 +683,9 @@ class MarsRun:
 
 
 def run_options(inp, active, gate):
-    """Checked run options: ``(active, gate, beta)`` with the defaults filled in.
-
-    ``active`` (n, ns) bool (True/False or 1/0), all True by default; ``gate`` (ns,) NIS
-    thresholds (non-negative, inf for none; one number for a run of one subsystem), inf by
-    default; ``beta`` (ns,) the information-sharing factors normalised to sum 1.
-    """
+    """Checked run options ``(active, gate, beta)``, the defaults filled in: ``active`` (n, ns)
+    bool (True/False or 1/0), all True by default; ``gate`` (ns,) NIS thresholds (>= 0, inf for
+    none; one number for one subsystem), inf by default; ``beta`` (ns,) normalised to sum 1."""
     sc = _run_checks.check_object("inp", inp, Inputs).scenario
     ns = len(sc.subsystems)
     active = _run_checks.check_active(active, inp.n, sc.subsystems)
