@@ -71,3 +71,13 @@ def test_a_masked_sample_is_refused_a_read_only_one_used(nominal):
     ro.setflags(write=False)
     np.testing.assert_array_equal(sos.step(np.ma.masked_array(run.omega_g[0]), ro),
                                   twin.step(run.omega_g[0], run.q_meas[0]))
+
+
+def test_time_sos_dos_refuses_a_timing_of_hours():
+    """Review 35p (same class as P6/P7): n_steps=1e5 with repeats=1e4 was allowed, about 29
+    days at 2.5 ms a sample; n_steps x repeats is at most 2e5 (about 8 minutes)."""
+    with pytest.raises(ValueError, match=r"^n_steps x repeats must be at most 200000 timed samples "
+                       r"\(about 8 minutes at 2\.5 ms a sample of SOS and DOS\), got n_steps = "
+                       r"100000 x repeats = 10000 = 1e\+09, about 694 hours \(at most 2 repeats "
+                       r"of 100000 steps\)$"):
+        att.time_sos_dos(n_steps=10**5, repeats=10**4)

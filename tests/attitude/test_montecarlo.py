@@ -109,9 +109,9 @@ def test_isolation_monte_carlo_refuses_a_set():
 
 
 @pytest.mark.parametrize(("onset", "words"), [
-    (5e-324, r"^onset must be a real number in \[40, 999960\], got 5e-324"),
-    (None, r"^onset must be a real number in \[40, 999960\]"),
-    (999970.0, r"^onset must be a real number in \[40, 999960\]"),
+    (5e-324, r"^onset must be a real number in \[40, 159960\], got 5e-324"),
+    (None, r"^onset must be a real number in \[40, 159960\]"),
+    (159970.0, r"^onset must be a real number in \[40, 159960\]"),
     (45.05, r"^onset = 45\.05 s makes the default config's duration onset \+ 30 s, which SimConfig "
             r"refuses: duration must be a whole number of steps"),
 ])
@@ -120,3 +120,40 @@ def test_the_onset_of_the_default_config_is_refused_under_its_own_name(onset, wo
     t_cal[1] <= duration', a field of the default config the user never gave."""
     with pytest.raises(ValueError, match=words):
         att.isolation_monte_carlo(1, locations=["gyro_x"], kinds=["step"], sizes=[1.0], onset=onset)
+
+
+def test_a_batch_past_about_nine_minutes_is_refused_with_the_most_runs_that_fit():
+    """Review 35p P6: isolation_monte_carlo(10**4) built one batch of 310,000 runs (~250 GB)
+    and seeded_outcomes one of all its seeds; a batch past 4e7 run-samples is refused up front,
+    naming n_runs (seeds) with the estimate and the largest count that fits."""
+    with pytest.raises(ValueError, match=r"^n_runs must keep the batch at most 4e\+07 run-samples "
+                       r"\(about 9 minutes at 13 us each\), got n_runs = 10000: 10000 runs x 31 "
+                       r"cases \(30 and the fault-free\) x 801 samples = 2\.48e\+08, about 54 "
+                       r"minutes \(at most 1610 runs with these cases and config\)$"):
+        att.isolation_monte_carlo(10**4)
+    with pytest.raises(ValueError, match=r"^n_runs must keep .* \(not one run fits: fewer "
+                       r"locations, kinds or sizes, or a shorter config\.duration"):
+        att.isolation_monte_carlo(1, onset=159960.0)
+    fault = att.make_fault("gyro_x", "step", 36 * att.DEG_PER_H)
+    with pytest.raises(ValueError, match=r"^seeds must keep the batch at most 4e\+07 run-samples "
+                       r".*got 50000 seeds x 1001 samples = 5e\+07, about 11 minutes \(at most "
+                       r"39960 seeds of this duration and dt\)$"):
+        att.seeded_outcomes(fault, range(50000))
+
+
+def test_a_batch_in_chunks_equals_one_batch_bit_for_bit(monkeypatch):
+    """Review 35p P6: the runs are diagnosed a chunk at a time (memory bounded); chunks of one
+    or two runs give the outcomes of one batch exactly."""
+    import numpy as np
+
+    from xnavlab.attitude import _checks
+
+    fault = att.make_fault("gyro_x", "step", 36 * att.DEG_PER_H)
+    whole = att.seeded_outcomes(fault, range(5), duration=60.0)
+    rows = att.isolation_monte_carlo(3, locations=["gyro_x", "star_tracker"], rng=5)
+    for chunk in (601, 2 * 601, 2 * 801):
+        monkeypatch.setattr(_checks, "CHUNK_SAMPLES", chunk)
+        part = att.seeded_outcomes(fault, range(5), duration=60.0)
+        for key, value in whole.items():
+            assert np.array_equal(part[key], value) and np.asarray(part[key]).dtype == np.asarray(value).dtype
+        assert att.isolation_monte_carlo(3, locations=["gyro_x", "star_tracker"], rng=5) == rows

@@ -91,7 +91,7 @@ def test_one_fault_alone_is_a_run_of_that_fault_and_a_list_is_checked_as_core_do
 
 @pytest.mark.parametrize(("change", "words"), [
     ({"duration": 1e308}, r"^duration must be a real number in \(0, 1e\+06\], got 1e\+308$"),
-    ({"duration": 1e5, "dt": 1e-3}, r"^duration / dt must be below 1e7 \(at most 1e7 samples\)"),
+    ({"duration": 1e5, "dt": 1e-3}, r"^duration must keep a run at most 1600000 samples \(about 2 GB"),
     ({"gyro_noise_deg_per_h": 1e308}, r"^gyro_noise_deg_per_h must be a real number in \(0, 100000\]"),
     ({"drifts_deg_per_h": (1e308, 0.0, 0.0, 0.0)}, r"^drifts_deg_per_h must lie in \[-100000, 100000\]"),
     ({"drift_walk_deg_per_h_sqrt_s": 1e308}, r"^drift_walk_deg_per_h_sqrt_s must be a real number in"),
@@ -197,12 +197,19 @@ def test_simconfig_names_the_field_at_fault(change, words):
         att.SimConfig(**change)
 
 
-def test_a_run_of_more_than_1e7_samples_is_refused_by_simconfig():
+def test_a_run_past_about_2_gb_is_refused_by_simconfig():
     """Review 35k (3) 12: simulate(duration=1e6, dt=0.1) passed SimConfig (1e7 steps) and was
-    refused by truth_motion as 'n must be an integer in [2, 10000000]'."""
-    with pytest.raises(ValueError, match=r"^duration / dt must be below 1e7 .* \(at most 999999\.9 s"):
+    refused by truth_motion. Review 35p P7: 1e7 samples were then allowed, about 12-14 GB for
+    one run; SimConfig refuses past 1.6e6 samples (about 2 GB), naming duration and dt with
+    the estimate and the longest duration at that dt."""
+    with pytest.raises(ValueError, match=r"^duration must keep a run at most 1600000 samples \(about "
+                       r"2 GB at 1200 bytes a sample\), got duration = 1e\+06 s at dt = 0\.1 s: "
+                       r"10000001 samples, about 12 GB \(at most 159999\.9 s at this dt\)$"):
         att.simulate(duration=1e6, dt=0.1)
-    assert att.SimConfig(duration=999999.9, dt=0.1).n == 10**7
+    with pytest.raises(ValueError, match=r"^duration must keep .* at dt = 0.5 s: 2000001 samples"):
+        att.SimConfig(duration=1e6, dt=0.5)
+    assert att.SimConfig(duration=159999.9, dt=0.1).n == 1_600_000
+    assert att.SimConfig(duration=1e6, dt=1.0).n == 1_000_001
 
 
 @pytest.mark.parametrize(("truth", "words"), [

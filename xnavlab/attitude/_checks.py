@@ -1,5 +1,7 @@
 """The input checks that the attitude system's modules share: the light per-sample check of
-the on-board loops, quaternions (non-zero, unit) and batches of covariances.
+the on-board loops, quaternions (non-zero, unit), batches of covariances, and the memory and
+time budget of a run or a batch of runs (:data:`BYTES_PER_SAMPLE`, :data:`MAX_SAMPLES`,
+:data:`MAX_RUN_SAMPLES`).
 
 Plumbing of :mod:`xnavlab.attitude`; not part of the public API.
 """
@@ -13,7 +15,29 @@ import numpy as np
 from xnavlab.core.quaternions import UNIT_TOL
 from xnavlab.core.validate import check_covariance, check_finite_array
 
-__all__ = ["check_sample", "check_quaternion", "check_covariances"]
+__all__ = ["check_sample", "check_quaternion", "check_covariances", "BYTES_PER_SAMPLE",
+           "MAX_SAMPLES", "MAX_RUN_SAMPLES", "SECONDS_PER_RUN_SAMPLE", "CHUNK_SAMPLES"]
+
+#: Peak memory of a run a sample, bytes, with DOS (truth, sensors, the four filters'
+#: estimates and drift covariances, residuals, flags): measured 1,113-1,178 bytes (peak
+#: RSS over the import, 2026-11-29) for one run of 2e4 and 1e5 samples and batches of
+#: 160,000-480,000 run-samples.
+BYTES_PER_SAMPLE = 1200
+#: The most samples one run holds: 1.6e6 samples take about 2 GB (the project's budget, as
+#: ``xnavlab.mars.timing._checks.MAX_PHOTONS``); 1e7 samples (duration 1e6 s at 0.1 s) asked
+#: for about 12 GB. At 0.1 s this is 44 hours of flight, about 21 s to simulate.
+MAX_SAMPLES = 1_600_000
+#: Wall time of a batch a run-sample (runs times samples a run), s: 7.6-15 us measured on a
+#: 2-core machine (2026-11-29), taken as 13 us.
+SECONDS_PER_RUN_SAMPLE = 13e-6
+#: The most run-samples a batch (:func:`xnavlab.attitude.isolation_monte_carlo`,
+#: :func:`xnavlab.attitude.seeded_outcomes`) takes: 4e7, about 9 minutes at
+#: :data:`SECONDS_PER_RUN_SAMPLE` (the 10,000 runs of 100 s a reproduction may ask take 1e7,
+#: about 2 minutes). A batch is diagnosed in chunks of :data:`CHUNK_SAMPLES`, so its memory
+#: does not grow with it.
+MAX_RUN_SAMPLES = 40_000_000
+#: Run-samples diagnosed at once in a batch: about 0.5 GB at :data:`BYTES_PER_SAMPLE`.
+CHUNK_SAMPLES = 400_000
 
 
 def check_quaternion(name, q, unit=True):

@@ -1,7 +1,8 @@
 """Isolation statistics of SOS and DOS over fault location, kind and size (Monte Carlo).
 
-:func:`isolation_monte_carlo` simulates every case's seeded runs in one vectorised batch
-(:func:`xnavlab.attitude.simulation.diagnose_batch`) and counts correct isolations, missed
+:func:`isolation_monte_carlo` simulates every case's seeded runs in vectorised batches
+(:func:`xnavlab.attitude.simulation.diagnose_batch`, a chunk of about 0.5 GB at a time; the
+outcomes are those of one batch, bit for bit) and counts correct isolations, missed
 detections, false alarms and delays; :func:`isolation_table` prints the rows as a
 Markdown table, SOS and DOS side by side. :func:`seeded_outcomes` keeps every run's outcome
 instead of the rates: the runs of one fault, seed by seed, each equal to
@@ -15,6 +16,7 @@ import math
 
 import numpy as np
 
+from xnavlab.attitude import _checks
 from xnavlab.attitude.motion import truth_motion
 from xnavlab.attitude.sensors import DEFAULT_MAGNITUDES, DEG_PER_H, LOCATIONS, MAX_FACTOR, make_fault
 from xnavlab.attitude.simulation import (
@@ -38,8 +40,9 @@ from xnavlab.core.validate import (
 
 #: Where the default SimConfig arms its detectors (t_cal[1], s): the earliest default onset.
 _DEFAULT_T_ARM = SimConfig.__dataclass_fields__["t_cal"].default[1]
-#: The latest onset of the default config (duration onset + 30 s, at most 1e7 samples of 0.1 s).
-_MAX_DEFAULT_ONSET = 999960.0  # shown as is (999969.9 was printed 999970)
+#: The latest onset of the default config (duration onset + 30 s, at most MAX_SAMPLES of 0.1 s,
+#: rounded down to 10 s so that it is shown as is: 159969.9 would be printed 159970).
+_MAX_DEFAULT_ONSET = 159960.0
 
 __all__ = [
     "isolation_monte_carlo",
@@ -60,7 +63,7 @@ def isolation_monte_carlo(
 ):
     """Isolation statistics of SOS and DOS over fault location, kind and size.
 
-    Every case runs ``n_runs`` seeded runs (all cases in one vectorised batch), plus
+    Every case runs ``n_runs`` seeded runs (all cases in vectorised batches), plus
     ``n_runs`` fault-free runs. Per case and method:
 
     ``correct``
@@ -76,7 +79,12 @@ def isolation_monte_carlo(
     Parameters
     ----------
     n_runs : int
-        Runs per case, >= 1.
+        Runs per case, >= 1, such that the batch (``n_runs`` times the cases plus one, times
+        ``config.n`` samples) holds at most 4e7 run-samples, about 9 minutes on two cores
+        (``_checks.MAX_RUN_SAMPLES``): 1,610 runs of the default 31 cases (30 faults and the
+        fault-free) of 80 s. A larger
+        batch is refused with the largest ``n_runs`` that fits. Its memory stays about 0.5 GB
+        whatever ``n_runs`` (the runs are diagnosed in chunks).
     locations : sequence of str
         Subset of :data:`~.sensors.LOCATIONS`.
     kinds : sequence of {"step", "ramp"}
@@ -84,7 +92,7 @@ def isolation_monte_carlo(
         Multiples of :data:`~.sensors.DEFAULT_MAGNITUDES`, in (0, MAX_FACTOR].
     onset : float
         Fault onset, s (after ``config.t_cal[1]``, before ``config.duration``; without a
-        ``config``, in [40, 999960] s on the 0.1 s grid: from the default config's t_cal[1] to its
+        ``config``, in [40, 159960] s on the 0.1 s grid: from the default config's t_cal[1] to its
         longest run of onset + 30 s).
     config : SimConfig, optional
         Default: :class:`~.simulation.SimConfig` with ``duration = onset + 30``.
@@ -114,8 +122,8 @@ def isolation_monte_carlo(
                         lambda label, v: check_choice(label, v, ("step", "ramp")))
     sizes = [check_real(label, s, 0.0, MAX_FACTOR, lo_open=True) for label, s in
              ((f"sizes[{i}]", s) for i, s in enumerate(check_items("sizes", sizes, "size")))]
-    # the default config lasts onset + 30 s, at most SimConfig's 1e6 s, and arms its detectors
-    # at t_cal[1] = 40 s: an earlier onset was refused as SimConfig's t_cal, a field never given
+    # the default config lasts onset + 30 s, at most SimConfig's MAX_SAMPLES of 0.1 s, and arms
+    # its detectors at t_cal[1] = 40 s: an earlier onset was refused as SimConfig's t_cal
     if config is None:
         onset = check_real("onset", onset, _DEFAULT_T_ARM, _MAX_DEFAULT_ONSET)
         try:
@@ -138,25 +146,25 @@ def isolation_monte_carlo(
         for kind in kinds:
             for s in sizes:
                 cases.append((loc, kind, s, s * DEFAULT_MAGNITUDES[(sensor, kind)]))
+    _check_work("n_runs", n_runs, len(cases), cfg)
     truth = truth_motion(
         cfg.n, cfg.dt, q0=cfg.q0, omega_orbit_deg_s=cfg.omega_orbit_deg_s,
         wobble_deg_s=cfg.wobble_deg_s, wobble_period=cfg.wobble_period,
     )
-    wgs, qss = [], []
-    for loc, kind, _, mag in cases:
-        faults = () if loc == "none" else (make_fault(loc, kind, mag, onset),)
-        for _ in range(n_runs):
-            _, wg, qs = simulate_sensors(cfg, faults, rng, truth)
-            wgs.append(wg)
-            qss.append(qs)
-    res = diagnose_batch(np.stack(wgs), np.stack(qss), cfg)
+
+    def draws():  # the runs in the order they draw from rng: case by case, n_runs each
+        for loc, kind, _, mag in cases:
+            faults = () if loc == "none" else (make_fault(loc, kind, mag, onset),)
+            for _ in range(n_runs):
+                yield simulate_sensors(cfg, faults, rng, truth)[1:]
+
+    res = _diagnose_in_chunks(draws(), len(cases) * n_runs, cfg)
     rows = []
     for i, (loc, kind, factor, mag) in enumerate(cases):
         sl = slice(i * n_runs, (i + 1) * n_runs)
         for method in ("SOS", "DOS"):
-            d = res[method.lower()]
-            det = np.asarray(d.detect_time[sl], dtype=float)
-            verdict = np.asarray(d.verdict[sl])
+            det = np.asarray(res[method.lower() + "_time"][sl], dtype=float)
+            verdict = np.asarray(res[method.lower() + "_verdict"][sl])
             if loc == "none":
                 fa = np.isfinite(det)
                 after = np.zeros_like(fa)
@@ -175,19 +183,22 @@ def isolation_monte_carlo(
 
 
 def seeded_outcomes(faults, seeds, config=None, **changes):
-    """Every run's outcome for one set of faults, one run per seed, in one vectorised batch.
+    """Every run's outcome for one set of faults, one run per seed, in vectorised batches.
 
     Run ``k`` draws its noise from ``seeds[k]`` exactly as
     :func:`~xnavlab.attitude.simulation.simulate` does with ``rng=seeds[k]``, so the outcome
-    of seed 0 is the run a chapter plots; the batch then goes through
-    :func:`~xnavlab.attitude.simulation.diagnose_batch` once.
+    of seed 0 is the run a chapter plots; the runs then go through
+    :func:`~xnavlab.attitude.simulation.diagnose_batch` a chunk of about 0.5 GB at a time (the
+    outcomes those of one batch, bit for bit).
 
     Parameters
     ----------
     faults : Fault or sequence of Fault
         From :func:`~xnavlab.attitude.sensors.make_fault`, at least one (an onset is needed).
     seeds : sequence of int
-        One seed per run, at least one, none twice.
+        One seed per run, at least one, none twice; at most 4e7 run-samples in all
+        (``len(seeds) * config.n``, about 9 minutes on two cores, ``_checks.MAX_RUN_SAMPLES``:
+        39,960 seeds of 100 s), else refused with the most seeds that fit.
     config : SimConfig, optional
         Settings (default :class:`~xnavlab.attitude.simulation.SimConfig`).
     **changes
@@ -218,36 +229,82 @@ def seeded_outcomes(faults, seeds, config=None, **changes):
         raise ValueError("faults must hold at least one fault (the outcomes are after its onset)")
     seeds = check_seeds("seeds", seeds)
     onset = min(f.onset for f in faults)
+    _check_work("seeds", len(seeds), 0, cfg)
     truth = truth_motion(
         cfg.n, cfg.dt, q0=cfg.q0, omega_orbit_deg_s=cfg.omega_orbit_deg_s,
         wobble_deg_s=cfg.wobble_deg_s, wobble_period=cfg.wobble_period,
     )
-    wgs, qss = [], []
-    for seed in seeds:
-        _, wg, qs = simulate_sensors(cfg, faults, make_rng(seed), truth)
-        wgs.append(wg)
-        qss.append(qs)
-    res = diagnose_batch(np.stack(wgs), np.stack(qss), cfg)
-    t = res["t"]
-    flags = res["sos"].flags                                    # (B, n, 4)
+    res = _diagnose_in_chunks((simulate_sensors(cfg, faults, make_rng(seed), truth)[1:]
+                               for seed in seeds), len(seeds), cfg)
+    t = np.arange(cfg.n) * cfg.dt  # as diagnose_batch's
+    flags = res["sos_flags"]                                    # (B, n, 4)
     after = t >= onset
     first = np.full(flags.shape[::2], math.inf)                 # (B, 4)
     hit = flags[:, after].any(axis=1)
     k_first = np.argmax(flags[:, after], axis=1)                # first flagged sample after onset
     first[hit] = t[after][k_first[hit]] - onset
-    dos = res["dos"]
     return {
         "seeds": np.array(seeds, dtype=int),
         "onset": onset,
         "crossed": hit,
         "first_flag_s": first,
-        "sos_delay_s": np.asarray(res["sos"].detect_time, dtype=float) - onset,
+        "sos_delay_s": np.asarray(res["sos_time"], dtype=float) - onset,
         "false_alarm": flags[:, ~after].any(axis=(1, 2)),
-        "sos_verdict": np.asarray(res["sos"].verdict, dtype=str),
-        "dos_verdict": (np.asarray(dos.verdict, dtype=str) if dos is not None
+        "sos_verdict": np.asarray(res["sos_verdict"], dtype=str),
+        "dos_verdict": (np.asarray(res["dos_verdict"], dtype=str) if cfg.dos
                         else np.full(len(seeds), "-")),
-        "qd_verdict": np.asarray(res["qd"].verdict, dtype=str),
+        "qd_verdict": np.asarray(res["qd_verdict"], dtype=str),
     }
+
+
+def _check_work(name, count, cases, cfg):
+    """``count`` runs (``n_runs`` each of ``cases`` cases, or ``count`` seeds with ``cases =
+    0``) of ``cfg.n`` samples within :data:`~._checks.MAX_RUN_SAMPLES`, else one ValueError
+    naming ``name`` with the estimate and the largest count that fits (review 35p P6)."""
+    per = max(cases, 1) * cfg.n  # run-samples of one n_runs (or one seed)
+    total = count * per
+    if total <= _checks.MAX_RUN_SAMPLES:
+        return
+    most = _checks.MAX_RUN_SAMPLES // per
+    minutes = total * _checks.SECONDS_PER_RUN_SAMPLE / 60.0
+    if cases:
+        what = (f"n_runs = {count}: {count} runs x {cases} cases ({cases - 1} and the fault-free) "
+                f"x {cfg.n} samples")
+        fits = (f"at most {most} runs with these cases and config" if most else
+                "not one run fits: fewer locations, kinds or sizes, or a shorter config.duration, "
+                "onset + 30 s by default")
+    else:
+        what = f"{count} seeds x {cfg.n} samples"
+        fits = (f"at most {most} seeds of this duration and dt" if most else
+                "not one run fits")
+    raise ValueError(f"{name} must keep the batch at most {_checks.MAX_RUN_SAMPLES:.0e} "
+                     f"run-samples (about {_checks.MAX_RUN_SAMPLES * _checks.SECONDS_PER_RUN_SAMPLE / 60:.0f}"
+                     f" minutes at {_checks.SECONDS_PER_RUN_SAMPLE * 1e6:g} us each), got {what} = "
+                     f"{total:.3g}, about {minutes:.0f} minutes ({fits})")
+
+
+def _diagnose_in_chunks(draws, count, cfg):
+    """:func:`~.simulation.diagnose_batch` over ``count`` runs, each ``(omega_g, q_meas)`` from
+    the iterator ``draws``, :data:`~._checks.CHUNK_SAMPLES` run-samples at a time (one batch of
+    every run took about 1.2 kB a run-sample: 250 GB for 10,000 runs of the 31 cases). Every
+    run is diagnosed on its own inside a batch, so the outcomes equal one batch's bit for bit.
+
+    Returns a dict of the runs' outcomes, stacked: ``sos_flags`` (count, n, 4), ``sos_time``,
+    ``sos_verdict``, ``dos_time``, ``dos_verdict`` (with DOS) and ``qd_verdict`` (count,).
+    """
+    size = max(1, _checks.CHUNK_SAMPLES // cfg.n)
+    parts = []
+    for start in range(0, count, size):
+        wgs, qss = zip(*(next(draws) for _ in range(min(size, count - start))), strict=True)
+        res = diagnose_batch(np.stack(wgs), np.stack(qss), cfg)
+        del wgs, qss
+        part = {"sos_flags": res["sos"].flags, "qd_verdict": np.asarray(res["qd"].verdict)}
+        for key in ("sos", "dos"):
+            if res[key] is not None:
+                part[f"{key}_time"] = np.asarray(res[key].detect_time)
+                part[f"{key}_verdict"] = np.asarray(res[key].verdict)
+        parts.append(part)
+    return {key: np.concatenate([p[key] for p in parts]) for key in parts[0]}
 
 
 def _size_label(loc, kind, size):

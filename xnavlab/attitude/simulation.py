@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from xnavlab.attitude._checks import check_quaternion
+from xnavlab.attitude._checks import BYTES_PER_SAMPLE, MAX_SAMPLES, check_quaternion
 from xnavlab.attitude.diagnosis import (
     Diagnosis,
     diagnose,
@@ -82,7 +82,9 @@ class SimConfig:
     Attributes
     ----------
     duration : float
-        Run length, s, in (0, 1e6] and below 1e7 ``dt`` (at most 1e7 samples; default 100).
+        Run length, s, in (0, 1e6] and at most 1.6e6 samples, ``(1.6e6 - 1) dt`` (159,999.9 s
+        at 0.1 s): a run takes about 1,200 bytes a sample at its peak, so 1.6e6 samples about
+        2 GB (``_checks.MAX_SAMPLES``); default 100.
     dt : float
         Gyro and star-tracker sample interval, s (default 0.1: 10 Hz).
     drifts_deg_per_h : tuple of 4 float
@@ -158,10 +160,12 @@ class SimConfig:
 
         duration = put("duration", check_real("duration", self.duration, 0.0, 1e6, lo_open=True))
         dt = put("dt", check_real("dt", self.dt, 0.0, 10.0, lo_open=True))
-        if duration / dt >= 1e7:  # the samples every array of the run holds: n <= 1e7
-            raise ValueError(f"duration / dt must be below 1e7 (at most 1e7 samples), got "
-                             f"duration = {duration:g} s and dt = {dt:g} s (at most "
-                             f"{(1e7 - 1) * dt:.10g} s at this dt)")
+        if duration / dt > MAX_SAMPLES - 1:  # every array of the run holds n samples (review 35p P7)
+            n = int(round(duration / dt)) + 1
+            raise ValueError(f"duration must keep a run at most {MAX_SAMPLES} samples (about 2 GB at "
+                             f"{BYTES_PER_SAMPLE} bytes a sample), got duration = {duration:g} s at dt "
+                             f"= {dt:g} s: {n} samples, about {n * BYTES_PER_SAMPLE / 1e9:.3g} GB (at "
+                             f"most {(MAX_SAMPLES - 1) * dt:.10g} s at this dt)")
         if duration < 2 * dt:
             raise ValueError(f"duration must be >= 2 dt = {2 * dt}, got {duration}")
         steps = duration / dt  # the run has samples 0, dt, ..., (n - 1) dt: it would
