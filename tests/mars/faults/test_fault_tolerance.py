@@ -1,5 +1,6 @@
 """Fault-tolerant federated navigation: schedule, detection, isolation, rejoining, JSON."""
 
+import dataclasses
 import math
 
 import numpy as np
@@ -695,10 +696,10 @@ def test_an_edited_result_is_checked_by_field(runs, field, value, words):
     ("t", lambda a: a[::-1].copy(), r"^MarsRun\.t must increase"),
     ("nis", lambda a: a[:, :2], r"^MarsRun\.nis must have shape"),
     ("backend", lambda a: "gpu", r"^MarsRun\.backend must be one of 'numba', 'numpy'"),
+    ("scenario", lambda sc: dataclasses.replace(sc, days=5.0),  # summary() blamed settle_days
+     r"^MarsRun\.scenario must be the scenario the run ran: its days = 5 and t0 = "),
 ])
 def test_an_edited_mars_run_is_checked_by_field(clean, field, cut, words):
-    import dataclasses
-
     with pytest.raises(ValueError, match=words):
         dataclasses.replace(clean, **{field: cut(getattr(clean, field))})
     ok = dataclasses.replace(clean, nis=np.full_like(clean.nis, np.nan))  # NaN: no measurement

@@ -65,6 +65,17 @@ def test_plot_runs_draws_each_error_and_sigma_against_the_first_with_the_band_on
         mars_plots.plot_runs({})
     with pytest.raises(ValueError, match="share their epochs"):
         mars_plots.plot_runs({"a": run, "short": scenarios.run(days=0.01)})
+    # review 35p P2, P13: the same number of records at other epochs (a longer run recorded
+    # half as often; another t0) compared sigmas of other instants; another system's result
+    for other in (scenarios.run(days=0.04, record_dt=120.0),
+                  scenarios.run(days=0.02, t0=run.scenario.t0 + 86400.0)):
+        with pytest.raises(ValueError, match=r"^runs must share their epochs: 'b' has 30 records "
+                                             r"from 50\d{7} to"):
+            mars_plots.plot_runs({"a": run, "b": other})
+    from xnavlab.attitude import simulate
+    with pytest.raises(ValueError, match=r"^runs\['b'\] must be a MarsRun \(t_days, "
+                                         r"position_error\(\), sigma_position\(\)\), got AttitudeRun"):
+        mars_plots.plot_runs({"a": run, "b": simulate(duration=50.0)})
 
 
 @pytest.mark.parametrize(("call", "match"), [

@@ -275,7 +275,14 @@ def check_run(run, scenario_kind):
     for field, shape in (("x", (nr, 6)), ("truth", (nr, 6)), ("P", (nr, 6, 6)),
                          ("x_local", (nr, ns, 6)), ("P_local_diag", (nr, ns, 6))):
         _array(f"MarsRun.{field}", getattr(run, field), shape)
-    n = _array("MarsRun.times", run.times, (None,)).size
+    times = _array("MarsRun.times", run.times, (None,))
+    n, sc = times.size, run.scenario
+    last = max(sc.dt_uv, sc.dt_cns, sc.dt_xnav)  # the last epoch: within one sample of the end
+    if n < 1 or times[0] != sc.t0 or not sc.span - last <= times[-1] - sc.t0 <= sc.span + 1e-6:
+        span = (times[-1] - times[0]) / 86400.0 if n else 0.0
+        raise ValueError(f"MarsRun.scenario must be the scenario the run ran: its days = "
+                         f"{sc.days:g} and t0 = {sc.t0:.9g} s, the run's epochs {span:g} days "
+                         f"from {times[0] if n else float('nan'):.9g} s")
     _array("MarsRun.nis", run.nis, (n, ns), finite=False)
     flags = _array("MarsRun.flags", run.flags, (n, ns), "i")
     if flags.size and (flags.min() < 0 or flags.max() > 3):

@@ -190,8 +190,8 @@ def plot_runs(runs, band_days=None):
     ----------
     runs : dict of str to xnavlab.mars.navigation.scenarios.MarsRun
         Label to run (anything with ``t_days``, ``position_error()`` and ``sigma_position()``,
-        each shape (N,), days and m); all recorded at the same epochs. The first is the
-        reference of the bottom panel.
+        each shape (N,), days and m); all recorded at the same epochs (a MarsRun's ``t``, s
+        TDB; else ``t_days``), else a ValueError. The first is the reference of the bottom panel.
     band_days : tuple of float, optional
         ``(start, end)``, days: a span to shade grey on both panels (e.g. a subsystem out).
 
@@ -217,13 +217,20 @@ def plot_runs(runs, band_days=None):
         band_days = check_vector("band_days", band_days, 2)
     fig = Figure(figsize=(8.0, 4.6), layout="constrained")
     top, bottom = fig.subplots(2, 1, sharex=True)
+    for label, run in runs.items():  # review 35p P13: an AttitudeRun was an AttributeError
+        if not all(hasattr(run, a) for a in ("t_days", "position_error", "sigma_position")):
+            raise ValueError(f"runs[{label!r}] must be a MarsRun (t_days, position_error(), "
+                             f"sigma_position()), got {type(run).__name__}")
     first = next(iter(runs))
     reference = runs[first].sigma_position()
+    epochs = getattr(runs[first], "t", runs[first].t_days)
     for k, (label, run) in enumerate(runs.items()):
         sigma = run.sigma_position()
-        if sigma.shape != reference.shape:
-            raise ValueError(f"runs must share their epochs: {label!r} has {sigma.size} records, "
-                             f"{first!r} {reference.size}")
+        mine = getattr(run, "t", run.t_days)
+        if sigma.shape != reference.shape or not np.array_equal(mine, epochs):  # review 35p P2
+            raise ValueError(f"runs must share their epochs: {label!r} has {sigma.size} records "
+                             f"from {mine[0]:.9g} to {mine[-1]:.9g}, {first!r} {reference.size} "
+                             f"from {epochs[0]:.9g} to {epochs[-1]:.9g}")
         top.semilogy(run.t_days, run.position_error(), lw=0.5, color=f"C{k}", label=label)
         bottom.plot(run.t_days, 100.0 * (sigma / reference - 1.0), lw=1.0, color=f"C{k}")
     for ax in (top, bottom):
