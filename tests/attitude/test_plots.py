@@ -1,6 +1,8 @@
 """The attitude figures (xnavlab.attitude.plots): residual plots and the fault-case figure."""
 
 
+import dataclasses
+
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
@@ -115,3 +117,43 @@ def test_plot_residuals_refuses_extra_3d_or_foreign_axes():
         att.plot_residuals(run, axes=four[:3] + [Figure().subplots()])
     assert not any(a.lines for a in four)  # refused before anything was drawn
     assert att.plot_residuals(run, axes=four) is fig
+
+
+@pytest.mark.parametrize(("change", "words"), [
+    (lambda run: {"sos_r": run.sos_r[:10]},
+     r"^AttitudeRun\.sos_r must have shape \(501, 4\) \(n = config\.n = 501 samples\), got shape \(10, 4\)$"),
+    (lambda run: {"sos": None},
+     r"^AttitudeRun\.sos must be the run's Diagnosis, flags of shape \(501, 4\), got NoneType$"),
+    (lambda run: {"sos_r": run.sos_r * float("nan")},
+     r"^AttitudeRun\.sos_r must contain only finite numbers \(no NaN or inf\)$"),
+    (lambda run: {"dos": None},
+     r"^AttitudeRun\.dos must be the run's Diagnosis, flags of shape \(501, 4\) \(config\.dos is True\)"),
+    (lambda run: {"sos_J": run.sos_J[:2]}, r"^AttitudeRun\.sos_J must have shape \(4,\)"),
+    (lambda run: {"armed": run.armed.astype(float)}, r"^AttitudeRun\.armed must be a boolean array"),
+    (lambda run: {"onset": float("nan")}, r"^AttitudeRun\.onset must be a time, s, or inf"),
+    (lambda run: {"qd_f": run.qd_f[:5]}, r"^AttitudeRun\.qd_f must have shape \(\d+, 3\)"),
+    (lambda run: {"sos": dataclasses.replace(run.sos, flags=run.sos.flags[:10])},
+     r"^AttitudeRun\.sos must be the run's Diagnosis, flags of shape \(501, 4\), got flags of "
+     r"shape \(10, 4\)$"),
+    (lambda run: {"sos": dataclasses.replace(run.sos, detect_time=float("nan"))},
+     r"^Diagnosis\.detect_time must be a time, s, or inf \(none\), shape \(\)"),
+    (lambda run: {"sos": dataclasses.replace(run.sos, verdict=3)},
+     r"^Diagnosis\.verdict must be a str \(a verdict of the decision rule\), got 3$"),
+])
+def test_an_edited_run_is_refused_naming_its_field(change, words):
+    """Review 35p P11: plot_residuals on an AttitudeRun edited with dataclasses.replace gave
+    numpy's IndexError (sos_r cut), an AttributeError (sos=None) or an empty figure (NaN);
+    the run (and its Diagnosis) checks its fields when made, naming AttitudeRun.<field>."""
+    run = att.simulate(duration=50.0)
+    with pytest.raises(ValueError, match=words):
+        att.plot_residuals(dataclasses.replace(run, **change(run)))
+
+
+def test_a_run_and_its_diagnosis_are_frozen():
+    """Review 35p P11: checked when made, so not assignable after (an assigned field would
+    skip the check)."""
+    run = att.simulate(duration=50.0)
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        run.sos_r = run.sos_r[:10]
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        run.sos.verdict = "gyro_x"

@@ -168,9 +168,13 @@ def _bool_flags(name, flags, n):
 # ------------------------------------------------------------ threshold logic
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class Diagnosis:
     """Output of :func:`diagnose` (leading batch shape ``...``).
+
+    Its fields are checked when it is made (a copy edited with :func:`dataclasses.replace`
+    too): one ValueError naming ``Diagnosis.<field>`` (review 35p P11: a cut or missing field
+    reached the plots as numpy's IndexError).
 
     Attributes
     ----------
@@ -194,6 +198,47 @@ class Diagnosis:
     detect_time: np.ndarray
     crossed: np.ndarray
     verdict: object
+
+    def __post_init__(self):
+        flags = _field_bools("flags", self.flags, "(..., n, m)")
+        if flags.ndim < 2:
+            raise ValueError(f"Diagnosis.flags must have shape (..., n, m), got shape {flags.shape}")
+        lead, m = flags.shape[:-2], flags.shape[-1]
+        object.__setattr__(self, "flags", flags)
+        crossed = _field_bools("crossed", self.crossed, str(lead + (m,)))
+        if crossed.shape != lead + (m,):
+            raise ValueError(f"Diagnosis.crossed must have shape {lead + (m,)} (one flag a residual "
+                             f"of flags {flags.shape}), got shape {crossed.shape}")
+        object.__setattr__(self, "crossed", crossed)
+        det = self.detect_time
+        try:
+            arr = np.asarray(det, dtype=float)
+        except (TypeError, ValueError):
+            arr = None
+        if (arr is None or isinstance(det, bool | str | bytes) or arr.shape != lead
+                or np.isnan(arr).any() or (arr == -math.inf).any()):
+            raise ValueError(f"Diagnosis.detect_time must be a time, s, or inf (none), shape {lead} "
+                             f"(of flags {flags.shape}), got {det!r:.80}")
+        object.__setattr__(self, "detect_time", np.float64(arr) if lead == () else arr)
+        verdict = self.verdict
+        if lead == ():
+            ok = isinstance(verdict, str)
+        else:
+            v = np.asarray(verdict) if isinstance(verdict, np.ndarray) else None
+            ok = v is not None and v.shape == lead and all(isinstance(x, str) for x in v.flat)
+        if not ok:
+            want = "a str" if lead == () else f"an array of str of shape {lead}"
+            raise ValueError(f"Diagnosis.verdict must be {want} (a verdict of the decision rule), "
+                             f"got {verdict!r:.80}")
+
+
+def _field_bools(name, value, shape):
+    """A Diagnosis field of flags as a boolean array, else one ValueError naming it."""
+    arr = value if isinstance(value, np.ndarray) else None
+    if arr is None or arr.dtype != bool:
+        raise ValueError(f"Diagnosis.{name} must be a boolean array of shape {shape}, got "
+                         f"{value!r:.80}")
+    return arr
 
 
 def _broadcasts_to(shape, target):
