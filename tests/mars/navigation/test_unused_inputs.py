@@ -111,3 +111,23 @@ def test_the_helpers_name_their_parameters(call, name):
     """Review 35k (1) 25: the run notes' helpers raised AttributeError or TypeError."""
     with pytest.raises(ValueError, match=f"^{name} must"):
         call()
+
+
+def test_a_long_run_of_the_numpy_loop_is_announced_with_its_estimate(monkeypatch):
+    """Review 35p P8: ``run mars --days 365 --backend numpy`` ran for about a day without a
+    word. The estimate (epochs x the measured seconds an epoch) is warned about before the run
+    when past SLOW_RUN_S; here the threshold is lowered so that a short run crosses it."""
+    import warnings
+
+    inputs = scenarios.prepare(days=0.01)
+    with warnings.catch_warnings():  # at the real threshold: nothing said
+        warnings.simplefilter("error")
+        scenarios.run(inputs=inputs, backend="numpy")
+    monkeypatch.setattr(unused_inputs, "SLOW_RUN_S", 1.0)
+    with pytest.warns(InputWarning, match=r"^backend numpy, the readable loop, takes about 6 ms an "
+                                          r"epoch with the EKF on 2 cores: these \d+ epochs take "
+                                          r"about \d+ min; the compiled kernel \(backend numba"):
+        scenarios.run(inputs=inputs, backend="numpy")
+    with warnings.catch_warnings():  # the compiled kernel: nothing said
+        warnings.simplefilter("error")
+        scenarios.run(inputs=inputs)

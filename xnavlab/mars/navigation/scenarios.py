@@ -737,6 +737,8 @@ def run(scenario=None, *, backend="numba", inputs=None, active=None, gate=None,
     else:  # shapes, finite values, keys and records agree (an Inputs edited by hand)
         _run_checks.check_object("inputs", inputs, Inputs).check()
     active, gate, beta = run_options(inputs, active, gate)
+    if backend == "numpy":  # review 35p P8: hours without a word
+        unused_inputs.warn_slow_loop(inputs.n, local_filter)
     t_start = time.perf_counter()
     if backend == "numba":
         out = _run_numba(inputs, active, gate, beta, progress)
