@@ -219,3 +219,21 @@ def test_plot_tracking_takes_a_fraction_as_its_float():
     ref = track.plot_tracking(exposure_s=50.0)
     assert fig.get_suptitle() == ref.get_suptitle()
     np.testing.assert_array_equal(fig.axes[0].lines[0].get_xdata(), ref.axes[0].lines[0].get_xdata())
+
+
+def test_a_run_of_more_than_max_toas_is_refused_with_the_estimate():
+    """Review 35p P10: run_line(exposure_s=0.1, span_s=1e5) took 1e6 TOAs, about 37 minutes,
+    without a word; past MAX_TOAS (2e5, about 7 minutes) it is refused naming span_s and
+    exposure_s, and track() likewise names truth."""
+    with pytest.raises(ValueError, match=r"^span_s / exposure_s must keep at most 200000 TOAs "
+                       r"\(about 7 minutes at 2\.1 ms a TOA\), got span_s = 100000 s / exposure_s = "
+                       r"0\.1 s = 1000000 TOAs, about 35 minutes \(at most 20000 s at this "
+                       r"exposure\)$"):
+        track.run_line(exposure_s=0.1, span_s=1e5)
+    with pytest.raises(ValueError, match=r"^span_s / exposure_s must keep at most 200000 TOAs"):
+        track.plot_tracking(exposure_s=0.2, span_s=5e4)
+    with pytest.raises(ValueError, match=r"^truth must keep at most 200000 TOAs .* got 100001 steps "
+                       r"x 2 pulsars = 200002 TOAs, about 7 minutes \(at most 100001 rows with 2 "
+                       r"pulsars\)$"):
+        track.track(np.zeros((100002, 4)), 1.0, np.zeros(4), np.eye(4),
+                    pulsar_names=("B0531+21", "B1937+21"), directions=((1.0, 0.0), (0.0, 1.0)))

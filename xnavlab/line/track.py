@@ -41,13 +41,32 @@ from xnavlab.core.validate import (
 from xnavlab.line.measure import fold_range, range_sigma
 from xnavlab.mars.timing import pulsars
 
-__all__ = ["X0", "V0", "cv_model", "simulate", "Track", "track", "snapshot_covariance", "run_line",
-           "plot_tracking"]
+__all__ = ["X0", "V0", "MAX_TOAS", "SECONDS_PER_TOA", "cv_model", "simulate", "Track", "track",
+           "snapshot_covariance", "run_line", "plot_tracking"]
 
 #: Chapter 0's spacecraft: its distance from the SSB along ``n`` at the start, m (1.5 au) ...
 X0 = 1.5 * AU
 #: ... and its planned speed towards the pulsar, m/s.
 V0 = 2.0e4
+
+#: Wall time of one TOA of :func:`track` (a fold and a filter step), s: 2.0-2.2 ms measured
+#: on a 2-core machine (2026-11-29; 1e4 TOAs of run_line in 22 s).
+SECONDS_PER_TOA = 2.1e-3
+#: The most TOAs (steps times pulsars) :func:`track` and :func:`run_line` take: 2e5, about 7
+#: minutes at :data:`SECONDS_PER_TOA` (review 35p P10: 1e6 TOAs, span_s = 1e5 s of 0.1 s
+#: exposures, took about 37 minutes without a word). Chapter 0 takes at most 200 (2,000 s of
+#: 10 s), the default span at the shortest exposure 20,000 (2,000 s of 0.1 s, 42 s).
+MAX_TOAS = 200_000
+
+
+def _check_toas(count, name, what, most):
+    """``count`` TOAs at most :data:`MAX_TOAS`, else one ValueError leading with ``name``, with
+    the estimated time and the most the caller may ask (``most``, text)."""
+    if count > MAX_TOAS:
+        raise ValueError(f"{name} must keep at most {MAX_TOAS} TOAs (about "
+                         f"{MAX_TOAS * SECONDS_PER_TOA / 60:.0f} minutes at "
+                         f"{SECONDS_PER_TOA * 1e3:g} ms a TOA), got {what} = {count} TOAs, about "
+                         f"{count * SECONDS_PER_TOA / 60:.0f} minutes ({most})")
 
 
 #: How far from 1 the norm of a direction may be: a range is ``n . r`` with ``|r|`` up to
@@ -143,7 +162,8 @@ def track(truth, exposure, x0, P0, pulsar_names=("B0531+21",), directions=((1.0,
     Parameters
     ----------
     truth : array_like
-        True states at ``t_k = k exposure`` (:func:`simulate`), shape (n + 1, 2 d), n >= 1.
+        True states at ``t_k = k exposure`` (:func:`simulate`), shape (n + 1, 2 d), n >= 1,
+        with ``n`` times the pulsars at most :data:`MAX_TOAS` (2e5 TOAs, about 7 minutes).
     exposure : float
         Window of each TOA and step of the filter, s, in [1e-3, 1e5] (as
         :func:`~xnavlab.line.measure.range_sigma`).
@@ -175,6 +195,10 @@ def track(truth, exposure, x0, P0, pulsar_names=("B0531+21",), directions=((1.0,
     if len(truth) < 2:  # no step: a track of no measurement
         raise ValueError(f"truth must hold at least 2 rows (t = 0 and one exposure), got {len(truth)}")
     _check_directions(N)
+    m = len(pulsar_names)
+    pl = "pulsar" if m == 1 else "pulsars"
+    _check_toas((len(truth) - 1) * m, "truth", f"{len(truth) - 1} steps x {m} {pl}",
+                f"at most {MAX_TOAS // m + 1} rows with {m} {pl}")
     rng = make_rng(rng)
     exposure = check_real("exposure", exposure, 1e-3, 1e5)  # range_sigma's range
     F, Q = cv_model(exposure, accel_sigma, d)
@@ -249,7 +273,10 @@ def run_line(exposure_s=10.0, accel_sigma=0.0, span_s=2000.0, dv=1.0, seed=0):
         Length of the run, s, in [exposure_s, 1e5]: a whole number of exposures (to 1e-9 of
         one), ``span_s / exposure_s`` TOAs. A span between two whole numbers is refused with
         the nearest valid ones (it was cut to the nearest, the truth ending elsewhere than
-        asked); every span and exposure of chapter 0's slider divide.
+        asked); every span and exposure of chapter 0's slider divide. At most
+        :data:`MAX_TOAS` TOAs: a TOA takes about 2.1 ms on two cores, so the cap, 2e5, keeps a
+        run under about 7 minutes (1e5 s of 0.1 s exposures, 1e6 TOAs, took 37); chapter 0,
+        the tests and the benchmarks take at most 20,000 (the default span at 0.1 s).
     dv : float
         Velocity offset towards the Crab, m/s, in [-1e5, 1e5].
     seed : int
@@ -273,6 +300,9 @@ def run_line(exposure_s=10.0, accel_sigma=0.0, span_s=2000.0, dv=1.0, seed=0):
         raise ValueError(f"span_s must be at least exposure_s ({exposure_s:g} s) and at most "
                          f"1e5 s, got {span_s:g}: a run holds at least one TOA")
     ratio = span_s / exposure_s
+    _check_toas(math.floor(ratio + 1e-9), "span_s / exposure_s",
+                f"span_s = {span_s:g} s / exposure_s = {exposure_s:g} s",
+                f"at most {MAX_TOAS * exposure_s:.6g} s at this exposure")
     n = round(ratio)  # whole TOAs only: a fraction of one was cut without a word
     if abs(ratio - n) > 1e-9:
         lo, hi = math.floor(ratio), math.ceil(ratio)
