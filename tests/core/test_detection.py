@@ -45,3 +45,35 @@ from xnavlab.core import detection as D
 def test_bad_input_raises_value_error_naming_the_parameter(call, name):
     with pytest.raises(ValueError, match=rf"\b{name}\b"):
         call()
+
+
+def test_review35p_p14_sigma_names_its_plain_shape_one_a_level():
+    """Review 35p P14: sigma=0.0 at level 2 said "must have trailing shape (..., 2)"; the
+    docstring says shape (level,): the message says so, one noise level a wavelet level."""
+    for sigma, got in ((0.0, r"\(\)"), ([1.0, 2.0, 3.0], r"\(3,\)"), (np.ones((1, 2)), r"\(1, 2\)")):
+        with pytest.raises(ValueError, match=r"^sigma must have shape \(2,\), one noise level a "
+                           r"wavelet level \(level = 2\), got shape " + got + "$"):
+            D.wavelet_detect(np.arange(300.0), np.zeros(300), level=2, sigma=sigma)
+
+
+def test_review35p_p14_other_plain_shapes_are_named_plainly():
+    """Review 35p P14's class in core/detection: nu, y, x and cone checked a trailing shape
+    (a stack passed, a scalar read "trailing shape (..., m)"); each has a plain shape."""
+    from xnavlab.core.detection.combined import CombinedDesign, InnovationMonitor
+    from xnavlab.core.detection.singularity import lipschitz_exponent
+
+    with pytest.raises(ValueError, match=r"^nu must have shape \(2,\) \(one innovation a "
+                       r"measurement, m = 2\), got shape \(1, 2\)$"):
+        D.Chi2Detector(2).update(0.0, np.zeros((1, 2)), np.eye(2))
+    monitor = InnovationMonitor(CombinedDesign(28800.0, 2, rate_per_day=30.0))
+    with pytest.raises(ValueError, match=r"^y must have shape \(2,\) \(one whitened innovation a "
+                       r"measurement, m = 2\), got shape \(\)$"):
+        monitor.update(0.0, 1.0)
+    w = np.ones((3, 16))
+    with pytest.raises(ValueError, match=r"^cone must have shape \(3,\) \(one half-width a scale "
+                       r"of w\), got shape \(2, 3\)$"):
+        lipschitz_exponent(w, [2.0, 4.0, 8.0], 5, cone=np.ones((2, 3)))
+    t = np.arange(500.0)
+    with pytest.raises(ValueError, match=r"^x must have shape \(500,\) \(one measurement a time "
+                       r"of t\), got shape \(2, 500\)$"):
+        D.combined_detect(t, np.zeros((500, 2)), x=np.zeros((2, 500)))

@@ -17,6 +17,7 @@ from xnavlab.core.validate import (
     check_increasing,
     check_int,
     check_real,
+    check_shape,
 )
 
 __all__ = [
@@ -177,7 +178,7 @@ class Chi2Detector(TrackedDetector):
         """Feed one innovation ``nu`` (m,) with covariance ``S`` (m, m) at time ``t`` (s, after
         the last one fed); return the flag."""
         t = check_real("t", t)
-        nu = check_finite_array("nu", nu, shape=(self.m,))
+        nu = check_shape("nu", nu, (self.m,), f"one innovation a measurement, m = {self.m}")
         S = check_finite_array("S", S)
         if S.size != self.m * self.m:
             raise ValueError(f"S must have shape ({self.m}, {self.m}), got shape {S.shape}")

@@ -85,6 +85,7 @@ from xnavlab.core.validate import (
     check_keywords,
     check_real,
     check_seed,
+    check_shape,
     shown,
 )
 
@@ -615,7 +616,7 @@ class InnovationMonitor(TrackedDetector):
 
     def update(self, t, y):
         """Feed one whitened innovation ``y`` (m,); return whether it alarms."""
-        y = check_finite_array("y", y, shape=(self.m,))
+        y = check_shape("y", y, (self.m,), f"one whitened innovation a measurement, m = {self.m}")
         return self.process(np.array([check_real("t", t)]), y[None, :]) == 0
 
 
@@ -728,7 +729,7 @@ def combined_detect(t, y, *, x=None, design=None, rate_per_day=1.0, adaptive=Tru
         if rate_per_day != 1.0:  # a rate beside a design would go unused
             raise ValueError(f"rate_per_day = {shown(rate_per_day)} is unused with a design (its "
                              f"own rate is {design.rate_per_day:g}): give one of them")
-    x = y[:, 0] if x is None else check_finite_array("x", x, shape=(t.size,))
+    x = y[:, 0] if x is None else check_shape("x", x, (t.size,), "one measurement a time of t")
     wkw = check_keywords("combined_detect", wavelet_kw, wavelet_detect, name="wavelet_kw",
                          set_here={"t": "its t", "x": "its x (default y[:, 0])",
                                    "pfa": "from the design's pfa_wavelet",

@@ -794,8 +794,11 @@ class WaveletDetector(TrackedDetector):
         self.reset()
 
     def _set_sigma(self, sigma):
-        sigma = check_finite_array("sigma", sigma, shape=(self.level,))
-        if sigma.ndim != 1 or np.any(sigma <= 0):
+        sigma = check_finite_array("sigma", sigma)
+        if sigma.shape != (self.level,):  # "trailing shape (..., 2)" read as a stack (review 35p P14)
+            raise ValueError(f"sigma must have shape ({self.level},), one noise level a wavelet "
+                             f"level (level = {self.level}), got shape {sigma.shape}")
+        if np.any(sigma <= 0):
             raise ValueError(f"sigma must be {self.level} positive numbers, got {sigma!r}")
         self.sigma = sigma.copy()
 

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pywt
 
-from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, shown
+from xnavlab.core.validate import check_choice, check_finite_array, check_int, check_real, check_shape, shown
 
 __all__ = [
     "modulus_maxima",
@@ -91,7 +91,8 @@ def lipschitz_exponent(w, scales, index, cone=None):
         raise ValueError(f"scales must hold at least two distinct scales (the exponent is a "
                          f"slope over log2(scale)), got {shown(scales.tolist())}")
     index = check_int("index", index, 0, w.shape[1] - 1)
-    cone = 3.0 * scales if cone is None else check_finite_array("cone", cone, shape=(w.shape[0],))
+    cone = 3.0 * scales if cone is None else check_shape("cone", cone, (w.shape[0],),
+                                                          "one half-width a scale of w")
     if np.any(cone <= 0.0):  # a negative half-width leaves no sample to search
         raise ValueError(f"cone must be positive half-widths (samples), one per scale, got "
                          f"{float(cone.min()):g}")
