@@ -174,7 +174,8 @@ def test_elements_to_state_takes_a_semi_major_axis_from_1_m():
     for a in (5e-324, 0.5):
         with pytest.raises(ValueError, match=r"^a must be a real number in \[1, 1e\+15\]"):
             ee.elements_to_state(a, 0.0, 0.0, 0.0, 0.0, 0.0, GM_MARS)
-    assert np.all(np.isfinite(ee.elements_to_state(1.0, 0.0, 0.0, 0.0, 0.0, 0.0, GM_MARS)))
+    # a body of 1 m radius (review 35p P1: by default the perigee must clear the planet)
+    assert np.all(np.isfinite(ee.elements_to_state(1.0, 0.0, 0.0, 0.0, 0.0, 0.0, GM_MARS, radius=1.0)))
 
 
 def test_review_35i_refusals():

@@ -76,7 +76,9 @@ def check_n_dyn(n_dyn):
 
 def check_directions(name, n):
     """Pulsar directions ``n`` (k, 3) as unit rows (to :data:`UNIT_TOL`), a zero row refused."""
-    n = check_shape(name, n, (None, 3))
+    n = check_finite_array(name, n)
+    if n.ndim != 2 or n.shape[1] != 3:  # said as the docstrings say it: k pulsars, not "(n, 3)"
+        raise ValueError(f"{name} must have shape (k, 3), one pulsar a row, got shape {n.shape}")
     norms = np.linalg.norm(n, axis=1)
     if np.any(norms == 0.0):
         i = int(np.argmax(norms == 0.0))

@@ -78,6 +78,7 @@ __all__ = [
     "ephemeris_error",
     "error_summary",
     "PROFILES",
+    "MAX_ERROR",
     "growth_profile",
     "injected_error",
     "ephemeris_drift",
@@ -232,7 +233,11 @@ def injected_error(t, size, kind="constant", direction=(1.0, 1.0, 1.0), t0=0.0, 
         a slowly varying error of the DE405-DE421 kind (about 20 % over a year);
         ``"growing"``: ``size * u * f((t - t0) / growth_time)``, zero at ``t0`` and ``size``
         at ``t0 + growth_time`` (the paper's error that "keeps increasing with time";
-        ``f`` is :func:`growth_profile`).
+        ``f`` is :func:`growth_profile`). Past ``t0 + growth_time`` it keeps growing (it is
+        not held at ``size``), so ``size`` is its size at ``t0 + growth_time``, not its
+        largest; an error that would exceed :data:`MAX_ERROR` (1e8 m, the range of ``size``)
+        at some epoch ``t`` is refused, naming growth_time (the chapter's runs take
+        ``growth_time`` = the run's span, where the error ends at ``size``).
     direction : array_like, shape (3,)
         Direction ``u`` (normalised here; must be non-zero).
     t0 : float
@@ -244,7 +249,8 @@ def injected_error(t, size, kind="constant", direction=(1.0, 1.0, 1.0), t0=0.0, 
         any but the default (a year).
     growth_time : float, optional
         For ``"growing"``: time after ``t0`` at which the error reaches ``size``, s, in
-        [1, 1e12] (required).
+        [1, 1e12] (required), and long enough that the error stays within :data:`MAX_ERROR`
+        over the epochs ``t``.
     profile : str or callable
         For ``"growing"``: the time profile ``f`` (see :func:`growth_profile`).
 
@@ -289,7 +295,29 @@ def injected_error(t, size, kind="constant", direction=(1.0, 1.0, 1.0), t0=0.0, 
         # from a second (a faster growth is a step; 1e-300 overflowed (t - t0) / growth_time)
         growth_time = check_real("growth_time", growth_time, 1.0, 1e12)
         scale = size * growth_profile((t - t0) / growth_time, profile)  # |dr_E(t)| = size f(s)
+        _check_growth(scale, t - t0, size, growth_time, profile)
     return scale[..., None] * (u / norm)
+
+
+#: The largest injected error, m: the bound of ``size`` (an ephemeris error of 100,000 km), which a
+#: growing error must keep to over its run too (a small ``growth_time`` made 1e20 m).
+MAX_ERROR = 1e8
+
+
+def _check_growth(scale, since, size, growth_time, profile):
+    """Refuse a growing error whose norm ``scale = size f((t - t0) / growth_time)`` exceeds
+    :data:`MAX_ERROR` at some epoch (``since = t - t0``), naming growth_time, size and the span."""
+    scale = np.abs(scale)  # a callable profile may go negative
+    if scale.size == 0 or float(np.max(scale)) <= MAX_ERROR * (1.0 + 1e-9):  # rounding of s = 1
+        return
+    k = int(np.argmax(scale))
+    span, ratio = float(np.max(since)), MAX_ERROR / size
+    need = {"linear": span / ratio, "quadratic": span / math.sqrt(ratio), "sqrt": span / ratio**2}
+    hint = (f"; growth_time >= {need[profile]:.6g} s keeps it" if isinstance(profile, str) else "")
+    raise ValueError(f"growth_time must keep the growing error within {MAX_ERROR:g} m (the size range) "
+                     f"over the run's span t - t0 <= {span:.6g} s: with size = {size:g} m, growth_time = "
+                     f"{growth_time:g} s it reaches {float(scale.flat[k]):.6g} m at t - t0 = "
+                     f"{float(since.flat[k]):.6g} s{hint}")
 
 
 def _is_number(value, default):
@@ -398,7 +426,7 @@ def xnav_range(r, r_planet, n):
     """
     r = check_finite_array("r", r, shape=(3,))
     r_planet = check_finite_array("r_planet", r_planet, shape=(3,))
-    n = check_directions("n", check_finite_array("n", n, shape=(None, 3)))
+    n = check_directions("n", n)  # (k, 3), one pulsar a row
     return (r + r_planet) @ n.T  # paper eq. (1): c dt = n . (r + r_E)
 
 
@@ -473,21 +501,29 @@ def propagate(x, dt, body="earth", substep=20.0):
     return propagate_unchecked(x, dt, PLANETS[body], substep)
 
 
-def elements_to_state(a, e, i_deg, raan_deg, argp_deg, nu_deg, gm):
+def elements_to_state(a, e, i_deg, raan_deg, argp_deg, nu_deg, gm, radius=None):
     """Cartesian state from Keplerian elements, m and m/s.
 
     Parameters
     ----------
     a : float
         Semi-major axis, m, in [R_MIN, R_MAX] (:data:`xnavlab.mars.models.dynamics.R_MIN`, 1 m:
-        a subnormal axis gave a state of subnormal position and overflowing speed).
+        a subnormal axis gave a state of subnormal position and overflowing speed), and with
+        the whole orbit outside the central body and within R_MAX of its centre: the perigee
+        ``a (1 - e)`` at least ``radius``, the apogee ``a (1 + e)`` at most R_MAX (the
+        distances :func:`propagate` and :func:`acceleration` accept).
     e : float
         Eccentricity, ``0 <= e < 1``.
     i_deg, raan_deg, argp_deg, nu_deg : float
         Inclination, right ascension of the ascending node, argument of periapsis and
-        true anomaly, degrees (in the frame of the planet-centred J2000 axes).
+        true anomaly, degrees, in [-360, 360] (in the frame of the planet-centred J2000 axes).
     gm : float
         Gravitational parameter, m^3/s^2.
+    radius : float, optional
+        Radius of the central body, m, in [R_MIN, R_MAX]: the perigee's lower bound. Default:
+        that of the planet of :data:`PLANETS` whose GM is ``gm`` (the reference radius of its
+        J2, as :func:`propagate` bounds ``|r|``); required for another ``gm`` (refused
+        without it, naming gm).
 
     Returns
     -------
@@ -500,16 +536,35 @@ def elements_to_state(a, e, i_deg, raan_deg, argp_deg, nu_deg, gm):
     True
     """
     return _state_of((a, e, i_deg, raan_deg, argp_deg, nu_deg), gm,
-                     ("a", "e", "i_deg", "raan_deg", "argp_deg", "nu_deg"))
+                     ("a", "e", "i_deg", "raan_deg", "argp_deg", "nu_deg"), radius=radius)
 
 
-def _state_of(elements, gm, names):
-    """:func:`elements_to_state` of the six ``elements``, each checked under its ``names`` entry."""
+def _state_of(elements, gm, names, body=None, radius=None):
+    """:func:`elements_to_state` of the six ``elements``, each checked under its ``names`` entry,
+    the orbit between the radius of the planet ``body`` (default: the planet of ``gm``; or
+    ``radius``, given) and R_MAX."""
     a = check_real(names[0], elements[0], R_MIN, R_MAX)  # the distances a state may have (dynamics.R_MIN)
     e = check_real(names[1], elements[1], 0.0, 1.0, hi_open=True)
     gm = check_real("gm", gm, 0.0, MAX_GM, lo_open=True)
     i, raan, argp, nu = (math.radians(check_real(n, v, -360.0, 360.0)) for n, v in
                          zip(names[2:], elements[2:], strict=True))
+    if radius is not None:
+        radius, body = check_real("radius", radius, R_MIN, R_MAX), "the central body"
+    else:
+        body = body or next((b for b, planet in PLANETS.items() if planet[0] == gm), None)
+        if body is None:
+            raise ValueError(f"gm must be earth's or mars' ({PLANETS['earth'][0]:g} or "
+                             f"{PLANETS['mars'][0]:g} m^3/s^2) unless radius (the central body's "
+                             f"radius, m) is given, got {gm:g}")
+        radius = PLANETS[body][2]
+    if a * (1.0 - e) < radius:  # the orbit through the planet: its field is the one outside it only
+        raise ValueError(f"{names[0]} must put the perigee {names[0]} (1 - {names[1]}) at or above the "
+                         f"radius of {body} ({radius:g} m): {names[0]} >= {radius / (1.0 - e):.6g} m with "
+                         f"{names[1]} = {e:g}, got {a:g}")
+    if a * (1.0 + e) > R_MAX:  # as propagate's bound on |r|
+        raise ValueError(f"{names[0]} must keep the apogee {names[0]} (1 + {names[1]}) within {R_MAX:g} m "
+                         f"of the centre: {names[0]} <= {R_MAX / (1.0 + e):.6g} m with {names[1]} = {e:g}, "
+                         f"got {a:g}")
     p = a * (1.0 - e * e)
     rn = p / (1.0 + e * math.cos(nu))
     r_pf = np.array([rn * math.cos(nu), rn * math.sin(nu), 0.0])
@@ -571,7 +626,8 @@ def orbit(body="earth", t0=EPOCH_1997, elements=None):
         Epoch, s TDB past J2000, within the years DE421 and DE405 both cover (1900-2199).
     elements : sequence of 6 floats, optional
         ``(a_m, e, i_deg, raan_deg, argp_deg, nu_deg)`` replacing the default orbit, each in
-        :func:`elements_to_state`'s range (named ``elements[i]``).
+        :func:`elements_to_state`'s range (named ``elements[i]``): the perigee
+        ``a (1 - e)`` at or above the planet's radius (:data:`PLANETS`).
 
     Returns
     -------
@@ -591,7 +647,7 @@ def orbit(body="earth", t0=EPOCH_1997, elements=None):
         if el.shape != (6,):
             raise ValueError(f"elements must be (a_m, e, i_deg, raan_deg, argp_deg, nu_deg), 6 numbers, "
                              f"got {shown(elements)}")
-        return Orbit(body, _state_of(el, gm, [f"elements[{i}]" for i in range(6)]), t0,
+        return Orbit(body, _state_of(el, gm, [f"elements[{i}]" for i in range(6)], body), t0,
                      f"{body} (user elements)", "user")
     if body == "earth":
         return Orbit(body, elements_to_state(*EARTH_ELEMENTS, gm), t0, "OPS_5111 (representative)",

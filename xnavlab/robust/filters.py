@@ -209,7 +209,8 @@ def simulate(body="earth", n_steps=1200, dt=500.0, error="de405", size=0.0, puls
         Epoch of the initial state, s TDB past J2000, within the years DE421 and DE405 both
         cover (1900-2199; with ``error="de405"`` or ``"de405-drift"`` the run's end too).
     elements : tuple, optional
-        Orbital elements replacing the default orbit (see :func:`xnavlab.robust.ephemeris_error.orbit`).
+        Orbital elements replacing the default orbit (see :func:`xnavlab.robust.ephemeris_error.orbit`:
+        the perigee ``a (1 - e)`` at or above the planet's radius).
     direction : array_like of shape (3,) or "de405", optional
         Direction of an injected error (ICRF); ``"de405"``: that of the real DE421 - DE405
         error at ``t0``. Default ``(1, 1, 1) / sqrt(3)``; an ``error`` not injected refuses it.
@@ -217,6 +218,9 @@ def simulate(body="earth", n_steps=1200, dt=500.0, error="de405", size=0.0, puls
         ``"growing"`` only: time after ``t0`` at which the error reaches ``size``, s, in
         [1, 1e12]. Default: the run's length ``n_steps * dt`` (with the default lengths of
         :func:`~xnavlab.robust.comparison.compare_filters`, the end of the paper's RMSE window).
+        A shorter one lets the error grow on past ``size`` (it is not held there); a run in
+        which it would exceed 1e8 m (the range of ``size``) is refused, naming growth_time
+        (:func:`xnavlab.robust.ephemeris_error.injected_error`).
     profile : {"linear", "quadratic", "sqrt"} or callable
         ``"growing"`` only (another error refuses any but ``"linear"``): time profile
         (:func:`xnavlab.robust.ephemeris_error.growth_profile`).
