@@ -102,7 +102,8 @@ def test_local_models_check_lon_and_h_under_their_names():
     """Issue 35 (review 35h): lon=[] was refused as 'r must have shape (3,), got (0, 3)'."""
     tr = ins.paper_trajectory(duration=10.0)
     args = (P.operating_points(tr), tr.lon[0], tr.h[0], pl.sites_ecef(), tr.dt)
-    with pytest.raises(ValueError, match=r"^lon must be a finite real number, got \[\]$"):
+    with pytest.raises(ValueError,
+                       match=r"^lon must be a longitude in radians in \[-6\.28319, 6\.28319\], got \[\]$"):
         P.local_models(args[0], [], *args[2:])
     with pytest.raises(ValueError, match=r"^h must be a real number in \[-10000, 100000\], got \[1\.0\]$"):
         P.local_models(*args[:2], [1.0], *args[3:])

@@ -212,8 +212,8 @@ def test_issue35_pdop_refuses_sites_on_one_line_of_sight():
 
 
 @pytest.mark.parametrize("kw, words", [
-    ({"lat": []}, r"^lat must be a real number in \[-1\.5708, 1\.5708\], got \[\]$"),
-    ({"lon": [1.0]}, r"^lon must be a finite real number, got \[1\.0\]$"),
+    ({"lat": []}, r"^lat must be a latitude in radians in \[-1\.5708, 1\.5708\], got \[\]$"),
+    ({"lon": [1.0]}, r"^lon must be a longitude in radians in \[-6\.28319, 6\.28319\], got \[1\.0\]$"),
     ({"h": True}, r"^h must be a real number in \(-3\.18907e\+06, 1e\+09\], got True$"),
 ])
 def test_one_receiver_position_is_three_numbers_each_named(kw, words):

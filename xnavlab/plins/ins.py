@@ -66,6 +66,7 @@ from xnavlab.core.validate import (
     make_rng,
     shown,
 )
+from xnavlab.plins._checks import check_angle, check_angles
 
 __all__ = [
     "WGS84_A",
@@ -146,9 +147,7 @@ def earth_radii(lat):
     >>> round(r_n), round(r_m)
     (6378137, 6335439)
     """
-    lat = check_finite_array("lat", lat)
-    if np.any(np.abs(lat) > math.pi / 2):
-        raise ValueError("lat must be in [-pi/2, pi/2] rad")
+    lat = check_angles("lat", lat, "lat")
     w = 1.0 - WGS84_E2 * np.sin(lat) ** 2
     r_m = WGS84_A * (1.0 - WGS84_E2) / w**1.5  # R_M
     r_n = WGS84_A / np.sqrt(w)  # R_N
@@ -181,7 +180,7 @@ def normal_gravity(lat, h):
     >>> round(normal_gravity(math.radians(39.0), 0.0), 4)
     9.8008
     """
-    lat = check_real("lat", lat, -math.pi / 2, math.pi / 2)
+    lat = check_angle("lat", lat, "lat")
     h = check_real("h", h, -1e4, 1e5)
     s2 = math.sin(lat) ** 2
     g0 = _G_EQ * (1.0 + _K_SOMIGLIANA * s2) / math.sqrt(1.0 - WGS84_E2 * s2)  # Somigliana
@@ -216,7 +215,7 @@ def omega_ie(lat):
     >>> omega_ie(0.0).tolist() == [0.0, OMEGA_IE, 0.0]
     True
     """
-    lat = check_real("lat", lat, -math.pi / 2, math.pi / 2)
+    lat = check_angle("lat", lat, "lat")
     return np.array([0.0, OMEGA_IE * math.cos(lat), OMEGA_IE * math.sin(lat)])
 
 
@@ -255,7 +254,7 @@ def nav_rates(lat, lon, h, v_enu, f_enu):
     Parameters
     ----------
     lat, lon : float
-        Geodetic latitude and longitude, rad.
+        Geodetic latitude in [-pi/2, pi/2] and longitude in [-2 pi, 2 pi], rad.
     h : float
         Height, m.
     v_enu : array_like, shape (3,)
@@ -274,7 +273,7 @@ def nav_rates(lat, lon, h, v_enu, f_enu):
     >>> abs(nav_rates(0.7, 2.0, 0.0, [0, 0, 0], [0, 0, g])[5]) < 1e-12
     True
     """
-    check_real("lon", lon)
+    check_angle("lon", lon, "lon")
     lat, h, v = _check_state(lat, h, v_enu)
     f = check_shape("f_enu", f_enu, (3,))  # a (1, 3) row broadcast into numpy's message
     r_m, r_n = earth_radii(lat)
@@ -479,7 +478,7 @@ class Trajectory:
     t : ndarray, shape (n,)
         Time since the start of the flight, s.
     lat, lon : ndarray, shape (n,)
-        Geodetic latitude and longitude, rad.
+        Geodetic latitude in [-pi/2, pi/2] and longitude in [-2 pi, 2 pi], rad.
     h : ndarray, shape (n,)
         Height above the WGS-84 ellipsoid, m.
     v_enu : ndarray, shape (n, 3)
@@ -491,7 +490,8 @@ class Trajectory:
     -----
     Every field is checked when the flight is built, naming the field: finite numbers, at
     least two samples, ``t`` strictly increasing at one step (:attr:`dt`, the step of
-    :func:`error_transitions`), and every other field one row per time.
+    :func:`error_transitions`), every other field one row per time, ``lat`` in
+    [-pi/2, pi/2] and ``lon`` in [-2 pi, 2 pi] (radians: a flight in degrees is refused).
 
     Examples
     --------
@@ -527,6 +527,8 @@ class Trajectory:
         checked = {"t": t}
         for name in ("lat", "lon", "h"):
             checked[name] = check_shape(name, getattr(self, name), (len(t),), why)
+        for name in ("lat", "lon"):  # radians, bounded: a flight typed in degrees is refused here
+            check_angles(name, checked[name], name)
         for name in ("v_enu", "f_enu"):
             checked[name] = check_shape(name, getattr(self, name), (len(t), 3), why)
         for name, value in checked.items():  # frozen: stored as the checked float arrays

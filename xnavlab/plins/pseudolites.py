@@ -45,7 +45,7 @@ import numpy as np
 
 from xnavlab.core import faults as _faults
 from xnavlab.core.validate import check_finite_array, check_real, make_rng, shown
-from xnavlab.plins._checks import check_sites, distinct_sites
+from xnavlab.plins._checks import check_angle, check_angles, check_sites, distinct_sites
 from xnavlab.plins.ins import N_STATES, WGS84_A, WGS84_E2, Trajectory, earth_radii
 
 __all__ = [
@@ -89,11 +89,9 @@ SENSOR = "pseudorange"
 
 
 def _geo_arrays(lat, lon, h):
-    lat = check_finite_array("lat", lat)
-    lon = check_finite_array("lon", lon)
+    lat = check_angles("lat", lat, "lat")
+    lon = check_angles("lon", lon, "lon")
     h = check_finite_array("h", h)
-    if np.any(np.abs(lat) > math.pi / 2):
-        raise ValueError("lat must be in [-pi/2, pi/2] rad")
     if np.any(h <= -WGS84_A / 2) or np.any(h > MAX_HEIGHT):  # far out, squares overflow
         raise ValueError(f"h must be in ({-WGS84_A / 2:g}, {MAX_HEIGHT:g}] m")
     try:
@@ -111,7 +109,8 @@ def geodetic_to_ecef(lat, lon, h):
     Parameters
     ----------
     lat, lon : float or array_like
-        Geodetic latitude in [-pi/2, pi/2] and longitude, rad.
+        Geodetic latitude in [-pi/2, pi/2] and longitude in [-2 pi, 2 pi], rad (a value in
+        degrees is refused: convert it with ``np.radians``).
     h : float or array_like
         Height above the ellipsoid, m, in (-a/2, :data:`MAX_HEIGHT`].
 
@@ -184,7 +183,7 @@ def enu_matrix(lat, lon):
     Parameters
     ----------
     lat, lon : float
-        Geodetic latitude and longitude, rad.
+        Geodetic latitude in [-pi/2, pi/2] and longitude in [-2 pi, 2 pi], rad.
 
     Returns
     -------
@@ -196,8 +195,8 @@ def enu_matrix(lat, lon):
     >>> (enu_matrix(0.0, 0.0) + 0.0).tolist()
     [[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]
     """
-    lat = check_real("lat", lat, -math.pi / 2, math.pi / 2)
-    lon = check_real("lon", lon)
+    lat = check_angle("lat", lat, "lat")
+    lon = check_angle("lon", lon, "lon")
     s_l, c_l, s_o, c_o = math.sin(lat), math.cos(lat), math.sin(lon), math.cos(lon)
     return np.array([
         [-s_o, c_o, 0.0],
@@ -216,7 +215,7 @@ def geodetic_jacobian(lat, lon, h):
     Parameters
     ----------
     lat, lon : float
-        Geodetic latitude and longitude, rad.
+        Geodetic latitude in [-pi/2, pi/2] and longitude in [-2 pi, 2 pi], rad.
     h : float
         Height, m, in (-a/2, :data:`MAX_HEIGHT`].
 
@@ -231,8 +230,8 @@ def geodetic_jacobian(lat, lon, h):
     >>> (np.round(T) + 0.0).tolist()
     [[0.0, 0.0, 1.0], [0.0, 6378137.0, 0.0], [6335439.0, 0.0, 0.0]]
     """
-    lat = check_real("lat", lat, -math.pi / 2, math.pi / 2)
-    lon = check_real("lon", lon)
+    lat = check_angle("lat", lat, "lat")
+    lon = check_angle("lon", lon, "lon")
     h = check_real("h", h, -WGS84_A / 2, MAX_HEIGHT, lo_open=True)
     r_m, r_n = earth_radii(lat)
     s_l, c_l, s_o, c_o = math.sin(lat), math.cos(lat), math.sin(lon), math.cos(lon)
@@ -249,8 +248,8 @@ def sites_ecef(sites_deg=None):
     Parameters
     ----------
     sites_deg : array_like, shape (m, 3), optional
-        Sites (default :data:`DEFAULT_SITES_DEG`), latitudes in [-90, 90] deg, distinct
-        (at least 1 m apart).
+        Sites (default :data:`DEFAULT_SITES_DEG`), latitudes in [-90, 90] deg, longitudes in
+        [-360, 360] deg, distinct (at least 1 m apart).
 
     Returns
     -------
@@ -266,16 +265,19 @@ def sites_ecef(sites_deg=None):
     sites = check_finite_array("sites_deg", sites, shape=(3,))
     if sites.ndim != 2 or len(sites) < 1:
         raise ValueError(f"sites_deg must have shape (m, 3), got {sites.shape}")
-    if np.any(np.abs(sites[:, 0]) > 90.0):
-        raise ValueError("sites_deg latitudes must be in [-90, 90] deg")
+    for col, what, bound in ((0, "latitudes", 90.0), (1, "longitudes", 360.0)):  # degrees here
+        if np.any(bad := np.abs(sites[:, col]) > bound):
+            i = int(np.argmax(bad))
+            raise ValueError(f"sites_deg {what} must be in [{-bound:g}, {bound:g}] deg, got "
+                             f"sites_deg[{i}, {col}] = {sites[i, col]:g}")
     ecef = geodetic_to_ecef(np.radians(sites[:, 0]), np.radians(sites[:, 1]), sites[:, 2])
     return distinct_sites("sites_deg", ecef)
 
 
 def _point(lat, lon, h):
     """One receiver position: ``lat``, ``lon`` and ``h`` each a real number in its range, named."""
-    lat = check_real("lat", lat, -math.pi / 2, math.pi / 2)
-    lon = check_real("lon", lon)
+    lat = check_angle("lat", lat, "lat")
+    lon = check_angle("lon", lon, "lon")
     h = check_real("h", h, -WGS84_A / 2, MAX_HEIGHT, lo_open=True)  # as geodetic_to_ecef's
     return lat, lon, h
 
@@ -344,7 +346,8 @@ def measurement_matrix(lat, lon, h, sites):
     Parameters
     ----------
     lat, lon : float
-        Geodetic latitude (in [-pi/2, pi/2]) and longitude of the linearisation point, rad.
+        Geodetic latitude (in [-pi/2, pi/2]) and longitude (in [-2 pi, 2 pi]) of the
+        linearisation point, rad.
     h : float
         Height, m, in (-a/2, :data:`MAX_HEIGHT`].
     sites : array_like, shape (m, 3)
@@ -379,7 +382,7 @@ def pdop(lat, lon, h, sites):
     Parameters
     ----------
     lat, lon : float
-        Receiver latitude (in [-pi/2, pi/2]) and longitude, rad.
+        Receiver latitude (in [-pi/2, pi/2]) and longitude (in [-2 pi, 2 pi]), rad.
     h : float
         Receiver height, m, in (-a/2, :data:`MAX_HEIGHT`].
     sites : array_like, shape (m, 3), m >= 4

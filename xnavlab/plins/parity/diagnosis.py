@@ -38,7 +38,7 @@ from xnavlab.plins import ins as _ins
 from xnavlab.plins import pseudolites as _pl
 from xnavlab.plins._checks import check_sites
 from xnavlab.plins.parity.fuzzy import local_models, memberships, operating_points, premises
-from xnavlab.plins.parity.identification import SIGMA_MIN, estimate_onset, identify_fault
+from xnavlab.plins.parity.identification import SIGMA_MIN, Identification, estimate_onset, identify_fault
 from xnavlab.plins.parity.space import (
     TYPICAL_STATE_STD,
     align_bases,
@@ -57,10 +57,24 @@ __all__ = [
     "diagnose_flight",
     "compare_detectors",
     "FLIGHT_S",
+    "MAX_SAMPLES",
+    "DESIGN_S_PER_SAMPLE",
+    "RUN_S_PER_SAMPLE",
+    "MAX_SECONDS",
 ]
 
 #: Length of the simulated flight of :func:`diagnose_flight` by default, s.
 FLIGHT_S = 200.0
+
+#: Measured cost of a flight's samples on a 2-core machine, s a sample: a new flight (its
+#: trajectory, error transitions and T-S design, cached after) about 6 ms; each further run of a
+#: cached flight about 1 ms with the chi-square detector (0.1 ms without).
+DESIGN_S_PER_SAMPLE, RUN_S_PER_SAMPLE = 6e-3, 1e-3
+#: The most samples ``duration / dt + 1`` of one flight: about 5 minutes at
+#: :data:`DESIGN_S_PER_SAMPLE` (the book's flights have 201; 1e6 samples took about 1.7 h).
+MAX_SAMPLES = 50_000
+#: The longest a call may be estimated to take, s (refused beyond it, naming its settings).
+MAX_SECONDS = 600.0
 
 
 def first_alarm(t, statistic, threshold, after=-math.inf):
@@ -107,6 +121,38 @@ def first_alarm(t, statistic, threshold, after=-math.inf):
 # ------------------------------------------------------ chi-square comparison
 
 
+def _store(obj, **fields):
+    """Set the checked ``fields`` of a frozen result (as arrays of floats where they were lists)."""
+    for name, value in fields.items():
+        object.__setattr__(obj, name, value)
+
+
+def _times(name, t):
+    """Sample times: a non-empty, finite, increasing 1-D array."""
+    t = check_vector(name, t)
+    if t.size == 0:
+        raise ValueError(f"{name} must hold at least one sample time, got an empty array")
+    return check_increasing(name, t)
+
+
+def _nonnegative(name, value, shape, why):
+    """A finite array of ``shape`` (a norm or a chi-square value: at least 0)."""
+    arr = check_shape(name, value, shape, why)
+    if np.any(arr < 0.0):
+        i = int(np.argmax(np.ravel(arr) < 0.0))
+        raise ValueError(f"{name} must hold norms (at least 0), got {np.ravel(arr)[i]:g} at flat index {i}")
+    return arr
+
+
+def _alarm_list(name, value, m):
+    """One entry per sensor: None or a time, s."""
+    if not isinstance(value, list) or len(value) != m:
+        raise ValueError(f"{name} must be a list of one entry per pseudolite (m = {m}), got {shown(value)}")
+    for j, v in enumerate(value):
+        if v is not None:
+            check_real(f"{name}[{j}]", v)
+
+
 @dataclass(frozen=True)
 class Chi2Monitor:
     """Residual chi-square test of a PL/INS Kalman filter (Brumback & Srinath 1987).
@@ -127,6 +173,15 @@ class Chi2Monitor:
     statistic: np.ndarray
     threshold: float
     x: np.ndarray
+
+    def __post_init__(self):
+        """Check the fields (an edited copy, ``dataclasses.replace``, is checked again), each
+        refusal naming ``Chi2Monitor.<field>``."""
+        n = "Chi2Monitor."
+        t = _times(n + "t", self.t)
+        _store(self, t=t, statistic=_nonnegative(n + "statistic", self.statistic, (t.size,), "n = len(t)"),
+               threshold=check_real(n + "threshold", self.threshold, 0.0, math.inf, lo_open=True),
+               x=check_shape(n + "x", self.x, (t.size, _ins.N_STATES), "n = len(t)"))
 
     def first_alarm(self, after=-math.inf):
         """Time of the first alarm at or after ``after``, s, or ``None``."""
@@ -215,9 +270,14 @@ def chi2_monitor(data, transitions, sites=None, x0_std=None, p_fa=1e-6):
 # ----------------------------------------------------------- the whole flight
 
 
-@dataclass
+@dataclass(frozen=True, eq=False)
 class Diagnosis:
     """Everything :func:`diagnose_flight` computed, for plots and checks.
+
+    Frozen, and checked when made: an edited copy (``dataclasses.replace``) is checked again,
+    each refusal naming ``Diagnosis.<field>`` (the threshold a positive real, the arrays of
+    the shapes below and finite, ``identification`` Identifications of alarmed pseudolites);
+    the checks cost a few array passes, nothing beside the flight's simulation.
 
     Attributes
     ----------
@@ -271,6 +331,40 @@ class Diagnosis:
     weights: np.ndarray
     points: np.ndarray
     chi2: Chi2Monitor | None = None
+
+    def __post_init__(self):
+        # the threshold's range is diagnose_flight's, open above (a high one raises no alarm)
+        n = "Diagnosis."
+        t = _times(n + "t", self.t)
+        s = check_int(n + "s", self.s, 2, 60)
+        if t.size <= s:
+            raise ValueError(f"{n}t must hold more than s + 1 = {s + 1} samples (one window), got {t.size}")
+        z = check_shape(n + "z", self.z, (t.size, None), "n = len(t)")
+        m = z.shape[1]
+        t_res = check_shape(n + "t_res", self.t_res, (t.size - s,), "n - s window ends")
+        if not np.array_equal(t_res, t[s:]):
+            raise ValueError(f"{n}t_res must be the window ends t[s:] (s = {s})")
+        q = check_int(n + "null_dim", self.null_dim, 1, (s + 1))
+        _store(self, t=t, z=z, t_res=t_res,
+               fault=check_shape(n + "fault", self.fault, (t.size, m), "n = len(t), m = columns of z"),
+               residual=check_shape(n + "residual", self.residual, (t.size - s, m, q),
+                                    "n - s windows, m = columns of z, q = null_dim"),
+               statistic=_nonnegative(n + "statistic", self.statistic, (t.size - s, m),
+                                      "n - s windows, m = columns of z"),
+               threshold=check_real(n + "threshold", self.threshold, 0.0, math.inf, lo_open=True),
+               sigma=check_real(n + "sigma", self.sigma, SIGMA_MIN, 1e6),
+               weights=check_shape(n + "weights", self.weights, (t.size, None), "n = len(t)"))
+        _store(self, points=check_shape(n + "points", self.points, (self.weights.shape[1], 3),
+                                        "N = columns of weights"))
+        _alarm_list(n + "detection", self.detection, m)
+        _alarm_list(n + "onset", self.onset, m)
+        if not isinstance(self.identification, dict) or any(
+                isinstance(j, bool) or not isinstance(j, int) or not 0 <= j < m
+                or not isinstance(v, Identification) for j, v in self.identification.items()):
+            raise ValueError(f"{n}identification must map pseudolite indices in [0, {m - 1}] to "
+                             f"Identifications, got {shown(self.identification)}")
+        if self.chi2 is not None and not isinstance(self.chi2, Chi2Monitor):
+            raise ValueError(f"{n}chi2 must be a Chi2Monitor or None, got {shown(self.chi2)}")
 
 
 _FLIGHT_CACHE: dict = {}
@@ -380,6 +474,19 @@ def _design(traj, sites, s, tol, n_points, tol_named):
     return _DESIGN_CACHE[key]
 
 
+def _check_samples(dt, duration):
+    """Refuse a flight of more than :data:`MAX_SAMPLES` samples, naming dt and duration."""
+    n = round(duration / dt) + 1
+    if n > MAX_SAMPLES:
+        raise ValueError(
+            f"duration must give at most {MAX_SAMPLES} samples (duration / dt + 1; about "
+            f"{MAX_SAMPLES * DESIGN_S_PER_SAMPLE / 60:.0f} min at the measured "
+            f"{DESIGN_S_PER_SAMPLE * 1e3:g} ms a sample), got duration = {duration:g} s at dt = {dt:g} s: "
+            f"{n} samples (about {n * DESIGN_S_PER_SAMPLE / 60:.3g} min); at this dt, duration <= "
+            f"{(MAX_SAMPLES - 1) * dt:g} s")
+    return n
+
+
 def diagnose_flight(faults=(), *, model="step", s=11, threshold=None, sigma=_pl.DEFAULT_SIGMA,
                     p_fa=None, leak_tol=0.3, n_points=3, time_origin="absolute", seed=0,
                     dt=1.0, duration=FLIGHT_S, sites_deg=None, q_rw=1e-6, with_chi2=False):
@@ -424,7 +531,11 @@ def diagnose_flight(faults=(), *, model="step", s=11, threshold=None, sigma=_pl.
         Sample interval, s, in [1e-3, 3] (the T-S design of the paper's flight keeps one
         parity-space dimension across its operating points up to 3 s; at 3.5 s they differ),
         and flight time, s, in (0, 1e4], a whole number of steps ``dt``
-        (:func:`xnavlab.plins.ins.paper_trajectory`).
+        (:func:`xnavlab.plins.ins.paper_trajectory`), with at most :data:`MAX_SAMPLES`
+        (50,000) samples ``duration / dt + 1``. Decision: a new flight costs about 6 ms a
+        sample (:data:`DESIGN_S_PER_SAMPLE`, measured on 2 cores), so the cap keeps a call
+        to about 5 minutes (the book's flight has 201 samples, 1 s); 1e6 samples (1.7 h) are
+        refused, naming dt and duration.
     sites_deg : array_like, shape (m, 3), optional
         Pseudolite sites ``[lat_deg, lon_deg, h]`` (default
         :data:`xnavlab.plins.pseudolites.DEFAULT_SITES_DEG`).
@@ -464,6 +575,7 @@ def diagnose_flight(faults=(), *, model="step", s=11, threshold=None, sigma=_pl.
     duration = check_real("duration", duration, 0.0, 1e4, lo_open=True)
     if duration / dt < s + 2:
         raise ValueError(f"duration must cover more than s + 2 = {s + 2} samples")
+    _check_samples(dt, duration)
     if isinstance(faults, np.ndarray) and faults.ndim == 0:  # iterable to hasattr, not to list
         raise ValueError(f"faults must be a sequence of Fault, got {shown(faults)}")
     faults = _faults.check_faults("faults", faults)
@@ -517,7 +629,10 @@ def compare_detectors(kind, sizes, *, onset=None, sensor=0, n_runs=5, seed=0, **
     sensor : int
         Faulty pseudorange, 0-based, one of the sites (0..3 with the default four).
     n_runs : int
-        Runs per size, in [1, 1000].
+        Runs per size, in [1, 1000], and few enough that the whole call is estimated at
+        most :data:`MAX_SECONDS` (10 minutes): ``samples x (DESIGN_S_PER_SAMPLE + len(sizes)
+        x n_runs x RUN_S_PER_SAMPLE)``, measured rates (the book's 4 sizes x 5 runs of 201
+        samples take about 5 s); a longer call is refused, naming n_runs.
     seed : int
         First seed, in ``[0, SEED_MAX - n_runs + 1]`` (the runs take ``seed`` to
         ``seed + n_runs - 1``).
@@ -567,6 +682,16 @@ def compare_detectors(kind, sizes, *, onset=None, sensor=0, n_runs=5, seed=0, **
     sensor = check_int("sensor", sensor, 0, n_sites - 1)  # one pseudorange per site
     n_runs = check_int("n_runs", n_runs, 1, 1000)
     seed = check_int("seed", seed, 0, SEED_MAX - (n_runs - 1))  # its runs take seed + i
+    dt = check_real("dt", kwargs.get("dt", 1.0), 1e-3, 3.0)  # as diagnose_flight's
+    n = _check_samples(dt, duration)
+    cost = n * (DESIGN_S_PER_SAMPLE + len(sizes) * n_runs * RUN_S_PER_SAMPLE)
+    if cost > MAX_SECONDS:  # the flight's design once, then every run of every size
+        most = max(0, int((MAX_SECONDS / n - DESIGN_S_PER_SAMPLE) / RUN_S_PER_SAMPLE / len(sizes)))
+        raise ValueError(
+            f"n_runs must keep compare_detectors within about {MAX_SECONDS / 60:.0f} min: {len(sizes)} "
+            f"sizes x {n_runs} runs of {n} samples (duration = {duration:g} s at dt = {dt:g} s) at the "
+            f"measured {RUN_S_PER_SAMPLE * 1e3:g} ms a sample (and {DESIGN_S_PER_SAMPLE * 1e3:g} ms for "
+            f"the flight's design) is about {cost / 60:.3g} min; at most {most} runs here")
     rows = []
     for size in sizes:
         fault = _faults.Fault(_pl.SENSOR, kind, float(size), onset, component=sensor)

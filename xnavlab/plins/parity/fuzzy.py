@@ -18,7 +18,7 @@ import numpy as np
 from xnavlab.core.validate import check_finite_array, check_int, check_real, check_shape
 from xnavlab.plins import ins as _ins
 from xnavlab.plins import pseudolites as _pl
-from xnavlab.plins._checks import check_sites
+from xnavlab.plins._checks import check_angle, check_sites
 
 __all__ = [
     "PREMISES",
@@ -259,7 +259,7 @@ def local_models(points, lon, h, sites, dt, q=None):
     points : array_like, shape (N, 3)
         Operating points ``[lat_deg, v_n, f_n]``, N >= 1.
     lon : float
-        Longitude, rad.
+        Longitude, rad, in [-2 pi, 2 pi].
     h : float
         Height, m, in [-1e4, 1e5] (as :func:`xnavlab.plins.ins.error_matrix`).
     sites : array_like, shape (m, 3)
@@ -286,7 +286,7 @@ def local_models(points, lon, h, sites, dt, q=None):
         if abs(lat_deg) > 89.0:
             raise ValueError(f"points[{l}] must have a latitude in [-89, 89] deg (the ENU error "
                              f"model is singular at the poles), got {lat_deg:g}")
-    lon = check_real("lon", lon)  # checked here: measurement_matrix would name r for a list
+    lon = check_angle("lon", lon, "lon")  # checked here: measurement_matrix would name r for a list
     h = check_real("h", h, -1e4, 1e5)  # as the error model's (xnavlab.plins.ins.error_matrix)
     q = _ins.imu_noise_psd() if q is None else check_shape("q", q, (7,))
     dt = check_real("dt", dt, 0.0, 86400.0, lo_open=True)  # as discretize's

@@ -33,6 +33,7 @@ from xnavlab.core.validate import (
     check_real,
     check_shape,
     check_vector,
+    shown,
 )
 from xnavlab.plins import pseudolites as _pl
 
@@ -342,12 +343,12 @@ def kf_identify(r, G, R, Q, theta0=None, P0=None):
     if np.ndim(R) == 0:
         R = check_real("R", R, 0.0, lo_open=True) * np.eye(q)
     else:
-        R = check_covariance("R", check_finite_array("R", R, shape=(q, q)), q)
+        R = check_covariance("R", check_shape("R", R, (q, q), "q = columns of r"), q)
     if np.ndim(Q) == 0:
         Q = check_real("Q", Q, 0.0) * np.eye(p)
     else:
-        Q = check_covariance("Q", check_finite_array("Q", Q, shape=(p, p)), p)
-    theta = np.zeros(p) if theta0 is None else check_finite_array("theta0", theta0, shape=(p,))
+        Q = check_covariance("Q", check_shape("Q", Q, (p, p), "p = columns of G"), p)
+    theta = np.zeros(p) if theta0 is None else check_shape("theta0", theta0, (p,), "p = columns of G")
     P = 1e8 * np.eye(p) if P0 is None else \
         check_covariance("P0", check_shape("P0", P0, (p, p), "p = columns of G"), p)
     ths = np.empty((K, p))
@@ -388,6 +389,26 @@ class Identification:
     t: np.ndarray
     theta: np.ndarray
     P: np.ndarray
+
+    def __post_init__(self):
+        """Check the fields (an edited copy, ``dataclasses.replace``, is checked again), each
+        refusal naming ``Identification.<field>``; a few array checks, negligible beside the
+        filter that made them."""
+        n = "Identification."
+        check_int(n + "sensor", self.sensor, 0, 999)
+        check_choice(n + "model", self.model, MODELS)
+        check_real(n + "onset", self.onset)
+        t = _nonempty(n + "t", self.t, "window end")
+        check_increasing(n + "t", t)
+        want = ("a", "b") if self.model == "ramp" else ("f",)
+        if not isinstance(self.names, tuple) or self.names != want:
+            raise ValueError(f"{n}names must be {want} (the parameters of model {self.model!r}), got "
+                             f"{shown(self.names)}")
+        p = len(want)
+        theta = check_shape(n + "theta", self.theta, (t.size, p), f"K = len(t) windows, p = {p} parameters")
+        P = check_shape(n + "P", self.P, (t.size, p, p), "K = len(t) windows, p parameters")
+        for field, value in (("t", t), ("theta", theta), ("P", P)):
+            object.__setattr__(self, field, value)
 
     @property
     def final(self):
