@@ -16,7 +16,7 @@ import math
 
 import numpy as np
 
-from xnavlab.attitude._checks import check_quaternion
+from xnavlab.attitude._checks import MAX_SAMPLES, check_quaternion
 from xnavlab.core.quaternions import kinematics_matrix, quat_from_rotvec, quat_normalize
 from xnavlab.core.validate import check_finite_array, check_int, check_real
 
@@ -78,8 +78,8 @@ def truth_motion(n, dt, *, q0=DEFAULT_Q0, **motion):
     Parameters
     ----------
     n : int
-        Number of samples, in [2, 10**7] (a loop step each: the most a
-        :class:`~xnavlab.attitude.simulation.SimConfig` allows).
+        Number of samples, in [2, 1.6e6] (a loop step each: the most a
+        :class:`~xnavlab.attitude.simulation.SimConfig` allows, about 2 GB of a run).
     dt : float
         Sample interval, s, in (0, 10].
     q0 : array_like, shape (4,)
@@ -101,7 +101,7 @@ def truth_motion(n, dt, *, q0=DEFAULT_Q0, **motion):
     >>> t[-1], bool(np.allclose(np.linalg.norm(q, axis=1), 1.0))
     (1.0, True)
     """
-    n = check_int("n", n, 2, 10**7)
+    n = check_int("n", n, 2, MAX_SAMPLES)
     dt = check_real("dt", dt, 0.0, 10.0, lo_open=True)
     q = quat_normalize(check_quaternion("q0", q0, unit=False))  # documented: normalised; zero refused
     if q.ndim != 1:  # a stack of quaternions was numpy's broadcast error
