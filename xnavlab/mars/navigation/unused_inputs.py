@@ -223,7 +223,7 @@ def warn_slow_loop(n, local_filter):
     --------
     >>> warn_slow_loop(1000, "ekf")    # about 6 s: no warning
     """
-    n = check_int("n", n, 0)
+    n = check_int("n", n, 0, 10**9)  # a run's epochs (30 days of 3-s epochs: 864,000)
     est = n * NUMPY_S_PER_EPOCH[local_filter]
     if est > SLOW_RUN_S:
         instead = ("the compiled kernel (backend numba, the default) gives the same estimates in "
