@@ -172,7 +172,7 @@ def _bool_flags(name, flags, n):
 class Diagnosis:
     """Output of :func:`diagnose` (leading batch shape ``...``).
 
-    Its fields are checked when it is made (a copy edited with :func:`dataclasses.replace`
+    Its fields are checked when it is made (a copy edited with ``dataclasses.replace``
     too): one ValueError naming ``Diagnosis.<field>`` (review 35p P11: a cut or missing field
     reached the plots as numpy's IndexError).
 

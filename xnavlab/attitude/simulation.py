@@ -257,7 +257,7 @@ class AttitudeRun:
     """One simulated run (from :func:`simulate`). Arrays are in SI units.
 
     Every field is checked when the run is made, a copy edited with
-    :func:`dataclasses.replace` too (shapes from ``config.n``, finite values, the diagnoses):
+    ``dataclasses.replace`` too (shapes from ``config.n``, finite values, the diagnoses):
     one ValueError naming ``AttitudeRun.<field>`` (review 35p P11: a cut ``sos_r`` or
     ``sos=None`` reached :func:`~.plots.plot_residuals` as numpy's IndexError or an
     AttributeError, a NaN one drew an empty figure). The check takes about 0.2 ms, 1 % of a
