@@ -14,15 +14,13 @@ export MPLBACKEND := Agg
 # files go out in conftest.py's order (--no-loadscope-reorder): the reproductions' test first.
 JOBS   ?= $(shell nproc 2>/dev/null || echo 2)
 XDIST  := -n $(JOBS) --dist loadfile --no-loadscope-reorder
-# JupyterLab servers (one Chromium each) of lab-test; make test runs one, beside the book's checks
-LAB_JOBS ?= $(JOBS)
 export PYDEVD_DISABLE_FILE_VALIDATION := 1
 # Bytecode caches on (__pycache__/ is ignored by git): an environment that sets
 # PYTHONDONTWRITEBYTECODE=1 makes every process compile xnavlab and the tests from source,
 # 4.5 s of each pytest collection (18 s instead of 13.5 s) and 0.1 s of each kernel's imports
 unexport PYTHONDONTWRITEBYTECODE
 
-.PHONY: book book-clean test unit notebooks bench benchmarks-page lint lab clean setup warmup browser-test lab-test pages-test portability \
+.PHONY: book book-clean test unit notebooks bench benchmarks-page lint lab clean setup warmup browser-test lab-test portability \
         check-book typed-numbers pythons
 
 # The supported Pythons: requires-python of pyproject.toml (">=3.10,<3.14", a lower and an
@@ -99,9 +97,10 @@ book-clean:
 ## make test: ruff over the tree; unit tests, doctests, every notebook executed by nbval; no number typed into the
 ## prose (tools/typed_numbers.py) and book/references.bib up to date (tools/merge_bib.py --check);
 ## then the book built from nothing (no execution cache), opened in headless Chromium and its
-## pages checked as a reader sees them (tools/check_book.py); beside that, every chapter run and
-## its sliders moved in JupyterLab (lab-test on one worker: the book's single-threaded build and
-## checks leave a core free, and one JupyterLab costs less than two)
+## pages checked as a reader sees them (tools/check_book.py); then every chapter run and its
+## sliders moved in JupyterLab. Chromium (for the last two) is installed in the background
+## while the unit tests run, where it is missing. (The JupyterLab test beside the book's
+## build and checks was measured 2026-11-29: no faster, both are CPU-bound on 2 cores.)
 test: $(WARM)
 	@sh tools/ensure_chromium.sh --start  # apt, in the background, while the unit tests run
 	$(BIN)/ruff check .
@@ -111,12 +110,10 @@ test: $(WARM)
 	$(BIN)/python tools/merge_bib.py --check
 	$(BIN)/python -m pytest $(XDIST) --durations=25 --nbval-lax --nbval-cell-timeout=300 -p no:cacheprovider xnavlab tests book
 	$(MAKE) book-clean
-	@sh tools/ensure_chromium.sh --wait  # installed once, before the two that need it run
-	$(MAKE) -j2 --output-sync=target pages-test lab-test LAB_JOBS=1
-
-## make pages-test: the built book in headless Chromium, then its pages checked as a reader sees them
-pages-test: browser-test
+	@sh tools/ensure_chromium.sh --wait
+	$(MAKE) browser-test
 	$(BIN)/python tools/check_book.py
+	$(MAKE) lab-test
 
 ## make browser-test: every built page in headless Chromium, offline (builds the book if stale);
 ## one server and one Chromium per pytest worker, the pages shared out (--dist load)
@@ -130,7 +127,7 @@ browser-test: $(STAMP) $(BOOK_STAMP)
 ## time (--dist load): 338 s on 2 workers against 478 s on one, quiet machine
 lab-test: $(WARM)
 	@sh tools/ensure_chromium.sh
-	XNAVLAB_LAB_TEST=1 $(BIN)/python -m pytest -n $(LAB_JOBS) --dist load -p no:cacheprovider tests/lab
+	XNAVLAB_LAB_TEST=1 $(BIN)/python -m pytest -n $(JOBS) --dist load -p no:cacheprovider tests/lab
 
 $(BOOK_STAMP): $(WARM) $(BOOK_SOURCES)
 	$(MAKE) book
