@@ -260,7 +260,9 @@ def check_run(run, scenario_kind):
     ``dataclasses.replace`` failed later in ``metrics()`` or ``summary()`` with numpy's words).
     Checked: ``scenario`` a ``scenario_kind``; ``t`` (nr,) increasing; ``x``, ``truth`` (nr, 6),
     ``P`` (nr, 6, 6), ``x_local``, ``P_local_diag`` (nr, ns, 6), finite float64; ``times`` (n,)
-    finite, ``nis`` (n, ns) float64 (NaN where none), ``flags`` (n, ns) integer in [0, 3];
+    finite, from the scenario's ``t0`` to within one sample interval of its span (the
+    scenario the run ran; review 35p P12), ``nis`` (n, ns) float64 (NaN where none), ``flags``
+    (n, ns) integer in [0, 3];
     ``backend`` one of :data:`RUN_BACKENDS`; ``wall_time`` finite, >= 0 s. Nothing is copied."""
     if not isinstance(run.scenario, scenario_kind):
         raise ValueError(f"MarsRun.scenario must be a {scenario_kind.__name__}, got "

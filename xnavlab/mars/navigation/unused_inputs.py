@@ -41,9 +41,10 @@ __all__ = ["SUBSYSTEM_FIELDS", "NOISE_FIELDS", "NOISE_SETTINGS", "check_fields",
            "warn_unmeasured", "warn_few_records", "NUMPY_S_PER_EPOCH", "SLOW_RUN_S", "warn_slow_loop",
            "divergence_advice"]
 
-#: Seconds an epoch of the readable numpy loop takes, by local filter, on a 2-core machine
-#: (measured 2026-11-29 on 1,447 epochs beside other work: 8.4 ms with the EKF, 111 ms with the
-#: UKF; a quiet machine about a third faster): the estimate of :func:`warn_slow_loop`.
+#: Seconds an epoch of the readable numpy loop takes, by local filter, on a 2-core machine,
+#: taken low: measured 2026-11-29, 7.5 ms with the EKF and 91 ms with the UKF on a quiet machine
+#: (579 epochs), 8.4 and 111 ms beside other work (1,447): the estimate of
+#: :func:`warn_slow_loop`, which so warns a little late rather than early.
 NUMPY_S_PER_EPOCH = {"ekf": 6e-3, "ukf": 8e-2}
 
 #: A numpy-loop run estimated to take longer than this, s, is warned about before it starts.
