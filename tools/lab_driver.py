@@ -776,10 +776,11 @@ def prose_problems(lab, rep):
     rep.lab_limits = [f"{n} {k}s" for k, n in limits.items() if n]
 
 
-def _move(lab, control, how, act, starts):
+def _move(lab, control, how, act, starts, settle_s=SETTLE_S):
     """Arm the redraw timer, give one input with ``act()``, wait for the redraw.
 
-    ``starts`` lists the DOM events that change the value (the clock starts at the first).
+    ``starts`` lists the DOM events that change the value (the clock starts at the first);
+    ``settle_s`` is how long the page may look settled before no new figure is expected.
     """
     kind = "slider" if control == "slider" else "dropdown"
     show = (lambda s: s[kind]["readout"]) if kind == "slider" else (lambda s: s[kind]["text"])
@@ -794,9 +795,9 @@ def _move(lab, control, how, act, starts):
         waited = time.monotonic() - t_act
         if waited > REDRAW_TIMEOUT_S:
             break
-        if waited > SETTLE_S and show(lab.page.evaluate(_STATE)) == show(before):
+        if waited > settle_s and show(lab.page.evaluate(_STATE)) == show(before):
             break  # the input did not change the value: nothing to wait for
-        if st["tDom"] is None and st["idleFor"] is not None and st["idleFor"] > SETTLE_S:
+        if st["tDom"] is None and st["idleFor"] is not None and st["idleFor"] > settle_s:
             break  # the kernel has redrawn and is idle again, but no new figure came
         time.sleep(0.05)
     if st["error"] is not None:
@@ -811,7 +812,7 @@ def _move(lab, control, how, act, starts):
             before, after)
 
 
-def check_notebook(lab, path, screenshot=None, max_redraw_s=MAX_REDRAW_S):
+def check_notebook(lab, path, screenshot=None, max_redraw_s=MAX_REDRAW_S, settle_s=SETTLE_S):
     """Open ``path`` in JupyterLab, run all cells, read its prose, move its explore widget.
 
     Parameters
@@ -825,6 +826,11 @@ def check_notebook(lab, path, screenshot=None, max_redraw_s=MAX_REDRAW_S):
         ``<stem>-prose.png`` beside it.
     max_redraw_s : float or None
         A speed budget for a redraw, seconds; None (the default) measures without judging.
+    settle_s : float
+        How long the page may look settled (kernel idle, no new image) before a move is
+        judged to have drawn nothing (default :data:`SETTLE_S`, generous for a loaded machine;
+        the checker's own test of a figure that never changes passes less: it can only fail
+        sooner).
 
     Returns
     -------
@@ -950,7 +956,7 @@ def check_notebook(lab, path, screenshot=None, max_redraw_s=MAX_REDRAW_S):
                 key = next((k for k, v in steps.items() if lo <= v <= hi and v not in (v0, now)),
                            "End" if now != hi else "Home")
                 how, act = f"key {key}", press_on_slider(key)
-            redraw, before, after = _move(lab, control, how, act, starts)
+            redraw, before, after = _move(lab, control, how, act, starts, settle_s)
             ok = not redraw.error and redraw.before != redraw.after and redraw.seconds
             if ok and max_redraw_s is not None and redraw.seconds > max_redraw_s:
                 # slow: once more, the same change of value (back untimed, then forth timed),
@@ -965,8 +971,8 @@ def check_notebook(lab, path, screenshot=None, max_redraw_s=MAX_REDRAW_S):
                 else:
                     other = "ArrowUp" if dkey == "ArrowDown" else "ArrowDown"
                     back, forth = pick(other), pick(dkey)
-                _move(lab, control, "back", back, starts)
-                again, _, after = _move(lab, control, how, forth, starts)
+                _move(lab, control, "back", back, starts, settle_s)
+                again, _, after = _move(lab, control, how, forth, starts, settle_s)
                 redraw.retry_seconds = again.seconds
                 redraw.error = again.error
             redraw.control = names[control]
