@@ -194,3 +194,16 @@ def test_an_absolute_value_in_text_is_not_a_broken_table(cb):
     assert not cb._ABS.sub(" ", "The largest |S| in the cone |b| <= 3a").count("|")
     assert not cb._ABS.sub(" ", "max |position error|, faults; |dr_E|").count("|")
     assert "|" in cb._ABS.sub(" ", "| a | b |")
+
+
+def test_pages_read_at_once_give_the_problems_of_pages_read_one_by_one(cb, tmp_path, capsys):
+    html = _book(tmp_path, {"clean.html": CLEAN,
+                            **{f"broken-{i}.html": _page(BROKEN[k])
+                               for i, k in enumerate(sorted(BROKEN)[:4])}})
+    outs = []
+    for jobs in ("1", "2"):
+        assert cb.main(["--html", str(html), "--jobs", jobs]) == 1
+        outs.append(capsys.readouterr().out)
+    assert outs[0] == outs[1] and outs[0].count("book/broken-") >= 4
+    assert cb.main(["--html", str(html), "--jobs", "0"]) == 2
+    assert "--jobs must be at least 1, got 0" in capsys.readouterr().err

@@ -40,7 +40,10 @@ from __future__ import annotations
 
 import argparse
 import builtins
+import concurrent.futures
 import importlib.util
+import itertools
+import os
 import re
 import sys
 from dataclasses import dataclass
@@ -437,15 +440,29 @@ def check_page(path: Path, html_dir: Path) -> list[Problem]:
             + _check_leaks(content, page) + _check_visible_code(content, page))
 
 
+def _check_pages(found: list[Path], html_dir: Path, jobs: int) -> list[list[Problem]]:
+    """:func:`check_page` of every page, in order, ``jobs`` pages at once (parsing is most of
+    the time: 33 s for the whole book on one core, measured 2026-11-29)."""
+    if jobs == 1 or len(found) < 2:
+        return [check_page(path, html_dir) for path in found]
+    with concurrent.futures.ProcessPoolExecutor(min(jobs, len(found))) as pool:
+        return list(pool.map(check_page, found, itertools.repeat(html_dir)))
+
+
 def main(argv: list[str] | None = None) -> int:
     """Command line: print the problems, return the exit status (0, 1 or 2)."""
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--html", type=Path, default=DEFAULT_HTML,
                         help="the built book's HTML directory (default: _build/html)")
+    parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
+                        help="pages read at once (default: the number of CPUs)")
     try:
         args = parser.parse_args(argv)
     except SystemExit as exc:
         return 2 if exc.code else 0
+    if args.jobs < 1:
+        print(f"check_book: --jobs must be at least 1, got {args.jobs}", file=sys.stderr)
+        return 2
     html_dir = args.html.resolve()
     if not html_dir.is_dir():
         print(f"check_book: {args.html}: no such directory (build the book first)", file=sys.stderr)
@@ -454,7 +471,7 @@ def main(argv: list[str] | None = None) -> int:
     if not found:
         print(f"check_book: {args.html}: no HTML page", file=sys.stderr)
         return 2
-    problems = [p for path in found for p in check_page(path, html_dir)]
+    problems = [p for page in _check_pages(found, html_dir, args.jobs) for p in page]
     for p in problems:
         print(p)
     if problems:
