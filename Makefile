@@ -83,11 +83,14 @@ warmup: $(WARM)
 ## Chapters execute in myst-nb's cache mode: only a chapter whose code changed runs again;
 ## tools/book_cache.py drops the cache when xnavlab/ or the environment changed.
 # (MPLBACKEND=Agg, exported above for the tests, would stop the kernels' inline figures;
-# XNAVLAB_SCRUBBER_FRAMES=1: a page executed for the book draws its sliders' HTML frames)
+# XNAVLAB_SCRUBBER_FRAMES=1: a page executed for the book draws its sliders' HTML frames.
+# BOOK_EXECUTED: the chapters make test's nbval run executed for the book, taken from there.
+# tools/book_build.py is `jupyter-book build` with Sphinx on JOBS processes: 124 s against
+# 149 s serial, measured 2026-11-29 on 2 cores)
 book: $(WARM)
 	$(BIN)/python tools/book_cache.py
-	env -u MPLBACKEND $(BIN)/python tools/book_execute.py --jobs $(JOBS)
-	env -u MPLBACKEND XNAVLAB_SCRUBBER_FRAMES=1 $(BIN)/jupyter-book build . -W -n --keep-going
+	env -u MPLBACKEND $(BIN)/python tools/book_execute.py --jobs $(JOBS) $(if $(BOOK_EXECUTED),--executed $(BOOK_EXECUTED))
+	env -u MPLBACKEND XNAVLAB_SCRUBBER_FRAMES=1 $(BIN)/python tools/book_build.py --jobs $(JOBS) . -W -n --keep-going
 	touch $(BOOK_STAMP)
 
 ## make book-clean: forget the executed chapters and the rendered pages (next build: all)
@@ -96,11 +99,14 @@ book-clean:
 
 ## make test: ruff over the tree; unit tests, doctests, every notebook executed by nbval; no number typed into the
 ## prose (tools/typed_numbers.py) and book/references.bib up to date (tools/merge_bib.py --check);
-## then the book built from nothing (no execution cache), opened in headless Chromium and its
+## then the book built from nothing (no execution cache: its chapters are those nbval just
+## executed, as the book executes them, book/conftest.py), opened in headless Chromium and its
 ## pages checked as a reader sees them (tools/check_book.py); then every chapter run and its
-## sliders moved in JupyterLab. Chromium (for the last two) is installed in the background
-## while the unit tests run, where it is missing. (The JupyterLab test beside the book's
-## build and checks was measured 2026-11-29: no faster, both are CPU-bound on 2 cores.)
+## sliders moved in JupyterLab, as a reader runs them. Chromium (for the last two) is
+## installed in the background while the unit tests run, where it is missing. (The JupyterLab
+## test beside the book's build and checks was measured 2026-11-29: no faster, both are
+## CPU-bound on 2 cores.)
+NBVAL_BOOK := _build/nbval-executed
 test: $(WARM)
 	@sh tools/ensure_chromium.sh --start  # apt, in the background, while the unit tests run
 	$(BIN)/ruff check .
@@ -108,11 +114,13 @@ test: $(WARM)
 	$(BIN)/python tools/eval_roles.py --check
 	$(BIN)/python tools/hidden_names.py
 	$(BIN)/python tools/merge_bib.py --check
-	$(BIN)/python -m pytest $(XDIST) --durations=25 --nbval-lax --nbval-cell-timeout=300 -p no:cacheprovider xnavlab tests book
 	$(MAKE) book-clean
+	rm -rf $(NBVAL_BOOK)
+	XNAVLAB_NBVAL_BOOK=$(NBVAL_BOOK) $(BIN)/python -m pytest $(XDIST) --durations=25 --nbval-lax --nbval-cell-timeout=300 -p no:cacheprovider xnavlab tests book
+	$(MAKE) book BOOK_EXECUTED=$(NBVAL_BOOK)
 	@sh tools/ensure_chromium.sh --wait
 	$(MAKE) browser-test
-	$(BIN)/python tools/check_book.py
+	$(BIN)/python tools/check_book.py --jobs $(JOBS)
 	$(MAKE) lab-test
 
 ## make browser-test: every built page in headless Chromium, offline (builds the book if stale);
@@ -136,7 +144,7 @@ $(BOOK_STAMP): $(WARM) $(BOOK_SOURCES)
 ## tables, verdicts outside PASS / NOT CLAIMED / FAIL, stray | or $, unresolved references and
 ## glue, missing images, empty outputs, exercises without a collapsed executed solution
 check-book: $(STAMP) $(BOOK_STAMP)
-	$(BIN)/python tools/check_book.py
+	$(BIN)/python tools/check_book.py --jobs $(JOBS)
 
 ## make typed-numbers: every number typed into the book's prose that is neither glued nor in
 ## tools/typed_numbers_allow.txt (python tools/typed_numbers.py book/NN_x.ipynb: one page)

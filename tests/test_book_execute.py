@@ -172,3 +172,41 @@ def test_a_prose_expression_that_cannot_be_shown_fails_the_page(tool, tmp_path, 
     assert tool.main(["--jobs", "1"]) == 1
     err = capsys.readouterr().err
     assert message in err and "book_execute: book/one.ipynb failed" in err
+
+
+def _kept(tool, root, text):
+    """``root``'s page as nbval would keep it for the book: its one cell printed ``text``."""
+    nb = tool.read_page(root / "book" / "one.ipynb")
+    nb.cells[0].outputs = [nbformat.v4.new_output("stream", name="stdout", text=text)]
+    return tool.write_executed(root / "kept", root / "book" / "one.ipynb", nb, {}, 2.5)
+
+
+def test_a_page_nbval_executed_for_the_book_is_stored_not_executed_again(tool, tmp_path, capsys):
+    _book(tmp_path, "print(6 * 7)")
+    _kept(tool, tmp_path, "kept by nbval\n")
+    assert tool.main(["--jobs", "1", "--executed", str(tmp_path / "kept")]) == 0
+    out = capsys.readouterr().out
+    assert "book/one.ipynb executed by nbval in 2.5 s, stored" in out
+    assert "every page is in the execution cache" in out
+    with tool.open_cache() as cache:
+        record = cache.match_cache_notebook(tool.read_page(tmp_path / "book" / "one.ipynb"))
+        nb = cache.get_cache_bundle(record.pk).nb
+    assert nb.cells[0].outputs[0].text == "kept by nbval\n"
+
+
+def test_a_kept_execution_of_other_code_is_not_stored_and_the_page_runs(tool, tmp_path, capsys):
+    _book(tmp_path, "print(6 * 7)")
+    _kept(tool, tmp_path, "kept by nbval\n")
+    nb = nbformat.read(tmp_path / "book" / "one.ipynb", as_version=4)
+    nb.cells[0].source = "print(7 * 7)"   # edited after nbval ran it
+    nbformat.write(nb, tmp_path / "book" / "one.ipynb")
+    assert tool.main(["--jobs", "1", "--executed", str(tmp_path / "kept")]) == 0
+    out = capsys.readouterr().out
+    assert "is of another version of its code: executed here" in out
+    assert "book_execute: 1 pages" in out
+
+
+def test_a_missing_directory_of_kept_pages_is_refused(tool, tmp_path, capsys):
+    _book(tmp_path, "print(6 * 7)")
+    assert tool.main(["--executed", str(tmp_path / "nowhere")]) == 2
+    assert "--executed" in capsys.readouterr().err

@@ -32,7 +32,11 @@ where. A page that fails stops the script with its traceback and exit code 1 (th
 on it too, later). ``tools/book_cache.py`` must run before it, so that a cache made with an
 older package is dropped first.
 
-Usage: ``python tools/book_execute.py [--jobs N]`` from the repository root.
+Pages executed by ``make test``'s nbval run (``book/conftest.py``, the same execution: scrubber
+frames drawn, the ``{eval}`` values evaluated in place by :class:`ProseValues`) are taken from
+``--executed DIR`` (:func:`import_executed`) instead of being executed a second time.
+
+Usage: ``python tools/book_execute.py [--jobs N] [--executed DIR]`` from the repository root.
 """
 
 import argparse
@@ -200,6 +204,70 @@ def _eval_error(where, expr, why):
     return CellExecutionError(msg, "EvalError", msg)
 
 
+def eval_request(expressions, where):
+    """The ``user_expressions`` of one request for ``expressions``: key -> expression.
+
+    Raises (as a failed cell) on an expression the book does not evaluate
+    (:data:`xnavlab.core.prose.EVAL_NAME`).
+    """
+    for expr in expressions:
+        if not re.match(EVAL_NAME, expr):
+            raise _eval_error(where, expr, "is not an entry of the glued table: the book "
+                              'evaluates only glued["name"] and glued["name:spec"] '
+                              "(xnavlab.core.prose)")
+    return {str(i): expr for i, expr in enumerate(expressions)}
+
+
+def eval_results(keys, content, where):
+    """expression -> result (``{"data": ..., "metadata": ...}``) from the kernel's reply
+    ``content`` to the request :func:`eval_request` made; raises (as a failed cell) on a reply
+    that is not ``ok`` or an expression that raised."""
+    if content.get("status") != "ok":
+        raise _eval_error(where, next(iter(keys.values())), f"was not evaluated: {content!r:.300}")
+    results = {}
+    for key, expr in keys.items():
+        res = content.get("user_expressions", {}).get(key, {})
+        if res.get("status") != "ok":
+            raise _eval_error(where, expr, f"raised {res.get('ename')}: {res.get('evalue')}")
+        results[expr] = {"data": res.get("data", {}), "metadata": res.get("metadata", {})}
+    return results
+
+
+class ProseValues:
+    """The ``{eval}`` values one page shows, each kept at the first markdown cell showing it.
+
+    ``evaluated`` maps each expression to its result, the value :data:`BOOK_CACHE_KEY` keeps
+    with the executed page. Used by :class:`EvalNotebookClient` and by ``book/conftest.py``
+    (``make test``'s nbval run of the chapters, which stores them for the book).
+    """
+
+    def __init__(self):
+        self.evaluated = {}
+        self._shown_at = {}
+
+    def shown(self, results, cell_index):
+        """Record ``results`` shown by markdown cell ``cell_index``; raises where an
+        expression shown before had another value (a name glued twice)."""
+        for expr, res in results.items():
+            if expr in self.evaluated and self.evaluated[expr] != res:
+                raise _eval_error(f"markdown cell {cell_index}", expr, (
+                    f"shows {res['data'].get('text/plain')!r} here but "
+                    f"{self.evaluated[expr]['data'].get('text/plain')!r} in cell "
+                    f"{self._shown_at[expr]}: glue each name once"))
+            self.evaluated.setdefault(expr, res)
+            self._shown_at.setdefault(expr, cell_index)
+
+    def check_final(self, final):
+        """Raise where a value after the last cell (``final``) differs from the one shown:
+        JupyterLab's "Run All Cells" may evaluate the prose late."""
+        for expr, res in final.items():
+            if res != self.evaluated[expr]:
+                raise _eval_error(f"markdown cell {self._shown_at[expr]}", expr, (
+                    f"shows {self.evaluated[expr]['data'].get('text/plain')!r}, but the "
+                    f"value is {res['data'].get('text/plain')!r} after the last cell: a "
+                    "reader's JupyterLab may show either; glue each name once"))
+
+
 class EvalNotebookClient(NotebookClient):
     """nbclient's client, also evaluating each markdown cell's ``{eval}`` expressions in place.
 
@@ -209,51 +277,29 @@ class EvalNotebookClient(NotebookClient):
 
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)
-        self.evaluated = {}
-        self._shown_at = {}
+        self.prose = ProseValues()
+
+    @property
+    def evaluated(self):
+        return self.prose.evaluated
 
     async def _evaluate(self, expressions, where):
         """The kernel's ``user_expressions`` reply for ``expressions``: expression -> result."""
-        for expr in expressions:
-            if not re.match(EVAL_NAME, expr):
-                raise _eval_error(where, expr, "is not an entry of the glued table: the book "
-                                  'evaluates only glued["name"] and glued["name:spec"] '
-                                  "(xnavlab.core.prose)")
-        keys = {str(i): expr for i, expr in enumerate(expressions)}
+        keys = eval_request(expressions, where)
         msg_id = await ensure_async(self.kc.execute(
             "", silent=True, store_history=False, user_expressions=keys))
         reply = await self.async_wait_for_reply(msg_id)
-        content = (reply or {}).get("content", {})
-        if content.get("status") != "ok":
-            raise _eval_error(where, expressions[0], f"was not evaluated: {content!r:.300}")
-        results = {}
-        for key, expr in keys.items():
-            res = content.get("user_expressions", {}).get(key, {})
-            if res.get("status") != "ok":
-                raise _eval_error(where, expr, f"raised {res.get('ename')}: {res.get('evalue')}")
-            results[expr] = {"data": res.get("data", {}), "metadata": res.get("metadata", {})}
-        return results
+        return eval_results(keys, (reply or {}).get("content", {}), where)
 
     async def async_execute_cell(self, cell, cell_index, execution_count=None,
                                  store_history=True):
         if cell.cell_type == "markdown" and (exprs := eval_expressions(cell.source)):
-            for expr, res in (await self._evaluate(exprs, f"markdown cell {cell_index}")).items():
-                if expr in self.evaluated and self.evaluated[expr] != res:
-                    raise _eval_error(f"markdown cell {cell_index}", expr, (
-                        f"shows {res['data'].get('text/plain')!r} here but "
-                        f"{self.evaluated[expr]['data'].get('text/plain')!r} in cell "
-                        f"{self._shown_at[expr]}: glue each name once"))
-                self.evaluated.setdefault(expr, res)
-                self._shown_at.setdefault(expr, cell_index)
+            self.prose.shown(await self._evaluate(exprs, f"markdown cell {cell_index}"),
+                             cell_index)
         cell = await super().async_execute_cell(cell, cell_index, execution_count, store_history)
         if cell_index == len(self.nb.cells) - 1 and self.evaluated:
-            final = await self._evaluate(list(self.evaluated), "after the last cell")
-            for expr, res in final.items():
-                if res != self.evaluated[expr]:
-                    raise _eval_error(f"markdown cell {self._shown_at[expr]}", expr, (
-                        f"shows {self.evaluated[expr]['data'].get('text/plain')!r}, but the "
-                        f"value is {res['data'].get('text/plain')!r} after the last cell: a "
-                        "reader's JupyterLab may show either; glue each name once"))
+            self.prose.check_final(await self._evaluate(list(self.evaluated),
+                                                        "after the last cell"))
         return cell
 
 
@@ -299,15 +345,74 @@ def execute(path, timeout):
     return path, nbformat.writes(nb), result.time, None, slowest, evaluated
 
 
+def code_sources(nb):
+    """The page's code cells' sources, in order: what decides whether an execution is its."""
+    return [cell.source for cell in nb.cells if cell.cell_type == "code"]
+
+
+def write_executed(directory, page, nb, evaluated, seconds):
+    """Keep a page executed elsewhere for :func:`import_executed`: ``directory/<stem>.json``.
+
+    ``make test``'s nbval run of the chapters (``book/conftest.py``) executes each chapter
+    as the book does (scrubber frames drawn, ``{eval}`` values evaluated in place by
+    :class:`ProseValues`) and keeps it here, so that the book's build does not execute it a
+    second time. ``page`` is the page's path; ``nb`` the executed notebook.
+    """
+    directory = Path(directory)
+    directory.mkdir(parents=True, exist_ok=True)
+    record = {"page": str(Path(page).resolve()), "notebook": nbformat.writes(nb),
+              "evaluated": evaluated, "seconds": round(float(seconds), 1)}
+    path = directory / f"{Path(page).stem}.json"
+    tmp = path.with_suffix(".json.tmp")
+    tmp.write_text(json.dumps(record), encoding="utf-8")
+    tmp.replace(path)
+    return path
+
+
+def import_executed(cache, directory, pages):
+    """Store in ``cache`` every page of ``pages`` that :func:`write_executed` kept in
+    ``directory`` and whose code cells are the page's own now; returns their paths.
+
+    A kept execution of another version of the page (its code changed since) is left out
+    and said so: the page is then executed here.
+    """
+    done = []
+    wanted = {p.resolve(): p for p in pages}
+    for path in sorted(Path(directory).glob("*.json")):
+        record = json.loads(path.read_text(encoding="utf-8"))
+        page = wanted.get(Path(record["page"]))
+        if page is None:
+            continue
+        nb = nbformat.reads(record["notebook"], as_version=4)
+        if code_sources(nb) != code_sources(read_page(page)):
+            print(f"book_execute: {page.relative_to(ROOT)}: the execution kept in {path} is "
+                  "of another version of its code: executed here", flush=True)
+            continue
+        cache.cache_notebook_bundle(
+            CacheBundleIn(nb, str(page), data={"execution_seconds": record["seconds"],
+                                               BOOK_CACHE_KEY: record["evaluated"]}),
+            check_validity=False, overwrite=True)
+        print(f"book_execute: {page.relative_to(ROOT)} executed by nbval in "
+              f"{record['seconds']:.1f} s, stored", flush=True)
+        done.append(page)
+    return done
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--jobs", type=int, default=os.cpu_count() or 1,
                         help="pages executed at once (default: the number of CPUs)")
+    parser.add_argument("--executed", type=Path, default=None,
+                        help="a directory of pages executed by make test's nbval run "
+                             "(book/conftest.py): stored, not executed again")
     parser.add_argument("pages", nargs="*", type=Path,
                         help="only these pages (default: every notebook page of _toc.yml)")
     args = parser.parse_args(argv)
     if args.jobs < 1:
         print(f"book_execute: --jobs must be at least 1, got {args.jobs}", file=sys.stderr)
+        return 2
+    if args.executed is not None and not args.executed.is_dir():
+        print(f"book_execute: --executed {args.executed}: no such directory", file=sys.stderr)
         return 2
     with open_cache() as cache:
         return _run(args, cache)
@@ -317,6 +422,8 @@ def _run(args, cache):
     """The body of :func:`main`, with the execution cache open."""
     todo = []
     pages = [p.resolve() for p in args.pages] if args.pages else notebook_pages()
+    if args.executed is not None:
+        import_executed(cache, args.executed, pages)
     for path in longest_first(pages):
         nb = read_page(path)
         try:

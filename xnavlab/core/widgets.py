@@ -24,14 +24,13 @@ names another; the others are held at their ``initial`` value in the scrubber (t
 widget gets a slider or menu for every grid). A keyword given a scalar is passed through
 unchanged, with no control.
 
-Drawing the scrubber's frames (up to ``max_frames`` figures) is work that only the built book
-shows, so a kernel draws them only when the page is executed for the HTML book: when the
-environment variable :data:`FRAMES_ENV` (``XNAVLAB_SCRUBBER_FRAMES``) is ``1``, which
-``make book`` (``tools/book_execute.py`` and the ``jupyter-book`` call) sets. In any other
-kernel (a reader's JupyterLab, nbval, the JupyterLab test) the HTML part of the display is
-one static image, the live widget's opening figure, drawn once for both: "Run All" costs
-one figure per slider, not thirteen. Outside a kernel, :meth:`Explorer.html` always draws
-the frames.
+Only the built book shows the scrubber's frames (up to ``max_frames`` figures): a kernel
+draws them when :data:`FRAMES_ENV` (``XNAVLAB_SCRUBBER_FRAMES``) is ``1`` (``make book``,
+``make test``'s nbval run, ``book/conftest.py``), and shows the scrubber alone (no live
+widget: nothing could drive it). In any other kernel (a reader's JupyterLab) the HTML part
+of the display is one static image, the live widget's opening figure, drawn once for both:
+"Run All" costs one figure per slider, not thirteen. Outside a kernel,
+:meth:`Explorer.html` always draws the frames.
 
 The live widget never leaves the reader without feedback: while a redraw runs, its status
 line says ``computing…`` (shown only once the redraw has taken 0.3 s, so quick redraws do
@@ -433,9 +432,10 @@ class Explorer:
     def _repr_mimebundle_(self, include=None, exclude=None):
         if not _in_kernel():
             return {"text/plain": repr(self), "text/html": self.html()}
+        if env_switch(FRAMES_ENV, False):  # executed for the HTML book: the scrubber only
+            return {"text/plain": repr(self), "text/html": self.html()}
         view = self.widget()._repr_mimebundle_()
-        page = self.html() if env_switch(FRAMES_ENV, False) else self.still_html()
-        bundle = {"text/plain": repr(self), "text/html": page}
+        bundle = {"text/plain": repr(self), "text/html": self.still_html()}
         bundle.update({k: v for k, v in view.items() if k == _MIME_WIDGET})
         return bundle
 

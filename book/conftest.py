@@ -1,0 +1,158 @@
+"""nbval's run of the chapters, kept for the book when ``make test`` asks for it.
+
+``make test`` executes every chapter with nbval and then builds the book, which must execute
+every chapter too. With ``XNAVLAB_NBVAL_BOOK=DIR`` set (``make test`` sets it), the chapters
+run under nbval exactly as ``tools/book_execute.py`` runs them for the book, and each passed
+chapter is kept in ``DIR`` (``book_execute.write_executed``); the book's build takes it from
+there (``book_execute.py --executed DIR``) instead of executing it a second time (about 200 s
+of a 2-core machine's CI, measured 2026-11-29). Without the variable (``pytest book``,
+``make notebooks``) nbval runs the chapters as a reader's kernel does and nothing is kept.
+
+What "as the book runs them" means here:
+
+* the kernel starts with ``XNAVLAB_SCRUBBER_FRAMES=1`` and without ``MPLBACKEND`` (pytest's
+  ``Agg``): each slider draws its scrubber frames and figures are inline PNGs, as in the book
+  (:data:`xnavlab.core.widgets.FRAMES_ENV`);
+* before each code cell, the ``{eval}`` expressions of the markdown cells before it are
+  evaluated in the kernel (one silent request with ``user_expressions``), and all of them again
+  after the last cell, with ``book_execute.ProseValues``'s checks: a page fails here as it
+  would in ``book_execute``.
+
+A chapter is kept only when every one of its cells passed. The live widget of
+:func:`xnavlab.core.widgets.explore` is not built in such a kernel, so no output of a cell is
+a widget's (nbval, unlike nbclient, does not tell a widget's output from the cell's); the
+JupyterLab test (``make lab-test``) runs every chapter as a reader does, live widgets and all.
+"""
+
+import contextlib
+import copy
+import os
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+#: The environment variable naming the directory where executed chapters are kept.
+KEEP_ENV = "XNAVLAB_NBVAL_BOOK"
+KEEP = os.environ.get(KEEP_ENV)
+
+if KEEP:
+    sys.path.insert(0, str(ROOT / "tools"))
+    import book_execute  # noqa: E402  (tools/book_execute.py)
+    import nbformat  # noqa: E402
+    from nbval.plugin import IPyNbCell  # noqa: E402
+
+    from xnavlab.core.prose import eval_expressions  # noqa: E402
+    from xnavlab.core.widgets import FRAMES_ENV  # noqa: E402
+
+#: Seconds to wait for the kernel's reply to one request of expressions.
+EVAL_TIMEOUT_S = 120.0
+
+
+class _Page:
+    """One chapter's run under nbval: its outputs and prose values so far."""
+
+    def __init__(self, nb):
+        self.nb = copy.deepcopy(nb)
+        self.code = [i for i, cell in enumerate(nb.cells) if cell.cell_type == "code"]
+        self.prose = book_execute.ProseValues()
+        self.next = 0          # the first cell not handled yet
+        self.failed = False
+        self.start = time.perf_counter()
+
+
+_PAGES = {}
+
+
+def _ours(item):
+    return bool(KEEP) and isinstance(item, IPyNbCell)
+
+
+@contextlib.contextmanager
+def _book_kernel_env():
+    """The environment of a kernel executing a page for the book, while it starts."""
+    saved = {k: os.environ.get(k) for k in (FRAMES_ENV, "MPLBACKEND")}
+    os.environ[FRAMES_ENV] = "1"
+    os.environ.pop("MPLBACKEND", None)
+    try:
+        yield
+    finally:
+        for key, value in saved.items():
+            if value is None:
+                os.environ.pop(key, None)
+            else:
+                os.environ[key] = value
+
+
+@pytest.hookimpl(wrapper=True)
+def pytest_runtest_setup(item):
+    if not (_ours(item) and item.parent.kernel is None):
+        return (yield)
+    with _book_kernel_env():  # nbval starts the page's kernel in this setup
+        result = yield
+    _PAGES[item.parent.nodeid] = _Page(item.parent.nb)
+    return result
+
+
+def _evaluate(item, expressions, where):
+    """The kernel's values of ``expressions`` (``book_execute.eval_results``)."""
+    keys = book_execute.eval_request(expressions, where)
+    kernel = item.parent.kernel
+    msg_id = kernel.kc.execute("", silent=True, store_history=False, user_expressions=keys)
+    while True:  # nbval's own replies are all read: only this one can come
+        msg = kernel.get_message(stream="shell", timeout=EVAL_TIMEOUT_S)
+        if msg["parent_header"].get("msg_id") == msg_id:
+            return book_execute.eval_results(keys, msg["content"], where)
+
+
+def _prose_until(item, page, stop):
+    """Evaluate the markdown cells from ``page.next`` up to cell ``stop`` (excluded)."""
+    for index in range(page.next, stop):
+        cell = page.nb.cells[index]
+        if cell.cell_type == "markdown" and (exprs := eval_expressions(cell.source)):
+            page.prose.shown(_evaluate(item, exprs, f"markdown cell {index}"), index)
+    page.next = max(page.next, stop)
+
+
+@pytest.hookimpl(wrapper=True)
+def pytest_runtest_call(item):
+    page = _PAGES.get(item.parent.nodeid) if _ours(item) else None
+    if page is None or page.failed:
+        return (yield)
+    index = page.code[item.cell_num]
+    try:
+        _prose_until(item, page, index)
+        result = yield
+    except pytest.skip.Exception:  # an nbval-skip cell: no outputs, as the book's skip-execution
+        _done(item, page, index, [])
+        raise
+    except BaseException:
+        page.failed = True
+        raise
+    _done(item, page, index, item.test_outputs or [])
+    return result
+
+
+def _done(item, page, index, outputs):
+    """Keep a passed cell's outputs; after the last code cell, finish the page."""
+    page.nb.cells[index].outputs = [nbformat.from_dict(o) for o in outputs]
+    page.next = index + 1
+    if item.cell_num == len(page.code) - 1:
+        try:
+            _finish(item, page)
+        except BaseException:
+            page.failed = True
+            raise
+
+
+def _finish(item, page):
+    """After the last code cell: the prose after it, the final check, the page kept."""
+    _prose_until(item, page, len(page.nb.cells))
+    if page.prose.evaluated:
+        page.prose.check_final(_evaluate(item, list(page.prose.evaluated),
+                                         "after the last cell"))
+    book_execute.write_executed(KEEP, item.parent.path, page.nb, page.prose.evaluated,
+                                time.perf_counter() - page.start)
+    del _PAGES[item.parent.nodeid]
