@@ -100,7 +100,7 @@ book-clean:
 ## make test: ruff over the tree; unit tests, doctests, every notebook executed by nbval; no number typed into the
 ## prose (tools/typed_numbers.py) and book/references.bib up to date (tools/merge_bib.py --check);
 ## then the book built from nothing (no execution cache: its chapters are those nbval just
-## executed, as the book executes them, book/conftest.py), opened in headless Chromium and its
+## executed, as the book executes them, tools/nbval_book.py), opened in headless Chromium and its
 ## pages checked as a reader sees them (tools/check_book.py); then every chapter run and its
 ## sliders moved in JupyterLab, as a reader runs them. Chromium (for the last two) is
 ## installed in the background while the unit tests run, where it is missing. (The JupyterLab

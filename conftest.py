@@ -1,11 +1,19 @@
-"""Root pytest configuration: applies to doctests in xnavlab/ and to tests/."""
+"""Root pytest configuration: applies to doctests in xnavlab/, to tests/ and to book/."""
 
 import os
+import sys
+from pathlib import Path
 
 os.environ.setdefault("MPLBACKEND", "Agg")
 
 import numpy as np  # noqa: E402
 import pytest  # noqa: E402
+
+# make test: nbval's run of the chapters kept for the book (tools/nbval_book.py, a plugin
+# loaded only when XNAVLAB_NBVAL_BOOK names where; tools/ is a folder of scripts, not a package)
+if os.environ.get("XNAVLAB_NBVAL_BOOK"):
+    sys.path.insert(0, str(Path(__file__).resolve().parent / "tools"))
+    pytest_plugins = ["nbval_book"]
 
 
 @pytest.fixture(autouse=True)

@@ -1,8 +1,8 @@
-"""book/conftest.py: nbval executes a chapter as the book does and keeps it for the book.
+"""tools/nbval_book.py: nbval executes a chapter as the book does and keeps it for the book.
 
 Each test runs pytest with nbval in a subprocess over a one-page book in a temporary directory
-(a copy of ``book/conftest.py`` beside the page, ``tools/`` linked beside it), as ``make
-test`` runs the chapters with ``XNAVLAB_NBVAL_BOOK`` set.
+(a copy of the root ``conftest.py``, which loads the plugin, and ``tools/`` linked beside it),
+as ``make test`` runs the chapters with ``XNAVLAB_NBVAL_BOOK`` set.
 """
 
 import json
@@ -23,7 +23,7 @@ ENV = "import os\nprint(os.environ.get('XNAVLAB_SCRUBBER_FRAMES'), os.environ.ge
 def _run(tmp_path, cells, keep=True):
     """pytest --nbval-lax over a page of ``cells`` (("code"|"md", source)); (rc, output)."""
     (tmp_path / "book").mkdir()
-    shutil.copy(ROOT / "book" / "conftest.py", tmp_path / "book" / "conftest.py")
+    shutil.copy(ROOT / "conftest.py", tmp_path / "conftest.py")
     (tmp_path / "tools").symlink_to(ROOT / "tools")
     nb = nbformat.v4.new_notebook()
     nb.metadata["kernelspec"] = {"name": "python3", "display_name": "Python 3",

@@ -32,7 +32,7 @@ where. A page that fails stops the script with its traceback and exit code 1 (th
 on it too, later). ``tools/book_cache.py`` must run before it, so that a cache made with an
 older package is dropped first.
 
-Pages executed by ``make test``'s nbval run (``book/conftest.py``, the same execution: scrubber
+Pages executed by ``make test``'s nbval run (``tools/nbval_book.py``, the same execution: scrubber
 frames drawn, the ``{eval}`` values evaluated in place by :class:`ProseValues`) are taken from
 ``--executed DIR`` (:func:`import_executed`) instead of being executed a second time.
 
@@ -237,7 +237,7 @@ class ProseValues:
     """The ``{eval}`` values one page shows, each kept at the first markdown cell showing it.
 
     ``evaluated`` maps each expression to its result, the value :data:`BOOK_CACHE_KEY` keeps
-    with the executed page. Used by :class:`EvalNotebookClient` and by ``book/conftest.py``
+    with the executed page. Used by :class:`EvalNotebookClient` and by ``tools/nbval_book.py``
     (``make test``'s nbval run of the chapters, which stores them for the book).
     """
 
@@ -353,7 +353,7 @@ def code_sources(nb):
 def write_executed(directory, page, nb, evaluated, seconds):
     """Keep a page executed elsewhere for :func:`import_executed`: ``directory/<stem>.json``.
 
-    ``make test``'s nbval run of the chapters (``book/conftest.py``) executes each chapter
+    ``make test``'s nbval run of the chapters (``tools/nbval_book.py``) executes each chapter
     as the book does (scrubber frames drawn, ``{eval}`` values evaluated in place by
     :class:`ProseValues`) and keeps it here, so that the book's build does not execute it a
     second time. ``page`` is the page's path; ``nb`` the executed notebook.
@@ -404,7 +404,7 @@ def main(argv=None):
                         help="pages executed at once (default: the number of CPUs)")
     parser.add_argument("--executed", type=Path, default=None,
                         help="a directory of pages executed by make test's nbval run "
-                             "(book/conftest.py): stored, not executed again")
+                             "(tools/nbval_book.py): stored, not executed again")
     parser.add_argument("pages", nargs="*", type=Path,
                         help="only these pages (default: every notebook page of _toc.yml)")
     args = parser.parse_args(argv)

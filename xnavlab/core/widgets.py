@@ -26,7 +26,7 @@ unchanged, with no control.
 
 Only the built book shows the scrubber's frames (up to ``max_frames`` figures): a kernel
 draws them when :data:`FRAMES_ENV` (``XNAVLAB_SCRUBBER_FRAMES``) is ``1`` (``make book``,
-``make test``'s nbval run, ``book/conftest.py``), and shows the scrubber alone (no live
+``make test``'s nbval run, ``tools/nbval_book.py``), and shows the scrubber alone (no live
 widget: nothing could drive it). In any other kernel (a reader's JupyterLab) the HTML part
 of the display is one static image, the live widget's opening figure, drawn once for both:
 "Run All" costs one figure per slider, not thirteen. Outside a kernel,

@@ -1,12 +1,14 @@
-"""nbval's run of the chapters, kept for the book when ``make test`` asks for it.
+"""A pytest plugin: nbval's run of the chapters, kept for the book when ``make test`` asks.
 
 ``make test`` executes every chapter with nbval and then builds the book, which must execute
-every chapter too. With ``XNAVLAB_NBVAL_BOOK=DIR`` set (``make test`` sets it), the chapters
-run under nbval exactly as ``tools/book_execute.py`` runs them for the book, and each passed
-chapter is kept in ``DIR`` (``book_execute.write_executed``); the book's build takes it from
-there (``book_execute.py --executed DIR``) instead of executing it a second time (about 200 s
-of a 2-core machine's CI, measured 2026-11-29). Without the variable (``pytest book``,
-``make notebooks``) nbval runs the chapters as a reader's kernel does and nothing is kept.
+every chapter too. With ``XNAVLAB_NBVAL_BOOK=DIR`` set (``make test`` sets it), the root
+``conftest.py`` loads this plugin: the chapters run under nbval exactly as
+``tools/book_execute.py`` runs them for the book, and each passed chapter is kept in ``DIR``
+(``book_execute.write_executed``); the book's build takes it from there
+(``book_execute.py --executed DIR``) instead of executing it a second time (about 200 s of a
+2-core machine's CI, measured 2026-11-29). Without the variable (``pytest book``,
+``make notebooks``) the plugin is not loaded: nbval runs the chapters as a reader's kernel
+does and nothing is kept.
 
 What "as the book runs them" means here:
 
@@ -27,25 +29,19 @@ JupyterLab test (``make lab-test``) runs every chapter as a reader does, live wi
 import contextlib
 import copy
 import os
-import sys
 import time
-from pathlib import Path
 
+import book_execute  # tools/book_execute.py, beside this file (on sys.path: see conftest.py)
+import nbformat
 import pytest
+from nbval.plugin import IPyNbCell
 
-ROOT = Path(__file__).resolve().parents[1]
+from xnavlab.core.prose import eval_expressions
+from xnavlab.core.widgets import FRAMES_ENV
+
 #: The environment variable naming the directory where executed chapters are kept.
 KEEP_ENV = "XNAVLAB_NBVAL_BOOK"
 KEEP = os.environ.get(KEEP_ENV)
-
-if KEEP:
-    sys.path.insert(0, str(ROOT / "tools"))
-    import book_execute  # noqa: E402  (tools/book_execute.py)
-    import nbformat  # noqa: E402
-    from nbval.plugin import IPyNbCell  # noqa: E402
-
-    from xnavlab.core.prose import eval_expressions  # noqa: E402
-    from xnavlab.core.widgets import FRAMES_ENV  # noqa: E402
 
 #: Seconds to wait for the kernel's reply to one request of expressions.
 EVAL_TIMEOUT_S = 120.0
