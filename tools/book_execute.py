@@ -345,6 +345,15 @@ def execute(path, timeout):
     return path, nbformat.writes(nb), result.time, None, slowest, evaluated
 
 
+def store_page(cache, path, nb, seconds, evaluated):
+    """Store the executed page ``nb`` of ``path`` in the execution cache, with its time and
+    its ``{eval}`` values (:data:`BOOK_CACHE_KEY`), where the build finds it."""
+    cache.cache_notebook_bundle(
+        CacheBundleIn(nb, str(path), data={"execution_seconds": seconds,
+                                           BOOK_CACHE_KEY: evaluated}),
+        check_validity=False, overwrite=True)
+
+
 def code_sources(nb):
     """The page's code cells' sources, in order: what decides whether an execution is its."""
     return [cell.source for cell in nb.cells if cell.cell_type == "code"]
@@ -388,10 +397,7 @@ def import_executed(cache, directory, pages):
             print(f"book_execute: {page.relative_to(ROOT)}: the execution kept in {path} is "
                   "of another version of its code: executed here", flush=True)
             continue
-        cache.cache_notebook_bundle(
-            CacheBundleIn(nb, str(page), data={"execution_seconds": record["seconds"],
-                                               BOOK_CACHE_KEY: record["evaluated"]}),
-            check_validity=False, overwrite=True)
+        store_page(cache, page, nb, record["seconds"], record["evaluated"])
         print(f"book_execute: {page.relative_to(ROOT)} executed by nbval in "
               f"{record['seconds']:.1f} s, stored", flush=True)
         done.append(page)
@@ -455,11 +461,8 @@ def _run(args, cache):
                 for other in futures:
                     other.cancel()
                 return 1
-            nb = nbformat.reads(text, as_version=4)
-            cache.cache_notebook_bundle(
-                CacheBundleIn(nb, str(path), data={"execution_seconds": seconds,
-                                                   BOOK_CACHE_KEY: evaluated}),
-                check_validity=False, overwrite=True)
+            store_page(cache, path, nb=nbformat.reads(text, as_version=4), seconds=seconds,
+                       evaluated=evaluated)
             times[path.name] = round(seconds, 1)
             print(f"book_execute: {name} {seconds:.1f} s{where}", flush=True)
     TIMES.write_text(json.dumps(times, indent=1, sort_keys=True), encoding="utf-8")

@@ -26,7 +26,6 @@ a widget's (nbval, unlike nbclient, does not tell a widget's output from the cel
 JupyterLab test (``make lab-test``) runs every chapter as a reader does, live widgets and all.
 """
 
-import contextlib
 import copy
 import os
 import time
@@ -62,31 +61,14 @@ class _Page:
 _PAGES = {}
 
 
-def _ours(item):
-    return bool(KEEP) and isinstance(item, IPyNbCell)
-
-
-@contextlib.contextmanager
-def _book_kernel_env():
-    """The environment of a kernel executing a page for the book, while it starts."""
-    saved = {k: os.environ.get(k) for k in (FRAMES_ENV, "MPLBACKEND")}
-    os.environ[FRAMES_ENV] = "1"
-    os.environ.pop("MPLBACKEND", None)
-    try:
-        yield
-    finally:
-        for key, value in saved.items():
-            if value is None:
-                os.environ.pop(key, None)
-            else:
-                os.environ[key] = value
-
-
 @pytest.hookimpl(wrapper=True)
 def pytest_runtest_setup(item):
-    if not (_ours(item) and item.parent.kernel is None):
+    if not (isinstance(item, IPyNbCell) and item.parent.kernel is None):
         return (yield)
-    with _book_kernel_env():  # nbval starts the page's kernel in this setup
+    # nbval starts the page's kernel in this setup: with the book's environment
+    with pytest.MonkeyPatch.context() as env:
+        env.setenv(FRAMES_ENV, "1")
+        env.delenv("MPLBACKEND", raising=False)
         result = yield
     _PAGES[item.parent.nodeid] = _Page(item.parent.nb)
     return result
@@ -114,7 +96,7 @@ def _prose_until(item, page, stop):
 
 @pytest.hookimpl(wrapper=True)
 def pytest_runtest_call(item):
-    page = _PAGES.get(item.parent.nodeid) if _ours(item) else None
+    page = _PAGES.get(item.parent.nodeid) if isinstance(item, IPyNbCell) else None
     if page is None or page.failed:
         return (yield)
     index = page.code[item.cell_num]
@@ -136,11 +118,7 @@ def _done(item, page, index, outputs):
     page.nb.cells[index].outputs = [nbformat.from_dict(o) for o in outputs]
     page.next = index + 1
     if item.cell_num == len(page.code) - 1:
-        try:
-            _finish(item, page)
-        except BaseException:
-            page.failed = True
-            raise
+        _finish(item, page)
 
 
 def _finish(item, page):
