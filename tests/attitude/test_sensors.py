@@ -130,3 +130,37 @@ def test_make_fault_refuses_an_onset_before_the_run():
     with pytest.raises(ValueError, match=r"^onset must be a real number in \[0, inf\)"):
         att.make_fault("gyro_x", "step", 1e-5, onset=-5.0)
     assert att.make_fault("gyro_x", "step", 1e-5, onset=0.0).onset == 0.0
+
+
+def test_review_35_q4_a_noise_fault_draws_from_a_stream_of_its_own():
+    """Review 35 Q4: a gyro noise fault drew from the sensor noise's generator, so the
+    star-tracker noise of the whole run changed with it."""
+    t, w, q = att.truth_motion(50, 0.1)
+    gyro = att.make_fault("gyro_y", "noise", 1e-4, onset=2.0)
+    star = att.make_fault("star_tracker", "noise", 1e-4, onset=2.0)
+    g = np.random.default_rng(5)
+    att.gyro_measurements(t, w, faults=[gyro], rng=g)
+    after = att.star_tracker_measurements(t, q, rng=g)  # the gyro fault took no draw from g
+    h = np.random.default_rng(5)
+    att.gyro_measurements(t, w, rng=h)
+    np.testing.assert_array_equal(after, att.star_tracker_measurements(t, q, rng=h))
+    clean = att.star_tracker_measurements(t, q, rng=7)
+    faulty = att.star_tracker_measurements(t, q, faults=[star], rng=7)
+    np.testing.assert_array_equal(faulty[t < 2.0], clean[t < 2.0])
+    assert np.abs(faulty - clean)[t >= 2.0].max() > 0.0  # the fault's own noise, after the onset
+    np.testing.assert_array_equal(  # a Generator: the same run as its seed
+        faulty, att.star_tracker_measurements(t, q, faults=[star], rng=np.random.default_rng(7)))
+
+
+def test_review_35_q4_a_generator_that_cannot_spawn_is_refused_for_a_noise_fault():
+    """Review 35 Q4: the fault's stream is a child of rng; a legacy-seeded generator has none."""
+    t, w, _ = att.truth_motion(5, 0.1)
+    bits = np.random.MT19937()
+    bits._legacy_seeding(3)
+    att.gyro_measurements(t, w, faults=[att.make_fault("gyro_x", "step", 1e-4, 0.1)],
+                          rng=np.random.Generator(bits))  # nothing drawn: nothing spawned
+    with pytest.raises(ValueError, match=r"^rng must be a seed or a numpy Generator that can "
+                                         r"spawn a child stream \(numpy.random.default_rng\(seed\)\) "
+                                         r"when a fault is of kind 'noise'$"):
+        att.gyro_measurements(t, w, faults=[att.make_fault("gyro_x", "noise", 1e-4, 0.1)],
+                              rng=np.random.Generator(bits))

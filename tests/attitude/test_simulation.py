@@ -253,3 +253,20 @@ def test_a_default_setting_is_named_as_the_default_the_given_one_clashes_with(ch
     with pytest.raises(ValueError, match=words):
         att.simulation.make_config(**changes)
 
+
+
+@pytest.mark.parametrize("location", ["gyro_x", "star_tracker"])
+def test_review_35_q4_a_noise_fault_leaves_the_sensor_noise_of_its_seed(location):
+    """Review 35 Q4: a gyro noise fault changed the star-tracker noise of the whole run, from
+    t = 0, for the same seed; the fault's noise now comes from a stream of its own."""
+    clean = att.simulate(duration=100.0, rng=0)
+    fault = att.make_fault(location, "noise", 1e-4, onset=60.0)
+    run = att.simulate(fault, duration=100.0, rng=0)
+    before = run.t < 60.0
+    np.testing.assert_array_equal(run.omega_g[before], clean.omega_g[before])
+    np.testing.assert_array_equal(run.q_meas[before], clean.q_meas[before])
+    other = "q_meas" if location == "gyro_x" else "omega_g"  # the other sensor: all of it
+    np.testing.assert_array_equal(getattr(run, other), getattr(clean, other))
+    again = att.simulate(fault, duration=100.0, rng=np.random.default_rng(0))
+    np.testing.assert_array_equal(again.omega_g, run.omega_g)  # a Generator: its seed's run
+    np.testing.assert_array_equal(again.q_meas, run.q_meas)

@@ -98,3 +98,16 @@ def test_review_35k_3_4_earth_error_size_t0(t0):
     """Review 35k (3) 4: t0 was refused as the ephemeris' ``t``."""
     with pytest.raises(ValueError, match=r"^t0 must be an epoch in \["):
         sensitivity.earth_error_size(t0=t0)
+
+
+@pytest.mark.parametrize("sizes, words", [
+    ((4.0, 4.0), r"^sizes lists 4.0 twice \(items 0 and 1\)$"),
+    ([0.0, 250.0, 0.0], r"^sizes lists 0.0 twice \(items 0 and 2\)$"),
+    ((), r"^sizes must name at least one size, got an empty list$"),
+    ([1.0, -1.0, 1.0], r"^sizes\[1\] must be a real number in \[0, 1e\+08\]"),  # each range first
+])
+def test_review_35_q10_ukf_sensitivity_refuses_a_repeated_size_and_an_empty_list(sizes, words):
+    """Review 35 Q10: a repeated size was run and returned twice, an empty list returned two
+    empty arrays without a word (detection_table and its siblings refuse both)."""
+    with pytest.raises(ValueError, match=words):
+        sensitivity.ukf_sensitivity(sizes)

@@ -154,6 +154,9 @@ def gyro_measurements(
         Faults of sensor ``"gyro"`` (components 0-3: x, y, z, skew) are injected with
         :func:`xnavlab.core.faults.inject`; magnitudes in rad/s (rad/s^2 for ramps).
     rng : numpy.random.Generator or int, optional
+        Source of the noise ``v_g`` (default seed 0). A ``"noise"`` fault draws its extra noise
+        from a child stream spawned from it (``numpy.random.Generator.spawn``, which
+        draws nothing from it), so ``v_g`` depends on the seed alone.
 
     Returns
     -------
@@ -175,10 +178,29 @@ def gyro_measurements(
     check_increasing("t", t)  # a fault's onset and duration are read against t
     b = check_finite_array("drifts_deg_per_h", drifts_deg_per_h, shape=(4,)) * DEG_PER_H
     sigma = check_real("noise_deg_per_h", noise_deg_per_h, 0.0, MAX_DEG_PER_H) * DEG_PER_H
-    rng = make_rng(rng)
     H = gyro_matrix(skew_axis)
+    faults = _own_faults(faults, "gyro", "gyro_measurements")
+    rng = make_rng(rng)
     z = w @ H.T + b + rng.normal(0.0, 1.0, (t.size, 4)) * sigma  # paper eq. (2)
-    return inject(t, z, _own_faults(faults, "gyro", "gyro_measurements"), "gyro", rng=rng)  # + f_g
+    return inject(t, z, faults, "gyro", rng=_fault_stream(rng, faults))  # + f_g
+
+
+def _fault_stream(rng, faults):
+    """The generator of the faults' own draws: a child of ``rng``, or ``rng`` if no fault draws.
+
+    Only a ``"noise"`` fault draws (its extra noise). Its child comes from
+    ``numpy.random.Generator.spawn``, which takes no draw from ``rng``: the sensor noise is
+    the same with or without the fault, and the fault's noise independent of it (as the Mars
+    runs' ``seed_after`` stream, which a Generator has no seed for). ``rng``'s seed sequence
+    counts its children, so the runs of a batch drawn from one generator get one each.
+    """
+    if not any(f.kind == "noise" for f in faults):
+        return rng  # nothing to draw: rng's seed sequence left as it was
+    try:
+        return rng.spawn(1)[0]
+    except TypeError:  # a bit generator seeded without a seed sequence (legacy seeding)
+        raise ValueError("rng must be a seed or a numpy Generator that can spawn a child stream "
+                         "(numpy.random.default_rng(seed)) when a fault is of kind 'noise'") from None
 
 
 def _own_faults(faults, sensor, func):
@@ -214,6 +236,8 @@ def star_tracker_measurements(t, q, *, noise_deg=PAPER_STAR_NOISE_DEG, faults=()
         Noise per axis, 1 sigma, deg, >= 0.
     faults : sequence of Fault
     rng : numpy.random.Generator or int, optional
+        Source of the noise ``q_v`` (default seed 0). A ``"noise"`` fault draws its extra noise
+        from a child stream spawned from it, as :func:`gyro_measurements`'s.
 
     Returns
     -------
@@ -234,11 +258,11 @@ def star_tracker_measurements(t, q, *, noise_deg=PAPER_STAR_NOISE_DEG, faults=()
         raise ValueError(f"t must hold one time per row of q ({q.shape[0]}), got {t.size}")
     check_increasing("t", t)  # a fault's onset and duration are read against t
     sigma = math.radians(check_real("noise_deg", noise_deg, 0.0, 180.0))
+    faults = _own_faults(faults, "star_tracker", "star_tracker_measurements")
     rng = make_rng(rng)
     qv = quat_from_rotvec(rng.normal(0.0, 1.0, (t.size, 3)) * sigma)
     qs = quat_product(q, qv)  # paper eq. (17), q_f = identity
-    qs = inject(t, qs, _own_faults(faults, "star_tracker", "star_tracker_measurements"), "star_tracker",
-                rng=rng)  # + f_q
+    qs = inject(t, qs, faults, "star_tracker", rng=_fault_stream(rng, faults))  # + f_q
     return quat_normalize(qs)
 
 

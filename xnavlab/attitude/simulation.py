@@ -406,7 +406,9 @@ def simulate(faults=(), config=None, *, rng=None, **changes):
     config : SimConfig, optional
         Settings (default :class:`SimConfig`).
     rng : numpy.random.Generator or int, optional
-        Seed of the sensor noise (default 0: reproducible).
+        Seed of the sensor noise (default 0: reproducible), drawn as :func:`simulate_sensors`
+        says; the extra noise of a ``"noise"`` fault comes from a child stream of its own, so a
+        run with faults and one without share their sensor noise.
     **changes
         Overrides of ``config`` fields, e.g. ``n_sigma=4``.
 
@@ -574,7 +576,10 @@ def simulate_sensors(config, faults=(), rng=None, truth=None):
 
     The gyro noise is drawn from ``rng`` first, then the star-tracker noise, so a batch of
     runs drawn from one generator is reproducible (:func:`simulate`,
-    :func:`xnavlab.attitude.montecarlo.isolation_monte_carlo`).
+    :func:`xnavlab.attitude.montecarlo.isolation_monte_carlo`). The faults draw nothing from
+    ``rng``: a ``"noise"`` fault's extra noise comes from a child stream spawned from it
+    (``numpy.random.Generator.spawn``, one for each sensor with such a fault, the gyros
+    first), so the sensor noise depends on the seed alone, with or without faults.
 
     Parameters
     ----------
@@ -583,7 +588,7 @@ def simulate_sensors(config, faults=(), rng=None, truth=None):
     faults : Fault or sequence of Fault
         From :func:`xnavlab.attitude.sensors.make_fault`.
     rng : numpy.random.Generator or int, optional
-        Source of the sensor noise (default seed 0).
+        Source of the sensor noise (default seed 0) and parent of the faults' stream.
     truth : tuple, optional
         ``(t, w, q)`` from :func:`xnavlab.attitude.motion.truth_motion` for ``config``,
         to reuse across the runs of a batch (shapes (n,), (n, 3), (n, 4), ``t`` the config's

@@ -20,7 +20,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from xnavlab.core.validate import check_real, check_vector, shown
+from xnavlab.core.validate import check_items, check_real, check_vector, shown
 from xnavlab.robust import ephemeris_error as ee
 from xnavlab.robust._checks import check_epoch
 from xnavlab.robust.comparison import compare_filters
@@ -35,7 +35,8 @@ def ukf_sensitivity(sizes=(0.0, 250.0, 500.0, 750.0, 1000.0), body="earth", seed
     Parameters
     ----------
     sizes : sequence of float
-        Error sizes, m, each in [0, 1e8].
+        Error sizes, m, each in [0, 1e8]; at least one, none twice (a repeat would be run and
+        returned twice).
     body : {"earth", "mars"}
     seeds : sequence of int
     direction : array_like, shape (3,), optional
@@ -53,9 +54,8 @@ def ukf_sensitivity(sizes=(0.0, 250.0, 500.0, 750.0, 1000.0), body="earth", seed
     >>> bool(r[1] - r[0] > 500.0)
     True
     """
-    sizes = check_vector("sizes", sizes)
-    for i, s in enumerate(sizes):
-        check_real(f"sizes[{i}]", s, 0.0, 1e8)  # simulate's range of an injected error, m
+    sizes = check_vector("sizes", sizes)  # simulate's range of an injected error, m, each:
+    check_items("sizes", sizes, "size", lambda label, s: check_real(label, s, 0.0, 1e8))
     out = [compare_filters(body, ("ukf",), error="constant", size=float(s), seeds=seeds,
                            direction=direction)["rmse"]["ukf"] for s in sizes]
     return sizes, np.array(out)
