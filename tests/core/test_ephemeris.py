@@ -98,3 +98,44 @@ def test_issue35_state_refuses_a_2d_t_by_name():
     # Review 35f finding 45: numpy's broadcast error named no parameter.
     with pytest.raises(ValueError, match=r"^t must be a number or a 1-D array of epochs"):
         ephemeris.state("mars", np.full((2, 2), 5e8))
+
+
+T0 = 504878400.0  # 2016-01-01 00:00 TDB
+
+
+@pytest.mark.parametrize("call", [ephemeris.position, lambda body, t: ephemeris.state(body, t)[0]])
+def test_float32_epochs_are_refused(call):
+    """Review 35 Q2: float32 rounds 5e8 s to 32 s, which moved Mars by up to 353 km without a
+    word; refused as the timing terms refuse it. Epochs a float32 resolves to 1 ms are taken."""
+    t = T0 + np.arange(0.0, 600.0, 60.0)
+    with pytest.raises(ValueError, match=r"^t must resolve its epochs to 0.001 s: as float32 it resolves "
+                                         r"32 s at 5.04879e\+08 s; pass float64 epochs$"):
+        call("mars", t.astype(np.float32))
+    small = np.arange(0.0, 600.0, 60.0)
+    assert np.array_equal(call("mars", small.astype(np.float32)), call("mars", small))
+
+
+def test_dates_and_quantities_are_refused_as_epochs():
+    """Review 35 Q1: 2020-01-01 as datetime64 was read as 1.58e9 s past J2000 (the year 2050),
+    one day as a Quantity as 1 s."""
+    u = pytest.importorskip("astropy.units")
+    with pytest.raises(ValueError, match=r"^t must be plain numbers in s TDB past J2000, got datetime64\[s\] "
+                                         r"values: a date is no number; convert it \(to s TDB past J2000: "
+                                         r"xnavlab.core.ephemeris.t_from_jd\(astropy.time.Time\(t\).tdb.jd\)\)$"):
+        ephemeris.position("mars", np.array(["2020-01-01T00:00:00"], dtype="datetime64[s]"))
+    with pytest.raises(ValueError, match=r"^t must be plain numbers in s TDB past J2000, got a Quantity "
+                                         r"in d: its unit is not read"):
+        ephemeris.position("mars", [1.0] * u.day)
+
+
+def test_the_date_hint_gives_the_epoch():
+    """The conversion the message names gives 2020-01-01 00:00 UTC as 6.311e8 s TDB past J2000."""
+    time = pytest.importorskip("astropy.time")
+    t = ephemeris.t_from_jd(time.Time(np.array(["2020-01-01T00:00:00"], dtype="datetime64[s]")).tdb.jd)
+    assert abs(float(t[0]) - (631108800.0 + 69.184)) < 2e-3  # TT - UTC = 37 s + 32.184 s; TDB - TT < 2 ms
+
+
+def test_check_epoch_refuses_a_float32_epoch():
+    assert ephemeris.check_epoch("t0", np.float32(100.0)) == 100.0
+    with pytest.raises(ValueError, match=r"^t0 must resolve its epochs to 0.001 s: as float32"):
+        ephemeris.check_epoch("t0", np.float32(T0))

@@ -444,3 +444,84 @@ def test_masked_and_read_only_arrays_are_refused_or_give_the_same_result(case):
             assert np.allclose(got, base, rtol=0.0, atol=1e-12 * scale), f"{label}({name}=<{kind}>)"
     if kernel is not None:
         assert len(kernel.signatures) == n_compiled, f"{label}: a new specialization compiled"
+
+
+# Review 35 Q1, Q9, Q18: dates, durations and quantities; every item of an object array; one line.
+
+@pytest.mark.parametrize(("value", "got"), [
+    (np.array(["2020-01-01T00:00:00"], dtype="datetime64[s]"),
+     r"datetime64\[s\] values: a date is no number"),
+    (np.datetime64("2020-01-01"), r"datetime64\[D\] values: a date is no number"),
+    (np.array([0, 1000], dtype="timedelta64[ms]"),
+     r"timedelta64\[ms\] values: convert them \(t / np.timedelta64\(1, 's'\) gives seconds\)"),
+])
+def test_check_finite_array_refuses_dates_and_durations(value, got):
+    """A datetime64 array was read as seconds since 1970 (2020 as the year 2050 past J2000), a
+    timedelta64[ms] one as seconds: refused, naming the unit the parameter documents."""
+    with pytest.raises(ValueError, match=rf"^t must be plain numbers in s TDB past J2000, got {got}"):
+        check_finite_array("t", value, unit="s TDB past J2000")
+    with pytest.raises(ValueError, match=r"^t must be plain numbers in the SI unit its function documents"):
+        check_finite_array("t", value)
+
+
+def test_check_finite_array_refuses_pandas_dates():
+    """A pandas datetime Series (nanoseconds since 1970) and a time-zone aware one (Timestamps)."""
+    pd = pytest.importorskip("pandas")
+    naive = pd.Series(pd.to_datetime(["2020-01-01", "2020-01-02"]))
+    with pytest.raises(ValueError, match=r"^t must be plain numbers .*, got datetime64\[(ns|us)\] values"):
+        check_finite_array("t", naive)
+    with pytest.raises(ValueError, match=r"^t must be plain numbers .*, got date values: a date is no "
+                                         r"number"):
+        check_finite_array("t", naive.dt.tz_localize("UTC"))
+
+
+def test_check_finite_array_refuses_quantities():
+    """An astropy Quantity was taken as its number in its own unit (90 deg as 90 rad, 1 day as
+    1 s); as an array, in a list or in an object array, it is refused with its unit named."""
+    u = pytest.importorskip("astropy.units")
+    want = r"^phi must be plain numbers in the SI unit its function documents, got a Quantity in deg: " \
+           r"its unit is not read; convert it \(phi.si.value gives SI numbers\)$"
+    for value in (np.array([90.0, 0.0, 0.0]) * u.deg, [90.0 * u.deg, 0.0 * u.deg],
+                  np.array([1.0, 90.0 * u.deg], dtype=object)):
+        with pytest.raises(ValueError, match=want):
+            check_finite_array("phi", value)
+    with pytest.raises(ValueError, match=r"got a dimensionless Quantity: its unit is not read"):
+        check_finite_array("x", [1.0 * u.one, 2.0 * u.one])
+    with pytest.raises(ValueError, match=r"^t must be a finite real number, got datetime.timedelta"):
+        check_real("t", np.timedelta64(5, "s"))  # an integer to numpy: float() failed on it
+    with pytest.raises(ValueError, match=r"^n must be an integer, got datetime.timedelta"):
+        check_int("n", np.timedelta64(5, "s"))
+
+
+def test_check_finite_array_scans_every_item_of_an_object_array():
+    """Review 35 Q9: a bool past the 10,000th item of an object array was read as 1.0."""
+    for odd in (True, np.True_):
+        with pytest.raises(ValueError, match=r"^x must be an array of finite numbers, got array\(\[0.5"):
+            check_finite_array("x", np.array([0.5] * 10_001 + [odd], dtype=object))
+    with pytest.raises(ValueError, match=r"^x must hold real numbers, got complex values"):
+        check_finite_array("x", np.array([0.5] * 10_001 + [1j], dtype=object))
+    with pytest.raises(ValueError, match=r"^x must be an array of finite numbers, got an object array"):
+        check_finite_array("x", np.array([0.5, 10**400], dtype=object))
+    ok = check_finite_array("x", np.array([0.5] * 10_001 + [1], dtype=object))
+    assert ok.dtype == np.float64 and ok[-1] == 1.0
+
+
+def test_messages_are_one_line():
+    """Review 35 Q18: a SeedSequence's repr and a 2-D array's spanned several lines."""
+    from xnavlab.core.validate import shown
+
+    seq = np.random.SeedSequence(0)
+    with pytest.raises(ValueError, match=r"^seed must be an integer in \[0, 9223372036854775807\], got "
+                                         r"SeedSequence\( entropy=0, \): pass an int seed$"):
+        check_seed("seed", seq)
+    with pytest.raises(ValueError, match=r"got SeedSequence\( entropy=0, \): pass an int seed \(or a "
+                                         r"Generator: np.random.default_rng\(seq\)\)$"):
+        make_rng(seq, "seed")
+    assert shown(np.ones((3, 4), dtype=bool)) == "a bool array of shape (3, 4)"
+    assert shown(np.zeros(579, np.float32)) == "a float32 array of shape (579,)"
+    assert shown(np.zeros(40, np.int64)) == "an int64 array of shape (40,)"
+    assert shown(np.array([1.0, 2.0])) == "array([1., 2.])"  # a short array keeps its repr
+    assert shown("a  b\n") == "'a  b\\n'"  # text: its repr, spaces kept
+    with pytest.raises(ValueError) as err:
+        check_finite_array("q", np.ones((3, 4), dtype=bool))
+    assert str(err.value) == "q must be an array of finite numbers, got a bool array of shape (3, 4)"

@@ -259,3 +259,28 @@ def test_review_35k_3_3_3_4_names_of_the_caller():
         ee.error_summary("earth", t0=6.3e9, span=5 * ee.YEAR)
     with pytest.raises(ValueError, match=r"^t0 must be an epoch in \["):
         ee.orbit("earth", t0=None)
+
+
+def test_float32_epochs_are_refused():
+    """Review 35 Q2: float32 epochs (32 s at 5e8 s) were used silently by ephemeris_error,
+    injected_error and ephemeris_drift; refused by name, as the timing terms refuse them."""
+    t0 = 504878400.0
+    t = t0 + np.arange(0.0, 600.0, 60.0)
+    rounded = r" must resolve its epochs to 0.001 s: as float32 it resolves 32 s at 5.0487[89]e\+08 s"
+    for name, call in (
+            ("t", lambda: ee.ephemeris_error("mars", t.astype(np.float32))),
+            ("t", lambda: ee.injected_error(t.astype(np.float32), 100.0, "growing", growth_time=1e9, t0=t0)),
+            ("t0", lambda: ee.injected_error(t, 100.0, "growing", growth_time=1e9, t0=np.float32(t0))),
+            ("t", lambda: ee.ephemeris_drift("mars", t.astype(np.float32), t0)),
+            ("t_ref", lambda: ee.ephemeris_drift("mars", t, np.float32(t0)))):
+        with pytest.raises(ValueError, match=rf"^{name}{rounded}"):
+            call()
+    small = np.arange(0.0, 600.0, 60.0)  # a float32 that resolves them: the same result
+    assert np.array_equal(ee.injected_error(small.astype(np.float32), 100.0, "slow"),
+                          ee.injected_error(small, 100.0, "slow"))
+
+
+def test_dates_are_refused_as_epochs():
+    """Review 35 Q1: a datetime64 epoch names its unit."""
+    with pytest.raises(ValueError, match=r"^t must be plain numbers in s TDB past J2000, got datetime64"):
+        ee.injected_error(np.array(["2020-01-01"], dtype="datetime64[D]"), 100.0)

@@ -34,10 +34,10 @@ import functools
 import numpy as np
 
 from xnavlab.core.constants import DAY, J2000_JD
-from xnavlab.core.validate import check_choice, check_finite_array, shown
+from xnavlab.core.validate import check_choice, check_finite_array, check_real, shown
 
-__all__ = ["EPHEMERIDES", "BODIES", "EPOCH_RESOLUTION", "check_resolution", "state", "position",
-           "coverage", "jd_from_t", "t_from_jd"]
+__all__ = ["EPHEMERIDES", "BODIES", "EPOCH_RESOLUTION", "EPOCH_UNIT", "check_resolution", "check_epochs",
+           "check_epoch", "state", "position", "coverage", "jd_from_t", "t_from_jd"]
 
 #: Ephemerides that can be selected.
 EPHEMERIDES = ("de421", "de405")
@@ -46,6 +46,8 @@ BODIES = ("sun", "mercury", "venus", "earth", "moon", "earthmoon", "mars", "jupi
 #: The coarsest resolution an epoch's dtype may have at the epoch's size, s (1 ms: a Mars
 #: orbiter moves 3.5 m in it). float64 resolves 6e-8 s at 5e8 s; float32 32 s.
 EPOCH_RESOLUTION = 1e-3
+#: The epochs' unit, for the refusal of a date or a quantity with a unit where epochs belong.
+EPOCH_UNIT = "s TDB past J2000"
 
 
 def check_resolution(name, value, largest):
@@ -69,6 +71,43 @@ def check_resolution(name, value, largest):
             raise ValueError(f"{name} must resolve its epochs to {EPOCH_RESOLUTION:g} s: as "
                              f"{dtype} it resolves {res:.3g} s at {largest:.6g} s; pass float64 "
                              f"epochs")
+
+
+def check_epochs(name, value):
+    """Epochs ``value`` (s TDB past J2000, any shape) as a finite float64 array, else one
+    ValueError naming ``name``: a date (datetime64) or a quantity with a unit is refused
+    (:func:`xnavlab.core.validate.check_finite_array`), and so is a float dtype narrower than
+    float64 that cannot resolve them to :data:`EPOCH_RESOLUTION` (:func:`check_resolution`).
+
+    Examples
+    --------
+    >>> check_epochs("t", np.array(["2020-01-01"], dtype="datetime64[D]"))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: t must be plain numbers in s TDB past J2000, got datetime64[D] values: ...
+    """
+    t = check_finite_array(name, value, unit=EPOCH_UNIT)
+    if t.size:
+        check_resolution(name, value, float(np.abs(t).max()))
+    return t
+
+
+def check_epoch(name, value, lo=-np.inf, hi=np.inf):
+    """One epoch (s TDB past J2000) as a float in ``[lo, hi]``
+    (:func:`xnavlab.core.validate.check_real`), a float32 one that cannot resolve it refused
+    as :func:`check_epochs`.
+
+    Examples
+    --------
+    >>> check_epoch("t0", np.float32(5e8))  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: t0 must resolve its epochs to 0.001 s: as float32 it resolves 32 s at 5e+08 s; ...
+    """
+    t = check_real(name, value, lo, hi)
+    check_resolution(name, value, abs(t))
+    return t
+
 
 _KM = 1.0e3
 _KM_PER_DAY = 1.0e3 / DAY
@@ -134,7 +173,7 @@ def _raw(body, days, ephem):
 def _check(body, t, ephem):
     check_choice("body", body, BODIES)
     check_choice("ephem", ephem, EPHEMERIDES)
-    t = check_finite_array("t", t)
+    t = check_epochs("t", t)  # float32 rounded 5e8 s to 32 s: 353 km of Mars (review 35 Q2)
     if t.ndim > 1:  # the states stack one row an epoch
         raise ValueError(f"t must be a number or a 1-D array of epochs (shape (n,)), got shape "
                          f"{t.shape}")

@@ -8,10 +8,11 @@ instead of propagating a NaN, clipping silently or failing deep in a traceback.
 from __future__ import annotations
 
 import math
-import warnings
 from numbers import Integral, Real
 
 import numpy as np
+
+from xnavlab.core._array_kinds import as_array, item_kinds, odd_item, one_line, unit_refusal
 
 __all__ = [
     "shown",
@@ -79,7 +80,7 @@ def check_real(name, value, lo=-math.inf, hi=math.inf, *, lo_open=False, hi_open
     _check_bounds(name, lo, hi)
     want = f"a {'finite ' if lo == -math.inf and hi == math.inf else ''}real number" \
         + _range(lo, hi, lo_open, hi_open)
-    if isinstance(value, bool) or not isinstance(value, Real | np.floating | np.integer):
+    if isinstance(value, bool | np.timedelta64) or not isinstance(value, Real | np.floating | np.integer):
         raise ValueError(f"{name} must be {want}, got {shown(value)}")
     try:
         x = float(value)
@@ -109,21 +110,24 @@ def check_int(name, value, lo=-math.inf, hi=math.inf):
     """
     _check_bounds(name, lo, hi)
     want = "an integer" + _range(lo, hi, False, False, exact=True)
-    if isinstance(value, bool) or not isinstance(value, Integral | np.integer):
-        raise ValueError(f"{name} must be {want}, got {shown(value)}")
+    if isinstance(value, bool | np.timedelta64) or not isinstance(value, Integral | np.integer):
+        raise ValueError(f"{name} must be {want}, got {shown(value)}")  # a timedelta64 is an integer to numpy
     if value < lo or value > hi:
         raise ValueError(f"{name} must be {want}, got {shown(value)}")
     return int(value)
 
 
-def check_finite_array(name, value, shape=None, dtype=float, finite=True):
+def check_finite_array(name, value, shape=None, dtype=float, finite=True, *, unit=None):
     """Return ``value`` as a finite float array, checking its trailing shape.
 
-    Complex numbers (whose imaginary part a cast would drop), text, booleans and masked entries
-    are refused, not converted (a ``numpy.ma`` array with none is used as its data, a matrix as
-    its 2-D array). A read-only array is copied once (PyWavelets and the compiled kernels need
-    a writable one); a writable float64 array is returned as it is. ``finite=False`` lets NaN
-    and inf through (an elementwise function that maps NaN to NaN, as scipy's do).
+    Complex numbers (whose imaginary part a cast would drop), text, booleans, masked entries,
+    dates and durations (datetime64, timedelta64) and quantities with a unit (astropy's
+    ``Quantity``, whose number is in its own unit) are refused, not converted, wherever they
+    sit (every item of an object array is looked at); a ``numpy.ma`` array with no masked entry
+    is used as its data, a matrix as its 2-D array. A read-only array is copied once (PyWavelets
+    and the compiled kernels need a writable one); a writable float64 array is returned as it is.
+    ``finite=False`` lets NaN and inf through (an elementwise function that maps NaN to NaN, as
+    scipy's do).
 
     Parameters
     ----------
@@ -133,6 +137,8 @@ def check_finite_array(name, value, shape=None, dtype=float, finite=True):
         Value to check.
     shape : tuple of int or None, optional
         Required trailing shape (``None`` entries match any size).
+    unit : str, optional
+        The unit the parameter documents, for the refusal of dates or a quantity.
 
     Examples
     --------
@@ -158,16 +164,13 @@ def check_finite_array(name, value, shape=None, dtype=float, finite=True):
                              f"first {name}[{at}] (no number to use: fill or drop them)"
                              if at else f"{name} is masked (no number to use)")
         value = value.data
-    if (odd := _odd_item(value) if isinstance(value, list | tuple) else None) == "masked":
+    if (odd := odd_item(value) if isinstance(value, list | tuple) else None) == "masked":
         raise ValueError(f"{name} has masked entries (no number to use: fill or drop them)")
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore", np.exceptions.VisibleDeprecationWarning)
-            raw = np.asarray(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name} must be an array of finite numbers, got {shown(value)}") from None
-    kinds = {raw.dtype.kind} if raw.dtype.kind != "O" else \
-        {np.asarray(v).dtype.kind for v in raw.ravel()[:10_000]}
+    raw = as_array(value)
+    kinds = item_kinds(raw) if raw is not None else set()
+    if odd == "unit" or raw is None or kinds & {"M", "m", "unit"}:  # review 35 Q1: 2020 read as 2050
+        raise ValueError(unit_refusal(name, value, raw, unit)
+                         or f"{name} must be an array of finite numbers, got {shown(value)}")
     if "c" in kinds:
         raise ValueError(f"{name} must hold real numbers, got complex values (an imaginary part "
                          f"is not dropped)")
@@ -187,19 +190,6 @@ def check_finite_array(name, value, shape=None, dtype=float, finite=True):
     if finite and not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} must contain only finite numbers (no NaN or inf)")
     return arr if arr.flags.writeable else arr.copy()  # pywt: "buffer source array is read-only"
-
-
-def _odd_item(value):
-    """``"masked"`` if a (nested) list or tuple holds a masked entry, else ``"bool"`` if a bool."""
-    odd = set()
-    for v in value:
-        if isinstance(v, list | tuple):
-            odd.add(_odd_item(v))
-        elif isinstance(v, bool | np.bool_):
-            odd.add("bool")
-        elif isinstance(v, np.ma.MaskedArray) and np.ma.is_masked(v):
-            odd.add("masked")
-    return "masked" if "masked" in odd else "bool" if "bool" in odd else None
 
 
 def check_bool(name, value):
@@ -811,6 +801,9 @@ def check_seed(name, value):
     ...
     ValueError: seed must be an integer in [0, 9223372036854775807], got 9223372036854775808
     """
+    if isinstance(value, np.random.SeedSequence | np.random.BitGenerator | np.random.Generator):
+        raise ValueError(f"{name} must be an integer in [0, {SEED_MAX}], got {shown(value)}: pass an int "
+                         f"seed")
     return check_int(name, value, 0, SEED_MAX)
 
 
@@ -846,8 +839,10 @@ def make_rng(seed=None, name="rng"):
     if seed is None:
         seed = 0
     if isinstance(seed, bool) or not isinstance(seed, Integral | np.integer) or not 0 <= seed <= SEED_MAX:
+        how = ": pass an int seed (or a Generator: np.random.default_rng(seq))" \
+            if isinstance(seed, np.random.SeedSequence | np.random.BitGenerator) else ""
         raise ValueError(f"{name} must be a numpy Generator or an integer seed in "
-                         f"[0, {SEED_MAX}], got {shown(seed)}")
+                         f"[0, {SEED_MAX}], got {shown(seed)}{how}")
     return np.random.default_rng(int(seed))
 
 
@@ -886,14 +881,17 @@ def _range(lo, hi, lo_open, hi_open, exact=False):
 
 
 def shown(value):
-    """``repr`` of a value for a message, numpy scalars as plain numbers, cut at 80 characters.
+    """``repr`` of a value for a message, on one line, numpy scalars as plain numbers, cut at 80
+    characters; an array whose repr is longer by its dtype and shape.
 
     Examples
     --------
-    >>> shown(np.float64(2.5)), shown("x" * 100)[-4:]
-    ('2.5', 'x...')
+    >>> shown(np.float64(2.5)), shown("x" * 100)[-4:], shown(np.ones((3, 40), np.float32))
+    ('2.5', 'x...', 'a float32 array of shape (3, 40)')
     """
     if isinstance(value, np.generic):
         value = value.item()
-    text = repr(value)
+    text = one_line(repr(value))  # a SeedSequence's or a 2-D array's repr spans lines (review 35 Q18)
+    if len(text) > 80 and isinstance(value, np.ndarray):
+        return f"{'an' if value.dtype.name[0] in 'aeiou' else 'a'} {value.dtype} array of shape {value.shape}"
     return text if len(text) <= 80 else text[:77] + "..."

@@ -224,7 +224,8 @@ def injected_error(t, size, kind="constant", direction=(1.0, 1.0, 1.0), t0=0.0, 
     Parameters
     ----------
     t : float or array_like, shape (n,)
-        Epochs, s.
+        Epochs, s TDB past J2000 (float64: a float32 array, which rounds 5e8 s to 32 s, is
+        refused).
     size : float
         Magnitude, m, in [0, 1e8] (an ephemeris error of 100,000 km; as
         :func:`~xnavlab.robust.filters.simulate`).
@@ -284,8 +285,9 @@ def injected_error(t, size, kind="constant", direction=(1.0, 1.0, 1.0), t0=0.0, 
     if norm == 0.0:
         raise ValueError("direction must be a non-zero 3-vector")
     period = check_real("period", period, 1.0)  # from a second: 5e-324 overflowed (t - t0) / period
-    t0 = check_epoch("t0", t0)  # 1e300 put every t before the onset (an error of zero throughout)
-    t = check_finite_array("t", t)
+    t0, given = check_epoch("t0", t0), t0  # 1e300 put every t before the onset (zero throughout)
+    ephemeris.check_resolution("t0", given, abs(t0))  # a float32 t0 rounded by 32 s
+    t = ephemeris.check_epochs("t", t)  # float32, datetime64 or a Quantity refused (review 35 Q1, Q2)
     scale = np.full(t.shape, size)
     if kind == "slow":
         scale = size * (1.0 + 0.2 * np.sin(2.0 * math.pi * (t - t0) / period))
@@ -351,7 +353,8 @@ def ephemeris_drift(body, t, t_ref, truth="de421", model="de405"):
     >>> float(np.linalg.norm(ephemeris_drift("earth", EPOCH_1997, EPOCH_1997)))
     0.0
     """
-    t_ref = check_epoch("t_ref", t_ref)
+    t_ref, given = check_epoch("t_ref", t_ref), t_ref
+    ephemeris.check_resolution("t_ref", given, abs(t_ref))  # a float32 t_ref rounded by 32 s
     return ephemeris_error(body, t, truth, model) - ephemeris_error(body, t_ref, truth, model)
 
 

@@ -643,3 +643,23 @@ def test_a_file_that_is_no_timing_model_is_named_in_our_words(tmp_path, content,
     text = str(info.value)
     assert text.startswith(f"path: {str(path)!r} ") and words in text, text
     assert "PINT" not in text and "Assertion" not in text and len(text.splitlines()) == 1
+
+
+def test_phase_refuses_times_whose_dtype_rounds_the_phase():
+    """Review 35 Q2: float32 epochs near 5e8 s (rounded to 32 s) moved the Crab's phase by up to
+    473 cycles without a word; like fold, phase refuses them (t or t0) rather than converting
+    them. Float32 times that resolve a thousandth of a cycle are taken."""
+    t0 = 504878400.0
+    t = t0 + np.arange(0.0, 600.0, 60.0)
+    freqs = [29.6, -3.7e-10]
+    for name, call in (("t", lambda: pulsars.phase(t.astype(np.float32), freqs, t0=t0)),
+                       ("t0", lambda: pulsars.phase(t, freqs, t0=np.float32(t0)))):
+        with pytest.raises(ValueError, match=rf"^{name} must resolve its times to 3.38e-05 s \(0.001 of a "
+                                             r"cycle at f = 29.6 Hz, at most 0.001 s\): as float32 it "
+                                             r"resolves 32 s at 5.0487[89]e\+08 s; pass float64 times$"):
+            call()
+    short = np.arange(0.0, 10.0, 0.5)
+    assert np.array_equal(pulsars.phase(short.astype(np.float32), freqs), pulsars.phase(short, freqs))
+    with pytest.raises(ValueError, match=r"^t must resolve its times to 0.001 s \(0.001 of a cycle at f = "
+                                         r"0.1 Hz, at most 0.001 s\): as float32 it resolves 0.00781 s"):
+        pulsars.phase(np.float32([1e5]), [0.1], t0=1e5)  # a slow pulsar: 1 ms, as every epoch

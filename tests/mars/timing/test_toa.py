@@ -423,3 +423,22 @@ def test_delays_at_names_its_center():
     'body'."""
     with pytest.raises(ValueError, match=r"^center must be one of"):
         toa.delays_at([-3.4e6, -1.3e6, -2.6e6], 5.0e8, center=None)
+
+
+def test_float32_directions_are_refused_by_their_dtype():
+    """Review 35 Q20: a float32 catalogue was refused as "not unit vectors", with no word of
+    float32 (its norms are off by 3e-8, and its components by up to 6e-8: 13 km of n . R at
+    1.5 au, so it is refused rather than renormalised). A float32 row that is exactly a unit
+    vector passes; a scaled row is refused with its norm."""
+    r = np.array([2e11, 1e10, 5e9])
+    with pytest.raises(ValueError, match=r"^n must hold float64 unit vectors \(\|n\| = 1 within 1e-9\), got "
+                                         r"float32, whose rounding \(6e-08 a component; \|n\[0\]\| - 1 = "
+                                         r"-3.1e-08\) moves n . R at 1.5 au by up to 13 km: pass float64 "
+                                         r"directions$"):
+        toa.roemer(r, N.astype(np.float32))
+    with pytest.raises(ValueError, match=r"^n must hold float64 unit vectors .* got float32"):
+        toa.pdop(N.astype(np.float32))
+    assert toa.roemer(r, np.float32([[0.0, 0.0, 1.0]])).tolist() == [5e9 / C]
+    with pytest.raises(ValueError, match=r"^n must hold unit vectors \(\|n\| = 1 within 1e-9\), got "
+                                         r"\|n\[1\]\| = 2$"):
+        toa.roemer(r, np.float32([[0.0, 0.0, 1.0], [0.0, 2.0, 0.0]]))

@@ -14,12 +14,13 @@ from pathlib import Path
 import numpy as np
 
 from xnavlab.core import ephemeris
+from xnavlab.core.ephemeris import check_epoch, check_epochs
 from xnavlab.core.validate import check_finite_array, check_real, shown
 
 __all__ = ["EPOCH_RESOLUTION", "check_epochs", "check_epoch",
            "MAX_DRIFT", "MAX_PHOTONS", "RADII", "check_pulsar_fields", "check_spin_drift", "check_span",
            "check_exposure", "check_broadcast", "check_outside", "check_photons",
-           "check_times_dtype", "check_par_text"]
+           "check_times_dtype", "PHASE_RESOLUTION", "check_phase_dtype", "check_par_text"]
 
 #: :data:`xnavlab.core.ephemeris.EPOCH_RESOLUTION` (1 ms), the one rule of the epochs' dtype
 #: (a float32 epoch near 5e8 s moved clock_terms' clock term by 1.2e-7 s, 36 m).
@@ -228,23 +229,6 @@ def check_outside(name, dist, body):
                          f"km, from its centre), got {where} at {float(dist.ravel()[i]) / 1e3:.6g} km")
 
 
-def check_epochs(name, value):
-    """Finite epochs (any shape) as float64 (:func:`xnavlab.core.validate.check_finite_array`);
-    a narrower float dtype that cannot resolve them to :data:`EPOCH_RESOLUTION` is refused."""
-    t = check_finite_array(name, value)
-    if t.size:
-        ephemeris.check_resolution(name, value, float(np.abs(t).max()))
-    return t
-
-
-def check_epoch(name, value, lo=-np.inf, hi=np.inf):
-    """One epoch as a float (:func:`xnavlab.core.validate.check_real`), a float32 one that
-    cannot resolve it refused as :func:`check_epochs`."""
-    t = check_real(name, value, lo, hi)
-    ephemeris.check_resolution(name, value, abs(t))
-    return t
-
-
 def check_times_dtype(name, value, p, nbins):
     """Refuse times ``value`` (s, already checked finite) of a float dtype narrower than
     float64 that cannot place a photon to a tenth of one of ``nbins`` phase bins of ``p``:
@@ -260,6 +244,38 @@ def check_times_dtype(name, value, p, nbins):
         raise ValueError(f"{name} must resolve its times to a tenth of a phase bin ({tenth:.3g} s, "
                          f"{nbins} bins of {p.name}'s {p.period:.4g} s period): as {dtype} it "
                          f"resolves {res:.3g} s at {largest:.6g} s; pass float64 times")
+
+
+#: The finest a pulse phase's times must resolve, cycles (:func:`check_phase_dtype`): a thousandth
+#: of a cycle is 34 us for the Crab and 1.6 us for B1937+21 (float32 resolves 32 s at 5e8 s).
+PHASE_RESOLUTION = 1e-3
+
+
+def check_phase_dtype(f, named):
+    """Refuse times (s, already checked finite: ``named`` maps each parameter to its value) of a
+    float dtype narrower than float64 that cannot resolve a phase of spin frequency ``f`` (Hz)
+    to :data:`PHASE_RESOLUTION` cycles, nor epochs to :data:`EPOCH_RESOLUTION`: refused, not
+    converted (the values given are already rounded), naming the first at fault.
+
+    Examples
+    --------
+    >>> check_phase_dtype(29.6, {"t": np.float32([10.0]), "t0": 0.0})
+    >>> check_phase_dtype(29.6, {"t": np.float32([5e8])})  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: t must resolve its times to 3.38e-05 s (0.001 of a cycle at f = 29.6 Hz, at most 0.001 s): ...
+    """
+    tol = min(EPOCH_RESOLUTION, PHASE_RESOLUTION / f)
+    for name, value in named.items():
+        dtype = np.asarray(value).dtype
+        if dtype.kind != "f" or dtype.itemsize >= 8:
+            continue
+        largest = float(np.abs(np.asarray(value, dtype=float)).max(initial=0.0))
+        res = float(np.spacing(dtype.type(largest)))
+        if not res <= tol:
+            raise ValueError(f"{name} must resolve its times to {tol:.3g} s ({PHASE_RESOLUTION:g} of a "
+                             f"cycle at f = {f:g} Hz, at most {EPOCH_RESOLUTION:g} s): as {dtype} it "
+                             f"resolves {res:.3g} s at {largest:.6g} s; pass float64 times")
 
 
 def check_par_text(path):

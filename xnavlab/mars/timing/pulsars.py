@@ -365,7 +365,8 @@ def phase(t, freqs, t0=0.0, phase0=0.0):
     Parameters
     ----------
     t : float or array_like
-        Times, s, within MAX_SPAN of ``t0``.
+        Times, s, within MAX_SPAN of ``t0``; float32 times or ``t0`` that round the phase by over
+        ``_checks.PHASE_RESOLUTION`` (a thousandth of a cycle) or 1 ms are refused.
     freqs : sequence of float
         ``[f, fdot, fddot, ...]``: frequency (Hz, > 0) and its derivatives (Hz/s^n); refused
         when the phase they give overflows float64 at some ``t``.
@@ -384,13 +385,14 @@ def phase(t, freqs, t0=0.0, phase0=0.0):
     >>> float(phase(2.0, [10.0, 0.5]))   # 10*2 + 0.5*2**2/2
     21.0
     """
-    t = check_finite_array("t", t)
+    given, t = t, check_finite_array("t", t)
     freqs = check_finite_array("freqs", freqs)
     if freqs.ndim != 1 or freqs.size == 0:
         raise ValueError("freqs must be a non-empty sequence [f, fdot, ...]")
     if not freqs[0] > 0.0:  # a spin frequency; a negative one ran the phase backwards
         raise ValueError(f"freqs[0] must be the spin frequency f, > 0 Hz, got {float(freqs[0]):g}")
     dt = t - check_real("t0", t0)
+    _checks.check_phase_dtype(float(freqs[0]), {"t": given, "t0": t0})  # float32: 32 s at 5e8 s
     if np.any(np.abs(dt) > MAX_SPAN):
         raise ValueError(f"t must be within MAX_SPAN = {MAX_SPAN:g} s of t0 (the timing model's epoch)")
     out = np.full(dt.shape, check_real("phase0", phase0))

@@ -108,13 +108,22 @@ def _norm_in(name, v, lo, hi, why):
 def _args(r_ssb, n):
     r_ssb = _norm_in("r_ssb", check_finite_array("r_ssb", r_ssb, shape=(3,)), 0.0, _MAX_R,
                      "a spacecraft within 6,700 au of the SSB")
-    n = check_finite_array("n", n, shape=(3,))
+    given, n = n, check_finite_array("n", n, shape=(3,))
     if n.ndim != 2:
         raise ValueError(f"n must have shape (k, 3), got {n.shape}")
     with np.errstate(over="ignore"):  # a norm beyond float64 is no unit vector: refused below
-        off = np.abs(np.linalg.norm(n, axis=-1) - 1.0)
-    if np.any(off > 1e-9):
-        raise ValueError("n must hold unit vectors (|n| = 1 within 1e-9)")
+        norms = np.linalg.norm(n, axis=-1)
+    if np.any(~(np.abs(norms - 1.0) <= 1e-9)):
+        i = int(np.argmax(~(np.abs(norms - 1.0) <= 1e-9)))
+        dtype, off = np.asarray(given).dtype, float(norms[i] - 1.0)
+        if dtype.kind == "f" and dtype.itemsize < 8 and abs(off) <= 10.0 * np.finfo(dtype).eps:
+            # float32 rounds each component by 6e-8: 13 km of n . R at 1.5 au (review 35 Q20)
+            half = 0.5 * float(np.finfo(dtype).eps)  # relative rounding of a component
+            raise ValueError(f"n must hold float64 unit vectors (|n| = 1 within 1e-9), got {dtype}, whose "
+                             f"rounding ({half:.2g} a component; |n[{i}]| - 1 = {off:.2g}) moves n . R "
+                             f"at 1.5 au by up to {half * 1.5 * AU / 1e3:.2g} km: pass float64 directions")
+        raise ValueError(f"n must hold unit vectors (|n| = 1 within 1e-9), got |n[{i}]| = "
+                         f"{float(norms[i]):.10g}")
     return r_ssb, n
 
 
@@ -563,10 +572,10 @@ def pdop(n, sigma=None):
     >>> pdop(np.eye(3), [1.0, 2.0, 2.0])[1]
     3.0
     """
-    n = check_finite_array("n", n, shape=(3,))
+    given, n = n, check_finite_array("n", n, shape=(3,))
     if n.ndim != 2 or n.shape[0] < 3:
         raise ValueError(f"n must have shape (k, 3) with k >= 3, got {n.shape}")
-    _, n = _args(np.zeros(3), n)  # unit vectors (a scaled row overflowed the Gram matrix)
+    _, n = _args(np.zeros(3), given)  # unit vectors (a scaled row overflowed the Gram matrix)
     gram = n.T @ n
     if np.linalg.cond(gram) > 1e12:
         raise ValueError("n must span three dimensions (the pulsar directions are coplanar)")
