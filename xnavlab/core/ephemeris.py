@@ -33,6 +33,7 @@ import functools
 
 import numpy as np
 
+from xnavlab.core import dates
 from xnavlab.core.constants import DAY, J2000_JD
 from xnavlab.core.validate import check_choice, check_finite_array, check_real, shown
 
@@ -180,9 +181,8 @@ def _check(body, t, ephem):
     lo, hi = coverage(ephem)
     if t.size and (t.min() < lo or t.max() > hi):
         raise ValueError(
-            f"t must lie in [{lo:.6g}, {hi:.6g}] s past J2000 (JD {jd_from_t(lo):.1f} to "
-            f"{jd_from_t(hi):.1f}), the coverage of {ephem.upper()}; got "
-            f"[{t.min():.6g}, {t.max():.6g}]"
+            f"t must lie in {dates.epoch_range(lo, hi)}, the coverage of {ephem.upper()}; got "
+            f"[{dates.epoch_text(t.min())}, {dates.epoch_text(t.max())}]"
         )
     return t
 

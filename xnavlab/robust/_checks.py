@@ -12,7 +12,7 @@ from numbers import Integral
 
 import numpy as np
 
-from xnavlab.core import ephemeris
+from xnavlab.core import dates, ephemeris
 from xnavlab.core.validate import (
     check_covariance,
     check_finite_array,
@@ -54,15 +54,16 @@ def check_epoch(name, t0, span=0.0, span_name=None, span_expr=None):
     parameter, never the ephemeris' ``t``."""
     lo = max(ephemeris.coverage(e)[0] for e in ephemeris.EPHEMERIDES)
     hi = min(ephemeris.coverage(e)[1] for e in ephemeris.EPHEMERIDES)
-    want = f"in [{lo:.6g}, {hi:.6g}] s TDB past J2000 (the years DE421 and DE405 both cover)"
+    want = f"in {dates.epoch_range(lo, hi)} (the years DE421 and DE405 both cover)"
     try:
         t0 = check_real(name, t0, lo, hi)
     except ValueError:
         raise ValueError(f"{name} must be an epoch {want}, got {shown(t0)}") from None
     if t0 + span > hi:
         raise ValueError(f"{span_name} must end the run within the ephemerides: {name} + "
-                         f"{span_expr or span_name} at most {hi:.6g} s TDB past J2000 ({hi - t0:.6g} s "
-                         f"after {name} = {t0:.6g}), got {t0 + span:.6g}")
+                         f"{span_expr or span_name} at most {dates.epoch_text(hi)} s TDB past J2000 "
+                         f"({hi - t0:.9g} s after {name} = {dates.epoch_text(t0)}), got "
+                         f"{dates.epoch_text(t0 + span)}")
     return t0
 
 

@@ -9,9 +9,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from xnavlab.core import ephemeris
+from xnavlab.core import dates, ephemeris
 from xnavlab.core.constants import DAY
-from xnavlab.core.validate import check_choice, check_finite_array, check_real
+from xnavlab.core.validate import check_choice, check_finite_array, check_real, shown
 
 __all__ = ["EPOCH_RESOLUTION", "MAX_SPAN_DAYS", "epoch", "epochs", "span", "covered"]
 
@@ -26,8 +26,15 @@ _TABLE_MARGIN = 2.0 * 3600.0
 
 
 def epoch(name, value, lo=-np.inf, hi=np.inf):
-    """A scalar epoch, s TDB past J2000, as a float (a float32 one resolving it refused)."""
-    t = check_real(name, value, lo, hi)
+    """A scalar epoch, s TDB past J2000, as a float (a float32 one resolving it refused); outside
+    finite bounds ``[lo, hi]``, one ValueError writing them in full with their dates."""
+    try:
+        t = check_real(name, value, lo, hi)
+    except ValueError:
+        if not np.isfinite(lo) or not np.isfinite(hi):
+            raise
+        raise ValueError(f"{name} must be an epoch in {dates.epoch_range(lo, hi)}, got "
+                         f"{shown(value)}") from None
     ephemeris.check_resolution(name, value, abs(t))
     return t
 
@@ -54,11 +61,11 @@ def span(t0, t_end, ephem=None, name="t_eval"):
         lo, hi = ephemeris.coverage(ephem)
         hi -= _TABLE_MARGIN
         if not lo <= t0 <= hi:
-            raise ValueError(f"t0 must be in [{lo:.6g}, {hi:.6g}] s TDB past J2000 (the coverage "
-                             f"of {ephem}), got {t0:.6g}")
+            raise ValueError(f"t0 must be in {dates.epoch_range(lo, hi)} (the coverage of {ephem}), "
+                             f"got {dates.epoch_text(t0)}")
         if not t_end <= hi:
-            raise ValueError(f"{name}[-1] must be at most {hi:.6g} s TDB past J2000 (the coverage "
-                             f"of {ephem}), got {t_end:.6g}")
+            raise ValueError(f"{name}[-1] must be at most {dates.epoch_text(hi)} s TDB past J2000 "
+                             f"(the coverage of {ephem}), got {dates.epoch_text(t_end)}")
 
 
 def covered(name, t, ephem):
@@ -72,5 +79,5 @@ def covered(name, t, ephem):
     bad = np.flatnonzero((arr < lo) | (arr > hi))
     if bad.size:
         label = name if np.ndim(t) == 0 else f"{name}[{bad[0]}]"
-        raise ValueError(f"{label} must be in [{lo:.6g}, {hi:.6g}] s TDB past J2000 (the coverage "
-                         f"of {ephem}, which tabulates the third bodies), got {arr[bad[0]]:.6g}")
+        raise ValueError(f"{label} must be in {dates.epoch_range(lo, hi)} (the coverage of {ephem}, "
+                         f"which tabulates the third bodies), got {dates.epoch_text(arr[bad[0]])}")

@@ -60,7 +60,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from xnavlab.core import ephemeris
+from xnavlab.core import dates, ephemeris
 from xnavlab.core.constants import DAY, C
 from xnavlab.core.diskcache import entry_path, store
 from xnavlab.core.validate import (
@@ -257,8 +257,8 @@ def fold_window(pulsar, t_start, state_true, error=None, duration=500.0, ephem="
     phase0 = check_real("phase0", phase0)
     lo, hi = ephemeris.coverage(ephem)
     if not (lo <= t_start and t_start + duration <= hi):  # else the ephemeris names its t
-        raise ValueError(f"t_start must lie in [{lo:.6g}, {hi - duration:.6g}] s TDB past J2000 "
-                         f"(the window in {ephem.upper()}), got {t_start:.6g}")
+        raise ValueError(f"t_start must lie in {dates.epoch_range(lo, hi - duration)} (the window in "
+                         f"{ephem.upper()}), got {dates.epoch_text(t_start)}")
     n = max(4, math.ceil(duration / step))
     rel = np.linspace(0.0, duration, n + 1)  # from t_start
     t = t_start + rel
@@ -682,11 +682,11 @@ def window_survey(pulsar_names=pulsars.PAPER_PULSARS, error=PAPER_ERROR0, n_wind
     t0 = check_epoch("t0", t0)
     lo, hi = ephemeris.coverage("de421")
     if not lo <= t0 <= hi - duration:
-        raise ValueError(f"t0 must lie in [{lo:.6g}, {hi - duration:.6g}] s TDB past J2000 (its window "
-                         f"in DE421), got {t0:.6g}")
+        raise ValueError(f"t0 must lie in {dates.epoch_range(lo, hi - duration)} (its window in DE421), "
+                         f"got {dates.epoch_text(t0)}")
     if t0 + spacing * (n_windows - 1) + duration > hi:
         raise ValueError(f"n_windows must keep the last window in DE421 (t0 + spacing (n_windows - 1) + "
-                         f"duration <= {hi:.6g} s TDB past J2000), got {n_windows}")
+                         f"duration <= {dates.epoch_text(hi)} s TDB past J2000), got {n_windows}")
     span = spacing * (n_windows - 1) + duration  # the truth is propagated over every window
     if span > dynamics.MAX_SPAN_DAYS * DAY:
         raise ValueError(f"n_windows must keep the windows within {dynamics.MAX_SPAN_DAYS:g} days of t0 "

@@ -66,7 +66,7 @@ from pathlib import Path
 
 import numpy as np
 
-from xnavlab.core import ephemeris
+from xnavlab.core import dates, ephemeris
 from xnavlab.core.constants import DAY, KPC
 from xnavlab.core.diskcache import cached_arrays, entry_path
 from xnavlab.core.validate import check_bool, check_choice, check_finite_array, check_int, shown
@@ -341,9 +341,9 @@ def pint_delays(r_sc_ssb, t, n, distance=None, planets=False):
         raise ValueError(f"t must be a scalar or have shape ({r.shape[0]},), got {t.shape}")
     lo, hi = ephemeris.coverage(EPHEMERIS)
     if t.size and (t.min() < lo or t.max() > hi):  # PINT's words name no parameter
-        raise ValueError(f"t must lie in [{lo:.6g}, {hi:.6g}] s TDB past J2000, the coverage of "
-                         f"{EPHEMERIS.upper()} (PINT's ephemeris here); got [{t.min():.6g}, "
-                         f"{t.max():.6g}]")
+        raise ValueError(f"t must lie in {dates.epoch_range(lo, hi)}, the coverage of "
+                         f"{EPHEMERIS.upper()} (PINT's ephemeris here); got "
+                         f"[{dates.epoch_text(t.min())}, {dates.epoch_text(t.max())}]")
     n = check_finite_array("n", n, shape=(3,))
     if n.ndim != 2:
         raise ValueError(f"n must hold unit vectors with shape (k, 3), got shape {n.shape}")
