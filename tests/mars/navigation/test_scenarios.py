@@ -442,12 +442,33 @@ def test_study_names_an_unknown_field():
 
 def test_a_run_outside_the_ephemeris_is_refused_naming_t0():
     """Review 35b N6: t0 = -1e12 was built, and the run then named an internal 't'."""
-    with pytest.raises(ValueError, match=r"^t0 must be in \[-3\.15814e\+09, 6\.31148e\+09\] s TDB "
-                                         r"past J2000 \(the run, t0 to t0 \+ days, in DE421\), "
-                                         r"got -1e\+12$"):
+    with pytest.raises(ValueError, match=r"^t0 must be in \[-3158136000 \(1899-12-04T00:00:00 TDB\), "
+                                         r"6311476800 \(2200-01-02T00:00:00 TDB\)\] s TDB past J2000 "
+                                         r"\(the run, t0 to t0 \+ days, in DE421\), "
+                                         r"got -1000000000000\.0$"):
         scenarios.MarsScenario(t0=-1e12)
-    with pytest.raises(ValueError, match=r"^t0 must be in .*, got 6\.31407e\+09$"):
-        scenarios.MarsScenario(t0=6.3140685e9, days=0.01)  # the start inside, the end past it
+    # review 35q Q19: at six digits the value (6.31407e+09) was shown inside the range shown;
+    # the bound is the one on t0 itself (the coverage's end less the run's span)
+    with pytest.raises(ValueError, match=r"^t0 must be in \[.*, 6314067936 \(2200-01-31T23:45:36 "
+                                         r"TDB\)\] .*, got 6314068400 \(2200-01-31T23:53:20 TDB\)$"):
+        scenarios.MarsScenario(t0=6314068400.0, days=0.01)  # the start inside, the end past it
+
+
+def test_a_run_ends_at_t0_plus_days_where_no_step_ends_there():
+    """Review 35q Q3: with 86,400-s steps a run of 1.9 days stopped at its last measurement
+    (1.0 day) while its summary said 1.9; the span's end is now an epoch of its own, where the
+    filter only propagates."""
+    steps = dict(dt_xnav=86400.0, dt_uv=86400.0, dt_cns=86400.0)
+    for kw in (dict(days=1.9, **steps), dict(days=0.0101, dt_uv=500.0, dt_cns=500.0)):
+        run = scenarios.run(**kw)
+        span = kw["days"] * 86400.0
+        assert run.t[-1] - run.t[0] == pytest.approx(span, abs=1e-6)
+        assert run.times[-1] - run.times[0] == pytest.approx(span, abs=1e-6)
+        assert run.summary()["days"] == kw["days"]
+        assert not np.any(run.flags[-1])  # no measurement at the end: propagated only
+    inp = scenarios.prepare(days=0.02)  # steps that end on the span: no extra epoch
+    measured = np.concatenate([[inp.times[0]], *inp.t_meas.values()])
+    assert np.array_equal(inp.times, np.unique(measured)) and inp.times[-1] - inp.times[0] == 1728.0
 
 
 def test_a_filter_the_kernel_cannot_carry_stops_with_one_clear_error():
@@ -673,3 +694,16 @@ def test_save_npz_refuses_what_np_load_cannot_read_and_unexpanded_or_unwritable_
     res.save_npz("ok.npz", note=np.array("text"), flags2=[True, False])
     with np.load("ok.npz") as data:
         assert str(data["note"]) == "text" and data["flags2"].tolist() == [True, False]
+
+
+def test_an_input_array_of_another_layout_is_refused_not_compiled_for():
+    """Review 35q Q12: a strided z['xnav'] made numba compile a second kernel (80 s, no notice)."""
+    inp = scenarios.prepare(days=0.02)
+    strided = dict(inp.z, xnav=np.repeat(inp.z["xnav"], 2, axis=0)[::2])
+    with pytest.raises(ValueError, match=r"^inputs\.z\['xnav'\] must be a C-contiguous array as "
+                                         r"prepare\(\) makes it .*, got a strided array: pass "
+                                         r"np\.ascontiguousarray\(inputs\.z\['xnav'\]\)$"):
+        scenarios.run(inputs=dataclasses.replace(inp, z=strided))
+    with pytest.raises(ValueError, match=r"^inputs\.truth must be .*, got a Fortran-ordered"):
+        scenarios.run(inputs=dataclasses.replace(inp, truth=np.asfortranarray(inp.truth)),
+                      backend="numpy")

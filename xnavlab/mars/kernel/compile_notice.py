@@ -31,7 +31,7 @@ def is_compiled():
     >>> isinstance(is_compiled(), bool)
     True
     """
-    if kernels.run_epochs.signatures:
+    if getattr(kernels.run_epochs, "signatures", True):  # compiled; or NUMBA_DISABLE_JIT: never
         return True
     try:
         return bool(kernels.run_epochs._cache._cache_file._load_index())
@@ -54,6 +54,11 @@ def announce_compile(stream=None):
     # kernel call (8675 of them in a chi-square run), is_compiled would hash the signature of
     # named-tuple types each time (some 40 us)
     _ANNOUNCED = True
+    if not hasattr(kernels.run_epochs, "signatures"):  # numba's NUMBA_DISABLE_JIT=1
+        print("xnavlab: NUMBA_DISABLE_JIT is set: the filter kernel runs as plain Python, about "
+              "3,000 times slower (some 20 minutes for the paper's 30 days)",
+              file=stream or sys.stderr, flush=True)
+        return True
     if is_compiled():
         return False
     print("xnavlab: compiling the filter kernel, once (about two minutes on two cores; later "

@@ -116,7 +116,7 @@ def jit(**options):
 
     def wrap(py_func):
         dispatcher = njit(**options)(py_func)
-        if options.get("cache"):
+        if options.get("cache") and hasattr(dispatcher, "py_func"):  # NUMBA_DISABLE_JIT: none
             dispatcher._cache = SourcesCache(dispatcher.py_func)
         return dispatcher
 

@@ -166,12 +166,13 @@ def _array(name, value, shape, kind="f", finite=True):
     """``value`` if it is a numpy array of ``kind`` (float64 or integer) and ``shape`` (None:
     any length), finite (unless not ``finite``: NaN marks "none"), else one ValueError naming
     ``name`` (nothing is copied or cast)."""
-    want = "float64" if kind == "f" else "integer"
+    want = "a float64" if kind == "f" else "an integer"
     ok = isinstance(value, np.ndarray) and (value.dtype == np.float64 if kind == "f"
                                             else value.dtype.kind in "iu")
     if not ok:
-        raise ValueError(f"{name} must be a {want} array as prepare() makes it, got "
-                         f"{type(value).__name__} {getattr(value, 'dtype', '')} {shown(value)}")
+        got = f"a {value.dtype} array of shape {value.shape}" if isinstance(value, np.ndarray) \
+            else f"{type(value).__name__} {shown(value)}"
+        raise ValueError(f"{name} must be {want} array as prepare() makes it, got {got}")
     if value.ndim != len(shape) or any(w is not None and w != s
                                        for w, s in zip(shape, value.shape, strict=True)):
         want = ", ".join("m" if w is None else str(w) for w in shape)
@@ -251,7 +252,25 @@ def check_inputs(name, inputs, kind, subsystems_all):
         j = int(np.argmax(~(np.diff(rec) > 0))) + 1
         raise ValueError(f"{name}.record must increase (each epoch once), got {name}.record[{j}] "
                          f"= {int(rec[j])} after {int(rec[j - 1])}")
+    _check_layout(name, inputs)
     return inputs
+
+
+def _check_layout(name, inputs):
+    """Refuse an array the compiled kernel reads that is not C-contiguous (review 35q Q12): a
+    strided view or a Fortran-ordered array is a new argument type for numba, which compiled
+    another kernel for it (80 s, without the first-compile notice) instead of running in 0.2 s."""
+    arrays = {"times": inputs.times, "truth": inputs.truth, "x0": inputs.x0,
+              "meas_idx": inputs.meas_idx, "record": inputs.record,
+              **{f"z[{s!r}]": z for s, z in inputs.z.items()},
+              **{f"t_meas[{s!r}]": t for s, t in inputs.t_meas.items()},
+              **{f"xnav_bodies[{j}]": b for j, b in enumerate(inputs.xnav_bodies)}}
+    for label, arr in arrays.items():
+        if not arr.flags.c_contiguous:
+            raise ValueError(f"{name}.{label} must be a C-contiguous array as prepare() makes it "
+                             f"(numba would compile another kernel for this layout, minutes), got a "
+                             f"{'Fortran-ordered' if arr.flags.f_contiguous else 'strided'} array: "
+                             f"pass np.ascontiguousarray({name}.{label})")
 
 
 def check_run(run, scenario_kind):

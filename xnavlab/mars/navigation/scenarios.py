@@ -59,7 +59,7 @@ from numbers import Real
 
 import numpy as np
 
-from xnavlab.core import ephemeris
+from xnavlab.core import dates, ephemeris
 from xnavlab.core.constants import DAY, GM_MARS, C
 from xnavlab.core.federated import MODES, FederatedFilter
 from xnavlab.core.validate import (
@@ -146,7 +146,8 @@ class MarsScenario:
     Parameters
     ----------
     days : float
-        Simulated span, days (paper: 30).
+        Simulated span, days (paper: 30): the run ends at ``t0 + days``, with a last, shorter
+        step that only propagates where no sensor's interval ends there.
     dt_xnav, dt_uv, dt_cns : float
         Measurement intervals, s (paper: 500, 3, 3).
     pulsars : tuple
@@ -324,8 +325,9 @@ class MarsScenario:
         e = sorted({self.truth_ephem, self.filter_ephem})  # the run, t0 to t0 + span, on them
         lo, hi = (f(c[j] for c in map(ephemeris.coverage, e)) for j, f in ((0, max), (1, min)))
         if not lo <= check_real("t0", self.t0) <= hi - self.span:
-            raise ValueError(f"t0 must be in [{lo:.6g}, {hi - self.span:.6g}] s TDB past J2000 (the run, "
-                             f"t0 to t0 + days, in {' and '.join(e.upper() for e in e)}), got {self.t0:.6g}")
+            e = " and ".join(x.upper() for x in e)
+            raise ValueError(f"t0 must be in {dates.epoch_range(lo, hi - self.span)} (the run, t0 to "
+                             f"t0 + days, in {e}), got {dates.epoch_text(self.t0)}")
         s0 = dynamics.check_state0(self.state0)  # here, so scenario --check says so
         object.__setattr__(self, "state0", tuple(float(v) for v in s0))
         unused_inputs.check_fields(self)  # a field set but made inert by another is refused
@@ -505,14 +507,13 @@ def prepare(scenario=None, **overrides):
     dts = {"xnav": sc.dt_xnav, "uv": sc.dt_uv, "cns": sc.dt_cns}
     offs = {dt: np.round(_epochs(span, dt), 6) for dt in {dts[s] for s in sc.subsystems}}
     unused_inputs.warn_unmeasured(sc, {s: offs[dts[s]].size for s in sc.subsystems})
-    grid = np.unique(np.concatenate([[0.0], *offs.values()]))
+    grid = np.unique(np.concatenate([[0.0], *offs.values(), [np.round(span, 6)]]))  # to t0 + days
     times = sc.t0 + grid
     truth = _truth(times, sc)
     meas_idx = np.full((times.size, len(sc.subsystems)), -1, dtype=np.int64)
     t_meas, z = {}, {}
     sens = sc.sensors()
-    # draw order: initial error, then each subsystem in the paper's order
-    P0 = sc.P0
+    P0 = sc.P0  # draw order: initial error, then each subsystem in the paper's order
     if sc.init_error == "random":
         err0 = np.sqrt(np.diag(P0)) * rng.standard_normal(6)
     else:
@@ -647,7 +648,6 @@ class MarsRun:
     def nees(self):
         """NEES of the fused estimate at every record, shape (nr,)."""
         from xnavlab.core.filters import nees
-
         return nees(self.error, self.P)
 
     def sigma_position(self):
