@@ -243,3 +243,57 @@ def test_detection_table_and_plot_pd_take_noise_scale_as_checked():
     assert "true/modelled noise 1," in fig.texts[0].get_text()
     with pytest.raises(ValueError, match=r"^noise_scale must be a real number in \(0, 100\]"):
         mc.detection_table(("step",), (8.0,), trials=1, noise_scale=0.0, max_workers=1)
+
+
+def test_a_cell_of_detection_table_does_not_depend_on_the_other_cells():
+    """Review 35 Q5: each trial was seeded by its position in the flattened (kind, size,
+    trial) list, so adding a size or a kind redrew every later cell (step 3 sigma: wavelet
+    Pd 0.50 with sizes (2, 3), 0.733 with (1, 2, 3)). Now trial j of (kind, size) is seeded
+    from the cell: the same row whatever else the call holds, in whichever order, on any
+    executor, and the first trials of a longer run are the shorter run's."""
+    a = mc.detection_table(("step",), (2.0, 3.0), trials=4, max_workers=1)
+    b = mc.detection_table(("step",), (1.0, 2.0, 3.0), trials=4, max_workers=1)
+    with ThreadPoolExecutor(2) as ex:
+        c = mc.detection_table(("noise", "step"), (3.0, 2.0), trials=4, executor=ex)
+    assert b[1:] == a
+    assert [r for r in c if r["kind"] == "step"] == a[::-1]
+    assert mc.detection_table(("step",), (3,), trials=4, max_workers=2) == a[1:]  # 3 is 3.0
+    seeds = mc.cell_seeds(0, "step", 3.0, 4)
+    assert mc.cell_seeds(0, "step", 3.0, 2) == seeds[:2] and len(set(seeds)) == 4
+    assert mc.cell_seeds(0, "step", -0.0, 1) == mc.cell_seeds(0, "step", 0.0, 1)
+    assert len({mc.cell_seeds(0, k, s, 1)[0] for k in mc.KINDS for s in (1.0, 2.0)}) == 8
+    assert mc.cell_seeds(1, "step", 3.0, 4) != seeds
+    trial = mc.signal_trial("step", 3.0, seed=seeds[0])  # a row's trial, rerun by hand
+    assert mc.summarise([trial], "chi2")["pd"] in (0.0, 1.0)
+    with pytest.raises(ValueError, match=r"^kind must be one of 'step'"):
+        mc.cell_seeds(0, "drift", 3.0, 1)
+    with pytest.raises(ValueError, match=r"^trials must be an integer in \[0, 10000000\]"):
+        mc.cell_seeds(0, "step", 3.0, -1)
+
+
+def test_plot_pd_draws_sizes_in_increasing_order():
+    """Review 35 Q6: sizes (8, 2, 4) were drawn in that order, a zig-zag."""
+    fig = mc.plot_pd("step", 1.0, 1, 0, (8.0, 2.0, 4.0))
+    assert fig.axes[0].lines[0].get_xdata().tolist() == [2.0, 4.0, 8.0]
+    ordered = mc.plot_pd("step", 1.0, 1, 0, (2.0, 4.0, 8.0))
+    for a, b in zip(fig.axes, ordered.axes, strict=True):
+        for la, lb in zip(a.lines, b.lines, strict=True):
+            assert list(la.get_ydata()) == list(lb.get_ydata())
+    assert fig.xnav_update(kind="step", trials=1, sizes=(4.0, 8.0, 2.0)) is None  # same sizes
+    assert fig.xnav_update(kind="step", trials=1, sizes=(4.0, 8.0)) is False
+
+
+def test_roc_curve_and_plot_roc_order_their_points():
+    """Review 35 Q6: roc_curve kept unsorted thresholds, and plot_roc drew its staircase
+    (steps-post) over the points in the order given, a wrong staircase."""
+    trials_ = [mc.signal_trial("step", 4.0, seed=s) for s in range(3)]
+    pfa, pd, thr = mc.roc_curve(trials_, "wavelet", [3.0, 1.0, 2.0])
+    ref = mc.roc_curve(trials_, "wavelet", [1.0, 2.0, 3.0])
+    assert thr.tolist() == [1.0, 2.0, 3.0]
+    assert pfa.tolist() == ref[0].tolist() and pd.tolist() == ref[1].tolist()
+    fig = mc.plot_roc({"a": ([0.5, 0.1, 0.3], [0.9, 0.2, 0.6]), "b": ([0.2, 0.2, 0.0], [0.5, 0.1, 0.0])})
+    lines = fig.axes[0].lines
+    assert lines[0].get_xdata().tolist() == [0.1, 0.3, 0.5]
+    assert lines[0].get_ydata().tolist() == [0.2, 0.6, 0.9]
+    assert lines[1].get_xdata().tolist() == [0.0, 0.2, 0.2]
+    assert lines[1].get_ydata().tolist() == [0.0, 0.1, 0.5]

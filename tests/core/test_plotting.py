@@ -133,3 +133,31 @@ def test_check_axes_is_the_rule_of_every_plots_ax():
         check_axes("axes[1]", sub_ax, fig)
     with pytest.raises(ValueError, match=r"^axes\[1\] must be a 2-D rectilinear matplotlib Axes, got str"):
         sparse_log_minors(ax, "x")  # was AttributeError 'no attribute child_axes'
+
+
+def test_figure_and_a_frame_refuse_a_figsize_of_too_many_pixels():
+    """Review 35 Q13: figure(figsize=(150, 150)) was passed on unchecked, and one frame of it
+    took 10.6 s and about 1 GB ((600, 600): about 15 GB)."""
+    from matplotlib.figure import Figure
+
+    from xnavlab.core.plotting import MAX_PIXELS, check_figsize, figure
+    from xnavlab.core.widgets import live_png
+
+    with pytest.raises(ValueError, match=r"^figsize must make 1 to 50,000,000 pixels at 100 dpi "
+                                         r".*got \(150, 150\) inches: 225,000,000 pixels$"):
+        figure(figsize=(150, 150))
+    with pytest.raises(ValueError, match=r"^figsize must make 1 to 50,000,000 pixels at 100 dpi"):
+        figure(figsize=(1e-3, 5.0))  # not one pixel wide
+    with pytest.raises(ValueError, match=r"^figsize must be a pair \(width, height\) of inches"):
+        figure(figsize=6.0)
+    with pytest.raises(ValueError, match=r"^figsize\[1\] must be a real number in \(0, inf\), got nan$"):
+        figure(figsize=(6.0, float("nan")))
+    fig, _ = figure(figsize=(6, 3.5))
+    assert tuple(fig.get_size_inches()) == (6.0, 3.5)
+    assert check_figsize((70, 70), 100) == (70.0, 70.0) and 70 * 70 * 100**2 <= MAX_PIXELS
+    with pytest.raises(ValueError, match=r"^figsize must make 1 to 50,000,000 pixels at 100 dpi"):
+        live_png(Figure(figsize=(150, 150), dpi=100))
+    with pytest.raises(ValueError, match=r"^figsize must make 1 to 50,000,000 pixels at 1000 dpi"):
+        from xnavlab.core.widgets import SteadyLayout
+
+        SteadyLayout().png(Figure(figsize=(10, 10)), dpi=1000)

@@ -4,6 +4,8 @@ import base64
 import io
 import json
 import re
+from decimal import Decimal
+from fractions import Fraction
 
 import matplotlib.pyplot as plt
 import numpy as np
@@ -929,3 +931,51 @@ def test_frame_helpers_refuse_what_is_not_a_figure_or_a_setting():
         widgets.SteadyLayout().prepare("fig")
     with pytest.raises(ValueError, match=r"^exc must be an exception, got str"):
         widgets.error_line("x")
+
+
+def test_a_grid_is_checked_in_linear_time(monkeypatch):
+    """Review 35 Q11: each value was compared with every earlier one (np.isclose a pair):
+    about 20 s for a 1,000-value slider and 30 min for 10,000, before any frame. Now the
+    real values are sorted and each compared with its neighbour."""
+    from xnavlab.core import _grids
+
+    calls = []
+    close = _grids._close
+    monkeypatch.setattr(_grids, "_close", lambda a, b: calls.append(1) or close(a, b))
+    ex = explore(wave, omega=np.linspace(0.5, 3.0, 2000))
+    assert len(ex.grids["omega"]) == 2000 and len(calls) < 3 * 2000  # not 2000**2 / 2
+    with pytest.raises(ValueError, match=r"^omega\[1999\] is omega\[3\] again \(0.5038\): each "
+                                         r"grid value must be one position$"):
+        explore(wave, omega=[*np.linspace(0.5, 3.0, 1999), 0.5 + 2.5 / 1998 * 3 * (1 + 1e-12)])
+
+
+@pytest.mark.parametrize(("grid", "match"), [
+    ([Decimal("NaN"), Decimal("NaN")], r"^omega\[0\] is NaN: each grid value must be one position$"),
+    ([complex("nan")], r"^omega\[0\] is NaN"),
+    ([1.0, Decimal("sNaN")], r"^omega\[1\] is NaN"),
+    ([1.0, 1 + 0j], r"^omega\[1\] is omega\[0\] again \(\(1\+0j\)\)"),
+    ([2, 1.0, 2.0], r"^omega\[2\] is omega\[0\] again \(2\)"),
+    ([np.array([1.0, 2.0]), np.array([1, 2])], r"^omega\[1\] is omega\[0\] again"),
+    (["a", "b", "a"], r"^omega\[2\] is omega\[0\] again \(a\)"),
+])
+def test_a_grid_value_unequal_to_itself_or_given_twice_is_refused(grid, match):
+    """Review 35 Q21: a Decimal or complex NaN passed the float-only NaN check, then the
+    opening value failed under the name 'value', which the user never typed."""
+    with pytest.raises(ValueError, match=match):
+        explore(wave, omega=grid)
+
+
+def test_a_numeric_grid_is_put_in_order_and_any_other_keeps_its_order():
+    """Review 35 Q6: a slider over [3, 1, 2] moved 3 -> 1 -> 2."""
+    ex = explore(wave, omega=[3.0, 1.0, 2.0], style=[":", "-", "--"], phase=[True, False])
+    assert ex.frame_values == [1.0, 2.0, 3.0] and ex.grids["omega"] == [1.0, 2.0, 3.0]
+    assert ex.grids["style"] == [":", "-", "--"] and ex.grids["phase"] == [True, False]
+    assert explore(wave, omega=[2, Fraction(1, 2), 1.5]).grids["omega"] == [Fraction(1, 2), 1.5, 2]
+    assert explore(wave, omega=[1.0, "auto", 0.5]).grids["omega"] == [1.0, "auto", 0.5]
+
+
+def test_the_explorer_names_its_grid_when_the_opening_value_is_not_in_it():
+    """Review 35 Q21: Explorer.__init__ looked the opening value up under the name 'value'."""
+    with pytest.raises(ValueError, match=r"^omega must be one of its grid values \['1', '2'\], "
+                                         r"got 3.0$"):
+        widgets.Explorer(wave, {"omega": [1.0, 2.0]}, {}, "omega", {"omega": 3.0}, 4, 80)

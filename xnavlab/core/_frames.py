@@ -223,7 +223,10 @@ def check_png_args(fig, dpi=None, compress_level=6, layout=None, layout_class=No
     :meth:`xnavlab.core.widgets.SteadyLayout.png`): one ValueError naming the first one wrong.
 
     ``fig`` a matplotlib Figure, ``dpi`` None or a number in [1, 1000], ``compress_level`` an
-    integer in [0, 9] and ``layout`` None or an instance of ``layout_class``.
+    integer in [0, 9] and ``layout`` None or an instance of ``layout_class``; the figure's
+    size at that dpi (default its savefig dpi) at most
+    :data:`xnavlab.core.plotting.MAX_PIXELS` pixels (:func:`xnavlab.core.plotting.check_figsize`,
+    naming ``figsize``).
 
     Examples
     --------
@@ -234,14 +237,19 @@ def check_png_args(fig, dpi=None, compress_level=6, layout=None, layout_class=No
     ...
     ValueError: compress_level must be an integer in [0, 9], got 10
     """
+    import matplotlib as mpl
     from matplotlib.figure import Figure
 
     from xnavlab.core import validate
+    from xnavlab.core.plotting import check_figsize
 
     validate.check_instance("fig", fig, Figure, "a matplotlib Figure")
     if dpi is not None:
         validate.check_real("dpi", dpi, 1, 1000)
     validate.check_int("compress_level", compress_level, 0, 9)
+    saved = mpl.rcParams["savefig.dpi"]  # what savefig draws at when dpi is None
+    drawn = dpi if dpi is not None else fig.dpi if saved == "figure" else saved
+    check_figsize(tuple(fig.get_size_inches()), drawn)
     if layout is not None:
         validate.check_instance("layout", layout, layout_class, "a SteadyLayout (or None)")
 

@@ -20,6 +20,9 @@ Two kinds of trial, each a pure function of its parameters and one seed:
 workers). Every task gets its own seed from one ``numpy.random.SeedSequence(seed).spawn``,
 so results do not depend on the executor, the number of workers or the order of completion.
 A Dask cluster plugs in through ``distributed.Client(...).get_executor()``.
+:func:`detection_table` seeds each trial from its cell instead (:func:`cell_seeds`: the
+fault kind, the size and the trial's index), so that a cell's row does not depend on the
+other kinds and sizes of the call either.
 
 Fault sizes are in noise standard deviations: a step's or spike's height; the excursion a ramp
 reaches at its end; the standard deviation of the extra noise of a ``noise`` fault.
@@ -56,7 +59,7 @@ from xnavlab.core.validate import (
     shown,
 )
 
-__all__ = ["KINDS", "DETECTORS", "signal_trial", "run_tasks", "seeds",
+__all__ = ["KINDS", "DETECTORS", "signal_trial", "run_tasks", "seeds", "cell_seeds",
            "detection_table", "roc_curve", "summarise", "plot_roc", "plot_pd",
            "wilson_interval", "runs_for_halfwidth", "plot_pd_error"]
 
@@ -78,8 +81,51 @@ def seeds(seed, n):
     """
     seed = check_seed("seed", seed)
     n = check_int("n", n, 0, 10**7)  # as a campaign's runs
-    return [int(s.generate_state(1, np.uint64)[0] >> np.uint64(1))
-            for s in np.random.SeedSequence(seed).spawn(n)]
+    return _integers(np.random.SeedSequence(seed).spawn(n))
+
+
+def _integers(sequences):
+    """One integer seed in ``[0, 2**63)`` from each ``SeedSequence``."""
+    return [int(s.generate_state(1, np.uint64)[0] >> np.uint64(1)) for s in sequences]
+
+
+def cell_seeds(seed, kind, size_sigma, trials):
+    """The seeds of trials ``0 .. trials - 1`` of one cell of :func:`detection_table`.
+
+    Trial ``j`` of the cell ``(kind, size_sigma)`` is seeded from child ``j`` of
+    ``SeedSequence(seed, spawn_key=(i, b))``, where ``i`` is ``kind``'s position in
+    :data:`KINDS` and ``b`` the 64 bits of ``size_sigma`` as a float: a pure function of
+    ``(seed, kind, size_sigma, j)``, whatever other kinds, sizes or trials a table holds.
+
+    Parameters
+    ----------
+    seed : int
+        The table's seed, in [0, 2^63 - 1].
+    kind : {"step", "ramp", "spike", "noise"}
+    size_sigma : float
+        Fault size, noise standard deviations, in [0, 1000].
+    trials : int
+        Trials of the cell, 0 to 10^7.
+
+    Returns
+    -------
+    list of int
+        One seed a trial, each in [0, 2^63).
+
+    Examples
+    --------
+    >>> cell_seeds(0, "step", 2.0, 3)[:2] == cell_seeds(0, "step", 2.0, 2)
+    True
+    >>> cell_seeds(0, "step", 2.0, 1) == cell_seeds(0, "step", 3.0, 1)
+    False
+    """
+    seed = check_seed("seed", seed)
+    check_choice("kind", kind, KINDS)
+    size = check_real("size_sigma", size_sigma, 0.0, 1000.0) + 0.0  # -0.0 is 0.0
+    trials = check_int("trials", trials, 0, 10**7)
+    bits = int(np.float64(size).view(np.uint64))
+    root = np.random.SeedSequence(seed, spawn_key=(KINDS.index(kind), bits))
+    return _integers(root.spawn(trials))
 
 
 def signal_trial(kind, size_sigma, *, seed=0, n=4000, train=1500, duration=300, noise_scale=1.0,
@@ -240,7 +286,12 @@ def run_tasks(func, params, *, seed=0, executor=None, max_workers=2, chunksize=1
             raise ValueError(f"params[{i}] must be a dict of keywords, got {type(p).__name__} {shown(p)}")
         if sig is not None:
             _check_task(func, sig, i, p)
-    task_seeds = seeds(seed, len(params))
+    return _map(func, params, seeds(seed, len(params)), executor, max_workers, chunksize)
+
+
+def _map(func, params, task_seeds, executor, max_workers, chunksize):
+    """``func(seed=task_seeds[i], **params[i])`` for every task, in task order, on
+    ``executor`` (checked here) or the default pool."""
     args = list(zip([func] * len(params), params, task_seeds, strict=True))
     if executor is not None:
         if not isinstance(executor, Executor) and not hasattr(executor, "map"):
@@ -299,6 +350,14 @@ def detection_table(kinds=KINDS, sizes=(2.0, 4.0, 8.0), *, trials=20, seed=0, no
     ``pfa``, ``window``); another keyword is refused, naming it (``kind``, ``size_sigma`` and
     ``seed`` are set here).
 
+    Trial ``j`` of the cell ``(kind, size)`` is seeded by ``cell_seeds(seed, kind, size,
+    trials)[j]`` (:func:`cell_seeds`): one cell gives one row whatever other kinds and sizes
+    the call holds and in whichever order, the first ``k`` trials of a cell are the same for
+    any ``trials >= k``, and the rows depend neither on the executor nor on the number of
+    workers. ``noise_scale`` and ``**trial_kw`` are not part of a trial's seed: the same
+    seed draws the same onset and unit noise (scaled) at every noise scale, so two tables
+    that differ only there compare paired trials.
+
     Returns
     -------
     list of dict
@@ -323,10 +382,12 @@ def detection_table(kinds=KINDS, sizes=(2.0, 4.0, 8.0), *, trials=20, seed=0, no
     kinds = check_items("kinds", kinds, "kind", each=lambda label, k: check_choice(label, k, KINDS))
     trial_kw = check_keywords("detection_table", trial_kw, signal_trial, set_here={
         "kind": "from kinds", "size_sigma": "from sizes", "seed": "one per trial, from seed"})
+    seed = check_seed("seed", seed)
     cells = [(k, float(s)) for k in kinds for s in sizes]
     params = [dict(kind=k, size_sigma=s, noise_scale=noise_scale, **trial_kw)
               for k, s in cells for _ in range(trials)]
-    res = run_tasks(signal_trial, params, seed=seed, executor=executor, max_workers=max_workers)
+    task_seeds = [x for k, s in cells for x in cell_seeds(seed, k, s, trials)]
+    res = _map(signal_trial, params, task_seeds, executor, max_workers, 1)
     rows = []
     for c, (k, s) in enumerate(cells):
         chunk = res[c * trials:(c + 1) * trials]
@@ -360,11 +421,21 @@ def roc_curve(results, detector, thresholds=None):
     detector : str
         One of :data:`DETECTORS`.
     thresholds : array_like, optional
-        Thresholds on the ratio, shape (k,), k >= 1, finite (default 200 from 0.2 to 20).
+        Thresholds on the ratio, shape (k,), k >= 1, finite (default 200 from 0.2 to 20),
+        in any order: they are taken in increasing order.
 
     Returns
     -------
     pfa, pd, thresholds : ndarray
+        Shape (k,) each: the thresholds in increasing order, and at each the Pfa and Pd
+        (hence both non-increasing).
+
+    Examples
+    --------
+    >>> rs = [signal_trial("step", 4.0, seed=s) for s in range(3)]
+    >>> pfa, pd, thr = roc_curve(rs, "wavelet", [3.0, 1.0, 2.0])
+    >>> thr.tolist(), bool(all(pd[:-1] >= pd[1:]))
+    ([1.0, 2.0, 3.0], True)
     """
     r = _trials(results, detector, ("peak_fault", "peak_clean"))
     pf = np.array([x["peak_fault"] for x in r])
@@ -375,13 +446,25 @@ def roc_curve(results, detector, thresholds=None):
     if thr.ndim != 1 or thr.size < 1:
         raise ValueError(f"thresholds must be a sequence of at least one finite number "
                          f"(shape (k,)), got shape {thr.shape}")
+    thr = np.sort(thr)
     return (np.mean(pc[None, :] > thr[:, None], axis=1),
             np.mean(pf[None, :] > thr[:, None], axis=1), thr)
 
 
 def plot_roc(curves, title=""):
     """ROC curves: ``curves`` maps a label to ``(pfa, pd)`` (two equally long 1-D arrays of
-    probabilities, as :func:`roc_curve` gives), at least one; returns a Figure."""
+    probabilities, as :func:`roc_curve` gives), at least one; returns a Figure.
+
+    Each curve's points are drawn in order of increasing Pfa (then Pd), whatever their order
+    in the arrays, as a staircase that holds a point's Pd up to the next point's Pfa: the Pd
+    a threshold reaches without exceeding that false-alarm probability.
+
+    Examples
+    --------
+    >>> fig = plot_roc({"a": ([0.5, 0.1, 0.3], [0.9, 0.2, 0.6])})
+    >>> fig.axes[0].lines[0].get_xdata().tolist()
+    [0.1, 0.3, 0.5]
+    """
     from matplotlib.figure import Figure
 
     if not isinstance(curves, dict) or not curves:
@@ -396,7 +479,8 @@ def plot_roc(curves, title=""):
         if pf.ndim != 1 or pd.shape != pf.shape or np.any((pf < 0) | (pf > 1) | (pd < 0) | (pd > 1)):
             raise ValueError(f"curves[{label!r}] must be two equally long 1-D arrays of "
                              f"probabilities in [0, 1], got shapes {pf.shape} and {pd.shape}")
-        pairs[str(label)] = (pf, pd)
+        order = np.lexsort((pd, pf))  # by Pfa, then Pd: the staircase runs left to right
+        pairs[str(label)] = (pf[order], pd[order])
     title = check_text("title", title)
     fig = Figure(figsize=(5.0, 4.0), layout="constrained")
     ax = fig.add_subplot()
@@ -411,6 +495,10 @@ def plot_roc(curves, title=""):
 
 def plot_pd(kind="step", noise_scale=1.0, trials=30, seed=0, sizes=(1.0, 2.0, 3.0, 4.0, 6.0, 8.0)):
     """Pd and median delay against fault size for both detectors (serial; the chapter's slider).
+
+    ``sizes`` (each in [0, 1000] sigma, none twice) are drawn in increasing order, whatever
+    their order in the call; each size's trials are seeded from its cell
+    (:func:`detection_table`), so its point does not depend on the other sizes.
 
     Returns
     -------
@@ -431,8 +519,7 @@ def plot_pd(kind="step", noise_scale=1.0, trials=30, seed=0, sizes=(1.0, 2.0, 3.
 
     from xnavlab.core.plotting import in_place
 
-    built = tuple(check_real(f"sizes[{i}]", s, 0.0, 1000.0)  # signal_trial's size_sigma range
-                  for i, s in enumerate(check_items("sizes", sizes, "size")))
+    built = _sorted_sizes(sizes)
     # the layout every frame shares; update() sets the curves, the delay axis and the title
     fig = Figure(figsize=(8.5, 3.2), layout="constrained")
     ax1, ax2 = fig.subplots(1, 2)
@@ -452,9 +539,9 @@ def plot_pd(kind="step", noise_scale=1.0, trials=30, seed=0, sizes=(1.0, 2.0, 3.
                sizes=(1.0, 2.0, 3.0, 4.0, 6.0, 8.0)):
         check_choice("kind", kind, KINDS)
         trials = check_int("trials", trials, 1, 1000)
-        if tuple(sizes) != built:
+        if _sorted_sizes(sizes) != built:
             return False  # other sizes: a new figure
-        rows = detection_table((kind,), sizes, trials=trials, seed=seed,
+        rows = detection_table((kind,), built, trials=trials, seed=seed,
                                noise_scale=noise_scale, max_workers=1)
         noise_scale = rows[0]["noise_scale"]  # as detection_table checked it (a float)
         for d in DETECTORS:
@@ -478,6 +565,12 @@ def plot_pd(kind="step", noise_scale=1.0, trials=30, seed=0, sizes=(1.0, 2.0, 3.
 
     update(kind, noise_scale, trials, seed, sizes)
     return in_place(fig, update)
+
+
+def _sorted_sizes(sizes):
+    """``sizes`` checked (a list of sizes in signal_trial's range, none twice), increasing."""
+    return tuple(sorted(check_real(f"sizes[{i}]", s, 0.0, 1000.0)
+                        for i, s in enumerate(check_items("sizes", sizes, "size"))))
 
 
 def wilson_interval(k, n, level=0.95):

@@ -17,20 +17,67 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from xnavlab.core.validate import check_int, check_keywords, shown
+from xnavlab.core.validate import check_int, check_keywords, check_real, shown
 
-__all__ = ["figure", "check_axes", "sparse_log_minors", "LOG_MINOR_SUBS", "markdown_table", "html_table",
-           "SafeHTML", "format_cell", "in_place", "updater", "UPDATE_ATTR"]
+__all__ = ["figure", "check_figsize", "MAX_PIXELS", "check_axes", "sparse_log_minors",
+           "LOG_MINOR_SUBS", "markdown_table", "html_table", "SafeHTML", "format_cell", "in_place",
+           "updater", "UPDATE_ATTR"]
 
 #: Where :func:`sparse_log_minors` puts the minor ticks of a log axis: at 2 and 5 of each decade.
 LOG_MINOR_SUBS = (2.0, 5.0)
+
+#: The most pixels a figure may be drawn with (width x height at its dpi): 50 million, a
+#: 200 MB RGBA buffer (a figure of (150, 150) inches at 100 dpi would be 225 million, 0.9 GB).
+MAX_PIXELS = 50_000_000
+
+
+def check_figsize(figsize, dpi, name="figsize"):
+    """Return ``(width, height)``, inches, if the figure they make at ``dpi`` has at least one
+    pixel a side and at most :data:`MAX_PIXELS` pixels, else one ValueError naming ``name``.
+
+    Parameters
+    ----------
+    figsize : sequence of two float
+        Width and height, inches, each > 0.
+    dpi : float
+        Dots per inch the figure is drawn at (> 0).
+    name : str
+        The parameter, for the messages.
+
+    Returns
+    -------
+    (float, float)
+
+    Examples
+    --------
+    >>> check_figsize((6, 3.5), 100)
+    (6.0, 3.5)
+    >>> check_figsize((150, 150), 100)
+    Traceback (most recent call last):
+    ...
+    ValueError: figsize must make 1 to 50,000,000 pixels at 100 dpi (width x height x dpi^2, \
+at least one pixel a side), got (150, 150) inches: 225,000,000 pixels
+    """
+    if isinstance(figsize, str | bytes | dict) or not hasattr(figsize, "__len__") or \
+            len(figsize) != 2:
+        raise ValueError(f"{name} must be a pair (width, height) of inches, got {shown(figsize)}")
+    width = check_real(f"{name}[0]", figsize[0], 0.0, math.inf, lo_open=True)
+    height = check_real(f"{name}[1]", figsize[1], 0.0, math.inf, lo_open=True)
+    dpi = check_real("dpi", dpi, 0.0, math.inf, lo_open=True)
+    pixels = width * dpi * height * dpi
+    if min(width, height) * dpi < 1.0 or not pixels <= MAX_PIXELS:
+        raise ValueError(f"{name} must make 1 to {MAX_PIXELS:,} pixels at {dpi:g} dpi (width x "
+                         f"height x dpi^2, at least one pixel a side), got ({width:g}, "
+                         f"{height:g}) inches: {pixels:,.0f} pixels")
+    return width, height
 
 
 def figure(*args, figsize=(6.0, 3.5), **kwargs):
     """A figure for a reproduction's PNG: like ``pyplot.subplots`` but outside pyplot.
 
     ``args`` and ``kwargs`` are ``Figure.subplots``' (``nrows``, ``ncols``, ``sharex``, ...);
-    another keyword is refused, naming it.
+    another keyword is refused, naming it. ``figsize`` is (width, height), inches, making at
+    most :data:`MAX_PIXELS` pixels at matplotlib's ``figure.dpi`` (:func:`check_figsize`).
 
     A bare :class:`matplotlib.figure.Figure` needs no backend, so writing figures never
     switches the backend of a running notebook kernel and leaves no open pyplot figure.
@@ -45,10 +92,11 @@ def figure(*args, figsize=(6.0, 3.5), **kwargs):
     >>> type(fig).__name__
     'Figure'
     """
+    import matplotlib as mpl
     from matplotlib.figure import Figure
 
     kwargs = check_keywords("figure", kwargs, Figure.subplots)  # named here, not by matplotlib
-    fig = Figure(figsize=figsize)
+    fig = Figure(figsize=check_figsize(figsize, mpl.rcParams["figure.dpi"]))
     return fig, fig.subplots(*args, **kwargs)
 
 

@@ -70,14 +70,15 @@ import inspect
 import io
 import json
 import weakref
-from collections.abc import Callable, Iterator
-from numbers import Number, Real
+from collections.abc import Callable
+from numbers import Number
 
 import numpy as np
 
 from xnavlab.core import validate
 from xnavlab.core._ahead import RENDER_LOCK, AheadWorker, Failed, FrameCache, foreground
 from xnavlab.core._frames import DiskFrames, check_png_args
+from xnavlab.core._grids import grid_index, grid_label, grid_values, is_grid
 from xnavlab.core._render import recording_canvas_class
 from xnavlab.core.diskcache import env_switch
 from xnavlab.core.plotting import updater
@@ -116,35 +117,6 @@ _ONINPUT = (
     "d.querySelector('img').src=j.frames[this.value];"
     "d.querySelector('output').textContent=j.labels[this.value];"
 )
-
-
-def _is_grid(value):
-    return isinstance(value, list | tuple | range | np.ndarray | Iterator)
-
-
-def _grid(name, value):
-    """The grid ``name`` as a list of plain values: 1-D, not empty, no NaN, no value twice."""
-    if isinstance(value, Iterator) or isinstance(value, np.ndarray) and value.ndim != 1:
-        got = f"shape {value.shape}" if isinstance(value, np.ndarray) else type(value).__name__
-        raise ValueError(f"{name} must be a grid (a list, tuple, range or 1-D array) or one value "
-                         f"passed through, got {got} (write a list, or use functools.partial)")
-    values = [v.item() if isinstance(v, np.generic) else v for v in value]  # plot gets plain ones
-    if not values:
-        raise ValueError(f"{name} is an empty grid; give at least one value")
-    for i, v in enumerate(values):
-        j = _index(values[:i], v, None)
-        if j is not None or isinstance(v, float) and np.isnan(v):
-            what = "NaN" if j is None else f"{name}[{j}] again ({_label(v)})"
-            raise ValueError(f"{name}[{i}] is {what}: each grid value must be one position")
-    return values
-
-
-def _label(value):
-    if isinstance(value, float | np.floating):
-        return f"{float(value):.4g}"
-    if isinstance(value, np.generic):
-        return str(value.item())
-    return str(value)
 
 
 class Explorer:
@@ -192,7 +164,7 @@ class Explorer:
         grid = grids[main]
         idx = sorted(set(np.round(np.linspace(0, len(grid) - 1, min(max_frames, len(grid))))
                          .astype(int).tolist()))
-        k0 = _index(grid, initial[main])
+        k0 = grid_index(grid, initial[main], main)
         if k0 not in idx:  # the scrubber opens on the initial value: swap in for the nearest
             idx[int(np.argmin([abs(i - k0) for i in idx]))] = k0
             idx.sort()
@@ -258,7 +230,7 @@ class Explorer:
         """The scrubber: an ``<img>`` and a range input over the precomputed frames."""
         uris = ["data:image/png;base64," + base64.b64encode(b).decode("ascii")
                 for b in self.frames()]
-        labels = [f"{self.main} = {_label(v)}" for v in self.frame_values]
+        labels = [f"{self.main} = {grid_label(v)}" for v in self.frame_values]
         data = json.dumps({"frames": uris, "labels": labels}).replace("</", "<\\/")
         k = self._start
         name = _html.escape(self.main)
@@ -362,7 +334,7 @@ class Explorer:
     # -- frames of the live widget ----------------------------------------------------------
     def _position(self, values):
         """The grid indices of a widget position (its controls' values)."""
-        return tuple(_index(grid, values[name], name) for name, grid in self.grids.items())
+        return tuple(grid_index(grid, values[name], name) for name, grid in self.grids.items())
 
     def _draw(self, values, holder, turn=None):
         """The live widget's frame at ``values``: PNG bytes, or :class:`Failed` if ``plot``
@@ -753,7 +725,8 @@ def explore(plot: Callable, *, main=None, initial=None, max_frames=12, dpi=80, a
         kernel). The HTML scrubber is the same either way.
     **params
         ``name=grid`` (a list, tuple, range or 1-D array of values, each once and no NaN: a
-        control) or ``name=value`` (passed unchanged; not a generator), each a keyword ``plot``
+        control; a grid of real numbers is put in increasing order, any other keeps the order
+        given) or ``name=value`` (passed unchanged; not a generator), each a keyword ``plot``
         takes, and every one it needs. At least one grid is required.
 
     Returns
@@ -800,7 +773,7 @@ def explore(plot: Callable, *, main=None, initial=None, max_frames=12, dpi=80, a
         need = []
     if need:
         raise ValueError(f"plot needs {', '.join(need)}: give each a grid or a value (name=...)")
-    grids = {name: _grid(name, value) for name, value in params.items() if _is_grid(value)}
+    grids = {name: grid_values(name, value) for name, value in params.items() if is_grid(value)}
     fixed = {name: value for name, value in params.items() if name not in grids}
     if not grids:
         raise ValueError("explore needs at least one parameter grid (name=[values...]), got "
@@ -817,7 +790,7 @@ def explore(plot: Callable, *, main=None, initial=None, max_frames=12, dpi=80, a
     start = {}
     for name, grid in grids.items():
         if name in initial:
-            start[name] = grid[_index(grid, initial[name], f"initial[{name!r}]")]
+            start[name] = grid[grid_index(grid, initial[name], f"initial[{name!r}]")]
         elif name == main:
             n = min(max_frames, len(grid))
             idx = sorted(set(np.round(np.linspace(0, len(grid) - 1, n)).astype(int).tolist()))
@@ -860,27 +833,10 @@ def _interactive_class(w):
     return Interactive
 
 
-def _index(grid, value, name="value"):
-    """Index of ``value`` in ``grid`` (numbers within a relative 1e-9, a bool only as a bool,
-    arrays entry by entry); ``name`` None: None if absent."""
-    for i, g in enumerate(grid):
-        if isinstance(g, np.ndarray) or isinstance(value, np.ndarray):
-            if np.array_equal(g, value):
-                return i
-        elif isinstance(g, bool | np.bool_) == isinstance(value, bool | np.bool_) and (
-                g == value or isinstance(g, Real) and isinstance(value, Real)
-                and np.isclose(float(g), float(value), rtol=1e-9, atol=0.0)):
-            return i
-    if name is not None:
-        raise ValueError(f"{name} must be one of its grid values "
-                         f"{[_label(g) for g in grid]}, got {value!r}")
-    return None
-
-
 def _control(w, name, grid, value):
     """A slider over a numeric grid, a menu over anything else; ``continuous_update=False``."""
     numeric = all(isinstance(g, Number) and not isinstance(g, bool) for g in grid)
-    labels = [_label(g) for g in grid]
+    labels = [grid_label(g) for g in grid]
     if len(set(labels)) < len(labels):  # 4 significant digits were not enough
         labels = [repr(g) for g in grid]
     if numeric and len(grid) > 1:

@@ -236,3 +236,16 @@ def test_plot_sharing_titles_a_fraction_of_days_as_its_float():
     fig = mars_plots.plot_sharing(0.8, "no-reset", days=Fraction(1, 50))
     ref = mars_plots.plot_sharing(0.8, "no-reset", days=0.02)
     assert fig.axes[0].get_title() == ref.axes[0].get_title()
+
+
+@pytest.mark.parametrize("times", [np.arange(400)[::-1] * 3.0 / 86400.0, np.zeros(400),
+                                   np.arange(400) * 3.0 / 86400.0 - 1.0])
+def test_plot_details_refuses_times_that_do_not_increase(times):
+    """Review 35 Q6: reversed times, every sample at one instant and negative times were
+    drawn; plot_error_curves and plot_consistency refused them."""
+    x = np.random.default_rng(0).normal(0.0, 5000.0, 400)
+    with pytest.raises(ValueError, match=r"^t_days must hold increasing sample times >= 0 "
+                                         r"\(days since the start\)$"):
+        mars_plots.plot_details(times, x, np.vstack([x, x]), stride=4)
+    assert len(mars_plots.plot_details(np.arange(400) * 3.0 / 86400.0, x, np.vstack([x, x]),
+                                       stride=4).axes) == 3

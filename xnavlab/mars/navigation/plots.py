@@ -390,7 +390,7 @@ def plot_details(t_days, x, details, onsets_days=(), *, stride=20, title=""):
     Parameters
     ----------
     t_days : array_like, shape (N,)
-        Sample times, days.
+        Sample times, days since the start: >= 0 and increasing.
     x : array_like, shape (N,)
         The series, m (plotted in km).
     details : array_like, shape (J, N), J >= 1
@@ -424,6 +424,8 @@ def plot_details(t_days, x, details, onsets_days=(), *, stride=20, title=""):
     if t_days.ndim != 1 or t_days.size == 0:
         raise ValueError(f"t_days must be a 1-D array of at least one sample time, got shape "
                          f"{t_days.shape}")
+    if t_days[0] < 0.0 or np.any(np.diff(t_days) <= 0.0):  # each sample its own instant
+        raise ValueError("t_days must hold increasing sample times >= 0 (days since the start)")
     x = check_shape("x", x, t_days.shape, "N = length of t_days")
     details = check_shape("details", details, (None, t_days.size), "N = length of t_days")
     if not details.shape[0]:  # no detail row: nothing below the series
