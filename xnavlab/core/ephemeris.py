@@ -95,8 +95,9 @@ def check_epochs(name, value):
 
 def check_epoch(name, value, lo=-np.inf, hi=np.inf):
     """One epoch (s TDB past J2000) as a float in ``[lo, hi]``
-    (:func:`xnavlab.core.validate.check_real`), a float32 one that cannot resolve it refused
-    as :func:`check_epochs`.
+    (:func:`xnavlab.core.validate.check_real`; finite bounds written in full with their dates,
+    :func:`xnavlab.core.dates.epoch_range`), a float32 one that cannot resolve it refused as
+    :func:`check_epochs`.
 
     Examples
     --------
@@ -105,7 +106,13 @@ def check_epoch(name, value, lo=-np.inf, hi=np.inf):
     ...
     ValueError: t0 must resolve its epochs to 0.001 s: as float32 it resolves 32 s at 5e+08 s; ...
     """
-    t = check_real(name, value, lo, hi)
+    try:
+        t = check_real(name, value, lo, hi)
+    except ValueError:
+        if not np.isfinite(lo) or not np.isfinite(hi):
+            raise
+        raise ValueError(f"{name} must be an epoch in {dates.epoch_range(lo, hi)}, got "
+                         f"{shown(value)}") from None
     check_resolution(name, value, abs(t))
     return t
 

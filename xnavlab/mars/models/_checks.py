@@ -11,7 +11,7 @@ import numpy as np
 
 from xnavlab.core import dates, ephemeris
 from xnavlab.core.constants import DAY
-from xnavlab.core.validate import check_choice, check_finite_array, check_real, shown
+from xnavlab.core.validate import check_choice
 
 __all__ = ["EPOCH_RESOLUTION", "MAX_SPAN_DAYS", "epoch", "epochs", "span", "covered"]
 
@@ -26,26 +26,17 @@ _TABLE_MARGIN = 2.0 * 3600.0
 
 
 def epoch(name, value, lo=-np.inf, hi=np.inf):
-    """A scalar epoch, s TDB past J2000, as a float (a float32 one resolving it refused); outside
-    finite bounds ``[lo, hi]``, one ValueError writing them in full with their dates."""
-    try:
-        t = check_real(name, value, lo, hi)
-    except ValueError:
-        if not np.isfinite(lo) or not np.isfinite(hi):
-            raise
-        raise ValueError(f"{name} must be an epoch in {dates.epoch_range(lo, hi)}, got "
-                         f"{shown(value)}") from None
-    ephemeris.check_resolution(name, value, abs(t))
-    return t
+    """A scalar epoch, s TDB past J2000, as a float (:func:`xnavlab.core.ephemeris.check_epoch`:
+    a float32 one resolving it refused; finite bounds written in full with their dates)."""
+    return ephemeris.check_epoch(name, value, lo, hi)
 
 
 def epochs(name, value):
-    """A non-empty 1-D array of epochs as float64 (a narrower float dtype that cannot resolve
-    them is refused: module notes)."""
-    t = check_finite_array(name, value)
+    """A non-empty 1-D array of epochs as float64 (:func:`xnavlab.core.ephemeris.check_epochs`:
+    dates, quantities and a float dtype that cannot resolve them refused: module notes)."""
+    t = ephemeris.check_epochs(name, value)
     if t.ndim != 1 or t.size == 0:
         raise ValueError(f"{name} must be a 1-D array of at least one epoch, got shape {t.shape}")
-    ephemeris.check_resolution(name, value, float(np.abs(t).max()))
     return t
 
 
