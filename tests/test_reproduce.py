@@ -1,6 +1,7 @@
 """The registry: every registered reproduction runs and its checks hold; results serialise; IDs
 are unique; one verdict vocabulary, claims and checks apart; tables no cell can break."""
 
+import errno
 import json
 import os
 from html.parser import HTMLParser
@@ -422,3 +423,45 @@ def test_save_figure_refuses_a_missing_folder(tmp_path):
     with pytest.raises(ValueError, match="^name must be a file name"):
         reproduce.save_figure(fig, tmp_path, "a/b")
     assert reproduce.save_figure(fig, tmp_path, "x").endswith("x.png")
+
+
+def test_a_results_json_is_strict():
+    """Review 35 Q7: Result.to_json wrote NaN (json.dumps' default allow_nan), not JSON; a row
+    now refuses NaN, and the dump refuses one that got past it."""
+    row = reproduce.check_measure("x", np.array([1.0, 2.0]), "what")
+    assert json.loads(reproduce.Result("demo", [row]).to_json())["rows"][0]["ours"] == [1.0, 2.0]
+    res = reproduce.Result("demo", [row], note="n")
+    res.figures.append(float("nan"))  # not a row's value: caught by the dump
+    with pytest.raises(ValueError, match="Out of range float values are not JSON compliant"):
+        res.to_json()
+
+
+def _no_space(*args, **kwargs):
+    raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+
+def test_a_figure_on_a_full_disk_is_one_line_and_leaves_no_file(monkeypatch, tmp_path):
+    """Review 35 Q16: a figure cut short by a full disk stayed as a PNG that looks complete,
+    and each reproduction with a figure became an ERROR row ("OSError ... must not raise")."""
+    import matplotlib.figure
+
+    fig, _ = reproduce.figure()
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", _no_space)
+    with pytest.raises(reproduce.OutputError,
+                       match=rf"^out '{tmp_path}': x.png cannot be written \(No space left on "
+                             rf"device\)$"):
+        reproduce.save_figure(fig, tmp_path, "x")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_run_or_fail_raises_a_full_out_instead_of_an_error_row(dummy, monkeypatch, tmp_path):
+    """Review 35 Q16: the caller's folder failed, not the reproduction: raised, not an ERROR row
+    (a figure written by savefig itself as well as by save_figure); another OSError, or one
+    without out, is still the reproduction's ERROR."""
+    def full(out=None, seed=0):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    reproduce._REGISTRY["test-dummy"] = reproduce.Reproduction("test-dummy", "t", "s", "c", full)
+    with pytest.raises(reproduce.OutputError, match=r"^out '.*' cannot be written \(No space"):
+        reproduce.run_or_fail("test-dummy", out=tmp_path / "o")
+    assert reproduce.run_or_fail("test-dummy").verdict == reproduce.ERROR

@@ -398,6 +398,17 @@ def test_the_closing_box_gives_each_claim_in_brief_and_the_table_in_full():
     (lambda: verdicts.check_order("a", "a < b", [1.0, True, 0.0]), "^differences"),
     (lambda: verdicts.part_of("c", 1.0), r"^rows\[0\] must be a Check"),
     (lambda: verdicts.combine(True), "^verdicts must be a list of claim verdicts"),
+    # review 35 Q7: accepted, and Result.to_json wrote NaN, which is not JSON
+    (lambda: verdicts.check_measure("x", np.array([1.0, np.nan]), "what"),
+     r"^ours must hold finite numbers only \(a row's JSON has no NaN or infinity\); got nan$"),
+    (lambda: verdicts.check_measure("x", 1.0, "what", paper=[1.0, float("inf")]),
+     "^paper must hold finite numbers only .*; got inf$"),
+    (lambda: verdicts.check_true("x", "paper", float("nan"), True, "why"), "^ours must hold finite"),
+    (lambda: verdicts.check_true("x", {"a": -np.inf}, 1.0, True, "why"), "^paper must hold finite"),
+    (lambda: verdicts.check_sanity("x", np.float32("nan"), 1.0, True, "w"), "^expected must hold"),
+    (lambda: verdicts.check_sanity("x", "> 0", (1, [complex(np.nan, 0)]), True, "w"),
+     "^ours must hold finite numbers only"),
+    (lambda: verdicts.Check("x", 1.0, np.array([[np.inf]]), "t", verdicts.CHECK), "^ours must hold"),
 ])
 def test_a_row_refuses_a_tolerance_or_value_that_cannot_judge(make, match):
     """Review 35m (5) 2: rel=-0.1 gave "within -10 %", rel=inf REPRODUCED, lo > hi NOT
@@ -406,3 +417,11 @@ def test_a_row_refuses_a_tolerance_or_value_that_cannot_judge(make, match):
     NaN is refused, not judged; an infinite tolerance cannot fail, so it is no check."""
     with pytest.raises(ValueError, match=match):
         make()
+
+
+def test_a_shown_value_may_be_words_numbers_or_arrays_of_them():
+    """What the finite check (review 35 Q7) still takes: words, bools, finite arrays, object
+    arrays and lists of them, a masked entry's hidden value."""
+    for ours in ("x gyro", True, [], np.arange(3.0), np.array(["a", None], dtype=object),
+                 {"a": [1, 2.5]}, np.ma.masked_array([1.0, 2.0], [0, 1])):
+        assert verdicts.check_measure("x", ours, "what").verdict == verdicts.CHECK

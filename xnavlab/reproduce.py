@@ -38,6 +38,7 @@ the dashboard.
 from __future__ import annotations
 
 import contextlib
+import errno
 import hashlib
 import html
 import importlib
@@ -55,7 +56,7 @@ from typing import Any
 
 from xnavlab.core.diskcache import cache_dir, code_digest, env_switch, exclusive, store
 from xnavlab.core.plotting import SafeHTML, figure, html_table
-from xnavlab.core.userfiles import output_path
+from xnavlab.core.userfiles import output_path, write_whole
 from xnavlab.core.validate import check_bool, check_keywords, check_real, check_text
 from xnavlab.verdicts import (  # noqa: F401 - re-exported: reproduce.check_rel is verdicts.check_rel
     CHECK,
@@ -94,6 +95,7 @@ __all__ = [
     "get",
     "run",
     "run_or_fail",
+    "OutputError",
     "CACHE_ENV",
     "counts",
     "headline",
@@ -284,7 +286,8 @@ class Result:
                 "rows": rows, "note": self.note, "figures": self.figures, "error": self.error}
 
     def to_json(self):
-        return json.dumps(self.to_dict(), default=jsonable)
+        """:meth:`to_dict` as strict JSON (no NaN or infinity: a row refuses them)."""
+        return json.dumps(self.to_dict(), default=jsonable, allow_nan=False)
 
     def table(self):
         """A plain-text table of the rows (columns :data:`CHECK_HEADER`)."""
@@ -342,8 +345,16 @@ _REGISTRY: dict[str, Reproduction] = {}
 _LOADED = False
 
 
+class OutputError(ValueError):
+    """A file under a reproduction's ``out`` that cannot be written (a full disk): the caller's
+    folder, not the reproduction, so :func:`run_or_fail` raises it instead of an ERROR row."""
+
+
 def save_figure(fig, out, name):
     """Lay out ``fig`` and write it as ``out / (name + ".png")`` at 100 dpi; return the path.
+
+    Written whole or not at all (:func:`~xnavlab.core.userfiles.write_whole`); a write that
+    fails (a full disk) is an :class:`OutputError` naming ``out`` and the file.
 
     Examples
     --------
@@ -362,7 +373,11 @@ def save_figure(fig, out, name):
         raise ValueError(f"name must be a file name without its folder (a non-empty str); got {name!r}")
     fig.tight_layout()
     path = out / f"{name}.png"
-    fig.savefig(path, dpi=100)
+    try:
+        write_whole(path, lambda tmp: fig.savefig(tmp, dpi=100))
+    except OSError as exc:
+        raise OutputError(f"out {str(out)!r}: {path.name} cannot be written "
+                          f"({exc.strerror or exc})") from None
     return str(path)
 
 
@@ -587,7 +602,9 @@ def run_or_fail(id, out=None, **kwargs):
 
     The command line's ``--all`` and the dashboard run every reproduction through this
     function, so a reproduction that raises is counted and shown the same way in both:
-    one check "ran without error" that failed, and ``error`` set.
+    one check "ran without error" that failed, and ``error`` set. A figure that cannot be
+    written under ``out`` (an :class:`OutputError`, or a full disk's ``OSError``) is raised:
+    the caller's folder failed, not the reproduction.
 
     Examples
     --------
@@ -600,10 +617,21 @@ def run_or_fail(id, out=None, **kwargs):
     _disk_on()  # a bad cache setting is refused once, not as every reproduction's ERROR
     try:
         return run(id, out=out, **kwargs)
+    except OutputError:
+        raise
+    except OSError as exc:  # a figure written by savefig itself into a full out
+        if out is None or exc.errno not in (errno.ENOSPC, errno.EDQUOT):
+            return _failed(id, exc)
+        raise OutputError(f"out {str(out)!r} cannot be written ({exc.strerror})") from None
     except Exception as exc:  # noqa: BLE001 - reported as the ERROR of that reproduction
-        error = " ".join(f"{type(exc).__name__}: {exc}".split())
-        check = Check("ran without error", "runs", error, "must not raise", CHECK_FAILED)
-        return Result(id, [check], note="the reproduction raised an exception", error=error)
+        return _failed(id, exc)
+
+
+def _failed(id, exc):
+    """The ERROR result of the reproduction ``id`` that raised ``exc``."""
+    error = " ".join(f"{type(exc).__name__}: {exc}".split())
+    check = Check("ran without error", "runs", error, "must not raise", CHECK_FAILED)
+    return Result(id, [check], note="the reproduction raised an exception", error=error)
 
 
 def counts(results):

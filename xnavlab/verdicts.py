@@ -69,12 +69,11 @@ undecided), ``NOT REPRODUCED`` (claims, none reproduced, at least one refuted), 
 raised or a check failed). A reproduction that names its main claim
 (:attr:`~xnavlab.reproduce.Result.main`) follows it first: when the main claim is not
 reproduced, the headline is that claim's verdict (NOT REPRODUCED or UNDECIDED), whatever its
-lesser claims say. A result is :attr:`~xnavlab.reproduce.Result.ok` when it has no error
-and every check
-holds: that, and the verdicts recorded in ``tests/test_verdicts.py``, is what the tests
-assert; a claim that is not reproduced is an honest result, not a failure. :func:`~xnavlab.reproduce.headline`
-is the one sentence that counts the claims and the checks, printed by
-``python -m xnavlab reproduce --all`` and shown by the dashboard.
+lesser claims say. A result is :attr:`~xnavlab.reproduce.Result.ok` when it has no error and
+every check holds: that, and the verdicts recorded in ``tests/test_verdicts.py``, is what the
+tests assert; a claim that is not reproduced is an honest result, not a failure.
+:func:`~xnavlab.reproduce.headline` is the one sentence that counts the claims and the checks,
+printed by ``python -m xnavlab reproduce --all`` and shown by the dashboard.
 """
 
 from __future__ import annotations
@@ -88,33 +87,11 @@ import numpy as np
 from xnavlab.core.validate import check_bool, check_finite_array, check_real, check_text
 
 __all__ = [
-    "REPRODUCED",
-    "NOT_REPRODUCED",
-    "UNDECIDED",
-    "CHECK",
-    "CHECK_FAILED",
-    "PARTLY_REPRODUCED",
-    "ERROR",
-    "CLAIM_VERDICTS",
-    "VERDICTS",
-    "HEADLINES",
-    "MIN_RUNS",
-    "BRIEF_ASIDE",
-    "Check",
-    "check_rel",
-    "check_abs",
-    "check_range",
-    "check_true",
-    "check_draw",
-    "check_order",
-    "check_sanity",
-    "check_measure",
-    "check_lost",
-    "check_event",
-    "check_event_lost",
-    "part_of",
-    "combine",
-    "show",
+    "REPRODUCED", "NOT_REPRODUCED", "UNDECIDED", "CHECK", "CHECK_FAILED", "PARTLY_REPRODUCED",
+    "ERROR", "CLAIM_VERDICTS", "VERDICTS", "HEADLINES", "MIN_RUNS", "BRIEF_ASIDE", "Check",
+    "check_rel", "check_abs", "check_range", "check_true", "check_draw", "check_order",
+    "check_sanity", "check_measure", "check_lost", "check_event", "check_event_lost", "part_of",
+    "combine", "show",
 ]
 
 
@@ -156,7 +133,7 @@ class Check:
     paper : object
         The paper's value (a number, or words where the paper gives words).
     ours : object
-        Our value.
+        Our value. A NaN or infinity in either (a number, an array's entry) is refused.
     tolerance : str
         The criterion and the reason for it ("within 5 %: the paper prints three digits").
     verdict : str
@@ -179,6 +156,7 @@ class Check:
 
     def __post_init__(self):
         _words("name", self.name)
+        _shown("paper", self.paper), _shown("ours", self.ours)
         for label in ("tolerance", "reading", "claim"):
             check_text(label, getattr(self, label))
         if self.verdict not in VERDICTS:
@@ -306,6 +284,24 @@ def _tolerance(name, value):
     return _real(name, value, True, 0.0)
 
 
+def _shown(name, value):
+    """``value``, a row's shown value (words, a number, or an array, list, tuple or dict of
+    them), refused when a number in it is NaN or infinite: a row's JSON has neither."""
+    items = value
+    if isinstance(value, np.ndarray):
+        arr = np.asarray(value)
+        items = arr[~np.isfinite(arr)][:1].tolist() if arr.dtype.kind in "fc" else list(arr.flat)
+    elif isinstance(value, dict):
+        items = list(value.values())
+    if isinstance(items, list | tuple):
+        for item in items:
+            _shown(name, item)
+    elif isinstance(value, float | complex | np.inexact) and not np.isfinite(value):
+        raise ValueError(f"{name} must hold finite numbers only (a row's JSON has no NaN or "
+                         f"infinity); got {value}")
+    return value
+
+
 def _hits(name, value):
     """Per-run outcomes as a flat bool array (a "no" or a 0.5 counted as a hit); masked refused."""
     arr = np.asarray(value).ravel()
@@ -409,7 +405,8 @@ def check_true(name, paper, ours, condition, why, reading=""):
     """A qualitative claim (e.g. "isolated as the x gyro"): reproduced when ``condition`` holds.
 
     ``reading`` says what the numbers show beyond the verdict; when the claim fails and none is
-    given, the row says that ours does not meet the condition.
+    given, the row says that ours does not meet the condition. A NaN or infinity in ``paper``
+    or ``ours`` is refused (a row's JSON has neither).
 
     Examples
     --------
@@ -556,7 +553,7 @@ def check_sanity(name, expected, ours, condition, what):
     Use it for sanity and consistency checks (an orbit stays bound, a covariance stays
     positive definite, our implementation matches a witness). ``expected`` says what we
     expect; ``what`` says the criterion. A check that does not hold is `CHECK_FAILED`, a
-    defect that fails the tests.
+    defect that fails the tests. A NaN or infinity in ``expected`` or ``ours`` is refused.
 
     Examples
     --------
@@ -566,6 +563,7 @@ def check_sanity(name, expected, ours, condition, what):
     if not (isinstance(what, str) and what.strip()):
         raise ValueError("what must say, in words, the criterion of the check")
     ok = check_bool("condition", condition)
+    _shown("expected", expected)
     return Check(name, expected, ours, what.strip(), CHECK if ok else CHECK_FAILED, "")
 
 
@@ -573,7 +571,8 @@ def check_measure(name, ours, what, paper="not given"):
     """An extra measurement shown beside the paper's (`CHECK`): nothing is decided by it.
 
     Use it where the paper gives no number (``paper="not given"``) or gives one for another
-    set-up; ``what`` says what the number is and why it is shown.
+    set-up; ``what`` says what the number is and why it is shown. A NaN or infinity in
+    ``ours`` or ``paper`` (an array's entry too) is refused: a measurement to show is a number.
 
     Examples
     --------
@@ -582,7 +581,7 @@ def check_measure(name, ours, what, paper="not given"):
     """
     if not (isinstance(what, str) and what.strip()):
         raise ValueError("what must say, in words, what the measurement shows")
-    return check_sanity(name, paper, ours, True, what)
+    return check_sanity(name, _shown("paper", paper), _shown("ours", ours), True, what)
 
 
 def combine(verdicts):

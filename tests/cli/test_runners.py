@@ -1,7 +1,9 @@
 """``python -m xnavlab run`` (xnavlab.cli.runners): the scenario table, the --out check, a short
 Mars run with its files, and the one-line errors for bad flags."""
 
+import errno
 import json
+import os
 
 import pytest
 
@@ -256,3 +258,31 @@ def test_a_files_faults_and_arm_s_are_named_as_its_keys(tmp_path, capsys, monkey
         assert err.startswith(f"xnavlab: error: scenario file {str(path)!r}: {head}: uv.range:step:"), err
         assert "([detector] arm_s = 5000 s)" in err and err.endswith(
             "move it after [detector] arm_s or lower [detector] arm_s")
+
+
+def test_a_full_out_leaves_no_file_cut_short(tmp_path, monkeypatch, capsys):
+    """Review 35 Q16: one clear line, but a truncated 65,536-byte mars_run.npz was left."""
+    import numpy as np
+
+    def half_then_full(path, **arrays):
+        with open(path, "wb") as fh:
+            fh.write(b"PK\x03\x04" + b"\0" * 100)
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(np, "savez_compressed", half_then_full)
+    assert main(["run", "mars", "--days", "0.01", "--quiet", "--out", str(tmp_path)]) == 2
+    assert capsys.readouterr().err == (f"xnavlab: error: --out '{tmp_path}': mars_run.npz cannot "
+                                       f"be written (No space left on device)\n")
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_non_finite_summary_value_is_null_in_strict_json(tmp_path, monkeypatch, capsys):
+    """Review 35 Q7: the run's JSON was dumped with NaN allowed (not JSON)."""
+    real = scenarios.MarsRun.summary
+    monkeypatch.setattr(scenarios.MarsRun, "summary",
+                        lambda self, *a: {**real(self, *a), "position_error_m": float("nan")})
+    assert main(["run", "mars", "--days", "0.01", "--json", "--out", str(tmp_path)]) == 0
+    strict = {"parse_constant": lambda c: pytest.fail(f"{c} in the JSON")}
+    assert json.loads(capsys.readouterr().out, **strict)["position_error_m"] is None
+    saved = json.loads((tmp_path / "mars_summary.json").read_text(), **strict)
+    assert saved["position_error_m"] is None

@@ -80,3 +80,22 @@ def test_every_out_of_the_command_line_makes_its_missing_folders_as_its_help_say
         assert "made if missing" in text or "missing folders are made" in text, names
     assert main(["scenario", "--dump", "--out", str(tmp_path / "a" / "b" / "s.toml")]) == 0
     assert (tmp_path / "a" / "b" / "s.toml").is_file()
+
+
+def test_a_dump_on_a_full_disk_leaves_no_file_cut_short(tmp_path, monkeypatch, capsys):
+    """Review 35 Q16, by class: one line, but the .toml file cut short was left."""
+    import errno
+    import os
+    import pathlib
+
+    def half_then_full(path, text, *args, **kwargs):
+        with open(path, "w", encoding="utf-8") as fh:
+            fh.write(text[: len(text) // 2])
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(pathlib.Path, "write_text", half_then_full)
+    out = tmp_path / "s.toml"
+    assert main(["scenario", "--dump", "--out", str(out)]) == 2
+    assert capsys.readouterr().err == (f"xnavlab: error: --out '{out}' cannot be written (No "
+                                       f"space left on device)\n")
+    assert list(tmp_path.iterdir()) == []

@@ -34,10 +34,11 @@ def test_warm_runs_the_steps_in_order_and_reports_each(monkeypatch):
     assert all(line.startswith("warmup: ") and line.endswith(" s") for line in lines)
 
 
-def test_the_command_runs_warm_and_exits_0(monkeypatch):
+def test_the_command_runs_warm_and_exits_0(monkeypatch, capsys):
     called = []
-    monkeypatch.setattr(warmup, "warm", lambda: called.append(True) or {})
-    assert main(["warmup"]) == 0 and called == [True]
+    monkeypatch.setattr(warmup, "warm", lambda stream: called.append(stream.write("line\n")) or {})
+    assert main(["warmup"]) == 0 and called == [5]
+    assert capsys.readouterr().err == "line\n"  # its lines on the command's standard error
 
 
 def _beside(monkeypatch, code):

@@ -1,9 +1,15 @@
 """xnavlab.core.diskcache: the cache's root, and arrays stored once and read back."""
 
+import errno
+import os
+import types
+import warnings
+
 import numpy as np
 import pytest
 
 from xnavlab.core import diskcache
+from xnavlab.core.userfiles import InputWarning
 
 
 def test_root_from_the_environment_or_home(monkeypatch, tmp_path):
@@ -195,3 +201,60 @@ def test_a_cache_folder_that_cannot_be_written_is_refused(monkeypatch, tmp_path)
         diskcache.entry_path("demo", (1,), modules=("xnavlab.core.constants",))
     monkeypatch.setenv("XNAVLAB_CACHE", str(tmp_path / "new" / "cache"))
     assert diskcache.cache_dir().is_dir()  # created at first use
+
+
+def test_a_cache_path_is_expanded_or_refused_never_a_folder_under_the_working_dir(
+        monkeypatch, tmp_path):
+    """Review 35 Q8: '~/xnc' (a quoted value, an .env file, a kernel's env) made a folder
+    named '~' in the working directory, ' ' a folder named ' ', and a relative path one cache
+    for the book's kernels (in book/) and another for the repository root."""
+    monkeypatch.chdir(tmp_path)
+    monkeypatch.setenv("HOME", str(tmp_path / "home"))
+    monkeypatch.setenv("XNAVLAB_CACHE", "~/xnc")
+    assert diskcache.cache_dir() == tmp_path / "home" / "xnc"
+    assert (tmp_path / "home" / "xnc").is_dir() and not (tmp_path / "~").exists()
+    for value, why in ((" ", "leading or trailing blanks"), (f" {tmp_path}", "leading or"),
+                       ("cache", "a relative path"), ("./c", "a relative path")):
+        monkeypatch.setenv("XNAVLAB_CACHE", value)
+        with pytest.raises(ValueError, match=rf"^XNAVLAB_CACHE must name a folder this process "
+                                             rf"can write, by its full path .*; got '{value}' "
+                                             rf"\({why}"):
+            diskcache.cache_dir()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["home"]
+
+
+def _full(f):
+    raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+
+def test_a_full_disk_is_said_once(monkeypatch, tmp_path):
+    """Review 35 Q8: a cache on a full disk stored nothing, without a word (each run computed
+    everything again)."""
+    monkeypatch.setattr(diskcache, "_FULL", [])
+    monkeypatch.setenv("XNAVLAB_CACHE", str(tmp_path))
+    with pytest.warns(InputWarning, match=rf"^XNAVLAB_CACHE '{tmp_path}': no space left on "
+                                          rf"device; results are not kept"):
+        assert diskcache.store(tmp_path / "a.bin", _full) is False
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # once a process
+        assert diskcache.store(tmp_path / "b.bin", _full) is False
+    assert list(tmp_path.iterdir()) == []  # no temporary file left
+
+
+def test_a_writer_that_drops_the_errno_of_a_full_disk_is_read_from_the_disk(monkeypatch,
+                                                                           tmp_path):
+    """numpy.save on a full disk raises OSError('N requested and M written'), no errno: the
+    disk is asked instead; another failure (a read-only home) stays silent."""
+    monkeypatch.setattr(diskcache, "_FULL", [])
+    monkeypatch.delenv("XNAVLAB_CACHE", raising=False)
+
+    def dropped(f):
+        raise OSError("200000 requested and 8176 written")
+
+    monkeypatch.setattr(os, "statvfs", lambda path: types.SimpleNamespace(f_bavail=5))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert diskcache.store(tmp_path / "a.npy", dropped) is False
+    monkeypatch.setattr(os, "statvfs", lambda path: types.SimpleNamespace(f_bavail=0))
+    with pytest.warns(InputWarning, match=r"^the cache '.*' \(XNAVLAB_CACHE unset\): no space"):
+        assert diskcache.store(tmp_path / "a.npy", dropped) is False

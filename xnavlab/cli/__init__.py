@@ -30,6 +30,7 @@ Commands
 from __future__ import annotations
 
 import argparse
+import errno
 import importlib
 import math
 import os
@@ -39,7 +40,8 @@ import warnings
 
 from xnavlab import __version__
 
-__all__ = ["main", "UsageError", "Parser", "COMMANDS", "EXIT_PIPE", "number", "join_negative_values"]
+__all__ = ["main", "UsageError", "StreamError", "Parser", "COMMANDS", "EXIT_PIPE", "number",
+           "join_negative_values"]
 
 #: Command name -> module implementing it (``HELP``, ``configure``, ``execute``).
 COMMANDS = {
@@ -107,6 +109,11 @@ class Parser(argparse.ArgumentParser):
     def parse_known_args(self, args=None, namespace=None):
         self.argv = list(sys.argv[1:] if args is None else args)  # for error's hint
         return super().parse_known_args(args, namespace)
+
+    def print_help(self, file=None):
+        """argparse's, without its silence on a failed write: ``--help > /dev/full`` is an
+        error (:func:`main`), not a success that wrote nothing."""
+        (sys.stdout if file is None else file).write(self.format_help())
 
     def error(self, message):
         """One line; an option written before the sub-command it belongs to (``run --days 0.02``,
@@ -207,14 +214,70 @@ def _warning_printer(held):
     return show
 
 
-def _stdout_closed():
-    """After a BrokenPipeError: point the standard output at the null device, so that the
-    interpreter's last flush finds no closed pipe (which would print a traceback at exit)."""
+def _stdout_closed(stream=None):
+    """After a failed write (a closed pipe, a full device): point the stream's file (default
+    the standard output) at the null device, so that the interpreter's last flush of what is
+    left in its buffer finds no closed pipe or full disk (a traceback at exit)."""
     try:
         devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
-    except (OSError, ValueError, AttributeError):  # pragma: no cover - stdout without a file
+        os.dup2(devnull, (sys.stdout if stream is None else stream).fileno())
+    except (OSError, ValueError, AttributeError):  # a stream without a file (a test's)
         pass
+
+
+class StreamError(Exception):
+    """A write to the standard output or error that failed (a full device, a closed file):
+    its message names the stream, ``standard output: No space left on device``. Not an
+    ``OSError``, so that no handler of a file's errors on the way takes it for its own.
+
+    Attributes
+    ----------
+    stream : file-like or None
+        The stream that failed (its file is pointed at the null device when the command ends).
+    """
+
+    def __init__(self, message, stream=None):
+        super().__init__(message)
+        self.stream = stream
+
+
+class _Guarded:
+    """A standard stream (or None: a closed one) whose failed write or flush is a
+    :class:`StreamError` naming it; a closed pipe stays a BrokenPipeError (:data:`EXIT_PIPE`)."""
+
+    def __init__(self, stream, name):
+        self.stream, self.name = stream, name
+
+    def _call(self, method, *args):
+        if self.stream is None:  # Python's stream of a closed file descriptor (>&-)
+            raise StreamError(f"{self.name}: {os.strerror(errno.EBADF)} (closed)")
+        try:
+            return getattr(self.stream, method)(*args)
+        except BrokenPipeError:
+            raise
+        except OSError as exc:
+            raise StreamError(f"{self.name}: {exc.strerror or exc}", self.stream) from None
+
+    def write(self, text):
+        return self._call("write", text)
+
+    def flush(self):
+        return None if self.stream is None else self._call("flush")
+
+    def isatty(self):
+        return self.stream is not None and self.stream.isatty()
+
+    def __getattr__(self, name):
+        return getattr(self.stream, name)
+
+
+def _say(text):
+    """Print ``text`` on the standard error; a stream that takes nothing (full, closed) is
+    passed over: the exit code still tells."""
+    try:
+        print(text, file=sys.stderr)
+    except (StreamError, OSError):
+        _stdout_closed(sys.stderr)
 
 
 def main(argv=None):
@@ -225,27 +288,49 @@ def main(argv=None):
     measurement; an RMS of one record) is printed as one line, ``xnavlab: warning: ...``,
     each text once, also under ``--quiet`` (which silences progress, not warnings about
     inputs). A standard output closed early (``python -m xnavlab reproduce --list | head -1``)
-    ends every command quietly with :data:`EXIT_PIPE`, without a traceback.
+    ends every command quietly with :data:`EXIT_PIPE`, without a traceback. A standard
+    stream that takes nothing (``> /dev/full``, ``>&-``) ends the command with one line on the
+    standard error (``xnavlab: error: standard output: No space left on device``) and exit
+    code 1, ``--help`` too; a usage error keeps its code 2 when its line cannot be printed.
     """
+    saved = sys.stdout, sys.stderr
+    sys.stdout = _Guarded(sys.stdout, "standard output")
+    sys.stderr = _Guarded(sys.stderr, "standard error")
+    code = None
+    try:
+        try:
+            code = _main_warned(argv)
+        finally:  # --help's SystemExit too: a closed pipe or full device shows here
+            sys.stdout.flush()
+        return code
+    except BrokenPipeError:
+        _stdout_closed()
+        return EXIT_PIPE
+    except StreamError as exc:  # the buffer left is dropped, not flushed again at exit
+        if exc.stream is not None:
+            _stdout_closed(exc.stream)
+        _say(f"xnavlab: error: {exc}")
+        return code or 1  # 2 kept for a usage error
+    finally:
+        sys.stdout, sys.stderr = saved
+
+
+def _main_warned(argv):
+    """:func:`_main`, the warnings printed as one line each (:func:`_warning_printer`)."""
     from xnavlab.core.userfiles import InputWarning
 
     held = []
     code = None
     try:
-        try:
-            with warnings.catch_warnings():
-                warnings.filterwarnings("always", category=InputWarning)
-                warnings.showwarning = _warning_printer(held)
-                code = _main(argv)
-                return code
-        finally:  # --help's SystemExit too: a closed pipe shows here when the output was buffered
-            if code != 2:  # a refused command: its error is the one line
-                for text in held:
-                    print(text, file=sys.stderr)
-            sys.stdout.flush()
-    except BrokenPipeError:
-        _stdout_closed()
-        return EXIT_PIPE
+        with warnings.catch_warnings():
+            warnings.filterwarnings("always", category=InputWarning)
+            warnings.showwarning = _warning_printer(held)
+            code = _main(argv)
+            return code
+    finally:
+        if code != 2:  # a refused command: its error is the one line
+            for text in held:  # a standard error that takes none: exit code 1 (main)
+                print(text, file=sys.stderr)
 
 
 #: A negative number argparse takes for an option (it knows -1 and -0.5 only): -1e-3, -1.,
@@ -286,12 +371,12 @@ def _main(argv):
             raise UsageError("a command is required: " + ", ".join(COMMANDS))
         return args.execute(args)
     except (UsageError, ValueError) as exc:
-        print(f"xnavlab: error: {exc}", file=sys.stderr)
+        _say(f"xnavlab: error: {exc}")
         return 2
     except RuntimeError as exc:  # the compiled filter's stop on a covariance, in one line
         from xnavlab.mars.kernel.kernels import FilterDivergence
 
         if not isinstance(exc, FilterDivergence):
             raise
-        print(f"xnavlab: error: {exc}", file=sys.stderr)
+        _say(f"xnavlab: error: {exc}")
         return 1

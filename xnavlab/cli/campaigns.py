@@ -51,13 +51,14 @@ the line, and its run is computed again.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import sys
 
 from xnavlab.cli import UsageError, number
 from xnavlab.core.diskcache import check_cache
-from xnavlab.core.userfiles import output_path
+from xnavlab.core.userfiles import output_path, write_whole
 from xnavlab.core.validate import SEED_MAX, check_int
 
 __all__ = ["HELP", "COLUMNS", "configure", "execute"]
@@ -315,12 +316,25 @@ def _run(args, camp, runs, seed, where):
 
 
 def _write_summary(out, payload):
-    """Everything but the runs, to ``out/summary.json`` (beside runs.jsonl, for later use)."""
+    """Everything but the runs, to ``out/summary.json`` (beside runs.jsonl, for later use),
+    whole or not at all; a write that fails (a full disk) is one line naming the file."""
     from xnavlab.core.campaign import SUMMARY_FILE
 
     summary = {k: v for k, v in payload.items() if k != "runs"}
-    with open(os.path.join(out, SUMMARY_FILE), "w", encoding="utf-8") as fh:
-        json.dump(summary, fh, indent=1, allow_nan=False)
+    text = json.dumps(summary, indent=1, allow_nan=False)
+    with _written(out, SUMMARY_FILE):
+        write_whole(os.path.join(out, SUMMARY_FILE), lambda tmp: tmp.write_text(text))
+
+
+@contextlib.contextmanager
+def _written(out, name):
+    """Context: an OSError writing the file ``name`` into ``--out`` (a full disk) is one
+    ValueError naming them, as ``run mars`` words it."""
+    try:
+        yield
+    except OSError as exc:
+        raise ValueError(f"--out {str(out)!r}: {name} cannot be written "
+                         f"({exc.strerror or exc})") from None
 
 
 def _execute_roc(args):
@@ -344,7 +358,8 @@ def _execute_roc(args):
         return 130
     payload = res.to_json()
     _write_summary(args.out, payload)
-    data = roc.write_curve(args.out, grid, res.runs(), seed)
+    with _written(args.out, "roc.json or roc.csv"):
+        data = roc.write_curve(args.out, grid, res.runs(), seed)
     counts = {k: payload[k] for k in ("computed", "reused", "failed", "wall_s")}
     if args.json:
         print(json.dumps({**data, **counts}, allow_nan=False))

@@ -8,7 +8,7 @@ from pathlib import Path
 
 from xnavlab import reproduce
 from xnavlab.cli import UsageError
-from xnavlab.core.userfiles import output_path
+from xnavlab.core.userfiles import output_path, write_whole
 
 __all__ = ["HELP", "configure", "execute"]
 
@@ -40,8 +40,17 @@ def execute(args):
     is 1 only for a reproduction that raised or whose check of ours failed (``ERROR``). The table
     and the JSON use the verdicts of :data:`xnavlab.verdicts.VERDICTS` and the headlines of
     :data:`xnavlab.verdicts.HEADLINES`; ``--all`` ends with
-    :func:`xnavlab.reproduce.headline` (on stderr with ``--json``).
+    :func:`xnavlab.reproduce.headline` (on stderr with ``--json``). A file under ``--out`` that
+    cannot be written (a full disk) ends it in one line naming ``--out`` and the file, exit
+    code 2; each file is written whole or not at all.
     """
+    try:
+        return _execute(args)
+    except reproduce.OutputError as exc:  # "out 'DIR': NAME ...", as the user typed it
+        raise ValueError(f"--{exc}") from None
+
+
+def _execute(args):
     _refuse_unused(args)
     if args.out is not None:  # made and writable before any reproduction runs
         _check_out(args.out, args.all)
@@ -107,12 +116,16 @@ def _reproduce_all(args):
         results.append(run_one(rid, args.out, args.fresh))
     payload = [r.to_dict() for r in results]
     if args.json:
-        print(json.dumps(payload, default=reproduce.jsonable))
+        print(json.dumps(payload, default=reproduce.jsonable, allow_nan=False))
         print(reproduce.headline(results), file=sys.stderr)
     else:
         print(reproduce.results_table(results))
         print(reproduce.headline(results))
     if args.out:
-        path = Path(args.out) / "reproductions.json"
-        path.write_text(json.dumps(payload, indent=2, default=reproduce.jsonable))
+        text = json.dumps(payload, indent=2, default=reproduce.jsonable, allow_nan=False)
+        try:
+            write_whole(Path(args.out) / "reproductions.json", lambda tmp: tmp.write_text(text))
+        except OSError as exc:
+            raise reproduce.OutputError(f"out {str(args.out)!r}: reproductions.json cannot be "
+                                        f"written ({exc.strerror or exc})") from None
     return 0 if all(r.ok for r in results) else 1

@@ -14,7 +14,7 @@ from pathlib import Path
 
 from xnavlab.cli import Parser, UsageError, number
 from xnavlab.core.federated import MODES
-from xnavlab.core.userfiles import output_path, path_kind
+from xnavlab.core.userfiles import output_path, path_kind, write_whole
 from xnavlab.core.validate import SEED_MAX, check_choice
 
 __all__ = ["HELP", "FAULT_HELP", "RUNNERS", "configure", "execute", "configure_mars", "execute_mars",
@@ -263,17 +263,11 @@ def execute_mars(args):
     summary["filter_time_s"] = summary.pop("run_time_s")
     summary["run_time_s"] = time.perf_counter() - t_start
     if args.out is not None:
-        out = out_dir(args.out)
-        name = "mars_run.npz"
-        try:
-            res.save_npz(out / name)
-            name = "mars_summary.json"
-            (out / name).write_text(json.dumps(summary, indent=2))
-        except OSError as exc:
-            raise ValueError(f"--out {str(args.out)!r}: {name} cannot be written "
-                             f"({exc.strerror})") from None
+        _write_out(args.out, res, summary)
     if args.json:
-        print(json.dumps(summary))
+        from xnavlab.core.campaign import json_ready  # NaN as null: JSON has no NaN
+
+        print(json.dumps(json_ready(summary), allow_nan=False))
     else:
         width = max(len(k) for k in summary)
         for key, val in summary.items():
@@ -286,6 +280,22 @@ def execute_mars(args):
             print(f"{key:{width}s}  {val:.6g}" if isinstance(val, float) else
                   f"{key:{width}s}  {val}")
     return 0
+
+
+def _write_out(given, res, summary):
+    """``mars_run.npz`` and ``mars_summary.json`` into ``--out``, each whole or not at all (a
+    full disk leaves no file cut short); a write that fails is one line naming the file."""
+    from xnavlab.core.campaign import json_ready
+
+    out = out_dir(given)
+    text = json.dumps(json_ready(summary), indent=2, allow_nan=False)  # NaN as null
+    for name, write in (("mars_run.npz", res.save_npz),
+                        ("mars_summary.json", lambda tmp: tmp.write_text(text))):
+        try:
+            write_whole(out / name, write)
+        except OSError as exc:
+            raise ValueError(f"--out {str(given)!r}: {name} cannot be written "
+                             f"({exc.strerror or exc})") from None
 
 
 #: Scenario name -> (configure(parser), execute(args) -> exit code, help).

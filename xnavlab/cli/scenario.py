@@ -20,7 +20,7 @@ import json
 from pathlib import Path
 
 from xnavlab.cli import UsageError
-from xnavlab.core.userfiles import output_path
+from xnavlab.core.userfiles import output_path, write_whole
 
 __all__ = ["HELP", "configure", "execute"]
 
@@ -63,8 +63,8 @@ def execute(args):
         sc = scenarios.MarsScenario.study() if setup == "study" else scenarios.MarsScenario()
         text = scenario_files.dump(sc)
         if out is not None:
-            try:
-                out.write_text(text, encoding="utf-8")
+            try:  # whole or not at all: a full disk leaves no file cut short
+                write_whole(out, lambda tmp: tmp.write_text(text, encoding="utf-8"))
             except OSError as exc:
                 raise ValueError(f"--out {str(out)!r} cannot be written ({exc.strerror})") from None
         else:

@@ -283,5 +283,5 @@ def configure(parser):
 
 def execute(args):
     """Run :func:`warm`; exit code 0."""
-    warm()
+    warm(sys.stderr)  # the command's standard error (main's, whose failed write is one line)
     return 0

@@ -31,7 +31,8 @@ Store (:class:`Store`)
     parameters do not depend on it, so a campaign of 100 runs can be extended to 1,000 in
     the same DIR. A line that is not a record (a last line torn by a process killed while
     writing, a line edited by hand) is reported in one warning naming the file and the line,
-    and its run computed again (a torn last line is cut off). Every refusal (another
+    and its run computed again (a torn last line is cut off); a record a full disk cuts short is
+    cut off and ends the campaign in one ValueError naming the file. Every refusal (another
     campaign's DIR, a store in use, a malformed scheduler address, an unreachable scheduler)
     comes before the store's files are made. The manifest does not cover the code: after
     changing a trial's code, start a new DIR.
@@ -65,6 +66,7 @@ True
 
 from __future__ import annotations
 
+import contextlib
 import json
 import math
 import os
@@ -91,28 +93,12 @@ from xnavlab.core.campaign_records import (
 )
 from xnavlab.core.diskcache import check_cache
 from xnavlab.core.montecarlo import seeds as spawn_seeds
-from xnavlab.core.userfiles import InputWarning, as_path, path_kind, read_text
+from xnavlab.core.userfiles import InputWarning, as_path, path_kind, read_text, write_whole
 from xnavlab.core.validate import check_bool, check_choice, check_int, check_real, check_seed, shown
 
-__all__ = [
-    "ENGINES",
-    "STORE_FILE",
-    "HEADER_FILE",
-    "SUMMARY_FILE",
-    "OWNER_FILE",
-    "FORMAT",
-    "SCHEDULER_SCHEMES",
-    "Campaign",
-    "CampaignResult",
-    "Store",
-    "json_ready",
-    "differences",
-    "execute",
-    "public_record",
-    "run_campaign",
-    "check_scheduler",
-    "load_runs",
-]
+__all__ = ["ENGINES", "STORE_FILE", "HEADER_FILE", "SUMMARY_FILE", "OWNER_FILE", "FORMAT",
+           "SCHEDULER_SCHEMES", "Campaign", "CampaignResult", "Store", "json_ready", "differences",
+           "execute", "public_record", "run_campaign", "check_scheduler", "load_runs"]
 
 #: Where a campaign can run.
 ENGINES = ("serial", "local", "dask", "local-cluster")
@@ -335,8 +321,7 @@ def _decode(read, directory):
         return read().split("\n")
     except UnicodeDecodeError as exc:
         raise ValueError(f"out {str(directory)!r}: {STORE_FILE} is not UTF-8 text (byte "
-                         f"{exc.start}), not an xnavlab campaign store; choose another --out"
-                         ) from None
+                         f"{exc.start}), not an xnavlab campaign store; choose another --out") from None
 
 
 def _scan(directory, lines, header, check):
@@ -392,7 +377,6 @@ def _final(records):
     return out
 
 
-
 class Store:
     """A campaign's files: ``DIR/campaign.json`` (the header) and ``DIR/runs.jsonl`` (records).
 
@@ -420,7 +404,8 @@ class Store:
     ValueError
         If the store holds another campaign, is not a campaign store, has records but a
         header that cannot be read (empty or torn ``campaign.json``), is in use by another
-        process, or a folder, a pipe or a dangling link stands in place of one of its files.
+        process, a folder, a pipe or a dangling link stands in place of one of its files, or
+        one of them cannot be written (a full disk).
     """
 
     def __init__(self, directory, header, check=None):
@@ -432,16 +417,17 @@ class Store:
         try:
             self.path.parent.mkdir(parents=True, exist_ok=True)
         except OSError as exc:
-            raise ValueError(f"out {str(directory)!r} cannot be made a folder ({exc.strerror})"
-                             ) from None
+            raise ValueError(f"out {str(directory)!r} cannot be made a folder ({exc.strerror})") from None
         try:
             # newline="": the lines as stored (a CRLF file's torn line is cut at its own byte)
             self._fh = open(self.path, "a+", encoding="utf-8", newline="")  # noqa: SIM115
         except OSError as exc:
             raise ValueError(f"out {str(directory)!r}: {STORE_FILE} {str(self.path)!r} cannot be "
                              f"opened for appending ({exc.strerror})") from None
+        self._locked = False
         try:
             _try_lock(self._fh, directory)
+            self._locked = True
             (directory / OWNER_FILE).write_text(f"{os.getpid()} {socket.gethostname()}\n")
             self._fh.seek(0)
             scan = _scan(directory, _decode(self._fh.read, directory), header, check)
@@ -469,8 +455,12 @@ class Store:
                 report_bad_lines(bad, self.path, "their runs are computed again")
             report_disagreements(scan["records"], scan["numbers"], self.path)
             self._records = scan["records"]
+        except OSError as exc:  # a full disk: one line naming the file
+            self.close()
+            raise ValueError(f"out {str(directory)!r}: the campaign store cannot be written "
+                             f"({exc.strerror or exc})") from None
         except BaseException:
-            self._fh.close()
+            self.close()
             raise
 
     @staticmethod
@@ -502,14 +492,25 @@ class Store:
 
     def _write_header(self):
         """The header, written whole or not at all (a kill mid-write leaves no torn file)."""
-        tmp = self.header_path.with_name(HEADER_FILE + ".tmp")
-        tmp.write_text(json.dumps(self.header, indent=1, allow_nan=False) + "\n")
-        os.replace(tmp, self.header_path)
+        text = json.dumps(self.header, indent=1, allow_nan=False) + "\n"
+        write_whole(self.header_path, lambda tmp: tmp.write_text(text))
 
     def _write(self, obj):
-        self._fh.write(json.dumps(obj, allow_nan=False) + "\n")
-        self._fh.flush()
-        os.fsync(self._fh.fileno())
+        """One line appended whole, or the file left as it was before it: a failed write (a
+        full disk) is cut off again and is one ValueError naming the file."""
+        # appended unbuffered: nothing is left in a buffer to flush (and fail) at close
+        fd, data = self._fh.fileno(), (json.dumps(obj, allow_nan=False) + "\n").encode("utf-8")
+        size = os.fstat(fd).st_size
+        try:
+            while data:
+                data = data[os.write(fd, data):]
+            os.fsync(fd)
+        except OSError as exc:
+            with contextlib.suppress(OSError):
+                os.ftruncate(fd, size)
+            raise ValueError(f"out {str(self.path.parent)!r}: {STORE_FILE} cannot be written ("
+                             f"{exc.strerror}); its runs are kept: run the same command again "
+                             f"with room to complete the campaign") from None
 
     @property
     def records(self):
@@ -527,13 +528,17 @@ class Store:
         return _final(self._records)
 
     def append(self, record):
-        """Append one record and flush it to disk."""
+        """Append one record and flush it to disk (a full disk: ValueError, the file as it was)."""
         self._write(record)
         self._records.append(record)
 
     def close(self):
-        """Release the lock and close the file."""
-        self._fh.close()
+        """Release the lock (and ``owner.pid``) and close the file."""
+        if self._locked:  # removed while locked: a process taking the store over writes its own
+            with contextlib.suppress(OSError):
+                (self.path.parent / OWNER_FILE).unlink(missing_ok=True)
+        with contextlib.suppress(OSError):  # an earlier write's failure: already reported
+            self._fh.close()
 
 
 # -------------------------------------------------------------------------------- engines
@@ -715,8 +720,7 @@ def run_campaign(campaign, runs, *, seed=0, out=None, engine="local", workers=_W
     workers = check_int("workers", workers, 1, 256)
     timeout = check_real("timeout", timeout, 0.0, 3600.0, lo_open=True)
     retries = check_int("retries", retries, 0, 10)
-    progress, retry_failed = check_bool("progress", progress), check_bool("retry_failed",
-                                                                          retry_failed)
+    progress, retry_failed = check_bool("progress", progress), check_bool("retry_failed", retry_failed)
     if engine == "dask" and not scheduler:
         raise ValueError("engine 'dask' needs a scheduler address, e.g. tcp://HOST:8786")
     if engine != "dask" and scheduler:
@@ -886,10 +890,7 @@ def load_runs(directory, final=True):
             " (the last one torn by an interrupted write: run the campaign again to compute "
             "its run)" if torn else ""))
     if final:
-        best = {}
-        for r in recs:
-            if r["index"] not in best or best[r["index"]]["status"] != "ok":
-                best[r["index"]] = r
+        best = _final(recs)
         recs = [best[i] for i in sorted(best)]
     rows = [{"index": r["index"], "seed": r["seed"], "status": r["status"], "error": r["error"],
              **{f"parameters.{k}": v for k, v in (r["parameters"] or {}).items()},

@@ -9,21 +9,26 @@ module of the package it imports, directly or not, with the shipped data; an edi
 that code computes the entry again, an edit elsewhere in the package does not. A write goes to
 a temporary file first and is renamed into place, so a reader never sees half a file; a second
 process asking for an entry another is computing waits for it and reads it (:func:`exclusive`),
-instead of computing it twice. A home that cannot be written still gets its result, uncached.
+instead of computing it twice. A home that cannot be written still gets its result, uncached;
+a cache on a full disk too, with one warning (:func:`store`).
 """
 
 from __future__ import annotations
 
 import contextlib
+import errno
 import functools
 import hashlib
 import os
 import tempfile
 import threading
+import warnings
 import zipfile
 from pathlib import Path
 
 import numpy as np
+
+from xnavlab.core.userfiles import InputWarning
 
 __all__ = ["cache_dir", "check_cache", "cached_arrays", "code_digest", "entry_path", "env_switch",
            "exclusive", "load_array", "source_digest", "store"]
@@ -73,8 +78,11 @@ def cache_dir():
 
     ``$XNAVLAB_CACHE`` set is checked at first use (created if missing): a file, or a folder
     that cannot be written, is refused in one line naming the variable, instead of every result
-    computed uncached without a word. The default, a home that cannot be written, still gets its
-    results, uncached.
+    computed uncached without a word. A leading ``~`` is expanded (a quoted value, an ``.env``
+    file, a kernel's ``env`` or a Docker ``ENV`` leave it as typed); a value with leading or
+    trailing blanks, or a relative path (another folder from each working directory: the
+    book's kernels run in ``book/``) is refused. The default, a home that cannot be written,
+    still gets its results, uncached.
 
     Returns
     -------
@@ -87,6 +95,11 @@ def cache_dir():
     >>> os.environ["XNAVLAB_CACHE"] = "/tmp/xnav-cache"
     >>> str(cache_dir())
     '/tmp/xnav-cache'
+    >>> os.environ["XNAVLAB_CACHE"] = "cache"
+    >>> cache_dir()  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: XNAVLAB_CACHE must name a folder this process can write, by its full path ...
     >>> del os.environ["XNAVLAB_CACHE"]
     >>> cache_dir() == Path.home() / ".cache" / "xnavlab"
     True
@@ -94,11 +107,17 @@ def cache_dir():
     given = os.environ.get("XNAVLAB_CACHE")
     if not given:
         return Path.home() / ".cache" / "xnavlab"
-    why = _usable(given)
+    folder = os.path.expanduser(given)
+    if given != given.strip():
+        why = "leading or trailing blanks"
+    elif not os.path.isabs(folder):
+        why = "a relative path: another folder from each working directory"
+    else:
+        why = _usable(folder)
     if why is not None:
-        raise ValueError(f"XNAVLAB_CACHE must name a folder this process can write (or be unset: "
-                         f"~/.cache/xnavlab); got {given!r} ({why})")
-    return Path(given)
+        raise ValueError(f"XNAVLAB_CACHE must name a folder this process can write, by its full "
+                         f"path (or be unset: ~/.cache/xnavlab); got {given!r} ({why})")
+    return Path(folder)
 
 
 def check_cache():
@@ -209,8 +228,10 @@ def store(path, write):
     Returns
     -------
     bool
-        True when stored; False where the cache cannot be written (a read-only home): the
-        caller keeps its result, uncached, and no temporary file is left. An exception of
+        True when stored; False where the cache cannot be written (a read-only home, a full
+        disk): the caller keeps its result, uncached, and no temporary file is left. A full
+        disk (or quota) is said once a process, in an
+        :class:`~xnavlab.core.userfiles.InputWarning` naming the folder. An exception of
         ``write`` is raised again, also without a temporary file left.
 
     Examples
@@ -228,15 +249,46 @@ def store(path, write):
         with open(tmp, "wb") as f:
             write(f)
         os.replace(tmp, path)
-    except OSError:
+    except OSError as exc:
+        full = _disk_full(exc, path.parent)  # before the partial file is removed
         with contextlib.suppress(OSError):
             tmp.unlink(missing_ok=True)
+        if full:
+            _say_full(path.parent, exc)
         return False
     except BaseException:  # a writer that fails (or Ctrl-C) leaves no temporary file either
         with contextlib.suppress(OSError):
             tmp.unlink(missing_ok=True)
         raise
     return True
+
+
+def _disk_full(exc, folder):
+    """Whether ``exc`` (a failed store) is a full disk or quota: its errno, or, for a writer
+    that drops it (``numpy.save``: "N requested and M written"), no block left in ``folder``."""
+    if exc.errno in (errno.ENOSPC, errno.EDQUOT):
+        return True
+    try:
+        return exc.errno is None and os.statvfs(folder).f_bavail == 0
+    except (OSError, AttributeError):  # pragma: no cover - no statvfs (Windows)
+        return False
+
+
+def _say_full(folder, exc):
+    """One warning a process that the cache's disk is full (each store would fail alike)."""
+    if _FULL:
+        return
+    _FULL.append(folder)
+    given = os.environ.get("XNAVLAB_CACHE")
+    name = (f"XNAVLAB_CACHE {given!r}" if given else
+            f"the cache {str(cache_dir())!r} (XNAVLAB_CACHE unset)")
+    why = (exc.strerror or "no space left on device").lower()
+    warnings.warn(f"{name}: {why}; results are not kept (each is computed again when next "
+                  f"used)", InputWarning, stacklevel=3)
+
+
+#: The folder of the first store that found its disk full (:func:`_say_full`), if any.
+_FULL: list = []
 
 
 @functools.lru_cache(maxsize=8)

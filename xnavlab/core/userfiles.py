@@ -6,7 +6,8 @@ any other input file is read here, so that every reader refuses the same things 
 a missing or unreadable file, a folder where a file belongs, text that is not UTF-8, and a
 syntax error each give one :class:`ValueError` that names the file and what is wrong with it,
 never a traceback or a codec error without the file's name. :func:`output_path` checks a
-place the package will write to, before a run, so that no result is computed and then lost.
+place the package will write to, before a run, so that no result is computed and then lost;
+:func:`write_whole` writes a file whole or not at all (a full disk leaves no file cut short).
 
 TOML needs the standard library's ``tomllib`` (Python 3.11+) or the package ``tomli`` (3.10,
 installed by ``environment.txt`` there).
@@ -14,13 +15,14 @@ installed by ``environment.txt`` there).
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import tempfile
 from pathlib import Path
 
 __all__ = ["InputWarning", "as_path", "path_kind", "read_text", "parse_toml", "load_table",
-           "check_rows", "csv_rows", "output_path"]
+           "check_rows", "csv_rows", "output_path", "write_whole"]
 
 
 class InputWarning(UserWarning):
@@ -363,4 +365,47 @@ def output_path(path, what="output", folder=False):
                          f"{str(target)!r} ({exc.strerror})") from None
     os.close(fd)
     os.unlink(probe)
+    return path
+
+
+def write_whole(path, write):
+    """Write the file ``path`` whole or not at all: ``write(tmp)`` writes a temporary file
+    beside it (``.NAME.PID.tmp`` and ``path``'s suffix, so that a writer that reads the format
+    from the suffix, such as ``savefig`` or ``numpy.savez``, writes the same bytes), which
+    then replaces ``path`` in one step.
+
+    On any exception (a full disk's ``OSError``, Ctrl-C) the temporary file is removed and the
+    exception raised again: ``path`` is left as it was, never a file cut short that looks
+    complete.
+
+    Parameters
+    ----------
+    path : str or pathlib.Path
+        The file (checked before by :func:`output_path`).
+    write : callable
+        ``write(tmp)`` writes the whole file at the :class:`pathlib.Path` ``tmp``.
+
+    Returns
+    -------
+    pathlib.Path
+        ``path``.
+
+    Examples
+    --------
+    >>> import tempfile
+    >>> out = Path(tempfile.mkdtemp()) / "a.json"
+    >>> write_whole(out, lambda tmp: tmp.write_text("{}")).read_text()
+    '{}'
+    >>> sorted(p.name for p in out.parent.iterdir())
+    ['a.json']
+    """
+    path = Path(path)
+    tmp = path.with_name(f".{path.stem}.{os.getpid()}.tmp{path.suffix}")
+    try:
+        write(tmp)
+        os.replace(tmp, path)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            tmp.unlink(missing_ok=True)
+        raise
     return path
