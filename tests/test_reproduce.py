@@ -465,3 +465,16 @@ def test_run_or_fail_raises_a_full_out_instead_of_an_error_row(dummy, monkeypatc
     with pytest.raises(reproduce.OutputError, match=r"^out '.*' cannot be written \(No space"):
         reproduce.run_or_fail("test-dummy", out=tmp_path / "o")
     assert reproduce.run_or_fail("test-dummy").verdict == reproduce.ERROR
+
+
+def test_save_figure_takes_the_dpi_and_a_figure_laid_out_already(tmp_path):
+    """The reproductions that saved at 90 dpi with savefig (a cut-short PNG on a full disk) go
+    through save_figure too; its dpi and layout are checked by name."""
+    fig, _ = reproduce.figure(figsize=(2.0, 1.0))
+    path = reproduce.save_figure(fig, tmp_path, "x", dpi=90, layout=False)
+    from matplotlib.image import imread
+    assert imread(path).shape[:2] == (90, 180)
+    with pytest.raises(ValueError, match=r"^dpi must be a real number in \[30, 300\], got 1000"):
+        reproduce.save_figure(fig, tmp_path, "x", dpi=1000)
+    with pytest.raises(ValueError, match=r"^layout must be True or False"):
+        reproduce.save_figure(fig, tmp_path, "x", layout="no")

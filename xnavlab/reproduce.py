@@ -350,8 +350,9 @@ class OutputError(ValueError):
     folder, not the reproduction, so :func:`run_or_fail` raises it instead of an ERROR row."""
 
 
-def save_figure(fig, out, name):
-    """Lay out ``fig`` and write it as ``out / (name + ".png")`` at 100 dpi; return the path.
+def save_figure(fig, out, name, *, dpi=100, layout=True):
+    """Lay out ``fig`` (unless not ``layout``: a figure its plotting function laid out) and
+    write it as ``out / (name + ".png")`` at ``dpi`` (30 to 300); return the path.
 
     Written whole or not at all (:func:`~xnavlab.core.userfiles.write_whole`); a write that
     fails (a full disk) is an :class:`OutputError` naming ``out`` and the file.
@@ -371,10 +372,12 @@ def save_figure(fig, out, name):
     out = _folder("out", out, create=False)
     if not (isinstance(name, str) and name.strip() and "/" not in name and "\\" not in name):
         raise ValueError(f"name must be a file name without its folder (a non-empty str); got {name!r}")
-    fig.tight_layout()
+    dpi = check_real("dpi", dpi, 30.0, 300.0)
+    if check_bool("layout", layout):
+        fig.tight_layout()
     path = out / f"{name}.png"
     try:
-        write_whole(path, lambda tmp: fig.savefig(tmp, dpi=100))
+        write_whole(path, lambda tmp: fig.savefig(tmp, dpi=dpi))
     except OSError as exc:
         raise OutputError(f"out {str(out)!r}: {path.name} cannot be written "
                           f"({exc.strerror or exc})") from None

@@ -40,6 +40,7 @@ from xnavlab.reproduce import (
     check_true,
     part_of,
     register,
+    save_figure,
 )
 
 __all__ = ["PAPER_MAX_ERROR_FAULTS_M", "PAPER_POSITION_ERROR_M", "PAPER_VELOCITY_ERROR_MPS",
@@ -559,9 +560,7 @@ def describe_faults(rows):
 
 def _save(result, out, fig, name):
     if out is not None:
-        path = out / name
-        fig.savefig(path, dpi=90)
-        result.figures.append(str(path))
+        result.figures.append(save_figure(fig, out, name, dpi=90, layout=False))
 
 
 @register("mars-faults-ekf", title="faults in the 30-day Mars run, no detector (Fig. 3)",
@@ -659,7 +658,7 @@ def mars_faults_ekf(out=None, days=30.0, seed=0):
         fig = plot_error_curves({"faults, no detector": (data["t_days"], data["faulty"]),
                                  "fault-free": (data["t_days"], data["clean"])},
                                 r["faults"], title="mars-faults-ekf (Fan et al. 2016, Fig. 3)")
-        _save(result, out, fig, "mars-faults-ekf.png")
+        _save(result, out, fig, "mars-faults-ekf")
     return result
 
 
@@ -868,5 +867,5 @@ def mars_faults_wavelet(out=None, days=30.0, seed=0, hand_days=3.0):
                                  "fault-free": (data["t_days"], data["clean"])}, r["faults"],
                                 title="mars-faults-wavelet (Fan et al. 2016, Fig. 4)",
                                 isolations=data["isolations"])
-        _save(result, out, fig, "mars-faults-wavelet.png")
+        _save(result, out, fig, "mars-faults-wavelet")
     return result

@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import time
 from functools import lru_cache
-from pathlib import Path
 
 import numpy as np
 
@@ -23,7 +22,7 @@ from xnavlab.core.validate import check_seeds
 from xnavlab.mars.faults import fault_tolerance, schedules
 from xnavlab.mars.navigation import scenarios
 from xnavlab.mars.navigation.plots import plot_details
-from xnavlab.reproduce import Result, check_event, check_measure, part_of, register
+from xnavlab.reproduce import Result, check_event, check_measure, part_of, register, save_figure
 from xnavlab.reproductions.ch08_mars_faults import paper_runs
 
 __all__ = ["DETAIL_SEEDS", "detail_runs", "wavelet_details"]
@@ -209,7 +208,5 @@ def wavelet_details(out=None, days=30.0, seed=0, pfa=1e-5, train_days=1.0):
     if out is not None:
         fig = plot_details(t / 86400.0, x, details, [f.onset / 86400.0 for f in faults],
                            title="wavelet-details (Fan et al. 2016, Fig. 5)")
-        path = Path(out) / "wavelet-details.png"
-        fig.savefig(path, dpi=90)
-        result.figures.append(str(path))
+        result.figures.append(save_figure(fig, out, "wavelet-details", dpi=90, layout=False))
     return result

@@ -96,7 +96,7 @@ from xnavlab.core import montecarlo
 from xnavlab.core.campaign import Campaign
 from xnavlab.core.constants import DAY
 from xnavlab.core.distributions import DOF_RANGE, chi2_ppf
-from xnavlab.core.userfiles import as_path, check_rows, load_table, output_path
+from xnavlab.core.userfiles import as_path, check_rows, load_table, output_path, write_whole
 from xnavlab.core.validate import (
     check_bool,
     check_choice,
@@ -535,9 +535,10 @@ def write_curve(directory, grid, runs, seed):
                           "false_alarms_per_day": "exact Poisson (Garwood), 95 %"},
             "curve": roc_curve(runs), "by_fault": roc_curve(runs, by_fault=True)}
     directory = output_path(directory, "directory", folder=True)
-    (directory / "roc.json").write_text(json.dumps(data, indent=1, allow_nan=False) + "\n")
-    # no ok run: an empty curve, an empty CSV
-    (directory / "roc.csv").write_text(curve_csv(data["curve"]) if data["curve"] else "")
+    text = json.dumps(data, indent=1, allow_nan=False) + "\n"
+    write_whole(directory / "roc.json", lambda tmp: tmp.write_text(text))  # whole or not at all
+    csv = curve_csv(data["curve"]) if data["curve"] else ""  # no ok run: an empty CSV
+    write_whole(directory / "roc.csv", lambda tmp: tmp.write_text(csv))
     return data
 
 
