@@ -77,7 +77,8 @@ def figure(*args, figsize=(6.0, 3.5), **kwargs):
 
     ``args`` and ``kwargs`` are ``Figure.subplots``' (``nrows``, ``ncols``, ``sharex``, ...);
     another keyword is refused, naming it. ``figsize`` is (width, height), inches, making at
-    most :data:`MAX_PIXELS` pixels at matplotlib's ``figure.dpi`` (:func:`check_figsize`).
+    most :data:`~xnavlab.core.plotting.MAX_PIXELS` pixels at matplotlib's ``figure.dpi``
+    (:func:`~xnavlab.core.plotting.check_figsize`).
 
     A bare :class:`matplotlib.figure.Figure` needs no backend, so writing figures never
     switches the backend of a running notebook kernel and leaves no open pyplot figure.
