@@ -215,3 +215,54 @@ def test_wavelet_detect_sensor_names_a_misspelt_keyword_and_a_bad_executor():
                                          r"str 'x'"):
         D.wavelet_detect_sensor(t, z, executor="x")
     assert D.wavelet_detect_sensor(t, z, level=4).data["components"][0].data["sigma"].size == 4
+
+
+_NO_NOISE = (r"has no noise over the training samples {span}: the median \|detail coefficient\| "
+             r"is 0 at {levels} of 5, so no noise level can be estimated; give {sigma} or a "
+             r"noisy series$")
+
+
+def _no_noise(series, span, sigma=r"sigma \(5 levels\)", levels="levels 1, 2, 3, 4, 5"):
+    return "^" + series + " " + _NO_NOISE.format(span=span, levels=levels, sigma=sigma)
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda t: D.wavelet_detect(t, np.full(2000, 5.0)),
+     _no_noise("x", r"\[0, 2000\) \(train not given: the whole series\)")),
+    (lambda t: D.wavelet_detect(t, np.r_[np.zeros(1000), np.ones(1000)], train=1000),
+     _no_noise("x", r"\[0, 1000\) \(train = 1000\)")),
+    (lambda t: D.wavelet_detect(t, np.ones(2000), train=np.full(600, 3.0)),
+     _no_noise("train", r"\[0, 600\) \(the whole series\)")),
+    (lambda t: D.wavelet_detect(t, np.round(0.3 * np.random.default_rng(0).normal(size=2000)),
+                                train=800),
+     _no_noise("x", r"\[0, 800\) \(train = 800\)", levels="level 1")),
+    (lambda t: D.wavelet_detect_sensor(t, np.full((2000, 3), 1.0)),
+     _no_noise(r"z\[:, 0\]", r"\[0, 2000\) \(train not given: the whole series\)",
+               sigma=r"sigma \(shape \(3, 5\)\)")),
+    (lambda t: D.wavelet_detect_sensor(t, np.c_[np.random.default_rng(0).normal(size=2000),
+                                                np.ones(2000)], train=np.ones((600, 2))),
+     _no_noise(r"train\[:, 0\]", r"\[0, 600\) \(the whole series\)",
+               sigma=r"sigma \(shape \(2, 5\)\)")),
+    (lambda t: D.BlockWavelet(t, np.zeros(2000)),
+     _no_noise("x", r"\[0, 2000\) \(train not given: the whole series\)")),
+])
+def test_review35_r15_a_series_with_no_noise_is_named_as_given(call, message):
+    """Review 35 R15: a constant series trained a noise level of 0, refused as "sigma must be
+    5 positive numbers" (sigma never given); the series and the training span are named."""
+    with pytest.raises(ValueError, match=message):
+        call(np.arange(2000.0))
+
+
+def test_review35_r15_online_training_on_a_constant_series_is_refused():
+    """Review 35 R15 in WaveletDetector.train: its x named, not the sigma it would set."""
+    with pytest.raises(ValueError, match=r"^x has no noise over its 1000 samples: the median "
+                       r"\|detail coefficient\| is 0 at level\(s\) 1, 2, 3, 4, 5 of 5, so no noise "
+                       r"level can be estimated; give sigma \(5 levels\) or a noisy series$"):
+        D.WaveletDetector().train(np.full(1000, 2.0))
+
+
+def test_review35_r15_a_short_series_to_train_on_is_named_x():
+    """The length check the batch detector took from WaveletDetector.train keeps its words."""
+    with pytest.raises(ValueError, match=r"^x must be a 1-D training series of at least 356 "
+                       r"samples \(train and sigma not given\), got shape \(100,\)$"):
+        D.wavelet_detect(np.arange(100.0), np.ones(100))

@@ -384,3 +384,17 @@ def test_the_monitor_restore_refuses_a_state_that_is_no_snapshot():
     with pytest.raises(ValueError, match=r"^state must be a snapshot\(\) of this monitor"):
         mon.restore({"a": 1})
     mon.restore(mon.snapshot())
+
+
+def test_review35_r15_a_series_with_no_noise_is_named_as_given():
+    """Review 35 R15: combined_detect on a constant y named sigma, never given; it names
+    y[:, 0] (or x when given), the training span and wavelet_kw's sigma."""
+    t = np.arange(2000.0)
+    tail = (r" has no noise over the training samples {}: the median \|detail coefficient\| is 0 "
+            r"at levels 1, 2, 3, 4, 5 of 5, so no noise level can be estimated; give "
+            r"wavelet_kw=\{{'sigma': \.\.\.\}} \(5 levels\) or a noisy series$")
+    with pytest.raises(ValueError, match=r"^y\[:, 0\] \(x not given\)"
+                       + tail.format(r"\[0, 2000\) \(train not given: the whole series\)")):
+        combined_detect(t, np.zeros(2000))
+    with pytest.raises(ValueError, match=r"^x" + tail.format(r"\[0, 1000\) \(train = 1000\)")):
+        combined_detect(t, np.random.default_rng(0).normal(size=2000), x=np.ones(2000), train=1000)

@@ -65,3 +65,26 @@ def test_cwt_bounds_its_scales_and_does_not_use_dt():
     with pytest.raises(ValueError, match=r"^scales must lie in \[0.0625, 625000\]"):
         D.cwt(x, [0.05], "mexh")
     assert D.cwt(x, [0.1, 1e6]).shape == (2, 128)
+
+
+def test_review35_r10_a_cone_with_no_coefficient_is_refused():
+    """Review 35 R10: a cone maximum of 0 was floored at 1e-300 before log2, giving -0.5 for
+    no signal and -299.6 for one empty scale; it is refused naming w, the scale and index."""
+    s = np.array([1.0, 2, 4, 8])
+    with pytest.raises(ValueError, match=r"^w is 0 in its cone at scales 1, 2, 4, 8: no "
+                       r"singularity at index 100 \(the exponent is the slope of log2"):
+        D.lipschitz_exponent(np.zeros((4, 200)), s, 100)
+    w = np.zeros((4, 200))
+    w[0, 95:105], w[1, 95:105], w[2, 95:105] = 1.0, 0.5, 0.25
+    with pytest.raises(ValueError, match=r"^w is 0 in its cone at scale 8: no singularity at "
+                       r"index 100 "):
+        D.lipschitz_exponent(w, s, 100)
+    w[3, 100] = 1e-14        # rounding, not a coefficient: below 1e-12 of the largest |w|
+    with pytest.raises(ValueError, match=r"^w is at most 1e-14, below 1e-12 of its largest "
+                       r"\|w\| \(1\), in its cone at scale 8: no singularity at index 100 "):
+        D.lipschitz_exponent(w, s, 100)
+    with pytest.raises(ValueError, match=r"^w is 0 in its cone at scales 1, 2, 4, 8: no "
+                       r"singularity at index 1000 "):
+        D.lipschitz_exponent(D.cwt(np.full(2000, 5.0), s), s, 1000)
+    w[3, 100] = 0.125        # a real decay is still fitted: 2^(-j), alpha = -1.5
+    assert D.lipschitz_exponent(w, s, 100) == pytest.approx(-1.5)

@@ -525,3 +525,24 @@ def test_messages_are_one_line():
     with pytest.raises(ValueError) as err:
         check_finite_array("q", np.ones((3, 4), dtype=bool))
     assert str(err.value) == "q must be an array of finite numbers, got a bool array of shape (3, 4)"
+
+
+def test_review35_r16_a_decimal_is_refused_saying_why():
+    """Review 35 R16: Decimal("0.02") was refused as "not a real number"; it is refused (a
+    Decimal mixes with no float, and callers may keep the raw value), saying so."""
+    from decimal import Decimal
+    from fractions import Fraction
+
+    with pytest.raises(ValueError, match=r"^days must be a real number in \(0, 365\], got "
+                       r"Decimal\('0\.02'\): a Decimal is not taken \(pass float\(value\)\)$"):
+        check_real("days", Decimal("0.02"), 0.0, 365.0, lo_open=True)
+    with pytest.raises(ValueError, match=r"^x must be a finite real number, got Decimal\('NaN'\): "
+                       r"a Decimal is not taken \(pass float\(value\)\)$"):
+        check_real("x", Decimal("NaN"))
+    with pytest.raises(ValueError, match=r"^n must be an integer in \[1, inf\), got Decimal\('5'\): "
+                       r"a Decimal is not taken \(pass int\(value\)\)$"):
+        check_int("n", Decimal("5"), 1)
+    assert check_real("days", Fraction(1, 50), 0.0, 365.0) == 0.02      # a Fraction is taken
+    with pytest.raises(ValueError, match=r"^days must be a real number in \[0, 365\], got "
+                       r"'0\.02'$"):                                      # no note for text
+        check_real("days", "0.02", 0.0, 365.0)

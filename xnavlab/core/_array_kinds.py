@@ -15,10 +15,12 @@ from __future__ import annotations
 import datetime
 import re
 import warnings
+from decimal import Decimal
 
 import numpy as np
 
-__all__ = ["as_array", "odd_item", "item_kinds", "carries_unit", "unit_refusal", "one_line"]
+__all__ = ["as_array", "odd_item", "item_kinds", "carries_unit", "unit_refusal", "one_line",
+           "decimal_note"]
 
 #: Item types whose kind is read item by item in an object array (a container's or an int's
 #: kind depends on its content or size); any other type by its first item.
@@ -172,3 +174,21 @@ def one_line(text):
     'SeedSequence( entropy=0, )'
     """
     return re.sub(r"\s*\n\s*", " ", text)
+
+
+def decimal_note(value, cast):
+    """Why a ``Decimal`` is refused where a number is wanted, else ``""``: the end of the
+    refusal's line (review 35 R16: "must be a real number, got Decimal('0.02')" was untrue).
+
+    A Decimal is not a ``numbers.Real`` and mixes with no float (``Decimal * float`` is a
+    TypeError), and the checks' callers may keep the value they checked: it is refused, not
+    converted (a ``Fraction`` is a ``numbers.Real`` and works with floats).
+
+    Examples
+    --------
+    >>> decimal_note(Decimal("0.02"), "float")
+    ': a Decimal is not taken (pass float(value))'
+    >>> decimal_note("0.02", "float")
+    ''
+    """
+    return f": a Decimal is not taken (pass {cast}(value))" if isinstance(value, Decimal) else ""

@@ -12,7 +12,7 @@ from numbers import Integral, Real
 
 import numpy as np
 
-from xnavlab.core._array_kinds import as_array, item_kinds, odd_item, one_line, unit_refusal
+from xnavlab.core._array_kinds import as_array, decimal_note, item_kinds, odd_item, one_line, unit_refusal
 
 __all__ = [
     "shown",
@@ -75,13 +75,14 @@ def check_real(name, value, lo=-math.inf, hi=math.inf, *, lo_open=False, hi_open
     ValueError: t0 must be a finite real number, got (1+2j)
 
     An infinite bound is written open (``[0, inf)``: every finite number from 0) and no
-    bounds at all as "a finite real number", never ``[-inf, inf]``.
+    bounds at all as "a finite real number", never ``[-inf, inf]``. A ``Decimal`` is refused,
+    saying so (it mixes with no float; a ``Fraction`` is taken).
     """
     _check_bounds(name, lo, hi)
     want = f"a {'finite ' if lo == -math.inf and hi == math.inf else ''}real number" \
         + _range(lo, hi, lo_open, hi_open)
     if isinstance(value, bool | np.timedelta64) or not isinstance(value, Real | np.floating | np.integer):
-        raise ValueError(f"{name} must be {want}, got {shown(value)}")
+        raise ValueError(f"{name} must be {want}, got {shown(value)}{decimal_note(value, 'float')}")
     try:
         x = float(value)
     except OverflowError:  # an integer beyond any float (10**400): out of every range
@@ -111,7 +112,8 @@ def check_int(name, value, lo=-math.inf, hi=math.inf):
     _check_bounds(name, lo, hi)
     want = "an integer" + _range(lo, hi, False, False, exact=True)
     if isinstance(value, bool | np.timedelta64) or not isinstance(value, Integral | np.integer):
-        raise ValueError(f"{name} must be {want}, got {shown(value)}")  # a timedelta64 is an integer to numpy
+        # (a timedelta64 is an integer to numpy)
+        raise ValueError(f"{name} must be {want}, got {shown(value)}{decimal_note(value, 'int')}")
     if value < lo or value > hi:
         raise ValueError(f"{name} must be {want}, got {shown(value)}")
     return int(value)

@@ -24,6 +24,7 @@ from xnavlab.core.detection.online import (
     causal_details,
     causal_filters,
     events_from_alarms,
+    mad_sigma,
 )
 from xnavlab.core.validate import (
     check_finite_array,
@@ -231,16 +232,20 @@ class BlockWavelet:
         start = 0
         if det.sigma is None:
             if train is None:
-                det.train(x)
+                if n < det.window + 200:
+                    raise ValueError(f"x must be a 1-D training series of at least "
+                                     f"{det.window + 200} samples (train and sigma not given), "
+                                     f"got shape {x.shape}")
+                _train(det, x, "x", f"[0, {n}) (train not given: the whole series)")
             elif isinstance(train, int | np.integer) and not isinstance(train, bool):
                 start = check_int("train", train, det.window + 200, n)
-                det.train(x[:start])
+                _train(det, x[:start], "x", f"[0, {start}) (train = {start})")
             else:
                 train = check_finite_array("train", train)
                 if train.ndim != 1 or train.size < det.window + 200:   # named here, not as det.train's x
                     raise ValueError(f"train must be a 1-D fault-free series of at least "
                                      f"{det.window + 200} samples (or an int), got shape {train.shape}")
-                det.train(train)
+                _train(det, train, "train", f"[0, {train.size}) (the whole series)")
         self.d = np.empty((det.level, n))
         self.ratio = np.empty(n)
         self.which = np.zeros(n, dtype=np.int8)
@@ -304,6 +309,37 @@ class BlockWavelet:
                                "holdoff": det.holdoff, "tests": tests})
 
 
+def _train(det, series, name, span):
+    """Set ``det.sigma`` by the MAD of each level's details of ``series`` (as
+    :meth:`xnavlab.core.detection.online.WaveletDetector.train`), else :class:`_NoNoise` naming
+    ``name`` (``"x"`` or ``"train"``) and the training samples ``span``."""
+    sigma = mad_sigma(causal_details(series, det.wavelet, det.level)[:, det.window - 1:])
+    if np.any(sigma <= 0.0):   # a MAD of 0 was refused as sigma, never given (review 35 R15)
+        raise _NoNoise(name, span, np.flatnonzero(sigma <= 0.0) + 1, det.level)
+    det.sigma = sigma
+
+
+class _NoNoise(ValueError):
+    """A training series with no noise at some level (the median of its ``|d_j|`` is 0).
+
+    ``series`` is ``"x"`` or ``"train"``; :meth:`reword` gives the message in a caller's
+    words (a sensor's column, :func:`xnavlab.core.detection.combined.combined_detect`'s
+    default ``y[:, 0]``)."""
+
+    def __init__(self, series, span, levels, level):
+        self.series, self.span, self.levels, self.level = series, span, levels, level
+        super().__init__(self.reword(series))
+
+    def reword(self, series, sigma=None):
+        """The message naming ``series`` and, to give instead, ``sigma`` (default ``sigma``
+        of ``level`` levels)."""
+        levels = ("level " if len(self.levels) == 1 else "levels ") + ", ".join(map(str, self.levels))
+        sigma = f"sigma ({self.level} levels)" if sigma is None else sigma
+        return (f"{series} has no noise over the training samples {self.span}: the median "
+                f"|detail coefficient| is 0 at {levels} of {self.level}, so no noise level "
+                f"can be estimated; give {sigma} or a noisy series")
+
+
 class BlockWaveletSensor(BlockWavelet):
     """:func:`wavelet_detect_sensor` computed block by block in time: one :class:`BlockWavelet`
     per component with ``pfa / m``, their alarms OR-ed.
@@ -338,8 +374,12 @@ class BlockWaveletSensor(BlockWavelet):
 
         def one(i):
             tr = train if train is None or isinstance(train, int | np.integer) else train[:, i]
-            return BlockWavelet(t, z[:, i], pfa=pfa / m, train=tr,
-                                sigma=None if sigma is None else sigma[i], **kwargs)
+            try:
+                return BlockWavelet(t, z[:, i], pfa=pfa / m, train=tr,
+                                    sigma=None if sigma is None else sigma[i], **kwargs)
+            except _NoNoise as e:   # named as the user gave it: a column of z or of train
+                raise ValueError(e.reword(f"{'z' if e.series == 'x' else 'train'}[:, {i}]",
+                                          f"sigma (shape ({m}, {e.level}))")) from None
 
         self.executor = executor
         self.parts = self._map(one, range(m))

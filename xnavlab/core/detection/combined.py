@@ -729,6 +729,7 @@ def combined_detect(t, y, *, x=None, design=None, rate_per_day=1.0, adaptive=Tru
         if rate_per_day != 1.0:  # a rate beside a design would go unused
             raise ValueError(f"rate_per_day = {shown(rate_per_day)} is unused with a design (its "
                              f"own rate is {design.rate_per_day:g}): give one of them")
+    given_x = x is not None
     x = y[:, 0] if x is None else check_shape("x", x, (t.size,), "one measurement a time of t")
     wkw = check_keywords("combined_detect", wavelet_kw, wavelet_detect, name="wavelet_kw",
                          set_here={"t": "its t", "x": "its x (default y[:, 0])",
@@ -738,7 +739,7 @@ def combined_detect(t, y, *, x=None, design=None, rate_per_day=1.0, adaptive=Tru
     own = [k for k in inspect.signature(combined_detect).parameters if k not in ("t", "y", "monitor_kw")]
     monitor_kw = check_keywords("combined_detect", monitor_kw,
                                 own + ["scale_samples", "scale_every", "prior_samples"])
-    wav = wavelet_detect(t, x, pfa=design.pfa_wavelet, train=train, **wkw)
+    wav = _wavelet_part(t, x, given_x, design.pfa_wavelet, train, wkw)
     mon = InnovationMonitor(design, adaptive=adaptive, **monitor_kw)
     rec = {}
     mon.process(t, y, stop=False, record=rec)
@@ -758,6 +759,20 @@ def combined_detect(t, y, *, x=None, design=None, rate_per_day=1.0, adaptive=Tru
     return Detection(t, best, alarm, faulty, wav.armed, events,
                      data={"first": first, "parts": parts, "ratio": ratio, "design": design,
                            "wavelet": wav, "scale": mon.scale.copy()})
+
+
+def _wavelet_part(t, x, given_x, pfa, train, wkw):
+    """:func:`xnavlab.core.detection.batch.wavelet_detect` of ``x``; a series with no noise to
+    train on is refused naming it as :func:`combined_detect` was given it (``y[:, 0]`` when
+    ``x`` was not given) and ``wavelet_kw``'s sigma."""
+    try:
+        return wavelet_detect(t, x, pfa=pfa, train=train, **wkw)
+    except ValueError as e:
+        reword = getattr(e, "reword", None)   # batch's no-noise refusal, in its caller's words
+        if reword is None:
+            raise
+        series = ("x" if given_x else "y[:, 0] (x not given)") if e.series == "x" else "train"
+        raise ValueError(reword(series, f"wavelet_kw={{'sigma': ...}} ({e.level} levels)")) from None
 
 
 def _check_design(design, dt, m):

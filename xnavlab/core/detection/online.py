@@ -819,8 +819,14 @@ class WaveletDetector(TrackedDetector):
         if x.ndim != 1 or x.size < self.window + 200:
             raise ValueError(f"x must be a 1-D training series of at least {self.window + 200} "
                              f"samples, got shape {x.shape}")
-        d = causal_details(x, self.wavelet, self.level)[:, self.window - 1:]
-        self._set_sigma(mad_sigma(d))
+        sigma = mad_sigma(causal_details(x, self.wavelet, self.level)[:, self.window - 1:])
+        if np.any(sigma <= 0.0):   # a MAD of 0 (a constant x) was refused as sigma, never given
+            levels = ", ".join(str(j + 1) for j in np.flatnonzero(sigma <= 0.0))
+            raise ValueError(f"x has no noise over its {x.size} samples: the median |detail "
+                             f"coefficient| is 0 at level(s) {levels} of {self.level}, so no "
+                             f"noise level can be estimated; give sigma ({self.level} levels) "
+                             f"or a noisy series")
+        self._set_sigma(sigma)
 
     def reset(self):
         """Forget the data seen (keeps ``sigma``)."""

@@ -74,6 +74,12 @@ def lipschitz_exponent(w, scales, index, cone=None):
     -------
     float
 
+    Raises
+    ------
+    ValueError
+        When the maximum of ``|w|`` in the cone at some scale is 0 or below 1e-12 of the
+        largest ``|w|`` (a constant signal, no singularity there): its logarithm is no decay.
+
     Examples
     --------
     >>> n = np.arange(-512, 512)
@@ -96,12 +102,30 @@ def lipschitz_exponent(w, scales, index, cone=None):
     if np.any(cone <= 0.0):  # a negative half-width leaves no sample to search
         raise ValueError(f"cone must be positive half-widths (samples), one per scale, got "
                          f"{float(cone.min()):g}")
-    peaks = []
-    for row, c in zip(w, cone, strict=True):
-        lo, hi = max(0, index - int(math.ceil(c))), min(w.shape[1], index + int(math.ceil(c)) + 1)
-        peaks.append(np.abs(row[lo:hi]).max())
-    slope = np.polyfit(np.log2(scales), np.log2(np.maximum(peaks, 1e-300)), 1)[0]
+    half = [int(math.ceil(c)) for c in cone]
+    peaks = np.array([np.abs(row[max(0, index - h):index + h + 1]).max()
+                      for row, h in zip(w, half, strict=True)])
+    _check_peaks(peaks, scales, index, float(np.abs(w).max()))
+    slope = np.polyfit(np.log2(scales), np.log2(peaks), 1)[0]
     return float(slope - 0.5)
+
+
+#: The smallest cone maximum :func:`lipschitz_exponent` fits, relative to the largest ``|w|``
+#: (below it the maxima are rounding, and their log an exponent of nothing).
+_PEAK_FLOOR = 1e-12
+
+
+def _check_peaks(peaks, scales, index, top):
+    """ValueError naming ``w``, the scales and ``index`` when a cone maximum is 0 or below
+    ``_PEAK_FLOOR`` times ``top`` (the largest ``|w|``): its log2 was floored at 1e-300."""
+    low = peaks <= _PEAK_FLOOR * top
+    if not low.any():
+        return
+    at = ("scale " if low.sum() == 1 else "scales ") + ", ".join(f"{a:g}" for a in scales[low])
+    what = "0" if not peaks[low].any() else \
+        f"at most {peaks[low].max():.3g}, below {_PEAK_FLOOR:g} of its largest |w| ({top:.3g}),"
+    raise ValueError(f"w is {what} in its cone at {at}: no singularity at index {index} "
+                     f"(the exponent is the slope of log2 of the cone's maximum over log2(scale))")
 
 
 def _scales(scales, n=None):
