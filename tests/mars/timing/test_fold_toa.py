@@ -316,3 +316,23 @@ def test_a_float32_window_epoch_is_refused_with_its_resolution(call, name):
     with pytest.raises(ValueError, match=f"^{name} must resolve its epochs to 0.001 s: as float32 "
                                          "it resolves 32 s"):
         call()
+
+
+def test_the_cached_survey_of_a_custom_pulsar_is_its_own(monkeypatch, tmp_path):
+    """Review 35 R8: with cache=True a Pulsar was keyed and computed by its name, so it got
+    the catalogue pulsar's rows (a bound of 454.2 m for 19.5 m)."""
+    import dataclasses
+
+    from xnavlab.mars.timing import pulsars
+
+    monkeypatch.setenv("XNAVLAB_CACHE", str(tmp_path))
+    cat = pulsars.get("B1937+21")
+    mine = dataclasses.replace(cat, ra_deg=10.0, dec_deg=-40.0, flux=cat.flux * 100)
+    for ps in ([mine], ["B1937+21"]):
+        computed = ft.window_survey(ps, n_windows=1)
+        assert ft.window_survey(ps, n_windows=1, cache=True) == computed  # stored
+        assert ft.window_survey(ps, n_windows=1, cache=True) == computed  # read back
+    assert ft.window_survey([mine], n_windows=1, cache=True)[0]["crlb_m"] == pytest.approx(19.48, abs=0.01)
+    assert ft.window_survey(["B1937+21"], n_windows=1, cache=True)[0]["crlb_m"] == pytest.approx(454.21,
+                                                                                                abs=0.01)
+    assert len(list(tmp_path.glob("fold-survey-*.json"))) == 2

@@ -663,3 +663,63 @@ def test_phase_refuses_times_whose_dtype_rounds_the_phase():
     with pytest.raises(ValueError, match=r"^t must resolve its times to 0.001 s \(0.001 of a cycle at f = "
                                          r"0.1 Hz, at most 0.001 s\): as float32 it resolves 0.00781 s"):
         pulsars.phase(np.float32([1e5]), [0.1], t0=1e5)  # a slow pulsar: 1 ms, as every epoch
+
+
+_B1937_PAR = ("PSR B1937+21\nRAJ 19:39:38.56\nDECJ 21:34:59.1\nF0 641.9282633\nF1 -4.33e-14\n"
+              "PEPOCH 55000\nPX 0.28\n")
+
+
+def test_get_reads_a_par_replaced_by_one_with_the_same_mtime(tmp_path):
+    """Review 35 R7: get(path) was cached by path and modification time, and cp -p, rsync -t,
+    tar x or shutil.copy2 keep the time: the replaced model's pulsar was given back."""
+    import os
+    import shutil
+
+    a, new = tmp_path / "a.par", tmp_path / "new.par"
+    a.write_text(_B1937_PAR)
+    new.write_text(_B1937_PAR.replace("641.9282633", "300.0"))
+    stat = a.stat()
+    os.utime(new, ns=(stat.st_atime_ns, stat.st_mtime_ns))
+    assert pulsars.get(str(a)).period == pytest.approx(1 / 641.9282633, rel=1e-12)
+    shutil.copy2(new, a)
+    assert a.stat().st_mtime_ns == stat.st_mtime_ns
+    assert pulsars.get(str(a)).period == pytest.approx(1 / 300.0, rel=1e-12)
+    assert pulsars.get(str(a)) is pulsars.get(str(a))  # read once per content
+    with pytest.raises(ValueError, match=r"^pulsar '.*nope\.par': no such timing model \(\.par\) file$"):
+        pulsars.get(str(tmp_path / "nope.par"))
+    (tmp_path / "dir.par").mkdir()
+    with pytest.raises(ValueError, match=r"^pulsar '.*dir\.par': the timing model cannot be read \("):
+        pulsars.get(str(tmp_path / "dir.par"))
+
+
+def test_a_par_with_a_byte_order_mark_keeps_its_first_line(tmp_path):
+    """Review 35 R9: PINT read a UTF-8 byte-order mark into the first keyword, dropped the PSR
+    line (a UserWarning of its own) and named the pulsar "None"; the mark is now skipped."""
+    bom = tmp_path / "b1937_bom.par"
+    bom.write_bytes(b"\xef\xbb\xbf" + _B1937_PAR.encode())
+    p = pulsars.from_par(bom)
+    assert p.name == "B1937+21" and p.flux == pytest.approx(4.99e-5 * 1e4, rel=1e-12)
+    assert p == pulsars.get(str(bom))
+    from xnavlab.mars.timing import pint_bridge
+
+    text = pint_bridge.examples_path("B1855+09_NANOGrav_9yv1.gls.par").read_bytes()
+    (tmp_path / "bom.par").write_bytes(b"\xef\xbb\xbf" + text)
+    assert pulsars.from_par(tmp_path / "bom.par", flux_ph_cm2_s=1e-5, pulsed_fraction=0.5,
+                            duty_cycle=0.1).name == "B1855+09"
+    bad = tmp_path / "bad.par"  # PINT's refusal names the file given, not the copy without the mark
+    bad.write_bytes(b"\xef\xbb\xbf" + _B1937_PAR.replace("RAJ 19:39:38.56", "RAJ foo").encode())
+    with pytest.raises(ValueError, match=rf"^path: PINT cannot read the timing model '{bad}' \("):
+        pulsars.from_par(bad)
+
+
+@pytest.mark.parametrize("first", ["", "PSR\n", "# PSR B1937+21\n"])
+def test_a_par_without_the_pulsar_s_name_is_refused(tmp_path, first):
+    """Review 35 R9: a model without a PSR line was read as the pulsar "None"."""
+    path = tmp_path / "x.par"
+    path.write_text(first + _B1937_PAR.replace("PSR B1937+21\n", ""))
+    with pytest.raises(ValueError, match=r"^path: '.*x\.par' is not a pulsar timing model: it has no "
+                                         r"PSR line with the pulsar's name \(e\.g\. PSR B1937\+21; "
+                                         r"PSRJ or PSRB too\)$"):
+        pulsars.from_par(path, flux_ph_cm2_s=1e-5, pulsed_fraction=0.5, duty_cycle=0.1)
+    path.write_text(_B1937_PAR.replace("PSR ", "PSRJ "))
+    assert pulsars.from_par(path).name == "B1937+21"

@@ -314,3 +314,25 @@ def test_review_35k_1_22_monte_carlo_photons_bounded():
     """Review 35k (1) 22: photons=True with t_obs = 1e6 s and 100 m^2 was a MemoryError (7.8 TiB)."""
     with pytest.raises(ValueError, match=r"^t_obs must keep the expected photons at most 5e\+07"):
         tb.monte_carlo_ml_toa("B0531+21", n_trials=2, t_obs=1e6, area_m2=100.0, photons=True, rng=0)
+
+
+def test_the_cached_table_of_a_custom_pulsar_is_its_own(monkeypatch, tmp_path):
+    """Review 35 R8: with cache=True a Pulsar (or a .par pulsar) was keyed and computed by its
+    name, so it got the catalogue pulsar's rows (344.5 m for 21.7 m), and a .par pulsar not in
+    the catalogue was refused as an unknown name."""
+    from xnavlab.mars.timing import pint_bridge
+
+    monkeypatch.setenv("XNAVLAB_CACHE", str(tmp_path))
+    cat = pulsars.get("B1937+21")
+    mine = dataclasses.replace(cat, ra_deg=10.0, dec_deg=-40.0, flux=cat.flux * 100)
+    par = pulsars.from_par(pint_bridge.examples_path("B1855+09_NANOGrav_9yv1.gls.par"),
+                           flux_ph_cm2_s=1e-5, pulsed_fraction=0.5, duty_cycle=0.1)
+    args = dict(n_trials=10, xcorr_trials=0)
+    for ps in ([mine], [par], ["B1937+21"]):
+        computed = tb.accuracy_table(ps, **args)
+        assert tb.accuracy_table(ps, **args, cache=True) == computed  # stored
+        assert tb.accuracy_table(ps, **args, cache=True) == computed  # read back
+    assert tb.accuracy_table([mine], **args, cache=True)[0]["formula_m"] == pytest.approx(21.68, abs=0.01)
+    assert tb.accuracy_table(["B1937+21"], **args, cache=True)[0]["formula_m"] == pytest.approx(344.54,
+                                                                                              abs=0.01)
+    assert len(list(tmp_path.glob("accuracy-table-*.json"))) == 3

@@ -38,3 +38,17 @@ def test_lookup_takes_a_name_only(bad):
     """Issue 35 (review 35h): True was looked up as the name 'TRUE' (and found nothing)."""
     with pytest.raises(ValueError, match=r"^name must be text \(a str\)"):
         xray_pulsars.lookup(bad)
+
+
+def test_the_table_and_its_rows_are_read_only():
+    """Review 35 R4: table() (cached) and lookup() gave back the dicts every later from_par
+    read, so editing a row changed the flux of every later pulsar from a .par."""
+    row = xray_pulsars.lookup("B1937+21")
+    for target in (row, xray_pulsars.table()["B1937+21"]):
+        with pytest.raises(TypeError, match="does not support item assignment"):
+            target["flux_ph_cm2_s"] = 1e3
+    with pytest.raises(TypeError, match="does not support item assignment"):
+        xray_pulsars.table()["B1937+21"] = {}
+    copy = dict(row)
+    copy["flux_ph_cm2_s"] = 1e3  # a copy is the caller's
+    assert xray_pulsars.lookup("B1937+21")["flux_ph_cm2_s"] == 4.99e-5

@@ -1,6 +1,7 @@
 """Checks that the timing modules share: a pulsar's fields, the spin drift a photon simulation
 can invert, an observation's span, the exposure a fold divides by, two positions that broadcast,
-a position outside a body, photon times a dtype can place in a phase bin, a .par file's text.
+a position outside a body, photon times a dtype can place in a phase bin, a .par file's text
+(and its key, and a copy PINT can read).
 
 Plumbing of :mod:`xnavlab.mars.timing` (imported by :mod:`xnavlab.mars.timing.pulsars`); not
 part of the public API.
@@ -8,7 +9,11 @@ part of the public API.
 
 from __future__ import annotations
 
+import codecs
+import contextlib
+import hashlib
 import os
+import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -20,7 +25,8 @@ from xnavlab.core.validate import check_finite_array, check_real, shown
 __all__ = ["EPOCH_RESOLUTION", "check_epochs", "check_epoch",
            "MAX_DRIFT", "MAX_PHOTONS", "RADII", "check_pulsar_fields", "check_spin_drift", "check_span",
            "check_exposure", "check_broadcast", "check_outside", "check_photons",
-           "check_times_dtype", "PHASE_RESOLUTION", "check_phase_dtype", "check_par_text"]
+           "check_times_dtype", "PHASE_RESOLUTION", "check_phase_dtype", "check_par_text",
+           "PAR_NAMES", "par_digest", "readable_par"]
 
 #: :data:`xnavlab.core.ephemeris.EPOCH_RESOLUTION` (1 ms), the one rule of the epochs' dtype
 #: (a float32 epoch near 5e8 s moved clock_terms' clock term by 1.2e-7 s, 36 m).
@@ -278,11 +284,17 @@ def check_phase_dtype(f, named):
                              f"resolves {res:.3g} s at {largest:.6g} s; pass float64 times")
 
 
+#: The keywords that name the pulsar in a timing model (PINT's ``PSR`` and its aliases).
+PAR_NAMES = ("PSR", "PSRJ", "PSRB")
+
+
 def check_par_text(path):
-    """A file that is no timing model (binary, empty, without F0) refused in our words, naming
-    it; PINT would say "Model must have one and only one spindown component", or take 0 Hz."""
+    """A file that is no timing model (binary, empty, without F0 or PSR) refused in our words,
+    naming it; PINT would say "Model must have one and only one spindown component", take 0 Hz,
+    or name the pulsar "None". Returns the file's bytes (``None`` for no file: PINT's reader
+    names it)."""
     if not isinstance(path, str | os.PathLike) or not Path(path).is_file():
-        return  # timing_parameters names it
+        return None  # timing_parameters names it
     try:
         data = Path(path).read_bytes()
     except OSError as exc:
@@ -292,7 +304,7 @@ def check_par_text(path):
         raise ValueError(f"{head}: it holds binary data (byte 0x00 at position {data.index(0)}), "
                          f"not the text of a .par file")
     try:
-        text = data.decode("utf-8")
+        text = data.decode("utf-8").removeprefix("\ufeff")  # a byte-order mark: readable_par
     except UnicodeDecodeError as exc:
         raise ValueError(f"path: the timing model {str(path)!r} is not UTF-8 text (byte "
                          f"{data[exc.start]:#04x} at position {exc.start})") from None
@@ -309,3 +321,60 @@ def check_par_text(path):
     except (IndexError, ValueError):
         raise ValueError(f"{head}: its F0 line holds no number (the spin frequency, Hz), got "
                          f"{' '.join(f0[0])!r}") from None
+    if not any(ln[0].upper() in PAR_NAMES and len(ln) > 1 for ln in lines):  # PINT: "None"
+        raise ValueError(f"{head}: it has no PSR line with the pulsar's name (e.g. PSR B1937+21; "
+                         f"PSRJ or PSRB too)")
+    return data
+
+
+def par_digest(name, path):
+    """The SHA-256 of a ``.par`` file's bytes (hex), which keys the pulsar read from it, else
+    one ValueError naming the pulsar ``name`` as given.
+
+    Its bytes, not its modification time: ``cp -p``, ``rsync -t``, ``tar x``, ``unzip`` and
+    ``shutil.copy2`` keep a file's time, so another model can replace it unseen.
+
+    Examples
+    --------
+    >>> par_digest("x.par", "/no/such/x.par")
+    Traceback (most recent call last):
+    ...
+    ValueError: pulsar 'x.par': no such timing model (.par) file
+    """
+    try:
+        return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    except FileNotFoundError:
+        raise ValueError(f"pulsar {name!r}: no such timing model (.par) file") from None
+    except OSError as exc:  # a folder, a file without read permission
+        raise ValueError(f"pulsar {name!r}: the timing model cannot be read ({exc.strerror})") from None
+
+
+@contextlib.contextmanager
+def readable_par(path):
+    """``path``, checked by :func:`check_par_text`, for PINT to read: as it is, or, when it
+    starts with a UTF-8 byte-order mark, a copy without the mark (in a temporary folder while
+    the ``with`` block runs). PINT reads the mark into the first keyword (``'\\ufeffPSR'``),
+    drops that line with a warning and names the pulsar "None". A ValueError raised in the block
+    names ``path``, never the copy.
+
+    Examples
+    --------
+    >>> folder = Path(tempfile.mkdtemp())
+    >>> (folder / "m.par").write_bytes(codecs.BOM_UTF8 + b"PSR B1937+21\\nF0 641.9\\n")
+    25
+    >>> with readable_par(folder / "m.par") as copy:
+    ...     copy.read_bytes()[:12], copy == folder / "m.par"
+    (b'PSR B1937+21', False)
+    >>> import shutil; shutil.rmtree(folder)
+    """
+    data = check_par_text(path)
+    if data is None or not data.startswith(codecs.BOM_UTF8):
+        yield path
+        return
+    with tempfile.TemporaryDirectory() as folder:
+        copy = Path(folder) / Path(path).name
+        copy.write_bytes(data[len(codecs.BOM_UTF8):])
+        try:
+            yield copy
+        except ValueError as exc:  # PINT's reader named the copy
+            raise ValueError(str(exc).replace(str(copy), str(path))) from None

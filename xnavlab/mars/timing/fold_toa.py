@@ -639,7 +639,9 @@ def window_survey(pulsar_names=pulsars.PAPER_PULSARS, error=PAPER_ERROR0, n_wind
 
     Parameters
     ----------
-    pulsar_names : sequence of str
+    pulsar_names : sequence of str or Pulsar
+        Catalogue names, ``.par`` paths or Pulsars
+        (:func:`~xnavlab.mars.timing.pulsars.check_names`).
     error : array_like, shape (6,)
         A-priori minus true state at each window's start, m and m/s (:data:`PAPER_ERROR0`,
         :data:`SETTLED_ERROR`).
@@ -659,8 +661,8 @@ def window_survey(pulsar_names=pulsars.PAPER_PULSARS, error=PAPER_ERROR0, n_wind
         (:func:`xnavlab.mars.timing.pulsars.photon_rates`).
     cache : bool
         Read the rows from the disk cache, or compute and store them there (keyed by the
-        arguments and the code, :func:`xnavlab.core.diskcache.entry_path`): the default survey
-        takes about 10-15 s.
+        arguments, each pulsar by all its parameters, and the code,
+        :func:`xnavlab.core.diskcache.entry_path`): the default survey takes about 10-15 s.
 
     Returns
     -------
@@ -698,14 +700,14 @@ def window_survey(pulsar_names=pulsars.PAPER_PULSARS, error=PAPER_ERROR0, n_wind
     background_ph_cm2_s = check_real("background_ph_cm2_s", background_ph_cm2_s, 0.0, 10.0)
     pulsar_names = pulsars.check_names(pulsar_names, "pulsar_names")
     if cache:
-        names = tuple(pulsars.get(n).name for n in pulsar_names)
+        ps = tuple(pulsars.get(n) for n in pulsar_names)  # keyed and computed as given, not by name
         x0 = state0
-        parts = (names, n_windows, spacing, duration, t0, area_m2, background_ph_cm2_s)
+        parts = (tuple(map(repr, ps)), n_windows, spacing, duration, t0, area_m2, background_ph_cm2_s)
         path = entry_path("fold-survey", parts, (err, x0), (__name__,), suffix=".json")
         try:
             return json.loads(path.read_text(encoding="utf-8"))
         except (OSError, ValueError):  # missing or unreadable: computed and stored
-            rows = window_survey(names, err, n_windows, spacing, duration, t0, x0, area_m2,
+            rows = window_survey(ps, err, n_windows, spacing, duration, t0, x0, area_m2,
                                  background_ph_cm2_s)
             store(path, lambda f: f.write(json.dumps(rows).encode()))
             return rows

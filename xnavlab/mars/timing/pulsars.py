@@ -168,7 +168,7 @@ def get(name):
 
     ``name`` is a catalogue name or the path of a timing model (a ``.par`` file, read by
     :func:`from_par` with its X-ray properties from :mod:`xnavlab.mars.timing.xray_pulsars`; read
-    once per file and version).
+    once per file and content).
 
     Raises
     ------
@@ -194,12 +194,8 @@ def get(name):
         raise ValueError(f"a pulsar must be a catalogue name, the path of a timing model (.par) "
                          f"or a Pulsar, got {validate.shown(name)}")
     if isinstance(name, str) and name.strip().lower().endswith(".par"):
-        path = Path(name).expanduser()
-        try:
-            stamp = path.stat().st_mtime_ns
-        except OSError:
-            raise ValueError(f"pulsar {name!r}: no such timing model (.par) file") from None
-        return _par_pulsar(str(path.resolve()), stamp)
+        path = Path(name).expanduser()  # keyed by its bytes: cp -p keeps the mtime, not the model
+        return _par_pulsar(str(path.resolve()), _checks.par_digest(name, path))
     if name not in CATALOGUE:
         row = xray_pulsars.lookup(name) if isinstance(name, str) else None
         if row is not None and row["name"] in CATALOGUE:  # another case, a space or an alias
@@ -213,8 +209,8 @@ def get(name):
 
 
 @functools.lru_cache(maxsize=64)
-def _par_pulsar(path, stamp):
-    """:func:`from_par` of a file, kept per path and modification time."""
+def _par_pulsar(path, digest):
+    """:func:`from_par` of a file, kept per path and SHA-256 of its bytes."""
     return from_par(path)
 
 
@@ -236,7 +232,8 @@ def from_par(path, distance=None, flux_ph_cm2_s=None, pulsed_fraction=None, duty
     Parameters
     ----------
     path : str or pathlib.Path
-        The ``.par`` file.
+        The ``.par`` file: UTF-8 text (a leading byte-order mark is skipped) with ``F0`` and the
+        pulsar's name (``PSR``, ``PSRJ`` or ``PSRB``), else refused.
     distance : float, optional
         Distance, m, in [1 pc, MAX_DISTANCE]; by default ``1 / PX`` (kpc per mas; PX in
         [0.001, 1000] mas). A model without a positive ``PX`` needs it.
@@ -275,13 +272,13 @@ def from_par(path, distance=None, flux_ph_cm2_s=None, pulsed_fraction=None, duty
         raise ValueError("give duty_cycle or width_s, not both (the same pulse width)")
     if duty_cycle is not None:  # checked before it scales the period (a str would repeat)
         duty_cycle = check_real("duty_cycle", duty_cycle, _MIN_DUTY, 0.5)
-    _checks.check_par_text(path)
-    try:  # its ValueErrors lead with path and name the file (PINT's and astropy's too)
-        par = pint_bridge.timing_parameters(path)
-    except (TypeError, AttributeError, ArithmeticError) as exc:  # a value PINT left unset
-        why = (str(exc).strip().splitlines() or [""])[0]
-        raise ValueError(f"path: PINT cannot read the timing model {str(path)!r} "
-                         f"({type(exc).__name__}: {why})") from None
+    with _checks.readable_par(path) as readable:  # checked; without a byte-order mark
+        try:  # its ValueErrors lead with path and name the file (PINT's and astropy's too)
+            par = pint_bridge.timing_parameters(readable)
+        except (TypeError, AttributeError, ArithmeticError) as exc:  # a value PINT left unset
+            why = (str(exc).strip().splitlines() or [""])[0]
+            raise ValueError(f"path: PINT cannot read the timing model {str(path)!r} "
+                             f"({type(exc).__name__}: {why})") from None
     model = f"path: the timing model {str(path)!r}"
     period = 1.0 / check_real(f"{model}: its F0 (Hz)", par["f0"], 1e-4, 1e4)
     row = xray_pulsars.lookup(par["name"])

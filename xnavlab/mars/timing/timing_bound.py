@@ -588,7 +588,9 @@ def accuracy_table(pulsar_names=pulsars.PAPER_PULSARS, n_trials=2000, rng=0, are
 
     Parameters
     ----------
-    pulsar_names : sequence of str
+    pulsar_names : sequence of str or Pulsar
+        Catalogue names, ``.par`` paths or Pulsars
+        (:func:`~xnavlab.mars.timing.pulsars.check_names`).
     n_trials : int
         Monte Carlo trials of the ML estimator per pulsar.
     rng : numpy.random.Generator or int
@@ -600,8 +602,9 @@ def accuracy_table(pulsar_names=pulsars.PAPER_PULSARS, n_trials=2000, rng=0, are
         it (``xcorr_m`` is then ``None``).
     cache : bool
         Read the rows from the disk cache, or compute and store them there (keyed by the
-        arguments and the code, :func:`xnavlab.core.diskcache.entry_path`); ``rng`` must then
-        be an int. The default table takes about 10-20 s to compute.
+        arguments, each pulsar by all its parameters, and the code,
+        :func:`xnavlab.core.diskcache.entry_path`); ``rng`` must then be an int. The default
+        table takes about 10-20 s to compute.
 
     Returns
     -------
@@ -623,14 +626,14 @@ def accuracy_table(pulsar_names=pulsars.PAPER_PULSARS, n_trials=2000, rng=0, are
     if cache:
         if isinstance(rng, bool) or not isinstance(rng, int | np.integer):
             raise ValueError(f"rng must be an int seed when cache=True (a key), got {rng!r}")
-        names = tuple(pulsars.get(n).name for n in pulsar_names)
-        parts = (names, n_trials, int(rng), float(area_m2), float(t_obs),
+        ps = tuple(pulsars.get(n) for n in pulsar_names)  # keyed and computed as given, not by name
+        parts = (tuple(map(repr, ps)), n_trials, int(rng), float(area_m2), float(t_obs),
                  float(background_ph_cm2_s), xcorr_trials)
         path = entry_path("accuracy-table", parts, modules=(__name__,), suffix=".json")
         try:
             return json.loads(path.read_text(encoding="utf-8"))
         except (OSError, ValueError):  # missing or unreadable: computed and stored
-            rows = accuracy_table(names, n_trials, int(rng), area_m2, t_obs,
+            rows = accuracy_table(ps, n_trials, int(rng), area_m2, t_obs,
                                   background_ph_cm2_s, xcorr_trials)
             store(path, lambda f: f.write(json.dumps(rows).encode()))
             return rows

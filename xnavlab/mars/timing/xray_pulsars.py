@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import functools
 from importlib import resources
+from types import MappingProxyType
 
 from xnavlab.core.userfiles import csv_rows
 from xnavlab.core.validate import check_text
@@ -41,10 +42,18 @@ def table():
     """Every row, keyed by name: ``name``, ``aliases`` (tuple), ``period_s``, ``width_s``,
     ``flux_ph_cm2_s``, ``pulsed_fraction``, ``source``.
 
+    Read once: the table and its rows are read-only mappings (``types.MappingProxyType``), so
+    that no caller's edit reaches every later :func:`xnavlab.mars.timing.pulsars.from_par`;
+    ``dict(row)`` gives an editable copy.
+
     Examples
     --------
     >>> len(table()), table()["B0531+21"]["aliases"]
     (10, ('J0534+2200',))
+    >>> table()["B0531+21"]["flux_ph_cm2_s"] = 1.0
+    Traceback (most recent call last):
+    ...
+    TypeError: 'mappingproxy' object does not support item assignment
     """
     text = resources.files("xnavlab").joinpath(TABLE_FILE).read_text("utf-8")
     rows = {}
@@ -52,13 +61,13 @@ def table():
                                              "pulsed_fraction")):
         if cells["name"] in rows:
             raise ValueError(f"{TABLE_FILE}: pulsar {cells['name']} is listed twice")
-        rows[cells["name"]] = {
+        rows[cells["name"]] = MappingProxyType({
             "name": cells["name"], "aliases": tuple(cells["aliases"].split()),
             "period_s": cells["period_s"], "width_s": cells["width_s"],
             "flux_ph_cm2_s": cells["flux_ph_cm2_s"],
             "pulsed_fraction": cells["pulsed_fraction"], "source": SOURCE,
-        }
-    return rows
+        })
+    return MappingProxyType(rows)
 
 
 @functools.cache
@@ -77,7 +86,7 @@ def _norm(name):
 
 def lookup(name):
     """The table's row for a pulsar named ``name`` (or an alias; a ``PSR`` prefix is ignored),
-    else ``None``.
+    else ``None``: a read-only mapping (:func:`table`).
 
     Examples
     --------
