@@ -232,3 +232,44 @@ def test_flight_design_refuses_no_site_and_compare_detectors_names_the_onset():
             P.compare_detectors("step", [100.0], n_runs=1, onset=onset)
     with pytest.raises(ValueError, match=r"^onset must be a real number in \[0, 30\], got 50"):
         P.compare_detectors("step", [100.0], n_runs=1, duration=30.0)
+
+
+def _fresh_design(traj, sites, s=11, tol=0.6):
+    """The blended bases of ``traj`` built from the public steps, not from the design cache."""
+    points = P.operating_points(traj)
+    models = P.local_models(points, traj.lon[0], traj.h[0], sites, traj.dt)
+    V = [P.align_bases([P.parity_basis(lm.A, lm.C[j], s, B=lm.B, state_std=P.TYPICAL_STATE_STD,
+                                       tol=tol) for lm in models]) for j in range(len(sites))]
+    stacked = np.stack([np.stack([V[j][k] for j in range(len(sites))]) for k in range(len(models))])
+    return P.blended_bases(P.memberships(P.premises(traj), points), stacked)
+
+
+def test_the_cached_design_and_a_diagnosis_hand_out_read_only_arrays():
+    """Review 35 R2: flight_design's arrays were the cache's own, writeable: W[:] = 0 made a
+    later diagnose_flight miss a 100 m step; Diagnosis.points and .weights were those arrays."""
+    fault = [Fault(pl.SENSOR, "step", 100.0, 50.0, component=0)]
+    before = P.diagnose_flight(fault)
+    *arrays, _ = P.diagnosis.flight_design(TRAJ, pl.sites_ecef(), 11, 0.6)
+    for arr in [*arrays, before.points, before.weights]:
+        assert not arr.flags.writeable
+        with pytest.raises(ValueError, match="read-only"):
+            arr[...] = 0.0
+    before.t_res[:] = 0.0   # the result's own times: the cached flight's stay as they were
+    after = P.diagnose_flight(fault)
+    assert after.detection == [50.0, None, None, None] == before.detection
+    np.testing.assert_array_equal(after.t_res, TRAJ.t[11:])
+    np.testing.assert_array_equal(after.statistic, before.statistic)
+
+
+def test_two_flights_that_differ_in_longitude_or_height_get_their_own_design():
+    """Review 35 R3: the cache key held the flight's length, step and last latitude only: a
+    flight at another longitude (or height) got the first flight's design."""
+    sites = pl.sites_ecef()
+    first = P.diagnosis.flight_design(ins.paper_trajectory(duration=40.0), sites, 11, 0.6)
+    for other in (ins.paper_trajectory(duration=40.0, lon0_deg=-60.0),
+                  ins.paper_trajectory(duration=40.0, h=5_000.0)):
+        design = P.diagnosis.flight_design(other, sites, 11, 0.6)
+        assert design is not first
+        np.testing.assert_array_equal(design[2], _fresh_design(other, sites))
+    again = P.diagnosis.flight_design(ins.paper_trajectory(duration=40.0), sites, 11, 0.6)
+    np.testing.assert_array_equal(again[2], first[2])   # an equal flight: an equal design

@@ -261,21 +261,52 @@ def _check_overlaps(name, items, components):
     """One ValueError naming two faults of one kind that act on one component at one time (the
     same fault written two ways, ``uv.range`` and ``uv.0``, or ``uv`` beside ``uv.range``, or two
     overlapping windows): injected, they add up; scored, they are two faults for one event.
-    Faults of different kinds on one component combine (:func:`_overlap`)."""
-    by_sensor = {}
-    for i, f in enumerate(items):
-        by_sensor.setdefault(f.sensor, []).append(i)
-    for idx in by_sensor.values():
-        for n, i in enumerate(idx):
-            for j in idx[n + 1:]:
-                if _overlap(items[i], items[j]):
-                    named = components if components is not None and \
-                        items[i].sensor in components else None
-                    raise ValueError(
-                        f"{name} items {i} ({_item(items[i], named)}) and {j} "
-                        f"({_item(items[j], named)}) act on the same component at the same "
-                        f"time: a sensor component takes one fault at a time (give their sum "
-                        f"as one fault, or windows apart)")
+    Faults of different kinds on one component combine (:func:`_overlap`). The earliest such
+    pair in time is named (:func:`_first_overlap`)."""
+    pair = _first_overlap(items)
+    if pair is None:
+        return
+    i, j = sorted(pair)
+    named = components if components is not None and items[i].sensor in components else None
+    raise ValueError(
+        f"{name} items {i} ({_item(items[i], named)}) and {j} ({_item(items[j], named)}) act on "
+        f"the same component at the same time: a sensor component takes one fault at a time "
+        f"(give their sum as one fault, or windows apart)")
+
+
+def _reach(f):
+    """Where fault ``f`` stops acting, s: its ``end``; a spike's its ``onset`` (one instant)."""
+    return f.onset if f.kind == "spike" else f.end
+
+
+def _first_overlap(items):
+    """Indices ``(earlier, later)`` of a pair of ``items`` that overlap (:func:`_overlap`), the
+    later one starting first of all such pairs, or None; O(n log n).
+
+    One sweep in order of onset (then reach): among the earlier faults a fault can overlap
+    (same sensor and kind, its component or every component), the one reaching furthest
+    overlaps it if any does, so each fault is compared with at most two: the furthest of its
+    own component and the furthest of ``None`` (every component), or, for a fault on every
+    component, the furthest of any component. A window ``[onset, end)`` that is empty in
+    floating point (``end == onset``) sorts before the windows from that onset, which keeps
+    the sweep exact (it meets no fault starting with it).
+    """
+    order = sorted(range(len(items)), key=lambda i: (items[i].onset, _reach(items[i]), i))
+    furthest = {}   # (sensor, kind, component) -> index; component "any": every one seen
+    for j in order:
+        f = items[j]
+        group = (f.sensor, f.kind)
+        keys = [(*group, "any")] if f.component is None else \
+            [(*group, f.component), (*group, None)]
+        for key in keys:
+            i = furthest.get(key)
+            if i is not None and _overlap(items[i], f):
+                return i, j
+        for key in ((*group, f.component), (*group, "any")):
+            i = furthest.get(key)
+            if i is None or _reach(f) > _reach(items[i]):
+                furthest[key] = j
+    return None
 
 
 def fault_mask(t, faults, sensor):

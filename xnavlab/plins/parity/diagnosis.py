@@ -12,6 +12,7 @@ chapter's "Beyond the paper" (a Kalman filter with a residual chi-square test), 
 
 from __future__ import annotations
 
+import hashlib
 import inspect
 import math
 from dataclasses import dataclass
@@ -308,9 +309,10 @@ class Diagnosis:
     sigma : float
         Pseudorange noise, m.
     weights : ndarray, shape (n, N)
-        Memberships of the operating points.
+        Memberships of the operating points (read-only, as :func:`flight_design`'s cached
+        arrays they come from).
     points : ndarray, shape (N, 3)
-        Operating points.
+        Operating points ``[lat_deg, v_n, f_n]`` (read-only, as ``weights``).
     chi2 : Chi2Monitor or None
         The comparison detector (when requested).
     """
@@ -353,9 +355,11 @@ class Diagnosis:
                                       "n - s windows, m = columns of z"),
                threshold=check_real(n + "threshold", self.threshold, 0.0, math.inf, lo_open=True),
                sigma=check_real(n + "sigma", self.sigma, SIGMA_MIN, 1e6),
-               weights=check_shape(n + "weights", self.weights, (t.size, None), "n = len(t)"))
-        _store(self, points=check_shape(n + "points", self.points, (self.weights.shape[1], 3),
-                                        "N = columns of weights"))
+               weights=_read_only(check_shape(n + "weights", self.weights, (t.size, None),
+                                              "n = len(t)")))
+        _store(self, points=_read_only(check_shape(n + "points", self.points,
+                                                   (self.weights.shape[1], 3),
+                                                   "N = columns of weights")))
         _alarm_list(n + "detection", self.detection, m)
         _alarm_list(n + "onset", self.onset, m)
         if not isinstance(self.identification, dict) or any(
@@ -390,7 +394,8 @@ def flight_design(traj, sites, s, tol, n_points=3):
     with :data:`.space.TYPICAL_STATE_STD` and ``tol``), aligned across the models
     (:func:`.space.align_bases`) and blended with the memberships at every sample
     (:func:`.space.blended_bases`, paper eq. 25). The design depends on the flight, not on
-    its noise, so it is cached (up to 17 designs): a Monte Carlo pays for it once.
+    its noise, so it is cached (up to 17 designs, keyed on a digest of every trajectory array
+    it reads and on the other arguments): a Monte Carlo pays for it once.
 
     Parameters
     ----------
@@ -417,7 +422,8 @@ def flight_design(traj, sites, s, tol, n_points=3):
     q : int
         Parity-space dimension.
 
-    The arrays are shared with the cache: read them, do not modify them.
+    The arrays are shared with the cache, so they are read-only (``flags.writeable`` False):
+    an edit would change every later design of this flight. Copy one to change it.
 
     Raises
     ------
@@ -446,7 +452,7 @@ def _design(traj, sites, s, tol, n_points, tol_named):
     """:func:`flight_design` of checked arguments; ``tol_named`` is (the user's name of the
     tolerance, its value as shown): the refusals name it (``leak_tol`` in diagnose_flight)."""
     name, shown_tol = tol_named
-    key = (len(traj), traj.dt, float(traj.lat[-1]), sites.tobytes(), s, tol, n_points)
+    key = (_digest(traj), sites.tobytes(), s, tol, n_points)
     if key in _DESIGN_CACHE:
         return _DESIGN_CACHE[key]
     points = operating_points(traj, n_points)
@@ -470,8 +476,27 @@ def _design(traj, sites, s, tol, n_points, tol_named):
     W = blended_bases(weights, stacked)  # (n, m, s+1, q)
     if len(_DESIGN_CACHE) > 16:
         _DESIGN_CACHE.clear()
+    for arr in (points, weights, W):   # new arrays, shared by every later call: read-only
+        arr.flags.writeable = False
     _DESIGN_CACHE[key] = (points, weights, W, q)
     return _DESIGN_CACHE[key]
+
+
+def _digest(traj):
+    """SHA-256 of every array of ``traj`` a design reads (times, position, velocity, specific
+    force), with their shapes: two flights that differ anywhere get two designs."""
+    h = hashlib.sha256()
+    for arr in (traj.t, traj.lat, traj.lon, traj.h, traj.v_enu, traj.f_enu):
+        h.update(repr(arr.shape).encode())
+        h.update(np.ascontiguousarray(arr, dtype=float).tobytes())
+    return h.hexdigest()
+
+
+def _read_only(arr):
+    """A read-only view of ``arr`` (the array's own flags stay as they were)."""
+    view = arr.view()
+    view.flags.writeable = False
+    return view
 
 
 def _check_samples(dt, duration):
@@ -591,7 +616,8 @@ def diagnose_flight(faults=(), *, model="step", s=11, threshold=None, sigma=_pl.
     r = parity_residuals(data.z, W)
     stat = np.linalg.norm(r, axis=2)
     thr = residual_threshold(sigma, q, p_fa) if threshold is None else threshold
-    t_res = traj.t[s:]
+    t = traj.t.copy()   # the cached flight's own times stay out of the result
+    t_res = t[s:]
     detection, onsets, ident = [], [], {}
     for j in range(m):
         ta = first_alarm(t_res, stat[:, j], thr)
@@ -606,7 +632,7 @@ def diagnose_flight(faults=(), *, model="step", s=11, threshold=None, sigma=_pl.
                                   time_origin, q_rw, sensor=j)
     chi = chi2_monitor(data, trans, sites, p_fa=p_fa) if with_chi2 else None  # checked above
     return Diagnosis(
-        t=traj.t.copy(), z=data.z, fault=data.fault, t_res=t_res, residual=r, statistic=stat,
+        t=t, z=data.z, fault=data.fault, t_res=t_res, residual=r, statistic=stat,
         threshold=thr, detection=detection, onset=onsets, identification=ident, s=s,
         null_dim=q, sigma=sigma, weights=weights, points=points, chi2=chi,
     )
