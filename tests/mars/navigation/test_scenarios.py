@@ -707,3 +707,15 @@ def test_an_input_array_of_another_layout_is_refused_not_compiled_for():
     with pytest.raises(ValueError, match=r"^inputs\.truth must be .*, got a Fortran-ordered"):
         scenarios.run(inputs=dataclasses.replace(inp, truth=np.asfortranarray(inp.truth)),
                       backend="numpy")
+
+
+def test_the_shared_truth_is_read_only_so_no_run_changes_another():
+    """Review 35r R1: prepare handed out the truth cache's own writeable array; an edit of
+    inp.truth moved every later run of the same settings (919 m to 365 km)."""
+    first = scenarios.run(days=0.02).summary()["position_error_m"]
+    inp = scenarios.prepare(days=0.02)
+    with pytest.raises(ValueError, match="read-only"):
+        inp.truth[:, :3] += 1e6
+    assert scenarios.run(days=0.02).summary()["position_error_m"] == first
+    other = scenarios.prepare(days=0.02, subsystems=("uv",))  # another grid: its own truth
+    assert other.truth is not inp.truth or np.array_equal(other.times, inp.times)
