@@ -425,3 +425,11 @@ def test_a_shown_value_may_be_words_numbers_or_arrays_of_them():
     for ours in ("x gyro", True, [], np.arange(3.0), np.array(["a", None], dtype=object),
                  {"a": [1, 2.5]}, np.ma.masked_array([1.0, 2.0], [0, 1])):
         assert verdicts.check_measure("x", ours, "what").verdict == verdicts.CHECK
+
+
+@pytest.mark.parametrize("rid", ["attitude-xgyro-step", "attitude-qdiff", "plins-step", "plins-ramp"])
+def test_too_few_runs_for_a_draw_are_refused_as_n_runs(rid):
+    """A figure judged among fewer than MIN_RUNS single runs was refused naming check_draw's
+    own 'runs' or 'hits', not the n_runs the user gave."""
+    with pytest.raises(ValueError, match=r"^n_runs must be an integer in \[32, 10000\], got 2$"):
+        reproduce.run(rid, n_runs=2)

@@ -35,6 +35,7 @@ from xnavlab.reproduce import (
     register,
     save_figure,
 )
+from xnavlab.verdicts import MIN_RUNS
 
 __all__ = ["PAPER", "SOURCE", "CHAPTER", "RUNS", "SKEW_RATE_FACTORS", "crossed_after_onset"]
 
@@ -115,7 +116,7 @@ MAX_RUNS = 10_000
 def _check_runs(seed, n_runs, span=0):
     """``(seed, n_runs)`` checked: the runs take seeds ``seed`` to ``seed + max(n_runs - 1,
     span)``, so the first seed's range ends that far below :data:`SEED_MAX`."""
-    n_runs = check_int("n_runs", n_runs, 1, MAX_RUNS)
+    n_runs = check_int("n_runs", n_runs, MIN_RUNS, MAX_RUNS)  # the figure judged among them
     return check_int("seed", seed, 0, SEED_MAX - max(n_runs - 1, span)), n_runs
 
 

@@ -26,6 +26,7 @@ import math
 import numpy as np
 
 from xnavlab.core.faults import Fault
+from xnavlab.core.validate import check_int
 from xnavlab.plins.parity import diagnose_flight
 from xnavlab.plins.pseudolites import DEFAULT_SIGMA, SENSOR
 from xnavlab.reproduce import (
@@ -39,6 +40,10 @@ from xnavlab.reproduce import (
     save_figure,
 )
 from xnavlab.reproduce import figure as _figure
+from xnavlab.verdicts import MIN_RUNS
+
+#: The most single runs a figure is judged among (about 0.1 s a run: a quarter of an hour).
+MAX_RUNS = 10_000
 
 __all__ = ["NOISE_READINGS", "readings"]
 
@@ -169,6 +174,7 @@ def _step_faults(sizes, onset):
 )
 def plins_step(out=None, seed=0, n_runs=40, sigma=DEFAULT_SIGMA, sizes=STEP_SIZES_M):
     """Figs. 2-3: simultaneous steps, detected at onset, sizes identified within 5 %."""
+    n_runs = check_int("n_runs", n_runs, MIN_RUNS, MAX_RUNS)  # the figures judged among them
     sizes = tuple(float(f) for f in sizes)
     faults = _step_faults(sizes, STEP_ONSET)
     d = diagnose_flight(faults, model="step", seed=seed, sigma=sigma)
@@ -253,6 +259,7 @@ def plins_step(out=None, seed=0, n_runs=40, sigma=DEFAULT_SIGMA, sizes=STEP_SIZE
 )
 def plins_ramp(out=None, seed=0, n_runs=40, sigma=DEFAULT_SIGMA, time_origin="absolute"):
     """Fig. 4: the ramp on pseudorange 1, its detection and its identified slope and offset."""
+    n_runs = check_int("n_runs", n_runs, MIN_RUNS, MAX_RUNS)  # the figure judged among them
     if time_origin not in _RAMP_READINGS:
         raise ValueError(f"time_origin must be one of {', '.join(_RAMP_READINGS)}; got {time_origin!r}")
     if time_origin == "absolute":
