@@ -261,8 +261,8 @@ def dummy(monkeypatch, tmp_path):
     reproduce.register("test-dummy", title="t", source="s", chapter="c")(func)
     yield calls, forget
     forget()
-    reproduce._REGISTRY.pop("test-dummy", None)
-    reproduce._REGISTRY.pop("test-timing", None)
+    for rid in [i for i in reproduce._REGISTRY if i.startswith("test-")]:
+        reproduce._REGISTRY.pop(rid)
 
 
 def test_a_result_is_computed_once_for_the_same_code(dummy, tmp_path):
@@ -338,6 +338,63 @@ def test_a_timing_is_never_read_from_disk(dummy, tmp_path):
     assert not reproduce.run("test-timing").from_cache and calls == [0, 0]
     assert not list((tmp_path / "reproductions").glob("test-timing-*"))
     assert reproduce.get("attitude-cost").cache is False
+
+
+# -- review 35: the session cache ------------------------------------------------------------
+
+def test_the_session_cache_gives_each_call_its_own_copy(dummy):
+    """Review 35 R5: run gave back the session cache's own Result, so a cell that edited it
+    (cleared its rows, changed its data) changed every later run of the ID in the kernel."""
+    calls, _ = dummy
+    first = reproduce.run("test-dummy")
+    first.checks.clear()
+    first.note = "edited"
+    first.data["a"][0] = 99.0
+    first.data["b"] = 1
+    again = reproduce.run("test-dummy")
+    assert again is not first and calls == [0]  # read from the session, not computed again
+    assert len(again.checks) == 1 and again.verdict == "REPRODUCED" and again.note == ""
+    assert again.data.keys() == {"a"} and again.data["a"][0] == 0.0
+    again.checks.clear()
+    assert len(reproduce.run_or_fail("test-dummy").checks) == 1 and calls == [0]
+
+
+def test_true_1_and_1_0_are_three_session_keys(dummy):
+    """Review 35 R6: the session key matched keywords by ==, so seed=True or 1.0 (refused in a
+    fresh process) was handed seed 1's result: each is now computed, and so checked."""
+    calls, _ = dummy
+    for seed in (1, True, 1.0, np.int64(1), 1, True):
+        reproduce.run("test-dummy", seed=seed)
+    assert calls == [1, True, 1.0, 1] and [type(c) for c in calls] == [int, bool, float, np.int64]
+    first = reproduce.run("mallat-vs-pywavelets", n=500, seed=1)
+    for kw, match in [({"seed": True}, "^seed must be .* got True$"),
+                      ({"seed": 1.0}, "^seed must be .* got 1.0$"),
+                      ({"n": 500.0, "seed": 1}, "^n must be an integer in .* got 500.0$")]:
+        with pytest.raises(ValueError, match=match):
+            reproduce.run("mallat-vs-pywavelets", **{"n": 500, **kw})
+    assert reproduce.run("mallat-vs-pywavelets", n=500, seed=1).checks == first.checks
+
+
+def test_a_list_or_array_keyword_is_the_equal_tuple(dummy, tmp_path):
+    """Review 35 R13: a list or array keyword (seeds=[0, 1]) raised "TypeError: unhashable
+    type" when keyed; it is passed as the equal tuple, with its result and disk-cache entry."""
+    calls, forget = dummy
+
+    def func(out=None, seeds=(0, 1)):
+        calls.append(seeds)
+        return reproduce.Result("test-seeds", [reproduce.check_measure("n", len(seeds), "n")])
+
+    reproduce.register("test-seeds", title="t", source="s", chapter="c")(func)
+    assert reproduce.run("test-seeds", seeds=[0, 1]).checks[0].ours == 2
+    assert reproduce.run("test-seeds", seeds=np.array([0, 1])).checks[0].ours == 2  # session
+    forget()
+    assert reproduce.run("test-seeds", seeds=(0, 1)).from_cache  # the list's disk entry
+    assert calls == [(0, 1)] and type(calls[0][0]) is int
+    assert len(list((tmp_path / "reproductions").glob("test-seeds-*.pickle"))) == 1
+    assert not reproduce.run_or_fail("test-seeds", seeds=[[0], 1]).error  # nested: (0,)
+    reproduce.run("test-seeds", seeds={0: 1})  # no key (a dict): computed each time
+    reproduce.run("test-seeds", seeds={0: 1})
+    assert calls == [(0, 1), ((0,), 1), {0: 1}, {0: 1}]
 
 
 # -- review 35m: the public calls' arguments ------------------------------------------------

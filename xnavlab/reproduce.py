@@ -38,6 +38,7 @@ the dashboard.
 from __future__ import annotations
 
 import contextlib
+import copy
 import errno
 import hashlib
 import html
@@ -327,8 +328,6 @@ class Result:
                                  + (f"\nraised {self.error}" if self.error else ""))
 
 
-
-
 @dataclass(frozen=True)
 class Reproduction:
     """A registered reproduction: its ID, what it reproduces, and the function that runs it."""
@@ -395,12 +394,7 @@ def _folder(name, value, create):
     if path.exists() and not path.is_dir():
         raise ValueError(f"{name} must be a folder; {str(value)!r} is a file")
     if not path.is_dir():
-        if not create:
-            raise ValueError(f"{name} must be an existing folder; {str(value)!r} does not exist")
-        try:
-            path.mkdir(parents=True, exist_ok=True)
-        except OSError as exc:
-            raise ValueError(f"{name} {str(value)!r} cannot be created: {exc.strerror}") from None
+        raise ValueError(f"{name} must be an existing folder; {str(value)!r} does not exist")
     return path
 
 
@@ -503,6 +497,31 @@ def _plain(value):
     return value is None or type(value) in (bool, int, float, str)
 
 
+def _items(value):
+    """A list or array (also in a tuple) as the tuple of its items: the equal tuple's result."""
+    if type(value) in (list, tuple):
+        return tuple(_items(v) for v in value)
+    if type(value).__name__ == "ndarray" and getattr(value, "ndim", 0) >= 1:
+        return _items(value.tolist())  # its items as Python numbers, as a tuple would hold them
+    return value
+
+
+def _session_key(id, kwargs):
+    """The session cache's key: each keyword by type and value (``True``, ``1`` and ``1.0`` are
+    three keys); None for a value that cannot be a key (a dict: computed each time)."""
+    def typed(v):
+        if type(v) is tuple:
+            return ("tuple", *map(typed, v))
+        return f"{type(v).__name__}:{v!r}" if _plain(v) else (type(v), v)  # a Generator: itself
+
+    key = (id, tuple((k, typed(v)) for k, v in sorted(kwargs.items())))
+    try:
+        hash(key)
+    except TypeError:
+        return None
+    return key
+
+
 def _disk_path(id, kwargs):
     """``<id>-<family>-<code>.pickle``: the family is the arguments and the BLAS kernels (each
     keeps its entry), the code is the package's files and the numeric libraries' versions."""
@@ -552,10 +571,10 @@ def _to_disk(id, path, result):
 def run(id, out=None, fresh=False, **kwargs):
     """Run the reproduction ``id`` and return its :class:`Result`.
 
-    Results without ``out`` are cached for the session, so a chapter that plots a
-    reproduction's data and then asserts its numbers computes it once; they are also kept on
-    disk for the same code and arguments (see the module docs), so the chapters, the tests
-    and the dashboard compute each once between them.
+    Results without ``out`` are cached for the session (each call gets its own copy), so a
+    chapter that plots a reproduction's data and then asserts its numbers computes it once; they
+    are also kept on disk for the same code and arguments (see the module docs), so the
+    chapters, the tests and the dashboard compute each once between them.
 
     Parameters
     ----------
@@ -568,7 +587,7 @@ def run(id, out=None, fresh=False, **kwargs):
         this session or on disk), and store the new one.
     **kwargs
         Passed to the reproduction (for example ``seed``): only the keywords its function
-        takes (another is refused, naming the ones it takes).
+        takes (another is refused, naming them); a list or array is passed as a tuple.
 
     Examples
     --------
@@ -580,11 +599,12 @@ def run(id, out=None, fresh=False, **kwargs):
     takes = [p.name for p in inspect.signature(rep.func).parameters.values()
              if p.kind in (p.POSITIONAL_OR_KEYWORD, p.KEYWORD_ONLY) and p.name != "out"]
     kwargs = check_keywords(f"the reproduction {id!r}", kwargs, takes)
+    kwargs = {k: _items(v) for k, v in kwargs.items()}  # a list keys as the equal tuple
     if out is not None:
         out = _folder("out", out, create=True)
-    key = (id, tuple(sorted(kwargs.items())))
-    if out is None and key in _CACHE and not fresh:
-        return _CACHE[key]
+    key = _session_key(id, kwargs) if out is None else None
+    if key in _CACHE and not fresh:
+        return copy.deepcopy(_CACHE[key])
     on_disk = (out is None and rep.cache and all(_plain(v) for v in kwargs.values())
                and _disk_on())
     path = _disk_path(id, kwargs) if on_disk else None
@@ -595,8 +615,9 @@ def run(id, out=None, fresh=False, **kwargs):
             result = rep.func(out=out, **kwargs)
             if path is not None:
                 _to_disk(id, path, result)
-    if out is None:
-        _CACHE[key] = result
+    if key is not None:  # a copy: a caller editing the result it was given changes no later call
+        with contextlib.suppress(TypeError, copy.Error):  # one that cannot be copied: not kept
+            _CACHE[key] = copy.deepcopy(result)
     return result
 
 
