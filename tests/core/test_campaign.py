@@ -78,6 +78,19 @@ def test_seeds_by_index_not_by_engine_or_length():
     assert [r["metrics"]["y"] for r in b.runs()] == [float(i * i) for i in range(8)]
 
 
+def test_to_json_is_json_text_and_to_dict_the_dict():
+    """Review 35 R17: CampaignResult.to_json returned a dict (json.loads of it raised TypeError)
+    while Result.to_json returns JSON text; to_dict is the dict, to_json its strict JSON."""
+    res = cp.run_campaign(sq_campaign(), 2, seed=3, engine="serial")
+    payload = res.to_dict()
+    assert isinstance(payload, dict) and payload["runs"] == res.runs()
+    assert sorted(payload) == ["campaign", "computed", "failed", "reused", "runs", "summary", "wall_s"]
+    assert json.loads(res.to_json()) == payload
+    res.wall_s = float("nan")  # not JSON: refused, not written as NaN
+    with pytest.raises(ValueError, match="Out of range float values are not JSON compliant"):
+        res.to_json()
+
+
 def test_store_resumes_and_extends(tmp_path):
     a = cp.run_campaign(sq_campaign(), 4, seed=1, out=tmp_path, engine="serial")
     assert (a.computed, a.reused) == (4, 0)
@@ -781,3 +794,51 @@ def test_a_torn_last_line_of_a_crlf_store_is_cut_at_its_own_byte(tmp_path):
     assert (r.computed, r.reused) == (1, 2)
     r = cp.run_campaign(sq_campaign(), 3, seed=2, out=tmp_path, engine="serial")  # no warning
     assert (r.computed, r.reused) == (0, 3)
+
+
+# ------------------------------------------------------------------ interrupted (review 35 R11)
+
+
+def sleeps(*, seed, marker, s):
+    """Marks that a worker runs it, then sleeps ``s`` seconds."""
+    Path(marker).write_text("running")
+    time.sleep(s)
+    return {"s": s}
+
+
+def test_an_interrupted_local_campaign_ends_its_workers_at_once(tmp_path):
+    """Review 35 R11: on KeyboardInterrupt the pool was shut down waiting for the runs in
+    flight (and, on a second SIGINT, hung in the interpreter's exit). Now the runs are not
+    waited for: the workers are ended, owner.pid removed and SIGINT's handler left as it was."""
+    import threading
+
+    import psutil
+
+    marker = tmp_path / "running"
+    camp = cp.Campaign("z", sleeps, lambda i: {"marker": str(marker), "s": 120.0})
+
+    def interrupt():
+        deadline = time.monotonic() + 120
+        while not marker.exists() and time.monotonic() < deadline:
+            time.sleep(0.02)
+        running.extend(workers())
+        os.kill(os.getpid(), signal.SIGINT)
+
+    def workers():  # not multiprocessing's resource tracker, which lives with this process
+        return [c for c in psutil.Process().children() if "spawn_main" in " ".join(c.cmdline())]
+
+    running = []
+    t0 = time.monotonic()
+    thread = threading.Thread(target=interrupt, daemon=True)
+    thread.start()
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            cp.run_campaign(camp, 2, out=tmp_path / "c", engine="local", workers=2)
+    finally:
+        thread.join(timeout=130)
+    assert time.monotonic() - t0 < 100  # not the 120 s of a run in flight
+    assert running                                       # the pool's workers, in flight
+    _, alive = psutil.wait_procs(running, timeout=20)
+    assert not alive, alive
+    assert not (tmp_path / "c" / cp.OWNER_FILE).exists()
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler

@@ -54,7 +54,9 @@ from __future__ import annotations
 import contextlib
 import json
 import os
+import signal
 import sys
+import threading
 
 from xnavlab.cli import UsageError, number
 from xnavlab.core.diskcache import check_cache
@@ -126,7 +128,39 @@ def configure(parser):
 
 
 def execute(args):
-    """Run ``campaign``; returns the exit code."""
+    """Run ``campaign``; returns the exit code.
+
+    The first SIGINT (a Ctrl-C) interrupts it and every later one is ignored
+    (:func:`_interrupt_once`): the local workers ignore it and are ended by the campaign
+    process, which keeps the finished runs, prints one line and returns 130.
+    """
+    handler = signal.getsignal(signal.SIGINT)
+    ours = (handler is signal.default_int_handler
+            and threading.current_thread() is threading.main_thread())
+    if ours:
+        signal.signal(signal.SIGINT, _interrupt_once)
+    try:
+        return _execute(args)
+    except KeyboardInterrupt:
+        print(f"xnavlab: interrupted; the finished runs are in {args.out}; run the same "
+              f"command to complete the campaign", file=sys.stderr)
+        return 130
+    finally:
+        if ours and signal.getsignal(signal.SIGINT) is _interrupt_once:  # not interrupted
+            signal.signal(signal.SIGINT, handler)
+
+
+def _interrupt_once(signum, frame):
+    """SIGINT handler of a running campaign: the first SIGINT raises KeyboardInterrupt and
+    every later one is ignored (the process is ending), so that a second Ctrl-C, or
+    ``timeout -s INT`` signalling the process and then its group, cannot break off ending the
+    workers, closing the store or the interpreter's exit (a hang, a traceback)."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    raise KeyboardInterrupt
+
+
+def _execute(args):
+    """:func:`execute`, SIGINT aside."""
     from xnavlab.core.campaign import SUMMARY_FILE
     from xnavlab.mars.studies.campaigns import CAMPAIGNS, DAYS, campaign
 
@@ -167,9 +201,7 @@ def execute(args):
                   f"a multiple of {cells} gives every cell the same number of trials",
                   file=sys.stderr)
     res = _run(args, camp, runs, seed, where)
-    if res is None:
-        return 130
-    payload = res.to_json()
+    payload = res.to_dict()
     _write_summary(args.out, payload)
     if args.json:
         print(json.dumps(payload, allow_nan=False))
@@ -302,17 +334,12 @@ def _check_outputs(out, *names):
 
 
 def _run(args, camp, runs, seed, where):
-    """Run the campaign into ``args.out``; None when interrupted (the message printed)."""
+    """Run the campaign into ``args.out`` (KeyboardInterrupt: the finished runs are stored)."""
     from xnavlab.core.campaign import run_campaign
 
-    try:
-        with _flags():
-            return run_campaign(camp, runs, seed=seed, out=args.out,
-                                progress=not (args.quiet or args.json), **where)
-    except KeyboardInterrupt:
-        print(f"xnavlab: interrupted; the finished runs are in {args.out}; run the same "
-              f"command to complete the campaign", file=sys.stderr)
-        return None
+    with _flags():
+        return run_campaign(camp, runs, seed=seed, out=args.out,
+                            progress=not (args.quiet or args.json), **where)
 
 
 def _write_summary(out, payload):
@@ -354,9 +381,7 @@ def _execute_roc(args):
         print(f"xnavlab: warning: --runs {runs} gives the grid's {nf} faults unequal numbers "
               f"of trials; a multiple of {nf} gives each the same", file=sys.stderr)
     res = _run(args, camp, runs, seed, where)
-    if res is None:
-        return 130
-    payload = res.to_json()
+    payload = res.to_dict()
     _write_summary(args.out, payload)
     with _written(args.out, "roc.json or roc.csv"):
         data = roc.write_curve(args.out, grid, res.runs(), seed)

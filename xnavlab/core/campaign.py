@@ -648,20 +648,23 @@ class CampaignResult:
         """The run records without bookkeeping (:func:`public_record`), in index order."""
         return [public_record(r) for r in self.records]
 
-    def to_json(self):
+    def to_dict(self):
         """One JSON-ready dict: ``campaign`` (the header), ``runs``, ``summary`` and counts."""
         return {"campaign": self.header, "runs": self.runs(), "summary": self.summary,
                 "computed": self.computed, "reused": self.reused, "failed": self.failed,
                 "wall_s": self.wall_s}
+
+    def to_json(self):
+        """:meth:`to_dict` as strict JSON text (``json.dumps``; no NaN or infinity)."""
+        return json.dumps(self.to_dict(), allow_nan=False)
 
 
 def _record(index, seed, params, outcome, attempt):
     kind, payload = outcome
     if kind == "ok":
         warn_again(payload.get("warnings", ()))
-    rec = {"index": index, "seed": seed, "parameters": params, "metrics": None,
-           "status": "failed", "error": None, "attempt": attempt, "elapsed_s": None,
-           "worker": None}
+    rec = {"index": index, "seed": seed, "parameters": params, "metrics": None, "status": "failed",
+           "error": None, "attempt": attempt, "elapsed_s": None, "worker": None}
     if kind == "ok":
         rec.update(elapsed_s=payload["elapsed_s"], worker=payload["worker"])
         if payload["error"] is None:
@@ -776,8 +779,7 @@ def run_campaign(campaign, runs, *, seed=0, out=None, engine="local", workers=_W
             store.close()
     records = [final[i] for i in range(runs)]
     failed = sum(r["status"] != "ok" for r in records)
-    result = CampaignResult(header, records, computed, reused, failed, attempts,
-                            time.perf_counter() - t0)
+    result = CampaignResult(header, records, computed, reused, failed, attempts, time.perf_counter() - t0)
     if campaign.summarise is not None:
         result.summary = json_ready(campaign.summarise(result.runs()))
     return result
@@ -793,8 +795,7 @@ def _drive(campaign, todo, run_seeds, params, final, store, eng, retries, progre
     queue = deque((i, 1) for i in todo)
     # runs that were in flight when a local worker died, with others: which one killed it is
     # unknown, so each is rerun alone, and only a death while alone counts as its failure
-    solo = deque()
-    running = {}
+    solo, running = deque(), {}
     n_failed = sum(r["status"] != "ok" for r in final.values())
     computed = attempts = 0
     try:
@@ -802,8 +803,7 @@ def _drive(campaign, todo, run_seeds, params, final, store, eng, retries, progre
             if solo:
                 if not running:
                     i, attempt = solo.popleft()
-                    running[eng.submit(campaign.trial, run_seeds[i], params[i])] = (i, attempt,
-                                                                                    True)
+                    running[eng.submit(campaign.trial, run_seeds[i], params[i])] = (i, attempt, True)
             else:
                 while queue and len(running) < eng.window:
                     i, attempt = queue.popleft()
