@@ -47,10 +47,10 @@ def test_the_cost_count_holds_by_construction_so_it_is_a_check_not_a_claim():
 
 @pytest.mark.parametrize(("rid", "kw", "message"), [
     ("attitude-xgyro-step", {"seed": -1}, r"seed must be an integer in \[0, 9223372036854775768\]"),
-    ("attitude-xgyro-step", {"n_runs": 0}, r"n_runs must be an integer in \[1, 10000\]"),
-    ("attitude-star-tracker", {"seed": 2**63 - 1, "n_runs": 2},  # its runs take seed and seed + 1
-     r"seed must be an integer in \[0, 9223372036854775806\]"),
-    ("attitude-skew-ramp", {"seed": 2**63 - 32, "n_runs": 2},  # its 60-s runs: seed + 1 to + 32
+    ("attitude-xgyro-step", {"n_runs": 0}, r"n_runs must be an integer in \[32, 10000\]"),
+    ("attitude-star-tracker", {"seed": 2**63 - 1, "n_runs": 32},  # its runs take seed to + 31
+     r"seed must be an integer in \[0, 9223372036854775776\]"),
+    ("attitude-skew-ramp", {"seed": 2**63 - 32, "n_runs": 32},  # its 60-s runs: seed + 1 to + 32
      r"seed must be an integer in \[0, 9223372036854775775\]"),
     ("attitude-xgyro-step", {"magnitude_deg_per_h": float("nan")},
      r"magnitude_deg_per_h must be a real number in \(0, 100000\]"),

@@ -829,16 +829,20 @@ def test_an_interrupted_local_campaign_ends_its_workers_at_once(tmp_path):
 
     running = []
     t0 = time.monotonic()
+    # SIGINT as a terminal leaves it (a background job or an xdist worker may ignore it)
+    before = signal.signal(signal.SIGINT, signal.default_int_handler)
     thread = threading.Thread(target=interrupt, daemon=True)
     thread.start()
     try:
         with pytest.raises(KeyboardInterrupt):
             cp.run_campaign(camp, 2, out=tmp_path / "c", engine="local", workers=2)
+        handler = signal.getsignal(signal.SIGINT)
     finally:
         thread.join(timeout=130)
+        signal.signal(signal.SIGINT, before)
     assert time.monotonic() - t0 < 100  # not the 120 s of a run in flight
     assert running                                       # the pool's workers, in flight
     _, alive = psutil.wait_procs(running, timeout=20)
     assert not alive, alive
     assert not (tmp_path / "c" / cp.OWNER_FILE).exists()
-    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+    assert handler is signal.default_int_handler
