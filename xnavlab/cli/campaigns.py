@@ -131,7 +131,7 @@ def execute(args):
     """Run ``campaign``; returns the exit code.
 
     The first SIGINT (a Ctrl-C) interrupts it and every later one is ignored
-    (:func:`_interrupt_once`): the local workers ignore it and are ended by the campaign
+    (``_interrupt_once``): the local workers ignore it and are ended by the campaign
     process, which keeps the finished runs, prints one line and returns 130.
     """
     handler = signal.getsignal(signal.SIGINT)
